@@ -1,0 +1,1 @@
+"""Mission orders: the model, readers and writers, canonical digest, plain-language text."""

@@ -1,0 +1,239 @@
+"""Typed model of mission orders in the `countersign.orders/1` format.
+
+The model accepts orders that are structurally wrong (no start, a missing outcome, an unknown
+target, duplicate ids): those are verification findings, not read errors, so that a supervisor
+sees every problem at once. Only input that cannot be a set of orders at all is rejected here.
+"""
+
+from __future__ import annotations
+
+import re
+from typing import Annotated, Any, Literal
+
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    ConfigDict,
+    Field,
+    field_validator,
+    model_validator,
+)
+
+FORMAT = "countersign.orders/1"
+OUTCOMES: tuple[str, str, str] = ("succeed", "fail", "violate")
+Outcome = Literal["succeed", "fail", "violate"]
+TerminalKind = Literal["complete", "abort"]
+
+MAX_ID_LENGTH = 100
+MAX_TEXT_LENGTH = 10_000
+MAX_LIST_LENGTH = 50_000
+_ID_PATTERN = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.:\-]*")
+
+
+def _check_id(value: str) -> str:
+    # Ids become IRIs, DOT node names and expression literals: keep them to a safe alphabet.
+    if not value:
+        raise ValueError("an id must not be empty")
+    if len(value) > MAX_ID_LENGTH:
+        raise ValueError(f"an id may have at most {MAX_ID_LENGTH} characters")
+    if not _ID_PATTERN.fullmatch(value):
+        raise ValueError(
+            f"{value[:40]!r} is not a valid id: use letters, digits and _ . : - "
+            "(starting with a letter, digit or _)"
+        )
+    return value
+
+
+Id = Annotated[str, AfterValidator(_check_id)]
+Text = Annotated[str, Field(max_length=MAX_TEXT_LENGTH)]
+Interval = tuple[float, float]
+
+
+def _check_envelope(value: dict[str, Interval]) -> dict[str, Interval]:
+    for name, (low, high) in value.items():
+        _check_id(name)
+        if low > high:
+            raise ValueError(f"{name}: lower bound {low} is above upper bound {high}")
+    return value
+
+
+Envelope = Annotated[dict[str, Interval], AfterValidator(_check_envelope)]
+
+
+class _Strict(BaseModel):
+    # Unknown fields are kept (they round-trip and are hashed) so newer orders still load.
+    model_config = ConfigDict(extra="allow", frozen=True, populate_by_name=True)
+
+
+class Cost(_Strict):
+    energy_wh: float | None = Field(default=None, ge=0)
+    duration_s: float | None = Field(default=None, ge=0)
+
+
+class Budget(_Strict):
+    energy_wh: float | None = Field(default=None, ge=0)
+    duration_s: float | None = Field(default=None, ge=0)
+
+
+BUDGET_QUANTITIES: tuple[str, str] = ("energy_wh", "duration_s")
+
+
+class Goal(_Strict):
+    id: Id
+    title: Text = ""
+    description: Text = ""
+    behavior: str | None = None
+    area: Id | None = None
+    requires: list[Id] = Field(default_factory=list, max_length=1000)
+    envelope: Envelope = Field(default_factory=dict)
+    params: dict[str, Any] = Field(default_factory=dict)
+    # A list names several successors for one outcome: a G5 finding, possible from Turtle/AVCL.
+    next: dict[Outcome, Id | list[Id] | None] = Field(default_factory=dict)
+    cost: Cost | None = None
+
+    @property
+    def label(self) -> str:
+        return self.title or self.id
+
+    def successors(self, outcome: str) -> list[str]:
+        """Every target named for an outcome (empty when none is named)."""
+        target = self.next.get(outcome)  # type: ignore[call-overload]
+        if target is None:
+            return []
+        if isinstance(target, str):
+            return [target]
+        return list(dict.fromkeys(target))
+
+
+class Terminal(_Strict):
+    id: Id
+    kind: TerminalKind
+    title: Text = ""
+
+    @property
+    def label(self) -> str:
+        return self.title or ("Mission complete" if self.kind == "complete" else "Mission abort")
+
+
+DEFAULT_TERMINALS: tuple[Terminal, ...] = (
+    Terminal(id="COMPLETE", kind="complete", title="Mission complete"),
+    Terminal(id="ABORT", kind="abort", title="Mission abort"),
+)
+
+
+class Constraint(_Strict):
+    id: Id
+    text: Text = ""
+    applies_to: Literal["mission"] | list[Id] = "mission"
+    expr: Text | None = None
+
+
+class Norm(_Strict):
+    id: Id
+    context: Text
+    forbidden: Text | None = None
+    obligated: Text | None = None
+    permitted: Text | None = None
+    text: Text = ""
+
+    @model_validator(mode="after")
+    def _one_modality(self) -> Norm:
+        given = [m for m in ("forbidden", "obligated", "permitted") if getattr(self, m)]
+        if len(given) != 1:
+            raise ValueError("a norm names exactly one of forbidden, obligated or permitted")
+        return self
+
+
+class Area(_Strict):
+    id: Id
+    title: Text = ""
+    polygon: list[tuple[float, float]] = Field(default_factory=list, max_length=10_000)
+    contexts: list[str] = Field(default_factory=list, max_length=100)
+
+    @field_validator("polygon")
+    @classmethod
+    def _lat_lon(cls, value: list[tuple[float, float]]) -> list[tuple[float, float]]:
+        for index, (lat, lon) in enumerate(value):
+            if not (-90 <= lat <= 90 and -180 <= lon <= 180):
+                raise ValueError(f"point {index} ({lat}, {lon}) is not a latitude/longitude")
+        return value
+
+
+class Quantity(_Strict):
+    unit: str = ""
+    type: Literal["real", "integer", "boolean"] = "real"
+    min: float | None = None
+    max: float | None = None
+    title: Text = ""
+
+
+class Feature(_Strict):
+    id: Id
+    title: Text = ""
+    fulfills: list[Id] = Field(default_factory=list)
+    measures: list[Id] = Field(default_factory=list)
+
+
+class Vehicle(_Strict):
+    id: Id
+    title: Text = ""
+    envelope: Envelope = Field(default_factory=dict)
+    features: list[Feature] = Field(default_factory=list, max_length=1000)
+    behaviors: list[str] = Field(default_factory=list, max_length=1000)
+    speed_mps: float | None = Field(default=None, gt=0)
+    power_w: float | None = Field(default=None, ge=0)
+    budget: Budget | None = None
+
+
+class PathProperty(_Strict):
+    id: Id
+    always: Text | None = None
+    never: Text | None = None
+    text: Text = ""
+
+
+class Orders(_Strict):
+    format: Literal["countersign.orders/1"] = FORMAT
+    id: Id
+    title: Text = ""
+    description: Text = ""
+    vehicle: Id | None = None
+    # A list is how Turtle input says "two starts"; M1 reports it.
+    start: Id | list[Id] | None = None
+    goals: list[Goal] = Field(default_factory=list, max_length=MAX_LIST_LENGTH)
+    terminals: list[Terminal] | None = Field(default=None, max_length=MAX_LIST_LENGTH)
+    constraints: list[Constraint] = Field(default_factory=list, max_length=MAX_LIST_LENGTH)
+    norms: list[Norm] = Field(default_factory=list, max_length=MAX_LIST_LENGTH)
+    areas: list[Area] = Field(default_factory=list, max_length=MAX_LIST_LENGTH)
+    quantities: dict[str, Quantity] = Field(default_factory=dict)
+    vehicles: list[Vehicle] = Field(default_factory=list, max_length=1000)
+    properties: list[PathProperty] = Field(default_factory=list, max_length=1000)
+
+    @property
+    def effective_terminals(self) -> list[Terminal]:
+        return list(DEFAULT_TERMINALS) if self.terminals is None else list(self.terminals)
+
+    def target_vehicle(self) -> Vehicle | None:
+        for vehicle in self.vehicles:
+            if vehicle.id == self.vehicle:
+                return vehicle
+        return self.vehicles[0] if self.vehicle is None and len(self.vehicles) == 1 else None
+
+    def goal_index(self) -> dict[str, Goal]:
+        """Goals by id; the first definition wins when ids repeat (DUP reports the rest)."""
+        index: dict[str, Goal] = {}
+        for goal in self.goals:
+            index.setdefault(goal.id, goal)
+        return index
+
+    def terminal_index(self) -> dict[str, Terminal]:
+        index: dict[str, Terminal] = {}
+        for terminal in self.effective_terminals:
+            index.setdefault(terminal.id, terminal)
+        return index
+
+    def area_index(self) -> dict[str, Area]:
+        index: dict[str, Area] = {}
+        for area in self.areas:
+            index.setdefault(area.id, area)
+        return index

@@ -1,0 +1,216 @@
+"""Exhaustive traversal (seed 000 III.B, Figure 6): exact path counts by dynamic programming
+over the DAG, and lazy depth-first enumeration in the order succeed, fail, violate.
+
+A path is one outcome sequence from the start goal to a terminal. Counts are Python ints, so
+a 10,000-goal mission with more than 10^100 paths is counted exactly; enumeration never holds
+more than one path in memory and skips to any offset using the counts.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterator
+from dataclasses import dataclass
+
+from ..orders.model import OUTCOMES, Orders
+from .graph import MissionGraph, build_graph
+
+ANSWER = {"succeed": "succeed", "fail": "fail", "violate": "constraint"}
+
+
+@dataclass(frozen=True)
+class PathCounts:
+    total: int
+    by_terminal: dict[str, int]
+    # Paths from each node to any terminal; index by node (goals, then terminals).
+    per_node: tuple[int, ...]
+
+    def to_json(self) -> dict[str, object]:
+        return {"count": self.total, "by_terminal": dict(self.by_terminal)}
+
+
+@dataclass(frozen=True)
+class MissionPath:
+    index: int  # 1-based position in the enumeration order
+    goals: tuple[str, ...]
+    outcomes: tuple[str, ...]
+    terminal: str
+
+    def to_json(self) -> dict[str, object]:
+        return {
+            "index": self.index,
+            "goals": list(self.goals),
+            "outcomes": list(self.outcomes),
+            "terminal": self.terminal,
+        }
+
+
+def topological_order(graph: MissionGraph) -> list[int] | None:
+    """Goals reachable from the start in reverse topological order (successors first), or
+    None when counting is impossible: no start, or a loop, dangling target or missing successor
+    reachable from the start."""
+    if graph.start is None:
+        return None
+    goal_count = graph.goal_count
+    succ = graph.succ
+    state = bytearray(goal_count)  # 0 new, 1 on the stack, 2 done
+    order: list[int] = []
+    stack: list[tuple[int, int]] = [(graph.start, 0)]
+    state[graph.start] = 1
+    while stack:
+        node, k = stack[-1]
+        if k == 3:
+            stack.pop()
+            state[node] = 2
+            order.append(node)
+            continue
+        stack[-1] = (node, k + 1)
+        target = succ[node][k]
+        if target < 0:
+            return None
+        if target >= goal_count or state[target] == 2:
+            continue
+        if state[target] == 1:
+            return None
+        state[target] = 1
+        stack.append((target, 0))
+    return order
+
+
+def count_paths(graph: MissionGraph) -> PathCounts | None:
+    order = topological_order(graph)
+    if order is None or graph.start is None:
+        return None
+    goal_count = graph.goal_count
+    terminal_count = len(graph.terminals)
+    totals = [0] * goal_count + [1] * terminal_count
+    # Per-terminal vectors only where needed: most missions have two terminals.
+    vectors: list[list[int] | None] = [None] * goal_count
+    vectors.extend([1 if j == t else 0 for j in range(terminal_count)] for t in range(terminal_count))
+    succ = graph.succ
+    for node in order:
+        a, b, c = succ[node]
+        totals[node] = totals[a] + totals[b] + totals[c]
+        va, vb, vc = vectors[a], vectors[b], vectors[c]
+        assert va is not None and vb is not None and vc is not None
+        vectors[node] = [x + y + z for x, y, z in zip(va, vb, vc, strict=True)]
+    start_vector = vectors[graph.start]
+    assert start_vector is not None
+    by_terminal = {t.id: start_vector[j] for j, t in enumerate(graph.terminals)}
+    return PathCounts(totals[graph.start], by_terminal, tuple(totals))
+
+
+def _walk(
+    graph: MissionGraph, counts: PathCounts, offset: int
+) -> Iterator[tuple[list[int], list[int], int]]:
+    """Depth-first over every path from `offset` on, yielding live (goals, outcomes, terminal)
+    lists that change after each step; copy what must outlive the iteration."""
+    assert graph.start is not None
+    succ = graph.succ
+    per_node = counts.per_node
+    goal_count = graph.goal_count
+    goals: list[int] = [graph.start]
+    outcomes: list[int] = []
+    next_outcome: list[int] = [0]
+    # Descend straight to the offset-th path, skipping whole subtrees by their counts.
+    while offset:
+        node = goals[-1]
+        k = next_outcome[-1]
+        target = succ[node][k]
+        size = per_node[target]
+        if offset >= size:
+            offset -= size
+            next_outcome[-1] = k + 1
+            continue
+        if target >= goal_count:
+            break
+        next_outcome[-1] = k + 1
+        outcomes.append(k)
+        goals.append(target)
+        next_outcome.append(0)
+    while goals:
+        node = goals[-1]
+        k = next_outcome[-1]
+        if k == 3:
+            goals.pop()
+            next_outcome.pop()
+            if outcomes:
+                outcomes.pop()
+            continue
+        next_outcome[-1] = k + 1
+        target = succ[node][k]
+        outcomes.append(k)
+        if target >= goal_count:
+            yield goals, outcomes, target
+            outcomes.pop()
+        else:
+            goals.append(target)
+            next_outcome.append(0)
+
+
+def iter_paths(
+    graph: MissionGraph, counts: PathCounts, offset: int = 0, limit: int | None = None
+) -> Iterator[MissionPath]:
+    """Paths in the order of Figure 6's exhaustive testing (succeed, fail, violate first)."""
+    if offset >= counts.total or (limit is not None and limit <= 0):
+        return
+    ids = graph.goal_ids
+    index = offset
+    for goals, outcomes, terminal in _walk(graph, counts, offset):
+        index += 1
+        yield MissionPath(
+            index,
+            tuple(ids[g] for g in goals),
+            tuple(OUTCOMES[k] for k in outcomes),
+            graph.node_id(terminal),
+        )
+        if limit is not None and index - offset >= limit:
+            return
+
+
+def iter_path_lines(
+    graph: MissionGraph, counts: PathCounts, offset: int = 0, limit: int | None = None
+) -> Iterator[str]:
+    """The same paths as NDJSON lines (without newline), built with as little work per path as
+    possible so that streaming millions of paths stays fast."""
+    if offset >= counts.total or (limit is not None and limit <= 0):
+        return
+    encoded = [json.dumps(i) for i in graph.goal_ids]
+    encoded += [json.dumps(t.id) for t in graph.terminals]
+    words = ['"succeed"', '"fail"', '"violate"']
+    stop = counts.total if limit is None else min(counts.total, offset + limit)
+    index = offset
+    for goals, outcomes, terminal in _walk(graph, counts, offset):
+        index += 1
+        yield (
+            f'{{"index":{index},"goals":[{",".join(map(encoded.__getitem__, goals))}],'
+            f'"outcomes":[{",".join(map(words.__getitem__, outcomes))}],'
+            f'"terminal":{encoded[terminal]}}}'
+        )
+        if index >= stop:
+            return
+
+
+def trace_text(orders_graph: MissionGraph, path: MissionPath) -> str:
+    """The path as an ethical mission execution trace, exactly as seed 000 Figure 6 prints it."""
+    labels = {g.id: g.label for g in orders_graph.goals}
+    lines = [f"Ethical Mission Execution Trace #{path.index}:", "?- execute_mission."]
+    for goal_id, outcome in zip(path.goals, path.outcomes, strict=True):
+        lines.append(commence_line(labels[goal_id]))
+        lines.append(f"{QUESTION} {ANSWER[outcome]}.")
+    terminal = next(t for t in orders_graph.terminals if t.id == path.terminal)
+    lines.append(END_LINE[terminal.kind])
+    return "\n".join(lines)
+
+
+QUESTION = "Did goal Succeed (s), Fail (f), or end with a Constraint (c)?"
+END_LINE = {"complete": "Mission Complete!", "abort": "Mission Abort!"}
+
+
+def commence_line(label: str) -> str:
+    return f"Commence: {label.rstrip('.')}."
+
+
+def paths_of(orders: Orders) -> tuple[MissionGraph, PathCounts | None]:
+    graph = build_graph(orders)
+    return graph, count_paths(graph)
