@@ -33,7 +33,9 @@ class Finding:
         return data
 
 
-def error(code: str, subjects: list[str] | tuple[str, ...], message: str, **details: Any) -> Finding:
+def error(
+    code: str, subjects: list[str] | tuple[str, ...], message: str, **details: Any
+) -> Finding:
     return Finding(code, "error", tuple(subjects), message, details)
 
 

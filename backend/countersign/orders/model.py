@@ -8,7 +8,7 @@ sees every problem at once. Only input that cannot be a set of orders at all is 
 from __future__ import annotations
 
 import re
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Final, Literal
 
 from pydantic import (
     AfterValidator,
@@ -19,7 +19,7 @@ from pydantic import (
     model_validator,
 )
 
-FORMAT = "countersign.orders/1"
+FORMAT: Final = "countersign.orders/1"
 OUTCOMES: tuple[str, str, str] = ("succeed", "fail", "violate")
 Outcome = Literal["succeed", "fail", "violate"]
 TerminalKind = Literal["complete", "abort"]

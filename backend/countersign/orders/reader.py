@@ -146,9 +146,8 @@ def sniff_format(data: bytes) -> str:
 def read_bytes(data: bytes, name: str = "<input>") -> ReadResult:
     """Read orders from raw bytes, detecting JSON or AVCL XML by content."""
     if len(data) > MAX_INPUT_BYTES:
-        raise OrdersReadError(
-            [Problem("$", f"{name} is larger than the {MAX_INPUT_BYTES // (1024 * 1024)} MiB limit")]
-        )
+        limit_mib = MAX_INPUT_BYTES // (1024 * 1024)
+        raise OrdersReadError([Problem("$", f"{name} is larger than the {limit_mib} MiB limit")])
     if not data.strip():
         raise OrdersReadError([Problem("$", f"{name} is empty")])
     kind = sniff_format(data)

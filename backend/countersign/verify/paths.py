@@ -86,7 +86,9 @@ def count_paths(graph: MissionGraph) -> PathCounts | None:
     totals = [0] * goal_count + [1] * terminal_count
     # Per-terminal vectors only where needed: most missions have two terminals.
     vectors: list[list[int] | None] = [None] * goal_count
-    vectors.extend([1 if j == t else 0 for j in range(terminal_count)] for t in range(terminal_count))
+    vectors.extend(
+        [1 if j == t else 0 for j in range(terminal_count)] for t in range(terminal_count)
+    )
     succ = graph.succ
     for node in order:
         a, b, c = succ[node]
@@ -102,9 +104,10 @@ def count_paths(graph: MissionGraph) -> PathCounts | None:
 
 def _walk(
     graph: MissionGraph, counts: PathCounts, offset: int
-) -> Iterator[tuple[list[int], list[int], int]]:
-    """Depth-first over every path from `offset` on, yielding live (goals, outcomes, terminal)
-    lists that change after each step; copy what must outlive the iteration."""
+) -> Iterator[tuple[list[int], list[int], int, int]]:
+    """Depth-first over every path from `offset` on, yielding live (goals, outcomes, terminal,
+    changed) where `changed` is the first position that differs from the previous path. The
+    lists change after each step: copy what must outlive the iteration."""
     assert graph.start is not None
     succ = graph.succ
     per_node = counts.per_node
@@ -116,33 +119,33 @@ def _walk(
     while offset:
         node = goals[-1]
         k = next_outcome[-1]
-        target = succ[node][k]
-        size = per_node[target]
+        size = per_node[succ[node][k]]
+        next_outcome[-1] = k + 1
         if offset >= size:
             offset -= size
-            next_outcome[-1] = k + 1
             continue
-        if target >= goal_count:
-            break
-        next_outcome[-1] = k + 1
         outcomes.append(k)
-        goals.append(target)
+        goals.append(succ[node][k])
         next_outcome.append(0)
+    changed = 0
     while goals:
-        node = goals[-1]
-        k = next_outcome[-1]
+        depth = len(goals) - 1
+        k = next_outcome[depth]
         if k == 3:
             goals.pop()
             next_outcome.pop()
             if outcomes:
                 outcomes.pop()
             continue
-        next_outcome[-1] = k + 1
-        target = succ[node][k]
+        next_outcome[depth] = k + 1
+        target = succ[goals[depth]][k]
         outcomes.append(k)
+        if depth < changed:
+            changed = depth
         if target >= goal_count:
-            yield goals, outcomes, target
+            yield goals, outcomes, target, changed
             outcomes.pop()
+            changed = depth + 1
         else:
             goals.append(target)
             next_outcome.append(0)
@@ -156,7 +159,7 @@ def iter_paths(
         return
     ids = graph.goal_ids
     index = offset
-    for goals, outcomes, terminal in _walk(graph, counts, offset):
+    for goals, outcomes, terminal, _ in _walk(graph, counts, offset):
         index += 1
         yield MissionPath(
             index,
@@ -179,13 +182,23 @@ def iter_path_lines(
     encoded += [json.dumps(t.id) for t in graph.terminals]
     words = ['"succeed"', '"fail"', '"violate"']
     stop = counts.total if limit is None else min(counts.total, offset + limit)
+    # JSON of goals[:i+1] and outcomes[:i+1], rebuilt only from the first position that changed.
+    goal_json: list[str] = []
+    outcome_json: list[str] = []
     index = offset
-    for goals, outcomes, terminal in _walk(graph, counts, offset):
+    for goals, outcomes, terminal, changed in _walk(graph, counts, offset):
+        del goal_json[changed:], outcome_json[changed:]
+        for i in range(changed, len(goals)):
+            if i:
+                goal_json.append(f"{goal_json[i - 1]},{encoded[goals[i]]}")
+                outcome_json.append(f"{outcome_json[i - 1]},{words[outcomes[i]]}")
+            else:
+                goal_json.append(encoded[goals[0]])
+                outcome_json.append(words[outcomes[0]])
         index += 1
         yield (
-            f'{{"index":{index},"goals":[{",".join(map(encoded.__getitem__, goals))}],'
-            f'"outcomes":[{",".join(map(words.__getitem__, outcomes))}],'
-            f'"terminal":{encoded[terminal]}}}'
+            f'{{"index":{index},"goals":[{goal_json[-1]}],'
+            f'"outcomes":[{outcome_json[-1]}],"terminal":{encoded[terminal]}}}'
         )
         if index >= stop:
             return

@@ -1,0 +1,336 @@
+"""The `countersign` command line (DESIGN.md, Command line).
+
+Exit codes: 0 no errors, 1 error findings (or a mission that cannot run), 2 unreadable input
+or bad usage, 3 an internal error (reported in one line; COUNTERSIGN_DEBUG=1 shows the trace).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TextIO
+
+from . import __version__
+from .orders.canonical import orders_to_json
+from .orders.examples import example_bytes, example_names
+from .orders.reader import OrdersReadError, ReadResult, read_bytes, read_file
+from .verify.graph import build_graph
+from .verify.paths import (
+    ANSWER,
+    END_LINE,
+    QUESTION,
+    commence_line,
+    count_paths,
+    iter_path_lines,
+    iter_paths,
+    trace_text,
+)
+from .verify.report import Report, validate
+from .verify.structure import check_structure
+
+EXIT_OK, EXIT_FINDINGS, EXIT_UNREADABLE, EXIT_INTERNAL = 0, 1, 2, 3
+
+ANSWERS = {
+    "s": "succeed", "succeed": "succeed", "success": "succeed",
+    "f": "fail", "fail": "fail", "failure": "fail",
+    "c": "violate", "constraint": "violate", "x": "violate", "violate": "violate",
+}
+
+
+class UsageError(Exception):
+    """Bad input the user can fix; printed without a trace, exit code 2."""
+
+
+def _load(source: str) -> ReadResult:
+    """Orders from a path, `-` for standard input, or `example:NAME` for a built-in."""
+    if source.startswith("example:"):
+        try:
+            return read_bytes(example_bytes(source.removeprefix("example:")), source)
+        except KeyError as exc:
+            raise UsageError(str(exc.args[0])) from None
+    if source == "-":
+        from .orders.reader import MAX_INPUT_BYTES
+
+        return read_bytes(sys.stdin.buffer.read(MAX_INPUT_BYTES + 1), "standard input")
+    return read_file(source)
+
+
+def _print_report_text(report: Report, out: TextIO) -> None:
+    out.write(f"Mission {report.mission}  {report.digest}\n")
+    errors = sum(f.severity == "error" for f in report.findings)
+    warnings = len(report.findings) - errors
+    for finding in report.findings:
+        subjects = ", ".join(finding.subjects)
+        out.write(f"  {finding.severity:<7} {finding.code:<13} [{subjects}]\n")
+        out.write(f"          {finding.message}\n")
+    if report.paths is None:
+        out.write("Paths: not countable until the errors above are fixed.\n")
+    else:
+        parts = ", ".join(f"{n} to {t}" for t, n in report.paths.by_terminal.items())
+        out.write(f"Paths: {report.paths.total} ({parts})\n")
+    for quantity, worst in (report.costs or {}).items():
+        limit = f" of budget {worst.budget:g}" if worst.budget is not None else ""
+        out.write(f"Worst {quantity}: {worst.total:g}{limit}\n")
+    verdict = "OK" if report.ok else "NOT OK"
+    out.write(f"{verdict}: {errors} error(s), {warnings} warning(s).\n")
+
+
+def cmd_validate(args: argparse.Namespace) -> int:
+    loaded = _load(args.file)
+    report = validate(loaded.orders, loaded.findings)
+    if args.format == "json":
+        json.dump(report.to_json(), sys.stdout, indent=2)
+        sys.stdout.write("\n")
+    else:
+        _print_report_text(report, sys.stdout)
+    return EXIT_OK if report.ok else EXIT_FINDINGS
+
+
+def _explain_uncountable(orders_file: str, loaded: ReadResult) -> int:
+    problems = [f for f in check_structure(loaded.orders) if f.severity == "error"]
+    sys.stderr.write(f"countersign: the paths of {orders_file} cannot be enumerated:\n")
+    for finding in problems[:10]:
+        sys.stderr.write(f"  {finding.code}: {finding.message}\n")
+    return EXIT_FINDINGS
+
+
+def cmd_paths(args: argparse.Namespace) -> int:
+    loaded = _load(args.file)
+    graph = build_graph(loaded.orders)
+    counts = count_paths(graph)
+    if counts is None:
+        return _explain_uncountable(args.file, loaded)
+    out = sys.stdout
+    if args.format == "trace":
+        for path in iter_paths(graph, counts, args.offset, args.limit):
+            out.write(trace_text(graph, path) + "\n")
+    else:
+        for line in iter_path_lines(graph, counts, args.offset, args.limit):
+            out.write(line + "\n")
+    out.flush()
+    return EXIT_OK
+
+
+def _ask(prompt_echo: bool) -> str | None:
+    """One answer from the operator: the outcome, or None at end of input."""
+    while True:
+        sys.stdout.write(f"{QUESTION} ")
+        sys.stdout.flush()
+        line = sys.stdin.readline()
+        if not line:
+            sys.stdout.write("\n")
+            return None
+        answer = ANSWERS.get(line.strip().lower().rstrip("."))
+        if answer is not None:
+            if prompt_echo:
+                sys.stdout.write(f"{ANSWER[answer]}.\n")
+            return answer
+        if prompt_echo:
+            sys.stdout.write(f"{line.strip()}\n")
+        sys.stdout.write(
+            "Please answer s (the goal succeeded), f (it failed) or c (it ended with an "
+            "imminent constraint violation).\n"
+        )
+
+
+def cmd_run(args: argparse.Namespace) -> int:
+    loaded = _load(args.file)
+    errors = [f for f in check_structure(loaded.orders) if f.severity == "error"]
+    if errors:
+        sys.stderr.write("countersign: these orders cannot be executed until fixed:\n")
+        for finding in errors[:10]:
+            sys.stderr.write(f"  {finding.code}: {finding.message}\n")
+        return EXIT_FINDINGS
+    graph = build_graph(loaded.orders)
+    assert graph.start is not None
+    echo = not sys.stdin.isatty()
+    sys.stdout.write("?- execute_mission.\n")
+    node = graph.start
+    while not graph.is_terminal(node):
+        goal = graph.goals[node]
+        sys.stdout.write(commence_line(goal.label) + "\n")
+        answer = _ask(echo)
+        if answer is None:
+            sys.stdout.write(f"Mission execution stopped: no outcome given for {goal.id}.\n")
+            return EXIT_FINDINGS
+        node = graph.succ[node][("succeed", "fail", "violate").index(answer)]
+    sys.stdout.write(END_LINE[graph.terminal(node).kind] + "\n")
+    return EXIT_OK
+
+
+def cmd_export(args: argparse.Namespace) -> int:
+    loaded = _load(args.file)
+    if args.format == "json":
+        sys.stdout.write(json.dumps(orders_to_json(loaded.orders), indent=2) + "\n")
+    elif args.format == "dot":
+        from .orders.dot import to_dot
+
+        sys.stdout.write(to_dot(loaded.orders))
+    else:
+        from .orders.plain import plain_orders
+
+        sys.stdout.write(plain_orders(loaded.orders).rstrip("\n") + "\n")
+    return EXIT_OK
+
+
+def cmd_examples(args: argparse.Namespace) -> int:
+    if args.name is None:
+        for name in example_names():
+            sys.stdout.write(f"{name}\n")
+        return EXIT_OK
+    try:
+        sys.stdout.write(example_bytes(args.name).decode("utf-8"))
+    except KeyError as exc:
+        raise UsageError(str(exc.args[0])) from None
+    return EXIT_OK
+
+
+def cmd_serve(args: argparse.Namespace) -> int:
+    import uvicorn
+
+    from .web.app import create_app
+    from .web.settings import Settings
+
+    settings = Settings.from_environment(data_dir=args.data_dir)
+    settings.prepare()
+    sys.stderr.write(
+        f"Countersign {__version__} on http://{args.host}:{args.port} "
+        f"(data in {settings.data_dir})\n"
+    )
+    uvicorn.run(create_app(settings), host=args.host, port=args.port, log_level="info")
+    return EXIT_OK
+
+
+def _non_negative(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError("must be 0 or more")
+    return value
+
+
+FILE_HELP = (
+    "orders JSON (countersign.orders/1) or AVCL XML; '-' reads standard input, "
+    "'example:NAME' a built-in example"
+)
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="countersign",
+        description=(
+            "Verify, traverse and rehearse mission orders for uncrewed vehicles, "
+            "so that a supervisor can sign exactly what the vehicle will do."
+        ),
+        epilog="Exit codes: 0 ok, 1 error findings, 2 unreadable input or bad usage.",
+    )
+    parser.add_argument("--version", action="version", version=f"countersign {__version__}")
+    commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+
+    validate_cmd = commands.add_parser(
+        "validate",
+        help="check orders: structure (M1 M2 DUP G3 G5 SINK G7 G10), path counts, budget",
+        description="Check orders and count every path. Exit 0 no errors, 1 errors, "
+        "2 unreadable input.",
+    )
+    validate_cmd.add_argument("file", metavar="FILE", help=FILE_HELP)
+    validate_cmd.add_argument("--format", choices=["text", "json"], default="text")
+    validate_cmd.set_defaults(handler=cmd_validate)
+
+    paths_cmd = commands.add_parser(
+        "paths",
+        help="enumerate every path lazily (succeed, fail, violate first)",
+        description="Enumerate the paths from the start goal to a terminal, depth first in "
+        "the order succeed, fail, violate. 'json' writes one JSON object per line (NDJSON): "
+        '{"index", "goals", "outcomes", "terminal"}; \'trace\' writes Figure 6 traces.',
+    )
+    paths_cmd.add_argument("file", metavar="FILE", help=FILE_HELP)
+    paths_cmd.add_argument("--limit", type=_non_negative, default=None, help="at most N paths")
+    paths_cmd.add_argument(
+        "--offset", type=_non_negative, default=0, help="skip the first N paths (instantly)"
+    )
+    paths_cmd.add_argument(
+        "--format", choices=["json", "ndjson", "trace"], default="json",
+        help="json/ndjson: one path per line; trace: execution traces",
+    )
+    paths_cmd.set_defaults(handler=cmd_paths)
+
+    run_cmd = commands.add_parser(
+        "run",
+        help="execute the orders interactively (the MEE of seed 000 Figure 6)",
+        description="Commence each goal and ask whether it succeeded (s), failed (f) or ended "
+        "with an imminent constraint violation (c), until the mission completes or aborts.",
+    )
+    run_cmd.add_argument("file", metavar="FILE", help=FILE_HELP)
+    run_cmd.set_defaults(handler=cmd_run)
+
+    export_cmd = commands.add_parser(
+        "export",
+        help="write orders as JSON, Graphviz DOT or plain-language orders",
+        description="Convert orders (e.g. AVCL) to orders JSON, a Graphviz DOT graph, or the "
+        "plain-language orders a supervisor reads (seed 000 Figures 3 and 4).",
+    )
+    export_cmd.add_argument("file", metavar="FILE", help=FILE_HELP)
+    export_cmd.add_argument("--format", choices=["json", "dot", "plain"], default="plain")
+    export_cmd.set_defaults(handler=cmd_export)
+
+    examples_cmd = commands.add_parser(
+        "examples", help="list the built-in example orders, or print one"
+    )
+    examples_cmd.add_argument("name", nargs="?", help="print this example's orders JSON")
+    examples_cmd.set_defaults(handler=cmd_examples)
+
+    serve_cmd = commands.add_parser(
+        "serve",
+        help="run the web app",
+        description="Run the Countersign web app. Data lives in --data-dir (default: the "
+        "per-user data directory, e.g. ~/.local/share/countersign) unless COUNTERSIGN_DATABASE_URL "
+        "names a database.",
+    )
+    serve_cmd.add_argument("--host", default="127.0.0.1")
+    serve_cmd.add_argument("--port", type=int, default=8000)
+    serve_cmd.add_argument("--data-dir", type=Path, default=None)
+    serve_cmd.set_defaults(handler=cmd_serve)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    try:
+        code: int = args.handler(args)
+        return code
+    except OrdersReadError as exc:
+        sys.stderr.write(f"countersign: cannot read {getattr(args, 'file', 'input')}:\n")
+        for line in exc.summary().splitlines():
+            sys.stderr.write(f"  {line}\n")
+        return EXIT_UNREADABLE
+    except UsageError as exc:
+        sys.stderr.write(f"countersign: {exc}\n")
+        return EXIT_UNREADABLE
+    except BrokenPipeError:
+        # The reader (e.g. `| head`) has gone; that is not an error of ours.
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return EXIT_OK
+    except KeyboardInterrupt:
+        sys.stderr.write("\ncountersign: interrupted\n")
+        return 130
+    except Exception as exc:
+        if os.environ.get("COUNTERSIGN_DEBUG"):
+            raise
+        sys.stderr.write(
+            f"countersign: internal error ({type(exc).__name__}: {exc}); "
+            "set COUNTERSIGN_DEBUG=1 for details\n"
+        )
+        return EXIT_INTERNAL
+
+
+if __name__ == "__main__":
+    sys.exit(main())

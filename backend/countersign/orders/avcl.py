@@ -1,0 +1,384 @@
+"""Read NPS AVCL mission XML (AVCL 3.0 and 3.1) as orders.
+
+The NPS tools' own conventions (reference/nps-ethical-control/README.md) apply: the first Goal
+of the GoalList starts the mission; a Goal without nextOnSuccess is a terminal goal; a missing
+nextOnFailure means "same as nextOnSuccess" and a missing nextOnException "same as
+nextOnFailure". Every default applied is reported as a SINK warning, so that nothing the orders
+leave unsaid is hidden from the supervisor.
+
+XML is parsed by defusedxml with DTDs, entity declarations and external references refused:
+an XML bomb is rejected before any expansion.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+from pathlib import PurePath
+from typing import Any
+from xml.etree.ElementTree import Element, ParseError
+
+from defusedxml import (
+    DefusedXmlException,
+    DTDForbidden,
+    EntitiesForbidden,
+    ExternalReferenceForbidden,
+)
+from defusedxml.ElementTree import fromstring
+from pydantic import TypeAdapter, ValidationError
+
+from .findings import Finding, warning
+from .model import MAX_ID_LENGTH, Id, Orders
+from .reader import (
+    MAX_PROBLEMS_SHOWN,
+    OrdersReadError,
+    Problem,
+    ReadResult,
+    problems_from_validation,
+)
+
+# Children of a Goal that describe how or where it runs rather than what it does.
+NON_BEHAVIOR = frozenset(
+    {
+        "Risk",
+        "OperatingArea",
+        "ReportingCriteria",
+        "Duration",
+        "Timing",
+        "Constraint",
+        "ConstraintList",
+        "LaunchPosition",
+        "RecoveryPosition",
+        "Description",
+        "Metadata",
+    }
+)
+_ABORT_WORDS = ("fail", "abort", "exception", "beacon", "await")
+_COMPLETE_WORDS = ("success", "complete")
+_ID_ADAPTER: TypeAdapter[str] = TypeAdapter(Id)
+_DEGREES = re.compile(r"([NSEW])?\s*(\d+(?:\.\d+)?)\s*°\s*(\d+(?:\.\d+)?)?\s*'?\s*([NSEW])?")
+_HANDLER = {"fail": "nextOnFailure", "violate": "nextOnException"}
+_OUTCOME_WORDS = {
+    "fail": "fails",
+    "violate": "ends with an imminent constraint violation",
+}
+
+
+@dataclass
+class _AvclGoal:
+    element: Element
+    path: str
+    id: str
+    title: str
+    description: str
+    success: str | None
+    failure: str | None
+    exception: str | None
+
+    @property
+    def label(self) -> str:
+        return f"{self.id} ({self.title})" if self.title else self.id
+
+
+def read_avcl(data: bytes, name: str = "<input>") -> ReadResult:
+    """Convert AVCL mission XML into orders plus the SINK warnings of the NPS defaults."""
+    root = _parse(data)
+    root_name = _local(root.tag)
+    if root_name != "AVCL":
+        message = f"the root element is <{root_name}>, not <AVCL>: this is not an AVCL mission"
+        raise OrdersReadError([Problem(f"/{root_name}", message)])
+    found = _find(root, "GoalList")
+    if found is None:
+        raise OrdersReadError(
+            [Problem("/AVCL", "the AVCL document has no GoalList, so it orders no goals")]
+        )
+    goal_list, list_path = found
+    problems: list[Problem] = []
+    raw = [
+        _read_goal(element, f"{list_path}/Goal[{index}]", problems)
+        for index, element in enumerate(_children(goal_list, "Goal"), start=1)
+    ]
+    if problems:
+        raise OrdersReadError(problems[:MAX_PROBLEMS_SHOWN], total=len(problems))
+
+    reached_on_success = {g.success for g in raw if g.success}
+    labels = {g.id: g.label for g in raw}
+    goals: list[dict[str, Any]] = []
+    terminals: list[dict[str, Any]] = []
+    areas: list[dict[str, Any]] = []
+    findings: list[Finding] = []
+    for goal in raw:
+        if goal.success is None and goal.failure is None and goal.exception is None:
+            kind = _terminal_kind(goal, goal.id in reached_on_success)
+            terminals.append({"id": goal.id, "kind": kind, "title": goal.title})
+            continue
+        goals.append(_goal_data(goal, areas, problems))
+        findings.extend(_defaults(goal, goals[-1]["next"], labels))
+    if problems:
+        raise OrdersReadError(problems[:MAX_PROBLEMS_SHOWN], total=len(problems))
+
+    meta = _meta(root)
+    title = meta.get("title", "").strip()
+    if title.lower().endswith(".xml"):
+        title = title[:-4]
+    title = title or PurePath(name).stem
+    data_out: dict[str, Any] = {
+        "id": _slug(title),
+        "title": title,
+        "description": meta.get("description", "").strip(),
+        "start": raw[0].id if raw else None,
+        "goals": goals,
+        "terminals": terminals or None,
+        "areas": areas,
+    }
+    vehicle_name = (root.get("vehicleName") or "").strip()
+    if vehicle_name:
+        vehicle: dict[str, Any] = {"id": _slug(vehicle_name), "title": vehicle_name}
+        if root.get("vehicleType"):
+            vehicle["vehicle_type"] = root.get("vehicleType")
+        data_out["vehicle"] = vehicle["id"]
+        data_out["vehicles"] = [vehicle]
+    try:
+        orders = Orders.model_validate(data_out)
+    except ValidationError as exc:
+        raise problems_from_validation(exc) from None
+    return ReadResult(orders, findings, "avcl")
+
+
+def _parse(data: bytes) -> Element:
+    try:
+        return fromstring(data, forbid_dtd=True, forbid_entities=True, forbid_external=True)
+    except DTDForbidden:
+        message = "the XML declares a DTD (<!DOCTYPE ...>); DTDs are refused for safety"
+    except EntitiesForbidden:
+        message = "the XML declares entities, which are refused (they allow XML bombs)"
+    except ExternalReferenceForbidden:
+        message = "the XML refers to external resources, which are refused"
+    except DefusedXmlException as exc:
+        message = f"the XML uses a refused construct: {exc}"
+    except ParseError as exc:
+        line, column = exc.position
+        reason = str(exc).split(":", 1)[0]
+        message = f"not well-formed XML at line {line}, column {column + 1}: {reason}"
+    except (ValueError, RecursionError) as exc:
+        message = f"unreadable XML: {exc}"
+    raise OrdersReadError([Problem("$", message)])
+
+
+def _local(tag: object) -> str:
+    return tag.rsplit("}", 1)[-1] if isinstance(tag, str) else ""
+
+
+def _children(element: Element, name: str) -> list[Element]:
+    return [child for child in element if _local(child.tag) == name]
+
+
+def _find(root: Element, name: str) -> tuple[Element, str] | None:
+    """The first element with a local name in document order, with an XPath-ish path."""
+    parents: dict[Element, Element] = {}
+    for parent in root.iter():
+        for child in parent:
+            parents[child] = parent
+    element = next((e for e in root.iter() if _local(e.tag) == name), None)
+    if element is None:
+        return None
+    steps: list[str] = []
+    node = element
+    while node in parents:
+        siblings = _children(parents[node], _local(node.tag))
+        position = next(i for i, s in enumerate(siblings, 1) if s is node)
+        steps.append(_local(node.tag) + (f"[{position}]" if len(siblings) > 1 else ""))
+        node = parents[node]
+    steps.append(_local(root.tag))
+    return element, "/" + "/".join(reversed(steps))
+
+
+def _attr(element: Element, name: str) -> str | None:
+    value = (element.get(name) or "").strip()
+    return value or None
+
+
+def _check_id(value: str, path: str, problems: list[Problem]) -> None:
+    try:
+        _ID_ADAPTER.validate_python(value)
+    except ValidationError as exc:
+        reason = str(exc.errors(include_url=False)[0]["msg"]).removeprefix("Value error, ")
+        problems.append(Problem(path, f"the AVCL id {value[:40]!r} cannot be used: {reason}"))
+
+
+def _read_goal(element: Element, path: str, problems: list[Problem]) -> _AvclGoal:
+    goal_id = _attr(element, "id")
+    if goal_id is None:
+        problems.append(Problem(f"{path}/@id", "the Goal has no id"))
+        goal_id = ""
+    else:
+        _check_id(goal_id, f"{path}/@id", problems)
+    targets = {}
+    for attribute in ("nextOnSuccess", "nextOnFailure", "nextOnException"):
+        target = _attr(element, attribute)
+        if target is not None:
+            _check_id(target, f"{path}/@{attribute}", problems)
+        targets[attribute] = target
+    return _AvclGoal(
+        element,
+        path,
+        goal_id,
+        (element.get("title") or "").strip(),
+        (element.get("description") or "").strip(),
+        targets["nextOnSuccess"],
+        targets["nextOnFailure"],
+        targets["nextOnException"],
+    )
+
+
+def _terminal_kind(goal: _AvclGoal, reached_on_success: bool) -> str:
+    words = f"{goal.id} {goal.title} {goal.description}".lower()
+    if any(word in words for word in _ABORT_WORDS):
+        return "abort"
+    if any(word in words for word in _COMPLETE_WORDS):
+        return "complete"
+    return "complete" if reached_on_success else "abort"
+
+
+def _snake(name: str) -> str:
+    return re.sub(r"(?<=[a-z0-9])(?=[A-Z])|(?<=[A-Z])(?=[A-Z][a-z])", "_", name).lower()
+
+
+def _number(element: Element, attribute: str, path: str, problems: list[Problem]) -> float | None:
+    text = _attr(element, attribute)
+    if text is None:
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value) or value < 0:
+        problems.append(Problem(f"{path}/@{attribute}", f"{text[:40]!r} is not a number >= 0"))
+        return None
+    return value
+
+
+def _goal_data(
+    goal: _AvclGoal, areas: list[dict[str, Any]], problems: list[Problem]
+) -> dict[str, Any]:
+    element, path = goal.element, goal.path
+    behavior_element = next(
+        (child for child in element if _local(child.tag) not in NON_BEHAVIOR and _local(child.tag)),
+        None,
+    )
+    behavior = _snake(_local(behavior_element.tag)) if behavior_element is not None else None
+    params: dict[str, Any] = {}
+    if _attr(element, "phase"):
+        params["phase"] = _attr(element, "phase")
+    if behavior_element is not None and _local(behavior_element.tag) == "Search":
+        step = f"{path}/Search"
+        pd = _number(behavior_element, "requiredPD", step, problems)
+        if pd is not None:
+            params["pd"] = pd
+    data: dict[str, Any] = {
+        "id": goal.id,
+        "title": goal.title,
+        "description": goal.description,
+        "behavior": behavior,
+        "requires": [behavior] if behavior else [],
+        "params": params,
+    }
+    durations = _children(element, "Duration")
+    if durations:
+        seconds = _number(durations[0], "value", f"{path}/Duration", problems)
+        if seconds is not None:
+            data["cost"] = {"duration_s": seconds}
+    area = _area(goal)
+    if area is not None:
+        areas.append(area)
+        data["area"] = area["id"]
+    success = goal.success
+    failure = goal.failure or success
+    exception = goal.exception or failure
+    handlers = {"succeed": success, "fail": failure, "violate": exception}
+    # A handler still missing after the defaults stays absent: the structure check reports it.
+    data["next"] = {outcome: target for outcome, target in handlers.items() if target}
+    return data
+
+
+def _defaults(goal: _AvclGoal, applied: dict[str, str], labels: dict[str, str]) -> list[Finding]:
+    findings: list[Finding] = []
+    given = {"fail": goal.failure, "violate": goal.exception}
+    for outcome in ("fail", "violate"):
+        target = applied.get(outcome)
+        if given[outcome] is not None or target is None:
+            continue
+        if outcome == "fail":
+            like = "a failure is handled like a success"
+        elif goal.failure is not None:
+            like = "a constraint violation is handled like a failure"
+        else:
+            like = (
+                "a constraint violation is handled like a success (the failure handler is "
+                "missing too)"
+            )
+        findings.append(
+            warning(
+                "SINK",
+                [goal.id],
+                f"Goal {goal.label} does not say what comes next when it "
+                f"{_OUTCOME_WORDS[outcome]}: the AVCL orders give no {_HANDLER[outcome]}. "
+                f"Following the NPS convention, {like}, so the mission continues with "
+                f"{labels.get(target, target)}. Confirm that this is intended, or add the "
+                "handler explicitly.",
+                outcome=outcome,
+                defaulted_to=target,
+            )
+        )
+    return findings
+
+
+def _coordinate(text: str | None, positive: str) -> float | None:
+    if text is None:
+        return None
+    try:
+        return float(text)
+    except ValueError:
+        pass
+    match = _DEGREES.fullmatch(text.strip())
+    if match is None:
+        return None
+    value = float(match[2]) + float(match[3] or 0) / 60
+    hemisphere = match[1] or match[4] or positive
+    return value if hemisphere == positive else -value
+
+
+def _area(goal: _AvclGoal) -> dict[str, Any] | None:
+    """A goal's own OperatingArea as a polygon, when it lists at least three points."""
+    operating = _children(goal.element, "OperatingArea")
+    if not operating:
+        return None
+    points: list[tuple[float, float]] = []
+    for point in operating[0].iter():
+        if _local(point.tag) != "LatitudeLongitude":
+            continue
+        lat = _coordinate(point.get("latitude"), "N")
+        lon = _coordinate(point.get("longitude"), "E")
+        if lat is None or lon is None or not (-90 <= lat <= 90 and -180 <= lon <= 180):
+            return None
+        points.append((lat, lon))
+    if len(points) < 3:
+        return None
+    title = operating[0].get("description") or operating[0].get("id") or f"{goal.title} area"
+    return {"id": f"{goal.id}-area", "title": title.strip(), "polygon": points}
+
+
+def _meta(root: Element) -> dict[str, str]:
+    meta: dict[str, str] = {}
+    for head in _children(root, "head"):
+        for element in _children(head, "meta"):
+            name, content = element.get("name"), element.get("content")
+            if name and content is not None:
+                meta.setdefault(name, content)
+    return meta
+
+
+def _slug(text: str) -> str:
+    slug = re.sub(r"[^A-Za-z0-9_.:-]", "-", text.strip().lower()).lstrip(".:-")
+    return slug[:MAX_ID_LENGTH].rstrip(".:-") or "avcl-mission"

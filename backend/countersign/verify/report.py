@@ -1,0 +1,53 @@
+"""The validation report: every check that exists, run on one set of orders.
+
+One pure function, so the command line, the API and the tests share a code path.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from ..orders.canonical import digest
+from ..orders.findings import Finding
+from ..orders.model import Orders
+from .budget import WorstPath, check_budget, worst_paths
+from .graph import MissionGraph, build_graph
+from .paths import PathCounts, count_paths
+from .structure import check_structure
+
+
+@dataclass(frozen=True)
+class Report:
+    mission: str
+    digest: str
+    findings: list[Finding]
+    paths: PathCounts | None
+    costs: dict[str, WorstPath] | None
+
+    @property
+    def ok(self) -> bool:
+        return not any(f.severity == "error" for f in self.findings)
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "mission": self.mission,
+            "digest": self.digest,
+            "ok": self.ok,
+            "findings": [f.to_json() for f in self.findings],
+            "paths": self.paths.to_json() if self.paths else None,
+            "costs": {q: w.to_json() for q, w in self.costs.items()} if self.costs else None,
+        }
+
+
+def validate(
+    orders: Orders, reader_findings: Sequence[Finding] = (), graph: MissionGraph | None = None
+) -> Report:
+    graph = graph or build_graph(orders)
+    findings = list(reader_findings)
+    findings.extend(check_structure(orders, graph))
+    counts = count_paths(graph)
+    costs = worst_paths(orders, graph) if counts is not None else None
+    findings.extend(check_budget(costs))
+    return Report(orders.id, digest(orders), findings, counts, costs)

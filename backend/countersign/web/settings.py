@@ -1,0 +1,27 @@
+"""Settings of the web app, read once from the environment."""
+
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+from platformdirs import user_data_dir
+
+
+@dataclass(frozen=True)
+class Settings:
+    data_dir: Path
+    database_url: str
+
+    @classmethod
+    def from_environment(cls, data_dir: Path | None = None) -> Settings:
+        chosen = data_dir or Path(
+            os.environ.get("COUNTERSIGN_DATA_DIR") or user_data_dir("countersign", appauthor=False)
+        )
+        chosen = chosen.expanduser().resolve()
+        url = os.environ.get("COUNTERSIGN_DATABASE_URL") or f"sqlite:///{chosen / 'countersign.db'}"
+        return cls(data_dir=chosen, database_url=url)
+
+    def prepare(self) -> None:
+        self.data_dir.mkdir(parents=True, exist_ok=True, mode=0o700)

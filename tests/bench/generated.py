@@ -1,0 +1,43 @@
+"""Generated orders for benchmarks: large random ternary DAGs with costs and a budget."""
+
+from __future__ import annotations
+
+import random
+
+from countersign.orders.model import OUTCOMES, Orders
+
+
+def random_dag(goals: int, seed: int = 7, reach: int = 12) -> Orders:
+    """Each goal's outcomes name goals at most `reach` places later (or a terminal), and every
+    goal is reachable because the succeed outcome always names the very next goal."""
+    rng = random.Random(seed)
+    items = []
+    for i in range(goals):
+        nxt: dict[str, str] = {}
+        for k, outcome in enumerate(OUTCOMES):
+            if i + 1 >= goals:
+                nxt[outcome] = "COMPLETE" if k == 0 else "ABORT"
+            elif k == 0:
+                nxt[outcome] = f"G{i + 1}"
+            else:
+                hop = rng.randint(1, reach)
+                nxt[outcome] = f"G{i + hop}" if i + hop < goals else "ABORT"
+        items.append({
+            "id": f"G{i}", "title": f"Goal {i}", "next": nxt,
+            "cost": {"energy_wh": rng.randint(1, 50), "duration_s": rng.randint(60, 3600)},
+        })
+    return Orders.model_validate({
+        "id": f"dag-{goals}", "start": "G0", "vehicle": "v", "goals": items,
+        "vehicles": [{"id": "v", "budget": {"energy_wh": 10**9, "duration_s": 10**12}}],
+    })
+
+
+def layered_dag(depth: int) -> Orders:
+    """A chain where succeed and fail go to the next goal and violate aborts: 2^depth paths
+    that all reach the end, for streaming benchmarks."""
+    items = []
+    for i in range(depth):
+        following = f"G{i + 1}" if i + 1 < depth else "COMPLETE"
+        items.append({"id": f"G{i}", "next": {"succeed": following, "fail": following,
+                                               "violate": "ABORT"}})
+    return Orders.model_validate({"id": f"chain-{depth}", "start": "G0", "goals": items})
