@@ -12,7 +12,7 @@ import os
 import sys
 from collections.abc import Sequence
 from pathlib import Path
-from typing import TextIO
+from typing import TYPE_CHECKING, TextIO
 
 from . import __version__
 from .orders.canonical import orders_to_json
@@ -31,6 +31,10 @@ from .verify.paths import (
 )
 from .verify.report import Report, validate
 from .verify.structure import check_structure
+
+if TYPE_CHECKING:
+    from .store.db import Database
+    from .web.settings import Settings
 
 EXIT_OK, EXIT_FINDINGS, EXIT_UNREADABLE, EXIT_INTERNAL = 0, 1, 2, 3
 
@@ -189,19 +193,92 @@ def cmd_examples(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def cmd_serve(args: argparse.Namespace) -> int:
-    import uvicorn
-
-    from .web.app import create_app
+def _database(args: argparse.Namespace) -> tuple[Settings, Database]:
+    from .store.db import Database, DatabaseTooNew
     from .web.settings import Settings
 
     settings = Settings.from_environment(data_dir=args.data_dir)
     settings.prepare()
+    database = Database(settings.database_url)
+    try:
+        database.migrate()
+    except DatabaseTooNew as exc:
+        raise UsageError(str(exc)) from None
+    return settings, database
+
+
+def _seed_demo(database: Database) -> None:
+    import secrets
+
+    from sqlalchemy import select
+
+    from .store.accounts import create_user
+    from .store.missions import create_mission
+    from .store.tables import Mission, User
+
+    with database.session() as db:
+        created = []
+        for role in ("operator", "supervisor", "auditor", "admin"):
+            name = f"demo-{role}"
+            if db.scalar(select(User).where(User.username == name)) is None:
+                password = secrets.token_urlsafe(12)
+                create_user(db, username=name, role=role, password=password,
+                            display_name=f"Demo {role}")
+                created.append((name, role, password))
+        operator = db.scalar(select(User).where(User.username == "demo-operator"))
+        assert operator is not None
+        for name in example_names():
+            if db.get(Mission, name) is None:
+                orders = read_bytes(example_bytes(name), name).orders
+                create_mission(db, orders=orders, author=operator)
+    if created:
+        sys.stderr.write("Demo users (one-time passwords, shown only now):\n")
+        for name, role, password in created:
+            sys.stderr.write(f"  {name:<18} {role:<11} {password}\n")
+    else:
+        sys.stderr.write("Demo users exist already (their passwords were shown when created).\n")
+
+
+def cmd_serve(args: argparse.Namespace) -> int:
+    import uvicorn
+
+    from .web.app import create_app
+
+    settings, database = _database(args)
+    if args.demo:
+        _seed_demo(database)
     sys.stderr.write(
-        f"Countersign {__version__} on http://{args.host}:{args.port} "
-        f"(data in {settings.data_dir})\n"
+        f"Countersign {__version__} on http://{args.host}:{args.port}/ "
+        f"(database: {database.engine.url.render_as_string(hide_password=True)})\n"
     )
-    uvicorn.run(create_app(settings), host=args.host, port=args.port, log_level="info")
+    uvicorn.run(create_app(settings, database), host=args.host, port=args.port,
+                log_level="info")
+    return EXIT_OK
+
+
+def cmd_users_create(args: argparse.Namespace) -> int:
+    import getpass
+    import secrets
+
+    from .store.accounts import AccountError, create_user
+
+    _, database = _database(args)
+    generated = False
+    if args.password_stdin:
+        password = sys.stdin.readline().rstrip("\n")
+    elif sys.stdin.isatty():
+        password = getpass.getpass(f"Password for {args.username}: ")
+    else:
+        password, generated = secrets.token_urlsafe(12), True
+    try:
+        with database.session() as db:
+            create_user(db, username=args.username, role=args.role, password=password,
+                        display_name=args.display_name or args.username)
+    except AccountError as exc:
+        raise UsageError(str(exc)) from None
+    sys.stdout.write(f"Created {args.role} {args.username}.\n")
+    if generated:
+        sys.stdout.write(f"One-time password: {password}\n")
     return EXIT_OK
 
 
@@ -296,7 +373,28 @@ def build_parser() -> argparse.ArgumentParser:
     serve_cmd.add_argument("--host", default="127.0.0.1")
     serve_cmd.add_argument("--port", type=int, default=8000)
     serve_cmd.add_argument("--data-dir", type=Path, default=None)
+    serve_cmd.add_argument(
+        "--demo", action="store_true",
+        help="seed demo users (printing one-time passwords) and the built-in examples",
+    )
     serve_cmd.set_defaults(handler=cmd_serve)
+
+    users_cmd = commands.add_parser("users", help="manage accounts (e.g. the first admin)")
+    users_sub = users_cmd.add_subparsers(dest="users_command", required=True, metavar="ACTION")
+    create_cmd = users_sub.add_parser(
+        "create", help="create an account",
+        description="Create an account in the database of --data-dir (or "
+        "COUNTERSIGN_DATABASE_URL). The password is read with --password-stdin, asked for on "
+        "a terminal, or generated and printed once.",
+    )
+    create_cmd.add_argument("--username", required=True)
+    create_cmd.add_argument("--role", required=True,
+                            choices=["operator", "supervisor", "auditor", "admin"])
+    create_cmd.add_argument("--display-name", default="")
+    create_cmd.add_argument("--password-stdin", action="store_true",
+                            help="read the password from the first line of standard input")
+    create_cmd.add_argument("--data-dir", type=Path, default=None)
+    create_cmd.set_defaults(handler=cmd_users_create)
     return parser
 
 

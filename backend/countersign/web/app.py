@@ -1,21 +1,114 @@
-"""The FastAPI application factory."""
+"""The FastAPI application factory: database migrated to head, routes, problems, the SPA."""
 
 from __future__ import annotations
 
-from fastapi import FastAPI
+from pathlib import Path
+from typing import Any
+
+from fastapi import FastAPI, Request
+from fastapi.responses import FileResponse, JSONResponse, Response
+from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from .. import __version__
+from ..store.db import Database
+from . import problems
+from .routes import admin, auth, missions
 from .settings import Settings
 
 
-def create_app(settings: Settings) -> FastAPI:
-    app = FastAPI(title="Countersign", version=__version__, docs_url="/api/docs",
-                  openapi_url="/api/openapi.json")
-    app.state.settings = settings
+class BodyLimit:
+    """Refuse request bodies above a size before reading them into memory (413)."""
 
-    @app.get("/api/health", operation_id="health", tags=["system"])
+    def __init__(self, app: ASGIApp, limit: int) -> None:
+        self.app, self.limit = app, limit
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] != "http":
+            await self.app(scope, receive, send)
+            return
+        length = dict(scope.get("headers", [])).get(b"content-length")
+        if length is not None and length.isdigit() and int(length) > self.limit:
+            await self._too_large(scope, receive, send)
+            return
+        seen = 0
+
+        async def limited() -> Message:
+            nonlocal seen
+            message = await receive()
+            seen += len(message.get("body", b""))
+            if seen > self.limit:
+                raise _TooLarge
+            return message
+
+        try:
+            await self.app(scope, limited, send)
+        except _TooLarge:
+            await self._too_large(scope, receive, send)
+
+    async def _too_large(self, scope: Scope, receive: Receive, send: Send) -> None:
+        response = problems.problem(413, f"the request body is larger than {self.limit} bytes")
+        await response(scope, receive, send)
+
+
+class _TooLarge(Exception):
+    pass
+
+
+SECURITY_HEADERS = {
+    "X-Content-Type-Options": "nosniff",
+    "X-Frame-Options": "DENY",
+    "Referrer-Policy": "no-referrer",
+    "Content-Security-Policy": "default-src 'self'; img-src 'self' data:; "
+    "style-src 'self' 'unsafe-inline'; frame-ancestors 'none'",
+}
+
+
+def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
+    settings.prepare()
+    database = database or Database(settings.database_url)
+    database.migrate()
+    app = FastAPI(title="Countersign", version=__version__, docs_url="/api/docs",
+                  openapi_url="/api/openapi.json", redoc_url=None)
+    app.state.settings = settings
+    app.state.database = database
+    problems.install(app)
+
+    @app.middleware("http")
+    async def _headers(request: Request, call_next: Any) -> Response:
+        response: Response = await call_next(request)
+        for name, value in SECURITY_HEADERS.items():
+            response.headers.setdefault(name, value)
+        if request.url.path.startswith("/api/"):
+            response.headers.setdefault("Cache-Control", "no-store")
+        return response
+
+    @app.get("/api/health", operation_id="health", tags=["system"],
+             openapi_extra={"x-roles": ["anonymous"]})
     def health() -> dict[str, str]:
         """Liveness: the app answers and knows its version."""
         return {"status": "ok", "version": __version__}
 
+    app.include_router(auth.router)
+    app.include_router(missions.router)
+    app.include_router(admin.router)
+    _serve_frontend(app, settings.frontend_dist)
+    app.add_middleware(BodyLimit, limit=settings.max_body_bytes)
     return app
+
+
+def _serve_frontend(app: FastAPI, dist: Path) -> None:
+    """Serve the built browser app, falling back to index.html for client-side routes."""
+    index = dist / "index.html"
+
+    @app.get("/{path:path}", include_in_schema=False)
+    def spa(path: str) -> Response:
+        if path.startswith("api/") or path == "api":
+            return problems.problem(404, f"no API route /{path}")
+        if not index.is_file():
+            return JSONResponse({"detail": "the browser app is not built; run "
+                                 "./scripts/build-frontend (the API is at /api/docs)"},
+                                status_code=503)
+        candidate = (dist / path).resolve()
+        if path and candidate.is_file() and candidate.is_relative_to(dist.resolve()):
+            return FileResponse(candidate)
+        return FileResponse(index)

@@ -8,11 +8,16 @@ from pathlib import Path
 
 from platformdirs import user_data_dir
 
+FRONTEND_DIST = Path(__file__).resolve().parents[3] / "frontend" / "dist"
+
 
 @dataclass(frozen=True)
 class Settings:
     data_dir: Path
     database_url: str
+    secure_cookies: bool = False
+    max_body_bytes: int = 9 * 1024 * 1024
+    frontend_dist: Path = FRONTEND_DIST
 
     @classmethod
     def from_environment(cls, data_dir: Path | None = None) -> Settings:
@@ -21,7 +26,8 @@ class Settings:
         )
         chosen = chosen.expanduser().resolve()
         url = os.environ.get("COUNTERSIGN_DATABASE_URL") or f"sqlite:///{chosen / 'countersign.db'}"
-        return cls(data_dir=chosen, database_url=url)
+        secure = os.environ.get("COUNTERSIGN_SECURE_COOKIES", "").lower() in {"1", "true", "yes"}
+        return cls(data_dir=chosen, database_url=url, secure_cookies=secure)
 
     def prepare(self) -> None:
         self.data_dir.mkdir(parents=True, exist_ok=True, mode=0o700)

@@ -1,0 +1,149 @@
+"""Users, sessions, API tokens and login rate limiting."""
+
+from __future__ import annotations
+
+import hashlib
+import secrets
+from dataclasses import dataclass
+from datetime import datetime, timedelta
+
+from argon2 import PasswordHasher
+from argon2.exceptions import InvalidHashError, VerificationError
+from sqlalchemy import delete, func, select
+from sqlalchemy.orm import Session as DbSession
+
+from .events import record
+from .tables import ROLES, ApiToken, LoginAttempt, Session, User, utcnow
+
+HASHER = PasswordHasher()
+SESSION_LIFETIME = timedelta(hours=12)
+LOGIN_WINDOW = timedelta(minutes=15)
+LOGIN_MAX_FAILURES = 10
+MIN_PASSWORD_LENGTH = 10
+# Verifying against a dummy hash makes unknown usernames cost as much as wrong passwords.
+_DUMMY_HASH = HASHER.hash("countersign-timing-equaliser")
+
+
+class AccountError(ValueError):
+    """A request about accounts that cannot be honoured; the message says why."""
+
+
+class TooManyAttempts(AccountError):
+    pass
+
+
+def token_hash(token: str) -> str:
+    return hashlib.sha256(token.encode()).hexdigest()
+
+
+def new_secret() -> str:
+    return secrets.token_urlsafe(32)
+
+
+def hash_password(password: str) -> str:
+    if len(password) < MIN_PASSWORD_LENGTH:
+        raise AccountError(f"a password needs at least {MIN_PASSWORD_LENGTH} characters")
+    if len(password) > 1024:
+        raise AccountError("a password may have at most 1024 characters")
+    return HASHER.hash(password)
+
+
+def create_user(
+    db: DbSession, *, username: str, role: str, password: str, display_name: str = "",
+    actor: User | None = None,
+) -> User:
+    if role not in ROLES:
+        raise AccountError(f"unknown role {role!r}; choose one of {', '.join(ROLES)}")
+    if not username or len(username) > 64 or not username.replace("-", "").replace(
+        "_", "").replace(".", "").isalnum():
+        raise AccountError("a username has 1-64 letters, digits, '.', '-' or '_'")
+    if db.scalar(select(User).where(User.username == username)) is not None:
+        raise AccountError(f"the username {username!r} is taken")
+    user = User(username=username, role=role, display_name=display_name or username,
+                password_hash=hash_password(password))
+    db.add(user)
+    db.flush()
+    record(db, kind="user.created", actor=actor, detail={"user": username, "role": role})
+    return user
+
+
+def authenticate(db: DbSession, *, username: str, password: str) -> User | None:
+    """The user for these credentials, or None; raises TooManyAttempts when rate limited."""
+    since = utcnow() - LOGIN_WINDOW
+    failures = db.scalar(
+        select(func.count()).select_from(LoginAttempt)
+        .where(LoginAttempt.username == username, LoginAttempt.at >= since)
+    ) or 0
+    if failures >= LOGIN_MAX_FAILURES:
+        raise TooManyAttempts(
+            f"too many failed sign-ins for {username!r}; try again in "
+            f"{int(LOGIN_WINDOW.total_seconds() // 60)} minutes"
+        )
+    user = db.scalar(select(User).where(User.username == username))
+    try:
+        HASHER.verify(user.password_hash if user else _DUMMY_HASH, password)
+        valid = user is not None and not user.disabled
+    except (VerificationError, InvalidHashError):
+        valid = False
+    if not valid or user is None:
+        db.add(LoginAttempt(username=username[:64]))
+        return None
+    if HASHER.check_needs_rehash(user.password_hash):
+        user.password_hash = HASHER.hash(password)
+    db.execute(delete(LoginAttempt).where(LoginAttempt.username == username))
+    return user
+
+
+@dataclass(frozen=True)
+class NewSession:
+    cookie: str
+    csrf_token: str
+    expires_at: datetime
+
+
+def open_session(db: DbSession, user: User) -> NewSession:
+    cookie, csrf = new_secret(), new_secret()
+    expires = utcnow() + SESSION_LIFETIME
+    db.add(Session(token_hash=token_hash(cookie), user_id=user.id, csrf_token=csrf,
+                   expires_at=expires))
+    # Opportunistic clean-up keeps the table small without a background job.
+    db.execute(delete(Session).where(Session.expires_at < utcnow()))
+    return NewSession(cookie, csrf, expires)
+
+
+def session_user(db: DbSession, cookie: str) -> tuple[User, Session] | None:
+    row = db.get(Session, token_hash(cookie))
+    if row is None:
+        return None
+    expires = row.expires_at if row.expires_at.tzinfo else row.expires_at.replace(
+        tzinfo=utcnow().tzinfo)
+    if expires < utcnow():
+        return None
+    user = db.get(User, row.user_id)
+    if user is None or user.disabled:
+        return None
+    return user, row
+
+
+def close_session(db: DbSession, cookie: str) -> None:
+    db.execute(delete(Session).where(Session.token_hash == token_hash(cookie)))
+
+
+def create_token(db: DbSession, *, user: User, name: str) -> tuple[ApiToken, str]:
+    secret = "cst_" + new_secret()
+    token = ApiToken(user_id=user.id, name=name[:100] or "token", token_hash=token_hash(secret))
+    db.add(token)
+    db.flush()
+    record(db, kind="token.created", actor=user, detail={"token": token.id, "name": token.name})
+    return token, secret
+
+
+def token_user(db: DbSession, secret: str) -> User | None:
+    token = db.scalar(select(ApiToken).where(ApiToken.token_hash == token_hash(secret)))
+    if token is None or token.revoked:
+        return None
+    user = db.get(User, token.user_id)
+    if user is None or user.disabled:
+        return None
+    token.last_used_at = utcnow()
+    return user

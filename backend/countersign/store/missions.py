@@ -1,0 +1,179 @@
+"""Missions, their draft heads, immutable versions and cached validation reports."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from sqlalchemy import func, select, update
+from sqlalchemy.exc import IntegrityError
+from sqlalchemy.orm import Session as DbSession
+
+from .. import __version__
+from ..orders.canonical import digest, orders_to_json
+from ..orders.model import Orders
+from ..verify.report import validate
+from .events import record
+from .tables import Mission, MissionVersion, User, ValidationReport, utcnow
+
+MAX_LAYOUT_NODES = 50_000
+
+
+class MissionError(Exception):
+    status = 400
+
+
+class NotFound(MissionError):
+    status = 404
+
+
+class Conflict(MissionError):
+    status = 409
+
+
+class PreconditionFailed(MissionError):
+    status = 412
+
+    def __init__(self, message: str, current_revision: int) -> None:
+        super().__init__(message)
+        self.current_revision = current_revision
+
+
+def _check_layout(layout: dict[str, Any]) -> dict[str, Any]:
+    if len(layout) > MAX_LAYOUT_NODES:
+        raise MissionError(f"the layout may hold at most {MAX_LAYOUT_NODES} entries")
+    return layout
+
+
+def get_mission(db: DbSession, mission_id: str) -> Mission:
+    mission = db.get(Mission, mission_id)
+    if mission is None:
+        raise NotFound(f"no mission {mission_id!r}")
+    return mission
+
+
+def create_mission(
+    db: DbSession, *, orders: Orders, author: User, layout: dict[str, Any] | None = None
+) -> Mission:
+    if db.get(Mission, orders.id) is not None:
+        raise Conflict(f"a mission with id {orders.id!r} exists already; choose another id")
+    value = digest(orders)
+    mission = Mission(
+        id=orders.id, title=orders.title, vehicle=orders.vehicle, draft=orders_to_json(orders),
+        draft_digest=value, layout=_check_layout(layout or {}), revision=1,
+        created_by=author.id, updated_by=author.id,
+    )
+    db.add(mission)
+    try:
+        db.flush()
+    except IntegrityError:
+        raise Conflict(f"a mission with id {orders.id!r} exists already") from None
+    record(db, kind="mission.created", actor=author, mission_id=orders.id, after=value)
+    return mission
+
+
+def update_draft(
+    db: DbSession, *, mission_id: str, orders: Orders, layout: dict[str, Any] | None,
+    expected_revision: int, author: User,
+) -> Mission:
+    """Compare-and-set on the revision: a concurrent edit fails with 412, nothing is lost."""
+    mission = get_mission(db, mission_id)
+    if orders.id != mission_id:
+        raise MissionError(
+            f"the orders' id {orders.id!r} differs from the mission {mission_id!r}; "
+            "ids cannot change"
+        )
+    before = mission.draft_digest
+    value = digest(orders)
+    changes: dict[str, Any] = {
+        "draft": orders_to_json(orders), "draft_digest": value, "title": orders.title,
+        "vehicle": orders.vehicle, "revision": Mission.revision + 1,
+        "updated_by": author.id, "updated_at": utcnow(),
+    }
+    if layout is not None:
+        changes["layout"] = _check_layout(layout)
+    result = db.execute(
+        update(Mission)
+        .where(Mission.id == mission_id, Mission.revision == expected_revision)
+        .values(**changes)
+        .execution_options(synchronize_session=False)
+    )
+    if result.rowcount != 1:  # type: ignore[attr-defined]
+        db.refresh(mission)
+        raise PreconditionFailed(
+            f"the draft changed since revision {expected_revision} (now {mission.revision}); "
+            "reload it and apply your edit again",
+            mission.revision,
+        )
+    record(db, kind="draft.updated", actor=author, mission_id=mission_id, before=before,
+           after=value, detail={"revision": expected_revision + 1})
+    db.refresh(mission)
+    return mission
+
+
+def delete_mission(db: DbSession, *, mission_id: str, actor: User) -> None:
+    mission = get_mission(db, mission_id)
+    versions = db.scalar(
+        select(func.count()).select_from(MissionVersion)
+        .where(MissionVersion.mission_id == mission_id)
+    )
+    if versions:
+        raise Conflict(
+            f"mission {mission_id!r} has {versions} version(s); only drafts can be deleted"
+        )
+    record(db, kind="mission.deleted", actor=actor, mission_id=mission_id,
+           before=mission.draft_digest)
+    db.delete(mission)
+
+
+def create_version(db: DbSession, *, mission_id: str, author: User) -> MissionVersion:
+    mission = get_mission(db, mission_id)
+    latest = db.scalar(
+        select(func.max(MissionVersion.number)).where(MissionVersion.mission_id == mission_id)
+    ) or 0
+    version = MissionVersion(mission_id=mission_id, number=latest + 1, orders=mission.draft,
+                             digest=mission.draft_digest, author_id=author.id)
+    db.add(version)
+    try:
+        db.flush()
+    except IntegrityError:
+        raise Conflict("another version was created at the same moment; try again") from None
+    record(db, kind="version.created", actor=author, mission_id=mission_id,
+           after=version.digest, detail={"number": version.number})
+    return version
+
+
+def versions_of(db: DbSession, mission_id: str) -> list[MissionVersion]:
+    return list(db.scalars(
+        select(MissionVersion).where(MissionVersion.mission_id == mission_id)
+        .order_by(MissionVersion.number)
+    ))
+
+
+def get_version(db: DbSession, mission_id: str, number: int) -> MissionVersion:
+    version = db.scalar(select(MissionVersion).where(
+        MissionVersion.mission_id == mission_id, MissionVersion.number == number))
+    if version is None:
+        raise NotFound(f"mission {mission_id!r} has no version {number}")
+    return version
+
+
+@dataclass(frozen=True)
+class CachedReport:
+    report: dict[str, Any]
+    cached: bool
+
+
+def report_for(db: DbSession, orders: Orders, orders_digest: str | None = None) -> CachedReport:
+    """The validation report of these orders, computed once per digest and checker version."""
+    key = orders_digest or digest(orders)
+    row = db.get(ValidationReport, (key, __version__))
+    if row is not None:
+        return CachedReport(row.report, True)
+    report = validate(orders).to_json()
+    try:
+        with db.begin_nested():
+            db.add(ValidationReport(digest=key, checker_version=__version__, report=report))
+    except IntegrityError:
+        pass  # a concurrent request stored the same report first
+    return CachedReport(report, False)

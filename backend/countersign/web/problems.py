@@ -1,0 +1,73 @@
+"""RFC 9457 problem documents for every error the API returns."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from fastapi import FastAPI, HTTPException, Request
+from fastapi.exceptions import RequestValidationError
+from fastapi.responses import JSONResponse
+
+from ..orders.reader import OrdersReadError
+from ..store.accounts import AccountError, TooManyAttempts
+from ..store.missions import MissionError, PreconditionFailed
+
+PROBLEM = "application/problem+json"
+TITLES = {400: "Bad request", 401: "Not signed in", 403: "Forbidden", 404: "Not found",
+          409: "Conflict", 412: "Precondition failed", 413: "Payload too large",
+          415: "Unsupported media type", 422: "Unprocessable content",
+          428: "Precondition required", 429: "Too many requests",
+          500: "Internal server error"}
+
+
+def problem(status: int, detail: str, request: Request | None = None, **extra: Any) -> JSONResponse:
+    body: dict[str, Any] = {"type": "about:blank", "title": TITLES.get(status, "Error"),
+                            "status": status, "detail": detail}
+    if request is not None:
+        body["instance"] = request.url.path
+    body.update(extra)
+    headers = {"WWW-Authenticate": "Bearer"} if status == 401 else None
+    return JSONResponse(body, status_code=status, media_type=PROBLEM, headers=headers)
+
+
+def _location(loc: tuple[Any, ...]) -> str:
+    path = "$"
+    for part in loc[1:] if loc and loc[0] in ("body", "query", "path", "header") else loc:
+        path += f"[{part}]" if isinstance(part, int) else f".{part}"
+    return path
+
+
+def install(app: FastAPI) -> None:
+    @app.exception_handler(HTTPException)
+    async def _http(request: Request, exc: HTTPException) -> JSONResponse:
+        return problem(exc.status_code, str(exc.detail), request)
+
+    @app.exception_handler(RequestValidationError)
+    async def _validation(request: Request, exc: RequestValidationError) -> JSONResponse:
+        errors = [{"path": _location(tuple(e.get("loc", ()))), "message": str(e.get("msg"))}
+                  for e in exc.errors()[:20]]
+        return problem(422, "the request is not valid", request, errors=errors)
+
+    @app.exception_handler(OrdersReadError)
+    async def _orders(request: Request, exc: OrdersReadError) -> JSONResponse:
+        errors = [{"path": p.path, "message": p.message} for p in exc.problems]
+        return problem(422, "the orders cannot be read", request, errors=errors,
+                       total_errors=exc.total)
+
+    @app.exception_handler(PreconditionFailed)
+    async def _stale(request: Request, exc: PreconditionFailed) -> JSONResponse:
+        response = problem(412, str(exc), request, current_revision=exc.current_revision)
+        response.headers["ETag"] = f'"{exc.current_revision}"'
+        return response
+
+    @app.exception_handler(MissionError)
+    async def _mission(request: Request, exc: MissionError) -> JSONResponse:
+        return problem(exc.status, str(exc), request)
+
+    @app.exception_handler(TooManyAttempts)
+    async def _rate(request: Request, exc: TooManyAttempts) -> JSONResponse:
+        return problem(429, str(exc), request)
+
+    @app.exception_handler(AccountError)
+    async def _account(request: Request, exc: AccountError) -> JSONResponse:
+        return problem(400, str(exc), request)

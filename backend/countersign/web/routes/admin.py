@@ -1,0 +1,153 @@
+"""Users, API tokens, vehicle profiles and the event log."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any
+
+from fastapi import APIRouter, HTTPException, Query
+from pydantic import BaseModel, Field
+from sqlalchemy import select
+
+from ...orders.model import Vehicle
+from ...store.accounts import AccountError, create_token, create_user, hash_password
+from ...store.events import record
+from ...store.tables import ApiToken, Event, User, VehicleProfile
+from ..deps import ADMINS, EVERYONE, LOG_READERS, CurrentPrincipal, Db, allow
+from .schemas import EventOut, UserOut
+
+router = APIRouter(prefix="/api", tags=["administration"])
+
+
+class UserIn(BaseModel):
+    username: str = Field(min_length=1, max_length=64)
+    display_name: str = Field(default="", max_length=200)
+    role: str = Field(max_length=16)
+    password: str = Field(min_length=1, max_length=1024)
+
+
+class UserPatch(BaseModel):
+    role: str | None = Field(default=None, max_length=16)
+    disabled: bool | None = None
+    password: str | None = Field(default=None, max_length=1024)
+    display_name: str | None = Field(default=None, max_length=200)
+
+
+class TokenIn(BaseModel):
+    name: str = Field(min_length=1, max_length=100)
+
+
+class TokenOut(BaseModel):
+    id: int
+    name: str
+    token: str | None = None
+    revoked: bool = False
+
+
+@router.get("/users", operation_id="listUsers", response_model=list[UserOut], **allow(*ADMINS))
+def list_users(db: Db) -> list[UserOut]:
+    return [UserOut.of(u) for u in db.scalars(select(User).order_by(User.username))]
+
+
+@router.post("/users", operation_id="createUser", status_code=201, response_model=UserOut,
+             **allow(*ADMINS))
+def add_user(body: UserIn, principal: CurrentPrincipal, db: Db) -> UserOut:
+    user = create_user(db, username=body.username, role=body.role, password=body.password,
+                       display_name=body.display_name, actor=principal.user)
+    return UserOut.of(user)
+
+
+@router.patch("/users/{user_id}", operation_id="updateUser", response_model=UserOut,
+              **allow(*ADMINS))
+def change_user(user_id: int, body: UserPatch, principal: CurrentPrincipal, db: Db) -> UserOut:
+    user = db.get(User, user_id)
+    if user is None:
+        raise HTTPException(404, f"no user {user_id}")
+    changes: dict[str, Any] = {}
+    if body.role is not None:
+        from ...store.tables import ROLES
+
+        if body.role not in ROLES:
+            raise AccountError(f"unknown role {body.role!r}; choose one of {', '.join(ROLES)}")
+        if user.id == principal.user.id and body.role != "admin":
+            raise AccountError("you cannot remove your own admin role")
+        user.role = changes["role"] = body.role
+    if body.disabled is not None:
+        if user.id == principal.user.id and body.disabled:
+            raise AccountError("you cannot disable your own account")
+        user.disabled = changes["disabled"] = body.disabled
+    if body.display_name is not None:
+        user.display_name = changes["display_name"] = body.display_name
+    if body.password is not None:
+        user.password_hash = hash_password(body.password)
+        changes["password"] = "changed"
+    record(db, kind="user.updated", actor=principal.user,
+           detail={"user": user.username, **changes})
+    return UserOut.of(user)
+
+
+@router.get("/tokens", operation_id="listTokens", response_model=list[TokenOut],
+            **allow(*EVERYONE))
+def list_tokens(principal: CurrentPrincipal, db: Db) -> list[TokenOut]:
+    rows = db.scalars(select(ApiToken).where(ApiToken.user_id == principal.user.id))
+    return [TokenOut(id=t.id, name=t.name, revoked=t.revoked) for t in rows]
+
+
+@router.post("/tokens", operation_id="createToken", status_code=201, response_model=TokenOut,
+             **allow(*EVERYONE))
+def add_token(body: TokenIn, principal: CurrentPrincipal, db: Db) -> TokenOut:
+    token, secret = create_token(db, user=principal.user, name=body.name)
+    return TokenOut(id=token.id, name=token.name, token=secret)
+
+
+@router.delete("/tokens/{token_id}", operation_id="revokeToken", status_code=204,
+               **allow(*EVERYONE))
+def revoke_token(token_id: int, principal: CurrentPrincipal, db: Db) -> None:
+    token = db.get(ApiToken, token_id)
+    if token is None or token.user_id != principal.user.id:
+        raise HTTPException(404, f"you have no token {token_id}")
+    token.revoked = True
+    record(db, kind="token.revoked", actor=principal.user, detail={"token": token_id})
+
+
+@router.get("/vehicles", operation_id="listVehicles", **allow(*EVERYONE))
+def list_vehicles(db: Db) -> list[dict[str, Any]]:
+    return [v.profile for v in db.scalars(select(VehicleProfile).order_by(VehicleProfile.id))]
+
+
+@router.put("/vehicles/{vehicle_id}", operation_id="putVehicle", **allow(*ADMINS))
+def put_vehicle(vehicle_id: str, body: Vehicle, principal: CurrentPrincipal,
+                db: Db) -> dict[str, Any]:
+    if body.id != vehicle_id:
+        raise HTTPException(400, f"the profile's id {body.id!r} differs from {vehicle_id!r}")
+    profile = body.model_dump(mode="json", exclude_unset=True)
+    row = db.get(VehicleProfile, vehicle_id)
+    if row is None:
+        db.add(VehicleProfile(id=vehicle_id, title=body.title, profile=profile))
+    else:
+        row.title, row.profile = body.title, profile
+    record(db, kind="vehicle.saved", actor=principal.user, detail={"vehicle": vehicle_id})
+    return profile
+
+
+@router.get("/events", operation_id="listEvents", response_model=list[EventOut],
+            **allow(*LOG_READERS))
+def list_events(
+    db: Db,
+    mission: Annotated[str | None, Query(max_length=100)] = None,
+    after: Annotated[int, Query(ge=0)] = 0,
+    limit: Annotated[int, Query(ge=1, le=1000)] = 100,
+) -> list[EventOut]:
+    query = select(Event).where(Event.id > after).order_by(Event.id).limit(limit)
+    if mission:
+        query = query.where(Event.mission_id == mission)
+    names: dict[int, str] = {}
+    out = []
+    for event in db.scalars(query):
+        actor = None
+        if event.actor_id is not None:
+            if event.actor_id not in names:
+                user = db.get(User, event.actor_id)
+                names[event.actor_id] = user.username if user else f"#{event.actor_id}"
+            actor = names[event.actor_id]
+        out.append(EventOut.of(event, actor))
+    return out

@@ -1,0 +1,50 @@
+"""Sign-in, sign-out and who am I."""
+
+from __future__ import annotations
+
+from fastapi import APIRouter, HTTPException, Request, Response
+from pydantic import BaseModel, Field
+
+from ...store.accounts import authenticate, close_session, open_session
+from ..deps import EVERYONE, SESSION_COOKIE, CurrentPrincipal, Db, allow
+from .schemas import UserOut
+
+router = APIRouter(prefix="/api/auth", tags=["auth"])
+
+
+class LoginRequest(BaseModel):
+    username: str = Field(min_length=1, max_length=64)
+    password: str = Field(min_length=1, max_length=1024)
+
+
+class SessionOut(BaseModel):
+    user: UserOut
+    csrf_token: str | None
+
+
+@router.post("/login", operation_id="login", response_model=SessionOut,
+             openapi_extra={"x-roles": ["anonymous"]})
+def login(body: LoginRequest, request: Request, response: Response, db: Db) -> SessionOut:
+    user = authenticate(db, username=body.username, password=body.password)
+    if user is None:
+        # Commit the failed attempt (rate limiting) before answering.
+        db.commit()
+        raise HTTPException(401, "wrong username or password")
+    session = open_session(db, user)
+    secure = request.url.scheme == "https" or request.app.state.settings.secure_cookies
+    response.set_cookie(SESSION_COOKIE, session.cookie, httponly=True, samesite="strict",
+                        secure=secure, path="/", expires=session.expires_at)
+    return SessionOut(user=UserOut.of(user), csrf_token=session.csrf_token)
+
+
+@router.post("/logout", operation_id="logout", status_code=204, **allow(*EVERYONE))
+def logout(request: Request, response: Response, principal: CurrentPrincipal, db: Db) -> None:
+    cookie = request.cookies.get(SESSION_COOKIE)
+    if cookie:
+        close_session(db, cookie)
+    response.delete_cookie(SESSION_COOKIE, path="/")
+
+
+@router.get("/me", operation_id="whoAmI", response_model=SessionOut, **allow(*EVERYONE))
+def me(principal: CurrentPrincipal) -> SessionOut:
+    return SessionOut(user=UserOut.of(principal.user), csrf_token=principal.csrf_token)

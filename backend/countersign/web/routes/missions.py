@@ -1,0 +1,255 @@
+"""Missions, drafts, versions, reports, paths, import and export."""
+
+from __future__ import annotations
+
+import base64
+import json
+from collections.abc import Iterator
+from typing import Annotated, Any
+
+from fastapi import APIRouter, Header, HTTPException, Query, Request, Response
+from fastapi.responses import PlainTextResponse, StreamingResponse
+from pydantic import BaseModel
+from sqlalchemy import func, or_, select
+from sqlalchemy.orm import Session as DbSession
+
+from ...orders.canonical import orders_to_json
+from ...orders.model import Orders
+from ...orders.reader import orders_from_data, read_bytes
+from ...store import missions as service
+from ...store.tables import Mission, MissionVersion, User
+from ...verify.graph import build_graph
+from ...verify.paths import count_paths, iter_path_lines, iter_paths, trace_text
+from ..deps import EVERYONE, OPERATORS, CurrentPrincipal, Db, allow
+from .schemas import MissionDetail, MissionPage, MissionSummary, summary_fields, version_out
+
+router = APIRouter(prefix="/api", tags=["missions"])
+MAX_PAGE = 200
+MAX_PATH_PAGE = 1000
+
+
+class DraftIn(BaseModel):
+    orders: dict[str, Any]
+    layout: dict[str, Any] | None = None
+
+
+class PathPage(BaseModel):
+    count: int
+    by_terminal: dict[str, int]
+    items: list[dict[str, Any]]
+    next_cursor: str | None
+
+
+def _username(db: DbSession, user_id: int, cache: dict[int, str]) -> str:
+    if user_id not in cache:
+        user = db.get(User, user_id)
+        cache[user_id] = user.username if user else f"#{user_id}"
+    return cache[user_id]
+
+
+def _orders(data: dict[str, Any]) -> Orders:
+    return orders_from_data(data)
+
+
+def _summary(db: DbSession, mission: Mission, names: dict[int, str]) -> dict[str, Any]:
+    report = service.report_for(db, _orders(mission.draft), mission.draft_digest).report
+    latest = db.scalar(select(func.max(MissionVersion.number))
+                       .where(MissionVersion.mission_id == mission.id))
+    return summary_fields(mission, report, latest, _username(db, mission.updated_by, names))
+
+
+def _detail(db: DbSession, mission: Mission, response: Response | None,
+            import_findings: list[dict[str, Any]] | None = None) -> MissionDetail:
+    names: dict[int, str] = {}
+    versions = [version_out(v, _username(db, v.author_id, names), False)
+                for v in service.versions_of(db, mission.id)]
+    if response is not None:
+        response.headers["ETag"] = f'"{mission.revision}"'
+    return MissionDetail(**_summary(db, mission, names), orders=mission.draft,
+                         layout=mission.layout, versions=versions,
+                         import_findings=import_findings or [])
+
+
+def _encode_cursor(value: str | int) -> str:
+    return base64.urlsafe_b64encode(str(value).encode()).decode()
+
+
+def _decode_cursor(cursor: str) -> str:
+    try:
+        return base64.urlsafe_b64decode(cursor.encode()).decode()
+    except (ValueError, UnicodeDecodeError):
+        raise HTTPException(400, "the cursor is not valid; start again without one") from None
+
+
+@router.get("/missions", operation_id="listMissions", response_model=MissionPage,
+            **allow(*EVERYONE))
+def list_missions(
+    db: Db,
+    q: Annotated[str | None, Query(max_length=200)] = None,
+    status: Annotated[str | None, Query(max_length=16)] = None,
+    vehicle: Annotated[str | None, Query(max_length=100)] = None,
+    limit: Annotated[int, Query(ge=1, le=MAX_PAGE)] = 50,
+    cursor: Annotated[str | None, Query(max_length=400)] = None,
+) -> MissionPage:
+    query = select(Mission).order_by(Mission.id).limit(limit + 1)
+    if q:
+        pattern = "%" + q.replace("\\", "\\\\").replace("%", "\\%").replace("_", "\\_") + "%"
+        query = query.where(or_(Mission.id.ilike(pattern, escape="\\"),
+                                Mission.title.ilike(pattern, escape="\\")))
+    if status:
+        query = query.where(Mission.status == status)
+    if vehicle:
+        query = query.where(Mission.vehicle == vehicle)
+    if cursor:
+        query = query.where(Mission.id > _decode_cursor(cursor))
+    rows = list(db.scalars(query))
+    names: dict[int, str] = {}
+    items = [MissionSummary(**_summary(db, m, names)) for m in rows[:limit]]
+    following = _encode_cursor(rows[limit - 1].id) if len(rows) > limit else None
+    return MissionPage(items=items, next_cursor=following)
+
+
+@router.post("/missions", operation_id="createMission", status_code=201,
+             response_model=MissionDetail, **allow(*OPERATORS))
+def create_mission(body: dict[str, Any], response: Response, principal: CurrentPrincipal,
+                   db: Db) -> MissionDetail:
+    mission = service.create_mission(db, orders=_orders(body), author=principal.user)
+    return _detail(db, mission, response)
+
+
+IMPORT_ROUTE = allow(*OPERATORS)
+IMPORT_ROUTE["openapi_extra"]["requestBody"] = {"required": True, "content": {
+    "application/json": {"schema": {"type": "object"}},
+    "application/xml": {"schema": {"type": "string"}},
+    "text/turtle": {"schema": {"type": "string"}}}}
+
+
+@router.post("/import", operation_id="importMission", status_code=201,
+             response_model=MissionDetail, **IMPORT_ROUTE)
+async def import_mission(request: Request, response: Response, principal: CurrentPrincipal,
+                         db: Db) -> MissionDetail:
+    data = await request.body()
+    loaded = read_bytes(data, "the uploaded file")
+    mission = service.create_mission(db, orders=loaded.orders, author=principal.user)
+    return _detail(db, mission, response, [f.to_json() for f in loaded.findings])
+
+
+@router.get("/missions/{mission_id}", operation_id="getMission", response_model=MissionDetail,
+            **allow(*EVERYONE))
+def get_mission(mission_id: str, response: Response, db: Db) -> MissionDetail:
+    return _detail(db, service.get_mission(db, mission_id), response)
+
+
+def _revision(if_match: str | None) -> int:
+    if if_match is None:
+        raise HTTPException(428, "send If-Match with the ETag of the draft you edited")
+    try:
+        return int(if_match.strip().removeprefix("W/").strip('"'))
+    except ValueError:
+        raise HTTPException(412, f"If-Match {if_match!r} is not an ETag of this API") from None
+
+
+@router.put("/missions/{mission_id}/draft", operation_id="updateDraft",
+            response_model=MissionDetail, **allow(*OPERATORS))
+def update_draft(mission_id: str, body: DraftIn, response: Response,
+                 principal: CurrentPrincipal, db: Db,
+                 if_match: Annotated[str | None, Header()] = None) -> MissionDetail:
+    mission = service.update_draft(
+        db, mission_id=mission_id, orders=_orders(body.orders), layout=body.layout,
+        expected_revision=_revision(if_match), author=principal.user)
+    return _detail(db, mission, response)
+
+
+@router.delete("/missions/{mission_id}", operation_id="deleteMission", status_code=204,
+               **allow(*OPERATORS))
+def delete_mission(mission_id: str, principal: CurrentPrincipal, db: Db) -> None:
+    service.delete_mission(db, mission_id=mission_id, actor=principal.user)
+
+
+@router.post("/missions/{mission_id}/versions", operation_id="createVersion", status_code=201,
+             **allow(*OPERATORS))
+def create_version(mission_id: str, principal: CurrentPrincipal, db: Db) -> dict[str, Any]:
+    version = service.create_version(db, mission_id=mission_id, author=principal.user)
+    return version_out(version, principal.user.username, True).model_dump(mode="json")
+
+
+@router.get("/missions/{mission_id}/versions/{number}", operation_id="getVersion",
+            **allow(*EVERYONE))
+def get_version(mission_id: str, number: int, db: Db) -> dict[str, Any]:
+    version = service.get_version(db, mission_id, number)
+    author = _username(db, version.author_id, {})
+    return version_out(version, author, True).model_dump(mode="json")
+
+
+@router.get("/missions/{mission_id}/report", operation_id="getReport", **allow(*EVERYONE))
+def get_report(mission_id: str, db: Db) -> dict[str, Any]:
+    mission = service.get_mission(db, mission_id)
+    return service.report_for(db, _orders(mission.draft), mission.draft_digest).report
+
+
+@router.post("/validate", operation_id="validateOrders", **allow(*EVERYONE))
+def validate_orders(body: dict[str, Any], db: Db) -> dict[str, Any]:
+    return service.report_for(db, _orders(body)).report
+
+
+@router.get("/missions/{mission_id}/paths", operation_id="listPaths", response_model=None,
+            **allow(*EVERYONE))
+def list_paths(
+    mission_id: str, request: Request, db: Db,
+    limit: Annotated[int, Query(ge=1, le=MAX_PATH_PAGE)] = 100,
+    cursor: Annotated[str | None, Query(max_length=2000)] = None,
+    format: Annotated[str, Query(pattern="^(json|ndjson|trace)$")] = "json",
+) -> PathPage | StreamingResponse | PlainTextResponse:
+    mission = service.get_mission(db, mission_id)
+    graph = build_graph(_orders(mission.draft))
+    counts = count_paths(graph)
+    if counts is None:
+        raise HTTPException(409, "the paths cannot be counted until the structural errors "
+                                 "in the report are fixed")
+    offset = 0
+    if cursor:
+        try:
+            offset = int(_decode_cursor(cursor))
+        except ValueError:
+            raise HTTPException(400, "the cursor is not valid") from None
+    if format == "ndjson" or "application/x-ndjson" in request.headers.get("accept", ""):
+        def lines() -> Iterator[str]:
+            for line in iter_path_lines(graph, counts, offset):
+                yield line + "\n"
+        return StreamingResponse(lines(), media_type="application/x-ndjson")
+    page = list(iter_paths(graph, counts, offset, limit))
+    if format == "trace":
+        return PlainTextResponse("\n".join(trace_text(graph, p) for p in page) + "\n")
+    following = offset + len(page)
+    return PathPage(count=counts.total, by_terminal=counts.by_terminal,
+                    items=[p.to_json() for p in page],
+                    next_cursor=_encode_cursor(following) if following < counts.total else None)
+
+
+EXPORTS = {"json": "application/json", "dot": "text/vnd.graphviz",
+           "plain": "text/plain; charset=utf-8"}
+
+
+@router.get("/missions/{mission_id}/export", operation_id="exportMission",
+            response_class=PlainTextResponse, **allow(*EVERYONE))
+def export_mission(
+    mission_id: str, db: Db,
+    format: Annotated[str, Query(pattern="^(json|dot|plain|turtle|avcl)$")] = "json",
+) -> Response:
+    mission = service.get_mission(db, mission_id)
+    orders = _orders(mission.draft)
+    if format == "json":
+        text = json.dumps(orders_to_json(orders), indent=2) + "\n"
+    elif format == "dot":
+        from ...orders.dot import to_dot
+
+        text = to_dot(orders)
+    elif format == "plain":
+        from ...orders.plain import plain_orders
+
+        text = plain_orders(orders)
+    else:
+        raise HTTPException(415, f"export as {format} is not available in this version")
+    suffix = {"json": "json", "dot": "dot", "plain": "txt"}[format]
+    return Response(text, media_type=EXPORTS[format], headers={
+        "Content-Disposition": f'attachment; filename="{mission.id}.{suffix}"'})

@@ -1,0 +1,95 @@
+"""Response models shared by the routes."""
+
+from __future__ import annotations
+
+from datetime import datetime
+from typing import Any
+
+from pydantic import BaseModel
+
+from ...store.tables import Event, Mission, MissionVersion, User
+
+
+class UserOut(BaseModel):
+    id: int
+    username: str
+    display_name: str
+    role: str
+    disabled: bool = False
+
+    @classmethod
+    def of(cls, user: User) -> UserOut:
+        return cls(id=user.id, username=user.username, display_name=user.display_name,
+                   role=user.role, disabled=user.disabled)
+
+
+class VersionOut(BaseModel):
+    number: int
+    digest: str
+    author: str
+    created_at: datetime
+    orders: dict[str, Any] | None = None
+
+
+class MissionSummary(BaseModel):
+    id: str
+    title: str
+    vehicle: str | None
+    status: str
+    draft_digest: str
+    revision: int
+    latest_version: int | None
+    ok: bool | None
+    errors: int | None
+    warnings: int | None
+    updated_at: datetime
+    updated_by: str
+
+
+class MissionDetail(MissionSummary):
+    orders: dict[str, Any]
+    layout: dict[str, Any]
+    versions: list[VersionOut]
+    import_findings: list[dict[str, Any]] = []
+
+
+class MissionPage(BaseModel):
+    items: list[MissionSummary]
+    next_cursor: str | None
+
+
+class EventOut(BaseModel):
+    id: int
+    at: datetime
+    actor: str | None
+    kind: str
+    mission: str | None
+    before_digest: str | None
+    after_digest: str | None
+    detail: dict[str, Any]
+
+    @classmethod
+    def of(cls, event: Event, actor: str | None) -> EventOut:
+        return cls(id=event.id, at=event.at, actor=actor, kind=event.kind,
+                   mission=event.mission_id, before_digest=event.before_digest,
+                   after_digest=event.after_digest, detail=event.detail)
+
+
+def version_out(version: MissionVersion, author: str, with_orders: bool) -> VersionOut:
+    return VersionOut(number=version.number, digest=version.digest, author=author,
+                      created_at=version.created_at,
+                      orders=version.orders if with_orders else None)
+
+
+def summary_fields(mission: Mission, report: dict[str, Any] | None, latest: int | None,
+                   updated_by: str) -> dict[str, Any]:
+    findings = report["findings"] if report else None
+    errors = sum(f["severity"] == "error" for f in findings) if findings is not None else None
+    return {
+        "id": mission.id, "title": mission.title, "vehicle": mission.vehicle,
+        "status": mission.status, "draft_digest": mission.draft_digest,
+        "revision": mission.revision, "latest_version": latest,
+        "ok": report["ok"] if report else None, "errors": errors,
+        "warnings": (len(findings) - (errors or 0)) if findings is not None else None,
+        "updated_at": mission.updated_at, "updated_by": updated_by,
+    }

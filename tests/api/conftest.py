@@ -1,0 +1,87 @@
+"""API fixtures: a real database (SQLite always; PostgreSQL when COUNTERSIGN_TEST_POSTGRES_URL
+is set, as .ci/run does) migrated by the app itself, users of every role, signed-in clients."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+from fastapi import FastAPI
+from fastapi.testclient import TestClient
+from sqlalchemy import text
+
+from countersign.orders.examples import load_example
+from countersign.store.accounts import create_token, create_user
+from countersign.store.db import Database, make_engine
+from countersign.store.missions import create_mission
+from countersign.web.app import create_app
+from countersign.web.settings import Settings
+
+ROLES = ("operator", "supervisor", "auditor", "admin")
+PASSWORD = "correct horse battery staple"
+POSTGRES_URL = os.environ.get("COUNTERSIGN_TEST_POSTGRES_URL")
+
+
+def _reset_postgres(url: str) -> None:
+    engine = make_engine(url)
+    with engine.begin() as connection:
+        connection.execute(text("DROP SCHEMA public CASCADE"))
+        connection.execute(text("CREATE SCHEMA public"))
+    engine.dispose()
+
+
+@pytest.fixture(params=["sqlite", "postgresql"])
+def database_url(request: pytest.FixtureRequest, tmp_path: Path) -> str:
+    if request.param == "sqlite":
+        return f"sqlite:///{tmp_path / 'countersign.db'}"
+    if not POSTGRES_URL:
+        pytest.skip("PostgreSQL tests need COUNTERSIGN_TEST_POSTGRES_URL (.ci/run sets it)")
+    _reset_postgres(POSTGRES_URL)
+    return POSTGRES_URL
+
+
+@dataclass
+class World:
+    app: FastAPI
+    database: Database
+    tokens: dict[str, str]
+    usernames: dict[str, str]
+
+    def client(self, role: str | None = None) -> TestClient:
+        client = TestClient(self.app, raise_server_exceptions=False)
+        if role is not None:
+            client.headers["Authorization"] = f"Bearer {self.tokens[role]}"
+        return client
+
+    def browser(self, role: str) -> tuple[TestClient, str]:
+        """A client signed in with a cookie session, and its CSRF token."""
+        client = TestClient(self.app, raise_server_exceptions=False)
+        response = client.post("/api/auth/login",
+                               json={"username": self.usernames[role], "password": PASSWORD})
+        assert response.status_code == 200, response.text
+        return client, response.json()["csrf_token"]
+
+
+@pytest.fixture
+def world(database_url: str, tmp_path: Path) -> Iterator[World]:
+    database = Database(database_url)
+    app = create_app(Settings(data_dir=tmp_path, database_url=database_url), database)
+    tokens: dict[str, str] = {}
+    usernames: dict[str, str] = {}
+    with database.session() as db:
+        for role in ROLES:
+            user = create_user(db, username=f"{role}1", role=role, password=PASSWORD)
+            usernames[role] = user.username
+            tokens[role] = create_token(db, user=user, name="tests")[1]
+            if role == "operator":
+                create_mission(db, orders=load_example("search-and-sample"), author=user)
+    yield World(app, database, tokens, usernames)
+    database.engine.dispose()
+
+
+def count_rows(database: Database, sql: str) -> int:
+    with database.engine.connect() as connection:
+        return int(connection.execute(text(sql)).scalar_one())
