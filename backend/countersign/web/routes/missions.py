@@ -76,7 +76,7 @@ def _encode_cursor(value: str | int) -> str:
 
 def _decode_cursor(cursor: str) -> str:
     try:
-        return base64.urlsafe_b64decode(cursor.encode()).decode()
+        return base64.b64decode(cursor.encode(), altchars=b"-_", validate=True).decode()
     except (ValueError, UnicodeDecodeError):
         raise HTTPException(400, "the cursor is not valid; start again without one") from None
 

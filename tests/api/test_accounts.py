@@ -1,0 +1,85 @@
+from __future__ import annotations
+
+from countersign.store.accounts import LOGIN_MAX_FAILURES
+
+from .conftest import PASSWORD, World, count_rows
+
+
+def test_login_sets_a_hardened_cookie_and_returns_csrf(world: World) -> None:
+    client = world.client()
+    response = client.post("/api/auth/login",
+                           json={"username": "operator1", "password": PASSWORD})
+    assert response.status_code == 200
+    cookie = response.headers["set-cookie"].lower()
+    assert "httponly" in cookie and "samesite=strict" in cookie
+    body = response.json()
+    assert body["user"]["role"] == "operator" and len(body["csrf_token"]) > 20
+    assert client.get("/api/auth/me").json()["user"]["username"] == "operator1"
+
+
+def test_passwords_are_stored_as_argon2_hashes(world: World) -> None:
+    with world.database.engine.connect() as connection:
+        from sqlalchemy import text
+
+        hashes = connection.execute(text("SELECT password_hash FROM users")).scalars().all()
+    assert hashes and all(h.startswith("$argon2id$") for h in hashes)
+    assert all(PASSWORD not in h for h in hashes)
+
+
+def test_state_changes_with_a_cookie_need_the_csrf_header(world: World) -> None:
+    client, csrf = world.browser("operator")
+    orders = client.get("/api/missions/search-and-sample").json()["orders"]
+    orders["id"] = "copy-1"
+    refused = client.post("/api/missions", json=orders)
+    assert refused.status_code == 403 and "X-CSRF-Token" in refused.json()["detail"]
+    wrong = client.post("/api/missions", json=orders, headers={"X-CSRF-Token": "nope"})
+    assert wrong.status_code == 403
+    accepted = client.post("/api/missions", json=orders, headers={"X-CSRF-Token": csrf})
+    assert accepted.status_code == 201
+
+
+def test_wrong_password_is_a_problem_document_and_rate_limited(world: World) -> None:
+    client = world.client()
+    for _ in range(LOGIN_MAX_FAILURES):
+        response = client.post("/api/auth/login", json={"username": "admin1", "password": "x"})
+        assert response.status_code == 401
+        assert response.headers["content-type"].startswith("application/problem+json")
+        assert response.json()["detail"] == "wrong username or password"
+    blocked = client.post("/api/auth/login", json={"username": "admin1", "password": PASSWORD})
+    assert blocked.status_code == 429
+    # Another account is not affected.
+    ok = client.post("/api/auth/login", json={"username": "auditor1", "password": PASSWORD})
+    assert ok.status_code == 200
+
+
+def test_logout_ends_the_session(world: World) -> None:
+    client, csrf = world.browser("auditor")
+    assert client.post("/api/auth/logout", headers={"X-CSRF-Token": csrf}).status_code == 204
+    assert client.get("/api/auth/me").status_code == 401
+
+
+def test_api_tokens_are_shown_once_and_can_be_revoked(world: World) -> None:
+    client = world.client("supervisor")
+    created = client.post("/api/tokens", json={"name": "ci"}).json()
+    assert created["token"].startswith("cst_")
+    listed = client.get("/api/tokens").json()
+    assert all(t.get("token") is None for t in listed)
+    bearer = world.client()
+    bearer.headers["Authorization"] = f"Bearer {created['token']}"
+    assert bearer.get("/api/missions").status_code == 200
+    assert client.delete(f"/api/tokens/{created['id']}").status_code == 204
+    assert bearer.get("/api/missions").status_code == 401
+
+
+def test_admin_manages_users_and_every_change_is_logged(world: World) -> None:
+    admin = world.client("admin")
+    made = admin.post("/api/users", json={"username": "carol", "role": "supervisor",
+                                          "password": "another long password"})
+    assert made.status_code == 201
+    weak = admin.post("/api/users", json={"username": "dave", "role": "operator",
+                                          "password": "short"})
+    assert weak.status_code == 400 and "at least" in weak.json()["detail"]
+    disabled = admin.patch(f"/api/users/{made.json()['id']}", json={"disabled": True})
+    assert disabled.json()["disabled"] is True
+    assert count_rows(world.database,
+                      "SELECT count(*) FROM events WHERE kind LIKE 'user.%'") >= 6

@@ -1,0 +1,128 @@
+from __future__ import annotations
+
+import json
+
+from countersign.orders.examples import example_bytes
+
+from .conftest import World, count_rows
+
+EXAMPLE = "search-and-sample"
+
+
+def _copy(world: World, new_id: str) -> dict[str, object]:
+    orders = world.client("operator").get(f"/api/missions/{EXAMPLE}").json()["orders"]
+    orders["id"] = new_id
+    return dict(orders)
+
+
+def test_mission_detail_has_report_summary_and_etag(world: World) -> None:
+    response = world.client("auditor").get(f"/api/missions/{EXAMPLE}")
+    assert response.status_code == 200
+    assert response.headers["etag"] == '"1"'
+    body = response.json()
+    assert body["ok"] is True and body["errors"] == 0 and body["revision"] == 1
+    assert body["draft_digest"].startswith("sha256:")
+
+
+def test_draft_updates_need_the_current_etag(world: World) -> None:
+    client = world.client("operator")
+    orders = client.get(f"/api/missions/{EXAMPLE}").json()["orders"]
+    orders["title"] = "Edited"
+    missing = client.put(f"/api/missions/{EXAMPLE}/draft", json={"orders": orders})
+    assert missing.status_code == 428
+    first = client.put(f"/api/missions/{EXAMPLE}/draft", json={"orders": orders},
+                       headers={"If-Match": '"1"'})
+    assert first.status_code == 200 and first.headers["etag"] == '"2"'
+    orders["title"] = "Edited again from a stale copy"
+    stale = client.put(f"/api/missions/{EXAMPLE}/draft", json={"orders": orders},
+                       headers={"If-Match": '"1"'})
+    assert stale.status_code == 412
+    assert stale.json()["current_revision"] == 2
+    assert client.get(f"/api/missions/{EXAMPLE}").json()["title"] == "Edited"
+
+
+def test_versions_are_immutable_snapshots_and_block_deletion(world: World) -> None:
+    client = world.client("operator")
+    version = client.post(f"/api/missions/{EXAMPLE}/versions")
+    assert version.status_code == 201 and version.json()["number"] == 1
+    orders = client.get(f"/api/missions/{EXAMPLE}").json()["orders"]
+    orders["title"] = "Changed after version 1"
+    client.put(f"/api/missions/{EXAMPLE}/draft", json={"orders": orders},
+               headers={"If-Match": '"1"'})
+    snapshot = client.get(f"/api/missions/{EXAMPLE}/versions/1").json()
+    assert snapshot["orders"]["title"] != "Changed after version 1"
+    assert client.delete(f"/api/missions/{EXAMPLE}").status_code == 409
+    created = client.post("/api/missions", json=_copy(world, "scratch"))
+    assert created.status_code == 201
+    assert client.delete("/api/missions/scratch").status_code == 204
+    assert client.get("/api/missions/scratch").status_code == 404
+
+
+def test_list_filters_and_paginates(world: World) -> None:
+    client = world.client("operator")
+    for i in range(5):
+        assert client.post("/api/missions", json=_copy(world, f"m-{i}")).status_code == 201
+    page = client.get("/api/missions", params={"q": "m-", "limit": 2}).json()
+    assert [m["id"] for m in page["items"]] == ["m-0", "m-1"]
+    following = client.get("/api/missions", params={"q": "m-", "limit": 2,
+                                                    "cursor": page["next_cursor"]}).json()
+    assert [m["id"] for m in following["items"]] == ["m-2", "m-3"]
+    assert client.get("/api/missions", params={"status": "approved"}).json()["items"] == []
+
+
+def test_import_avcl_and_json_and_export(world: World) -> None:
+    client = world.client("operator")
+    avcl = b"""<?xml version="1.0"?><AVCL><head><meta name="title" content="Tiny.xml"/></head>
+      <body><MissionDefinition><AgendaMission><GoalList>
+      <Goal id="A" title="Search" nextOnSuccess="B"/><Goal id="B" title="Done"/>
+      </GoalList></AgendaMission></MissionDefinition></body></AVCL>"""
+    imported = client.post("/api/import", content=avcl,
+                           headers={"Content-Type": "application/xml"})
+    assert imported.status_code == 201, imported.text
+    assert {f["code"] for f in imported.json()["import_findings"]} == {"SINK"}
+    data = json.loads(example_bytes("harbor-approach-survey"))
+    assert client.post("/api/import", content=json.dumps(data)).status_code == 201
+    plain = client.get(f"/api/missions/{EXAMPLE}/export", params={"format": "plain"})
+    assert "Goal 1: Search Area A" in plain.text
+    dot = client.get(f"/api/missions/{EXAMPLE}/export", params={"format": "dot"})
+    assert dot.text.startswith("digraph")
+    assert client.get(f"/api/missions/{EXAMPLE}/export",
+                      params={"format": "exe"}).status_code == 422
+
+
+def test_paths_pages_stream_and_traces(world: World) -> None:
+    client = world.client("supervisor")
+    first = client.get(f"/api/missions/{EXAMPLE}/paths", params={"limit": 50}).json()
+    assert first["count"] == 75 and len(first["items"]) == 50
+    rest = client.get(f"/api/missions/{EXAMPLE}/paths",
+                      params={"limit": 50, "cursor": first["next_cursor"]}).json()
+    assert len(rest["items"]) == 25 and rest["next_cursor"] is None
+    assert rest["items"][-1]["outcomes"] == ["violate", "violate", "violate"]
+    streamed = client.get(f"/api/missions/{EXAMPLE}/paths", params={"format": "ndjson"})
+    assert len(streamed.text.splitlines()) == 75
+    trace = client.get(f"/api/missions/{EXAMPLE}/paths", params={"format": "trace",
+                                                                 "limit": 1})
+    assert trace.text.startswith("Ethical Mission Execution Trace #1:")
+
+
+def test_reports_are_cached_by_digest(world: World) -> None:
+    client = world.client("operator")
+    client.get(f"/api/missions/{EXAMPLE}/report")
+    before = count_rows(world.database, "SELECT count(*) FROM validation_reports")
+    report = client.get(f"/api/missions/{EXAMPLE}/report").json()
+    assert report["paths"]["count"] == 75
+    assert count_rows(world.database, "SELECT count(*) FROM validation_reports") == before
+
+
+def test_event_log_records_every_change(world: World) -> None:
+    client = world.client("operator")
+    client.post("/api/missions", json=_copy(world, "logged"))
+    orders = _copy(world, "logged")
+    orders["title"] = "Logged edit"
+    client.put("/api/missions/logged/draft", json={"orders": orders}, headers={"If-Match": '"1"'})
+    client.post("/api/missions/logged/versions")
+    events = world.client("auditor").get("/api/events", params={"mission": "logged"}).json()
+    assert [e["kind"] for e in events] == ["mission.created", "draft.updated", "version.created"]
+    assert events[1]["before_digest"] == events[0]["after_digest"]
+    assert events[1]["after_digest"] != events[1]["before_digest"]
+    assert all(e["actor"] == "operator1" for e in events)
