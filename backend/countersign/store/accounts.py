@@ -115,9 +115,7 @@ def session_user(db: DbSession, cookie: str) -> tuple[User, Session] | None:
     row = db.get(Session, token_hash(cookie))
     if row is None:
         return None
-    expires = row.expires_at if row.expires_at.tzinfo else row.expires_at.replace(
-        tzinfo=utcnow().tzinfo)
-    if expires < utcnow():
+    if row.expires_at < utcnow():
         return None
     user = db.get(User, row.user_id)
     if user is None or user.disabled:
