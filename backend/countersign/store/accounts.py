@@ -143,5 +143,8 @@ def token_user(db: DbSession, secret: str) -> User | None:
     user = db.get(User, token.user_id)
     if user is None or user.disabled:
         return None
-    token.last_used_at = utcnow()
+    now = utcnow()
+    # Recording every use would turn each read into a write; a minute's precision is enough.
+    if token.last_used_at is None or now - token.last_used_at > timedelta(minutes=1):
+        token.last_used_at = now
     return user
