@@ -239,6 +239,15 @@ def _seed_demo(database: Database) -> None:
         sys.stderr.write("Demo users exist already (their passwords were shown when created).\n")
 
 
+def _has_users(database: Database) -> bool:
+    from sqlalchemy import select
+
+    from .store.tables import User
+
+    with database.session() as db:
+        return db.scalar(select(User.id).limit(1)) is not None
+
+
 def cmd_serve(args: argparse.Namespace) -> int:
     import uvicorn
 
@@ -247,6 +256,13 @@ def cmd_serve(args: argparse.Namespace) -> int:
     settings, database = _database(args)
     if args.demo:
         _seed_demo(database)
+    elif not _has_users(database):
+        sys.stderr.write(
+            "No accounts yet. Create the first admin with\n"
+            "  countersign users create --username admin --role admin"
+            + (f" --data-dir {args.data_dir}" if args.data_dir else "")
+            + "\nor start with --demo for demo users and the built-in examples.\n"
+        )
     sys.stderr.write(
         f"Countersign {__version__} on http://{args.host}:{args.port}/ "
         f"(database: {database.engine.url.render_as_string(hide_password=True)})\n"
