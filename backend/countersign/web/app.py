@@ -110,5 +110,9 @@ def _serve_frontend(app: FastAPI, dist: Path) -> None:
                                 status_code=503)
         candidate = (dist / path).resolve()
         if path and candidate.is_file() and candidate.is_relative_to(dist.resolve()):
-            return FileResponse(candidate)
-        return FileResponse(index)
+            # Built assets carry a content hash in their names: cache them for good.
+            immutable = path.startswith("assets/")
+            return FileResponse(candidate, headers={
+                "Cache-Control": "public, max-age=31536000, immutable" if immutable
+                else "no-cache"})
+        return FileResponse(index, headers={"Cache-Control": "no-cache"})

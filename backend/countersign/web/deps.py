@@ -30,7 +30,8 @@ def get_db(request: Request) -> Iterator[DbSession]:
         yield session
 
 
-Db = Annotated[DbSession, Depends(get_db)]
+# "function" scope commits before the response is sent: a client that sees 200 can rely on it.
+Db = Annotated[DbSession, Depends(get_db, scope="function")]
 
 
 @dataclass(frozen=True)

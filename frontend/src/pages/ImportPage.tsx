@@ -1,0 +1,100 @@
+import { type FormEvent, useEffect, useRef, useState } from "react";
+
+import { api, unwrap } from "../api/client";
+import { ErrorMessage } from "../components/Status";
+import { navigate } from "../navigation";
+import { missionHref } from "../router";
+import { contentTypeFor } from "../upload";
+
+export function ImportPage() {
+  const [file, setFile] = useState<File | null>(null);
+  const [pasted, setPasted] = useState("");
+  const [error, setError] = useState<unknown>(null);
+  const [busy, setBusy] = useState(false);
+  const fileRef = useRef<HTMLInputElement>(null);
+
+  useEffect(() => {
+    document.title = "Import · Countersign";
+  }, []);
+
+  const upload = async (body: string | Blob, contentType: string) => {
+    setBusy(true);
+    setError(null);
+    try {
+      // The import route takes the file's bytes as they are (JSON, AVCL XML or MEO Turtle).
+      const result = await api.POST("/api/import", {
+        body: body as never,
+        bodySerializer: (raw: unknown) => raw as BodyInit,
+        headers: { "Content-Type": contentType },
+      });
+      const mission = unwrap(result);
+      navigate(missionHref(mission.id, "findings"));
+    } catch (e) {
+      setError(e);
+    } finally {
+      setBusy(false);
+    }
+  };
+
+  const submitFile = (event: FormEvent) => {
+    event.preventDefault();
+    if (!file) {
+      setError("Choose a file first.");
+      fileRef.current?.focus();
+      return;
+    }
+    void upload(file, contentTypeFor(file.name, file.type));
+  };
+
+  const submitText = (event: FormEvent) => {
+    event.preventDefault();
+    const text = pasted.trim();
+    if (!text) {
+      setError("Paste orders first.");
+      return;
+    }
+    void upload(text, contentTypeFor("", "", text));
+  };
+
+  return (
+    <section aria-labelledby="import-title">
+      <h1 id="import-title" tabIndex={-1}>
+        Import or create a mission
+      </h1>
+      <p className="hint">
+        A new mission starts as a draft from orders in <code>countersign.orders/1</code> JSON, AVCL
+        XML (NPS AUV Workbench) or MEO Turtle. It is validated at once.
+      </p>
+      <ErrorMessage error={error} />
+      <form className="card" onSubmit={submitFile} aria-labelledby="upload-title">
+        <h2 id="upload-title">Upload a file</h2>
+        <label htmlFor="import-file">Orders file (.json, .xml, .ttl)</label>
+        <input
+          id="import-file"
+          ref={fileRef}
+          type="file"
+          accept=".json,.xml,.avcl,.ttl,.turtle,application/json,application/xml,text/xml,text/turtle"
+          onChange={(e) => setFile(e.target.files?.[0] ?? null)}
+        />
+        <button type="submit" className="primary" disabled={busy}>
+          {busy ? "Importing…" : "Import file"}
+        </button>
+      </form>
+      <form className="card" onSubmit={submitText} aria-labelledby="paste-title">
+        <h2 id="paste-title">Or paste orders</h2>
+        <label htmlFor="import-text">Orders (JSON, AVCL XML or Turtle)</label>
+        <textarea
+          id="import-text"
+          className="code"
+          rows={12}
+          spellCheck={false}
+          value={pasted}
+          onChange={(e) => setPasted(e.target.value)}
+        />
+        <button type="submit" disabled={busy}>
+          Create mission
+        </button>
+      </form>
+    </section>
+  );
+}

@@ -1,0 +1,156 @@
+import { type FormEvent, useEffect, useState } from "react";
+
+import { api, unwrap } from "../api/client";
+import { Link } from "../components/Link";
+import {
+  currentCursor,
+  firstPage,
+  nextPage,
+  Pager,
+  previousPage,
+} from "../components/Pager";
+import { CheckBadge, ErrorMessage, Loading } from "../components/Status";
+import { formatDateTime, statusLabel } from "../format";
+import { replaceQuery } from "../navigation";
+import { missionHref } from "../router";
+import { useCan } from "../session";
+import { useLoad } from "../useLoad";
+
+export const STATUSES = ["draft", "submitted", "approved", "rejected"] as const;
+const PAGE_SIZE = 25;
+
+export function MissionListPage({ search }: { search: string }) {
+  const initial = new URLSearchParams(search);
+  const [q, setQ] = useState(initial.get("q") ?? "");
+  const [filters, setFilters] = useState({
+    q: initial.get("q") ?? "",
+    status: initial.get("status") ?? "",
+  });
+  const [pages, setPages] = useState(firstPage);
+  const canImport = useCan("importMission");
+  const cursor = currentCursor(pages);
+
+  useEffect(() => {
+    document.title = "Missions · Countersign";
+  }, []);
+
+  const { data, error, loading } = useLoad(async () => {
+    const query: { limit: number; q?: string; status?: string; cursor?: string } = {
+      limit: PAGE_SIZE,
+    };
+    if (filters.q) query.q = filters.q;
+    if (filters.status) query.status = filters.status;
+    if (cursor) query.cursor = cursor;
+    return unwrap(await api.GET("/api/missions", { params: { query } }));
+  }, [filters.q, filters.status, cursor]);
+
+  const apply = (next: { q: string; status: string }) => {
+    setFilters(next);
+    setPages(firstPage());
+    replaceQuery({ q: next.q, status: next.status });
+  };
+
+  const submit = (event: FormEvent) => {
+    event.preventDefault();
+    apply({ ...filters, q: q.trim() });
+  };
+
+  return (
+    <section aria-labelledby="missions-title">
+      <div className="page-head">
+        <h1 id="missions-title" tabIndex={-1}>
+          Missions
+        </h1>
+        {canImport && (
+          <Link href="/import" className="button primary">
+            Import or create mission
+          </Link>
+        )}
+      </div>
+      <form className="filters" role="search" aria-label="Filter missions" onSubmit={submit}>
+        <label htmlFor="mission-q">Search</label>
+        <input
+          id="mission-q"
+          type="search"
+          placeholder="Title or id"
+          value={q}
+          onChange={(e) => setQ(e.target.value)}
+        />
+        <label htmlFor="mission-status">Status</label>
+        <select
+          id="mission-status"
+          value={filters.status}
+          onChange={(e) => apply({ q: q.trim(), status: e.target.value })}
+        >
+          <option value="">Any status</option>
+          {STATUSES.map((s) => (
+            <option key={s} value={s}>
+              {statusLabel(s)}
+            </option>
+          ))}
+        </select>
+        <button type="submit">Search</button>
+      </form>
+      <ErrorMessage error={error} />
+      {loading && !data ? (
+        <Loading what="missions" />
+      ) : data && data.items.length === 0 ? (
+        <p className="empty">
+          {filters.q || filters.status
+            ? "No mission matches these filters."
+            : canImport
+              ? "No missions yet. Import orders (JSON, AVCL or Turtle) to start one."
+              : "No missions yet."}
+        </p>
+      ) : data ? (
+        <div className="table-wrap" aria-busy={loading}>
+          <table className="missions">
+            <caption className="visually-hidden">Missions</caption>
+            <thead>
+              <tr>
+                <th scope="col">Mission</th>
+                <th scope="col">Status</th>
+                <th scope="col">Check</th>
+                <th scope="col">Vehicle</th>
+                <th scope="col">Version</th>
+                <th scope="col">Updated</th>
+              </tr>
+            </thead>
+            <tbody>
+              {data.items.map((m) => (
+                <tr key={m.id}>
+                  <td>
+                    <Link href={missionHref(m.id)}>{m.title || m.id}</Link>
+                    <div className="sub">
+                      <code>{m.id}</code>
+                    </div>
+                  </td>
+                  <td>
+                    <span className={`status status-${m.status}`}>{statusLabel(m.status)}</span>
+                  </td>
+                  <td>
+                    <CheckBadge ok={m.ok} errors={m.errors} warnings={m.warnings} />
+                  </td>
+                  <td>{m.vehicle ?? "—"}</td>
+                  <td>{m.latest_version ? `v${m.latest_version}` : "—"}</td>
+                  <td>
+                    <time dateTime={m.updated_at}>{formatDateTime(m.updated_at)}</time>
+                    <div className="sub">by {m.updated_by}</div>
+                  </td>
+                </tr>
+              ))}
+            </tbody>
+          </table>
+        </div>
+      ) : null}
+      <Pager
+        label="Mission pages"
+        page={pages.cursors.length}
+        hasPrevious={pages.cursors.length > 1}
+        hasNext={!!data?.next_cursor}
+        onPrevious={() => setPages(previousPage(pages))}
+        onNext={() => data?.next_cursor && setPages(nextPage(pages, data.next_cursor))}
+      />
+    </section>
+  );
+}

@@ -1,0 +1,505 @@
+import { useEffect, useState } from "react";
+
+import {
+  api,
+  ApiError,
+  EXPORT_FORMATS,
+  exportHref,
+  fetchText,
+  type MissionDetail,
+  type PathPage,
+  type Report,
+  unwrap,
+} from "../api/client";
+import { Link } from "../components/Link";
+import {
+  currentCursor,
+  firstPage,
+  nextPage,
+  Pager,
+  previousPage,
+} from "../components/Pager";
+import { CheckBadge, ErrorMessage, Loading, Notice } from "../components/Status";
+import { Tabs } from "../components/Tabs";
+import { formatDateTime, formatNumber, plural, shortDigest, statusLabel } from "../format";
+import { navigate } from "../navigation";
+import { missionHref } from "../router";
+import { useCan } from "../session";
+import { outcomeLetters, traceText } from "../trace";
+import { useLoad } from "../useLoad";
+
+const TABS = ["orders", "findings", "paths", "versions", "edit"] as const;
+type Tab = (typeof TABS)[number];
+
+function missionPath(id: string) {
+  return { params: { path: { mission_id: id } } };
+}
+
+export function MissionPage({ id, tab }: { id: string; tab: string }) {
+  const canEdit = useCan("editDraft");
+  const { data: mission, error, loading, reload } = useLoad(
+    async () => unwrap(await api.GET("/api/missions/{mission_id}", missionPath(id))),
+    [id],
+  );
+  const tabs = TABS.filter((t) => t !== "edit" || canEdit);
+  const selected: Tab = (tabs as readonly string[]).includes(tab) ? (tab as Tab) : "orders";
+
+  useEffect(() => {
+    document.title = `${mission?.title || id} · Countersign`;
+  }, [mission?.title, id]);
+
+  if (loading && !mission) return <Loading what="the mission" />;
+  if (!mission) {
+    return (
+      <section>
+        <h1 tabIndex={-1}>Mission {id}</h1>
+        <ErrorMessage error={error ?? "The mission could not be loaded."} />
+        <p>
+          <Link href="/missions">Back to missions</Link>
+        </p>
+      </section>
+    );
+  }
+
+  const labels: Record<Tab, string> = {
+    orders: "Orders",
+    findings:
+      mission.ok === null || mission.ok === undefined
+        ? "Findings"
+        : `Findings (${(mission.errors ?? 0) + (mission.warnings ?? 0)})`,
+    paths: "Paths",
+    versions: `Versions (${mission.versions.length})`,
+    edit: "Edit orders",
+  };
+
+  return (
+    <section aria-labelledby="mission-title">
+      <p className="breadcrumb">
+        <Link href="/missions">Missions</Link> / <code>{mission.id}</code>
+      </p>
+      <div className="page-head">
+        <h1 id="mission-title" tabIndex={-1}>
+          {mission.title || mission.id}
+        </h1>
+        <CheckBadge ok={mission.ok} errors={mission.errors} warnings={mission.warnings} />
+      </div>
+      <dl className="facts">
+        <div>
+          <dt>Status</dt>
+          <dd>
+            <span className={`status status-${mission.status}`}>{statusLabel(mission.status)}</span>
+          </dd>
+        </div>
+        <div>
+          <dt>Vehicle</dt>
+          <dd>{mission.vehicle ?? "—"}</dd>
+        </div>
+        <div>
+          <dt>Draft digest</dt>
+          <dd>
+            <code title={mission.draft_digest}>{shortDigest(mission.draft_digest)}</code>
+          </dd>
+        </div>
+        <div>
+          <dt>Revision</dt>
+          <dd>{mission.revision}</dd>
+        </div>
+        <div>
+          <dt>Updated</dt>
+          <dd>
+            <time dateTime={mission.updated_at}>{formatDateTime(mission.updated_at)}</time> by{" "}
+            {mission.updated_by}
+          </dd>
+        </div>
+      </dl>
+      <nav className="exports" aria-label="Export the draft">
+        <span>Export:</span>
+        <ul>
+          {EXPORT_FORMATS.map((f) => (
+            <li key={f.format}>
+              <a href={exportHref(mission.id, f.format)} download title={f.description}>
+                {f.label}
+              </a>
+            </li>
+          ))}
+        </ul>
+      </nav>
+      {mission.import_findings && mission.import_findings.length > 0 && (
+        <Notice>
+          Import notes: {mission.import_findings.length} finding
+          {mission.import_findings.length === 1 ? "" : "s"} from reading the file (see Findings).
+        </Notice>
+      )}
+      <Tabs
+        label="Mission views"
+        tabs={tabs.map((t) => ({ id: t, label: labels[t] }))}
+        selected={selected}
+        onSelect={(t) => navigate(missionHref(mission.id, t), { replace: true })}
+      >
+        {selected === "orders" && <OrdersTab id={mission.id} digest={mission.draft_digest} />}
+        {selected === "findings" && <FindingsTab mission={mission} />}
+        {selected === "paths" && <PathsTab mission={mission} />}
+        {selected === "versions" && <VersionsTab mission={mission} onChange={reload} />}
+        {selected === "edit" && canEdit && <EditTab mission={mission} onSaved={reload} />}
+      </Tabs>
+    </section>
+  );
+}
+
+function OrdersTab({ id, digest }: { id: string; digest: string }) {
+  const { data, error, loading } = useLoad(
+    () => fetchText(`${exportHref(id, "plain")}`),
+    [id, digest],
+  );
+  return (
+    <>
+      <h2>Plain-language orders</h2>
+      <ErrorMessage error={error} />
+      {loading && !data ? (
+        <Loading what="the orders" />
+      ) : (
+        <pre className="orders-text" data-testid="plain-orders">
+          {data}
+        </pre>
+      )}
+    </>
+  );
+}
+
+function FindingsTab({ mission }: { mission: MissionDetail }) {
+  const { data, error, loading } = useLoad(
+    async () =>
+      unwrap(await api.GET("/api/missions/{mission_id}/report", missionPath(mission.id))) as unknown as Report,
+    [mission.id, mission.draft_digest],
+  );
+  if (loading && !data) return <Loading what="the validation report" />;
+  if (!data) return <ErrorMessage error={error} />;
+  const errors = data.findings.filter((f) => f.severity === "error").length;
+  return (
+    <>
+      <h2>Findings</h2>
+      <p className={data.ok ? "verdict ok" : "verdict bad"} data-testid="verdict">
+        {data.ok ? "The orders pass every check" : "The orders do not pass"}:{" "}
+        {plural(errors, "error")}, {plural(data.findings.length - errors, "warning")}.
+        {data.paths
+          ? ` ${plural(data.paths.count, "path")} in all.`
+          : " Paths cannot be counted until the structural errors are fixed."}
+      </p>
+      {data.findings.length === 0 ? (
+        <p className="empty">No findings.</p>
+      ) : (
+        <div className="table-wrap">
+          <table className="findings">
+            <caption className="visually-hidden">Findings of the draft's validation</caption>
+            <thead>
+              <tr>
+                <th scope="col">Code</th>
+                <th scope="col">Severity</th>
+                <th scope="col">Subjects</th>
+                <th scope="col">Message</th>
+              </tr>
+            </thead>
+            <tbody>
+              {data.findings.map((f, i) => (
+                <tr key={`${f.code}-${i}`} className={`severity-${f.severity}`}>
+                  <td>
+                    <code>{f.code}</code>
+                  </td>
+                  <td>
+                    <span className={`badge ${f.severity === "error" ? "bad" : "warn"}`}>
+                      {f.severity}
+                    </span>
+                  </td>
+                  <td>{f.subjects.join(", ")}</td>
+                  <td>{f.message}</td>
+                </tr>
+              ))}
+            </tbody>
+          </table>
+        </div>
+      )}
+      {data.costs && Object.keys(data.costs).length > 0 && (
+        <>
+          <h3>Costliest path</h3>
+          <ul className="costs">
+            {Object.entries(data.costs).map(([quantity, cost]) => (
+              <li key={quantity}>
+                <strong>{quantity}</strong>: {formatNumber(cost.worst)}
+                {typeof cost.budget === "number" ? ` of a budget of ${formatNumber(cost.budget)}` : ""}
+                {cost.path ? ` (${cost.path.goals.join(" → ")} → ${cost.path.terminal})` : ""}
+                {cost.estimated_cost && cost.estimated_cost.length > 0
+                  ? `; estimated for ${cost.estimated_cost.join(", ")}`
+                  : ""}
+                {cost.unknown_cost && cost.unknown_cost.length > 0
+                  ? `; unknown for ${cost.unknown_cost.join(", ")}`
+                  : ""}
+              </li>
+            ))}
+          </ul>
+        </>
+      )}
+    </>
+  );
+}
+
+const PATHS_PER_PAGE = 20;
+
+function PathsTab({ mission }: { mission: MissionDetail }) {
+  const [pages, setPages] = useState(firstPage);
+  const [open, setOpen] = useState<number | null>(null);
+  const cursor = currentCursor(pages);
+  const { data, error, loading } = useLoad(async () => {
+    const query: { limit: number; cursor?: string } = { limit: PATHS_PER_PAGE };
+    if (cursor) query.cursor = cursor;
+    const result = await api.GET("/api/missions/{mission_id}/paths", {
+      params: { path: { mission_id: mission.id }, query },
+    });
+    return unwrap(result) as unknown as PathPage;
+  }, [mission.id, mission.draft_digest, cursor]);
+
+  if (loading && !data) return <Loading what="the paths" />;
+  if (!data) {
+    const status = error instanceof ApiError ? error.status : 0;
+    return status === 409 ? (
+      <>
+        <h2>Paths</h2>
+        <Notice>{(error as Error).message}</Notice>
+      </>
+    ) : (
+      <ErrorMessage error={error} />
+    );
+  }
+  const orders = mission.orders as Parameters<typeof traceText>[1];
+  return (
+    <>
+      <h2>Paths</h2>
+      <table className="counts">
+        <caption>
+          {plural(data.count, "path")} from the start goal to a terminal
+        </caption>
+        <thead>
+          <tr>
+            <th scope="col">Terminal</th>
+            <th scope="col">Paths</th>
+          </tr>
+        </thead>
+        <tbody>
+          {Object.entries(data.by_terminal).map(([terminal, n]) => (
+            <tr key={terminal}>
+              <th scope="row">{terminal}</th>
+              <td data-testid={`paths-to-${terminal}`}>{n.toLocaleString("en-US")}</td>
+            </tr>
+          ))}
+        </tbody>
+      </table>
+      <ol className="paths" aria-busy={loading}>
+        {data.items.map((p) => (
+          <li key={p.index} value={p.index}>
+            <div className="path-row">
+              <span className="path-goals">
+                {p.goals.map((g, i) => `${g} (${outcomeLetters([p.outcomes[i] ?? ""])})`).join(" → ")}{" "}
+                → <strong>{p.terminal}</strong>
+              </span>
+              <button
+                type="button"
+                aria-expanded={open === p.index}
+                aria-controls={`trace-${p.index}`}
+                onClick={() => setOpen(open === p.index ? null : p.index)}
+              >
+                {open === p.index ? "Hide trace" : "Trace"}
+                <span className="visually-hidden"> of path {p.index}</span>
+              </button>
+            </div>
+            {open === p.index && (
+              <pre id={`trace-${p.index}`} className="trace">
+                {traceText(p, orders)}
+              </pre>
+            )}
+          </li>
+        ))}
+      </ol>
+      <Pager
+        label="Path pages"
+        page={pages.cursors.length}
+        hasPrevious={pages.cursors.length > 1}
+        hasNext={!!data.next_cursor}
+        onPrevious={() => setPages(previousPage(pages))}
+        onNext={() => data.next_cursor && setPages(nextPage(pages, data.next_cursor))}
+      />
+    </>
+  );
+}
+
+function VersionsTab({ mission, onChange }: { mission: MissionDetail; onChange: () => void }) {
+  const canVersion = useCan("createVersion");
+  const [busy, setBusy] = useState(false);
+  const [error, setError] = useState<unknown>(null);
+  const [created, setCreated] = useState<number | null>(null);
+
+  const create = async () => {
+    setBusy(true);
+    setError(null);
+    try {
+      const version = unwrap(
+        await api.POST("/api/missions/{mission_id}/versions", missionPath(mission.id)),
+      ) as { number?: number };
+      setCreated(version.number ?? null);
+      onChange();
+    } catch (e) {
+      setError(e);
+    } finally {
+      setBusy(false);
+    }
+  };
+
+  const versions = [...mission.versions].sort((a, b) => b.number - a.number);
+  return (
+    <>
+      <div className="page-head">
+        <h2>Versions</h2>
+        {canVersion && (
+          <button type="button" className="primary" onClick={create} disabled={busy}>
+            {busy ? "Creating…" : "Create version"}
+          </button>
+        )}
+      </div>
+      <p className="hint">
+        A version is an immutable snapshot of the draft; supervisors review and approve versions.
+      </p>
+      <ErrorMessage error={error} />
+      {created !== null && <Notice>Version {created} created.</Notice>}
+      {versions.length === 0 ? (
+        <p className="empty">No versions yet.</p>
+      ) : (
+        <table className="versions">
+          <caption className="visually-hidden">Versions, newest first</caption>
+          <thead>
+            <tr>
+              <th scope="col">Version</th>
+              <th scope="col">Digest</th>
+              <th scope="col">Author</th>
+              <th scope="col">Created</th>
+            </tr>
+          </thead>
+          <tbody>
+            {versions.map((v) => (
+              <tr key={v.number}>
+                <td>v{v.number}</td>
+                <td>
+                  <code title={v.digest}>{shortDigest(v.digest)}</code>
+                </td>
+                <td>{v.author}</td>
+                <td>
+                  <time dateTime={v.created_at}>{formatDateTime(v.created_at)}</time>
+                </td>
+              </tr>
+            ))}
+          </tbody>
+        </table>
+      )}
+    </>
+  );
+}
+
+function EditTab({ mission, onSaved }: { mission: MissionDetail; onSaved: () => void }) {
+  const canDelete = useCan("deleteDraft");
+  const [text, setText] = useState(() => JSON.stringify(mission.orders, null, 2));
+  const [error, setError] = useState<unknown>(null);
+  const [conflict, setConflict] = useState(false);
+  const [saved, setSaved] = useState(false);
+  const [busy, setBusy] = useState(false);
+  const [revision, setRevision] = useState(mission.revision);
+
+  useEffect(() => {
+    // A new revision arrived (our save, or a reload after a conflict): edit that one.
+    if (mission.revision !== revision) {
+      setRevision(mission.revision);
+      setText(JSON.stringify(mission.orders, null, 2));
+      setConflict(false);
+    }
+  }, [mission.revision, mission.orders, revision]);
+
+  const save = async () => {
+    setError(null);
+    setSaved(false);
+    setConflict(false);
+    let orders: Record<string, unknown>;
+    try {
+      orders = JSON.parse(text) as Record<string, unknown>;
+    } catch (e) {
+      setError(`The orders are not valid JSON: ${(e as Error).message}`);
+      return;
+    }
+    setBusy(true);
+    try {
+      const result = await api.PUT("/api/missions/{mission_id}/draft", {
+        params: { path: { mission_id: mission.id }, header: { "if-match": `"${mission.revision}"` } },
+        body: { orders },
+      });
+      if (result.response.status === 412) {
+        setConflict(true);
+        return;
+      }
+      unwrap(result);
+      setSaved(true);
+      onSaved();
+    } catch (e) {
+      setError(e);
+    } finally {
+      setBusy(false);
+    }
+  };
+
+  const remove = async () => {
+    if (!window.confirm(`Delete mission ${mission.id}? This cannot be undone.`)) return;
+    setError(null);
+    const result = await api.DELETE("/api/missions/{mission_id}", missionPath(mission.id));
+    if (result.response.ok) {
+      navigate("/missions");
+    } else {
+      setError(new ApiError(result.response.status, result.error));
+    }
+  };
+
+  return (
+    <>
+      <h2>Edit orders (JSON)</h2>
+      <p className="hint">
+        Edits the draft, revision {mission.revision}. If someone else saves first, nothing is
+        overwritten: you are asked to reload.
+      </p>
+      <label htmlFor="orders-json" className="visually-hidden">
+        Orders JSON
+      </label>
+      <textarea
+        id="orders-json"
+        className="code"
+        spellCheck={false}
+        rows={24}
+        value={text}
+        onChange={(e) => setText(e.target.value)}
+      />
+      <ErrorMessage error={error} />
+      {conflict && (
+        <p className="message error" role="alert">
+          Someone else saved this draft first; nothing was overwritten. Copy your changes if you
+          need them, then reload to edit the current draft.{" "}
+          <button type="button" onClick={onSaved}>
+            Reload
+          </button>
+        </p>
+      )}
+      {saved && <Notice>Draft saved.</Notice>}
+      <div className="actions">
+        <button type="button" className="primary" onClick={save} disabled={busy}>
+          {busy ? "Saving…" : "Save draft"}
+        </button>
+        {canDelete && mission.versions.length === 0 && (
+          <button type="button" className="danger" onClick={remove}>
+            Delete mission
+          </button>
+        )}
+      </div>
+    </>
+  );
+}

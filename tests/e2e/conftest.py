@@ -1,0 +1,238 @@
+"""Browser tests: the real server (`countersign serve`) and the built app in Debian's Chromium.
+
+Everything here runs against a fresh data directory: the accounts are made with the real
+`countersign users create` command and the server is the real `countersign serve` process.
+The tests skip with a message when Chromium, the Playwright package or frontend/dist is
+missing; with COUNTERSIGN_REQUIRE_E2E=1 (for CI) that is a failure instead.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import socket
+import subprocess
+import sys
+import time
+import urllib.error
+import urllib.request
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import pytest
+
+if TYPE_CHECKING:
+    from playwright.sync_api import Browser, Page, Playwright
+
+REPO = Path(__file__).resolve().parents[2]
+DIST = REPO / "frontend" / "dist"
+CHROMIUM = Path(os.environ.get("COUNTERSIGN_CHROMIUM", "/usr/bin/chromium"))
+# Debian's Chromium, headless, as root, on a machine whose only network is loopback.
+CHROMIUM_ARGS = [
+    "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+    "--disable-background-networking", "--disable-component-update", "--disable-sync",
+]
+ROLES = ("operator", "supervisor", "auditor", "admin")
+PASSWORD = {role: f"e2e-{role}-pass-Xy7" for role in ROLES}
+
+
+def missing_prerequisite() -> str | None:
+    """Why the browser tests cannot run here, or None when they can."""
+    if not CHROMIUM.is_file():
+        return (f"{CHROMIUM} is missing: install Debian's Chromium (apt-get install -y chromium) "
+                "to run the browser tests")
+    if not (DIST / "index.html").is_file():
+        return ("frontend/dist is missing: build the browser app with ./scripts/build-frontend "
+                "to run the browser tests")
+    try:
+        import playwright.sync_api  # noqa: F401
+    except ImportError:
+        return "the playwright package is missing: pip install -e '.[dev]'"
+    return None
+
+
+def _required() -> bool:
+    return os.environ.get("COUNTERSIGN_REQUIRE_E2E") == "1"
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """Skip every browser test (one clear reason) when something they need is missing."""
+    reason = missing_prerequisite()
+    if reason is None or _required():
+        return
+    skip = pytest.mark.skip(reason=reason)
+    for item in items:
+        if "server" in getattr(item, "fixturenames", ()):
+            item.add_marker(skip)
+
+
+def _free_port() -> int:
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as sock:
+        sock.bind(("127.0.0.1", 0))
+        port: int = sock.getsockname()[1]
+        return port
+
+
+def _cli(*args: str) -> list[str]:
+    """The `countersign` command of the Python running the tests."""
+    return [sys.executable, "-c", "import sys; from countersign.cli import main; "
+            "sys.exit(main())", *args]
+
+
+@dataclass(frozen=True)
+class Server:
+    url: str
+    data_dir: Path
+    log: Path
+
+    def log_tail(self, lines: int = 40) -> str:
+        try:
+            return "\n".join(self.log.read_text(errors="replace").splitlines()[-lines:])
+        except OSError:
+            return "(no server log)"
+
+
+def _server_env(data_dir: Path) -> dict[str, str]:
+    env = {k: v for k, v in os.environ.items() if not k.startswith("COUNTERSIGN_")}
+    env["COUNTERSIGN_DATA_DIR"] = str(data_dir)
+    return env
+
+
+@pytest.fixture(scope="session")
+def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
+    """The real app: accounts made by `countersign users create`, then `countersign serve`."""
+    reason = missing_prerequisite()
+    if reason is not None:
+        # Only reached with COUNTERSIGN_REQUIRE_E2E=1: then a missing browser is a failure.
+        if _required():
+            pytest.fail(reason)
+        pytest.skip(reason)
+    data_dir = tmp_path_factory.mktemp("countersign-e2e")
+    env = _server_env(data_dir)
+    for role in ROLES:
+        done = subprocess.run(
+            _cli("users", "create", "--username", role, "--role", role,
+                 "--display-name", f"E2E {role.title()}", "--password-stdin",
+                 "--data-dir", str(data_dir)),
+            input=PASSWORD[role] + "\n", capture_output=True, text=True, env=env, timeout=120,
+        )
+        assert done.returncode == 0, f"users create {role} failed:\n{done.stdout}{done.stderr}"
+    port = _free_port()
+    log = data_dir / "server.log"
+    with log.open("wb") as out:
+        process = subprocess.Popen(
+            _cli("serve", "--host", "127.0.0.1", "--port", str(port), "--data-dir",
+                 str(data_dir)),
+            stdout=out, stderr=subprocess.STDOUT, env=env, cwd=REPO,
+        )
+    running = Server(url=f"http://127.0.0.1:{port}", data_dir=data_dir, log=log)
+    try:
+        _wait_healthy(running, process)
+        yield running
+    finally:
+        process.terminate()
+        try:
+            process.wait(timeout=15)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.wait(timeout=15)
+
+
+def _wait_healthy(server: Server, process: subprocess.Popen[bytes]) -> None:
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        if process.poll() is not None:
+            pytest.fail(f"countersign serve exited with {process.returncode}:\n"
+                        f"{server.log_tail()}")
+        try:
+            with urllib.request.urlopen(f"{server.url}/api/health", timeout=2) as answer:
+                if answer.status == 200:
+                    return
+        except (urllib.error.URLError, OSError):
+            pass
+        time.sleep(0.2)
+    pytest.fail(f"countersign serve did not answer /api/health within 60 s:\n{server.log_tail()}")
+
+
+@pytest.fixture(scope="session")
+def playwright_instance() -> Iterator[Playwright]:
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as instance:
+        yield instance
+
+
+@pytest.fixture(scope="session")
+def browser(playwright_instance: Playwright, server: Server,
+            tmp_path_factory: pytest.TempPathFactory) -> Iterator[Browser]:
+    del server  # started first, so a server failure is reported before a browser one
+    launched = playwright_instance.chromium.launch(
+        executable_path=str(CHROMIUM), headless=True, args=CHROMIUM_ARGS,
+        env={**os.environ, "HOME": str(tmp_path_factory.mktemp("chromium-home"))},
+    )
+    try:
+        yield launched
+    finally:
+        launched.close()
+
+
+@pytest.fixture()
+def page(browser: Browser, server: Server, request: pytest.FixtureRequest,
+         tmp_path_factory: pytest.TempPathFactory) -> Iterator[Page]:
+    """A fresh browser context (no cookies) per test; a screenshot is kept when a test fails
+    (pytest's temporary directory, `screenshots/`, printed with the failure)."""
+    context = browser.new_context(base_url=server.url, viewport={"width": 1280, "height": 900})
+    context.set_default_timeout(15_000)
+    opened = context.new_page()
+    problems: list[str] = []
+    opened.on("pageerror", lambda error: problems.append(f"page error: {error}"))
+    try:
+        yield opened
+        assert not problems, "the app raised errors in the browser:\n" + "\n".join(problems)
+    finally:
+        if _failed(request):
+            shot = tmp_path_factory.getbasetemp() / "screenshots" / f"{request.node.name}.png"
+            shot.parent.mkdir(exist_ok=True)
+            # A screenshot must never hide the real failure.
+            with contextlib.suppress(Exception):
+                opened.screenshot(path=str(shot), full_page=True)
+                print(f"screenshot of the failed page: {shot}")
+        context.close()
+
+
+def _failed(request: pytest.FixtureRequest) -> bool:
+    report: Any = getattr(request.node, "rep_call", None)
+    return bool(report is not None and report.failed)
+
+
+@pytest.hookimpl(wrapper=True, tryfirst=True)
+def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo[None]) -> Any:
+    report = yield
+    if report.when == "call":
+        item.rep_call = report  # type: ignore[attr-defined]
+    return report
+
+
+@pytest.fixture(scope="session")
+def seeded_mission(server: Server) -> str:
+    """The paper's exemplar, imported once through the API by the operator."""
+    from countersign.orders.examples import example_bytes
+
+    return _api_import(server, example_bytes("search-and-sample"), "application/json")
+
+
+def _api_import(server: Server, body: bytes, content_type: str) -> str:
+    import httpx
+
+    with httpx.Client(base_url=server.url, timeout=30) as client:
+        login = client.post("/api/auth/login",
+                            json={"username": "operator", "password": PASSWORD["operator"]})
+        login.raise_for_status()
+        token = login.json()["csrf_token"]
+        answer = client.post("/api/import", content=body,
+                             headers={"Content-Type": content_type, "X-CSRF-Token": token})
+        assert answer.status_code == 201, answer.text
+        mission_id: str = answer.json()["id"]
+        return mission_id
