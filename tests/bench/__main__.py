@@ -65,7 +65,7 @@ def bench_reference(baseline_cap_s: float) -> None:
         try:
             count = sum(1 for _ in naive_paths(orders, start + baseline_cap_s))
             naive = f"{(time.perf_counter() - start) * 1000:9.1f} ms"
-            ratio = f"{(time.perf_counter() - start) / ours_s:7.0f}x"
+            ratio = f"{(time.perf_counter() - start) / ours_s:7.2f}x"
             del count
         except TimeUp:
             naive = f"> {baseline_cap_s:.0f} s (cut)"
