@@ -181,6 +181,23 @@ def cmd_export(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_explain(args: argparse.Namespace) -> int:
+    from .verify.logic import UnknownIds, explain_goal_set, format_goal_set
+
+    loaded = _load(args.file)
+    goals = [g for g in args.goals.split(",") if g] if args.goals else None
+    constraints = [c for c in args.constraints.split(",") if c] if args.constraints else None
+    try:
+        result = explain_goal_set(loaded.orders, goals, constraints)
+    except UnknownIds as exc:
+        raise UsageError(str(exc)) from None
+    if args.format == "json":
+        sys.stdout.write(json.dumps(result.to_json(), indent=2) + "\n")
+    else:
+        sys.stdout.write(format_goal_set(result).rstrip("\n") + "\n")
+    return EXIT_OK if result.consistent is True else EXIT_FINDINGS
+
+
 def cmd_examples(args: argparse.Namespace) -> int:
     if args.name is None:
         for name in example_names():
@@ -328,7 +345,7 @@ def build_parser() -> argparse.ArgumentParser:
 
     validate_cmd = commands.add_parser(
         "validate",
-        help="check orders: structure (M1 M2 DUP G3 G5 SINK G7 G10), path counts, budget",
+        help="check orders: structure, paths, budget, contradictions, norms, properties",
         description="Check orders and count every path. Exit 0 no errors, 1 errors, "
         "2 unreadable input.",
     )
@@ -372,6 +389,24 @@ def build_parser() -> argparse.ArgumentParser:
     export_cmd.add_argument("file", metavar="FILE", help=FILE_HELP)
     export_cmd.add_argument("--format", choices=["json", "dot", "plain"], default="plain")
     export_cmd.set_defaults(handler=cmd_export)
+
+    explain_cmd = commands.add_parser(
+        "explain",
+        help="can these goals and constraints hold together? (minimal incompatible subset)",
+        description="Check whether a set of goals and the constraints in their scope can hold "
+        "together (z3). If not, print a minimal incompatible subset: removing any one of its "
+        "members makes the rest consistent. Exit 0 consistent, 1 incompatible or undecided, "
+        "2 unreadable input or unknown ids.",
+    )
+    explain_cmd.add_argument("file", metavar="FILE", help=FILE_HELP)
+    explain_cmd.add_argument("--goals", default=None,
+                             help="comma-separated goal ids (default: every goal)")
+    explain_cmd.add_argument(
+        "--constraints", default=None,
+        help="comma-separated constraint ids (default: every constraint applying to the goals)",
+    )
+    explain_cmd.add_argument("--format", choices=["text", "json"], default="text")
+    explain_cmd.set_defaults(handler=cmd_explain)
 
     examples_cmd = commands.add_parser(
         "examples", help="list the built-in example orders, or print one"

@@ -130,3 +130,18 @@ def test_serve_answers_health(tmp_path: Path) -> None:
     finally:
         server.terminate()
         server.wait(timeout=10)
+
+
+def test_explain_reports_a_minimal_incompatible_subset(tmp_path: Path) -> None:
+    orders = json.loads(run_cli("examples", "search-and-sample").stdout)
+    orders["goals"][4]["envelope"] = {"depth_m": [0, 5]}  # G5 at 0-5 m, but C7 needs >= 20 m
+    path = tmp_path / "shallow.json"
+    path.write_text(json.dumps(orders))
+    result = run_cli("explain", str(path), "--goals", "G5", "--format", "json")
+    assert result.returncode == 1
+    answer = json.loads(result.stdout)
+    assert answer["consistent"] is False
+    assert answer["core"]["goals"] == ["G5"] and answer["core"]["constraints"] == ["C7"]
+    assert "C7 requires depth >= 20 m" in answer["explanation"]
+    assert run_cli("explain", str(path), "--goals", "G9").returncode == 2
+    assert run_cli("explain", "example:search-and-sample").returncode == 0

@@ -14,8 +14,14 @@ from ..orders.findings import Finding
 from ..orders.model import Orders
 from .budget import WorstPath, check_budget, worst_paths
 from .graph import MissionGraph, build_graph
+from .logic import LogicCache, check_logic
 from .paths import PathCounts, count_paths
+from .properties import check_properties
 from .structure import check_structure
+
+# Solver results are pure functions of their inputs, so one bounded cache serves every caller
+# in the process: re-validating after a one-goal edit solves only what that goal touches.
+SHARED_LOGIC_CACHE = LogicCache(max_entries=20_000)
 
 
 @dataclass(frozen=True)
@@ -42,12 +48,18 @@ class Report:
 
 
 def validate(
-    orders: Orders, reader_findings: Sequence[Finding] = (), graph: MissionGraph | None = None
+    orders: Orders,
+    reader_findings: Sequence[Finding] = (),
+    graph: MissionGraph | None = None,
+    logic_cache: LogicCache | None = None,
 ) -> Report:
     graph = graph or build_graph(orders)
+    cache = logic_cache if logic_cache is not None else SHARED_LOGIC_CACHE
     findings = list(reader_findings)
     findings.extend(check_structure(orders, graph))
     counts = count_paths(graph)
     costs = worst_paths(orders, graph) if counts is not None else None
     findings.extend(check_budget(costs))
+    findings.extend(check_logic(orders, cache))
+    findings.extend(check_properties(orders, graph, cache))
     return Report(orders.id, digest(orders), findings, counts, costs)

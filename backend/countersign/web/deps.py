@@ -7,7 +7,7 @@ from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from typing import Annotated, Any
 
-from fastapi import Depends, HTTPException, Request
+from fastapi import Depends, HTTPException, Path, Request
 from sqlalchemy.orm import Session as DbSession
 
 from ..store.accounts import session_user, token_user
@@ -31,6 +31,9 @@ def get_db(request: Request) -> Iterator[DbSession]:
 
 
 # "function" scope commits before the response is sent: a client that sees 200 can rely on it.
+# Row ids in URLs: bounded so that no database is asked for a number it cannot store.
+RowId = Annotated[int, Path(ge=1, le=2**31 - 1)]
+
 Db = Annotated[DbSession, Depends(get_db, scope="function")]
 
 

@@ -12,7 +12,7 @@ from ...orders.model import Vehicle
 from ...store.accounts import AccountError, create_token, create_user, hash_password
 from ...store.events import record
 from ...store.tables import ApiToken, Event, User, VehicleProfile
-from ..deps import ADMINS, EVERYONE, LOG_READERS, CurrentPrincipal, Db, allow
+from ..deps import ADMINS, EVERYONE, LOG_READERS, CurrentPrincipal, Db, RowId, allow
 from .schemas import EventOut, UserOut
 
 router = APIRouter(prefix="/api", tags=["administration"])
@@ -58,7 +58,7 @@ def add_user(body: UserIn, principal: CurrentPrincipal, db: Db) -> UserOut:
 
 @router.patch("/users/{user_id}", operation_id="updateUser", response_model=UserOut,
               **allow(*ADMINS))
-def change_user(user_id: int, body: UserPatch, principal: CurrentPrincipal, db: Db) -> UserOut:
+def change_user(user_id: RowId, body: UserPatch, principal: CurrentPrincipal, db: Db) -> UserOut:
     user = db.get(User, user_id)
     if user is None:
         raise HTTPException(404, f"no user {user_id}")
@@ -101,7 +101,7 @@ def add_token(body: TokenIn, principal: CurrentPrincipal, db: Db) -> TokenOut:
 
 @router.delete("/tokens/{token_id}", operation_id="revokeToken", status_code=204,
                **allow(*EVERYONE))
-def revoke_token(token_id: int, principal: CurrentPrincipal, db: Db) -> None:
+def revoke_token(token_id: RowId, principal: CurrentPrincipal, db: Db) -> None:
     token = db.get(ApiToken, token_id)
     if token is None or token.user_id != principal.user.id:
         raise HTTPException(404, f"you have no token {token_id}")
@@ -134,7 +134,7 @@ def put_vehicle(vehicle_id: str, body: Vehicle, principal: CurrentPrincipal,
 def list_events(
     db: Db,
     mission: Annotated[str | None, Query(max_length=100)] = None,
-    after: Annotated[int, Query(ge=0)] = 0,
+    after: Annotated[int, Query(ge=0, le=2**62)] = 0,
     limit: Annotated[int, Query(ge=1, le=1000)] = 100,
 ) -> list[EventOut]:
     query = select(Event).where(Event.id > after).order_by(Event.id).limit(limit)

@@ -20,7 +20,7 @@ from ...store import missions as service
 from ...store.tables import Mission, MissionVersion, User
 from ...verify.graph import build_graph
 from ...verify.paths import count_paths, iter_path_lines, iter_paths, trace_text
-from ..deps import EVERYONE, OPERATORS, CurrentPrincipal, Db, allow
+from ..deps import EVERYONE, OPERATORS, CurrentPrincipal, Db, RowId, allow
 from .schemas import MissionDetail, MissionPage, MissionSummary, summary_fields, version_out
 
 router = APIRouter(prefix="/api", tags=["missions"])
@@ -175,7 +175,7 @@ def create_version(mission_id: str, principal: CurrentPrincipal, db: Db) -> dict
 
 @router.get("/missions/{mission_id}/versions/{number}", operation_id="getVersion",
             **allow(*EVERYONE))
-def get_version(mission_id: str, number: int, db: Db) -> dict[str, Any]:
+def get_version(mission_id: str, number: RowId, db: Db) -> dict[str, Any]:
     version = service.get_version(db, mission_id, number)
     author = _username(db, version.author_id, {})
     return version_out(version, author, True).model_dump(mode="json")

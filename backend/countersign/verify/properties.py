@@ -1,0 +1,459 @@
+"""Path properties (seed 001, section 6.2): conditions that must hold on every path of the
+mission, checked symbolically, never by enumerating paths.
+
+    {"id": "P1", "always": "not (behavior == 'surface' and context('shipping_lane'))"}
+    {"id": "P2", "never": "depth_m < 2 and context('shipping_lane')"}
+    {"id": "P3", "max": {"energy_wh": 800, "duration_s": 20000}}
+
+`always` and `never` are state properties. A goal's states are those its orders allow: its
+envelope and facts (behaviour, area and the area's tags), the vehicle envelope, the quantity
+domains and the constraints in scope (a state outside them ends the goal with `violate`). A
+state property fails on some path exactly when it fails at some goal reachable from the start,
+so each goal is decided once (by the goal's facts alone where they decide it, by z3
+otherwise) and the counterexample is the shortest path from the start through a failing goal to
+a terminal (breadth-first distances both ways).
+
+`max` bounds a resource over every path (seed 001, Lemma 2: the vehicle does not run out of
+battery). Costs are the goals' given or estimated costs (as for BUDGET); the counterexample is
+the shortest path whose total exceeds the bound, found by dynamic programming over the DAG by
+path length.
+"""
+
+from __future__ import annotations
+
+import functools
+from collections import deque
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any, Literal
+
+from ..orders.findings import Finding, error, warning
+from ..orders.model import BUDGET_QUANTITIES, OUTCOMES, Orders, PathProperty
+from .budget import UNITS, goal_cost
+from .expressions import Expr, fold, number_words, quantity_words, reads, with_unit
+from .graph import MissionGraph, build_graph
+from .logic import (
+    DEFAULT_TIMEOUT_MS,
+    DEFAULT_TOTAL_S,
+    Item,
+    Limits,
+    LogicCache,
+    LogicModel,
+    LogicRun,
+    expr_formula,
+    join_words,
+)
+from .paths import topological_order
+
+# Above this many (goal x path length) steps, the shortest resource counterexample falls back
+# to the costliest path (still a counterexample, not necessarily the shortest).
+MAX_LAYER_WORK = 2_000_000
+
+
+@dataclass(frozen=True)
+class CounterPath:
+    goals: tuple[str, ...]
+    outcomes: tuple[str, ...]
+    terminal: str
+
+    def steps(self) -> str:
+        return ", ".join(f"{g} {o}" for g, o in zip(self.goals, self.outcomes, strict=True))
+
+    def to_json(self) -> dict[str, Any]:
+        return {"goals": list(self.goals), "outcomes": list(self.outcomes),
+                "terminal": self.terminal}
+
+
+# ---------------------------------------------------------------------------------------------
+# Shortest paths over the mission graph
+
+
+def distances_from_start(graph: MissionGraph) -> list[int]:
+    """Outcomes from the start to each goal (-1 when unreachable)."""
+    dist = [-1] * graph.goal_count
+    if graph.start is None:
+        return dist
+    dist[graph.start] = 0
+    queue = deque([graph.start])
+    while queue:
+        node = queue.popleft()
+        for target in graph.out_nodes(node):
+            if target < graph.goal_count and dist[target] < 0:
+                dist[target] = dist[node] + 1
+                queue.append(target)
+    return dist
+
+
+def distances_to_terminal(graph: MissionGraph) -> list[int]:
+    """Goals on the shortest way from each goal to a terminal, itself included (-1: none)."""
+    n = graph.goal_count
+    reverse: list[list[int]] = [[] for _ in range(n)]
+    dist = [-1] * n
+    queue: deque[int] = deque()
+    for node in range(n):
+        for target in graph.succ[node]:
+            if target >= n:
+                if dist[node] < 0:
+                    dist[node] = 1
+                    queue.append(node)
+            elif target >= 0:
+                reverse[target].append(node)
+    while queue:
+        node = queue.popleft()
+        for parent in reverse[node]:
+            if dist[parent] < 0:
+                dist[parent] = dist[node] + 1
+                queue.append(parent)
+    return dist
+
+
+def _prefix(graph: MissionGraph, node: int) -> tuple[list[str], list[str]]:
+    outcomes = graph.outcomes_to(node) or []
+    goals: list[str] = []
+    current = graph.start
+    assert current is not None
+    for outcome in outcomes:
+        goals.append(graph.goal_ids[current])
+        current = graph.succ[current][OUTCOMES.index(outcome)]
+    return goals, outcomes
+
+
+def path_through(graph: MissionGraph, node: int, to_terminal: list[int]) -> CounterPath:
+    """The shortest path from the start through a goal to a terminal."""
+    goals, outcomes = _prefix(graph, node)
+    current = node
+    while True:
+        goals.append(graph.goal_ids[current])
+        best_k, best = -1, None
+        for k, target in enumerate(graph.succ[current]):
+            if target < 0:
+                continue
+            length = 0 if target >= graph.goal_count else to_terminal[target]
+            if length < 0:
+                continue
+            if best is None or length < best:
+                best_k, best = k, length
+        if best_k < 0:  # no way on: the path ends at this goal
+            return CounterPath(tuple(goals), tuple(outcomes), "")
+        outcomes.append(OUTCOMES[best_k])
+        target = graph.succ[current][best_k]
+        if target >= graph.goal_count:
+            return CounterPath(tuple(goals), tuple(outcomes), graph.node_id(target))
+        current = target
+
+
+def shortest_through_any(graph: MissionGraph, nodes: Sequence[int]) -> tuple[int, CounterPath]:
+    """Of several goals, the one on the shortest complete path from the start, and that path."""
+    from_start = distances_from_start(graph)
+    to_terminal = distances_to_terminal(graph)
+
+    def length(node: int) -> tuple[int, int]:
+        tail = to_terminal[node] if to_terminal[node] >= 0 else graph.goal_count + 1
+        return from_start[node] + tail, node
+
+    best = min((n for n in nodes if from_start[n] >= 0), key=length)
+    return best, path_through(graph, best, to_terminal)
+
+
+def shortest_exceeding_path(
+    graph: MissionGraph, costs: Sequence[float], bound: float
+) -> tuple[CounterPath, float, bool] | None:
+    """The shortest complete path whose total cost exceeds a bound: (path, its total, whether it
+    is proven shortest), or None when no path exceeds the bound or paths cannot be counted.
+    Costs are per goal node and must be non-negative."""
+    order = topological_order(graph)
+    if order is None or graph.start is None:
+        return None
+    n = graph.goal_count
+    succ = graph.succ
+    worst = [0.0] * n
+    for node in order:  # successors first
+        worst[node] = costs[node] + max(
+            0.0 if t >= n else worst[t] for t in succ[node]
+        )
+    if worst[graph.start] <= bound:
+        return None
+    longest = [0] * n
+    for node in order:
+        longest[node] = 1 + max(0 if t >= n else longest[t] for t in succ[node])
+    if len(order) * longest[graph.start] <= MAX_LAYER_WORK:
+        found = _shortest_by_length(graph, order, costs, bound, longest[graph.start])
+        if found is not None:
+            return found[0], found[1], True
+    return _costliest(graph, worst), worst[graph.start], False
+
+
+def _shortest_by_length(
+    graph: MissionGraph, order: list[int], costs: Sequence[float], bound: float, limit: int
+) -> tuple[CounterPath, float] | None:
+    n = graph.goal_count
+    succ = graph.succ
+    minus = float("-inf")
+    # layers[k][node]: the largest cost of a path of exactly k+1 goals from node to a terminal.
+    first = [minus] * n
+    for node in order:
+        if any(t >= n for t in succ[node]):
+            first[node] = costs[node]
+    layers = [first]
+    start = graph.start
+    assert start is not None
+    while layers[-1][start] <= bound and len(layers) < limit:
+        previous = layers[-1]
+        layer = [minus] * n
+        for node in order:
+            best = max((previous[t] for t in succ[node] if 0 <= t < n), default=minus)
+            if best > minus:
+                layer[node] = costs[node] + best
+        layers.append(layer)
+    if layers[-1][start] <= bound:
+        return None
+    total = layers[-1][start]
+    goals: list[str] = []
+    outcomes: list[str] = []
+    node = start
+    for k in range(len(layers) - 1, -1, -1):
+        goals.append(graph.goal_ids[node])
+        if k == 0:
+            j = next(j for j, t in enumerate(succ[node]) if t >= n)
+            outcomes.append(OUTCOMES[j])
+            return CounterPath(tuple(goals), tuple(outcomes), graph.node_id(succ[node][j])), total
+        want = layers[k][node] - costs[node]
+        j = next(j for j, t in enumerate(succ[node])
+                 if 0 <= t < n and layers[k - 1][t] == want)
+        outcomes.append(OUTCOMES[j])
+        node = succ[node][j]
+    raise AssertionError("unreachable")  # pragma: no cover
+
+
+def _costliest(graph: MissionGraph, worst: list[float]) -> CounterPath:
+    n = graph.goal_count
+    node = graph.start
+    assert node is not None
+    goals: list[str] = []
+    outcomes: list[str] = []
+    while node < n:
+        options = [0.0 if t >= n else worst[t] for t in graph.succ[node]]
+        k = max(range(3), key=lambda i: (options[i], -i))
+        goals.append(graph.goal_ids[node])
+        outcomes.append(OUTCOMES[k])
+        node = graph.succ[node][k]
+    return CounterPath(tuple(goals), tuple(outcomes), graph.node_id(node))
+
+
+# ---------------------------------------------------------------------------------------------
+# Property checks
+
+
+@dataclass(frozen=True)
+class _StateProperty:
+    prop: PathProperty
+    mode: Literal["always", "never"]
+    expr: Expr
+    text: str
+
+
+@dataclass(frozen=True)
+class GoalVerdict:
+    fails: bool
+    witness: tuple[tuple[str, str], ...]
+    undecided: str | None
+
+
+def _label(prop: PathProperty) -> str:
+    return f"{prop.id} ({prop.text})" if prop.text else prop.id
+
+
+def check_properties(
+    orders: Orders,
+    graph: MissionGraph | None = None,
+    cache: LogicCache | None = None,
+    *,
+    timeout_ms: int = DEFAULT_TIMEOUT_MS,
+    total_timeout_s: float = DEFAULT_TOTAL_S,
+) -> list[Finding]:
+    """EXPR findings for property expressions and PROPERTY findings with the shortest
+    counterexample path from the start."""
+    graph = graph or build_graph(orders)
+    model = cache.model(orders) if cache is not None else LogicModel(orders)
+    findings: list[Finding] = []
+    states: list[_StateProperty] = []
+    bounds: list[tuple[PathProperty, str, float]] = []
+    # check_logic reports the EXPR findings of constraints and norms; here only properties'.
+    expr_findings: list[Finding] = []
+    for prop in orders.properties:
+        modes: tuple[Literal["always", "never"], ...] = ("always", "never")
+        for mode in modes:
+            text = getattr(prop, mode)
+            if text is None:
+                continue
+            expr = model.parse_condition(text, f"{prop.id} {mode}", prop.id, mode,
+                                         expr_findings)
+            if expr is not None:
+                states.append(_StateProperty(prop, mode, expr, text))
+        bounds.extend(_bounds(prop, findings))
+        if prop.always is None and prop.never is None and not (prop.model_extra or {}).get("max"):
+            findings.append(error("EXPR", [prop.id], f"{prop.id} states nothing: give 'always', "
+                                  "'never' or 'max'.", field="always"))
+    findings[:0] = expr_findings
+    if graph.start is None:
+        return findings
+    if states:
+        with model.lock:
+            run = LogicRun(model, cache, Limits.start(timeout_ms, total_timeout_s))
+            for state in states:
+                findings.extend(_check_state(model, run, graph, state))
+    for prop, quantity, bound in bounds:
+        findings.extend(_check_bound(orders, graph, prop, quantity, bound))
+    return findings
+
+
+def _bounds(prop: PathProperty, findings: list[Finding]) -> list[tuple[PathProperty, str, float]]:
+    raw = (prop.model_extra or {}).get("max")
+    if raw is None:
+        return []
+    if not isinstance(raw, dict):
+        findings.append(error("EXPR", [prop.id], f"{prop.id} max: give resource bounds as an "
+                              'object, e.g. {"energy_wh": 800}.', field="max"))
+        return []
+    result = []
+    for quantity, value in raw.items():
+        if quantity not in BUDGET_QUANTITIES:
+            findings.append(error(
+                "EXPR", [prop.id],
+                f"{prop.id} max: unknown resource {quantity!r}; use "
+                f"{' or '.join(BUDGET_QUANTITIES)}.", field="max"))
+        elif isinstance(value, bool) or not isinstance(value, int | float) or value < 0:
+            findings.append(error(
+                "EXPR", [prop.id],
+                f"{prop.id} max: the bound for {quantity} must be a number of at least 0.",
+                field="max"))
+        else:
+            result.append((prop, quantity, float(value)))
+    return result
+
+
+def _check_state(model: LogicModel, run: LogicRun, graph: MissionGraph,
+                 state: _StateProperty) -> list[Finding]:
+    mission = run.mission()
+    expr_reads = reads(state.expr)
+    key = f"prop:{state.prop.id}:{state.mode}"
+    # The item states that the property fails in a state: `always` fails where the condition
+    # can be false, `never` where it can be true.
+    failing = Item(
+        key, "property", state.prop.id, f"{state.prop.id} {state.mode}: {state.text}",
+        f"{key}|{state.text}|{model.specs(expr_reads.quantities)}",
+        expr_formula(state.expr, negate=state.mode == "always"),
+        quantities=tuple(sorted(expr_reads.quantities)),
+    )
+    from_start = distances_from_start(graph)
+    bad: dict[int, GoalVerdict] = {}
+    undecided: list[str] = []
+    for node, goal in enumerate(graph.goals):
+        if from_start[node] < 0:
+            continue
+        facts = model.facts(goal)
+        decided = fold(state.expr, facts)
+        if decided is not None:
+            if decided is (state.mode == "never"):
+                bad[node] = GoalVerdict(True, (), None)
+            continue
+        items, _ = run.goal_items(goal, mission.quarantined, [expr_reads])
+        verdict: GoalVerdict = run.cached(
+            "property", [*items, failing], functools.partial(_solve_state, run, items, failing)
+        )
+        if verdict.undecided:
+            undecided.append(goal.id)
+        elif verdict.fails:
+            bad[node] = verdict
+    findings: list[Finding] = []
+    if bad:
+        node, path = shortest_through_any(graph, list(bad))
+        goal = graph.goals[node]
+        verdict = bad[node]
+        if verdict.witness:
+            values = join_words([
+                f"{quantity_words(q, model.quantities)} {with_unit(v, model.unit(q))}"
+                if v not in {"true", "false"} else f"{quantity_words(q, model.quantities)} {v}"
+                for q, v in verdict.witness
+            ])
+            why = f"the orders of {model.goal_label(goal)} allow {values}"
+        else:
+            needs = reads(state.expr)
+            facts_words = [i.phrase for i in model.fact_items(goal, needs)]
+            why = join_words(facts_words) if facts_words else f"at {model.goal_label(goal)}"
+        words = model.words(state.expr)
+        rule = f"rules out {words}" if state.mode == "never" else f"requires {words} always"
+        ending = f" -> {path.terminal}" if path.terminal else " (no terminal follows)"
+        findings.append(error(
+            "PROPERTY",
+            [*path.goals, *([path.terminal] if path.terminal else [])],
+            f"{_label(state.prop)} fails at {goal.id}: {why}, but {state.prop.id} {rule}. "
+            f"Shortest counterexample: {path.steps()}{ending}.",
+            property=state.prop.id,
+            goal=goal.id,
+            path=path.to_json(),
+            witness=dict(verdict.witness),
+            failing_goals=[graph.goal_ids[n] for n in sorted(bad)],
+        ))
+    if undecided:
+        findings.append(warning(
+            "PROPERTY", undecided,
+            f"{_label(state.prop)} could not be decided at {', '.join(undecided[:20])} "
+            "(solver timeout).",
+            property=state.prop.id,
+        ))
+    return findings
+
+
+def _solve_state(run: LogicRun, items: list[Item], failing: Item) -> GoalVerdict:
+    session = run.session
+    with session.scope([*items, failing]):
+        result = session.check([*items, failing])
+        if result.status == "unknown":
+            return GoalVerdict(False, (), result.reason)
+        if result.status == "unsat":
+            return GoalVerdict(False, (), None)
+        witness = session.witness(failing.quantities)
+    return GoalVerdict(True, tuple(sorted(witness.items())), None)
+
+
+def _check_bound(orders: Orders, graph: MissionGraph, prop: PathProperty, quantity: str,
+                 bound: float) -> list[Finding]:
+    vehicle = orders.target_vehicle()
+    areas = orders.area_index()
+    costs: list[float] = []
+    unknown: list[str] = []
+    for goal in graph.goals:
+        cost, _ = goal_cost(goal, quantity, vehicle, areas)
+        if cost is None:
+            unknown.append(goal.id)
+        costs.append(cost or 0.0)
+    found = shortest_exceeding_path(graph, costs, bound)
+    unit, noun = UNITS[quantity]
+    findings: list[Finding] = []
+    if found is not None:
+        path, total, shortest = found
+        which = "the shortest path" if shortest else "the costliest path"
+        findings.append(error(
+            "PROPERTY",
+            [*path.goals, path.terminal],
+            f"{_label(prop)} fails: the path {path.steps()} -> {path.terminal} needs "
+            f"{number_words(round(total, 1))} {unit} of {noun}, more than the bound of "
+            f"{number_words(bound)} {unit} ({which} that exceeds it).",
+            property=prop.id,
+            quantity=quantity,
+            total=round(total, 6),
+            bound=bound,
+            shortest=shortest,
+            path=path.to_json(),
+        ))
+    elif unknown:
+        findings.append(warning(
+            "PROPERTY", unknown,
+            f"{_label(prop)} cannot be proven for every path: goals {', '.join(unknown[:20])} "
+            f"have no {noun} cost and none can be estimated.",
+            property=prop.id,
+            quantity=quantity,
+        ))
+    return findings
+
