@@ -43,3 +43,15 @@ def test_bad_cursor_and_unknown_routes(world: World) -> None:
     client = world.client("auditor")
     assert client.get("/api/missions", params={"cursor": "!!!"}).status_code == 400
     assert client.get("/api/nothing-here").status_code == 404
+
+
+def test_unknown_fields_in_request_bodies_are_refused(world: World) -> None:
+    client = world.client()
+    response = client.post("/api/auth/login",
+                           json={"username": "admin1", "password": "x", "remember": True})
+    assert response.status_code == 422
+    assert response.json()["errors"][0]["path"] == "$.remember"
+    admin = world.client("admin")
+    typo = admin.post("/api/users", json={"username": "eve", "role": "auditor",
+                                          "password": "a long password", "rol": "admin"})
+    assert typo.status_code == 422

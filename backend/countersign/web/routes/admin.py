@@ -13,26 +13,26 @@ from ...store.accounts import AccountError, create_token, create_user, hash_pass
 from ...store.events import record
 from ...store.tables import ApiToken, Event, User, VehicleProfile
 from ..deps import ADMINS, EVERYONE, LOG_READERS, CurrentPrincipal, Db, RowId, allow
-from .schemas import EventOut, UserOut
+from .schemas import EventOut, RequestBody, UserOut
 
 router = APIRouter(prefix="/api", tags=["administration"])
 
 
-class UserIn(BaseModel):
+class UserIn(RequestBody):
     username: str = Field(min_length=1, max_length=64)
     display_name: str = Field(default="", max_length=200)
     role: str = Field(max_length=16)
     password: str = Field(min_length=1, max_length=1024)
 
 
-class UserPatch(BaseModel):
+class UserPatch(RequestBody):
     role: str | None = Field(default=None, max_length=16)
     disabled: bool | None = None
     password: str | None = Field(default=None, max_length=1024)
     display_name: str | None = Field(default=None, max_length=200)
 
 
-class TokenIn(BaseModel):
+class TokenIn(RequestBody):
     name: str = Field(min_length=1, max_length=100)
 
 

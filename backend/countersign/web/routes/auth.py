@@ -7,12 +7,12 @@ from pydantic import BaseModel, Field
 
 from ...store.accounts import authenticate, close_session, open_session
 from ..deps import EVERYONE, SESSION_COOKIE, CurrentPrincipal, Db, allow
-from .schemas import UserOut
+from .schemas import RequestBody, UserOut
 
 router = APIRouter(prefix="/api/auth", tags=["auth"])
 
 
-class LoginRequest(BaseModel):
+class LoginRequest(RequestBody):
     username: str = Field(min_length=1, max_length=64)
     password: str = Field(min_length=1, max_length=1024)
 

@@ -21,14 +21,21 @@ from ...store.tables import Mission, MissionVersion, User
 from ...verify.graph import build_graph
 from ...verify.paths import count_paths, iter_path_lines, iter_paths, trace_text
 from ..deps import EVERYONE, OPERATORS, CurrentPrincipal, Db, RowId, allow
-from .schemas import MissionDetail, MissionPage, MissionSummary, summary_fields, version_out
+from .schemas import (
+    MissionDetail,
+    MissionPage,
+    MissionSummary,
+    RequestBody,
+    summary_fields,
+    version_out,
+)
 
 router = APIRouter(prefix="/api", tags=["missions"])
 MAX_PAGE = 200
 MAX_PATH_PAGE = 1000
 
 
-class DraftIn(BaseModel):
+class DraftIn(RequestBody):
     orders: dict[str, Any]
     layout: dict[str, Any] | None = None
 

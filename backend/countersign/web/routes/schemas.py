@@ -5,9 +5,15 @@ from __future__ import annotations
 from datetime import datetime
 from typing import Any
 
-from pydantic import BaseModel
+from pydantic import BaseModel, ConfigDict
 
 from ...store.tables import Event, Mission, MissionVersion, User
+
+
+class RequestBody(BaseModel):
+    """Request bodies refuse fields they do not know: a typo is an error, not a silent no-op."""
+
+    model_config = ConfigDict(extra="forbid")
 
 
 class UserOut(BaseModel):
