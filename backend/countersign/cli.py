@@ -83,14 +83,29 @@ def _print_report_text(report: Report, out: TextIO) -> None:
     out.write(f"{verdict}: {errors} error(s), {warnings} warning(s).\n")
 
 
+def _print_explanation(report: Report, out: TextIO) -> None:
+    explanation = report.explanation or {}
+    out.write("\nWhy (facts the Mission Execution Ontology infers, with their rules):\n")
+    for fact in explanation.get("facts", []):
+        rule = f" [{fact['rule']}]" if fact.get("rule") else ""
+        out.write(f"  {fact['subject']} {fact['property']} {fact['object']}{rule}\n")
+    scope = explanation.get("constraint_scope") or {}
+    if scope:
+        out.write("Constraint scope after C3 (mission constraints apply to every goal):\n")
+        for constraint, goals in scope.items():
+            out.write(f"  {constraint}: {', '.join(goals)}\n")
+
+
 def cmd_validate(args: argparse.Namespace) -> int:
     loaded = _load(args.file)
     report = validate(loaded.orders, loaded.findings)
     if args.format == "json":
-        json.dump(report.to_json(), sys.stdout, indent=2)
+        json.dump(report.to_json(explain=args.explain), sys.stdout, indent=2)
         sys.stdout.write("\n")
     else:
         _print_report_text(report, sys.stdout)
+        if args.explain:
+            _print_explanation(report, sys.stdout)
     return EXIT_OK if report.ok else EXIT_FINDINGS
 
 
@@ -351,6 +366,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     validate_cmd.add_argument("file", metavar="FILE", help=FILE_HELP)
     validate_cmd.add_argument("--format", choices=["text", "json"], default="text")
+    validate_cmd.add_argument(
+        "--explain", action="store_true",
+        help="also show why: the facts the MEO infers (includes, canIdentify, hasCapability, "
+        "performableBy, constraint scope after C3)",
+    )
     validate_cmd.set_defaults(handler=cmd_validate)
 
     paths_cmd = commands.add_parser(

@@ -173,7 +173,7 @@ def test_goal_details_behavior_duration_pd_phase() -> None:
         "Follow it",
         "monitor_transmissions",
     )
-    assert g1.requires == ["monitor_transmissions"]
+    assert g1.requires == []
     assert g1.params == {"phase": "Track"}
     assert g1.cost is not None and g1.cost.duration_s == 600
     assert g1.area is None

@@ -145,3 +145,19 @@ def test_explain_reports_a_minimal_incompatible_subset(tmp_path: Path) -> None:
     assert "C7 requires depth >= 20 m" in answer["explanation"]
     assert run_cli("explain", str(path), "--goals", "G9").returncode == 2
     assert run_cli("explain", "example:search-and-sample").returncode == 0
+
+
+def test_validate_explain_shows_inferred_facts_and_meo_findings(tmp_path: Path) -> None:
+    result = run_cli("validate", "example:search-and-sample", "--format", "json", "--explain")
+    explanation = json.loads(result.stdout)["explanation"]
+    assert explanation["constraint_scope"]["C1"] == ["G1", "G2", "G3", "G4", "G5"]
+    assert explanation["constraint_scope"]["C7"] == ["G5"]
+    text = run_cli("validate", "example:search-and-sample", "--explain").stdout
+    assert "C1 appliesTo G5 [C3]" in text
+    orders = json.loads(run_cli("examples", "search-and-sample").stdout)
+    sampler = next(f for f in orders["vehicles"][0]["features"] if f["id"] == "sampler")
+    sampler["fulfills"] = []  # the vehicle can no longer sample: G2 lacks capability (M7)
+    path = tmp_path / "nosampler.json"
+    path.write_text(json.dumps(orders))
+    report = json.loads(run_cli("validate", str(path), "--format", "json").stdout)
+    assert [(f["code"], f["subjects"][0]) for f in report["findings"]] == [("M7", "G2")]

@@ -281,7 +281,8 @@ def _goal_data(
         "title": goal.title,
         "description": goal.description,
         "behavior": behavior,
-        "requires": [behavior] if behavior else [],
+        # AVCL declares no goal requirements; inventing them would make every goal an M7
+        # finding against an AVCL vehicle, which lists no features either.
         "params": params,
     }
     durations = _children(element, "Duration")

@@ -1,4 +1,4 @@
-"""Read orders from bytes or files: JSON (`countersign.orders/1`) or AVCL XML.
+"""Read orders from bytes or files: JSON (`countersign.orders/1`), AVCL XML or MEO Turtle.
 
 Malformed input raises `OrdersReadError` carrying a list of problems, each with a JSON path
 (`$.goals[2].next.succeed`) and a message; callers never see a stack trace.
@@ -7,6 +7,7 @@ Malformed input raises `OrdersReadError` carrying a list of problems, each with 
 from __future__ import annotations
 
 import json
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -132,19 +133,32 @@ def read_json(data: bytes) -> Orders:
     return orders_from_data(parsed)
 
 
+# Turtle that opens with a triple: an IRI with a scheme, fragment or nothing in it (not an XML
+# tag), a blank node, or an anonymous node, followed by a predicate.
+_PREDICATE = rb"(?:<|a\s|[A-Za-z_][\w.-]*:)"
+_TURTLE_TRIPLE = re.compile(
+    rb"(?:<(?:[^\s<>\"{}|^`\\]*[:#][^\s<>\"{}|^`\\]*)?>|_:\S+|\[\s*\]|\[)\s*" + _PREDICATE
+)
+
+
 def sniff_format(data: bytes) -> str:
-    head = data.lstrip(b"\xef\xbb\xbf \t\r\n")[:1]
+    """json, avcl (XML) or turtle, from the first bytes."""
+    text = data.lstrip(b"\xef\xbb\xbf \t\r\n")
+    head = text[:1]
+    lowered = text[:6].lower()
+    if head in (b"@", b"#") or lowered.startswith((b"prefix", b"base")):
+        return "turtle"
+    if head in (b"<", b"[", b"_") and _TURTLE_TRIPLE.match(text):
+        return "turtle"
     if head in (b"{", b"["):
         return "json"
     if head == b"<":
         return "avcl"
-    if head in (b"@", b"#") or data.lstrip().lower().startswith(b"prefix"):
-        return "turtle"
     return "json"
 
 
 def read_bytes(data: bytes, name: str = "<input>") -> ReadResult:
-    """Read orders from raw bytes, detecting JSON or AVCL XML by content."""
+    """Read orders from raw bytes, detecting JSON, AVCL XML or MEO Turtle by content."""
     if len(data) > MAX_INPUT_BYTES:
         limit_mib = MAX_INPUT_BYTES // (1024 * 1024)
         raise OrdersReadError([Problem("$", f"{name} is larger than the {limit_mib} MiB limit")])
@@ -156,9 +170,9 @@ def read_bytes(data: bytes, name: str = "<input>") -> ReadResult:
 
         return read_avcl(data, name)
     if kind == "turtle":
-        raise OrdersReadError(
-            [Problem("$", "MEO Turtle input is not supported yet: use orders JSON or AVCL XML")]
-        )
+        from .turtle import read_turtle
+
+        return read_turtle(data, name)
     return ReadResult(read_json(data), [], "json")
 
 

@@ -6,7 +6,7 @@ One pure function, so the command line, the API and the tests share a code path.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from ..orders.canonical import digest
@@ -15,9 +15,14 @@ from ..orders.model import Orders
 from .budget import WorstPath, check_budget, worst_paths
 from .graph import MissionGraph, build_graph
 from .logic import LogicCache, check_logic
+from .meo import MeoResult, meo_check
 from .paths import PathCounts, count_paths
 from .properties import check_properties
 from .structure import check_structure
+
+# The MEO route re-derives the structural verdicts too (tests prove both routes agree); the
+# report takes from it only the rules no other check covers.
+MEO_ONLY_CODES = frozenset({"C1", "C2", "M6", "M7"})
 
 # Solver results are pure functions of their inputs, so one bounded cache serves every caller
 # in the process: re-validating after a one-goal edit solves only what that goal touches.
@@ -31,13 +36,20 @@ class Report:
     findings: list[Finding]
     paths: PathCounts | None
     costs: dict[str, WorstPath] | None
+    meo: MeoResult | None = field(default=None, repr=False, compare=False)
+
+    @property
+    def explanation(self) -> dict[str, Any] | None:
+        """Why: the inferred MEO facts that matter (includes, canIdentify, hasCapability, ...),
+        derived only when someone asks."""
+        return self.meo.explanation if self.meo is not None else None
 
     @property
     def ok(self) -> bool:
         return not any(f.severity == "error" for f in self.findings)
 
-    def to_json(self) -> dict[str, Any]:
-        return {
+    def to_json(self, explain: bool = False) -> dict[str, Any]:
+        data = {
             "mission": self.mission,
             "digest": self.digest,
             "ok": self.ok,
@@ -45,6 +57,9 @@ class Report:
             "paths": self.paths.to_json() if self.paths else None,
             "costs": {q: w.to_json() for q, w in self.costs.items()} if self.costs else None,
         }
+        if explain:
+            data["explanation"] = self.explanation
+        return data
 
 
 def validate(
@@ -60,6 +75,8 @@ def validate(
     counts = count_paths(graph)
     costs = worst_paths(orders, graph) if counts is not None else None
     findings.extend(check_budget(costs))
+    meo = meo_check(orders)
+    findings.extend(f for f in meo.findings if f.code in MEO_ONLY_CODES)
     findings.extend(check_logic(orders, cache))
     findings.extend(check_properties(orders, graph, cache))
-    return Report(orders.id, digest(orders), findings, counts, costs)
+    return Report(orders.id, digest(orders), findings, counts, costs, meo)

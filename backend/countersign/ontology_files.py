@@ -1,0 +1,52 @@
+"""Where the ontology files (`ontology/` at the top of the repository) are found at run time.
+
+The files live once, at the repository top (DESIGN.md layout), and are read where they are:
+`COUNTERSIGN_ONTOLOGY_DIR` if set, else `ontology/` beside the package's source tree (an
+editable install or a checkout), else `ontology/` in the working directory. The Docker image
+copies the folder and sets the variable. Parsed graphs are cached per process.
+"""
+
+from __future__ import annotations
+
+import os
+from functools import cache
+from pathlib import Path
+
+from rdflib import Graph
+
+MEO = "meo.ttl"
+SHAPES = "shapes.ttl"
+NPS_ALIGNMENT = "nps-meo3-alignment.ttl"
+
+
+class OntologyNotFound(RuntimeError):
+    """The ontology folder is missing: an installation problem, not a problem of the orders."""
+
+
+def ontology_dir() -> Path:
+    candidates: list[Path] = []
+    configured = os.environ.get("COUNTERSIGN_ONTOLOGY_DIR")
+    if configured:
+        candidates.append(Path(configured))
+    candidates.append(Path(__file__).resolve().parents[2] / "ontology")
+    candidates.append(Path.cwd() / "ontology")
+    for folder in candidates:
+        if (folder / MEO).is_file():
+            return folder
+    searched = ", ".join(str(c) for c in candidates)
+    raise OntologyNotFound(
+        f"the MEO ontology files were not found (looked in {searched}); "
+        "set COUNTERSIGN_ONTOLOGY_DIR to the folder holding meo.ttl"
+    )
+
+
+def ontology_path(name: str) -> Path:
+    return ontology_dir() / name
+
+
+@cache
+def load_graph(name: str) -> Graph:
+    """One ontology file, parsed once per process. Callers must not modify the result."""
+    graph = Graph()
+    graph.parse(ontology_path(name), format="turtle")
+    return graph

@@ -1,0 +1,1023 @@
+"""Orders as RDF: the Mission Execution Ontology graph, Turtle in our vocabulary (lossless), an
+NPS MEO 3.0 view, and import of NPS MEO Turtle (converted missions, CanonicalMission.ttl).
+
+Two layers of triples describe one set of orders:
+
+- **Meaning** (`meo:`, ontology/meo.ttl): the mission, its goals and terminals, start, successors
+  per end condition, requirements, constraints and their scope, the vehicle, its features, what
+  they fulfil and measure. Verification (`countersign.verify.meo`) reads only this layer.
+- **Record** (`cs:`): how the author wrote the orders, field by field (titles, envelopes, params,
+  areas, norms, list order, explicit defaults, unknown fields), so that Turtle written here reads
+  back to orders with the same digest.
+
+Reading trusts the meaning over the record: where someone edited the `meo:` triples (say, in
+Protégé) and the record disagrees, the meaning wins and the record only keeps its order.
+
+IRIs are stable per mission id and element: the mission is
+`https://countersign.example/mission/{id}`, its elements `{mission}/{kind}#{element id}`
+(kinds: goal, terminal, constraint, requirement, quantity, vehicle, area, norm, property; `ref`
+for a name that is none of the orders' elements, e.g. an unknown successor) and a vehicle's
+features `{mission}/vehicle/{vehicle id}/feature#{feature id}`. Ids are restricted to
+`[A-Za-z0-9_.:-]`, so they need no escaping. A second element with an id already used (a DUP
+finding) is kept as a blank node in the record only: the meaning, like the structural check,
+sees the first.
+
+NPS Turtle is recognised by its namespaces and renamed to `meo:` with
+ontology/nps-meo3-alignment.ttl; the NPS conventions then apply (a goal without successors is a
+terminal, complete or abort by its wording; `rdfs:comment` "Title: description").
+
+RDF can say things orders cannot, e.g. that a goal requires a Constraint: such statements
+contradict a domain or range of meo.ttl, and the reader reports them as findings whose code is
+the violated rule (`typing_findings`).
+
+The quantities a constraint reads are the identifiers of its expression (a small tokenizer here,
+until the shared expression parser of `countersign.verify.expressions` can be used from this
+layer); a feature can test a constraint (F2, V4) when it measures every one of them.
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass, field
+from decimal import Decimal
+from typing import Any, Final, TypeVar
+
+from pydantic import ValidationError
+from rdflib import BNode, Graph, Literal, Namespace, URIRef
+from rdflib.collection import Collection
+from rdflib.namespace import OWL, RDF, RDFS, XSD
+from rdflib.term import Node
+
+from ..ontology_files import MEO as MEO_FILE
+from ..ontology_files import NPS_ALIGNMENT, load_graph
+from .canonical import orders_to_json
+from .findings import Finding, error
+from .model import Constraint, Feature, Orders
+from .reader import OrdersReadError, Problem, ReadResult, problems_from_validation
+
+MEO: Final = Namespace("https://countersign.example/ontology/meo#")
+CS: Final = Namespace("https://countersign.example/ontology/orders#")
+MISSION_BASE: Final = "https://countersign.example/mission/"
+NPS3: Final = Namespace("https://savage.nps.edu/EthicalControl/ontologies/MissionExecutionOntology#")
+
+OUTCOME_PROPERTY: Final = {
+    "succeed": MEO.isNextOnSucceed,
+    "fail": MEO.isNextOnFail,
+    "violate": MEO.isNextOnViolate,
+}
+NEXT_PROPERTIES: Final = tuple(OUTCOME_PROPERTY.values())
+
+# Fields holding lists of elements that get their own nodes (and IRIs).
+_ELEMENT_LISTS: Final = {
+    "goals": "goal",
+    "terminals": "terminal",
+    "constraints": "constraint",
+    "norms": "norm",
+    "areas": "area",
+    "vehicles": "vehicle",
+    "properties": "property",
+}
+
+# --------------------------------------------------------------------------------------------
+# Expressions: the quantities a constraint reads
+
+_KEYWORDS: Final = frozenset(
+    {"and", "or", "not", "implies", "true", "false", "behavior", "area", "context"}
+)
+_TOKENS: Final = re.compile(
+    r"""'(?:[^'\\]|\\.)*'?|"(?:[^"\\]|\\.)*"?|([A-Za-z_][A-Za-z0-9_]*)|\d+(?:\.\d*)?(?:[eE][+-]?\d+)?|."""
+)
+
+
+def expression_quantities(expr: str | None) -> list[str]:
+    """Identifiers an expression reads, in order of first use: names that are not keywords and
+    not inside quotes (a stand-in for the shared expression parser)."""
+    if not expr:
+        return []
+    names: dict[str, None] = {}
+    for match in _TOKENS.finditer(expr):
+        name = match.group(1)
+        if name and name not in _KEYWORDS:
+            names[name] = None
+    return list(names)
+
+
+# --------------------------------------------------------------------------------------------
+# IRIs
+
+
+@dataclass(frozen=True)
+class MissionIris:
+    mission_id: str
+
+    @property
+    def mission(self) -> URIRef:
+        return URIRef(MISSION_BASE + self.mission_id)
+
+    def element(self, kind: str, element_id: str) -> URIRef:
+        return URIRef(f"{MISSION_BASE}{self.mission_id}/{kind}#{element_id}")
+
+    def feature(self, vehicle_id: str, feature_id: str) -> URIRef:
+        return URIRef(f"{MISSION_BASE}{self.mission_id}/vehicle/{vehicle_id}/feature#{feature_id}")
+
+    def namespaces(self) -> dict[str, str]:
+        base = f"{MISSION_BASE}{self.mission_id}"
+        kinds = ("goal", "terminal", "constraint", "requirement", "quantity", "vehicle", "ref")
+        return {kind: f"{base}/{kind}#" for kind in kinds}
+
+
+def local_id(node: Node) -> str:
+    """The element id an IRI names: the part after '#', else after the last '/'."""
+    text = str(node)
+    if "#" in text:
+        return text.rsplit("#", 1)[1]
+    return text.rstrip("/").rsplit("/", 1)[-1]
+
+
+class _Resolver:
+    """Maps the ids that orders name (successors, start, scope) to IRIs, as the structural check
+    resolves them: a goal first, then a terminal, else a name that is neither."""
+
+    def __init__(self, orders: Orders, iris: MissionIris) -> None:
+        self.iris = iris
+        self.goals = set(orders.goal_index())
+        self.terminals = set(orders.terminal_index())
+        self.mission_id = orders.id
+
+    def successor(self, name: str) -> URIRef:
+        if name in self.goals:
+            return self.iris.element("goal", name)
+        if name in self.terminals:
+            return self.iris.element("terminal", name)
+        return self.iris.element("ref", name)
+
+    def scope(self, name: str) -> URIRef:
+        if name in self.goals:
+            return self.iris.element("goal", name)
+        if name == self.mission_id:
+            return self.iris.mission
+        return self.successor(name)
+
+    def scopes(self, applies_to: str | list[str]) -> list[URIRef]:
+        if applies_to == "mission":
+            return [self.iris.mission]
+        return [self.scope(name) for name in applies_to]
+
+    def starts(self, start: str | list[str] | None) -> list[URIRef]:
+        if start is None:
+            return []
+        names = [start] if isinstance(start, str) else start
+        return [self.successor(name) for name in names]
+
+
+# --------------------------------------------------------------------------------------------
+# Orders -> graph
+
+
+def can_test(feature: Feature, constraint: Constraint) -> bool:
+    """F2 grounding: a feature can test a constraint when it measures every quantity the
+    constraint's expression reads (a constraint without an expression cannot be tested)."""
+    if constraint.expr is None:
+        return False
+    return set(expression_quantities(constraint.expr)) <= set(feature.measures)
+
+
+def orders_to_graph(orders: Orders, *, record: bool = True) -> Graph:
+    """The orders as an RDF graph: the MEO meaning, plus (when `record`) the `cs:` record that
+    makes the graph read back to the same orders."""
+    iris = MissionIris(orders.id)
+    graph = Graph()
+    graph.bind("meo", MEO)
+    graph.bind("cs", CS)
+    graph.bind("mission", URIRef(MISSION_BASE))
+    for prefix, namespace in iris.namespaces().items():
+        graph.bind(prefix, namespace)
+    _meaning(graph, orders, iris)
+    if record:
+        _record(graph, orders, iris)
+    return graph
+
+
+def _meaning(graph: Graph, orders: Orders, iris: MissionIris) -> None:
+    add = graph.add
+    resolve = _Resolver(orders, iris)
+    mission = iris.mission
+    add((mission, RDF.type, MEO.Mission))
+    add((mission, RDFS.label, Literal(orders.title or orders.id)))
+    for start in resolve.starts(orders.start):
+        add((mission, MEO.startsWith, start))
+    goal_index = orders.goal_index()
+    for goal in goal_index.values():
+        node = iris.element("goal", goal.id)
+        add((node, RDF.type, MEO.Goal))
+        add((node, RDFS.label, Literal(goal.label)))
+        add((mission, MEO.includes, node))
+        for requirement in goal.requires:
+            req = iris.element("requirement", requirement)
+            add((node, MEO.requires, req))
+            add((req, RDF.type, MEO.GoalRequirement))
+        for outcome, prop in OUTCOME_PROPERTY.items():
+            for target in goal.successors(outcome):
+                add((node, prop, resolve.successor(target)))
+        phase = goal.params.get("phase")
+        if isinstance(phase, str):
+            add((node, MEO.isPartOfPhase, Literal(phase)))
+    for terminal in orders.terminal_index().values():
+        node = iris.element("terminal", terminal.id)
+        add((node, RDF.type, MEO.Terminal))
+        add((node, RDFS.label, Literal(terminal.label)))
+    constraints = _first_by_id(orders.constraints)
+    for constraint in constraints:
+        node = iris.element("constraint", constraint.id)
+        add((node, RDF.type, MEO.Constraint))
+        add((mission, MEO.hasConstraint, node))
+        if constraint.text:
+            add((node, RDFS.comment, Literal(constraint.text)))
+        for scope in resolve.scopes(constraint.applies_to):
+            add((node, MEO.appliesTo, scope))
+        for quantity in expression_quantities(constraint.expr):
+            q = iris.element("quantity", quantity)
+            add((node, MEO.reads, q))
+            add((q, RDF.type, MEO.Quantity))
+    performer = orders.target_vehicle()
+    reads = {c.id: set(expression_quantities(c.expr)) for c in constraints}
+    for vehicle in _first_by_id(orders.vehicles):
+        node = iris.element("vehicle", vehicle.id)
+        add((node, RDF.type, MEO.Vehicle))
+        add((node, RDFS.label, Literal(vehicle.title or vehicle.id)))
+        if vehicle is performer:
+            add((mission, MEO.performableBy, node))
+        for feature in _first_by_id(vehicle.features):
+            f = iris.feature(vehicle.id, feature.id)
+            add((f, RDF.type, MEO.VehicleFeature))
+            add((node, MEO.hasFeature, f))
+            for requirement in feature.fulfills:
+                req = iris.element("requirement", requirement)
+                add((f, MEO.canFulfill, req))
+                add((req, RDF.type, MEO.GoalRequirement))
+            for quantity in feature.measures:
+                q = iris.element("quantity", quantity)
+                add((f, MEO.measures, q))
+                add((q, RDF.type, MEO.Quantity))
+            measured = set(feature.measures)
+            for constraint in constraints:
+                if constraint.expr is not None and reads[constraint.id] <= measured:
+                    add((f, MEO.canTest, iris.element("constraint", constraint.id)))
+
+
+_T = TypeVar("_T")
+
+
+def _first_by_id(items: Iterable[_T]) -> list[_T]:
+    """The first element of each id (a DUP finding reports the others)."""
+    seen: set[str] = set()
+    result: list[_T] = []
+    for item in items:
+        item_id = getattr(item, "id", None)
+        if isinstance(item_id, str) and item_id not in seen:
+            seen.add(item_id)
+            result.append(item)
+    return result
+
+
+# The record: every field as written, generically encoded.
+
+
+def _record(graph: Graph, orders: Orders, iris: MissionIris) -> None:
+    data = orders_to_json(orders)
+    mission = iris.mission
+    graph.add((mission, CS.id, Literal(orders.id)))
+    for key, value in data.items():
+        if key in ("id", "format"):
+            continue
+        if key in _ELEMENT_LISTS and isinstance(value, list):
+            kind = _ELEMENT_LISTS[key]
+            nodes = _element_nodes(graph, value, iris, kind, None)
+            graph.add((mission, CS[key], _list(graph, nodes)))
+            continue
+        _field(graph, mission, key, value)
+    if orders.terminals is None:
+        for terminal in orders.effective_terminals:
+            graph.add((iris.element("terminal", terminal.id), CS.implicit, Literal(True)))
+
+
+def _element_nodes(
+    graph: Graph, items: list[Any], iris: MissionIris | None, kind: str, vehicle: str | None
+) -> list[Node]:
+    """Record nodes of a list of elements: the first element of an id is its IRI (shared with
+    the meaning); a repeated id, and everything inside it, is a blank node."""
+    nodes: list[Node] = []
+    seen: set[str] = set()
+    for item in items:
+        item_id = item.get("id") if isinstance(item, dict) else None
+        node: Node
+        named = iris is not None and isinstance(item_id, str) and item_id not in seen
+        if named and iris is not None and isinstance(item_id, str):
+            seen.add(item_id)
+            node = (
+                iris.feature(vehicle, item_id) if vehicle is not None
+                else iris.element(kind, item_id)
+            )
+        else:
+            node = BNode()
+        for key, value in item.items():
+            if kind == "vehicle" and key == "features" and isinstance(value, list):
+                inner = iris if named else None
+                vehicle_id = item_id if isinstance(item_id, str) else ""
+                features = _element_nodes(graph, value, inner, "feature", vehicle_id)
+                graph.add((node, CS.features, _list(graph, features)))
+            else:
+                _field(graph, node, key, value)
+        nodes.append(node)
+    return nodes
+
+
+def _field(graph: Graph, node: Node, key: str, value: Any) -> None:
+    if _NAME.fullmatch(key) and key not in _RESERVED:
+        graph.add((node, CS[key], _encode(graph, value)))
+    else:
+        entry = BNode()
+        graph.add((node, CS.extra, entry))
+        graph.add((entry, CS.key, Literal(key)))
+        graph.add((entry, CS.value, _encode(graph, value)))
+
+
+_NAME: Final = re.compile(r"[a-z][a-z0-9_]*")
+_RESERVED: Final = frozenset({"extra", "key", "value", "entry", "implicit", "null", "map"})
+
+
+def _list(graph: Graph, nodes: list[Node]) -> Node:
+    if not nodes:
+        return RDF.nil
+    head = BNode()
+    Collection(graph, head, nodes)
+    return head
+
+
+def _encode(graph: Graph, value: Any) -> Node:
+    if value is None:
+        return CS.null
+    if isinstance(value, bool):
+        return Literal(value)
+    if isinstance(value, int):
+        return Literal(value)
+    if isinstance(value, float):
+        # xsd:decimal keeps every digit through rdflib's Turtle writer (xsd:double does not).
+        return Literal(format(Decimal(repr(value)), "f"), datatype=XSD.decimal)
+    if isinstance(value, str):
+        return Literal(value)
+    if isinstance(value, list):
+        return _list(graph, [_encode(graph, item) for item in value])
+    if isinstance(value, dict):
+        node = BNode()
+        graph.add((node, RDF.type, CS.Map))
+        for key, item in value.items():
+            entry = BNode()
+            graph.add((node, CS.entry, entry))
+            graph.add((entry, CS.key, Literal(key)))
+            graph.add((entry, CS.value, _encode(graph, item)))
+        return node
+    raise TypeError(f"cannot encode {type(value).__name__} in RDF")
+
+
+# --------------------------------------------------------------------------------------------
+# Writers
+
+
+def write_turtle(orders: Orders) -> str:
+    """Turtle in the Countersign vocabulary: MEO meaning plus the lossless record."""
+    header = (
+        f"# Mission orders {orders.id} ({orders.format}) as Mission Execution Ontology "
+        "individuals.\n# Vocabulary: meo: ontology/meo.ttl; cs: the orders record "
+        "(read back losslessly by Countersign).\n"
+    )
+    return header + orders_to_graph(orders).serialize(format="turtle")
+
+
+def nps_graph(orders: Orders) -> Graph:
+    """The orders in the NPS MEO 3.0 vocabulary: individuals of the NPS classes, successors as
+    both hasNextGoalOn* (declared by MEO 3.0) and hasNextOn* (used by the NPS converted missions
+    and queries), goals described by rdfs:comment "Title: description", terminals as goals
+    without successors (the NPS convention)."""
+    ours = orders_to_graph(orders, record=False)
+    names = _nps_names()
+    iris = MissionIris(orders.id)
+    graph = Graph()
+    graph.bind("meo", NPS3)
+    for prefix, namespace in iris.namespaces().items():
+        graph.bind(prefix, namespace)
+    document = URIRef(f"{iris.mission}/nps-meo3")
+    graph.add((document, RDF.type, OWL.Ontology))
+    graph.add((document, OWL.imports, URIRef(str(NPS3).rstrip("#"))))
+    mission_iri = iris.mission
+    for s, p, o in ours:
+        if p == RDF.type:
+            if o == MEO.Terminal:
+                targets: list[Node] = [NPS3.Goal]
+            else:
+                targets = list(names.get(o, []))
+            for target in targets:
+                graph.add((s, RDF.type, target))
+            if targets:
+                graph.add((s, RDF.type, OWL.NamedIndividual))
+            continue
+        if p in (RDFS.label, RDFS.comment):
+            continue
+        for name in names.get(p, []):
+            graph.add((s, name, o))
+    for goal in orders.goal_index().values():
+        comment = f"{goal.title}: {goal.description}" if goal.description else goal.label
+        graph.add((iris.element("goal", goal.id), RDFS.comment, Literal(comment)))
+    for terminal in orders.terminal_index().values():
+        graph.add((iris.element("terminal", terminal.id), RDFS.comment, Literal(terminal.label)))
+    for constraint in orders.constraints:
+        if constraint.text:
+            node = iris.element("constraint", constraint.id)
+            graph.add((node, RDFS.comment, Literal(constraint.text)))
+    if orders.description or orders.title:
+        graph.add((mission_iri, RDFS.comment, Literal(orders.description or orders.title)))
+    return graph
+
+
+def write_nps_turtle(orders: Orders) -> str:
+    header = (
+        f"# Mission orders {orders.id} in the NPS Mission Execution Ontology 3.0 vocabulary\n"
+        "# (a view written by Countersign: titles and successors only, not read back "
+        "losslessly).\n"
+    )
+    return header + nps_graph(orders).serialize(format="turtle")
+
+
+def _nps_names() -> dict[Node, list[Node]]:
+    """meo: term -> its equivalents in the NPS MEO 3.0 namespace (alignment file)."""
+    names: dict[Node, list[Node]] = {}
+    prefix = str(NPS3).rstrip("#")
+    for ours, theirs in _equivalences():
+        if str(theirs).startswith(prefix):
+            names.setdefault(ours, []).append(theirs)
+    for values in names.values():
+        values.sort(key=str)
+    return names
+
+
+def _equivalences() -> Iterator[tuple[Node, Node]]:
+    alignment = load_graph(NPS_ALIGNMENT)
+    for prop in (OWL.equivalentClass, OWL.equivalentProperty):
+        for ours, theirs in alignment.subject_objects(prop):
+            if str(ours).startswith(str(MEO)) and isinstance(theirs, URIRef):
+                yield ours, theirs
+
+
+# --------------------------------------------------------------------------------------------
+# Reader
+
+
+def read_turtle(data: bytes, name: str = "<input>") -> ReadResult:
+    """Orders from Turtle in our vocabulary (lossless) or NPS MEO Turtle (by its conventions)."""
+    graph = _parse(data, name)
+    renamed = _align(graph)
+    try:
+        return _read(graph, renamed, name)
+    except RecursionError:
+        raise OrdersReadError([Problem("$", f"{name} is nested too deeply")]) from None
+
+
+def _read(graph: Graph, renamed: bool, name: str) -> ReadResult:
+    findings = typing_findings(graph)
+    result = _Reader(graph, renamed, name).read()
+    return ReadResult(result.orders, findings + result.findings, "turtle")
+
+
+def _parse(data: bytes, name: str) -> Graph:
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise OrdersReadError([Problem("$", f"not UTF-8 text (byte {exc.start})")]) from None
+    graph = Graph()
+    try:
+        graph.parse(data=text, format="turtle")
+    except Exception as exc:  # rdflib raises many kinds (BadSyntax, ValueError, ...)
+        raise OrdersReadError([Problem("$", _syntax_message(exc, text))]) from None
+    if len(graph) == 0:
+        raise OrdersReadError([Problem("$", f"{name} holds no RDF statements")])
+    return graph
+
+
+def _syntax_message(exc: Exception, text: str) -> str:
+    lines = getattr(exc, "lines", None)
+    reason = getattr(exc, "_why", None) or str(exc).splitlines()[0][:200]
+    if isinstance(lines, int):
+        return f"invalid Turtle at line {lines + 1}: {reason}"
+    return f"invalid Turtle: {reason}"
+
+
+def _align(graph: Graph) -> bool:
+    """Rename NPS terms to meo: in place; True when any NPS term was found."""
+    mapping = {theirs: ours for ours, theirs in _equivalences()}
+    found = False
+    for s, p, o in list(graph):
+        new_p = mapping.get(p, p)
+        new_o = mapping.get(o, o) if p == RDF.type else o
+        if new_p != p or new_o != o:
+            found = True
+            graph.remove((s, p, o))
+            graph.add((s, new_p, new_o))
+    return found
+
+
+_NATURAL: Final = re.compile(r"(\d+)")
+MAX_DEPTH: Final = 64
+MAX_LIST_ITEMS: Final = 200_000
+
+
+def natural_key(text: str) -> tuple[Any, ...]:
+    return tuple(int(part) if part.isdigit() else part for part in _NATURAL.split(text))
+
+
+@dataclass
+class _Reader:
+    graph: Graph
+    aligned: bool  # the input used NPS names (renamed to meo:)
+    name: str
+    findings: list[Finding] = field(default_factory=list)
+    _goal_ids: set[str] | None = None
+
+    # -- the record
+
+    def decode(self, node: Node, depth: int = 0) -> Any:
+        graph = self.graph
+        if depth > MAX_DEPTH:
+            raise OrdersReadError(
+                [Problem("$", f"{self.name} nests values more than {MAX_DEPTH} levels deep")]
+            )
+        if node == CS.null:
+            return None
+        if isinstance(node, Literal):
+            if node.datatype in (XSD.double, XSD.decimal, XSD.float):
+                return float(str(node))
+            if node.datatype in (XSD.integer, XSD.int, XSD.long):
+                return int(str(node))
+            if node.datatype == XSD.boolean:
+                return str(node).strip().lower() in ("true", "1")
+            return str(node)
+        if node == RDF.nil or (node, RDF.first, None) in graph:
+            return [self.decode(item, depth + 1) for item in self.items(node)]
+        if (node, RDF.type, CS.Map) in graph:
+            return {
+                str(graph.value(entry, CS.key)): self.decode(_value(graph, entry), depth + 1)
+                for entry in graph.objects(node, CS.entry)
+            }
+        return str(node)
+
+    def has_record(self, node: Node) -> bool:
+        return (node, CS.id, None) in self.graph
+
+    def record(self, node: Node) -> dict[str, Any]:
+        """The fields written for one node (empty when it has no record)."""
+        data: dict[str, Any] = {}
+        prefix = str(CS)
+        for p, o in self.graph.predicate_objects(node):
+            if not isinstance(p, URIRef) or not str(p).startswith(prefix):
+                continue
+            key = str(p)[len(prefix):]
+            if key == "extra":
+                data[str(self.graph.value(o, CS.key))] = self.decode(_value(self.graph, o))
+            elif key not in ("implicit", "features") and key not in _ELEMENT_LISTS:
+                data[key] = self.decode(o)
+        return data
+
+    def plain(self, node: Node) -> dict[str, Any]:
+        """A record-only element (a repeated id): its fields, and its features if a vehicle."""
+        data = self.record(node)
+        features = self.graph.value(node, CS.features)
+        if features is not None:
+            data["features"] = [self.plain(f) for f in self.items(features)]
+        return data
+
+    def items(self, head: Node) -> list[Node]:
+        """The members of an RDF list, refusing a list that loops or never ends."""
+        members: list[Node] = []
+        seen: set[Node] = set()
+        node: Node | None = head
+        while node is not None and node != RDF.nil:
+            if node in seen or len(members) >= MAX_LIST_ITEMS:
+                raise OrdersReadError(
+                    [Problem("$", f"{self.name} holds an RDF list that loops or is too long")]
+                )
+            seen.add(node)
+            first = self.graph.value(node, RDF.first)
+            if first is None:
+                break
+            members.append(first)
+            node = self.graph.value(node, RDF.rest)
+        return members
+
+    def ordered(self, owner: Node, key: str, members: list[Node]) -> list[Node]:
+        """Members in the order of the record's list, then any others by natural id order;
+        blank nodes of the record (repeated ids) keep their place."""
+        listed = self.graph.value(owner, CS[key])
+        in_record = self.items(listed) if listed is not None else []
+        member_set = set(members)
+        result = [n for n in in_record if n in member_set or isinstance(n, BNode)]
+        rest = sorted(member_set - set(result), key=lambda n: natural_key(self.element_id(n)))
+        return result + rest
+
+    def listed(self, owner: Node, key: str) -> bool:
+        return self.graph.value(owner, CS[key]) is not None
+
+    # -- reading
+
+    def read(self) -> ReadResult:
+        graph = self.graph
+        mission = self.mission()
+        data = self.record(mission)
+        data["id"] = data.get("id") or local_id(mission)
+        mission_id = str(data["id"])
+        ours = self.has_record(mission) or any(graph.triples((None, RDF.type, MEO.Terminal)))
+        goals, terminals = self.goals_and_terminals(mission, ours)
+        names = {t: self.element_id(t) for t in terminals}
+        names.update({g: self.element_id(g) for g in goals})
+
+        def elements(key: str, members: list[Node], read: Callable[[Node], dict[str, Any]]
+                     ) -> None:
+            nodes = self.ordered(mission, key, members)
+            if nodes or self.listed(mission, key):
+                data[key] = [self.plain(n) if isinstance(n, BNode) else read(n) for n in nodes]
+
+        elements("goals", goals, lambda n: self.goal(n, names))
+        implicit = all((t, CS.implicit, Literal(True)) in graph for t in terminals)
+        if implicit and graph.value(mission, CS.terminals) == CS.null:
+            data["terminals"] = None
+        elif self.listed(mission, "terminals") or not implicit:
+            elements("terminals", terminals, self.terminal)
+        start = self.start(mission, data.get("start", _ABSENT), names)
+        data.pop("start", None)
+        if start is not _ABSENT:
+            data["start"] = start
+        constraints = self.constraints(mission)
+        elements("constraints", constraints, lambda n: self.constraint(n, mission, names,
+                                                                       mission_id))
+        vehicles = self.members(MEO.Vehicle, (mission, MEO.performableBy))
+        elements("vehicles", vehicles, self.vehicle)
+        for key in ("norms", "areas", "properties"):
+            listed = graph.value(mission, CS[key])
+            if listed is not None:
+                data[key] = [self.plain(node) for node in self.items(listed)]
+        self.performer(mission, data)
+        if not self.has_record(mission):
+            data.setdefault("title", mission_id)
+            comment = graph.value(mission, RDFS.comment)
+            if comment is not None and str(comment).strip():
+                data.setdefault("description", str(comment).strip())
+        try:
+            orders = Orders.model_validate(data)
+        except ValidationError as exc:
+            raise problems_from_validation(exc) from None
+        return ReadResult(orders, self.findings, "turtle")
+
+    def mission(self) -> Node:
+        graph = self.graph
+        candidates: dict[Node, None] = dict.fromkeys(graph.subjects(RDF.type, MEO.Mission))
+        for prop in (MEO.startsWith, MEO.includes, MEO.hasConstraint, MEO.performableBy):
+            candidates.update(dict.fromkeys(graph.subjects(prop, None)))
+        missions = list(candidates)
+        if not missions:
+            raise OrdersReadError(
+                [Problem("$", f"{self.name} describes no mission: no meo:Mission individual "
+                              "and nothing that starts with or includes a goal")]
+            )
+        if len(missions) > 1:
+            listed = ", ".join(sorted(local_id(m) for m in missions)[:5])
+            raise OrdersReadError(
+                [Problem("$", f"{self.name} describes {len(missions)} missions ({listed}); "
+                              "read one mission per file")]
+            )
+        return missions[0]
+
+    def members(self, cls: URIRef, link: tuple[Node, URIRef]) -> list[Node]:
+        found: dict[Node, None] = dict.fromkeys(self.graph.subjects(RDF.type, cls))
+        for node in self.graph.objects(*link):
+            if _declared(self.graph, node):
+                found[node] = None
+        return list(found)
+
+    def constraints(self, mission: Node) -> list[Node]:
+        found = dict.fromkeys(self.members(MEO.Constraint, (mission, MEO.hasConstraint)))
+        found.update(dict.fromkeys(self.graph.subjects(MEO.appliesTo, None)))
+        return list(found)
+
+    def goals_and_terminals(self, mission: Node, ours: bool) -> tuple[list[Node], list[Node]]:
+        graph = self.graph
+        if ours:
+            terminals = list(dict.fromkeys(graph.subjects(RDF.type, MEO.Terminal)))
+            terminal_set = set(terminals)
+            found = dict.fromkeys(
+                g for g in graph.subjects(RDF.type, MEO.Goal) if g not in terminal_set
+            )
+            found.update(
+                dict.fromkeys(
+                    g for g in graph.objects(mission, MEO.includes)
+                    if g not in terminal_set and _declared(graph, g)
+                )
+            )
+            return list(found), terminals
+        # The NPS convention: a goal without successors is a terminal; a name that nothing
+        # describes is neither (the structural check reports it as G3 or M1).
+        nodes: dict[Node, None] = dict.fromkeys(graph.subjects(RDF.type, MEO.Goal))
+        for prop in NEXT_PROPERTIES:
+            for s, o in graph.subject_objects(prop):
+                nodes[s] = None
+                if _declared(graph, o):
+                    nodes[o] = None
+        for prop in (MEO.startsWith, MEO.includes):
+            for o in graph.objects(mission, prop):
+                if _declared(graph, o):
+                    nodes[o] = None
+        goals = [n for n in nodes if any(True for p in NEXT_PROPERTIES
+                                         for _ in graph.objects(n, p))]
+        goal_set = set(goals)
+        return goals, [n for n in nodes if n not in goal_set]
+
+    def element_id(self, node: Node) -> str:
+        recorded = self.graph.value(node, CS.id)
+        return str(recorded) if recorded is not None else local_id(node)
+
+    def name_of(self, node: Node, names: dict[Node, str]) -> str:
+        return names.get(node) or self.element_id(node)
+
+    def describe(self, node: Node, data: dict[str, Any]) -> None:
+        """Title and description from rdfs:label / rdfs:comment for an element without a
+        record (NPS: comment "Title: description")."""
+        if self.has_record(node):
+            return
+        label = self.graph.value(node, RDFS.label)
+        comment = self.graph.value(node, RDFS.comment)
+        if label is not None:
+            data["title"] = str(label).strip()
+            if comment is not None and str(comment).strip():
+                data["description"] = str(comment).strip()
+        elif comment is not None:
+            title, sep, description = str(comment).partition(": ")
+            data["title"] = title.strip()
+            if sep and description.strip():
+                data["description"] = description.strip()
+
+    def goal(self, node: Node, names: dict[Node, str]) -> dict[str, Any]:
+        """A goal: its record, with successors, requirements and phase from the meaning."""
+        graph = self.graph
+        data = self.record(node)
+        data["id"] = self.element_id(node)
+        self.describe(node, data)
+        written_next = data.get("next")
+        next_data: dict[str, Any] = dict(written_next) if isinstance(written_next, dict) else {}
+        for outcome, prop in OUTCOME_PROPERTY.items():
+            meaning = [self.name_of(t, names) for t in graph.objects(node, prop)]
+            written = next_data.get(outcome)
+            listed = [] if written is None else [written] if isinstance(written, str) else written
+            if set(listed) == set(meaning):
+                continue
+            ordered = _ordered_union(listed, meaning)
+            if not ordered:
+                next_data.pop(outcome, None)
+            else:
+                next_data[outcome] = ordered[0] if len(ordered) == 1 else ordered
+        if next_data or isinstance(written_next, dict):
+            data["next"] = next_data
+        meaning = [self.element_id(r) for r in graph.objects(node, MEO.requires)]
+        written_requires = data.get("requires")
+        written_list = written_requires if isinstance(written_requires, list) else []
+        if set(written_list) != set(meaning) or (meaning and written_requires is None):
+            data["requires"] = _ordered_union(written_list, meaning)
+        phase = graph.value(node, MEO.isPartOfPhase)
+        params = data.get("params") if isinstance(data.get("params"), dict) else None
+        written_phase = params.get("phase") if params is not None else None
+        if phase is not None and str(phase) not in ("'undefined'", written_phase):
+            data["params"] = {**(params or {}), "phase": str(phase)}
+        return data
+
+    def terminal(self, node: Node) -> dict[str, Any]:
+        data = self.record(node)
+        data["id"] = self.element_id(node)
+        self.describe(node, data)
+        if "kind" not in data:
+            data["kind"] = self.terminal_kind(node, data)
+        return data
+
+    def terminal_kind(self, node: Node, data: dict[str, Any]) -> str:
+        """The NPS wording convention (as for AVCL): abort words, complete words, else how the
+        terminal is reached."""
+        words = " ".join(
+            [data["id"], str(data.get("title", "")), str(data.get("description", ""))]
+        ).lower()
+        if any(w in words for w in ("fail", "abort", "exception", "beacon", "await")):
+            return "abort"
+        if any(w in words for w in ("success", "complete")):
+            return "complete"
+        reached_on_success = any(True for _ in self.graph.subjects(MEO.isNextOnSucceed, node))
+        return "complete" if reached_on_success else "abort"
+
+    def start(self, mission: Node, written: Any, names: dict[Node, str]) -> Any:
+        meaning = [self.name_of(s, names) for s in self.graph.objects(mission, MEO.startsWith)]
+        if written is _ABSENT or written is None:
+            listed: list[str] = []
+        elif isinstance(written, str):
+            listed = [written]
+        else:
+            listed = list(written)
+        if set(listed) == set(meaning):
+            return written
+        ordered = _ordered_union(listed, meaning)
+        if not ordered:
+            return _ABSENT if written is _ABSENT else None
+        return ordered[0] if len(ordered) == 1 else ordered
+
+    def constraint(
+        self, node: Node, mission: Node, names: dict[Node, str], mission_id: str
+    ) -> dict[str, Any]:
+        graph = self.graph
+        data = self.record(node)
+        data["id"] = self.element_id(node)
+        if not self.has_record(node):
+            comment = graph.value(node, RDFS.comment) or graph.value(node, RDFS.label)
+            if comment is not None:
+                data["text"] = str(comment).strip()
+        meaning = {
+            "mission" if s == mission else self.name_of(s, names)
+            for s in graph.objects(node, MEO.appliesTo)
+        }
+        written = data.get("applies_to", "mission")
+        if written == "mission":
+            written_meaning = {"mission"}
+        else:
+            goal_ids = self.goal_ids(names)
+            written_meaning = {
+                "mission" if (n == mission_id and n not in goal_ids) else n
+                for n in (written if isinstance(written, list) else [])
+            }
+        if written_meaning != meaning:
+            if meaning == {"mission"}:
+                data["applies_to"] = "mission"
+            else:
+                listed = written if isinstance(written, list) else []
+                data["applies_to"] = _ordered_union(
+                    listed, [mission_id if m == "mission" else m for m in meaning]
+                )
+        return data
+
+    def goal_ids(self, names: dict[Node, str]) -> set[str]:
+        if self._goal_ids is None:
+            self._goal_ids = set(names.values())
+        return self._goal_ids
+
+    def vehicle(self, node: Node) -> dict[str, Any]:
+        graph = self.graph
+        data = self.record(node)
+        data["id"] = self.element_id(node)
+        if not self.has_record(node):
+            label = graph.value(node, RDFS.label)
+            if label is not None and str(label) != data["id"]:
+                data["title"] = str(label)
+        features = list(graph.objects(node, MEO.hasFeature))
+        if features or graph.value(node, CS.features) is not None:
+            data["features"] = [
+                self.plain(f) if isinstance(f, BNode) else self.feature(f)
+                for f in self.ordered(node, "features", features)
+            ]
+        return data
+
+    def feature(self, node: Node) -> dict[str, Any]:
+        graph = self.graph
+        data = self.record(node)
+        data["id"] = self.element_id(node)
+        for key, prop in (("fulfills", MEO.canFulfill), ("measures", MEO.measures)):
+            meaning = [self.element_id(o) for o in graph.objects(node, prop)]
+            written = data.get(key)
+            listed = written if isinstance(written, list) else []
+            if set(listed) != set(meaning) or (meaning and written is None):
+                data[key] = _ordered_union(listed, meaning)
+        return data
+
+    def performer(self, mission: Node, data: dict[str, Any]) -> None:
+        """`vehicle`: the vehicle the mission is performable by, where the record says another."""
+        performer = self.graph.value(mission, MEO.performableBy)
+        if performer is None:
+            return
+        performer_id = self.element_id(performer)
+        written = data.get("vehicle")
+        vehicles = data.get("vehicles") or []
+        implied = (
+            written if written is not None
+            else vehicles[0].get("id") if len(vehicles) == 1 and isinstance(vehicles[0], dict)
+            else None
+        )
+        if implied != performer_id:
+            data["vehicle"] = performer_id
+
+
+class _Absent:
+    def __repr__(self) -> str:
+        return "<absent>"
+
+
+_ABSENT: Final = _Absent()
+
+
+def _declared(graph: Graph, node: Node) -> bool:
+    """Something the graph says anything about (not merely a name used as an object)."""
+    return any(True for _ in graph.predicate_objects(node))
+
+
+def _value(graph: Graph, entry: Node) -> Node:
+    value = graph.value(entry, CS.value)
+    return CS.null if value is None else value
+
+
+def _ordered_union(written: list[str], meaning: list[str]) -> list[str]:
+    """The meaning's members, in the written order where written, then in natural order."""
+    wanted = set(meaning)
+    result = list(dict.fromkeys(x for x in written if x in wanted))
+    rest = sorted(wanted - set(result), key=natural_key)
+    return result + rest
+
+
+# --------------------------------------------------------------------------------------------
+# Typing rules of RDF input
+
+
+def typing_findings(graph: Graph) -> list[Finding]:
+    """Statements of a Turtle input that contradict a domain or range of meo.ttl: the subject
+    or object is asserted to be of a class disjoint with the one the rule requires (under OWL
+    the ontology would be inconsistent). Each finding's code is the rule of the violated axiom
+    (M1, M2, M3, M5, V1, F1, F2, G1, G2, G3, G6, C1, ...); also G4 for a successor given
+    without an end condition and EC1 for an end condition other than SUCCEED, FAIL, VIOLATE.
+    Orders cannot express these mistakes, so they exist only in RDF input."""
+    meo = load_graph(MEO_FILE)
+    superclasses: dict[Node, set[Node]] = {}
+    for sub, sup in meo.subject_objects(RDFS.subClassOf):
+        if isinstance(sup, URIRef):
+            superclasses.setdefault(sub, set()).add(sup)
+    disjoint: set[tuple[Node, Node]] = set()
+    for group in meo.subjects(RDF.type, OWL.AllDisjointClasses):
+        head = meo.value(group, OWL.members)
+        members = list(Collection(meo, head)) if head is not None else []
+        disjoint.update((a, b) for a in members for b in members if a != b)
+    subproperties: dict[Node, set[Node]] = {}
+    for sub, sup in meo.subject_objects(RDFS.subPropertyOf):
+        subproperties.setdefault(sup, set()).add(sub)
+
+    def classes(node: Node) -> set[Node]:
+        found = set(graph.objects(node, RDF.type))
+        for cls in list(found):
+            found |= superclasses.get(cls, set())
+        return found
+
+    def with_subproperties(prop: Node) -> set[Node]:
+        result, todo = {prop}, [prop]
+        while todo:
+            for sub in subproperties.get(todo.pop(), ()):
+                if sub not in result:
+                    result.add(sub)
+                    todo.append(sub)
+        return result
+
+    findings: list[Finding] = []
+    seen: set[tuple[str, str, str]] = set()
+    for axiom in meo.subjects(RDF.type, OWL.Axiom):
+        kind = meo.value(axiom, OWL.annotatedProperty)
+        if kind not in (RDFS.domain, RDFS.range):
+            continue
+        prop = meo.value(axiom, OWL.annotatedSource)
+        required = meo.value(axiom, OWL.annotatedTarget)
+        rule = str(meo.value(axiom, RDFS.label))
+        if not isinstance(required, URIRef) or prop is None:
+            continue
+        for used in with_subproperties(prop):
+            for s, o in graph.subject_objects(used):
+                node = s if kind == RDFS.domain else o
+                for cls in classes(node):
+                    if (cls, required) in disjoint and (rule, str(node), str(cls)) not in seen:
+                        seen.add((rule, str(node), str(cls)))
+                        role = "subject" if kind == RDFS.domain else "object"
+                        findings.append(error(
+                            rule, [local_id(s), local_id(o)],
+                            f"{local_id(s)} {local_id(used)} {local_id(o)}: the {role} "
+                            f"{local_id(node)} is a {local_id(cls)}, but {local_id(used)} needs a "
+                            f"{local_id(required)} (rule {rule}).",
+                            property=local_id(used),
+                        ))
+    for s, o in graph.subject_objects(MEO.isNext):
+        findings.append(error(
+            "G4", [local_id(s), local_id(o)],
+            f"{local_id(s)} isNext {local_id(o)} names a successor without an end condition: use "
+            "isNextOnSucceed, isNextOnFail or isNextOnViolate (rule G4). It was not read.",
+        ))
+    allowed = {MEO.SUCCEED, MEO.FAIL, MEO.VIOLATE}
+    for s, o in graph.subject_objects(MEO.hasEndCondition):
+        if o not in allowed:
+            findings.append(error(
+                "EC1", [local_id(s), local_id(o)],
+                f"{local_id(s)} hasEndCondition {local_id(o)}: the end conditions are SUCCEED, "
+                "FAIL and VIOLATE (rule EC1).",
+            ))
+    return findings
