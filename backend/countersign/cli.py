@@ -15,7 +15,6 @@ from pathlib import Path
 from typing import TYPE_CHECKING, TextIO
 
 from . import __version__
-from .orders.canonical import orders_to_json
 from .orders.examples import example_bytes, example_names
 from .orders.reader import OrdersReadError, ReadResult, read_bytes, read_file
 from .verify.graph import build_graph
@@ -182,17 +181,10 @@ def cmd_run(args: argparse.Namespace) -> int:
 
 
 def cmd_export(args: argparse.Namespace) -> int:
+    from .orders.writers import write
+
     loaded = _load(args.file)
-    if args.format == "json":
-        sys.stdout.write(json.dumps(orders_to_json(loaded.orders), indent=2) + "\n")
-    elif args.format == "dot":
-        from .orders.dot import to_dot
-
-        sys.stdout.write(to_dot(loaded.orders))
-    else:
-        from .orders.plain import plain_orders
-
-        sys.stdout.write(plain_orders(loaded.orders).rstrip("\n") + "\n")
+    sys.stdout.write(write(loaded.orders, args.format))
     return EXIT_OK
 
 
@@ -402,12 +394,16 @@ def build_parser() -> argparse.ArgumentParser:
 
     export_cmd = commands.add_parser(
         "export",
-        help="write orders as JSON, Graphviz DOT or plain-language orders",
-        description="Convert orders (e.g. AVCL) to orders JSON, a Graphviz DOT graph, or the "
-        "plain-language orders a supervisor reads (seed 000 Figures 3 and 4).",
+        help="write orders as plain language, JSON, DOT, MEO Turtle, NPS MEO 3.0 Turtle or AVCL",
+        description="Convert orders between formats: the plain-language orders a supervisor "
+        "reads (seed 000 Figures 3 and 4), orders JSON, a Graphviz DOT graph, MEO Turtle "
+        "(lossless), an NPS MEO 3.0 Turtle view, or AVCL XML.",
     )
     export_cmd.add_argument("file", metavar="FILE", help=FILE_HELP)
-    export_cmd.add_argument("--format", choices=["json", "dot", "plain"], default="plain")
+    export_cmd.add_argument(
+        "--format", choices=["plain", "json", "dot", "turtle", "nps-turtle", "avcl"],
+        default="plain",
+    )
     export_cmd.set_defaults(handler=cmd_export)
 
     explain_cmd = commands.add_parser(

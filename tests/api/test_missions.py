@@ -88,6 +88,11 @@ def test_import_avcl_and_json_and_export(world: World) -> None:
     assert dot.text.startswith("digraph")
     assert client.get(f"/api/missions/{EXAMPLE}/export",
                       params={"format": "exe"}).status_code == 422
+    turtle = client.get(f"/api/missions/{EXAMPLE}/export", params={"format": "turtle"})
+    assert turtle.headers["content-type"].startswith("text/turtle")
+    assert "meo:startsWith" in turtle.text or "startsWith" in turtle.text
+    avcl = client.get(f"/api/missions/{EXAMPLE}/export", params={"format": "avcl"})
+    assert avcl.text.startswith("<?xml") and 'nextOnSuccess="G2"' in avcl.text
 
 
 def test_paths_pages_stream_and_traces(world: World) -> None:

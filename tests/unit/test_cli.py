@@ -161,3 +161,19 @@ def test_validate_explain_shows_inferred_facts_and_meo_findings(tmp_path: Path) 
     path.write_text(json.dumps(orders))
     report = json.loads(run_cli("validate", str(path), "--format", "json").stdout)
     assert [(f["code"], f["subjects"][0]) for f in report["findings"]] == [("M7", "G2")]
+
+
+def test_export_formats_read_back(tmp_path: Path) -> None:
+    for fmt, suffix in (("turtle", "ttl"), ("avcl", "xml"), ("json", "json")):
+        exported = run_cli("export", "example:search-and-sample", "--format", fmt)
+        assert exported.returncode == 0, exported.stderr
+        path = tmp_path / f"again.{suffix}"
+        path.write_text(exported.stdout)
+        report = json.loads(run_cli("validate", str(path), "--format", "json").stdout)
+        assert report["paths"] == {"count": 75, "by_terminal": {"COMPLETE": 25, "ABORT": 50}}
+        if fmt != "avcl":  # Turtle and JSON are lossless: same digest
+            original = json.loads(run_cli("validate", "example:search-and-sample",
+                                          "--format", "json").stdout)
+            assert report["digest"] == original["digest"]
+    nps = run_cli("export", "example:search-and-sample", "--format", "nps-turtle").stdout
+    assert "hasNextGoalOnSuccess" in nps or "hasNextOnSuccess" in nps

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import base64
-import json
 from collections.abc import Iterator
 from typing import Annotated, Any
 
@@ -13,9 +12,9 @@ from pydantic import BaseModel
 from sqlalchemy import func, or_, select
 from sqlalchemy.orm import Session as DbSession
 
-from ...orders.canonical import orders_to_json
 from ...orders.model import Orders
 from ...orders.reader import orders_from_data, read_bytes
+from ...orders.writers import WRITERS, write
 from ...store import missions as service
 from ...store.tables import Mission, MissionVersion, User
 from ...verify.graph import build_graph
@@ -233,30 +232,13 @@ def list_paths(
                     next_cursor=_encode_cursor(following) if following < counts.total else None)
 
 
-EXPORTS = {"json": "application/json", "dot": "text/vnd.graphviz",
-           "plain": "text/plain; charset=utf-8"}
-
-
 @router.get("/missions/{mission_id}/export", operation_id="exportMission",
             response_class=PlainTextResponse, **allow(*EVERYONE))
 def export_mission(
     mission_id: str, db: Db,
-    format: Annotated[str, Query(pattern="^(json|dot|plain|turtle|avcl)$")] = "json",
+    format: Annotated[str, Query(pattern="^(json|dot|plain|turtle|nps-turtle|avcl)$")] = "json",
 ) -> Response:
     mission = service.get_mission(db, mission_id)
-    orders = _orders(mission.draft)
-    if format == "json":
-        text = json.dumps(orders_to_json(orders), indent=2) + "\n"
-    elif format == "dot":
-        from ...orders.dot import to_dot
-
-        text = to_dot(orders)
-    elif format == "plain":
-        from ...orders.plain import plain_orders
-
-        text = plain_orders(orders)
-    else:
-        raise HTTPException(415, f"export as {format} is not available in this version")
-    suffix = {"json": "json", "dot": "dot", "plain": "txt"}[format]
-    return Response(text, media_type=EXPORTS[format], headers={
+    _, media_type, suffix = WRITERS[format]
+    return Response(write(_orders(mission.draft), format), media_type=media_type, headers={
         "Content-Disposition": f'attachment; filename="{mission.id}.{suffix}"'})
