@@ -9,9 +9,10 @@ from datetime import datetime, timedelta
 
 from argon2 import PasswordHasher
 from argon2.exceptions import InvalidHashError, VerificationError
-from sqlalchemy import delete, func, select
+from sqlalchemy import delete, func, select, update
 from sqlalchemy.orm import Session as DbSession
 
+from .db import writable
 from .events import record
 from .tables import ROLES, ApiToken, LoginAttempt, Session, User, utcnow
 
@@ -144,7 +145,10 @@ def token_user(db: DbSession, secret: str) -> User | None:
     if user is None or user.disabled:
         return None
     now = utcnow()
-    # Recording every use would turn each read into a write; a minute's precision is enough.
+    # Recording every use would turn each read into a write; a minute's precision is enough,
+    # written in a transaction of its own so that read-only requests stay read-only.
     if token.last_used_at is None or now - token.last_used_at > timedelta(minutes=1):
-        token.last_used_at = now
+        with writable(db) as writer:
+            writer.execute(update(ApiToken).where(ApiToken.id == token.id)
+                           .values(last_used_at=now))
     return user

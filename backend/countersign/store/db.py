@@ -21,22 +21,39 @@ class DatabaseTooNew(RuntimeError):
     """The database was migrated by a newer Countersign than this one."""
 
 
+BEGIN_MODE = "countersign_begin"
+
+
 def make_engine(url: str) -> Engine:
     if url.startswith("sqlite"):
-        engine = create_engine(url, connect_args={"check_same_thread": False, "timeout": 30})
+        # Up to two connections per worker thread (request session + report cache writer).
+        engine = create_engine(url, connect_args={"check_same_thread": False, "timeout": 30},
+                               pool_size=20, max_overflow=80, pool_timeout=10)
 
         @event.listens_for(engine, "connect")
         def _sqlite_pragmas(dbapi_connection: Any, _record: Any) -> None:
+            # SQLAlchemy emits BEGIN itself (below), so the driver must not.
+            dbapi_connection.isolation_level = None
             cursor = dbapi_connection.cursor()
             cursor.execute("PRAGMA journal_mode=WAL")
             cursor.execute("PRAGMA foreign_keys=ON")
             cursor.execute("PRAGMA busy_timeout=30000")
             cursor.close()
 
+        @event.listens_for(engine, "begin")
+        def _sqlite_begin(connection: Any) -> None:
+            # A writer takes the write lock when it begins (IMMEDIATE): a deferred transaction
+            # that reads and then writes cannot upgrade once another writer committed, and
+            # SQLite answers that with "database is locked" instead of waiting.
+            mode = connection.get_execution_options().get(BEGIN_MODE, "DEFERRED")
+            connection.exec_driver_sql(f"BEGIN {mode}")
+
         return engine
     if url.startswith("postgresql://"):
         url = "postgresql+psycopg://" + url.removeprefix("postgresql://")
-    return create_engine(url, pool_pre_ping=True, pool_size=10, max_overflow=20)
+    # Sized for the server's worker threads, each of which may hold a request session and a
+    # short report-cache session at once.
+    return create_engine(url, pool_pre_ping=True, pool_size=20, max_overflow=60, pool_timeout=10)
 
 
 def alembic_config(url: str) -> Config:
@@ -69,11 +86,42 @@ class Database:
         self.url = url
         self.engine = make_engine(url)
         self.sessions = sessionmaker(self.engine, expire_on_commit=False)
+        self.write_sessions = sessionmaker(
+            self.engine.execution_options(**{BEGIN_MODE: "IMMEDIATE"}), expire_on_commit=False
+        )
 
     def migrate(self) -> None:
         upgrade_to_head(self.engine)
 
     @contextmanager
-    def session(self) -> Iterator[Session]:
-        with self.sessions() as session, session.begin():
+    def session(self, write: bool = True) -> Iterator[Session]:
+        """A transaction, committed on success. Pass write=False for read-only work: on SQLite
+        readers then never wait for the write lock."""
+        factory = self.write_sessions if write else self.sessions
+        with factory(info={"database": self, "write": write}) as session, session.begin():
+            if not write:
+                event.listen(session, "before_flush", _refuse_writes)
             yield session
+
+
+def _refuse_writes(session: Session, _context: Any, _instances: Any) -> None:
+    if session.new or session.dirty or session.deleted:
+        raise RuntimeError("a read-only session tried to write; open a write session instead")
+
+
+def database_of(session: Session) -> Database:
+    database: Database = session.info["database"]
+    return database
+
+
+@contextmanager
+def writable(session: Session) -> Iterator[Session]:
+    """A session to write through: this one (in a savepoint) when it may write, else a short
+    write transaction of its own. Never a second writer beside a writing session: on SQLite
+    that would wait for a lock its own thread holds."""
+    if session.info.get("write", True):
+        with session.begin_nested():
+            yield session
+    else:
+        with database_of(session).session() as writer:
+            yield writer

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import threading
 from dataclasses import dataclass
 from typing import Any
 
@@ -13,6 +14,7 @@ from .. import __version__
 from ..orders.canonical import digest, orders_to_json
 from ..orders.model import Orders
 from ..verify.report import validate
+from .db import writable
 from .events import record
 from .tables import Mission, MissionVersion, User, ValidationReport, utcnow
 
@@ -164,16 +166,44 @@ class CachedReport:
     cached: bool
 
 
+_IN_FLIGHT: dict[str, threading.Lock] = {}
+_IN_FLIGHT_GUARD = threading.Lock()
+
+
+def _validated(key: str, orders: Orders) -> dict[str, Any]:
+    """Validate once per digest in this process even when many requests ask at once."""
+    with _IN_FLIGHT_GUARD:
+        lock = _IN_FLIGHT.setdefault(key, threading.Lock())
+    with lock:
+        done = _RECENT.get(key)
+        if done is None:
+            done = validate(orders).to_json()
+            _RECENT[key] = done
+            while len(_RECENT) > 256:
+                _RECENT.pop(next(iter(_RECENT)))
+    with _IN_FLIGHT_GUARD:
+        _IN_FLIGHT.pop(key, None)
+    return done
+
+
+# The last reports computed here, so that requests that waited on the same digest reuse it.
+_RECENT: dict[str, dict[str, Any]] = {}
+
+
 def report_for(db: DbSession, orders: Orders, orders_digest: str | None = None) -> CachedReport:
-    """The validation report of these orders, computed once per digest and checker version."""
+    """The validation report of these orders, computed once per digest and checker version.
+
+    A read-only session stores a new report through a short transaction of its own, so that
+    readers never hold (or wait for) a write lock while validating."""
     key = orders_digest or digest(orders)
     row = db.get(ValidationReport, (key, __version__))
     if row is not None:
         return CachedReport(row.report, True)
-    report = validate(orders).to_json()
+    report = _validated(key, orders)
+    entry = ValidationReport(digest=key, checker_version=__version__, report=report)
     try:
-        with db.begin_nested():
-            db.add(ValidationReport(digest=key, checker_version=__version__, report=report))
+        with writable(db) as writer:
+            writer.add(entry)
     except IntegrityError:
         pass  # a concurrent request stored the same report first
     return CachedReport(report, False)

@@ -24,9 +24,14 @@ ADMINS = ("admin",)
 LOG_READERS = ("supervisor", "auditor", "admin")
 
 
+# POST routes that only compute (their body is input, not a change): no write lock needed.
+READ_ONLY_POSTS = frozenset({"/api/validate"})
+
+
 def get_db(request: Request) -> Iterator[DbSession]:
     database: Database = request.app.state.database
-    with database.session() as session:
+    write = request.method not in SAFE_METHODS and request.url.path not in READ_ONLY_POSTS
+    with database.session(write=write) as session:
         yield session
 
 

@@ -7,6 +7,8 @@ from typing import Any
 from fastapi import FastAPI, HTTPException, Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
+from sqlalchemy.exc import OperationalError
+from sqlalchemy.exc import TimeoutError as SqlTimeout
 
 from ..orders.reader import OrdersReadError
 from ..store.accounts import AccountError, TooManyAttempts
@@ -17,7 +19,7 @@ TITLES = {400: "Bad request", 401: "Not signed in", 403: "Forbidden", 404: "Not 
           409: "Conflict", 412: "Precondition failed", 413: "Payload too large",
           415: "Unsupported media type", 422: "Unprocessable content",
           428: "Precondition required", 429: "Too many requests",
-          500: "Internal server error"}
+          500: "Internal server error", 503: "Service unavailable"}
 
 
 def problem(status: int, detail: str, request: Request | None = None, **extra: Any) -> JSONResponse:
@@ -63,6 +65,14 @@ def install(app: FastAPI) -> None:
     @app.exception_handler(MissionError)
     async def _mission(request: Request, exc: MissionError) -> JSONResponse:
         return problem(exc.status, str(exc), request)
+
+    @app.exception_handler(OperationalError)
+    @app.exception_handler(SqlTimeout)
+    async def _busy(request: Request, exc: Exception) -> JSONResponse:
+        # Lock or pool exhaustion under load: the client may retry; nothing was changed.
+        response = problem(503, "the database is busy; retry in a moment", request)
+        response.headers["Retry-After"] = "1"
+        return response
 
     @app.exception_handler(TooManyAttempts)
     async def _rate(request: Request, exc: TooManyAttempts) -> JSONResponse:
