@@ -462,6 +462,10 @@ def build_parser() -> argparse.ArgumentParser:
                             help="read the password from the first line of standard input")
     create_cmd.add_argument("--data-dir", type=Path, default=None)
     create_cmd.set_defaults(handler=cmd_users_create)
+
+    from .cli_plan import add_commands as add_plan_commands
+
+    add_plan_commands(commands)
     return parser
 
 
