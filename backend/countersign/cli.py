@@ -463,9 +463,11 @@ def build_parser() -> argparse.ArgumentParser:
     create_cmd.add_argument("--data-dir", type=Path, default=None)
     create_cmd.set_defaults(handler=cmd_users_create)
 
+    from .cli_approvals import add_commands as add_approval_commands
     from .cli_plan import add_commands as add_plan_commands
 
     add_plan_commands(commands)
+    add_approval_commands(commands)
     return parser
 
 

@@ -22,7 +22,7 @@ NAV_LINKS = {
     "admin": ["Missions", "Activity", "Users"],
 }
 MISSION_TABS = {
-    "operator": ["Orders", "Findings", "Paths", "Versions", "Edit orders"],
+    "operator": ["Orders", "Findings", "Paths", "Versions", "Edit orders", "Graph editor"],
     "supervisor": ["Orders", "Findings", "Paths", "Versions"],
     "auditor": ["Orders", "Findings", "Paths", "Versions"],
     "admin": ["Orders", "Findings", "Paths", "Versions"],

@@ -1,12 +1,22 @@
-"""The append-only event log: every state change, who, what, when, before and after."""
+"""The append-only event log: every state change, who, what, when, before and after.
+
+`record()` is the single entry point. In the same transaction it appends the event as the next
+leaf of the transparency log (approvals/log.py): entries are hash-chained and hashed into the
+RFC 6962 tree, so that a checkpoint signed later covers every event before it."""
 
 from __future__ import annotations
 
 from typing import Any
 
+from sqlalchemy import select, text
 from sqlalchemy.orm import Session as DbSession
 
-from .tables import Event, User
+from ..approvals.log import GENESIS, entry_bytes, entry_leaf, event_data
+from .tables import Event, LogEntry, User, utcnow
+
+# Appends take one PostgreSQL advisory lock, so that concurrent transactions chain in order;
+# SQLite serialises writers already (the event row is written before the head is read).
+LOG_LOCK = 0x636F756E  # "coun"
 
 
 def record(
@@ -14,6 +24,25 @@ def record(
     before: str | None = None, after: str | None = None, detail: dict[str, Any] | None = None,
 ) -> Event:
     event = Event(kind=kind, actor_id=actor.id if actor else None, mission_id=mission_id,
-                  before_digest=before, after_digest=after, detail=detail or {})
+                  before_digest=before, after_digest=after, detail=detail or {}, at=utcnow())
     db.add(event)
+    db.flush()
+    append_to_log(db, event, actor.username if actor else None)
     return event
+
+
+def append_to_log(db: DbSession, event: Event, actor: str | None) -> LogEntry:
+    if db.get_bind().dialect.name == "postgresql":
+        db.execute(text("SELECT pg_advisory_xact_lock(:key)"), {"key": LOG_LOCK})
+    head = db.execute(
+        select(LogEntry.index, LogEntry.leaf_hash).order_by(LogEntry.index.desc()).limit(1)
+    ).first()
+    index, prev = (int(head[0]) + 1, str(head[1])) if head else (0, GENESIS)
+    data = entry_bytes(index, prev, event_data(
+        id=event.id, at=event.at, actor=actor, kind=event.kind, mission=event.mission_id,
+        before=event.before_digest, after=event.after_digest, detail=event.detail))
+    entry = LogEntry(index=index, event_id=event.id, entry=data.decode(),
+                     leaf_hash=entry_leaf(data))
+    db.add(entry)
+    db.flush()
+    return entry

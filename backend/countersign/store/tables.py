@@ -174,3 +174,67 @@ class Event(Base):
     before_digest: Mapped[str | None] = mapped_column(String(71), default=None)
     after_digest: Mapped[str | None] = mapped_column(String(71), default=None)
     detail: Mapped[dict[str, Any]] = mapped_column(default=dict)
+
+
+class SigningKey(Base):
+    """A supervisor's Ed25519 public key; `revoked_at` is the only column that ever changes."""
+
+    __tablename__ = "signing_keys"
+    id: Mapped[str] = mapped_column(String(64), primary_key=True)  # hex sha256 of the raw key
+    user_id: Mapped[int] = mapped_column(ForeignKey("users.id"), index=True)
+    name: Mapped[str] = mapped_column(String(100), default="")
+    public_key: Mapped[str] = mapped_column(String(64))
+    created_at: Mapped[datetime] = mapped_column(default=utcnow)
+    revoked_at: Mapped[datetime | None] = mapped_column(default=None)
+    revoke_reason: Mapped[str] = mapped_column(Text, default="")
+
+
+class Approval(Base):
+    """A signed decision (approved, rejected, revoked), its DSSE envelope stored verbatim."""
+
+    __tablename__ = "approvals"
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    submission_id: Mapped[int] = mapped_column(ForeignKey("submissions.id"), index=True)
+    version_id: Mapped[int] = mapped_column(ForeignKey("mission_versions.id"), index=True)
+    mission_id: Mapped[str] = mapped_column(String(100), index=True)
+    vehicle: Mapped[str | None] = mapped_column(String(100), default=None, index=True)
+    author_id: Mapped[int] = mapped_column(ForeignKey("users.id"), index=True)
+    decision: Mapped[str] = mapped_column(String(16), index=True)
+    reason: Mapped[str] = mapped_column(Text, default="")
+    revokes: Mapped[int | None] = mapped_column(ForeignKey("approvals.id"), default=None)
+    supervisor_id: Mapped[int] = mapped_column(ForeignKey("users.id"), index=True)
+    key_id: Mapped[str] = mapped_column(ForeignKey("signing_keys.id"))
+    envelope: Mapped[str] = mapped_column(Text)
+    envelope_digest: Mapped[str] = mapped_column(String(71))
+    payload_digest: Mapped[str] = mapped_column(String(71), unique=True)
+    orders_digest: Mapped[str] = mapped_column(String(71))
+    event_id: Mapped[int] = mapped_column(ForeignKey("events.id"), unique=True)
+    created_at: Mapped[datetime] = mapped_column(default=utcnow, index=True)
+
+
+class LogEntry(Base):
+    """One leaf of the transparency log per event, hash-chained (approvals/log.py)."""
+
+    __tablename__ = "log_entries"
+    index: Mapped[int] = mapped_column(
+        BigInteger().with_variant(Integer, "sqlite"), primary_key=True, autoincrement=False)
+    event_id: Mapped[int] = mapped_column(ForeignKey("events.id"), unique=True)
+    entry: Mapped[str] = mapped_column(Text)
+    leaf_hash: Mapped[str] = mapped_column(String(64))
+
+
+class Checkpoint(Base):
+    """A signed statement of the log's size and Merkle root."""
+
+    __tablename__ = "checkpoints"
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    tree_size: Mapped[int] = mapped_column(BigInteger, index=True)
+    root_hash: Mapped[str] = mapped_column(String(64))
+    key_id: Mapped[str] = mapped_column(String(64))
+    public_key: Mapped[str] = mapped_column(String(64))
+    note: Mapped[str] = mapped_column(Text)
+    signature: Mapped[str] = mapped_column(String(100))
+    created_at: Mapped[datetime] = mapped_column(default=utcnow)
+
+
+APPEND_ONLY_TABLES = ("events", "mission_versions", "approvals", "log_entries", "checkpoints")

@@ -12,7 +12,7 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 from .. import __version__
 from ..store.db import Database
 from . import problems
-from .routes import admin, auth, missions
+from .routes import admin, approvals, auth, missions, planning
 from .settings import Settings
 
 
@@ -91,6 +91,8 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     app.include_router(auth.router)
     app.include_router(missions.router)
     app.include_router(admin.router)
+    app.include_router(planning.router)
+    app.include_router(approvals.router)
     _serve_frontend(app, settings.frontend_dist)
     app.add_middleware(BodyLimit, limit=settings.max_body_bytes)
     return app

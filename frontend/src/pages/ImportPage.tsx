@@ -11,6 +11,9 @@ export function ImportPage() {
   const [pasted, setPasted] = useState("");
   const [error, setError] = useState<unknown>(null);
   const [busy, setBusy] = useState(false);
+  const [newId, setNewId] = useState("");
+  const [newTitle, setNewTitle] = useState("");
+  const [newVehicle, setNewVehicle] = useState("remus-100");
   const fileRef = useRef<HTMLInputElement>(null);
 
   useEffect(() => {
@@ -46,6 +49,28 @@ export function ImportPage() {
     void upload(file, contentTypeFor(file.name, file.type));
   };
 
+  const submitEmpty = async (event: FormEvent) => {
+    event.preventDefault();
+    const id = newId.trim();
+    if (!id) {
+      setError("Give the new mission an id.");
+      return;
+    }
+    setBusy(true);
+    setError(null);
+    try {
+      // An empty draft: no goals yet, the default terminals; the graph editor takes it from here.
+      const orders: Record<string, unknown> = { format: "countersign.orders/1", id, title: newTitle.trim(), goals: [] };
+      if (newVehicle.trim()) orders.vehicle = newVehicle.trim();
+      const mission = unwrap(await api.POST("/api/missions", { body: orders }));
+      navigate(missionHref(mission.id, "editor"));
+    } catch (e) {
+      setError(e);
+    } finally {
+      setBusy(false);
+    }
+  };
+
   const submitText = (event: FormEvent) => {
     event.preventDefault();
     const text = pasted.trim();
@@ -66,6 +91,18 @@ export function ImportPage() {
         XML (NPS AUV Workbench) or MEO Turtle. It is validated at once.
       </p>
       <ErrorMessage error={error} />
+      <form className="card" onSubmit={(e) => void submitEmpty(e)} aria-labelledby="new-title">
+        <h2 id="new-title">Start an empty mission</h2>
+        <label htmlFor="new-id">Mission id</label>
+        <input id="new-id" value={newId} onChange={(e) => setNewId(e.target.value)} />
+        <label htmlFor="new-mission-title">Title</label>
+        <input id="new-mission-title" value={newTitle} onChange={(e) => setNewTitle(e.target.value)} />
+        <label htmlFor="new-vehicle">Vehicle</label>
+        <input id="new-vehicle" value={newVehicle} onChange={(e) => setNewVehicle(e.target.value)} />
+        <button type="submit" className="primary" disabled={busy}>
+          Create empty mission
+        </button>
+      </form>
       <form className="card" onSubmit={submitFile} aria-labelledby="upload-title">
         <h2 id="upload-title">Upload a file</h2>
         <label htmlFor="import-file">Orders file (.json, .xml, .ttl)</label>

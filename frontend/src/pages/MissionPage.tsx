@@ -1,4 +1,4 @@
-import { useEffect, useState } from "react";
+import { lazy, Suspense, useEffect, useState } from "react";
 
 import {
   api,
@@ -28,7 +28,10 @@ import { useCan } from "../session";
 import { outcomeLetters, traceText } from "../trace";
 import { useLoad } from "../useLoad";
 
-const TABS = ["orders", "findings", "paths", "versions", "edit"] as const;
+const TABS = ["orders", "findings", "paths", "versions", "edit", "editor"] as const;
+
+// The graph editor (React Flow, ELK) is a large module: loaded when an operator opens it.
+const MissionEditor = lazy(() => import("../editor/MissionEditor"));
 type Tab = (typeof TABS)[number];
 
 function missionPath(id: string) {
@@ -41,7 +44,11 @@ export function MissionPage({ id, tab }: { id: string; tab: string }) {
     async () => unwrap(await api.GET("/api/missions/{mission_id}", missionPath(id))),
     [id],
   );
-  const tabs = TABS.filter((t) => t !== "edit" || canEdit);
+  useEffect(() => {
+    // Fetch the editor's code while the mission loads, not after (operators only).
+    if (canEdit && tab === "editor") void import("../editor/MissionEditor");
+  }, [canEdit, tab]);
+  const tabs = TABS.filter((t) => (t !== "edit" && t !== "editor") || canEdit);
   const selected: Tab = (tabs as readonly string[]).includes(tab) ? (tab as Tab) : "orders";
 
   useEffect(() => {
@@ -70,6 +77,7 @@ export function MissionPage({ id, tab }: { id: string; tab: string }) {
     paths: "Paths",
     versions: `Versions (${mission.versions.length})`,
     edit: "Edit orders",
+    editor: "Graph editor",
   };
 
   return (
@@ -141,6 +149,11 @@ export function MissionPage({ id, tab }: { id: string; tab: string }) {
         {selected === "paths" && <PathsTab mission={mission} />}
         {selected === "versions" && <VersionsTab mission={mission} onChange={reload} />}
         {selected === "edit" && canEdit && <EditTab mission={mission} onSaved={reload} />}
+        {selected === "editor" && canEdit && (
+          <Suspense fallback={<Loading what="the graph editor" />}>
+            <MissionEditor key={mission.id} mission={mission} onSaved={reload} />
+          </Suspense>
+        )}
       </Tabs>
     </section>
   );

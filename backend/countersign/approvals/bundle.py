@@ -1,0 +1,293 @@
+"""Offline verification of an audit bundle: no server, no network.
+
+A bundle (`countersign.audit-bundle/1`) holds the whole log (entry texts), the server's signed
+checkpoints and its public key, the supervisors' public keys, the approval envelopes verbatim
+with inclusion proofs, and the orders they cover (keyed by digest). Verification recomputes
+everything and names each entry, key, envelope or orders that does not match."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from dataclasses import dataclass, field
+from typing import Any
+
+import rfc8785
+from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PublicKey
+
+from .dsse import (
+    SignatureError,
+    envelope_digest,
+    envelope_key_id,
+    parse_envelope,
+    public_key,
+    verify_envelope,
+)
+from .log import GENESIS, verify_checkpoint
+from .merkle import Tree, leaf_hash, verify_consistency, verify_inclusion
+from .statement import subject_digest
+
+BUNDLE_FORMAT = "countersign.audit-bundle/1"
+
+
+@dataclass
+class BundleReport:
+    problems: list[str] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+    entries: int = 0
+    approvals: int = 0
+    checkpoints: int = 0
+
+    @property
+    def ok(self) -> bool:
+        return not self.problems
+
+    def to_json(self) -> dict[str, Any]:
+        return {"ok": self.ok, "problems": self.problems, "notes": self.notes,
+                "entries": self.entries, "approvals": self.approvals,
+                "checkpoints": self.checkpoints}
+
+
+@dataclass
+class _Key:
+    public_key: str
+    user: str
+    registered: int
+    revoked: int | None = None
+
+
+def orders_digest(orders: Any) -> str:
+    return "sha256:" + hashlib.sha256(bytes(rfc8785.dumps(orders))).hexdigest()
+
+
+def _es_numbers(value: Any) -> Any:
+    """Floats as ECMAScript writes them where Python's repr agrees (integral floats become
+    ints; others must lie in [1e-4, 1e16)); anything else raises ValueError (slow path)."""
+    if isinstance(value, dict):
+        return {k: _es_numbers(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_es_numbers(v) for v in value]
+    if isinstance(value, float):
+        magnitude = abs(value)
+        if magnitude < 1e16 and value.is_integer():
+            return int(value)
+        if not 1e-4 <= magnitude < 1e16:
+            raise ValueError("float outside the fast path")
+    return value
+
+
+def orders_match(orders: Any, signed: str) -> bool:
+    """Whether these orders hash to the signed digest (RFC 8785 canonical JSON).
+
+    Fast path: Python's sorted, compact JSON equals RFC 8785 for the usual orders (no floats
+    written differently, no characters outside the BMP in keys). Equal digests mean equal
+    bytes, which parse to the same data, so a match is sound; on a mismatch the slow, exact
+    canonicalisation decides."""
+    try:
+        fast = json.dumps(_es_numbers(orders), sort_keys=True, separators=(",", ":"),
+                          ensure_ascii=False, allow_nan=False).encode()
+        if "sha256:" + hashlib.sha256(fast).hexdigest() == signed:
+            return True
+    except (ValueError, UnicodeEncodeError):
+        pass
+    try:
+        return orders_digest(orders) == signed
+    except (rfc8785.CanonicalizationError, TypeError, ValueError):
+        return False
+
+
+def verify_bundle(
+    bundle: dict[str, Any], *, trusted_log_key: str | None = None,
+    published: list[dict[str, Any]] | None = None,
+) -> BundleReport:
+    """Check a bundle; `trusted_log_key` pins the server's checkpoint key (otherwise the
+    bundle's own is used and a note says so); `published` are checkpoints seen earlier, which
+    the bundle's log must extend (no fork, no removed entries)."""
+    report = BundleReport()
+    if not isinstance(bundle, dict) or bundle.get("format") != BUNDLE_FORMAT:
+        report.problems.append(f"not an audit bundle (format {BUNDLE_FORMAT} expected)")
+        return report
+    try:
+        log_key = public_key(trusted_log_key or str(bundle["log_key"]["public_key"]))
+    except (KeyError, TypeError, SignatureError) as exc:
+        report.problems.append(f"the log's public key is unusable: {exc}")
+        return report
+    if trusted_log_key is None:
+        report.notes.append("checkpoints were checked against the log key inside the bundle; "
+                            "pass --log-key to pin the server's published key")
+    elif bundle.get("log_key", {}).get("public_key") != trusted_log_key:
+        report.problems.append("the bundle's log key is not the pinned log key")
+
+    texts = [str(t) for t in bundle.get("entries", [])]
+    report.entries = len(texts)
+    leaves, events = _check_chain(texts, report)
+    tree = Tree(leaves)
+    latest = _check_checkpoints(bundle.get("checkpoints", []), tree, log_key, report)
+    for checkpoint in published or []:
+        _check_published(checkpoint, tree, log_key, report)
+    keys = _keys_from_log(events, report)
+    _check_bundle_keys(bundle.get("keys", []), keys, report)
+    orders = bundle.get("orders", {})
+    for approval in bundle.get("approvals", []):
+        report.approvals += 1
+        _check_approval(approval, events, leaves, keys, orders, latest, report)
+    return report
+
+
+def _check_chain(
+    texts: list[str], report: BundleReport,
+) -> tuple[list[bytes], list[dict[str, Any]]]:
+    leaves: list[bytes] = []
+    events: list[dict[str, Any]] = []
+    prev = GENESIS
+    for index, text in enumerate(texts):
+        data = text.encode()
+        leaf = leaf_hash(data)
+        leaves.append(leaf)
+        try:
+            entry = json.loads(data)
+            event = entry["event"]
+            if entry["index"] != index:
+                report.problems.append(f"log entry {index} claims index {entry['index']}")
+            if entry["prev"] != prev:
+                report.problems.append(
+                    f"log entry {index} does not chain to entry {index - 1}: entry "
+                    f"{index - 1} was changed or removed, or entry {index} was altered")
+        except (ValueError, KeyError, TypeError):
+            report.problems.append(f"log entry {index} is not a valid entry")
+            event = {}
+        events.append(event if isinstance(event, dict) else {})
+        prev = leaf.hex()
+    return leaves, events
+
+
+def _check_checkpoints(checkpoints: list[dict[str, Any]], tree: Tree, key: Ed25519PublicKey,
+                       report: BundleReport) -> tuple[int, bytes] | None:
+    latest: tuple[int, bytes] | None = None
+    good = 0
+    for checkpoint in sorted(checkpoints, key=lambda c: int(c.get("size", 0))):
+        report.checkpoints += 1
+        try:
+            size, root = verify_checkpoint(checkpoint, key)
+        except SignatureError as exc:
+            report.problems.append(str(exc))
+            continue
+        if size > tree.size:
+            report.problems.append(f"a signed checkpoint covers {size} entries but the bundle "
+                                   f"holds {tree.size}: entries were removed")
+            continue
+        if tree.root(size) != root:
+            report.problems.append(
+                f"log entries {good}..{size - 1} differ from what the checkpoint at size "
+                f"{size} signed (an entry in that range was changed)")
+            continue
+        good = size
+        latest = (size, root)
+    if latest is None:
+        report.problems.append("no valid signed checkpoint covers the log")
+    elif latest[0] < tree.size:
+        report.problems.append(f"log entries {latest[0]}..{tree.size - 1} are not covered by "
+                               "a signed checkpoint")
+    return latest
+
+
+def _check_published(checkpoint: dict[str, Any], tree: Tree, key: Ed25519PublicKey,
+                     report: BundleReport) -> None:
+    try:
+        size, root = verify_checkpoint(checkpoint, key)
+    except SignatureError as exc:
+        report.problems.append(f"published checkpoint: {exc}")
+        return
+    if size > tree.size:
+        report.problems.append(f"the log is shorter than the published checkpoint at size "
+                               f"{size}: entries were removed")
+    elif size and not verify_consistency(size, tree.size, tree.consistency_proof(size),
+                                         root, tree.root()):
+        report.problems.append(f"the log forks from the published checkpoint at size {size}")
+
+
+def _keys_from_log(events: list[dict[str, Any]], report: BundleReport) -> dict[str, _Key]:
+    keys: dict[str, _Key] = {}
+    for index, event in enumerate(events):
+        detail = event.get("detail") or {}
+        if event.get("kind") == "key.registered":
+            keys[str(detail.get("key_id"))] = _Key(str(detail.get("public_key")),
+                                                   str(detail.get("user")), index)
+        elif event.get("kind") == "key.revoked":
+            found = keys.get(str(detail.get("key_id")))
+            if found is None:
+                report.problems.append(f"log entry {index} revokes an unregistered key")
+            elif found.revoked is None:
+                found.revoked = index
+    return keys
+
+
+def _check_bundle_keys(bundle_keys: list[dict[str, Any]], keys: dict[str, _Key],
+                       report: BundleReport) -> None:
+    for key in bundle_keys:
+        logged = keys.get(str(key.get("key_id")))
+        if logged is None:
+            report.problems.append(f"key {key.get('key_id')} was never registered in the log")
+        elif logged.public_key != key.get("public_key"):
+            report.problems.append(f"key {key.get('key_id')} differs from its registration in "
+                                   f"log entry {logged.registered}")
+
+
+def _check_approval(approval: dict[str, Any], events: list[dict[str, Any]], leaves: list[bytes],
+                    keys: dict[str, _Key], orders: dict[str, Any],
+                    latest: tuple[int, bytes] | None, report: BundleReport) -> None:
+    name = f"approval {approval.get('id')}"
+    index = approval.get("log_index")
+    if not isinstance(index, int) or not 0 <= index < len(events):
+        report.problems.append(f"{name}: its log entry {index} is not in the log")
+        return
+    detail = events[index].get("detail") or {}
+    if not str(events[index].get("kind", "")).startswith("approval."):
+        report.problems.append(f"{name}: log entry {index} does not record a signed decision")
+        return
+    text = str(approval.get("envelope", ""))
+    if envelope_digest(text) != detail.get("envelope_digest"):
+        report.problems.append(f"{name}: the envelope differs from the one logged in entry "
+                               f"{index}")
+    try:
+        envelope = parse_envelope(text)
+        kid = envelope_key_id(envelope)
+        key = keys.get(kid)
+        if key is None or key.registered > index:
+            raise SignatureError(f"key {kid} was not registered before log entry {index}")
+        if key.revoked is not None and key.revoked < index:
+            raise SignatureError(f"key {kid} was revoked (log entry {key.revoked}) before it "
+                                 "signed")
+        statement = json.loads(verify_envelope(envelope, public_key(key.public_key)))
+        if not isinstance(statement, dict) or not isinstance(statement.get("predicate"), dict):
+            raise ValueError("the signed payload is not an approval statement")
+    except (SignatureError, ValueError) as exc:
+        report.problems.append(f"{name}: {exc}")
+        return
+    signed = subject_digest(statement)
+    if signed != detail.get("orders_digest"):
+        report.problems.append(f"{name}: the signed subject {signed} is not the digest logged "
+                               f"in entry {index}")
+    if statement["predicate"].get("decision") != detail.get("decision"):
+        report.problems.append(f"{name}: the signed decision differs from log entry {index}")
+    if statement["predicate"].get("supervisor") != key.user:
+        report.problems.append(f"{name}: signed by {key.user}'s key but names "
+                               f"{statement['predicate'].get('supervisor')}")
+    if statement["predicate"].get("decision") != "revoked":
+        covered = orders.get(signed)
+        if covered is None:
+            report.problems.append(f"{name}: the bundle lacks the orders {signed}")
+        elif not orders_match(covered, signed):
+            report.problems.append(f"{name}: the stored orders of {statement['subject'][0]['name']}"
+                                   f" do not hash to the signed digest {signed}")
+    proof = approval.get("inclusion") or {}
+    if latest is not None:
+        try:
+            hashes = [bytes.fromhex(h) for h in proof.get("hashes", [])]
+            included = int(proof.get("size", -1)) == latest[0] and verify_inclusion(
+                leaves[index], index, latest[0], hashes, latest[1])
+        except (ValueError, TypeError):
+            included = False
+        if not included:
+            report.problems.append(f"{name}: the inclusion proof of log entry {index} does not "
+                                   "verify against the signed checkpoint")

@@ -1,0 +1,64 @@
+"""The approval record: an in-toto Statement v1 about the orders digest (DESIGN.md)."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from typing import Any
+
+import rfc8785
+
+STATEMENT_TYPE = "https://in-toto.io/Statement/v1"
+PREDICATE_TYPE = "https://countersign.invalid/approval/v1"
+DECISIONS = ("approved", "rejected", "revoked")
+
+
+def json_digest(data: Any) -> str:
+    return "sha256:" + hashlib.sha256(bytes(rfc8785.dumps(data))).hexdigest()
+
+
+def build_statement(
+    *, mission: str, version: int, orders_digest: str, decision: str, reason: str,
+    submission: int, report_digest: str, paths: dict[str, Any] | None, vehicle: str | None,
+    author: str, supervisor: str, key_id: str, time: str, nonce: str,
+    rehearsal_digest: str | None = None, revokes: str | None = None,
+) -> dict[str, Any]:
+    if decision not in DECISIONS:
+        raise ValueError(f"decision must be one of {', '.join(DECISIONS)}")
+    algorithm, _, hexdigest = orders_digest.partition(":")
+    return {
+        "_type": STATEMENT_TYPE,
+        "subject": [{"name": f"{mission}@v{version}", "digest": {algorithm: hexdigest}}],
+        "predicateType": PREDICATE_TYPE,
+        "predicate": {
+            "mission": mission, "version": version, "submission": submission,
+            "decision": decision, "reason": reason, "revokes": revokes,
+            "report_digest": report_digest, "paths": paths,
+            "rehearsal_digest": rehearsal_digest, "vehicle": vehicle, "author": author,
+            "supervisor": supervisor, "key_id": key_id, "time": time, "nonce": nonce,
+        },
+    }
+
+
+def statement_bytes(statement: dict[str, Any]) -> bytes:
+    return bytes(rfc8785.dumps(statement))
+
+
+def parse_statement(payload: bytes) -> dict[str, Any]:
+    """The statement in these payload bytes; it must be canonical RFC 8785 JSON."""
+    try:
+        data = json.loads(payload)
+    except (ValueError, UnicodeDecodeError):
+        raise ValueError("the payload is not JSON") from None
+    if not isinstance(data, dict) or data.get("_type") != STATEMENT_TYPE or data.get(
+            "predicateType") != PREDICATE_TYPE or not isinstance(data.get("predicate"), dict):
+        raise ValueError("the payload is not a Countersign approval statement")
+    if statement_bytes(data) != payload:
+        raise ValueError("the payload is not canonical RFC 8785 JSON")
+    return data
+
+
+def subject_digest(statement: dict[str, Any]) -> str:
+    subject = statement.get("subject") or [{}]
+    digests = subject[0].get("digest", {}) if isinstance(subject[0], dict) else {}
+    return f"sha256:{digests.get('sha256', '')}"

@@ -1,0 +1,346 @@
+"""Submission, review and signing, supervisor keys, the transparency log and the audit API."""
+
+from __future__ import annotations
+
+import json
+import os
+import threading
+from datetime import datetime
+from typing import Annotated, Any
+
+from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
+from fastapi import APIRouter, Depends, Path, Query, Request
+from pydantic import BaseModel, Field
+from sqlalchemy import select
+
+from ...approvals import dsse
+from ...orders.reader import orders_from_data
+from ...orders.writers import write
+from ...store import approvals as service
+from ...store.missions import report_for
+from ...store.tables import Approval, MissionVersion, SigningKey, Submission, User
+from ..deps import EVERYONE, LOG_READERS, OPERATORS, CurrentPrincipal, Db, RowId, allow
+from .schemas import RequestBody
+
+router = APIRouter(prefix="/api", tags=["approvals"])
+SUPERVISORS = ("supervisor",)
+KEY_READERS = ("supervisor", "auditor", "admin")
+LOG_KEY_ENV = "COUNTERSIGN_LOG_KEY"
+_signer_lock = threading.Lock()
+
+
+def get_signer(request: Request) -> Ed25519PrivateKey:
+    """The server's checkpoint key: PEM from COUNTERSIGN_LOG_KEY (shared by replicas), or a
+    key generated on first use into the data directory (mode 0600)."""
+    state = request.app.state
+    with _signer_lock:
+        if getattr(state, "log_signer", None) is None:
+            pem = os.environ.get(LOG_KEY_ENV)
+            if pem:
+                state.log_signer = dsse.load_private_pem(pem.encode())
+            else:
+                path = state.settings.data_dir / "log-signing-key.pem"
+                state.log_signer = dsse.load_or_create_private_key(path)
+    signer: Ed25519PrivateKey = state.log_signer
+    return signer
+
+
+Signer = Annotated[Ed25519PrivateKey, Depends(get_signer)]
+
+
+class KeyIn(RequestBody):
+    public_key: str = Field(min_length=1, max_length=200,
+                            description="standard base64 of the raw 32-byte Ed25519 public key")
+    name: str = Field(default="", max_length=100)
+    password: str = Field(min_length=1, max_length=1024, description="fresh confirmation")
+
+
+class KeyRevokeIn(RequestBody):
+    password: str = Field(min_length=1, max_length=1024)
+    reason: str = Field(default="", max_length=2000)
+
+
+class KeyOut(BaseModel):
+    key_id: str
+    public_key: str
+    user: str | None
+    name: str
+    status: str
+    created_at: datetime
+    revoked_at: datetime | None
+
+
+class DecisionIn(RequestBody):
+    decision: str = Field(pattern="^(approved|rejected)$")
+    reason: str = Field(default="", max_length=2000)
+    key_id: str = Field(min_length=1, max_length=64)
+
+
+class RevocationIn(RequestBody):
+    reason: str = Field(min_length=1, max_length=2000)
+    key_id: str = Field(min_length=1, max_length=64)
+
+
+class EnvelopeIn(RequestBody):
+    envelope: str = Field(min_length=2, max_length=200_000,
+                          description="the DSSE envelope as JSON text, stored verbatim")
+
+
+class SubmissionOut(BaseModel):
+    id: int
+    mission: str
+    version: int
+    digest: str
+    state: str
+    submitted_by: str | None
+    submitted_at: datetime
+    decided_by: str | None
+    decided_at: datetime | None
+    reason: str
+
+
+class ApprovalOut(BaseModel):
+    id: int
+    mission: str
+    version: int
+    digest: str
+    vehicle: str | None
+    decision: str
+    reason: str
+    revokes: int | None
+    operator: str | None
+    supervisor: str | None
+    key_id: str
+    submission: int
+    created_at: datetime
+    log_index: int | None
+
+
+class ApprovalPage(BaseModel):
+    items: list[ApprovalOut]
+    next_cursor: int | None
+
+
+def _key_out(db: Db, key: SigningKey) -> KeyOut:
+    user = db.get(User, key.user_id)
+    return KeyOut(key_id=key.id, public_key=key.public_key, user=user.username if user else None,
+                  name=key.name, status=service.key_status(key), created_at=key.created_at,
+                  revoked_at=key.revoked_at)
+
+
+def _submission_out(db: Db, submission_id: int) -> SubmissionOut:
+    submission = service.get_submission(db, submission_id)
+    version = db.get_one(MissionVersion, submission.version_id)
+
+    def name(user_id: int | None) -> str | None:
+        user = db.get(User, user_id) if user_id is not None else None
+        return user.username if user else None
+
+    return SubmissionOut(id=submission.id, mission=version.mission_id, version=version.number,
+                         digest=version.digest, state=submission.state,
+                         submitted_by=name(submission.submitted_by),
+                         submitted_at=submission.submitted_at,
+                         decided_by=name(submission.decided_by),
+                         decided_at=submission.decided_at, reason=submission.reason)
+
+
+# --- keys -----------------------------------------------------------------------------------
+
+@router.get("/keys", operation_id="listKeys", response_model=list[KeyOut],
+            **allow(*KEY_READERS))
+def list_keys(db: Db) -> list[KeyOut]:
+    return [_key_out(db, k) for k in db.scalars(select(SigningKey).order_by(SigningKey.created_at))]
+
+
+@router.post("/keys", operation_id="registerKey", status_code=201, response_model=KeyOut,
+             **allow(*SUPERVISORS))
+def register_key(body: KeyIn, principal: CurrentPrincipal, db: Db) -> KeyOut:
+    key = service.register_key(db, user=principal.user, public_key=body.public_key,
+                               name=body.name, password=body.password)
+    return _key_out(db, key)
+
+
+@router.post("/keys/{key_id}/revoke", operation_id="revokeKey", response_model=KeyOut,
+             **allow("supervisor", "admin"))
+def revoke_key(key_id: Annotated[str, Path(max_length=64)], body: KeyRevokeIn,
+               principal: CurrentPrincipal, db: Db) -> KeyOut:
+    key = service.revoke_key(db, user=principal.user, key_id=key_id, password=body.password,
+                             reason=body.reason)
+    return _key_out(db, key)
+
+
+# --- workflow -------------------------------------------------------------------------------
+
+@router.post("/missions/{mission_id}/versions/{number}/submit", operation_id="submitVersion",
+             status_code=201, response_model=SubmissionOut, **allow(*OPERATORS))
+def submit_version(mission_id: str, number: RowId, principal: CurrentPrincipal,
+                   db: Db) -> SubmissionOut:
+    submission = service.submit(db, mission_id=mission_id, number=number,
+                                operator=principal.user)
+    return _submission_out(db, submission.id)
+
+
+@router.get("/submissions", operation_id="listSubmissions", response_model=list[SubmissionOut],
+            **allow(*EVERYONE))
+def list_submissions(
+    db: Db,
+    state: Annotated[str | None, Query(max_length=16)] = None,
+    mission: Annotated[str | None, Query(max_length=100)] = None,
+    limit: Annotated[int, Query(ge=1, le=500)] = 100,
+) -> list[SubmissionOut]:
+    query = select(Submission.id).order_by(Submission.id.desc()).limit(limit)
+    if state:
+        query = query.where(Submission.state == state)
+    if mission:
+        query = query.join(MissionVersion, MissionVersion.id == Submission.version_id).where(
+            MissionVersion.mission_id == mission)
+    return [_submission_out(db, i) for i in db.scalars(query)]
+
+
+@router.get("/submissions/{submission_id}", operation_id="getSubmission",
+            response_model=SubmissionOut, **allow(*EVERYONE))
+def get_submission(submission_id: RowId, db: Db) -> SubmissionOut:
+    return _submission_out(db, submission_id)
+
+
+@router.post("/submissions/{submission_id}/withdraw", operation_id="withdrawSubmission",
+             response_model=SubmissionOut, **allow(*OPERATORS))
+def withdraw_submission(submission_id: RowId, principal: CurrentPrincipal,
+                        db: Db) -> SubmissionOut:
+    service.withdraw(db, submission_id=submission_id, operator=principal.user)
+    return _submission_out(db, submission_id)
+
+
+@router.post("/submissions/{submission_id}/statement", operation_id="prepareDecision",
+             **allow(*SUPERVISORS))
+def prepare_decision(submission_id: RowId, body: DecisionIn, principal: CurrentPrincipal,
+                     db: Db) -> dict[str, Any]:
+    """The exact in-toto statement to sign: sign the DSSE PAE bytes (`pae`, base64) with the
+    registered key, then POST the envelope to `/decision`. Nothing is stored."""
+    return service.prepare_decision(db, submission_id=submission_id, supervisor=principal.user,
+                                    decision=body.decision, reason=body.reason,
+                                    key_id=body.key_id).to_json()
+
+
+@router.post("/submissions/{submission_id}/decision", operation_id="signDecision",
+             status_code=201, response_model=ApprovalOut, **allow(*SUPERVISORS))
+def sign_decision(submission_id: RowId, body: EnvelopeIn, principal: CurrentPrincipal, db: Db,
+                  signer: Signer) -> ApprovalOut:
+    approval = service.decide(db, submission_id=submission_id, supervisor=principal.user,
+                              envelope=body.envelope, signer=signer)
+    return ApprovalOut(**service.approval_summary(db, approval))
+
+
+@router.post("/approvals/{approval_id}/statement", operation_id="prepareRevocation",
+             **allow(*SUPERVISORS))
+def prepare_revocation(approval_id: RowId, body: RevocationIn, principal: CurrentPrincipal,
+                       db: Db) -> dict[str, Any]:
+    return service.prepare_revocation(db, approval_id=approval_id, supervisor=principal.user,
+                                      reason=body.reason, key_id=body.key_id).to_json()
+
+
+@router.post("/approvals/{approval_id}/revoke", operation_id="revokeApproval",
+             status_code=201, response_model=ApprovalOut, **allow(*SUPERVISORS))
+def revoke_approval(approval_id: RowId, body: EnvelopeIn, principal: CurrentPrincipal, db: Db,
+                    signer: Signer) -> ApprovalOut:
+    approval = service.revoke(db, approval_id=approval_id, supervisor=principal.user,
+                              envelope=body.envelope, signer=signer)
+    return ApprovalOut(**service.approval_summary(db, approval))
+
+
+# --- audit ----------------------------------------------------------------------------------
+
+@router.get("/approvals", operation_id="listApprovals", response_model=ApprovalPage,
+            **allow(*LOG_READERS))
+def list_approvals(
+    db: Db,
+    mission: Annotated[str | None, Query(max_length=100)] = None,
+    operator: Annotated[str | None, Query(max_length=64)] = None,
+    supervisor: Annotated[str | None, Query(max_length=64)] = None,
+    vehicle: Annotated[str | None, Query(max_length=100)] = None,
+    decision: Annotated[str | None, Query(pattern="^(approved|rejected|revoked)$")] = None,
+    since: datetime | None = None,
+    until: datetime | None = None,
+    limit: Annotated[int, Query(ge=1, le=500)] = 50,
+    cursor: Annotated[int | None, Query(ge=1, le=2**31 - 1)] = None,
+) -> ApprovalPage:
+    """The approval history, newest first; `cursor` is the `next_cursor` of the last page."""
+    filters = service.Filters(mission=mission, operator=operator, supervisor=supervisor,
+                              vehicle=vehicle, decision=decision, since=since, until=until)
+    query = service.approvals_query(filters).limit(limit + 1)
+    if cursor:
+        query = query.where(Approval.id < cursor)
+    rows = list(db.scalars(query))
+    items = [ApprovalOut(**service.approval_summary(db, a)) for a in rows[:limit]]
+    return ApprovalPage(items=items, next_cursor=rows[limit - 1].id if len(rows) > limit else None)
+
+
+@router.get("/approvals/{approval_id}", operation_id="getApproval", **allow(*LOG_READERS))
+def get_approval(approval_id: RowId, db: Db, signer: Signer) -> dict[str, Any]:
+    """An approval as signed: envelope, statement, the orders as approved, plain-language
+    orders, findings, path summary, the key, and an inclusion proof against a checkpoint."""
+    approval = service.get_approval(db, approval_id)
+    version = db.get_one(MissionVersion, approval.version_id)
+    orders = orders_from_data(version.orders)
+    report = report_for(db, orders, version.digest).report
+    key = db.get_one(SigningKey, approval.key_id)
+    checkpoint = service.latest_checkpoint(db, signer=signer)
+    summary = service.approval_summary(db, approval)
+    envelope = dsse.parse_envelope(approval.envelope)
+    payload = dsse.unb64(envelope["payload"], "the payload")
+    proof = None
+    if summary["log_index"] is not None and summary["log_index"] < checkpoint.tree_size:
+        proof = service.inclusion_proof(db, index=summary["log_index"],
+                                        size=checkpoint.tree_size)
+    return {
+        **ApprovalOut(**summary).model_dump(mode="json"),
+        "envelope": approval.envelope,
+        "statement": json.loads(payload),
+        "orders": version.orders,
+        "plain": write(orders, "plain"),
+        "findings": report["findings"],
+        "paths": report.get("paths"),
+        "rehearsal": None,
+        "key": _key_out(db, key).model_dump(mode="json"),
+        "checkpoint": service.checkpoint_json(checkpoint),
+        "inclusion": proof,
+    }
+
+
+@router.get("/log/checkpoint", operation_id="getCheckpoint", **allow(*EVERYONE))
+def get_checkpoint(db: Db, signer: Signer) -> dict[str, Any]:
+    """The latest signed checkpoint (tree size and RFC 6962 root), signed anew when the log
+    has grown since the last one."""
+    return service.checkpoint_json(service.latest_checkpoint(db, signer=signer))
+
+
+@router.get("/log/entries", operation_id="listLogEntries", **allow(*LOG_READERS))
+def list_log_entries(
+    db: Db, start: Annotated[int, Query(ge=0, le=2**62)] = 0,
+    limit: Annotated[int, Query(ge=1, le=5000)] = 1000,
+) -> list[dict[str, Any]]:
+    return service.entries(db, start=start, limit=limit)
+
+
+@router.get("/log/inclusion", operation_id="getInclusionProof", **allow(*LOG_READERS))
+def get_inclusion_proof(
+    db: Db, index: Annotated[int, Query(ge=0, le=2**62)],
+    size: Annotated[int | None, Query(ge=1, le=2**62)] = None,
+) -> dict[str, Any]:
+    return service.inclusion_proof(db, index=index, size=size)
+
+
+@router.get("/log/consistency", operation_id="getConsistencyProof", **allow(*LOG_READERS))
+def get_consistency_proof(
+    db: Db, first: Annotated[int, Query(ge=1, le=2**62)],
+    second: Annotated[int | None, Query(ge=1, le=2**62)] = None,
+) -> dict[str, Any]:
+    return service.consistency_proof(db, first=first, second=second)
+
+
+@router.get("/audit/bundle", operation_id="exportBundle", **allow(*LOG_READERS))
+def export_bundle(db: Db, signer: Signer,
+                  mission: Annotated[str | None, Query(max_length=100)] = None
+                  ) -> dict[str, Any]:
+    """An audit bundle for `countersign audit verify BUNDLE` (offline)."""
+    return service.build_bundle(db, signer=signer, mission=mission)

@@ -1,0 +1,66 @@
+"""The planning assistant over HTTP: build a survey problem from a mission, solve it exactly."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from fastapi import APIRouter, HTTPException
+from pydantic import Field
+
+from ...orders.canonical import orders_to_json
+from ...orders.reader import orders_from_data
+from ...plan.draft import orders_from_plan
+from ...plan.from_orders import CannotBuildProblem, problem_from_orders
+from ...plan.model import problem_from_data
+from ...plan.solver import PlanTimeout, PlanTooLarge, solve
+from ...store import missions as service
+from ..deps import EVERYONE, OPERATORS, Db, allow
+from .schemas import RequestBody
+
+router = APIRouter(prefix="/api", tags=["planning"])
+# A web request must not hold a worker for minutes; the command line allows longer runs.
+PLAN_TIMEOUT_S = 10.0
+
+
+class ProblemFromMission(RequestBody):
+    start: tuple[float, float]
+    recovery: tuple[float, float]
+    battery_wh: float | None = Field(default=None, gt=0)
+    reserve_wh: float = Field(default=0.0, ge=0)
+    areas: list[str] | None = Field(default=None, max_length=64)
+    rewards: dict[str, float] | None = None
+    mandatory: list[str] = Field(default_factory=list, max_length=64)
+    swath_m: float | None = Field(default=None, gt=0)
+    level: int = Field(default=2, ge=1, le=2)
+
+
+@router.post("/missions/{mission_id}/plan-problem", operation_id="planProblemFromMission",
+             **allow(*OPERATORS))
+def plan_problem(mission_id: str, body: ProblemFromMission, db: Db) -> dict[str, Any]:
+    """The countersign.plan/1 problem for the mission's areas and vehicle (lawn-mower passes)."""
+    orders = orders_from_data(service.get_mission(db, mission_id).draft)
+    try:
+        problem = problem_from_orders(
+            orders, start=body.start, recovery=body.recovery, battery_wh=body.battery_wh,
+            reserve_wh=body.reserve_wh, areas=body.areas, rewards=body.rewards,
+            mandatory=body.mandatory, swath_m=body.swath_m, level=body.level)
+    except CannotBuildProblem as exc:
+        raise HTTPException(422, str(exc)) from None
+    return problem.model_dump(mode="json", exclude_none=True)
+
+
+@router.post("/plan", operation_id="solvePlan", **allow(*EVERYONE))
+def solve_plan(body: dict[str, Any]) -> dict[str, Any]:
+    """The best plan (reward, then energy) and its draft orders, or a minimal conflict."""
+    problem = problem_from_data(body)
+    try:
+        plan = solve(problem, timeout_s=PLAN_TIMEOUT_S)
+    except PlanTooLarge as exc:
+        raise HTTPException(422, str(exc)) from None
+    except PlanTimeout:
+        raise HTTPException(422, f"no answer within {PLAN_TIMEOUT_S:g} s; use the command "
+                                 "line (countersign plan --timeout) for large problems") from None
+    answer = plan.to_json()
+    if plan.feasible:
+        answer["orders"] = orders_to_json(orders_from_plan(problem, plan))
+    return answer

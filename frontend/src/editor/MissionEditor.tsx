@@ -1,0 +1,806 @@
+/**
+ * The graph editor of a mission draft (operators). The pure logic lives in graph.ts,
+ * history.ts and layout.ts; this component wires it to React Flow and the API: every edit
+ * saves the draft with If-Match (debounced), then re-reads the report and the plain orders.
+ */
+import "@xyflow/react/dist/style.css";
+
+import {
+  applyEdgeChanges,
+  applyNodeChanges,
+  Background,
+  type Connection,
+  Controls,
+  type Edge,
+  type EdgeChange,
+  MarkerType,
+  MiniMap,
+  type Node,
+  type NodeChange,
+  ReactFlow,
+  ReactFlowProvider,
+  useReactFlow,
+} from "@xyflow/react";
+import { type KeyboardEvent, useCallback, useEffect, useMemo, useRef, useState } from "react";
+
+import { api, exportHref, fetchText, type Finding, type MissionDetail, type Report, unwrap } from "../api/client";
+import { ErrorMessage } from "../components/Status";
+import { plural } from "../format";
+import {
+  addConstraint,
+  addGoal,
+  addTerminal,
+  checkConnection,
+  connect,
+  deleteConstraint,
+  deleteNodes,
+  describeDifferences,
+  disconnect,
+  envelopeToText,
+  type GoalSpec,
+  goals,
+  type Layout,
+  markersBySubject,
+  type Orders,
+  ordersToGraph,
+  OUTCOME_LABEL,
+  OUTCOME_LETTER,
+  type Outcome,
+  OUTCOMES,
+  parseEnvelope,
+  setSuccessor,
+  startIds,
+  terminals,
+  toggleScope,
+  updateConstraint,
+  updateGoal,
+  updateTerminal,
+} from "./graph";
+import { canRedo, canUndo, createHistory, type History, push, redo, reset, undo } from "./history";
+import { autoLayout } from "./layout";
+import { NODE_TYPES, type NodeData } from "./nodes";
+
+interface Draft {
+  orders: Orders;
+  layout: Layout;
+}
+
+const SAVE_DELAY_MS = 250;
+const COLOURS: Record<Outcome, string> = { succeed: "#1a7f37", fail: "#c25e00", violate: "#c9202c" };
+
+export default function MissionEditor(props: { mission: MissionDetail; onSaved: () => void }) {
+  return (
+    <ReactFlowProvider>
+      <Editor {...props} />
+    </ReactFlowProvider>
+  );
+}
+
+type SaveState = "saved" | "pending" | "saving" | "conflict" | "error";
+
+interface Conflict {
+  theirs: MissionDetail;
+  differences: string[];
+}
+
+function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => void }) {
+  const flow = useReactFlow();
+  const [history, setHistory] = useState<History<Draft>>(() =>
+    createHistory({ orders: mission.orders as Orders, layout: (mission.layout ?? {}) as Layout }),
+  );
+  const draft = history.present;
+  const orders = draft.orders;
+  const revision = useRef(mission.revision);
+  const [saveState, setSaveState] = useState<SaveState>("saved");
+  const [saveError, setSaveError] = useState<unknown>(null);
+  const [conflict, setConflict] = useState<Conflict | null>(null);
+  const [report, setReport] = useState<Report | null>(null);
+  const [plain, setPlain] = useState<string>("");
+  const [notice, setNotice] = useState<string>("");
+  const [checkMs, setCheckMs] = useState<number | null>(null);
+  const editedAt = useRef<number>(0);
+  const dirty = useRef(false);
+  const saving = useRef(false);
+  const again = useRef(false);
+  const latest = useRef(draft);
+  latest.current = draft;
+
+  const refreshChecks = useCallback(async () => {
+    const path = { params: { path: { mission_id: mission.id } } };
+    const [r, text] = await Promise.all([
+      api.GET("/api/missions/{mission_id}/report", path).then((x) => unwrap(x) as unknown as Report),
+      fetchText(exportHref(mission.id, "plain")),
+    ]);
+    setReport(r);
+    setPlain(text);
+  }, [mission.id]);
+
+  useEffect(() => {
+    refreshChecks().catch(setSaveError);
+  }, [refreshChecks]);
+
+  const save = useCallback(async () => {
+    if (saving.current) {
+      again.current = true;
+      return;
+    }
+    saving.current = true;
+    setSaveState("saving");
+    const sent = latest.current;
+    // Check the edited orders at once (nothing stored) while the draft saves.
+    const checked = api.POST("/api/validate", { body: sent.orders }).then((x) => {
+      if (latest.current === sent && x.response.ok && x.data) {
+        setReport(x.data as unknown as Report);
+        if (editedAt.current) setCheckMs(Math.round(performance.now() - editedAt.current));
+      }
+    }, () => undefined);
+    try {
+      const result = await api.PUT("/api/missions/{mission_id}/draft", {
+        params: { path: { mission_id: mission.id }, header: { "if-match": `"${revision.current}"` } },
+        body: { orders: sent.orders, layout: sent.layout },
+      });
+      if (result.response.status === 412) {
+        const theirs = unwrap(await api.GET("/api/missions/{mission_id}", { params: { path: { mission_id: mission.id } } }));
+        const differences = describeDifferences(latest.current.orders, theirs.orders as Orders);
+        setConflict({ theirs, differences });
+        setSaveState("conflict");
+        again.current = false;
+        return;
+      }
+      const saved = unwrap(result);
+      revision.current = saved.revision;
+      setSaveError(null);
+      setSaveState(latest.current === sent ? "saved" : "pending");
+      onSaved();
+      await checked;
+      await refreshChecks();
+    } catch (e) {
+      setSaveError(e);
+      setSaveState("error");
+    } finally {
+      saving.current = false;
+      if (again.current) {
+        again.current = false;
+        void save();
+      }
+    }
+  }, [mission.id, onSaved, refreshChecks]);
+
+  // Every change of the present draft (edit, undo, redo) is saved after a short pause.
+  useEffect(() => {
+    if (!dirty.current || conflict) return;
+    setSaveState("pending");
+    // Discrete edits save at once; typing in a field waits for a pause.
+    const timer = window.setTimeout(() => void save(), lastGroup.current ? SAVE_DELAY_MS : 0);
+    return () => window.clearTimeout(timer);
+  }, [draft, save, conflict]);
+
+  const lastGroup = useRef<string | undefined>(undefined);
+  const edit = useCallback((change: (d: Draft) => Draft, group?: string) => {
+    dirty.current = true;
+    lastGroup.current = group;
+    editedAt.current = performance.now();
+    setHistory((h) => push(h, change(h.present), group ? { group } : {}));
+  }, []);
+  const editOrders = useCallback(
+    (change: (o: Orders) => Orders, group?: string) => edit((d) => ({ ...d, orders: change(d.orders) }), group),
+    [edit],
+  );
+
+  // Lay out a draft that has no positions yet (new or imported), without an undo step.
+  const laidOut = useRef(false);
+  const [ready, setReady] = useState(false);
+  useEffect(() => {
+    if (laidOut.current) return;
+    laidOut.current = true;
+    const ids = [...goals(orders).map((g) => g.id), ...terminals(orders).map((t) => t.id)];
+    if (ids.length > 0 && ids.every((id) => draft.layout[id])) {
+      setReady(true);
+      return;
+    }
+    void autoLayout(orders).then((layout) => {
+      setHistory((h) => reset({ ...h.present, layout: { ...layout, ...h.present.layout } }));
+      window.requestAnimationFrame(() => {
+        void flow.fitView({ padding: 0.15 });
+        setReady(true);
+      });
+    });
+  }, [orders, draft.layout, flow]);
+
+  // ---- React Flow nodes and edges, synchronised with the draft ----
+  const findings = useMemo(() => report?.findings ?? [], [report]);
+  const markers = useMemo(() => markersBySubject(findings), [findings]);
+  const graph = useMemo(() => ordersToGraph(orders, draft.layout), [orders, draft.layout]);
+  const [nodes, setNodes] = useState<Node<NodeData>[]>([]);
+  const [edges, setEdges] = useState<Edge[]>([]);
+  const selectNext = useRef<string[] | null>(null);
+
+  useEffect(() => {
+    setNodes((previous) => {
+      const before = new Map(previous.map((n) => [n.id, n]));
+      return graph.nodes.map((n) => {
+        const old = before.get(n.id);
+        const mark = markers.get(n.id);
+        const data: NodeData = {
+          label: n.label,
+          start: n.start,
+          codes: mark?.codes ?? [],
+          severity: mark?.severity ?? null,
+          terminalKind: n.terminalKind,
+        };
+        const ariaLabel = `${n.kind === "goal" ? "Goal" : "Terminal"} ${n.id}: ${n.label}${n.start ? " (start)" : ""}${
+          mark ? `; findings ${mark.codes.join(", ")}` : ""
+        }`;
+        // Unchanged nodes keep their object, so React Flow re-renders only what changed.
+        if (
+          old &&
+          old.type === n.kind &&
+          old.position.x === n.position.x &&
+          old.position.y === n.position.y &&
+          old.ariaLabel === ariaLabel &&
+          old.data.severity === data.severity &&
+          old.data.terminalKind === data.terminalKind &&
+          old.data.codes.join() === data.codes.join()
+        ) {
+          return old;
+        }
+        return {
+          id: n.id,
+          type: n.kind,
+          position: n.position,
+          data,
+          ariaLabel,
+          selected: old?.selected ?? false,
+          ...(old?.measured ? { measured: old.measured } : {}),
+        };
+      });
+    });
+    setEdges((previous) => {
+      const selected = new Set(previous.filter((e) => e.selected).map((e) => e.id));
+      return graph.edges
+        .filter((e) => !e.dangling)
+        .map((e) => ({
+          id: e.id,
+          source: e.source,
+          sourceHandle: e.outcome,
+          target: e.target,
+          targetHandle: "in",
+          label: OUTCOME_LETTER[e.outcome],
+          className: `edge-${e.outcome}`,
+          style: { stroke: COLOURS[e.outcome], strokeWidth: 2 },
+          labelStyle: { fill: COLOURS[e.outcome], fontWeight: 700 },
+          markerEnd: { type: MarkerType.ArrowClosed, color: COLOURS[e.outcome] },
+          ariaLabel: `${e.source} ${OUTCOME_LABEL[e.outcome]} to ${e.target}`,
+          selected: selected.has(e.id),
+        }));
+    });
+  }, [graph, markers]);
+
+  const onNodesChange = useCallback((changes: NodeChange<Node<NodeData>>[]) => {
+    setNodes((ns) => applyNodeChanges(changes.filter((c) => c.type !== "remove"), ns));
+  }, []);
+  const onEdgesChange = useCallback((changes: EdgeChange[]) => {
+    setEdges((es) => applyEdgeChanges(changes.filter((c) => c.type !== "remove"), es));
+  }, []);
+
+  const select = useCallback((ids: string[]) => {
+    setNodes((ns) => ns.map((n) => ({ ...n, selected: ids.includes(n.id) })));
+    setEdges((es) => es.map((e) => ({ ...e, selected: false })));
+  }, []);
+
+  // Select what was just added once its node exists (the inspector then shows it).
+  useEffect(() => {
+    const wanted = selectNext.current;
+    if (wanted && wanted.every((id) => nodes.some((n) => n.id === id))) {
+      selectNext.current = null;
+      select(wanted);
+    }
+  }, [nodes, select]);
+
+  const [gotoText, setGotoText] = useState("");
+  const goTo = (id: string) => {
+    const node = graph.nodes.find((n) => n.id === id);
+    if (!node) {
+      setConnectMessage(`No node ${id}.`);
+      return;
+    }
+    select([id]);
+    void flow.setCenter(node.position.x + 110, node.position.y + 48, { zoom: Math.max(flow.getZoom(), 0.8) });
+  };
+
+  const selectedNodes = nodes.filter((n) => n.selected).map((n) => n.id);
+  const selectedId = selectedNodes.length === 1 ? selectedNodes[0] : undefined;
+
+  const [connectMessage, setConnectMessage] = useState("");
+  const onConnect = useCallback(
+    (c: Connection) => {
+      const result = connect(latest.current.orders, c.source, c.sourceHandle ?? "", c.target);
+      if (!result.check.ok) {
+        setConnectMessage(result.check.reason ?? "That connection is not allowed.");
+        return;
+      }
+      setConnectMessage(`Connected ${c.source} ${c.sourceHandle} to ${c.target}.`);
+      editOrders(() => result.orders);
+    },
+    [editOrders],
+  );
+  const isValidConnection = useCallback(
+    (c: Connection | Edge) => checkConnection(latest.current.orders, c.source, c.sourceHandle, c.target).ok,
+    [],
+  );
+
+  const onNodeDragStop = useCallback(
+    (_event: unknown, _node: Node, dragged: Node[]) => {
+      edit((d) => {
+        const layout = { ...d.layout };
+        for (const n of dragged) layout[n.id] = { x: Math.round(n.position.x), y: Math.round(n.position.y) };
+        return { ...d, layout };
+      });
+    },
+    [edit],
+  );
+
+  const placeNew = useCallback((): { x: number; y: number } => {
+    const pane = document.querySelector(".editor-canvas")?.getBoundingClientRect();
+    const centre = pane
+      ? flow.screenToFlowPosition({ x: pane.left + pane.width / 2, y: pane.top + pane.height / 2 })
+      : { x: 0, y: 0 };
+    const n = Object.keys(latest.current.layout).length % 6;
+    return { x: Math.round(centre.x - 110 + n * 24), y: Math.round(centre.y - 48 + n * 24) };
+  }, [flow]);
+
+  const titleRef = useRef<HTMLInputElement>(null);
+  const addGoalNode = () => {
+    const at = placeNew();
+    const { orders: next, id } = addGoal(latest.current.orders);
+    selectNext.current = [id];
+    edit((d) => ({ orders: next, layout: { ...d.layout, [id]: at } }));
+    window.setTimeout(() => titleRef.current?.select(), 50);
+  };
+  const addTerminalNode = (kind: "complete" | "abort") => {
+    const at = placeNew();
+    const { orders: next, id } = addTerminal(latest.current.orders, kind);
+    selectNext.current = [id];
+    edit((d) => ({ orders: next, layout: { ...d.layout, [id]: at } }));
+  };
+  const deleteSelected = () => {
+    const nodeIds = nodes.filter((n) => n.selected).map((n) => n.id);
+    const edgeList = edges.filter((e) => e.selected);
+    if (nodeIds.length === 0 && edgeList.length === 0) return;
+    edit((d) => {
+      let o = deleteNodes(d.orders, nodeIds);
+      for (const e of edgeList) o = disconnect(o, e.source, e.sourceHandle as Outcome, e.target);
+      const layout = { ...d.layout };
+      for (const id of nodeIds) delete layout[id];
+      return { orders: o, layout };
+    });
+  };
+  const relayout = async () => {
+    const layout = await autoLayout(latest.current.orders);
+    edit((d) => ({ ...d, layout }));
+    window.requestAnimationFrame(() => void flow.fitView({ padding: 0.15 }));
+  };
+  const doUndo = () => {
+    dirty.current = true;
+    lastGroup.current = undefined;
+    editedAt.current = performance.now();
+    setHistory(undo);
+  };
+  const doRedo = () => {
+    dirty.current = true;
+    lastGroup.current = undefined;
+    editedAt.current = performance.now();
+    setHistory(redo);
+  };
+
+  // Shortcuts act only while focus is in the canvas (not in the inspector's fields).
+  const onCanvasKey = (event: KeyboardEvent<HTMLDivElement>) => {
+    const target = event.target as HTMLElement;
+    if (target.closest("input, textarea, select")) return;
+    const mod = event.ctrlKey || event.metaKey;
+    const key = event.key.toLowerCase();
+    if (mod && key === "z" && !event.shiftKey) doUndo();
+    else if (mod && (key === "y" || (key === "z" && event.shiftKey))) doRedo();
+    else if (event.key === "Delete" || event.key === "Backspace") deleteSelected();
+    else if (!mod && key === "g" && !event.altKey) addGoalNode();
+    else if (!mod && key === "l" && !event.altKey) void relayout();
+    else return;
+    event.preventDefault();
+  };
+
+  // ---- Conflict resolution ----
+  const reloadTheirs = () => {
+    if (!conflict) return;
+    revision.current = conflict.theirs.revision;
+    dirty.current = false;
+    setHistory(reset({ orders: conflict.theirs.orders as Orders, layout: (conflict.theirs.layout ?? {}) as Layout }));
+    setConflict(null);
+    setSaveState("saved");
+    setNotice("Reloaded the draft someone else saved.");
+    void refreshChecks();
+    onSaved();
+  };
+  const keepMine = () => {
+    if (!conflict) return;
+    revision.current = conflict.theirs.revision;
+    setConflict(null);
+    setNotice("Your version replaced theirs.");
+    void save();
+  };
+
+  const selectedGoal = goals(orders).find((g) => g.id === selectedId);
+  const selectedTerminal = terminals(orders).find((t) => t.id === selectedId);
+  const errors = findings.filter((f) => f.severity === "error").length;
+
+  return (
+    <div className="editor">
+      <div className="editor-toolbar" role="toolbar" aria-label="Graph editing">
+        <button type="button" onClick={addGoalNode}>
+          Add goal
+        </button>
+        <button type="button" onClick={() => addTerminalNode("complete")}>
+          Add complete terminal
+        </button>
+        <button type="button" onClick={() => addTerminalNode("abort")}>
+          Add abort terminal
+        </button>
+        <button type="button" onClick={deleteSelected} disabled={selectedNodes.length === 0 && !edges.some((e) => e.selected)}>
+          Delete selected
+        </button>
+        <button type="button" onClick={() => void relayout()}>
+          Auto layout
+        </button>
+        <button type="button" onClick={() => void flow.fitView({ padding: 0.15 })}>
+          Zoom to fit
+        </button>
+        <button type="button" onClick={doUndo} disabled={!canUndo(history)}>
+          Undo
+        </button>
+        <button type="button" onClick={doRedo} disabled={!canRedo(history)}>
+          Redo
+        </button>
+        <form
+          className="goto"
+          onSubmit={(e) => {
+            e.preventDefault();
+            goTo(gotoText.trim());
+          }}
+        >
+          <label htmlFor="goto-node">Go to node</label>
+          <input id="goto-node" list="node-ids" size={8} value={gotoText} onChange={(e) => setGotoText(e.target.value)} />
+          <datalist id="node-ids">
+            {graph.nodes.map((n) => (
+              <option key={n.id} value={n.id}>
+                {n.label}
+              </option>
+            ))}
+          </datalist>
+          <button type="submit">Go</button>
+        </form>
+        <span className={`save-state save-${saveState}`} role="status" data-testid="save-state">
+          {saveState === "saved" ? "Saved" : saveState === "pending" || saveState === "saving" ? "Saving…" : saveState === "conflict" ? "Conflict" : "Not saved"}
+        </span>
+      </div>
+      <ErrorMessage error={saveError} />
+      {notice && <p className="message">{notice}</p>}
+      <p className="visually-hidden" aria-live="polite">
+        {connectMessage}
+      </p>
+      <div className="editor-main">
+        <div
+          className="editor-canvas"
+          tabIndex={0}
+          role="group"
+          aria-label="Mission graph. Shortcuts: G add goal, Delete remove selection, Ctrl+Z undo, Ctrl+Shift+Z or Ctrl+Y redo, L auto layout; Tab moves between nodes, Enter selects, arrows move."
+          onKeyDown={onCanvasKey}
+          data-testid="editor-canvas"
+          data-ready={ready ? "true" : "false"}
+        >
+          <ReactFlow
+            nodes={nodes}
+            edges={edges}
+            nodeTypes={NODE_TYPES}
+            onNodesChange={onNodesChange}
+            onEdgesChange={onEdgesChange}
+            onConnect={onConnect}
+            isValidConnection={isValidConnection}
+            onNodeDragStop={onNodeDragStop}
+            deleteKeyCode={null}
+            minZoom={0.05}
+            fitView
+            onlyRenderVisibleElements={nodes.length > 200}
+            proOptions={{ hideAttribution: true }}
+          >
+            <Background />
+            <MiniMap pannable zoomable ariaLabel="Minimap of the mission graph" />
+            <Controls showInteractive={false} />
+          </ReactFlow>
+        </div>
+        <aside className="editor-side" aria-label="Inspector">
+          <h3>Inspector</h3>
+          {selectedGoal ? (
+            <GoalInspector key={selectedGoal.id} goal={selectedGoal} orders={orders} editOrders={editOrders} titleRef={titleRef} markers={markers} />
+          ) : selectedTerminal ? (
+            <fieldset className="inspector" key={selectedTerminal.id}>
+              <legend>Terminal {selectedTerminal.id}</legend>
+              <label htmlFor="terminal-title">Title</label>
+              <input
+                id="terminal-title"
+                value={selectedTerminal.title ?? ""}
+                onChange={(e) => editOrders((o) => updateTerminal(o, selectedTerminal.id, { title: e.target.value }), `t:${selectedTerminal.id}:title`)}
+              />
+              <label htmlFor="terminal-kind">Kind</label>
+              <select
+                id="terminal-kind"
+                value={selectedTerminal.kind}
+                onChange={(e) => editOrders((o) => updateTerminal(o, selectedTerminal.id, { kind: e.target.value as "complete" | "abort" }))}
+              >
+                <option value="complete">complete</option>
+                <option value="abort">abort</option>
+              </select>
+            </fieldset>
+          ) : (
+            <p className="hint">
+              Select one goal or terminal to edit it. Drag from a goal's s (succeed, green), f (fail, orange) or c (violate,
+              red) handle to the next goal or terminal.
+            </p>
+          )}
+          <section aria-labelledby="editor-findings-title">
+            <h3 id="editor-findings-title">Findings</h3>
+            {report && (
+              <p className={report.ok ? "verdict ok" : "verdict bad"} data-testid="editor-verdict">
+                {report.ok ? "Valid" : "Not valid"}: {plural(errors, "error")}, {plural(findings.length - errors, "warning")}.
+                {report.paths ? ` ${plural(report.paths.count, "path")}.` : ""}
+                {checkMs !== null && <span className="hint" data-testid="check-time"> Checked {checkMs} ms after the edit.</span>}
+              </p>
+            )}
+            <ul className="editor-findings" data-testid="editor-findings">
+              {findings.map((f: Finding, i) => (
+                <li key={`${f.code}-${i}`}>
+                  <button type="button" className={`finding finding-${f.severity}`} onClick={() => select(f.subjects)}>
+                    <code>{f.code}</code> {f.severity}: {f.message}
+                    {f.subjects.length > 0 && <span className="hint"> ({f.subjects.join(", ")})</span>}
+                  </button>
+                </li>
+              ))}
+            </ul>
+          </section>
+        </aside>
+      </div>
+      <div className="editor-lower">
+        <ConstraintsPanel orders={orders} editOrders={editOrders} markers={markers} />
+        <section aria-labelledby="editor-plain-title">
+          <h3 id="editor-plain-title">Plain-language orders (as saved)</h3>
+          <pre className="orders-text" data-testid="editor-plain">
+            {plain}
+          </pre>
+        </section>
+      </div>
+      {conflict && <ConflictDialog conflict={conflict} onReload={reloadTheirs} onKeepMine={keepMine} />}
+    </div>
+  );
+}
+
+function ConflictDialog({ conflict, onReload, onKeepMine }: { conflict: Conflict; onReload: () => void; onKeepMine: () => void }) {
+  const first = useRef<HTMLButtonElement>(null);
+  useEffect(() => first.current?.focus(), []);
+  return (
+    <div className="dialog-backdrop">
+      <div role="alertdialog" aria-modal="true" aria-labelledby="conflict-title" aria-describedby="conflict-text" className="dialog">
+        <h3 id="conflict-title">Someone else saved this draft</h3>
+        <p id="conflict-text">
+          {conflict.theirs.updated_by} saved revision {conflict.theirs.revision} while you were editing. Nothing was
+          overwritten. Differences between your version and theirs:
+        </p>
+        <ul data-testid="conflict-differences">
+          {conflict.differences.length === 0 ? <li>Only node positions differ.</li> : conflict.differences.map((d) => <li key={d}>{d}</li>)}
+        </ul>
+        <div className="actions">
+          <button type="button" ref={first} onClick={onReload}>
+            Reload theirs
+          </button>
+          <button type="button" className="danger" onClick={onKeepMine}>
+            Keep mine (overwrite theirs)
+          </button>
+        </div>
+      </div>
+    </div>
+  );
+}
+
+type EditOrders = (change: (o: Orders) => Orders, group?: string) => void;
+
+function GoalInspector({
+  goal,
+  orders,
+  editOrders,
+  titleRef,
+  markers,
+}: {
+  goal: GoalSpec;
+  orders: Orders;
+  editOrders: EditOrders;
+  titleRef: React.RefObject<HTMLInputElement | null>;
+  markers: ReturnType<typeof markersBySubject>;
+}) {
+  const id = goal.id;
+  const set = (patch: Partial<GoalSpec>, group?: string) => editOrders((o) => updateGoal(o, id, patch), group);
+  const vehicle = ((orders.vehicles as { id: string; behaviors?: string[] }[] | undefined) ?? []).find((v) => v.id === orders.vehicle);
+  const areas = ((orders.areas as { id: string; title?: string }[] | undefined) ?? []);
+  const targets = [...goals(orders).map((g) => g.id), ...terminals(orders).map((t) => t.id)];
+  const [requires, setRequires] = useState((goal.requires ?? []).join(", "));
+  const [envelope, setEnvelope] = useState(envelopeToText(goal.envelope));
+  const [envelopeError, setEnvelopeError] = useState("");
+  const mark = markers.get(id);
+  const costValue = (key: "energy_wh" | "duration_s") => goal.cost?.[key] ?? "";
+  const setCost = (key: "energy_wh" | "duration_s", text: string) => {
+    const cost = { ...(goal.cost ?? {}) };
+    if (text === "") delete cost[key];
+    else cost[key] = Number(text);
+    set({ cost: Object.keys(cost).length > 0 ? cost : undefined }, `g:${id}:cost:${key}`);
+  };
+  return (
+    <fieldset className="inspector">
+      <legend>
+        Goal <code>{id}</code>
+      </legend>
+      {mark && (
+        <p className={`message ${mark.severity === "error" ? "error" : ""}`}>Findings: {mark.codes.join(", ")}</p>
+      )}
+      <label htmlFor="goal-title">Title</label>
+      <input id="goal-title" ref={titleRef} value={goal.title ?? ""} onChange={(e) => set({ title: e.target.value }, `g:${id}:title`)} />
+      <label className="check">
+        <input
+          type="checkbox"
+          checked={startIds(orders).includes(id)}
+          onChange={(e) => editOrders((o) => ({ ...o, start: e.target.checked ? id : null }))}
+        />{" "}
+        Start goal
+      </label>
+      <label htmlFor="goal-behavior">Behaviour</label>
+      <input
+        id="goal-behavior"
+        list="behaviour-options"
+        value={goal.behavior ?? ""}
+        onChange={(e) => set({ behavior: e.target.value || undefined }, `g:${id}:behavior`)}
+      />
+      <datalist id="behaviour-options">
+        {(vehicle?.behaviors ?? ["area_search", "sample", "rendezvous", "transit", "recover"]).map((b) => (
+          <option key={b} value={b} />
+        ))}
+      </datalist>
+      <label htmlFor="goal-area">Area</label>
+      <select id="goal-area" value={goal.area ?? ""} onChange={(e) => set({ area: e.target.value || undefined })}>
+        <option value="">— none —</option>
+        {goal.area && !areas.some((a) => a.id === goal.area) && <option value={goal.area}>{goal.area} (unknown)</option>}
+        {areas.map((a) => (
+          <option key={a.id} value={a.id}>
+            {a.title ? `${a.id}: ${a.title}` : a.id}
+          </option>
+        ))}
+      </select>
+      <label htmlFor="goal-requires">Requires (comma-separated)</label>
+      <input
+        id="goal-requires"
+        value={requires}
+        onChange={(e) => setRequires(e.target.value)}
+        onBlur={() => {
+          const list = requires.split(",").map((s) => s.trim()).filter(Boolean);
+          if (list.join(",") !== (goal.requires ?? []).join(",")) set({ requires: list });
+        }}
+      />
+      <label htmlFor="goal-envelope">Envelope (one "quantity min max" per line)</label>
+      <textarea
+        id="goal-envelope"
+        rows={2}
+        value={envelope}
+        aria-invalid={!!envelopeError}
+        aria-describedby="goal-envelope-error"
+        onChange={(e) => setEnvelope(e.target.value)}
+        onBlur={() => {
+          const parsed = parseEnvelope(envelope);
+          setEnvelopeError(parsed.error ?? "");
+          if (parsed.envelope && envelopeToText(parsed.envelope) !== envelopeToText(goal.envelope)) set({ envelope: parsed.envelope });
+        }}
+      />
+      <span id="goal-envelope-error" className="field-error">
+        {envelopeError}
+      </span>
+      <div className="pair">
+        <span>
+          <label htmlFor="goal-energy">Energy (Wh)</label>
+          <input id="goal-energy" type="number" min={0} value={costValue("energy_wh")} onChange={(e) => setCost("energy_wh", e.target.value)} />
+        </span>
+        <span>
+          <label htmlFor="goal-duration">Duration (s)</label>
+          <input id="goal-duration" type="number" min={0} value={costValue("duration_s")} onChange={(e) => setCost("duration_s", e.target.value)} />
+        </span>
+      </div>
+      {OUTCOMES.map((o) => {
+        const current = goal.next?.[o];
+        const value = typeof current === "string" ? current : "";
+        return (
+          <div key={o}>
+            <label htmlFor={`goal-next-${o}`}>
+              <span className={`outcome-letter outcome-${o}`}>{OUTCOME_LETTER[o]}</span> {OUTCOME_LABEL[o]} → next
+            </label>
+            <select id={`goal-next-${o}`} value={value} onChange={(e) => editOrders((x) => setSuccessor(x, id, o, e.target.value || null))}>
+              <option value="">— none —</option>
+              {value && !targets.includes(value) && <option value={value}>{value} (unknown)</option>}
+              {targets.map((t) => (
+                <option key={t} value={t}>
+                  {t}
+                </option>
+              ))}
+            </select>
+          </div>
+        );
+      })}
+    </fieldset>
+  );
+}
+
+function ConstraintsPanel({
+  orders,
+  editOrders,
+  markers,
+}: {
+  orders: Orders;
+  editOrders: EditOrders;
+  markers: ReturnType<typeof markersBySubject>;
+}) {
+  const list = orders.constraints ?? [];
+  return (
+    <section aria-labelledby="constraints-title">
+      <h3 id="constraints-title">Constraints</h3>
+      {list.length === 0 && <p className="empty">No constraints.</p>}
+      {list.map((c) => {
+        const mark = markers.get(c.id);
+        const whole = c.applies_to === undefined || c.applies_to === "mission";
+        return (
+          <fieldset key={c.id} className="constraint">
+            <legend>
+              Constraint <code>{c.id}</code> {mark && <span className={`badge ${mark.severity === "error" ? "bad" : "warn"}`}>{mark.codes.join(" ")}</span>}
+            </legend>
+            <label htmlFor={`c-${c.id}-text`}>Text</label>
+            <input id={`c-${c.id}-text`} value={c.text ?? ""} onChange={(e) => editOrders((o) => updateConstraint(o, c.id, { text: e.target.value }), `c:${c.id}:text`)} />
+            <label htmlFor={`c-${c.id}-expr`}>Expression</label>
+            <input
+              id={`c-${c.id}-expr`}
+              className="code"
+              value={c.expr ?? ""}
+              onChange={(e) => editOrders((o) => updateConstraint(o, c.id, { expr: e.target.value }), `c:${c.id}:expr`)}
+            />
+            <div role="group" aria-label={`Scope of ${c.id}`} className="scope">
+              <label className="check">
+                <input
+                  type="checkbox"
+                  checked={whole}
+                  onChange={(e) => editOrders((o) => updateConstraint(o, c.id, { applies_to: e.target.checked ? "mission" : [] }))}
+                />{" "}
+                Whole mission
+              </label>
+              {!whole &&
+                goals(orders).map((g) => (
+                  <label key={g.id} className="check">
+                    <input
+                      type="checkbox"
+                      checked={Array.isArray(c.applies_to) && c.applies_to.includes(g.id)}
+                      onChange={() => editOrders((o) => toggleScope(o, c.id, g.id))}
+                    />{" "}
+                    {g.id}
+                  </label>
+                ))}
+            </div>
+            <button type="button" className="danger" onClick={() => editOrders((o) => deleteConstraint(o, c.id))}>
+              Delete constraint {c.id}
+            </button>
+          </fieldset>
+        );
+      })}
+      <button type="button" onClick={() => editOrders((o) => addConstraint(o).orders)}>
+        Add constraint
+      </button>
+    </section>
+  );
+}

@@ -1,0 +1,79 @@
+import { Handle, type Node, type NodeProps, Position } from "@xyflow/react";
+import { memo } from "react";
+
+import { OUTCOME_LABEL, OUTCOME_LETTER, OUTCOMES } from "./graph";
+
+export interface NodeData extends Record<string, unknown> {
+  label: string;
+  start: boolean;
+  codes: string[];
+  severity: "error" | "warning" | null;
+  terminalKind?: "complete" | "abort";
+}
+export type GoalNodeType = Node<NodeData, "goal">;
+export type TerminalNodeType = Node<NodeData, "terminal">;
+
+function Markers({ id, data }: { id: string; data: NodeData }) {
+  if (data.codes.length === 0) return null;
+  return (
+    <span
+      className={`node-markers ${data.severity === "error" ? "bad" : "warn"}`}
+      data-testid={`markers-${id}`}
+      title={`Findings: ${data.codes.join(", ")}`}
+    >
+      {data.severity === "error" ? "✖ " : "⚠ "}
+      {data.codes.join(" ")}
+    </span>
+  );
+}
+
+export const GoalNode = memo(function GoalNode({ id, data, selected }: NodeProps<GoalNodeType>) {
+  return (
+    <div
+      className={`graph-node goal-node${selected ? " selected" : ""}${data.severity ? ` marked-${data.severity}` : ""}`}
+      data-testid={`node-${id}`}
+    >
+      <Handle type="target" position={Position.Left} id="in" className="handle handle-in" data-testid={`handle-${id}-in`} aria-label={`Into ${id}`} />
+      <div className="node-head">
+        <code>{id}</code>
+        {data.start && <span className="node-start">start</span>}
+        <Markers id={id} data={data} />
+      </div>
+      <div className="node-title">{data.label}</div>
+      {OUTCOMES.map((o, i) => (
+        <Handle
+          key={o}
+          type="source"
+          position={Position.Right}
+          id={o}
+          className={`handle handle-${o}`}
+          style={{ top: `${25 + i * 25}%` }}
+          data-testid={`handle-${id}-${o}`}
+          aria-label={`${id} ${OUTCOME_LABEL[o]} outcome`}
+          title={`${OUTCOME_LABEL[o]}: drag to the next goal or terminal`}
+        >
+          {OUTCOME_LETTER[o]}
+        </Handle>
+      ))}
+    </div>
+  );
+});
+
+export const TerminalNode = memo(function TerminalNode({ id, data, selected }: NodeProps<TerminalNodeType>) {
+  return (
+    <div
+      className={`graph-node terminal-node terminal-${data.terminalKind ?? "complete"}${selected ? " selected" : ""}${data.severity ? ` marked-${data.severity}` : ""}`}
+      data-testid={`node-${id}`}
+    >
+      <Handle type="target" position={Position.Left} id="in" className="handle handle-in" data-testid={`handle-${id}-in`} aria-label={`Into ${id}`} />
+      <div className="node-head">
+        <code>{id}</code>
+        <span className="node-kind">{data.terminalKind === "abort" ? "abort" : "complete"}</span>
+        <Markers id={id} data={data} />
+      </div>
+      <div className="node-title">{data.label}</div>
+    </div>
+  );
+});
+
+export const NODE_TYPES = { goal: GoalNode, terminal: TerminalNode };

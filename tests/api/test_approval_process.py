@@ -1,0 +1,213 @@
+"""Against a real server process: `countersign keygen | sign | audit verify` end to end, and
+crash safety (killing the server during approvals leaves each approval complete with its log
+entry, or absent)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import random
+import signal
+import socket
+import subprocess
+import sys
+import threading
+import time
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any
+
+import httpx
+import pytest
+from sqlalchemy import text
+
+from countersign import cli_approvals
+from countersign.approvals import dsse
+
+from .approval_helpers import MISSION, sign_prepared
+from .conftest import PASSWORD, World
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="countersign")
+    cli_approvals.add_commands(parser.add_subparsers(dest="command", required=True))
+    return parser
+
+
+def run_cli(*argv: str) -> int:
+    args = _parser().parse_args(list(argv))
+    code: int = args.handler(args)
+    return code
+
+
+@contextmanager
+def server_process(database_url: str,
+                   data_dir: Path) -> Iterator[tuple[str, subprocess.Popen[bytes]]]:
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        port = sock.getsockname()[1]
+    env = {**os.environ, "COUNTERSIGN_DATABASE_URL": database_url}
+    process = subprocess.Popen(
+        [sys.executable, "-m", "countersign.cli", "serve", "--port", str(port), "--data-dir",
+         str(data_dir)], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    url = f"http://127.0.0.1:{port}"
+    try:
+        deadline = time.monotonic() + 60
+        while True:
+            try:
+                if httpx.get(f"{url}/api/health", timeout=1).status_code == 200:
+                    break
+            except httpx.HTTPError:
+                pass
+            assert process.poll() is None, "the server exited"
+            assert time.monotonic() < deadline, "the server did not start"
+            time.sleep(0.1)
+        yield url, process
+    finally:
+        if process.poll() is None:
+            process.send_signal(signal.SIGTERM)
+            try:
+                process.wait(timeout=15)
+            except subprocess.TimeoutExpired:
+                process.kill()
+                process.wait()
+
+
+def _client(url: str, token: str) -> httpx.Client:
+    return httpx.Client(base_url=url, headers={"Authorization": f"Bearer {token}"}, timeout=60)
+
+
+def _submission(operator: httpx.Client) -> int:
+    number = operator.post(f"/api/missions/{MISSION}/versions").json()["number"]
+    response = operator.post(f"/api/missions/{MISSION}/versions/{number}/submit")
+    assert response.status_code == 201, response.text
+    return int(response.json()["id"])
+
+
+def test_keygen_sign_and_audit_verify(world: World, database_url: str, tmp_path: Path,
+                                      capsys: pytest.CaptureFixture[str],
+                                      monkeypatch: pytest.MonkeyPatch) -> None:
+    key_file = tmp_path / "supervisor.pem"
+    assert run_cli("keygen", "--out", str(key_file)) == 0
+    assert key_file.stat().st_mode & 0o777 == 0o600
+    printed = capsys.readouterr().out
+    public = printed.split("public key:")[1].split()[0]
+    assert run_cli("keygen", "--out", str(key_file)) == 2  # never overwritten
+    assert "exists" in capsys.readouterr().err
+
+    with server_process(database_url, tmp_path / "server") as (url, _):
+        supervisor = _client(url, world.tokens["supervisor"])
+        response = supervisor.post("/api/keys", json={"public_key": public,
+                                                      "password": PASSWORD})
+        assert response.status_code == 201, response.text
+        submission = _submission(_client(url, world.tokens["operator"]))
+        monkeypatch.setenv("COUNTERSIGN_TOKEN", world.tokens["supervisor"])
+        assert run_cli("sign", "--server", url, "--key", str(key_file), "--submission",
+                       str(submission), "--decision", "approved") == 0
+        out = capsys.readouterr().out
+        assert out.startswith(f"approved: {MISSION} version 1 (sha256:")
+        # The same decision again: refused, with the server's reason.
+        assert run_cli("sign", "--server", url, "--key", str(key_file), "--submission",
+                       str(submission), "--decision", "approved") == 1
+        assert "is approved" in capsys.readouterr().err
+        auditor = _client(url, world.tokens["auditor"])
+        bundle = auditor.get("/api/audit/bundle").json()
+        checkpoint = auditor.get("/api/log/checkpoint").json()
+
+    path = tmp_path / "bundle.json"
+    path.write_text(json.dumps(bundle))
+    published = tmp_path / "checkpoint.json"
+    published.write_text(json.dumps(checkpoint))
+    assert run_cli("audit", "verify", str(path), "--log-key", checkpoint["public_key"],
+                   "--checkpoint", str(published)) == 0
+    assert capsys.readouterr().out.startswith("OK: ")
+    digest = next(iter(bundle["orders"]))
+    bundle["orders"][digest]["goals"][0]["title"] = "Search Area B"
+    path.write_text(json.dumps(bundle))
+    assert run_cli("audit", "verify", str(path), "--format", "json") == 1
+    report = json.loads(capsys.readouterr().out)
+    assert not report["ok"] and "do not hash to the signed digest" in report["problems"][0]
+    path.write_text("{not json")
+    assert run_cli("audit", "verify", str(path)) == 2
+
+
+def _invariants(world: World) -> dict[str, int]:
+    with world.database.engine.connect() as connection:
+        def one(sql: str) -> int:
+            return int(connection.execute(text(sql)).scalar_one())
+
+        approvals = one("SELECT count(*) FROM approvals")
+        assert approvals == one("SELECT count(*) FROM events WHERE kind LIKE 'approval.%'")
+        assert one("SELECT count(*) FROM events") == one("SELECT count(*) FROM log_entries")
+        assert one("SELECT count(*) FROM approvals a JOIN log_entries l ON "
+                   "l.event_id = a.event_id") == approvals
+        assert one("SELECT count(*) FROM submissions WHERE state = 'approved'") == approvals
+        assert one("SELECT coalesce(max(tree_size), 0) FROM checkpoints") <= one(
+            "SELECT count(*) FROM log_entries")
+        return {"approvals": approvals}
+
+
+def test_killing_the_server_during_approvals(world: World, database_url: str,
+                                             tmp_path: Path) -> None:
+    data_dir = tmp_path / "server"
+    key = dsse.generate_key()
+    outcomes: list[str] = []
+    rng = random.Random(6)
+    duration = 0.0
+    for round_number in range(8):
+        with server_process(database_url, data_dir) as (url, process):
+            supervisor = _client(url, world.tokens["supervisor"])
+            if round_number == 0:
+                assert supervisor.post("/api/keys", json={
+                    "public_key": dsse.public_text(key), "password": PASSWORD}).status_code == 201
+            submission = _submission(_client(url, world.tokens["operator"]))
+            prepared = supervisor.post(f"/api/submissions/{submission}/statement", json={
+                "decision": "approved", "key_id": dsse.key_id(key.public_key())}).json()
+            envelope = sign_prepared(prepared, _Signer(key))
+            result: dict[str, Any] = {}
+
+            def send(envelope: str = envelope, submission: int = submission,
+                     result: dict[str, Any] = result,
+                     supervisor: httpx.Client = supervisor) -> None:
+                try:
+                    result["status"] = supervisor.post(
+                        f"/api/submissions/{submission}/decision",
+                        json={"envelope": envelope}).status_code
+                except httpx.HTTPError as exc:
+                    result["error"] = type(exc).__name__
+
+            if round_number == 0:  # calibrate: how long does an approval take here?
+                started = time.monotonic()
+                send()
+                duration = time.monotonic() - started
+                assert result["status"] == 201
+                outcomes.append("201 (not killed)")
+                continue
+            sender = threading.Thread(target=send)
+            sender.start()
+            # Kill anywhere from before the request arrives to just after it would finish.
+            time.sleep(rng.uniform(0, 1.3 * duration))
+            process.kill()  # SIGKILL: no shutdown, no cleanup
+            process.wait()
+            sender.join(timeout=30)
+            outcomes.append(str(result.get("status", result.get("error"))))
+        _invariants(world)
+    # A server started after the crashes serves a bundle that verifies.
+    with server_process(database_url, data_dir) as (url, _):
+        bundle = _client(url, world.tokens["auditor"]).get("/api/audit/bundle").json()
+    from countersign.approvals.bundle import verify_bundle
+
+    report = verify_bundle(bundle)
+    assert report.ok, (report.problems, outcomes)
+    assert report.approvals == _invariants(world)["approvals"]
+    # Every acknowledged approval survived; the others are complete or absent (checked above).
+    assert report.approvals >= sum(o.startswith("201") for o in outcomes)
+    print("decisions during kills:", outcomes, "stored:", report.approvals)
+
+
+class _Signer:
+    def __init__(self, key: Any) -> None:
+        self.key = key
+        self.key_id = dsse.key_id(key.public_key())
