@@ -190,6 +190,11 @@ def _validated(key: str, orders: Orders) -> dict[str, Any]:
 _RECENT: dict[str, dict[str, Any]] = {}
 
 
+def cached_report(db: DbSession, orders_digest: str) -> dict[str, Any] | None:
+    row = db.get(ValidationReport, (orders_digest, __version__))
+    return row.report if row is not None else None
+
+
 def report_for(db: DbSession, orders: Orders, orders_digest: str | None = None) -> CachedReport:
     """The validation report of these orders, computed once per digest and checker version.
 

@@ -58,7 +58,12 @@ def _orders(data: dict[str, Any]) -> Orders:
 
 
 def _summary(db: DbSession, mission: Mission, names: dict[int, str]) -> dict[str, Any]:
-    report = service.report_for(db, _orders(mission.draft), mission.draft_digest).report
+    # A writing request holds the write lock until it answers: it reports only what is cached
+    # (ok/errors stay null otherwise) and leaves validation to the next read or /validate.
+    if db.info.get("write", True):
+        report = service.cached_report(db, mission.draft_digest)
+    else:
+        report = service.report_for(db, _orders(mission.draft), mission.draft_digest).report
     latest = db.scalar(select(func.max(MissionVersion.number))
                        .where(MissionVersion.mission_id == mission.id))
     return summary_fields(mission, report, latest, _username(db, mission.updated_by, names))
