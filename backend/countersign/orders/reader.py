@@ -96,7 +96,7 @@ def problems_from_validation(exc: ValidationError) -> OrdersReadError:
     return OrdersReadError(problems[:MAX_PROBLEMS_SHOWN], total=len(problems))
 
 
-def _reject_duplicate_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+def reject_duplicate_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
     result: dict[str, Any] = {}
     for key, value in pairs:
         if key in result:
@@ -121,7 +121,7 @@ def read_json(data: bytes) -> Orders:
     except UnicodeDecodeError as exc:
         raise OrdersReadError([Problem("$", f"not UTF-8 text (byte {exc.start})")]) from None
     try:
-        parsed = json.loads(text, object_pairs_hook=_reject_duplicate_keys)
+        parsed = json.loads(text, object_pairs_hook=reject_duplicate_keys)
     except json.JSONDecodeError as exc:
         raise OrdersReadError(
             [Problem("$", f"invalid JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}")]

@@ -20,7 +20,7 @@ from typing import Annotated, Any, Final, Literal
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from ..orders.model import Id, Text
-from ..orders.reader import MAX_INPUT_BYTES, OrdersReadError, Problem
+from ..orders.reader import MAX_INPUT_BYTES, OrdersReadError, Problem, reject_duplicate_keys
 
 FORMAT: Final = "countersign.plan/1"
 MAX_AREAS: Final = 64  # the model's bound; the exact solver has its own, smaller, state bound
@@ -176,15 +176,6 @@ def problem_from_data(data: Any) -> PlanProblem:
         raise problems_from_validation(exc) from None
 
 
-def _reject_duplicate_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
-    result: dict[str, Any] = {}
-    for key, value in pairs:
-        if key in result:
-            raise ValueError(f"the key {key!r} appears twice in one object")
-        result[key] = value
-    return result
-
-
 def json_from_bytes(data: bytes, name: str = "<input>") -> Any:
     """Parsed JSON, or a `PlanReadError` that says what is wrong and where."""
     if len(data) > MAX_INPUT_BYTES:
@@ -197,7 +188,7 @@ def json_from_bytes(data: bytes, name: str = "<input>") -> Any:
     except UnicodeDecodeError as exc:
         raise PlanReadError([Problem("$", f"not UTF-8 text (byte {exc.start})")]) from None
     try:
-        return json.loads(text, object_pairs_hook=_reject_duplicate_keys)
+        return json.loads(text, object_pairs_hook=reject_duplicate_keys)
     except json.JSONDecodeError as exc:
         raise PlanReadError(
             [Problem("$", f"invalid JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}")]
