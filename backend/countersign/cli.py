@@ -108,10 +108,13 @@ def cmd_validate(args: argparse.Namespace) -> int:
     return EXIT_OK if report.ok else EXIT_FINDINGS
 
 
-def _explain_uncountable(orders_file: str, loaded: ReadResult) -> int:
-    problems = [f for f in check_structure(loaded.orders) if f.severity == "error"]
-    sys.stderr.write(f"countersign: the paths of {orders_file} cannot be enumerated:\n")
-    for finding in problems[:10]:
+def _refuse_structural_errors(loaded: ReadResult, why: str) -> int | None:
+    """Print the structural errors that stop a command (why: what cannot be done), if any."""
+    errors = [f for f in check_structure(loaded.orders) if f.severity == "error"]
+    if not errors:
+        return None
+    sys.stderr.write(f"countersign: {why}:\n")
+    for finding in errors[:10]:
         sys.stderr.write(f"  {finding.code}: {finding.message}\n")
     return EXIT_FINDINGS
 
@@ -121,7 +124,9 @@ def cmd_paths(args: argparse.Namespace) -> int:
     graph = build_graph(loaded.orders)
     counts = count_paths(graph)
     if counts is None:
-        return _explain_uncountable(args.file, loaded)
+        refused = _refuse_structural_errors(
+            loaded, f"the paths of {args.file} cannot be enumerated")
+        return refused if refused is not None else EXIT_FINDINGS
     out = sys.stdout
     if args.format == "trace":
         for path in iter_paths(graph, counts, args.offset, args.limit):
@@ -157,12 +162,9 @@ def _ask(prompt_echo: bool) -> str | None:
 
 def cmd_run(args: argparse.Namespace) -> int:
     loaded = _load(args.file)
-    errors = [f for f in check_structure(loaded.orders) if f.severity == "error"]
-    if errors:
-        sys.stderr.write("countersign: these orders cannot be executed until fixed:\n")
-        for finding in errors[:10]:
-            sys.stderr.write(f"  {finding.code}: {finding.message}\n")
-        return EXIT_FINDINGS
+    refused = _refuse_structural_errors(loaded, "these orders cannot be executed until fixed")
+    if refused is not None:
+        return refused
     graph = build_graph(loaded.orders)
     assert graph.start is not None
     echo = not sys.stdin.isatty()

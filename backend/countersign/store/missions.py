@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import threading
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -195,16 +196,23 @@ def cached_report(db: DbSession, orders_digest: str) -> dict[str, Any] | None:
     return row.report if row is not None else None
 
 
-def report_for(db: DbSession, orders: Orders, orders_digest: str | None = None) -> CachedReport:
+def report_for(
+    db: DbSession, orders: Orders | Callable[[], Orders], orders_digest: str | None = None
+) -> CachedReport:
     """The validation report of these orders, computed once per digest and checker version.
 
-    A read-only session stores a new report through a short transaction of its own, so that
-    readers never hold (or wait for) a write lock while validating."""
-    key = orders_digest or digest(orders)
-    row = db.get(ValidationReport, (key, __version__))
+    `orders` may be a loader, called only on a cache miss: with the digest known, a cached
+    report costs one lookup and no parsing. A read-only session stores a new report through a
+    short transaction of its own, so that readers never hold (or wait for) a write lock while
+    validating."""
+    if orders_digest is None:
+        orders = orders() if callable(orders) else orders
+        orders_digest = digest(orders)
+    row = db.get(ValidationReport, (orders_digest, __version__))
     if row is not None:
         return CachedReport(row.report, True)
-    report = _validated(key, orders)
+    key = orders_digest
+    report = _validated(key, orders() if callable(orders) else orders)
     entry = ValidationReport(digest=key, checker_version=__version__, report=report)
     try:
         with writable(db) as writer:

@@ -63,7 +63,7 @@ def _summary(db: DbSession, mission: Mission, names: dict[int, str]) -> dict[str
     if db.info.get("write", True):
         report = service.cached_report(db, mission.draft_digest)
     else:
-        report = service.report_for(db, _orders(mission.draft), mission.draft_digest).report
+        report = service.report_for(db, lambda: _orders(mission.draft), mission.draft_digest).report
     latest = db.scalar(select(func.max(MissionVersion.number))
                        .where(MissionVersion.mission_id == mission.id))
     return summary_fields(mission, report, latest, _username(db, mission.updated_by, names))
@@ -195,7 +195,7 @@ def get_version(mission_id: str, number: RowId, db: Db) -> dict[str, Any]:
 @router.get("/missions/{mission_id}/report", operation_id="getReport", **allow(*EVERYONE))
 def get_report(mission_id: str, db: Db) -> dict[str, Any]:
     mission = service.get_mission(db, mission_id)
-    return service.report_for(db, _orders(mission.draft), mission.draft_digest).report
+    return service.report_for(db, lambda: _orders(mission.draft), mission.draft_digest).report
 
 
 @router.post("/validate", operation_id="validateOrders", **allow(*EVERYONE))
