@@ -204,6 +204,33 @@ def _check_duties(db: DbSession, supervisor: User, version: MissionVersion,
                       "so another supervisor must decide on it")
 
 
+def decision_refusal(db: DbSession, user: User, version: MissionVersion,
+                     submission: Submission | None) -> str | None:
+    """Why this user may not sign a decision on this version (None when they may): what
+    the review page shows beside a disabled button; signing checks it again."""
+    if user.role != "supervisor":
+        return f"the {user.role} role may not sign decisions"
+    try:
+        if submission is None:
+            raise Stale("the version is not submitted")
+        _check_duties(db, user, version, submission)
+        if submission.state != "submitted":
+            raise Stale(f"submission {submission.id} is {submission.state}; there is nothing "
+                        "to decide")
+    except MissionError as exc:
+        return str(exc)
+    return None
+
+
+def previous_approval(db: DbSession, version: MissionVersion) -> Approval | None:
+    """The newest approval of an earlier version of the same mission (revoked or not)."""
+    return db.scalar(
+        select(Approval).join(MissionVersion, MissionVersion.id == Approval.version_id)
+        .where(Approval.mission_id == version.mission_id, Approval.decision == "approved",
+               MissionVersion.number < version.number)
+        .order_by(MissionVersion.number.desc(), Approval.id.desc()).limit(1))
+
+
 @dataclass(frozen=True)
 class Context:
     submission: Submission

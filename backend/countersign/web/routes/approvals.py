@@ -17,8 +17,10 @@ from ...approvals import dsse
 from ...orders.reader import orders_from_data
 from ...orders.writers import write
 from ...store import approvals as service
-from ...store.missions import report_for
+from ...store.missions import get_version, report_for
 from ...store.tables import Approval, MissionVersion, SigningKey, Submission, User
+from ...verify.graph import build_graph
+from ...verify.paths import count_paths, iter_paths
 from ..deps import EVERYONE, LOG_READERS, OPERATORS, CurrentPrincipal, Db, RowId, allow
 from .schemas import RequestBody
 
@@ -209,6 +211,58 @@ def withdraw_submission(submission_id: RowId, principal: CurrentPrincipal,
                         db: Db) -> SubmissionOut:
     service.withdraw(db, submission_id=submission_id, operator=principal.user)
     return _submission_out(db, submission_id)
+
+
+REVIEW_PATHS = 50
+
+
+@router.get("/missions/{mission_id}/versions/{number}/review", operation_id="reviewVersion",
+            **allow(*EVERYONE))
+def review_version(mission_id: str, number: RowId, principal: CurrentPrincipal,
+                   db: Db) -> dict[str, Any]:
+    """What a review shows of one version: its orders, plain-language orders, findings, path
+    summary and first paths, its submissions, the previously approved version's orders (for
+    the diff), and whether the caller may submit it or sign a decision on it (and why not)."""
+    version = get_version(db, mission_id, number)
+    orders = orders_from_data(version.orders)
+    report = report_for(db, orders, version.digest).report
+    errors = sum(f["severity"] == "error" for f in report["findings"])
+    submissions = list(db.scalars(select(Submission).where(Submission.version_id == version.id)
+                                  .order_by(Submission.id.desc())))
+    current = submissions[0] if submissions else None
+    items: list[dict[str, Any]] = []
+    graph = build_graph(orders)
+    counts = count_paths(graph)
+    if counts is not None:
+        items = [p.to_json() for p in iter_paths(graph, counts, 0, REVIEW_PATHS)]
+    submit_refusal = None
+    if principal.user.role not in OPERATORS:
+        submit_refusal = "only operators submit versions"
+    elif errors:
+        submit_refusal = (f"version {number} has {errors} error finding(s); fix them in the "
+                          "draft and create a new version")
+    elif current is not None and current.state in ("submitted", "approved"):
+        submit_refusal = f"version {number} is {current.state} already"
+    decide_refusal = service.decision_refusal(db, principal.user, version, current)
+    previous = service.previous_approval(db, version)
+    previous_out = None
+    if previous is not None:
+        before = db.get_one(MissionVersion, previous.version_id)
+        state = db.get_one(Submission, previous.submission_id).state
+        previous_out = {"version": before.number, "digest": before.digest,
+                        "approval": previous.id, "state": state, "orders": before.orders}
+    author = db.get(User, version.author_id)
+    return {
+        "mission": mission_id, "version": number, "digest": version.digest,
+        "author": author.username if author else None,
+        "created_at": version.created_at.isoformat(), "orders": version.orders,
+        "plain": write(orders, "plain"), "ok": report["ok"], "findings": report["findings"],
+        "paths": report.get("paths"), "path_items": items,
+        "submissions": [_submission_out(db, s.id).model_dump(mode="json") for s in submissions],
+        "previous": previous_out,
+        "may_submit": submit_refusal is None, "submit_refusal": submit_refusal,
+        "may_decide": decide_refusal is None, "decide_refusal": decide_refusal,
+    }
 
 
 @router.post("/submissions/{submission_id}/statement", operation_id="prepareDecision",
