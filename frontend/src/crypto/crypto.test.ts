@@ -1,0 +1,174 @@
+/**
+ * The browser's DSSE, RFC 6962 and RFC 8785 code against vectors computed by the Python
+ * implementation (tests/unit/test_browser_vectors.py writes and checks __fixtures__/vectors.json).
+ */
+import { describe, expect, it } from "vitest";
+
+import vectors from "./__fixtures__/vectors.json";
+import { fromBase64, fromHex, toBase64, toHex, utf8 } from "./bytes";
+import { canonicalJson, jsonDigest } from "./canonical";
+import { importPublicKey, keyId, pae, parseEnvelope, signEnvelope, verifyEnvelope } from "./dsse";
+import { leafHash, rootOf, verifyInclusion } from "./merkle";
+import { type ApprovalRecord, checkChain, type LogEntryRow, verifyApproval, verifyCheckpoint } from "./verify";
+
+describe("DSSE PAE", () => {
+  it.each(vectors.pae)("encodes $payloadType like the server", ({ payloadType, payload, pae: expected }) => {
+    expect(toBase64(pae(payloadType, fromBase64(payload)))).toBe(expected);
+  });
+
+  it("counts bytes, not characters", () => {
+    expect(new TextDecoder().decode(pae("t", utf8("é")))).toBe("DSSEv1 1 t 2 é");
+  });
+
+  it("verifies an envelope the Python code signed, and refuses one byte changed", async () => {
+    const { public_key, key_id, text } = vectors.envelope;
+    const key = await importPublicKey(public_key);
+    expect(await keyId(fromBase64(public_key))).toBe(key_id);
+    const envelope = parseEnvelope(text);
+    expect(await verifyEnvelope(envelope, key)).toBe(true);
+    const payload = fromBase64(envelope.payload);
+    payload[0] = payload[0]! ^ 1;
+    expect(await verifyEnvelope({ ...envelope, payload: toBase64(payload) }, key)).toBe(false);
+  });
+
+  it("signs with a non-extractable key so that the signature verifies", async () => {
+    const pair = (await crypto.subtle.generateKey({ name: "Ed25519" }, false, ["sign", "verify"])) as CryptoKeyPair;
+    expect(pair.privateKey.extractable).toBe(false);
+    const text = await signEnvelope("application/vnd.in-toto+json", utf8("{}"), pair.privateKey, "kid");
+    expect(await verifyEnvelope(parseEnvelope(text), pair.publicKey)).toBe(true);
+  });
+
+  it("refuses envelopes that are not one-signature DSSE", () => {
+    expect(() => parseEnvelope("nope")).toThrow("not JSON");
+    expect(() => parseEnvelope('{"payload":"","payloadType":"x","signatures":[]}')).toThrow("exactly one signature");
+  });
+});
+
+describe("RFC 6962 Merkle tree", () => {
+  const { entries, leaves, roots, proofs } = vectors.merkle;
+
+  it("hashes leaves like the server", async () => {
+    for (let i = 0; i < entries.length; i++) {
+      expect(toHex(await leafHash(utf8(entries[i]!)))).toBe(leaves[i]);
+    }
+  });
+
+  it("computes the root of every size", async () => {
+    for (const [size, root] of Object.entries(roots)) {
+      const some = leaves.slice(0, Number(size)).map((l) => fromHex(l));
+      expect(toHex(await rootOf(some))).toBe(root);
+    }
+  });
+
+  it("verifies every inclusion proof and refuses wrong ones", async () => {
+    for (const { index, size, hashes } of proofs) {
+      const root = fromHex(roots[String(size) as keyof typeof roots]);
+      const leaf = fromHex(leaves[index]!);
+      const proof = hashes.map((h) => fromHex(h));
+      expect(await verifyInclusion(leaf, index, size, proof, root)).toBe(true);
+      const other = fromHex(leaves[(index + 1) % leaves.length]!);
+      if (size > 1) expect(await verifyInclusion(other, index, size, proof, root)).toBe(false);
+      const wrongRoot = fromHex(roots[String(size) as keyof typeof roots]);
+      wrongRoot[0] = wrongRoot[0]! ^ 1;
+      expect(await verifyInclusion(leaf, index, size, proof, wrongRoot)).toBe(false);
+      expect(await verifyInclusion(leaf, size, size, proof, root)).toBe(false);
+    }
+  });
+});
+
+describe("RFC 8785 canonical JSON", () => {
+  it.each(vectors.canonical.map((c, i) => ({ ...c, i })))("digests value $i like the server", async ({ value, digest }) => {
+    expect(await jsonDigest(value)).toBe(digest);
+  });
+
+  it("sorts keys by UTF-16 code units and writes numbers as ECMAScript does", () => {
+    // U+20AC sorts before U+1F600, whose first UTF-16 code unit is 0xD83D.
+    expect(canonicalJson({ b: 1, a: [1e21, 0.1, 100], "\ud83d\ude00": true, "\u20ac": null })).toBe(
+      '{"a":[1e+21,0.1,100],"b":1,"\u20ac":null,"\ud83d\ude00":true}',
+    );
+  });
+});
+
+describe("verifying an approval in the browser", () => {
+  it("checks the signed checkpoint from the Python code", async () => {
+    expect(await verifyCheckpoint(vectors.checkpoint)).toBeNull();
+    expect(await verifyCheckpoint({ ...vectors.checkpoint, size: 6 })).toContain("does not state size 6");
+    const sig = fromBase64(vectors.checkpoint.signature);
+    sig[5] = sig[5]! ^ 1;
+    expect(await verifyCheckpoint({ ...vectors.checkpoint, signature: toBase64(sig) })).toContain("not signed by the log key");
+  });
+
+  it("names the entry whose change breaks the chain", async () => {
+    const rows: LogEntryRow[] = vectors.merkle.entries.map((entry, index) => ({
+      index,
+      entry,
+      leaf_hash: vectors.merkle.leaves[index]!,
+    }));
+    expect((await checkChain(rows)).problems).toEqual([]);
+    const changed = rows.map((r) => ({ ...r }));
+    changed[3]!.entry = changed[3]!.entry.replace('"n":3', '"n":9');
+    const { problems } = await checkChain(changed);
+    expect(problems).toContain("log entry 3 does not hash to the leaf hash recorded for it: it was changed");
+    expect(problems.some((p) => p.startsWith("log entry 4 does not chain to entry 3"))).toBe(true);
+  });
+
+  it("passes a record built like the server's and fails a changed envelope naming its entry", async () => {
+    const pair = (await crypto.subtle.generateKey({ name: "Ed25519" }, false, ["sign", "verify"])) as CryptoKeyPair;
+    const raw = new Uint8Array(await crypto.subtle.exportKey("raw", pair.publicKey));
+    const kid = await keyId(raw);
+    const publicKey = toBase64(raw);
+    const orders = { id: "m", goals: [{ id: "G1" }] };
+    const digest = await jsonDigest(orders);
+    const statement = {
+      subject: [{ name: "m@v1", digest: { sha256: digest.slice(7) } }],
+      predicate: { mission: "m", version: 1, decision: "approved", supervisor: "sup" },
+    };
+    const envelope = await signEnvelope("application/vnd.in-toto+json", utf8(JSON.stringify(statement)), pair.privateKey, kid);
+    const envelopeDigest = `sha256:${toHex(new Uint8Array(await crypto.subtle.digest("SHA-256", utf8(envelope))))}`;
+    const events = [
+      { kind: "key.registered", detail: { key_id: kid, public_key: publicKey } },
+      { kind: "submission.created", detail: {} },
+      { kind: "approval.approved", detail: { envelope_digest: envelopeDigest, orders_digest: digest } },
+    ];
+    const rows: LogEntryRow[] = [];
+    let prev = "0".repeat(64);
+    for (const [index, event] of events.entries()) {
+      const entry = canonicalJson({ index, prev, event });
+      prev = toHex(await leafHash(utf8(entry)));
+      rows.push({ index, entry, leaf_hash: prev });
+    }
+    const logKey = (await crypto.subtle.generateKey({ name: "Ed25519" }, false, ["sign", "verify"])) as CryptoKeyPair;
+    const logRaw = new Uint8Array(await crypto.subtle.exportKey("raw", logKey.publicKey));
+    const root = await rootOf(await Promise.all(rows.map((r) => leafHash(utf8(r.entry)))));
+    const note = `countersign-log/1\n3\n${toBase64(root)}\n`;
+    const signature = new Uint8Array(await crypto.subtle.sign({ name: "Ed25519" }, logKey.privateKey, utf8(note)));
+    const leaves = await Promise.all(rows.map((r) => leafHash(utf8(r.entry))));
+    const record: ApprovalRecord = {
+      id: 1,
+      mission: "m",
+      version: 1,
+      decision: "approved",
+      digest,
+      log_index: 2,
+      envelope,
+      orders,
+      key: { key_id: kid, public_key: publicKey, user: "sup" },
+      checkpoint: { size: 3, root: toHex(root), note, key_id: await keyId(logRaw), public_key: toBase64(logRaw), signature: toBase64(signature) },
+      // RFC 6962 path of leaf 2 in a tree of 3: its sibling is the hash of leaves 0 and 1.
+      inclusion: { index: 2, size: 3, hashes: [toHex(await rootOf(leaves.slice(0, 2)))] },
+    };
+    const good = await verifyApproval(record, rows);
+    expect(good.filter((c) => !c.ok)).toEqual([]);
+
+    const parsed = JSON.parse(envelope) as { signatures: { sig: string }[] };
+    const sig = parsed.signatures[0]!.sig;
+    parsed.signatures[0]!.sig = (sig[0] === "A" ? "B" : "A") + sig.slice(1);
+    const bad = await verifyApproval({ ...record, envelope: JSON.stringify(parsed) }, rows);
+    const failed = Object.fromEntries(bad.filter((c) => !c.ok).map((c) => [c.id, c.detail]));
+    expect(Object.keys(failed).sort()).toEqual(["logged", "signature", "statement"]);
+    expect(failed.logged).toBe("the envelope differs from the one logged in log entry 2");
+
+    const changedOrders = await verifyApproval({ ...record, orders: { ...orders, id: "n" } }, rows);
+    expect(changedOrders.find((c) => c.id === "orders")?.ok).toBe(false);
+  });
+});
