@@ -10,6 +10,7 @@ import { LoginPage } from "./pages/LoginPage";
 import { MissionListPage } from "./pages/MissionListPage";
 import { MissionPage } from "./pages/MissionPage";
 import { UsersPage } from "./pages/UsersPage";
+import { ApprovalNavLinks, ApprovalPages } from "./pages/approvals";
 import { can, ROLE_LABEL, type Role } from "./roles";
 import type { Route } from "./router";
 import { SessionContext, type SessionContextValue } from "./session";
@@ -93,7 +94,12 @@ function Shell({
   const { user, signOut } = session;
   const role = user.role as Role;
   const mainRef = useRef<HTMLElement>(null);
-  const path = route.name === "mission" ? `mission:${route.id}` : route.name;
+  const path =
+    route.name === "mission"
+      ? `mission:${route.id}`
+      : route.name === "approvals"
+        ? `approvals:${JSON.stringify(route.page)}`
+        : route.name;
 
   useEffect(() => {
     // Move focus to the new page's heading so keyboard and screen reader users follow along.
@@ -140,6 +146,7 @@ function Shell({
                 </Link>
               </li>
             )}
+            <ApprovalNavLinks role={role} current={route.name === "approvals" ? route.page : null} />
             {can(role, "manageUsers") && (
               <li>
                 <Link href="/users" aria-current={current("users")}>
@@ -181,6 +188,8 @@ function Page({ route, search, role }: { route: Route; search: string; role: Rol
       return can(role, "manageUsers") ? <UsersPage /> : <Forbidden />;
     case "events":
       return can(role, "readEvents") ? <EventsPage /> : <Forbidden />;
+    case "approvals":
+      return <ApprovalPages route={route.page} role={role} forbidden={<Forbidden />} />;
     case "notFound":
       return (
         <section>

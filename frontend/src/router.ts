@@ -1,4 +1,5 @@
 /** A very small client-side router over the History API (FastAPI serves index.html for all). */
+import { type ApprovalRoute, parseApprovalRoute } from "./pages/approvals/routes";
 
 export type Route =
   | { name: "missions" }
@@ -7,6 +8,7 @@ export type Route =
   | { name: "users" }
   | { name: "events" }
   | { name: "login" }
+  | { name: "approvals"; page: ApprovalRoute }
   | { name: "notFound"; path: string };
 
 export function parseRoute(pathname: string, search = ""): Route {
@@ -27,6 +29,8 @@ export function parseRoute(pathname: string, search = ""): Route {
     }
     return { name: "mission", id, tab: params.get("tab") ?? "orders" };
   }
+  const approvals = parseApprovalRoute(path);
+  if (approvals) return { name: "approvals", page: approvals };
   return { name: "notFound", path };
 }
 

@@ -27,6 +27,7 @@ import { missionHref } from "../router";
 import { useCan } from "../session";
 import { outcomeLetters, traceText } from "../trace";
 import { useLoad } from "../useLoad";
+import { SubmissionPanel } from "./approvals";
 
 const TABS = ["orders", "findings", "paths", "versions", "edit", "editor"] as const;
 
@@ -381,6 +382,7 @@ function VersionsTab({ mission, onChange }: { mission: MissionDetail; onChange: 
       </p>
       <ErrorMessage error={error} />
       {created !== null && <Notice>Version {created} created.</Notice>}
+      <SubmissionPanel mission={mission.id} versions={mission.versions.map((v) => v.number)} />
       {versions.length === 0 ? (
         <p className="empty">No versions yet.</p>
       ) : (

@@ -1,0 +1,240 @@
+/**
+ * One signed decision, as an auditor sees it: the orders as approved, plain-language orders,
+ * findings, path summary and rehearsal record, and a verification run in this browser
+ * (WebCrypto) of the signature, the key, the log and the checkpoint. Supervisors can revoke an
+ * approval here with a signed reason.
+ */
+import { type FormEvent, useEffect, useState } from "react";
+
+import { api, unwrap } from "../../api/client";
+import { Link } from "../../components/Link";
+import { ErrorMessage, Loading, Notice } from "../../components/Status";
+import { fingerprint } from "../../crypto/keystore";
+import { type Check, verifyApproval } from "../../crypto/verify";
+import { formatDateTime, shortDigest } from "../../format";
+import { useSession } from "../../session";
+import { useLoad } from "../../useLoad";
+import { type ApprovalDetail, approvalHref, bundleHref, loadApproval, loadEntries, type Prepared, reviewHref } from "./api";
+import { OrdersGraph } from "./OrdersGraph";
+import { FindingsTable, PathSummaryTable, StateBadge } from "./parts";
+import { signPrepared, useSigningKeys } from "./signing";
+
+export function ApprovalPage({ id }: { id: number }) {
+  const { data: record, error, loading, reload } = useLoad(() => loadApproval(id), [id]);
+  useEffect(() => {
+    document.title = `Record ${id} · Countersign`;
+  }, [id]);
+  if (loading && !record) return <Loading what={`record ${id}`} />;
+  if (!record) {
+    return (
+      <section>
+        <h1 tabIndex={-1}>Record {id}</h1>
+        <ErrorMessage error={error ?? "The record could not be loaded."} />
+        <p>
+          <Link href="/audit">Back to the audit history</Link>
+        </p>
+      </section>
+    );
+  }
+  const predicate = record.statement.predicate ?? {};
+  return (
+    <section aria-labelledby="approval-title">
+      <p className="breadcrumb">
+        <Link href="/audit">Audit history</Link> / record {record.id}
+      </p>
+      <div className="page-head">
+        <h1 id="approval-title" tabIndex={-1}>
+          Record {record.id}: {record.mission} v{record.version}
+        </h1>
+        <StateBadge state={record.decision} />
+      </div>
+      <dl className="facts">
+        <div>
+          <dt>Supervisor</dt>
+          <dd>{record.supervisor}</dd>
+        </div>
+        <div>
+          <dt>Operator (author)</dt>
+          <dd>{record.operator}</dd>
+        </div>
+        <div>
+          <dt>Vehicle</dt>
+          <dd>{record.vehicle ?? "—"}</dd>
+        </div>
+        <div>
+          <dt>Signed</dt>
+          <dd>
+            <time dateTime={String(predicate.time ?? record.created_at)}>{formatDateTime(String(predicate.time ?? record.created_at))}</time>
+          </dd>
+        </div>
+        <div>
+          <dt>Orders digest</dt>
+          <dd>
+            <code title={record.digest}>{shortDigest(record.digest)}</code>
+          </dd>
+        </div>
+        <div>
+          <dt>Key</dt>
+          <dd>
+            <code title={record.key.key_id}>{fingerprint(record.key.key_id)}</code> ({record.key.status})
+          </dd>
+        </div>
+        <div>
+          <dt>Log entry</dt>
+          <dd>{record.log_index ?? "—"}</dd>
+        </div>
+        {record.reason && (
+          <div>
+            <dt>Reason</dt>
+            <dd>{record.reason}</dd>
+          </div>
+        )}
+        {record.revokes !== null && (
+          <div>
+            <dt>Revokes</dt>
+            <dd>
+              <Link href={approvalHref(record.revokes)}>record {record.revokes}</Link>
+            </dd>
+          </div>
+        )}
+      </dl>
+      <p className="actions">
+        <a href={bundleHref(record.mission)} download={`audit-bundle-${record.mission}.json`} className="button">
+          Export bundle
+        </a>
+        <Link href={reviewHref(record.mission, record.version)}>Review page of v{record.version}</Link>
+      </p>
+      <Verification record={record} />
+      <Revoke record={record} onRevoked={reload} />
+
+      <h2>Orders as approved</h2>
+      <OrdersGraph orders={record.orders as Record<string, unknown>} label={`Goal graph of ${record.mission} v${record.version}`} />
+      <h3>Plain-language orders</h3>
+      <pre className="orders-text" data-testid="approval-plain">
+        {record.plain}
+      </pre>
+      <details>
+        <summary>Orders (JSON, as signed)</summary>
+        <pre className="orders-text">{JSON.stringify(record.orders, null, 2)}</pre>
+      </details>
+      <h2>Findings</h2>
+      <FindingsTable findings={record.findings} caption={`Findings of ${record.mission} v${record.version}`} />
+      <h2>Path summary</h2>
+      <PathSummaryTable paths={record.paths} />
+      <h2>Rehearsal record</h2>
+      <p data-testid="rehearsal">{record.rehearsal ? <code>{JSON.stringify(record.rehearsal)}</code> : "None."}</p>
+      <details>
+        <summary>Signed statement (in-toto) and envelope (DSSE)</summary>
+        <pre className="orders-text">{JSON.stringify(record.statement, null, 2)}</pre>
+        <pre className="orders-text">{record.envelope}</pre>
+      </details>
+    </section>
+  );
+}
+
+function Verification({ record }: { record: ApprovalDetail }) {
+  const [run, setRun] = useState(0);
+  const { data: checks, error, loading } = useLoad(async () => {
+    const entries = await loadEntries(record.checkpoint.size);
+    return verifyApproval(record, entries);
+  }, [record, run]);
+  const failed = checks?.filter((c) => !c.ok) ?? [];
+  return (
+    <section className="card verification" aria-labelledby="verification-title" aria-busy={loading}>
+      <div className="page-head">
+        <h2 id="verification-title">Verification in this browser</h2>
+        <button type="button" onClick={() => setRun((r) => r + 1)} disabled={loading}>
+          Verify again
+        </button>
+      </div>
+      <p className="hint">
+        Checked here with WebCrypto against the log entries, proof and checkpoint the server sent; nothing is taken on the
+        server's word. For a check without the server, export the bundle and run <code>countersign audit verify</code>.
+      </p>
+      <ErrorMessage error={error} />
+      {loading && !checks ? (
+        <Loading what="and checking the log" />
+      ) : checks ? (
+        <>
+          <p className={failed.length ? "verdict bad" : "verdict ok"} data-testid="verification-verdict" role="status">
+            {failed.length
+              ? `${failed.length} of ${checks.length} checks failed: ${failed.map((c) => c.label).join(", ")}.`
+              : `All ${checks.length} checks passed.`}
+          </p>
+          <ul className="checks">
+            {checks.map((c: Check) => (
+              <li key={c.id} className={c.ok ? "check-ok" : "check-bad"} data-testid={`check-${c.id}`}>
+                <span aria-hidden="true">{c.ok ? "✓" : "✗"}</span> <strong>{c.label}</strong>:{" "}
+                <span className="visually-hidden">{c.ok ? "passed" : "failed"}, </span>
+                {c.detail}
+              </li>
+            ))}
+          </ul>
+        </>
+      ) : null}
+    </section>
+  );
+}
+
+function Revoke({ record, onRevoked }: { record: ApprovalDetail; onRevoked: () => void }) {
+  const { user } = useSession();
+  if (user.role !== "supervisor" || record.decision !== "approved") return null;
+  return <RevokeForm record={record} onRevoked={onRevoked} username={user.username} />;
+}
+
+function RevokeForm({ record, onRevoked, username }: { record: ApprovalDetail; onRevoked: () => void; username: string }) {
+  const keys = useSigningKeys(username);
+  const [reason, setReason] = useState("");
+  const [busy, setBusy] = useState(false);
+  const [error, setError] = useState<unknown>(null);
+  const [done, setDone] = useState<number | null>(null);
+  const key = keys.usable[0];
+  const submit = async (event: FormEvent) => {
+    event.preventDefault();
+    if (!key) return;
+    setBusy(true);
+    setError(null);
+    try {
+      if (!reason.trim()) throw new Error("A revocation needs a reason.");
+      const prepared = unwrap(
+        await api.POST("/api/approvals/{approval_id}/statement", {
+          params: { path: { approval_id: record.id } },
+          body: { reason, key_id: key.keyId },
+        }),
+      ) as unknown as Prepared;
+      const envelope = await signPrepared(prepared, key, { digest: record.digest, decision: "revoked" });
+      const stored = unwrap(
+        await api.POST("/api/approvals/{approval_id}/revoke", { params: { path: { approval_id: record.id } }, body: { envelope } }),
+      );
+      setDone(stored.id);
+      onRevoked();
+    } catch (e) {
+      setError(e);
+    } finally {
+      setBusy(false);
+    }
+  };
+  return (
+    <form className="card" onSubmit={(e) => void submit(e)} aria-labelledby="revoke-title">
+      <h2 id="revoke-title">Revoke this approval</h2>
+      <label htmlFor="revocation-reason">Reason (signed)</label>
+      <textarea id="revocation-reason" rows={2} value={reason} maxLength={2000} onChange={(e) => setReason(e.target.value)} />
+      <div className="actions">
+        <button type="submit" className="danger" disabled={busy || !key} aria-describedby={!key ? "revoke-no-key" : undefined}>
+          Sign revocation
+        </button>
+      </div>
+      {!key && !keys.loading && (
+        <p id="revoke-no-key" className="hint">
+          You have no active signing key in this browser. <Link href="/keys">Create and register a key</Link>.
+        </p>
+      )}
+      <ErrorMessage error={error ?? keys.error} />
+      {done !== null && (
+        <Notice>
+          Revocation recorded as <Link href={approvalHref(done)}>record {done}</Link>.
+        </Notice>
+      )}
+    </form>
+  );
+}

@@ -1,0 +1,206 @@
+/**
+ * A supervisor's signing keys: create a key pair in this browser (WebCrypto Ed25519, private
+ * key non-extractable, kept in IndexedDB), register its public key with a fresh password
+ * confirmation, rotate (new key, then the old one revoked) and revoke.
+ */
+import { type FormEvent, useEffect, useState } from "react";
+
+import { api, unwrap } from "../../api/client";
+import { ErrorMessage, Loading, Notice } from "../../components/Status";
+import { deleteKey, fingerprint, generateSigningKey, saveKey } from "../../crypto/keystore";
+import { formatDateTime } from "../../format";
+import { useSession } from "../../session";
+import type { Key } from "./api";
+import { useSigningKeys } from "./signing";
+
+export function KeysPage() {
+  const { user } = useSession();
+  const keys = useSigningKeys(user.username);
+  const [name, setName] = useState("");
+  const [password, setPassword] = useState("");
+  const [busy, setBusy] = useState(false);
+  const [error, setError] = useState<unknown>(null);
+  const [notice, setNotice] = useState<string | null>(null);
+  const [revoking, setRevoking] = useState<Key | null>(null);
+  useEffect(() => {
+    document.title = "Signing keys · Countersign";
+  }, []);
+
+  const mine = keys.server.filter((k) => k.user === user.username);
+  const local = new Set(keys.local.map((k) => k.keyId));
+  const active = mine.filter((k) => k.status === "active");
+
+  const register = async (event: { preventDefault(): void }, rotate: boolean) => {
+    event.preventDefault();
+    setBusy(true);
+    setError(null);
+    setNotice(null);
+    try {
+      if (!password) throw new Error("Confirm your password to register a key.");
+      const generated = await generateSigningKey();
+      const registered = unwrap(
+        await api.POST("/api/keys", { body: { public_key: generated.publicKey, name: name || "browser", password } }),
+      );
+      await saveKey(user.username, generated, name || "browser");
+      let text = `Key ${fingerprint(registered.key_id)} registered; its private key stays in this browser.`;
+      if (rotate) {
+        for (const old of active) {
+          unwrap(
+            await api.POST("/api/keys/{key_id}/revoke", {
+              params: { path: { key_id: old.key_id } },
+              body: { password, reason: `rotated to ${registered.key_id}` },
+            }),
+          );
+          await deleteKey(user.username, old.key_id);
+        }
+        if (active.length) text += ` Revoked ${active.map((k) => fingerprint(k.key_id)).join(", ")}.`;
+      }
+      setNotice(text);
+      setPassword("");
+      setName("");
+    } catch (e) {
+      setError(e);
+    } finally {
+      setBusy(false);
+      keys.reload();
+    }
+  };
+
+  return (
+    <section aria-labelledby="keys-title">
+      <h1 id="keys-title" tabIndex={-1}>
+        Signing keys
+      </h1>
+      <p className="hint">
+        You sign approvals with an Ed25519 key created in this browser. Its private key cannot be exported, not even by
+        Countersign: it never leaves this browser profile. Only the public key is registered with the server. A key
+        created in another browser (or with <code>countersign keygen</code>) signs there.
+      </p>
+      <form className="card" onSubmit={(e) => void register(e, active.length > 0)} aria-labelledby="new-key-title">
+        <h2 id="new-key-title">{active.length ? "Rotate: new key, then revoke the old" : "Create and register a key"}</h2>
+        <label htmlFor="key-name">Key name</label>
+        <input id="key-name" value={name} maxLength={100} placeholder="e.g. office laptop" onChange={(e) => setName(e.target.value)} />
+        <label htmlFor="key-password">Confirm your password</label>
+        <input
+          id="key-password"
+          type="password"
+          autoComplete="current-password"
+          value={password}
+          required
+          onChange={(e) => setPassword(e.target.value)}
+        />
+        <div className="actions">
+          <button type="submit" className="primary" disabled={busy}>
+            {active.length ? "Rotate key" : "Create and register key"}
+          </button>
+          {active.length > 0 && (
+            <button type="button" disabled={busy} onClick={(e) => void register(e, false)}>
+              Add a key without revoking
+            </button>
+          )}
+        </div>
+      </form>
+      <ErrorMessage error={error ?? keys.error} />
+      {notice && <Notice>{notice}</Notice>}
+      <h2>Your keys</h2>
+      {keys.loading ? (
+        <Loading what="your keys" />
+      ) : mine.length === 0 ? (
+        <p className="empty">You have no registered keys.</p>
+      ) : (
+        <table className="keys">
+          <caption className="visually-hidden">Your registered signing keys</caption>
+          <thead>
+            <tr>
+              <th scope="col">Fingerprint</th>
+              <th scope="col">Name</th>
+              <th scope="col">Status</th>
+              <th scope="col">In this browser</th>
+              <th scope="col">Registered</th>
+              <th scope="col">Actions</th>
+            </tr>
+          </thead>
+          <tbody>
+            {mine.map((k) => (
+              <tr key={k.key_id}>
+                <td>
+                  <code title={`SHA-256 of the public key: ${k.key_id}`} data-testid="key-fingerprint">
+                    {fingerprint(k.key_id)}
+                  </code>
+                </td>
+                <td>{k.name}</td>
+                <td>
+                  <span className={`badge ${k.status === "active" ? "ok" : "muted"}`}>{k.status}</span>
+                  {k.revoked_at && ` ${formatDateTime(k.revoked_at)}`}
+                </td>
+                <td>{local.has(k.key_id) ? "yes (can sign here)" : "no"}</td>
+                <td>
+                  <time dateTime={k.created_at}>{formatDateTime(k.created_at)}</time>
+                </td>
+                <td>
+                  {k.status === "active" && (
+                    <button type="button" onClick={() => setRevoking(k)} aria-label={`Revoke key ${fingerprint(k.key_id)}`}>
+                      Revoke
+                    </button>
+                  )}
+                </td>
+              </tr>
+            ))}
+          </tbody>
+        </table>
+      )}
+      {revoking && (
+        <RevokeKey
+          keyRow={revoking}
+          onDone={(text) => {
+            setRevoking(null);
+            if (text) setNotice(text);
+            keys.reload();
+          }}
+        />
+      )}
+    </section>
+  );
+}
+
+function RevokeKey({ keyRow, onDone }: { keyRow: Key; onDone: (notice: string | null) => void }) {
+  const { user } = useSession();
+  const [password, setPassword] = useState("");
+  const [reason, setReason] = useState("");
+  const [error, setError] = useState<unknown>(null);
+  const [busy, setBusy] = useState(false);
+  const submit = async (event: FormEvent) => {
+    event.preventDefault();
+    setBusy(true);
+    setError(null);
+    try {
+      unwrap(
+        await api.POST("/api/keys/{key_id}/revoke", { params: { path: { key_id: keyRow.key_id } }, body: { password, reason } }),
+      );
+      await deleteKey(user.username, keyRow.key_id);
+      onDone(`Key ${fingerprint(keyRow.key_id)} revoked; earlier approvals keep verifying against it.`);
+    } catch (e) {
+      setError(e);
+    } finally {
+      setBusy(false);
+    }
+  };
+  return (
+    <form className="card" onSubmit={(e) => void submit(e)} aria-labelledby="revoke-key-title">
+      <h2 id="revoke-key-title">Revoke key {fingerprint(keyRow.key_id)}</h2>
+      <label htmlFor="revoke-reason">Reason</label>
+      <input id="revoke-reason" value={reason} maxLength={2000} onChange={(e) => setReason(e.target.value)} />
+      <label htmlFor="revoke-password">Confirm your password</label>
+      <input id="revoke-password" type="password" autoComplete="current-password" required value={password} onChange={(e) => setPassword(e.target.value)} />
+      <ErrorMessage error={error} />
+      <div className="actions">
+        <button type="submit" className="danger" disabled={busy}>
+          Revoke key
+        </button>
+        <button type="button" onClick={() => onDone(null)}>
+          Cancel
+        </button>
+      </div>
+    </form>
+  );
+}

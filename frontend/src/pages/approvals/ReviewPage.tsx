@@ -1,0 +1,240 @@
+/**
+ * The review of one version: what the supervisor approves (graph, plain-language orders,
+ * findings, paths), what changed since the previously approved version, and the decision,
+ * signed in this browser with the supervisor's non-extractable key.
+ */
+import { useEffect, useMemo, useState } from "react";
+
+import { api, unwrap } from "../../api/client";
+import { Link } from "../../components/Link";
+import { ErrorMessage, Loading, Notice } from "../../components/Status";
+import { fingerprint } from "../../crypto/keystore";
+import { formatDateTime, shortDigest } from "../../format";
+import { missionHref } from "../../router";
+import { useSession } from "../../session";
+import { useLoad } from "../../useLoad";
+import { type ApprovalSummary, approvalHref, loadReview, type Prepared, type Review } from "./api";
+import { describeDiff, diffOrders } from "./diff";
+import { OrdersGraph } from "./OrdersGraph";
+import { DiffView, FindingsTable, PathList, PathSummaryTable, StateBadge } from "./parts";
+import { signPrepared, useSigningKeys } from "./signing";
+
+export function ReviewPage({ mission, version }: { mission: string; version: number }) {
+  const { data: review, error, loading, reload } = useLoad(() => loadReview(mission, version), [mission, version]);
+  useEffect(() => {
+    document.title = `Review ${mission} v${version} · Countersign`;
+  }, [mission, version]);
+  if (loading && !review) return <Loading what="the review" />;
+  if (!review) {
+    return (
+      <section>
+        <h1 tabIndex={-1}>
+          Review of {mission} v{version}
+        </h1>
+        <ErrorMessage error={error ?? "The version could not be loaded."} />
+      </section>
+    );
+  }
+  const current = review.submissions[0];
+  const title = typeof review.orders.title === "string" && review.orders.title ? review.orders.title : mission;
+  return (
+    <section aria-labelledby="review-title">
+      <p className="breadcrumb">
+        <Link href="/missions">Missions</Link> / <Link href={missionHref(mission, "versions")}>{mission}</Link> / v{version}
+      </p>
+      <h1 id="review-title" tabIndex={-1}>
+        Review: {title} v{version}
+      </h1>
+      <dl className="facts">
+        <div>
+          <dt>State</dt>
+          <dd>{current ? <StateBadge state={current.state} /> : <span className="badge muted">Not submitted</span>}</dd>
+        </div>
+        <div>
+          <dt>Orders digest</dt>
+          <dd>
+            <code title={review.digest}>{shortDigest(review.digest)}</code>
+          </dd>
+        </div>
+        <div>
+          <dt>Author</dt>
+          <dd>{review.author}</dd>
+        </div>
+        <div>
+          <dt>Created</dt>
+          <dd>
+            <time dateTime={review.created_at}>{formatDateTime(review.created_at)}</time>
+          </dd>
+        </div>
+        {current && (
+          <div>
+            <dt>Submitted</dt>
+            <dd>
+              by {current.submitted_by} on <time dateTime={current.submitted_at}>{formatDateTime(current.submitted_at)}</time>
+            </dd>
+          </div>
+        )}
+      </dl>
+      <Decision review={review} onDecided={reload} />
+
+      <h2>Changes since the approved version</h2>
+      <Changes review={review} />
+
+      <h2>Goal graph</h2>
+      <OrdersGraph orders={review.orders} label={`Goal graph of ${mission} v${version}`} />
+
+      <h2>Plain-language orders</h2>
+      <pre className="orders-text" data-testid="review-plain">
+        {review.plain}
+      </pre>
+
+      <h2>Findings</h2>
+      <p className={review.ok ? "verdict ok" : "verdict bad"} data-testid="review-verdict">
+        {review.ok ? "The orders pass every check." : "The orders do not pass."}
+      </p>
+      <FindingsTable findings={review.findings} caption={`Findings of ${mission} v${version}`} />
+
+      <h2>Paths</h2>
+      <PathSummaryTable paths={review.paths} />
+      <PathList items={review.path_items} total={review.paths?.count ?? 0} />
+    </section>
+  );
+}
+
+function Changes({ review }: { review: Review }) {
+  const diff = useMemo(() => (review.previous ? diffOrders(review.previous.orders, review.orders) : null), [review]);
+  if (!review.previous || !diff) {
+    return (
+      <p className="empty" data-testid="diff-summary">
+        No earlier version of this mission was approved: all of these orders are new to review.
+      </p>
+    );
+  }
+  const lines = describeDiff(diff);
+  return (
+    <>
+      <p data-testid="diff-summary">
+        Compared with v{review.previous.version} (approval{" "}
+        {review.previous.approval}
+        {review.previous.state === "revoked" ? ", since revoked" : ""}): {lines.length === 0 ? "no differences." : `${lines.length} difference${lines.length === 1 ? "" : "s"}.`}
+      </p>
+      <DiffView diff={diff} />
+    </>
+  );
+}
+
+function Decision({ review, onDecided }: { review: Review; onDecided: () => void }) {
+  const { user } = useSession();
+  if (user.role !== "supervisor") return null;
+  return <DecisionForm review={review} onDecided={onDecided} username={user.username} />;
+}
+
+function DecisionForm({ review, onDecided, username }: { review: Review; onDecided: () => void; username: string }) {
+  const keys = useSigningKeys(username);
+  const [keyId, setKeyId] = useState("");
+  const [reason, setReason] = useState("");
+  const [busy, setBusy] = useState(false);
+  const [error, setError] = useState<unknown>(null);
+  const [result, setResult] = useState<ApprovalSummary | null>(null);
+  const submission = review.submissions[0];
+  const selected = keys.usable.find((k) => k.keyId === keyId) ?? keys.usable[0];
+
+  const decide = async (decision: "approved" | "rejected") => {
+    if (!submission || !selected) return;
+    setBusy(true);
+    setError(null);
+    setResult(null);
+    try {
+      if (decision === "rejected" && !reason.trim()) throw new Error("A rejection needs a reason: say what must change.");
+      const prepared = unwrap(
+        await api.POST("/api/submissions/{submission_id}/statement", {
+          params: { path: { submission_id: submission.id } },
+          body: { decision, reason, key_id: selected.keyId },
+        }),
+      ) as unknown as Prepared;
+      const envelope = await signPrepared(prepared, selected, { digest: review.digest, decision, submission: submission.id });
+      const stored = unwrap(
+        await api.POST("/api/submissions/{submission_id}/decision", {
+          params: { path: { submission_id: submission.id } },
+          body: { envelope },
+        }),
+      );
+      setResult(stored);
+      onDecided();
+    } catch (e) {
+      setError(e);
+    } finally {
+      setBusy(false);
+    }
+  };
+
+  const refusal = review.decide_refusal ?? (!keys.loading && keys.usable.length === 0 ? "you have no active signing key in this browser" : null);
+  return (
+    <section className="card decision" aria-labelledby="decision-title">
+      <h2 id="decision-title">Your decision</h2>
+      {keys.loading ? (
+        <Loading what="your signing keys" />
+      ) : (
+        <>
+          {keys.usable.length > 0 && (
+            <p>
+              <label htmlFor="decision-key">Signing key</label>{" "}
+              <select id="decision-key" value={selected?.keyId ?? ""} onChange={(e) => setKeyId(e.target.value)}>
+                {keys.usable.map((k) => (
+                  <option key={k.keyId} value={k.keyId}>
+                    {k.name || "key"} · {fingerprint(k.keyId)}
+                  </option>
+                ))}
+              </select>
+            </p>
+          )}
+          <label htmlFor="decision-reason">Reason (required to reject)</label>
+          <textarea id="decision-reason" rows={3} value={reason} onChange={(e) => setReason(e.target.value)} maxLength={2000} />
+          <div className="actions">
+            <button
+              type="button"
+              className="primary"
+              disabled={busy || refusal !== null}
+              aria-describedby={refusal ? "decision-refusal" : undefined}
+              onClick={() => void decide("approved")}
+            >
+              Sign approval
+            </button>
+            <button
+              type="button"
+              className="danger"
+              disabled={busy || refusal !== null}
+              aria-describedby={refusal ? "decision-refusal" : undefined}
+              onClick={() => void decide("rejected")}
+            >
+              Sign rejection
+            </button>
+            {busy && <span role="status">Signing in this browser…</span>}
+          </div>
+          {refusal && (
+            <p id="decision-refusal" className="hint" data-testid="decision-refusal">
+              You cannot decide: {refusal}.
+              {keys.usable.length === 0 && !review.decide_refusal && (
+                <>
+                  {" "}
+                  <Link href="/keys">Create and register a key</Link>.
+                </>
+              )}
+            </p>
+          )}
+        </>
+      )}
+      <ErrorMessage error={error ?? keys.error} />
+      {result && (
+        <Notice>
+          <span data-testid="decision-verdict">
+            The server verified your signature and recorded {result.decision === "approved" ? "the approval" : "the rejection"} (
+            {result.decision} #{result.id}
+            {result.log_index !== null ? `, log entry ${result.log_index}` : ""}).
+          </span>{" "}
+          <Link href={approvalHref(result.id)}>Open the record</Link>
+        </Notice>
+      )}
+    </section>
+  );
+}

@@ -1,0 +1,119 @@
+/**
+ * The mission page's submission panel (Versions tab): pick a version, see its state, submit it
+ * for review (operators; the button says why when it cannot be submitted) or withdraw it.
+ */
+import { useEffect, useState } from "react";
+
+import { api, unwrap } from "../../api/client";
+import { Link } from "../../components/Link";
+import { ErrorMessage, Loading, Notice } from "../../components/Status";
+import { formatDateTime } from "../../format";
+import { useSession } from "../../session";
+import { useLoad } from "../../useLoad";
+import { loadReview, reviewHref } from "./api";
+import { StateBadge } from "./parts";
+
+export function SubmissionPanel({ mission, versions }: { mission: string; versions: number[] }) {
+  const { user } = useSession();
+  const newest = versions.length ? Math.max(...versions) : null;
+  const [chosen, setChosen] = useState<number | null>(newest);
+  const [busy, setBusy] = useState(false);
+  const [error, setError] = useState<unknown>(null);
+  const [done, setDone] = useState<string | null>(null);
+  useEffect(() => setChosen(newest), [newest]);
+  const { data: review, error: loadError, loading, reload } = useLoad(
+    async () => (chosen === null ? null : loadReview(mission, chosen)),
+    [mission, chosen],
+  );
+  if (newest === null || chosen === null) {
+    return (
+      <section aria-labelledby="submission-title" className="card">
+        <h3 id="submission-title">Submission for review</h3>
+        <p className="empty">Create a version first: supervisors review and approve versions, not the draft.</p>
+      </section>
+    );
+  }
+  const current = review?.submissions[0];
+  const act = async (what: "submit" | "withdraw") => {
+    setBusy(true);
+    setError(null);
+    setDone(null);
+    try {
+      if (what === "submit") {
+        unwrap(
+          await api.POST("/api/missions/{mission_id}/versions/{number}/submit", {
+            params: { path: { mission_id: mission, number: chosen } },
+          }),
+        );
+        setDone(`Version ${chosen} submitted for review.`);
+      } else if (current) {
+        unwrap(await api.POST("/api/submissions/{submission_id}/withdraw", { params: { path: { submission_id: current.id } } }));
+        setDone(`Submission ${current.id} withdrawn.`);
+      }
+      reload();
+    } catch (e) {
+      setError(e);
+    } finally {
+      setBusy(false);
+    }
+  };
+  const isOperator = user.role === "operator";
+  const mayWithdraw = isOperator && current?.state === "submitted" && current.submitted_by === user.username;
+  return (
+    <section aria-labelledby="submission-title" className="card submission-panel">
+      <h3 id="submission-title">Submission for review</h3>
+      <label htmlFor="submission-version">Version</label>{" "}
+      <select id="submission-version" value={chosen} onChange={(e) => setChosen(Number(e.target.value))}>
+        {[...versions].sort((a, b) => b - a).map((n) => (
+          <option key={n} value={n}>
+            v{n}
+          </option>
+        ))}
+      </select>
+      {loading && !review ? (
+        <Loading what="the version's state" />
+      ) : review ? (
+        <>
+          <p>
+            State: {current ? <StateBadge state={current.state} /> : <span className="badge muted">Not submitted</span>}
+            {current && (
+              <>
+                {" "}
+                — submission {current.id} by {current.submitted_by} on{" "}
+                <time dateTime={current.submitted_at}>{formatDateTime(current.submitted_at)}</time>
+                {current.decided_by && ` · ${current.state} by ${current.decided_by}`}
+                {current.reason && ` · reason: ${current.reason}`}
+              </>
+            )}
+          </p>
+          <div className="actions">
+            {isOperator && (
+              <button
+                type="button"
+                className="primary"
+                disabled={busy || !review.may_submit}
+                aria-describedby={review.submit_refusal ? "submit-refusal" : undefined}
+                onClick={() => void act("submit")}
+              >
+                Submit version {chosen}
+              </button>
+            )}
+            {mayWithdraw && (
+              <button type="button" disabled={busy} onClick={() => void act("withdraw")}>
+                Withdraw submission
+              </button>
+            )}
+            <Link href={reviewHref(mission, chosen)}>Open the review of v{chosen}</Link>
+          </div>
+          {isOperator && review.submit_refusal && (
+            <p id="submit-refusal" className="hint" data-testid="submit-refusal">
+              Cannot submit: {review.submit_refusal}.
+            </p>
+          )}
+        </>
+      ) : null}
+      <ErrorMessage error={error ?? loadError} />
+      {done && <Notice>{done}</Notice>}
+    </section>
+  );
+}

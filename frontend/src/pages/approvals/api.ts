@@ -1,0 +1,98 @@
+/** Types and calls of the approvals API (docs/api.md, "Approvals and audit") for these pages. */
+import { api, type Finding, type MissionPath, unwrap } from "../../api/client";
+import type { components } from "../../api/schema";
+import type { ApprovalRecord, LogEntryRow } from "../../crypto/verify";
+
+export type Submission = components["schemas"]["SubmissionOut"];
+export type Key = components["schemas"]["KeyOut"];
+export type ApprovalSummary = components["schemas"]["ApprovalOut"];
+export type ApprovalPage = components["schemas"]["ApprovalPage"];
+
+export interface PathSummary {
+  count: number;
+  by_terminal: Record<string, number>;
+}
+
+/** GET /api/missions/{id}/versions/{number}/review */
+export interface Review {
+  mission: string;
+  version: number;
+  digest: string;
+  author: string | null;
+  created_at: string;
+  orders: Record<string, unknown>;
+  plain: string;
+  ok: boolean;
+  findings: Finding[];
+  paths: PathSummary | null;
+  path_items: MissionPath[];
+  submissions: Submission[];
+  previous: { version: number; digest: string; approval: number; state: string; orders: Record<string, unknown> } | null;
+  may_submit: boolean;
+  submit_refusal: string | null;
+  may_decide: boolean;
+  decide_refusal: string | null;
+}
+
+/** GET /api/approvals/{id} */
+export interface ApprovalDetail extends ApprovalRecord {
+  vehicle: string | null;
+  reason: string;
+  revokes: number | null;
+  operator: string | null;
+  supervisor: string | null;
+  key_id: string;
+  submission: number;
+  created_at: string;
+  statement: { predicate?: Record<string, unknown>; subject?: { name?: string }[] };
+  plain: string;
+  findings: Finding[];
+  paths: PathSummary | null;
+  rehearsal: unknown;
+  key: ApprovalRecord["key"] & { name: string; status: string; created_at: string; revoked_at: string | null };
+}
+
+/** The server's prepared statement: sign `pae` (which must equal PAE(payloadType, payload)). */
+export interface Prepared {
+  payloadType: string;
+  payload: string;
+  pae: string;
+  statement: { subject?: { name?: string; digest?: Record<string, string> }[]; predicate?: Record<string, unknown> };
+}
+
+export async function loadReview(mission: string, version: number): Promise<Review> {
+  const result = await api.GET("/api/missions/{mission_id}/versions/{number}/review", {
+    params: { path: { mission_id: mission, number: version } },
+  });
+  return unwrap(result) as unknown as Review;
+}
+
+export async function loadApproval(id: number): Promise<ApprovalDetail> {
+  const result = await api.GET("/api/approvals/{approval_id}", { params: { path: { approval_id: id } } });
+  return unwrap(result) as unknown as ApprovalDetail;
+}
+
+/** The log's first `size` entries (pages of up to 5,000). */
+export async function loadEntries(size: number): Promise<LogEntryRow[]> {
+  const rows: LogEntryRow[] = [];
+  while (rows.length < size) {
+    const limit = Math.min(5000, size - rows.length);
+    const result = await api.GET("/api/log/entries", { params: { query: { start: rows.length, limit } } });
+    const page = unwrap(result) as unknown as LogEntryRow[];
+    if (page.length === 0) break;
+    rows.push(...page);
+  }
+  return rows.slice(0, size);
+}
+
+export function approvalHref(id: number): string {
+  return `/audit/${id}`;
+}
+
+export function reviewHref(mission: string, version: number): string {
+  return `/missions/${encodeURIComponent(mission)}/versions/${version}/review`;
+}
+
+export function bundleHref(mission?: string): string {
+  return mission ? `/api/audit/bundle?mission=${encodeURIComponent(mission)}` : "/api/audit/bundle";
+}

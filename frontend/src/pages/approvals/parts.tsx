@@ -1,0 +1,139 @@
+/** Pieces shared by the review and audit pages: findings, path summary, diff, state badge. */
+import type { Finding, MissionPath } from "../../api/client";
+import { plural, statusLabel } from "../../format";
+import type { PathSummary } from "./api";
+import { type OrdersDiff, showValue } from "./diff";
+
+export function StateBadge({ state }: { state: string }) {
+  const tone = state === "approved" ? "ok" : state === "rejected" || state === "revoked" ? "bad" : state === "submitted" ? "warn" : "muted";
+  return (
+    <span className={`badge ${tone}`} data-testid="submission-state">
+      {statusLabel(state)}
+    </span>
+  );
+}
+
+export function FindingsTable({ findings, caption }: { findings: Finding[]; caption: string }) {
+  if (findings.length === 0) return <p className="empty">No findings.</p>;
+  return (
+    <div className="table-wrap">
+      <table className="findings">
+        <caption className="visually-hidden">{caption}</caption>
+        <thead>
+          <tr>
+            <th scope="col">Code</th>
+            <th scope="col">Severity</th>
+            <th scope="col">Subjects</th>
+            <th scope="col">Message</th>
+          </tr>
+        </thead>
+        <tbody>
+          {findings.map((f, i) => (
+            <tr key={`${f.code}-${i}`} className={`severity-${f.severity}`}>
+              <td>
+                <code>{f.code}</code>
+              </td>
+              <td>
+                <span className={`badge ${f.severity === "error" ? "bad" : "warn"}`}>{f.severity}</span>
+              </td>
+              <td>{f.subjects.join(", ")}</td>
+              <td>{f.message}</td>
+            </tr>
+          ))}
+        </tbody>
+      </table>
+    </div>
+  );
+}
+
+export function PathSummaryTable({ paths }: { paths: PathSummary | null }) {
+  if (!paths) return <p className="empty">The paths cannot be counted until the structural errors are fixed.</p>;
+  return (
+    <table className="counts">
+      <caption>{plural(paths.count, "path")} from the start goal to a terminal</caption>
+      <thead>
+        <tr>
+          <th scope="col">Terminal</th>
+          <th scope="col">Paths</th>
+        </tr>
+      </thead>
+      <tbody>
+        {Object.entries(paths.by_terminal).map(([terminal, n]) => (
+          <tr key={terminal}>
+            <th scope="row">{terminal}</th>
+            <td data-testid={`review-paths-to-${terminal}`}>{n.toLocaleString("en-US")}</td>
+          </tr>
+        ))}
+      </tbody>
+    </table>
+  );
+}
+
+export function PathList({ items, total }: { items: MissionPath[]; total: number }) {
+  if (items.length === 0) return null;
+  return (
+    <>
+      <p className="hint">
+        {items.length < total ? `The first ${items.length} of ${plural(total, "path")}` : `All ${plural(total, "path")}`}{" "}
+        (outcomes: s succeed, f fail, c constraint violated):
+      </p>
+      <ol className="paths" data-testid="review-paths">
+        {items.map((p) => (
+          <li key={p.index} value={p.index}>
+            {p.goals.map((g, i) => `${g} (${{ succeed: "s", fail: "f", violate: "c" }[p.outcomes[i] ?? ""] ?? "?"})`).join(" → ")} →{" "}
+            <strong>{p.terminal}</strong>
+          </li>
+        ))}
+      </ol>
+    </>
+  );
+}
+
+export function DiffView({ diff }: { diff: OrdersDiff }) {
+  if (diff.same) return <p className="empty">No differences: the orders are the same.</p>;
+  const rows: { what: string; id: string; change: string; detail: string }[] = [];
+  for (const f of diff.fields) {
+    rows.push({ what: "Mission", id: f.field, change: "changed", detail: `${showValue(f.before)} → ${showValue(f.after)}` });
+  }
+  for (const s of diff.sections) {
+    for (const a of s.added) rows.push({ what: s.label, id: a.label, change: "added", detail: "" });
+    for (const r of s.removed) rows.push({ what: s.label, id: r.label, change: "removed", detail: "" });
+    for (const c of s.changed) {
+      rows.push({
+        what: s.label,
+        id: c.label,
+        change: "changed",
+        detail: c.fields.map((f) => `${f.field}: ${showValue(f.before, 80)} → ${showValue(f.after, 80)}`).join("; "),
+      });
+    }
+  }
+  return (
+    <div className="table-wrap">
+      <table className="diff" data-testid="orders-diff">
+        <caption className="visually-hidden">Differences from the previously approved version</caption>
+        <thead>
+          <tr>
+            <th scope="col">Part</th>
+            <th scope="col">Item</th>
+            <th scope="col">Change</th>
+            <th scope="col">Detail</th>
+          </tr>
+        </thead>
+        <tbody>
+          {rows.map((r, i) => (
+            <tr key={i} className={`diff-${r.change}`}>
+              <td>{r.what}</td>
+              <td>
+                <code>{r.id}</code>
+              </td>
+              <td>
+                <span className={`badge ${r.change === "added" ? "ok" : r.change === "removed" ? "bad" : "warn"}`}>{r.change}</span>
+              </td>
+              <td>{r.detail}</td>
+            </tr>
+          ))}
+        </tbody>
+      </table>
+    </div>
+  );
+}

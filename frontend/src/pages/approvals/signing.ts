@@ -1,0 +1,74 @@
+/** Signing in the browser: this user's usable keys, and signing exactly what the server built. */
+import { useCallback, useEffect, useState } from "react";
+
+import { api, unwrap } from "../../api/client";
+import { equalBytes, fromBase64 } from "../../crypto/bytes";
+import { pae, signEnvelope } from "../../crypto/dsse";
+import { listKeys, type StoredKey } from "../../crypto/keystore";
+import type { Key, Prepared } from "./api";
+
+export interface SigningKeys {
+  /** Keys registered and active on the server whose private key is in this browser. */
+  usable: StoredKey[];
+  /** Every key in this browser for this user and server. */
+  local: StoredKey[];
+  /** Every key the server knows (supervisors see all supervisors' keys). */
+  server: Key[];
+  loading: boolean;
+  error: unknown;
+  reload: () => void;
+}
+
+export function useSigningKeys(username: string): SigningKeys {
+  const [state, setState] = useState<Omit<SigningKeys, "reload">>({ usable: [], local: [], server: [], loading: true, error: null });
+  const [tick, setTick] = useState(0);
+  useEffect(() => {
+    let current = true;
+    (async () => {
+      const server = unwrap(await api.GET("/api/keys")) as Key[];
+      let local: StoredKey[] = [];
+      let error: unknown = null;
+      try {
+        local = await listKeys(username);
+      } catch (e) {
+        error = e;
+      }
+      const active = new Set(server.filter((k) => k.status === "active" && k.user === username).map((k) => k.key_id));
+      if (current) setState({ server, local, usable: local.filter((k) => active.has(k.keyId)), loading: false, error });
+    })().catch((error: unknown) => current && setState((s) => ({ ...s, loading: false, error })));
+    return () => {
+      current = false;
+    };
+  }, [username, tick]);
+  const reload = useCallback(() => setTick((t) => t + 1), []);
+  return { ...state, reload };
+}
+
+/**
+ * Signs the DSSE PAE of the statement the server prepared, after checking that the server's
+ * `pae` is the PAE of its payload and that the statement says what the supervisor chose.
+ */
+export async function signPrepared(
+  prepared: Prepared,
+  key: StoredKey,
+  expected: { digest: string; decision: string; submission?: number },
+): Promise<string> {
+  const payload = fromBase64(prepared.payload, "the payload");
+  if (!equalBytes(pae(prepared.payloadType, payload), fromBase64(prepared.pae, "the PAE"))) {
+    throw new Error("The server's bytes to sign are not the DSSE PAE of its payload; nothing was signed.");
+  }
+  const statement = JSON.parse(new TextDecoder().decode(payload)) as Prepared["statement"];
+  const digest = `sha256:${statement.subject?.[0]?.digest?.sha256 ?? ""}`;
+  const predicate = statement.predicate ?? {};
+  if (digest !== expected.digest) {
+    throw new Error(`The statement covers ${digest}, not the reviewed orders ${expected.digest}; nothing was signed.`);
+  }
+  if (predicate.decision !== expected.decision) {
+    throw new Error(`The statement records "${String(predicate.decision)}", not "${expected.decision}"; nothing was signed.`);
+  }
+  if (expected.submission !== undefined && predicate.submission !== expected.submission) {
+    throw new Error("The statement is about another submission; nothing was signed.");
+  }
+  if (predicate.key_id !== key.keyId) throw new Error("The statement names another key; nothing was signed.");
+  return signEnvelope(prepared.payloadType, payload, key.keyPair.privateKey, key.keyId);
+}
