@@ -17,9 +17,9 @@ from .conftest import PASSWORD, ROLES, Server
 
 NAV_LINKS = {
     "operator": ["Missions", "Import"],
-    "supervisor": ["Missions", "Activity"],
-    "auditor": ["Missions", "Activity"],
-    "admin": ["Missions", "Activity", "Users"],
+    "supervisor": ["Missions", "Activity", "Reviews", "Audit", "Keys"],
+    "auditor": ["Missions", "Activity", "Audit"],
+    "admin": ["Missions", "Activity", "Audit", "Users"],
 }
 MISSION_TABS = {
     "operator": ["Orders", "Findings", "Paths", "Versions", "Edit orders", "Graph editor"],

@@ -1,0 +1,217 @@
+"""Issue 6 in the browser: an operator submits the exemplar, a supervisor creates a key in the
+browser (WebCrypto, non-extractable, IndexedDB), registers it with a password confirmation and
+signs the approval in the browser, and an auditor verifies the record in the browser and exports
+a bundle that the offline verifier (`countersign audit verify`, a subprocess) accepts. Then one
+byte of the stored envelope is changed directly in the database (bypassing the append-only
+trigger) and both the audit page and the offline verifier name the failing log entry."""
+
+from __future__ import annotations
+
+import json
+import re
+import sqlite3
+import subprocess
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import pytest
+from playwright.sync_api import Browser, BrowserContext, Page, expect
+
+from .conftest import PASSWORD, Server, _cli, _server_env
+from .test_roles import sign_in
+
+MISSION = "e2e-approval"
+
+
+@pytest.fixture()
+def contexts(browser: Browser, server: Server) -> Iterator[list[BrowserContext]]:
+    """Separate browser contexts (cookies, IndexedDB) for the other roles of the test."""
+    opened: list[BrowserContext] = []
+    yield opened
+    for context in opened:
+        context.close()
+
+
+def new_page(browser: Browser, server: Server, opened: list[BrowserContext],
+             errors: list[str]) -> Page:
+    context = browser.new_context(base_url=server.url, viewport={"width": 1280, "height": 900},
+                                  accept_downloads=True)
+    context.set_default_timeout(15_000)
+    opened.append(context)
+    page = context.new_page()
+    page.on("pageerror", lambda error: errors.append(f"page error: {error}"))
+    return page
+
+
+def audit_verify(server: Server, bundle: Path) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(_cli("audit", "verify", str(bundle)), capture_output=True, text=True,
+                          env=_server_env(server.data_dir), timeout=120)
+
+
+def export_bundle(page: Page, target: Path) -> Path:
+    with page.expect_download() as download:
+        page.get_by_role("link", name="Export bundle").click()
+    download.value.save_as(str(target))
+    bundle = json.loads(target.read_text())
+    assert bundle["format"] == "countersign.audit-bundle/1"
+    return target
+
+
+def tamper_envelope(server: Server, approval: int) -> None:
+    """Changes one byte of the stored envelope (its signature's first character), dropping the
+    append-only trigger for that one UPDATE and putting it back, as an attacker would."""
+    connection = sqlite3.connect(server.data_dir / "countersign.db", timeout=30)
+    try:
+        (trigger,) = connection.execute(
+            "SELECT sql FROM sqlite_master WHERE type = 'trigger' AND name = "
+            "'approvals_no_update'").fetchone()
+        (text,) = connection.execute("SELECT envelope FROM approvals WHERE id = ?",
+                                     (approval,)).fetchone()
+        at = text.index('"sig": "') + len('"sig": "') if '"sig": "' in text else \
+            text.index('"sig":"') + len('"sig":"')
+        changed = text[:at] + ("B" if text[at] == "A" else "A") + text[at + 1:]
+        assert len(changed) == len(text) and changed != text
+        with connection:
+            connection.execute("DROP TRIGGER approvals_no_update")
+            connection.execute("UPDATE approvals SET envelope = ? WHERE id = ?",
+                               (changed, approval))
+            connection.execute(trigger)
+    finally:
+        connection.close()
+
+
+def test_submit_sign_verify_export_and_detect_tampering(
+    page: Page, browser: Browser, server: Server, contexts: list[BrowserContext],
+    tmp_path: Path,
+) -> None:
+    from countersign.orders.examples import example_bytes
+
+    errors: list[str] = []
+    upload = tmp_path / f"{MISSION}.json"
+    upload.write_bytes(example_bytes("search-and-sample").replace(
+        b'"id": "search-and-sample"', f'"id": "{MISSION}"'.encode()))
+
+    # The operator imports the exemplar, creates version 1 and submits it.
+    operator = page
+    sign_in(operator, "operator")
+    operator.get_by_role("link", name="Import or create mission").click()
+    operator.get_by_label("Orders file (.json, .xml, .ttl)").set_input_files(str(upload))
+    operator.get_by_role("button", name="Import file").click()
+    expect(operator).to_have_url(re.compile(rf"/missions/{MISSION}\?tab=findings$"))
+    operator.get_by_role("tab", name=re.compile("^Versions")).click()
+    operator.get_by_role("button", name="Create version").click()
+    expect(operator.get_by_role("status").filter(has_text="Version 1 created.")).to_be_visible()
+    operator.get_by_role("button", name="Submit version 1").click()
+    expect(operator.get_by_role("status").filter(has_text="Version 1 submitted for review.")
+           ).to_be_visible()
+    expect(operator.get_by_test_id("submission-state")).to_have_text("Submitted")
+    expect(operator.get_by_role("button", name="Submit version 1")).to_be_disabled()
+    expect(operator.get_by_test_id("submit-refusal")).to_contain_text("is submitted already")
+
+    # The supervisor creates a key in the browser and registers it (password confirmation).
+    supervisor = new_page(browser, server, contexts, errors)
+    sign_in(supervisor, "supervisor")
+    supervisor.get_by_role("link", name="Keys", exact=True).click()
+    expect(supervisor.get_by_role("heading", name="Signing keys", level=1)).to_be_visible()
+    supervisor.get_by_label("Key name").fill("e2e browser")
+    supervisor.get_by_label("Confirm your password").fill("wrong password")
+    supervisor.get_by_role("button", name="Create and register key").click()
+    expect(supervisor.get_by_role("alert")).to_contain_text("password confirmation is wrong")
+    supervisor.get_by_label("Confirm your password").fill(PASSWORD["supervisor"])
+    supervisor.get_by_role("button", name="Create and register key").click()
+    expect(supervisor.get_by_role("status").filter(has_text="registered")).to_be_visible()
+    expect(supervisor.get_by_test_id("key-fingerprint")).to_have_count(1)
+    expect(supervisor.get_by_role("cell", name="yes (can sign here)")).to_be_visible()
+    extractable = supervisor.evaluate("""() => new Promise((resolve, reject) => {
+        const open = indexedDB.open("countersign-keys");
+        open.onsuccess = () => {
+            const all = open.result.transaction("keys").objectStore("keys").getAll();
+            all.onsuccess = () => resolve(all.result.map((k) => k.keyPair.privateKey.extractable));
+            all.onerror = () => reject(all.error);
+        };
+        open.onerror = () => reject(open.error);
+    })""")
+    assert extractable == [False]
+
+    # The review: state, no earlier approval, graph, plain orders, findings, paths; then sign.
+    supervisor.get_by_role("link", name="Reviews", exact=True).click()
+    supervisor.get_by_role("link", name=f"Review {MISSION} v1").click()
+    expect(supervisor.get_by_role("heading", name=re.compile("^Review: .* v1$"))).to_be_visible()
+    expect(supervisor.get_by_test_id("submission-state")).to_have_text("Submitted")
+    expect(supervisor.get_by_test_id("diff-summary")).to_contain_text(
+        "No earlier version of this mission was approved")
+    expect(supervisor.get_by_test_id("orders-graph")).to_be_visible()
+    expect(supervisor.get_by_test_id("review-plain")).to_contain_text("Search Area A")
+    expect(supervisor.get_by_test_id("review-verdict")).to_have_text(
+        "The orders pass every check.")
+    expect(supervisor.get_by_test_id("review-paths-to-COMPLETE")).to_have_text("25")
+    expect(supervisor.get_by_test_id("review-paths-to-ABORT")).to_have_text("50")
+    expect(supervisor.get_by_test_id("review-paths").get_by_role("listitem")).to_have_count(50)
+    supervisor.get_by_role("button", name="Sign approval").click()
+    verdict = supervisor.get_by_test_id("decision-verdict")
+    expect(verdict).to_contain_text("The server verified your signature and recorded the "
+                                    "approval")
+    expect(supervisor.get_by_test_id("submission-state")).to_have_text("Approved")
+    expect(supervisor.get_by_role("button", name="Sign approval")).to_be_disabled()
+    expect(supervisor.get_by_test_id("decision-refusal")).to_contain_text("is approved")
+
+    # The operator changes a goal and submits version 2; the supervisor sees the diff.
+    operator.get_by_role("tab", name="Edit orders").click()
+    orders = json.loads(operator.get_by_label("Orders JSON").input_value())
+    old_title = orders["goals"][0]["title"]
+    orders["goals"][0]["title"] = f"{old_title}, north half"
+    operator.get_by_label("Orders JSON").fill(json.dumps(orders, indent=2))
+    operator.get_by_role("button", name="Save draft").click()
+    expect(operator.get_by_role("status").filter(has_text="Draft saved.")).to_be_visible()
+    operator.get_by_role("tab", name=re.compile("^Versions")).click()
+    operator.get_by_role("button", name="Create version").click()
+    expect(operator.get_by_role("status").filter(has_text="Version 2 created.")).to_be_visible()
+    operator.get_by_role("button", name="Submit version 2").click()
+    expect(operator.get_by_test_id("submission-state")).to_have_text("Submitted")
+    supervisor.goto(f"/missions/{MISSION}/versions/2/review")
+    expect(supervisor.get_by_test_id("diff-summary")).to_contain_text(
+        "Compared with v1 (approval")
+    expect(supervisor.get_by_test_id("diff-summary")).to_contain_text("1 difference.")
+    diff = supervisor.get_by_test_id("orders-diff")
+    expect(diff).to_contain_text(f"{orders['goals'][0]['id']}")
+    expect(diff).to_contain_text(f"title: {old_title} → {old_title}, north half")
+
+    # The auditor finds the approval, sees every check pass in the browser, exports a bundle.
+    auditor = new_page(browser, server, contexts, errors)
+    sign_in(auditor, "auditor")
+    auditor.get_by_role("link", name="Audit", exact=True).click()
+    auditor.get_by_label("Mission", exact=True).fill(MISSION)
+    auditor.get_by_label("Decision", exact=True).select_option("approved")
+    auditor.get_by_role("button", name="Apply filters").click()
+    records = auditor.get_by_role("link", name=re.compile(r"^Record \d+$"))
+    expect(records).to_have_count(1)
+    records.click()
+    expect(auditor.get_by_role("heading", name=re.compile(rf"^Record \d+: {MISSION} v1$"))
+           ).to_be_visible()
+    verification = auditor.get_by_test_id("verification-verdict")
+    expect(verification).to_have_text("All 9 checks passed.", timeout=30_000)
+    expect(auditor.get_by_test_id("approval-plain")).to_contain_text("Search Area A")
+    expect(auditor.get_by_test_id("rehearsal")).to_have_text("None.")
+    bundle = export_bundle(auditor, tmp_path / "bundle.json")
+    checked = audit_verify(server, bundle)
+    assert checked.returncode == 0, checked.stdout + checked.stderr
+
+    # One byte of the stored envelope changes in the database: the page names the entry.
+    record: dict[str, Any] = auditor.evaluate(
+        f"""async () => (await (await fetch("/api/approvals?mission={MISSION}&decision=approved"))
+            .json()).items[0]""")
+    tamper_envelope(server, int(record["id"]))
+    auditor.reload()
+    expect(verification).to_contain_text("checks failed", timeout=30_000)
+    entry = f"log entry {record['log_index']}"
+    expect(auditor.get_by_test_id("check-logged")).to_contain_text(
+        f"the envelope differs from the one logged in {entry}")
+    expect(auditor.get_by_test_id("check-signature")).to_contain_text(
+        "the signature does not verify")
+    expect(auditor.get_by_test_id("check-chain")).to_contain_text("each chained to the one before")
+    tampered = audit_verify(server, export_bundle(auditor, tmp_path / "tampered.json"))
+    assert tampered.returncode == 1, tampered.stdout + tampered.stderr
+    assert f"approval {record['id']}: the envelope differs from the one logged in entry " \
+           f"{record['log_index']}" in tampered.stdout + tampered.stderr
+    assert not errors, "the app raised errors in the browser:\n" + "\n".join(errors)
