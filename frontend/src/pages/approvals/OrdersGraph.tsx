@@ -22,7 +22,7 @@ export function OrdersGraph({ orders, label }: { orders: Record<string, unknown>
   const height = Math.max(...graph.nodes.map((n) => n.position.y + size(n.kind).height), 100) + 2 * PAD;
   return (
     <figure className="orders-graph">
-      <div className="orders-graph-canvas">
+      <div className="orders-graph-canvas" role="region" tabIndex={0} aria-label={`${label} (scrollable)`}>
         <svg
           width={width}
           height={height}
