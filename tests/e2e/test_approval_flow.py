@@ -176,6 +176,9 @@ def test_submit_sign_verify_export_and_detect_tampering(
     diff = supervisor.get_by_test_id("orders-diff")
     expect(diff).to_contain_text(f"{orders['goals'][0]['id']}")
     expect(diff).to_contain_text(f"title: {old_title} → {old_title}, north half")
+    operator.get_by_role("button", name="Withdraw submission").click()
+    expect(operator.get_by_test_id("submission-state")).to_have_text("Withdrawn")
+    expect(operator.get_by_role("button", name="Submit version 2")).to_be_enabled()
 
     # The auditor finds the approval, sees every check pass in the browser, exports a bundle.
     auditor = new_page(browser, server, contexts, errors)

@@ -382,7 +382,7 @@ function VersionsTab({ mission, onChange }: { mission: MissionDetail; onChange: 
       </p>
       <ErrorMessage error={error} />
       {created !== null && <Notice>Version {created} created.</Notice>}
-      <SubmissionPanel mission={mission.id} versions={mission.versions.map((v) => v.number)} />
+      <SubmissionPanel mission={mission.id} versions={mission.versions.map((v) => v.number)} onChange={onChange} />
       {versions.length === 0 ? (
         <p className="empty">No versions yet.</p>
       ) : (

@@ -75,7 +75,9 @@ export function ReviewPage({ mission, version }: { mission: string; version: num
           </div>
         )}
       </dl>
-      <Decision review={review} onDecided={reload} />
+      <p className="hint">
+        Read the changes, the graph, the orders, the findings and the paths below; your decision is signed at the end.
+      </p>
 
       <h2>Changes since the approved version</h2>
       <Changes review={review} />
@@ -97,11 +99,14 @@ export function ReviewPage({ mission, version }: { mission: string; version: num
       <h2>Paths</h2>
       <PathSummaryTable paths={review.paths} />
       <PathList items={review.path_items} total={review.paths?.count ?? 0} />
+
+      <Decision review={review} onDecided={reload} />
     </section>
   );
 }
 
 function Changes({ review }: { review: Review }) {
+  const role = useSession().user.role;
   const diff = useMemo(() => (review.previous ? diffOrders(review.previous.orders, review.orders) : null), [review]);
   if (!review.previous || !diff) {
     return (
@@ -114,8 +119,12 @@ function Changes({ review }: { review: Review }) {
   return (
     <>
       <p data-testid="diff-summary">
-        Compared with v{review.previous.version} (approval{" "}
-        {review.previous.approval}
+        Compared with v{review.previous.version} (
+        {role === "operator" ? (
+          `approval ${review.previous.approval}`
+        ) : (
+          <Link href={approvalHref(review.previous.approval)}>approval {review.previous.approval}</Link>
+        )}
         {review.previous.state === "revoked" ? ", since revoked" : ""}): {lines.length === 0 ? "no differences." : `${lines.length} difference${lines.length === 1 ? "" : "s"}.`}
       </p>
       <DiffView diff={diff} />

@@ -13,7 +13,16 @@ import { useLoad } from "../../useLoad";
 import { loadReview, reviewHref } from "./api";
 import { StateBadge } from "./parts";
 
-export function SubmissionPanel({ mission, versions }: { mission: string; versions: number[] }) {
+export function SubmissionPanel({
+  mission,
+  versions,
+  onChange,
+}: {
+  mission: string;
+  versions: number[];
+  /** Called after a submission or withdrawal (the mission's status changed). */
+  onChange?: () => void;
+}) {
   const { user } = useSession();
   const newest = versions.length ? Math.max(...versions) : null;
   const [chosen, setChosen] = useState<number | null>(newest);
@@ -51,6 +60,7 @@ export function SubmissionPanel({ mission, versions }: { mission: string; versio
         setDone(`Submission ${current.id} withdrawn.`);
       }
       reload();
+      onChange?.();
     } catch (e) {
       setError(e);
     } finally {
