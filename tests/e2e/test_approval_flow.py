@@ -3,7 +3,8 @@ browser (WebCrypto, non-extractable, IndexedDB), registers it with a password co
 signs the approval in the browser, and an auditor verifies the record in the browser and exports
 a bundle that the offline verifier (`countersign audit verify`, a subprocess) accepts. Then one
 byte of the stored envelope is changed directly in the database (bypassing the append-only
-trigger) and both the audit page and the offline verifier name the failing log entry."""
+trigger) and both the audit page and the offline verifier name the failing log entry; changed
+key, version orders and log entry are then named on the audit page as well."""
 
 from __future__ import annotations
 
@@ -58,27 +59,41 @@ def export_bundle(page: Page, target: Path) -> Path:
     return target
 
 
-def tamper_envelope(server: Server, approval: int) -> None:
-    """Changes one byte of the stored envelope (its signature's first character), dropping the
-    append-only trigger for that one UPDATE and putting it back, as an attacker would."""
+def bypass(server: Server, table: str, sql: str, *params: Any) -> None:
+    """Runs one UPDATE directly on the server's SQLite database, dropping the table's
+    append-only trigger (if any) for it and putting it back, as an attacker would."""
     connection = sqlite3.connect(server.data_dir / "countersign.db", timeout=30)
     try:
-        (trigger,) = connection.execute(
-            "SELECT sql FROM sqlite_master WHERE type = 'trigger' AND name = "
-            "'approvals_no_update'").fetchone()
-        (text,) = connection.execute("SELECT envelope FROM approvals WHERE id = ?",
-                                     (approval,)).fetchone()
-        at = text.index('"sig": "') + len('"sig": "') if '"sig": "' in text else \
-            text.index('"sig":"') + len('"sig":"')
-        changed = text[:at] + ("B" if text[at] == "A" else "A") + text[at + 1:]
-        assert len(changed) == len(text) and changed != text
+        found = connection.execute(
+            "SELECT sql FROM sqlite_master WHERE type = 'trigger' AND name = ?",
+            (f"{table}_no_update",)).fetchone()
         with connection:
-            connection.execute("DROP TRIGGER approvals_no_update")
-            connection.execute("UPDATE approvals SET envelope = ? WHERE id = ?",
-                               (changed, approval))
-            connection.execute(trigger)
+            if found:
+                connection.execute(f"DROP TRIGGER {table}_no_update")
+            assert connection.execute(sql, params).rowcount == 1
+            if found:
+                connection.execute(found[0])
     finally:
         connection.close()
+
+
+def stored(server: Server, sql: str, *params: Any) -> Any:
+    connection = sqlite3.connect(server.data_dir / "countersign.db", timeout=30)
+    try:
+        return connection.execute(sql, params).fetchone()[0]
+    finally:
+        connection.close()
+
+
+def tamper_envelope(server: Server, approval: int) -> None:
+    """Changes one byte of the stored envelope: its signature's first character."""
+    text = stored(server, "SELECT envelope FROM approvals WHERE id = ?", approval)
+    marker = '"sig":"' if '"sig":"' in text else '"sig": "'
+    at = text.index(marker) + len(marker)
+    changed = text[:at] + ("B" if text[at] == "A" else "A") + text[at + 1:]
+    assert len(changed) == len(text) and changed != text
+    bypass(server, "approvals", "UPDATE approvals SET envelope = ? WHERE id = ?", changed,
+           approval)
 
 
 def test_submit_sign_verify_export_and_detect_tampering(
@@ -217,4 +232,30 @@ def test_submit_sign_verify_export_and_detect_tampering(
     assert tampered.returncode == 1, tampered.stdout + tampered.stderr
     assert f"approval {record['id']}: the envelope differs from the one logged in entry " \
            f"{record['log_index']}" in tampered.stdout + tampered.stderr
+
+    # A changed key, version and log entry are named on the page too.
+    key_id = record["key_id"]
+    bypass(server, "signing_keys", "UPDATE signing_keys SET public_key = ? WHERE id = ?",
+           "A" * 43 + "=", key_id)
+    version = stored(server, "SELECT version_id FROM approvals WHERE id = ?", record["id"])
+    orders = json.loads(stored(server, "SELECT orders FROM mission_versions WHERE id = ?",
+                               version))
+    orders["goals"][1]["title"] = "Take no sample"
+    bypass(server, "mission_versions", "UPDATE mission_versions SET orders = ? WHERE id = ?",
+           json.dumps(orders), version)
+    first = stored(server, 'SELECT entry FROM log_entries WHERE "index" = 0')
+    bypass(server, "log_entries", 'UPDATE log_entries SET entry = ? WHERE "index" = 0',
+           first.replace('"at":"20', '"at":"19', 1))
+    auditor.reload()
+    expect(verification).to_contain_text("checks failed", timeout=30_000)
+    expect(auditor.get_by_test_id("check-key")).to_contain_text(
+        re.compile(r"differs from its registration in log entry \d+"))
+    expect(auditor.get_by_test_id("check-orders")).to_contain_text(
+        f"the stored orders of {MISSION}@v1 do not hash to the signed digest")
+    expect(auditor.get_by_test_id("check-chain")).to_contain_text(
+        "log entry 0 does not hash to the leaf hash recorded for it")
+    expect(auditor.get_by_test_id("check-chain")).to_contain_text(
+        "log entry 1 does not chain to entry 0")
+    expect(auditor.get_by_test_id("check-root")).to_contain_text(
+        "log entries 0..")
     assert not errors, "the app raised errors in the browser:\n" + "\n".join(errors)
