@@ -195,7 +195,26 @@ def test_submit_sign_verify_export_and_detect_tampering(
     expect(operator.get_by_test_id("submission-state")).to_have_text("Withdrawn")
     expect(operator.get_by_role("button", name="Submit version 2")).to_be_enabled()
 
-    # The auditor finds the approval, sees every check pass in the browser, exports a bundle.
+    # The supervisor rotates the key (the old one is revoked) and revokes the approval with a
+    # signed reason, using the new key.
+    supervisor.get_by_role("link", name="Keys", exact=True).click()
+    supervisor.get_by_label("Key name").fill("e2e rotated")
+    supervisor.get_by_label("Confirm your password").fill(PASSWORD["supervisor"])
+    supervisor.get_by_role("button", name="Rotate key").click()
+    expect(supervisor.get_by_role("status").filter(has_text="Revoked")).to_be_visible()
+    expect(supervisor.get_by_test_id("key-fingerprint")).to_have_count(2)
+    expect(supervisor.get_by_role("cell", name="yes (can sign here)")).to_have_count(1)
+    supervisor.get_by_role("link", name="Audit", exact=True).click()
+    supervisor.get_by_label("Mission", exact=True).fill(MISSION)
+    supervisor.get_by_role("button", name="Apply filters").click()
+    supervisor.get_by_role("link", name=re.compile(r"^Record \d+$")).click()
+    supervisor.get_by_label("Reason (signed)").fill("Area A is closed to sampling this week")
+    supervisor.get_by_role("button", name="Sign revocation").click()
+    expect(supervisor.get_by_role("status").filter(has_text="Revocation recorded as record")
+           ).to_be_visible()
+
+    # The auditor finds the approval, sees every check pass in the browser (its key was revoked
+    # only after it signed), and exports a bundle.
     auditor = new_page(browser, server, contexts, errors)
     sign_in(auditor, "auditor")
     auditor.get_by_role("link", name="Audit", exact=True).click()
@@ -211,6 +230,7 @@ def test_submit_sign_verify_export_and_detect_tampering(
     expect(verification).to_have_text("All 9 checks passed.", timeout=30_000)
     expect(auditor.get_by_test_id("approval-plain")).to_contain_text("Search Area A")
     expect(auditor.get_by_test_id("rehearsal")).to_have_text("None.")
+    expect(auditor.get_by_test_id("check-key")).to_contain_text("not revoked before it")
     bundle = export_bundle(auditor, tmp_path / "bundle.json")
     checked = audit_verify(server, bundle)
     assert checked.returncode == 0, checked.stdout + checked.stderr
