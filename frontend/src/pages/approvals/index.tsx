@@ -1,4 +1,6 @@
 /** The approval pages (issue 6) as the app shell mounts them: nav links and the page switch. */
+import type { ReactNode } from "react";
+
 import { Link } from "../../components/Link";
 import { ApprovalPage } from "./ApprovalPage";
 import { AuditPage } from "./AuditPage";
@@ -31,7 +33,7 @@ export function ApprovalNavLinks({ role, current }: { role: string; current: App
   );
 }
 
-export function ApprovalPages({ route, role, forbidden }: { route: ApprovalRoute; role: string; forbidden: React.ReactNode }) {
+export function ApprovalPages({ route, role, forbidden }: { route: ApprovalRoute; role: string; forbidden: ReactNode }) {
   if (!PAGE_ROLES[route.page].includes(role)) return <>{forbidden}</>;
   switch (route.page) {
     case "review":
