@@ -48,16 +48,16 @@ def _observed(theory: DefaultTheory, literal: Literal) -> bool:
     return any(_matches(obs, Literal(literal.name, literal.arg)) for obs in theory.observables)
 
 
-def _known_actions(theory: DefaultTheory, orders: Orders | None) -> set[str]:
-    actions = set(theory.actions)
-    if orders is not None:
-        vehicle = orders.target_vehicle()
-        if vehicle is not None:
-            actions.update(vehicle.behaviors)
-            for feature in vehicle.features:
-                actions.update(feature.fulfills)
-        actions.update(goal.behavior for goal in orders.goals if goal.behavior)
-    return actions
+def _known_actions(theory: DefaultTheory, orders: Orders | None) -> tuple[set[str], str]:
+    """What do_safe may name, and where that list comes from. With orders whose vehicle lists
+    its behaviours, those are the truth (the rules' own `actions` list cannot widen them)."""
+    vehicle = orders.target_vehicle() if orders is not None else None
+    if vehicle is not None and (vehicle.behaviors or vehicle.features):
+        actions = set(vehicle.behaviors)
+        for feature in vehicle.features:
+            actions.update(feature.fulfills)
+        return actions, f"behaviours of vehicle {vehicle.id}"
+    return set(theory.actions), "rules.actions"
 
 
 def _safe_actions(rules: Iterable[Rule]) -> list[tuple[Rule, Literal]]:
@@ -124,7 +124,7 @@ def _pattern_findings(theory: DefaultTheory) -> list[Finding]:
 
 def _action_findings(theory: DefaultTheory, orders: Orders | None) -> list[Finding]:
     found: list[Finding] = []
-    known = _known_actions(theory, orders)
+    known, where = _known_actions(theory, orders)
     uses = _safe_actions(theory.rules)
     if uses and not known:
         found.append(warning(
@@ -140,8 +140,8 @@ def _action_findings(theory: DefaultTheory, orders: Orders | None) -> list[Findi
     for action, rule_ids in unknown.items():
         found.append(error(
             CODE, list(dict.fromkeys(rule_ids)),
-            f"do_safe({action}) names no behaviour of the vehicle "
-            f"(known: {', '.join(sorted(known))}); the vehicle could not carry it out.",
+            f"do_safe({action}) is not a behaviour the vehicle can carry out (not among the "
+            f"{where}: {', '.join(sorted(known))}).",
         ))
     return found
 
