@@ -77,7 +77,7 @@ def _no_duplicates(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
     return result
 
 
-def load_rules(source: str) -> tuple[DefaultTheory | None, list[Finding], str]:
+def load_rules(source: str) -> tuple[DefaultTheory, list[Finding], str]:
     """The theory named by `source`, its design findings and a label for output."""
     from .orders.examples import example_bytes
 
@@ -107,10 +107,10 @@ def load_rules(source: str) -> tuple[DefaultTheory | None, list[Finding], str]:
         theory = parse_theory(body, "rules" if "rules" in parsed else "$")
         return theory, design_findings(theory), name
     loaded = read_bytes(data, name)
-    theory = theory_for(loaded.orders)
-    if theory is None:
+    found = theory_for(loaded.orders)
+    if found is None:
         raise _usage_error(f"{name}: the orders and their vehicle profile carry no rules")
-    return theory, design_findings(theory, loaded.orders), name
+    return found, design_findings(found, loaded.orders), name
 
 
 def _extension_json(ext: Extension) -> dict[str, Any]:
@@ -166,7 +166,6 @@ def cmd_rules(args: argparse.Namespace) -> int:
         if isinstance(exc, OrdersReadError):
             raise
         raise _usage_error(f"--observe: {exc}") from None
-    assert theory is not None
     ext = extension(theory, observations)
     verdict = None
     if args.action:
