@@ -52,10 +52,13 @@ exit codes: 0 no error findings, 1 error findings (design errors in the rules),
 2 unreadable input, unreadable rules or bad usage."""
 
 
-def _usage_error(message: str) -> Exception:
-    from .cli import UsageError  # cli imports this module: import late
+class RulesUsageError(Exception):
+    """Bad input the user can fix; exit code 2. Caught here rather than by cli.main, which may
+    run as __main__ with its own copy of UsageError."""
 
-    return UsageError(message)
+
+def _usage_error(message: str) -> Exception:
+    return RulesUsageError(message)
 
 
 def _read_source(source: str) -> tuple[bytes, str]:
@@ -156,6 +159,14 @@ def _write_text(
 
 
 def cmd_rules(args: argparse.Namespace) -> int:
+    try:
+        return _rules(args)
+    except RulesUsageError as exc:
+        sys.stderr.write(f"countersign: {exc}\n")
+        return EXIT_UNREADABLE
+
+
+def _rules(args: argparse.Namespace) -> int:
     try:
         theory, findings, label = load_rules(args.file)
         observations = parse_observations(args.observe or "")

@@ -329,7 +329,8 @@ def compute(
             dict.fromkeys([*(program.names[atom] for atom in contradictions),
                            *loose_contradictions])
         ),
-        observations=tuple((lit.atom, lit.positive) for lit in observed),
+        # As given (normalised), so that check_action replays exactly the same observations.
+        observations=tuple((str(parse_literal(key)), value) for key, value in observations.items()),
         derived_by=derived_by,
         theory=theory,
     )

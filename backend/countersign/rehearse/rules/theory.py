@@ -61,7 +61,8 @@ class Rule:
     text: str = ""
     priority: int = 0
     exception_to: tuple[str, ...] = ()
-    path: str = ""
+    # Where the rule was read (for messages); not part of what the rule means.
+    path: str = field(default="", compare=False)
 
     @property
     def is_fact(self) -> bool:
