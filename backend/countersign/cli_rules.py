@@ -116,17 +116,6 @@ def load_rules(source: str) -> tuple[DefaultTheory, list[Finding], str]:
     return found, design_findings(found, loaded.orders), name
 
 
-def _extension_json(ext: Extension) -> dict[str, Any]:
-    return {
-        "literals": sorted(ext.literals),
-        "goals": list(ext.goals),
-        "safe_actions": list(ext.safe_actions),
-        "fired": list(ext.fired),
-        "blocked": list(ext.blocked),
-        "contradictions": list(ext.contradictions),
-    }
-
-
 def _write_text(
     label: str, theory: DefaultTheory, findings: list[Finding], observations: dict[str, bool],
     ext: Extension, verdict: ActionVerdict | None, out: TextIO,
@@ -194,7 +183,7 @@ def _rules(args: argparse.Namespace) -> int:
             ],
             "findings": [f.to_json() for f in findings],
             "observations": observations,
-            "extension": _extension_json(ext),
+            "extension": ext.to_json(),
             "verdict": verdict.to_json() if verdict else None,
         }
         json.dump(data, sys.stdout, indent=2)

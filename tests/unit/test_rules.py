@@ -412,7 +412,11 @@ def test_design_rules_reading_atoms_nothing_produces() -> None:
         {"id": "X2", "kind": "safety", "if": ["sensor_failure(pressure)"],
          "then": "do_safe(shutdown)"}]})
     assert found == {"X1": "warning"}
-    assert _codes({"strict": [{"id": "X1", "if": ["a"], "then": "b"}]}) == {"": "warning"}
+    assert _codes({"strict": [{"id": "X1", "if": ["a"], "then": "b"}]}) == {"rules": "warning"}
+    assert _codes({**BASE, "defaults": [{"id": "D1", "if": ["gps", "not gps"],
+                                         "then": "do_safe(surface)", "kind": "safety"}],
+                   "strict": [{"id": "X", "if": ["leak"], "then": "not do_safe(surface)",
+                               "kind": "safety"}]}) == {"D1": "warning"}
 
 
 def test_design_shadowed_and_conflicting_rules() -> None:

@@ -151,7 +151,7 @@ def _reachability_findings(theory: DefaultTheory) -> list[Finding]:
     if not theory.observables:
         if theory.rules:
             found.append(warning(
-                CODE, [],
+                CODE, list(theory.sources) or ["rules"],
                 "The rules declare no observables, so it cannot be checked which "
                 "prerequisites the vehicle can ever observe; list them under rules.observables.",
             ))
@@ -164,6 +164,13 @@ def _reachability_findings(theory: DefaultTheory) -> list[Finding]:
         return any(_matches(head, lit) for head in heads)
 
     for rule in theory.rules:
+        clash = sorted({lit.atom for lit in rule.body if lit.negated() in rule.body})
+        if clash:
+            found.append(warning(
+                CODE, [rule.id],
+                f"{rule.id} requires both {clash[0]} and not {clash[0]}, so it can never apply.",
+            ))
+            continue
         missing = [str(lit) for lit in rule.body if not produced(lit)]
         if missing:
             kind = "default" if rule.is_default else "rule"

@@ -37,6 +37,7 @@ import heapq
 import itertools
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 from .syntax import Literal, is_variable, parse_atom, parse_literal
 from .theory import DO_SAFE, GOAL, NEXT_ACTION, DefaultTheory, Rule
@@ -85,6 +86,19 @@ class Extension:
 
     def observation_map(self) -> dict[str, bool]:
         return dict(self.observations)
+
+    def to_json(self) -> dict[str, Any]:
+        """For records and the API: what held, what fired, what was blocked, and why."""
+        return {
+            "observations": [[key, value] for key, value in self.observations],
+            "literals": sorted(self.literals),
+            "goals": list(self.goals),
+            "safe_actions": list(self.safe_actions),
+            "fired": list(self.fired),
+            "blocked": list(self.blocked),
+            "contradictions": list(self.contradictions),
+            "derived_by": dict(sorted(self.derived_by.items())),
+        }
 
 
 # --------------------------------------------------------------------------------- grounding
