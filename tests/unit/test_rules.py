@@ -267,6 +267,12 @@ def test_parse_reads_literals_and_writes_plain_english(exemplar: DefaultTheory) 
     assert by_id["S_shutdown"].startswith("S_shutdown (safety default): Normally")
     assert "surface now" in by_id["S_leak_surface"]
     assert "neither a GPS nor a USBL fix" in by_id["E_no_fix"]
+    assert by_id["E_no_fix"].startswith(
+        "E_no_fix (estimation rule): If 'gps was captured' is false and 'usbl was captured' "
+        "is false, then 'localised' is false.")
+    assert by_id["A_energy"].startswith(
+        "A_energy (action check rule): For any X: if the planned action is X and "
+        "'enough energy (X)' is false, then transit now.")
 
 
 # ----------------------------------------------------------------------------- orders
@@ -454,7 +460,7 @@ def test_cli_rules_text_shows_rules_extension_and_verdict() -> None:
     assert result.returncode == 0, result.stderr
     out = result.stdout
     assert "Rules of example:transect-survey (44: 17 defaults" in out
-    assert "D_loc (estimation default): Normally, localised" in out
+    assert "D_loc (estimation default): Normally, 'localised' is true, unless" in out
     assert "goals:   home" in out and "blocked: D_loc, G_t1, G_t2" in out
     assert "Planned action transect_t2: overridden: do go_home" in out
 
