@@ -264,7 +264,7 @@ def test_parse_reads_literals_and_writes_plain_english(exemplar: DefaultTheory) 
     assert len(sentences) == len(exemplar)
     by_id = {s.split(" ", 1)[0]: s for s in sentences}
     assert "shut down" in by_id["S_shutdown"].lower() or "shutdown" in by_id["S_shutdown"]
-    assert by_id["S_shutdown"].startswith("S_shutdown (safety default): Normally")
+    assert by_id["S_shutdown"].startswith("S_shutdown (safety default): For any X: normally")
     assert "surface now" in by_id["S_leak_surface"]
     assert "neither a GPS nor a USBL fix" in by_id["E_no_fix"]
     assert by_id["E_no_fix"].startswith(
