@@ -42,11 +42,12 @@ rules object itself), 'example:NAME' for built-in orders, 'theory:NAME' for a bu
 ({theories}) or '-' for standard input.
 
 examples:
-  countersign rules theory:transect --observe localisation_precision_low,transect_done(t1)
-  countersign rules example:search-and-sample-rules --observe "safety_sensor_failure(leak)" \\
-      --action area_search
-  countersign rules example:transect-survey --observe gps_was_captured=false,\\
-usbl_was_captured=false --format json
+  countersign rules theory:transect \\
+      --observe "localisation_precision_low,transect_done(t1)" --action transect_t2
+  countersign rules example:search-and-sample-rules \\
+      --observe "safety_sensor_failure(leak)" --action area_search
+  countersign rules example:transect-survey --format json \\
+      --observe gps_was_captured=false,usbl_was_captured=false
 
 exit codes: 0 no error findings, 1 error findings (design errors in the rules),
 2 unreadable input, unreadable rules or bad usage."""
