@@ -490,3 +490,18 @@ def test_cli_rules_json_and_theory_files(tmp_path: Path) -> None:
     assert result.returncode == 2 and "--observe" in result.stderr
     help_text = run_cli("rules", "--help").stdout
     assert "(17)" in help_text and "--observe" in help_text and "theory:transect" in help_text
+
+
+def test_extensions_from_many_threads_agree_with_serial(transect: DefaultTheory) -> None:
+    # Rehearsals step shared theories from several threads: the compiled program is shared.
+    from concurrent.futures import ThreadPoolExecutor
+
+    fresh = load_theory("transect")  # nothing compiled yet: threads race to compile it
+    cases = [observe(t1_done=bool(i % 2), localisation_precision_low=i % 3 == 0,
+                     leak=i % 5 == 0) for i in range(40)]
+    cases += [{**case, f"safety_sensor_failure(s{i})": True} for i, case in enumerate(cases)]
+    serial = [extension(transect, case).to_json() for case in cases]
+    with ThreadPoolExecutor(max_workers=8) as pool:
+        parallel = list(pool.map(lambda case: extension(fresh, case).to_json(), cases))
+    assert parallel == serial
+    assert serial[0]["derived_by"]["not goal(transect_t2)"] in {"X_order", "X_t2_lost"}

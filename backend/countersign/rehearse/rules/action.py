@@ -97,7 +97,7 @@ def check_action(
         """The deciding rule's own words, when its author gave some."""
         for rule_id in because[:1]:
             try:
-                text = theory.rule(rule_id).text.strip()
+                text = theory.rule(rule_id).text.strip().rstrip(".")
             except KeyError:
                 continue
             if text:
