@@ -25,6 +25,7 @@ from .rehearse.rules import (
     theory_for,
     theory_names,
 )
+from .rehearse.rules.engine import TheoryTooLarge
 from .rehearse.rules.syntax import LiteralSyntaxError
 
 EXIT_OK, EXIT_FINDINGS, EXIT_UNREADABLE = 0, 1, 2
@@ -167,7 +168,11 @@ def _rules(args: argparse.Namespace) -> int:
         if isinstance(exc, OrdersReadError):
             raise
         raise _usage_error(f"--observe: {exc}") from None
-    ext = extension(theory, observations)
+    try:
+        ext = extension(theory, observations)
+    except TheoryTooLarge as exc:
+        sys.stderr.write(f"countersign: cannot reason with the rules of {args.file}:\n  {exc}\n")
+        return EXIT_UNREADABLE
     verdict = None
     if args.action:
         try:

@@ -505,3 +505,14 @@ def test_extensions_from_many_threads_agree_with_serial(transect: DefaultTheory)
         parallel = list(pool.map(lambda case: extension(fresh, case).to_json(), cases))
     assert parallel == serial
     assert serial[0]["derived_by"]["not goal(transect_t2)"] in {"X_order", "X_t2_lost"}
+
+
+def test_grounding_is_bounded() -> None:
+    from countersign.rehearse.rules.engine import MAX_GROUND_RULES, TheoryTooLarge
+
+    constants = [{"id": f"F{i}", "fact": f"p(c{i})"} for i in range(1_000)]
+    theory = parse_theory({"facts": constants, "strict": [
+        {"id": "S1", "if": ["p(X)", "p(Y)"], "then": "q(X)"}]})
+    assert MAX_GROUND_RULES < 1_000 * 1_000
+    with pytest.raises(TheoryTooLarge, match=r"rules\.strict"):
+        extension(theory, {})

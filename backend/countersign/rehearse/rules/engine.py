@@ -43,6 +43,14 @@ from .syntax import Literal, is_variable, parse_atom, parse_literal
 from .theory import DO_SAFE, GOAL, NEXT_ACTION, DefaultTheory, Rule
 
 EQ17_ID = "eq17"
+# Variables multiply rules by the constants they range over: bound the result, so that rules
+# from untrusted orders cannot make the reasoner allocate without limit.
+MAX_GROUND_RULES = 500_000
+
+
+class TheoryTooLarge(ValueError):
+    pass
+
 EQ17_PRIORITY = -(10**7)  # below any priority a theory may state: safety rules come first
 EQ17_RULE = Rule(
     id=EQ17_ID,
@@ -179,6 +187,14 @@ def _ground(theory: DefaultTheory, rules: Iterable[Rule], extra: Iterable[Litera
                     names = everything if lit.name in open_heads else by_name.get(lit.name, set())
                     domain = set(names) if domain is None else domain & names
             choices.append(sorted(everything if domain is None else domain))
+        size = 1
+        for choice in choices:
+            size *= len(choice)
+        if len(ground) + size > MAX_GROUND_RULES:
+            raise TheoryTooLarge(
+                f"{rule.path or rule.id}: grounding the variables gives more than "
+                f"{MAX_GROUND_RULES} rules; use fewer variables or constants"
+            )
         for values in itertools.product(*choices):
             body, head = rule.body, rule.head
             for variable, value in zip(variables, values, strict=True):
