@@ -89,6 +89,10 @@ def per_step_ms(theory: DefaultTheory, steps: list[tuple[dict[str, bool], str]],
     return min(samples) * 1000
 
 
+def inferences_per_step(theory: DefaultTheory, steps: list[tuple[dict[str, bool], str]]) -> float:
+    return sum(extension(theory, obs).inferences for obs, _ in steps) / len(steps)
+
+
 def synthetic_theory(rules: int, seed: int = 4) -> tuple[DefaultTheory, list[str], list[str]]:
     """A theory shaped like seed 004's (about 1/3 defaults): per module an estimated state with
     its exceptions (one chained to the previous module), a goal with its exceptions, a safety
@@ -160,10 +164,13 @@ def bench_default_theories() -> None:
     print(f"transect theory ({len(transect)} rules, {len(transect.defaults)} defaults), "
           f"{len(steps)}-period scenario: extension {base_ext:.3f} ms/step, "
           f"extension + eq. 17 check {base_both:.3f} ms/step ({verdict} the 5 ms target)")
+    base_inf = inferences_per_step(transect, steps)
     print(f"\n{'rules':>6} {'ext ms/step':>12} {'x 44-rule':>10} {'+eq.17 ms':>10} "
-          f"{'x 44-rule':>10} {'rules/44':>9} {'us/rule':>8} {'cold ms':>8}")
+          f"{'x 44-rule':>10} {'rules/44':>9} {'us/rule':>8} {'inferences':>11} "
+          f"{'x 44-rule':>10} {'cold ms':>8}")
     print(f"{len(transect):>6} {base_ext:>12.3f} {1:>9.2f}x {base_both:>10.3f} {1:>9.2f}x "
-          f"{1:>9.2f} {base_ext * 1000 / len(transect):>8.2f} {'':>8}")
+          f"{1:>9.2f} {base_ext * 1000 / len(transect):>8.2f} {base_inf:>11.0f} {1:>9.2f}x "
+          f"{'':>8}")
     for size in (44, 100, 250, 500, 1_000):
         theory, atoms, actions = synthetic_theory(size)
         run = synthetic_steps(atoms, actions)
@@ -172,11 +179,13 @@ def bench_default_theories() -> None:
         cold = (time.perf_counter() - start) * 1000
         ext_ms = per_step_ms(theory, run, with_action=False)
         both_ms = per_step_ms(theory, run, with_action=True)
+        inf = inferences_per_step(theory, run)
         print(f"{size:>6} {ext_ms:>12.3f} {ext_ms / base_ext:>9.2f}x {both_ms:>10.3f} "
               f"{both_ms / base_both:>9.2f}x {size / len(transect):>9.2f} "
-              f"{ext_ms * 1000 / size:>8.2f} {cold:>8.2f}")
+              f"{ext_ms * 1000 / size:>8.2f} {inf:>11.0f} {inf / base_inf:>9.2f}x {cold:>8.2f}")
     print("(first row: the seed's transect theory; others: synthetic theories of the same "
-          "shape; ratios are to the transect row, linear growth means ratio ~ rules/44)")
+          "shape; ratios are to the transect row, linear growth means ratio ~ rules/44; "
+          "inferences are machine-independent, times depend on the load of this shared machine)")
 
 
 SECTIONS: dict[str, Callable[[], None]] = {

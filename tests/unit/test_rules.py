@@ -65,6 +65,9 @@ def test_transect_theory_has_the_size_of_the_paper(transect: DefaultTheory) -> N
     assert len(transect) == 44
     assert len(transect.defaults) == 17 and len(transect.strict) + len(transect.facts) == 27
     assert design_findings(transect) == []
+    # Every derived literal and satisfied prerequisite counts: at least one per literal.
+    ext = extension(transect, observe())
+    assert ext.inferences >= len(ext.literals) > len(NOMINAL)
 
 
 def test_transect_scenario_second_transect_abandoned_and_vehicle_goes_home(

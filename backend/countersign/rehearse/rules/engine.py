@@ -76,6 +76,9 @@ class Extension:
     # literal -> id of the rule that first derived it ("observed" for observations)
     derived_by: Mapping[str, str] = field(default_factory=dict, compare=False, repr=False)
     theory: DefaultTheory | None = field(default=None, compare=False, repr=False)
+    # Literals derived plus rule prerequisites they satisfied (the seed's "inferences", Fig. 4b;
+    # trials undone are not counted): a machine-independent measure of the work of a step.
+    inferences: int = field(default=0, compare=False, repr=False)
 
     def holds(self, literal: str) -> bool:
         return str(parse_literal(literal)) in self.literals
@@ -392,6 +395,7 @@ def compute(
         ),
         derived_by=derived_by,
         theory=theory,
+        inferences=len(trail) + sum(len(watch[lit]) for lit in trail),
     )
 
 
