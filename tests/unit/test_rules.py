@@ -398,6 +398,10 @@ def test_design_safety_and_goal_patterns() -> None:
                   {"id": "Y", "if": ["gps"], "then": "not home"}]})
     assert found["S1"] == "error" and found["S2"] == "error" and found["G1"] == "error"
     assert found["G2"] == "warning"
+    reads_goal = _codes({**BASE, "strict": [
+        {"id": "S1", "kind": "safety", "if": ["goal(survey)", "leak"], "then": "do_safe(surface)"},
+        {"id": "G1", "kind": "goal", "if": ["gps"], "then": "goal(survey)"}]})
+    assert reads_goal == {"S1": "warning"}
 
 
 def test_design_unknown_action_against_the_vehicle() -> None:

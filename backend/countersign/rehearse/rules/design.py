@@ -90,6 +90,13 @@ def _pattern_findings(theory: DefaultTheory) -> list[Finding]:
                 "estimation rules should infer hidden states only, never overrule an "
                 "observation (seed 004 IV-B-2).",
             ))
+        if rule.kind in ("safety", "estimation") and any(lit.name == GOAL for lit in rule.body):
+            found.append(warning(
+                CODE, [rule.id],
+                f"{rule.kind.capitalize()} rule {rule.id} reads a goal: its prerequisites "
+                "should be observed or estimated states only, so that a change of goal can "
+                "never switch a safety reaction or an estimate (seed 004 eqs. 10-11).",
+            ))
         safety_shape = head.name == DO_SAFE and (head.positive or not rule.is_default)
         if rule.kind == "safety" and not safety_shape:
             pattern = (
