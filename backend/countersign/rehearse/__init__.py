@@ -1,0 +1,1 @@
+"""Rehearsal: simulation, default rules and the viser scene (DESIGN.md, Rehearsal)."""
