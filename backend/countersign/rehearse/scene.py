@@ -54,7 +54,7 @@ def to_scene(x: float, y: float, depth: float = 0.0) -> tuple[float, float, floa
 def disable_sharing(server: viser.ViserServer) -> None:
     """No share links: hide the button and refuse the requests a modified client could still
     send (viser would otherwise open a public tunnel to this server)."""
-    server.gui.configure_theme(show_share_button=False, control_layout="collapsible")
+    server.gui.configure_theme(show_share_button=False)
     websock = server._websock_server  # the only place viser registers these handlers
     for message_cls in (viser_messages.ShareUrlRequest, viser_messages.ShareUrlDisconnect):
         if message_cls in websock._incoming_handlers:

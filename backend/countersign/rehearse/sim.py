@@ -249,6 +249,7 @@ class Simulation:
         self.energy_used_wh = 0.0
         self.expected_used_wh = 0.0
         self.state: State = "running"
+        self._strong_current = False
         self.active: ActiveGoal | None = None
         self.vehicle = Vehicle(*self.world.recovery)
         self.trail: list[tuple[float, float, float]] = []
@@ -572,6 +573,12 @@ class Simulation:
 
     def _move(self, active: ActiveGoal, dt: float) -> None:
         v = self.vehicle
+        strong = self._current_factor() > 1.0
+        if strong != self._strong_current:
+            self._strong_current = strong
+            self._emit("current", "Strong opposing current: consumption doubled (seed 001)."
+                       if strong else "The strong current has passed.", active.goal.id,
+                       {"strong": strong})
         if active.finished_plan:
             v.vx = v.vy = v.vz = 0.0
             return
