@@ -1,1 +1,1 @@
-"""Rehearsal: simulation, default rules and the viser scene (DESIGN.md, Rehearsal)."""
+"""Rehearsal: contingency rules (default logic, seed 004) and the simulation built on them."""
