@@ -76,6 +76,8 @@ def test_seed_001_strong_current_forces_giving_up_a_goal() -> None:
             without_current = sim
         if strong and strong[0].goal == "G1" and with_current is None:
             with_current = sim
+        if with_current is not None and without_current is not None:
+            break
     assert with_current is not None and without_current is not None
     # Normal currents: every survey is done.
     assert without_current.run.outcomes == ["succeed"] * 5
