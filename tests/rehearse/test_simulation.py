@@ -50,8 +50,8 @@ def test_seed_004_localisation_lost_during_the_second_transect() -> None:
     for rule in ("X_precision", "X_t2_lost"):
         assert sim.rule_firings.get(rule), rule
     # Transect 2 was cut short: the vehicle left before the end of the line.
-    g4 = [e for e in sim.events if e.goal == "G4" and e.kind == "outcome"][0]
-    g4_nominal = [e for e in nominal.events if e.goal == "G4" and e.kind == "outcome"][0]
+    g4 = next(e for e in sim.events if e.goal == "G4" and e.kind == "outcome")
+    g4_nominal = next(e for e in nominal.events if e.goal == "G4" and e.kind == "outcome")
     assert g4.t < g4_nominal.t
 
 
