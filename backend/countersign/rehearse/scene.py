@@ -129,7 +129,8 @@ class Scene:
         xs = np.linspace(x0, x1, n)
         ys = np.linspace(y0, y1, n)
         vertices = np.array(
-            [self.to_scene(x, y, world.seafloor_depth(x, y)) for y in ys for x in xs], dtype=np.float32
+            [self.to_scene(x, y, world.seafloor_depth(x, y)) for y in ys for x in xs],
+            dtype=np.float32,
         )
         faces = []
         for j in range(n - 1):
@@ -180,8 +181,10 @@ class Scene:
                 continue
             x, y = contact.position(self.sim.time_s)
             handle = self.server.scene.add_box(
-                f"/contacts/{contact.id}", color=(200, 60, 200) if contact.closing
-                else (230, 230, 230), dimensions=(0.35, 0.12, 0.1), position=self.to_scene(x, y, -0.05 / self._v),
+                f"/contacts/{contact.id}",
+                color=(200, 60, 200) if contact.closing else (230, 230, 230),
+                dimensions=(0.35, 0.12, 0.1),
+                position=self.to_scene(x, y, -0.05 / self._v),
                 wxyz=_yaw(math.atan2(contact.velocity[1], contact.velocity[0])),
             )
             self.server.scene.add_label(f"/contacts/{contact.id}/label",
