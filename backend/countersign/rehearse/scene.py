@@ -101,6 +101,9 @@ class Scene:
         self._v = SCENE_DEPTH / max(sim.world.floor_base_m, 1.0)
         disable_sharing(server)
         server.scene.set_up_direction("+z")
+        # Shadows cost most of a frame in a software-rendered browser (CI, remote desktops)
+        # and add nothing to a chart of the sea.
+        server.scene.configure_default_lights(cast_shadow=False)
         self._static(sim.world)
         self.vehicle = server.scene.add_box(
             "/vehicle", color=(250, 200, 30), dimensions=(0.3, 0.08, 0.08),
@@ -139,7 +142,8 @@ class Scene:
                 faces.append((a, a + 1, a + n))
                 faces.append((a + 1, a + n + 1, a + n))
         scene.add_mesh_simple("/world/seafloor", vertices, np.array(faces, dtype=np.uint32),
-                              color=(150, 130, 95), flat_shading=False, side="double")
+                              color=(150, 130, 95), flat_shading=False, side="double",
+                              cast_shadow=False, receive_shadow=False)
         surface = np.array([self.to_scene(x0, y0), self.to_scene(x1, y0), self.to_scene(x1, y1),
                             self.to_scene(x0, y1)], dtype=np.float32)
         scene.add_mesh_simple("/world/surface", surface, np.array([(0, 1, 2), (0, 2, 3)],
