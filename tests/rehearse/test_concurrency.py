@@ -60,3 +60,21 @@ def test_ten_rehearsals_at_once(exemplar: Orders) -> None:
     records = [r.record() for r in rehearsals]
     assert all(rec.has_replay for rec in records)
     assert len({rec.digest for rec in records}) == 10
+
+
+def test_an_idle_finished_rehearsal_stops_itself() -> None:
+    from countersign.orders.examples import load_example
+
+    manager = RehearsalManager(max_active=2, idle_timeout_s=1.0)
+    try:
+        rehearsal = manager.start(load_example("transect-survey"), owner="alice",
+                                  options=RehearsalOptions(source="simulate", speed=1_000_000))
+        port = rehearsal.port
+        # `state` does not count as activity (status() and the API calls do).
+        assert _settle(lambda: rehearsal.state == "stopped", 30)
+        assert manager.active() == []
+        assert manager.get(rehearsal.id) is rehearsal  # still answerable, as stopped
+        assert not _open(port)
+        assert rehearsal.record().has_replay
+    finally:
+        manager.shutdown()

@@ -158,7 +158,9 @@ class Scene:
             self._draw_area("LANE_generated", lane.title, lane.polygon, lane.centre, LANE_COLOUR)
         scene.add_icosphere("/world/recovery", radius=0.1, color=RECOVERY_COLOUR,
                             position=self.to_scene(*world.recovery))
-        scene.add_label("/world/recovery/label", "recovery point", position=(0.0, 0.0, 0.2))
+        if not any(area.centre == world.recovery for area in world.areas.values()):
+            scene.add_label("/world/recovery/label", "recovery point",
+                            position=(0.0, 0.0, 0.2))
 
     def _draw_area(self, area_id: str, title: str, polygon: tuple[Point, ...], centre: Point,
                    colour: tuple[int, int, int]) -> None:
