@@ -318,9 +318,12 @@ class Rehearsal:
     def run_headless(self, max_wall_s: float | None = None) -> None:
         """Run to the end on the calling thread (CLI, tests); manual sources stop waiting."""
         started = time.perf_counter()
+        # With a scene, frames every simulated minute make the recorded replay move smoothly;
+        # without one, large chunks keep the loop overhead negligible.
+        chunk = 60.0 if self._scene is not None else 3_600.0
         with self._lock:
             while self._sim.state == "running":
-                self._sim.advance(3_600.0)
+                self._sim.advance(chunk)
                 self._push_frame()
                 if max_wall_s is not None and time.perf_counter() - started > max_wall_s:
                     break
