@@ -106,7 +106,7 @@ class Scene:
         server.scene.configure_default_lights(cast_shadow=False)
         self._static(sim.world)
         self.vehicle = server.scene.add_box(
-            "/vehicle", color=(250, 200, 30), dimensions=(0.3, 0.08, 0.08),
+            "/vehicle", color=(250, 200, 30), dimensions=(0.4, 0.12, 0.12),
             position=self.to_scene(*sim.vehicle.xy, sim.vehicle.depth),
         )
         self.vehicle_label = server.scene.add_label(
@@ -276,7 +276,7 @@ class Scene:
             segments = np.array([[points[i], points[i + 1]] for i in range(len(points) - 1)],
                                 dtype=np.float32)
             self.server.scene.add_line_segments(f"/trail/{self._trail_nodes}", segments,
-                                                TRAIL_COLOUR, thickness=0.02)
+                                                TRAIL_COLOUR, thickness=0.04)
         self._trail_len_drawn = end
         if end - self._trail_start > TRAIL_CHUNK:
             # Freeze this node; the next starts where it ended so the line stays continuous.
