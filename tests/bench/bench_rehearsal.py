@@ -1,4 +1,4 @@
-"""Benchmarks of issue 8 (rehearsal). Run: .venv/bin/python tests/bench/bench_rehearsal.py
+"""Benchmarks of issue 8 (rehearsal). Run: .venv/bin/python -m tests.bench.bench_rehearsal [--only rules|simulation]
 
 Sections are functions listed in SECTIONS; `--only NAME` runs one. Each figure is printed with
 its ratio to a baseline measured in this same process.
@@ -188,8 +188,16 @@ def bench_default_theories() -> None:
           "inferences are machine-independent, times depend on the load of this shared machine)")
 
 
+def bench_simulation_section() -> None:
+    # Imported here so the rules section runs without viser's start-up cost.
+    from tests.bench.bench_rehearsal_sim import bench_simulation
+
+    bench_simulation()
+
+
 SECTIONS: dict[str, Callable[[], None]] = {
     "rules": bench_default_theories,
+    "simulation": bench_simulation_section,
 }
 
 
