@@ -19,10 +19,19 @@ from ...orders.writers import write
 from ...store import approvals as service
 from ...store.missions import report_for
 from ...store.tables import Approval, MissionVersion, SigningKey, Submission, User
-from ..deps import EVERYONE, LOG_READERS, OPERATORS, CurrentPrincipal, Db, RowId, allow
+from ..deps import (
+    EVERYONE,
+    LOG_READERS,
+    OPERATORS,
+    CurrentPrincipal,
+    Db,
+    RowId,
+    TransactionRoute,
+    allow,
+)
 from .schemas import RequestBody
 
-router = APIRouter(prefix="/api", tags=["approvals"])
+router = APIRouter(prefix="/api", tags=["approvals"], route_class=TransactionRoute)
 SUPERVISORS = ("supervisor",)
 KEY_READERS = ("supervisor", "auditor", "admin")
 LOG_KEY_ENV = "COUNTERSIGN_LOG_KEY"

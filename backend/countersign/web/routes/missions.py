@@ -7,19 +7,31 @@ from collections.abc import Iterator
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Header, HTTPException, Query, Request, Response
+from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import PlainTextResponse, StreamingResponse
 from pydantic import BaseModel
 from sqlalchemy import func, or_, select
 from sqlalchemy.orm import Session as DbSession
 
+from ...orders.canonical import digest
 from ...orders.model import Orders
 from ...orders.reader import orders_from_data, read_bytes
 from ...orders.writers import WRITERS, write
 from ...store import missions as service
+from ...store.db import database_of
 from ...store.tables import Mission, MissionVersion, User
 from ...verify.graph import build_graph
 from ...verify.paths import count_paths, iter_path_lines, iter_paths, trace_text
-from ..deps import EVERYONE, OPERATORS, CurrentPrincipal, Db, RowId, allow
+from ..deps import (
+    EVERYONE,
+    OPERATORS,
+    CurrentPrincipal,
+    Db,
+    RowId,
+    TransactionRoute,
+    allow,
+    in_one_transaction,
+)
 from .schemas import (
     MissionDetail,
     MissionPage,
@@ -29,7 +41,7 @@ from .schemas import (
     version_out,
 )
 
-router = APIRouter(prefix="/api", tags=["missions"])
+router = APIRouter(prefix="/api", tags=["missions"], route_class=TransactionRoute)
 MAX_PAGE = 200
 MAX_PATH_PAGE = 1000
 
@@ -55,6 +67,27 @@ def _username(db: DbSession, user_id: int, cache: dict[int, str]) -> str:
 
 def _orders(data: dict[str, Any]) -> Orders:
     return orders_from_data(data)
+
+
+def _validate_first(db: DbSession, orders: Orders, mission_id: str | None = None,
+                    expected_revision: int | None = None) -> str:
+    """Validate orders about to be written before the write transaction begins, and return
+    their digest. A writing request holds the write lock from its first query to its commit
+    and therefore only reports cached results; validating here (in a read transaction, the
+    report stored by a short transaction of its own) puts the new draft's report in the cache
+    without holding any lock, so that neither this answer nor the next read waits for it.
+    An edit whose revision is already stale fails with 412 before paying for validation."""
+    value = digest(orders)
+    with database_of(db).session(write=False) as reader:
+        if mission_id is not None and expected_revision is not None:
+            current = reader.get(Mission, mission_id)
+            if current is not None and current.revision != expected_revision:
+                raise service.PreconditionFailed(
+                    f"the draft changed since revision {expected_revision} (now "
+                    f"{current.revision}); reload it and apply your edit again",
+                    current.revision)
+        service.report_for(reader, orders, value)
+    return value
 
 
 def _summary(db: DbSession, mission: Mission, names: dict[int, str]) -> dict[str, Any]:
@@ -124,7 +157,10 @@ def list_missions(
              response_model=MissionDetail, **allow(*OPERATORS))
 def create_mission(body: dict[str, Any], response: Response, principal: CurrentPrincipal,
                    db: Db) -> MissionDetail:
-    mission = service.create_mission(db, orders=_orders(body), author=principal.user)
+    orders = _orders(body)
+    value = _validate_first(db, orders)
+    mission = service.create_mission(db, orders=orders, author=principal.user,
+                                     orders_digest=value)
     return _detail(db, mission, response)
 
 
@@ -140,8 +176,18 @@ IMPORT_ROUTE["openapi_extra"]["requestBody"] = {"required": True, "content": {
 async def import_mission(request: Request, response: Response, principal: CurrentPrincipal,
                          db: Db) -> MissionDetail:
     data = await request.body()
+    # Parsing, validation and the write run in a worker thread, committed there (the event
+    # loop must never wait for a database lock).
+    return await run_in_threadpool(in_one_transaction, db, _import, db, data, response,
+                                   principal)
+
+
+def _import(db: DbSession, data: bytes, response: Response,
+            principal: CurrentPrincipal) -> MissionDetail:
     loaded = read_bytes(data, "the uploaded file")
-    mission = service.create_mission(db, orders=loaded.orders, author=principal.user)
+    value = _validate_first(db, loaded.orders)
+    mission = service.create_mission(db, orders=loaded.orders, author=principal.user,
+                                     orders_digest=value)
     return _detail(db, mission, response, [f.to_json() for f in loaded.findings])
 
 
@@ -165,9 +211,11 @@ def _revision(if_match: str | None) -> int:
 def update_draft(mission_id: str, body: DraftIn, response: Response,
                  principal: CurrentPrincipal, db: Db,
                  if_match: Annotated[str | None, Header()] = None) -> MissionDetail:
+    orders, expected = _orders(body.orders), _revision(if_match)
+    value = _validate_first(db, orders, mission_id, expected)
     mission = service.update_draft(
-        db, mission_id=mission_id, orders=_orders(body.orders), layout=body.layout,
-        expected_revision=_revision(if_match), author=principal.user)
+        db, mission_id=mission_id, orders=orders, layout=body.layout,
+        expected_revision=expected, author=principal.user, orders_digest=value)
     return _detail(db, mission, response)
 
 
