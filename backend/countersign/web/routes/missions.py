@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import base64
 from collections.abc import Iterator
-from typing import Annotated, Any
+from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, Header, HTTPException, Query, Request, Response
 from fastapi.concurrency import run_in_threadpool
@@ -37,6 +37,7 @@ from .schemas import (
     MissionPage,
     MissionSummary,
     RequestBody,
+    VersionOut,
     summary_fields,
     version_out,
 )
@@ -90,26 +91,36 @@ def _validate_first(db: DbSession, orders: Orders, mission_id: str | None = None
     return value
 
 
-def _summary(db: DbSession, mission: Mission, names: dict[int, str]) -> dict[str, Any]:
+def _summary(db: DbSession, mission: Mission, names: dict[int, str],
+             latest: int | Literal[False] | None = False) -> dict[str, Any]:
     # A writing request holds the write lock until it answers: it reports only what is cached
     # (ok/errors stay null otherwise) and leaves validation to the next read or /validate.
     if db.info.get("write", True):
         report = service.cached_report(db, mission.draft_digest)
     else:
         report = service.report_for(db, lambda: _orders(mission.draft), mission.draft_digest).report
-    latest = db.scalar(select(func.max(MissionVersion.number))
-                       .where(MissionVersion.mission_id == mission.id))
+    if latest is False:
+        latest = db.scalar(select(func.max(MissionVersion.number))
+                           .where(MissionVersion.mission_id == mission.id))
     return summary_fields(mission, report, latest, _username(db, mission.updated_by, names))
 
 
 def _detail(db: DbSession, mission: Mission, response: Response | None,
             import_findings: list[dict[str, Any]] | None = None) -> MissionDetail:
     names: dict[int, str] = {}
-    versions = [version_out(v, _username(db, v.author_id, names), False)
-                for v in service.versions_of(db, mission.id)]
+    # The list needs no version's orders: select the four columns it shows.
+    rows = db.execute(
+        select(MissionVersion.number, MissionVersion.digest, MissionVersion.author_id,
+               MissionVersion.created_at)
+        .where(MissionVersion.mission_id == mission.id).order_by(MissionVersion.number)
+    ).all()
+    versions = [VersionOut(number=number, digest=value, author=_username(db, author, names),
+                           created_at=created_at)
+                for number, value, author, created_at in rows]
     if response is not None:
         response.headers["ETag"] = f'"{mission.revision}"'
-    return MissionDetail(**_summary(db, mission, names), orders=mission.draft,
+    latest = versions[-1].number if versions else None
+    return MissionDetail(**_summary(db, mission, names, latest), orders=mission.draft,
                          layout=mission.layout, versions=versions,
                          import_findings=import_findings or [])
 
