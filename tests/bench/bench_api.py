@@ -20,8 +20,10 @@ validation (POST /api/validate with the search-and-sample exemplar), 1 write (GE
 then PUT its draft with If-Match; the GET counts as a read, the PUT as the write). Every
 accepted write changes the draft, so the server validates a new draft each time. A 412 on a
 write is expected (another client edited first); a 5xx fails the run. The first --warmup
-seconds of each run are not counted. After both runs the event log is checked: one
-draft.updated event and one log leaf per accepted write.
+seconds of each run are not counted; every request sent in the measured window counts, however
+long it takes to answer (clients stop sending at the end and wait for their last answer).
+After both runs the event log is checked: one draft.updated event and one log leaf per
+accepted write.
 
 Run: .venv/bin/python -m tests.bench.bench_api [--clients 50] [--seconds 30] [--workers 2]
 PostgreSQL is used when COUNTERSIGN_TEST_POSTGRES_URL is set (scripts/postgres-for-tests).
@@ -61,6 +63,8 @@ class Run:
     timings: dict[str, list[float]] = field(default_factory=lambda: {k: [] for k in KINDS})
     statuses: dict[int, int] = field(default_factory=dict)
     accepted_writes: int = 0
+    server_cpu: float = 0.0  # CPU seconds of the server's processes during the measured part
+    load: tuple[float, float] = (0.0, 0.0)  # 1-minute load average before and after
 
     @property
     def throughput(self) -> float:
@@ -104,6 +108,28 @@ def _count_log(url: str) -> tuple[int, int, int]:
     return int(updates), int(events), int(leaves)
 
 
+def _cpu_seconds(pid: int) -> float:
+    """User + system CPU seconds of a process and its children (the uvicorn workers)."""
+    tick = os.sysconf("SC_CLK_TCK")
+    total = 0.0
+    pids = [pid]
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[1]) == pid:
+                pids.append(int(entry.name))
+    for one in pids:
+        try:
+            fields = Path(f"/proc/{one}/stat").read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        total += (int(fields[11]) + int(fields[12])) / tick
+    return total
+
+
 def percentile(values: list[float], q: float) -> float:
     """Nearest-rank percentile (q in 0..1) of the values, in their unit."""
     if not values:
@@ -123,9 +149,9 @@ async def _client(base: str, token: str, number: int, think: float, start: float
         step = rng.randrange(5)  # clients start at different points of the mix
 
         def note(kind: str, began: float, response: httpx.Response) -> None:
-            now = time.perf_counter()
-            if began >= start and now <= until:
-                run.timings[kind].append(now - began)
+            # Every request sent during the measured window counts, however long it takes.
+            if start <= began < until:
+                run.timings[kind].append(time.perf_counter() - began)
                 run.statuses[response.status_code] = run.statuses.get(
                     response.status_code, 0) + 1
                 if kind == "write" and response.status_code == 200:
@@ -172,12 +198,20 @@ async def _seed(base: str, token: str) -> None:
 
 
 async def _load(base: str, token: str, label: str, clients: int, seconds: float, warmup: float,
-                think: float, all_writes: list[int]) -> Run:
+                think: float, all_writes: list[int], server: int) -> Run:
     run = Run(label, seconds)
     start = time.perf_counter() + warmup
     until = start + seconds
-    await asyncio.gather(*(_client(base, token, n, think, start, until, run, all_writes)
-                           for n in range(clients)))
+
+    async def meter() -> None:
+        await asyncio.sleep(max(0.0, start - time.perf_counter()))
+        cpu, load = _cpu_seconds(server), os.getloadavg()[0]
+        await asyncio.sleep(max(0.0, until - time.perf_counter()))
+        run.server_cpu = _cpu_seconds(server) - cpu
+        run.load = (load, os.getloadavg()[0])
+
+    await asyncio.gather(meter(), *(_client(base, token, n, think, start, until, run, all_writes)
+                                    for n in range(clients)))
     return run
 
 
@@ -188,7 +222,7 @@ def _serve(url: str, workers: int, data: str, log_path: Path) -> tuple[subproces
     with open(log_path, "w") as log:
         server = subprocess.Popen(
             [sys.executable, "-m", "countersign.cli", "serve", "--port", str(port),
-             "--data-dir", data, "--workers", str(workers)],
+             "--data-dir", data, *(["--workers", str(workers)] if workers != 1 else [])],
             env=env, stdout=subprocess.DEVNULL, stderr=log)
     base = f"http://127.0.0.1:{port}"
     deadline = time.monotonic() + 60
@@ -215,9 +249,11 @@ def bench_database(url: str, label: str, args: argparse.Namespace) -> dict[str, 
             asyncio.run(_seed(base, token))
             if args.think > 0:
                 runs["think"] = asyncio.run(_load(base, token, label, args.clients, args.seconds,
-                                                  args.warmup, args.think, all_writes))
+                                                  args.warmup, args.think, all_writes,
+                                                  server.pid))
             runs["saturate"] = asyncio.run(_load(base, token, label, args.clients,
-                                                 args.seconds, args.warmup, 0, all_writes))
+                                                 args.seconds, args.warmup, 0, all_writes,
+                                                 server.pid))
         finally:
             server.terminate()
             server.wait(timeout=30)
@@ -268,14 +304,20 @@ def report(results: dict[str, dict[str, Run]], args: argparse.Namespace) -> None
             ("accepted writes/s", lambda r: f"{r.accepted_writes / r.seconds:.1f}"),
             ("412 (stale edit)", lambda r: str(r.statuses.get(412, 0))),
             ("5xx", lambda r: str(r.errors)),
+            ("server CPU ms/request", lambda r: (
+                f"{r.server_cpu * 1000 / sum(map(len, r.timings.values())):.1f}"
+                if any(r.timings.values()) else "-")),
+            ("server CPU cores", lambda r: f"{r.server_cpu / r.seconds:.2f}"),
+            ("load avg before/after", lambda r: f"{r.load[0]:.1f}/{r.load[1]:.1f}"),
         ):
             cells = [value(results[label][mode]) if mode in results[label] else "-"
                      for label in labels]
             print(f"{name:<22}" + "".join(f"{c:>14}" for c in cells))
         if len(labels) == 2 and all(mode in results[label] for label in labels):
             sqlite, postgres = (results[label][mode] for label in labels)
-            print(f"{'ratio PG/SQLite':<22}{postgres.throughput / sqlite.throughput:>14.2f}"
-                  "  (throughput)")
+            ratio = (f"{postgres.throughput / sqlite.throughput:.2f}" if sqlite.throughput
+                     else "-")
+            print(f"{'ratio PG/SQLite':<22}{ratio:>14}  (throughput)")
 
 
 def main() -> None:
@@ -302,6 +344,8 @@ def main() -> None:
             print("\nPostgreSQL skipped: set COUNTERSIGN_TEST_POSTGRES_URL "
                   "(export COUNTERSIGN_TEST_POSTGRES_URL=$(scripts/postgres-for-tests))")
     report(results, args)
+    print(f"\nmachine: {os.cpu_count()} CPUs, shared; the load average includes this "
+          "benchmark's own client and server.")
     if any(run.errors for runs in results.values() for run in runs.values()):
         sys.exit(1)
 

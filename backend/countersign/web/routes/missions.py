@@ -9,7 +9,6 @@ from typing import Annotated, Any, Literal
 from fastapi import APIRouter, Header, HTTPException, Query, Request, Response
 from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import PlainTextResponse, StreamingResponse
-from pydantic import BaseModel
 from sqlalchemy import func, or_, select
 from sqlalchemy.orm import Session as DbSession
 
@@ -35,7 +34,10 @@ from ..deps import (
 from .schemas import (
     MissionDetail,
     MissionPage,
+    MissionPathOut,
     MissionSummary,
+    PathPage,
+    ReportOut,
     RequestBody,
     VersionOut,
     summary_fields,
@@ -50,13 +52,6 @@ MAX_PATH_PAGE = 1000
 class DraftIn(RequestBody):
     orders: dict[str, Any]
     layout: dict[str, Any] | None = None
-
-
-class PathPage(BaseModel):
-    count: int
-    by_terminal: dict[str, int]
-    items: list[dict[str, Any]]
-    next_cursor: str | None
 
 
 def _username(db: DbSession, user_id: int, cache: dict[int, str]) -> str:
@@ -237,33 +232,47 @@ def delete_mission(mission_id: str, principal: CurrentPrincipal, db: Db) -> None
 
 
 @router.post("/missions/{mission_id}/versions", operation_id="createVersion", status_code=201,
-             **allow(*OPERATORS))
-def create_version(mission_id: str, principal: CurrentPrincipal, db: Db) -> dict[str, Any]:
+             response_model=VersionOut, **allow(*OPERATORS))
+def create_version(mission_id: str, principal: CurrentPrincipal, db: Db) -> VersionOut:
     version = service.create_version(db, mission_id=mission_id, author=principal.user)
-    return version_out(version, principal.user.username, True).model_dump(mode="json")
+    return version_out(version, principal.user.username, True)
 
 
 @router.get("/missions/{mission_id}/versions/{number}", operation_id="getVersion",
-            **allow(*EVERYONE))
-def get_version(mission_id: str, number: RowId, db: Db) -> dict[str, Any]:
+            response_model=VersionOut, **allow(*EVERYONE))
+def get_version(mission_id: str, number: RowId, db: Db) -> VersionOut:
     version = service.get_version(db, mission_id, number)
     author = _username(db, version.author_id, {})
-    return version_out(version, author, True).model_dump(mode="json")
+    return version_out(version, author, True)
 
 
-@router.get("/missions/{mission_id}/report", operation_id="getReport", **allow(*EVERYONE))
+# Reports are stored as JSON and answered as stored: the model describes them in the OpenAPI
+# document and drops nothing (exclude_unset keeps absent optional fields absent).
+REPORT_ROUTE: dict[str, Any] = {"response_model": ReportOut,
+                                "response_model_exclude_unset": True}
+
+
+@router.get("/missions/{mission_id}/report", operation_id="getReport", **REPORT_ROUTE,
+            **allow(*EVERYONE))
 def get_report(mission_id: str, db: Db) -> dict[str, Any]:
     mission = service.get_mission(db, mission_id)
     return service.report_for(db, lambda: _orders(mission.draft), mission.draft_digest).report
 
 
-@router.post("/validate", operation_id="validateOrders", **allow(*EVERYONE))
+@router.post("/validate", operation_id="validateOrders", **REPORT_ROUTE, **allow(*EVERYONE))
 def validate_orders(body: dict[str, Any], db: Db) -> dict[str, Any]:
     return service.report_for(db, _orders(body)).report
 
 
-@router.get("/missions/{mission_id}/paths", operation_id="listPaths", response_model=None,
-            **allow(*EVERYONE))
+PATHS_ROUTE = allow(*EVERYONE)
+PATHS_ROUTE["responses"] = {200: {"content": {
+    "application/x-ndjson": {"schema": {"type": "string", "description":
+                             "one path per line, as the items of the JSON page"}},
+    "text/plain": {"schema": {"type": "string", "description": "traces, one per path"}}}}}
+
+
+@router.get("/missions/{mission_id}/paths", operation_id="listPaths", response_model=PathPage,
+            **PATHS_ROUTE)
 def list_paths(
     mission_id: str, request: Request, db: Db,
     limit: Annotated[int, Query(ge=1, le=MAX_PATH_PAGE)] = 100,
@@ -292,7 +301,9 @@ def list_paths(
         return PlainTextResponse("\n".join(trace_text(graph, p) for p in page) + "\n")
     following = offset + len(page)
     return PathPage(count=counts.total, by_terminal=counts.by_terminal,
-                    items=[p.to_json() for p in page],
+                    items=[MissionPathOut(index=p.index, goals=list(p.goals),
+                                          outcomes=list(p.outcomes), terminal=p.terminal)
+                           for p in page],
                     next_cursor=_encode_cursor(following) if following < counts.total else None)
 
 
