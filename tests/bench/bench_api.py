@@ -138,53 +138,49 @@ def percentile(values: list[float], q: float) -> float:
     return ordered[min(len(ordered) - 1, max(0, int(q * len(ordered) + 0.999999) - 1))]
 
 
-async def _client(base: str, token: str, number: int, think: float, start: float,
+async def _client(client: httpx.AsyncClient, number: int, think: float, start: float,
                   until: float, run: Run, all_writes: list[int]) -> None:
     rng = random.Random(number)
-    headers = {"Authorization": f"Bearer {token}"}
     exemplar = example_bytes("search-and-sample")
-    limits = httpx.Limits(max_connections=1, max_keepalive_connections=1)
-    async with httpx.AsyncClient(base_url=base, headers=headers, timeout=60,
-                                 limits=limits) as client:
-        step = rng.randrange(5)  # clients start at different points of the mix
+    step = rng.randrange(5)  # clients start at different points of the mix
 
-        def note(kind: str, began: float, response: httpx.Response) -> None:
-            # Every request sent during the measured window counts, however long it takes.
-            if start <= began < until:
-                run.timings[kind].append(time.perf_counter() - began)
-                run.statuses[response.status_code] = run.statuses.get(
-                    response.status_code, 0) + 1
-                if kind == "write" and response.status_code == 200:
-                    run.accepted_writes += 1
+    def note(kind: str, began: float, response: httpx.Response) -> None:
+        # Every request sent during the measured window counts, however long it takes.
+        if start <= began < until:
+            run.timings[kind].append(time.perf_counter() - began)
+            run.statuses[response.status_code] = run.statuses.get(
+                response.status_code, 0) + 1
+            if kind == "write" and response.status_code == 200:
+                run.accepted_writes += 1
 
-        while time.perf_counter() < until:
-            if think > 0:
-                await asyncio.sleep(rng.expovariate(1 / think))
-            step += 1
-            mission = f"bench-{rng.randrange(MISSIONS)}"
-            kind = "write" if step % 5 == 0 else ("validate" if step % 5 == 1 else "read")
+    while time.perf_counter() < until:
+        if think > 0:
+            await asyncio.sleep(rng.expovariate(1 / think))
+        step += 1
+        mission = f"bench-{rng.randrange(MISSIONS)}"
+        kind = "write" if step % 5 == 0 else ("validate" if step % 5 == 1 else "read")
+        began = time.perf_counter()
+        if kind == "read":
+            response = await client.get(f"/api/missions/{mission}")
+            note("read", began, response)
+        elif kind == "validate":
+            response = await client.post("/api/validate", content=exemplar,
+                                         headers={"Content-Type": "application/json"})
+            note("validate", began, response)
+        else:
+            current = await client.get(f"/api/missions/{mission}")
+            note("read", began, current)
+            if current.status_code != 200:
+                continue
+            orders = current.json()["orders"]
+            orders["description"] = f"edit {number}.{step}"
             began = time.perf_counter()
-            if kind == "read":
-                response = await client.get(f"/api/missions/{mission}")
-                note("read", began, response)
-            elif kind == "validate":
-                response = await client.post("/api/validate", content=exemplar,
-                                             headers={"Content-Type": "application/json"})
-                note("validate", began, response)
-            else:
-                current = await client.get(f"/api/missions/{mission}")
-                note("read", began, current)
-                if current.status_code != 200:
-                    continue
-                orders = current.json()["orders"]
-                orders["description"] = f"edit {number}.{step}"
-                began = time.perf_counter()
-                response = await client.put(
-                    f"/api/missions/{mission}/draft", json={"orders": orders},
-                    headers={"If-Match": current.headers["etag"]})
-                note("write", began, response)
-                if response.status_code == 200:
-                    all_writes[0] += 1
+            response = await client.put(
+                f"/api/missions/{mission}/draft", json={"orders": orders},
+                headers={"If-Match": current.headers["etag"]})
+            note("write", began, response)
+            if response.status_code == 200:
+                all_writes[0] += 1
 
 
 async def _seed(base: str, token: str) -> None:
@@ -200,6 +196,14 @@ async def _seed(base: str, token: str) -> None:
 async def _load(base: str, token: str, label: str, clients: int, seconds: float, warmup: float,
                 think: float, all_writes: list[int], server: int) -> Run:
     run = Run(label, seconds)
+    # One connection per client, all made up front: building a client (its TLS context) costs
+    # tens of milliseconds of the event loop, which must not fall into the measured window.
+    # uvicorn closes idle connections after 5 s: let the client drop them first.
+    limits = httpx.Limits(max_connections=clients, max_keepalive_connections=clients,
+                          keepalive_expiry=3.0)
+    client = httpx.AsyncClient(base_url=base, headers={"Authorization": f"Bearer {token}"},
+                               timeout=120, limits=limits)
+    await asyncio.gather(*(client.get("/api/health") for _ in range(clients)))
     start = time.perf_counter() + warmup
     until = start + seconds
 
@@ -210,8 +214,11 @@ async def _load(base: str, token: str, label: str, clients: int, seconds: float,
         run.server_cpu = _cpu_seconds(server) - cpu
         run.load = (load, os.getloadavg()[0])
 
-    await asyncio.gather(meter(), *(_client(base, token, n, think, start, until, run, all_writes)
-                                    for n in range(clients)))
+    try:
+        await asyncio.gather(meter(), *(_client(client, n, think, start, until, run, all_writes)
+                                        for n in range(clients)))
+    finally:
+        await client.aclose()
     return run
 
 
