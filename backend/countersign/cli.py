@@ -294,8 +294,20 @@ def cmd_serve(args: argparse.Namespace) -> int:
         f"Countersign {__version__} on http://{args.host}:{args.port}/ "
         f"(database: {database.engine.url.render_as_string(hide_password=True)})\n"
     )
-    uvicorn.run(create_app(settings, database), host=args.host, port=args.port,
-                log_level="info")
+    if args.workers <= 1:
+        uvicorn.run(create_app(settings, database), host=args.host, port=args.port,
+                    log_level="info")
+        return EXIT_OK
+    # Several server processes: each builds its app from the environment (the database is
+    # migrated above, once, before any of them starts). The app keeps no state that another
+    # process could contradict: sessions, tokens, rate limiting, reports and the log live in
+    # the database; the in-process caches (reports, solver results, the log's Merkle tree) are
+    # pure or checked against the database on use.
+    database.engine.dispose()
+    os.environ["COUNTERSIGN_DATA_DIR"] = str(settings.data_dir)
+    os.environ["COUNTERSIGN_DATABASE_URL"] = settings.database_url
+    uvicorn.run("countersign.web.app:app_from_environment", factory=True, host=args.host,
+                port=args.port, workers=args.workers, log_level="info")
     return EXIT_OK
 
 
@@ -444,6 +456,11 @@ def build_parser() -> argparse.ArgumentParser:
     serve_cmd.add_argument("--host", default="127.0.0.1")
     serve_cmd.add_argument("--port", type=int, default=8000)
     serve_cmd.add_argument("--data-dir", type=Path, default=None)
+    serve_cmd.add_argument(
+        "--workers", type=int, default=1, metavar="N",
+        help="server processes (default 1); more use more cores: on SQLite they share the "
+        "one writer, on PostgreSQL they scale reads and validation",
+    )
     serve_cmd.add_argument(
         "--demo", action="store_true",
         help="seed demo users (printing one-time passwords) and the built-in examples",

@@ -1,8 +1,33 @@
-"""API benchmark (issue 5): 50 concurrent clients against a real server process, mixed reads
-and writes, on SQLite and PostgreSQL side by side.
+"""API benchmark (issue 5, "Speed"): 50 concurrent clients against a real server process over
+HTTP, mixed reads and writes, on SQLite and PostgreSQL side by side.
 
-Run: .venv/bin/python -m tests.bench.bench_api [--clients 50] [--seconds 20]
+Targets: p99 under 100 ms for reads and under 1 s for validation of the exemplar; throughput
+and the ratio PostgreSQL/SQLite are reported.
+
+Each database gets a fresh schema and its own server, started here as `countersign serve`
+(uvicorn, `--workers` processes). Two runs follow one another against it:
+
+* "think": every client is a closed loop that waits between requests for an exponentially
+  distributed think time (mean --think seconds, 1 s by default: people in the mission editor),
+  so that about clients/think requests per second arrive. The targets are judged on this run.
+* "saturate": the same clients without think time: the server's throughput. At saturation a
+  request waits for the ones before it (Little's law: latency ~ clients / throughput), so its
+  latencies measure the queue, not the service; they are printed, with PASS/MISS, for
+  completeness.
+
+The mix, per client in turn: 3 reads (GET /api/missions/{id}, one of 10 missions), 1
+validation (POST /api/validate with the search-and-sample exemplar), 1 write (GET the mission,
+then PUT its draft with If-Match; the GET counts as a read, the PUT as the write). Every
+accepted write changes the draft, so the server validates a new draft each time. A 412 on a
+write is expected (another client edited first); a 5xx fails the run. The first --warmup
+seconds of each run are not counted; every request sent in the measured window counts, however
+long it takes to answer (clients stop sending at the end and wait for their last answer).
+After both runs the event log is checked: one draft.updated event and one log leaf per
+accepted write.
+
+Run: .venv/bin/python -m tests.bench.bench_api [--clients 50] [--seconds 30] [--workers 2]
 PostgreSQL is used when COUNTERSIGN_TEST_POSTGRES_URL is set (scripts/postgres-for-tests).
+The load generator runs in this process (asyncio + httpx) on the same machine as the server.
 """
 
 from __future__ import annotations
@@ -10,12 +35,13 @@ from __future__ import annotations
 import argparse
 import asyncio
 import os
+import random
 import socket
-import statistics
 import subprocess
 import sys
 import tempfile
 import time
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import httpx
@@ -24,6 +50,29 @@ from sqlalchemy import text
 from countersign.orders.examples import example_bytes
 from countersign.store.accounts import create_token, create_user
 from countersign.store.db import Database, make_engine
+
+KINDS = ("read", "validate", "write")
+TARGETS_MS = {"read": 100.0, "validate": 1000.0}  # p99, issue 5
+MISSIONS = 10
+
+
+@dataclass
+class Run:
+    label: str
+    seconds: float
+    timings: dict[str, list[float]] = field(default_factory=lambda: {k: [] for k in KINDS})
+    statuses: dict[int, int] = field(default_factory=dict)
+    accepted_writes: int = 0
+    server_cpu: float = 0.0  # CPU seconds of the server's processes during the measured part
+    load: tuple[float, float] = (0.0, 0.0)  # 1-minute load average before and after
+
+    @property
+    def throughput(self) -> float:
+        return sum(len(v) for v in self.timings.values()) / self.seconds
+
+    @property
+    def errors(self) -> int:
+        return sum(n for status, n in self.statuses.items() if status >= 500)
 
 
 def _free_port() -> int:
@@ -48,109 +97,264 @@ def _prepare(url: str) -> str:
     return token
 
 
-def _percentile(values: list[float], q: float) -> float:
+def _count_log(url: str) -> tuple[int, int, int]:
+    database = Database(url)
+    with database.engine.connect() as connection:
+        updates = connection.execute(
+            text("SELECT count(*) FROM events WHERE kind = 'draft.updated'")).scalar_one()
+        events = connection.execute(text("SELECT count(*) FROM events")).scalar_one()
+        leaves = connection.execute(text("SELECT count(*) FROM log_entries")).scalar_one()
+    database.engine.dispose()
+    return int(updates), int(events), int(leaves)
+
+
+def _cpu_seconds(pid: int) -> float:
+    """User + system CPU seconds of a process and its children (the uvicorn workers)."""
+    tick = os.sysconf("SC_CLK_TCK")
+    total = 0.0
+    pids = [pid]
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[1]) == pid:
+                pids.append(int(entry.name))
+    for one in pids:
+        try:
+            fields = Path(f"/proc/{one}/stat").read_text().rsplit(")", 1)[1].split()
+        except OSError:
+            continue
+        total += (int(fields[11]) + int(fields[12])) / tick
+    return total
+
+
+def percentile(values: list[float], q: float) -> float:
+    """Nearest-rank percentile (q in 0..1) of the values, in their unit."""
+    if not values:
+        return float("nan")
     ordered = sorted(values)
-    return ordered[min(len(ordered) - 1, int(q * len(ordered)))] if ordered else float("nan")
+    return ordered[min(len(ordered) - 1, max(0, int(q * len(ordered) + 0.999999) - 1))]
 
 
-async def _client(base: str, token: str, number: int, until: float,
-                  timings: dict[str, list[float]], statuses: dict[int, int]) -> None:
-    headers = {"Authorization": f"Bearer {token}"}
-    mission = f"bench-{number % 10}"
-    async with httpx.AsyncClient(base_url=base, headers=headers, timeout=60) as client:
-        step = 0
-        while time.perf_counter() < until:
-            step += 1
-            kind = "write" if step % 5 == 0 else ("validate" if step % 5 == 1 else "read")
-            start = time.perf_counter()
-            if kind == "read":
-                response = await client.get(f"/api/missions/{mission}")
-            elif kind == "validate":
-                response = await client.post("/api/validate", content=example_bytes(
-                    "search-and-sample"), headers={"Content-Type": "application/json"})
-            else:
-                current = await client.get(f"/api/missions/{mission}")
-                if current.status_code != 200:
-                    statuses[current.status_code] = statuses.get(current.status_code, 0) + 1
-                    continue
-                orders = current.json()["orders"]
-                orders["description"] = f"edit {number}.{step}"
-                response = await client.put(
-                    f"/api/missions/{mission}/draft", json={"orders": orders},
-                    headers={"If-Match": current.headers["etag"]})
-            timings[kind].append(time.perf_counter() - start)
-            statuses[response.status_code] = statuses.get(response.status_code, 0) + 1
+async def _client(client: httpx.AsyncClient, number: int, think: float, start: float,
+                  until: float, run: Run, all_writes: list[int]) -> None:
+    rng = random.Random(number)
+    exemplar = example_bytes("search-and-sample")
+    step = rng.randrange(5)  # clients start at different points of the mix
+
+    def note(kind: str, began: float, response: httpx.Response) -> None:
+        # Every request sent during the measured window counts, however long it takes.
+        if start <= began < until:
+            run.timings[kind].append(time.perf_counter() - began)
+            run.statuses[response.status_code] = run.statuses.get(
+                response.status_code, 0) + 1
+            if kind == "write" and response.status_code == 200:
+                run.accepted_writes += 1
+
+    while time.perf_counter() < until:
+        if think > 0:
+            await asyncio.sleep(rng.expovariate(1 / think))
+        step += 1
+        mission = f"bench-{rng.randrange(MISSIONS)}"
+        kind = "write" if step % 5 == 0 else ("validate" if step % 5 == 1 else "read")
+        began = time.perf_counter()
+        if kind == "read":
+            response = await client.get(f"/api/missions/{mission}")
+            note("read", began, response)
+        elif kind == "validate":
+            response = await client.post("/api/validate", content=exemplar,
+                                         headers={"Content-Type": "application/json"})
+            note("validate", began, response)
+        else:
+            current = await client.get(f"/api/missions/{mission}")
+            note("read", began, current)
+            if current.status_code != 200:
+                continue
+            orders = current.json()["orders"]
+            orders["description"] = f"edit {number}.{step}"
+            began = time.perf_counter()
+            response = await client.put(
+                f"/api/missions/{mission}/draft", json={"orders": orders},
+                headers={"If-Match": current.headers["etag"]})
+            note("write", began, response)
+            if response.status_code == 200:
+                all_writes[0] += 1
 
 
-async def _load(base: str, token: str, clients: int, seconds: float) -> dict[str, object]:
+async def _seed(base: str, token: str) -> None:
     async with httpx.AsyncClient(base_url=base, headers={"Authorization": f"Bearer {token}"},
                                  timeout=60) as setup:
-        for i in range(10):
+        for i in range(MISSIONS):
             data = example_bytes("search-and-sample").replace(
                 b'"id": "search-and-sample"', f'"id": "bench-{i}"'.encode())
-            await setup.post("/api/import", content=data)
-    timings: dict[str, list[float]] = {"read": [], "validate": [], "write": []}
-    statuses: dict[int, int] = {}
-    until = time.perf_counter() + seconds
-    await asyncio.gather(*(_client(base, token, n, until, timings, statuses)
-                           for n in range(clients)))
-    total = sum(len(v) for v in timings.values())
-    return {"timings": timings, "statuses": statuses, "throughput": total / seconds}
+            response = await setup.post("/api/import", content=data)
+            assert response.status_code == 201, response.text
 
 
-def run(url: str, label: str, clients: int, seconds: float) -> dict[str, object]:
-    token = _prepare(url)
+async def _load(base: str, token: str, label: str, clients: int, seconds: float, warmup: float,
+                think: float, all_writes: list[int], server: int) -> Run:
+    run = Run(label, seconds)
+    # One connection per client, all made up front: building a client (its TLS context) costs
+    # tens of milliseconds of the event loop, which must not fall into the measured window.
+    # uvicorn closes idle connections after 5 s: let the client drop them first.
+    limits = httpx.Limits(max_connections=clients, max_keepalive_connections=clients,
+                          keepalive_expiry=3.0)
+    client = httpx.AsyncClient(base_url=base, headers={"Authorization": f"Bearer {token}"},
+                               timeout=120, limits=limits)
+    await asyncio.gather(*(client.get("/api/health") for _ in range(clients)))
+    start = time.perf_counter() + warmup
+    until = start + seconds
+
+    async def meter() -> None:
+        await asyncio.sleep(max(0.0, start - time.perf_counter()))
+        cpu, load = _cpu_seconds(server), os.getloadavg()[0]
+        await asyncio.sleep(max(0.0, until - time.perf_counter()))
+        run.server_cpu = _cpu_seconds(server) - cpu
+        run.load = (load, os.getloadavg()[0])
+
+    try:
+        await asyncio.gather(meter(), *(_client(client, n, think, start, until, run, all_writes)
+                                        for n in range(clients)))
+    finally:
+        await client.aclose()
+    return run
+
+
+def _serve(url: str, workers: int, data: str, log_path: Path) -> tuple[subprocess.Popen[bytes],
+                                                                        str]:
     port = _free_port()
     env = {**os.environ, "COUNTERSIGN_DATABASE_URL": url}
-    with tempfile.TemporaryDirectory() as data, open(Path(data) / "server.log", "w") as log:
+    with open(log_path, "w") as log:
         server = subprocess.Popen(
             [sys.executable, "-m", "countersign.cli", "serve", "--port", str(port),
-             "--data-dir", data], env=env, stdout=subprocess.DEVNULL, stderr=log)
+             "--data-dir", data, *(["--workers", str(workers)] if workers != 1 else [])],
+            env=env, stdout=subprocess.DEVNULL, stderr=log)
+    base = f"http://127.0.0.1:{port}"
+    deadline = time.monotonic() + 60
+    while True:
         try:
-            base = f"http://127.0.0.1:{port}"
-            deadline = time.monotonic() + 30
-            while True:
-                try:
-                    httpx.get(f"{base}/api/health")
-                    break
-                except httpx.HTTPError:
-                    if time.monotonic() > deadline:
-                        raise
-                    time.sleep(0.2)
-            result = asyncio.run(_load(base, token, clients, seconds))
-            errors = int(sum(n for s, n in result["statuses"].items() if s >= 500))  # type: ignore[attr-defined]
-            if errors:
-                log.flush()
-                print(Path(log.name).read_text()[-3000:])
+            if httpx.get(f"{base}/api/health").status_code == 200:
+                return server, base
+        except httpx.HTTPError:
+            pass
+        if time.monotonic() > deadline or server.poll() is not None:
+            server.terminate()
+            raise RuntimeError(f"the server did not start:\n{log_path.read_text()[-3000:]}")
+        time.sleep(0.2)
+
+
+def bench_database(url: str, label: str, args: argparse.Namespace) -> dict[str, Run]:
+    token = _prepare(url)
+    runs: dict[str, Run] = {}
+    all_writes = [0]
+    with tempfile.TemporaryDirectory() as data:
+        log_path = Path(data) / "server.log"
+        server, base = _serve(url, args.workers, data, log_path)
+        try:
+            asyncio.run(_seed(base, token))
+            if args.think > 0:
+                runs["think"] = asyncio.run(_load(base, token, label, args.clients, args.seconds,
+                                                  args.warmup, args.think, all_writes,
+                                                  server.pid))
+            runs["saturate"] = asyncio.run(_load(base, token, label, args.clients,
+                                                 args.seconds, args.warmup, 0, all_writes,
+                                                 server.pid))
         finally:
             server.terminate()
-            server.wait(timeout=20)
-    timings = result["timings"]
-    assert isinstance(timings, dict)
-    print(f"\n## {label}: {clients} clients for {seconds:.0f} s")
-    print(f"statuses: {result['statuses']}")
-    print(f"throughput: {result['throughput']:.0f} requests/s")
-    for kind, values in timings.items():
-        print(f"{kind:<9} n={len(values):>6}  p50 {statistics.median(values) * 1000:7.1f} ms  "
-              f"p99 {_percentile(values, 0.99) * 1000:7.1f} ms")
-    return result
+            server.wait(timeout=30)
+        if any(run.errors for run in runs.values()):
+            print(log_path.read_text()[-3000:])
+    updates, events, leaves = _count_log(url)
+    complete = updates == all_writes[0] and leaves == events
+    print(f"\n{label}: event log {'complete' if complete else 'INCOMPLETE'}: {updates} "
+          f"draft.updated events for {all_writes[0]} accepted writes, {leaves} log leaves for "
+          f"{events} events")
+    return runs
+
+
+def _cell(run: Run | None, kind: str, q: float) -> str:
+    if run is None or not run.timings[kind]:
+        return "-"
+    return f"{percentile(run.timings[kind], q) * 1000:.1f}"
+
+
+def report(results: dict[str, dict[str, Run]], args: argparse.Namespace) -> None:
+    labels = list(results)
+    print(f"\n# API benchmark: {args.clients} clients, {args.seconds:.0f} s per run after "
+          f"{args.warmup:.0f} s warm-up, server `countersign serve --workers {args.workers}`, "
+          f"think time exponential mean {args.think:g} s")
+    for mode in ("think", "saturate"):
+        if not any(mode in runs for runs in results.values()):
+            continue
+        title = (f"closed loop with think time (mean {args.think:g} s): targets judged here"
+                 if mode == "think" else "saturation (no think time): throughput")
+        print(f"\n## {title}")
+        header = f"{'':<22}" + "".join(f"{label:>14}" for label in labels) + f"{'target':>10}"
+        print(header + "  verdict")
+        for kind in KINDS:
+            for q, name in ((0.5, "p50"), (0.95, "p95"), (0.99, "p99")):
+                cells = [_cell(results[label].get(mode), kind, q) for label in labels]
+                line = f"{kind + ' ' + name + ' ms':<22}" + "".join(f"{c:>14}" for c in cells)
+                target = TARGETS_MS.get(kind) if name == "p99" else None
+                if target is not None:
+                    verdicts = []
+                    for label, cell in zip(labels, cells, strict=True):
+                        ok = cell != "-" and float(cell) < target
+                        verdicts.append(f"{label} {'PASS' if ok else 'MISS'}")
+                    line += f"{'< ' + format(target, 'g'):>10}  " + ", ".join(verdicts)
+                print(line)
+        for name, value in (
+            ("requests", lambda r: str(sum(len(v) for v in r.timings.values()))),
+            ("throughput req/s", lambda r: f"{r.throughput:.1f}"),
+            ("accepted writes/s", lambda r: f"{r.accepted_writes / r.seconds:.1f}"),
+            ("412 (stale edit)", lambda r: str(r.statuses.get(412, 0))),
+            ("5xx", lambda r: str(r.errors)),
+            ("server CPU ms/request", lambda r: (
+                f"{r.server_cpu * 1000 / sum(map(len, r.timings.values())):.1f}"
+                if any(r.timings.values()) else "-")),
+            ("server CPU cores", lambda r: f"{r.server_cpu / r.seconds:.2f}"),
+            ("load avg before/after", lambda r: f"{r.load[0]:.1f}/{r.load[1]:.1f}"),
+        ):
+            cells = [value(results[label][mode]) if mode in results[label] else "-"
+                     for label in labels]
+            print(f"{name:<22}" + "".join(f"{c:>14}" for c in cells))
+        if len(labels) == 2 and all(mode in results[label] for label in labels):
+            sqlite, postgres = (results[label][mode] for label in labels)
+            ratio = (f"{postgres.throughput / sqlite.throughput:.2f}" if sqlite.throughput
+                     else "-")
+            print(f"{'ratio PG/SQLite':<22}{ratio:>14}  (throughput)")
 
 
 def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__)
+    parser = argparse.ArgumentParser(description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--clients", type=int, default=50)
-    parser.add_argument("--seconds", type=float, default=20)
+    parser.add_argument("--seconds", type=float, default=30, help="measured seconds per run")
+    parser.add_argument("--warmup", type=float, default=5, help="uncounted seconds per run")
+    parser.add_argument("--think", type=float, default=1.0,
+                        help="mean think time in seconds (0: only the saturation run)")
+    parser.add_argument("--workers", type=int, default=2, help="server processes")
+    parser.add_argument("--only", choices=["sqlite", "postgresql"], default=None)
     args = parser.parse_args()
-    with tempfile.TemporaryDirectory() as tmp:
-        sqlite = run(f"sqlite:///{Path(tmp) / 'bench.db'}", "SQLite", args.clients, args.seconds)
+    results: dict[str, dict[str, Run]] = {}
+    if args.only != "postgresql":
+        with tempfile.TemporaryDirectory() as tmp:
+            results["SQLite"] = bench_database(f"sqlite:///{Path(tmp) / 'bench.db'}", "SQLite",
+                                               args)
     pg_url = os.environ.get("COUNTERSIGN_TEST_POSTGRES_URL")
-    if not pg_url:
-        print("\nPostgreSQL skipped: set COUNTERSIGN_TEST_POSTGRES_URL "
-              "(export COUNTERSIGN_TEST_POSTGRES_URL=$(scripts/postgres-for-tests))")
-        return
-    postgres = run(pg_url, "PostgreSQL", args.clients, args.seconds)
-    ratio = float(postgres["throughput"]) / float(sqlite["throughput"])  # type: ignore[arg-type]
-    print(f"\nthroughput ratio PostgreSQL/SQLite: {ratio:.2f}")
+    if args.only != "sqlite":
+        if pg_url:
+            results["PostgreSQL"] = bench_database(pg_url, "PostgreSQL", args)
+        else:
+            print("\nPostgreSQL skipped: set COUNTERSIGN_TEST_POSTGRES_URL "
+                  "(export COUNTERSIGN_TEST_POSTGRES_URL=$(scripts/postgres-for-tests))")
+    report(results, args)
+    print(f"\nmachine: {os.cpu_count()} CPUs, shared; the load average includes this "
+          "benchmark's own client and server.")
+    if any(run.errors for runs in results.values() for run in runs.values()):
+        sys.exit(1)
 
 
 if __name__ == "__main__":

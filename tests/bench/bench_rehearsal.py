@@ -1,4 +1,6 @@
-"""Benchmarks of issue 8 (rehearsal). Run: .venv/bin/python -m tests.bench.bench_rehearsal [--only rules|simulation]
+"""Benchmarks of issue 8 (rehearsal).
+
+Run: .venv/bin/python -m tests.bench.bench_rehearsal [--only rules|simulation]
 
 Sections are functions listed in SECTIONS; `--only NAME` runs one. Each figure is printed with
 its ratio to a baseline measured in this same process.

@@ -113,13 +113,14 @@ def open_session(db: DbSession, user: User) -> NewSession:
 
 
 def session_user(db: DbSession, cookie: str) -> tuple[User, Session] | None:
-    row = db.get(Session, token_hash(cookie))
-    if row is None:
+    found = db.execute(
+        select(Session, User).join(User, User.id == Session.user_id)
+        .where(Session.token_hash == token_hash(cookie))
+    ).first()
+    if found is None:
         return None
-    if row.expires_at < utcnow():
-        return None
-    user = db.get(User, row.user_id)
-    if user is None or user.disabled:
+    row, user = found
+    if row.expires_at < utcnow() or user.disabled:
         return None
     return user, row
 
@@ -138,11 +139,15 @@ def create_token(db: DbSession, *, user: User, name: str) -> tuple[ApiToken, str
 
 
 def token_user(db: DbSession, secret: str) -> User | None:
-    token = db.scalar(select(ApiToken).where(ApiToken.token_hash == token_hash(secret)))
-    if token is None or token.revoked:
+    # One indexed query (api_tokens.token_hash is unique) for the token and its user.
+    found = db.execute(
+        select(ApiToken, User).join(User, User.id == ApiToken.user_id)
+        .where(ApiToken.token_hash == token_hash(secret))
+    ).first()
+    if found is None:
         return None
-    user = db.get(User, token.user_id)
-    if user is None or user.disabled:
+    token, user = found
+    if token.revoked or user.disabled:
         return None
     now = utcnow()
     # Recording every use would turn each read into a write; a minute's precision is enough,

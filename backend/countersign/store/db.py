@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -12,6 +13,7 @@ from alembic.config import Config
 from alembic.runtime.migration import MigrationContext
 from alembic.script import ScriptDirectory
 from sqlalchemy import Engine, create_engine, event
+from sqlalchemy.exc import TimeoutError as PoolTimeout
 from sqlalchemy.orm import Session, sessionmaker
 
 MIGRATIONS = Path(__file__).resolve().parents[3] / "migrations"
@@ -22,6 +24,11 @@ class DatabaseTooNew(RuntimeError):
 
 
 BEGIN_MODE = "countersign_begin"
+_HOLDS_WRITE_LOCK = "countersign_holds_write_lock"
+
+
+# How long a SQLite writer waits for the write lock before the request fails with 503.
+WRITE_LOCK_TIMEOUT_S = 30.0
 
 
 def make_engine(url: str) -> Engine:
@@ -29,6 +36,11 @@ def make_engine(url: str) -> Engine:
         # Up to two connections per worker thread (request session + report cache writer).
         engine = create_engine(url, connect_args={"check_same_thread": False, "timeout": 30},
                                pool_size=20, max_overflow=80, pool_timeout=10)
+        # SQLite has one writer at a time. Writers of this process queue on a lock of their
+        # own before asking SQLite: they are woken the moment the previous writer commits,
+        # instead of polling in SQLite's busy handler (which sleeps up to 100 ms between tries
+        # and lets late comers overtake). Writers of other processes still meet busy_timeout.
+        write_lock = threading.Lock()
 
         @event.listens_for(engine, "connect")
         def _sqlite_pragmas(dbapi_connection: Any, _record: Any) -> None:
@@ -46,7 +58,31 @@ def make_engine(url: str) -> Engine:
             # that reads and then writes cannot upgrade once another writer committed, and
             # SQLite answers that with "database is locked" instead of waiting.
             mode = connection.get_execution_options().get(BEGIN_MODE, "DEFERRED")
-            connection.exec_driver_sql(f"BEGIN {mode}")
+            if mode == "IMMEDIATE":
+                if not write_lock.acquire(timeout=WRITE_LOCK_TIMEOUT_S):
+                    raise PoolTimeout("another writer held the SQLite write lock too long")
+                connection.info[_HOLDS_WRITE_LOCK] = True
+            try:
+                connection.exec_driver_sql(f"BEGIN {mode}")
+            except BaseException:
+                _release(connection.info)
+                raise
+
+        def _release(info: dict[str, Any]) -> None:
+            if info.pop(_HOLDS_WRITE_LOCK, False):
+                write_lock.release()
+
+        # A session gives its connection back to the pool right after COMMIT or ROLLBACK: the
+        # next writer may go then. (The "commit" event would fire before COMMIT is sent.)
+        @event.listens_for(engine, "checkin")
+        def _sqlite_checkin(_dbapi_connection: Any, record: Any) -> None:
+            if record is not None:
+                _release(record.info)
+
+        @event.listens_for(engine, "invalidate")
+        def _sqlite_invalidate(_dbapi_connection: Any, record: Any, _error: Any) -> None:
+            if record is not None:
+                _release(record.info)
 
         return engine
     if url.startswith("postgresql://"):
@@ -92,6 +128,22 @@ class Database:
 
     def migrate(self) -> None:
         upgrade_to_head(self.engine)
+
+    @contextmanager
+    def open(self, write: bool = True) -> Iterator[Session]:
+        """A session whose transaction begins at its first query (a writer's BEGIN IMMEDIATE
+        on SQLite: the write lock) and that may be committed early; committed on success if
+        still open, rolled back on error."""
+        factory = self.write_sessions if write else self.sessions
+        with factory(info={"database": self, "write": write}) as session:
+            if not write:
+                event.listen(session, "before_flush", _refuse_writes)
+            try:
+                yield session
+                session.commit()
+            except BaseException:
+                session.rollback()
+                raise
 
     @contextmanager
     def session(self, write: bool = True) -> Iterator[Session]:

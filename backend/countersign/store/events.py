@@ -8,7 +8,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from sqlalchemy import select, text
+from sqlalchemy import event as sa_event
+from sqlalchemy import inspect, select, text
 from sqlalchemy.orm import Session as DbSession
 
 from ..approvals.log import GENESIS, entry_bytes, entry_leaf, event_data
@@ -22,13 +23,42 @@ LOG_LOCK = 0x636F756E  # "coun"
 def record(
     db: DbSession, *, kind: str, actor: User | None, mission_id: str | None = None,
     before: str | None = None, after: str | None = None, detail: dict[str, Any] | None = None,
+    log_at_commit: bool = False,
 ) -> Event:
+    """Insert the event and append its log leaf. With `log_at_commit` the leaf is appended
+    just before the transaction commits (still in it, so the log stays complete): the global
+    log lock is then held only for the append and the COMMIT, not for the rest of the request.
+    Callers that read the log in the same transaction (approvals) must not defer."""
     event = Event(kind=kind, actor_id=actor.id if actor else None, mission_id=mission_id,
                   before_digest=before, after_digest=after, detail=detail or {}, at=utcnow())
     db.add(event)
     db.flush()
-    append_to_log(db, event, actor.username if actor else None)
+    actor_name = actor.username if actor else None
+    if not log_at_commit:
+        append_to_log(db, event, actor_name)
+        return event
+    if not db.info.get(_LISTENING):
+        db.info[_LISTENING] = True
+        sa_event.listen(db, "before_commit", _append_pending)
+        sa_event.listen(db, "after_rollback", _forget_pending)
+    db.info.setdefault(_PENDING, []).append((event, actor_name))
     return event
+
+
+_PENDING = "countersign_pending_log"
+_LISTENING = "countersign_log_listener"
+
+
+def _append_pending(db: DbSession) -> None:
+    pending = db.info.pop(_PENDING, None) or []
+    for event, actor_name in pending:
+        if inspect(event).persistent:  # not undone by a rolled-back savepoint
+            append_to_log(db, event, actor_name)
+
+
+def _forget_pending(db: DbSession) -> None:
+    if not db.in_transaction():  # the whole transaction ended, not a savepoint
+        db.info.pop(_PENDING, None)
 
 
 def append_to_log(db: DbSession, event: Event, actor: str | None) -> LogEntry:

@@ -56,11 +56,12 @@ def get_mission(db: DbSession, mission_id: str) -> Mission:
 
 
 def create_mission(
-    db: DbSession, *, orders: Orders, author: User, layout: dict[str, Any] | None = None
+    db: DbSession, *, orders: Orders, author: User, layout: dict[str, Any] | None = None,
+    orders_digest: str | None = None,
 ) -> Mission:
     if db.get(Mission, orders.id) is not None:
         raise Conflict(f"a mission with id {orders.id!r} exists already; choose another id")
-    value = digest(orders)
+    value = orders_digest or digest(orders)
     mission = Mission(
         id=orders.id, title=orders.title, vehicle=orders.vehicle, draft=orders_to_json(orders),
         draft_digest=value, layout=_check_layout(layout or {}), revision=1,
@@ -71,13 +72,14 @@ def create_mission(
         db.flush()
     except IntegrityError:
         raise Conflict(f"a mission with id {orders.id!r} exists already") from None
-    record(db, kind="mission.created", actor=author, mission_id=orders.id, after=value)
+    record(db, kind="mission.created", actor=author, mission_id=orders.id, after=value,
+           log_at_commit=True)
     return mission
 
 
 def update_draft(
     db: DbSession, *, mission_id: str, orders: Orders, layout: dict[str, Any] | None,
-    expected_revision: int, author: User,
+    expected_revision: int, author: User, orders_digest: str | None = None,
 ) -> Mission:
     """Compare-and-set on the revision: a concurrent edit fails with 412, nothing is lost."""
     mission = get_mission(db, mission_id)
@@ -87,7 +89,7 @@ def update_draft(
             "ids cannot change"
         )
     before = mission.draft_digest
-    value = digest(orders)
+    value = orders_digest or digest(orders)
     changes: dict[str, Any] = {
         "draft": orders_to_json(orders), "draft_digest": value, "title": orders.title,
         "vehicle": orders.vehicle, "revision": Mission.revision + 1,
@@ -109,7 +111,7 @@ def update_draft(
             mission.revision,
         )
     record(db, kind="draft.updated", actor=author, mission_id=mission_id, before=before,
-           after=value, detail={"revision": expected_revision + 1})
+           after=value, detail={"revision": expected_revision + 1}, log_at_commit=True)
     db.refresh(mission)
     return mission
 
@@ -125,7 +127,7 @@ def delete_mission(db: DbSession, *, mission_id: str, actor: User) -> None:
             f"mission {mission_id!r} has {versions} version(s); only drafts can be deleted"
         )
     record(db, kind="mission.deleted", actor=actor, mission_id=mission_id,
-           before=mission.draft_digest)
+           before=mission.draft_digest, log_at_commit=True)
     db.delete(mission)
 
 
@@ -142,7 +144,7 @@ def create_version(db: DbSession, *, mission_id: str, author: User) -> MissionVe
     except IntegrityError:
         raise Conflict("another version was created at the same moment; try again") from None
     record(db, kind="version.created", actor=author, mission_id=mission_id,
-           after=version.digest, detail={"number": version.number})
+           after=version.digest, detail={"number": version.number}, log_at_commit=True)
     return version
 
 

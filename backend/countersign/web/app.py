@@ -3,9 +3,8 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Any
 
-from fastapi import FastAPI, Request
+from fastapi import FastAPI
 from fastapi.responses import FileResponse, JSONResponse, Response
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
@@ -63,6 +62,34 @@ SECURITY_HEADERS = {
 }
 
 
+class SecurityHeaders:
+    """Add SECURITY_HEADERS (and no-store on /api/) to every response that lacks them. Plain
+    ASGI: Starlette's @app.middleware("http") costs a task and a stream per request."""
+
+    def __init__(self, app: ASGIApp) -> None:
+        self.app = app
+        self.api = [(name.lower().encode(), value.encode())
+                    for name, value in SECURITY_HEADERS.items()]
+
+    async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
+        if scope["type"] != "http":
+            await self.app(scope, receive, send)
+            return
+        extra = list(self.api)
+        if scope["path"].startswith("/api/"):
+            extra.append((b"cache-control", b"no-store"))
+
+        async def with_headers(message: Message) -> None:
+            if message["type"] == "http.response.start":
+                headers = list(message.get("headers", []))
+                present = {name.lower() for name, _ in headers}
+                headers.extend(h for h in extra if h[0] not in present)
+                message = {**message, "headers": headers}
+            await send(message)
+
+        await self.app(scope, receive, with_headers)
+
+
 def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     settings.prepare()
     database = database or Database(settings.database_url)
@@ -73,14 +100,7 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     app.state.database = database
     problems.install(app)
 
-    @app.middleware("http")
-    async def _headers(request: Request, call_next: Any) -> Response:
-        response: Response = await call_next(request)
-        for name, value in SECURITY_HEADERS.items():
-            response.headers.setdefault(name, value)
-        if request.url.path.startswith("/api/"):
-            response.headers.setdefault("Cache-Control", "no-store")
-        return response
+    app.add_middleware(SecurityHeaders)
 
     @app.get("/api/health", operation_id="health", tags=["system"],
              openapi_extra={"x-roles": ["anonymous"]})
@@ -96,6 +116,12 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     _serve_frontend(app, settings.frontend_dist)
     app.add_middleware(BodyLimit, limit=settings.max_body_bytes)
     return app
+
+
+def app_from_environment() -> FastAPI:
+    """The app of one server process of `countersign serve --workers N` (settings from the
+    environment: COUNTERSIGN_DATA_DIR, COUNTERSIGN_DATABASE_URL)."""
+    return create_app(Settings.from_environment())
 
 
 def _serve_frontend(app: FastAPI, dist: Path) -> None:

@@ -2,12 +2,15 @@
 
 from __future__ import annotations
 
+import functools
 import hmac
-from collections.abc import Iterable, Iterator
+import inspect
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from typing import Annotated, Any
 
 from fastapi import Depends, HTTPException, Path, Request
+from fastapi.routing import APIRoute
 from sqlalchemy.orm import Session as DbSession
 
 from ..store.accounts import session_user, token_user
@@ -29,10 +32,61 @@ READ_ONLY_POSTS = frozenset({"/api/validate"})
 
 
 def get_db(request: Request) -> Iterator[DbSession]:
+    """The request's session. Its transaction begins at the first query and, for synchronous
+    routes, is committed by TransactionRoute in the worker thread that ran the route."""
     database: Database = request.app.state.database
     write = request.method not in SAFE_METHODS and request.url.path not in READ_ONLY_POSTS
-    with database.session(write=write) as session:
+    with database.open(write=write) as session:
         yield session
+
+
+class TransactionRoute(APIRoute):
+    """Routes that commit (or roll back) their request's transaction in the same worker thread
+    that ran them, before returning.
+
+    FastAPI runs each synchronous dependency, the route and each dependency's exit in separate
+    trips to the thread pool. A write transaction left open until get_db's exit would hold the
+    write lock (SQLite's, or PostgreSQL's row and advisory locks) while its request waits for a
+    free thread; when every thread is taken by writers waiting for that lock, nothing moves
+    until the waiters time out (the 30 s writes and 503 "busy" answers of issue 5). Committing
+    here makes each write transaction one uninterrupted stretch of work in one thread."""
+
+    def __init__(self, path: str, endpoint: Callable[..., Any], **kwargs: Any) -> None:
+        if not inspect.iscoroutinefunction(endpoint) and not inspect.isgeneratorfunction(
+                endpoint):
+            endpoint = _committing(endpoint)
+        super().__init__(path, endpoint, **kwargs)
+
+
+def in_one_transaction(db: DbSession, action: Callable[..., Any], *args: Any) -> Any:
+    """Run `action(*args)` and commit `db` (roll back on error), in the calling thread."""
+    try:
+        result = action(*args)
+    except BaseException:
+        db.rollback()
+        raise
+    db.commit()
+    return result
+
+
+def _committing(endpoint: Callable[..., Any]) -> Callable[..., Any]:
+    signature = inspect.signature(endpoint, eval_str=True)
+
+    @functools.wraps(endpoint)
+    def run(*args: Any, **kwargs: Any) -> Any:
+        sessions = [value for value in kwargs.values() if isinstance(value, DbSession)]
+        try:
+            result = endpoint(*args, **kwargs)
+        except BaseException:
+            for session in sessions:
+                session.rollback()
+            raise
+        for session in sessions:
+            session.commit()
+        return result
+
+    run.__signature__ = signature  # type: ignore[attr-defined]
+    return run
 
 
 # "function" scope commits before the response is sent: a client that sees 200 can rely on it.
@@ -50,6 +104,16 @@ class Principal:
 
 
 def current_principal(request: Request, db: Db) -> Principal:
+    if db.info.get("write", True):
+        # Who is asking is read in a short transaction of its own, so that a writing request
+        # takes its write lock only when its route starts writing (see TransactionRoute).
+        database: Database = request.app.state.database
+        with database.session(write=False) as reader:
+            return _principal(request, reader)
+    return _principal(request, db)
+
+
+def _principal(request: Request, db: DbSession) -> Principal:
     header = request.headers.get("Authorization", "")
     if header.lower().startswith("bearer "):
         user = token_user(db, header[7:].strip())

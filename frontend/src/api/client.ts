@@ -19,41 +19,11 @@ export type MissionPage = JsonBody<paths["/api/missions"]["get"]["responses"][20
 export type MissionSummary = MissionPage["items"][number];
 export type MissionDetail = JsonBody<paths["/api/missions/{mission_id}"]["get"]["responses"][200]>;
 export type Version = MissionDetail["versions"][number];
-// The report, paths and created-version routes answer free-form JSON in the OpenAPI document
-// (no response model yet), so their shapes are written out here from docs/api.md.
-export interface Finding {
-  code: string;
-  severity: "error" | "warning" | string;
-  subjects: string[];
-  message: string;
-}
-export interface Report {
-  mission: string;
-  digest: string;
-  ok: boolean;
-  findings: Finding[];
-  paths: { count: number; by_terminal: Record<string, number> } | null;
-  costs?: Record<string, WorstCost> | null;
-}
-export interface WorstCost {
-  worst: number;
-  budget: number | null;
-  path: { goals: string[]; outcomes: string[]; terminal: string } | null;
-  unknown_cost?: string[];
-  estimated_cost?: string[];
-}
-export interface MissionPath {
-  index: number;
-  goals: string[];
-  outcomes: string[];
-  terminal: string;
-}
-export interface PathPage {
-  count: number;
-  by_terminal: Record<string, number>;
-  items: MissionPath[];
-  next_cursor: string | null;
-}
+export type Report = JsonBody<paths["/api/missions/{mission_id}/report"]["get"]["responses"][200]>;
+export type Finding = Report["findings"][number];
+export type WorstCost = NonNullable<Report["costs"]>[string];
+export type PathPage = JsonBody<paths["/api/missions/{mission_id}/paths"]["get"]["responses"][200]>;
+export type MissionPath = PathPage["items"][number];
 export type UserList = JsonBody<paths["/api/users"]["get"]["responses"][200]>;
 export type EventList = JsonBody<paths["/api/events"]["get"]["responses"][200]>;
 export type Event = EventList[number];

@@ -792,6 +792,15 @@ export interface components {
         } & {
             [key: string]: unknown;
         };
+        /** CostPathOut */
+        CostPathOut: {
+            /** Goals */
+            goals: string[];
+            /** Outcomes */
+            outcomes: string[];
+            /** Terminal */
+            terminal: string;
+        };
         /** DecisionIn */
         DecisionIn: {
             /** Decision */
@@ -892,6 +901,21 @@ export interface components {
             title: string;
         } & {
             [key: string]: unknown;
+        };
+        /** FindingOut */
+        FindingOut: {
+            /** Code */
+            code: string;
+            /** Details */
+            details?: {
+                [key: string]: unknown;
+            } | null;
+            /** Message */
+            message: string;
+            /** Severity */
+            severity: string;
+            /** Subjects */
+            subjects: string[];
         };
         /** HTTPValidationError */
         HTTPValidationError: {
@@ -1007,6 +1031,17 @@ export interface components {
             /** Next Cursor */
             next_cursor: string | null;
         };
+        /** MissionPathOut */
+        MissionPathOut: {
+            /** Goals */
+            goals: string[];
+            /** Index */
+            index: number;
+            /** Outcomes */
+            outcomes: string[];
+            /** Terminal */
+            terminal: string;
+        };
         /** MissionSummary */
         MissionSummary: {
             /** Draft Digest */
@@ -1036,6 +1071,28 @@ export interface components {
             vehicle: string | null;
             /** Warnings */
             warnings: number | null;
+        };
+        /** PathCountsOut */
+        PathCountsOut: {
+            /** By Terminal */
+            by_terminal: {
+                [key: string]: number;
+            };
+            /** Count */
+            count: number;
+        };
+        /** PathPage */
+        PathPage: {
+            /** By Terminal */
+            by_terminal: {
+                [key: string]: number;
+            };
+            /** Count */
+            count: number;
+            /** Items */
+            items: components["schemas"]["MissionPathOut"][];
+            /** Next Cursor */
+            next_cursor: string | null;
         };
         /** ProblemFromMission */
         ProblemFromMission: {
@@ -1071,6 +1128,25 @@ export interface components {
             ];
             /** Swath M */
             swath_m?: number | null;
+        };
+        /**
+         * ReportOut
+         * @description The validation report: every check that exists (docs/api.md, Reports).
+         */
+        ReportOut: {
+            /** Costs */
+            costs?: {
+                [key: string]: components["schemas"]["WorstCostOut"];
+            } | null;
+            /** Digest */
+            digest: string;
+            /** Findings */
+            findings: components["schemas"]["FindingOut"][];
+            /** Mission */
+            mission: string;
+            /** Ok */
+            ok: boolean;
+            paths: components["schemas"]["PathCountsOut"] | null;
         };
         /** RevocationIn */
         RevocationIn: {
@@ -1295,6 +1371,24 @@ export interface components {
             orders?: {
                 [key: string]: unknown;
             } | null;
+        };
+        /** WorstCostOut */
+        WorstCostOut: {
+            /** Budget */
+            budget: number | null;
+            /**
+             * Estimated Cost
+             * @default []
+             */
+            estimated_cost: string[];
+            path: components["schemas"]["CostPathOut"] | null;
+            /**
+             * Unknown Cost
+             * @default []
+             */
+            unknown_cost: string[];
+            /** Worst */
+            worst: number;
         };
     };
     responses: never;
@@ -2067,7 +2161,9 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": unknown;
+                    "application/json": components["schemas"]["PathPage"];
+                    "application/x-ndjson": string;
+                    "text/plain": string;
                 };
             };
             /** @description Validation Error */
@@ -2135,9 +2231,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["ReportOut"];
                 };
             };
             /** @description Validation Error */
@@ -2168,9 +2262,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["VersionOut"];
                 };
             };
             /** @description Validation Error */
@@ -2202,9 +2294,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["VersionOut"];
                 };
             };
             /** @description Validation Error */
@@ -2679,9 +2769,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["ReportOut"];
                 };
             };
             /** @description Validation Error */

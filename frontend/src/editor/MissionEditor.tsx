@@ -108,7 +108,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   const refreshChecks = useCallback(async () => {
     const path = { params: { path: { mission_id: mission.id } } };
     const [r, text] = await Promise.all([
-      api.GET("/api/missions/{mission_id}/report", path).then((x) => unwrap(x) as unknown as Report),
+      api.GET("/api/missions/{mission_id}/report", path).then((x) => unwrap(x)),
       fetchText(exportHref(mission.id, "plain")),
     ]);
     setReport(r);
@@ -130,7 +130,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     // Check the edited orders at once (nothing stored) while the draft saves.
     const checked = api.POST("/api/validate", { body: sent.orders }).then((x) => {
       if (latest.current === sent && x.response.ok && x.data) {
-        setReport(x.data as unknown as Report);
+        setReport(x.data);
         if (editedAt.current) setCheckMs(Math.round(performance.now() - editedAt.current));
       }
     }, () => undefined);

@@ -8,7 +8,6 @@ import {
   fetchText,
   type MissionDetail,
   type PathPage,
-  type Report,
   unwrap,
 } from "../api/client";
 import { Link } from "../components/Link";
@@ -183,7 +182,7 @@ function OrdersTab({ id, digest }: { id: string; digest: string }) {
 function FindingsTab({ mission }: { mission: MissionDetail }) {
   const { data, error, loading } = useLoad(
     async () =>
-      unwrap(await api.GET("/api/missions/{mission_id}/report", missionPath(mission.id))) as unknown as Report,
+      unwrap(await api.GET("/api/missions/{mission_id}/report", missionPath(mission.id))),
     [mission.id, mission.draft_digest],
   );
   if (loading && !data) return <Loading what="the validation report" />;
@@ -268,7 +267,7 @@ function PathsTab({ mission }: { mission: MissionDetail }) {
     const result = await api.GET("/api/missions/{mission_id}/paths", {
       params: { path: { mission_id: mission.id }, query },
     });
-    return unwrap(result) as unknown as PathPage;
+    return unwrap(result) as PathPage; // JSON was asked for (the route can also stream text)
   }, [mission.id, mission.draft_digest, cursor]);
 
   if (loading && !data) return <Loading what="the paths" />;

@@ -29,7 +29,8 @@ that both routes give the same facts, and the benchmark compares their cost.
 
 from __future__ import annotations
 
-from collections import deque
+import threading
+from collections import OrderedDict, deque
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 
@@ -231,8 +232,47 @@ def _cycles(successors: dict[Node, list[Node]]) -> list[list[Node]]:
     return result
 
 
+# infer() reads only these predicates of the orders graph (successor edges, start, the role
+# facts and rdf:type), so its result is a pure function of those triples: an edit that changes
+# titles, descriptions, parameters or expressions reuses the reasoning. Inference objects are
+# never mutated after infer() returns, so cached ones are shared.
+_INFER_INPUTS = frozenset((*NEXT_PROPERTIES, MEO.startsWith, *FACT_PROPERTIES, RDF.type))
+_INFER_CACHE: OrderedDict[frozenset[tuple[Node, Node, Node]], Inference] = OrderedDict()
+_INFER_CACHE_SIZE = 128
+_INFER_LOCK = threading.Lock()
+
+
+def _infer_key(graph: Graph) -> frozenset[tuple[Node, Node, Node]] | None:
+    """The triples infer() reads, compared exactly (no digest that could collide)."""
+    triples = []
+    for prop in _INFER_INPUTS:
+        for s, o in graph.subject_objects(prop):
+            if isinstance(s, BNode) or isinstance(o, BNode):
+                return None  # blank node labels differ between graphs: no stable key
+            triples.append((s, prop, o))
+    return frozenset(triples)
+
+
 def infer(graph: Graph) -> Inference:
-    """Staged reasoning over an orders graph (see the module docstring)."""
+    """Staged reasoning over an orders graph (see the module docstring), cached per content of
+    the triples it reads."""
+    key = _infer_key(graph)
+    if key is not None:
+        with _INFER_LOCK:
+            cached = _INFER_CACHE.get(key)
+            if cached is not None:
+                _INFER_CACHE.move_to_end(key)
+                return cached
+    result = _infer(graph)
+    if key is not None:
+        with _INFER_LOCK:
+            _INFER_CACHE[key] = result
+            while len(_INFER_CACHE) > _INFER_CACHE_SIZE:
+                _INFER_CACHE.popitem(last=False)
+    return result
+
+
+def _infer(graph: Graph) -> Inference:
     reach = reachability(graph)
     tbox = _cached_tbox()
     roles = _role_properties(tbox)

@@ -12,10 +12,19 @@ from ...orders.model import Vehicle
 from ...store.accounts import AccountError, create_token, create_user, hash_password
 from ...store.events import record
 from ...store.tables import ApiToken, Event, User, VehicleProfile
-from ..deps import ADMINS, EVERYONE, LOG_READERS, CurrentPrincipal, Db, RowId, allow
+from ..deps import (
+    ADMINS,
+    EVERYONE,
+    LOG_READERS,
+    CurrentPrincipal,
+    Db,
+    RowId,
+    TransactionRoute,
+    allow,
+)
 from .schemas import EventOut, RequestBody, UserOut
 
-router = APIRouter(prefix="/api", tags=["administration"])
+router = APIRouter(prefix="/api", tags=["administration"], route_class=TransactionRoute)
 
 
 class UserIn(RequestBody):

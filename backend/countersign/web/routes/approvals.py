@@ -21,10 +21,19 @@ from ...store.missions import get_version, report_for
 from ...store.tables import Approval, MissionVersion, SigningKey, Submission, User
 from ...verify.graph import build_graph
 from ...verify.paths import count_paths, iter_paths
-from ..deps import EVERYONE, LOG_READERS, OPERATORS, CurrentPrincipal, Db, RowId, allow
+from ..deps import (
+    EVERYONE,
+    LOG_READERS,
+    OPERATORS,
+    CurrentPrincipal,
+    Db,
+    RowId,
+    TransactionRoute,
+    allow,
+)
 from .schemas import RequestBody
 
-router = APIRouter(prefix="/api", tags=["approvals"])
+router = APIRouter(prefix="/api", tags=["approvals"], route_class=TransactionRoute)
 SUPERVISORS = ("supervisor",)
 KEY_READERS = ("supervisor", "auditor", "admin")
 LOG_KEY_ENV = "COUNTERSIGN_LOG_KEY"

@@ -6,10 +6,10 @@ from fastapi import APIRouter, HTTPException, Request, Response
 from pydantic import BaseModel, Field
 
 from ...store.accounts import authenticate, close_session, open_session
-from ..deps import EVERYONE, SESSION_COOKIE, CurrentPrincipal, Db, allow
+from ..deps import EVERYONE, SESSION_COOKIE, CurrentPrincipal, Db, TransactionRoute, allow
 from .schemas import RequestBody, UserOut
 
-router = APIRouter(prefix="/api/auth", tags=["auth"])
+router = APIRouter(prefix="/api/auth", tags=["auth"], route_class=TransactionRoute)
 
 
 class LoginRequest(RequestBody):

@@ -4,32 +4,47 @@ from __future__ import annotations
 
 import base64
 from collections.abc import Iterator
-from typing import Annotated, Any
+from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, Header, HTTPException, Query, Request, Response
+from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import PlainTextResponse, StreamingResponse
-from pydantic import BaseModel
 from sqlalchemy import func, or_, select
 from sqlalchemy.orm import Session as DbSession
 
+from ...orders.canonical import digest
 from ...orders.model import Orders
 from ...orders.reader import orders_from_data, read_bytes
 from ...orders.writers import WRITERS, write
 from ...store import missions as service
+from ...store.db import database_of
 from ...store.tables import Mission, MissionVersion, User
 from ...verify.graph import build_graph
 from ...verify.paths import count_paths, iter_path_lines, iter_paths, trace_text
-from ..deps import EVERYONE, OPERATORS, CurrentPrincipal, Db, RowId, allow
+from ..deps import (
+    EVERYONE,
+    OPERATORS,
+    CurrentPrincipal,
+    Db,
+    RowId,
+    TransactionRoute,
+    allow,
+    in_one_transaction,
+)
 from .schemas import (
     MissionDetail,
     MissionPage,
+    MissionPathOut,
     MissionSummary,
+    PathPage,
+    ReportOut,
     RequestBody,
+    VersionOut,
     summary_fields,
     version_out,
 )
 
-router = APIRouter(prefix="/api", tags=["missions"])
+router = APIRouter(prefix="/api", tags=["missions"], route_class=TransactionRoute)
 MAX_PAGE = 200
 MAX_PATH_PAGE = 1000
 
@@ -37,13 +52,6 @@ MAX_PATH_PAGE = 1000
 class DraftIn(RequestBody):
     orders: dict[str, Any]
     layout: dict[str, Any] | None = None
-
-
-class PathPage(BaseModel):
-    count: int
-    by_terminal: dict[str, int]
-    items: list[dict[str, Any]]
-    next_cursor: str | None
 
 
 def _username(db: DbSession, user_id: int, cache: dict[int, str]) -> str:
@@ -57,26 +65,57 @@ def _orders(data: dict[str, Any]) -> Orders:
     return orders_from_data(data)
 
 
-def _summary(db: DbSession, mission: Mission, names: dict[int, str]) -> dict[str, Any]:
+def _validate_first(db: DbSession, orders: Orders, mission_id: str | None = None,
+                    expected_revision: int | None = None) -> str:
+    """Validate orders about to be written before the write transaction begins, and return
+    their digest. A writing request holds the write lock from its first query to its commit
+    and therefore only reports cached results; validating here (in a read transaction, the
+    report stored by a short transaction of its own) puts the new draft's report in the cache
+    without holding any lock, so that neither this answer nor the next read waits for it.
+    An edit whose revision is already stale fails with 412 before paying for validation."""
+    value = digest(orders)
+    with database_of(db).session(write=False) as reader:
+        if mission_id is not None and expected_revision is not None:
+            current = reader.get(Mission, mission_id)
+            if current is not None and current.revision != expected_revision:
+                raise service.PreconditionFailed(
+                    f"the draft changed since revision {expected_revision} (now "
+                    f"{current.revision}); reload it and apply your edit again",
+                    current.revision)
+        service.report_for(reader, orders, value)
+    return value
+
+
+def _summary(db: DbSession, mission: Mission, names: dict[int, str],
+             latest: int | Literal[False] | None = False) -> dict[str, Any]:
     # A writing request holds the write lock until it answers: it reports only what is cached
     # (ok/errors stay null otherwise) and leaves validation to the next read or /validate.
     if db.info.get("write", True):
         report = service.cached_report(db, mission.draft_digest)
     else:
         report = service.report_for(db, lambda: _orders(mission.draft), mission.draft_digest).report
-    latest = db.scalar(select(func.max(MissionVersion.number))
-                       .where(MissionVersion.mission_id == mission.id))
+    if latest is False:
+        latest = db.scalar(select(func.max(MissionVersion.number))
+                           .where(MissionVersion.mission_id == mission.id))
     return summary_fields(mission, report, latest, _username(db, mission.updated_by, names))
 
 
 def _detail(db: DbSession, mission: Mission, response: Response | None,
             import_findings: list[dict[str, Any]] | None = None) -> MissionDetail:
     names: dict[int, str] = {}
-    versions = [version_out(v, _username(db, v.author_id, names), False)
-                for v in service.versions_of(db, mission.id)]
+    # The list needs no version's orders: select the four columns it shows.
+    rows = db.execute(
+        select(MissionVersion.number, MissionVersion.digest, MissionVersion.author_id,
+               MissionVersion.created_at)
+        .where(MissionVersion.mission_id == mission.id).order_by(MissionVersion.number)
+    ).all()
+    versions = [VersionOut(number=number, digest=value, author=_username(db, author, names),
+                           created_at=created_at)
+                for number, value, author, created_at in rows]
     if response is not None:
         response.headers["ETag"] = f'"{mission.revision}"'
-    return MissionDetail(**_summary(db, mission, names), orders=mission.draft,
+    latest = versions[-1].number if versions else None
+    return MissionDetail(**_summary(db, mission, names, latest), orders=mission.draft,
                          layout=mission.layout, versions=versions,
                          import_findings=import_findings or [])
 
@@ -124,7 +163,10 @@ def list_missions(
              response_model=MissionDetail, **allow(*OPERATORS))
 def create_mission(body: dict[str, Any], response: Response, principal: CurrentPrincipal,
                    db: Db) -> MissionDetail:
-    mission = service.create_mission(db, orders=_orders(body), author=principal.user)
+    orders = _orders(body)
+    value = _validate_first(db, orders)
+    mission = service.create_mission(db, orders=orders, author=principal.user,
+                                     orders_digest=value)
     return _detail(db, mission, response)
 
 
@@ -140,8 +182,18 @@ IMPORT_ROUTE["openapi_extra"]["requestBody"] = {"required": True, "content": {
 async def import_mission(request: Request, response: Response, principal: CurrentPrincipal,
                          db: Db) -> MissionDetail:
     data = await request.body()
+    # Parsing, validation and the write run in a worker thread, committed there (the event
+    # loop must never wait for a database lock).
+    return await run_in_threadpool(in_one_transaction, db, _import, db, data, response,
+                                   principal)
+
+
+def _import(db: DbSession, data: bytes, response: Response,
+            principal: CurrentPrincipal) -> MissionDetail:
     loaded = read_bytes(data, "the uploaded file")
-    mission = service.create_mission(db, orders=loaded.orders, author=principal.user)
+    value = _validate_first(db, loaded.orders)
+    mission = service.create_mission(db, orders=loaded.orders, author=principal.user,
+                                     orders_digest=value)
     return _detail(db, mission, response, [f.to_json() for f in loaded.findings])
 
 
@@ -165,9 +217,11 @@ def _revision(if_match: str | None) -> int:
 def update_draft(mission_id: str, body: DraftIn, response: Response,
                  principal: CurrentPrincipal, db: Db,
                  if_match: Annotated[str | None, Header()] = None) -> MissionDetail:
+    orders, expected = _orders(body.orders), _revision(if_match)
+    value = _validate_first(db, orders, mission_id, expected)
     mission = service.update_draft(
-        db, mission_id=mission_id, orders=_orders(body.orders), layout=body.layout,
-        expected_revision=_revision(if_match), author=principal.user)
+        db, mission_id=mission_id, orders=orders, layout=body.layout,
+        expected_revision=expected, author=principal.user, orders_digest=value)
     return _detail(db, mission, response)
 
 
@@ -178,33 +232,47 @@ def delete_mission(mission_id: str, principal: CurrentPrincipal, db: Db) -> None
 
 
 @router.post("/missions/{mission_id}/versions", operation_id="createVersion", status_code=201,
-             **allow(*OPERATORS))
-def create_version(mission_id: str, principal: CurrentPrincipal, db: Db) -> dict[str, Any]:
+             response_model=VersionOut, **allow(*OPERATORS))
+def create_version(mission_id: str, principal: CurrentPrincipal, db: Db) -> VersionOut:
     version = service.create_version(db, mission_id=mission_id, author=principal.user)
-    return version_out(version, principal.user.username, True).model_dump(mode="json")
+    return version_out(version, principal.user.username, True)
 
 
 @router.get("/missions/{mission_id}/versions/{number}", operation_id="getVersion",
-            **allow(*EVERYONE))
-def get_version(mission_id: str, number: RowId, db: Db) -> dict[str, Any]:
+            response_model=VersionOut, **allow(*EVERYONE))
+def get_version(mission_id: str, number: RowId, db: Db) -> VersionOut:
     version = service.get_version(db, mission_id, number)
     author = _username(db, version.author_id, {})
-    return version_out(version, author, True).model_dump(mode="json")
+    return version_out(version, author, True)
 
 
-@router.get("/missions/{mission_id}/report", operation_id="getReport", **allow(*EVERYONE))
+# Reports are stored as JSON and answered as stored: the model describes them in the OpenAPI
+# document and drops nothing (exclude_unset keeps absent optional fields absent).
+REPORT_ROUTE: dict[str, Any] = {"response_model": ReportOut,
+                                "response_model_exclude_unset": True}
+
+
+@router.get("/missions/{mission_id}/report", operation_id="getReport", **REPORT_ROUTE,
+            **allow(*EVERYONE))
 def get_report(mission_id: str, db: Db) -> dict[str, Any]:
     mission = service.get_mission(db, mission_id)
     return service.report_for(db, lambda: _orders(mission.draft), mission.draft_digest).report
 
 
-@router.post("/validate", operation_id="validateOrders", **allow(*EVERYONE))
+@router.post("/validate", operation_id="validateOrders", **REPORT_ROUTE, **allow(*EVERYONE))
 def validate_orders(body: dict[str, Any], db: Db) -> dict[str, Any]:
     return service.report_for(db, _orders(body)).report
 
 
-@router.get("/missions/{mission_id}/paths", operation_id="listPaths", response_model=None,
-            **allow(*EVERYONE))
+PATHS_ROUTE = allow(*EVERYONE)
+PATHS_ROUTE["responses"] = {200: {"content": {
+    "application/x-ndjson": {"schema": {"type": "string", "description":
+                             "one path per line, as the items of the JSON page"}},
+    "text/plain": {"schema": {"type": "string", "description": "traces, one per path"}}}}}
+
+
+@router.get("/missions/{mission_id}/paths", operation_id="listPaths", response_model=PathPage,
+            **PATHS_ROUTE)
 def list_paths(
     mission_id: str, request: Request, db: Db,
     limit: Annotated[int, Query(ge=1, le=MAX_PATH_PAGE)] = 100,
@@ -233,7 +301,9 @@ def list_paths(
         return PlainTextResponse("\n".join(trace_text(graph, p) for p in page) + "\n")
     following = offset + len(page)
     return PathPage(count=counts.total, by_terminal=counts.by_terminal,
-                    items=[p.to_json() for p in page],
+                    items=[MissionPathOut(index=p.index, goals=list(p.goals),
+                                          outcomes=list(p.outcomes), terminal=p.terminal)
+                           for p in page],
                     next_cursor=_encode_cursor(following) if following < counts.total else None)
 
 

@@ -14,10 +14,10 @@ from ...plan.from_orders import CannotBuildProblem, problem_from_orders
 from ...plan.model import problem_from_data
 from ...plan.solver import PlanTimeout, PlanTooLarge, solve
 from ...store import missions as service
-from ..deps import EVERYONE, OPERATORS, Db, allow
+from ..deps import EVERYONE, OPERATORS, Db, TransactionRoute, allow
 from .schemas import RequestBody
 
-router = APIRouter(prefix="/api", tags=["planning"])
+router = APIRouter(prefix="/api", tags=["planning"], route_class=TransactionRoute)
 # A web request must not hold a worker for minutes; the command line allows longer runs.
 PLAN_TIMEOUT_S = 10.0
 

@@ -37,6 +37,58 @@ class VersionOut(BaseModel):
     orders: dict[str, Any] | None = None
 
 
+class FindingOut(BaseModel):
+    code: str
+    severity: str
+    subjects: list[str]
+    message: str
+    details: dict[str, Any] | None = None
+
+
+class PathCountsOut(BaseModel):
+    count: int
+    by_terminal: dict[str, int]
+
+
+class CostPathOut(BaseModel):
+    goals: list[str]
+    outcomes: list[str]
+    terminal: str
+
+
+class WorstCostOut(BaseModel):
+    worst: float
+    budget: float | None
+    path: CostPathOut | None
+    unknown_cost: list[str] = []
+    estimated_cost: list[str] = []
+
+
+class ReportOut(BaseModel):
+    """The validation report: every check that exists (docs/api.md, Reports)."""
+
+    mission: str
+    digest: str
+    ok: bool
+    findings: list[FindingOut]
+    paths: PathCountsOut | None
+    costs: dict[str, WorstCostOut] | None = None
+
+
+class MissionPathOut(BaseModel):
+    index: int
+    goals: list[str]
+    outcomes: list[str]
+    terminal: str
+
+
+class PathPage(BaseModel):
+    count: int
+    by_terminal: dict[str, int]
+    items: list[MissionPathOut]
+    next_cursor: str | None
+
+
 class MissionSummary(BaseModel):
     id: str
     title: str
