@@ -20,10 +20,13 @@ import contextlib
 import functools
 import logging
 import time
+from collections.abc import Awaitable, Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import anyio
+import anyio.abc
 import msgspec
 import zstandard
 from starlette.websockets import WebSocket, WebSocketDisconnect
@@ -38,6 +41,16 @@ MAX_MALFORMED = 8  # malformed frames tolerated (and dropped) before the browser
 MAX_FRAMES_PER_SECOND = 400  # camera moves arrive at display rate; far above that is abuse
 SHARE_FROM_BROWSER = frozenset({"ShareUrlRequest", "ShareUrlDisconnect"})
 SHARE_FROM_SERVER = "ShareUrlUpdated"
+# What viser's client sends and viser's server handles (its register_handler calls in 1.1),
+# less file uploads and render answers, which a rehearsal never asks for. Anything else from a
+# browser is malformed.
+FROM_BROWSER = frozenset({
+    "ViewerCameraMessage", "GuiUpdateMessage", "GuiButtonHoldMessage", "GuiFormDirtyMessage",
+    "GuiFormSubmitMessage", "ScenePointerMessage", "SceneNodeClickMessage",
+    "SceneNodeDragMessage", "TransformControlsUpdateMessage",
+    "TransformControlsDragStartMessage", "TransformControlsDragEndMessage",
+    "CommandTriggerMessage", "LocalStorageGetItemResponseMessage",
+})
 POLICY_VIOLATION, TOO_BIG, GOING_AWAY, UNAVAILABLE = 1008, 1009, 1001, 1011
 
 # viser's client loads one inline loader script that decompresses the bundle, injects it as an
@@ -102,6 +115,14 @@ def check_from_browser(frame: bytes) -> str:
     kind: str = data["type"]
     if kind in SHARE_FROM_BROWSER:
         return kind
+    if kind not in FROM_BROWSER:
+        raise ValueError(f"{kind[:60]!r} is not a message a viser client sends")
+    if kind == "GuiUpdateMessage":
+        # viser's server sets every named attribute of the GUI handle's state; its client only
+        # ever sends the value, so anything else would be tampering with the server's state.
+        updates = data.get("updates")
+        if not isinstance(updates, dict) or set(updates) != {"value"}:
+            raise ValueError("a GUI update from a browser changes the value only")
     try:
         _viser_message_class().deserialize(frame)
     except Exception as exc:  # viser's decoder raises whatever the bad input provokes
@@ -204,20 +225,35 @@ async def relay(browser: WebSocket, upstream: ClientConnection, stats: ProxyStat
             stats.to_browser += 1
         await _close(browser, stats, GOING_AWAY, "the rehearsal ended")
 
-    tasks = [asyncio.create_task(to_server()), asyncio.create_task(to_browser())]
+    async def run(side: Callable[[], Awaitable[None]], group: anyio.abc.TaskGroup) -> None:
+        try:
+            await side()
+        except (ConnectionClosed, WebSocketDisconnect, RuntimeError, OSError):
+            pass  # either side went away
+        except Exception as exc:
+            log.warning("rehearsal proxy: %r", exc)
+        finally:
+            group.cancel_scope.cancel()  # one side ended: end the other
+
     try:
-        await asyncio.wait(tasks, return_when=asyncio.FIRST_COMPLETED)
+        async with anyio.create_task_group() as group:
+            group.start_soon(run, to_server, group)
+            group.start_soon(run, to_browser, group)
     finally:
-        for task in tasks:
-            task.cancel()
-        results = await asyncio.gather(*tasks, return_exceptions=True)
-        for result in results:
-            if isinstance(result, Exception) and not isinstance(
-                    result, ConnectionClosed | WebSocketDisconnect | RuntimeError | OSError):
-                log.warning("rehearsal proxy: %r", result)
-        with contextlib.suppress(Exception):
-            await upstream.close()
-        await _close(browser, stats, GOING_AWAY, "the rehearsal connection ended")
+        # The closing handshake with viser runs on its own: the browser's side is done now.
+        closing = asyncio.get_running_loop().create_task(_close_upstream(upstream))
+        _CLOSING.add(closing)
+        closing.add_done_callback(_CLOSING.discard)
+        with anyio.CancelScope(shield=True):
+            await _close(browser, stats, GOING_AWAY, "the rehearsal connection ended")
+
+
+_CLOSING: set[asyncio.Task[None]] = set()
+
+
+async def _close_upstream(upstream: ClientConnection) -> None:
+    with contextlib.suppress(Exception):
+        await upstream.close()
 
 
 async def _malformed(browser: WebSocket, stats: ProxyStats, why: str) -> bool:
