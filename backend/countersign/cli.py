@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, TextIO
 from . import __version__
 from .orders.examples import example_bytes, example_names
 from .orders.reader import OrdersReadError, ReadResult, read_bytes, read_file
+from .rehearse.checks import validate_with_rules
 from .verify.graph import build_graph
 from .verify.paths import (
     ANSWER,
@@ -28,7 +29,7 @@ from .verify.paths import (
     iter_paths,
     trace_text,
 )
-from .verify.report import Report, validate
+from .verify.report import Report
 from .verify.structure import check_structure
 
 if TYPE_CHECKING:
@@ -97,7 +98,7 @@ def _print_explanation(report: Report, out: TextIO) -> None:
 
 def cmd_validate(args: argparse.Namespace) -> int:
     loaded = _load(args.file)
-    report = validate(loaded.orders, loaded.findings)
+    report = validate_with_rules(loaded.orders, loaded.findings)
     if args.format == "json":
         json.dump(report.to_json(explain=args.explain), sys.stdout, indent=2)
         sys.stdout.write("\n")
@@ -467,8 +468,10 @@ def build_parser() -> argparse.ArgumentParser:
 
     from .cli_approvals import add_commands as add_approval_commands
     from .cli_plan import add_commands as add_plan_commands
+    from .cli_rules import add_commands as add_rules_commands
 
     add_plan_commands(commands)
+    add_rules_commands(commands)
     add_approval_commands(commands)
     return parser
 

@@ -174,6 +174,67 @@ class Feature(_Strict):
     measures: list[Id] = Field(default_factory=list)
 
 
+RuleKind = Literal["observation", "estimation", "goal", "safety", "action"]
+MAX_LITERAL_LENGTH = 200
+
+
+class _AliasedRule(_Strict):
+    # `if` is a Python keyword: the field is `if_` but reads and writes as "if" everywhere.
+    model_config = ConfigDict(
+        extra="allow", frozen=True, populate_by_name=True, serialize_by_alias=True
+    )
+
+
+class RuleFact(_Strict):
+    """An observed or static fact of a default theory (seed 004 W_obs)."""
+
+    id: Id
+    fact: Annotated[str, Field(max_length=MAX_LITERAL_LENGTH)]
+    text: Text = ""
+
+
+class StrictRule(_AliasedRule):
+    """`if` literals imply `then` (seed 004 W_est, W_goal, W_safety); exceptions are these."""
+
+    id: Id
+    kind: RuleKind = "estimation"
+    if_: list[Annotated[str, Field(max_length=MAX_LITERAL_LENGTH)]] = Field(
+        default_factory=list, alias="if", max_length=100
+    )
+    then: Annotated[str, Field(max_length=MAX_LITERAL_LENGTH)]
+    exception_to: list[Id] = Field(default_factory=list, max_length=100)
+    text: Text = ""
+
+
+class DefaultRule(_AliasedRule):
+    """A normal default `if : then / then` (seed 004 D_est, D_goal, D_safety)."""
+
+    id: Id
+    kind: RuleKind = "estimation"
+    if_: list[Annotated[str, Field(max_length=MAX_LITERAL_LENGTH)]] = Field(
+        default_factory=list, alias="if", max_length=100
+    )
+    then: Annotated[str, Field(max_length=MAX_LITERAL_LENGTH)]
+    priority: int = 0
+    text: Text = ""
+
+
+class RuleSet(_Strict):
+    """A normal default theory carried by orders or a vehicle profile (rehearse.rules reads it).
+
+    Typed here only structurally: the literal syntax is checked by `rehearse.rules.parse_theory`
+    and reported as RULES findings, so a typo in a rule never makes the orders unreadable.
+    """
+
+    observables: list[Annotated[str, Field(max_length=MAX_LITERAL_LENGTH)]] = Field(
+        default_factory=list, max_length=10_000
+    )
+    actions: list[Id] = Field(default_factory=list, max_length=10_000)
+    facts: list[RuleFact] = Field(default_factory=list, max_length=MAX_LIST_LENGTH)
+    strict: list[StrictRule] = Field(default_factory=list, max_length=MAX_LIST_LENGTH)
+    defaults: list[DefaultRule] = Field(default_factory=list, max_length=MAX_LIST_LENGTH)
+
+
 class Vehicle(_Strict):
     id: Id
     title: Text = ""
@@ -183,6 +244,8 @@ class Vehicle(_Strict):
     speed_mps: float | None = Field(default=None, gt=0)
     power_w: float | None = Field(default=None, ge=0)
     budget: Budget | None = None
+    # Contingency rules of the vehicle itself (absent: no field, so digests are unchanged).
+    rules: RuleSet | None = None
 
 
 class PathProperty(_Strict):
@@ -208,6 +271,8 @@ class Orders(_Strict):
     quantities: dict[str, Quantity] = Field(default_factory=dict)
     vehicles: list[Vehicle] = Field(default_factory=list, max_length=1000)
     properties: list[PathProperty] = Field(default_factory=list, max_length=1000)
+    # Contingency rules for this mission (seed 004), merged with the vehicle profile's.
+    rules: RuleSet | None = None
 
     @property
     def effective_terminals(self) -> list[Terminal]:

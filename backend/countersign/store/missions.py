@@ -14,7 +14,7 @@ from sqlalchemy.orm import Session as DbSession
 from .. import __version__
 from ..orders.canonical import digest, orders_to_json
 from ..orders.model import Orders
-from ..verify.report import validate
+from ..rehearse.checks import validate_with_rules
 from .db import writable
 from .events import record
 from .tables import Mission, MissionVersion, User, ValidationReport, utcnow
@@ -178,7 +178,7 @@ def _validated(key: str, orders: Orders) -> dict[str, Any]:
     with lock:
         done = _RECENT.get(key)
         if done is None:
-            done = validate(orders).to_json()
+            done = validate_with_rules(orders).to_json()
             _RECENT[key] = done
             while len(_RECENT) > 256:
                 _RECENT.pop(next(iter(_RECENT)))

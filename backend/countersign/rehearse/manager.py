@@ -1,0 +1,436 @@
+"""Rehearsal lifecycle (issue 8, item 4): one simulation thread and one viser server per
+rehearsal, created and stopped by the app.
+
+    manager = RehearsalManager(max_active=16, idle_timeout_s=900)
+    rehearsal = manager.start(orders, owner="alice", options=RehearsalOptions(source="manual"))
+    rehearsal.port            # viser on 127.0.0.1: the app proxies /rehearsal/{id}/ to it
+    rehearsal.choose("fail")  # the same as clicking Fail in the viser GUI
+    record = manager.stop(rehearsal.id)
+
+Each rehearsal's thread advances the simulation by `speed` simulated seconds per wall second
+in frames of 50 ms, pushes the frame to the scene and waits; a rehearsal waiting for a manual
+outcome sleeps until `choose`. `stop()` ends the thread, stops the viser server (its port and
+threads) and seals the recording into the record's HTML replay. A rehearsal nobody touched
+for `idle_timeout_s` (no API call, no browser connected) stops itself.
+"""
+
+from __future__ import annotations
+
+import secrets
+import threading
+import time
+from collections import OrderedDict
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any, Literal
+
+import viser
+
+from ..orders.canonical import digest as orders_digest
+from ..orders.model import OUTCOMES, Orders
+from .record import FORMAT, RehearsalRecord
+from .scene import Scene
+from .sim import FAULTS, FaultSpec, Limits, Simulation
+from .sources import SOURCES, make_source
+
+FRAME_S = 0.05
+RECORD_SPEED = 200.0  # the HTML replay plays 200 simulated seconds per second
+MIN_SPEED, MAX_SPEED = 0.1, 1_000_000.0
+MAX_FAULTS = 20
+STATUS_EVENTS = 20
+MAX_STOPPED = 256  # stopped rehearsals remembered for status and repeated stop()
+SourceName = Literal["manual", "replay", "tour", "simulate"]
+RehearsalState = Literal["running", "waiting_for_outcome", "finished", "stopped"]
+
+
+class RehearsalLimit(RuntimeError):
+    """Too many rehearsals are running; stop one first."""
+
+
+@dataclass(frozen=True)
+class RehearsalOptions:
+    source: SourceName = "manual"
+    seed: int = 0
+    path_index: int | None = None
+    faults: tuple[str, ...] = ()
+    speed: float = 50.0  # simulated seconds per wall second
+
+    def validated(self) -> RehearsalOptions:
+        if self.source not in SOURCES:
+            raise ValueError(f"source must be one of {', '.join(SOURCES)}, not {self.source!r}")
+        if not isinstance(self.seed, int) or isinstance(self.seed, bool) \
+                or not 0 <= self.seed < 2**63:
+            raise ValueError("seed must be an integer between 0 and 2^63-1")
+        if self.path_index is not None and (
+            not isinstance(self.path_index, int) or self.path_index < 1
+        ):
+            raise ValueError("path_index must be a positive integer (paths count from 1)")
+        if len(self.faults) > MAX_FAULTS:
+            raise ValueError(f"at most {MAX_FAULTS} faults")
+        for fault in self.faults:
+            FaultSpec.parse(fault)
+        if not MIN_SPEED <= float(self.speed) <= MAX_SPEED:
+            raise ValueError(f"speed must be between {MIN_SPEED:g} and {MAX_SPEED:g}")
+        return self
+
+    def to_json(self) -> dict[str, Any]:
+        # Speed is presentation only: it is not part of the record.
+        return {"source": self.source, "seed": self.seed, "path_index": self.path_index,
+                "faults": list(self.faults)}
+
+
+class Rehearsal:
+    def __init__(
+        self,
+        orders: Orders,
+        *,
+        owner: str,
+        options: RehearsalOptions,
+        headless: bool = False,
+        limits: Limits | None = None,
+        idle_timeout_s: float = 900.0,
+        on_stopped: Callable[[Rehearsal], None] | None = None,
+    ) -> None:
+        self.id = secrets.token_urlsafe(24)
+        self.owner = owner
+        self.options = options.validated()
+        self.orders_digest = orders_digest(orders)
+        self.orders_id = orders.id
+        self.orders_title = orders.title or orders.id
+        self._limits = limits or Limits()
+        source = make_source(options.source, orders, path_index=options.path_index,
+                             max_tour_paths=self._limits.max_tour_paths)
+        self._sim = Simulation(orders, seed=options.seed, source=source,
+                               faults=options.faults, limits=self._limits)
+        self._lock = threading.RLock()
+        self._wake = threading.Event()
+        self._stop_event = threading.Event()
+        self._stopped = False
+        self._speed = float(options.speed)
+        self._on_stopped = on_stopped
+        self.idle_timeout_s = idle_timeout_s
+        self._record: RehearsalRecord | None = None
+        self._html: bytes | None = None
+        self._recorded_sim_s = 0.0
+        self.last_activity = time.monotonic()
+        self._server: viser.ViserServer | None = None
+        self._scene: Scene | None = None
+        self._serializer: Any = None
+        self.port = 0
+        if not headless:
+            self._server = viser.ViserServer(host="127.0.0.1", port=0,
+                                             label=self.orders_title[:80], verbose=False)
+            try:
+                self.port = self._server.get_port()
+                self._scene = Scene(
+                    self._server, self._sim, title=self.orders_title,
+                    on_choose=self.choose, on_inject=self.inject, on_speed=self.set_speed,
+                    speed=self._speed, manual=options.source == "manual",
+                )
+                self._scene.frame()
+                # Record from here on: the serializer snapshots the scene so far, then
+                # collects every later scene message; frames insert the simulated time.
+                self._serializer = self._server.get_scene_serializer()
+            except BaseException:
+                self._server.stop()
+                raise
+        self._thread = threading.Thread(target=self._run, name=f"rehearsal-{self.id[:8]}",
+                                        daemon=True)
+
+    # ------------------------------------------------------------------------------ API
+
+    @property
+    def state(self) -> RehearsalState:
+        return "stopped" if self._stopped else self._sim.state
+
+    def start(self) -> None:
+        self._thread.start()
+
+    def status(self) -> dict[str, Any]:
+        self.touch()
+        with self._lock:
+            sim = self._sim
+            active = sim.active
+            current = None
+            if active is not None:
+                goal = active.goal
+                current = {"id": goal.id, "title": goal.label, "behavior": goal.behavior,
+                           "area": goal.area, "progress": round(active.progress, 4)}
+            run = sim.run
+            status: dict[str, Any] = {
+                "id": self.id,
+                "state": self.state,
+                "source": self.options.source,
+                "seed": self.options.seed,
+                "path_index": run.path_index,
+                "run": len(sim.runs),
+                "current_goal": current,
+                "step": len(run.outcomes),
+                "outcomes": [{"goal": g, "outcome": o}
+                             for g, o in zip(run.goals, run.outcomes, strict=False)],
+                "terminal": run.terminal,
+                "energy_wh": round(sim.energy_remaining_wh, 3),
+                "energy_used_wh": round(sim.energy_used_wh, 3),
+                "capacity_wh": sim.capacity_wh,
+                "sim_time_s": round(sim.time_s, 3),
+                "speed": self._speed,
+                "faults": sorted(sim.active_faults),
+                "events": [e.to_json() for e in sim.events[-STATUS_EVENTS:]],
+                "port": self.port,
+            }
+            if sim.state == "waiting_for_outcome" and active is not None:
+                suggestion = active.suggestion
+                status["question"] = "Did goal Succeed (s), Fail (f), or end with a " \
+                    "Constraint (c)?"
+                status["suggested"] = (
+                    {"outcome": suggestion[0], "because": suggestion[1]} if suggestion else None
+                )
+            return status
+
+    def choose(self, outcome: str) -> None:
+        """A manual outcome (API or GUI click); ValueError on a bad outcome or state."""
+        self.touch()
+        if outcome == "constraint":
+            outcome = "violate"
+        if outcome not in OUTCOMES:
+            raise ValueError(f"outcome must be one of succeed, fail, violate (or constraint), "
+                             f"not {str(outcome)[:40]!r}")
+        with self._lock:
+            if self._stopped:
+                raise ValueError("the rehearsal is stopped")
+            if self.options.source != "manual":
+                raise ValueError(f"outcomes come from the {self.options.source} source here")
+            self._sim.choose(outcome)
+        self._wake.set()
+
+    def inject(self, fault: str) -> None:
+        self.touch()
+        if fault not in FAULTS:
+            raise ValueError(f"fault must be one of {', '.join(FAULTS)}, not {str(fault)[:40]!r}")
+        with self._lock:
+            if self._stopped:
+                raise ValueError("the rehearsal is stopped")
+            self._sim.inject(fault)
+        self._wake.set()
+
+    def set_speed(self, speed: float) -> None:
+        self.touch()
+        with self._lock:
+            self._speed = min(MAX_SPEED, max(MIN_SPEED, float(speed)))
+        self._wake.set()
+
+    def record(self) -> RehearsalRecord:
+        with self._lock:
+            if self._record is not None:
+                return self._record
+            record = RehearsalRecord(self._record_json(), self._html)
+            if self._stopped:
+                self._record = record
+            return record
+
+    def touch(self) -> None:
+        self.last_activity = time.monotonic()
+
+    def idle_for(self) -> float:
+        server = self._server
+        if server is not None and not self._stopped and server.get_clients():
+            self.touch()  # someone is watching
+        return time.monotonic() - self.last_activity
+
+    def stop(self) -> RehearsalRecord:
+        """Stop the thread and the viser server and seal the record. Safe to call twice."""
+        with self._lock:
+            if self._stopped:
+                assert self._record is not None
+                return self._record
+            self._stopped = True
+        self._stop_event.set()
+        self._wake.set()
+        if self._thread.is_alive() and threading.current_thread() is not self._thread:
+            self._thread.join(timeout=10.0)
+        with self._lock:
+            if self._serializer is not None:
+                try:
+                    self._html = self._serializer.as_html().encode("utf-8")
+                finally:
+                    self._serializer = None
+            if self._server is not None:
+                self._server.stop()
+            self._record = RehearsalRecord(self._record_json(), self._html)
+            record = self._record
+        if self._on_stopped is not None:
+            self._on_stopped(self)
+        return record
+
+    # ------------------------------------------------------------------------------ thread
+
+    def _run(self) -> None:
+        try:
+            self._loop()
+        except Exception as exc:
+            with self._lock:
+                self._sim._emit("error", f"Simulation error: {type(exc).__name__}: {exc}")
+                self._sim.state = "finished"
+
+    def _loop(self) -> None:
+        next_frame = time.perf_counter()
+        while not self._stop_event.is_set():
+            with self._lock:
+                sim = self._sim
+                if sim.state == "running":
+                    self._advance(self._speed * FRAME_S, time.perf_counter() + FRAME_S * 0.8)
+                    self._push_frame()
+                state = sim.state
+            if state == "finished" and self.idle_for() > self.idle_timeout_s:
+                self.stop()
+                return
+            next_frame += FRAME_S
+            delay = next_frame - time.perf_counter()
+            if delay < 0:
+                next_frame = time.perf_counter()
+                delay = 0.0
+            if state != "running":
+                delay = 0.5  # waiting for a person, or finished: nothing to compute
+                if self.idle_for() > self.idle_timeout_s:
+                    self.stop()
+                    return
+            self._wake.wait(delay)
+            self._wake.clear()
+
+    def _advance(self, sim_seconds: float, deadline: float) -> None:
+        sim = self._sim
+        target = sim.time_s + sim_seconds
+        while sim.state == "running" and sim.time_s < target - 1e-9:
+            sim.advance(min(200.0 * sim.limits.step_s, target - sim.time_s))
+            if time.perf_counter() > deadline:
+                break
+
+    def _push_frame(self) -> None:
+        if self._scene is None:
+            return
+        if self._serializer is not None:
+            elapsed = self._sim.time_s - self._recorded_sim_s
+            if elapsed > 0:
+                self._serializer.insert_sleep(elapsed / RECORD_SPEED)
+                self._recorded_sim_s = self._sim.time_s
+        self._scene.frame()
+
+    def run_headless(self, max_wall_s: float | None = None) -> None:
+        """Run to the end on the calling thread (CLI, tests); manual sources stop waiting."""
+        started = time.perf_counter()
+        with self._lock:
+            while self._sim.state == "running":
+                self._sim.advance(3_600.0)
+                self._push_frame()
+                if max_wall_s is not None and time.perf_counter() - started > max_wall_s:
+                    break
+
+    # ------------------------------------------------------------------------------ record
+
+    def _record_json(self) -> dict[str, Any]:
+        sim = self._sim
+        last = sim.run
+        world = sim.world
+        lat, lon = world.to_latlon(world.recovery)
+        return {
+            "format": FORMAT,
+            "orders": {"id": self.orders_id, "digest": self.orders_digest},
+            "options": self.options.to_json(),
+            "seed": self.options.seed,
+            "state": "stopped_early" if sim.state != "finished" else "finished",
+            "inputs": {"faults": list(sim.fault_log), "choices": list(sim.choices)},
+            "runs": [r.to_json() for r in sim.runs],
+            "goals": list(last.goals),
+            "outcomes": list(last.outcomes),
+            "terminal": last.terminal,
+            "terminal_kind": last.terminal_kind,
+            "sim_time_s": round(sim.time_s, 3),
+            "steps": sim.steps,
+            "events": [e.to_json() for e in sim.events],
+            "events_dropped": sim.events_dropped,
+            "rule_firings": dict(sorted(sim.rule_firings.items())),
+            "rules": sim.contingency.active,
+            "energy": {
+                "capacity_wh": round(sim.capacity_wh, 3),
+                "used_wh": round(sim.energy_used_wh, 3),
+                "remaining_wh": round(sim.energy_remaining_wh, 3),
+            },
+            "unmonitored_constraints": list(sim.unmonitored),
+            "world": {
+                "recovery": [round(lat, 6), round(lon, 6)],
+                "generated_lane": world.generated_lane,
+                "contacts": len(world.contacts),
+            },
+        }
+
+
+class RehearsalManager:
+    def __init__(self, *, max_active: int = 16, idle_timeout_s: float = 900.0) -> None:
+        self.max_active = max_active
+        self.idle_timeout_s = idle_timeout_s
+        self._lock = threading.Lock()
+        self._active: dict[str, Rehearsal] = {}
+        self._stopped: OrderedDict[str, Rehearsal] = OrderedDict()
+
+    def start(self, orders: Orders, *, owner: str, options: RehearsalOptions) -> Rehearsal:
+        """A running rehearsal with its own viser server; RehearsalLimit when full,
+        ValueError for options or orders that cannot be rehearsed."""
+        self._reap()
+        with self._lock:
+            if len(self._active) >= self.max_active:
+                raise RehearsalLimit(
+                    f"{self.max_active} rehearsals are running; stop one before starting another"
+                )
+            # Reserve the slot before the (slow) server start so concurrent starts respect it.
+            placeholder = secrets.token_urlsafe(8)
+            self._active[placeholder] = None  # type: ignore[assignment]
+        try:
+            rehearsal = Rehearsal(orders, owner=owner, options=options,
+                                  idle_timeout_s=self.idle_timeout_s, on_stopped=self._forget)
+        except BaseException:
+            with self._lock:
+                self._active.pop(placeholder, None)
+            raise
+        with self._lock:
+            self._active.pop(placeholder, None)
+            self._active[rehearsal.id] = rehearsal
+        rehearsal.start()
+        return rehearsal
+
+    def get(self, rehearsal_id: str) -> Rehearsal | None:
+        if not isinstance(rehearsal_id, str):
+            return None
+        with self._lock:
+            rehearsal = self._active.get(rehearsal_id) or self._stopped.get(rehearsal_id)
+        if rehearsal is not None:
+            rehearsal.touch()
+        return rehearsal
+
+    def stop(self, rehearsal_id: str) -> RehearsalRecord:
+        """Stop a rehearsal and return its record; KeyError for an unknown id."""
+        rehearsal = self.get(rehearsal_id)
+        if rehearsal is None:
+            raise KeyError(rehearsal_id)
+        return rehearsal.stop()
+
+    def shutdown(self) -> None:
+        with self._lock:
+            running = [r for r in self._active.values() if r is not None]
+        for rehearsal in running:
+            rehearsal.stop()
+
+    def active(self) -> list[Rehearsal]:
+        with self._lock:
+            return [r for r in self._active.values() if r is not None]
+
+    def _forget(self, rehearsal: Rehearsal) -> None:
+        with self._lock:
+            self._active.pop(rehearsal.id, None)
+            self._stopped[rehearsal.id] = rehearsal
+            while len(self._stopped) > MAX_STOPPED:
+                self._stopped.popitem(last=False)
+
+    def _reap(self) -> None:
+        for rehearsal in self.active():
+            if rehearsal.idle_for() > self.idle_timeout_s:
+                rehearsal.stop()

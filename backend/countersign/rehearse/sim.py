@@ -1,0 +1,821 @@
+"""The rehearsal simulation: one vehicle executing the orders goal by goal in a seeded world.
+
+Deterministic given the orders, the seed, the outcome source and the faults (live injections
+and manual choices happen between steps and are recorded with their simulated time). Pure
+Python; the viser scene only reads the state this module exposes.
+
+Each goal becomes a plan of waypoints (transit to the area at the goal's operating depth, then
+the behaviour: lawn-mower legs for searches, a hold for samples and rendezvous, a straight run
+for transects, a surfacing for recovery). Each step moves the vehicle, spends energy (per
+metre from the goal's cost or the vehicle profile, doubled by a strong opposing current as in
+seed 001), updates navigation error, moves the surface contacts, then asks in order:
+1. the default rules (seed 004): a planned action the extension refuses ends the goal;
+2. the constraint monitors: an imminent violation ends the goal with `violate` (EC1);
+3. the energy check (seed 001): a goal that can no longer be finished with the reserve to
+   reach recovery is given up (`fail`);
+4. the plan: all waypoints done means `succeed`.
+Which of these may end a goal depends on the outcome source (see `sources.py`).
+"""
+
+from __future__ import annotations
+
+import math
+import random
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+from ..orders.model import OUTCOMES, Goal, Orders
+from ..verify.expressions import identifiers
+from .contingency import Contingency
+from .geo import Point, lawnmower
+from .monitor import GoalFacts, Monitor, facts_of, monitors_of
+from .sources import OutcomeSource
+from .world import FAR_M, World
+
+State = Literal["running", "waiting_for_outcome", "finished"]
+FAULTS: tuple[str, ...] = ("gps_loss", "nav_drift", "leak", "low_energy", "contact_close")
+SEARCH_BEHAVIORS = frozenset({"area_search", "search", "survey", "patrol", "coverage"})
+HOLD_BEHAVIORS = {"sample": 600.0, "rendezvous": 300.0, "loiter": 300.0, "observe": 300.0}
+RECOVERY_BEHAVIORS = frozenset({"recover", "recovery", "return", "return_to_base", "go_home"})
+
+DEFAULT_SPEED_MPS = 1.5
+DEFAULT_POWER_W = 100.0
+DEFAULT_CAPACITY_WH = 1_000.0
+DEFAULT_DEPTH_M = 30.0
+DEFAULT_SWATH_M = 200.0
+DIVE_RATE_MPS = 0.5
+RESERVE_FRACTION = 0.10  # of capacity, kept for the unexpected on the way home
+STRONG_CURRENT_CHANCE = 0.20  # seed 001's experiment
+STRONG_CURRENT_FACTOR = 2.0
+NORMAL_CURRENT_MPS, STRONG_CURRENT_MPS = 0.1, 0.8
+NAV_DRIFT_PER_M, FAULT_DRIFT_PER_M = 0.002, 0.03
+GPS_FIX_ERROR_M, USBL_FIX_ERROR_M = 2.0, 3.0
+USBL_PERIOD_S = 30.0
+USBL_RANGE_M = 30_000.0
+FIX_MEMORY_S = 300.0  # how long a fix counts as "was captured"
+IMMINENT_S = 30.0  # a constraint that will fail within this many seconds is imminent
+CHECK_PERIOD_S = 5.0  # rules and monitors run this often: well inside the imminence horizon
+ALL_QUANTITIES = frozenset({
+    "altitude_m", "latitude_deg", "longitude_deg", "lane_distance_m", "contact_distance_m",
+    "contact_range_m", "contact_count", "base_distance_m", "current_mps",
+})
+ENERGY_CHECK_S = 60.0
+CONTACT_CLOSE_M = 1_000.0
+SCRIPTED_CUT = {"succeed": 1.0, "fail": 0.6, "violate": 0.4}
+
+
+@dataclass(frozen=True)
+class Limits:
+    step_s: float = 1.0
+    max_steps: int = 2_000_000  # about 23 simulated days
+    max_goal_visits: int = 1_000  # per run: orders with a loop still end
+    max_tour_paths: int = 100
+    max_events: int = 5_000
+    max_goal_s: float = 86_400.0
+
+
+@dataclass(frozen=True)
+class Event:
+    t: float
+    kind: str
+    text: str
+    goal: str | None = None
+    data: dict[str, Any] = field(default_factory=dict)
+
+    def to_json(self) -> dict[str, Any]:
+        out: dict[str, Any] = {"t": round(self.t, 3), "kind": self.kind, "text": self.text}
+        if self.goal is not None:
+            out["goal"] = self.goal
+        if self.data:
+            out["data"] = self.data
+        return out
+
+
+@dataclass(frozen=True)
+class FaultSpec:
+    """`name`, `name@GOAL` (when that goal starts) or `name@SECONDS` (simulated time)."""
+
+    name: str
+    at_goal: str | None = None
+    at_s: float | None = None
+
+    @classmethod
+    def parse(cls, text: str) -> FaultSpec:
+        name, _, when = text.strip().partition("@")
+        if name not in FAULTS:
+            raise ValueError(f"unknown fault {name!r}; choose one of {', '.join(FAULTS)}")
+        if not when:
+            return cls(name)
+        try:
+            seconds = float(when)
+        except ValueError:
+            return cls(name, at_goal=when)
+        if not math.isfinite(seconds) or seconds < 0:
+            raise ValueError(f"fault time must be a non-negative number of seconds: {text!r}")
+        return cls(name, at_s=seconds)
+
+    def __str__(self) -> str:
+        if self.at_goal is not None:
+            return f"{self.name}@{self.at_goal}"
+        if self.at_s is not None:
+            return f"{self.name}@{self.at_s:g}"
+        return self.name
+
+
+@dataclass
+class Run:
+    """One traversal from the start goal to a terminal (a tour has several)."""
+
+    path_index: int | None = None
+    goals: list[str] = field(default_factory=list)
+    outcomes: list[str] = field(default_factory=list)
+    terminal: str | None = None
+    terminal_kind: str | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "path_index": self.path_index,
+            "goals": list(self.goals),
+            "outcomes": list(self.outcomes),
+            "terminal": self.terminal,
+            "terminal_kind": self.terminal_kind,
+        }
+
+
+@dataclass
+class Vehicle:
+    x: float
+    y: float
+    depth: float = 0.0
+    heading: float = 0.0  # radians, x east / y north
+    vx: float = 0.0
+    vy: float = 0.0
+    vz: float = 0.0
+    nav_error_m: float = GPS_FIX_ERROR_M
+    last_gps_s: float = 0.0
+    last_usbl_s: float = -math.inf
+    gps_now: bool = True
+    usbl_now: bool = False
+    forced_surface: bool = False  # a safety action brought it up; it stays up
+
+    @property
+    def xy(self) -> Point:
+        return (self.x, self.y)
+
+
+@dataclass
+class Waypoint:
+    x: float
+    y: float
+    depth: float
+    hold_s: float = 0.0
+    kind: str = "transit"
+
+
+@dataclass
+class ActiveGoal:
+    goal: Goal
+    facts: GoalFacts
+    waypoints: list[Waypoint]
+    planned_s: float
+    rate_wh_per_m: float
+    hold_w: float
+    started_s: float
+    index: int = 0
+    held_s: float = 0.0
+    done_s: float = 0.0  # plan-time completed (metres / speed plus holds)
+    expected_wh: float = 0.0  # energy the plan would use at normal consumption
+    used_wh: float = 0.0
+    strong_current: tuple[float, float] | None = None  # (from, until) simulated seconds
+    scripted: str | None = None
+    suggestion: tuple[str, str] | None = None  # (outcome, reason) seen in manual mode
+    last_energy_check: float = -math.inf
+
+    @property
+    def progress(self) -> float:
+        return 1.0 if self.planned_s <= 0 else min(1.0, self.done_s / self.planned_s)
+
+    @property
+    def finished_plan(self) -> bool:
+        return self.index >= len(self.waypoints)
+
+
+class Simulation:
+    def __init__(
+        self,
+        orders: Orders,
+        *,
+        seed: int = 0,
+        source: OutcomeSource,
+        faults: Sequence[str | FaultSpec] = (),
+        limits: Limits | None = None,
+        contingency: Contingency | None = None,
+    ) -> None:
+        self.orders = orders
+        self.seed = seed
+        self.limits = limits or Limits()
+        self.rng = random.Random(seed)
+        self.world = World(orders, self.rng)
+        self.source = source
+        self.goals = orders.goal_index()
+        self.terminals = orders.terminal_index()
+        self.monitors, self.unmonitored = monitors_of(orders)
+        self.needed = frozenset(q for m in self.monitors for q in identifiers(m.expr))
+        self._next_check_s = 0.0
+        self.contingency = contingency if contingency is not None else Contingency.for_orders(
+            orders
+        )
+        vehicle = orders.target_vehicle()
+        self.speed = vehicle.speed_mps if vehicle and vehicle.speed_mps else DEFAULT_SPEED_MPS
+        self.power_w = vehicle.power_w if vehicle and vehicle.power_w else DEFAULT_POWER_W
+        budget = vehicle.budget.energy_wh if vehicle and vehicle.budget else None
+        self.capacity_wh = float(budget) if budget else DEFAULT_CAPACITY_WH
+        self.detection_range_m = 6_000.0
+        if vehicle and "contact_detection_range_m" in vehicle.envelope:
+            self.detection_range_m = float(vehicle.envelope["contact_detection_range_m"][1])
+        self.pending_faults: list[FaultSpec] = [
+            f if isinstance(f, FaultSpec) else FaultSpec.parse(f) for f in faults
+        ]
+        self.active_faults: set[str] = set()
+        self.fault_log: list[str] = []  # name@simulated-seconds, as activated
+        self.choices: list[dict[str, Any]] = []
+        self.events: list[Event] = []
+        self.events_dropped = 0
+        self.rule_firings: dict[str, int] = {}
+        self.runs: list[Run] = []
+        self.time_s = 0.0
+        self.steps = 0
+        self.energy_used_wh = 0.0
+        self.expected_used_wh = 0.0
+        self.state: State = "running"
+        self._strong_current = False
+        self.active: ActiveGoal | None = None
+        self.vehicle = Vehicle(*self.world.recovery)
+        self.trail: list[tuple[float, float, float]] = []
+        # Per-metre rates of the goals run so far: the price of the way home (seed 001 plans
+        # with the consumption it has learnt, not with a catalogue figure).
+        self._priced_m = 0.0
+        self._priced_wh = 0.0
+        self.listeners: list[Callable[[Event], None]] = []
+        self._start_run()
+
+    # ------------------------------------------------------------------------------ public
+
+    @property
+    def energy_remaining_wh(self) -> float:
+        return max(0.0, self.capacity_wh - self.energy_used_wh)
+
+    @property
+    def current_goal(self) -> str | None:
+        return self.active.goal.id if self.active else None
+
+    @property
+    def run(self) -> Run:
+        return self.runs[-1]
+
+    def advance(self, seconds: float) -> None:
+        """Step until `seconds` of simulated time passed, the source waits for a choice, or
+        the rehearsal ends."""
+        target = self.time_s + seconds
+        while self.state == "running" and self.time_s < target - 1e-9:
+            self.step()
+
+    def step(self) -> None:
+        if self.state != "running":
+            return
+        if self.steps >= self.limits.max_steps:
+            self._finish(f"stopped after {self.limits.max_steps} steps (the step bound)")
+            return
+        self.steps += 1
+        dt = self.limits.step_s
+        self.time_s += dt
+        self._scheduled_faults()
+        active = self.active
+        if active is None:
+            return
+        self._move(active, dt)
+        self._navigate(dt)
+        self._judge(active)
+
+    def choose(self, outcome: str) -> None:
+        """A person's outcome for the goal waiting for one (the Figure 6 answer)."""
+        if outcome not in OUTCOMES:
+            raise ValueError(f"outcome must be one of {', '.join(OUTCOMES)}, not {outcome!r}")
+        if self.state != "waiting_for_outcome" or self.active is None:
+            raise ValueError(f"no goal is waiting for an outcome (the rehearsal is {self.state})")
+        self.state = "running"
+        self.choices.append({"t": round(self.time_s, 3), "goal": self.active.goal.id,
+                             "outcome": outcome})
+        self._end_goal(self.active, outcome, "chosen by the person rehearsing")
+
+    def inject(self, fault: str | FaultSpec) -> None:
+        spec = fault if isinstance(fault, FaultSpec) else FaultSpec.parse(fault)
+        if self.state == "finished":
+            raise ValueError("the rehearsal has finished")
+        if spec.at_goal is None and spec.at_s is None:
+            self._activate(spec.name)
+        else:
+            self.pending_faults.append(spec)
+
+    def values(self, lookahead_s: float = 0.0,
+               needed: frozenset[str] | None = None) -> dict[str, float | bool | str]:
+        """The quantities the constraint monitors read, now or extrapolated `lookahead_s`
+        ahead along the current velocities (vehicle and contacts). Only `needed` quantities
+        are computed when given: this runs every few simulated seconds."""
+        v = self.vehicle
+        t = self.time_s + lookahead_s
+        x, y = v.x + v.vx * lookahead_s, v.y + v.vy * lookahead_s
+        depth = max(0.0, v.depth + v.vz * lookahead_s)
+        remaining = self.energy_remaining_wh
+        leak = "leak" in self.active_faults
+        want = needed if needed is not None else ALL_QUANTITIES
+        out: dict[str, float | bool | str] = {
+            "depth_m": depth,
+            "speed_mps": math.hypot(v.vx, v.vy),
+            "nav_error_m": v.nav_error_m,
+            "energy_wh": self.energy_used_wh,
+            "energy_remaining_wh": remaining,
+            "duration_s": t,
+            "elapsed_s": t,
+            "battery_pct": 100.0 * remaining / self.capacity_wh,
+            "battery_reserve_pct": 100.0 * max(0.0, remaining - self._reserve_wh())
+            / self.capacity_wh,
+            "contact_detection_range_m": self.detection_range_m,
+            "comms_ok": depth < 0.5 or v.usbl_now,
+            "gps_fix": v.gps_now,
+            "surfaced": depth < 0.5,
+            "safety_equipment_ok": not leak,
+            "mission_systems_ok": not leak,
+            "heading_deg": math.degrees(v.heading) % 360.0,
+        }
+        if "altitude_m" in want:
+            out["altitude_m"] = max(0.0, self.world.seafloor_depth(x, y) - depth)
+        if "latitude_deg" in want or "longitude_deg" in want:
+            out["latitude_deg"], out["longitude_deg"] = self.world.to_latlon((x, y))
+        if "lane_distance_m" in want:
+            out["lane_distance_m"] = self.world.lane_distance((x, y))
+        if "contact_distance_m" in want or "contact_range_m" in want:
+            contact = self.world.contact_distance((x, y), t)
+            out["contact_distance_m"] = out["contact_range_m"] = contact
+        if "contact_count" in want:
+            out["contact_count"] = float(sum(1 for c in self.world.contacts if c.start_s <= t))
+        if "base_distance_m" in want:
+            out["base_distance_m"] = math.dist((x, y), self.world.recovery)
+        if "current_mps" in want:
+            out["current_mps"] = self._current_mps()
+        return out
+
+    def observations(self) -> dict[str, bool]:
+        """What the vehicle observes, in the words of the default rules (seed 004)."""
+        v = self.vehicle
+        remaining = self.energy_remaining_wh
+        return {
+            "gps_captured": v.gps_now,
+            "usbl_captured": v.usbl_now,
+            "gps_was_captured": self.time_s - v.last_gps_s <= FIX_MEMORY_S,
+            "usbl_was_captured": self.time_s - v.last_usbl_s <= FIX_MEMORY_S,
+            "on_surface": v.depth < 0.5,
+            "leak": "leak" in self.active_faults,
+            "safety_sensor_failure": "leak" in self.active_faults,
+            "low_energy": remaining <= self._reserve_wh() + self._home_wh(),
+            "contact_close": self.world.contact_distance(v.xy, self.time_s) < CONTACT_CLOSE_M,
+        }
+
+    # ------------------------------------------------------------------------------ runs
+
+    def _start_run(self) -> None:
+        path_index = self.source.begin_run(len(self.runs))
+        if path_index is None and self.runs:
+            self._finish(None)
+            return
+        self.runs.append(Run(path_index=path_index))
+        if len(self.runs) > 1:
+            # A tour starts every path from the same launch with a full battery.
+            self.vehicle = Vehicle(*self.world.recovery, last_gps_s=self.time_s)
+            self.energy_used_wh = self.expected_used_wh = 0.0
+            self.trail.clear()
+            self._emit("run", f"Path {path_index}: start", data={"path_index": path_index})
+        start = self.orders.start if isinstance(self.orders.start, str) else None
+        if start is None or start not in self.goals:
+            self._emit("error", "The orders name no start goal that exists (M1).")
+            self._finish("no start goal")
+            return
+        self._start_goal(start)
+
+    def _finish(self, why: str | None) -> None:
+        self.active = None
+        self.state = "finished"
+        if why:
+            self._emit("finished", f"Rehearsal ended: {why}.")
+
+    # ------------------------------------------------------------------------------ goals
+
+    def _start_goal(self, goal_id: str) -> None:
+        run = self.run
+        if len(run.goals) >= self.limits.max_goal_visits:
+            self._emit("error", f"More than {self.limits.max_goal_visits} goals on one run: "
+                       "the orders loop (G7).")
+            self._end_run(None)
+            return
+        goal = self.goals[goal_id]
+        run.goals.append(goal_id)
+        facts = facts_of(goal, self.orders)
+        waypoints = self._plan(goal)
+        length = 0.0
+        holds = 0.0
+        x, y = self.vehicle.xy
+        for w in waypoints:
+            length += math.dist((x, y), (w.x, w.y))
+            x, y = w.x, w.y
+            holds += w.hold_s
+        moving_s = length / self.speed
+        planned_s = moving_s + holds
+        # Per-metre energy: from the goal's cost when the orders give one (the same figure the
+        # BUDGET check used), otherwise from the vehicle's power at cruise speed.
+        hold_w = self.power_w * 0.4
+        cost_wh = goal.cost.energy_wh if goal.cost and goal.cost.energy_wh else None
+        if cost_wh is not None and length > 0:
+            rate = max(0.0, cost_wh - hold_w * holds / 3600.0) / length
+        else:
+            rate = self.power_w / self.speed / 3600.0
+        expected = rate * length + hold_w * holds / 3600.0
+        self._priced_m += length
+        self._priced_wh += rate * length
+        active = ActiveGoal(goal, facts, waypoints, planned_s, rate, hold_w, self.time_s,
+                            expected_wh=expected)
+        active.scripted = self.source.scripted(goal_id, len(run.goals) - 1)
+        # Seed 001: a strong opposing current with a 20% chance during each goal, for an
+        # uncertain part of it.
+        if self.rng.random() < STRONG_CURRENT_CHANCE and planned_s > 0:
+            begin = self.time_s + self.rng.uniform(0.0, 0.5) * planned_s
+            until = begin + self.rng.uniform(0.3, 1.0) * planned_s
+            active.strong_current = (begin, until)
+        self.active = active
+        self._emit("goal", f"Commence: {goal.label.rstrip('.')}.", goal_id,
+                   {"behavior": goal.behavior, "area": goal.area,
+                    "planned_s": round(planned_s, 1), "expected_wh": round(expected, 3)})
+        for spec in list(self.pending_faults):
+            if spec.at_goal == goal_id:
+                self.pending_faults.remove(spec)
+                self._activate(spec.name)
+
+    def _end_goal(self, active: ActiveGoal, outcome: str, reason: str) -> None:
+        goal = active.goal
+        self.run.outcomes.append(outcome)
+        v = self.vehicle
+        self._emit("outcome", f"{goal.label}: {outcome} ({reason}).", goal.id,
+                   {"outcome": outcome, "reason": reason,
+                    "position": [round(v.x, 2), round(v.y, 2), round(v.depth, 2)],
+                    "energy_wh": round(active.used_wh, 3)})
+        self.active = None
+        targets = goal.successors(outcome)
+        if not targets:
+            self._emit("error", f"{goal.id} names no successor for {outcome} (SINK).", goal.id)
+            self._end_run(None)
+            return
+        if len(targets) > 1:
+            self._emit("warning", f"{goal.id} names {len(targets)} successors for {outcome} "
+                       f"(G5); following {targets[0]}.", goal.id)
+        target = targets[0]
+        if target in self.goals:
+            self._start_goal(target)
+        elif target in self.terminals:
+            self._end_run(target)
+        else:
+            self._emit("error", f"{goal.id} {outcome} names {target}, which is neither a goal "
+                       "nor a terminal (G3).", goal.id)
+            self._end_run(None)
+
+    def _end_run(self, terminal: str | None) -> None:
+        run = self.run
+        run.terminal = terminal
+        kind = self.terminals[terminal].kind if terminal in self.terminals else None
+        run.terminal_kind = kind
+        if kind is not None:
+            self._emit("terminal", "Mission Complete!" if kind == "complete" else "Mission Abort!",
+                       data={"terminal": terminal, "kind": kind})
+        self.active = None
+        self.vehicle.depth = 0.0
+        self.vehicle.vx = self.vehicle.vy = self.vehicle.vz = 0.0
+        self._start_run()
+
+    # ------------------------------------------------------------------------------ plans
+
+    def _operating_depth(self, goal: Goal) -> float:
+        depth = goal.params.get("depth_m")
+        if isinstance(depth, int | float) and not isinstance(depth, bool) and depth >= 0:
+            wanted = float(depth)
+        elif "depth_m" in goal.envelope:
+            low, high = goal.envelope["depth_m"]
+            wanted = low + 0.3 * (high - low)
+        else:
+            wanted = DEFAULT_DEPTH_M
+        vehicle = self.orders.target_vehicle()
+        if vehicle and "depth_m" in vehicle.envelope:
+            low, high = vehicle.envelope["depth_m"]
+            wanted = min(max(wanted, low), high)
+        return max(0.0, min(wanted, self.world.floor_base_m - 25.0))
+
+    def _plan(self, goal: Goal) -> list[Waypoint]:
+        depth = self._operating_depth(goal)
+        area = self.world.areas.get(goal.area) if goal.area else None
+        behavior = (goal.behavior or "").lower()
+        recovery = behavior in RECOVERY_BEHAVIORS or (
+            area is not None and area.centre == self.world.recovery
+        )
+        # A recovery goal ends at the recovery point; surfacing for pick-up follows the
+        # terminal, outside every goal's constraints (C7 of the exemplar holds until then).
+        if self.vehicle.forced_surface:
+            depth = 0.0
+        if area is None:
+            hold = float(goal.params.get("duration_s", 60.0) or 60.0)
+            x, y = self.world.recovery if recovery else self.vehicle.xy
+            return [Waypoint(x, y, 0.0 if recovery else depth, min(hold, 3_600.0), "hold")]
+        points: list[Waypoint] = []
+        if behavior in SEARCH_BEHAVIORS:
+            swath = goal.params.get("swath_width_m", goal.params.get("sweep_width_m"))
+            swath_m = float(swath) if isinstance(swath, int | float) and swath > 0 else \
+                DEFAULT_SWATH_M
+            legs = lawnmower(area.polygon, swath_m)
+            points = [Waypoint(x, y, depth, 0.0, "search") for x, y in legs]
+        elif behavior == "transect":
+            legs = lawnmower(area.polygon, 1e12, max_legs=1)
+            points = [Waypoint(x, y, depth, 0.0, "transect") for x, y in legs]
+        elif behavior in HOLD_BEHAVIORS:
+            hold = goal.params.get("duration_s", HOLD_BEHAVIORS[behavior])
+            hold_s = float(hold) if isinstance(hold, int | float) and hold >= 0 else \
+                HOLD_BEHAVIORS[behavior]
+            cx, cy = area.centre
+            points = [Waypoint(cx, cy, depth, min(hold_s, 6 * 3_600.0), behavior)]
+        else:
+            cx, cy = area.centre
+            points = [Waypoint(cx, cy, depth, 0.0, "transit")]
+        if self.vehicle.forced_surface:
+            for p in points:
+                p.depth = 0.0
+        first = points[0]
+        return [Waypoint(first.x, first.y, first.depth, 0.0, "transit"), *points] \
+            if math.dist(self.vehicle.xy, (first.x, first.y)) > 1.0 else points
+
+    # ------------------------------------------------------------------------------ physics
+
+    def _current_factor(self) -> float:
+        active = self.active
+        if active and active.strong_current:
+            begin, until = active.strong_current
+            if begin <= self.time_s < until:
+                return STRONG_CURRENT_FACTOR
+        return 1.0
+
+    def _current_mps(self) -> float:
+        return STRONG_CURRENT_MPS if self._current_factor() > 1.0 else NORMAL_CURRENT_MPS
+
+    def _move(self, active: ActiveGoal, dt: float) -> None:
+        v = self.vehicle
+        strong = self._current_factor() > 1.0
+        if strong != self._strong_current:
+            self._strong_current = strong
+            self._emit("current", "Strong opposing current: consumption doubled (seed 001)."
+                       if strong else "The strong current has passed.", active.goal.id,
+                       {"strong": strong})
+        if active.finished_plan:
+            v.vx = v.vy = v.vz = 0.0
+            return
+        w = active.waypoints[active.index]
+        dx, dy = w.x - v.x, w.y - v.y
+        distance = math.hypot(dx, dy)
+        step = self.speed * dt
+        energy = 0.0
+        if distance > 1e-6:
+            moved = min(step, distance)
+            v.heading = math.atan2(dy, dx)
+            v.x += dx / distance * moved
+            v.y += dy / distance * moved
+            v.vx, v.vy = dx / distance * moved / dt, dy / distance * moved / dt
+            active.done_s += moved / self.speed
+            energy += moved * active.rate_wh_per_m * self._current_factor()
+            self.expected_used_wh += moved * active.rate_wh_per_m
+        else:
+            v.vx = v.vy = 0.0
+        target = 0.0 if v.forced_surface else w.depth
+        dz = target - v.depth
+        rise = max(-DIVE_RATE_MPS * dt, min(DIVE_RATE_MPS * dt, dz))
+        v.depth = max(0.0, v.depth + rise)
+        v.vz = rise / dt
+        if distance <= step and abs(target - v.depth) < 0.5:
+            if active.held_s < w.hold_s:
+                active.held_s += dt
+                active.done_s += dt
+                hold_energy = active.hold_w * dt / 3600.0
+                energy += hold_energy * self._current_factor()
+                self.expected_used_wh += hold_energy
+            if active.held_s >= w.hold_s:
+                active.index += 1
+                active.held_s = 0.0
+        active.used_wh += energy
+        self.energy_used_wh += energy
+        if not self.trail or math.dist(self.trail[-1][:2], v.xy) >= 25.0 \
+                or abs(self.trail[-1][2] - v.depth) >= 2.0:
+            self.trail.append((v.x, v.y, v.depth))
+
+    def _navigate(self, dt: float) -> None:
+        v = self.vehicle
+        t = self.time_s
+        drift = FAULT_DRIFT_PER_M if "nav_drift" in self.active_faults else NAV_DRIFT_PER_M
+        v.nav_error_m += drift * math.hypot(v.vx, v.vy) * dt
+        v.gps_now = v.depth < 0.5 and "gps_loss" not in self.active_faults
+        if v.gps_now:
+            v.last_gps_s = t
+            v.nav_error_m = min(v.nav_error_m, GPS_FIX_ERROR_M)
+        # The acoustic (USBL) fix from the support vessel arrives periodically within range;
+        # navigation drift is modelled as the loss of that link plus a faster drift.
+        v.usbl_now = False
+        if (
+            "nav_drift" not in self.active_faults
+            and math.dist(v.xy, self.world.recovery) <= USBL_RANGE_M
+            and t - v.last_usbl_s >= USBL_PERIOD_S
+            and v.depth >= 0.5
+        ):
+            v.usbl_now = True
+            v.last_usbl_s = t
+            v.nav_error_m = min(v.nav_error_m, USBL_FIX_ERROR_M)
+
+    # ------------------------------------------------------------------------------ judging
+
+    def _judge(self, active: ActiveGoal) -> None:
+        if self.time_s >= self._next_check_s or active.finished_plan:
+            self._next_check_s = self.time_s + CHECK_PERIOD_S
+            if self._check(active):
+                return
+        # 4. The plan.
+        if active.finished_plan:
+            self._propose(active, "succeed", "the plan is complete", {}, plan_done=True)
+        elif self.time_s - active.started_s > self.limits.max_goal_s:
+            self._propose(active, "fail", "the goal ran out of time", {}, plan_done=True)
+        elif active.scripted and active.scripted != "succeed" \
+                and active.progress >= SCRIPTED_CUT[active.scripted]:
+            self._end_goal(active, active.scripted, "replayed from the traversal")
+
+    def _check(self, active: ActiveGoal) -> bool:
+        """Rules, monitors and energy; True when the goal ended or now waits."""
+        goal_id = active.goal.id
+        # 1. Default rules: the extension of the theory under what the vehicle observes.
+        verdict = self.contingency.check(self.observations(), active.goal)
+        if verdict is not None:
+            for rule in verdict.fired_new:
+                self.rule_firings[rule] = self.rule_firings.get(rule, 0) + 1
+            if verdict.refused:
+                if verdict.safe_action and verdict.safe_action in ("surface", "shut_down"):
+                    self.vehicle.forced_surface = True
+                if self._propose(active, verdict.outcome, verdict.reason,
+                                 {"rules": list(verdict.fired), "action": verdict.safe_action}):
+                    return True
+        # 2. Constraint monitors, now and a little ahead.
+        now = self.values(needed=self.needed)
+        ahead = self.values(IMMINENT_S, needed=self.needed)
+        for monitor in self.monitors:
+            if not monitor.applies(goal_id):
+                continue
+            if monitor.holds(now, active.facts) is False or \
+                    monitor.holds(ahead, active.facts) is False:
+                reason = f"{monitor.constraint_id} would be violated: {monitor.expr}"
+                if self._propose(active, "violate", reason,
+                                 {"constraint": monitor.constraint_id,
+                                  "values": _read_values(monitor, now)}):
+                    return True
+                break
+        # 3. Energy (seed 001): give up a goal that can no longer be finished with the reserve
+        # to reach recovery, at the consumption actually measured so far.
+        if self.time_s - active.last_energy_check >= ENERGY_CHECK_S:
+            active.last_energy_check = self.time_s
+            give_up = self._energy_choice(active)
+            if give_up is not None and self._propose(active, "fail", give_up[0], give_up[1]):
+                return True
+        return self.energy_remaining_wh <= 0.0 and self._propose(
+            active, "fail", "the battery is empty", {}
+        )
+
+    def _propose(self, active: ActiveGoal, outcome: str, reason: str, data: dict[str, Any],
+                 *, plan_done: bool = False) -> bool:
+        """The simulation's view of how the goal ends; the source decides. True when the goal
+        ended or now waits."""
+        decision = self.source.decide(outcome, plan_done=plan_done, scripted=active.scripted)
+        if decision == "end":
+            self._emit("decision", reason, active.goal.id, {"outcome": outcome, **data})
+            self._end_goal(active, outcome, reason)
+            return True
+        if decision == "scripted" and active.scripted:
+            self._end_goal(active, active.scripted, "replayed from the traversal")
+            return True
+        if decision == "wait":
+            self.state = "waiting_for_outcome"
+            suggestion = active.suggestion or (outcome, reason)
+            self._emit("waiting", "Did goal Succeed (s), Fail (f), or end with a Constraint (c)?",
+                       active.goal.id, {"suggested": suggestion[0], "because": suggestion[1]})
+            return True
+        if active.suggestion is None and not plan_done:
+            # Manual and scripted sources keep going; remember what the simulation saw.
+            active.suggestion = (outcome, reason)
+            self._emit("observed", reason, active.goal.id, {"outcome": outcome, **data})
+        return False
+
+    def _reserve_wh(self) -> float:
+        return RESERVE_FRACTION * self.capacity_wh
+
+    def _learned_factor(self) -> float:
+        """Seed 001's linear model: measured over expected consumption so far."""
+        if self.expected_used_wh < 1e-6:
+            return 1.0
+        return max(0.5, min(4.0, self.energy_used_wh / self.expected_used_wh))
+
+    def _transit_rate(self) -> float:
+        if self._priced_m < 100.0:
+            return self.power_w / self.speed / 3600.0
+        return self._priced_wh / self._priced_m
+
+    def _home_wh(self) -> float:
+        distance = math.dist(self.vehicle.xy, self.world.recovery)
+        return distance * self._transit_rate() * self._learned_factor()
+
+    def _energy_choice(self, active: ActiveGoal) -> tuple[str, dict[str, Any]] | None:
+        behavior = (active.goal.behavior or "").lower()
+        area = self.world.areas.get(active.goal.area or "")
+        if behavior in RECOVERY_BEHAVIORS or (area and area.centre == self.world.recovery):
+            return None  # going home is never given up for energy
+        factor = self._learned_factor()
+        rest = self._remaining_plan_m(active) * active.rate_wh_per_m * factor
+        home = self._home_after(active) * self._transit_rate() * factor
+        needed = rest + home + self._reserve_wh()
+        remaining = self.energy_remaining_wh
+        if remaining >= needed:
+            return None
+        data = {"remaining_wh": round(remaining, 3), "goal_rest_wh": round(rest, 3),
+                "home_wh": round(home, 3), "reserve_wh": round(self._reserve_wh(), 3),
+                "consumption_factor": round(factor, 3)}
+        home_and_reserve = home + self._reserve_wh()
+        return (f"energy: {remaining:.0f} Wh left cannot cover the rest of the goal "
+                f"({rest:.0f} Wh) and the way home with the reserve ({home_and_reserve:.0f}"
+                " Wh); goal given up", data)
+
+    def _remaining_plan_m(self, active: ActiveGoal) -> float:
+        x, y = self.vehicle.xy
+        total = 0.0
+        for w in active.waypoints[active.index:]:
+            total += math.dist((x, y), (w.x, w.y))
+            x, y = w.x, w.y
+        return total
+
+    def _home_after(self, active: ActiveGoal) -> float:
+        if not active.waypoints:
+            return math.dist(self.vehicle.xy, self.world.recovery)
+        last = active.waypoints[-1]
+        return math.dist((last.x, last.y), self.world.recovery)
+
+    # ------------------------------------------------------------------------------ faults
+
+    def _scheduled_faults(self) -> None:
+        for spec in list(self.pending_faults):
+            due = spec.at_s is not None and self.time_s >= spec.at_s
+            if due or (spec.at_s is None and spec.at_goal is None):
+                self.pending_faults.remove(spec)
+                self._activate(spec.name)
+
+    def _activate(self, name: str) -> None:
+        self.fault_log.append(f"{name}@{self.time_s:g}")
+        v = self.vehicle
+        if name == "low_energy":
+            # Most of the battery gone at once (a failing cell): what is left is just above
+            # the reserve, so the energy check must act.
+            target_left = self._reserve_wh() * 1.5
+            if self.energy_remaining_wh > target_left:
+                self.energy_used_wh = self.capacity_wh - target_left
+        elif name == "contact_close":
+            contact = self.world.closing_contact(v.xy, v.heading, self.time_s, self.rng)
+            if contact is None:
+                self._emit("warning", "No more contacts can be added.")
+                return
+        self.active_faults.add(name)
+        self._emit("fault", f"Fault injected: {name.replace('_', ' ')}.", self.current_goal,
+                   {"fault": name})
+
+    # ------------------------------------------------------------------------------ events
+
+    def _emit(self, kind: str, text: str, goal: str | None = None,
+              data: dict[str, Any] | None = None) -> None:
+        event = Event(round(self.time_s, 3), kind, text, goal, data or {})
+        if len(self.events) < self.limits.max_events:
+            self.events.append(event)
+        else:
+            self.events_dropped += 1
+        for listener in self.listeners:
+            listener(event)
+
+
+def _read_values(monitor: Monitor, values: dict[str, float | bool | str]) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for name in sorted(identifiers(monitor.expr)):
+        if name in values:
+            value = values[name]
+            out[name] = round(value, 3) if isinstance(value, float) and value < FAR_M else value
+    return out

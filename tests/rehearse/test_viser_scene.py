@@ -1,0 +1,141 @@
+"""A real rehearsal's viser server, driven over its websocket by a small test client."""
+
+from __future__ import annotations
+
+import socket
+import time
+
+import msgspec
+
+from countersign.orders.model import Orders
+from countersign.rehearse.manager import RehearsalManager, RehearsalOptions
+
+from .viser_client import ViserTestClient
+
+
+def _wait(predicate, timeout: float = 20.0) -> bool:  # type: ignore[no-untyped-def]
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if predicate():
+            return True
+        time.sleep(0.05)
+    return bool(predicate())
+
+
+def test_scene_nodes_and_a_gui_click_chooses_the_outcome(
+    manager: RehearsalManager, exemplar: Orders
+) -> None:
+    rehearsal = manager.start(exemplar, owner="alice",
+                              options=RehearsalOptions(source="manual", speed=100_000))
+    with ViserTestClient(rehearsal.port) as client:
+        client.hello()
+        assert client.wait_for(lambda c: "/vehicle" in c.scene_nodes())
+        nodes = client.scene_nodes()
+        for name in ("/world/seafloor", "/world/surface", "/areas/A/outline", "/areas/A/label",
+                     "/areas/LANE/fill", "/areas/BASE/label", "/vehicle/label",
+                     "/contacts/V1", "/world/recovery"):
+            assert name in nodes, name
+        assert nodes["/areas/A/label"]["props"]["text"] == "Area A"
+        assert client.theme() is not None and client.theme()["show_share_button"] is False  # type: ignore[index]
+
+        # G1 is animated to the end of its plan, then the Figure 6 question waits.
+        assert _wait(lambda: rehearsal.status()["state"] == "waiting_for_outcome")
+        assert client.wait_for(lambda c: c.button("Fail")["props"]["disabled"] is False)
+        assert any("Did goal Succeed" in text for text in client.markdown())
+        client.click("Fail")
+        assert _wait(lambda: rehearsal.status()["step"] == 1)
+        status = rehearsal.status()
+        assert status["outcomes"][0] == {"goal": "G1", "outcome": "fail"}
+        # Fail on G1 leads to G3 (Search Area B) in the exemplar.
+        assert _wait(lambda: (rehearsal.status()["current_goal"] or {}).get("id") == "G3")
+
+        # The outcome is drawn into the scene: an amber marker and its label.
+        assert client.wait_for(lambda c: "/outcomes/0/label" in c.scene_nodes())
+        nodes = client.scene_nodes()
+        assert nodes["/outcomes/0/label"]["props"]["text"] == "G1: fail"
+        assert tuple(nodes["/outcomes/0"]["props"]["color"]) == (235, 160, 20)
+
+    record = manager.stop(rehearsal.id)
+    assert record.to_json()["inputs"]["choices"][0]["outcome"] == "fail"
+    html = record.replay_html()
+    assert html.startswith(b"<!doctype html>") and b"__VISER_EMBED_DATA__" in html
+
+
+def test_a_click_in_the_wrong_state_is_ignored(
+    manager: RehearsalManager, exemplar: Orders
+) -> None:
+    rehearsal = manager.start(exemplar, owner="alice",
+                              options=RehearsalOptions(source="simulate", speed=20))
+    with ViserTestClient(rehearsal.port) as client:
+        client.hello()
+        assert client.wait_for(lambda c: "/vehicle" in c.scene_nodes())
+        client.click("Succeed")  # disabled in the GUI; a crafted click must change nothing
+        client.pump(0.5)
+        assert rehearsal.status()["outcomes"] == []
+        assert rehearsal.status()["state"] == "running"
+
+
+def test_fault_button_injects_the_fault(manager: RehearsalManager, exemplar: Orders) -> None:
+    rehearsal = manager.start(exemplar, owner="alice",
+                              options=RehearsalOptions(source="simulate", speed=50))
+    with ViserTestClient(rehearsal.port) as client:
+        client.hello()
+        assert client.wait_for(lambda c: "/vehicle" in c.scene_nodes())
+        client.click("Leak")
+        assert _wait(lambda: "leak" in rehearsal.status()["faults"])
+        # A leak is a safety-equipment failure: the exemplar's C2 ends the goal (violate).
+        assert _wait(lambda: rehearsal.status()["step"] >= 1)
+        assert rehearsal.status()["outcomes"][0]["outcome"] == "violate"
+
+
+def test_malformed_messages_and_share_requests_do_no_harm(
+    manager: RehearsalManager, exemplar: Orders
+) -> None:
+    rehearsal = manager.start(exemplar, owner="alice",
+                              options=RehearsalOptions(source="manual", speed=2_000))
+    server = rehearsal._server
+    assert server is not None
+    with ViserTestClient(rehearsal.port) as client:
+        client.hello()
+        assert client.wait_for(lambda c: "/vehicle" in c.scene_nodes())
+        uuid = client.button("Succeed")["uuid"]
+        client.send({"type": "ShareUrlRequest"})
+        client.send({"type": "GuiUpdateMessage", "uuid": "no-such-uuid", "updates": {"value": 1}})
+        client.send({"type": "GuiUpdateMessage", "uuid": uuid, "updates": {"no_such_prop": 1}})
+        client.send({"type": "GuiUpdateMessage", "uuid": uuid, "updates": "not a dict"})
+        client.pump(0.5)
+        assert not client.closed  # handled (and ignored) by the server's handlers
+    # Undecodable frames make viser close that one connection, nothing more.
+    for message in ({"type": "NoSuchMessage", "x": 1}, {"no type": True}):
+        with ViserTestClient(rehearsal.port) as client:
+            client.send(message)
+            client.pump(0.5)
+            assert client.closed
+    bad_frames: list[bytes | str] = [
+        b"\x00\x01garbage", "text frame", msgspec.msgpack.encode([1, 2, 3]),
+        msgspec.msgpack.encode({"type": "ViewerCameraMessage", "wxyz": "x"}),
+    ]
+    for frame in bad_frames:
+        with ViserTestClient(rehearsal.port) as client:
+            client.send_raw(frame)
+            client.pump(0.3)
+    time.sleep(0.5)
+    assert server._share_tunnel is None  # no tunnel was opened
+    assert rehearsal.status()["state"] in ("running", "waiting_for_outcome")
+    # The server still serves a new client, with the whole scene.
+    with ViserTestClient(rehearsal.port) as client:
+        client.hello()
+        assert client.wait_for(lambda c: "/areas/A/outline" in c.scene_nodes())
+
+
+def test_stop_frees_the_port(manager: RehearsalManager, exemplar: Orders) -> None:
+    rehearsal = manager.start(exemplar, owner="alice",
+                              options=RehearsalOptions(source="simulate", speed=1_000))
+    port = rehearsal.port
+    with socket.create_connection(("127.0.0.1", port), timeout=5):
+        pass
+    first = manager.stop(rehearsal.id)
+    assert manager.stop(rehearsal.id) is first  # idempotent
+    assert rehearsal.status()["state"] == "stopped"
+    with socket.socket() as probe:
+        assert probe.connect_ex(("127.0.0.1", port)) != 0
