@@ -6,10 +6,9 @@ itself is exercised in test_rehearsals.py)."""
 
 from __future__ import annotations
 
-import hashlib
-import json
-
 from countersign.approvals.bundle import verify_bundle
+from countersign.orders.reader import orders_from_data
+from countersign.rehearse.manager import Rehearsal, RehearsalOptions
 from countersign.store.rehearsals import save_record
 from countersign.store.tables import MissionVersion, User
 
@@ -17,18 +16,23 @@ from .approval_helpers import MISSION, approve, counts, new_version, register_ke
 from .conftest import World
 
 
-def _stored_record(world: World, number: int, *, orders_digest: str | None = None) -> str:
+def _stored_record(world: World, number: int) -> str:
+    """A real record of this version (a headless simulated rehearsal: no viser, so its
+    replay page is a stand-in), stored as the stop route stores one."""
     with world.database.session() as db:
         version = db.query(MissionVersion).filter_by(mission_id=MISSION, number=number).one()
         owner = db.query(User).filter_by(username=world.usernames["operator"]).one()
-        body = {"format": "countersign.rehearsal/1", "outcomes": ["succeed", "fail"],
-                "orders_digest": orders_digest or version.digest, "number": number}
-        digest = "sha256:" + hashlib.sha256(json.dumps(body, sort_keys=True).encode()).hexdigest()
-        save_record(db, digest=digest, record=body, replay_html=b"<!doctype html><p>replay",
-                    mission_id=MISSION, version=number,
-                    orders_digest=orders_digest or version.digest, source="manual",
-                    owner=owner, rehearsal_id=f"test-{number}")
-    return digest
+        rehearsal = Rehearsal(orders_from_data(version.orders), owner=str(owner.id),
+                              options=RehearsalOptions(source="simulate", seed=number),
+                              headless=True)
+        rehearsal.run_headless(max_wall_s=30)
+        record = rehearsal.stop()
+        assert record.to_json()["orders"]["digest"] == version.digest
+        save_record(db, digest=record.digest, record=record.to_json(),
+                    replay_html=b"<!doctype html><p>headless: no scene", mission_id=MISSION,
+                    version=number, orders_digest=version.digest, source="simulate",
+                    owner=owner, rehearsal_id=rehearsal.id)
+    return record.digest
 
 
 def test_submission_with_record_is_cited_by_the_approval_and_the_bundle(world: World) -> None:
@@ -45,10 +49,15 @@ def test_submission_with_record_is_cited_by_the_approval_and_the_bundle(world: W
     detail = world.client("auditor").get(f"/api/approvals/{approval['id']}").json()
     assert detail["statement"]["predicate"]["rehearsal_digest"] == digest
     assert detail["rehearsal"]["digest"] == digest
-    assert detail["rehearsal"]["record"]["outcomes"] == ["succeed", "fail"]
+    assert detail["rehearsal"]["record"]["outcomes"]
     bundle = world.client("auditor").get("/api/audit/bundle").json()
-    assert bundle["rehearsals"][digest]["number"] == number
+    assert bundle["rehearsals"][digest]["orders"]["digest"] == approval["digest"]
     assert verify_bundle(bundle).ok
+    # Offline, the cited record must be there and hash to the cited digest.
+    tampered = dict(bundle, rehearsals={digest: dict(bundle["rehearsals"][digest], seed=99)})
+    assert any("does not hash" in p for p in verify_bundle(tampered).problems)
+    assert any("lacks the rehearsal record" in p
+               for p in verify_bundle(dict(bundle, rehearsals={})).problems)
 
 
 def test_record_attached_after_submission_and_approval_without_one_cites_null(

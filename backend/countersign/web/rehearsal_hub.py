@@ -19,12 +19,8 @@ from ..store.missions import MissionError, NotFound
 from ..store.tables import utcnow
 
 if TYPE_CHECKING:
-    from ..rehearse.manager import (
-        Rehearsal,
-        RehearsalManager,
-        RehearsalOptions,
-        RehearsalRecord,
-    )
+    from ..rehearse.manager import Rehearsal, RehearsalManager, RehearsalOptions
+    from ..rehearse.record import RehearsalRecord
 
 MAX_PER_USER = 3
 MAX_TOTAL = 16
@@ -81,12 +77,14 @@ class RehearsalHub:
               options: RehearsalOptions) -> Live:
         with self._lock:
             self._prune()
-            mine = sum(1 for live in self._live.values() if live.user_id == user_id)
+            mine = sum(1 for live in self._live.values()
+                       if live.user_id == user_id and live.rehearsal.state != "stopped")
             mine += self._starting.get(user_id, 0)
             if mine >= self.per_user:
                 raise TooManyForUser(f"you have {mine} live rehearsals (at most "
                                      f"{self.per_user}); stop one first")
-            if len(self._live) + sum(self._starting.values()) >= self.total:
+            running = sum(1 for live in self._live.values() if live.rehearsal.state != "stopped")
+            if running + sum(self._starting.values()) >= self.total:
                 raise Busy(f"the server runs {self.total} rehearsals already; try again later")
             self._starting[user_id] = self._starting.get(user_id, 0) + 1
         try:
@@ -107,8 +105,10 @@ class RehearsalHub:
                     del self._starting[user_id]
 
     def get(self, rehearsal_id: str, *, user_id: int) -> Live:
-        """The caller's live rehearsal; NotFound for unknown ids and other users' rehearsals
-        (whose existence is not revealed), Gone for ended ones."""
+        """The caller's rehearsal; NotFound for unknown ids and other users' rehearsals (whose
+        existence is not revealed), Gone for ones stopped and recorded. A rehearsal that
+        stopped itself (idle) is still here, state "stopped", until it is stopped and
+        recorded through the API."""
         with self._lock:
             live = self._live.get(rehearsal_id)
             if live is not None and self.manager.get(rehearsal_id) is None:
@@ -135,11 +135,12 @@ class RehearsalHub:
         return live, record
 
     def count(self) -> int:
+        """Running rehearsals (not stopped)."""
         if self._manager is None:
             return 0
         with self._lock:
             self._prune()
-            return len(self._live)
+            return sum(1 for live in self._live.values() if live.rehearsal.state != "stopped")
 
     def describe(self) -> list[dict[str, Any]]:
         with self._lock:
@@ -154,9 +155,10 @@ class RehearsalHub:
             self._manager.shutdown()
 
     def _prune(self) -> None:
+        """Forget rehearsals the manager no longer knows (it keeps the last stopped ones)."""
         if self._manager is None:
             return
-        for rehearsal_id in [k for k in self._live if self.manager.get(k) is None]:
+        for rehearsal_id in [k for k in self._live if self._manager.get(k) is None]:
             self._forget(rehearsal_id, None)
 
     def _forget(self, rehearsal_id: str, digest: str | None) -> None:

@@ -23,7 +23,7 @@ from ...store import rehearsals as records
 from ...store.accounts import session_user, token_user
 from ...store.db import Database
 from ...store.events import record
-from ...store.missions import MissionError, get_mission, get_version
+from ...store.missions import Conflict, MissionError, NotFound, get_mission, get_version
 from ...store.tables import User
 from .. import problems
 from ..deps import EVERYONE, SESSION_COOKIE, CurrentPrincipal, Db, allow
@@ -46,15 +46,24 @@ REHEARSERS = ("operator", "supervisor")
 RehearsalId = Annotated[str, Path(min_length=1, max_length=64, pattern=r"^[A-Za-z0-9_-]+$")]
 RecordDigest = Annotated[str, Path(pattern=r"^sha256:[0-9a-f]{64}$")]
 FaultName = Annotated[str, Field(min_length=1, max_length=40, pattern=r"^[a-z][a-z0-9_]*$")]
+FaultSpecText = Annotated[str, Field(min_length=1, max_length=140,
+                                     pattern=r"^[a-z][a-z0-9_]*(@[A-Za-z0-9_.:-]{1,100})?$")]
+
+
+class Unprocessable(MissionError):
+    status = 422
 
 
 class RehearsalIn(RequestBody):
     source: Literal["manual", "replay", "tour", "simulate"] = "manual"
     seed: int = Field(default=0, ge=0, le=2**31 - 1)
-    path_index: int | None = Field(default=None, ge=0, le=2**62,
-                                   description="the traversal path to replay (source replay)")
-    faults: list[FaultName] = Field(default_factory=list, max_length=8)
-    speed: float = Field(default=50.0, gt=0, le=1000, description="simulated x real time")
+    path_index: int | None = Field(default=None, ge=1, le=2**62,
+                                   description="the traversal path to replay (source replay), "
+                                   "counted from 1 as in /paths")
+    faults: list[FaultSpecText] = Field(default_factory=list, max_length=8,
+                                        description="fault, fault@seconds or fault@goal")
+    speed: float = Field(default=50.0, ge=0.1, le=100_000,
+                         description="simulated seconds per wall second")
     version: int | None = Field(default=None, ge=1, le=2**31 - 1,
                                 description="the version to rehearse; omitted: the draft")
 
@@ -125,7 +134,7 @@ def start_rehearsal(mission_id: str, body: RehearsalIn, request: Request,
         live = hub_of(request).start(orders, user_id=principal.user.id, mission_id=mission_id,
                                      version=body.version, options=options)
     except ValueError as exc:
-        raise MissionError(f"the rehearsal cannot start: {exc}") from None
+        raise Unprocessable(f"the rehearsal cannot start: {exc}") from None
     if live.rehearsal.orders_digest != digest:
         log.warning("rehearsal %s digests %s, stored %s", live.rehearsal.id,
                     live.rehearsal.orders_digest, digest)
@@ -153,7 +162,7 @@ def choose_outcome(rehearsal_id: RehearsalId, body: OutcomeIn, request: Request,
     try:
         live.rehearsal.choose(body.outcome)
     except ValueError as exc:
-        raise MissionError(str(exc)) from None
+        raise Conflict(str(exc)) from None
     record(db, kind="rehearsal.outcome", actor=principal.user, mission_id=live.mission_id,
            detail={"rehearsal": rehearsal_id, "goal": goal, "outcome": body.outcome})
     return _out(live)
@@ -167,7 +176,7 @@ def inject_fault(rehearsal_id: RehearsalId, body: FaultIn, request: Request,
     try:
         live.rehearsal.inject(body.fault)
     except ValueError as exc:
-        raise MissionError(str(exc)) from None
+        raise Conflict(str(exc)) from None
     record(db, kind="rehearsal.fault", actor=principal.user, mission_id=live.mission_id,
            detail={"rehearsal": rehearsal_id, "fault": body.fault})
     return _out(live)
@@ -179,9 +188,10 @@ def stop_rehearsal(rehearsal_id: RehearsalId, request: Request, principal: Curre
                    db: Db) -> RecordOut:
     """Stop the rehearsal and store its record and standalone replay."""
     live, finished = hub_of(request).stop(rehearsal_id, user_id=principal.user.id)
+    replay = finished.replay_html() if finished.has_replay else b""
     row = records.save_record(
         db, digest=finished.digest, record=finished.to_json(),
-        replay_html=finished.replay_html(), mission_id=live.mission_id, version=live.version,
+        replay_html=replay, mission_id=live.mission_id, version=live.version,
         orders_digest=live.rehearsal.orders_digest, source=live.source, owner=principal.user,
         rehearsal_id=rehearsal_id)
     return RecordOut(**records.record_summary(db, row))
@@ -208,6 +218,8 @@ def get_rehearsal_record(digest: RecordDigest, db: Db) -> RecordDetail:
 def get_rehearsal_replay(digest: RecordDigest, db: Db) -> Response:
     """viser's standalone replay of the rehearsal (self-contained HTML; works offline)."""
     row = records.get_record(db, digest, with_replay=True)
+    if not row.replay_html:
+        raise NotFound(f"the rehearsal record {digest} has no scene recording")
     return Response(row.replay_html, media_type="text/html; charset=utf-8", headers={
         "Content-Security-Policy": REPLAY_CSP, "X-Frame-Options": "SAMEORIGIN",
         "Content-Disposition": f'inline; filename="rehearsal-{digest[7:19]}.html"'})
