@@ -54,15 +54,17 @@ FROM_BROWSER = frozenset({
 POLICY_VIOLATION, TOO_BIG, GOING_AWAY, UNAVAILABLE = 1008, 1009, 1001, 1011
 
 # viser's client loads one inline loader script that decompresses the bundle, injects it as an
-# inline module script, compiles zstd WebAssembly and starts a blob: worker. Nothing is fetched
-# from other origins; the websocket goes back to this origin only.
-CLIENT_CSP = ("default-src 'none'; script-src 'self' 'unsafe-inline' 'wasm-unsafe-eval'; "
+# inline module script, compiles zstd WebAssembly and starts a blob: worker; its bundle also
+# evaluates generated code (Chromium reports an EvalError without 'unsafe-eval'). Nothing is
+# fetched from other origins and the websocket goes back to this origin only.
+CLIENT_CSP = ("default-src 'none'; "
+              "script-src 'self' 'unsafe-inline' 'unsafe-eval' 'wasm-unsafe-eval'; "
               "worker-src 'self' blob:; style-src 'self' 'unsafe-inline'; "
               "img-src 'self' data: blob:; font-src 'self' data:; "
               "connect-src 'self' data: blob:; media-src 'self' data: blob:; "
               "frame-ancestors 'self'; base-uri 'none'; form-action 'none'")
 # The standalone replay is viser's client plus the recording inlined; it needs no network.
-REPLAY_CSP = ("default-src 'none'; script-src 'unsafe-inline' 'wasm-unsafe-eval'; "
+REPLAY_CSP = ("default-src 'none'; script-src 'unsafe-inline' 'unsafe-eval' 'wasm-unsafe-eval'; "
               "worker-src blob:; style-src 'unsafe-inline'; img-src data: blob:; "
               "font-src data:; connect-src data: blob:; media-src data: blob:; "
               "frame-ancestors 'self'; base-uri 'none'; form-action 'none'; sandbox allow-scripts")

@@ -956,6 +956,36 @@ export interface components {
              */
             reason: string;
         };
+        /**
+         * DefaultRule
+         * @description A normal default `if : then / then` (seed 004 D_est, D_goal, D_safety).
+         */
+        DefaultRule: {
+            /** Id */
+            id: string;
+            /** If */
+            if?: string[];
+            /**
+             * Kind
+             * @default estimation
+             * @enum {string}
+             */
+            kind: "observation" | "estimation" | "goal" | "safety" | "action";
+            /**
+             * Priority
+             * @default 0
+             */
+            priority: number;
+            /**
+             * Text
+             * @default
+             */
+            text: string;
+            /** Then */
+            then: string;
+        } & {
+            [key: string]: unknown;
+        };
         /** DraftIn */
         DraftIn: {
             /** Layout */
@@ -1255,11 +1285,14 @@ export interface components {
         };
         /** RehearsalIn */
         RehearsalIn: {
-            /** Faults */
+            /**
+             * Faults
+             * @description fault, fault@seconds or fault@goal
+             */
             faults?: string[];
             /**
              * Path Index
-             * @description the traversal path to replay (source replay)
+             * @description the traversal path to replay (source replay), counted from 1 as in /paths
              */
             path_index?: number | null;
             /**
@@ -1275,7 +1308,7 @@ export interface components {
             source: "manual" | "replay" | "tour" | "simulate";
             /**
              * Speed
-             * @description simulated x real time
+             * @description simulated seconds per wall second
              * @default 50
              */
             speed: number;
@@ -1311,11 +1344,76 @@ export interface components {
             /** Reason */
             reason: string;
         };
+        /**
+         * RuleFact
+         * @description An observed or static fact of a default theory (seed 004 W_obs).
+         */
+        RuleFact: {
+            /** Fact */
+            fact: string;
+            /** Id */
+            id: string;
+            /**
+             * Text
+             * @default
+             */
+            text: string;
+        } & {
+            [key: string]: unknown;
+        };
+        /**
+         * RuleSet
+         * @description A normal default theory carried by orders or a vehicle profile (rehearse.rules reads it).
+         *
+         *     Typed here only structurally: the literal syntax is checked by `rehearse.rules.parse_theory`
+         *     and reported as RULES findings, so a typo in a rule never makes the orders unreadable.
+         */
+        RuleSet: {
+            /** Actions */
+            actions?: string[];
+            /** Defaults */
+            defaults?: components["schemas"]["DefaultRule"][];
+            /** Facts */
+            facts?: components["schemas"]["RuleFact"][];
+            /** Observables */
+            observables?: string[];
+            /** Strict */
+            strict?: components["schemas"]["StrictRule"][];
+        } & {
+            [key: string]: unknown;
+        };
         /** SessionOut */
         SessionOut: {
             /** Csrf Token */
             csrf_token: string | null;
             user: components["schemas"]["UserOut"];
+        };
+        /**
+         * StrictRule
+         * @description `if` literals imply `then` (seed 004 W_est, W_goal, W_safety); exceptions are these.
+         */
+        StrictRule: {
+            /** Exception To */
+            exception_to?: string[];
+            /** Id */
+            id: string;
+            /** If */
+            if?: string[];
+            /**
+             * Kind
+             * @default estimation
+             * @enum {string}
+             */
+            kind: "observation" | "estimation" | "goal" | "safety" | "action";
+            /**
+             * Text
+             * @default
+             */
+            text: string;
+            /** Then */
+            then: string;
+        } & {
+            [key: string]: unknown;
         };
         /** SubmissionOut */
         SubmissionOut: {
@@ -1444,6 +1542,7 @@ export interface components {
             id: string;
             /** Power W */
             power_w?: number | null;
+            rules?: components["schemas"]["RuleSet"] | null;
             /** Speed Mps */
             speed_mps?: number | null;
             /**

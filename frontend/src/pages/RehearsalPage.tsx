@@ -28,12 +28,32 @@ const FAULTS: { value: string; label: string }[] = [
   { value: "nav_drift", label: "Navigation drift" },
   { value: "leak", label: "Leak" },
   { value: "low_energy", label: "Low energy" },
-  { value: "contact", label: "Contact closing inside 1,000 m" },
+  { value: "contact_close", label: "Contact closing inside 1,000 m" },
 ];
+const STATE_LABEL: Record<string, string> = {
+  running: "Running",
+  waiting_for_outcome: "Waiting for the outcome",
+  finished: "Finished",
+  stopped: "Stopped (idle); stop it to record it",
+};
 const POLL_MS = 1000;
 
 function str(value: unknown): string | null {
   return typeof value === "string" ? value : null;
+}
+
+interface CurrentGoal {
+  id: string;
+  title?: string;
+  progress?: number;
+}
+
+function currentGoalOf(status: Record<string, unknown> | undefined): CurrentGoal | null {
+  const goal = status?.current_goal;
+  if (goal && typeof goal === "object" && "id" in goal && typeof goal.id === "string") {
+    return goal as CurrentGoal;
+  }
+  return null;
 }
 
 export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetail; canRehearse: boolean }) {
@@ -87,8 +107,12 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
   }, []);
 
   const state = str(live?.status.state);
-  const currentGoal = str(live?.status.current_goal);
-  const finished = state !== null && ["complete", "abort", "finished", "done", "ended"].includes(state);
+  const current = currentGoalOf(live?.status);
+  const currentGoal = current?.id ?? null;
+  const finished = state === "finished" || state === "stopped";
+  const waiting = state === "waiting_for_outcome";
+  const question = str(live?.status.question);
+  const terminal = str(live?.status.terminal);
 
   return (
     <>
@@ -117,23 +141,26 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
         <div className="rehearsal" data-testid="rehearsal">
           <div className="rehearsal-controls">
             <p role="status" aria-live="polite" data-testid="rehearsal-status">
-              <strong>{state ?? "running"}</strong>
-              {currentGoal ? (
+              <strong data-testid="rehearsal-state">{STATE_LABEL[state ?? ""] ?? state ?? "Starting"}</strong>
+              {current ? (
                 <>
                   {" "}
-                  · goal <code data-testid="current-goal">{currentGoal}</code>
+                  · goal <span data-testid="current-goal">{current.title || current.id}</span>
+                  {typeof current.progress === "number" && ` (${Math.round(current.progress * 100)}%)`}
                 </>
               ) : null}
+              {terminal ? ` · ended at ${terminal}` : null}
               {" "}· step <span data-testid="rehearsal-step">{String(live.status.step ?? 0)}</span>
               {typeof live.status.energy_wh === "number" && ` · ${live.status.energy_wh.toFixed(1)} Wh`}
             </p>
+            {live.source === "manual" && waiting && question && <p className="question">{question}</p>}
             {live.source === "manual" && (
               <div className="button-row" role="group" aria-label="Outcome of the current goal">
                 {OUTCOMES.map((o) => (
                   <button
                     key={o}
                     type="button"
-                    disabled={busy || finished}
+                    disabled={busy || !waiting}
                     data-testid={`outcome-${o}`}
                     onClick={() =>
                       void act(async () => {
@@ -264,7 +291,8 @@ function StartForm({
 }) {
   const [source, setSource] = useState<Source>("manual");
   const [seed, setSeed] = useState(0);
-  const [pathIndex, setPathIndex] = useState(0);
+  const [speed, setSpeed] = useState(50);
+  const [pathIndex, setPathIndex] = useState(1);
   const [version, setVersion] = useState<string>("");
   const [faults, setFaults] = useState<string[]>([]);
   return (
@@ -275,7 +303,7 @@ function StartForm({
         onStart({
           source,
           seed,
-          speed: 50,
+          speed,
           path_index: source === "replay" ? pathIndex : null,
           faults,
           version: version ? Number(version) : null,
@@ -306,12 +334,24 @@ function StartForm({
       {source === "replay" && (
         <label>
           Path number
-          <input type="number" min={0} value={pathIndex} onChange={(e) => setPathIndex(Number(e.target.value) || 0)} />
+          <input type="number" min={1} value={pathIndex} onChange={(e) => setPathIndex(Number(e.target.value) || 1)} />
         </label>
       )}
       <label>
         Seed
         <input type="number" min={0} value={seed} onChange={(e) => setSeed(Number(e.target.value) || 0)} />
+      </label>
+      <label>
+        Speed (× real time)
+        <input
+          type="number"
+          min={0.1}
+          max={100000}
+          step="any"
+          value={speed}
+          onChange={(e) => setSpeed(Number(e.target.value) || 50)}
+          data-testid="rehearsal-speed"
+        />
       </label>
       {source === "simulate" && (
         <fieldset>
