@@ -25,7 +25,8 @@ def test_operator_rehearses_in_the_browser(page: Page, server: Server, seeded_mi
     page.get_by_test_id("start-rehearsal").click()
 
     frame = page.get_by_test_id("viser-frame")
-    expect(frame).to_be_visible()
+    # Generous timeouts: starting a viser server and the simulation on a loaded machine.
+    expect(frame).to_be_visible(timeout=60_000)
     expect(frame).to_have_attribute("src", re.compile(r"^/rehearsal/[A-Za-z0-9_-]+/$"))
     viewer = page.frame_locator('[data-testid="viser-frame"]')
     expect(viewer.locator("canvas").first).to_be_visible(timeout=30_000)
@@ -34,8 +35,8 @@ def test_operator_rehearses_in_the_browser(page: Page, server: Server, seeded_mi
 
     expect(page.get_by_test_id("rehearsal-state")).to_have_text("Waiting for the outcome",
                                                                  timeout=60_000)
-    current = page.get_by_test_id("graph-current")
-    expect(current).to_be_visible()
+    expect(page.get_by_test_id("graph-current")).to_be_visible(timeout=30_000)
+    expect(page.get_by_test_id("current-goal")).to_be_visible(timeout=30_000)
     first_goal = page.get_by_test_id("current-goal").inner_text()
 
     shots = tmp_path_factory.getbasetemp() / "artifacts"

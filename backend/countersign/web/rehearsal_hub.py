@@ -12,7 +12,7 @@ import threading
 from collections import OrderedDict
 from dataclasses import dataclass, field
 from datetime import datetime
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from ..orders.model import Orders
 from ..store.missions import MissionError, NotFound
@@ -40,6 +40,10 @@ class Gone(MissionError):
     status = 410
 
 
+class Stopping(MissionError):
+    status = 409
+
+
 @dataclass
 class Live:
     rehearsal: Rehearsal
@@ -59,6 +63,7 @@ class RehearsalHub:
         self._lock = threading.RLock()
         self._live: dict[str, Live] = {}
         self._starting: dict[int, int] = {}
+        self._stopping: set[str] = set()
         self._ended: OrderedDict[str, str | None] = OrderedDict()
 
     @property
@@ -125,14 +130,28 @@ class RehearsalHub:
             return live
 
     def stop(self, rehearsal_id: str, *, user_id: int) -> tuple[Live, RehearsalRecord]:
+        """Stop the caller's rehearsal (its viser server and thread) and return its record.
+        It stays known until `recorded()` confirms the record is stored, so that a failed
+        store can be retried; a second stop meanwhile is a conflict."""
         with self._lock:
             live = self.get(rehearsal_id, user_id=user_id)
-            del self._live[rehearsal_id]
-            self._remember(rehearsal_id, None)
-        record = self.manager.stop(rehearsal_id)
-        with self._lock:
-            self._remember(rehearsal_id, record.digest)
+            if rehearsal_id in self._stopping:
+                raise Stopping(f"the rehearsal {rehearsal_id} is being stopped")
+            self._stopping.add(rehearsal_id)
+        try:
+            record = self.manager.stop(rehearsal_id)
+        except BaseException:
+            with self._lock:
+                self._stopping.discard(rehearsal_id)
+            raise
         return live, record
+
+    def recorded(self, rehearsal_id: str, digest: str | None) -> None:
+        """The record is stored (digest) or storing it failed (None): forget or retry."""
+        with self._lock:
+            self._stopping.discard(rehearsal_id)
+            if digest is not None:
+                self._forget(rehearsal_id, digest)
 
     def count(self) -> int:
         """Running rehearsals (not stopped)."""
@@ -141,11 +160,6 @@ class RehearsalHub:
         with self._lock:
             self._prune()
             return sum(1 for live in self._live.values() if live.rehearsal.state != "stopped")
-
-    def describe(self) -> list[dict[str, Any]]:
-        with self._lock:
-            return [{"id": k, "user": v.user_id, "mission": v.mission_id}
-                    for k, v in self._live.items()]
 
     def shutdown(self) -> None:
         with self._lock:

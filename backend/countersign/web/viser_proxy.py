@@ -70,13 +70,6 @@ REPLAY_CSP = ("default-src 'none'; script-src 'unsafe-inline' 'unsafe-eval' 'was
               "frame-ancestors 'self'; base-uri 'none'; form-action 'none'; sandbox allow-scripts")
 
 
-def viser_version() -> str:
-    import viser
-
-    version: str = viser.__version__
-    return version
-
-
 @functools.cache
 def client_index() -> bytes:
     """viser's built client (a single self-contained HTML file in the installed package)."""

@@ -187,14 +187,22 @@ def inject_fault(rehearsal_id: RehearsalId, body: FaultIn, request: Request,
 def stop_rehearsal(rehearsal_id: RehearsalId, request: Request, principal: CurrentPrincipal,
                    db: Db) -> RecordOut:
     """Stop the rehearsal and store its record and standalone replay."""
-    live, finished = hub_of(request).stop(rehearsal_id, user_id=principal.user.id)
-    replay = finished.replay_html() if finished.has_replay else b""
-    row = records.save_record(
-        db, digest=finished.digest, record=finished.to_json(),
-        replay_html=replay, mission_id=live.mission_id, version=live.version,
-        orders_digest=live.rehearsal.orders_digest, source=live.source, owner=principal.user,
-        rehearsal_id=rehearsal_id)
-    return RecordOut(**records.record_summary(db, row))
+    hub = hub_of(request)
+    live, finished = hub.stop(rehearsal_id, user_id=principal.user.id)
+    try:
+        replay = finished.replay_html() if finished.has_replay else b""
+        row = records.save_record(
+            db, digest=finished.digest, record=finished.to_json(), replay_html=replay,
+            mission_id=live.mission_id, version=live.version,
+            orders_digest=live.rehearsal.orders_digest, source=live.source,
+            owner=principal.user, rehearsal_id=rehearsal_id)
+        out = RecordOut(**records.record_summary(db, row))
+        db.commit()  # stored before the rehearsal is forgotten: a failure here can be retried
+    except BaseException:
+        hub.recorded(rehearsal_id, None)
+        raise
+    hub.recorded(rehearsal_id, finished.digest)
+    return out
 
 
 @router.get("/missions/{mission_id}/rehearsal-records", operation_id="listRehearsalRecords",
@@ -227,9 +235,8 @@ def get_rehearsal_replay(digest: RecordDigest, db: Db) -> Response:
 
 # --- viser's client and websocket, through the app -------------------------------------------
 
-def _viewer_user(db_url_database: Database, cookie: str | None, bearer: str | None
-                 ) -> User | None:
-    with db_url_database.session(write=False) as db:
+def _viewer_user(database: Database, cookie: str | None, bearer: str | None) -> User | None:
+    with database.session(write=False) as db:
         if bearer:
             return token_user(db, bearer)
         found = session_user(db, cookie) if cookie else None
