@@ -468,10 +468,12 @@ def build_parser() -> argparse.ArgumentParser:
 
     from .cli_approvals import add_commands as add_approval_commands
     from .cli_plan import add_commands as add_plan_commands
+    from .cli_rehearse import add_commands as add_rehearse_commands
     from .cli_rules import add_commands as add_rules_commands
 
     add_plan_commands(commands)
     add_rules_commands(commands)
+    add_rehearse_commands(commands)
     add_approval_commands(commands)
     return parser
 

@@ -36,7 +36,8 @@ def test_scene_nodes_and_a_gui_click_chooses_the_outcome(
                      "/contacts/V1", "/world/recovery"):
             assert name in nodes, name
         assert nodes["/areas/A/label"]["props"]["text"] == "Area A"
-        assert client.theme() is not None and client.theme()["show_share_button"] is False  # type: ignore[index]
+        theme = client.theme()
+        assert theme is not None and theme["show_share_button"] is False
 
         # G1 is animated to the end of its plan, then the Figure 6 question waits.
         assert _wait(lambda: rehearsal.status()["state"] == "waiting_for_outcome")

@@ -1,6 +1,6 @@
-"""The simulation's side of the contingency rules (seed 004): turn what the simulated vehicle
-observes into observations of the default theory, compute the extension, and check the
-planned action with eq. (17). The rules themselves live in `rehearse.rules`.
+"""The simulation's side of the contingency rules (seed 004): the simulated vehicle's
+observations become observations of the default theory, its extension is computed and the
+planned action is checked with eq. (17). The rules themselves live in `rehearse.rules`.
 
 An extension only changes when the observations change, and simulated observations change
 rarely (a fix lost, a leak), so verdicts are cached by observation set: the rules cost almost
@@ -9,119 +9,101 @@ nothing per simulated second.
 
 from __future__ import annotations
 
-import importlib
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
 
 from ..orders.model import Goal, Orders
+from .rules import ActionVerdict, DefaultTheory, Extension, check_action, extension, theory_for
 
 MAX_CACHE = 4_096
-# A safety-sensor failure is observed per sensor (seed 004 eq. 12-14); the simulation has one
-# failing sensor: the leak detector.
-SENSOR_FAULTS = {"leak": "water_ingress"}
 
 
 @dataclass(frozen=True)
 class RuleVerdict:
     refused: bool
-    outcome: str  # how a refused goal ends: violate for a safety action, else fail
+    outcome: str  # how a refused goal ends: violate when a safety rule decided, else fail
     reason: str
     safe_action: str | None
+    because: tuple[str, ...]
     fired: tuple[str, ...]
     fired_new: tuple[str, ...]  # rules that fired now but not at the previous check
-
-
-def _rules_module() -> Any | None:
-    try:
-        return importlib.import_module("countersign.rehearse.rules")
-    except ImportError:  # the rules package is optional for the simulation
-        return None
 
 
 class Contingency:
     """A theory (or none) and a cache of verdicts."""
 
-    def __init__(self, theory: Any | None, module: Any | None) -> None:
+    def __init__(self, theory: DefaultTheory | None) -> None:
         self.theory = theory
-        self._rules = module
-        self._cache: dict[tuple[frozenset[tuple[str, bool]], str], tuple[Any, Any]] = {}
+        self._cache: dict[tuple[frozenset[tuple[str, bool]], str],
+                          tuple[Extension, ActionVerdict]] = {}
         self._last_fired: frozenset[str] = frozenset()
-        self._observables = self._declared_observables()
+        self._observables: frozenset[str] | None = None
+        if theory is not None and theory.observables:
+            self._observables = frozenset(lit.name for lit in theory.observables)
 
     @classmethod
     def for_orders(cls, orders: Orders) -> Contingency:
-        module = _rules_module()
-        if module is None:
-            return cls(None, None)
-        return cls(module.theory_for(orders), module)
-
-    @classmethod
-    def none(cls) -> Contingency:
-        return cls(None, None)
+        return cls(theory_for(orders))
 
     @property
     def active(self) -> bool:
-        return self.theory is not None and self._rules is not None
+        return self.theory is not None
 
-    def _declared_observables(self) -> frozenset[str] | None:
-        if self.theory is None:
-            return None
-        names = {getattr(lit, "name", str(lit)) for lit in getattr(self.theory, "observables", ())}
-        return frozenset(names) if names else None
+    def actions(self) -> tuple[str, ...]:
+        return tuple(self.theory.actions) if self.theory is not None else ()
 
     def translate(self, observations: Mapping[str, bool]) -> dict[str, bool]:
-        """Simulation observations in the theory's vocabulary (only what it declares, when it
-        declares its observables)."""
-        out: dict[str, bool] = {}
-        for name, value in observations.items():
-            out[name] = value
-        for fault, sensor in SENSOR_FAULTS.items():
-            if observations.get(fault):
-                out[f"safety_sensor_failure({sensor})"] = True
-                out[f"safety_sensor_failure({fault})"] = True
-        out.pop("safety_sensor_failure", None)
+        """Only what the theory declares observable (all when it declares nothing): an atom the
+        theory never mentions cannot change its extension but would cost cache entries."""
         declared = self._observables
-        if declared is not None:
-            out = {k: v for k, v in out.items() if k.partition("(")[0] in declared}
-        return out
+        if declared is None:
+            return dict(observations)
+        return {k: v for k, v in observations.items() if k.partition("(")[0] in declared}
 
-    def planned_action(self, goal: Goal) -> str:
+    @staticmethod
+    def planned_action(goal: Goal, actions: Sequence[str]) -> str:
+        """The action name a theory uses for this goal: `params.action` when given, else the
+        first of behaviour_area, goto_area, go_area that the theory names (seed 004 names
+        transect_t1, goto_t1, go_home), else the behaviour."""
         action = goal.params.get("action")
         if isinstance(action, str) and action:
             return action
-        return (goal.behavior or "continue").strip() or "continue"
+        behavior = (goal.behavior or "continue").strip().lower() or "continue"
+        if goal.area:
+            area = goal.area.lower()
+            for candidate in (f"{behavior}_{area}", f"goto_{area}", f"go_{area}"):
+                if candidate in actions:
+                    return candidate
+        return behavior
 
-    def check(self, observations: Mapping[str, bool], goal: Goal) -> RuleVerdict | None:
-        if not self.active:
+    def check(self, observations: Mapping[str, bool], action: str) -> RuleVerdict | None:
+        theory = self.theory
+        if theory is None:
             return None
-        rules = self._rules
-        assert rules is not None
         obs = self.translate(observations)
-        action = self.planned_action(goal)
         key = (frozenset(obs.items()), action)
         cached = self._cache.get(key)
         if cached is None:
-            ext = rules.extension(self.theory, obs)
-            verdict = rules.check_action(self.theory, ext, action)
+            ext = extension(theory, obs)
+            verdict = check_action(theory, ext, action)
             if len(self._cache) >= MAX_CACHE:
                 self._cache.clear()
             cached = self._cache[key] = (ext, verdict)
         ext, verdict = cached
-        fired = tuple(getattr(ext, "fired", ()))
-        fired_set = frozenset(fired)
+        fired = tuple(ext.fired)
         fired_new = tuple(r for r in fired if r not in self._last_fired)
-        self._last_fired = fired_set
-        if verdict.allowed:
-            return RuleVerdict(False, "succeed", verdict.explanation, None, fired, fired_new)
+        self._last_fired = frozenset(fired)
         because = tuple(verdict.because)
+        if verdict.allowed:
+            return RuleVerdict(False, "succeed", verdict.explanation, None, because, fired,
+                               fired_new)
         safety = any(self._kind(rule_id) == "safety" for rule_id in because)
-        outcome = "violate" if safety else "fail"
-        return RuleVerdict(True, outcome, verdict.explanation, verdict.action_to_take, fired,
-                           fired_new)
+        return RuleVerdict(True, "violate" if safety else "fail", verdict.explanation,
+                           verdict.action_to_take, because, fired, fired_new)
 
     def _kind(self, rule_id: str) -> str | None:
+        assert self.theory is not None
         try:
-            return str(self.theory.rule(rule_id).kind)  # type: ignore[union-attr]
-        except (KeyError, AttributeError):
+            return self.theory.rule(rule_id).kind
+        except KeyError:
             return None

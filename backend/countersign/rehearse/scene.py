@@ -25,8 +25,11 @@ from .geo import Point
 from .sim import FAULTS, Event, Simulation
 from .world import World
 
-SCALE = 0.01  # scene units per metre (1 unit = 100 m)
-DEPTH_EXAGGERATION = 5.0
+# viser's client whitens whatever is more than about twenty units from the camera, so every
+# mission is scaled to a scene SCENE_SPAN units wide, centred on the origin, with the seafloor
+# SCENE_DEPTH units down (depth is exaggerated: a 10 km mission is far wider than deep).
+SCENE_SPAN = 12.0
+SCENE_DEPTH = 1.6
 FLOOR_GRID = 48
 TRAIL_CHUNK = 200  # points per trail node: a node is re-sent while it fills, then frozen
 MAX_TRAIL_NODES = 200
@@ -47,13 +50,10 @@ FAULT_LABELS = {
 }
 
 
-def to_scene(x: float, y: float, depth: float = 0.0) -> tuple[float, float, float]:
-    return (x * SCALE, y * SCALE, -depth * SCALE * DEPTH_EXAGGERATION)
-
-
 def disable_sharing(server: viser.ViserServer) -> None:
     """No share links: hide the button and refuse the requests a modified client could still
-    send (viser would otherwise open a public tunnel to this server)."""
+    send (viser would otherwise open a public tunnel to this server). The app's proxy drops
+    these messages too."""
     server.gui.configure_theme(show_share_button=False)
     websock = server._websock_server  # the only place viser registers these handlers
     for message_cls in (viser_messages.ShareUrlRequest, viser_messages.ShareUrlDisconnect):
@@ -95,24 +95,33 @@ class Scene:
         self._run_index = 0
         self._current_area: str | None = None
         self._area_lines: dict[str, Any] = {}
+        x0, y0, x1, y1 = sim.world.extent
+        self._centre = ((x0 + x1) / 2, (y0 + y1) / 2)
+        self._h = SCENE_SPAN / max(x1 - x0, y1 - y0, 1.0)
+        self._v = SCENE_DEPTH / max(sim.world.floor_base_m, 1.0)
         disable_sharing(server)
         server.scene.set_up_direction("+z")
+        # Shadows cost most of a frame in a software-rendered browser (CI, remote desktops)
+        # and add nothing to a chart of the sea.
+        server.scene.configure_default_lights(cast_shadow=False)
         self._static(sim.world)
         self.vehicle = server.scene.add_box(
-            "/vehicle", color=(250, 200, 30), dimensions=(1.6, 0.45, 0.45),
-            position=to_scene(*sim.vehicle.xy, sim.vehicle.depth),
+            "/vehicle", color=(250, 200, 30), dimensions=(0.3, 0.08, 0.08),
+            position=self.to_scene(*sim.vehicle.xy, sim.vehicle.depth),
         )
         self.vehicle_label = server.scene.add_label(
-            "/vehicle/label", "vehicle", position=(0.0, 0.0, 0.8)
+            "/vehicle/label", "vehicle", position=(0.0, 0.0, 0.15)
         )
         self.contacts: dict[str, Any] = {}
         self._draw_contacts()
         self._gui(title, on_choose, on_inject, on_speed, speed, manual)
-        x0, y0, x1, y1 = sim.world.extent
-        cx, cy = (x0 + x1) / 2, (y0 + y1) / 2
-        span = max(x1 - x0, y1 - y0) * SCALE
-        server.initial_camera.position = (cx * SCALE, cy * SCALE - span * 0.9, span * 0.7)
-        server.initial_camera.look_at = (cx * SCALE, cy * SCALE, -3.0)
+        server.initial_camera.position = (0.0, -SCENE_SPAN * 0.8, SCENE_SPAN * 0.55)
+        server.initial_camera.look_at = (0.0, 0.0, -SCENE_DEPTH / 2)
+
+    def to_scene(self, x: float, y: float, depth: float = 0.0) -> tuple[float, float, float]:
+        """Metres (x east, y north, depth down) to scene units."""
+        return ((x - self._centre[0]) * self._h, (y - self._centre[1]) * self._h,
+                -depth * self._v)
 
     # ------------------------------------------------------------------------------ static
 
@@ -123,7 +132,8 @@ class Scene:
         xs = np.linspace(x0, x1, n)
         ys = np.linspace(y0, y1, n)
         vertices = np.array(
-            [to_scene(x, y, world.seafloor_depth(x, y)) for y in ys for x in xs], dtype=np.float32
+            [self.to_scene(x, y, world.seafloor_depth(x, y)) for y in ys for x in xs],
+            dtype=np.float32,
         )
         faces = []
         for j in range(n - 1):
@@ -132,9 +142,10 @@ class Scene:
                 faces.append((a, a + 1, a + n))
                 faces.append((a + 1, a + n + 1, a + n))
         scene.add_mesh_simple("/world/seafloor", vertices, np.array(faces, dtype=np.uint32),
-                              color=(150, 130, 95), flat_shading=False, side="double")
-        surface = np.array([to_scene(x0, y0), to_scene(x1, y0), to_scene(x1, y1),
-                            to_scene(x0, y1)], dtype=np.float32)
+                              color=(150, 130, 95), flat_shading=False, side="double",
+                              cast_shadow=False, receive_shadow=False)
+        surface = np.array([self.to_scene(x0, y0), self.to_scene(x1, y0), self.to_scene(x1, y1),
+                            self.to_scene(x0, y1)], dtype=np.float32)
         scene.add_mesh_simple("/world/surface", surface, np.array([(0, 1, 2), (0, 2, 3)],
                               dtype=np.uint32), color=(60, 120, 200), opacity=0.18,
                               side="double", cast_shadow=False, receive_shadow=False)
@@ -145,9 +156,9 @@ class Scene:
         if world.generated_lane:
             lane = world.lanes[-1]
             self._draw_area("LANE_generated", lane.title, lane.polygon, lane.centre, LANE_COLOUR)
-        scene.add_icosphere("/world/recovery", radius=0.6, color=RECOVERY_COLOUR,
-                            position=to_scene(*world.recovery))
-        scene.add_label("/world/recovery/label", "recovery point", position=(0.0, 0.0, 1.0))
+        scene.add_icosphere("/world/recovery", radius=0.1, color=RECOVERY_COLOUR,
+                            position=self.to_scene(*world.recovery))
+        scene.add_label("/world/recovery/label", "recovery point", position=(0.0, 0.0, 0.2))
 
     def _draw_area(self, area_id: str, title: str, polygon: tuple[Point, ...], centre: Point,
                    colour: tuple[int, int, int]) -> None:
@@ -156,17 +167,17 @@ class Scene:
         if len(polygon) >= 2:
             ring = [*polygon, polygon[0]]
             segments = np.array(
-                [[to_scene(*ring[i], 0.5), to_scene(*ring[i + 1], 0.5)]
+                [[self.to_scene(*ring[i], 0.5), self.to_scene(*ring[i + 1], 0.5)]
                  for i in range(len(ring) - 1)], dtype=np.float32)
             self._area_lines[area_id] = scene.add_line_segments(
-                f"{node}/outline", segments, colour, thickness=0.25)
+                f"{node}/outline", segments, colour, thickness=0.03)
         if len(polygon) >= 3:
-            vertices = np.array([to_scene(*p, 0.3) for p in polygon], dtype=np.float32)
+            vertices = np.array([self.to_scene(*p, 0.3) for p in polygon], dtype=np.float32)
             faces = np.array([(0, i, i + 1) for i in range(1, len(polygon) - 1)],
                              dtype=np.uint32)
             scene.add_mesh_simple(f"{node}/fill", vertices, faces, color=colour, opacity=0.25,
                                   side="double", cast_shadow=False, receive_shadow=False)
-        scene.add_label(f"{node}/label", title, position=to_scene(*centre, -40.0))
+        scene.add_label(f"{node}/label", title, position=self.to_scene(*centre, -0.25 / self._v))
 
     def _draw_contacts(self) -> None:
         for contact in self.sim.world.contacts:
@@ -174,12 +185,14 @@ class Scene:
                 continue
             x, y = contact.position(self.sim.time_s)
             handle = self.server.scene.add_box(
-                f"/contacts/{contact.id}", color=(200, 60, 200) if contact.closing
-                else (230, 230, 230), dimensions=(2.0, 0.7, 0.6), position=to_scene(x, y, -0.3),
+                f"/contacts/{contact.id}",
+                color=(200, 60, 200) if contact.closing else (230, 230, 230),
+                dimensions=(0.35, 0.12, 0.1),
+                position=self.to_scene(x, y, -0.05 / self._v),
                 wxyz=_yaw(math.atan2(contact.velocity[1], contact.velocity[0])),
             )
             self.server.scene.add_label(f"/contacts/{contact.id}/label",
-                                        f"contact {contact.id}", position=(0.0, 0.0, 0.8))
+                                        f"contact {contact.id}", position=(0.0, 0.0, 0.15))
             self.contacts[contact.id] = handle
 
     # ------------------------------------------------------------------------------ GUI
@@ -221,14 +234,14 @@ class Scene:
             self._new_run(len(sim.runs) - 1)
         v = sim.vehicle
         with self.server.atomic():
-            self.vehicle.position = to_scene(v.x, v.y, v.depth)
+            self.vehicle.position = self.to_scene(v.x, v.y, v.depth)
             self.vehicle.wxyz = _yaw(v.heading)
             self._draw_contacts()
             for contact in sim.world.contacts:
                 handle = self.contacts.get(contact.id)
                 if handle is not None:
                     x, y = contact.position(sim.time_s)
-                    handle.position = to_scene(x, y, -0.3)
+                    handle.position = self.to_scene(x, y, -0.05 / self._v)
             self._draw_trail()
             for event in sim.events[self._events_seen:]:
                 self._event(event)
@@ -256,12 +269,12 @@ class Scene:
         if len(trail) == self._trail_len_drawn or self._trail_nodes >= MAX_TRAIL_NODES:
             return
         end = min(len(trail), self._trail_start + TRAIL_CHUNK + 1)
-        points = [to_scene(*p) for p in trail[self._trail_start:end]]
+        points = [self.to_scene(*p) for p in trail[self._trail_start:end]]
         if len(points) >= 2:
             segments = np.array([[points[i], points[i + 1]] for i in range(len(points) - 1)],
                                 dtype=np.float32)
             self.server.scene.add_line_segments(f"/trail/{self._trail_nodes}", segments,
-                                                TRAIL_COLOUR, thickness=0.15)
+                                                TRAIL_COLOUR, thickness=0.02)
         self._trail_len_drawn = end
         if end - self._trail_start > TRAIL_CHUNK:
             # Freeze this node; the next starts where it ended so the line stays continuous.
@@ -275,22 +288,22 @@ class Scene:
             colour = OUTCOME_COLOURS.get(outcome, (200, 200, 200))
             node = f"/outcomes/{self._markers}"
             self._marker_handles.append(self.server.scene.add_icosphere(
-                node, radius=0.7, color=colour, position=to_scene(x, y, depth)))
+                node, radius=0.1, color=colour, position=self.to_scene(x, y, depth)))
             self.server.scene.add_label(f"{node}/label",
                                         f"{event.goal}: {OUTCOME_WORDS.get(outcome, outcome)}",
-                                        position=(0.0, 0.0, 1.2))
+                                        position=(0.0, 0.0, 0.2))
             self._markers += 1
         elif event.kind == "fault":
             v = self.sim.vehicle
             node = f"/outcomes/fault{self._markers}"
             self._marker_handles.append(self.server.scene.add_label(
-                node, event.text, position=to_scene(v.x, v.y, v.depth)))
+                node, event.text, position=self.to_scene(v.x, v.y, v.depth)))
             self._markers += 1
         elif event.kind == "terminal":
             v = self.sim.vehicle
             self._marker_handles.append(self.server.scene.add_label(
                 f"/outcomes/terminal{self._run_index}", event.text,
-                position=to_scene(v.x, v.y, -80.0)))
+                position=self.to_scene(v.x, v.y, -0.6 / self._v)))
 
     def _highlight_goal(self) -> None:
         active = self.sim.active
@@ -307,10 +320,10 @@ class Scene:
                     RECOVERY_COLOUR if geom.centre == world.recovery else AREA_COLOUR
             ring = [*geom.polygon, geom.polygon[0]]
             segments = np.array(
-                [[to_scene(*ring[i], 0.5), to_scene(*ring[i + 1], 0.5)]
+                [[self.to_scene(*ring[i], 0.5), self.to_scene(*ring[i + 1], 0.5)]
                  for i in range(len(ring) - 1)], dtype=np.float32)
             self.server.scene.add_line_segments(f"/areas/{_node_name(area_id)}/outline",
-                                                segments, colour, thickness=0.25)
+                                                segments, colour, thickness=0.03)
         self._current_area = area
 
     def _gui_state(self) -> None:

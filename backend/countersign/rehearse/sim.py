@@ -27,8 +27,8 @@ from typing import Any, Literal
 
 from ..orders.model import OUTCOMES, Goal, Orders
 from ..verify.expressions import identifiers
-from .contingency import Contingency
-from .geo import Point, lawnmower
+from .contingency import Contingency, RuleVerdict
+from .geo import Point, contains, lawnmower
 from .monitor import GoalFacts, Monitor, facts_of, monitors_of
 from .sources import OutcomeSource
 from .world import FAR_M, World
@@ -62,6 +62,12 @@ ALL_QUANTITIES = frozenset({
 })
 ENERGY_CHECK_S = 60.0
 CONTACT_CLOSE_M = 1_000.0
+LOCALISATION_PRECISION_M = 5.0  # seed 004: "the localization precision drops under a threshold"
+NAV_ERROR_HIGH_M = 10.0  # the exemplar's constraint 1
+ALTITUDE_LOW_M = 3.0
+# Safety actions the vehicle can obey while still doing a goal that takes it home: it changes
+# depth and carries on. Any other safety action ends the goal.
+POSTURE_ACTIONS = {"surface": 0.0, "ascend": None, "dive": None}
 SCRIPTED_CUT = {"succeed": 1.0, "fail": 0.6, "violate": 0.4}
 
 
@@ -158,6 +164,7 @@ class Vehicle:
     gps_now: bool = True
     usbl_now: bool = False
     forced_surface: bool = False  # a safety action brought it up; it stays up
+    target_depth: float = 0.0
 
     @property
     def xy(self) -> Point:
@@ -226,6 +233,7 @@ class Simulation:
         self.contingency = contingency if contingency is not None else Contingency.for_orders(
             orders
         )
+        self.contingency_actions = self.contingency.actions()
         vehicle = orders.target_vehicle()
         self.speed = vehicle.speed_mps if vehicle and vehicle.speed_mps else DEFAULT_SPEED_MPS
         self.power_w = vehicle.power_w if vehicle and vehicle.power_w else DEFAULT_POWER_W
@@ -250,6 +258,9 @@ class Simulation:
         self.expected_used_wh = 0.0
         self.state: State = "running"
         self._strong_current = False
+        self._transect_areas = sorted({g.area for g in orders.goals
+                                       if g.area and (g.behavior or "").lower() == "transect"})
+        self._transects_done: set[str] = set()
         self.active: ActiveGoal | None = None
         self.vehicle = Vehicle(*self.world.recovery)
         self.trail: list[tuple[float, float, float]] = []
@@ -326,7 +337,10 @@ class Simulation:
         v = self.vehicle
         t = self.time_s + lookahead_s
         x, y = v.x + v.vx * lookahead_s, v.y + v.vy * lookahead_s
-        depth = max(0.0, v.depth + v.vz * lookahead_s)
+        # Depth changes toward the waypoint's depth and stops there: extrapolating the dive
+        # rate past it would report violations the plan never makes.
+        change = min(abs(v.vz) * lookahead_s, abs(v.target_depth - v.depth))
+        depth = max(0.0, v.depth + math.copysign(change, v.target_depth - v.depth))
         remaining = self.energy_remaining_wh
         leak = "leak" in self.active_faults
         want = needed if needed is not None else ALL_QUANTITIES
@@ -366,21 +380,48 @@ class Simulation:
             out["current_mps"] = self._current_mps()
         return out
 
-    def observations(self) -> dict[str, bool]:
-        """What the vehicle observes, in the words of the default rules (seed 004)."""
+    def observations(self, planned_action: str | None = None) -> dict[str, bool]:
+        """What the vehicle observes, in the words default theories use (seed 004 and the
+        shipped examples); the contingency layer passes on only what a theory declares."""
         v = self.vehicle
+        t = self.time_s
         remaining = self.energy_remaining_wh
-        return {
+        leak = "leak" in self.active_faults
+        contact_close = self.world.contact_distance(v.xy, t) < CONTACT_CLOSE_M
+        low = remaining <= self._reserve_wh() + self._home_wh()
+        usbl_now = t - v.last_usbl_s <= 2 * USBL_PERIOD_S
+        floor = self.world.seafloor_depth(v.x, v.y)
+        budget = self.orders.target_vehicle()
+        time_limit = budget.budget.duration_s if budget and budget.budget else None
+        obs = {
             "gps_captured": v.gps_now,
-            "usbl_captured": v.usbl_now,
-            "gps_was_captured": self.time_s - v.last_gps_s <= FIX_MEMORY_S,
-            "usbl_was_captured": self.time_s - v.last_usbl_s <= FIX_MEMORY_S,
+            "usbl_captured": usbl_now,
+            "gps_was_captured": t - v.last_gps_s <= FIX_MEMORY_S,
+            "usbl_was_captured": t - v.last_usbl_s <= FIX_MEMORY_S,
             "on_surface": v.depth < 0.5,
-            "leak": "leak" in self.active_faults,
-            "safety_sensor_failure": "leak" in self.active_faults,
-            "low_energy": remaining <= self._reserve_wh() + self._home_wh(),
-            "contact_close": self.world.contact_distance(v.xy, self.time_s) < CONTACT_CLOSE_M,
+            "localisation_precision_low": v.nav_error_m > LOCALISATION_PRECISION_M,
+            "nav_error_high": v.nav_error_m > NAV_ERROR_HIGH_M,
+            "leak": leak,
+            "safety_sensor_failure(leak)": leak,
+            "mission_system_failure": False,
+            "camera_fault": False,
+            "low_energy": low,
+            "battery_low": low,
+            "battery_critical": remaining <= self._reserve_wh() * 0.5,
+            "altitude_low": floor - v.depth < ALTITUDE_LOW_M,
+            "contact_close": contact_close,
+            "surface_contact_close": contact_close,
+            "contact_within_1000m": contact_close,
+            "mission_time_over": time_limit is not None and t > time_limit,
         }
+        for area_id, area in self.world.areas.items():
+            if contains(area.polygon, v.xy):
+                obs[f"at({area_id.lower()})"] = True
+        for area_id in self._transect_areas:
+            obs[f"transect_done({area_id.lower()})"] = area_id in self._transects_done
+        if planned_action is not None and self.active is not None:
+            obs[f"enough_energy({planned_action})"] = self._energy_choice(self.active) is None
+        return obs
 
     # ------------------------------------------------------------------------------ runs
 
@@ -394,6 +435,7 @@ class Simulation:
             # A tour starts every path from the same launch with a full battery.
             self.vehicle = Vehicle(*self.world.recovery, last_gps_s=self.time_s)
             self.energy_used_wh = self.expected_used_wh = 0.0
+            self._transects_done.clear()
             self.trail.clear()
             self._emit("run", f"Path {path_index}: start", data={"path_index": path_index})
         start = self.orders.start if isinstance(self.orders.start, str) else None
@@ -401,6 +443,10 @@ class Simulation:
             self._emit("error", "The orders name no start goal that exists (M1).")
             self._finish("no start goal")
             return
+        # Launch: the vehicle dives at the launch point to the first goal's depth before the
+        # mission starts, as it surfaces after the terminal: neither is inside a goal, so no
+        # goal's constraints judge them.
+        self.vehicle.depth = self.vehicle.target_depth = self._operating_depth(self.goals[start])
         self._start_goal(start)
 
     def _finish(self, why: str | None) -> None:
@@ -463,6 +509,9 @@ class Simulation:
     def _end_goal(self, active: ActiveGoal, outcome: str, reason: str) -> None:
         goal = active.goal
         self.run.outcomes.append(outcome)
+        if outcome == "succeed" and goal.area in self._transect_areas \
+                and (goal.behavior or "").lower() == "transect":
+            self._transects_done.add(goal.area)
         v = self.vehicle
         self._emit("outcome", f"{goal.label}: {outcome} ({reason}).", goal.id,
                    {"outcome": outcome, "reason": reason,
@@ -599,6 +648,7 @@ class Simulation:
         else:
             v.vx = v.vy = 0.0
         target = 0.0 if v.forced_surface else w.depth
+        v.target_depth = target
         dz = target - v.depth
         rise = max(-DIVE_RATE_MPS * dt, min(DIVE_RATE_MPS * dt, dz))
         v.depth = max(0.0, v.depth + rise)
@@ -661,16 +711,17 @@ class Simulation:
         """Rules, monitors and energy; True when the goal ended or now waits."""
         goal_id = active.goal.id
         # 1. Default rules: the extension of the theory under what the vehicle observes.
-        verdict = self.contingency.check(self.observations(), active.goal)
-        if verdict is not None:
+        if self.contingency.active:
+            action = self.contingency.planned_action(active.goal, self.contingency_actions)
+            verdict = self.contingency.check(self.observations(action), action)
+            assert verdict is not None
             for rule in verdict.fired_new:
                 self.rule_firings[rule] = self.rule_firings.get(rule, 0) + 1
-            if verdict.refused:
-                if verdict.safe_action and verdict.safe_action in ("surface", "shut_down"):
-                    self.vehicle.forced_surface = True
-                if self._propose(active, verdict.outcome, verdict.reason,
-                                 {"rules": list(verdict.fired), "action": verdict.safe_action}):
-                    return True
+            if verdict.fired_new:
+                self._emit("rules", "Rules fired: " + ", ".join(verdict.fired_new) + ".",
+                           goal_id, {"fired": list(verdict.fired_new)})
+            if verdict.refused and self._obey(active, action, verdict):
+                return True
         # 2. Constraint monitors, now and a little ahead.
         now = self.values(needed=self.needed)
         ahead = self.values(IMMINENT_S, needed=self.needed)
@@ -695,6 +746,32 @@ class Simulation:
         return self.energy_remaining_wh <= 0.0 and self._propose(
             active, "fail", "the battery is empty", {}
         )
+
+    def _obey(self, active: ActiveGoal, action: str, verdict: RuleVerdict) -> bool:
+        """A refused planned action: obey the safe action. A change of depth on the way home
+        keeps the goal; anything else ends it (fail when the goal was dropped, violate for a
+        safety action). True when the goal ended or now waits."""
+        safe = verdict.safe_action
+        v = self.vehicle
+        homeward = self._is_recovery(active.goal)
+        if safe in POSTURE_ACTIONS and homeward:
+            if safe == "surface" and not v.forced_surface:
+                v.forced_surface = True
+                self._emit("safe_action", f"Safety action: surface ({verdict.reason})",
+                           active.goal.id, {"action": safe, "rules": list(verdict.because)})
+            return False
+        if safe in ("surface", "shutdown", "shut_down"):
+            v.forced_surface = True
+        data = {"planned": action, "action": safe, "rules": list(verdict.because),
+                "explanation": verdict.reason}
+        text = (f"rules refuse {action}" + (f" and require {safe}" if safe else "")
+                + f": {verdict.reason}")
+        return self._propose(active, verdict.outcome, text, data)
+
+    def _is_recovery(self, goal: Goal) -> bool:
+        behavior = (goal.behavior or "").lower()
+        area = self.world.areas.get(goal.area or "")
+        return behavior in RECOVERY_BEHAVIORS or bool(area and area.centre == self.world.recovery)
 
     def _propose(self, active: ActiveGoal, outcome: str, reason: str, data: dict[str, Any],
                  *, plan_done: bool = False) -> bool:
@@ -739,9 +816,7 @@ class Simulation:
         return distance * self._transit_rate() * self._learned_factor()
 
     def _energy_choice(self, active: ActiveGoal) -> tuple[str, dict[str, Any]] | None:
-        behavior = (active.goal.behavior or "").lower()
-        area = self.world.areas.get(active.goal.area or "")
-        if behavior in RECOVERY_BEHAVIORS or (area and area.centre == self.world.recovery):
+        if self._is_recovery(active.goal):
             return None  # going home is never given up for energy
         factor = self._learned_factor()
         rest = self._remaining_plan_m(active) * active.rate_wh_per_m * factor

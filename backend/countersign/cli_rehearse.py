@@ -1,0 +1,194 @@
+"""`countersign rehearse`: run a rehearsal without the web app.
+
+Headless, the simulation runs as fast as it can on this thread and writes the record; with a
+viser server (the default) the scene is served on 127.0.0.1 and the URL printed, so one can
+watch, choose outcomes (manual source) and inject faults from the browser.
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import json
+import sys
+import time
+from pathlib import Path
+from typing import Any, TextIO
+
+from .orders.examples import example_bytes
+from .orders.model import Orders
+from .orders.reader import MAX_INPUT_BYTES, read_bytes
+from .rehearse.manager import Rehearsal, RehearsalOptions
+from .rehearse.sim import FAULTS, FaultSpec
+from .rehearse.sources import SOURCES
+
+EXIT_OK, EXIT_CANNOT_RUN, EXIT_UNREADABLE = 0, 1, 2
+END = {"complete": "Mission Complete!", "abort": "Mission Abort!"}
+
+DESCRIPTION = """\
+Rehearse orders in a simulated world (issue 8): the vehicle flies every goal in a seeded
+world (areas, shipping lanes, contacts, seafloor, currents); outcomes come from the
+simulation (constraint monitors, contingency rules, energy), from one path of the
+exhaustive traversal (replay), from every path (tour), or from you (manual, in the browser).
+The record (format countersign.rehearsal/1, with its sha256 digest) can be attached to a
+submission; --html-out writes a standalone HTML replay that plays offline."""
+
+EPILOG = f"""\
+FILE is orders (JSON, AVCL, Turtle), 'example:NAME' for a built-in example or '-' for
+standard input.
+
+faults ({', '.join(FAULTS)}) apply at the start, or later with NAME@GOAL (when that goal
+starts) or NAME@SECONDS (simulated time): --fault nav_drift@G4 --fault leak@3600
+
+examples:
+  countersign rehearse example:transect-survey --headless --fault nav_drift@G4
+  countersign rehearse example:search-and-sample --source replay --path 5 --headless \\
+      --record-out rec.json --html-out replay.html
+  countersign rehearse example:search-and-sample --source manual      (open the printed URL)
+
+exit codes: 0 rehearsed, 1 the orders cannot be rehearsed (e.g. no start goal, or paths that
+cannot be counted for replay/tour), 2 unreadable input or bad usage."""
+
+
+class RehearseUsageError(Exception):
+    pass
+
+
+def add_commands(commands: Any) -> None:
+    cmd = commands.add_parser(
+        "rehearse", help="rehearse orders in a simulated 3D world (headless or with viser)",
+        description=DESCRIPTION, epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    cmd.add_argument("file", metavar="FILE")
+    cmd.add_argument("--source", choices=SOURCES, default="simulate",
+                     help="where outcomes come from (default: simulate)")
+    cmd.add_argument("--path", type=int, default=None, metavar="N",
+                     help="path index for --source replay (1-based, as `countersign paths`)")
+    cmd.add_argument("--seed", type=int, default=0, help="world and current seed (default 0)")
+    cmd.add_argument("--fault", action="append", default=[], metavar="FAULT",
+                     help="inject a fault (repeatable): NAME, NAME@GOAL or NAME@SECONDS")
+    cmd.add_argument("--speed", type=float, default=50.0,
+                     help="simulated seconds per wall second with a viser server (default 50)")
+    cmd.add_argument("--record-out", type=Path, default=None, metavar="FILE",
+                     help="write the record JSON here")
+    cmd.add_argument("--html-out", type=Path, default=None, metavar="FILE",
+                     help="write the standalone HTML replay here")
+    cmd.add_argument("--headless", action="store_true",
+                     help="no browser view: simulate as fast as possible and exit")
+    cmd.add_argument("--exit-when-done", action="store_true",
+                     help="with a viser server: exit when the rehearsal ends (default: keep "
+                          "serving until Ctrl-C)")
+    cmd.add_argument("--format", choices=("text", "json"), default="text")
+    cmd.set_defaults(handler=cmd_rehearse)
+
+
+def _load(source: str) -> Orders:
+    if source.startswith("example:"):
+        try:
+            data, label = example_bytes(source.removeprefix("example:")), source
+        except KeyError as exc:
+            raise RehearseUsageError(str(exc.args[0])) from None
+    elif source == "-":
+        data, label = sys.stdin.buffer.read(MAX_INPUT_BYTES + 1), "standard input"
+    else:
+        try:
+            data, label = Path(source).read_bytes(), source
+        except OSError as exc:
+            raise RehearseUsageError(f"cannot read {source}: {exc.strerror or exc}") from None
+    return read_bytes(data, label).orders  # OrdersReadError: cli.main reports it (exit 2)
+
+
+def cmd_rehearse(args: argparse.Namespace) -> int:
+    try:
+        return _rehearse(args, sys.stdout)
+    except RehearseUsageError as exc:
+        sys.stderr.write(f"countersign rehearse: {exc}\n")
+        return EXIT_UNREADABLE
+
+
+def _rehearse(args: argparse.Namespace, out: TextIO) -> int:
+    for fault in args.fault:
+        try:
+            FaultSpec.parse(fault)
+        except ValueError as exc:
+            raise RehearseUsageError(str(exc)) from None
+    if args.source == "manual" and args.headless:
+        raise RehearseUsageError("--source manual needs the browser view: drop --headless")
+    if args.path is not None and args.source != "replay":
+        raise RehearseUsageError("--path goes with --source replay")
+    orders = _load(args.file)
+    options = RehearsalOptions(source=args.source, seed=args.seed, path_index=args.path,
+                               faults=tuple(args.fault), speed=args.speed)
+    # Headless needs no server, unless a replay page is wanted: the scene is then drawn on a
+    # private server nobody is told about, only to be recorded.
+    serve = not args.headless or args.html_out is not None
+    # viser prints its banner and "Server stopped" on standard output, which belongs to the
+    # summary (or JSON) here: send them to standard error.
+    try:
+        with contextlib.redirect_stdout(sys.stderr):
+            rehearsal = Rehearsal(orders, owner="cli", options=options, headless=not serve)
+    except ValueError as exc:
+        sys.stderr.write(f"countersign rehearse: cannot rehearse {args.file}: {exc}\n")
+        return EXIT_CANNOT_RUN
+    try:
+        if args.headless:
+            rehearsal.run_headless()
+        else:
+            _watch(rehearsal, args, out)
+    finally:
+        with contextlib.redirect_stdout(sys.stderr):
+            record = rehearsal.stop()
+    data = record.to_json()
+    if args.record_out is not None:
+        args.record_out.write_text(json.dumps({**data, "digest": record.digest}, indent=1) + "\n")
+    if args.html_out is not None and record.has_replay:
+        args.html_out.write_bytes(record.replay_html())
+    if args.format == "json":
+        out.write(json.dumps({"digest": record.digest, "record": data}, indent=1) + "\n")
+    else:
+        _summary(data, record.digest, out)
+    return EXIT_OK
+
+
+def _watch(rehearsal: Rehearsal, args: argparse.Namespace, out: TextIO) -> None:
+    rehearsal.start()
+    err = sys.stderr
+    err.write(f"Rehearsal running at http://127.0.0.1:{rehearsal.port}/ "
+              "(Ctrl-C to stop and write the record)\n")
+    err.flush()
+    announced = False
+    try:
+        while True:
+            state = rehearsal.status()["state"]
+            if state in ("finished", "stopped"):
+                if args.exit_when_done:
+                    return
+                if not announced:
+                    err.write("Rehearsal finished; still serving the scene (Ctrl-C to stop).\n")
+                    announced = True
+            time.sleep(0.5)
+    except KeyboardInterrupt:
+        err.write("\n")
+
+
+def _summary(data: dict[str, Any], digest: str, out: TextIO) -> None:
+    words = {"succeed": "succeed.", "fail": "fail.", "violate": "constraint."}
+    for run in data["runs"]:
+        if run["path_index"] is not None:
+            out.write(f"Path #{run['path_index']}:\n")
+        for goal, outcome in zip(run["goals"], run["outcomes"], strict=False):
+            out.write(f"  {goal}: {words[outcome]}\n")
+        out.write(f"  {END.get(run['terminal_kind'], 'Mission did not end in a terminal.')}\n")
+    for event in data["events"]:
+        if event["kind"] in ("decision", "fault", "current", "safe_action", "error"):
+            hours, rem = divmod(int(event["t"]), 3600)
+            goal = event.get("goal") or "-"
+            out.write(f"  [{hours}h{rem // 60:02d}m] {goal}: {event['text']}\n")
+    energy = data["energy"]
+    out.write(f"Energy used {energy['used_wh']:g} Wh of {energy['capacity_wh']:g} Wh; "
+              f"simulated {data['sim_time_s'] / 3600:.2f} h.\n")
+    if data["rule_firings"]:
+        out.write("Rules fired: " + ", ".join(f"{k} x{v}" for k, v in
+                                              data["rule_firings"].items()) + "\n")
+    out.write(f"Record {digest}\n")
