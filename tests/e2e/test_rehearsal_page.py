@@ -35,25 +35,32 @@ def test_operator_rehearses_in_the_browser(page: Page, server: Server, seeded_mi
 
     expect(page.get_by_test_id("rehearsal-state")).to_have_text("Waiting for the outcome",
                                                                  timeout=60_000)
-    expect(page.get_by_test_id("graph-current")).to_be_visible(timeout=30_000)
-    expect(page.get_by_test_id("current-goal")).to_be_visible(timeout=30_000)
-    first_goal = page.get_by_test_id("current-goal").inner_text()
+    # The first goal of the exemplar is current, in the status line and in the graph.
+    expect(page.get_by_test_id("current-goal")).to_have_text(re.compile("Search Area A"),
+                                                              timeout=30_000)
+    expect(page.get_by_test_id("graph-current")).to_contain_text("G1")
 
     shots = tmp_path_factory.getbasetemp() / "artifacts"
     shots.mkdir(exist_ok=True)
     shot = shots / "rehearsal-scene.png"
     page.wait_for_timeout(1500)  # let the renderer draw a few frames
-    frame.screenshot(path=str(shot))
+    messages: list[str] = []
+    page.on("console", lambda m: messages.append(f"{m.type}: {m.text}"))
+    frame.screenshot(path=str(shot), timeout=90_000)  # software WebGL on a busy machine
     print(f"rehearsal screenshot: {shot}")
     from PIL import Image
 
     with Image.open(shot) as image:
-        grey = list(image.convert("L").resize((160, 120)).getdata())
+        # The 3D view only: left of viser's GUI panel, below its notifications.
+        width, height = image.size
+        scene = image.convert("L").crop((0, int(height * 0.35), int(width * 0.55),
+                                         int(height * 0.95))).resize((120, 80))
+        grey = [scene.getpixel((x, y)) for y in range(80) for x in range(120)]
     assert pvariance(grey) > 50, f"the scene looks blank (variance {pvariance(grey):.1f})"
 
     page.get_by_test_id("outcome-succeed").click()
     expect(page.get_by_test_id("rehearsal-step")).to_have_text("1", timeout=30_000)
-    expect(page.get_by_test_id("current-goal")).not_to_have_text(first_goal, timeout=30_000)
+    expect(page.get_by_test_id("graph-current")).to_contain_text("G2", timeout=30_000)
 
     page.get_by_test_id("stop-rehearsal").click()
     records = page.get_by_test_id("rehearsal-records")
