@@ -3,7 +3,10 @@ schema, for every operation, with a bounded number of generated requests."""
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from pathlib import Path
+
+import pytest
 
 import schemathesis
 from hypothesis import HealthCheck, settings
@@ -31,6 +34,13 @@ def _app_and_token() -> tuple[object, str]:
 
 APP, TOKEN = _app_and_token()
 schema = schemathesis.openapi.from_asgi("/api/openapi.json", APP)
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _stop_rehearsals() -> Iterator[None]:
+    """Generated requests may start rehearsals (viser servers): stop them at the end."""
+    yield
+    APP.state.rehearsals.shutdown()  # type: ignore[attr-defined]
 
 
 @schema.parametrize()
