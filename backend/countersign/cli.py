@@ -355,7 +355,8 @@ def build_parser() -> argparse.ArgumentParser:
 
     validate_cmd = commands.add_parser(
         "validate",
-        help="check orders: structure, paths, budget, contradictions, norms, properties",
+        help="check orders: structure, paths, budget, contradictions, norms, properties, "
+        "contingency rules",
         description="Check orders and count every path. Exit 0 no errors, 1 errors, "
         "2 unreadable input.",
     )

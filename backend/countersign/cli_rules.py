@@ -25,6 +25,7 @@ from .rehearse.rules import (
     theory_for,
     theory_names,
 )
+from .rehearse.rules.engine import TheoryTooLarge
 from .rehearse.rules.syntax import LiteralSyntaxError
 
 EXIT_OK, EXIT_FINDINGS, EXIT_UNREADABLE = 0, 1, 2
@@ -42,11 +43,12 @@ rules object itself), 'example:NAME' for built-in orders, 'theory:NAME' for a bu
 ({theories}) or '-' for standard input.
 
 examples:
-  countersign rules theory:transect --observe localisation_precision_low,transect_done(t1)
-  countersign rules example:search-and-sample-rules --observe "safety_sensor_failure(leak)" \\
-      --action area_search
-  countersign rules example:transect-survey --observe gps_was_captured=false,\\
-usbl_was_captured=false --format json
+  countersign rules theory:transect \\
+      --observe "localisation_precision_low,transect_done(t1)" --action transect_t2
+  countersign rules example:search-and-sample-rules \\
+      --observe "safety_sensor_failure(leak)" --action area_search
+  countersign rules example:transect-survey --format json \\
+      --observe gps_was_captured=false,usbl_was_captured=false
 
 exit codes: 0 no error findings, 1 error findings (design errors in the rules),
 2 unreadable input, unreadable rules or bad usage."""
@@ -116,17 +118,6 @@ def load_rules(source: str) -> tuple[DefaultTheory, list[Finding], str]:
     return found, design_findings(found, loaded.orders), name
 
 
-def _extension_json(ext: Extension) -> dict[str, Any]:
-    return {
-        "literals": sorted(ext.literals),
-        "goals": list(ext.goals),
-        "safe_actions": list(ext.safe_actions),
-        "fired": list(ext.fired),
-        "blocked": list(ext.blocked),
-        "contradictions": list(ext.contradictions),
-    }
-
-
 def _write_text(
     label: str, theory: DefaultTheory, findings: list[Finding], observations: dict[str, bool],
     ext: Extension, verdict: ActionVerdict | None, out: TextIO,
@@ -177,7 +168,11 @@ def _rules(args: argparse.Namespace) -> int:
         if isinstance(exc, OrdersReadError):
             raise
         raise _usage_error(f"--observe: {exc}") from None
-    ext = extension(theory, observations)
+    try:
+        ext = extension(theory, observations)
+    except TheoryTooLarge as exc:
+        sys.stderr.write(f"countersign: cannot reason with the rules of {args.file}:\n  {exc}\n")
+        return EXIT_UNREADABLE
     verdict = None
     if args.action:
         try:
@@ -194,7 +189,7 @@ def _rules(args: argparse.Namespace) -> int:
             ],
             "findings": [f.to_json() for f in findings],
             "observations": observations,
-            "extension": _extension_json(ext),
+            "extension": ext.to_json(),
             "verdict": verdict.to_json() if verdict else None,
         }
         json.dump(data, sys.stdout, indent=2)

@@ -60,3 +60,37 @@ def test_ten_rehearsals_at_once(exemplar: Orders) -> None:
     records = [r.record() for r in rehearsals]
     assert all(rec.has_replay for rec in records)
     assert len({rec.digest for rec in records}) == 10
+
+
+def test_an_idle_finished_rehearsal_stops_itself() -> None:
+    from countersign.orders.examples import load_example
+
+    manager = RehearsalManager(max_active=2, idle_timeout_s=1.0)
+    try:
+        rehearsal = manager.start(load_example("transect-survey"), owner="alice",
+                                  options=RehearsalOptions(source="simulate", speed=1_000_000))
+        port = rehearsal.port
+        # `state` does not count as activity (status() and the API calls do).
+        assert _settle(lambda: rehearsal.state == "stopped" and manager.active() == [], 30)
+        assert manager.get(rehearsal.id) is rehearsal  # still answerable, as stopped
+        assert not _open(port)
+        assert rehearsal.record().has_replay
+    finally:
+        manager.shutdown()
+
+
+def test_concurrent_stops_return_one_record(exemplar: Orders) -> None:
+    manager = RehearsalManager(max_active=2, idle_timeout_s=600)
+    try:
+        rehearsal = manager.start(exemplar, owner="alice",
+                                  options=RehearsalOptions(source="simulate", speed=500))
+        records: list[object] = []
+        threads = [threading.Thread(target=lambda: records.append(manager.stop(rehearsal.id)))
+                   for _ in range(4)]
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            thread.join(30)
+        assert len(records) == 4 and all(r is records[0] for r in records)
+    finally:
+        manager.shutdown()

@@ -65,6 +65,9 @@ def test_transect_theory_has_the_size_of_the_paper(transect: DefaultTheory) -> N
     assert len(transect) == 44
     assert len(transect.defaults) == 17 and len(transect.strict) + len(transect.facts) == 27
     assert design_findings(transect) == []
+    # Every derived literal and satisfied prerequisite counts: at least one per literal.
+    ext = extension(transect, observe())
+    assert ext.inferences >= len(ext.literals) > len(NOMINAL)
 
 
 def test_transect_scenario_second_transect_abandoned_and_vehicle_goes_home(
@@ -264,9 +267,15 @@ def test_parse_reads_literals_and_writes_plain_english(exemplar: DefaultTheory) 
     assert len(sentences) == len(exemplar)
     by_id = {s.split(" ", 1)[0]: s for s in sentences}
     assert "shut down" in by_id["S_shutdown"].lower() or "shutdown" in by_id["S_shutdown"]
-    assert by_id["S_shutdown"].startswith("S_shutdown (safety default): Normally")
+    assert by_id["S_shutdown"].startswith("S_shutdown (safety default): For any X: normally")
     assert "surface now" in by_id["S_leak_surface"]
     assert "neither a GPS nor a USBL fix" in by_id["E_no_fix"]
+    assert by_id["E_no_fix"].startswith(
+        "E_no_fix (estimation rule): If 'gps was captured' is false and 'usbl was captured' "
+        "is false, then 'localised' is false.")
+    assert by_id["A_energy"].startswith(
+        "A_energy (action check rule): For any X: if the planned action is X and "
+        "'enough energy (X)' is false, then transit now.")
 
 
 # ----------------------------------------------------------------------------- orders
@@ -389,6 +398,10 @@ def test_design_safety_and_goal_patterns() -> None:
                   {"id": "Y", "if": ["gps"], "then": "not home"}]})
     assert found["S1"] == "error" and found["S2"] == "error" and found["G1"] == "error"
     assert found["G2"] == "warning"
+    reads_goal = _codes({**BASE, "strict": [
+        {"id": "S1", "kind": "safety", "if": ["goal(survey)", "leak"], "then": "do_safe(surface)"},
+        {"id": "G1", "kind": "goal", "if": ["gps"], "then": "goal(survey)"}]})
+    assert reads_goal == {"S1": "warning"}
 
 
 def test_design_unknown_action_against_the_vehicle() -> None:
@@ -412,7 +425,11 @@ def test_design_rules_reading_atoms_nothing_produces() -> None:
         {"id": "X2", "kind": "safety", "if": ["sensor_failure(pressure)"],
          "then": "do_safe(shutdown)"}]})
     assert found == {"X1": "warning"}
-    assert _codes({"strict": [{"id": "X1", "if": ["a"], "then": "b"}]}) == {"": "warning"}
+    assert _codes({"strict": [{"id": "X1", "if": ["a"], "then": "b"}]}) == {"rules": "warning"}
+    assert _codes({**BASE, "defaults": [{"id": "D1", "if": ["gps", "not gps"],
+                                         "then": "do_safe(surface)", "kind": "safety"}],
+                   "strict": [{"id": "X", "if": ["leak"], "then": "not do_safe(surface)",
+                               "kind": "safety"}]}) == {"D1": "warning"}
 
 
 def test_design_shadowed_and_conflicting_rules() -> None:
@@ -450,7 +467,7 @@ def test_cli_rules_text_shows_rules_extension_and_verdict() -> None:
     assert result.returncode == 0, result.stderr
     out = result.stdout
     assert "Rules of example:transect-survey (44: 17 defaults" in out
-    assert "D_loc (estimation default): Normally, localised" in out
+    assert "D_loc (estimation default): Normally, 'localised' is true, unless" in out
     assert "goals:   home" in out and "blocked: D_loc, G_t1, G_t2" in out
     assert "Planned action transect_t2: overridden: do go_home" in out
 
@@ -480,3 +497,29 @@ def test_cli_rules_json_and_theory_files(tmp_path: Path) -> None:
     assert result.returncode == 2 and "--observe" in result.stderr
     help_text = run_cli("rules", "--help").stdout
     assert "(17)" in help_text and "--observe" in help_text and "theory:transect" in help_text
+
+
+def test_extensions_from_many_threads_agree_with_serial(transect: DefaultTheory) -> None:
+    # Rehearsals step shared theories from several threads: the compiled program is shared.
+    from concurrent.futures import ThreadPoolExecutor
+
+    fresh = load_theory("transect")  # nothing compiled yet: threads race to compile it
+    cases = [observe(t1_done=bool(i % 2), localisation_precision_low=i % 3 == 0,
+                     leak=i % 5 == 0) for i in range(40)]
+    cases += [{**case, f"safety_sensor_failure(s{i})": True} for i, case in enumerate(cases)]
+    serial = [extension(transect, case).to_json() for case in cases]
+    with ThreadPoolExecutor(max_workers=8) as pool:
+        parallel = list(pool.map(lambda case: extension(fresh, case).to_json(), cases))
+    assert parallel == serial
+    assert serial[0]["derived_by"]["not goal(transect_t2)"] in {"X_order", "X_t2_lost"}
+
+
+def test_grounding_is_bounded() -> None:
+    from countersign.rehearse.rules.engine import MAX_GROUND_RULES, TheoryTooLarge
+
+    constants = [{"id": f"F{i}", "fact": f"p(c{i})"} for i in range(1_000)]
+    theory = parse_theory({"facts": constants, "strict": [
+        {"id": "S1", "if": ["p(X)", "p(Y)"], "then": "q(X)"}]})
+    assert MAX_GROUND_RULES < 1_000 * 1_000
+    with pytest.raises(TheoryTooLarge, match=r"rules\.strict"):
+        extension(theory, {})

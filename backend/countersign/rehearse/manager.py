@@ -106,6 +106,7 @@ class Rehearsal:
         self._wake = threading.Event()
         self._stop_event = threading.Event()
         self._stopped = False
+        self._sealed = threading.Event()  # set once stop() has sealed the record
         self._speed = float(options.speed)
         self._on_stopped = on_stopped
         self.idle_timeout_s = idle_timeout_s
@@ -238,26 +239,34 @@ class Rehearsal:
         return time.monotonic() - self.last_activity
 
     def stop(self) -> RehearsalRecord:
-        """Stop the thread and the viser server and seal the record. Safe to call twice."""
+        """Stop the thread and the viser server and seal the record. Safe to call twice and
+        from several threads: later callers wait for the first to finish."""
         with self._lock:
-            if self._stopped:
-                assert self._record is not None
-                return self._record
+            first = not self._stopped
             self._stopped = True
+        if not first:
+            if threading.current_thread() is not self._thread:
+                self._sealed.wait(timeout=60.0)
+            if self._record is None:
+                raise RuntimeError("the rehearsal is still being stopped")
+            return self._record
         self._stop_event.set()
         self._wake.set()
-        if self._thread.is_alive() and threading.current_thread() is not self._thread:
-            self._thread.join(timeout=10.0)
-        with self._lock:
-            if self._serializer is not None:
+        try:
+            if self._thread.is_alive() and threading.current_thread() is not self._thread:
+                self._thread.join(timeout=10.0)
+            with self._lock:
                 try:
-                    self._html = self._serializer.as_html().encode("utf-8")
+                    if self._serializer is not None:
+                        self._html = self._serializer.as_html().encode("utf-8")
                 finally:
                     self._serializer = None
-            if self._server is not None:
-                self._server.stop()
-            self._record = RehearsalRecord(self._record_json(), self._html)
-            record = self._record
+                    if self._server is not None:
+                        self._server.stop()
+                self._record = RehearsalRecord(self._record_json(), self._html)
+                record = self._record
+        finally:
+            self._sealed.set()
         if self._on_stopped is not None:
             self._on_stopped(self)
         return record
@@ -282,7 +291,7 @@ class Rehearsal:
                     self._push_frame()
                 state = sim.state
             if state == "finished" and self.idle_for() > self.idle_timeout_s:
-                self.stop()
+                self._stop_idle()
                 return
             next_frame += FRAME_S
             delay = next_frame - time.perf_counter()
@@ -292,10 +301,16 @@ class Rehearsal:
             if state != "running":
                 delay = 0.5  # waiting for a person, or finished: nothing to compute
                 if self.idle_for() > self.idle_timeout_s:
-                    self.stop()
+                    self._stop_idle()
                     return
             self._wake.wait(delay)
             self._wake.clear()
+
+    def _stop_idle(self) -> None:
+        # From the rehearsal's own thread: stop() does not join it; if an API stop is already
+        # under way, this thread just ends and lets that stop finish.
+        if not self._stop_event.is_set():
+            self.stop()
 
     def _advance(self, sim_seconds: float, deadline: float) -> None:
         sim = self._sim
@@ -318,9 +333,12 @@ class Rehearsal:
     def run_headless(self, max_wall_s: float | None = None) -> None:
         """Run to the end on the calling thread (CLI, tests); manual sources stop waiting."""
         started = time.perf_counter()
+        # With a scene, frames every simulated minute make the recorded replay move smoothly;
+        # without one, large chunks keep the loop overhead negligible.
+        chunk = 60.0 if self._scene is not None else 3_600.0
         with self._lock:
             while self._sim.state == "running":
-                self._sim.advance(3_600.0)
+                self._sim.advance(chunk)
                 self._push_frame()
                 if max_wall_s is not None and time.perf_counter() - started > max_wall_s:
                     break

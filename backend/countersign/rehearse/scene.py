@@ -106,7 +106,7 @@ class Scene:
         server.scene.configure_default_lights(cast_shadow=False)
         self._static(sim.world)
         self.vehicle = server.scene.add_box(
-            "/vehicle", color=(250, 200, 30), dimensions=(0.3, 0.08, 0.08),
+            "/vehicle", color=(250, 200, 30), dimensions=(0.4, 0.12, 0.12),
             position=self.to_scene(*sim.vehicle.xy, sim.vehicle.depth),
         )
         self.vehicle_label = server.scene.add_label(
@@ -158,7 +158,9 @@ class Scene:
             self._draw_area("LANE_generated", lane.title, lane.polygon, lane.centre, LANE_COLOUR)
         scene.add_icosphere("/world/recovery", radius=0.1, color=RECOVERY_COLOUR,
                             position=self.to_scene(*world.recovery))
-        scene.add_label("/world/recovery/label", "recovery point", position=(0.0, 0.0, 0.2))
+        if not any(area.centre == world.recovery for area in world.areas.values()):
+            scene.add_label("/world/recovery/label", "recovery point",
+                            position=(0.0, 0.0, 0.2))
 
     def _draw_area(self, area_id: str, title: str, polygon: tuple[Point, ...], centre: Point,
                    colour: tuple[int, int, int]) -> None:
@@ -274,7 +276,7 @@ class Scene:
             segments = np.array([[points[i], points[i + 1]] for i in range(len(points) - 1)],
                                 dtype=np.float32)
             self.server.scene.add_line_segments(f"/trail/{self._trail_nodes}", segments,
-                                                TRAIL_COLOUR, thickness=0.02)
+                                                TRAIL_COLOUR, thickness=0.04)
         self._trail_len_drawn = end
         if end - self._trail_start > TRAIL_CHUNK:
             # Freeze this node; the next starts where it ended so the line stays continuous.

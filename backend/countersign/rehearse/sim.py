@@ -242,9 +242,10 @@ class Simulation:
         self.detection_range_m = 6_000.0
         if vehicle and "contact_detection_range_m" in vehicle.envelope:
             self.detection_range_m = float(vehicle.envelope["contact_detection_range_m"][1])
-        self.pending_faults: list[FaultSpec] = [
+        self._initial_faults: tuple[FaultSpec, ...] = tuple(
             f if isinstance(f, FaultSpec) else FaultSpec.parse(f) for f in faults
-        ]
+        )
+        self.pending_faults: list[FaultSpec] = list(self._initial_faults)
         self.active_faults: set[str] = set()
         self.fault_log: list[str] = []  # name@simulated-seconds, as activated
         self.choices: list[dict[str, Any]] = []
@@ -435,6 +436,9 @@ class Simulation:
             # A tour starts every path from the same launch with a full battery.
             self.vehicle = Vehicle(*self.world.recovery, last_gps_s=self.time_s)
             self.energy_used_wh = self.expected_used_wh = 0.0
+            # Every path of a tour meets the same faults given at the start.
+            self.active_faults.clear()
+            self.pending_faults = list(self._initial_faults)
             self._transects_done.clear()
             self.trail.clear()
             self._emit("run", f"Path {path_index}: start", data={"path_index": path_index})

@@ -12,7 +12,7 @@ Public API (other packages depend on these names):
 
 from .action import ActionVerdict, check_action
 from .design import design_findings
-from .engine import Extension, extension, parse_observations
+from .engine import Extension, TheoryTooLarge, extension, parse_observations
 from .examples import load_theory, theory_names
 from .plain import plain_rules
 from .theory import DefaultTheory, Rule, TheoryError, parse_theory, theory_for
@@ -23,6 +23,7 @@ __all__ = [
     "Extension",
     "Rule",
     "TheoryError",
+    "TheoryTooLarge",
     "check_action",
     "design_findings",
     "extension",

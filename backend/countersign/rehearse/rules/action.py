@@ -92,13 +92,25 @@ def check_action(
         if after.contradictions
         else ""
     )
+
+    def said(because: tuple[str, ...]) -> str:
+        """The deciding rule's own words, when its author gave some."""
+        for rule_id in because[:1]:
+            try:
+                text = theory.rule(rule_id).text.strip().rstrip(".")
+            except KeyError:
+                continue
+            if text:
+                return f" ({rule_id}: {text})"
+        return ""
+
     if overriding:
         chosen = overriding[0]
         because = _why(after, f"{DO_SAFE}({chosen})")
         return ActionVerdict(
             a0, False, chosen, because,
             f"Planned action {a0} is overridden: the rules {', '.join(because)} require "
-            f"{chosen} now." + note,
+            f"{chosen} now{said(because)}." + note,
             after,
         )
     if after.holds(f"{DO_SAFE}({a0})"):
@@ -114,7 +126,7 @@ def check_action(
         because = (EQ17_ID,)
     return ActionVerdict(
         a0, False, None, because,
-        f"Planned action {a0} is refused by {', '.join(because) or 'the rules'} and no rule "
-        "names a safe alternative." + note,
+        f"Planned action {a0} is refused by {', '.join(because) or 'the rules'}{said(because)} "
+        "and no rule names a safe alternative." + note,
         after,
     )

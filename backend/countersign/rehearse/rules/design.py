@@ -90,6 +90,13 @@ def _pattern_findings(theory: DefaultTheory) -> list[Finding]:
                 "estimation rules should infer hidden states only, never overrule an "
                 "observation (seed 004 IV-B-2).",
             ))
+        if rule.kind in ("safety", "estimation") and any(lit.name == GOAL for lit in rule.body):
+            found.append(warning(
+                CODE, [rule.id],
+                f"{rule.kind.capitalize()} rule {rule.id} reads a goal: its prerequisites "
+                "should be observed or estimated states only, so that a change of goal can "
+                "never switch a safety reaction or an estimate (seed 004 eqs. 10-11).",
+            ))
         safety_shape = head.name == DO_SAFE and (head.positive or not rule.is_default)
         if rule.kind == "safety" and not safety_shape:
             pattern = (
@@ -151,7 +158,7 @@ def _reachability_findings(theory: DefaultTheory) -> list[Finding]:
     if not theory.observables:
         if theory.rules:
             found.append(warning(
-                CODE, [],
+                CODE, list(theory.sources) or ["rules"],
                 "The rules declare no observables, so it cannot be checked which "
                 "prerequisites the vehicle can ever observe; list them under rules.observables.",
             ))
@@ -164,6 +171,13 @@ def _reachability_findings(theory: DefaultTheory) -> list[Finding]:
         return any(_matches(head, lit) for head in heads)
 
     for rule in theory.rules:
+        clash = sorted({lit.atom for lit in rule.body if lit.negated() in rule.body})
+        if clash:
+            found.append(warning(
+                CODE, [rule.id],
+                f"{rule.id} requires both {clash[0]} and not {clash[0]}, so it can never apply.",
+            ))
+            continue
         missing = [str(lit) for lit in rule.body if not produced(lit)]
         if missing:
             kind = "default" if rule.is_default else "rule"

@@ -32,15 +32,25 @@ a default is blocked only when its conclusion would add a *new* contradiction.
 
 from __future__ import annotations
 
+import functools
 import heapq
 import itertools
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 from .syntax import Literal, is_variable, parse_atom, parse_literal
 from .theory import DO_SAFE, GOAL, NEXT_ACTION, DefaultTheory, Rule
 
 EQ17_ID = "eq17"
+# Variables multiply rules by the constants they range over: bound the result, so that rules
+# from untrusted orders cannot make the reasoner allocate without limit.
+MAX_GROUND_RULES = 500_000
+
+
+class TheoryTooLarge(ValueError):
+    pass
+
 EQ17_PRIORITY = -(10**7)  # below any priority a theory may state: safety rules come first
 EQ17_RULE = Rule(
     id=EQ17_ID,
@@ -66,6 +76,9 @@ class Extension:
     # literal -> id of the rule that first derived it ("observed" for observations)
     derived_by: Mapping[str, str] = field(default_factory=dict, compare=False, repr=False)
     theory: DefaultTheory | None = field(default=None, compare=False, repr=False)
+    # Literals derived plus rule prerequisites they satisfied (the seed's "inferences", Fig. 4b;
+    # trials undone are not counted): a machine-independent measure of the work of a step.
+    inferences: int = field(default=0, compare=False, repr=False)
 
     def holds(self, literal: str) -> bool:
         return str(parse_literal(literal)) in self.literals
@@ -85,6 +98,19 @@ class Extension:
     def observation_map(self) -> dict[str, bool]:
         return dict(self.observations)
 
+    def to_json(self) -> dict[str, Any]:
+        """For records and the API: what held, what fired, what was blocked, and why."""
+        return {
+            "observations": [[key, value] for key, value in self.observations],
+            "literals": sorted(self.literals),
+            "goals": list(self.goals),
+            "safe_actions": list(self.safe_actions),
+            "fired": list(self.fired),
+            "blocked": list(self.blocked),
+            "contradictions": list(self.contradictions),
+            "derived_by": dict(sorted(self.derived_by.items())),
+        }
+
 
 # --------------------------------------------------------------------------------- grounding
 
@@ -102,6 +128,7 @@ class _Program:
     rank: list[tuple[int, int, int]]
     watch: list[list[int]]
     start: list[int]  # rules with an empty body
+    texts: list[str] = field(default_factory=list)  # literal index -> "p(a)" / "not p(a)"
 
     def literal_index(self, literal: Literal) -> int:
         atom = self.atoms.get(literal.atom)
@@ -117,6 +144,9 @@ class _Program:
         atom = self.names[index >> 1]
         return atom if not index & 1 else f"not {atom}"
 
+    def freeze(self) -> None:
+        self.texts = [self.literal_text(i) for i in range(2 * len(self.names))]
+
 
 def _constants_by_name(theory: DefaultTheory, extra: Iterable[Literal]) -> dict[str, set[str]]:
     by_name: dict[str, set[str]] = {}
@@ -128,8 +158,12 @@ def _constants_by_name(theory: DefaultTheory, extra: Iterable[Literal]) -> dict[
     for lit in literals:
         if lit.arg is not None and not is_variable(lit.arg):
             by_name.setdefault(lit.name, set()).add(lit.arg)
-    for action in theory.actions:
-        by_name.setdefault(DO_SAFE, set()).add(action)
+    # Any declared action, or one a rule may order, can be planned: ground eq. 17 and rules
+    # reading next_action(X) for all of them up front, so that checking one more planned
+    # action never recompiles the theory.
+    plannable = set(theory.actions) | by_name.get(DO_SAFE, set())
+    by_name.setdefault(DO_SAFE, set()).update(plannable)
+    by_name.setdefault(NEXT_ACTION, set()).update(plannable)
     return by_name
 
 
@@ -156,6 +190,14 @@ def _ground(theory: DefaultTheory, rules: Iterable[Rule], extra: Iterable[Litera
                     names = everything if lit.name in open_heads else by_name.get(lit.name, set())
                     domain = set(names) if domain is None else domain & names
             choices.append(sorted(everything if domain is None else domain))
+        size = 1
+        for choice in choices:
+            size *= len(choice)
+        if len(ground) + size > MAX_GROUND_RULES:
+            raise TheoryTooLarge(
+                f"{rule.path or rule.id}: grounding the variables gives more than "
+                f"{MAX_GROUND_RULES} rules; use fewer variables or constants"
+            )
         for values in itertools.product(*choices):
             body, head = rule.body, rule.head
             for variable, value in zip(variables, values, strict=True):
@@ -186,18 +228,27 @@ def _compile(theory: DefaultTheory, extra: Iterable[Literal], with_eq17: bool) -
             program.watch[lit].append(index)
         if not body:
             program.start.append(index)
+    program.freeze()
     return program
 
 
 def _program(theory: DefaultTheory, extra: list[Literal], with_eq17: bool) -> _Program:
     # Grounding depends only on which constants the observations add: cache per constant set,
     # so a vehicle stepping with the same vocabulary compiles its theory once.
-    key = (frozenset(lit.atom for lit in extra if lit.arg is not None), with_eq17)
     cache = theory._cache  # the theory owns its compiled forms
+    known = cache.get("constants")
+    if known is None:
+        known = cache["constants"] = _constants_by_name(theory, ())
+    new = frozenset(
+        (lit.name, lit.arg) for lit in extra
+        if lit.arg is not None and lit.arg not in known.get(lit.name, ())
+    )
+    key = (new, with_eq17)
     program = cache.get(key)
     if program is None:
         if len(cache) > 64:
             cache.clear()
+            cache["constants"] = known
         program = _compile(theory, extra, with_eq17)
         cache[key] = program
     return program
@@ -206,14 +257,23 @@ def _program(theory: DefaultTheory, extra: list[Literal], with_eq17: bool) -> _P
 # ------------------------------------------------------------------------------- extension
 
 
+@functools.lru_cache(maxsize=100_000)
+def _observed_atom(key: str) -> Literal:
+    # The same observation keys come back every period: read each once.
+    literal = parse_literal(key)
+    if literal.has_variable:
+        raise ValueError(f"observation {key!r}: an observation names no variable")
+    return literal
+
+
 def _observation_literals(observations: Mapping[str, bool]) -> list[Literal]:
     literals = []
     for key, value in observations.items():
         if not isinstance(value, bool):
             raise ValueError(f"observation {key!r}: expected true or false, got {value!r}")
-        literal = parse_literal(key)
-        if literal.has_variable:
-            raise ValueError(f"observation {key!r}: an observation names no variable")
+        if not isinstance(key, str):
+            raise ValueError(f"observation {key!r}: expected an atom as text")
+        literal = _observed_atom(key)
         literals.append(literal if value else literal.negated())
     return literals
 
@@ -308,8 +368,8 @@ def compute(
             for watcher in watch[lit]:
                 counts[watcher] += 1
 
-    literal_text = program.literal_text
-    texts = [literal_text(lit) for lit in trail]
+    text_of = program.texts
+    texts = [text_of[lit] for lit in trail]
     loose_contradictions = [
         lit.atom for lit in loose.values() if lit.positive and str(lit.negated()) in loose
     ]
@@ -318,7 +378,7 @@ def compute(
         dict.fromkeys(text[len(safe_prefix):-1] for text in texts if text.startswith(safe_prefix))
     )
     fired_ids = tuple(dict.fromkeys(fired))
-    derived_by = {literal_text(lit): why for lit, why in derived.items()}
+    derived_by = {text_of[lit]: why for lit, why in derived.items()}
     derived_by.update((text, "observed") for text in loose)
     return Extension(
         literals=frozenset(texts).union(loose),
@@ -330,9 +390,12 @@ def compute(
                            *loose_contradictions])
         ),
         # As given (normalised), so that check_action replays exactly the same observations.
-        observations=tuple((str(parse_literal(key)), value) for key, value in observations.items()),
+        observations=tuple(
+            (str(_observed_atom(key)), value) for key, value in observations.items()
+        ),
         derived_by=derived_by,
         theory=theory,
+        inferences=len(trail) + sum(len(watch[lit]) for lit in trail),
     )
 
 
