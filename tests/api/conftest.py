@@ -79,6 +79,7 @@ def world(database_url: str, tmp_path: Path) -> Iterator[World]:
             if role == "operator":
                 create_mission(db, orders=load_example("search-and-sample"), author=user)
     yield World(app, database, tokens, usernames)
+    app.state.rehearsals.shutdown()  # rehearsals a test started (their viser servers)
     database.engine.dispose()
 
 

@@ -3,8 +3,10 @@ schema, for every operation, with a bounded number of generated requests."""
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from pathlib import Path
 
+import pytest
 import schemathesis
 from hypothesis import HealthCheck, settings
 from schemathesis.checks import not_a_server_error, response_schema_conformance
@@ -31,6 +33,13 @@ def _app_and_token() -> tuple[object, str]:
 
 APP, TOKEN = _app_and_token()
 schema = schemathesis.openapi.from_asgi("/api/openapi.json", APP)
+
+
+@pytest.fixture(scope="module", autouse=True)
+def _stop_rehearsals() -> Iterator[None]:
+    """Generated requests may start rehearsals (viser servers): stop them at the end."""
+    yield
+    APP.state.rehearsals.shutdown()  # type: ignore[attr-defined]
 
 
 @schema.parametrize()

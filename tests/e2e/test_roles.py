@@ -22,10 +22,11 @@ NAV_LINKS = {
     "admin": ["Missions", "Activity", "Audit", "Users"],
 }
 MISSION_TABS = {
-    "operator": ["Orders", "Findings", "Paths", "Versions", "Edit orders", "Graph editor"],
-    "supervisor": ["Orders", "Findings", "Paths", "Versions"],
-    "auditor": ["Orders", "Findings", "Paths", "Versions"],
-    "admin": ["Orders", "Findings", "Paths", "Versions"],
+    "operator": ["Orders", "Findings", "Paths", "Versions", "Rehearse", "Edit orders",
+                 "Graph editor"],
+    "supervisor": ["Orders", "Findings", "Paths", "Versions", "Rehearse"],
+    "auditor": ["Orders", "Findings", "Paths", "Versions", "Rehearse"],
+    "admin": ["Orders", "Findings", "Paths", "Versions", "Rehearse"],
 }
 
 

@@ -25,7 +25,7 @@ from .dsse import (
 )
 from .log import GENESIS, verify_checkpoint
 from .merkle import Tree, leaf_hash, verify_consistency, verify_inclusion
-from .statement import subject_digest
+from .statement import json_digest, subject_digest
 
 BUNDLE_FORMAT = "countersign.audit-bundle/1"
 
@@ -130,7 +130,8 @@ def verify_bundle(
     orders = bundle.get("orders", {})
     for approval in bundle.get("approvals", []):
         report.approvals += 1
-        _check_approval(approval, events, leaves, keys, orders, latest, report)
+        _check_approval(approval, events, leaves, keys, orders, latest, report,
+                        bundle.get("rehearsals") or {})
     return report
 
 
@@ -235,7 +236,8 @@ def _check_bundle_keys(bundle_keys: list[dict[str, Any]], keys: dict[str, _Key],
 
 def _check_approval(approval: dict[str, Any], events: list[dict[str, Any]], leaves: list[bytes],
                     keys: dict[str, _Key], orders: dict[str, Any],
-                    latest: tuple[int, bytes] | None, report: BundleReport) -> None:
+                    latest: tuple[int, bytes] | None, report: BundleReport,
+                    rehearsals: dict[str, Any] | None = None) -> None:
     name = f"approval {approval.get('id')}"
     index = approval.get("log_index")
     if not isinstance(index, int) or not 0 <= index < len(events):
@@ -280,6 +282,8 @@ def _check_approval(approval: dict[str, Any], events: list[dict[str, Any]], leav
         elif not orders_match(covered, signed):
             report.problems.append(f"{name}: the stored orders of {statement['subject'][0]['name']}"
                                    f" do not hash to the signed digest {signed}")
+    _check_rehearsal(name, statement["predicate"].get("rehearsal_digest"), signed,
+                     rehearsals or {}, report)
     proof = approval.get("inclusion") or {}
     if latest is not None:
         try:
@@ -291,3 +295,21 @@ def _check_approval(approval: dict[str, Any], events: list[dict[str, Any]], leav
         if not included:
             report.problems.append(f"{name}: the inclusion proof of log entry {index} does not "
                                    "verify against the signed checkpoint")
+
+
+def _check_rehearsal(name: str, cited: Any, signed: str, rehearsals: dict[str, Any],
+                     report: BundleReport) -> None:
+    """A cited rehearsal record is in the bundle, hashes to the cited digest (RFC 8785) and
+    rehearsed the signed orders."""
+    if cited is None:
+        return
+    record = rehearsals.get(str(cited))
+    if not isinstance(record, dict):
+        report.problems.append(f"{name}: the bundle lacks the rehearsal record {cited} the "
+                               "statement cites")
+    elif json_digest(record) != cited:
+        report.problems.append(f"{name}: the rehearsal record does not hash to the cited "
+                               f"digest {cited}")
+    elif (record.get("orders") or {}).get("digest") != signed:
+        report.problems.append(f"{name}: the cited rehearsal record rehearsed other orders "
+                               f"than {signed}")

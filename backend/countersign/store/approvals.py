@@ -35,6 +35,7 @@ from .accounts import HASHER
 from .db import BEGIN_MODE
 from .events import record
 from .missions import Conflict, MissionError, NotFound, get_mission, get_version, report_for
+from .rehearsals import attach as attach_rehearsal
 from .tables import (
     Approval,
     Checkpoint,
@@ -42,6 +43,7 @@ from .tables import (
     LogEntry,
     Mission,
     MissionVersion,
+    RehearsalRecord,
     SigningKey,
     Submission,
     User,
@@ -144,7 +146,8 @@ def _report(db: DbSession, version: MissionVersion) -> dict[str, Any]:
     return report_for(db, orders_from_data(version.orders), version.digest).report
 
 
-def submit(db: DbSession, *, mission_id: str, number: int, operator: User) -> Submission:
+def submit(db: DbSession, *, mission_id: str, number: int, operator: User,
+           rehearsal: str | None = None) -> Submission:
     mission = get_mission(db, mission_id)
     version = get_version(db, mission_id, number)
     report = _report(db, version)
@@ -163,6 +166,8 @@ def submit(db: DbSession, *, mission_id: str, number: int, operator: User) -> Su
     mission.status = "submitted"
     record(db, kind="submission.created", actor=operator, mission_id=mission_id,
            after=version.digest, detail={"submission": submission.id, "version": number})
+    if rehearsal is not None:
+        attach_rehearsal(db, submission=submission, digest=rehearsal, actor=operator)
     return submission
 
 
@@ -254,7 +259,8 @@ def _statement(db: DbSession, ctx: Context, *, decision: str, reason: str, super
         decision=decision, reason=reason, submission=ctx.submission.id,
         report_digest=json_digest(ctx.report), paths=ctx.report.get("paths"),
         vehicle=orders.get("vehicle"), author=_username(db, ctx.version.author_id) or "",
-        supervisor=supervisor.username, key_id=key_id, time=time, nonce=nonce, revokes=revokes)
+        supervisor=supervisor.username, key_id=key_id, time=time, nonce=nonce, revokes=revokes,
+        rehearsal_digest=ctx.submission.rehearsal_digest)
 
 
 @dataclass(frozen=True)
@@ -626,9 +632,13 @@ def build_bundle(db: DbSession, *, signer: Ed25519PrivateKey,
             indexes[event_id] = index
     orders: dict[str, Any] = {}
     approvals = []
+    cited: set[str] = set()
     for approval in rows:
         if approval.orders_digest not in orders:
             orders[approval.orders_digest] = db.get_one(MissionVersion, approval.version_id).orders
+        submission = db.get_one(Submission, approval.submission_id)
+        if submission.rehearsal_digest is not None:
+            cited.add(submission.rehearsal_digest)
         index = indexes[approval.event_id]
         approvals.append({
             "id": approval.id, "mission": approval.mission_id, "decision": approval.decision,
@@ -651,4 +661,8 @@ def build_bundle(db: DbSession, *, signer: Ed25519PrivateKey,
         "keys": keys,
         "orders": orders,
         "approvals": approvals,
+        # Rehearsal records the approvals cite, by digest (replays: the record's replay URL).
+        "rehearsals": {r.digest: r.record for r in db.scalars(
+            select(RehearsalRecord).where(RehearsalRecord.digest.in_(sorted(cited))))}
+        if cited else {},
     }

@@ -15,6 +15,7 @@ from sqlalchemy import (
     DateTime,
     ForeignKey,
     Integer,
+    LargeBinary,
     MetaData,
     String,
     Text,
@@ -160,6 +161,27 @@ class Submission(Base):
     decided_by: Mapped[int | None] = mapped_column(ForeignKey("users.id"), default=None)
     decided_at: Mapped[datetime | None] = mapped_column(default=None)
     reason: Mapped[str] = mapped_column(Text, default="")
+    # The stored rehearsal record the operator attached; the approval statement cites it.
+    rehearsal_digest: Mapped[str | None] = mapped_column(
+        ForeignKey("rehearsal_records.digest"), default=None)
+
+
+class RehearsalRecord(Base):
+    """A finished rehearsal: the record (outcomes, events, rule firings, energy) and viser's
+    standalone HTML replay. Written once when the rehearsal stops; never changed."""
+
+    __tablename__ = "rehearsal_records"
+    digest: Mapped[str] = mapped_column(String(71), primary_key=True)
+    mission_id: Mapped[str] = mapped_column(String(100), index=True)
+    version: Mapped[int | None] = mapped_column(Integer, default=None)
+    orders_digest: Mapped[str] = mapped_column(String(71), index=True)
+    owner_id: Mapped[int] = mapped_column(ForeignKey("users.id"), index=True)
+    source: Mapped[str] = mapped_column(String(16))
+    record: Mapped[dict[str, Any]]
+    replay_html: Mapped[bytes] = mapped_column(LargeBinary, deferred=True)
+    replay_digest: Mapped[str] = mapped_column(String(71))
+    event_id: Mapped[int] = mapped_column(ForeignKey("events.id"), unique=True)
+    created_at: Mapped[datetime] = mapped_column(default=utcnow, index=True)
 
 
 class Event(Base):
@@ -238,3 +260,5 @@ class Checkpoint(Base):
 
 
 APPEND_ONLY_TABLES = ("events", "mission_versions", "approvals", "log_entries", "checkpoints")
+# Made append-only by revision 0003 (0002 protects the tables above).
+APPEND_ONLY_TABLES_0003 = ("rehearsal_records",)

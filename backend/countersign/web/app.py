@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager
 from pathlib import Path
 
 from fastapi import FastAPI
@@ -11,7 +13,8 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 from .. import __version__
 from ..store.db import Database
 from . import problems
-from .routes import admin, approvals, auth, missions, planning
+from .rehearsal_hub import RehearsalHub
+from .routes import admin, approvals, auth, missions, planning, rehearsals
 from .settings import Settings
 
 
@@ -94,10 +97,22 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     settings.prepare()
     database = database or Database(settings.database_url)
     database.migrate()
+    hub = RehearsalHub()
+
+    @asynccontextmanager
+    async def lifespan(_app: FastAPI) -> AsyncIterator[None]:
+        try:
+            yield
+        finally:
+            # Every live rehearsal's viser server (threads and port) ends with the app.
+            hub.shutdown()
+
     app = FastAPI(title="Countersign", version=__version__, docs_url="/api/docs",
-                  openapi_url="/api/openapi.json", redoc_url=None)
+                  openapi_url="/api/openapi.json", redoc_url=None, lifespan=lifespan)
     app.state.settings = settings
     app.state.database = database
+    app.state.rehearsals = hub
+    app.state.rehearsal_proxies = []
     problems.install(app)
 
     app.add_middleware(SecurityHeaders)
@@ -113,6 +128,8 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     app.include_router(admin.router)
     app.include_router(planning.router)
     app.include_router(approvals.router)
+    app.include_router(rehearsals.router)
+    app.include_router(rehearsals.viewer)
     _serve_frontend(app, settings.frontend_dist)
     app.add_middleware(BodyLimit, limit=settings.max_body_bytes)
     return app

@@ -418,6 +418,43 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/missions/{mission_id}/rehearsal-records": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** List Rehearsal Records */
+        get: operations["listRehearsalRecords"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/missions/{mission_id}/rehearsals": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Start Rehearsal
+         * @description Start a rehearsal of the draft or of one version; watch it at `viewer`.
+         */
+        post: operations["startRehearsal"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/missions/{mission_id}/report": {
         parameters: {
             query?: never;
@@ -528,6 +565,117 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/rehearsal-records/{digest}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Get Rehearsal Record */
+        get: operations["getRehearsalRecord"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/rehearsal-records/{digest}/replay.html": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Get Rehearsal Replay
+         * @description viser's standalone replay of the rehearsal (self-contained HTML; works offline).
+         */
+        get: operations["getRehearsalReplay"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/rehearsals/{rehearsal_id}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Get Rehearsal */
+        get: operations["getRehearsal"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/rehearsals/{rehearsal_id}/faults": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Inject Fault */
+        post: operations["injectFault"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/rehearsals/{rehearsal_id}/outcome": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Choose Outcome
+         * @description End the current goal with this outcome (manual rehearsals).
+         */
+        post: operations["chooseOutcome"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/rehearsals/{rehearsal_id}/stop": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Stop Rehearsal
+         * @description Stop the rehearsal and store its record and standalone replay.
+         */
+        post: operations["stopRehearsal"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/submissions": {
         parameters: {
             query?: never;
@@ -573,6 +721,27 @@ export interface paths {
         put?: never;
         /** Sign Decision */
         post: operations["signDecision"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/submissions/{submission_id}/rehearsal": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Attach Rehearsal
+         * @description Cite a stored rehearsal record of exactly the submitted version (409 otherwise);
+         *     only the submitting operator, only while the submission awaits a decision.
+         */
+        post: operations["attachRehearsal"];
         delete?: never;
         options?: never;
         head?: never;
@@ -783,6 +952,11 @@ export interface components {
             /** Next Cursor */
             next_cursor: number | null;
         };
+        /** AttachIn */
+        AttachIn: {
+            /** Rehearsal */
+            rehearsal: string;
+        };
         /** Budget */
         Budget: {
             /** Duration S */
@@ -885,6 +1059,11 @@ export interface components {
             kind: string;
             /** Mission */
             mission: string | null;
+        };
+        /** FaultIn */
+        FaultIn: {
+            /** Fault */
+            fault: string;
         };
         /** Feature */
         Feature: {
@@ -1072,6 +1251,14 @@ export interface components {
             /** Warnings */
             warnings: number | null;
         };
+        /** OutcomeIn */
+        OutcomeIn: {
+            /**
+             * Outcome
+             * @enum {string}
+             */
+            outcome: "succeed" | "fail" | "violate";
+        };
         /** PathCountsOut */
         PathCountsOut: {
             /** By Terminal */
@@ -1128,6 +1315,106 @@ export interface components {
             ];
             /** Swath M */
             swath_m?: number | null;
+        };
+        /** RecordDetail */
+        RecordDetail: {
+            /** Created At */
+            created_at: unknown;
+            /** Digest */
+            digest: string;
+            /** Mission */
+            mission: string;
+            /** Orders Digest */
+            orders_digest: string;
+            /** Owner */
+            owner: string | null;
+            /** Record */
+            record: {
+                [key: string]: unknown;
+            };
+            /** Replay */
+            replay: string;
+            /** Replay Digest */
+            replay_digest: string;
+            /** Source */
+            source: string;
+            /** Version */
+            version: number | null;
+        };
+        /** RecordOut */
+        RecordOut: {
+            /** Created At */
+            created_at: unknown;
+            /** Digest */
+            digest: string;
+            /** Mission */
+            mission: string;
+            /** Orders Digest */
+            orders_digest: string;
+            /** Owner */
+            owner: string | null;
+            /** Replay */
+            replay: string;
+            /** Replay Digest */
+            replay_digest: string;
+            /** Source */
+            source: string;
+            /** Version */
+            version: number | null;
+        };
+        /** RehearsalIn */
+        RehearsalIn: {
+            /**
+             * Faults
+             * @description fault, fault@seconds or fault@goal
+             */
+            faults?: string[];
+            /**
+             * Path Index
+             * @description the traversal path to replay (source replay), counted from 1 as in /paths
+             */
+            path_index?: number | null;
+            /**
+             * Seed
+             * @default 0
+             */
+            seed: number;
+            /**
+             * Source
+             * @default manual
+             * @enum {string}
+             */
+            source: "manual" | "replay" | "tour" | "simulate";
+            /**
+             * Speed
+             * @description simulated seconds per wall second
+             * @default 50
+             */
+            speed: number;
+            /**
+             * Version
+             * @description the version to rehearse; omitted: the draft
+             */
+            version?: number | null;
+        };
+        /** RehearsalOut */
+        RehearsalOut: {
+            /** Id */
+            id: string;
+            /** Mission */
+            mission: string;
+            /** Orders Digest */
+            orders_digest: string;
+            /** Source */
+            source: string;
+            /** Status */
+            status: {
+                [key: string]: unknown;
+            };
+            /** Version */
+            version: number | null;
+            /** Viewer */
+            viewer: string;
         };
         /**
          * ReportOut
@@ -1240,6 +1527,8 @@ export interface components {
             mission: string;
             /** Reason */
             reason: string;
+            /** Rehearsal */
+            rehearsal?: string | null;
             /** State */
             state: string;
             /**
@@ -1251,6 +1540,14 @@ export interface components {
             submitted_by: string | null;
             /** Version */
             version: number;
+        };
+        /** SubmitIn */
+        SubmitIn: {
+            /**
+             * Rehearsal
+             * @description digest of a stored rehearsal record of this exact version, cited by the approval statement
+             */
+            rehearsal?: string | null;
         };
         /** TokenIn */
         TokenIn: {
@@ -2214,6 +2511,74 @@ export interface operations {
             };
         };
     };
+    listRehearsalRecords: {
+        parameters: {
+            query?: {
+                limit?: number;
+            };
+            header?: never;
+            path: {
+                mission_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RecordOut"][];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    startRehearsal: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                mission_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["RehearsalIn"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            201: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RehearsalOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
     getReport: {
         parameters: {
             query?: never;
@@ -2352,7 +2717,11 @@ export interface operations {
             };
             cookie?: never;
         };
-        requestBody?: never;
+        requestBody?: {
+            content: {
+                "application/json": components["schemas"]["SubmitIn"] | null;
+            };
+        };
         responses: {
             /** @description Successful Response */
             201: {
@@ -2398,6 +2767,198 @@ export interface operations {
                     "application/json": {
                         [key: string]: unknown;
                     };
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    getRehearsalRecord: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                digest: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RecordDetail"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    getRehearsalReplay: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                digest: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    getRehearsal: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                rehearsal_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RehearsalOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    injectFault: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                rehearsal_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["FaultIn"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RehearsalOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    chooseOutcome: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                rehearsal_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["OutcomeIn"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RehearsalOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    stopRehearsal: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                rehearsal_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RecordOut"];
                 };
             };
             /** @description Validation Error */
@@ -2497,6 +3058,41 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ApprovalOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    attachRehearsal: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                submission_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["AttachIn"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["SubmissionOut"];
                 };
             };
             /** @description Validation Error */

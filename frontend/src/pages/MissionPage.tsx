@@ -23,12 +23,13 @@ import { Tabs } from "../components/Tabs";
 import { formatDateTime, formatNumber, plural, shortDigest, statusLabel } from "../format";
 import { navigate } from "../navigation";
 import { missionHref } from "../router";
-import { useCan } from "../session";
+import { useCan, useSession } from "../session";
 import { outcomeLetters, traceText } from "../trace";
 import { useLoad } from "../useLoad";
 import { SubmissionPanel } from "./approvals";
+import { RehearsalPanel } from "./RehearsalPage";
 
-const TABS = ["orders", "findings", "paths", "versions", "edit", "editor"] as const;
+const TABS = ["orders", "findings", "paths", "versions", "rehearse", "edit", "editor"] as const;
 
 // The graph editor (React Flow, ELK) is a large module: loaded when an operator opens it.
 const MissionEditor = lazy(() => import("../editor/MissionEditor"));
@@ -40,6 +41,7 @@ function missionPath(id: string) {
 
 export function MissionPage({ id, tab }: { id: string; tab: string }) {
   const canEdit = useCan("editDraft");
+  const canRehearse = ["operator", "supervisor"].includes(useSession().user.role);
   const { data: mission, error, loading, reload } = useLoad(
     async () => unwrap(await api.GET("/api/missions/{mission_id}", missionPath(id))),
     [id],
@@ -78,6 +80,7 @@ export function MissionPage({ id, tab }: { id: string; tab: string }) {
     versions: `Versions (${mission.versions.length})`,
     edit: "Edit orders",
     editor: "Graph editor",
+    rehearse: "Rehearse",
   };
 
   return (
@@ -148,6 +151,7 @@ export function MissionPage({ id, tab }: { id: string; tab: string }) {
         {selected === "findings" && <FindingsTab mission={mission} />}
         {selected === "paths" && <PathsTab mission={mission} />}
         {selected === "versions" && <VersionsTab mission={mission} onChange={reload} />}
+        {selected === "rehearse" && <RehearsalPanel mission={mission} canRehearse={canRehearse} />}
         {selected === "edit" && canEdit && <EditTab mission={mission} onSaved={reload} />}
         {selected === "editor" && canEdit && (
           <Suspense fallback={<Loading what="the graph editor" />}>

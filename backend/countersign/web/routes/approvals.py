@@ -18,6 +18,7 @@ from ...orders.reader import orders_from_data
 from ...orders.writers import write
 from ...store import approvals as service
 from ...store.missions import get_version, report_for
+from ...store.rehearsals import attach, get_record, record_summary
 from ...store.tables import Approval, MissionVersion, SigningKey, Submission, User
 from ...verify.graph import build_graph
 from ...verify.paths import count_paths, iter_paths
@@ -97,12 +98,23 @@ class EnvelopeIn(RequestBody):
                           description="the DSSE envelope as JSON text, stored verbatim")
 
 
+class SubmitIn(RequestBody):
+    rehearsal: str | None = Field(default=None, pattern=r"^sha256:[0-9a-f]{64}$",
+                                  description="digest of a stored rehearsal record of this "
+                                  "exact version, cited by the approval statement")
+
+
+class AttachIn(RequestBody):
+    rehearsal: str = Field(pattern=r"^sha256:[0-9a-f]{64}$")
+
+
 class SubmissionOut(BaseModel):
     id: int
     mission: str
     version: int
     digest: str
     state: str
+    rehearsal: str | None = None
     submitted_by: str | None
     submitted_at: datetime
     decided_by: str | None
@@ -152,7 +164,8 @@ def _submission_out(db: Db, submission_id: int) -> SubmissionOut:
                          submitted_by=name(submission.submitted_by),
                          submitted_at=submission.submitted_at,
                          decided_by=name(submission.decided_by),
-                         decided_at=submission.decided_at, reason=submission.reason)
+                         decided_at=submission.decided_at, reason=submission.reason,
+                         rehearsal=submission.rehearsal_digest)
 
 
 # --- keys -----------------------------------------------------------------------------------
@@ -185,10 +198,24 @@ def revoke_key(key_id: Annotated[str, Path(max_length=64)], body: KeyRevokeIn,
 @router.post("/missions/{mission_id}/versions/{number}/submit", operation_id="submitVersion",
              status_code=201, response_model=SubmissionOut, **allow(*OPERATORS))
 def submit_version(mission_id: str, number: RowId, principal: CurrentPrincipal,
-                   db: Db) -> SubmissionOut:
+                   db: Db, body: SubmitIn | None = None) -> SubmissionOut:
     submission = service.submit(db, mission_id=mission_id, number=number,
-                                operator=principal.user)
+                                operator=principal.user,
+                                rehearsal=body.rehearsal if body else None)
     return _submission_out(db, submission.id)
+
+
+@router.post("/submissions/{submission_id}/rehearsal", operation_id="attachRehearsal",
+             response_model=SubmissionOut, **allow(*OPERATORS))
+def attach_rehearsal(submission_id: RowId, body: AttachIn, principal: CurrentPrincipal,
+                     db: Db) -> SubmissionOut:
+    """Cite a stored rehearsal record of exactly the submitted version (409 otherwise);
+    only the submitting operator, only while the submission awaits a decision."""
+    submission = service.get_submission(db, submission_id)
+    if submission.submitted_by != principal.user.id:
+        raise service.Refused("only the operator who submitted it can attach a rehearsal")
+    attach(db, submission=submission, digest=body.rehearsal, actor=principal.user)
+    return _submission_out(db, submission_id)
 
 
 @router.get("/submissions", operation_id="listSubmissions", response_model=list[SubmissionOut],
@@ -363,11 +390,20 @@ def get_approval(approval_id: RowId, db: Db, signer: Signer) -> dict[str, Any]:
         "plain": write(orders, "plain"),
         "findings": report["findings"],
         "paths": report.get("paths"),
-        "rehearsal": None,
+        "rehearsal": _cited_rehearsal(db, approval.submission_id),
         "key": _key_out(db, key).model_dump(mode="json"),
         "checkpoint": service.checkpoint_json(checkpoint),
         "inclusion": proof,
     }
+
+
+def _cited_rehearsal(db: Db, submission_id: int) -> dict[str, Any] | None:
+    digest = db.get_one(Submission, submission_id).rehearsal_digest
+    if digest is None:
+        return None
+    row = get_record(db, digest)
+    return {**record_summary(db, row), "created_at": row.created_at.isoformat(),
+            "record": row.record}
 
 
 @router.get("/log/checkpoint", operation_id="getCheckpoint", **allow(*EVERYONE))

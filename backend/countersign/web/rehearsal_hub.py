@@ -1,0 +1,186 @@
+"""The app's live rehearsals: one RehearsalManager per app process, who owns which rehearsal,
+and the limits (per user and in total).
+
+Live rehearsals are in-process state (a viser server on a loopback port per rehearsal), so
+with several app replicas `/api/rehearsals/*` and `/rehearsal/*` need sticky routing to the
+replica that started the rehearsal; finished records go to the database and are visible from
+every replica."""
+
+from __future__ import annotations
+
+import threading
+from collections import OrderedDict
+from dataclasses import dataclass, field
+from datetime import datetime
+from typing import TYPE_CHECKING
+
+from ..orders.model import Orders
+from ..store.missions import MissionError, NotFound
+from ..store.tables import utcnow
+
+if TYPE_CHECKING:
+    from ..rehearse.manager import Rehearsal, RehearsalManager, RehearsalOptions
+    from ..rehearse.record import RehearsalRecord
+
+MAX_PER_USER = 3
+MAX_TOTAL = 16
+IDLE_TIMEOUT_S = 900
+ENDED_MEMORY = 2000  # ids of ended rehearsals remembered to answer 410 instead of 404
+
+
+class TooManyForUser(MissionError):
+    status = 429
+
+
+class Busy(MissionError):
+    status = 503
+
+
+class Gone(MissionError):
+    status = 410
+
+
+class Stopping(MissionError):
+    status = 409
+
+
+@dataclass
+class Live:
+    rehearsal: Rehearsal
+    user_id: int
+    mission_id: str
+    version: int | None
+    source: str
+    started_at: datetime = field(default_factory=utcnow)
+    sockets: int = 0
+
+
+class RehearsalHub:
+    def __init__(self, *, per_user: int = MAX_PER_USER, total: int = MAX_TOTAL,
+                 idle_timeout_s: float = IDLE_TIMEOUT_S) -> None:
+        self.per_user, self.total, self.idle_timeout_s = per_user, total, idle_timeout_s
+        self._manager: RehearsalManager | None = None
+        self._lock = threading.RLock()
+        self._live: dict[str, Live] = {}
+        self._starting: dict[int, int] = {}
+        self._stopping: set[str] = set()
+        self._ended: OrderedDict[str, str | None] = OrderedDict()
+
+    @property
+    def manager(self) -> RehearsalManager:
+        """The manager, made on first use: an app that never rehearses starts no viser."""
+        if self._manager is None:
+            from ..rehearse.manager import RehearsalManager
+
+            with self._lock:
+                if self._manager is None:
+                    self._manager = RehearsalManager(max_active=self.total,
+                                                     idle_timeout_s=self.idle_timeout_s)
+        return self._manager
+
+    def start(self, orders: Orders, *, user_id: int, mission_id: str, version: int | None,
+              options: RehearsalOptions) -> Live:
+        with self._lock:
+            self._prune()
+            mine = sum(1 for live in self._live.values()
+                       if live.user_id == user_id and live.rehearsal.state != "stopped")
+            mine += self._starting.get(user_id, 0)
+            if mine >= self.per_user:
+                raise TooManyForUser(f"you have {mine} live rehearsals (at most "
+                                     f"{self.per_user}); stop one first")
+            running = sum(1 for live in self._live.values() if live.rehearsal.state != "stopped")
+            if running + sum(self._starting.values()) >= self.total:
+                raise Busy(f"the server runs {self.total} rehearsals already; try again later")
+            self._starting[user_id] = self._starting.get(user_id, 0) + 1
+        try:
+            from ..rehearse.manager import RehearsalLimit
+
+            try:
+                rehearsal = self.manager.start(orders, owner=str(user_id), options=options)
+            except RehearsalLimit as exc:
+                raise Busy(str(exc) or "no rehearsal slot is free; try again later") from None
+            live = Live(rehearsal, user_id, mission_id, version, options.source)
+            with self._lock:
+                self._live[rehearsal.id] = live
+            return live
+        finally:
+            with self._lock:
+                self._starting[user_id] -= 1
+                if not self._starting[user_id]:
+                    del self._starting[user_id]
+
+    def get(self, rehearsal_id: str, *, user_id: int) -> Live:
+        """The caller's rehearsal; NotFound for unknown ids and other users' rehearsals (whose
+        existence is not revealed), Gone for ones stopped and recorded. A rehearsal that
+        stopped itself (idle) is still here, state "stopped", until it is stopped and
+        recorded through the API."""
+        with self._lock:
+            live = self._live.get(rehearsal_id)
+            if live is not None and self.manager.get(rehearsal_id) is None:
+                self._forget(rehearsal_id, None)
+                live = None
+            if live is None:
+                if rehearsal_id in self._ended:
+                    digest = self._ended[rehearsal_id]
+                    raise Gone(f"the rehearsal {rehearsal_id} has ended"
+                               + (f"; its record is {digest}" if digest else ""))
+                raise NotFound(f"no live rehearsal {rehearsal_id!r}")
+            if live.user_id != user_id:
+                raise NotFound(f"no live rehearsal {rehearsal_id!r}")
+            return live
+
+    def stop(self, rehearsal_id: str, *, user_id: int) -> tuple[Live, RehearsalRecord]:
+        """Stop the caller's rehearsal (its viser server and thread) and return its record.
+        It stays known until `recorded()` confirms the record is stored, so that a failed
+        store can be retried; a second stop meanwhile is a conflict."""
+        with self._lock:
+            live = self.get(rehearsal_id, user_id=user_id)
+            if rehearsal_id in self._stopping:
+                raise Stopping(f"the rehearsal {rehearsal_id} is being stopped")
+            self._stopping.add(rehearsal_id)
+        try:
+            record = self.manager.stop(rehearsal_id)
+        except BaseException:
+            with self._lock:
+                self._stopping.discard(rehearsal_id)
+            raise
+        return live, record
+
+    def recorded(self, rehearsal_id: str, digest: str | None) -> None:
+        """The record is stored (digest) or storing it failed (None): forget or retry."""
+        with self._lock:
+            self._stopping.discard(rehearsal_id)
+            if digest is not None:
+                self._forget(rehearsal_id, digest)
+
+    def count(self) -> int:
+        """Running rehearsals (not stopped)."""
+        if self._manager is None:
+            return 0
+        with self._lock:
+            self._prune()
+            return sum(1 for live in self._live.values() if live.rehearsal.state != "stopped")
+
+    def shutdown(self) -> None:
+        with self._lock:
+            for rehearsal_id in list(self._live):
+                self._forget(rehearsal_id, None)
+        if self._manager is not None:
+            self._manager.shutdown()
+
+    def _prune(self) -> None:
+        """Forget rehearsals the manager no longer knows (it keeps the last stopped ones)."""
+        if self._manager is None:
+            return
+        for rehearsal_id in [k for k in self._live if self._manager.get(k) is None]:
+            self._forget(rehearsal_id, None)
+
+    def _forget(self, rehearsal_id: str, digest: str | None) -> None:
+        self._live.pop(rehearsal_id, None)
+        self._remember(rehearsal_id, digest)
+
+    def _remember(self, rehearsal_id: str, digest: str | None) -> None:
+        self._ended[rehearsal_id] = digest
+        self._ended.move_to_end(rehearsal_id)
+        while len(self._ended) > ENDED_MEMORY:
+            self._ended.popitem(last=False)

@@ -1,0 +1,342 @@
+"""Rehearsals: start one in viser, steer it, stop it into a stored record; viser's client and
+websocket through the app (`/rehearsal/{id}/`).
+
+Who may do what: operators and supervisors rehearse; a live rehearsal (its status, outcome and
+fault controls, its viewer and websocket) belongs to the person who started it and nobody else
+(other people's ids answer 404, as unknown ones do). Stored records are read by every role, and
+auditors replay them offline."""
+
+from __future__ import annotations
+
+import hmac
+import logging
+from typing import Annotated, Any, Literal
+from urllib.parse import urlsplit
+
+from fastapi import APIRouter, Path, Query, Request, WebSocket
+from fastapi.concurrency import run_in_threadpool
+from fastapi.responses import RedirectResponse, Response
+from pydantic import BaseModel, Field
+
+from ...orders.reader import orders_from_data
+from ...store import rehearsals as records
+from ...store.accounts import session_user, token_user
+from ...store.db import Database
+from ...store.events import record
+from ...store.missions import Conflict, MissionError, NotFound, get_mission, get_version
+from ...store.tables import User
+from .. import problems
+from ..deps import EVERYONE, SESSION_COOKIE, CurrentPrincipal, Db, TransactionRoute, allow
+from ..rehearsal_hub import Live, RehearsalHub
+from ..viser_proxy import (
+    CLIENT_CSP,
+    REPLAY_CSP,
+    ProxyStats,
+    client_index,
+    open_upstream,
+    relay,
+)
+from .schemas import RequestBody
+
+router = APIRouter(prefix="/api", tags=["rehearsals"], route_class=TransactionRoute)
+viewer = APIRouter(tags=["rehearsals"])
+log = logging.getLogger("countersign.rehearsal")
+
+REHEARSERS = ("operator", "supervisor")
+RehearsalId = Annotated[str, Path(min_length=1, max_length=64, pattern=r"^[A-Za-z0-9_-]+$")]
+RecordDigest = Annotated[str, Path(pattern=r"^sha256:[0-9a-f]{64}$")]
+FaultName = Annotated[str, Field(min_length=1, max_length=40, pattern=r"^[a-z][a-z0-9_]*$")]
+FaultSpecText = Annotated[str, Field(min_length=1, max_length=140,
+                                     pattern=r"^[a-z][a-z0-9_]*(@[A-Za-z0-9_.:-]{1,100})?$")]
+
+
+class Unprocessable(MissionError):
+    status = 422
+
+
+class RehearsalIn(RequestBody):
+    source: Literal["manual", "replay", "tour", "simulate"] = "manual"
+    seed: int = Field(default=0, ge=0, le=2**31 - 1)
+    path_index: int | None = Field(default=None, ge=1, le=2**62,
+                                   description="the traversal path to replay (source replay), "
+                                   "counted from 1 as in /paths")
+    faults: list[FaultSpecText] = Field(default_factory=list, max_length=8,
+                                        description="fault, fault@seconds or fault@goal")
+    speed: float = Field(default=50.0, ge=0.1, le=100_000,
+                         description="simulated seconds per wall second")
+    version: int | None = Field(default=None, ge=1, le=2**31 - 1,
+                                description="the version to rehearse; omitted: the draft")
+
+
+class OutcomeIn(RequestBody):
+    outcome: Literal["succeed", "fail", "violate"]
+
+
+class FaultIn(RequestBody):
+    fault: FaultName
+
+
+class RehearsalOut(BaseModel):
+    id: str
+    mission: str
+    version: int | None
+    orders_digest: str
+    source: str
+    viewer: str
+    status: dict[str, Any]
+
+
+class RecordOut(BaseModel):
+    digest: str
+    mission: str
+    version: int | None
+    orders_digest: str
+    source: str
+    owner: str | None
+    created_at: Any
+    replay_digest: str
+    replay: str
+
+
+class RecordDetail(RecordOut):
+    record: dict[str, Any]
+
+
+def hub_of(request: Request | WebSocket) -> RehearsalHub:
+    hub: RehearsalHub = request.app.state.rehearsals
+    return hub
+
+
+def _out(live: Live) -> RehearsalOut:
+    r = live.rehearsal
+    return RehearsalOut(id=r.id, mission=live.mission_id, version=live.version,
+                        orders_digest=r.orders_digest, source=live.source,
+                        viewer=f"/rehearsal/{r.id}/", status=r.status())
+
+
+@router.post("/missions/{mission_id}/rehearsals", operation_id="startRehearsal",
+             status_code=201, response_model=RehearsalOut, **allow(*REHEARSERS))
+def start_rehearsal(mission_id: str, body: RehearsalIn, request: Request,
+                    principal: CurrentPrincipal, db: Db) -> RehearsalOut:
+    """Start a rehearsal of the draft or of one version; watch it at `viewer`."""
+    mission = get_mission(db, mission_id)
+    if body.version is not None:
+        stored = get_version(db, mission_id, body.version)
+        data, digest = stored.orders, stored.digest
+    else:
+        data, digest = mission.draft, mission.draft_digest
+    orders = orders_from_data(data)
+    from ...rehearse.manager import RehearsalOptions
+
+    options = RehearsalOptions(source=body.source, seed=body.seed, path_index=body.path_index,
+                               faults=tuple(body.faults), speed=body.speed)
+    try:
+        live = hub_of(request).start(orders, user_id=principal.user.id, mission_id=mission_id,
+                                     version=body.version, options=options)
+    except ValueError as exc:
+        raise Unprocessable(f"the rehearsal cannot start: {exc}") from None
+    if live.rehearsal.orders_digest != digest:
+        log.warning("rehearsal %s digests %s, stored %s", live.rehearsal.id,
+                    live.rehearsal.orders_digest, digest)
+    record(db, kind="rehearsal.started", actor=principal.user, mission_id=mission_id,
+           after=live.rehearsal.orders_digest, detail={
+               "rehearsal": live.rehearsal.id, "version": body.version, "source": body.source,
+               "seed": body.seed, "path_index": body.path_index, "faults": body.faults})
+    return _out(live)
+
+
+@router.get("/rehearsals/{rehearsal_id}", operation_id="getRehearsal",
+            response_model=RehearsalOut, **allow(*REHEARSERS))
+def get_rehearsal(rehearsal_id: RehearsalId, request: Request,
+                  principal: CurrentPrincipal) -> RehearsalOut:
+    return _out(hub_of(request).get(rehearsal_id, user_id=principal.user.id))
+
+
+@router.post("/rehearsals/{rehearsal_id}/outcome", operation_id="chooseOutcome",
+             response_model=RehearsalOut, **allow(*REHEARSERS))
+def choose_outcome(rehearsal_id: RehearsalId, body: OutcomeIn, request: Request,
+                   principal: CurrentPrincipal, db: Db) -> RehearsalOut:
+    """End the current goal with this outcome (manual rehearsals)."""
+    live = hub_of(request).get(rehearsal_id, user_id=principal.user.id)
+    goal = live.rehearsal.status().get("current_goal")
+    try:
+        live.rehearsal.choose(body.outcome)
+    except ValueError as exc:
+        raise Conflict(str(exc)) from None
+    record(db, kind="rehearsal.outcome", actor=principal.user, mission_id=live.mission_id,
+           detail={"rehearsal": rehearsal_id, "goal": goal, "outcome": body.outcome})
+    return _out(live)
+
+
+@router.post("/rehearsals/{rehearsal_id}/faults", operation_id="injectFault",
+             response_model=RehearsalOut, **allow(*REHEARSERS))
+def inject_fault(rehearsal_id: RehearsalId, body: FaultIn, request: Request,
+                 principal: CurrentPrincipal, db: Db) -> RehearsalOut:
+    live = hub_of(request).get(rehearsal_id, user_id=principal.user.id)
+    try:
+        live.rehearsal.inject(body.fault)
+    except ValueError as exc:
+        raise Conflict(str(exc)) from None
+    record(db, kind="rehearsal.fault", actor=principal.user, mission_id=live.mission_id,
+           detail={"rehearsal": rehearsal_id, "fault": body.fault})
+    return _out(live)
+
+
+@router.post("/rehearsals/{rehearsal_id}/stop", operation_id="stopRehearsal",
+             response_model=RecordOut, **allow(*REHEARSERS))
+def stop_rehearsal(rehearsal_id: RehearsalId, request: Request, principal: CurrentPrincipal,
+                   db: Db) -> RecordOut:
+    """Stop the rehearsal and store its record and standalone replay."""
+    hub = hub_of(request)
+    live, finished = hub.stop(rehearsal_id, user_id=principal.user.id)
+    try:
+        replay = finished.replay_html() if finished.has_replay else b""
+        row = records.save_record(
+            db, digest=finished.digest, record=finished.to_json(), replay_html=replay,
+            mission_id=live.mission_id, version=live.version,
+            orders_digest=live.rehearsal.orders_digest, source=live.source,
+            owner=principal.user, rehearsal_id=rehearsal_id)
+        out = RecordOut(**records.record_summary(db, row))
+        db.commit()  # stored before the rehearsal is forgotten: a failure here can be retried
+    except BaseException:
+        hub.recorded(rehearsal_id, None)
+        raise
+    hub.recorded(rehearsal_id, finished.digest)
+    return out
+
+
+@router.get("/missions/{mission_id}/rehearsal-records", operation_id="listRehearsalRecords",
+            response_model=list[RecordOut], **allow(*EVERYONE))
+def list_rehearsal_records(mission_id: str, db: Db,
+                           limit: Annotated[int, Query(ge=1, le=200)] = 50) -> list[RecordOut]:
+    get_mission(db, mission_id)
+    return [RecordOut(**records.record_summary(db, r))
+            for r in records.list_records(db, mission_id=mission_id, limit=limit)]
+
+
+@router.get("/rehearsal-records/{digest}", operation_id="getRehearsalRecord",
+            response_model=RecordDetail, **allow(*EVERYONE))
+def get_rehearsal_record(digest: RecordDigest, db: Db) -> RecordDetail:
+    row = records.get_record(db, digest)
+    return RecordDetail(**records.record_summary(db, row), record=row.record)
+
+
+@router.get("/rehearsal-records/{digest}/replay.html", operation_id="getRehearsalReplay",
+            response_class=Response, **allow(*EVERYONE))
+def get_rehearsal_replay(digest: RecordDigest, db: Db) -> Response:
+    """viser's standalone replay of the rehearsal (self-contained HTML; works offline)."""
+    row = records.get_record(db, digest, with_replay=True)
+    if not row.replay_html:
+        raise NotFound(f"the rehearsal record {digest} has no scene recording")
+    return Response(row.replay_html, media_type="text/html; charset=utf-8", headers={
+        "Content-Security-Policy": REPLAY_CSP, "X-Frame-Options": "SAMEORIGIN",
+        "Content-Disposition": f'inline; filename="rehearsal-{digest[7:19]}.html"'})
+
+
+# --- viser's client and websocket, through the app -------------------------------------------
+
+def _viewer_user(database: Database, cookie: str | None, bearer: str | None) -> User | None:
+    with database.session(write=False) as db:
+        if bearer:
+            return token_user(db, bearer)
+        found = session_user(db, cookie) if cookie else None
+        return found[0] if found else None
+
+
+def _bearer(headers: Any) -> str | None:
+    value = str(headers.get("authorization", ""))
+    return value[7:].strip() if value.lower().startswith("bearer ") else None
+
+
+def _origin_ok(origin: str | None, host: str | None, *, cookie_auth: bool) -> bool:
+    """Cookie sessions need the browser's Origin to be this app (no cross-site websocket
+    hijacking); a bearer token carries no ambient authority, but a foreign Origin is refused."""
+    if origin is None:
+        return not cookie_auth
+    if not host:
+        return False
+    netloc = urlsplit(origin).netloc
+    return bool(netloc) and hmac.compare_digest(netloc.lower().encode(), host.lower().encode())
+
+
+def _authorize(database: Database, hub: RehearsalHub, rehearsal_id: str, cookie: str | None,
+               bearer: str | None) -> tuple[int, str] | Live:
+    user = _viewer_user(database, cookie, bearer)
+    if user is None:
+        return 401, "sign in first"
+    if user.role not in REHEARSERS:
+        return 403, f"the {user.role} role may not watch live rehearsals"
+    try:
+        return hub.get(rehearsal_id, user_id=user.id)
+    except MissionError as exc:
+        return exc.status, str(exc)
+
+
+@viewer.get("/rehearsal/{rehearsal_id}", include_in_schema=False)
+def viewer_redirect(rehearsal_id: RehearsalId) -> Response:
+    return RedirectResponse(f"/rehearsal/{rehearsal_id}/", status_code=308)
+
+
+@viewer.get("/rehearsal/{rehearsal_id}/", include_in_schema=False)
+def viewer_page(rehearsal_id: RehearsalId, request: Request) -> Response:
+    """viser's bundled client for the caller's live rehearsal."""
+    checked = _authorize(request.app.state.database, hub_of(request), rehearsal_id,
+                         request.cookies.get(SESSION_COOKIE), _bearer(request.headers))
+    if not isinstance(checked, Live):
+        return problems.problem(checked[0], checked[1], request)
+    return Response(client_index(), media_type="text/html; charset=utf-8", headers={
+        "Content-Security-Policy": CLIENT_CSP, "X-Frame-Options": "SAMEORIGIN",
+        "Cache-Control": "no-store"})
+
+
+@viewer.get("/rehearsal/{rehearsal_id}/{rest:path}", include_in_schema=False)
+def viewer_other(rehearsal_id: RehearsalId, rest: str, request: Request) -> Response:
+    return problems.problem(404, "viser's client is one file; nothing else is served here",
+                            request)
+
+
+@viewer.websocket("/rehearsal/{rehearsal_id}")
+async def viewer_socket(websocket: WebSocket, rehearsal_id: str) -> None:
+    """viser's websocket, after the session (cookie or bearer token), the Origin and the
+    ownership of the rehearsal are checked; refused before the upgrade otherwise."""
+    hub = hub_of(websocket)
+    cookie, bearer = websocket.cookies.get(SESSION_COOKIE), _bearer(websocket.headers)
+    if not _origin_ok(websocket.headers.get("origin"), websocket.headers.get("host"),
+                      cookie_auth=bearer is None):
+        await _deny(websocket, 403, "the websocket's Origin is not this app")
+        return
+    if len(rehearsal_id) > 64 or not rehearsal_id.replace("-", "").replace("_", "").isalnum():
+        await _deny(websocket, 404, "no such rehearsal")
+        return
+    checked = await run_in_threadpool(_authorize, websocket.app.state.database, hub,
+                                      rehearsal_id, cookie, bearer)
+    if not isinstance(checked, Live):
+        await _deny(websocket, checked[0], checked[1])
+        return
+    try:
+        upstream = await open_upstream(checked.rehearsal.port,
+                                       list(websocket.scope.get("subprotocols", [])))
+    except OSError as exc:
+        log.info("rehearsal %s: viser not reachable: %s", rehearsal_id, exc)
+        await _deny(websocket, 410, f"the rehearsal {rehearsal_id} has ended")
+        return
+    await websocket.accept(subprotocol=upstream.subprotocol)
+    stats = ProxyStats()
+    checked.sockets += 1
+    proxied: list[ProxyStats] = websocket.app.state.rehearsal_proxies
+    proxied.append(stats)
+    del proxied[:-200]
+    try:
+        await relay(websocket, upstream, stats)
+    finally:
+        checked.sockets -= 1
+
+
+async def _deny(websocket: WebSocket, status: int, detail: str) -> None:
+    """Refuse the upgrade with an HTTP problem (or close, on servers without denial
+    responses, which clients see as 403)."""
+    try:
+        await websocket.send_denial_response(problems.problem(status, detail))
+    except RuntimeError:
+        await websocket.close(code=1008, reason=detail[:120])
+

@@ -1,0 +1,428 @@
+/**
+ * The rehearsal view (issue 8): start a rehearsal of the draft or a version, watch it in viser
+ * (served by the app at /rehearsal/{id}/, its websocket proxied after the session check) beside
+ * the mission graph with the current goal highlighted, choose outcomes, inject faults, stop it
+ * into a stored record, and open the records' standalone replays.
+ */
+import { useCallback, useEffect, useState } from "react";
+
+import { api, ApiError, type MissionDetail, type paths, unwrap } from "../api/client";
+import { ErrorMessage, Loading, Notice } from "../components/Status";
+import { goals, OUTCOME_LABEL, OUTCOMES, type Orders, type Outcome, startIds, successors, terminals } from "../editor/graph";
+import { formatDateTime, shortDigest } from "../format";
+import { useLoad } from "../useLoad";
+
+type JsonBody<R> = R extends { content: { "application/json": infer T } } ? T : never;
+type Started = JsonBody<paths["/api/missions/{mission_id}/rehearsals"]["post"]["responses"][201]>;
+type RecordList = JsonBody<paths["/api/missions/{mission_id}/rehearsal-records"]["get"]["responses"][200]>;
+type Source = "manual" | "replay" | "tour" | "simulate";
+
+const SOURCES: { value: Source; label: string }[] = [
+  { value: "manual", label: "Chosen step by step" },
+  { value: "replay", label: "Replay one traversal path" },
+  { value: "tour", label: "Tour of all paths" },
+  { value: "simulate", label: "Decided by the simulation" },
+];
+const FAULTS: { value: string; label: string }[] = [
+  { value: "gps_loss", label: "GPS loss" },
+  { value: "nav_drift", label: "Navigation drift" },
+  { value: "leak", label: "Leak" },
+  { value: "low_energy", label: "Low energy" },
+  { value: "contact_close", label: "Contact closing inside 1,000 m" },
+];
+const STATE_LABEL: Record<string, string> = {
+  running: "Running",
+  waiting_for_outcome: "Waiting for the outcome",
+  finished: "Finished",
+  stopped: "Stopped (idle); stop it to record it",
+};
+const POLL_MS = 1000;
+
+function str(value: unknown): string | null {
+  return typeof value === "string" ? value : null;
+}
+
+interface CurrentGoal {
+  id: string;
+  title?: string;
+  progress?: number;
+}
+
+function currentGoalOf(status: Record<string, unknown> | undefined): CurrentGoal | null {
+  const goal = status?.current_goal;
+  if (goal && typeof goal === "object" && "id" in goal && typeof goal.id === "string") {
+    return goal as CurrentGoal;
+  }
+  return null;
+}
+
+export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetail; canRehearse: boolean }) {
+  const [live, setLive] = useState<Started | null>(null);
+  const [error, setError] = useState<unknown>(null);
+  const [busy, setBusy] = useState(false);
+  const records = useLoad(
+    async () =>
+      unwrap(
+        await api.GET("/api/missions/{mission_id}/rehearsal-records", {
+          params: { path: { mission_id: mission.id } },
+        }),
+      ) as RecordList,
+    [mission.id],
+  );
+
+  // Poll the live rehearsal's status while it runs.
+  const liveId = live?.id;
+  useEffect(() => {
+    if (!liveId) return;
+    let stopped = false;
+    const timer = window.setInterval(() => {
+      void api.GET("/api/rehearsals/{rehearsal_id}", { params: { path: { rehearsal_id: liveId } } }).then(
+        ({ data, response }) => {
+          if (stopped) return;
+          if (data) setLive(data);
+          else if (response.status === 404 || response.status === 410) {
+            setLive(null);
+            setError("The rehearsal has ended (stopped elsewhere or idle too long).");
+          }
+        },
+        () => undefined,
+      );
+    }, POLL_MS);
+    return () => {
+      stopped = true;
+      window.clearInterval(timer);
+    };
+  }, [liveId]);
+
+  const act = useCallback(async (work: () => Promise<void>) => {
+    setBusy(true);
+    setError(null);
+    try {
+      await work();
+    } catch (e) {
+      setError(e);
+    } finally {
+      setBusy(false);
+    }
+  }, []);
+
+  const state = str(live?.status.state);
+  const current = currentGoalOf(live?.status);
+  const currentGoal = current?.id ?? null;
+  const finished = state === "finished" || state === "stopped";
+  const waiting = state === "waiting_for_outcome";
+  const question = str(live?.status.question);
+  const terminal = str(live?.status.terminal);
+
+  return (
+    <>
+      <h2>Rehearsal</h2>
+      <ErrorMessage error={error} />
+      {!live && canRehearse && (
+        <StartForm
+          mission={mission}
+          busy={busy}
+          onStart={(body) =>
+            act(async () => {
+              setLive(
+                unwrap(
+                  await api.POST("/api/missions/{mission_id}/rehearsals", {
+                    params: { path: { mission_id: mission.id } },
+                    body,
+                  }),
+                ),
+              );
+            })
+          }
+        />
+      )}
+      {!live && !canRehearse && <Notice>Your role may read rehearsal records but not rehearse.</Notice>}
+      {live && (
+        <div className="rehearsal" data-testid="rehearsal">
+          <div className="rehearsal-controls">
+            <p role="status" aria-live="polite" data-testid="rehearsal-status">
+              <strong data-testid="rehearsal-state">{STATE_LABEL[state ?? ""] ?? state ?? "Starting"}</strong>
+              {current ? (
+                <>
+                  {" "}
+                  · goal <span data-testid="current-goal">{current.title || current.id}</span>
+                  {typeof current.progress === "number" && ` (${Math.round(current.progress * 100)}%)`}
+                </>
+              ) : null}
+              {terminal ? ` · ended at ${terminal}` : null}
+              {" "}· step <span data-testid="rehearsal-step">{String(live.status.step ?? 0)}</span>
+              {typeof live.status.energy_wh === "number" && ` · ${live.status.energy_wh.toFixed(1)} Wh`}
+            </p>
+            {live.source === "manual" && waiting && question && <p className="question">{question}</p>}
+            {live.source === "manual" && (
+              <div className="button-row" role="group" aria-label="Outcome of the current goal">
+                {OUTCOMES.map((o) => (
+                  <button
+                    key={o}
+                    type="button"
+                    disabled={busy || !waiting}
+                    data-testid={`outcome-${o}`}
+                    onClick={() =>
+                      void act(async () => {
+                        setLive(
+                          unwrap(
+                            await api.POST("/api/rehearsals/{rehearsal_id}/outcome", {
+                              params: { path: { rehearsal_id: live.id } },
+                              body: { outcome: o },
+                            }),
+                          ),
+                        );
+                      })
+                    }
+                  >
+                    {OUTCOME_LABEL[o]}
+                  </button>
+                ))}
+              </div>
+            )}
+            <div className="button-row" role="group" aria-label="Inject a fault">
+              {FAULTS.map((f) => (
+                <button
+                  key={f.value}
+                  type="button"
+                  className="secondary"
+                  disabled={busy || finished}
+                  onClick={() =>
+                    void act(async () => {
+                      setLive(
+                        unwrap(
+                          await api.POST("/api/rehearsals/{rehearsal_id}/faults", {
+                            params: { path: { rehearsal_id: live.id } },
+                            body: { fault: f.value },
+                          }),
+                        ),
+                      );
+                    })
+                  }
+                >
+                  {f.label}
+                </button>
+              ))}
+            </div>
+            <button
+              type="button"
+              disabled={busy}
+              data-testid="stop-rehearsal"
+              onClick={() =>
+                void act(async () => {
+                  await unwrap(
+                    await api.POST("/api/rehearsals/{rehearsal_id}/stop", {
+                      params: { path: { rehearsal_id: live.id } },
+                    }),
+                  );
+                  setLive(null);
+                  records.reload();
+                })
+              }
+            >
+              Stop and record
+            </button>
+          </div>
+          <div className="rehearsal-views">
+            <iframe
+              title="3D rehearsal (viser)"
+              src={live.viewer}
+              className="viser-frame"
+              data-testid="viser-frame"
+              allow="fullscreen"
+            />
+            <MissionGraph orders={mission.orders as Orders} current={currentGoal} visited={outcomeGoals(live.status)} />
+          </div>
+        </div>
+      )}
+      <h3>Records</h3>
+      {records.loading && !records.data ? (
+        <Loading what="the rehearsal records" />
+      ) : records.data && records.data.length > 0 ? (
+        <ul className="records" data-testid="rehearsal-records">
+          {records.data.map((r) => (
+            <li key={r.digest}>
+              <code title={r.digest}>{shortDigest(r.digest)}</code> · {r.source}
+              {r.version ? ` · version ${r.version}` : " · draft"} · {r.owner ?? "—"} ·{" "}
+              <time dateTime={String(r.created_at)}>{formatDateTime(String(r.created_at))}</time> ·{" "}
+              <a href={r.replay} target="_blank" rel="noopener">
+                Replay
+              </a>{" "}
+              · <a href={`/api/rehearsal-records/${encodeURIComponent(r.digest)}`}>Record (JSON)</a>
+            </li>
+          ))}
+        </ul>
+      ) : (
+        <p className="empty">No rehearsal has been recorded for this mission yet.</p>
+      )}
+      {records.error instanceof ApiError && <ErrorMessage error={records.error} />}
+    </>
+  );
+}
+
+function outcomeGoals(status: Record<string, unknown>): Set<string> {
+  const seen = new Set<string>();
+  const outcomes = status.outcomes;
+  if (Array.isArray(outcomes)) {
+    for (const o of outcomes) {
+      if (o && typeof o === "object" && "goal" in o && typeof o.goal === "string") seen.add(o.goal);
+    }
+  }
+  return seen;
+}
+
+type StartBody = {
+  source: Source;
+  seed: number;
+  speed: number;
+  path_index?: number | null;
+  faults: string[];
+  version?: number | null;
+};
+
+function StartForm({
+  mission,
+  busy,
+  onStart,
+}: {
+  mission: MissionDetail;
+  busy: boolean;
+  onStart: (body: StartBody) => void;
+}) {
+  const [source, setSource] = useState<Source>("manual");
+  const [seed, setSeed] = useState(0);
+  const [speed, setSpeed] = useState(50);
+  const [pathIndex, setPathIndex] = useState(1);
+  const [version, setVersion] = useState<string>("");
+  const [faults, setFaults] = useState<string[]>([]);
+  return (
+    <form
+      className="rehearsal-start"
+      onSubmit={(event) => {
+        event.preventDefault();
+        onStart({
+          source,
+          seed,
+          speed,
+          path_index: source === "replay" ? pathIndex : null,
+          faults,
+          version: version ? Number(version) : null,
+        });
+      }}
+    >
+      <label>
+        Orders
+        <select value={version} onChange={(e) => setVersion(e.target.value)} data-testid="rehearsal-version">
+          <option value="">Current draft</option>
+          {mission.versions.map((v) => (
+            <option key={v.number} value={String(v.number)}>
+              Version {v.number}
+            </option>
+          ))}
+        </select>
+      </label>
+      <label>
+        Outcomes
+        <select value={source} onChange={(e) => setSource(e.target.value as Source)} data-testid="rehearsal-source">
+          {SOURCES.map((s) => (
+            <option key={s.value} value={s.value}>
+              {s.label}
+            </option>
+          ))}
+        </select>
+      </label>
+      {source === "replay" && (
+        <label>
+          Path number
+          <input type="number" min={1} value={pathIndex} onChange={(e) => setPathIndex(Number(e.target.value) || 1)} />
+        </label>
+      )}
+      <label>
+        Seed
+        <input type="number" min={0} value={seed} onChange={(e) => setSeed(Number(e.target.value) || 0)} />
+      </label>
+      <label>
+        Speed (× real time)
+        <input
+          type="number"
+          min={0.1}
+          max={100000}
+          step="any"
+          value={speed}
+          onChange={(e) => setSpeed(Number(e.target.value) || 50)}
+          data-testid="rehearsal-speed"
+        />
+      </label>
+      {source === "simulate" && (
+        <fieldset>
+          <legend>Faults from the start</legend>
+          {FAULTS.map((f) => (
+            <label key={f.value} className="inline">
+              <input
+                type="checkbox"
+                checked={faults.includes(f.value)}
+                onChange={(e) =>
+                  setFaults(e.target.checked ? [...faults, f.value] : faults.filter((x) => x !== f.value))
+                }
+              />{" "}
+              {f.label}
+            </label>
+          ))}
+        </fieldset>
+      )}
+      <button type="submit" disabled={busy} data-testid="start-rehearsal">
+        Start rehearsal
+      </button>
+    </form>
+  );
+}
+
+/** The mission graph as goal cards in order of first reach, the current goal highlighted. */
+function MissionGraph({ orders, current, visited }: { orders: Orders; current: string | null; visited: Set<string> }) {
+  const all = goals(orders);
+  const ids = new Set(all.map((g) => g.id));
+  const order: string[] = [];
+  const queue = [...startIds(orders)];
+  while (queue.length) {
+    const id = queue.shift()!;
+    if (!ids.has(id) || order.includes(id)) continue;
+    order.push(id);
+    const goal = all.find((g) => g.id === id);
+    if (goal) for (const o of OUTCOMES) queue.push(...successors(goal, o));
+  }
+  for (const g of all) if (!order.includes(g.id)) order.push(g.id);
+  const ends = new Map(terminals(orders).map((t) => [t.id, t]));
+  return (
+    <ol className="rehearsal-graph" aria-label="Mission graph" data-testid="rehearsal-graph">
+      {order.map((id) => {
+        const goal = all.find((g) => g.id === id)!;
+        const isCurrent = id === current;
+        return (
+          <li
+            key={id}
+            className={isCurrent ? "goal current" : visited.has(id) ? "goal visited" : "goal"}
+            aria-current={isCurrent ? "step" : undefined}
+            data-testid={isCurrent ? "graph-current" : undefined}
+          >
+            <strong>{goal.title || id}</strong> <code>{id}</code>
+            <ul>
+              {OUTCOMES.map((o: Outcome) => {
+                const targets = successors(goal, o);
+                return (
+                  <li key={o} className={`edge edge-${o}`}>
+                    {OUTCOME_LABEL[o].split(" ")[0]} →{" "}
+                    {targets.length
+                      ? targets.map((t) => (ends.has(t) ? `${t} (${ends.get(t)!.kind})` : t)).join(", ")
+                      : "—"}
+                  </li>
+                );
+              })}
+            </ul>
+          </li>
+        );
+      })}
+    </ol>
+  );
+}
+
+export default RehearsalPanel;

@@ -1,0 +1,74 @@
+"""The rehearsal view in a real browser: an operator starts a rehearsal, viser's scene loads
+through the app's proxy (the iframe at /rehearsal/{id}/, its websocket checked and relayed),
+shows something (a screenshot that is not blank), an outcome click advances the rehearsal, and
+stopping it lists the record with its replay."""
+
+from __future__ import annotations
+
+import re
+from statistics import pvariance
+
+import pytest
+from playwright.sync_api import Page, expect
+
+from .conftest import Server
+from .test_roles import sign_in
+
+
+def test_operator_rehearses_in_the_browser(page: Page, server: Server, seeded_mission: str,
+                                           tmp_path_factory: pytest.TempPathFactory) -> None:
+    del server
+    sign_in(page, "operator")
+    page.goto(f"/missions/{seeded_mission}?tab=rehearse")
+    expect(page.get_by_role("tab", name="Rehearse")).to_have_attribute("aria-selected", "true")
+    page.get_by_test_id("rehearsal-speed").fill("5000")
+    page.get_by_test_id("start-rehearsal").click()
+
+    frame = page.get_by_test_id("viser-frame")
+    # Generous timeouts: starting a viser server and the simulation on a loaded machine.
+    expect(frame).to_be_visible(timeout=60_000)
+    expect(frame).to_have_attribute("src", re.compile(r"^/rehearsal/[A-Za-z0-9_-]+/$"))
+    viewer = page.frame_locator('[data-testid="viser-frame"]')
+    expect(viewer.locator("canvas").first).to_be_visible(timeout=30_000)
+    # The scene is drawn once the websocket is through: viser's GUI shows the outcome buttons.
+    expect(viewer.get_by_role("button", name="Succeed")).to_be_visible(timeout=30_000)
+
+    expect(page.get_by_test_id("rehearsal-state")).to_have_text("Waiting for the outcome",
+                                                                 timeout=60_000)
+    # The first goal of the exemplar is current, in the status line and in the graph.
+    expect(page.get_by_test_id("current-goal")).to_have_text(re.compile("Search Area A"),
+                                                              timeout=30_000)
+    expect(page.get_by_test_id("graph-current")).to_contain_text("G1")
+
+    shots = tmp_path_factory.getbasetemp() / "artifacts"
+    shots.mkdir(exist_ok=True)
+    shot = shots / "rehearsal-scene.png"
+    page.wait_for_timeout(1500)  # let the renderer draw a few frames
+    messages: list[str] = []
+    page.on("console", lambda m: messages.append(f"{m.type}: {m.text}"))
+    frame.screenshot(path=str(shot), timeout=90_000)  # software WebGL on a busy machine
+    print(f"rehearsal screenshot: {shot}")
+    from PIL import Image
+
+    with Image.open(shot) as image:
+        # The 3D view only: left of viser's GUI panel, below its notifications.
+        width, height = image.size
+        scene = image.convert("L").crop((0, int(height * 0.35), int(width * 0.55),
+                                         int(height * 0.95))).resize((120, 80))
+        grey = [scene.getpixel((x, y)) for y in range(80) for x in range(120)]
+    assert pvariance(grey) > 50, f"the scene looks blank (variance {pvariance(grey):.1f})"
+
+    page.get_by_test_id("outcome-succeed").click()
+    expect(page.get_by_test_id("rehearsal-step")).to_have_text("1", timeout=30_000)
+    expect(page.get_by_test_id("graph-current")).to_contain_text("G2", timeout=30_000)
+
+    page.get_by_test_id("stop-rehearsal").click()
+    records = page.get_by_test_id("rehearsal-records")
+    expect(records.get_by_role("link", name="Replay")).to_have_count(1, timeout=30_000)
+    expect(page.get_by_test_id("viser-frame")).to_have_count(0)
+
+    # The stored replay plays offline: viser's standalone page, sandboxed, draws the scene.
+    href = records.get_by_role("link", name="Replay").get_attribute("href")
+    assert href and href.endswith("/replay.html")
+    page.goto(href)
+    expect(page.locator("canvas").first).to_be_visible(timeout=30_000)
