@@ -326,6 +326,14 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     setEdges((es) => es.map((e) => ({ ...e, selected: false })));
   }, []);
 
+  // Zoom to fit once the nodes carry their new positions (after an auto layout).
+  const fitPending = useRef(false);
+  useEffect(() => {
+    if (!fitPending.current) return;
+    fitPending.current = false;
+    window.requestAnimationFrame(() => void flow.fitView({ padding: 0.15 }));
+  }, [nodes, flow]);
+
   // Select what was just added once its node exists (the inspector then shows it).
   useEffect(() => {
     const wanted = selectNext.current;
@@ -418,8 +426,8 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   };
   const relayout = async () => {
     const layout = await autoLayout(latest.current.orders);
+    fitPending.current = true;
     edit((d) => ({ ...d, layout }));
-    window.requestAnimationFrame(() => void flow.fitView({ padding: 0.15 }));
   };
   const doUndo = () => {
     dirty.current = true;

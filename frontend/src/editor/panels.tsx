@@ -62,7 +62,7 @@ export function MarkerBadge({ markers, id }: { markers: Markers; id: string }) {
 
 export function MissionPanel({ orders, editOrders }: { orders: Orders; editOrders: EditOrders }) {
   return (
-    <fieldset className="inspector">
+    <fieldset className="panel-box">
       <legend>Mission</legend>
       <label htmlFor="mission-id">Mission id</label>
       <input id="mission-id" value={orders.id} readOnly aria-readonly="true" />
@@ -293,7 +293,7 @@ function AreaEditor({
   const id = area.id;
   const polygon = area.polygon ?? [];
   return (
-    <fieldset className="inspector">
+    <fieldset className="panel-box">
       <legend>
         Area <code>{id}</code>
       </legend>
@@ -514,7 +514,7 @@ export function VehiclePanel({ orders, editOrders, markers }: { orders: Orders; 
       <h3 id="vehicle-title">
         Vehicle profile <MarkerBadge markers={markers} id={id} />
       </h3>
-      <fieldset className="inspector">
+      <fieldset className="panel-box">
         <legend>
           Vehicle <code>{id}</code>
         </legend>
@@ -570,7 +570,7 @@ export function VehiclePanel({ orders, editOrders, markers }: { orders: Orders; 
       </fieldset>
       <h4>Features</h4>
       {(v.features ?? []).map((f) => (
-        <fieldset key={f.id} className="inspector feature">
+        <fieldset key={f.id} className="panel-box feature">
           <legend>
             Feature <code>{f.id}</code>
           </legend>
@@ -631,7 +631,7 @@ export function NormsPanel({ orders, editOrders, markers, known }: { orders: Ord
       {list.map((n) => {
         const kind = normKind(n);
         return (
-          <fieldset key={n.id} className="inspector">
+          <fieldset key={n.id} className="panel-box">
             <legend>
               Norm <code>{n.id}</code> <MarkerBadge markers={markers} id={n.id} />
             </legend>
