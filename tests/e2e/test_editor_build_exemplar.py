@@ -261,14 +261,13 @@ def test_operator_builds_the_exemplar_by_mouse_and_keyboard(own_page: Page) -> N
     # ---- Wiring: mouse drags and inspector selects, with a planted loop and orphan ----
     page.get_by_role("button", name="Auto layout").click()
     saved(page)
-    drag_connect(page, "G1", "succeed", "G2")
-    drag_connect(page, "G1", "fail", "G3")
-    drag_connect(page, "G2", "succeed", "G3")
-    drag_connect(page, "G3", "succeed", "G1")  # planted loop
-    drag_connect(page, "G4", "succeed", "G5")
-    drag_connect(page, "G5", "succeed", "COMPLETE")
-    expect(edge(page, "G3", "succeed", "G1")).to_have_count(1)
-    expect(edge(page, "G5", "succeed", "COMPLETE")).to_have_count(1)
+    for source, outcome, target in [
+        ("G1", "succeed", "G2"), ("G1", "fail", "G3"), ("G2", "succeed", "G3"),
+        ("G3", "succeed", "G1"),  # planted loop
+        ("G4", "succeed", "G5"), ("G5", "succeed", "COMPLETE"),
+    ]:
+        drag_connect(page, source, outcome, target)
+        expect(edge(page, source, outcome, target)).to_have_count(1)
     for goal, outcome, target in [
         ("G1", "violate", "G5"),  # planted: G4 is then reachable from nowhere
         ("G2", "fail", "G5"), ("G2", "violate", "G5"),

@@ -88,6 +88,8 @@ const PANELS = [
   { id: "plain", label: "Plain orders" },
 ];
 const CLIP_KEY = "countersign.editor.clipboard";
+/** Above this many goals the canvas renders only what is in view and opens at the start goal. */
+const LARGE_GOALS = 200;
 const COLOURS: Record<Outcome, string> = { succeed: "#1a7f37", fail: "#c25e00", violate: "#c9202c" };
 
 export default function MissionEditor(props: { mission: MissionDetail; onSaved: () => void }) {
@@ -210,22 +212,23 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   );
 
   // Lay out a draft that has no positions yet (new or imported), without an undo step.
+  // Small orders open fitted to the canvas; large ones open at the start goal at a readable
+  // zoom, so that only the nodes in view are rendered (the toolbar's "Zoom to fit" shows all).
   const laidOut = useRef(false);
+  const large = useRef(goals(mission.orders as Orders).length > LARGE_GOALS);
+  const openView = useRef(false);
   const [ready, setReady] = useState(false);
   useEffect(() => {
     if (laidOut.current) return;
     laidOut.current = true;
     const ids = [...goals(orders).map((g) => g.id), ...terminals(orders).map((t) => t.id)];
     if (ids.length > 0 && ids.every((id) => draft.layout[id])) {
-      setReady(true);
+      openView.current = true;
       return;
     }
     void autoLayout(orders).then((layout) => {
+      openView.current = true;
       setHistory((h) => reset({ ...h.present, layout: { ...layout, ...h.present.layout } }));
-      window.requestAnimationFrame(() => {
-        void flow.fitView({ padding: 0.15 });
-        setReady(true);
-      });
     });
   }, [orders, draft.layout, flow]);
 
@@ -308,7 +311,6 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
               lit ? "; on the highlighted path" : ""
             }`,
             selected: selected.has(e.id),
-            zIndex: lit ? 10 : mark ? 5 : 0,
           };
         });
     });
@@ -329,6 +331,16 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   // Zoom to fit once the nodes carry their new positions (after an auto layout).
   const fitPending = useRef(false);
   useEffect(() => {
+    if (openView.current && nodes.length > 0) {
+      openView.current = false;
+      const start = nodes.find((n) => n.data.start) ?? nodes[0]!;
+      window.requestAnimationFrame(() => {
+        if (large.current) void flow.setCenter(start.position.x + 300, start.position.y + 150, { zoom: 0.6 });
+        else void flow.fitView({ padding: 0.15 });
+        setReady(true);
+      });
+      return;
+    }
     if (!fitPending.current) return;
     fitPending.current = false;
     window.requestAnimationFrame(() => void flow.fitView({ padding: 0.15 }));
@@ -369,7 +381,8 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
         return;
       }
       setConnectMessage(`Connected ${c.source} ${c.sourceHandle} to ${c.target}.`);
-      editOrders(() => result.orders);
+      // Applied to the newest orders (a previous edit may not have rendered yet).
+      editOrders((o) => connect(o, c.source, c.sourceHandle ?? "", c.target).orders);
     },
     [editOrders],
   );
@@ -425,7 +438,11 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     });
   };
   const relayout = async () => {
-    const layout = await autoLayout(latest.current.orders);
+    const sizes: Record<string, { width: number; height: number }> = {};
+    for (const n of flow.getNodes()) {
+      if (n.measured?.width && n.measured.height) sizes[n.id] = { width: n.measured.width, height: n.measured.height };
+    }
+    const layout = await autoLayout(latest.current.orders, sizes);
     fitPending.current = true;
     edit((d) => ({ ...d, layout }));
   };
@@ -627,8 +644,8 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
             onNodeDragStop={onNodeDragStop}
             deleteKeyCode={null}
             minZoom={0.05}
-            fitView
-            onlyRenderVisibleElements={nodes.length > 200}
+            fitView={!large.current}
+            onlyRenderVisibleElements={nodes.length > LARGE_GOALS}
             proOptions={{ hideAttribution: true }}
           >
             <Background />
