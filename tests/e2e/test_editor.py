@@ -68,6 +68,7 @@ def test_operator_builds_checks_fixes_and_undoes(page: Page, server: Server) -> 
         expect(page.get_by_test_id(f"node-G{number}")).to_contain_text(title)
     expect(page.get_by_test_id("node-G1")).to_contain_text("start")
     page.get_by_role("button", name="Auto layout").click()
+    expect(canvas).to_have_attribute("data-ready", "true")
     expect(page.get_by_test_id("save-state")).to_have_text("Saved")
 
     # Mouse: drag outcome handles to their successors.
@@ -123,6 +124,7 @@ def test_operator_builds_checks_fixes_and_undoes(page: Page, server: Server) -> 
     expect(edge(page, "G3", "succeed", "COMPLETE")).to_have_count(1)
     expect(page.get_by_test_id("save-state")).to_have_text("Saved")
     expect(page.get_by_test_id("editor-verdict")).to_contain_text("Valid: 0 errors")
+    page.get_by_role("tab", name="Plain orders").click()
     expect(page.get_by_test_id("editor-plain")).to_contain_text("Search Area B")
 
     # The server holds those orders, and they validate; positions live in the layout.

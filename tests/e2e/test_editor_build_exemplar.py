@@ -260,6 +260,7 @@ def test_operator_builds_the_exemplar_by_mouse_and_keyboard(own_page: Page) -> N
 
     # ---- Wiring: mouse drags and inspector selects, with a planted loop and orphan ----
     page.get_by_role("button", name="Auto layout").click()
+    expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
     saved(page)
     for source, outcome, target in [
         ("G1", "succeed", "G2"), ("G1", "fail", "G3"), ("G2", "succeed", "G3"),

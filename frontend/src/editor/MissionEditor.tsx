@@ -343,7 +343,10 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     }
     if (!fitPending.current) return;
     fitPending.current = false;
-    window.requestAnimationFrame(() => void flow.fitView({ padding: 0.15 }));
+    window.requestAnimationFrame(() => {
+      void flow.fitView({ padding: 0.15 });
+      setReady(true);
+    });
   }, [nodes, flow]);
 
   // Select what was just added once its node exists (the inspector then shows it).
@@ -438,6 +441,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     });
   };
   const relayout = async () => {
+    setReady(false); // the canvas says when the new positions are shown (tests wait for it)
     const sizes: Record<string, { width: number; height: number }> = {};
     for (const n of flow.getNodes()) {
       if (n.measured?.width && n.measured.height) sizes[n.id] = { width: n.measured.width, height: n.measured.height };
