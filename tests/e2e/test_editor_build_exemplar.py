@@ -350,7 +350,7 @@ def test_operator_builds_the_exemplar_by_mouse_and_keyboard(own_page: Page) -> N
     saved(page)
 
     # ---- Paths explorer: counts, the list, one path highlighted with its trace ----
-    panel(page, "Paths")
+    panel(page, "Path explorer")
     expect(page.get_by_test_id("paths-counts")).to_contain_text("75 paths")
     expect(page.get_by_test_id("paths-counts")).to_contain_text("25 to COMPLETE")
     page.get_by_role("button", name="List paths").click()

@@ -78,14 +78,14 @@ interface Draft {
 
 const SAVE_DELAY_MS = 250;
 const PANELS = [
-  { id: "constraints", label: "Constraints" },
-  { id: "norms", label: "Norms" },
-  { id: "areas", label: "Areas" },
-  { id: "quantities", label: "Quantities" },
-  { id: "vehicle", label: "Vehicle" },
-  { id: "mission", label: "Mission" },
-  { id: "paths", label: "Paths" },
-  { id: "plain", label: "Plain orders" },
+  { id: "editor-constraints", label: "Constraints" },
+  { id: "editor-norms", label: "Norms" },
+  { id: "editor-areas", label: "Areas" },
+  { id: "editor-quantities", label: "Quantities" },
+  { id: "editor-vehicle", label: "Vehicle" },
+  { id: "editor-mission", label: "Mission" },
+  { id: "editor-paths", label: "Path explorer" },
+  { id: "editor-plain", label: "Plain orders" },
 ];
 const CLIP_KEY = "countersign.editor.clipboard";
 /** Above this many goals the canvas renders only what is in view and opens at the start goal. */
@@ -359,7 +359,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   }, [nodes, select]);
 
   const [gotoText, setGotoText] = useState("");
-  const [panel, setPanel] = useState("constraints");
+  const [panel, setPanel] = useState("editor-constraints");
   const [planOpen, setPlanOpen] = useState(false);
   const known = useMemo(() => knownQuantities(orders), [orders]);
   const goTo = (id: string) => {
@@ -723,16 +723,16 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
       </div>
       <div className="editor-lower">
         <Tabs label="Orders beside the graph" tabs={PANELS.map((p) => ({ id: p.id, label: p.label }))} selected={panel} onSelect={setPanel}>
-          {panel === "constraints" && <ConstraintsPanel orders={orders} editOrders={editOrders} markers={markers} findings={findings} />}
-          {panel === "norms" && <NormsPanel orders={orders} editOrders={editOrders} markers={markers} known={known} />}
-          {panel === "areas" && <AreasPanel orders={orders} editOrders={editOrders} markers={markers} />}
-          {panel === "quantities" && <QuantitiesPanel orders={orders} editOrders={editOrders} />}
-          {panel === "vehicle" && <VehiclePanel orders={orders} editOrders={editOrders} markers={markers} />}
-          {panel === "mission" && <MissionPanel orders={orders} editOrders={editOrders} />}
-          {panel === "paths" && (
+          {panel === "editor-constraints" && <ConstraintsPanel orders={orders} editOrders={editOrders} markers={markers} findings={findings} />}
+          {panel === "editor-norms" && <NormsPanel orders={orders} editOrders={editOrders} markers={markers} known={known} />}
+          {panel === "editor-areas" && <AreasPanel orders={orders} editOrders={editOrders} markers={markers} />}
+          {panel === "editor-quantities" && <QuantitiesPanel orders={orders} editOrders={editOrders} />}
+          {panel === "editor-vehicle" && <VehiclePanel orders={orders} editOrders={editOrders} markers={markers} />}
+          {panel === "editor-mission" && <MissionPanel orders={orders} editOrders={editOrders} />}
+          {panel === "editor-paths" && (
             <PathsPanel missionId={mission.id} orders={orders} report={report} revision={saveState === "saved" ? revision.current : null} onHighlight={highlightPath} />
           )}
-          {panel === "plain" && (
+          {panel === "editor-plain" && (
             <section aria-labelledby="editor-plain-title" className="printable">
               <h3 id="editor-plain-title">Plain-language orders (as saved)</h3>
               <button type="button" onClick={() => window.print()}>
