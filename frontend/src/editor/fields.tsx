@@ -3,7 +3,7 @@
  * loses focus (ids, lists, multi-line specs), and the expression field with completion of
  * quantity names and inline parse errors.
  */
-import { type KeyboardEvent, useEffect, useId, useMemo, useRef, useState } from "react";
+import { type KeyboardEvent, useEffect, useId, useLayoutEffect, useMemo, useRef, useState } from "react";
 
 import { applyCompletion, checkExpr, completions } from "./expr";
 
@@ -119,13 +119,19 @@ export function ExprField({
   const accept = (word: string) => {
     const at = caret ?? value.length;
     const done = applyCompletion(value, at, word);
-    onChange(done.text);
+    pendingCaret.current = done.caret;
+    setCaret(done.caret);
     setClosed(true);
-    window.requestAnimationFrame(() => {
-      input.current?.setSelectionRange(done.caret, done.caret);
-      setCaret(done.caret);
-    });
+    onChange(done.text);
   };
+  // The caret goes after the completed word as soon as the new text is in the field.
+  const pendingCaret = useRef<number | null>(null);
+  useLayoutEffect(() => {
+    const at = pendingCaret.current;
+    if (at === null || !input.current) return;
+    pendingCaret.current = null;
+    input.current.setSelectionRange(at, at);
+  }, [value]);
   const onKey = (e: KeyboardEvent<HTMLInputElement>) => {
     if (!open) return;
     if (e.key === "ArrowDown") setActive((a) => (a + 1) % items.length);
