@@ -25,7 +25,7 @@ import pytest
 from playwright.sync_api import Browser, Locator, Page, expect
 
 from .conftest import PASSWORD, REPO, ROLES, Server, _cli, _free_port, _server_env, _wait_healthy
-from .test_editor import choose_next, edge, select_node
+from .test_editor import choose_next, drag_connect, edge, select_node
 from .test_roles import sign_in
 
 EXAMPLE = "search-and-sample"
@@ -102,8 +102,9 @@ def digest_of(data: dict) -> str:
 
 
 def panel(page: Page, name: str) -> None:
-    page.get_by_role("tab", name=name, exact=True).click()
-    expect(page.get_by_role("tab", name=name, exact=True)).to_have_attribute("aria-selected", "true")
+    tab = page.get_by_role("tab", name=name, exact=True)
+    tab.click()
+    expect(tab).to_have_attribute("aria-selected", "true")
 
 
 def commit(field: Locator, text: str) -> None:
@@ -114,36 +115,6 @@ def commit(field: Locator, text: str) -> None:
 
 def fmt(value: float) -> str:
     return repr(value) if isinstance(value, float) else str(value)
-
-
-def drag_link(page: Page, source: str, outcome: str, target: str) -> None:
-    """Drags from a goal's outcome handle to the target's input with the mouse. The press is
-    checked against the handle React Flow reports as the connection's start; a press that
-    landed elsewhere (the canvas was still settling) is released over empty canvas and tried
-    again, so no wrong edge is ever made."""
-    for attempt in range(3):
-        handle = page.get_by_test_id(f"handle-{source}-{outcome}")
-        handle.hover()
-        start = handle.bounding_box()
-        assert start
-        page.mouse.down()
-        page.mouse.move(start["x"] + start["width"] / 2 + 8, start["y"] + start["height"] / 2 + 2, steps=2)
-        pressed = page.locator(".react-flow__handle.connectingfrom")
-        started = pressed.get_attribute("data-handleid", timeout=2000) if pressed.count() else None
-        started_node = pressed.get_attribute("data-nodeid", timeout=2000) if pressed.count() else None
-        if (started, started_node) != (outcome, source):
-            pane = page.get_by_test_id("editor-canvas").bounding_box()
-            assert pane
-            page.mouse.move(pane["x"] + pane["width"] - 40, pane["y"] + 20, steps=4)
-            page.mouse.up()
-            print(f"drag {source} {outcome}: attempt {attempt + 1} started at {started_node} {started}; again")
-            continue
-        end = page.get_by_test_id(f"handle-{target}-in").bounding_box()
-        assert end
-        page.mouse.move(end["x"] + end["width"] / 2, end["y"] + end["height"] / 2, steps=12)
-        page.mouse.up()
-        return
-    raise AssertionError(f"could not start a drag at {source}'s {outcome} handle")
 
 
 def saved(page: Page) -> None:
@@ -190,7 +161,8 @@ def test_operator_builds_the_exemplar_by_mouse_and_keyboard(own_page: Page) -> N
     page.get_by_role("button", name="Add vehicle profile").click()
     expect(page.get_by_label("Vehicle id")).to_have_value(vehicle["id"])
     page.get_by_label("Vehicle title").fill(vehicle["title"])
-    commit(page.get_by_label("Trusted behaviours (comma-separated)"), ", ".join(vehicle["behaviors"]))
+    commit(page.get_by_label("Trusted behaviours (comma-separated)"),
+           ", ".join(vehicle["behaviors"]))
     commit(page.get_by_label(re.compile("^Vehicle envelope")),
            "\n".join(f"{q} {lo} {hi}" for q, (lo, hi) in vehicle["envelope"].items()))
     page.get_by_label("Speed (m/s)").fill(fmt(vehicle["speed_mps"]))
@@ -206,9 +178,11 @@ def test_operator_builds_the_exemplar_by_mouse_and_keyboard(own_page: Page) -> N
         fid = feature["id"]
         page.get_by_label(f"Feature {fid} title").fill(feature["title"])
         if feature["fulfills"]:
-            commit(page.get_by_label(re.compile(rf"^Feature {fid} fulfils")), ", ".join(feature["fulfills"]))
+            commit(page.get_by_label(re.compile(rf"^Feature {fid} fulfils")),
+                   ", ".join(feature["fulfills"]))
         if feature["measures"]:
-            commit(page.get_by_label(re.compile(rf"^Feature {fid} measures")), ", ".join(feature["measures"]))
+            commit(page.get_by_label(re.compile(rf"^Feature {fid} measures")),
+                   ", ".join(feature["measures"]))
     saved(page)
 
     # ---- Areas: id, title, contexts, polygon vertices (mouse adds rows, keyboard types) ----
@@ -260,7 +234,8 @@ def test_operator_builds_the_exemplar_by_mouse_and_keyboard(own_page: Page) -> N
             # Completion: type the start of a quantity, accept it with Tab, type on.
             expr.click()
             page.keyboard.type("lane_dis")
-            expect(page.get_by_role("listbox", name=f"Completions for {cid} expression")).to_be_visible()
+            listbox = page.get_by_role("listbox", name=f"Completions for {cid} expression")
+            expect(listbox).to_be_visible()
             page.keyboard.press("Tab")
             expect(expr).to_have_value("lane_distance_m")
             page.keyboard.type(" >= 1000 or depth_m >= 20")
@@ -297,7 +272,7 @@ def test_operator_builds_the_exemplar_by_mouse_and_keyboard(own_page: Page) -> N
         ("G3", "succeed", "G1"),  # planted loop
         ("G4", "succeed", "G5"), ("G5", "succeed", "COMPLETE"),
     ]:
-        drag_link(page, source, outcome, target)
+        drag_connect(page, source, outcome, target)
         expect(edge(page, source, outcome, target)).to_have_count(1)
     for goal, outcome, target in [
         ("G1", "violate", "G5"),  # planted: G4 is then reachable from nowhere
@@ -369,10 +344,9 @@ def test_operator_builds_the_exemplar_by_mouse_and_keyboard(own_page: Page) -> N
     built = digest_of(exported)
     expected = digest_of(spec)
     if built != expected:
-        canonical = json.dumps(spec, sort_keys=True)
         for key in spec:
-            if json.dumps(spec[key], sort_keys=True) != json.dumps(exported.get(key), sort_keys=True):
+            if json.dumps(spec[key], sort_keys=True) != json.dumps(exported.get(key),
+                                                                   sort_keys=True):
                 print(f"differs: {key}: {json.dumps(exported.get(key))[:400]}")
-        del canonical
     assert built == expected
     print(f"exported digest {built} equals the built-in exemplar's")

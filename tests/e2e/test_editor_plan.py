@@ -24,14 +24,14 @@ def test_plan_survey_dialog_solves_and_creates_a_draft(page: Page, seeded_missio
     expect(dialog).to_be_visible()
     # Defaults: start and recovery at the recovery area, battery from the vehicle's budget.
     expect(dialog.get_by_label("Battery (Wh)")).to_have_value("1000")
-    expect(dialog.get_by_label("Include BASE")).not_to_be_checked()
-    dialog.get_by_label("Include LANE").uncheck()
+    expect(dialog.get_by_label("Include BASE", exact=True)).not_to_be_checked()
+    dialog.get_by_label("Include LANE", exact=True).uncheck()
     dialog.get_by_label("Battery (Wh)").fill("20000")
     dialog.get_by_label("Reserve (Wh)").fill("500")
     dialog.get_by_label("Level").select_option("2")
     for area, reward in (("A", "30"), ("B", "20"), ("C", "10")):
-        dialog.get_by_label(f"Reward of {area}").fill(reward)
-    dialog.get_by_label("A is mandatory").check()
+        dialog.get_by_label(f"Reward of {area}", exact=True).fill(reward)
+    dialog.get_by_label("A is mandatory", exact=True).check()
     dialog.get_by_role("button", name="Solve").click()
     result = dialog.get_by_test_id("plan-result")
     expect(result).to_contain_text("Best plan:", timeout=30_000)
@@ -58,7 +58,7 @@ def test_plan_survey_dialog_solves_and_creates_a_draft(page: Page, seeded_missio
     expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
     detail = page.request.get("/api/missions/survey-plan-e2e").json()
     goals = detail["orders"]["goals"]
-    assert any(g.get("area") == "A" for g in goals), goals
+    assert any(g.get("params", {}).get("plan_area") == "A" for g in goals), goals
     report = page.request.get("/api/missions/survey-plan-e2e/report").json()
     assert not [f for f in report["findings"] if f["code"] == "BUDGET" and f["severity"] == "error"]
     assert report["paths"]["count"] > 0

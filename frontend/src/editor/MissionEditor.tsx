@@ -16,6 +16,7 @@ import {
   MarkerType,
   MiniMap,
   type Node,
+  Position,
   type NodeChange,
   ReactFlow,
   ReactFlowProvider,
@@ -88,6 +89,22 @@ const PANELS = [
   { id: "editor-plain", label: "Plain orders" },
 ];
 const CLIP_KEY = "countersign.editor.clipboard";
+/** Node sizes and handle positions as the CSS draws them (goal 220 x 112, handles 18 px). */
+const PRESET = {
+  goal: {
+    initialWidth: 220,
+    initialHeight: 112,
+    handles: [
+      { id: "in", type: "target" as const, position: Position.Left, x: -6, y: 50, width: 12, height: 12 },
+      ...OUTCOMES.map((o, i) => ({ id: o, type: "source" as const, position: Position.Right, x: 211, y: 28 * (i + 1) - 9, width: 18, height: 18 })),
+    ],
+  },
+  terminal: {
+    initialWidth: 160,
+    initialHeight: 60,
+    handles: [{ id: "in", type: "target" as const, position: Position.Left, x: -6, y: 24, width: 12, height: 12 }],
+  },
+};
 /** Above this many goals the canvas renders only what is in view and opens at the start goal. */
 const LARGE_GOALS = 200;
 const COLOURS: Record<Outcome, string> = { succeed: "#1a7f37", fail: "#c25e00", violate: "#c9202c" };
@@ -280,6 +297,9 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
           id: n.id,
           type: n.kind,
           position: n.position,
+          // Large missions: sizes and handle positions are given, so React Flow need not render
+          // every node once to measure it; only the nodes in view are rendered.
+          ...(large.current ? PRESET[n.kind] : {}),
           data,
           ariaLabel,
           className,
@@ -708,6 +728,8 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
                 <li key={`${f.code}-${i}`}>
                   <button type="button" className={`finding finding-${f.severity}`} onClick={() => {
                       select(f.subjects);
+                      const shown = f.subjects.filter((id) => graph.nodes.some((n) => n.id === id));
+                      if (shown.length > 0) void flow.fitView({ nodes: shown.map((id) => ({ id })), padding: 0.5, maxZoom: 1 });
                       const path = findingPath(f as unknown as Record<string, unknown>);
                       highlightPath(path, path ? `${f.code} counterexample` : "");
                     }}
