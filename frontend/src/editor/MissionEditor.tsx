@@ -70,7 +70,7 @@ import { PathsPanel } from "./PathsPanel";
 import { PlanDialog } from "./PlanDialog";
 import { Tabs } from "../components/Tabs";
 import { autoLayout } from "./layout";
-import { NODE_TYPES, type NodeData } from "./nodes";
+import { EDGE_TYPES, NODE_TYPES, type NodeData } from "./nodes";
 
 interface Draft {
   orders: Orders;
@@ -318,6 +318,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
           const colour = COLOURS[e.outcome];
           return {
             id: e.id,
+            type: "outcome",
             source: e.source,
             sourceHandle: e.outcome,
             target: e.target,
@@ -661,6 +662,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
             nodes={nodes}
             edges={edges}
             nodeTypes={NODE_TYPES}
+            edgeTypes={EDGE_TYPES}
             onNodesChange={onNodesChange}
             onEdgesChange={onEdgesChange}
             onConnect={onConnect}
