@@ -390,7 +390,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
       return;
     }
     select([id]);
-    void flow.setCenter(node.position.x + 110, node.position.y + 48, { zoom: Math.max(flow.getZoom(), 0.8) });
+    void flow.setCenter(node.position.x + 110, node.position.y + 56, { zoom: Math.max(flow.getZoom(), 0.8) });
   };
 
   const selectedNodes = nodes.filter((n) => n.selected).map((n) => n.id);
