@@ -20,14 +20,35 @@ MISSION = "editor-e2e"
 
 
 def drag_connect(page: Page, source: str, outcome: str, target: str) -> None:
-    """Drags from a goal's outcome handle to the target's input handle with the mouse."""
-    start = page.get_by_test_id(f"handle-{source}-{outcome}").bounding_box()
-    end = page.get_by_test_id(f"handle-{target}-in").bounding_box()
-    assert start and end, f"handles of {source} or {target} are not on screen"
-    page.mouse.move(start["x"] + start["width"] / 2, start["y"] + start["height"] / 2)
-    page.mouse.down()
-    page.mouse.move(end["x"] + end["width"] / 2, end["y"] + end["height"] / 2, steps=12)
-    page.mouse.up()
+    """Drags from a goal's outcome handle to the target's input handle with the mouse.
+
+    The press is checked against the handle React Flow reports as the connection's start; a
+    press that landed elsewhere (the canvas was still settling after a re-render) is released
+    over empty canvas, which connects nothing, and tried again."""
+    for attempt in range(3):
+        handle = page.get_by_test_id(f"handle-{source}-{outcome}")
+        handle.hover()
+        start = handle.bounding_box()
+        assert start, f"the {outcome} handle of {source} is not on screen"
+        page.mouse.down()
+        page.mouse.move(start["x"] + start["width"] / 2 + 8, start["y"] + start["height"] / 2 + 2,
+                        steps=2)
+        pressed = page.locator(".react-flow__handle.connectingfrom")
+        began = ((pressed.get_attribute("data-nodeid"), pressed.get_attribute("data-handleid"))
+                 if pressed.count() else None)
+        if began != (source, outcome):
+            pane = page.get_by_test_id("editor-canvas").bounding_box()
+            assert pane
+            page.mouse.move(pane["x"] + pane["width"] - 40, pane["y"] + 20, steps=4)
+            page.mouse.up()
+            print(f"drag {source} {outcome}: attempt {attempt + 1} began at {began}; again")
+            continue
+        end = page.get_by_test_id(f"handle-{target}-in").bounding_box()
+        assert end, f"the input handle of {target} is not on screen"
+        page.mouse.move(end["x"] + end["width"] / 2, end["y"] + end["height"] / 2, steps=12)
+        page.mouse.up()
+        return
+    raise AssertionError(f"could not start a drag at {source}'s {outcome} handle")
 
 
 def choose_next(page: Page, goal: str, outcome: str, target: str) -> None:
@@ -37,6 +58,10 @@ def choose_next(page: Page, goal: str, outcome: str, target: str) -> None:
 
 
 def select_node(page: Page, node: str) -> None:
+    """Brings the node to the middle of the canvas (the toolbar's "Go to node" field), away from
+    the minimap's corner, then clicks it."""
+    page.get_by_label("Go to node").fill(node)
+    page.get_by_label("Go to node").press("Enter")
     page.get_by_test_id(f"node-{node}").click()
     expect(page.get_by_role("group", name="Inspector").or_(page.locator(".inspector legend"))
            .first).to_contain_text(node)
@@ -68,6 +93,7 @@ def test_operator_builds_checks_fixes_and_undoes(page: Page, server: Server) -> 
         expect(page.get_by_test_id(f"node-G{number}")).to_contain_text(title)
     expect(page.get_by_test_id("node-G1")).to_contain_text("start")
     page.get_by_role("button", name="Auto layout").click()
+    expect(canvas).to_have_attribute("data-ready", "true")
     expect(page.get_by_test_id("save-state")).to_have_text("Saved")
 
     # Mouse: drag outcome handles to their successors.
@@ -123,6 +149,7 @@ def test_operator_builds_checks_fixes_and_undoes(page: Page, server: Server) -> 
     expect(edge(page, "G3", "succeed", "COMPLETE")).to_have_count(1)
     expect(page.get_by_test_id("save-state")).to_have_text("Saved")
     expect(page.get_by_test_id("editor-verdict")).to_contain_text("Valid: 0 errors")
+    page.get_by_role("tab", name="Plain orders").click()
     expect(page.get_by_test_id("editor-plain")).to_contain_text("Search Area B")
 
     # The server holds those orders, and they validate; positions live in the layout.

@@ -16,6 +16,7 @@ import {
   MarkerType,
   MiniMap,
   type Node,
+  Position,
   type NodeChange,
   ReactFlow,
   ReactFlowProvider,
@@ -36,7 +37,9 @@ import {
   deleteNodes,
   describeDifferences,
   disconnect,
+  edgeMarkers,
   envelopeToText,
+  findingPath,
   type GoalSpec,
   goals,
   type Layout,
@@ -48,6 +51,8 @@ import {
   type Outcome,
   OUTCOMES,
   parseEnvelope,
+  type PathLike,
+  pathElements,
   setSuccessor,
   startIds,
   terminals,
@@ -56,9 +61,16 @@ import {
   updateGoal,
   updateTerminal,
 } from "./graph";
+import { knownQuantities } from "./expr";
+import { ExprField, CommitField } from "./fields";
 import { canRedo, canUndo, createHistory, type History, push, redo, reset, undo } from "./history";
+import { copyGoals, paramsToText, parseParams, pasteGoals, readClip } from "./model";
+import { AreasPanel, MissionPanel, NormsPanel, QuantitiesPanel, VehiclePanel } from "./panels";
+import { PathsPanel } from "./PathsPanel";
+import { PlanDialog } from "./PlanDialog";
+import { Tabs } from "../components/Tabs";
 import { autoLayout } from "./layout";
-import { NODE_TYPES, type NodeData } from "./nodes";
+import { EDGE_TYPES, NODE_TYPES, type NodeData } from "./nodes";
 
 interface Draft {
   orders: Orders;
@@ -66,6 +78,35 @@ interface Draft {
 }
 
 const SAVE_DELAY_MS = 250;
+const PANELS = [
+  { id: "editor-constraints", label: "Constraints" },
+  { id: "editor-norms", label: "Norms" },
+  { id: "editor-areas", label: "Areas" },
+  { id: "editor-quantities", label: "Quantities" },
+  { id: "editor-vehicle", label: "Vehicle" },
+  { id: "editor-mission", label: "Mission" },
+  { id: "editor-paths", label: "Path explorer" },
+  { id: "editor-plain", label: "Plain orders" },
+];
+const CLIP_KEY = "countersign.editor.clipboard";
+/** Node sizes and handle positions as the CSS draws them (goal 220 x 112, handles 18 px). */
+const PRESET = {
+  goal: {
+    initialWidth: 220,
+    initialHeight: 112,
+    handles: [
+      { id: "in", type: "target" as const, position: Position.Left, x: -6, y: 50, width: 12, height: 12 },
+      ...OUTCOMES.map((o, i) => ({ id: o, type: "source" as const, position: Position.Right, x: 211, y: 28 * (i + 1) - 9, width: 18, height: 18 })),
+    ],
+  },
+  terminal: {
+    initialWidth: 160,
+    initialHeight: 60,
+    handles: [{ id: "in", type: "target" as const, position: Position.Left, x: -6, y: 24, width: 12, height: 12 }],
+  },
+};
+/** Above this many goals the canvas renders only what is in view and opens at the start goal. */
+const LARGE_GOALS = 200;
 const COLOURS: Record<Outcome, string> = { succeed: "#1a7f37", fail: "#c25e00", violate: "#c9202c" };
 
 export default function MissionEditor(props: { mission: MissionDetail; onSaved: () => void }) {
@@ -188,22 +229,23 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   );
 
   // Lay out a draft that has no positions yet (new or imported), without an undo step.
+  // Small orders open fitted to the canvas; large ones open at the start goal at a readable
+  // zoom, so that only the nodes in view are rendered (the toolbar's "Zoom to fit" shows all).
   const laidOut = useRef(false);
+  const large = useRef(goals(mission.orders as Orders).length > LARGE_GOALS);
+  const openView = useRef(false);
   const [ready, setReady] = useState(false);
   useEffect(() => {
     if (laidOut.current) return;
     laidOut.current = true;
     const ids = [...goals(orders).map((g) => g.id), ...terminals(orders).map((t) => t.id)];
     if (ids.length > 0 && ids.every((id) => draft.layout[id])) {
-      setReady(true);
+      openView.current = true;
       return;
     }
     void autoLayout(orders).then((layout) => {
+      openView.current = true;
       setHistory((h) => reset({ ...h.present, layout: { ...layout, ...h.present.layout } }));
-      window.requestAnimationFrame(() => {
-        void flow.fitView({ padding: 0.15 });
-        setReady(true);
-      });
     });
   }, [orders, draft.layout, flow]);
 
@@ -211,6 +253,10 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   const findings = useMemo(() => report?.findings ?? [], [report]);
   const markers = useMemo(() => markersBySubject(findings), [findings]);
   const graph = useMemo(() => ordersToGraph(orders, draft.layout), [orders, draft.layout]);
+  const edgeMarks = useMemo(() => edgeMarkers(findings, graph.edges), [findings, graph.edges]);
+  const [highlight, setHighlight] = useState<{ path: PathLike; label: string } | null>(null);
+  const onPath = useMemo(() => (highlight ? pathElements(highlight.path) : null), [highlight]);
+  const highlightPath = useCallback((path: PathLike | null, label = "") => setHighlight(path ? { path, label } : null), []);
   const [nodes, setNodes] = useState<Node<NodeData>[]>([]);
   const [edges, setEdges] = useState<Edge[]>([]);
   const selectNext = useRef<string[] | null>(null);
@@ -228,9 +274,11 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
           severity: mark?.severity ?? null,
           terminalKind: n.terminalKind,
         };
+        const lit = onPath?.nodes.has(n.id) ?? false;
         const ariaLabel = `${n.kind === "goal" ? "Goal" : "Terminal"} ${n.id}: ${n.label}${n.start ? " (start)" : ""}${
           mark ? `; findings ${mark.codes.join(", ")}` : ""
-        }`;
+        }${lit ? "; on the highlighted path" : ""}`;
+        const className = lit ? "on-path" : "";
         // Unchanged nodes keep their object, so React Flow re-renders only what changed.
         if (
           old &&
@@ -238,6 +286,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
           old.position.x === n.position.x &&
           old.position.y === n.position.y &&
           old.ariaLabel === ariaLabel &&
+          (old.className ?? "") === className &&
           old.data.severity === data.severity &&
           old.data.terminalKind === data.terminalKind &&
           old.data.codes.join() === data.codes.join()
@@ -248,8 +297,12 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
           id: n.id,
           type: n.kind,
           position: n.position,
+          // Large missions: sizes and handle positions are given, so React Flow need not render
+          // every node once to measure it; only the nodes in view are rendered.
+          ...(large.current ? PRESET[n.kind] : {}),
           data,
           ariaLabel,
+          className,
           selected: old?.selected ?? false,
           ...(old?.measured ? { measured: old.measured } : {}),
         };
@@ -259,22 +312,30 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
       const selected = new Set(previous.filter((e) => e.selected).map((e) => e.id));
       return graph.edges
         .filter((e) => !e.dangling)
-        .map((e) => ({
-          id: e.id,
-          source: e.source,
-          sourceHandle: e.outcome,
-          target: e.target,
-          targetHandle: "in",
-          label: OUTCOME_LETTER[e.outcome],
-          className: `edge-${e.outcome}`,
-          style: { stroke: COLOURS[e.outcome], strokeWidth: 2 },
-          labelStyle: { fill: COLOURS[e.outcome], fontWeight: 700 },
-          markerEnd: { type: MarkerType.ArrowClosed, color: COLOURS[e.outcome] },
-          ariaLabel: `${e.source} ${OUTCOME_LABEL[e.outcome]} to ${e.target}`,
-          selected: selected.has(e.id),
-        }));
+        .map((e) => {
+          const mark = edgeMarks.get(e.id);
+          const lit = onPath?.edges.has(e.id) ?? false;
+          const colour = COLOURS[e.outcome];
+          return {
+            id: e.id,
+            type: "outcome",
+            source: e.source,
+            sourceHandle: e.outcome,
+            target: e.target,
+            targetHandle: "in",
+            label: `${OUTCOME_LETTER[e.outcome]}${mark ? ` ${mark.severity === "error" ? "✖" : "⚠"} ${mark.codes.join(" ")}` : ""}${lit ? " ●" : ""}`,
+            className: `edge-${e.outcome}${mark ? ` edge-marked edge-marked-${mark.severity}` : ""}${lit ? " edge-on-path" : ""}`,
+            style: { stroke: colour, strokeWidth: lit ? 5 : mark ? 3 : 2, strokeDasharray: mark ? "6 4" : undefined },
+            labelStyle: { fill: colour, fontWeight: 700 },
+            markerEnd: { type: MarkerType.ArrowClosed, color: colour },
+            ariaLabel: `${e.source} ${OUTCOME_LABEL[e.outcome]} to ${e.target}${mark ? `; findings ${mark.codes.join(", ")}` : ""}${
+              lit ? "; on the highlighted path" : ""
+            }`,
+            selected: selected.has(e.id),
+          };
+        });
     });
-  }, [graph, markers]);
+  }, [graph, markers, edgeMarks, onPath]);
 
   const onNodesChange = useCallback((changes: NodeChange<Node<NodeData>>[]) => {
     setNodes((ns) => applyNodeChanges(changes.filter((c) => c.type !== "remove"), ns));
@@ -288,6 +349,27 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     setEdges((es) => es.map((e) => ({ ...e, selected: false })));
   }, []);
 
+  // Zoom to fit once the nodes carry their new positions (after an auto layout).
+  const fitPending = useRef(false);
+  useEffect(() => {
+    if (openView.current && nodes.length > 0) {
+      openView.current = false;
+      const start = nodes.find((n) => n.data.start) ?? nodes[0]!;
+      window.requestAnimationFrame(() => {
+        if (large.current) void flow.setCenter(start.position.x + 300, start.position.y + 150, { zoom: 0.6 });
+        else void flow.fitView({ padding: 0.15 });
+        setReady(true);
+      });
+      return;
+    }
+    if (!fitPending.current) return;
+    fitPending.current = false;
+    window.requestAnimationFrame(() => {
+      void flow.fitView({ padding: 0.15 });
+      setReady(true);
+    });
+  }, [nodes, flow]);
+
   // Select what was just added once its node exists (the inspector then shows it).
   useEffect(() => {
     const wanted = selectNext.current;
@@ -298,6 +380,9 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   }, [nodes, select]);
 
   const [gotoText, setGotoText] = useState("");
+  const [panel, setPanel] = useState("editor-constraints");
+  const [planOpen, setPlanOpen] = useState(false);
+  const known = useMemo(() => knownQuantities(orders), [orders]);
   const goTo = (id: string) => {
     const node = graph.nodes.find((n) => n.id === id);
     if (!node) {
@@ -305,7 +390,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
       return;
     }
     select([id]);
-    void flow.setCenter(node.position.x + 110, node.position.y + 48, { zoom: Math.max(flow.getZoom(), 0.8) });
+    void flow.setCenter(node.position.x + 110, node.position.y + 56, { zoom: Math.max(flow.getZoom(), 0.8) });
   };
 
   const selectedNodes = nodes.filter((n) => n.selected).map((n) => n.id);
@@ -320,7 +405,8 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
         return;
       }
       setConnectMessage(`Connected ${c.source} ${c.sourceHandle} to ${c.target}.`);
-      editOrders(() => result.orders);
+      // Applied to the newest orders (a previous edit may not have rendered yet).
+      editOrders((o) => connect(o, c.source, c.sourceHandle ?? "", c.target).orders);
     },
     [editOrders],
   );
@@ -376,9 +462,14 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     });
   };
   const relayout = async () => {
-    const layout = await autoLayout(latest.current.orders);
+    setReady(false); // the canvas says when the new positions are shown (tests wait for it)
+    const sizes: Record<string, { width: number; height: number }> = {};
+    for (const n of flow.getNodes()) {
+      if (n.measured?.width && n.measured.height) sizes[n.id] = { width: n.measured.width, height: n.measured.height };
+    }
+    const layout = await autoLayout(latest.current.orders, sizes);
+    fitPending.current = true;
     edit((d) => ({ ...d, layout }));
-    window.requestAnimationFrame(() => void flow.fitView({ padding: 0.15 }));
   };
   const doUndo = () => {
     dirty.current = true;
@@ -402,6 +493,9 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     if (mod && key === "z" && !event.shiftKey) doUndo();
     else if (mod && (key === "y" || (key === "z" && event.shiftKey))) doRedo();
     else if (event.key === "Delete" || event.key === "Backspace") deleteSelected();
+    else if (mod && key === "c") copySelected();
+    else if (mod && key === "v") pasteSelected();
+    else if (mod && key === "d") duplicateSelected();
     else if (!mod && key === "g" && !event.altKey) addGoalNode();
     else if (!mod && key === "l" && !event.altKey) void relayout();
     else return;
@@ -428,6 +522,49 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     void save();
   };
 
+  // ---- Copy, paste, duplicate (clipboard JSON; also kept in localStorage between missions) ----
+  const copySelected = () => {
+    const clip = copyGoals(latest.current.orders, latest.current.layout, selectedNodes);
+    if (!clip) {
+      setConnectMessage("Select goals to copy.");
+      return null;
+    }
+    const text = JSON.stringify(clip);
+    try {
+      window.localStorage.setItem(CLIP_KEY, text);
+    } catch {
+      /* storage full or disabled: the system clipboard may still work */
+    }
+    void navigator.clipboard?.writeText(text).catch(() => undefined);
+    setConnectMessage(`Copied ${plural(clip.goals.length, "goal")}.`);
+    return clip;
+  };
+  const pasteClip = (text: string | null) => {
+    const clip = readClip(text);
+    if (!clip) {
+      setConnectMessage("Nothing to paste: copy goals first.");
+      return;
+    }
+    const result = pasteGoals(latest.current.orders, latest.current.layout, clip);
+    selectNext.current = result.ids;
+    edit(() => ({ orders: result.orders, layout: result.layout }));
+    setConnectMessage(`Pasted ${result.ids.join(", ")}.`);
+  };
+  const pasteSelected = () => {
+    let text: string | null = null;
+    try {
+      text = window.localStorage.getItem(CLIP_KEY);
+    } catch {
+      text = null;
+    }
+    if (text) pasteClip(text);
+    else void navigator.clipboard?.readText().then(pasteClip, () => pasteClip(null));
+  };
+  const duplicateSelected = () => {
+    const clip = copyGoals(latest.current.orders, latest.current.layout, selectedNodes);
+    if (clip) pasteClip(JSON.stringify(clip));
+  };
+
   const selectedGoal = goals(orders).find((g) => g.id === selectedId);
   const selectedTerminal = terminals(orders).find((t) => t.id === selectedId);
   const errors = findings.filter((f) => f.severity === "error").length;
@@ -446,6 +583,15 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
         </button>
         <button type="button" onClick={deleteSelected} disabled={selectedNodes.length === 0 && !edges.some((e) => e.selected)}>
           Delete selected
+        </button>
+        <button type="button" onClick={duplicateSelected} disabled={!selectedNodes.some((id) => goals(orders).some((g) => g.id === id))}>
+          Duplicate
+        </button>
+        <button type="button" onClick={() => copySelected()} disabled={selectedNodes.length === 0}>
+          Copy
+        </button>
+        <button type="button" onClick={pasteSelected}>
+          Paste
         </button>
         <button type="button" onClick={() => void relayout()}>
           Auto layout
@@ -477,6 +623,10 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
           </datalist>
           <button type="submit">Go</button>
         </form>
+        <button type="button" onClick={() => setPlanOpen(true)}>
+          Plan survey…
+        </button>
+        <ExportMenu missionId={mission.id} saved={saveState === "saved"} />
         <span className={`save-state save-${saveState}`} role="status" data-testid="save-state">
           {saveState === "saved" ? "Saved" : saveState === "pending" || saveState === "saving" ? "Saving…" : saveState === "conflict" ? "Conflict" : "Not saved"}
         </span>
@@ -486,12 +636,24 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
       <p className="visually-hidden" aria-live="polite">
         {connectMessage}
       </p>
+      {highlight && (
+        <p className="message" data-testid="highlight-note">
+          Highlighted on the graph (thick edges marked ●): {highlight.label || "path"}{" "}
+          <code>
+            {highlight.path.goals.map((g, i) => `${g} ${OUTCOME_LETTER[highlight.path.outcomes[i] as Outcome] ?? "?"}`).join(" → ")}
+            {highlight.path.terminal ? ` → ${highlight.path.terminal}` : ""}
+          </code>{" "}
+          <button type="button" onClick={() => setHighlight(null)}>
+            Clear highlight
+          </button>
+        </p>
+      )}
       <div className="editor-main">
         <div
           className="editor-canvas"
           tabIndex={0}
           role="group"
-          aria-label="Mission graph. Shortcuts: G add goal, Delete remove selection, Ctrl+Z undo, Ctrl+Shift+Z or Ctrl+Y redo, L auto layout; Tab moves between nodes, Enter selects, arrows move."
+          aria-label="Mission graph. Shortcuts: G add goal, Delete remove selection, Ctrl+C copy, Ctrl+V paste, Ctrl+D duplicate, Ctrl+Z undo, Ctrl+Shift+Z or Ctrl+Y redo, L auto layout; Tab moves between nodes, Enter selects, arrows move."
           onKeyDown={onCanvasKey}
           data-testid="editor-canvas"
           data-ready={ready ? "true" : "false"}
@@ -500,6 +662,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
             nodes={nodes}
             edges={edges}
             nodeTypes={NODE_TYPES}
+            edgeTypes={EDGE_TYPES}
             onNodesChange={onNodesChange}
             onEdgesChange={onEdgesChange}
             onConnect={onConnect}
@@ -507,8 +670,8 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
             onNodeDragStop={onNodeDragStop}
             deleteKeyCode={null}
             minZoom={0.05}
-            fitView
-            onlyRenderVisibleElements={nodes.length > 200}
+            fitView={!large.current}
+            onlyRenderVisibleElements={nodes.length > LARGE_GOALS}
             proOptions={{ hideAttribution: true }}
           >
             <Background />
@@ -519,7 +682,15 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
         <aside className="editor-side" aria-label="Inspector">
           <h3>Inspector</h3>
           {selectedGoal ? (
-            <GoalInspector key={selectedGoal.id} goal={selectedGoal} orders={orders} editOrders={editOrders} titleRef={titleRef} markers={markers} />
+            <GoalInspector
+              key={selectedGoal.id}
+              goal={selectedGoal}
+              orders={orders}
+              editOrders={editOrders}
+              titleRef={titleRef}
+              markers={markers}
+              findings={findings}
+            />
           ) : selectedTerminal ? (
             <fieldset className="inspector" key={selectedTerminal.id}>
               <legend>Terminal {selectedTerminal.id}</legend>
@@ -557,7 +728,14 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
             <ul className="editor-findings" data-testid="editor-findings">
               {findings.map((f: Finding, i) => (
                 <li key={`${f.code}-${i}`}>
-                  <button type="button" className={`finding finding-${f.severity}`} onClick={() => select(f.subjects)}>
+                  <button type="button" className={`finding finding-${f.severity}`} onClick={() => {
+                      select(f.subjects);
+                      const shown = f.subjects.filter((id) => graph.nodes.some((n) => n.id === id));
+                      if (shown.length > 0) void flow.fitView({ nodes: shown.map((id) => ({ id })), padding: 0.5, maxZoom: 1 });
+                      const path = findingPath(f as unknown as Record<string, unknown>);
+                      highlightPath(path, path ? `${f.code} counterexample` : "");
+                    }}
+                  >
                     <code>{f.code}</code> {f.severity}: {f.message}
                     {f.subjects.length > 0 && <span className="hint"> ({f.subjects.join(", ")})</span>}
                   </button>
@@ -568,14 +746,30 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
         </aside>
       </div>
       <div className="editor-lower">
-        <ConstraintsPanel orders={orders} editOrders={editOrders} markers={markers} />
-        <section aria-labelledby="editor-plain-title">
-          <h3 id="editor-plain-title">Plain-language orders (as saved)</h3>
-          <pre className="orders-text" data-testid="editor-plain">
-            {plain}
-          </pre>
-        </section>
+        <Tabs label="Orders beside the graph" tabs={PANELS.map((p) => ({ id: p.id, label: p.label }))} selected={panel} onSelect={setPanel}>
+          {panel === "editor-constraints" && <ConstraintsPanel orders={orders} editOrders={editOrders} markers={markers} findings={findings} />}
+          {panel === "editor-norms" && <NormsPanel orders={orders} editOrders={editOrders} markers={markers} known={known} />}
+          {panel === "editor-areas" && <AreasPanel orders={orders} editOrders={editOrders} markers={markers} />}
+          {panel === "editor-quantities" && <QuantitiesPanel orders={orders} editOrders={editOrders} />}
+          {panel === "editor-vehicle" && <VehiclePanel orders={orders} editOrders={editOrders} markers={markers} />}
+          {panel === "editor-mission" && <MissionPanel orders={orders} editOrders={editOrders} />}
+          {panel === "editor-paths" && (
+            <PathsPanel missionId={mission.id} orders={orders} report={report} revision={saveState === "saved" ? revision.current : null} onHighlight={highlightPath} />
+          )}
+          {panel === "editor-plain" && (
+            <section aria-labelledby="editor-plain-title" className="printable">
+              <h3 id="editor-plain-title">Plain-language orders (as saved)</h3>
+              <button type="button" onClick={() => window.print()}>
+                Print orders
+              </button>
+              <pre className="orders-text" data-testid="editor-plain">
+                {plain}
+              </pre>
+            </section>
+          )}
+        </Tabs>
       </div>
+      {planOpen && <PlanDialog mission={mission} orders={orders} onClose={() => setPlanOpen(false)} />}
       {conflict && <ConflictDialog conflict={conflict} onReload={reloadTheirs} onKeepMine={keepMine} />}
     </div>
   );
@@ -616,12 +810,14 @@ function GoalInspector({
   editOrders,
   titleRef,
   markers,
+  findings,
 }: {
   goal: GoalSpec;
   orders: Orders;
   editOrders: EditOrders;
   titleRef: React.RefObject<HTMLInputElement | null>;
   markers: ReturnType<typeof markersBySubject>;
+  findings: Finding[];
 }) {
   const id = goal.id;
   const set = (patch: Partial<GoalSpec>, group?: string) => editOrders((o) => updateGoal(o, id, patch), group);
@@ -686,9 +882,10 @@ function GoalInspector({
         onChange={(e) => setRequires(e.target.value)}
         onBlur={() => {
           const list = requires.split(",").map((s) => s.trim()).filter(Boolean);
-          if (list.join(",") !== (goal.requires ?? []).join(",")) set({ requires: list });
+          if (list.join(",") !== (goal.requires ?? []).join(",")) set({ requires: list.length > 0 ? list : undefined });
         }}
       />
+      <FieldFindings findings={findings} subject={id} codes={["M7"]} />
       <label htmlFor="goal-envelope">Envelope (one "quantity min max" per line)</label>
       <textarea
         id="goal-envelope"
@@ -700,12 +897,26 @@ function GoalInspector({
         onBlur={() => {
           const parsed = parseEnvelope(envelope);
           setEnvelopeError(parsed.error ?? "");
-          if (parsed.envelope && envelopeToText(parsed.envelope) !== envelopeToText(goal.envelope)) set({ envelope: parsed.envelope });
+          if (parsed.envelope && envelopeToText(parsed.envelope) !== envelopeToText(goal.envelope)) {
+            set({ envelope: Object.keys(parsed.envelope).length > 0 ? parsed.envelope : undefined });
+          }
         }}
       />
       <span id="goal-envelope-error" className="field-error">
         {envelopeError}
       </span>
+      <FieldFindings findings={findings} subject={id} codes={["CONTRADICTION"]} />
+      <CommitField
+        id="goal-params"
+        label='Parameters (one "name value" per line)'
+        multiline
+        value={paramsToText(goal.params)}
+        onCommit={(text) => {
+          const parsed = parseParams(text);
+          if (parsed.error) return parsed.error;
+          set({ params: parsed.params && Object.keys(parsed.params).length > 0 ? parsed.params : undefined });
+        }}
+      />
       <div className="pair">
         <span>
           <label htmlFor="goal-energy">Energy (Wh)</label>
@@ -716,6 +927,8 @@ function GoalInspector({
           <input id="goal-duration" type="number" min={0} value={costValue("duration_s")} onChange={(e) => setCost("duration_s", e.target.value)} />
         </span>
       </div>
+      <FieldFindings findings={findings} subject={id} codes={["BUDGET", "NORM"]} />
+      <FieldFindings findings={findings} subject={id} codes={["SINK", "G3", "G5", "G7"]} />
       {OUTCOMES.map((o) => {
         const current = goal.next?.[o];
         const value = typeof current === "string" ? current : "";
@@ -744,12 +957,15 @@ function ConstraintsPanel({
   orders,
   editOrders,
   markers,
+  findings,
 }: {
   orders: Orders;
   editOrders: EditOrders;
   markers: ReturnType<typeof markersBySubject>;
+  findings: Finding[];
 }) {
   const list = orders.constraints ?? [];
+  const known = useMemo(() => knownQuantities(orders), [orders]);
   return (
     <section aria-labelledby="constraints-title">
       <h3 id="constraints-title">Constraints</h3>
@@ -762,15 +978,16 @@ function ConstraintsPanel({
             <legend>
               Constraint <code>{c.id}</code> {mark && <span className={`badge ${mark.severity === "error" ? "bad" : "warn"}`}>{mark.codes.join(" ")}</span>}
             </legend>
-            <label htmlFor={`c-${c.id}-text`}>Text</label>
+            <label htmlFor={`c-${c.id}-text`}>{`${c.id} text`}</label>
             <input id={`c-${c.id}-text`} value={c.text ?? ""} onChange={(e) => editOrders((o) => updateConstraint(o, c.id, { text: e.target.value }), `c:${c.id}:text`)} />
-            <label htmlFor={`c-${c.id}-expr`}>Expression</label>
-            <input
+            <ExprField
               id={`c-${c.id}-expr`}
-              className="code"
+              label={`${c.id} expression`}
               value={c.expr ?? ""}
-              onChange={(e) => editOrders((o) => updateConstraint(o, c.id, { expr: e.target.value }), `c:${c.id}:expr`)}
+              known={known}
+              onChange={(text) => editOrders((o) => updateConstraint(o, c.id, { expr: text }), `c:${c.id}:expr`)}
             />
+            <FieldFindings findings={findings} subject={c.id} codes={null} />
             <div role="group" aria-label={`Scope of ${c.id}`} className="scope">
               <label className="check">
                 <input
@@ -778,7 +995,7 @@ function ConstraintsPanel({
                   checked={whole}
                   onChange={(e) => editOrders((o) => updateConstraint(o, c.id, { applies_to: e.target.checked ? "mission" : [] }))}
                 />{" "}
-                Whole mission
+                {c.id} applies to the whole mission
               </label>
               {!whole &&
                 goals(orders).map((g) => (
@@ -788,6 +1005,7 @@ function ConstraintsPanel({
                       checked={Array.isArray(c.applies_to) && c.applies_to.includes(g.id)}
                       onChange={() => editOrders((o) => toggleScope(o, c.id, g.id))}
                     />{" "}
+                    <span className="visually-hidden">{c.id} applies to </span>
                     {g.id}
                   </label>
                 ))}
@@ -798,9 +1016,82 @@ function ConstraintsPanel({
           </fieldset>
         );
       })}
-      <button type="button" onClick={() => editOrders((o) => addConstraint(o).orders)}>
+      <button type="button" onClick={() => editOrders((o) => addConstraint(o).orders)} data-testid="add-constraint">
         Add constraint
       </button>
     </section>
   );
+}
+
+/** Findings about one subject, shown beside the inspector field they concern (codes null: all). */
+function FieldFindings({ findings, subject, codes }: { findings: Finding[]; subject: string; codes: string[] | null }) {
+  const mine = findings.filter((f) => f.subjects.includes(subject) && (codes === null || codes.includes(f.code)));
+  if (mine.length === 0) return null;
+  return (
+    <ul className="field-findings" data-testid={`field-findings-${subject}`}>
+      {mine.map((f, i) => (
+        <li key={i} className={`finding-${f.severity}`}>
+          {f.severity === "error" ? "✖" : "⚠"} <code>{f.code}</code> {f.message}
+        </li>
+      ))}
+    </ul>
+  );
+}
+
+/** Downloads of the saved draft in every format, plus an SVG drawing of the canvas. */
+function ExportMenu({ missionId, saved }: { missionId: string; saved: boolean }) {
+  const svg = () => {
+    const canvas = document.querySelector(".editor-canvas .react-flow__viewport");
+    const edges = document.querySelector(".editor-canvas .react-flow__edges");
+    if (!canvas) return;
+    const text = canvasSvg(canvas as HTMLElement, edges as SVGElement | null);
+    const url = URL.createObjectURL(new Blob([text], { type: "image/svg+xml" }));
+    const a = document.createElement("a");
+    a.href = url;
+    a.download = `${missionId}.svg`;
+    a.click();
+    window.setTimeout(() => URL.revokeObjectURL(url), 1000);
+  };
+  return (
+    <details className="export-menu">
+      <summary>Export{saved ? "" : " (saved draft)"}</summary>
+      <ul>
+        {(["json", "avcl", "turtle", "dot", "plain"] as const).map((f) => (
+          <li key={f}>
+            <a href={exportHref(missionId, f)} download data-testid={`editor-export-${f}`}>
+              {f === "json" ? "JSON" : f === "avcl" ? "AVCL" : f === "turtle" ? "Turtle" : f === "dot" ? "DOT" : "Plain text"}
+            </a>
+          </li>
+        ))}
+        <li>
+          <button type="button" onClick={svg}>
+            SVG of the canvas
+          </button>
+        </li>
+      </ul>
+    </details>
+  );
+}
+
+/** An SVG document of the canvas: React Flow's edge layer plus a box and label per node. */
+function canvasSvg(viewport: HTMLElement, edges: SVGElement | null): string {
+  const esc = (t: string) => t.replace(/&/g, "&amp;").replace(/</g, "&lt;").replace(/>/g, "&gt;");
+  const boxes: string[] = [];
+  let maxX = 0;
+  let maxY = 0;
+  viewport.querySelectorAll<HTMLElement>(".react-flow__node").forEach((n) => {
+    const m = /translate\(([-\d.]+)px, ([-\d.]+)px\)/.exec(n.style.transform);
+    const x = m ? Number(m[1]) : 0;
+    const y = m ? Number(m[2]) : 0;
+    const w = n.offsetWidth;
+    const h = n.offsetHeight;
+    maxX = Math.max(maxX, x + w);
+    maxY = Math.max(maxY, y + h);
+    boxes.push(
+      `<g><rect x="${x}" y="${y}" width="${w}" height="${h}" rx="6" fill="#fff" stroke="#333"/>` +
+        `<text x="${x + 8}" y="${y + 18}" font-family="sans-serif" font-size="12">${esc(n.innerText.split("\n").slice(0, 3).join(" · "))}</text></g>`,
+    );
+  });
+  const edgeMarkup = edges ? edges.innerHTML : "";
+  return `<svg xmlns="http://www.w3.org/2000/svg" viewBox="-20 -20 ${maxX + 40} ${maxY + 40}">${edgeMarkup}${boxes.join("")}</svg>`;
 }

@@ -374,3 +374,59 @@ export function stable(value: unknown): string {
       : v,
   );
 }
+
+/** A path as the API reports it (paths list, BUDGET and PROPERTY counterexamples). */
+export interface PathLike {
+  goals: string[];
+  outcomes: string[];
+  terminal: string | null;
+}
+
+/** The counterexample path a BUDGET or PROPERTY finding carries, if any. */
+export function findingPath(finding: Record<string, unknown>): PathLike | null {
+  const holder = (finding.path && typeof finding.path === "object" ? finding.path : finding) as Record<string, unknown>;
+  const g = holder.goals;
+  const o = holder.outcomes;
+  if (!Array.isArray(g) || !Array.isArray(o) || g.length !== o.length || g.length === 0) return null;
+  return { goals: g as string[], outcomes: o as string[], terminal: (holder.terminal as string | null | undefined) ?? null };
+}
+
+/** The edge ids and node ids a path runs through. */
+export function pathElements(path: PathLike): { edges: Set<string>; nodes: Set<string> } {
+  const edges = new Set<string>();
+  const nodes = new Set<string>(path.goals);
+  if (path.terminal) nodes.add(path.terminal);
+  path.goals.forEach((g, i) => {
+    const to = path.goals[i + 1] ?? path.terminal;
+    const outcome = path.outcomes[i];
+    if (to && outcome) edges.add(edgeId(g, outcome as Outcome, to));
+  });
+  return { edges, nodes };
+}
+
+/**
+ * Edges that findings name: the edges of a loop (G7: both ends in the cycle), and the edges of
+ * counterexample paths (BUDGET, PROPERTY). Edge id -> codes.
+ */
+export function edgeMarkers(
+  findings: { code: string; severity: string; subjects: string[] }[],
+  edges: { id: string; source: string; target: string }[],
+): Map<string, { codes: string[]; severity: "error" | "warning" }> {
+  const marks = new Map<string, { codes: string[]; severity: "error" | "warning" }>();
+  const add = (id: string, code: string, severity: string) => {
+    const m = marks.get(id) ?? { codes: [], severity: "warning" as const };
+    if (!m.codes.includes(code)) m.codes.push(code);
+    if (severity === "error") m.severity = "error";
+    marks.set(id, m);
+  };
+  for (const f of findings) {
+    if (f.code === "G7") {
+      const cycle = new Set(f.subjects);
+      for (const e of edges) if (cycle.has(e.source) && cycle.has(e.target)) add(e.id, f.code, f.severity);
+    } else {
+      const path = findingPath(f as unknown as Record<string, unknown>);
+      if (path) for (const id of pathElements(path).edges) add(id, f.code, f.severity);
+    }
+  }
+  return marks;
+}

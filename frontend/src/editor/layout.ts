@@ -23,7 +23,10 @@ export function portId(node: string, port: string): string {
   return `${node}.${port}`;
 }
 
-export function toElkGraph(orders: Orders): ElkNode {
+/** Rendered sizes of nodes (React Flow's measurements), when known: ELK then leaves room for them. */
+export type Sizes = Record<string, { width: number; height: number }>;
+
+export function toElkGraph(orders: Orders, sizes: Sizes = {}): ElkNode {
   const ids = new Set<string>();
   const children: ElkNode[] = [];
   for (const g of goals(orders)) {
@@ -32,6 +35,7 @@ export function toElkGraph(orders: Orders): ElkNode {
     children.push({
       id: g.id,
       ...GOAL_SIZE,
+      ...sizes[g.id],
       layoutOptions: { "elk.portConstraints": "FIXED_ORDER" },
       ports: [
         { id: portId(g.id, "in"), width: 1, height: 1, layoutOptions: { "elk.port.side": "WEST", "elk.port.index": "0" } },
@@ -50,6 +54,7 @@ export function toElkGraph(orders: Orders): ElkNode {
     children.push({
       id: t.id,
       ...TERMINAL_SIZE,
+      ...sizes[t.id],
       layoutOptions: { "elk.portConstraints": "FIXED_SIDE" },
       ports: [{ id: portId(t.id, "in"), width: 1, height: 1, layoutOptions: { "elk.port.side": "WEST" } }],
     });
@@ -160,9 +165,9 @@ export function fastLayout(orders: Orders): Layout {
 }
 
 /** Lays the orders out: ELK (loaded on first use, a large module) or, for large orders, fastLayout. */
-export async function autoLayout(orders: Orders): Promise<Layout> {
+export async function autoLayout(orders: Orders, sizes: Sizes = {}): Promise<Layout> {
   if (goals(orders).length > ELK_MAX_GOALS) return fastLayout(orders);
   const { default: ELK } = await import("elkjs/lib/elk.bundled.js");
   const elk = new ELK();
-  return fromElkGraph(await elk.layout(toElkGraph(orders)));
+  return fromElkGraph(await elk.layout(toElkGraph(orders, sizes)));
 }

@@ -1,4 +1,4 @@
-import { Handle, type Node, type NodeProps, Position } from "@xyflow/react";
+import { BaseEdge, type EdgeProps, getBezierPath, Handle, type Node, type NodeProps, Position } from "@xyflow/react";
 import { memo } from "react";
 
 import { OUTCOME_LABEL, OUTCOME_LETTER, OUTCOMES } from "./graph";
@@ -77,3 +77,36 @@ export const TerminalNode = memo(function TerminalNode({ id, data, selected }: N
 });
 
 export const NODE_TYPES = { goal: GoalNode, terminal: TerminalNode };
+
+/**
+ * An outcome edge: a bezier path with its label (the outcome letter, plus finding codes) drawn
+ * as plain SVG text. React Flow's own labels measure their text (getBBox) on every render,
+ * which dominated opening large missions; this one needs no measurement.
+ */
+export const OutcomeEdge = memo(function OutcomeEdge({
+  id,
+  sourceX,
+  sourceY,
+  targetX,
+  targetY,
+  sourcePosition,
+  targetPosition,
+  style,
+  markerEnd,
+  label,
+  labelStyle,
+}: EdgeProps) {
+  const [path, labelX, labelY] = getBezierPath({ sourceX, sourceY, targetX, targetY, sourcePosition, targetPosition });
+  return (
+    <>
+      <BaseEdge id={id} path={path} style={style} markerEnd={markerEnd} />
+      {label ? (
+        <text x={labelX} y={labelY} dy="0.3em" textAnchor="middle" className="outcome-edge-label" style={labelStyle}>
+          {label}
+        </text>
+      ) : null}
+    </>
+  );
+});
+
+export const EDGE_TYPES = { outcome: OutcomeEdge };

@@ -60,7 +60,16 @@ export function ImportPage() {
     setError(null);
     try {
       // An empty draft: no goals yet, the default terminals; the graph editor takes it from here.
-      const orders: Record<string, unknown> = { format: "countersign.orders/1", id, title: newTitle.trim(), goals: [] };
+      const orders: Record<string, unknown> = {
+        format: "countersign.orders/1",
+        id,
+        title: newTitle.trim(),
+        goals: [],
+        terminals: [
+          { id: "COMPLETE", kind: "complete", title: "Mission complete" },
+          { id: "ABORT", kind: "abort", title: "Mission abort" },
+        ],
+      };
       if (newVehicle.trim()) orders.vehicle = newVehicle.trim();
       const mission = unwrap(await api.POST("/api/missions", { body: orders }));
       navigate(missionHref(mission.id, "editor"));

@@ -1,0 +1,192 @@
+/**
+ * Small labelled inputs the inspector panels share: a field that commits on Enter or when it
+ * loses focus (ids, lists, multi-line specs), and the expression field with completion of
+ * quantity names and inline parse errors.
+ */
+import { type KeyboardEvent, useEffect, useId, useLayoutEffect, useMemo, useRef, useState } from "react";
+
+import { applyCompletion, checkExpr, completions } from "./expr";
+
+/**
+ * A text input (or textarea) that keeps its own text while typing and calls `onCommit` on
+ * Enter (inputs) or blur. `onCommit` answers an error message to show, or nothing.
+ */
+export function CommitField({
+  id,
+  label,
+  value,
+  onCommit,
+  multiline = false,
+  rows = 2,
+  className,
+  hint,
+  ariaLabel,
+}: {
+  id: string;
+  label?: string;
+  value: string;
+  onCommit: (text: string) => string | void;
+  multiline?: boolean;
+  rows?: number;
+  className?: string;
+  hint?: string;
+  ariaLabel?: string;
+}) {
+  const [text, setText] = useState(value);
+  const [error, setError] = useState("");
+  const editing = useRef(false);
+  useEffect(() => {
+    if (!editing.current) setText(value);
+  }, [value]);
+  const commit = () => {
+    editing.current = false;
+    if (text === value) {
+      setError("");
+      return;
+    }
+    const problem = onCommit(text);
+    setError(problem || "");
+  };
+  const common = {
+    id,
+    value: text,
+    className,
+    "aria-label": ariaLabel,
+    "aria-invalid": error ? true : undefined,
+    "aria-describedby": `${id}-error`,
+    onChange: (e: { target: { value: string } }) => {
+      editing.current = true;
+      setText(e.target.value);
+    },
+    onBlur: commit,
+  };
+  return (
+    <>
+      {label && <label htmlFor={id}>{label}</label>}
+      {multiline ? (
+        <textarea {...common} rows={rows} />
+      ) : (
+        <input
+          {...common}
+          onKeyDown={(e) => {
+            if (e.key === "Enter") {
+              e.preventDefault();
+              commit();
+            }
+          }}
+        />
+      )}
+      {hint && <span className="hint">{hint}</span>}
+      <span id={`${id}-error`} className="field-error" role={error ? "alert" : undefined}>
+        {error}
+      </span>
+    </>
+  );
+}
+
+/**
+ * The expression editor: a combobox whose list offers the quantity names (and keywords) that
+ * start with the word at the caret. ArrowDown/ArrowUp move, Enter or Tab accepts, Escape closes.
+ * A parse error or an unknown quantity shows under the field with its column.
+ */
+export function ExprField({
+  id,
+  label,
+  value,
+  known,
+  onChange,
+  serverMessage,
+}: {
+  id: string;
+  label: string;
+  value: string;
+  known: string[];
+  onChange: (text: string) => void;
+  serverMessage?: string;
+}) {
+  const listId = useId();
+  const input = useRef<HTMLInputElement>(null);
+  const [caret, setCaret] = useState<number | null>(null);
+  const [active, setActive] = useState(0);
+  const [closed, setClosed] = useState(true);
+  const items = useMemo(
+    () => (caret === null || closed ? [] : completions(value, caret, known).items),
+    [value, caret, known, closed],
+  );
+  const error = useMemo(() => (value.trim() === "" ? null : checkExpr(value, known)), [value, known]);
+  const open = items.length > 0;
+
+  const accept = (word: string) => {
+    const at = caret ?? value.length;
+    const done = applyCompletion(value, at, word);
+    pendingCaret.current = done.caret;
+    setCaret(done.caret);
+    setClosed(true);
+    onChange(done.text);
+  };
+  // The caret goes after the completed word as soon as the new text is in the field.
+  const pendingCaret = useRef<number | null>(null);
+  useLayoutEffect(() => {
+    const at = pendingCaret.current;
+    if (at === null || !input.current) return;
+    pendingCaret.current = null;
+    input.current.setSelectionRange(at, at);
+  }, [value]);
+  const onKey = (e: KeyboardEvent<HTMLInputElement>) => {
+    if (!open) return;
+    if (e.key === "ArrowDown") setActive((a) => (a + 1) % items.length);
+    else if (e.key === "ArrowUp") setActive((a) => (a - 1 + items.length) % items.length);
+    else if (e.key === "Enter" || e.key === "Tab") accept(items[Math.min(active, items.length - 1)]!);
+    else if (e.key === "Escape") setClosed(true);
+    else return;
+    e.preventDefault();
+  };
+  return (
+    <div className="expr-field">
+      <label htmlFor={id}>{label}</label>
+      <input
+        id={id}
+        ref={input}
+        className="code"
+        role="combobox"
+        autoComplete="off"
+        spellCheck={false}
+        aria-autocomplete="list"
+        aria-expanded={open}
+        aria-controls={listId}
+        aria-activedescendant={open ? `${listId}-${active}` : undefined}
+        aria-invalid={error ? true : undefined}
+        aria-describedby={`${id}-error`}
+        value={value}
+        onChange={(e) => {
+          onChange(e.target.value);
+          setCaret(e.target.selectionStart);
+          setActive(0);
+          setClosed(false);
+        }}
+        onKeyDown={onKey}
+        onBlur={() => setClosed(true)}
+      />
+      <ul id={listId} role="listbox" className="completions" hidden={!open} aria-label={`Completions for ${label}`}>
+        {items.map((w, i) => (
+          <li
+            key={w}
+            id={`${listId}-${i}`}
+            role="option"
+            aria-selected={i === active}
+            className={i === active ? "active" : undefined}
+            onMouseDown={(e) => {
+              e.preventDefault();
+              accept(w);
+            }}
+          >
+            {w}
+          </li>
+        ))}
+      </ul>
+      <span id={`${id}-error`} className="field-error" data-testid={`${id}-error`}>
+        {error ? `Column ${error.col}: ${error.message}` : serverMessage ?? ""}
+      </span>
+    </div>
+  );
+}

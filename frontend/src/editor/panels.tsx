@@ -1,0 +1,677 @@
+/**
+ * Inspector panels for the parts of the orders beside the graph: the mission itself, areas
+ * (with a plan view), quantities, the vehicle profile and norms. Every control is a labelled
+ * input; ids, lists and multi-line specs commit on Enter or when focus leaves them.
+ */
+import { type PointerEvent as ReactPointerEvent, useMemo, useRef, useState } from "react";
+
+import { ExprField, CommitField } from "./fields";
+import { envelopeToText, type Orders, parseEnvelope } from "./graph";
+import {
+  addArea,
+  addFeature,
+  addNorm,
+  addQuantity,
+  addVehicle,
+  addVertex,
+  areas,
+  type AreaSpec,
+  deleteArea,
+  deleteFeature,
+  deleteNorm,
+  deleteQuantity,
+  type LatLon,
+  NORM_KINDS,
+  normKind,
+  type NormKind,
+  norms,
+  parseList,
+  parseNumber,
+  quantities,
+  removeVertex,
+  renameArea,
+  renameFeature,
+  renameVehicle,
+  setNormKind,
+  setVertex,
+  targetVehicle,
+  updateArea,
+  updateFeature,
+  updateMission,
+  updateNorm,
+  updateQuantity,
+  updateVehicle,
+} from "./model";
+import { centroid, fitView, project, svgPoints, unproject } from "./planview";
+
+export type EditOrders = (change: (o: Orders) => Orders, group?: string) => void;
+export type Markers = Map<string, { codes: string[]; severity: "error" | "warning" }>;
+
+export function MarkerBadge({ markers, id }: { markers: Markers; id: string }) {
+  const mark = markers.get(id);
+  if (!mark) return null;
+  return (
+    <span className={`badge ${mark.severity === "error" ? "bad" : "warn"}`} data-testid={`field-markers-${id}`}>
+      {mark.severity === "error" ? "✖ " : "⚠ "}
+      {mark.codes.join(" ")}
+    </span>
+  );
+}
+
+// ---------------------------------------------------------------------------------------------
+
+export function MissionPanel({ orders, editOrders }: { orders: Orders; editOrders: EditOrders }) {
+  return (
+    <fieldset className="panel-box">
+      <legend>Mission</legend>
+      <label htmlFor="mission-id">Mission id</label>
+      <input id="mission-id" value={orders.id} readOnly aria-readonly="true" />
+      <label htmlFor="mission-title">Mission title</label>
+      <input
+        id="mission-title"
+        value={orders.title ?? ""}
+        onChange={(e) => editOrders((o) => updateMission(o, { title: e.target.value }), "mission:title")}
+      />
+      <label htmlFor="mission-description">Mission description</label>
+      <textarea
+        id="mission-description"
+        rows={3}
+        value={(orders.description as string | undefined) ?? ""}
+        onChange={(e) => editOrders((o) => updateMission(o, { description: e.target.value }), "mission:description")}
+      />
+      <CommitField
+        id="mission-vehicle"
+        label="Target vehicle (id)"
+        value={(orders.vehicle as string | null | undefined) ?? ""}
+        onCommit={(text) => editOrders((o) => updateMission(o, { vehicle: text.trim() || undefined }))}
+      />
+    </fieldset>
+  );
+}
+
+// ---------------------------------------------------------------------------------------------
+
+const PLAN_W = 520;
+const PLAN_H = 340;
+
+export interface PlanOverlay {
+  /** Route through the plan: lat/lon points, labelled. */
+  route: { at: LatLon; label: string }[];
+  /** Area ids chosen by the plan, in order. */
+  chosen: string[];
+}
+
+/**
+ * The plan view: every area's polygon in a north-up local projection (no tiles), labelled with
+ * its id and context tags. The selected area's vertices can be dragged with the mouse; with
+ * "Add vertices by clicking" on, a click adds a vertex to it. An optional overlay draws a plan.
+ */
+export function PlanView({
+  orders,
+  selected,
+  onSelect,
+  onMoveVertex,
+  onAddVertex,
+  overlay,
+  title = "Plan view of the areas",
+}: {
+  orders: Orders;
+  selected?: string | null;
+  onSelect?: (id: string) => void;
+  onMoveVertex?: (area: string, index: number, at: LatLon) => void;
+  onAddVertex?: (area: string, at: LatLon) => void;
+  overlay?: PlanOverlay | null;
+  title?: string;
+}) {
+  const list = areas(orders);
+  const points = [...list.flatMap((a) => a.polygon ?? []), ...(overlay?.route.map((r) => r.at) ?? [])];
+  // The view is fitted when the set of areas changes, not at every vertex drag.
+  const frozen = useRef<{ key: string; view: ReturnType<typeof fitView> } | null>(null);
+  const key = `${list.map((a) => a.id).join(",")}|${overlay ? overlay.route.length : 0}`;
+  const [dragging, setDragging] = useState<{ area: string; index: number } | null>(null);
+  if (!frozen.current || (frozen.current.key !== key && !dragging) || (points.length > 0 && !dragging && frozen.current.key === "")) {
+    frozen.current = { key, view: fitView(points, PLAN_W, PLAN_H) };
+  }
+  const view = frozen.current.view;
+  const svg = useRef<SVGSVGElement>(null);
+  const toSvg = (e: { clientX: number; clientY: number }): [number, number] => {
+    const box = svg.current!.getBoundingClientRect();
+    return [((e.clientX - box.left) / box.width) * PLAN_W, ((e.clientY - box.top) / box.height) * PLAN_H];
+  };
+  const [adding, setAdding] = useState(false);
+  const onPointerMove = (e: ReactPointerEvent<SVGSVGElement>) => {
+    if (!dragging || !onMoveVertex) return;
+    const [x, y] = toSvg(e);
+    onMoveVertex(dragging.area, dragging.index, unproject(view, x, y));
+  };
+  return (
+    <div className="plan-view">
+      {onAddVertex && selected && (
+        <button type="button" aria-pressed={adding} onClick={() => setAdding((a) => !a)}>
+          {adding ? `Stop adding vertices to ${selected}` : `Add vertices to ${selected} by clicking`}
+        </button>
+      )}
+      <svg
+        ref={svg}
+        viewBox={`0 0 ${PLAN_W} ${PLAN_H}`}
+        role="img"
+        aria-label={title}
+        data-testid="plan-view"
+        className={adding ? "adding" : undefined}
+        onPointerMove={onPointerMove}
+        onPointerUp={() => setDragging(null)}
+        onPointerLeave={() => setDragging(null)}
+        onClick={(e) => {
+          if (!adding || !selected || !onAddVertex) return;
+          const [x, y] = toSvg(e);
+          onAddVertex(selected, unproject(view, x, y));
+        }}
+      >
+        <title>{title}</title>
+        <rect x={0} y={0} width={PLAN_W} height={PLAN_H} className="plan-water" />
+        {list.map((a) => {
+          const poly = a.polygon ?? [];
+          const [cx, cy] = project(view, centroid(poly));
+          const isSel = a.id === selected;
+          const chosen = overlay?.chosen.includes(a.id);
+          return (
+            <g key={a.id} className={`plan-area${isSel ? " selected" : ""}${chosen ? " chosen" : ""}`} data-testid={`plan-area-${a.id}`}>
+              {poly.length >= 2 && (
+                <polygon
+                  points={svgPoints(view, poly)}
+                  onClick={(e) => {
+                    if (adding) return;
+                    e.stopPropagation();
+                    onSelect?.(a.id);
+                  }}
+                >
+                  <title>{`${a.id}${a.title ? `: ${a.title}` : ""}${a.contexts?.length ? ` (${a.contexts.join(", ")})` : ""}`}</title>
+                </polygon>
+              )}
+              {poly.length > 0 && (
+                <text x={cx} y={cy} textAnchor="middle" className="plan-label">
+                  {a.id}
+                  {a.contexts && a.contexts.length > 0 && (
+                    <tspan x={cx} dy="1.1em" className="plan-context">
+                      {a.contexts.join(", ")}
+                    </tspan>
+                  )}
+                </text>
+              )}
+              {isSel &&
+                poly.map((p, i) => {
+                  const [x, y] = project(view, p);
+                  return (
+                    <circle
+                      key={i}
+                      cx={x}
+                      cy={y}
+                      r={6}
+                      className="plan-vertex"
+                      data-testid={`vertex-${a.id}-${i + 1}`}
+                      onPointerDown={(e) => {
+                        e.stopPropagation();
+                        (e.target as Element).setPointerCapture?.(e.pointerId);
+                        setDragging({ area: a.id, index: i });
+                      }}
+                    >
+                      <title>{`Vertex ${i + 1} of ${a.id}: drag to move`}</title>
+                    </circle>
+                  );
+                })}
+            </g>
+          );
+        })}
+        {overlay && overlay.route.length > 1 && (
+          <g className="plan-route" data-testid="plan-route">
+            <polyline points={overlay.route.map((r) => project(view, r.at).join(",")).join(" ")} />
+            {overlay.route.map((r, i) => {
+              const [x, y] = project(view, r.at);
+              return (
+                <g key={i}>
+                  <circle cx={x} cy={y} r={4} />
+                  <text x={x + 6} y={y - 6} className="plan-step">
+                    {r.label}
+                  </text>
+                </g>
+              );
+            })}
+          </g>
+        )}
+      </svg>
+    </div>
+  );
+}
+
+export function AreasPanel({ orders, editOrders, markers }: { orders: Orders; editOrders: EditOrders; markers: Markers }) {
+  const list = areas(orders);
+  const [selected, setSelected] = useState<string | null>(list[0]?.id ?? null);
+  const current = list.find((a) => a.id === selected) ?? null;
+  return (
+    <section aria-labelledby="areas-title" className="areas-panel">
+      <h3 id="areas-title">Areas</h3>
+      <PlanView
+        orders={orders}
+        selected={current?.id}
+        onSelect={setSelected}
+        onMoveVertex={(area, index, at) => editOrders((o) => setVertex(o, area, index, at), `area:${area}:drag:${index}`)}
+        onAddVertex={(area, at) => editOrders((o) => addVertex(o, area, at))}
+      />
+      <div className="area-list" role="group" aria-label="Choose an area">
+        {list.map((a) => (
+          <button key={a.id} type="button" aria-pressed={a.id === current?.id} onClick={() => setSelected(a.id)}>
+            {a.id} <MarkerBadge markers={markers} id={a.id} />
+          </button>
+        ))}
+        <button
+          type="button"
+          onClick={() => {
+            const r = addArea(orders);
+            editOrders(() => r.orders);
+            setSelected(r.id);
+          }}
+        >
+          Add area
+        </button>
+      </div>
+      {current && <AreaEditor key={current.id} area={current} orders={orders} editOrders={editOrders} onRenamed={setSelected} />}
+    </section>
+  );
+}
+
+function AreaEditor({
+  area,
+  orders,
+  editOrders,
+  onRenamed,
+}: {
+  area: AreaSpec;
+  orders: Orders;
+  editOrders: EditOrders;
+  onRenamed: (id: string) => void;
+}) {
+  const id = area.id;
+  const polygon = area.polygon ?? [];
+  return (
+    <fieldset className="panel-box">
+      <legend>
+        Area <code>{id}</code>
+      </legend>
+      <CommitField
+        id="area-id"
+        label="Area id"
+        value={id}
+        onCommit={(text) => {
+          const r = renameArea(orders, id, text.trim());
+          if (r.error) return r.error;
+          editOrders(() => r.orders);
+          onRenamed(text.trim());
+        }}
+      />
+      <label htmlFor="area-title">Area title</label>
+      <input id="area-title" value={area.title ?? ""} onChange={(e) => editOrders((o) => updateArea(o, id, { title: e.target.value }), `area:${id}:title`)} />
+      <CommitField
+        id="area-contexts"
+        label="Context tags (comma-separated)"
+        value={(area.contexts ?? []).join(", ")}
+        onCommit={(text) => editOrders((o) => updateArea(o, id, { contexts: parseList(text) }))}
+      />
+      <table className="vertices">
+        <caption>Vertices of {id} (latitude, longitude in degrees)</caption>
+        <thead>
+          <tr>
+            <th scope="col">#</th>
+            <th scope="col">Latitude</th>
+            <th scope="col">Longitude</th>
+            <th scope="col">
+              <span className="visually-hidden">Remove</span>
+            </th>
+          </tr>
+        </thead>
+        <tbody>
+          {polygon.map((p, i) => (
+            <tr key={i}>
+              <td>{i + 1}</td>
+              {[0, 1].map((k) => (
+                <td key={k}>
+                  <VertexInput
+                    label={`Vertex ${i + 1} ${k === 0 ? "latitude" : "longitude"}`}
+                    value={p[k]!}
+                    onChange={(n) =>
+                      editOrders((o) => setVertex(o, id, i, (k === 0 ? [n, p[1]] : [p[0], n]) as LatLon), `area:${id}:v${i}:${k}`)
+                    }
+                  />
+                </td>
+              ))}
+              <td>
+                <button type="button" className="small" aria-label={`Remove vertex ${i + 1}`} onClick={() => editOrders((o) => removeVertex(o, id, i))}>
+                  ✕
+                </button>
+              </td>
+            </tr>
+          ))}
+        </tbody>
+      </table>
+      <button type="button" onClick={() => editOrders((o) => addVertex(o, id))}>
+        Add vertex
+      </button>{" "}
+      <button type="button" className="danger" onClick={() => editOrders((o) => deleteArea(o, id))}>
+        Delete area {id}
+      </button>
+    </fieldset>
+  );
+}
+
+/** A number input that keeps partial text ("36.", "-") while typing. */
+function VertexInput({ label, value, onChange }: { label: string; value: number; onChange: (n: number) => void }) {
+  const [text, setText] = useState(String(value));
+  const last = useRef(value);
+  if (last.current !== value && Number(text) !== value) {
+    last.current = value;
+    setText(String(value));
+  }
+  return (
+    <input
+      type="number"
+      step="any"
+      aria-label={label}
+      value={text}
+      onChange={(e) => {
+        setText(e.target.value);
+        const n = parseNumber(e.target.value);
+        if (n !== undefined) {
+          last.current = n;
+          onChange(n);
+        }
+      }}
+    />
+  );
+}
+
+// ---------------------------------------------------------------------------------------------
+
+export function QuantitiesPanel({ orders, editOrders }: { orders: Orders; editOrders: EditOrders }) {
+  const all = quantities(orders);
+  const [name, setName] = useState("");
+  const [error, setError] = useState("");
+  const add = () => {
+    const r = addQuantity(orders, name.trim());
+    setError(r.error ?? "");
+    if (r.error) return;
+    editOrders(() => r.orders);
+    setName("");
+  };
+  return (
+    <section aria-labelledby="quantities-title">
+      <h3 id="quantities-title">Quantities</h3>
+      <p className="hint">What constraints and envelopes measure. Built-in maritime quantities need no declaration.</p>
+      <table className="quantities">
+        <thead>
+          <tr>
+            <th scope="col">Name</th>
+            <th scope="col">Title</th>
+            <th scope="col">Type</th>
+            <th scope="col">Unit</th>
+            <th scope="col">Min</th>
+            <th scope="col">Max</th>
+            <th scope="col">
+              <span className="visually-hidden">Delete</span>
+            </th>
+          </tr>
+        </thead>
+        <tbody>
+          {Object.entries(all).map(([q, spec]) => (
+            <tr key={q}>
+              <th scope="row">
+                <code>{q}</code>
+              </th>
+              <td>
+                <input aria-label={`${q} title`} value={spec.title ?? ""} onChange={(e) => editOrders((o) => updateQuantity(o, q, { title: e.target.value }), `q:${q}:title`)} />
+              </td>
+              <td>
+                <select
+                  aria-label={`${q} type`}
+                  value={spec.type ?? ""}
+                  onChange={(e) => editOrders((o) => updateQuantity(o, q, { type: e.target.value || undefined }))}
+                >
+                  <option value="">real (default)</option>
+                  <option value="real">real</option>
+                  <option value="integer">integer</option>
+                  <option value="boolean">boolean</option>
+                </select>
+              </td>
+              <td>
+                <input aria-label={`${q} unit`} size={5} value={spec.unit ?? ""} onChange={(e) => editOrders((o) => updateQuantity(o, q, { unit: e.target.value }), `q:${q}:unit`)} />
+              </td>
+              {(["min", "max"] as const).map((k) => (
+                <td key={k}>
+                  <input
+                    aria-label={`${q} ${k}`}
+                    type="number"
+                    step="any"
+                    value={spec[k] ?? ""}
+                    onChange={(e) => editOrders((o) => updateQuantity(o, q, { [k]: parseNumber(e.target.value) }), `q:${q}:${k}`)}
+                  />
+                </td>
+              ))}
+              <td>
+                <button type="button" className="small" aria-label={`Delete quantity ${q}`} onClick={() => editOrders((o) => deleteQuantity(o, q))}>
+                  ✕
+                </button>
+              </td>
+            </tr>
+          ))}
+        </tbody>
+      </table>
+      <form
+        className="inline"
+        onSubmit={(e) => {
+          e.preventDefault();
+          add();
+        }}
+      >
+        <label htmlFor="new-quantity">New quantity name</label>
+        <input id="new-quantity" value={name} onChange={(e) => setName(e.target.value)} aria-describedby="new-quantity-error" />
+        <button type="submit">Add quantity</button>
+        <span id="new-quantity-error" className="field-error">
+          {error}
+        </span>
+      </form>
+    </section>
+  );
+}
+
+// ---------------------------------------------------------------------------------------------
+
+export function VehiclePanel({ orders, editOrders, markers }: { orders: Orders; editOrders: EditOrders; markers: Markers }) {
+  const v = targetVehicle(orders);
+  if (!v) {
+    return (
+      <section aria-labelledby="vehicle-title">
+        <h3 id="vehicle-title">Vehicle profile</h3>
+        <p className="empty">
+          {orders.vehicle
+            ? `The orders name vehicle ${String(orders.vehicle)}; its profile comes from the server's registry unless you add one here.`
+            : "The orders name no vehicle yet."}
+        </p>
+        <button type="button" onClick={() => editOrders((o) => addVehicle(o))}>
+          Add vehicle profile
+        </button>
+      </section>
+    );
+  }
+  const id = v.id;
+  const set = (changes: Record<string, unknown>, group?: string) => editOrders((o) => updateVehicle(o, id, changes), group);
+  const num = (key: "speed_mps" | "power_w") => (v[key] ?? "") as number | "";
+  const budget = (key: "energy_wh" | "duration_s") => v.budget?.[key] ?? "";
+  const setBudget = (key: "energy_wh" | "duration_s", text: string) => {
+    const b: Record<string, unknown> = { ...(v.budget ?? {}), [key]: parseNumber(text) };
+    if (b[key] === undefined) delete b[key];
+    set({ budget: b }, `v:budget:${key}`);
+  };
+  return (
+    <section aria-labelledby="vehicle-title">
+      <h3 id="vehicle-title">
+        Vehicle profile <MarkerBadge markers={markers} id={id} />
+      </h3>
+      <fieldset className="panel-box">
+        <legend>
+          Vehicle <code>{id}</code>
+        </legend>
+        <CommitField
+          id="vehicle-id"
+          label="Vehicle id"
+          value={id}
+          onCommit={(text) => {
+            const r = renameVehicle(orders, id, text.trim());
+            if (r.error) return r.error;
+            editOrders(() => r.orders);
+          }}
+        />
+        <label htmlFor="vehicle-name">Vehicle title</label>
+        <input id="vehicle-name" value={v.title ?? ""} onChange={(e) => set({ title: e.target.value }, "v:title")} />
+        <CommitField
+          id="vehicle-behaviors"
+          label="Trusted behaviours (comma-separated)"
+          value={(v.behaviors ?? []).join(", ")}
+          onCommit={(text) => set({ behaviors: parseList(text) })}
+        />
+        <CommitField
+          id="vehicle-envelope"
+          label='Vehicle envelope (one "quantity min max" per line)'
+          multiline
+          value={envelopeToText(v.envelope)}
+          onCommit={(text) => {
+            const parsed = parseEnvelope(text);
+            if (parsed.error) return parsed.error;
+            set({ envelope: parsed.envelope });
+          }}
+        />
+        <div className="pair">
+          <span>
+            <label htmlFor="vehicle-speed">Speed (m/s)</label>
+            <input id="vehicle-speed" type="number" step="any" min={0} value={num("speed_mps")} onChange={(e) => set({ speed_mps: parseNumber(e.target.value) }, "v:speed")} />
+          </span>
+          <span>
+            <label htmlFor="vehicle-power">Power (W)</label>
+            <input id="vehicle-power" type="number" step="any" min={0} value={num("power_w")} onChange={(e) => set({ power_w: parseNumber(e.target.value) }, "v:power")} />
+          </span>
+        </div>
+        <div className="pair">
+          <span>
+            <label htmlFor="vehicle-budget-energy">Energy budget (Wh)</label>
+            <input id="vehicle-budget-energy" type="number" step="any" min={0} value={budget("energy_wh")} onChange={(e) => setBudget("energy_wh", e.target.value)} />
+          </span>
+          <span>
+            <label htmlFor="vehicle-budget-time">Time budget (s)</label>
+            <input id="vehicle-budget-time" type="number" step="any" min={0} value={budget("duration_s")} onChange={(e) => setBudget("duration_s", e.target.value)} />
+          </span>
+        </div>
+      </fieldset>
+      <h4>Features</h4>
+      {(v.features ?? []).map((f) => (
+        <fieldset key={f.id} className="panel-box feature">
+          <legend>
+            Feature <code>{f.id}</code>
+          </legend>
+          <CommitField
+            id={`feature-${f.id}-id`}
+            label={`Feature ${f.id} id`}
+            value={f.id}
+            onCommit={(text) => {
+              const r = renameFeature(orders, id, f.id, text.trim());
+              if (r.error) return r.error;
+              editOrders(() => r.orders);
+            }}
+          />
+          <label htmlFor={`feature-${f.id}-title`}>{`Feature ${f.id} title`}</label>
+          <input
+            id={`feature-${f.id}-title`}
+            value={f.title ?? ""}
+            onChange={(e) => editOrders((o) => updateFeature(o, id, f.id, { title: e.target.value }), `f:${f.id}:title`)}
+          />
+          <CommitField
+            id={`feature-${f.id}-fulfills`}
+            label={`Feature ${f.id} fulfils (requirements, comma-separated)`}
+            value={f.fulfills.join(", ")}
+            onCommit={(text) => editOrders((o) => updateFeature(o, id, f.id, { fulfills: parseList(text) }))}
+          />
+          <CommitField
+            id={`feature-${f.id}-measures`}
+            label={`Feature ${f.id} measures (quantities, comma-separated)`}
+            value={f.measures.join(", ")}
+            onCommit={(text) => editOrders((o) => updateFeature(o, id, f.id, { measures: parseList(text) }))}
+          />
+          <button type="button" className="danger" onClick={() => editOrders((o) => deleteFeature(o, id, f.id))}>
+            Delete feature {f.id}
+          </button>
+        </fieldset>
+      ))}
+      <button type="button" onClick={() => editOrders((o) => addFeature(o, id).orders)}>
+        Add feature
+      </button>
+    </section>
+  );
+}
+
+// ---------------------------------------------------------------------------------------------
+
+export function NormsPanel({ orders, editOrders, markers, known }: { orders: Orders; editOrders: EditOrders; markers: Markers; known: string[] }) {
+  const list = norms(orders);
+  const contexts = useMemo(() => [...new Set(areas(orders).flatMap((a) => a.contexts ?? []))], [orders]);
+  return (
+    <section aria-labelledby="norms-title">
+      <h3 id="norms-title">Norms</h3>
+      {list.length === 0 && <p className="empty">No norms.</p>}
+      <datalist id="context-options">
+        {contexts.map((c) => (
+          <option key={c} value={c} />
+        ))}
+      </datalist>
+      {list.map((n) => {
+        const kind = normKind(n);
+        return (
+          <fieldset key={n.id} className="panel-box">
+            <legend>
+              Norm <code>{n.id}</code> <MarkerBadge markers={markers} id={n.id} />
+            </legend>
+            <label htmlFor={`norm-${n.id}-context`}>{`Norm ${n.id} context`}</label>
+            <input
+              id={`norm-${n.id}-context`}
+              list="context-options"
+              value={n.context ?? ""}
+              onChange={(e) => editOrders((o) => updateNorm(o, n.id, { context: e.target.value }), `n:${n.id}:context`)}
+            />
+            <label htmlFor={`norm-${n.id}-kind`}>{`Norm ${n.id} kind`}</label>
+            <select id={`norm-${n.id}-kind`} value={kind} onChange={(e) => editOrders((o) => setNormKind(o, n.id, e.target.value as NormKind))}>
+              {NORM_KINDS.map((k) => (
+                <option key={k} value={k}>
+                  {k}
+                </option>
+              ))}
+            </select>
+            <ExprField
+              id={`norm-${n.id}-expr`}
+              label={`Norm ${n.id} expression`}
+              value={n[kind] ?? ""}
+              known={known}
+              onChange={(text) => editOrders((o) => updateNorm(o, n.id, { [kind]: text }), `n:${n.id}:expr`)}
+            />
+            <label htmlFor={`norm-${n.id}-text`}>{`Norm ${n.id} text`}</label>
+            <input
+              id={`norm-${n.id}-text`}
+              value={n.text ?? ""}
+              onChange={(e) => editOrders((o) => updateNorm(o, n.id, { text: e.target.value }), `n:${n.id}:text`)}
+            />
+            <button type="button" className="danger" onClick={() => editOrders((o) => deleteNorm(o, n.id))}>
+              Delete norm {n.id}
+            </button>
+          </fieldset>
+        );
+      })}
+      <button type="button" onClick={() => editOrders((o) => addNorm(o).orders)}>
+        Add norm
+      </button>
+    </section>
+  );
+}
