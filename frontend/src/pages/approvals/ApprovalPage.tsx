@@ -172,7 +172,11 @@ function Verification({ record }: { record: ApprovalDetail }) {
         <Loading what="and checking the log" />
       ) : checks ? (
         <>
-          <p className={failed.length ? "verdict bad" : "verdict ok"} data-testid="verification-verdict" role="status">
+          <p
+            className={failed.length ? "verdict bad" : pinned ? "verdict ok" : "verdict warn"}
+            data-testid="verification-verdict"
+            role="status"
+          >
             {failed.length
               ? `${failed.length} of ${checks.length} checks failed: ${failed.map((c) => c.label).join(", ")}.`
               : !pinned
