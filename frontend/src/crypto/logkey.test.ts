@@ -3,6 +3,7 @@ import { describe, expect, it } from "vitest";
 import vectors from "./__fixtures__/vectors.json";
 import { fromBase64, toBase64 } from "./bytes";
 import { keyId } from "./dsse";
+import { fingerprint } from "./keystore";
 import {
   comparePin,
   forgetPin,
@@ -14,7 +15,6 @@ import {
   pinLogKey,
   pinStorageKey,
 } from "./logkey";
-import { fingerprint } from "./keystore";
 
 const ORIGIN = "https://countersign.example";
 const OTHER_ORIGIN = "http://127.0.0.1:8000";
