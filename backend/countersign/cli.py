@@ -184,10 +184,10 @@ def cmd_run(args: argparse.Namespace) -> int:
 
 
 def cmd_export(args: argparse.Namespace) -> int:
-    from .orders.writers import write
+    from .rehearse.plain import write_for_supervisor
 
     loaded = _load(args.file)
-    sys.stdout.write(write(loaded.orders, args.format))
+    sys.stdout.write(write_for_supervisor(loaded.orders, args.format))
     return EXIT_OK
 
 
@@ -412,8 +412,9 @@ def build_parser() -> argparse.ArgumentParser:
         "export",
         help="write orders as plain language, JSON, DOT, MEO Turtle, NPS MEO 3.0 Turtle or AVCL",
         description="Convert orders between formats: the plain-language orders a supervisor "
-        "reads (seed 000 Figures 3 and 4), orders JSON, a Graphviz DOT graph, MEO Turtle "
-        "(lossless), an NPS MEO 3.0 Turtle view, or AVCL XML.",
+        "reads (seed 000 Figures 3 and 4; with a \"Contingency rules\" section, one sentence "
+        "per rule, when the orders or their vehicle carry rules), orders JSON, a Graphviz DOT "
+        "graph, MEO Turtle (lossless), an NPS MEO 3.0 Turtle view, or AVCL XML.",
     )
     export_cmd.add_argument("file", metavar="FILE", help=FILE_HELP)
     export_cmd.add_argument(

@@ -4,7 +4,8 @@ signs the approval in the browser, and an auditor verifies the record in the bro
 a bundle that the offline verifier (`countersign audit verify`, a subprocess) accepts. Then one
 byte of the stored envelope is changed directly in the database (bypassing the append-only
 trigger) and both the audit page and the offline verifier name the failing log entry; changed
-key, version orders and log entry are then named on the audit page as well."""
+key, version orders and log entry are then named on the audit page as well. The auditor pins
+the log key on first use; a different pinned key fails the pin check, naming both keys."""
 
 from __future__ import annotations
 
@@ -18,6 +19,8 @@ from typing import Any
 
 import pytest
 from playwright.sync_api import Browser, BrowserContext, Page, expect
+
+from countersign.approvals import dsse
 
 from .conftest import PASSWORD, Server, _cli, _server_env
 from .test_roles import sign_in
@@ -158,6 +161,8 @@ def test_submit_sign_verify_export_and_detect_tampering(
         "No earlier version of this mission was approved")
     expect(supervisor.get_by_test_id("orders-graph")).to_be_visible()
     expect(supervisor.get_by_test_id("review-plain")).to_contain_text("Search Area A")
+    expect(supervisor.get_by_test_id("contingency-rules")).to_contain_text(
+        "carry no contingency rules")
     expect(supervisor.get_by_test_id("review-verdict")).to_have_text(
         "The orders pass every check.")
     expect(supervisor.get_by_test_id("review-paths-to-COMPLETE")).to_have_text("25")
@@ -227,7 +232,18 @@ def test_submit_sign_verify_export_and_detect_tampering(
     expect(auditor.get_by_role("heading", name=re.compile(rf"^Record \d+: {MISSION} v1$"))
            ).to_be_visible()
     verification = auditor.get_by_test_id("verification-verdict")
-    expect(verification).to_have_text("All 9 checks passed.", timeout=30_000)
+    expect(verification).to_have_text(re.compile(
+        r"^All 9 checks passed, against a log key not pinned"), timeout=30_000)
+    # Trust on first use: the auditor pins the log key the server presents, explicitly.
+    checkpoint: dict[str, Any] = auditor.evaluate(
+        "async () => (await fetch('/api/log/checkpoint')).json()")
+    server_print = fingerprint(checkpoint["key_id"])
+    expect(auditor.get_by_test_id("log-key-presented")).to_contain_text(checkpoint["key_id"])
+    auditor.get_by_role("button", name="Pin this key…").click()
+    auditor.get_by_role("button", name="Confirm: pin this key").click()
+    expect(verification).to_have_text("All 10 checks passed.", timeout=30_000)
+    expect(auditor.get_by_test_id("check-pin")).to_contain_text(
+        f"signed by log key {server_print}, the key pinned in this browser")
     expect(auditor.get_by_test_id("approval-plain")).to_contain_text("Search Area A")
     expect(auditor.get_by_test_id("rehearsal")).to_have_text("None.")
     expect(auditor.get_by_test_id("check-key")).to_contain_text("not revoked before it")
@@ -278,4 +294,25 @@ def test_submit_sign_verify_export_and_detect_tampering(
         "log entry 1 does not chain to entry 0")
     expect(auditor.get_by_test_id("check-root")).to_contain_text(
         "log entries 0..")
+
+    # The auditor pins the published key by hand; the server presents another one: the pin
+    # check fails and names both fingerprints.
+    stored_pin = auditor.evaluate(
+        "() => JSON.parse(localStorage.getItem('countersign.log-key-pin|' + location.origin))")
+    assert stored_pin["keyId"] == checkpoint["key_id"]
+    published = dsse.generate_key()
+    auditor.get_by_text("Enter the published log key").click()
+    auditor.get_by_label("Expected log key").fill(dsse.public_text(published))
+    auditor.get_by_role("button", name="Pin entered key").click()
+    pin = auditor.get_by_test_id("check-pin")
+    expect(pin).to_contain_text(
+        f"the server presents log key {server_print}, but this browser pinned log key "
+        f"{fingerprint(dsse.key_id(dsse.public_text(published)))}", timeout=30_000)
+    expect(verification).to_contain_text("Log key matches the pinned key")
+    expect(auditor.get_by_test_id("log-key-state")).to_contain_text("a different log key")
     assert not errors, "the app raised errors in the browser:\n" + "\n".join(errors)
+
+
+def fingerprint(key_id: str) -> str:
+    """The browser's fingerprint of a key id: its first 16 hex digits in groups of four."""
+    return " ".join(key_id[i:i + 4] for i in range(0, 16, 4))

@@ -89,6 +89,24 @@ def test_examples_and_export() -> None:
     assert run_cli("examples", "nope").returncode == 2
 
 
+def test_export_plain_appends_the_contingency_rules() -> None:
+    from countersign.orders.examples import load_example
+    from countersign.rehearse.plain import rules_sentences
+
+    exported = run_cli("export", "example:search-and-sample-rules", "--format", "plain")
+    assert exported.returncode == 0, exported.stderr
+    orders, rules = exported.stdout.split("\n\nContingency rules\n\n")
+    assert "Goal 1: Search Area A" in orders and "Norm 1:" in orders
+    sentences = rules_sentences(load_example("search-and-sample-rules"))
+    assert rules.splitlines() == sentences and len(sentences) == 12
+    assert sentences[0].startswith("E_no_fix (estimation rule): If 'gps was captured' is false")
+    plain = run_cli("export", "example:search-and-sample", "--format", "plain").stdout
+    assert "Contingency rules" not in plain and plain.endswith("marine protected area.\n")
+    # other formats are the orders writers' own
+    exported = run_cli("export", "example:search-and-sample-rules", "--format", "json")
+    assert "Contingency rules" not in exported.stdout
+
+
 def test_standard_input() -> None:
     data = run_cli("examples", "search-and-sample").stdout.encode()
     result = run_cli("validate", "-", stdin=data)

@@ -34,7 +34,8 @@ export interface paths {
         /**
          * Get Approval
          * @description An approval as signed: envelope, statement, the orders as approved, plain-language
-         *     orders, findings, path summary, the key, and an inclusion proof against a checkpoint.
+         *     orders and contingency rules, findings, path summary, the key, and an inclusion proof
+         *     against a checkpoint.
          */
         get: operations["getApproval"];
         put?: never;
@@ -515,8 +516,9 @@ export interface paths {
         };
         /**
          * Review Version
-         * @description What a review shows of one version: its orders, plain-language orders, findings, path
-         *     summary and first paths, its submissions, the previously approved version's orders (for
+         * @description What a review shows of one version: its orders, plain-language orders, contingency
+         *     `rules` (one sentence each; empty when none or unreadable), findings, path summary and
+         *     first paths, its submissions, the previously approved version's orders (for
          *     the diff), and whether the caller may submit it or sign a decision on it (and why not).
          */
         get: operations["reviewVersion"];

@@ -49,7 +49,7 @@ export interface ApprovalRecord {
 }
 
 export interface Check {
-  id: "checkpoint" | "chain" | "root" | "inclusion" | "logged" | "key" | "signature" | "statement" | "orders";
+  id: "pin" | "checkpoint" | "chain" | "root" | "inclusion" | "logged" | "key" | "signature" | "statement" | "orders";
   label: string;
   ok: boolean;
   detail: string;

@@ -16,6 +16,7 @@ from sqlalchemy import select
 from ...approvals import dsse
 from ...orders.reader import orders_from_data
 from ...orders.writers import write
+from ...rehearse.plain import rules_sentences
 from ...store import approvals as service
 from ...store.missions import get_version, report_for
 from ...store.rehearsals import attach, get_record, record_summary
@@ -256,8 +257,9 @@ REVIEW_PATHS = 50
             **allow(*EVERYONE))
 def review_version(mission_id: str, number: RowId, principal: CurrentPrincipal,
                    db: Db) -> dict[str, Any]:
-    """What a review shows of one version: its orders, plain-language orders, findings, path
-    summary and first paths, its submissions, the previously approved version's orders (for
+    """What a review shows of one version: its orders, plain-language orders, contingency
+    `rules` (one sentence each; empty when none or unreadable), findings, path summary and
+    first paths, its submissions, the previously approved version's orders (for
     the diff), and whether the caller may submit it or sign a decision on it (and why not)."""
     version = get_version(db, mission_id, number)
     orders = orders_from_data(version.orders)
@@ -292,7 +294,8 @@ def review_version(mission_id: str, number: RowId, principal: CurrentPrincipal,
         "mission": mission_id, "version": number, "digest": version.digest,
         "author": author.username if author else None,
         "created_at": version.created_at.isoformat(), "orders": version.orders,
-        "plain": write(orders, "plain"), "ok": report["ok"], "findings": report["findings"],
+        "plain": write(orders, "plain"), "rules": rules_sentences(orders),
+        "ok": report["ok"], "findings": report["findings"],
         "paths": report.get("paths"), "path_items": items,
         "submissions": [_submission_out(db, s.id).model_dump(mode="json") for s in submissions],
         "previous": previous_out,
@@ -368,7 +371,8 @@ def list_approvals(
 @router.get("/approvals/{approval_id}", operation_id="getApproval", **allow(*LOG_READERS))
 def get_approval(approval_id: RowId, db: Db, signer: Signer) -> dict[str, Any]:
     """An approval as signed: envelope, statement, the orders as approved, plain-language
-    orders, findings, path summary, the key, and an inclusion proof against a checkpoint."""
+    orders and contingency rules, findings, path summary, the key, and an inclusion proof
+    against a checkpoint."""
     approval = service.get_approval(db, approval_id)
     version = db.get_one(MissionVersion, approval.version_id)
     orders = orders_from_data(version.orders)
@@ -388,6 +392,7 @@ def get_approval(approval_id: RowId, db: Db, signer: Signer) -> dict[str, Any]:
         "statement": json.loads(payload),
         "orders": version.orders,
         "plain": write(orders, "plain"),
+        "rules": rules_sentences(orders),
         "findings": report["findings"],
         "paths": report.get("paths"),
         "rehearsal": _cited_rehearsal(db, approval.submission_id),

@@ -15,7 +15,8 @@ from sqlalchemy.orm import Session as DbSession
 from ...orders.canonical import digest
 from ...orders.model import Orders
 from ...orders.reader import orders_from_data, read_bytes
-from ...orders.writers import WRITERS, write
+from ...orders.writers import WRITERS
+from ...rehearse.plain import write_for_supervisor
 from ...store import missions as service
 from ...store.db import database_of
 from ...store.tables import Mission, MissionVersion, User
@@ -315,5 +316,6 @@ def export_mission(
 ) -> Response:
     mission = service.get_mission(db, mission_id)
     _, media_type, suffix = WRITERS[format]
-    return Response(write(_orders(mission.draft), format), media_type=media_type, headers={
+    text = write_for_supervisor(_orders(mission.draft), format)
+    return Response(text, media_type=media_type, headers={
         "Content-Disposition": f'attachment; filename="{mission.id}.{suffix}"'})

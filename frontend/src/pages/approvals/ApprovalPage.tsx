@@ -10,13 +10,15 @@ import { api, unwrap } from "../../api/client";
 import { Link } from "../../components/Link";
 import { ErrorMessage, Loading, Notice } from "../../components/Status";
 import { fingerprint } from "../../crypto/keystore";
+import { pinCheck } from "../../crypto/logkey";
 import { type Check, verifyApproval } from "../../crypto/verify";
 import { formatDateTime, shortDigest } from "../../format";
 import { useSession } from "../../session";
 import { useLoad } from "../../useLoad";
 import { type ApprovalDetail, approvalHref, bundleHref, loadApproval, loadEntries, type Prepared, reviewHref } from "./api";
+import { LogKeyPanel, useLogKeyPin } from "./LogKeyPin";
 import { OrdersGraph } from "./OrdersGraph";
-import { FindingsTable, PathSummaryTable, StateBadge } from "./parts";
+import { FindingsTable, PathSummaryTable, RulesSection, StateBadge } from "./parts";
 import { signPrepared, useSigningKeys } from "./signing";
 
 export function ApprovalPage({ id }: { id: number }) {
@@ -113,6 +115,7 @@ export function ApprovalPage({ id }: { id: number }) {
       <pre className="orders-text" data-testid="approval-plain">
         {record.plain}
       </pre>
+      <RulesSection rules={record.rules ?? []} headingLevel={3} />
       <details>
         <summary>Orders (JSON, as signed)</summary>
         <pre className="orders-text">{JSON.stringify(record.orders, null, 2)}</pre>
@@ -134,32 +137,51 @@ export function ApprovalPage({ id }: { id: number }) {
 
 function Verification({ record }: { record: ApprovalDetail }) {
   const [run, setRun] = useState(0);
-  const { data: checks, error, loading } = useLoad(async () => {
+  const { data: logChecks, error, loading } = useLoad(async () => {
     const entries = await loadEntries(record.checkpoint.size);
     return verifyApproval(record, entries);
   }, [record, run]);
+  const pin = useLogKeyPin(record.checkpoint.public_key);
+  const pinned = pin.state ? pinCheck(pin.state) : null;
+  // The pin comes first: every checkpoint check below is only as good as the key it used.
+  const pinReady = pin.state !== undefined || Boolean(pin.error);
+  const checks = logChecks && pinReady ? (pinned ? [pinned, ...logChecks] : logChecks) : undefined;
   const failed = checks?.filter((c) => !c.ok) ?? [];
   return (
     <section className="card verification" aria-labelledby="verification-title" aria-busy={loading}>
       <div className="page-head">
         <h2 id="verification-title">Verification in this browser</h2>
-        <button type="button" onClick={() => setRun((r) => r + 1)} disabled={loading}>
+        <button
+          type="button"
+          onClick={() => {
+            setRun((r) => r + 1);
+            pin.reload();
+          }}
+          disabled={loading}
+        >
           Verify again
         </button>
       </div>
       <p className="hint">
-        Checked here with WebCrypto against the log entries, proof and checkpoint the server sent; nothing is taken on the
-        server's word. For a check without the server, export the bundle and run <code>countersign audit verify</code>.
+        Checked here with WebCrypto against the log entries, proof and checkpoint the server sent, and against the log key
+        pinned in this browser; nothing is taken on the server's word. For a check without the server, export the bundle
+        and run <code>countersign audit verify --log-key</code>.
       </p>
       <ErrorMessage error={error} />
       {loading && !checks ? (
         <Loading what="and checking the log" />
       ) : checks ? (
         <>
-          <p className={failed.length ? "verdict bad" : "verdict ok"} data-testid="verification-verdict" role="status">
+          <p
+            className={failed.length ? "verdict bad" : pinned ? "verdict ok" : "verdict warn"}
+            data-testid="verification-verdict"
+            role="status"
+          >
             {failed.length
               ? `${failed.length} of ${checks.length} checks failed: ${failed.map((c) => c.label).join(", ")}.`
-              : `All ${checks.length} checks passed.`}
+              : !pinned
+                ? `All ${checks.length} checks passed, against a log key not pinned in this browser: compare it with the published key and pin it below.`
+                : `All ${checks.length} checks passed.`}
           </p>
           <ul className="checks">
             {checks.map((c: Check) => (
@@ -172,6 +194,7 @@ function Verification({ record }: { record: ApprovalDetail }) {
           </ul>
         </>
       ) : null}
+      <LogKeyPanel pin={pin} />
     </section>
   );
 }

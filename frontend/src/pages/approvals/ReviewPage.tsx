@@ -16,7 +16,7 @@ import { useLoad } from "../../useLoad";
 import { type ApprovalSummary, approvalHref, loadReview, type Prepared, type Review } from "./api";
 import { describeDiff, diffOrders } from "./diff";
 import { OrdersGraph } from "./OrdersGraph";
-import { DiffView, FindingsTable, PathList, PathSummaryTable, StateBadge } from "./parts";
+import { DiffView, FindingsTable, PathList, PathSummaryTable, RulesSection, StateBadge } from "./parts";
 import { signPrepared, useSigningKeys } from "./signing";
 
 export function ReviewPage({ mission, version }: { mission: string; version: number }) {
@@ -76,7 +76,8 @@ export function ReviewPage({ mission, version }: { mission: string; version: num
         )}
       </dl>
       <p className="hint">
-        Read the changes, the graph, the orders, the findings and the paths below; your decision is signed at the end.
+        Read the changes, the graph, the orders, the contingency rules, the findings and the paths below; your decision
+        is signed at the end.
       </p>
 
       <h2>Changes since the approved version</h2>
@@ -89,6 +90,8 @@ export function ReviewPage({ mission, version }: { mission: string; version: num
       <pre className="orders-text" data-testid="review-plain">
         {review.plain}
       </pre>
+
+      <RulesSection rules={review.rules ?? []} />
 
       <h2>Findings</h2>
       <p className={review.ok ? "verdict ok" : "verdict bad"} data-testid="review-verdict">

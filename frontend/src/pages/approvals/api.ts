@@ -22,6 +22,8 @@ export interface Review {
   created_at: string;
   orders: Record<string, unknown>;
   plain: string;
+  /** The contingency rules, one plain-language sentence each ([] when none or unreadable). */
+  rules: string[];
   ok: boolean;
   findings: Finding[];
   paths: PathSummary | null;
@@ -46,6 +48,7 @@ export interface ApprovalDetail extends ApprovalRecord {
   created_at: string;
   statement: { predicate?: Record<string, unknown>; subject?: { name?: string }[] };
   plain: string;
+  rules: string[];
   findings: Finding[];
   paths: PathSummary | null;
   rehearsal: unknown;

@@ -1,4 +1,5 @@
-/** Pieces shared by the review and audit pages: findings, path summary, diff, state badge. */
+/** Pieces shared by the review and audit pages: findings, path summary, diff, state badge,
+ * contingency rules. */
 import type { Finding, MissionPath } from "../../api/client";
 import { plural, statusLabel } from "../../format";
 import type { PathSummary } from "./api";
@@ -10,6 +11,32 @@ export function StateBadge({ state }: { state: string }) {
     <span className={`badge ${tone}`} data-testid="submission-state">
       {statusLabel(state)}
     </span>
+  );
+}
+
+/** The contingency rules (a normal default theory, seed 004) as the server words them, one
+ * sentence per rule; they guide the vehicle when observations go wrong during the mission. */
+export function RulesSection({ rules, headingLevel = 2 }: { rules: string[]; headingLevel?: 2 | 3 }) {
+  const Heading = headingLevel === 2 ? "h2" : "h3";
+  return (
+    <section aria-labelledby="rules-title" data-testid="contingency-rules">
+      <Heading id="rules-title">Contingency rules</Heading>
+      {rules.length === 0 ? (
+        <p className="empty">These orders and their vehicle carry no contingency rules.</p>
+      ) : (
+        <>
+          <p className="hint">
+            What the vehicle concludes and does when observations go wrong, one sentence per rule; a rule that says
+            "normally" applies unless it contradicts what is known.
+          </p>
+          <ol className="rules">
+            {rules.map((sentence, i) => (
+              <li key={i}>{sentence}</li>
+            ))}
+          </ol>
+        </>
+      )}
+    </section>
   );
 }
 
