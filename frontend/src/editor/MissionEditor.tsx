@@ -67,6 +67,7 @@ import { canRedo, canUndo, createHistory, type History, push, redo, reset, undo 
 import { copyGoals, paramsToText, parseParams, pasteGoals, readClip } from "./model";
 import { AreasPanel, MissionPanel, NormsPanel, QuantitiesPanel, VehiclePanel } from "./panels";
 import { PathsPanel } from "./PathsPanel";
+import { ImportMenu, NewFromExample, readOrdersFile } from "./ImportMenu";
 import { PlanDialog } from "./PlanDialog";
 import { Tabs } from "../components/Tabs";
 import { autoLayout } from "./layout";
@@ -471,6 +472,26 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     fitPending.current = true;
     edit((d) => ({ ...d, layout }));
   };
+  // Import: the server reads the file (nothing stored); the draft is replaced by one ordinary
+  // edit (undoable), laid out afresh, and saved with If-Match like any other.
+  const [importing, setImporting] = useState(false);
+  const importFile = async (file: File) => {
+    setImporting(true);
+    try {
+      const { orders: read, findings: found } = await readOrdersFile(file);
+      const next = { ...read, id: mission.id } as Orders;
+      const layout = await autoLayout(next);
+      setReady(false);
+      fitPending.current = true;
+      edit(() => ({ orders: next, layout }));
+      const codes = [...new Set(found.map((f) => f.code).filter(Boolean))];
+      setNotice(
+        `Imported ${file.name}: ${plural(goals(next).length, "goal")}${codes.length > 0 ? `; reading it found ${codes.join(", ")}` : ""}. Undo brings the previous draft back.`,
+      );
+    } finally {
+      setImporting(false);
+    }
+  };
   const doUndo = () => {
     dirty.current = true;
     lastGroup.current = undefined;
@@ -626,13 +647,19 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
         <button type="button" onClick={() => setPlanOpen(true)}>
           Plan survey…
         </button>
+        <ImportMenu onImport={importFile} busy={importing} />
         <ExportMenu missionId={mission.id} saved={saveState === "saved"} />
+        <NewFromExample />
         <span className={`save-state save-${saveState}`} role="status" data-testid="save-state">
           {saveState === "saved" ? "Saved" : saveState === "pending" || saveState === "saving" ? "Saving…" : saveState === "conflict" ? "Conflict" : "Not saved"}
         </span>
       </div>
       <ErrorMessage error={saveError} />
-      {notice && <p className="message">{notice}</p>}
+      {notice && (
+        <p className="message" data-testid="editor-notice">
+          {notice}
+        </p>
+      )}
       <p className="visually-hidden" aria-live="polite">
         {connectMessage}
       </p>
