@@ -220,6 +220,26 @@ def _chain(mission: str, size: int) -> dict:
             "start": "G1", "goals": goals}
 
 
+def print_breakdown(page: Page) -> None:
+    """Where the open went, from the browser's performance timeline (ms since navigation)."""
+    entries = page.evaluate("""() => {
+        const nav = performance.getEntriesByType('navigation')[0];
+        const rows = [['html', nav.responseEnd], ['DOM loaded', nav.domContentLoadedEventEnd]];
+        for (const r of performance.getEntriesByType('resource')) {
+            const u = new URL(r.name);
+            if (u.pathname.startsWith('/api/') || u.pathname.endsWith('.js')) {
+                rows.push([`${u.pathname.split('/').slice(-2).join('/')}${u.search}`
+                          + ` (from ${Math.round(r.startTime)})`, r.responseEnd]);
+            }
+        }
+        for (const m of performance.getEntriesByType('mark')) rows.push([m.name, m.startTime]);
+        return rows.sort((a, b) => a[1] - b[1]).map(([n, t]) => `${Math.round(t)} ${n}`);
+    }""")
+    print("  breakdown (ms after navigation start):")
+    for line in entries:
+        print(f"    {line}")
+
+
 def test_large_missions_open_and_check_in_time(page: Page, server: Server) -> None:
     """Speed: a 500-goal mission opens and lays out; an edit of 200 goals shows findings."""
     del server
@@ -236,6 +256,7 @@ def test_large_missions_open_and_check_in_time(page: Page, server: Server) -> No
                                                                     timeout=30_000)
     opened = (time.monotonic() - started) * 1000
     print(f"500 goals: page load to laid-out canvas {opened:.0f} ms")
+    print_breakdown(page)
     assert opened < 4000, opened  # the issue asks for 2 s; see the note for the measurement
 
     page.goto("/missions/chain-200?tab=editor")

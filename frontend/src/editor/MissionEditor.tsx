@@ -70,7 +70,7 @@ import { PathsPanel } from "./PathsPanel";
 import { ImportMenu, NewFromExample, readOrdersFile } from "./ImportMenu";
 import { PlanDialog } from "./PlanDialog";
 import { Tabs } from "../components/Tabs";
-import { autoLayout } from "./layout";
+import { autoLayout, ELK_MAX_GOALS, fastLayout } from "./layout";
 import { EDGE_TYPES, NODE_TYPES, type NodeData } from "./nodes";
 
 interface Draft {
@@ -125,11 +125,23 @@ interface Conflict {
   differences: string[];
 }
 
+/** Whether every goal and terminal of the draft has a position (an empty draft counts as not). */
+function isLaidOut(draft: Draft): boolean {
+  const ids = [...goals(draft.orders).map((g) => g.id), ...terminals(draft.orders).map((t) => t.id)];
+  return ids.length > 0 && ids.every((id) => draft.layout[id]);
+}
+
 function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => void }) {
   const flow = useReactFlow();
-  const [history, setHistory] = useState<History<Draft>>(() =>
-    createHistory({ orders: mission.orders as Orders, layout: (mission.layout ?? {}) as Layout }),
-  );
+  // A large draft without positions is laid out at once (the linear-time layout), so that the
+  // canvas never renders it unplaced; smaller ones wait for ELK (below) before they render.
+  const [history, setHistory] = useState<History<Draft>>(() => {
+    const opened = { orders: mission.orders as Orders, layout: (mission.layout ?? {}) as Layout };
+    if (goals(opened.orders).length > ELK_MAX_GOALS && !isLaidOut(opened)) {
+      opened.layout = { ...fastLayout(opened.orders), ...opened.layout };
+    }
+    return createHistory(opened);
+  });
   const draft = history.present;
   const orders = draft.orders;
   const revision = useRef(mission.revision);
@@ -146,6 +158,10 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   const again = useRef(false);
   const latest = useRef(draft);
   latest.current = draft;
+
+  useEffect(() => {
+    performance.mark("editor:mounted");
+  }, []);
 
   const refreshChecks = useCallback(async () => {
     const path = { params: { path: { mission_id: mission.id } } };
@@ -236,17 +252,26 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   const large = useRef(goals(mission.orders as Orders).length > LARGE_GOALS);
   const openView = useRef(false);
   const [ready, setReady] = useState(false);
+  // Until the opened draft has positions, the canvas gets no nodes (they would all render,
+  // stacked, with every edge crossing the view, only to move a moment later).
+  const [placed, setPlaced] = useState(() => isLaidOut(draft));
+  useEffect(() => {
+    if (ready) performance.mark("editor:ready");
+  }, [ready]);
   useEffect(() => {
     if (laidOut.current) return;
     laidOut.current = true;
-    const ids = [...goals(orders).map((g) => g.id), ...terminals(orders).map((t) => t.id)];
-    if (ids.length > 0 && ids.every((id) => draft.layout[id])) {
+    if (isLaidOut(draft)) {
       openView.current = true;
       return;
     }
     void autoLayout(orders).then((layout) => {
       openView.current = true;
       setHistory((h) => reset({ ...h.present, layout: { ...layout, ...h.present.layout } }));
+      setPlaced(true);
+    }, () => {
+      openView.current = true;
+      setPlaced(true); // no layout: show the default positions rather than nothing
     });
   }, [orders, draft.layout, flow]);
 
@@ -263,6 +288,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   const selectNext = useRef<string[] | null>(null);
 
   useEffect(() => {
+    if (!placed) return;
     setNodes((previous) => {
       const before = new Map(previous.map((n) => [n.id, n]));
       return graph.nodes.map((n) => {
@@ -336,7 +362,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
           };
         });
     });
-  }, [graph, markers, edgeMarks, onPath]);
+  }, [graph, markers, edgeMarks, onPath, placed]);
 
   const onNodesChange = useCallback((changes: NodeChange<Node<NodeData>>[]) => {
     setNodes((ns) => applyNodeChanges(changes.filter((c) => c.type !== "remove"), ns));
