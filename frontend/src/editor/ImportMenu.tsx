@@ -32,7 +32,7 @@ export function ImportMenu({ onImport, busy }: { onImport: (file: File) => Promi
   const inputId = useId();
   const [error, setError] = useState<unknown>(null);
   return (
-    <details className="export-menu import-menu">
+    <details className="import-menu">
       <summary>Import…</summary>
       <div className="menu-body">
         <label htmlFor={inputId}>Replace this draft with a file (.json, .xml, .ttl)</label>
@@ -107,7 +107,7 @@ export function NewFromExample() {
     }
   };
   return (
-    <details className="export-menu import-menu" onToggle={(e) => setOpen((e.target as HTMLDetailsElement).open)}>
+    <details className="import-menu" onToggle={(e) => setOpen((e.target as HTMLDetailsElement).open)}>
       <summary>New from example…</summary>
       <form className="menu-body" onSubmit={(e) => void create(e)} aria-label="New mission from a built-in example">
         <label htmlFor="example-name">Example</label>

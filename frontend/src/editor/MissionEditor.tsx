@@ -1107,8 +1107,11 @@ function ExportMenu({ missionId, saved }: { missionId: string; saved: boolean })
   };
   return (
     <details className="export-menu">
-      <summary>Export{saved ? "" : " (saved draft)"}</summary>
+      {/* One label whatever the save state: a summary that changed width re-wrapped the
+          toolbar and moved the canvas under the pointer (see .save-state in styles.css). */}
+      <summary>Export</summary>
       <ul>
+        {!saved && <li className="hint">The last saved draft (saving…)</li>}
         {(["json", "avcl", "turtle", "dot", "plain"] as const).map((f) => (
           <li key={f}>
             <a href={exportHref(missionId, f)} download data-testid={`editor-export-${f}`}>
