@@ -251,7 +251,7 @@ def test_large_missions_open_and_check_in_time(page: Page, server: Server) -> No
     opened = (time.monotonic() - started) * 1000
     print(f"500 goals: page load to laid-out canvas {opened:.0f} ms")
     print_breakdown(page)
-    assert opened < 4000, opened  # the issue asks for 2 s; see the note for the measurement
+    assert opened < 2000, opened  # issue 7: a 500-goal mission opens and lays out in 2 s
 
     page.goto("/missions/chain-200?tab=editor")
     expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true",

@@ -136,6 +136,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   // A large draft without positions is laid out at once (the linear-time layout), so that the
   // canvas never renders it unplaced; smaller ones wait for ELK (below) before they render.
   const [history, setHistory] = useState<History<Draft>>(() => {
+    performance.mark("editor:first-render");
     const opened = { orders: mission.orders as Orders, layout: (mission.layout ?? {}) as Layout };
     if (goals(opened.orders).length > ELK_MAX_GOALS && !isLaidOut(opened)) {
       opened.layout = { ...fastLayout(opened.orders), ...opened.layout };
