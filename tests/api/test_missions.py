@@ -131,3 +131,33 @@ def test_event_log_records_every_change(world: World) -> None:
     assert events[1]["before_digest"] == events[0]["after_digest"]
     assert events[1]["after_digest"] != events[1]["before_digest"]
     assert all(e["actor"] == "operator1" for e in events)
+
+
+def test_read_orders_stores_nothing_and_examples_list(world: World) -> None:
+    client = world.client("operator")
+    before = client.get("/api/missions").json()["items"]
+    avcl = b"""<?xml version="1.0"?><AVCL><head><meta name="title" content="Tiny.xml"/></head>
+      <body><MissionDefinition><AgendaMission><GoalList>
+      <Goal id="A" title="Search" nextOnSuccess="B"/><Goal id="B" title="Done"/>
+      </GoalList></AgendaMission></MissionDefinition></body></AVCL>"""
+    read = client.post("/api/read", content=avcl, headers={"Content-Type": "application/xml"})
+    assert read.status_code == 200, read.text
+    assert read.json()["orders"]["goals"][0]["id"] == "A"
+    assert {f["code"] for f in read.json()["findings"]} == {"SINK"}
+    data = json.loads(example_bytes("harbor-approach-survey"))
+    read = client.post("/api/read", content=json.dumps(data),
+                       headers={"Content-Type": "application/json"})
+    assert read.status_code == 200, read.text
+    assert read.json()["orders"]["id"] == data["id"]
+    assert client.get("/api/missions").json()["items"] == before
+    assert client.post("/api/read", content=b"not orders").status_code in (400, 422)
+    assert world.client("auditor").post("/api/read", content=avcl).status_code == 403
+
+    examples = client.get("/api/examples").json()
+    names = {e["name"] for e in examples}
+    assert "search-and-sample" in names
+    exemplar = next(e for e in examples if e["name"] == "search-and-sample")
+    assert exemplar["goals"] > 0 and exemplar["title"]
+    orders = client.get("/api/examples/search-and-sample").json()
+    assert orders["id"] == exemplar["id"] and len(orders["goals"]) == exemplar["goals"]
+    assert client.get("/api/examples/nope").status_code == 404

@@ -20,35 +20,29 @@ MISSION = "editor-e2e"
 
 
 def drag_connect(page: Page, source: str, outcome: str, target: str) -> None:
-    """Drags from a goal's outcome handle to the target's input handle with the mouse.
+    """Drags from a goal's outcome handle to the target's input handle with the mouse, once.
 
-    The press is checked against the handle React Flow reports as the connection's start; a
-    press that landed elsewhere (the canvas was still settling after a re-render) is released
-    over empty canvas, which connects nothing, and tried again."""
-    for attempt in range(3):
-        handle = page.get_by_test_id(f"handle-{source}-{outcome}")
-        handle.hover()
-        start = handle.bounding_box()
-        assert start, f"the {outcome} handle of {source} is not on screen"
-        page.mouse.down()
-        page.mouse.move(start["x"] + start["width"] / 2 + 8, start["y"] + start["height"] / 2 + 2,
-                        steps=2)
-        pressed = page.locator(".react-flow__handle.connectingfrom")
-        began = ((pressed.get_attribute("data-nodeid"), pressed.get_attribute("data-handleid"))
-                 if pressed.count() else None)
-        if began != (source, outcome):
-            pane = page.get_by_test_id("editor-canvas").bounding_box()
-            assert pane
-            page.mouse.move(pane["x"] + pane["width"] - 40, pane["y"] + 20, steps=4)
-            page.mouse.up()
-            print(f"drag {source} {outcome}: attempt {attempt + 1} began at {began}; again")
-            continue
-        end = page.get_by_test_id(f"handle-{target}-in").bounding_box()
-        assert end, f"the input handle of {target} is not on screen"
-        page.mouse.move(end["x"] + end["width"] / 2, end["y"] + end["height"] / 2, steps=12)
+    The press is checked against the handle React Flow reports as the connection's start: a
+    drag that begins on any other handle fails the test (it used to begin on the neighbouring
+    handle about one time in six, when a toolbar label changed width with the save state and
+    the re-wrapped toolbar moved the canvas a row between aiming and pressing)."""
+    handle = page.get_by_test_id(f"handle-{source}-{outcome}")
+    handle.hover()
+    start = handle.bounding_box()
+    assert start, f"the {outcome} handle of {source} is not on screen"
+    page.mouse.down()
+    page.mouse.move(start["x"] + start["width"] / 2 + 8, start["y"] + start["height"] / 2 + 2,
+                    steps=2)
+    pressed = page.locator(".react-flow__handle.connectingfrom")
+    began = ((pressed.get_attribute("data-nodeid"), pressed.get_attribute("data-handleid"))
+             if pressed.count() == 1 else None)
+    if began != (source, outcome):
         page.mouse.up()
-        return
-    raise AssertionError(f"could not start a drag at {source}'s {outcome} handle")
+        raise AssertionError(f"a drag from {source}'s {outcome} handle began at {began}")
+    end = page.get_by_test_id(f"handle-{target}-in").bounding_box()
+    assert end, f"the input handle of {target} is not on screen"
+    page.mouse.move(end["x"] + end["width"] / 2, end["y"] + end["height"] / 2, steps=12)
+    page.mouse.up()
 
 
 def choose_next(page: Page, goal: str, outcome: str, target: str) -> None:
@@ -220,6 +214,26 @@ def _chain(mission: str, size: int) -> dict:
             "start": "G1", "goals": goals}
 
 
+def print_breakdown(page: Page) -> None:
+    """Where the open went, from the browser's performance timeline (ms since navigation)."""
+    entries = page.evaluate("""() => {
+        const nav = performance.getEntriesByType('navigation')[0];
+        const rows = [['html', nav.responseEnd], ['DOM loaded', nav.domContentLoadedEventEnd]];
+        for (const r of performance.getEntriesByType('resource')) {
+            const u = new URL(r.name);
+            if (u.pathname.startsWith('/api/') || u.pathname.endsWith('.js')) {
+                rows.push([`${u.pathname.split('/').slice(-2).join('/')}${u.search}`
+                          + ` (from ${Math.round(r.startTime)})`, r.responseEnd]);
+            }
+        }
+        for (const m of performance.getEntriesByType('mark')) rows.push([m.name, m.startTime]);
+        return rows.sort((a, b) => a[1] - b[1]).map(([n, t]) => `${Math.round(t)} ${n}`);
+    }""")
+    print("  breakdown (ms after navigation start):")
+    for line in entries:
+        print(f"    {line}")
+
+
 def test_large_missions_open_and_check_in_time(page: Page, server: Server) -> None:
     """Speed: a 500-goal mission opens and lays out; an edit of 200 goals shows findings."""
     del server
@@ -236,7 +250,8 @@ def test_large_missions_open_and_check_in_time(page: Page, server: Server) -> No
                                                                     timeout=30_000)
     opened = (time.monotonic() - started) * 1000
     print(f"500 goals: page load to laid-out canvas {opened:.0f} ms")
-    assert opened < 4000, opened  # the issue asks for 2 s; see the note for the measurement
+    print_breakdown(page)
+    assert opened < 2000, opened  # issue 7: a 500-goal mission opens and lays out in 2 s
 
     page.goto("/missions/chain-200?tab=editor")
     expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true",

@@ -67,9 +67,10 @@ import { canRedo, canUndo, createHistory, type History, push, redo, reset, undo 
 import { copyGoals, paramsToText, parseParams, pasteGoals, readClip } from "./model";
 import { AreasPanel, MissionPanel, NormsPanel, QuantitiesPanel, VehiclePanel } from "./panels";
 import { PathsPanel } from "./PathsPanel";
+import { ImportMenu, NewFromExample, readOrdersFile } from "./ImportMenu";
 import { PlanDialog } from "./PlanDialog";
 import { Tabs } from "../components/Tabs";
-import { autoLayout } from "./layout";
+import { autoLayout, ELK_MAX_GOALS, fastLayout } from "./layout";
 import { EDGE_TYPES, NODE_TYPES, type NodeData } from "./nodes";
 
 interface Draft {
@@ -124,11 +125,24 @@ interface Conflict {
   differences: string[];
 }
 
+/** Whether every goal and terminal of the draft has a position (an empty draft counts as not). */
+function isLaidOut(draft: Draft): boolean {
+  const ids = [...goals(draft.orders).map((g) => g.id), ...terminals(draft.orders).map((t) => t.id)];
+  return ids.length > 0 && ids.every((id) => draft.layout[id]);
+}
+
 function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => void }) {
   const flow = useReactFlow();
-  const [history, setHistory] = useState<History<Draft>>(() =>
-    createHistory({ orders: mission.orders as Orders, layout: (mission.layout ?? {}) as Layout }),
-  );
+  // A large draft without positions is laid out at once (the linear-time layout), so that the
+  // canvas never renders it unplaced; smaller ones wait for ELK (below) before they render.
+  const [history, setHistory] = useState<History<Draft>>(() => {
+    performance.mark("editor:first-render");
+    const opened = { orders: mission.orders as Orders, layout: (mission.layout ?? {}) as Layout };
+    if (goals(opened.orders).length > ELK_MAX_GOALS && !isLaidOut(opened)) {
+      opened.layout = { ...fastLayout(opened.orders), ...opened.layout };
+    }
+    return createHistory(opened);
+  });
   const draft = history.present;
   const orders = draft.orders;
   const revision = useRef(mission.revision);
@@ -145,6 +159,10 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   const again = useRef(false);
   const latest = useRef(draft);
   latest.current = draft;
+
+  useEffect(() => {
+    performance.mark("editor:mounted");
+  }, []);
 
   const refreshChecks = useCallback(async () => {
     const path = { params: { path: { mission_id: mission.id } } };
@@ -235,17 +253,26 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   const large = useRef(goals(mission.orders as Orders).length > LARGE_GOALS);
   const openView = useRef(false);
   const [ready, setReady] = useState(false);
+  // Until the opened draft has positions, the canvas gets no nodes (they would all render,
+  // stacked, with every edge crossing the view, only to move a moment later).
+  const [placed, setPlaced] = useState(() => isLaidOut(draft));
+  useEffect(() => {
+    if (ready) performance.mark("editor:ready");
+  }, [ready]);
   useEffect(() => {
     if (laidOut.current) return;
     laidOut.current = true;
-    const ids = [...goals(orders).map((g) => g.id), ...terminals(orders).map((t) => t.id)];
-    if (ids.length > 0 && ids.every((id) => draft.layout[id])) {
+    if (isLaidOut(draft)) {
       openView.current = true;
       return;
     }
     void autoLayout(orders).then((layout) => {
       openView.current = true;
       setHistory((h) => reset({ ...h.present, layout: { ...layout, ...h.present.layout } }));
+      setPlaced(true);
+    }, () => {
+      openView.current = true;
+      setPlaced(true); // no layout: show the default positions rather than nothing
     });
   }, [orders, draft.layout, flow]);
 
@@ -262,6 +289,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   const selectNext = useRef<string[] | null>(null);
 
   useEffect(() => {
+    if (!placed) return;
     setNodes((previous) => {
       const before = new Map(previous.map((n) => [n.id, n]));
       return graph.nodes.map((n) => {
@@ -335,7 +363,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
           };
         });
     });
-  }, [graph, markers, edgeMarks, onPath]);
+  }, [graph, markers, edgeMarks, onPath, placed]);
 
   const onNodesChange = useCallback((changes: NodeChange<Node<NodeData>>[]) => {
     setNodes((ns) => applyNodeChanges(changes.filter((c) => c.type !== "remove"), ns));
@@ -470,6 +498,26 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     const layout = await autoLayout(latest.current.orders, sizes);
     fitPending.current = true;
     edit((d) => ({ ...d, layout }));
+  };
+  // Import: the server reads the file (nothing stored); the draft is replaced by one ordinary
+  // edit (undoable), laid out afresh, and saved with If-Match like any other.
+  const [importing, setImporting] = useState(false);
+  const importFile = async (file: File) => {
+    setImporting(true);
+    try {
+      const { orders: read, findings: found } = await readOrdersFile(file);
+      const next = { ...read, id: mission.id } as Orders;
+      const layout = await autoLayout(next);
+      setReady(false);
+      fitPending.current = true;
+      edit(() => ({ orders: next, layout }));
+      const codes = [...new Set(found.map((f) => f.code).filter(Boolean))];
+      setNotice(
+        `Imported ${file.name}: ${plural(goals(next).length, "goal")}${codes.length > 0 ? `; reading it found ${codes.join(", ")}` : ""}. Undo brings the previous draft back.`,
+      );
+    } finally {
+      setImporting(false);
+    }
   };
   const doUndo = () => {
     dirty.current = true;
@@ -626,13 +674,19 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
         <button type="button" onClick={() => setPlanOpen(true)}>
           Plan survey…
         </button>
+        <ImportMenu onImport={importFile} busy={importing} />
         <ExportMenu missionId={mission.id} saved={saveState === "saved"} />
+        <NewFromExample />
         <span className={`save-state save-${saveState}`} role="status" data-testid="save-state">
           {saveState === "saved" ? "Saved" : saveState === "pending" || saveState === "saving" ? "Saving…" : saveState === "conflict" ? "Conflict" : "Not saved"}
         </span>
       </div>
       <ErrorMessage error={saveError} />
-      {notice && <p className="message">{notice}</p>}
+      {notice && (
+        <p className="message" data-testid="editor-notice">
+          {notice}
+        </p>
+      )}
       <p className="visually-hidden" aria-live="polite">
         {connectMessage}
       </p>
@@ -1054,8 +1108,11 @@ function ExportMenu({ missionId, saved }: { missionId: string; saved: boolean })
   };
   return (
     <details className="export-menu">
-      <summary>Export{saved ? "" : " (saved draft)"}</summary>
+      {/* One label whatever the save state: a summary that changed width re-wrapped the
+          toolbar and moved the canvas under the pointer (see .save-state in styles.css). */}
+      <summary>Export</summary>
       <ul>
+        {!saved && <li className="hint">The last saved draft (saving…)</li>}
         {(["json", "avcl", "turtle", "dot", "plain"] as const).map((f) => (
           <li key={f}>
             <a href={exportHref(missionId, f)} download data-testid={`editor-export-${f}`}>

@@ -1,4 +1,4 @@
-import { lazy, Suspense, useEffect, useState } from "react";
+import { useEffect, useState } from "react";
 
 import {
   api,
@@ -31,8 +31,14 @@ import { RehearsalPanel } from "./RehearsalPage";
 
 const TABS = ["orders", "findings", "paths", "versions", "rehearse", "edit", "editor"] as const;
 
-// The graph editor (React Flow, ELK) is a large module: loaded when an operator opens it.
-const MissionEditor = lazy(() => import("../editor/MissionEditor"));
+// The graph editor (React Flow, ELK) is a large module: loaded when an operator opens it. It is
+// held in state rather than React.lazy: a suspended lazy component is revealed only after
+// React's Suspense throttle (300 ms), which was a sixth of opening a large mission.
+type EditorComponent = (typeof import("../editor/MissionEditor"))["default"];
+let loadedEditor: EditorComponent | null = null;
+function loadEditor(): Promise<EditorComponent> {
+  return import("../editor/MissionEditor").then((m) => (loadedEditor = m.default));
+}
 type Tab = (typeof TABS)[number];
 
 function missionPath(id: string) {
@@ -46,10 +52,14 @@ export function MissionPage({ id, tab }: { id: string; tab: string }) {
     async () => unwrap(await api.GET("/api/missions/{mission_id}", missionPath(id))),
     [id],
   );
+  const [MissionEditor, setMissionEditor] = useState<EditorComponent | null>(() => loadedEditor);
+  const [editorError, setEditorError] = useState<unknown>(null);
   useEffect(() => {
     // Fetch the editor's code while the mission loads, not after (operators only).
-    if (canEdit && tab === "editor") void import("../editor/MissionEditor");
-  }, [canEdit, tab]);
+    if (canEdit && tab === "editor" && !MissionEditor) {
+      loadEditor().then((c) => setMissionEditor(() => c), setEditorError);
+    }
+  }, [canEdit, tab, MissionEditor]);
   const tabs = TABS.filter((t) => (t !== "edit" && t !== "editor") || canEdit);
   const selected: Tab = (tabs as readonly string[]).includes(tab) ? (tab as Tab) : "orders";
 
@@ -154,9 +164,13 @@ export function MissionPage({ id, tab }: { id: string; tab: string }) {
         {selected === "rehearse" && <RehearsalPanel mission={mission} canRehearse={canRehearse} />}
         {selected === "edit" && canEdit && <EditTab mission={mission} onSaved={reload} />}
         {selected === "editor" && canEdit && (
-          <Suspense fallback={<Loading what="the graph editor" />}>
+          MissionEditor ? (
             <MissionEditor key={mission.id} mission={mission} onSaved={reload} />
-          </Suspense>
+          ) : editorError ? (
+            <ErrorMessage error={editorError} />
+          ) : (
+            <Loading what="the graph editor" />
+          )
         )}
       </Tabs>
     </section>

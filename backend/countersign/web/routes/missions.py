@@ -6,13 +6,15 @@ import base64
 from collections.abc import Iterator
 from typing import Annotated, Any, Literal
 
-from fastapi import APIRouter, Header, HTTPException, Query, Request, Response
+from fastapi import APIRouter, Header, HTTPException, Path, Query, Request, Response
 from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import PlainTextResponse, StreamingResponse
+from pydantic import BaseModel
 from sqlalchemy import func, or_, select
 from sqlalchemy.orm import Session as DbSession
 
-from ...orders.canonical import digest
+from ...orders.canonical import digest, orders_to_json
+from ...orders.examples import example_bytes, example_names
 from ...orders.model import Orders
 from ...orders.reader import orders_from_data, read_bytes
 from ...orders.writers import WRITERS
@@ -196,6 +198,49 @@ def _import(db: DbSession, data: bytes, response: Response,
     mission = service.create_mission(db, orders=loaded.orders, author=principal.user,
                                      orders_digest=value)
     return _detail(db, mission, response, [f.to_json() for f in loaded.findings])
+
+
+class ReadOrdersOut(BaseModel):
+    """Orders read from a file without storing anything, with what reading them found."""
+
+    orders: dict[str, Any]
+    findings: list[dict[str, Any]] = []
+
+
+@router.post("/read", operation_id="readOrders", response_model=ReadOrdersOut, **IMPORT_ROUTE)
+async def read_orders(request: Request) -> ReadOrdersOut:
+    """Reads JSON, AVCL XML or MEO Turtle into orders (the import route's reader) and stores
+    nothing: the editor replaces its draft with them through the usual If-Match save."""
+    data = await request.body()
+    loaded = await run_in_threadpool(read_bytes, data, "the uploaded file")
+    return ReadOrdersOut(orders=orders_to_json(loaded.orders),
+                         findings=[f.to_json() for f in loaded.findings])
+
+
+class ExampleOut(BaseModel):
+    name: str
+    id: str
+    title: str
+    goals: int
+
+
+@router.get("/examples", operation_id="listExamples", response_model=list[ExampleOut],
+            **allow(*EVERYONE))
+def list_examples() -> list[ExampleOut]:
+    items = []
+    for name in example_names():
+        orders = read_bytes(example_bytes(name), name).orders
+        items.append(ExampleOut(name=name, id=orders.id, title=orders.title or "",
+                                goals=len(orders.goals)))
+    return items
+
+
+@router.get("/examples/{name}", operation_id="getExample", response_model=dict[str, Any],
+            **allow(*EVERYONE))
+def get_example(name: Annotated[str, Path(max_length=100)]) -> dict[str, Any]:
+    if name not in example_names():
+        raise HTTPException(404, f"no built-in example named {name!r}")
+    return orders_to_json(read_bytes(example_bytes(name), name).orders)
 
 
 @router.get("/missions/{mission_id}", operation_id="getMission", response_model=MissionDetail,
