@@ -16,7 +16,7 @@ import sys
 import time
 import urllib.error
 import urllib.request
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -110,8 +110,16 @@ def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
             pytest.fail(reason)
         pytest.skip(reason)
     data_dir = tmp_path_factory.mktemp("countersign-e2e")
+    with running_server(data_dir, ROLES) as running:
+        yield running
+
+
+@contextlib.contextmanager
+def running_server(data_dir: Path, roles: Iterable[str]) -> Iterator[Server]:
+    """`countersign users create` for each role, then `countersign serve` on data_dir, stopped
+    on exit."""
     env = _server_env(data_dir)
-    for role in ROLES:
+    for role in roles:
         done = subprocess.run(
             _cli("users", "create", "--username", role, "--role", role,
                  "--display-name", f"E2E {role.title()}", "--password-stdin",

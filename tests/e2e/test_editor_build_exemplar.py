@@ -16,7 +16,6 @@ from __future__ import annotations
 import contextlib
 import json
 import re
-import subprocess
 import time
 from collections.abc import Iterator
 from pathlib import Path
@@ -24,7 +23,7 @@ from pathlib import Path
 import pytest
 from playwright.sync_api import Browser, Locator, Page, expect
 
-from .conftest import PASSWORD, REPO, ROLES, Server, _cli, _free_port, _server_env, _wait_healthy
+from .conftest import Server, running_server
 from .test_editor import choose_next, drag_connect, edge, select_node
 from .test_roles import sign_in
 
@@ -36,32 +35,8 @@ def own_server(server: Server, tmp_path_factory: pytest.TempPathFactory) -> Iter
     """A second real server on a fresh data directory (the shared one may hold the exemplar)."""
     del server  # the shared server's checks (prerequisites) ran first
     data_dir = tmp_path_factory.mktemp("countersign-e2e-build")
-    env = _server_env(data_dir)
-    done = subprocess.run(
-        _cli("users", "create", "--username", "operator", "--role", "operator",
-             "--display-name", "E2E Operator", "--password-stdin", "--data-dir", str(data_dir)),
-        input=PASSWORD["operator"] + "\n", capture_output=True, text=True, env=env, timeout=120,
-    )
-    assert done.returncode == 0, done.stdout + done.stderr
-    assert "operator" in ROLES
-    port = _free_port()
-    log = data_dir / "server.log"
-    with log.open("wb") as out:
-        process = subprocess.Popen(
-            _cli("serve", "--host", "127.0.0.1", "--port", str(port), "--data-dir", str(data_dir)),
-            stdout=out, stderr=subprocess.STDOUT, env=env, cwd=REPO,
-        )
-    running = Server(url=f"http://127.0.0.1:{port}", data_dir=data_dir, log=log)
-    try:
-        _wait_healthy(running, process)
+    with running_server(data_dir, ["operator"]) as running:
         yield running
-    finally:
-        process.terminate()
-        try:
-            process.wait(timeout=15)
-        except subprocess.TimeoutExpired:
-            process.kill()
-            process.wait(timeout=15)
 
 
 @pytest.fixture()

@@ -11,6 +11,7 @@ import {
   unwrap,
 } from "../api/client";
 import { Link } from "../components/Link";
+import { PathCounts } from "../components/PathCounts";
 import {
   currentCursor,
   firstPage,
@@ -304,25 +305,7 @@ function PathsTab({ mission }: { mission: MissionDetail }) {
   return (
     <>
       <h2>Paths</h2>
-      <table className="counts">
-        <caption>
-          {plural(data.count, "path")} from the start goal to a terminal
-        </caption>
-        <thead>
-          <tr>
-            <th scope="col">Terminal</th>
-            <th scope="col">Paths</th>
-          </tr>
-        </thead>
-        <tbody>
-          {Object.entries(data.by_terminal).map(([terminal, n]) => (
-            <tr key={terminal}>
-              <th scope="row">{terminal}</th>
-              <td data-testid={`paths-to-${terminal}`}>{n.toLocaleString("en-US")}</td>
-            </tr>
-          ))}
-        </tbody>
-      </table>
+      <PathCounts count={data.count} byTerminal={data.by_terminal} testIdPrefix="paths-to-" />
       <ol className="paths" aria-busy={loading}>
         {data.items.map((p) => (
           <li key={p.index} value={p.index}>

@@ -2,6 +2,7 @@
  * contingency rules. */
 import type { Finding, MissionPath } from "../../api/client";
 import { plural, statusLabel } from "../../format";
+import { PathCounts } from "../../components/PathCounts";
 import type { PathSummary } from "./api";
 import { type OrdersDiff, showValue } from "./diff";
 
@@ -75,25 +76,7 @@ export function FindingsTable({ findings, caption }: { findings: Finding[]; capt
 
 export function PathSummaryTable({ paths }: { paths: PathSummary | null }) {
   if (!paths) return <p className="empty">The paths cannot be counted until the structural errors are fixed.</p>;
-  return (
-    <table className="counts">
-      <caption>{plural(paths.count, "path")} from the start goal to a terminal</caption>
-      <thead>
-        <tr>
-          <th scope="col">Terminal</th>
-          <th scope="col">Paths</th>
-        </tr>
-      </thead>
-      <tbody>
-        {Object.entries(paths.by_terminal).map(([terminal, n]) => (
-          <tr key={terminal}>
-            <th scope="row">{terminal}</th>
-            <td data-testid={`review-paths-to-${terminal}`}>{n.toLocaleString("en-US")}</td>
-          </tr>
-        ))}
-      </tbody>
-    </table>
-  );
+  return <PathCounts count={paths.count} byTerminal={paths.by_terminal} testIdPrefix="review-paths-to-" />;
 }
 
 export function PathList({ items, total }: { items: MissionPath[]; total: number }) {
