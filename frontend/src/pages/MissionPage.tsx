@@ -10,6 +10,7 @@ import {
   type PathPage,
   unwrap,
 } from "../api/client";
+import { FindingsTable } from "../components/FindingsTable";
 import { Link } from "../components/Link";
 import { PathCounts } from "../components/PathCounts";
 import {
@@ -217,39 +218,7 @@ function FindingsTab({ mission }: { mission: MissionDetail }) {
           ? ` ${plural(data.paths.count, "path")} in all.`
           : " Paths cannot be counted until the structural errors are fixed."}
       </p>
-      {data.findings.length === 0 ? (
-        <p className="empty">No findings.</p>
-      ) : (
-        <div className="table-wrap">
-          <table className="findings">
-            <caption className="visually-hidden">Findings of the draft's validation</caption>
-            <thead>
-              <tr>
-                <th scope="col">Code</th>
-                <th scope="col">Severity</th>
-                <th scope="col">Subjects</th>
-                <th scope="col">Message</th>
-              </tr>
-            </thead>
-            <tbody>
-              {data.findings.map((f, i) => (
-                <tr key={`${f.code}-${i}`} className={`severity-${f.severity}`}>
-                  <td>
-                    <code>{f.code}</code>
-                  </td>
-                  <td>
-                    <span className={`badge ${f.severity === "error" ? "bad" : "warn"}`}>
-                      {f.severity}
-                    </span>
-                  </td>
-                  <td>{f.subjects.join(", ")}</td>
-                  <td>{f.message}</td>
-                </tr>
-              ))}
-            </tbody>
-          </table>
-        </div>
-      )}
+      <FindingsTable findings={data.findings} caption="Findings of the draft's validation" />
       {data.costs && Object.keys(data.costs).length > 0 && (
         <>
           <h3>Costliest path</h3>

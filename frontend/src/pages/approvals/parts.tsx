@@ -1,9 +1,12 @@
 /** Pieces shared by the review and audit pages: findings, path summary, diff, state badge,
  * contingency rules. */
-import type { Finding, MissionPath } from "../../api/client";
+import type { MissionPath } from "../../api/client";
 import { plural, statusLabel } from "../../format";
+import { FindingsTable } from "../../components/FindingsTable";
 import { PathCounts } from "../../components/PathCounts";
 import type { PathSummary } from "./api";
+
+export { FindingsTable };
 import { type OrdersDiff, showValue } from "./diff";
 
 export function StateBadge({ state }: { state: string }) {
@@ -38,39 +41,6 @@ export function RulesSection({ rules, headingLevel = 2 }: { rules: string[]; hea
         </>
       )}
     </section>
-  );
-}
-
-export function FindingsTable({ findings, caption }: { findings: Finding[]; caption: string }) {
-  if (findings.length === 0) return <p className="empty">No findings.</p>;
-  return (
-    <div className="table-wrap">
-      <table className="findings">
-        <caption className="visually-hidden">{caption}</caption>
-        <thead>
-          <tr>
-            <th scope="col">Code</th>
-            <th scope="col">Severity</th>
-            <th scope="col">Subjects</th>
-            <th scope="col">Message</th>
-          </tr>
-        </thead>
-        <tbody>
-          {findings.map((f, i) => (
-            <tr key={`${f.code}-${i}`} className={`severity-${f.severity}`}>
-              <td>
-                <code>{f.code}</code>
-              </td>
-              <td>
-                <span className={`badge ${f.severity === "error" ? "bad" : "warn"}`}>{f.severity}</span>
-              </td>
-              <td>{f.subjects.join(", ")}</td>
-              <td>{f.message}</td>
-            </tr>
-          ))}
-        </tbody>
-      </table>
-    </div>
   );
 }
 
