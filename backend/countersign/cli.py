@@ -279,6 +279,7 @@ def cmd_serve(args: argparse.Namespace) -> int:
     import uvicorn
 
     from .web.app import create_app
+    from .web.workers import serve_workers
 
     settings, database = _database(args)
     if args.demo:
@@ -306,9 +307,8 @@ def cmd_serve(args: argparse.Namespace) -> int:
     database.engine.dispose()
     os.environ["COUNTERSIGN_DATA_DIR"] = str(settings.data_dir)
     os.environ["COUNTERSIGN_DATABASE_URL"] = settings.database_url
-    uvicorn.run("countersign.web.app:app_from_environment", factory=True, host=args.host,
-                port=args.port, workers=args.workers, log_level="info")
-    return EXIT_OK
+    return serve_workers("countersign.web.app:app_from_environment", host=args.host,
+                         port=args.port, workers=args.workers, log_level="info")
 
 
 def cmd_users_create(args: argparse.Namespace) -> int:

@@ -64,6 +64,10 @@ class Run:
     statuses: dict[int, int] = field(default_factory=dict)
     accepted_writes: int = 0
     server_cpu: float = 0.0  # CPU seconds of the server's processes during the measured part
+    client_cpu: float = 0.0  # CPU seconds of this process (the load generator), same window
+    machine_cpu: float = 0.0  # CPU seconds of the whole machine (database server included)
+    database_cpu: float = 0.0  # CPU seconds of PostgreSQL's processes
+    busiest_share: float = 0.0  # the busiest server process's share of the server's CPU
     load: tuple[float, float] = (0.0, 0.0)  # 1-minute load average before and after
 
     @property
@@ -108,26 +112,68 @@ def _count_log(url: str) -> tuple[int, int, int]:
     return int(updates), int(events), int(leaves)
 
 
-def _cpu_seconds(pid: int) -> float:
-    """User + system CPU seconds of a process and its children (the uvicorn workers)."""
+def _cpu_by_process(pid: int) -> dict[int, float]:
+    """User + system CPU seconds of a process's own threads, and of each of its children with
+    all their descendants (a worker with its validation processes), by process id."""
     tick = os.sysconf("SC_CLK_TCK")
-    total = 0.0
-    pids = [pid]
+    parents: dict[int, int] = {}
+    seconds: dict[int, float] = {}
     for entry in Path("/proc").iterdir():
         if entry.name.isdigit():
             try:
                 fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
             except OSError:
                 continue
-            if int(fields[1]) == pid:
-                pids.append(int(entry.name))
-    for one in pids:
+            parents[int(entry.name)] = int(fields[1])
+            seconds[int(entry.name)] = (int(fields[11]) + int(fields[12])) / tick
+    totals = {pid: seconds.get(pid, 0.0)}
+    for one, used in seconds.items():
+        ancestor, chain = one, []
+        while ancestor in parents and ancestor != pid:
+            chain.append(ancestor)
+            ancestor = parents[ancestor]
+        if ancestor == pid and chain:
+            top = chain[-1]  # the child of the server under which this process runs
+            totals[top] = totals.get(top, 0.0) + used
+    return totals
+
+
+def _machine_busy() -> float:
+    """CPU seconds the whole machine spent busy so far (all cores, /proc/stat)."""
+    values = [int(v) for v in Path("/proc/stat").read_text().split("\n", 1)[0].split()[1:]]
+    idle = values[3] + values[4]  # idle + iowait
+    return (sum(values[:8]) - idle) / os.sysconf("SC_CLK_TCK")
+
+
+def _postgres_cpu() -> float:
+    """CPU seconds of the PostgreSQL server's processes on this machine, exited ones aside."""
+    tick, total = os.sysconf("SC_CLK_TCK"), 0.0
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                if not (entry / "cmdline").read_bytes().startswith(b"postgres"):
+                    continue
+                fields = (entry / "stat").read_text().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            # own time + waited-for children's (backends that ended are counted by the server)
+            total += sum(int(v) for v in fields[11:15]) / tick
+    return total
+
+
+def _listening(port: int) -> int:
+    """How many sockets listen on this TCP port (one per server process)."""
+    count = 0
+    for table in ("/proc/net/tcp", "/proc/net/tcp6"):
         try:
-            fields = Path(f"/proc/{one}/stat").read_text().rsplit(")", 1)[1].split()
+            lines = Path(table).read_text().splitlines()[1:]
         except OSError:
             continue
-        total += (int(fields[11]) + int(fields[12])) / tick
-    return total
+        for line in lines:
+            local, state = line.split()[1], line.split()[3]
+            if state == "0A" and int(local.rsplit(":", 1)[1], 16) == port:
+                count += 1
+    return count
 
 
 def percentile(values: list[float], q: float) -> float:
@@ -196,29 +242,37 @@ async def _seed(base: str, token: str) -> None:
 async def _load(base: str, token: str, label: str, clients: int, seconds: float, warmup: float,
                 think: float, all_writes: list[int], server: int) -> Run:
     run = Run(label, seconds)
-    # One connection per client, all made up front: building a client (its TLS context) costs
-    # tens of milliseconds of the event loop, which must not fall into the measured window.
-    # uvicorn closes idle connections after 5 s: let the client drop them first.
-    limits = httpx.Limits(max_connections=clients, max_keepalive_connections=clients,
-                          keepalive_expiry=3.0)
-    client = httpx.AsyncClient(base_url=base, headers={"Authorization": f"Bearer {token}"},
-                               timeout=120, limits=limits)
-    await asyncio.gather(*(client.get("/api/health") for _ in range(clients)))
+    # Each client has a connection of its own, as each person's browser does (one shared pool
+    # hands the few requests in flight to its most recently used connections, all served by
+    # the same server process). All are made up front: building a client (its TLS context)
+    # costs tens of milliseconds of the event loop, which must not fall into the measured
+    # window. uvicorn closes idle connections after 5 s: let the clients drop them first.
+    limits = httpx.Limits(max_connections=1, max_keepalive_connections=1, keepalive_expiry=3.0)
+    pool = [httpx.AsyncClient(base_url=base, headers={"Authorization": f"Bearer {token}"},
+                              timeout=120, limits=limits) for _ in range(clients)]
+    await asyncio.gather(*(one.get("/api/health") for one in pool))
     start = time.perf_counter() + warmup
     until = start + seconds
 
     async def meter() -> None:
         await asyncio.sleep(max(0.0, start - time.perf_counter()))
-        cpu, load = _cpu_seconds(server), os.getloadavg()[0]
+        cpu, load, mine = _cpu_by_process(server), os.getloadavg()[0], time.process_time()
+        machine, database = _machine_busy(), _postgres_cpu()
         await asyncio.sleep(max(0.0, until - time.perf_counter()))
-        run.server_cpu = _cpu_seconds(server) - cpu
+        used = {pid: seconds - cpu.get(pid, 0.0)
+                for pid, seconds in _cpu_by_process(server).items()}
+        run.server_cpu = sum(used.values())
+        run.busiest_share = max(used.values()) / run.server_cpu if run.server_cpu else 0.0
+        run.client_cpu = time.process_time() - mine
+        run.machine_cpu = _machine_busy() - machine
+        run.database_cpu = _postgres_cpu() - database
         run.load = (load, os.getloadavg()[0])
 
     try:
-        await asyncio.gather(meter(), *(_client(client, n, think, start, until, run, all_writes)
-                                        for n in range(clients)))
+        await asyncio.gather(meter(), *(_client(pool[n], n, think, start, until, run,
+                                                all_writes) for n in range(clients)))
     finally:
-        await client.aclose()
+        await asyncio.gather(*(one.aclose() for one in pool))
     return run
 
 
@@ -235,7 +289,10 @@ def _serve(url: str, workers: int, data: str, log_path: Path) -> tuple[subproces
     deadline = time.monotonic() + 60
     while True:
         try:
-            if httpx.get(f"{base}/api/health").status_code == 200:
+            # Every process listening before the clients connect: the kernel spreads
+            # connections over the sockets that listen when they arrive.
+            if (httpx.get(f"{base}/api/health").status_code == 200
+                    and _listening(port) >= workers):
                 return server, base
         except httpx.HTTPError:
             pass
@@ -315,6 +372,10 @@ def report(results: dict[str, dict[str, Run]], args: argparse.Namespace) -> None
                 f"{r.server_cpu * 1000 / sum(map(len, r.timings.values())):.1f}"
                 if any(r.timings.values()) else "-")),
             ("server CPU cores", lambda r: f"{r.server_cpu / r.seconds:.2f}"),
+            ("busiest process share", lambda r: f"{r.busiest_share:.0%}"),
+            ("client CPU cores", lambda r: f"{r.client_cpu / r.seconds:.2f}"),
+            ("PostgreSQL CPU cores", lambda r: f"{r.database_cpu / r.seconds:.2f}"),
+            ("machine busy cores", lambda r: f"{r.machine_cpu / r.seconds:.2f}"),
             ("load avg before/after", lambda r: f"{r.load[0]:.1f}/{r.load[1]:.1f}"),
         ):
             cells = [value(results[label][mode]) if mode in results[label] else "-"

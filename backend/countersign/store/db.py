@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 import threading
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from alembic import command
 from alembic.config import Config
@@ -15,6 +15,9 @@ from alembic.script import ScriptDirectory
 from sqlalchemy import Engine, create_engine, event
 from sqlalchemy.exc import TimeoutError as PoolTimeout
 from sqlalchemy.orm import Session, sessionmaker
+
+if TYPE_CHECKING:
+    from ..orders.model import Orders
 
 MIGRATIONS = Path(__file__).resolve().parents[3] / "migrations"
 
@@ -27,6 +30,10 @@ BEGIN_MODE = "countersign_begin"
 _HOLDS_WRITE_LOCK = "countersign_holds_write_lock"
 
 
+# Threads that run a server process's synchronous routes (anyio's default is 40). The CPU
+# work is bounded by the cores and the interpreter lock; more threads only add switching.
+REQUEST_THREADS = 24
+
 # How long a SQLite writer waits for the write lock before the request fails with 503.
 WRITE_LOCK_TIMEOUT_S = 30.0
 
@@ -35,7 +42,8 @@ def make_engine(url: str) -> Engine:
     if url.startswith("sqlite"):
         # Up to two connections per worker thread (request session + report cache writer).
         engine = create_engine(url, connect_args={"check_same_thread": False, "timeout": 30},
-                               pool_size=20, max_overflow=80, pool_timeout=10)
+                               pool_size=REQUEST_THREADS, max_overflow=REQUEST_THREADS,
+                               pool_timeout=10)
         # SQLite has one writer at a time. Writers of this process queue on a lock of their
         # own before asking SQLite: they are woken the moment the previous writer commits,
         # instead of polling in SQLite's busy handler (which sleeps up to 100 ms between tries
@@ -87,9 +95,13 @@ def make_engine(url: str) -> Engine:
         return engine
     if url.startswith("postgresql://"):
         url = "postgresql+psycopg://" + url.removeprefix("postgresql://")
-    # Sized for the server's worker threads, each of which may hold a request session and a
-    # short report-cache session at once.
-    return create_engine(url, pool_pre_ping=True, pool_size=20, max_overflow=60, pool_timeout=10)
+    # One connection per server thread (REQUEST_THREADS) stays open; a thread may briefly hold
+    # a second (a short report-cache session beside its request's), taken from the overflow.
+    # Without the steady pool, connections opened under a burst were closed again at once and
+    # PostgreSQL forked a backend for each new one: most of its CPU under 50 clients. At most
+    # 2 x REQUEST_THREADS connections per server process (README: max_connections).
+    return create_engine(url, pool_size=REQUEST_THREADS, max_overflow=REQUEST_THREADS,
+                         pool_timeout=10, pool_recycle=3600, pool_pre_ping=True)
 
 
 def alembic_config(url: str) -> Config:
@@ -120,6 +132,8 @@ def upgrade_to_head(engine: Engine) -> None:
 class Database:
     def __init__(self, url: str) -> None:
         self.url = url
+        # Computes a validation report when none is cached; None: in the calling thread.
+        self.validator: Callable[[Orders], dict[str, Any]] | None = None
         self.engine = make_engine(url)
         self.sessions = sessionmaker(self.engine, expire_on_commit=False)
         self.write_sessions = sessionmaker(

@@ -15,7 +15,7 @@ from .. import __version__
 from ..orders.canonical import digest, orders_to_json
 from ..orders.model import Orders
 from ..rehearse.checks import validate_with_rules
-from .db import writable
+from .db import database_of, writable
 from .events import record
 from .tables import Mission, MissionVersion, User, ValidationReport, utcnow
 
@@ -173,14 +173,17 @@ _IN_FLIGHT: dict[str, threading.Lock] = {}
 _IN_FLIGHT_GUARD = threading.Lock()
 
 
-def _validated(key: str, orders: Orders) -> dict[str, Any]:
-    """Validate once per digest in this process even when many requests ask at once."""
+def _validated(db: DbSession, key: str, orders: Orders) -> dict[str, Any]:
+    """Validate once per digest in this process even when many requests ask at once, with
+    the database's validator (the web app's pool of validation processes) if it has one."""
     with _IN_FLIGHT_GUARD:
         lock = _IN_FLIGHT.setdefault(key, threading.Lock())
     with lock:
         done = _RECENT.get(key)
         if done is None:
-            done = validate_with_rules(orders).to_json()
+            validator = database_of(db).validator
+            done = (validator(orders) if validator is not None
+                    else validate_with_rules(orders).to_json())
             _RECENT[key] = done
             while len(_RECENT) > 256:
                 _RECENT.pop(next(iter(_RECENT)))
@@ -207,18 +210,34 @@ def report_for(
     report costs one lookup and no parsing. A read-only session stores a new report through a
     short transaction of its own, so that readers never hold (or wait for) a write lock while
     validating."""
+    found = lookup_report(db, orders, orders_digest)
+    if not found.cached:
+        remember_report(db, found.report)
+    return found
+
+
+def lookup_report(
+    db: DbSession, orders: Orders | Callable[[], Orders], orders_digest: str | None = None
+) -> CachedReport:
+    """The stored report of these orders, or a new one computed but not stored (its `cached`
+    is False: store it with remember_report, e.g. in the write transaction that follows)."""
     if orders_digest is None:
         orders = orders() if callable(orders) else orders
         orders_digest = digest(orders)
     row = db.get(ValidationReport, (orders_digest, __version__))
     if row is not None:
         return CachedReport(row.report, True)
-    key = orders_digest
-    report = _validated(key, orders() if callable(orders) else orders)
-    entry = ValidationReport(digest=key, checker_version=__version__, report=report)
+    return CachedReport(_validated(db, orders_digest, orders() if callable(orders) else orders),
+                        False)
+
+
+def remember_report(db: DbSession, report: dict[str, Any]) -> None:
+    """Store a report computed by lookup_report (in a savepoint of a writing session, else in
+    a short write transaction of its own); a concurrent request may have stored it first."""
+    entry = ValidationReport(digest=report["digest"], checker_version=__version__,
+                             report=report)
     try:
         with writable(db) as writer:
             writer.add(entry)
     except IntegrityError:
         pass  # a concurrent request stored the same report first
-    return CachedReport(report, False)

@@ -6,16 +6,18 @@ from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 from pathlib import Path
 
+import anyio.to_thread
 from fastapi import FastAPI
 from fastapi.responses import FileResponse, JSONResponse, Response
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from .. import __version__
-from ..store.db import Database
+from ..store.db import REQUEST_THREADS, Database
 from . import problems
 from .rehearsal_hub import RehearsalHub
 from .routes import admin, approvals, auth, missions, planning, rehearsals
 from .settings import Settings
+from .validation_pool import ValidationPool
 
 
 class BodyLimit:
@@ -101,11 +103,23 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
 
     @asynccontextmanager
     async def lifespan(_app: FastAPI) -> AsyncIterator[None]:
+        # As many threads as the database pool keeps connections for (store/db.py).
+        anyio.to_thread.current_default_thread_limiter().total_tokens = REQUEST_THREADS
+        # A running server validates in processes of its own (validation_pool.py); an app
+        # driven without its lifespan (in-process test clients) validates in its threads.
+        pool = (ValidationPool(settings.validation_processes)
+                if settings.validation_processes > 0 else None)
+        if pool is not None:
+            database.validator = pool.validate
+        app.state.validation_pool = pool
         try:
             yield
         finally:
             # Every live rehearsal's viser server (threads and port) ends with the app.
             hub.shutdown()
+            if pool is not None:
+                database.validator = None
+                pool.shutdown()
 
     app = FastAPI(title="Countersign", version=__version__, docs_url="/api/docs",
                   openapi_url="/api/openapi.json", redoc_url=None, lifespan=lifespan)

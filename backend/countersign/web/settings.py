@@ -18,6 +18,8 @@ class Settings:
     secure_cookies: bool = False
     max_body_bytes: int = 9 * 1024 * 1024
     frontend_dist: Path = FRONTEND_DIST
+    # Processes that validate orders beside each server process (0: in the server's threads).
+    validation_processes: int = 1
 
     @classmethod
     def from_environment(cls, data_dir: Path | None = None) -> Settings:
@@ -27,7 +29,12 @@ class Settings:
         chosen = chosen.expanduser().resolve()
         url = os.environ.get("COUNTERSIGN_DATABASE_URL") or f"sqlite:///{chosen / 'countersign.db'}"
         secure = os.environ.get("COUNTERSIGN_SECURE_COOKIES", "").lower() in {"1", "true", "yes"}
-        return cls(data_dir=chosen, database_url=url, secure_cookies=secure)
+        processes = os.environ.get("COUNTERSIGN_VALIDATION_PROCESSES", "1")
+        if not processes.isdigit() or int(processes) > 64:
+            raise ValueError("COUNTERSIGN_VALIDATION_PROCESSES must be a whole number from 0 "
+                             f"to 64, not {processes!r}")
+        return cls(data_dir=chosen, database_url=url, secure_cookies=secure,
+                   validation_processes=int(processes))
 
     def prepare(self) -> None:
         self.data_dir.mkdir(parents=True, exist_ok=True, mode=0o700)

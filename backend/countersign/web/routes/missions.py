@@ -3,12 +3,18 @@
 from __future__ import annotations
 
 import base64
+import hashlib
+import json
+import threading
+from collections import OrderedDict
 from collections.abc import Iterator
+from dataclasses import dataclass
 from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, Header, HTTPException, Path, Query, Request, Response
 from fastapi.concurrency import run_in_threadpool
-from fastapi.responses import PlainTextResponse, StreamingResponse
+from fastapi.exceptions import RequestValidationError
+from fastapi.responses import JSONResponse, PlainTextResponse, StreamingResponse
 from pydantic import BaseModel
 from sqlalchemy import func, or_, select
 from sqlalchemy.orm import Session as DbSession
@@ -68,14 +74,27 @@ def _orders(data: dict[str, Any]) -> Orders:
     return orders_from_data(data)
 
 
+@dataclass(frozen=True)
+class Validated:
+    """Orders about to be written: their digest, and their report if it is new (stored by
+    `keep` in the write transaction that follows)."""
+
+    digest: str
+    new_report: dict[str, Any] | None
+
+    def keep(self, db: DbSession) -> None:
+        if self.new_report is not None:
+            service.remember_report(db, self.new_report)
+
+
 def _validate_first(db: DbSession, orders: Orders, mission_id: str | None = None,
-                    expected_revision: int | None = None) -> str:
-    """Validate orders about to be written before the write transaction begins, and return
-    their digest. A writing request holds the write lock from its first query to its commit
-    and therefore only reports cached results; validating here (in a read transaction, the
-    report stored by a short transaction of its own) puts the new draft's report in the cache
-    without holding any lock, so that neither this answer nor the next read waits for it.
-    An edit whose revision is already stale fails with 412 before paying for validation."""
+                    expected_revision: int | None = None) -> Validated:
+    """Validate orders about to be written before the write transaction begins. A writing
+    request holds the write lock from its first query to its commit, so validating here (in
+    a read transaction, without any lock) keeps that stretch short; the new report is then
+    stored in the write transaction itself, so that neither this answer nor the next read
+    validates again. An edit whose revision is already stale fails with 412 before paying
+    for validation."""
     value = digest(orders)
     with database_of(db).session(write=False) as reader:
         if mission_id is not None and expected_revision is not None:
@@ -85,8 +104,8 @@ def _validate_first(db: DbSession, orders: Orders, mission_id: str | None = None
                     f"the draft changed since revision {expected_revision} (now "
                     f"{current.revision}); reload it and apply your edit again",
                     current.revision)
-        service.report_for(reader, orders, value)
-    return value
+        found = service.lookup_report(reader, orders, value)
+    return Validated(value, None if found.cached else found.report)
 
 
 def _summary(db: DbSession, mission: Mission, names: dict[int, str],
@@ -167,9 +186,10 @@ def list_missions(
 def create_mission(body: dict[str, Any], response: Response, principal: CurrentPrincipal,
                    db: Db) -> MissionDetail:
     orders = _orders(body)
-    value = _validate_first(db, orders)
+    validated = _validate_first(db, orders)
     mission = service.create_mission(db, orders=orders, author=principal.user,
-                                     orders_digest=value)
+                                     orders_digest=validated.digest)
+    validated.keep(db)
     return _detail(db, mission, response)
 
 
@@ -194,9 +214,10 @@ async def import_mission(request: Request, response: Response, principal: Curren
 def _import(db: DbSession, data: bytes, response: Response,
             principal: CurrentPrincipal) -> MissionDetail:
     loaded = read_bytes(data, "the uploaded file")
-    value = _validate_first(db, loaded.orders)
+    validated = _validate_first(db, loaded.orders)
     mission = service.create_mission(db, orders=loaded.orders, author=principal.user,
-                                     orders_digest=value)
+                                     orders_digest=validated.digest)
+    validated.keep(db)
     return _detail(db, mission, response, [f.to_json() for f in loaded.findings])
 
 
@@ -264,10 +285,11 @@ def update_draft(mission_id: str, body: DraftIn, response: Response,
                  principal: CurrentPrincipal, db: Db,
                  if_match: Annotated[str | None, Header()] = None) -> MissionDetail:
     orders, expected = _orders(body.orders), _revision(if_match)
-    value = _validate_first(db, orders, mission_id, expected)
+    validated = _validate_first(db, orders, mission_id, expected)
     mission = service.update_draft(
         db, mission_id=mission_id, orders=orders, layout=body.layout,
-        expected_revision=expected, author=principal.user, orders_digest=value)
+        expected_revision=expected, author=principal.user, orders_digest=validated.digest)
+    validated.keep(db)
     return _detail(db, mission, response)
 
 
@@ -300,14 +322,55 @@ REPORT_ROUTE: dict[str, Any] = {"response_model": ReportOut,
 
 @router.get("/missions/{mission_id}/report", operation_id="getReport", **REPORT_ROUTE,
             **allow(*EVERYONE))
-def get_report(mission_id: str, db: Db) -> dict[str, Any]:
+def get_report(mission_id: str, db: Db) -> Response:
     mission = service.get_mission(db, mission_id)
-    return service.report_for(db, lambda: _orders(mission.draft), mission.draft_digest).report
+    # A report is answered as stored (it was made by this server): no model round trip.
+    return JSONResponse(service.report_for(db, lambda: _orders(mission.draft),
+                                           mission.draft_digest).report)
 
 
-@router.post("/validate", operation_id="validateOrders", **REPORT_ROUTE, **allow(*EVERYONE))
-def validate_orders(body: dict[str, Any], db: Db) -> dict[str, Any]:
-    return service.report_for(db, _orders(body)).report
+VALIDATE_ROUTE = allow(*EVERYONE)
+VALIDATE_ROUTE["openapi_extra"]["requestBody"] = {"required": True, "content": {
+    "application/json": {"schema": {"type": "object", "additionalProperties": True,
+                                    "title": "Body"}}}}
+VALIDATE_ROUTE["responses"] = {422: {"description": "Validation Error", "content": {
+    "application/json": {"schema": {"$ref": "#/components/schemas/HTTPValidationError"}}}}}
+
+# The orders digest of recently validated request bodies (by their SHA-256): the same body
+# sent again (an editor re-checking, a CI job) skips parsing and canonicalising.
+_BODY_DIGESTS: OrderedDict[bytes, str] = OrderedDict()
+_BODY_DIGESTS_LOCK = threading.Lock()
+BODY_DIGESTS_KEPT = 1024
+
+
+@router.post("/validate", operation_id="validateOrders", **REPORT_ROUTE, **VALIDATE_ROUTE)
+async def validate_orders(request: Request, db: Db) -> Response:
+    data = await request.body()
+    return await run_in_threadpool(in_one_transaction, db, _validate_body, db, data)
+
+
+def _validate_body(db: DbSession, data: bytes) -> Response:
+    key = hashlib.sha256(data).digest()
+    with _BODY_DIGESTS_LOCK:
+        known = _BODY_DIGESTS.get(key)
+    if known is not None:
+        stored = service.cached_report(db, known)
+        if stored is not None:
+            return JSONResponse(stored)
+    try:
+        body = json.loads(data)
+    except ValueError as error:
+        raise RequestValidationError([{"loc": ("body",), "type": "json_invalid",
+                                       "msg": f"the body is not JSON: {error}"}]) from None
+    if not isinstance(body, dict):
+        raise RequestValidationError([{"loc": ("body",), "type": "dict_type",
+                                       "msg": "the body must be a JSON object (the orders)"}])
+    report = service.report_for(db, _orders(body)).report
+    with _BODY_DIGESTS_LOCK:
+        _BODY_DIGESTS[key] = report["digest"]
+        while len(_BODY_DIGESTS) > BODY_DIGESTS_KEPT:
+            _BODY_DIGESTS.popitem(last=False)
+    return JSONResponse(report)
 
 
 PATHS_ROUTE = allow(*EVERYONE)

@@ -1,0 +1,128 @@
+"""Several server processes on one port, each with its own listening socket (SO_REUSEPORT).
+
+uvicorn's own `--workers` shares one listening socket between its processes: whichever process
+wakes first accepts a burst of connections, and with keep-alive clients (browsers, the API
+benchmark's 50 clients) one process ends up serving most of the load on one core while the
+other idles (measured: 86% / 14% of the samples). With a socket per process the kernel spreads
+new connections over the processes by their addresses instead.
+
+The supervisor keeps a bound, non-listening socket on the port for as long as it runs: only
+listening sockets are handed connections, and the port cannot be taken by another account's
+process meanwhile. A process that dies is started again; one that fails while starting stops
+the whole server (it would fail the same way again).
+"""
+
+from __future__ import annotations
+
+import logging
+import multiprocessing
+import signal
+import socket
+import sys
+import threading
+import time
+from collections.abc import Callable
+
+import uvicorn
+
+logger = logging.getLogger("countersign.workers")
+
+STARTUP_FAILURE = 3  # uvicorn's exit code when the app fails to start
+STARTUP_GRACE = 20.0  # seconds in which a dead process counts as a failed start
+STOP_GRACE = 30.0  # seconds a stopping process may take to finish its requests
+
+
+def reuse_port_available() -> bool:
+    return hasattr(socket, "SO_REUSEPORT")
+
+
+def _socket(host: str, port: int) -> socket.socket:
+    family = socket.AF_INET6 if ":" in host else socket.AF_INET
+    sock = socket.socket(family, socket.SOCK_STREAM)
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+    sock.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEPORT, 1)
+    sock.bind((host, port))
+    return sock
+
+
+def _run_worker(config: uvicorn.Config) -> None:
+    sock = _socket(config.host, config.port)
+    sock.listen(config.backlog)
+    uvicorn.Server(config).run(sockets=[sock])
+
+
+class Supervisor:
+    def __init__(self, config: uvicorn.Config, workers: int) -> None:
+        self.config = config
+        self.workers = workers
+        self.context = multiprocessing.get_context("spawn")
+        self.stopping = threading.Event()
+        self.processes: list[tuple[multiprocessing.process.BaseProcess, float]] = []
+
+    def _start(self) -> tuple[multiprocessing.process.BaseProcess, float]:
+        process = self.context.Process(target=_run_worker, args=(self.config,),
+                                       name="countersign-worker")
+        process.start()
+        logger.info("started server process %s", process.pid)
+        return process, time.monotonic()
+
+    def _stop_all(self) -> None:
+        for process, _ in self.processes:
+            if process.is_alive():
+                process.terminate()  # SIGTERM: uvicorn finishes open requests, then exits
+        deadline = time.monotonic() + STOP_GRACE
+        for process, _ in self.processes:
+            process.join(max(0.0, deadline - time.monotonic()))
+            if process.is_alive():
+                process.kill()
+                process.join()
+
+    def run(self) -> int:
+        """Serve until SIGINT or SIGTERM; the exit status of the server."""
+        try:
+            reservation = _socket(self.config.host, self.config.port)
+        except OSError as error:
+            logger.error("cannot listen on %s:%s: %s", self.config.host, self.config.port,
+                         error.strerror)
+            return 1
+        # Port 0 asks for any free port: the processes share the one found here.
+        self.config.port = reservation.getsockname()[1]
+        handlers: dict[signal.Signals, Callable[..., object] | int | None] = {}
+        for signum in (signal.SIGINT, signal.SIGTERM):
+            handlers[signum] = signal.signal(signum, lambda *_: self.stopping.set())
+        status = 0
+        try:
+            self.processes = [self._start() for _ in range(self.workers)]
+            while not self.stopping.wait(0.5):
+                for index, (process, started) in enumerate(self.processes):
+                    if process.is_alive():
+                        continue
+                    if (process.exitcode == STARTUP_FAILURE
+                            or time.monotonic() - started < STARTUP_GRACE):
+                        logger.error("server process %s failed to start (exit code %s); "
+                                     "stopping", process.pid, process.exitcode)
+                        status = 1
+                        self.stopping.set()
+                        break
+                    logger.warning("server process %s died (exit code %s); starting another",
+                                   process.pid, process.exitcode)
+                    self.processes[index] = self._start()
+        finally:
+            self._stop_all()
+            reservation.close()
+            for signum, handler in handlers.items():
+                signal.signal(signum, handler)
+        return status
+
+
+def serve_workers(app: str, *, host: str, port: int, workers: int, log_level: str) -> int:
+    """Run `workers` processes of the app factory `app` ("module:function") on host:port."""
+    config = uvicorn.Config(app, factory=True, host=host, port=port, log_level=log_level)
+    if not reuse_port_available():  # not on this platform: uvicorn's shared socket
+        uvicorn.run(app, factory=True, host=host, port=port, workers=workers,
+                    log_level=log_level)
+        return 0
+    if not logging.getLogger().handlers:
+        logging.basicConfig(stream=sys.stderr, level=logging.INFO,
+                            format="%(levelname)s:     %(message)s")
+    return Supervisor(config, workers).run()
