@@ -281,6 +281,11 @@ def cmd_serve(args: argparse.Namespace) -> int:
     from .web.app import create_app
     from .web.workers import serve_workers
 
+    if args.validation_processes is not None:
+        if not 0 <= args.validation_processes <= 64:
+            raise UsageError("--validation-processes must be from 0 to 64")
+        # Read by Settings here and in every server process.
+        os.environ["COUNTERSIGN_VALIDATION_PROCESSES"] = str(args.validation_processes)
     settings, database = _database(args)
     if args.demo:
         _seed_demo(database)
@@ -459,8 +464,15 @@ def build_parser() -> argparse.ArgumentParser:
     serve_cmd.add_argument("--data-dir", type=Path, default=None)
     serve_cmd.add_argument(
         "--workers", type=int, default=1, metavar="N",
-        help="server processes (default 1); more use more cores: on SQLite they share the "
+        help="server processes (default 1), each with its own listening socket on the port "
+        "so that connections spread over them; more use more cores: on SQLite they share the "
         "one writer, on PostgreSQL they scale reads and validation",
+    )
+    serve_cmd.add_argument(
+        "--validation-processes", type=int, default=None, metavar="N",
+        help="processes that validate orders beside each server process, at a lower "
+        "priority so that reads go first (default 1, or COUNTERSIGN_VALIDATION_PROCESSES; "
+        "0: validate in the server's own threads)",
     )
     serve_cmd.add_argument(
         "--demo", action="store_true",

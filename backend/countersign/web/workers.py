@@ -22,13 +22,15 @@ import sys
 import threading
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
+from multiprocessing.process import BaseProcess
+from multiprocessing.synchronize import Event as EventType
 
 import uvicorn
 
 logger = logging.getLogger("countersign.workers")
 
-STARTUP_FAILURE = 3  # uvicorn's exit code when the app fails to start
-STARTUP_GRACE = 20.0  # seconds in which a dead process counts as a failed start
+RESTARTS_PER_MINUTE = 5  # more, and the server stops: something is wrong with every start
 STOP_GRACE = 30.0  # seconds a stopping process may take to finish its requests
 
 
@@ -45,10 +47,29 @@ def _socket(host: str, port: int) -> socket.socket:
     return sock
 
 
-def _run_worker(config: uvicorn.Config) -> None:
+class _Server(uvicorn.Server):
+    """uvicorn's server, telling the supervisor once it serves."""
+
+    def __init__(self, config: uvicorn.Config, serving: EventType) -> None:
+        super().__init__(config)
+        self.serving = serving
+
+    async def startup(self, sockets: list[socket.socket] | None = None) -> None:
+        await super().startup(sockets)
+        if self.started:
+            self.serving.set()
+
+
+def _run_worker(config: uvicorn.Config, serving: EventType) -> None:
     sock = _socket(config.host, config.port)
     sock.listen(config.backlog)
-    uvicorn.Server(config).run(sockets=[sock])
+    _Server(config, serving).run(sockets=[sock])
+
+
+@dataclass
+class _Worker:
+    process: BaseProcess
+    serving: EventType
 
 
 class Supervisor:
@@ -57,25 +78,45 @@ class Supervisor:
         self.workers = workers
         self.context = multiprocessing.get_context("spawn")
         self.stopping = threading.Event()
-        self.processes: list[tuple[multiprocessing.process.BaseProcess, float]] = []
+        self.processes: list[_Worker] = []
+        self.restarts: list[float] = []
 
-    def _start(self) -> tuple[multiprocessing.process.BaseProcess, float]:
-        process = self.context.Process(target=_run_worker, args=(self.config,),
+    def _start(self) -> _Worker:
+        serving = self.context.Event()
+        process = self.context.Process(target=_run_worker, args=(self.config, serving),
                                        name="countersign-worker")
         process.start()
         logger.info("started server process %s", process.pid)
-        return process, time.monotonic()
+        return _Worker(process, serving)
 
     def _stop_all(self) -> None:
-        for process, _ in self.processes:
-            if process.is_alive():
-                process.terminate()  # SIGTERM: uvicorn finishes open requests, then exits
+        for worker in self.processes:
+            if worker.process.is_alive():
+                worker.process.terminate()  # SIGTERM: uvicorn finishes open requests, exits
         deadline = time.monotonic() + STOP_GRACE
-        for process, _ in self.processes:
-            process.join(max(0.0, deadline - time.monotonic()))
-            if process.is_alive():
-                process.kill()
-                process.join()
+        for worker in self.processes:
+            worker.process.join(max(0.0, deadline - time.monotonic()))
+            if worker.process.is_alive():
+                worker.process.kill()
+                worker.process.join()
+
+    def _replace(self, index: int) -> bool:
+        """Start a process in place of a dead one; False when the server must stop."""
+        dead = self.processes[index]
+        if not dead.serving.is_set():
+            logger.error("server process %s failed to start (exit code %s); stopping",
+                         dead.process.pid, dead.process.exitcode)
+            return False
+        now = time.monotonic()
+        self.restarts = [at for at in self.restarts if now - at < 60] + [now]
+        if len(self.restarts) > RESTARTS_PER_MINUTE:
+            logger.error("server processes died %d times within a minute; stopping",
+                         len(self.restarts))
+            return False
+        logger.warning("server process %s died (exit code %s); starting another",
+                       dead.process.pid, dead.process.exitcode)
+        self.processes[index] = self._start()
+        return True
 
     def run(self) -> int:
         """Serve until SIGINT or SIGTERM; the exit status of the server."""
@@ -94,19 +135,10 @@ class Supervisor:
         try:
             self.processes = [self._start() for _ in range(self.workers)]
             while not self.stopping.wait(0.5):
-                for index, (process, started) in enumerate(self.processes):
-                    if process.is_alive():
-                        continue
-                    if (process.exitcode == STARTUP_FAILURE
-                            or time.monotonic() - started < STARTUP_GRACE):
-                        logger.error("server process %s failed to start (exit code %s); "
-                                     "stopping", process.pid, process.exitcode)
-                        status = 1
-                        self.stopping.set()
-                        break
-                    logger.warning("server process %s died (exit code %s); starting another",
-                                   process.pid, process.exitcode)
-                    self.processes[index] = self._start()
+                dead = [i for i, w in enumerate(self.processes) if not w.process.is_alive()]
+                if not all(self._replace(index) for index in dead):
+                    status = 1
+                    break
         finally:
             self._stop_all()
             reservation.close()

@@ -1,0 +1,159 @@
+"""`countersign serve --workers N` as a real process tree: a listening socket per server
+process (connections spread over them), a dead process replaced, a taken port refused, and
+every process gone after SIGTERM."""
+
+from __future__ import annotations
+
+import http.client
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+from collections import Counter
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+import pytest
+
+from countersign.web.workers import reuse_port_available
+
+pytestmark = pytest.mark.skipif(
+    not (reuse_port_available() and Path("/proc/net/tcp").exists()),
+    reason="needs SO_REUSEPORT and /proc (Linux)")
+
+
+def _free_port() -> int:
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        return int(sock.getsockname()[1])
+
+
+def _tcp_rows(port: int, state: str) -> list[str]:
+    """Socket inodes of this machine's IPv4 TCP sockets on local `port` in `state` (hex)."""
+    rows = []
+    for line in Path("/proc/net/tcp").read_text().splitlines()[1:]:
+        fields = line.split()
+        if int(fields[1].rsplit(":", 1)[1], 16) == port and fields[3] == state:
+            rows.append(fields[9])
+    return rows
+
+
+def _owners(inodes: list[str]) -> Counter[int]:
+    """How many of these sockets each process holds."""
+    wanted, owners = set(inodes), Counter[int]()
+    for entry in Path("/proc").iterdir():
+        if not entry.name.isdigit():
+            continue
+        try:
+            for fd in (entry / "fd").iterdir():
+                target = os.readlink(fd)
+                if target.startswith("socket:[") and target[8:-1] in wanted:
+                    owners[int(entry.name)] += 1
+        except OSError:
+            continue
+    return owners
+
+
+def _children(pid: int) -> set[int]:
+    found = set()
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                parent = int((entry / "stat").read_text().rsplit(")", 1)[1].split()[1])
+            except OSError:
+                continue
+            if parent == pid:
+                found.add(int(entry.name))
+    return found
+
+
+def _wait(condition: object, what: str, seconds: float = 60) -> None:
+    deadline = time.monotonic() + seconds
+    while not condition():  # type: ignore[operator]
+        assert time.monotonic() < deadline, f"timed out waiting until {what}"
+        time.sleep(0.2)
+
+
+@contextmanager
+def _serve(tmp_path: Path, port: int, workers: int) -> Iterator[subprocess.Popen[bytes]]:
+    env = {**os.environ, "COUNTERSIGN_DATABASE_URL": ""}
+    log = (tmp_path / "server.log").open("wb")
+    process = subprocess.Popen(
+        [sys.executable, "-m", "countersign.cli", "serve", "--port", str(port), "--data-dir",
+         str(tmp_path / "data"), "--workers", str(workers)],
+        stdout=log, stderr=subprocess.STDOUT, env=env)
+    try:
+        yield process
+    finally:
+        if process.poll() is None:
+            process.terminate()
+            try:
+                process.wait(timeout=40)
+            except subprocess.TimeoutExpired:
+                process.kill()
+                process.wait()
+        log.close()
+
+
+def _health(port: int) -> int:
+    connection = http.client.HTTPConnection("127.0.0.1", port, timeout=10)
+    connection.request("GET", "/api/health")
+    status = connection.getresponse().status
+    connection.close()
+    return status
+
+
+def test_workers_listen_each_share_connections_and_are_replaced(tmp_path: Path) -> None:
+    port = _free_port()
+    with _serve(tmp_path, port, 2) as server:
+        _wait(lambda: len(_tcp_rows(port, "0A")) == 2 or server.poll() is not None,
+              "two server processes listen")
+        assert server.poll() is None, (tmp_path / "server.log").read_text()[-2000:]
+        listeners = _owners(_tcp_rows(port, "0A"))
+        assert len(listeners) == 2 and server.pid not in listeners, listeners
+
+        # 40 kept-alive connections, as 40 browsers: the kernel spreads them over both.
+        connections = []
+        for _ in range(40):
+            connection = http.client.HTTPConnection("127.0.0.1", port, timeout=10)
+            connection.request("GET", "/api/health")
+            response = connection.getresponse()
+            response.read()
+            assert response.status == 200
+            connections.append(connection)
+        held = _owners([inode for inode in _tcp_rows(port, "01")])
+        serving = {pid: n for pid, n in held.items() if pid in listeners}
+        assert len(serving) == 2 and min(serving.values()) >= 5, serving
+        for connection in connections:
+            connection.close()
+
+        # A server process that dies is replaced; the port keeps answering meanwhile.
+        victim = next(iter(listeners))
+        os.kill(victim, signal.SIGKILL)
+        assert _health(port) == 200
+        _wait(lambda: len(_owners(_tcp_rows(port, "0A"))) == 2
+              and victim not in _owners(_tcp_rows(port, "0A")), "a new process listens")
+        assert all(_health(port) == 200 for _ in range(10))
+
+        workers = _children(server.pid)
+        server.send_signal(signal.SIGTERM)
+        assert server.wait(timeout=40) == 0
+    assert not _tcp_rows(port, "0A")
+    for pid in workers:
+        _wait(lambda pid=pid: not Path(f"/proc/{pid}").exists()
+              or "Z" in Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0],
+              f"process {pid} ended", seconds=10)
+
+
+def test_a_taken_port_is_refused_with_its_reason(tmp_path: Path) -> None:
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        with _serve(tmp_path, port, 2) as server:
+            assert server.wait(timeout=60) == 1
+    log = (tmp_path / "server.log").read_text()
+    assert f"cannot listen on 127.0.0.1:{port}" in log and "Traceback" not in log

@@ -1,0 +1,94 @@
+"""Validation beside the web process: a running app (its lifespan) validates in a pool
+process at a lower priority, gives the same reports as validating in place, survives the
+death of that process; /validate reads its body itself and refuses what is not orders."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+from pathlib import Path
+
+import pytest
+from fastapi.testclient import TestClient
+
+from countersign.orders.canonical import orders_to_json
+from countersign.orders.examples import example_bytes, load_example
+from countersign.rehearse.checks import validate_with_rules
+from countersign.store.accounts import create_token, create_user
+from countersign.store.db import Database
+from countersign.web.app import create_app
+from countersign.web.settings import Settings
+from countersign.web.validation_pool import NICENESS
+
+from .conftest import World
+
+
+def _running_app(tmp_path: Path) -> tuple[TestClient, Database, str]:
+    url = f"sqlite:///{tmp_path / 'pool.db'}"
+    database = Database(url)
+    app = create_app(Settings(data_dir=tmp_path, database_url=url, validation_processes=1),
+                     database)
+    with database.session() as db:
+        user = create_user(db, username="op", role="operator", password="a long password 1")
+        token = create_token(db, user=user, name="tests")[1]
+    return TestClient(app, raise_server_exceptions=False), database, token
+
+
+def test_a_running_app_validates_in_a_pool_process(tmp_path: Path) -> None:
+    client, database, token = _running_app(tmp_path)
+    client.headers["Authorization"] = f"Bearer {token}"
+    orders = orders_to_json(load_example("search-and-sample"))
+    with client:  # runs the lifespan, as `countersign serve` does
+        pool = client.app.state.validation_pool  # type: ignore[attr-defined]
+        assert database.validator is not None
+        answer = client.post("/api/validate", json=orders)
+        assert answer.status_code == 200, answer.text
+        assert answer.json() == validate_with_rules(load_example("search-and-sample")).to_json()
+        first = pool.last_pid
+        assert first is not None and first != os.getpid()
+        if os.getpriority(os.PRIO_PROCESS, 0) + NICENESS <= 19:
+            assert os.getpriority(os.PRIO_PROCESS, first) == (
+                os.getpriority(os.PRIO_PROCESS, 0) + NICENESS)
+
+        # The pool's process dies (killed, out of memory): the next validation still answers.
+        os.kill(first, signal.SIGKILL)
+        changed = {**orders, "description": "after the pool process died"}
+        again = client.post("/api/validate", json=changed)
+        assert again.status_code == 200, again.text
+        assert again.json()["digest"] != answer.json()["digest"]
+        assert pool.last_pid not in (None, first)
+    # The lifespan's end stops the pool and validation falls back to the calling thread.
+    assert database.validator is None
+
+
+def test_validate_reads_its_body_and_refuses_what_is_not_orders(world: World) -> None:
+    client = world.client("auditor")
+    body = example_bytes("search-and-sample")
+    first = client.post("/api/validate", content=body,
+                        headers={"Content-Type": "application/json"})
+    # The same bytes again are answered from their digest: the same report.
+    second = client.post("/api/validate", content=body,
+                         headers={"Content-Type": "application/json"})
+    assert first.status_code == second.status_code == 200
+    assert first.json() == second.json() and first.json()["ok"] is True
+    for bad, expected in ((b"{not json", "not JSON"), (b"[1, 2]", "JSON object"),
+                          (b"", "not JSON")):
+        answer = client.post("/api/validate", content=bad,
+                             headers={"Content-Type": "application/json"})
+        assert answer.status_code == 422, (bad, answer.text)
+        problem = answer.json()
+        assert answer.headers["content-type"].startswith("application/problem+json")
+        assert any(expected in error["message"] for error in problem["errors"]), problem
+    unreadable = client.post("/api/validate", content=json.dumps({"id": 5}).encode(),
+                             headers={"Content-Type": "application/json"})
+    assert 400 <= unreadable.status_code < 500, unreadable.text
+
+
+def test_validation_processes_setting_is_checked(monkeypatch: pytest.MonkeyPatch,
+                                                 tmp_path: Path) -> None:
+    monkeypatch.setenv("COUNTERSIGN_VALIDATION_PROCESSES", "many")
+    with pytest.raises(ValueError, match="COUNTERSIGN_VALIDATION_PROCESSES"):
+        Settings.from_environment(tmp_path)
+    monkeypatch.setenv("COUNTERSIGN_VALIDATION_PROCESSES", "0")
+    assert Settings.from_environment(tmp_path).validation_processes == 0
