@@ -1,5 +1,10 @@
 from __future__ import annotations
 
+import sqlite3
+
+import pytest
+
+from countersign.store import accounts
 from countersign.store.accounts import LOGIN_MAX_FAILURES
 
 from .conftest import PASSWORD, World, count_rows
@@ -83,3 +88,39 @@ def test_admin_manages_users_and_every_change_is_logged(world: World) -> None:
     assert disabled.json()["disabled"] is True
     assert count_rows(world.database,
                       "SELECT count(*) FROM events WHERE kind LIKE 'user.%'") >= 6
+
+
+def test_passwords_are_checked_without_holding_the_write_lock(
+        world: World, monkeypatch: pytest.MonkeyPatch) -> None:
+    """argon2 takes tens of milliseconds by design: on SQLite, checking a password while
+    holding the one write lock would make every other writer wait for each sign-in."""
+    if world.database.engine.dialect.name != "sqlite":
+        pytest.skip("the single write lock is SQLite's")
+    path = world.database.engine.url.database
+    assert path
+    writable_meanwhile: list[bool] = []
+    original = accounts.HASHER
+
+    class Probe:
+        def verify(self, stored: str, password: str) -> bool:
+            other = sqlite3.connect(path, timeout=0, isolation_level=None)
+            try:
+                other.execute("BEGIN IMMEDIATE")
+                other.execute("ROLLBACK")
+                writable_meanwhile.append(True)
+            except sqlite3.OperationalError:
+                writable_meanwhile.append(False)
+            finally:
+                other.close()
+            return original.verify(stored, password)
+
+        def __getattr__(self, name: str) -> object:
+            return getattr(original, name)
+
+    monkeypatch.setattr(accounts, "HASHER", Probe())
+    client = world.client()
+    assert client.post("/api/auth/login",
+                       json={"username": "operator1", "password": PASSWORD}).status_code == 200
+    assert client.post("/api/auth/login",
+                       json={"username": "operator1", "password": "wrong"}).status_code == 401
+    assert writable_meanwhile == [True, True]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import hashlib
 import secrets
+from contextlib import nullcontext
 from dataclasses import dataclass
 from datetime import datetime, timedelta
 
@@ -12,7 +13,7 @@ from argon2.exceptions import InvalidHashError, VerificationError
 from sqlalchemy import delete, func, select, update
 from sqlalchemy.orm import Session as DbSession
 
-from .db import writable
+from .db import database_of, writable
 from .events import record
 from .tables import ROLES, ApiToken, LoginAttempt, Session, User, utcnow
 
@@ -69,24 +70,34 @@ def create_user(
 
 
 def authenticate(db: DbSession, *, username: str, password: str) -> User | None:
-    """The user for these credentials, or None; raises TooManyAttempts when rate limited."""
+    """The user for these credentials, or None; raises TooManyAttempts when rate limited.
+
+    The rate limit is read and the password checked (argon2: tens of milliseconds of CPU by
+    design) in a read transaction of their own: on SQLite a writing session holds the one
+    write lock from its first query, and every other writer would wait for the hash."""
     since = utcnow() - LOGIN_WINDOW
-    failures = db.scalar(
-        select(func.count()).select_from(LoginAttempt)
-        .where(LoginAttempt.username == username, LoginAttempt.at >= since)
-    ) or 0
-    if failures >= LOGIN_MAX_FAILURES:
-        raise TooManyAttempts(
-            f"too many failed sign-ins for {username!r}; try again in "
-            f"{int(LOGIN_WINDOW.total_seconds() // 60)} minutes"
-        )
-    user = db.scalar(select(User).where(User.username == username))
+    database = database_of(db) if "database" in db.info else None
+    reader_scope = database.session(write=False) if database else nullcontext(db)
+    with reader_scope as reader:
+        failures = reader.scalar(
+            select(func.count()).select_from(LoginAttempt)
+            .where(LoginAttempt.username == username, LoginAttempt.at >= since)
+        ) or 0
+        if failures >= LOGIN_MAX_FAILURES:
+            raise TooManyAttempts(
+                f"too many failed sign-ins for {username!r}; try again in "
+                f"{int(LOGIN_WINDOW.total_seconds() // 60)} minutes"
+            )
+        found = reader.scalar(select(User).where(User.username == username))
+        stored_hash = found.password_hash if found else _DUMMY_HASH
+        user_id = found.id if found is not None and not found.disabled else None
     try:
-        HASHER.verify(user.password_hash if user else _DUMMY_HASH, password)
-        valid = user is not None and not user.disabled
+        HASHER.verify(stored_hash, password)
+        valid = user_id is not None
     except (VerificationError, InvalidHashError):
         valid = False
-    if not valid or user is None:
+    user = db.get(User, user_id) if valid and user_id is not None else None
+    if user is None or user.password_hash != stored_hash or user.disabled:
         db.add(LoginAttempt(username=username[:64]))
         return None
     if HASHER.check_needs_rehash(user.password_hash):
