@@ -55,6 +55,27 @@ def get_mission(db: DbSession, mission_id: str) -> Mission:
     return mission
 
 
+_LOADED_REPORTS = "countersign_loaded_reports"
+
+
+def get_mission_with_report(db: DbSession, mission_id: str) -> Mission:
+    """get_mission, with its draft's stored report (if any) loaded by the same query: the
+    report lookups that follow find it in the session instead of asking the database."""
+    found = db.execute(
+        select(Mission, ValidationReport)
+        .outerjoin(ValidationReport, (ValidationReport.digest == Mission.draft_digest)
+                   & (ValidationReport.checker_version == __version__))
+        .where(Mission.id == mission_id)
+    ).first()
+    if found is None:
+        raise NotFound(f"no mission {mission_id!r}")
+    mission, report = found
+    if report is not None:
+        # The session's identity map holds objects weakly: keep the report for its lifetime.
+        db.info.setdefault(_LOADED_REPORTS, []).append(report)
+    return mission
+
+
 def create_mission(
     db: DbSession, *, orders: Orders, author: User, layout: dict[str, Any] | None = None,
     orders_digest: str | None = None,

@@ -267,7 +267,7 @@ def get_example(name: Annotated[str, Path(max_length=100)]) -> dict[str, Any]:
 @router.get("/missions/{mission_id}", operation_id="getMission", response_model=MissionDetail,
             **allow(*EVERYONE))
 def get_mission(mission_id: str, response: Response, db: Db) -> MissionDetail:
-    return _detail(db, service.get_mission(db, mission_id), response)
+    return _detail(db, service.get_mission_with_report(db, mission_id), response)
 
 
 def _revision(if_match: str | None) -> int:
