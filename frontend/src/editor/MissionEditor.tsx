@@ -1,7 +1,9 @@
 /**
  * The graph editor of a mission draft (operators). The pure logic lives in graph.ts,
  * history.ts and layout.ts; this component wires it to React Flow and the API: every edit
- * saves the draft with If-Match (debounced), then re-reads the report and the plain orders.
+ * sends the new orders to /api/validate at once (from the event handler, before React renders
+ * the edit), then saves the draft with If-Match; typing waits for a pause first. The plain
+ * orders are fetched only while their tab is open.
  */
 import "@xyflow/react/dist/style.css";
 
@@ -22,7 +24,7 @@ import {
   ReactFlowProvider,
   useReactFlow,
 } from "@xyflow/react";
-import { type KeyboardEvent, useCallback, useEffect, useMemo, useRef, useState } from "react";
+import { type KeyboardEvent, memo, useCallback, useEffect, useMemo, useRef, useState } from "react";
 
 import { api, exportHref, fetchText, type Finding, type MissionDetail, type Report, unwrap } from "../api/client";
 import { ErrorMessage } from "../components/Status";
@@ -145,7 +147,18 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   });
   const draft = history.present;
   const orders = draft.orders;
+  // The newest history and draft, updated when they are set (not when React renders them), so
+  // that an edit can be sent to the server from its event handler.
+  const historyNow = useRef(history);
+  const latest = useRef(draft);
+  const updateHistory = useCallback((update: (h: History<Draft>) => History<Draft>) => {
+    const next = update(historyNow.current);
+    historyNow.current = next;
+    latest.current = next.present;
+    setHistory(next);
+  }, []);
   const revision = useRef(mission.revision);
+  const [savedRevision, setSavedRevision] = useState(mission.revision);
   const [saveState, setSaveState] = useState<SaveState>("saved");
   const [saveError, setSaveError] = useState<unknown>(null);
   const [conflict, setConflict] = useState<Conflict | null>(null);
@@ -154,11 +167,8 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   const [notice, setNotice] = useState<string>("");
   const [checkMs, setCheckMs] = useState<number | null>(null);
   const editedAt = useRef<number>(0);
-  const dirty = useRef(false);
   const saving = useRef(false);
   const again = useRef(false);
-  const latest = useRef(draft);
-  latest.current = draft;
 
   useEffect(() => {
     performance.mark("editor:mounted");
@@ -166,12 +176,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
 
   const refreshChecks = useCallback(async () => {
     const path = { params: { path: { mission_id: mission.id } } };
-    const [r, text] = await Promise.all([
-      api.GET("/api/missions/{mission_id}/report", path).then((x) => unwrap(x)),
-      fetchText(exportHref(mission.id, "plain")),
-    ]);
-    setReport(r);
-    setPlain(text);
+    setReport(unwrap(await api.GET("/api/missions/{mission_id}/report", path)));
   }, [mission.id]);
 
   useEffect(() => {
@@ -186,14 +191,19 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     saving.current = true;
     setSaveState("saving");
     const sent = latest.current;
-    // Check the edited orders at once (nothing stored) while the draft saves.
+    // Check the edited orders at once (nothing stored), then save them: the save finds their
+    // report cached instead of validating them a second time beside the check.
     const checked = api.POST("/api/validate", { body: sent.orders }).then((x) => {
-      if (latest.current === sent && x.response.ok && x.data) {
+      performance.mark("editor:validated");
+      if (!x.response.ok || !x.data) return false;
+      if (latest.current === sent) {
         setReport(x.data);
         if (editedAt.current) setCheckMs(Math.round(performance.now() - editedAt.current));
       }
-    }, () => undefined);
+      return true;
+    }, () => false);
     try {
+      const reported = await checked;
       const result = await api.PUT("/api/missions/{mission_id}/draft", {
         params: { path: { mission_id: mission.id }, header: { "if-match": `"${revision.current}"` } },
         body: { orders: sent.orders, layout: sent.layout },
@@ -208,11 +218,12 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
       }
       const saved = unwrap(result);
       revision.current = saved.revision;
+      setSavedRevision(saved.revision);
       setSaveError(null);
       setSaveState(latest.current === sent ? "saved" : "pending");
       onSaved();
-      await checked;
-      await refreshChecks();
+      // The check above reported these orders; re-read the report only if it failed.
+      if (!reported && latest.current === sent) await refreshChecks();
     } catch (e) {
       setSaveError(e);
       setSaveState("error");
@@ -225,22 +236,32 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     }
   }, [mission.id, onSaved, refreshChecks]);
 
-  // Every change of the present draft (edit, undo, redo) is saved after a short pause.
-  useEffect(() => {
-    if (!dirty.current || conflict) return;
-    setSaveState("pending");
-    // Discrete edits save at once; typing in a field waits for a pause.
-    const timer = window.setTimeout(() => void save(), lastGroup.current ? SAVE_DELAY_MS : 0);
-    return () => window.clearTimeout(timer);
-  }, [draft, save, conflict]);
+  // Every change of the present draft (edit, undo, redo) is checked and saved: discrete edits
+  // at once, from the event handler; typing in a field after a short pause.
+  const inConflict = useRef(false);
+  inConflict.current = conflict !== null;
+  const saveTimer = useRef<number | undefined>(undefined);
+  useEffect(() => () => window.clearTimeout(saveTimer.current), []);
+  const changed = useCallback(
+    (group?: string) => {
+      editedAt.current = performance.now();
+      performance.mark("editor:edit");
+      if (inConflict.current) return;
+      window.clearTimeout(saveTimer.current);
+      setSaveState("pending");
+      if (group) saveTimer.current = window.setTimeout(() => void save(), SAVE_DELAY_MS);
+      else void save();
+    },
+    [save],
+  );
 
-  const lastGroup = useRef<string | undefined>(undefined);
-  const edit = useCallback((change: (d: Draft) => Draft, group?: string) => {
-    dirty.current = true;
-    lastGroup.current = group;
-    editedAt.current = performance.now();
-    setHistory((h) => push(h, change(h.present), group ? { group } : {}));
-  }, []);
+  const edit = useCallback(
+    (change: (d: Draft) => Draft, group?: string) => {
+      updateHistory((h) => push(h, change(h.present), group ? { group } : {}));
+      changed(group);
+    },
+    [updateHistory, changed],
+  );
   const editOrders = useCallback(
     (change: (o: Orders) => Orders, group?: string) => edit((d) => ({ ...d, orders: change(d.orders) }), group),
     [edit],
@@ -268,16 +289,19 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     }
     void autoLayout(orders).then((layout) => {
       openView.current = true;
-      setHistory((h) => reset({ ...h.present, layout: { ...layout, ...h.present.layout } }));
+      updateHistory((h) => reset({ ...h.present, layout: { ...layout, ...h.present.layout } }));
       setPlaced(true);
     }, () => {
       openView.current = true;
       setPlaced(true); // no layout: show the default positions rather than nothing
     });
-  }, [orders, draft.layout, flow]);
+  }, [orders, draft.layout, flow, updateHistory]);
 
   // ---- React Flow nodes and edges, synchronised with the draft ----
   const findings = useMemo(() => report?.findings ?? [], [report]);
+  useEffect(() => {
+    if (report) performance.mark("editor:findings-rendered");
+  }, [report]);
   const markers = useMemo(() => markersBySubject(findings), [findings]);
   const graph = useMemo(() => ordersToGraph(orders, draft.layout), [orders, draft.layout]);
   const edgeMarks = useMemo(() => edgeMarkers(findings, graph.edges), [findings, graph.edges]);
@@ -337,13 +361,22 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
       });
     });
     setEdges((previous) => {
-      const selected = new Set(previous.filter((e) => e.selected).map((e) => e.id));
+      const before = new Map(previous.map((e) => [e.id, e]));
       return graph.edges
         .filter((e) => !e.dangling)
         .map((e) => {
+          const old = before.get(e.id);
           const mark = edgeMarks.get(e.id);
           const lit = onPath?.edges.has(e.id) ?? false;
           const colour = COLOURS[e.outcome];
+          const label = `${OUTCOME_LETTER[e.outcome]}${mark ? ` ${mark.severity === "error" ? "✖" : "⚠"} ${mark.codes.join(" ")}` : ""}${lit ? " ●" : ""}`;
+          const className = `edge-${e.outcome}${mark ? ` edge-marked edge-marked-${mark.severity}` : ""}${lit ? " edge-on-path" : ""}`;
+          const ariaLabel = `${e.source} ${OUTCOME_LABEL[e.outcome]} to ${e.target}${mark ? `; findings ${mark.codes.join(", ")}` : ""}${
+            lit ? "; on the highlighted path" : ""
+          }`;
+          // Unchanged edges keep their object (the id names source, outcome and target; the
+          // style follows from the label and class), so React Flow re-renders only what changed.
+          if (old && old.label === label && old.className === className && old.ariaLabel === ariaLabel) return old;
           return {
             id: e.id,
             type: "outcome",
@@ -351,15 +384,13 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
             sourceHandle: e.outcome,
             target: e.target,
             targetHandle: "in",
-            label: `${OUTCOME_LETTER[e.outcome]}${mark ? ` ${mark.severity === "error" ? "✖" : "⚠"} ${mark.codes.join(" ")}` : ""}${lit ? " ●" : ""}`,
-            className: `edge-${e.outcome}${mark ? ` edge-marked edge-marked-${mark.severity}` : ""}${lit ? " edge-on-path" : ""}`,
+            label,
+            className,
             style: { stroke: colour, strokeWidth: lit ? 5 : mark ? 3 : 2, strokeDasharray: mark ? "6 4" : undefined },
             labelStyle: { fill: colour, fontWeight: 700 },
             markerEnd: { type: MarkerType.ArrowClosed, color: colour },
-            ariaLabel: `${e.source} ${OUTCOME_LABEL[e.outcome]} to ${e.target}${mark ? `; findings ${mark.codes.join(", ")}` : ""}${
-              lit ? "; on the highlighted path" : ""
-            }`,
-            selected: selected.has(e.id),
+            ariaLabel,
+            selected: old?.selected ?? false,
           };
         });
     });
@@ -409,6 +440,16 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
 
   const [gotoText, setGotoText] = useState("");
   const [panel, setPanel] = useState("editor-constraints");
+  // The plain orders (as saved): fetched when their tab opens and after each save while open.
+  const plainShown = panel === "editor-plain";
+  useEffect(() => {
+    if (!plainShown) return;
+    let current = true;
+    fetchText(exportHref(mission.id, "plain")).then((text) => current && setPlain(text), (e: unknown) => current && setSaveError(e));
+    return () => {
+      current = false;
+    };
+  }, [plainShown, savedRevision, mission.id]);
   const [planOpen, setPlanOpen] = useState(false);
   const known = useMemo(() => knownQuantities(orders), [orders]);
   const goTo = (id: string) => {
@@ -520,16 +561,12 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     }
   };
   const doUndo = () => {
-    dirty.current = true;
-    lastGroup.current = undefined;
-    editedAt.current = performance.now();
-    setHistory(undo);
+    updateHistory(undo);
+    changed();
   };
   const doRedo = () => {
-    dirty.current = true;
-    lastGroup.current = undefined;
-    editedAt.current = performance.now();
-    setHistory(redo);
+    updateHistory(redo);
+    changed();
   };
 
   // Shortcuts act only while focus is in the canvas (not in the inspector's fields).
@@ -554,8 +591,8 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   const reloadTheirs = () => {
     if (!conflict) return;
     revision.current = conflict.theirs.revision;
-    dirty.current = false;
-    setHistory(reset({ orders: conflict.theirs.orders as Orders, layout: (conflict.theirs.layout ?? {}) as Layout }));
+    setSavedRevision(conflict.theirs.revision);
+    updateHistory(() => reset({ orders: conflict.theirs.orders as Orders, layout: (conflict.theirs.layout ?? {}) as Layout }));
     setConflict(null);
     setSaveState("saved");
     setNotice("Reloaded the draft someone else saved.");
@@ -565,6 +602,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   const keepMine = () => {
     if (!conflict) return;
     revision.current = conflict.theirs.revision;
+    inConflict.current = false;
     setConflict(null);
     setNotice("Your version replaced theirs.");
     void save();
@@ -612,6 +650,28 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     const clip = copyGoals(latest.current.orders, latest.current.layout, selectedNodes);
     if (clip) pasteClip(JSON.stringify(clip));
   };
+
+  const nodeIds = useRef(new Set<string>());
+  nodeIds.current = new Set(graph.nodes.map((n) => n.id));
+  const pickFinding = useCallback(
+    (f: Finding) => {
+      select(f.subjects);
+      const shown = f.subjects.filter((id) => nodeIds.current.has(id));
+      if (shown.length > 0) void flow.fitView({ nodes: shown.map((id) => ({ id })), padding: 0.5, maxZoom: 1 });
+      const path = findingPath(f as unknown as Record<string, unknown>);
+      highlightPath(path, path ? `${f.code} counterexample` : "");
+    },
+    [select, flow, highlightPath],
+  );
+  const nodeOptions = useMemo(
+    () =>
+      graph.nodes.map((n) => (
+        <option key={n.id} value={n.id}>
+          {n.label}
+        </option>
+      )),
+    [graph.nodes],
+  );
 
   const selectedGoal = goals(orders).find((g) => g.id === selectedId);
   const selectedTerminal = terminals(orders).find((t) => t.id === selectedId);
@@ -662,13 +722,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
         >
           <label htmlFor="goto-node">Go to node</label>
           <input id="goto-node" list="node-ids" size={8} value={gotoText} onChange={(e) => setGotoText(e.target.value)} />
-          <datalist id="node-ids">
-            {graph.nodes.map((n) => (
-              <option key={n.id} value={n.id}>
-                {n.label}
-              </option>
-            ))}
-          </datalist>
+          <datalist id="node-ids">{nodeOptions}</datalist>
           <button type="submit">Go</button>
         </form>
         <button type="button" onClick={() => setPlanOpen(true)}>
@@ -779,23 +833,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
                 {checkMs !== null && <span className="hint" data-testid="check-time"> Checked {checkMs} ms after the edit.</span>}
               </p>
             )}
-            <ul className="editor-findings" data-testid="editor-findings">
-              {findings.map((f: Finding, i) => (
-                <li key={`${f.code}-${i}`}>
-                  <button type="button" className={`finding finding-${f.severity}`} onClick={() => {
-                      select(f.subjects);
-                      const shown = f.subjects.filter((id) => graph.nodes.some((n) => n.id === id));
-                      if (shown.length > 0) void flow.fitView({ nodes: shown.map((id) => ({ id })), padding: 0.5, maxZoom: 1 });
-                      const path = findingPath(f as unknown as Record<string, unknown>);
-                      highlightPath(path, path ? `${f.code} counterexample` : "");
-                    }}
-                  >
-                    <code>{f.code}</code> {f.severity}: {f.message}
-                    {f.subjects.length > 0 && <span className="hint"> ({f.subjects.join(", ")})</span>}
-                  </button>
-                </li>
-              ))}
-            </ul>
+            <FindingsList findings={findings} onPick={pickFinding} />
           </section>
         </aside>
       </div>
@@ -858,7 +896,36 @@ function ConflictDialog({ conflict, onReload, onKeepMine }: { conflict: Conflict
 
 type EditOrders = (change: (o: Orders) => Orders, group?: string) => void;
 
-function GoalInspector({
+/** Findings listed before "Show all": a long list (one per unreachable goal) renders late. */
+const FINDINGS_SHOWN = 50;
+
+/** The editor's findings, each a button that selects its subjects; memoised, so that the
+ * renders that follow an edit (nodes, selection) do not rebuild a long list. */
+const FindingsList = memo(function FindingsList({ findings, onPick }: { findings: Finding[]; onPick: (f: Finding) => void }) {
+  const [all, setAll] = useState(false);
+  const shown = all ? findings : findings.slice(0, FINDINGS_SHOWN);
+  return (
+    <>
+      <ul className="editor-findings" data-testid="editor-findings">
+        {shown.map((f, i) => (
+          <li key={`${f.code}-${i}`}>
+            <button type="button" className={`finding finding-${f.severity}`} onClick={() => onPick(f)}>
+              <code>{f.code}</code> {f.severity}: {f.message}
+              {f.subjects.length > 0 && <span className="hint"> ({f.subjects.join(", ")})</span>}
+            </button>
+          </li>
+        ))}
+      </ul>
+      {shown.length < findings.length && (
+        <button type="button" onClick={() => setAll(true)} data-testid="findings-show-all">
+          Show all {findings.length} findings
+        </button>
+      )}
+    </>
+  );
+});
+
+const GoalInspector = memo(function GoalInspector({
   goal,
   orders,
   editOrders,
@@ -1005,7 +1072,7 @@ function GoalInspector({
       })}
     </fieldset>
   );
-}
+});
 
 function ConstraintsPanel({
   orders,
