@@ -24,7 +24,7 @@ import {
   ReactFlowProvider,
   useReactFlow,
 } from "@xyflow/react";
-import { type KeyboardEvent, memo, useCallback, useEffect, useMemo, useRef, useState } from "react";
+import { type KeyboardEvent, memo, useCallback, useEffect, useLayoutEffect, useMemo, useRef, useState } from "react";
 
 import { api, exportHref, fetchText, type Finding, type MissionDetail, type Report, unwrap } from "../api/client";
 import { ErrorMessage } from "../components/Status";
@@ -157,6 +157,9 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     latest.current = next.present;
     setHistory(next);
   }, []);
+  // The orders whose report is shown (the opened ones: the report is read below); a save of
+  // the same orders (a node moved, a layout computed) sends no check.
+  const lastChecked = useRef<Orders | null>(mission.orders as Orders);
   const revision = useRef(mission.revision);
   const [savedRevision, setSavedRevision] = useState(mission.revision);
   const [saveState, setSaveState] = useState<SaveState>("saved");
@@ -193,10 +196,12 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     const sent = latest.current;
     // Check the edited orders at once (nothing stored), then save them: the save finds their
     // report cached instead of validating them a second time beside the check.
-    const checked = api.POST("/api/validate", { body: sent.orders }).then((x) => {
+    const unchecked = sent.orders !== lastChecked.current;
+    const checked = !unchecked ? Promise.resolve(true) : api.POST("/api/validate", { body: sent.orders }).then((x) => {
       performance.mark("editor:validated");
       if (!x.response.ok || !x.data) return false;
-      if (latest.current === sent) {
+      lastChecked.current = sent.orders;
+      if (latest.current.orders === sent.orders) {
         setReport(x.data);
         if (editedAt.current) setCheckMs(Math.round(performance.now() - editedAt.current));
       }
@@ -277,6 +282,16 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   // Until the opened draft has positions, the canvas gets no nodes (they would all render,
   // stacked, with every edge crossing the view, only to move a moment later).
   const [placed, setPlaced] = useState(() => isLaidOut(draft));
+  // Positions computed on open are saved with the draft (once), so that it opens as laid out.
+  const savedLayout = useRef((mission.layout ?? {}) as Layout);
+  const saveComputedLayout = useCallback(
+    (layout: Layout) => {
+      if (inConflict.current || Object.keys(layout).every((id) => savedLayout.current[id])) return;
+      setSaveState("pending");
+      void save();
+    },
+    [save],
+  );
   useEffect(() => {
     if (ready) performance.mark("editor:ready");
   }, [ready]);
@@ -285,17 +300,19 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     laidOut.current = true;
     if (isLaidOut(draft)) {
       openView.current = true;
+      saveComputedLayout(draft.layout); // a large draft laid out as it opened (above)
       return;
     }
     void autoLayout(orders).then((layout) => {
       openView.current = true;
       updateHistory((h) => reset({ ...h.present, layout: { ...layout, ...h.present.layout } }));
       setPlaced(true);
+      saveComputedLayout(layout);
     }, () => {
       openView.current = true;
       setPlaced(true); // no layout: show the default positions rather than nothing
     });
-  }, [orders, draft.layout, flow, updateHistory]);
+  }, [orders, draft.layout, flow, updateHistory, saveComputedLayout]);
 
   // ---- React Flow nodes and edges, synchronised with the draft ----
   const findings = useMemo(() => report?.findings ?? [], [report]);
@@ -312,7 +329,8 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   const [edges, setEdges] = useState<Edge[]>([]);
   const selectNext = useRef<string[] | null>(null);
 
-  useEffect(() => {
+  // Before the browser paints: markers show in the same frame as the findings list.
+  useLayoutEffect(() => {
     if (!placed) return;
     setNodes((previous) => {
       const before = new Map(previous.map((n) => [n.id, n]));
@@ -593,6 +611,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     revision.current = conflict.theirs.revision;
     setSavedRevision(conflict.theirs.revision);
     updateHistory(() => reset({ orders: conflict.theirs.orders as Orders, layout: (conflict.theirs.layout ?? {}) as Layout }));
+    lastChecked.current = conflict.theirs.orders as Orders;
     setConflict(null);
     setSaveState("saved");
     setNotice("Reloaded the draft someone else saved.");
