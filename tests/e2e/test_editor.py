@@ -258,6 +258,51 @@ def test_second_browser_gets_the_conflict_dialog(page: Page, server: Server) -> 
     assert [g["id"] for g in orders["goals"]] == ["G1"]
 
 
+def test_toolbar_is_one_row_and_its_menus_work_by_keyboard(page: Page,
+                                                           seeded_mission: str) -> None:
+    """At 1280 px the toolbar is one row; its menus open, are walked and close by keyboard."""
+    page.set_viewport_size({"width": 1280, "height": 800})
+    sign_in(page, "operator")
+    page.goto(f"/missions/{seeded_mission}?tab=editor")
+    expect(page.get_by_test_id("node-G5")).to_be_visible()
+    toolbar = page.get_by_role("toolbar", name="Graph editing")
+    tops = toolbar.evaluate("""bar => [...bar.children].filter(c => c.offsetParent !== null)
+                                     .map(c => Math.round(c.getBoundingClientRect().top))""")
+    box = toolbar.bounding_box()
+    assert box and box["height"] < 50 and max(tops) - min(tops) < 10, (box, tops)
+
+    # Tab from "Add goal" reaches the "Add terminal" menu; Enter opens it, Tab walks into it.
+    page.get_by_role("button", name="Add goal").focus()
+    page.keyboard.press("Tab")
+    assert page.evaluate("document.activeElement.textContent") == "Add terminal"
+    page.keyboard.press("Enter")
+    page.keyboard.press("Tab")
+    expect(page.get_by_role("button", name="Add complete terminal")).to_be_focused()
+    page.keyboard.press("Tab")
+    expect(page.get_by_role("button", name="Add abort terminal")).to_be_focused()
+    page.keyboard.press("Enter")  # adds the terminal and closes the menu
+    expect(page.get_by_role("button", name="Add abort terminal")).to_be_hidden()
+    expect(page.locator(".inspector legend")).to_contain_text("Terminal")
+    page.keyboard.press("Control+z")  # focus is in the toolbar: the canvas ignores it
+    page.get_by_role("button", name="Undo").click()
+    expect(page.locator(".react-flow__node")).to_have_count(7)
+
+    # Escape closes a menu and gives the focus back to its summary.
+    more = page.locator(".editor-toolbar summary", has_text="More")
+    more.focus()
+    page.keyboard.press("Enter")
+    page.keyboard.press("Tab")
+    expect(page.get_by_role("button", name="Zoom to fit")).to_be_focused()
+    page.keyboard.press("Escape")
+    expect(page.get_by_role("button", name="Zoom to fit")).to_be_hidden()
+    expect(more).to_be_focused()
+    # A press outside closes an open menu too.
+    more.click()
+    expect(page.get_by_role("button", name="Plan survey…")).to_be_visible()
+    page.get_by_role("heading", level=1).click()
+    expect(page.get_by_role("button", name="Plan survey…")).to_be_hidden()
+
+
 def test_layout_computed_on_open_is_saved_once(page: Page, server: Server) -> None:
     """A draft without positions is laid out as it opens, and that layout is saved with it
     (one save: the draft then opens as laid out, and nothing saves again)."""

@@ -24,7 +24,7 @@ import {
   ReactFlowProvider,
   useReactFlow,
 } from "@xyflow/react";
-import { type KeyboardEvent, memo, useCallback, useEffect, useLayoutEffect, useMemo, useRef, useState } from "react";
+import { type KeyboardEvent, memo, type ReactNode, useCallback, useEffect, useLayoutEffect, useMemo, useRef, useState } from "react";
 
 import { api, exportHref, fetchText, type Finding, type MissionDetail, type Report, unwrap } from "../api/client";
 import { ErrorMessage } from "../components/Status";
@@ -699,38 +699,41 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   return (
     <div className="editor">
       <div className="editor-toolbar" role="toolbar" aria-label="Graph editing">
+        {/* One row at 1280 px: the less frequent actions sit in menus (details/summary: Tab
+            reaches each summary, Enter or Space opens it, Escape closes it). */}
         <button type="button" onClick={addGoalNode}>
           Add goal
         </button>
-        <button type="button" onClick={() => addTerminalNode("complete")}>
-          Add complete terminal
-        </button>
-        <button type="button" onClick={() => addTerminalNode("abort")}>
-          Add abort terminal
-        </button>
-        <button type="button" onClick={deleteSelected} disabled={selectedNodes.length === 0 && !edges.some((e) => e.selected)}>
-          Delete selected
-        </button>
-        <button type="button" onClick={duplicateSelected} disabled={!selectedNodes.some((id) => goals(orders).some((g) => g.id === id))}>
-          Duplicate
-        </button>
-        <button type="button" onClick={() => copySelected()} disabled={selectedNodes.length === 0}>
-          Copy
-        </button>
-        <button type="button" onClick={pasteSelected}>
-          Paste
-        </button>
-        <button type="button" onClick={() => void relayout()}>
-          Auto layout
-        </button>
-        <button type="button" onClick={() => void flow.fitView({ padding: 0.15 })}>
-          Zoom to fit
-        </button>
+        <ToolbarMenu label="Add terminal">
+          <button type="button" className="menu-item" onClick={() => addTerminalNode("complete")}>
+            Add complete terminal
+          </button>
+          <button type="button" className="menu-item" onClick={() => addTerminalNode("abort")}>
+            Add abort terminal
+          </button>
+        </ToolbarMenu>
+        <ToolbarMenu label="Edit">
+          <button type="button" className="menu-item" onClick={deleteSelected} disabled={selectedNodes.length === 0 && !edges.some((e) => e.selected)}>
+            Delete selected
+          </button>
+          <button type="button" className="menu-item" onClick={duplicateSelected} disabled={!selectedNodes.some((id) => goals(orders).some((g) => g.id === id))}>
+            Duplicate
+          </button>
+          <button type="button" className="menu-item" onClick={() => copySelected()} disabled={selectedNodes.length === 0}>
+            Copy
+          </button>
+          <button type="button" className="menu-item" onClick={pasteSelected}>
+            Paste
+          </button>
+        </ToolbarMenu>
         <button type="button" onClick={doUndo} disabled={!canUndo(history)}>
           Undo
         </button>
         <button type="button" onClick={doRedo} disabled={!canRedo(history)}>
           Redo
+        </button>
+        <button type="button" onClick={() => void relayout()}>
+          Auto layout
         </button>
         <form
           className="goto"
@@ -740,16 +743,21 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
           }}
         >
           <label htmlFor="goto-node">Go to node</label>
-          <input id="goto-node" list="node-ids" size={8} value={gotoText} onChange={(e) => setGotoText(e.target.value)} />
+          <input id="goto-node" list="node-ids" size={6} value={gotoText} onChange={(e) => setGotoText(e.target.value)} />
           <datalist id="node-ids">{nodeOptions}</datalist>
           <button type="submit">Go</button>
         </form>
-        <button type="button" onClick={() => setPlanOpen(true)}>
-          Plan survey…
-        </button>
-        <ImportMenu onImport={importFile} busy={importing} />
-        <ExportMenu missionId={mission.id} saved={saveState === "saved"} />
-        <NewFromExample />
+        <ToolbarMenu label="More">
+          <button type="button" className="menu-item" onClick={() => void flow.fitView({ padding: 0.15 })}>
+            Zoom to fit
+          </button>
+          <button type="button" className="menu-item" onClick={() => setPlanOpen(true)}>
+            Plan survey…
+          </button>
+          <ImportMenu onImport={importFile} busy={importing} />
+          <ExportMenu missionId={mission.id} saved={saveState === "saved"} />
+          <NewFromExample />
+        </ToolbarMenu>
         <span className={`save-state save-${saveState}`} role="status" data-testid="save-state">
           {saveState === "saved" ? "Saved" : saveState === "pending" || saveState === "saving" ? "Saving…" : saveState === "conflict" ? "Conflict" : "Not saved"}
         </span>
@@ -914,6 +922,42 @@ function ConflictDialog({ conflict, onReload, onKeepMine }: { conflict: Conflict
 }
 
 type EditOrders = (change: (o: Orders) => Orders, group?: string) => void;
+
+/** A toolbar menu: a summary that opens a column of actions. Choosing an action (a button with
+ * class menu-item), Escape, or a press outside the menu closes it. */
+function ToolbarMenu({ label, children }: { label: string; children: ReactNode }) {
+  const ref = useRef<HTMLDetailsElement>(null);
+  const [open, setOpen] = useState(false);
+  useEffect(() => {
+    if (!open) return;
+    const outside = (event: PointerEvent) => {
+      if (ref.current && !ref.current.contains(event.target as globalThis.Node)) ref.current.open = false;
+    };
+    document.addEventListener("pointerdown", outside);
+    return () => document.removeEventListener("pointerdown", outside);
+  }, [open]);
+  return (
+    <details
+      ref={ref}
+      className="toolbar-menu"
+      onToggle={(e) => setOpen(e.currentTarget.open)}
+      onKeyDown={(e) => {
+        if (e.key !== "Escape" || !ref.current?.open) return;
+        e.stopPropagation();
+        ref.current.open = false;
+        ref.current.querySelector("summary")?.focus();
+      }}
+      onClick={(e) => {
+        if ((e.target as HTMLElement).closest(".menu-item") && ref.current) ref.current.open = false;
+      }}
+    >
+      <summary>{label}</summary>
+      <div className="toolbar-menu-body" role="group" aria-label={label}>
+        {children}
+      </div>
+    </details>
+  );
+}
 
 /** Findings listed before "Show all": a long list (one per unreachable goal) renders late. */
 const FINDINGS_SHOWN = 50;
