@@ -112,7 +112,8 @@ const PRESET = {
 const LARGE_GOALS = 200;
 const COLOURS: Record<Outcome, string> = { succeed: "#1a7f37", fail: "#c25e00", violate: "#c9202c" };
 
-export default function MissionEditor(props: { mission: MissionDetail; onSaved: () => void }) {
+/** `onSaved` gets the mission as the save answered it (the page shows it without re-reading). */
+export default function MissionEditor(props: { mission: MissionDetail; onSaved: (saved: MissionDetail) => void }) {
   return (
     <ReactFlowProvider>
       <Editor {...props} />
@@ -133,7 +134,7 @@ function isLaidOut(draft: Draft): boolean {
   return ids.length > 0 && ids.every((id) => draft.layout[id]);
 }
 
-function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => void }) {
+function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved: MissionDetail) => void }) {
   const flow = useReactFlow();
   // A large draft without positions is laid out at once (the linear-time layout), so that the
   // canvas never renders it unplaced; smaller ones wait for ELK (below) before they render.
@@ -186,6 +187,30 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     refreshChecks().catch(setSaveError);
   }, [refreshChecks]);
 
+  // Checks orders on the server (nothing stored; the report is cached there by digest) and
+  // shows the report if they are still the newest. Not queued behind a save in progress: an
+  // edit is checked at once. Resolves whether the server answered with a report.
+  const pendingCheck = useRef<{ orders: Orders; done: Promise<boolean> } | null>(null);
+  const check = useCallback((orders: Orders): Promise<boolean> => {
+    if (orders === lastChecked.current) return Promise.resolve(true);
+    if (pendingCheck.current?.orders === orders) return pendingCheck.current.done;
+    const done = api.POST("/api/validate", { body: orders }).then(
+      (x) => {
+        performance.mark("editor:validated");
+        if (!x.response.ok || !x.data) return false;
+        if (latest.current.orders === orders) {
+          lastChecked.current = orders;
+          setReport(x.data);
+          if (editedAt.current) setCheckMs(Math.round(performance.now() - editedAt.current));
+        }
+        return true;
+      },
+      () => false,
+    );
+    pendingCheck.current = { orders, done };
+    return done;
+  }, []);
+
   const save = useCallback(async () => {
     if (saving.current) {
       again.current = true;
@@ -194,21 +219,10 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     saving.current = true;
     setSaveState("saving");
     const sent = latest.current;
-    // Check the edited orders at once (nothing stored), then save them: the save finds their
-    // report cached instead of validating them a second time beside the check.
-    const unchecked = sent.orders !== lastChecked.current;
-    const checked = !unchecked ? Promise.resolve(true) : api.POST("/api/validate", { body: sent.orders }).then((x) => {
-      performance.mark("editor:validated");
-      if (!x.response.ok || !x.data) return false;
-      lastChecked.current = sent.orders;
-      if (latest.current.orders === sent.orders) {
-        setReport(x.data);
-        if (editedAt.current) setCheckMs(Math.round(performance.now() - editedAt.current));
-      }
-      return true;
-    }, () => false);
     try {
-      const reported = await checked;
+      // Saved once checked: the save then finds the report cached instead of validating the
+      // same orders a second time beside the check.
+      const reported = await check(sent.orders);
       const result = await api.PUT("/api/missions/{mission_id}/draft", {
         params: { path: { mission_id: mission.id }, header: { "if-match": `"${revision.current}"` } },
         body: { orders: sent.orders, layout: sent.layout },
@@ -226,7 +240,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
       setSavedRevision(saved.revision);
       setSaveError(null);
       setSaveState(latest.current === sent ? "saved" : "pending");
-      onSaved();
+      onSaved(saved);
       // The check above reported these orders; re-read the report only if it failed.
       if (!reported && latest.current === sent) await refreshChecks();
     } catch (e) {
@@ -239,7 +253,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
         void save();
       }
     }
-  }, [mission.id, onSaved, refreshChecks]);
+  }, [mission.id, onSaved, refreshChecks, check]);
 
   // Every change of the present draft (edit, undo, redo) is checked and saved: discrete edits
   // at once, from the event handler; typing in a field after a short pause.
@@ -254,10 +268,14 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
       if (inConflict.current) return;
       window.clearTimeout(saveTimer.current);
       setSaveState("pending");
-      if (group) saveTimer.current = window.setTimeout(() => void save(), SAVE_DELAY_MS);
-      else void save();
+      if (group) {
+        saveTimer.current = window.setTimeout(() => void save(), SAVE_DELAY_MS);
+        return;
+      }
+      void check(latest.current.orders);
+      void save();
     },
-    [save],
+    [save, check],
   );
 
   const edit = useCallback(
@@ -616,7 +634,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     setSaveState("saved");
     setNotice("Reloaded the draft someone else saved.");
     void refreshChecks();
-    onSaved();
+    onSaved(conflict.theirs);
   };
   const keepMine = () => {
     if (!conflict) return;
