@@ -5,6 +5,8 @@ export interface Loaded<T> {
   error: unknown;
   loading: boolean;
   reload: () => void;
+  /** Shows data the caller already has (a write's answer), with no request. */
+  replace: (data: T) => void;
 }
 
 /** Runs `load` when `deps` change; drops answers that arrive after a newer request started. */
@@ -29,5 +31,6 @@ export function useLoad<T>(load: () => Promise<T>, deps: DependencyList): Loaded
     };
   }, [run, tick]);
   const reload = useCallback(() => setTick((t) => t + 1), []);
-  return { ...state, reload };
+  const replace = useCallback((data: T) => setState({ data, error: null, loading: false }), []);
+  return { ...state, reload, replace };
 }

@@ -311,6 +311,7 @@ def test_operator_builds_the_exemplar_by_mouse_and_keyboard(own_page: Page) -> N
     expect(page.locator(".react-flow__edge.edge-on-path")).not_to_have_count(0)
 
     # ---- Export JSON and compare digests (positions are not in the orders) ----
+    page.locator(".editor-toolbar summary", has_text="More").click()
     page.locator(".export-menu summary").click()
     with page.expect_download() as download:
         page.get_by_test_id("editor-export-json").click()

@@ -19,6 +19,7 @@ def test_plan_survey_dialog_solves_and_creates_a_draft(page: Page, seeded_missio
     sign_in(page, "operator")
     page.goto(f"/missions/{seeded_mission}?tab=editor")
     expect(page.get_by_test_id("node-G5")).to_be_visible()
+    page.locator(".editor-toolbar summary", has_text="More").click()
     page.get_by_role("button", name="Plan survey…").click()
     dialog = page.get_by_role("dialog", name="Plan survey")
     expect(dialog).to_be_visible()

@@ -1,7 +1,9 @@
 /**
  * The graph editor of a mission draft (operators). The pure logic lives in graph.ts,
  * history.ts and layout.ts; this component wires it to React Flow and the API: every edit
- * saves the draft with If-Match (debounced), then re-reads the report and the plain orders.
+ * sends the new orders to /api/validate at once (from the event handler, before React renders
+ * the edit), then saves the draft with If-Match; typing waits for a pause first. The plain
+ * orders are fetched only while their tab is open.
  */
 import "@xyflow/react/dist/style.css";
 
@@ -22,7 +24,7 @@ import {
   ReactFlowProvider,
   useReactFlow,
 } from "@xyflow/react";
-import { type KeyboardEvent, useCallback, useEffect, useMemo, useRef, useState } from "react";
+import { type KeyboardEvent, memo, type ReactNode, useCallback, useEffect, useLayoutEffect, useMemo, useRef, useState } from "react";
 
 import { api, exportHref, fetchText, type Finding, type MissionDetail, type Report, unwrap } from "../api/client";
 import { ErrorMessage } from "../components/Status";
@@ -110,7 +112,8 @@ const PRESET = {
 const LARGE_GOALS = 200;
 const COLOURS: Record<Outcome, string> = { succeed: "#1a7f37", fail: "#c25e00", violate: "#c9202c" };
 
-export default function MissionEditor(props: { mission: MissionDetail; onSaved: () => void }) {
+/** `onSaved` gets the mission as the save answered it (the page shows it without re-reading). */
+export default function MissionEditor(props: { mission: MissionDetail; onSaved: (saved: MissionDetail) => void }) {
   return (
     <ReactFlowProvider>
       <Editor {...props} />
@@ -131,7 +134,7 @@ function isLaidOut(draft: Draft): boolean {
   return ids.length > 0 && ids.every((id) => draft.layout[id]);
 }
 
-function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => void }) {
+function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved: MissionDetail) => void }) {
   const flow = useReactFlow();
   // A large draft without positions is laid out at once (the linear-time layout), so that the
   // canvas never renders it unplaced; smaller ones wait for ELK (below) before they render.
@@ -145,7 +148,21 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   });
   const draft = history.present;
   const orders = draft.orders;
+  // The newest history and draft, updated when they are set (not when React renders them), so
+  // that an edit can be sent to the server from its event handler.
+  const historyNow = useRef(history);
+  const latest = useRef(draft);
+  const updateHistory = useCallback((update: (h: History<Draft>) => History<Draft>) => {
+    const next = update(historyNow.current);
+    historyNow.current = next;
+    latest.current = next.present;
+    setHistory(next);
+  }, []);
+  // The orders whose report is shown (the opened ones: the report is read below); a save of
+  // the same orders (a node moved, a layout computed) sends no check.
+  const lastChecked = useRef<Orders | null>(mission.orders as Orders);
   const revision = useRef(mission.revision);
+  const [savedRevision, setSavedRevision] = useState(mission.revision);
   const [saveState, setSaveState] = useState<SaveState>("saved");
   const [saveError, setSaveError] = useState<unknown>(null);
   const [conflict, setConflict] = useState<Conflict | null>(null);
@@ -154,11 +171,8 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   const [notice, setNotice] = useState<string>("");
   const [checkMs, setCheckMs] = useState<number | null>(null);
   const editedAt = useRef<number>(0);
-  const dirty = useRef(false);
   const saving = useRef(false);
   const again = useRef(false);
-  const latest = useRef(draft);
-  latest.current = draft;
 
   useEffect(() => {
     performance.mark("editor:mounted");
@@ -166,17 +180,36 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
 
   const refreshChecks = useCallback(async () => {
     const path = { params: { path: { mission_id: mission.id } } };
-    const [r, text] = await Promise.all([
-      api.GET("/api/missions/{mission_id}/report", path).then((x) => unwrap(x)),
-      fetchText(exportHref(mission.id, "plain")),
-    ]);
-    setReport(r);
-    setPlain(text);
+    setReport(unwrap(await api.GET("/api/missions/{mission_id}/report", path)));
   }, [mission.id]);
 
   useEffect(() => {
     refreshChecks().catch(setSaveError);
   }, [refreshChecks]);
+
+  // Checks orders on the server (nothing stored; the report is cached there by digest) and
+  // shows the report if they are still the newest. Not queued behind a save in progress: an
+  // edit is checked at once. Resolves whether the server answered with a report.
+  const pendingCheck = useRef<{ orders: Orders; done: Promise<boolean> } | null>(null);
+  const check = useCallback((orders: Orders): Promise<boolean> => {
+    if (orders === lastChecked.current) return Promise.resolve(true);
+    if (pendingCheck.current?.orders === orders) return pendingCheck.current.done;
+    const done = api.POST("/api/validate", { body: orders }).then(
+      (x) => {
+        performance.mark("editor:validated");
+        if (!x.response.ok || !x.data) return false;
+        if (latest.current.orders === orders) {
+          lastChecked.current = orders;
+          setReport(x.data);
+          if (editedAt.current) setCheckMs(Math.round(performance.now() - editedAt.current));
+        }
+        return true;
+      },
+      () => false,
+    );
+    pendingCheck.current = { orders, done };
+    return done;
+  }, []);
 
   const save = useCallback(async () => {
     if (saving.current) {
@@ -186,14 +219,10 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     saving.current = true;
     setSaveState("saving");
     const sent = latest.current;
-    // Check the edited orders at once (nothing stored) while the draft saves.
-    const checked = api.POST("/api/validate", { body: sent.orders }).then((x) => {
-      if (latest.current === sent && x.response.ok && x.data) {
-        setReport(x.data);
-        if (editedAt.current) setCheckMs(Math.round(performance.now() - editedAt.current));
-      }
-    }, () => undefined);
     try {
+      // Saved once checked: the save then finds the report cached instead of validating the
+      // same orders a second time beside the check.
+      const reported = await check(sent.orders);
       const result = await api.PUT("/api/missions/{mission_id}/draft", {
         params: { path: { mission_id: mission.id }, header: { "if-match": `"${revision.current}"` } },
         body: { orders: sent.orders, layout: sent.layout },
@@ -208,11 +237,12 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
       }
       const saved = unwrap(result);
       revision.current = saved.revision;
+      setSavedRevision(saved.revision);
       setSaveError(null);
       setSaveState(latest.current === sent ? "saved" : "pending");
-      onSaved();
-      await checked;
-      await refreshChecks();
+      onSaved(saved);
+      // The check above reported these orders; re-read the report only if it failed.
+      if (!reported && latest.current === sent) await refreshChecks();
     } catch (e) {
       setSaveError(e);
       setSaveState("error");
@@ -223,24 +253,38 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
         void save();
       }
     }
-  }, [mission.id, onSaved, refreshChecks]);
+  }, [mission.id, onSaved, refreshChecks, check]);
 
-  // Every change of the present draft (edit, undo, redo) is saved after a short pause.
-  useEffect(() => {
-    if (!dirty.current || conflict) return;
-    setSaveState("pending");
-    // Discrete edits save at once; typing in a field waits for a pause.
-    const timer = window.setTimeout(() => void save(), lastGroup.current ? SAVE_DELAY_MS : 0);
-    return () => window.clearTimeout(timer);
-  }, [draft, save, conflict]);
+  // Every change of the present draft (edit, undo, redo) is checked and saved: discrete edits
+  // at once, from the event handler; typing in a field after a short pause.
+  const inConflict = useRef(false);
+  inConflict.current = conflict !== null;
+  const saveTimer = useRef<number | undefined>(undefined);
+  useEffect(() => () => window.clearTimeout(saveTimer.current), []);
+  const changed = useCallback(
+    (group?: string) => {
+      editedAt.current = performance.now();
+      performance.mark("editor:edit");
+      if (inConflict.current) return;
+      window.clearTimeout(saveTimer.current);
+      setSaveState("pending");
+      if (group) {
+        saveTimer.current = window.setTimeout(() => void save(), SAVE_DELAY_MS);
+        return;
+      }
+      void check(latest.current.orders);
+      void save();
+    },
+    [save, check],
+  );
 
-  const lastGroup = useRef<string | undefined>(undefined);
-  const edit = useCallback((change: (d: Draft) => Draft, group?: string) => {
-    dirty.current = true;
-    lastGroup.current = group;
-    editedAt.current = performance.now();
-    setHistory((h) => push(h, change(h.present), group ? { group } : {}));
-  }, []);
+  const edit = useCallback(
+    (change: (d: Draft) => Draft, group?: string) => {
+      updateHistory((h) => push(h, change(h.present), group ? { group } : {}));
+      changed(group);
+    },
+    [updateHistory, changed],
+  );
   const editOrders = useCallback(
     (change: (o: Orders) => Orders, group?: string) => edit((d) => ({ ...d, orders: change(d.orders) }), group),
     [edit],
@@ -256,6 +300,16 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   // Until the opened draft has positions, the canvas gets no nodes (they would all render,
   // stacked, with every edge crossing the view, only to move a moment later).
   const [placed, setPlaced] = useState(() => isLaidOut(draft));
+  // Positions computed on open are saved with the draft (once), so that it opens as laid out.
+  const savedLayout = useRef((mission.layout ?? {}) as Layout);
+  const saveComputedLayout = useCallback(
+    (layout: Layout) => {
+      if (inConflict.current || Object.keys(layout).every((id) => savedLayout.current[id])) return;
+      setSaveState("pending");
+      void save();
+    },
+    [save],
+  );
   useEffect(() => {
     if (ready) performance.mark("editor:ready");
   }, [ready]);
@@ -264,20 +318,25 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     laidOut.current = true;
     if (isLaidOut(draft)) {
       openView.current = true;
+      saveComputedLayout(draft.layout); // a large draft laid out as it opened (above)
       return;
     }
     void autoLayout(orders).then((layout) => {
       openView.current = true;
-      setHistory((h) => reset({ ...h.present, layout: { ...layout, ...h.present.layout } }));
+      updateHistory((h) => reset({ ...h.present, layout: { ...layout, ...h.present.layout } }));
       setPlaced(true);
+      saveComputedLayout(layout);
     }, () => {
       openView.current = true;
       setPlaced(true); // no layout: show the default positions rather than nothing
     });
-  }, [orders, draft.layout, flow]);
+  }, [orders, draft.layout, flow, updateHistory, saveComputedLayout]);
 
   // ---- React Flow nodes and edges, synchronised with the draft ----
   const findings = useMemo(() => report?.findings ?? [], [report]);
+  useEffect(() => {
+    if (report) performance.mark("editor:findings-rendered");
+  }, [report]);
   const markers = useMemo(() => markersBySubject(findings), [findings]);
   const graph = useMemo(() => ordersToGraph(orders, draft.layout), [orders, draft.layout]);
   const edgeMarks = useMemo(() => edgeMarkers(findings, graph.edges), [findings, graph.edges]);
@@ -288,7 +347,8 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   const [edges, setEdges] = useState<Edge[]>([]);
   const selectNext = useRef<string[] | null>(null);
 
-  useEffect(() => {
+  // Before the browser paints: markers show in the same frame as the findings list.
+  useLayoutEffect(() => {
     if (!placed) return;
     setNodes((previous) => {
       const before = new Map(previous.map((n) => [n.id, n]));
@@ -337,13 +397,22 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
       });
     });
     setEdges((previous) => {
-      const selected = new Set(previous.filter((e) => e.selected).map((e) => e.id));
+      const before = new Map(previous.map((e) => [e.id, e]));
       return graph.edges
         .filter((e) => !e.dangling)
         .map((e) => {
+          const old = before.get(e.id);
           const mark = edgeMarks.get(e.id);
           const lit = onPath?.edges.has(e.id) ?? false;
           const colour = COLOURS[e.outcome];
+          const label = `${OUTCOME_LETTER[e.outcome]}${mark ? ` ${mark.severity === "error" ? "✖" : "⚠"} ${mark.codes.join(" ")}` : ""}${lit ? " ●" : ""}`;
+          const className = `edge-${e.outcome}${mark ? ` edge-marked edge-marked-${mark.severity}` : ""}${lit ? " edge-on-path" : ""}`;
+          const ariaLabel = `${e.source} ${OUTCOME_LABEL[e.outcome]} to ${e.target}${mark ? `; findings ${mark.codes.join(", ")}` : ""}${
+            lit ? "; on the highlighted path" : ""
+          }`;
+          // Unchanged edges keep their object (the id names source, outcome and target; the
+          // style follows from the label and class), so React Flow re-renders only what changed.
+          if (old && old.label === label && old.className === className && old.ariaLabel === ariaLabel) return old;
           return {
             id: e.id,
             type: "outcome",
@@ -351,15 +420,13 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
             sourceHandle: e.outcome,
             target: e.target,
             targetHandle: "in",
-            label: `${OUTCOME_LETTER[e.outcome]}${mark ? ` ${mark.severity === "error" ? "✖" : "⚠"} ${mark.codes.join(" ")}` : ""}${lit ? " ●" : ""}`,
-            className: `edge-${e.outcome}${mark ? ` edge-marked edge-marked-${mark.severity}` : ""}${lit ? " edge-on-path" : ""}`,
+            label,
+            className,
             style: { stroke: colour, strokeWidth: lit ? 5 : mark ? 3 : 2, strokeDasharray: mark ? "6 4" : undefined },
             labelStyle: { fill: colour, fontWeight: 700 },
             markerEnd: { type: MarkerType.ArrowClosed, color: colour },
-            ariaLabel: `${e.source} ${OUTCOME_LABEL[e.outcome]} to ${e.target}${mark ? `; findings ${mark.codes.join(", ")}` : ""}${
-              lit ? "; on the highlighted path" : ""
-            }`,
-            selected: selected.has(e.id),
+            ariaLabel,
+            selected: old?.selected ?? false,
           };
         });
     });
@@ -409,6 +476,16 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
 
   const [gotoText, setGotoText] = useState("");
   const [panel, setPanel] = useState("editor-constraints");
+  // The plain orders (as saved): fetched when their tab opens and after each save while open.
+  const plainShown = panel === "editor-plain";
+  useEffect(() => {
+    if (!plainShown) return;
+    let current = true;
+    fetchText(exportHref(mission.id, "plain")).then((text) => current && setPlain(text), (e: unknown) => current && setSaveError(e));
+    return () => {
+      current = false;
+    };
+  }, [plainShown, savedRevision, mission.id]);
   const [planOpen, setPlanOpen] = useState(false);
   const known = useMemo(() => knownQuantities(orders), [orders]);
   const goTo = (id: string) => {
@@ -520,16 +597,12 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     }
   };
   const doUndo = () => {
-    dirty.current = true;
-    lastGroup.current = undefined;
-    editedAt.current = performance.now();
-    setHistory(undo);
+    updateHistory(undo);
+    changed();
   };
   const doRedo = () => {
-    dirty.current = true;
-    lastGroup.current = undefined;
-    editedAt.current = performance.now();
-    setHistory(redo);
+    updateHistory(redo);
+    changed();
   };
 
   // Shortcuts act only while focus is in the canvas (not in the inspector's fields).
@@ -554,17 +627,19 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   const reloadTheirs = () => {
     if (!conflict) return;
     revision.current = conflict.theirs.revision;
-    dirty.current = false;
-    setHistory(reset({ orders: conflict.theirs.orders as Orders, layout: (conflict.theirs.layout ?? {}) as Layout }));
+    setSavedRevision(conflict.theirs.revision);
+    updateHistory(() => reset({ orders: conflict.theirs.orders as Orders, layout: (conflict.theirs.layout ?? {}) as Layout }));
+    lastChecked.current = conflict.theirs.orders as Orders;
     setConflict(null);
     setSaveState("saved");
     setNotice("Reloaded the draft someone else saved.");
     void refreshChecks();
-    onSaved();
+    onSaved(conflict.theirs);
   };
   const keepMine = () => {
     if (!conflict) return;
     revision.current = conflict.theirs.revision;
+    inConflict.current = false;
     setConflict(null);
     setNotice("Your version replaced theirs.");
     void save();
@@ -613,6 +688,28 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
     if (clip) pasteClip(JSON.stringify(clip));
   };
 
+  const nodeIds = useRef(new Set<string>());
+  nodeIds.current = new Set(graph.nodes.map((n) => n.id));
+  const pickFinding = useCallback(
+    (f: Finding) => {
+      select(f.subjects);
+      const shown = f.subjects.filter((id) => nodeIds.current.has(id));
+      if (shown.length > 0) void flow.fitView({ nodes: shown.map((id) => ({ id })), padding: 0.5, maxZoom: 1 });
+      const path = findingPath(f as unknown as Record<string, unknown>);
+      highlightPath(path, path ? `${f.code} counterexample` : "");
+    },
+    [select, flow, highlightPath],
+  );
+  const nodeOptions = useMemo(
+    () =>
+      graph.nodes.map((n) => (
+        <option key={n.id} value={n.id}>
+          {n.label}
+        </option>
+      )),
+    [graph.nodes],
+  );
+
   const selectedGoal = goals(orders).find((g) => g.id === selectedId);
   const selectedTerminal = terminals(orders).find((t) => t.id === selectedId);
   const errors = findings.filter((f) => f.severity === "error").length;
@@ -620,38 +717,41 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
   return (
     <div className="editor">
       <div className="editor-toolbar" role="toolbar" aria-label="Graph editing">
+        {/* One row at 1280 px: the less frequent actions sit in menus (details/summary: Tab
+            reaches each summary, Enter or Space opens it, Escape closes it). */}
         <button type="button" onClick={addGoalNode}>
           Add goal
         </button>
-        <button type="button" onClick={() => addTerminalNode("complete")}>
-          Add complete terminal
-        </button>
-        <button type="button" onClick={() => addTerminalNode("abort")}>
-          Add abort terminal
-        </button>
-        <button type="button" onClick={deleteSelected} disabled={selectedNodes.length === 0 && !edges.some((e) => e.selected)}>
-          Delete selected
-        </button>
-        <button type="button" onClick={duplicateSelected} disabled={!selectedNodes.some((id) => goals(orders).some((g) => g.id === id))}>
-          Duplicate
-        </button>
-        <button type="button" onClick={() => copySelected()} disabled={selectedNodes.length === 0}>
-          Copy
-        </button>
-        <button type="button" onClick={pasteSelected}>
-          Paste
-        </button>
-        <button type="button" onClick={() => void relayout()}>
-          Auto layout
-        </button>
-        <button type="button" onClick={() => void flow.fitView({ padding: 0.15 })}>
-          Zoom to fit
-        </button>
+        <ToolbarMenu label="Add terminal">
+          <button type="button" className="menu-item" onClick={() => addTerminalNode("complete")}>
+            Add complete terminal
+          </button>
+          <button type="button" className="menu-item" onClick={() => addTerminalNode("abort")}>
+            Add abort terminal
+          </button>
+        </ToolbarMenu>
+        <ToolbarMenu label="Edit">
+          <button type="button" className="menu-item" onClick={deleteSelected} disabled={selectedNodes.length === 0 && !edges.some((e) => e.selected)}>
+            Delete selected
+          </button>
+          <button type="button" className="menu-item" onClick={duplicateSelected} disabled={!selectedNodes.some((id) => goals(orders).some((g) => g.id === id))}>
+            Duplicate
+          </button>
+          <button type="button" className="menu-item" onClick={() => copySelected()} disabled={selectedNodes.length === 0}>
+            Copy
+          </button>
+          <button type="button" className="menu-item" onClick={pasteSelected}>
+            Paste
+          </button>
+        </ToolbarMenu>
         <button type="button" onClick={doUndo} disabled={!canUndo(history)}>
           Undo
         </button>
         <button type="button" onClick={doRedo} disabled={!canRedo(history)}>
           Redo
+        </button>
+        <button type="button" onClick={() => void relayout()}>
+          Auto layout
         </button>
         <form
           className="goto"
@@ -661,22 +761,21 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
           }}
         >
           <label htmlFor="goto-node">Go to node</label>
-          <input id="goto-node" list="node-ids" size={8} value={gotoText} onChange={(e) => setGotoText(e.target.value)} />
-          <datalist id="node-ids">
-            {graph.nodes.map((n) => (
-              <option key={n.id} value={n.id}>
-                {n.label}
-              </option>
-            ))}
-          </datalist>
+          <input id="goto-node" list="node-ids" size={6} value={gotoText} onChange={(e) => setGotoText(e.target.value)} />
+          <datalist id="node-ids">{nodeOptions}</datalist>
           <button type="submit">Go</button>
         </form>
-        <button type="button" onClick={() => setPlanOpen(true)}>
-          Plan survey…
-        </button>
-        <ImportMenu onImport={importFile} busy={importing} />
-        <ExportMenu missionId={mission.id} saved={saveState === "saved"} />
-        <NewFromExample />
+        <ToolbarMenu label="More">
+          <button type="button" className="menu-item" onClick={() => void flow.fitView({ padding: 0.15 })}>
+            Zoom to fit
+          </button>
+          <button type="button" className="menu-item" onClick={() => setPlanOpen(true)}>
+            Plan survey…
+          </button>
+          <ImportMenu onImport={importFile} busy={importing} />
+          <ExportMenu missionId={mission.id} saved={saveState === "saved"} />
+          <NewFromExample />
+        </ToolbarMenu>
         <span className={`save-state save-${saveState}`} role="status" data-testid="save-state">
           {saveState === "saved" ? "Saved" : saveState === "pending" || saveState === "saving" ? "Saving…" : saveState === "conflict" ? "Conflict" : "Not saved"}
         </span>
@@ -779,23 +878,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: () => v
                 {checkMs !== null && <span className="hint" data-testid="check-time"> Checked {checkMs} ms after the edit.</span>}
               </p>
             )}
-            <ul className="editor-findings" data-testid="editor-findings">
-              {findings.map((f: Finding, i) => (
-                <li key={`${f.code}-${i}`}>
-                  <button type="button" className={`finding finding-${f.severity}`} onClick={() => {
-                      select(f.subjects);
-                      const shown = f.subjects.filter((id) => graph.nodes.some((n) => n.id === id));
-                      if (shown.length > 0) void flow.fitView({ nodes: shown.map((id) => ({ id })), padding: 0.5, maxZoom: 1 });
-                      const path = findingPath(f as unknown as Record<string, unknown>);
-                      highlightPath(path, path ? `${f.code} counterexample` : "");
-                    }}
-                  >
-                    <code>{f.code}</code> {f.severity}: {f.message}
-                    {f.subjects.length > 0 && <span className="hint"> ({f.subjects.join(", ")})</span>}
-                  </button>
-                </li>
-              ))}
-            </ul>
+            <FindingsList findings={findings} onPick={pickFinding} />
           </section>
         </aside>
       </div>
@@ -858,7 +941,72 @@ function ConflictDialog({ conflict, onReload, onKeepMine }: { conflict: Conflict
 
 type EditOrders = (change: (o: Orders) => Orders, group?: string) => void;
 
-function GoalInspector({
+/** A toolbar menu: a summary that opens a column of actions. Choosing an action (a button with
+ * class menu-item), Escape, or a press outside the menu closes it. */
+function ToolbarMenu({ label, children }: { label: string; children: ReactNode }) {
+  const ref = useRef<HTMLDetailsElement>(null);
+  const [open, setOpen] = useState(false);
+  useEffect(() => {
+    if (!open) return;
+    const outside = (event: PointerEvent) => {
+      if (ref.current && !ref.current.contains(event.target as globalThis.Node)) ref.current.open = false;
+    };
+    document.addEventListener("pointerdown", outside);
+    return () => document.removeEventListener("pointerdown", outside);
+  }, [open]);
+  return (
+    <details
+      ref={ref}
+      className="toolbar-menu"
+      onToggle={(e) => setOpen(e.currentTarget.open)}
+      onKeyDown={(e) => {
+        if (e.key !== "Escape" || !ref.current?.open) return;
+        e.stopPropagation();
+        ref.current.open = false;
+        ref.current.querySelector("summary")?.focus();
+      }}
+      onClick={(e) => {
+        if ((e.target as HTMLElement).closest(".menu-item") && ref.current) ref.current.open = false;
+      }}
+    >
+      <summary>{label}</summary>
+      <div className="toolbar-menu-body" role="group" aria-label={label}>
+        {children}
+      </div>
+    </details>
+  );
+}
+
+/** Findings listed before "Show all": a long list (one per unreachable goal) renders late. */
+const FINDINGS_SHOWN = 50;
+
+/** The editor's findings, each a button that selects its subjects; memoised, so that the
+ * renders that follow an edit (nodes, selection) do not rebuild a long list. */
+const FindingsList = memo(function FindingsList({ findings, onPick }: { findings: Finding[]; onPick: (f: Finding) => void }) {
+  const [all, setAll] = useState(false);
+  const shown = all ? findings : findings.slice(0, FINDINGS_SHOWN);
+  return (
+    <>
+      <ul className="editor-findings" data-testid="editor-findings">
+        {shown.map((f, i) => (
+          <li key={`${f.code}-${i}`}>
+            <button type="button" className={`finding finding-${f.severity}`} onClick={() => onPick(f)}>
+              <code>{f.code}</code> {f.severity}: {f.message}
+              {f.subjects.length > 0 && <span className="hint"> ({f.subjects.join(", ")})</span>}
+            </button>
+          </li>
+        ))}
+      </ul>
+      {shown.length < findings.length && (
+        <button type="button" onClick={() => setAll(true)} data-testid="findings-show-all">
+          Show all {findings.length} findings
+        </button>
+      )}
+    </>
+  );
+});
+
+const GoalInspector = memo(function GoalInspector({
   goal,
   orders,
   editOrders,
@@ -1005,7 +1153,7 @@ function GoalInspector({
       })}
     </fieldset>
   );
-}
+});
 
 function ConstraintsPanel({
   orders,

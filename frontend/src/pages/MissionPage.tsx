@@ -50,7 +50,7 @@ function missionPath(id: string) {
 export function MissionPage({ id, tab }: { id: string; tab: string }) {
   const canEdit = useCan("editDraft");
   const canRehearse = ["operator", "supervisor"].includes(useSession().user.role);
-  const { data: mission, error, loading, reload } = useLoad(
+  const { data: mission, error, loading, reload, replace } = useLoad(
     async () => unwrap(await api.GET("/api/missions/{mission_id}", missionPath(id))),
     [id],
   );
@@ -167,7 +167,7 @@ export function MissionPage({ id, tab }: { id: string; tab: string }) {
         {selected === "edit" && canEdit && <EditTab mission={mission} onSaved={reload} />}
         {selected === "editor" && canEdit && (
           MissionEditor ? (
-            <MissionEditor key={mission.id} mission={mission} onSaved={reload} />
+            <MissionEditor key={mission.id} mission={mission} onSaved={replace} />
           ) : editorError ? (
             <ErrorMessage error={editorError} />
           ) : (
