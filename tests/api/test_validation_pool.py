@@ -7,6 +7,7 @@ from __future__ import annotations
 import json
 import os
 import signal
+import uuid
 from pathlib import Path
 
 import pytest
@@ -14,6 +15,7 @@ from fastapi.testclient import TestClient
 
 from countersign.orders.canonical import orders_to_json
 from countersign.orders.examples import example_bytes, load_example
+from countersign.orders.reader import orders_from_data
 from countersign.rehearse.checks import validate_with_rules
 from countersign.store.accounts import create_token, create_user
 from countersign.store.db import Database
@@ -38,13 +40,15 @@ def _running_app(tmp_path: Path) -> tuple[TestClient, Database, str]:
 def test_a_running_app_validates_in_a_pool_process(tmp_path: Path) -> None:
     client, database, token = _running_app(tmp_path)
     client.headers["Authorization"] = f"Bearer {token}"
-    orders = orders_to_json(load_example("search-and-sample"))
+    # Orders no other test validated: the process keeps its recent reports (store/missions.py).
+    orders = {**orders_to_json(load_example("search-and-sample")),
+              "description": f"pool test {uuid.uuid4()}"}
     with client:  # runs the lifespan, as `countersign serve` does
         pool = client.app.state.validation_pool  # type: ignore[attr-defined]
         assert database.validator is not None
         answer = client.post("/api/validate", json=orders)
         assert answer.status_code == 200, answer.text
-        assert answer.json() == validate_with_rules(load_example("search-and-sample")).to_json()
+        assert answer.json() == validate_with_rules(orders_from_data(orders)).to_json()
         first = pool.last_pid
         assert first is not None and first != os.getpid()
         if os.getpriority(os.PRIO_PROCESS, 0) + NICENESS <= 19:
@@ -53,7 +57,7 @@ def test_a_running_app_validates_in_a_pool_process(tmp_path: Path) -> None:
 
         # The pool's process dies (killed, out of memory): the next validation still answers.
         os.kill(first, signal.SIGKILL)
-        changed = {**orders, "description": "after the pool process died"}
+        changed = {**orders, "description": f"after the pool process died {uuid.uuid4()}"}
         again = client.post("/api/validate", json=changed)
         assert again.status_code == 200, again.text
         assert again.json()["digest"] != answer.json()["digest"]
