@@ -5,6 +5,7 @@ every process gone after SIGTERM."""
 from __future__ import annotations
 
 import http.client
+import logging
 import os
 import signal
 import socket
@@ -17,8 +18,9 @@ from contextlib import contextmanager
 from pathlib import Path
 
 import pytest
+import uvicorn
 
-from countersign.web.workers import reuse_port_available
+from countersign.web.workers import Supervisor, reuse_port_available
 
 pytestmark = pytest.mark.skipif(
     not (reuse_port_available() and Path("/proc/net/tcp").exists()),
@@ -157,3 +159,14 @@ def test_a_taken_port_is_refused_with_its_reason(tmp_path: Path) -> None:
             assert server.wait(timeout=60) == 1
     log = (tmp_path / "server.log").read_text()
     assert f"cannot listen on 127.0.0.1:{port}" in log and "Traceback" not in log
+
+
+def test_processes_that_cannot_start_stop_the_server(caplog: pytest.LogCaptureFixture) -> None:
+    """An app that fails before it serves would fail in every replacement: no restart loop."""
+    config = uvicorn.Config("countersign.no_such_module:app", factory=True, host="127.0.0.1",
+                            port=0, log_level="critical")
+    started = time.monotonic()
+    with caplog.at_level(logging.ERROR, logger="countersign.workers"):
+        status = Supervisor(config, 2).run()
+    assert status == 1 and time.monotonic() - started < 60
+    assert any("failed to start" in record.getMessage() for record in caplog.records)
