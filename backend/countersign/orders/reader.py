@@ -65,6 +65,11 @@ def _json_path(loc: tuple[int | str, ...]) -> str:
     return path
 
 
+def location_path(loc: tuple[int | str, ...]) -> str:
+    """The JSON path (`$.goals[0].next`) of a pydantic error location, without its tags."""
+    return _json_path(_model_path(loc))
+
+
 def _model_path(loc: tuple[int | str, ...]) -> tuple[int | str, ...]:
     # Pydantic adds union branch and validator tags (`str`, `list[str]`, `function-after[...]`)
     # that mean nothing to an author; keep field names and indices only.
@@ -85,7 +90,7 @@ def problems_from_validation(exc: ValidationError) -> OrdersReadError:
     seen: set[tuple[str, str]] = set()
     errors = exc.errors(include_url=False)
     for err in errors:
-        path = _json_path(_model_path(tuple(err["loc"])))
+        path = location_path(tuple(err["loc"]))
         message = str(err["msg"]).removeprefix("Value error, ")
         if err["type"] == "literal_error" and path == "$.format":
             message = "format must be 'countersign.orders/1'"

@@ -20,7 +20,13 @@ from typing import Annotated, Any, Final, Literal
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from ..orders.model import Id, Text
-from ..orders.reader import MAX_INPUT_BYTES, OrdersReadError, Problem, reject_duplicate_keys
+from ..orders.reader import (
+    MAX_INPUT_BYTES,
+    OrdersReadError,
+    Problem,
+    location_path,
+    reject_duplicate_keys,
+)
 
 FORMAT: Final = "countersign.plan/1"
 MAX_AREAS: Final = 64  # the model's bound; the exact solver has its own, smaller, state bound
@@ -132,29 +138,18 @@ class PlanReadError(OrdersReadError):
     """Input that cannot be read as a planning problem (or a plan); `problems` say where."""
 
 
-def _json_path(loc: tuple[int | str, ...]) -> str:
-    path = "$"
-    for part in loc:
-        if isinstance(part, int):
-            path += f"[{part}]"
-        elif part.replace("_", "").isalnum():
-            path += f".{part}"
-        # pydantic's validator tags (function-after[...]) mean nothing to an author
-    return path
-
-
 def problems_from_validation(exc: ValidationError) -> PlanReadError:
     problems: list[Problem] = []
     seen: set[tuple[str, str]] = set()
     for err in exc.errors(include_url=False):
-        path = _json_path(tuple(err["loc"]))
+        path = location_path(tuple(err["loc"]))
         message = str(err["msg"]).removeprefix("Value error, ")
         if err["type"] == "literal_error" and path == "$.format":
             message = f"format must be {FORMAT!r}"
         elif err["type"] == "literal_error" and path == "$.level":
             message = "level must be 1 (order only) or 2 (order and passes)"
         elif err["type"] == "missing" and isinstance(err["loc"][-1], int):
-            path = _json_path(tuple(err["loc"])[:-1])
+            path = location_path(tuple(err["loc"])[:-1])
             message = "a point is two numbers [x, y] in metres"
         elif err["type"] == "too_long" and path.endswith(("start", "recovery", "entry", "exit")):
             message = "a point is two numbers [x, y] in metres"

@@ -15,7 +15,7 @@ from datetime import datetime
 from typing import TYPE_CHECKING
 
 from ..orders.model import Orders
-from ..store.missions import MissionError, NotFound
+from ..store.missions import Conflict, MissionError, NotFound
 from ..store.tables import utcnow
 
 if TYPE_CHECKING:
@@ -38,10 +38,6 @@ class Busy(MissionError):
 
 class Gone(MissionError):
     status = 410
-
-
-class Stopping(MissionError):
-    status = 409
 
 
 @dataclass
@@ -136,7 +132,7 @@ class RehearsalHub:
         with self._lock:
             live = self.get(rehearsal_id, user_id=user_id)
             if rehearsal_id in self._stopping:
-                raise Stopping(f"the rehearsal {rehearsal_id} is being stopped")
+                raise Conflict(f"the rehearsal {rehearsal_id} is being stopped")
             self._stopping.add(rehearsal_id)
         try:
             record = self.manager.stop(rehearsal_id)
