@@ -132,9 +132,11 @@ def test_workers_listen_each_share_connections_and_are_replaced(tmp_path: Path) 
         for connection in connections:
             connection.close()
 
-        # A server process that dies is replaced; the port keeps answering meanwhile.
+        # A server process that dies is replaced; the port keeps answering meanwhile (once the
+        # dead process's socket is closed: connections the kernel had queued on it are reset).
         victim = next(iter(listeners))
         os.kill(victim, signal.SIGKILL)
+        _wait(lambda: victim not in _owners(_tcp_rows(port, "0A")), "the killed one is closed")
         assert _health(port) == 200
         _wait(lambda: len(_owners(_tcp_rows(port, "0A"))) == 2
               and victim not in _owners(_tcp_rows(port, "0A")), "a new process listens")
