@@ -76,8 +76,8 @@ def test_validate_reads_its_body_and_refuses_what_is_not_orders(world: World) ->
                          headers={"Content-Type": "application/json"})
     assert first.status_code == second.status_code == 200
     assert first.json() == second.json() and first.json()["ok"] is True
-    for bad, expected in ((b"{not json", "not JSON"), (b"[1, 2]", "JSON object"),
-                          (b"", "not JSON")):
+    for bad, expected in ((b"{not json", "invalid JSON"), (b"[1, 2]", "JSON object"),
+                          (b"", "invalid JSON"), (b'{"id": "a", "id": "b"}', "twice")):
         answer = client.post("/api/validate", content=bad,
                              headers={"Content-Type": "application/json"})
         assert answer.status_code == 422, (bad, answer.text)

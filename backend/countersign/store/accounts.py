@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import hashlib
 import secrets
-from contextlib import nullcontext
 from dataclasses import dataclass
 from datetime import datetime, timedelta
 
@@ -76,9 +75,7 @@ def authenticate(db: DbSession, *, username: str, password: str) -> User | None:
     design) in a read transaction of their own: on SQLite a writing session holds the one
     write lock from its first query, and every other writer would wait for the hash."""
     since = utcnow() - LOGIN_WINDOW
-    database = database_of(db) if "database" in db.info else None
-    reader_scope = database.session(write=False) if database else nullcontext(db)
-    with reader_scope as reader:
+    with database_of(db).session(write=False) as reader:
         failures = reader.scalar(
             select(func.count()).select_from(LoginAttempt)
             .where(LoginAttempt.username == username, LoginAttempt.at >= since)

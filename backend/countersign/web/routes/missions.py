@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import base64
 import hashlib
-import json
 import threading
 from collections import OrderedDict
 from collections.abc import Iterator
@@ -13,7 +12,6 @@ from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, Header, HTTPException, Path, Query, Request, Response
 from fastapi.concurrency import run_in_threadpool
-from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse, PlainTextResponse, StreamingResponse
 from pydantic import BaseModel
 from sqlalchemy import func, or_, select
@@ -22,7 +20,7 @@ from sqlalchemy.orm import Session as DbSession
 from ...orders.canonical import digest, orders_to_json
 from ...orders.examples import example_bytes, example_names
 from ...orders.model import Orders
-from ...orders.reader import orders_from_data, read_bytes
+from ...orders.reader import orders_from_data, read_bytes, read_json
 from ...orders.writers import WRITERS
 from ...rehearse.plain import write_for_supervisor
 from ...store import missions as service
@@ -357,15 +355,8 @@ def _validate_body(db: DbSession, data: bytes) -> Response:
         stored = service.cached_report(db, known)
         if stored is not None:
             return JSONResponse(stored)
-    try:
-        body = json.loads(data)
-    except ValueError as error:
-        raise RequestValidationError([{"loc": ("body",), "type": "json_invalid",
-                                       "msg": f"the body is not JSON: {error}"}]) from None
-    if not isinstance(body, dict):
-        raise RequestValidationError([{"loc": ("body",), "type": "dict_type",
-                                       "msg": "the body must be a JSON object (the orders)"}])
-    report = service.report_for(db, _orders(body)).report
+    # The importer's JSON reader: duplicate keys, bad UTF-8 and bad JSON are 422 problems.
+    report = service.report_for(db, read_json(data)).report
     with _BODY_DIGESTS_LOCK:
         _BODY_DIGESTS[key] = report["digest"]
         while len(_BODY_DIGESTS) > BODY_DIGESTS_KEPT:
