@@ -101,11 +101,20 @@ def _serve(tmp_path: Path, port: int, workers: int) -> Iterator[subprocess.Popen
 
 
 def _health(port: int) -> int:
-    connection = http.client.HTTPConnection("127.0.0.1", port, timeout=10)
-    connection.request("GET", "/api/health")
-    status = connection.getresponse().status
-    connection.close()
-    return status
+    """GET /api/health on a new connection. A connection the kernel queued on a process that
+    was dying is reset: retried, as a browser or load balancer would."""
+    for attempt in range(5):
+        connection = http.client.HTTPConnection("127.0.0.1", port, timeout=10)
+        try:
+            connection.request("GET", "/api/health")
+            return connection.getresponse().status
+        except ConnectionResetError:
+            if attempt == 4:
+                raise
+            time.sleep(0.2)
+        finally:
+            connection.close()
+    raise AssertionError("unreachable")
 
 
 def test_workers_listen_each_share_connections_and_are_replaced(tmp_path: Path) -> None:
