@@ -471,8 +471,9 @@ def build_parser() -> argparse.ArgumentParser:
     serve_cmd.add_argument(
         "--validation-processes", type=int, default=None, metavar="N",
         help="processes that validate orders beside each server process, at a lower "
-        "priority so that reads go first (default 1, or COUNTERSIGN_VALIDATION_PROCESSES; "
-        "0: validate in the server's own threads)",
+        "priority so that reads go first, each user queued fairly so that one user's heavy "
+        "validation leaves a process for another's edit (default 2, or "
+        "COUNTERSIGN_VALIDATION_PROCESSES; 0: validate in the server's own threads)",
     )
     serve_cmd.add_argument(
         "--demo", action="store_true",

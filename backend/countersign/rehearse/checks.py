@@ -15,7 +15,7 @@ from ..orders.findings import Finding, error
 from ..orders.model import Orders
 from ..verify.graph import MissionGraph
 from ..verify.logic import LogicCache
-from ..verify.report import Report, validate
+from ..verify.report import SOLVER_BUDGET_S, Report, validate
 from .rules import TheoryError, design_findings, theory_for
 from .rules.design import CODE
 
@@ -36,8 +36,11 @@ def validate_with_rules(
     reader_findings: Sequence[Finding] = (),
     graph: MissionGraph | None = None,
     logic_cache: LogicCache | None = None,
+    *,
+    solver_budget_s: float = SOLVER_BUDGET_S,
 ) -> Report:
-    report = validate(orders, reader_findings, graph, logic_cache)
+    report = validate(orders, reader_findings, graph, logic_cache,
+                      solver_budget_s=solver_budget_s)
     extra = rules_findings(orders)
     if not extra:
         return report

@@ -7,16 +7,16 @@ import secrets
 from dataclasses import dataclass
 from datetime import datetime, timedelta
 
-from argon2 import PasswordHasher
 from argon2.exceptions import InvalidHashError, VerificationError
 from sqlalchemy import delete, func, select, update
 from sqlalchemy.orm import Session as DbSession
 
 from .db import database_of, writable
 from .events import record
+from .hashing import BoundedHasher
 from .tables import ROLES, ApiToken, LoginAttempt, Session, User, utcnow
 
-HASHER = PasswordHasher()
+HASHER = BoundedHasher()
 SESSION_LIFETIME = timedelta(hours=12)
 LOGIN_WINDOW = timedelta(minutes=15)
 LOGIN_MAX_FAILURES = 10

@@ -5,6 +5,7 @@ One pure function, so the command line, the API and the tests share a code path.
 
 from __future__ import annotations
 
+import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -27,6 +28,12 @@ MEO_ONLY_CODES = frozenset({"C1", "C2", "M6", "M7"})
 # Solver results are pure functions of their inputs, so one bounded cache serves every caller
 # in the process: re-validating after a one-goal edit solves only what that goal touches.
 SHARED_LOGIC_CACHE = LogicCache(max_entries=20_000)
+
+# The solver time one validation may spend, shared by the logic and the property checks (issue
+# 15: 40 nonlinear constraints and 20 path properties ran 76 s). What the solver cannot decide
+# within it is a warning (CONTRADICTION, PROPERTY, VACUOUS), never an error nor a hang.
+SOLVER_BUDGET_S = 8.0
+SOLVER_CALL_MS = 1_000  # one solver call; a hard call gives up early and leaves the rest time
 
 
 @dataclass(frozen=True)
@@ -67,6 +74,8 @@ def validate(
     reader_findings: Sequence[Finding] = (),
     graph: MissionGraph | None = None,
     logic_cache: LogicCache | None = None,
+    *,
+    solver_budget_s: float = SOLVER_BUDGET_S,
 ) -> Report:
     graph = graph or build_graph(orders)
     cache = logic_cache if logic_cache is not None else SHARED_LOGIC_CACHE
@@ -77,6 +86,9 @@ def validate(
     findings.extend(check_budget(costs))
     meo = meo_check(orders)
     findings.extend(f for f in meo.findings if f.code in MEO_ONLY_CODES)
-    findings.extend(check_logic(orders, cache))
-    findings.extend(check_properties(orders, graph, cache))
+    deadline = time.monotonic() + solver_budget_s
+    findings.extend(check_logic(orders, cache, timeout_ms=SOLVER_CALL_MS,
+                                total_timeout_s=solver_budget_s))
+    findings.extend(check_properties(orders, graph, cache, timeout_ms=SOLVER_CALL_MS,
+                                     total_timeout_s=max(0.0, deadline - time.monotonic())))
     return Report(orders.id, digest(orders), findings, counts, costs, meo)

@@ -15,6 +15,7 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 from .. import __version__
 from ..store.db import REQUEST_THREADS, Database
 from . import problems
+from .fair import PlanSlots, RateLimiter
 from .rehearsal_hub import RehearsalHub
 from .routes import admin, approvals, auth, missions, planning, rehearsals
 from .settings import Settings
@@ -133,14 +134,17 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     app.state.database = database
     app.state.rehearsals = hub
     app.state.rehearsal_proxies = []
+    app.state.rate_limiter = RateLimiter()
+    app.state.plan_slots = PlanSlots()
     problems.install(app)
 
     app.add_middleware(SecurityHeaders)
 
     @app.get("/api/health", operation_id="health", tags=["system"],
              openapi_extra={"x-roles": ["anonymous"]})
-    def health() -> dict[str, str]:
-        """Liveness: the app answers and knows its version."""
+    async def health() -> dict[str, str]:
+        """Liveness: the app answers and knows its version. On the event loop itself, so that
+        a flood of logins or plans holding every worker thread cannot delay it."""
         return {"status": "ok", "version": __version__}
 
     app.include_router(auth.router)

@@ -19,7 +19,8 @@ class Settings:
     max_body_bytes: int = 9 * 1024 * 1024
     frontend_dist: Path = FRONTEND_DIST
     # Processes that validate orders beside each server process (0: in the server's threads).
-    validation_processes: int = 1
+    # Two, so that one user's heavy validation leaves one for another's edit (validation_pool).
+    validation_processes: int = 2
 
     @classmethod
     def from_environment(cls, data_dir: Path | None = None) -> Settings:
@@ -29,7 +30,7 @@ class Settings:
         chosen = chosen.expanduser().resolve()
         url = os.environ.get("COUNTERSIGN_DATABASE_URL") or f"sqlite:///{chosen / 'countersign.db'}"
         secure = os.environ.get("COUNTERSIGN_SECURE_COOKIES", "").lower() in {"1", "true", "yes"}
-        processes = os.environ.get("COUNTERSIGN_VALIDATION_PROCESSES", "1")
+        processes = os.environ.get("COUNTERSIGN_VALIDATION_PROCESSES", "2")
         if not processes.isdigit() or int(processes) > 64:
             raise ValueError("COUNTERSIGN_VALIDATION_PROCESSES must be a whole number from 0 "
                              f"to 64, not {processes!r}")

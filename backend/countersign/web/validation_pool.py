@@ -10,22 +10,36 @@ finishes well inside its one-second target.
 
 Workers are forked from a forkserver that imported the checks once, so starting one is cheap
 and every app in a process (the test suite's many) shares that one import.
+
+Fair queuing (issue 15: one user's 76-second validation made every other user's edit wait 72 s):
+each submitter (the signed-in user) has a queue of their own, and a free process takes the head
+of the queue of the user who has the fewest validations running, the one served longest ago
+first. A user runs at most `processes - 1` validations at once, so with two or more processes
+one is always left for someone else's small edit, however many heavy jobs one user sends.
 """
 
 from __future__ import annotations
 
 import contextlib
+import itertools
 import multiprocessing
 import os
 import threading
+from collections import deque
+from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
+from contextvars import ContextVar
 from typing import Any
 
 from ..orders.model import Orders
 
 NICENESS = 5  # below the web processes: reads first, validations in the gaps
 CHECKS_MODULE = "countersign.rehearse.checks"
+
+# Who asks for the validation running in this context: routes set it (fair.py) before handing
+# the work to a thread, which copies the context. Unset, work shares one anonymous queue.
+SUBMITTER: ContextVar[str] = ContextVar("countersign_validation_submitter", default="")
 
 
 def _lower_priority() -> None:
@@ -47,6 +61,60 @@ class ValidationPool:
         self._lock = threading.Lock()
         self._executor: ProcessPoolExecutor | None = None
         self.last_pid: int | None = None  # the process that ran the last validation
+        self.per_user = max(1, processes - 1)
+        self._turns = threading.Condition()
+        self._waiting: dict[str, deque[object]] = {}
+        self._running: dict[str, int] = {}
+        self._served: dict[str, int] = {}  # when each user was last given a process
+        self._clock = itertools.count()
+        self._busy = 0
+
+    def running(self, submitter: str) -> int:
+        """How many validations of this submitter are in a process now (tests poll it)."""
+        with self._turns:
+            return self._running.get(submitter, 0)
+
+    def pending(self, submitter: str) -> int:
+        """How many validations of this submitter are running or waiting for their turn."""
+        with self._turns:
+            return self._running.get(submitter, 0) + len(self._waiting.get(submitter, ()))
+
+    def _next_ticket(self) -> object | None:
+        """The ticket whose turn it is, if a process is free."""
+        if self._busy >= self.processes:
+            return None
+        eligible = [u for u, q in self._waiting.items()
+                    if q and self._running.get(u, 0) < self.per_user]
+        if not eligible:
+            return None
+        user = min(eligible, key=lambda u: (self._running.get(u, 0), self._served.get(u, -1)))
+        return self._waiting[user][0]
+
+    @contextlib.contextmanager
+    def _turn(self, submitter: str) -> Iterator[None]:
+        ticket = object()
+        with self._turns:
+            self._waiting.setdefault(submitter, deque()).append(ticket)
+            while self._next_ticket() is not ticket:
+                self._turns.wait()
+            queue = self._waiting[submitter]
+            queue.popleft()
+            if not queue:
+                del self._waiting[submitter]
+            self._busy += 1
+            self._running[submitter] = self._running.get(submitter, 0) + 1
+            self._served[submitter] = next(self._clock)
+            # Another process may be free for another user's head ticket.
+            self._turns.notify_all()
+        try:
+            yield
+        finally:
+            with self._turns:
+                self._busy -= 1
+                self._running[submitter] -= 1
+                if not self._running[submitter]:
+                    del self._running[submitter]
+                self._turns.notify_all()
 
     def _current(self) -> ProcessPoolExecutor:
         with self._lock:
@@ -57,9 +125,14 @@ class ValidationPool:
                     self.processes, mp_context=context, initializer=_lower_priority)
             return self._executor
 
-    def validate(self, orders: Orders) -> dict[str, Any]:
-        """The report of `validate_with_rules(orders)`, computed in a pool process. A pool
-        broken by a dead process (killed, out of memory) is replaced once."""
+    def validate(self, orders: Orders, submitter: str | None = None) -> dict[str, Any]:
+        """The report of `validate_with_rules(orders)`, computed in a pool process when it is
+        the submitter's turn (by default SUBMITTER of the calling context). A pool broken by a
+        dead process (killed, out of memory) is replaced once."""
+        with self._turn(SUBMITTER.get() if submitter is None else submitter):
+            return self._run(orders)
+
+    def _run(self, orders: Orders) -> dict[str, Any]:
         for attempt in (1, 2):
             executor = self._current()
             try:

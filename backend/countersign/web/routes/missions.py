@@ -38,6 +38,7 @@ from ..deps import (
     allow,
     in_one_transaction,
 )
+from ..fair import with_limit
 from .schemas import (
     MissionDetail,
     MissionPage,
@@ -180,7 +181,7 @@ def list_missions(
 
 
 @router.post("/missions", operation_id="createMission", status_code=201,
-             response_model=MissionDetail, **allow(*OPERATORS))
+             response_model=MissionDetail, **with_limit(allow(*OPERATORS), None))
 def create_mission(body: dict[str, Any], response: Response, principal: CurrentPrincipal,
                    db: Db) -> MissionDetail:
     orders = _orders(body)
@@ -199,7 +200,7 @@ IMPORT_ROUTE["openapi_extra"]["requestBody"] = {"required": True, "content": {
 
 
 @router.post("/import", operation_id="importMission", status_code=201,
-             response_model=MissionDetail, **IMPORT_ROUTE)
+             response_model=MissionDetail, **with_limit(IMPORT_ROUTE, "import"))
 async def import_mission(request: Request, response: Response, principal: CurrentPrincipal,
                          db: Db) -> MissionDetail:
     data = await request.body()
@@ -226,7 +227,8 @@ class ReadOrdersOut(BaseModel):
     findings: list[dict[str, Any]] = []
 
 
-@router.post("/read", operation_id="readOrders", response_model=ReadOrdersOut, **IMPORT_ROUTE)
+@router.post("/read", operation_id="readOrders", response_model=ReadOrdersOut,
+             **with_limit(IMPORT_ROUTE, "read"))
 async def read_orders(request: Request) -> ReadOrdersOut:
     """Reads JSON, AVCL XML or MEO Turtle into orders (the import route's reader) and stores
     nothing: the editor replaces its draft with them through the usual If-Match save."""
@@ -278,7 +280,7 @@ def _revision(if_match: str | None) -> int:
 
 
 @router.put("/missions/{mission_id}/draft", operation_id="updateDraft",
-            response_model=MissionDetail, **allow(*OPERATORS))
+            response_model=MissionDetail, **with_limit(allow(*OPERATORS), None))
 def update_draft(mission_id: str, body: DraftIn, response: Response,
                  principal: CurrentPrincipal, db: Db,
                  if_match: Annotated[str | None, Header()] = None) -> MissionDetail:
@@ -341,7 +343,8 @@ _BODY_DIGESTS_LOCK = threading.Lock()
 BODY_DIGESTS_KEPT = 1024
 
 
-@router.post("/validate", operation_id="validateOrders", **REPORT_ROUTE, **VALIDATE_ROUTE)
+@router.post("/validate", operation_id="validateOrders", **REPORT_ROUTE,
+             **with_limit(VALIDATE_ROUTE, "validate"))
 async def validate_orders(request: Request, db: Db) -> Response:
     data = await request.body()
     return await run_in_threadpool(in_one_transaction, db, _validate_body, db, data)

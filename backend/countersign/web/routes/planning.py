@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from fastapi import APIRouter, HTTPException
+from fastapi import APIRouter, HTTPException, Request
 from pydantic import Field
 
 from ...orders.canonical import orders_to_json
@@ -14,7 +14,8 @@ from ...plan.from_orders import CannotBuildProblem, problem_from_orders
 from ...plan.model import problem_from_data
 from ...plan.solver import PlanTimeout, PlanTooLarge, solve
 from ...store import missions as service
-from ..deps import EVERYONE, OPERATORS, Db, TransactionRoute, allow
+from ..deps import EVERYONE, OPERATORS, CurrentPrincipal, Db, TransactionRoute, allow
+from ..fair import PlanSlots, user_key, with_limit
 from .schemas import RequestBody
 
 router = APIRouter(prefix="/api", tags=["planning"], route_class=TransactionRoute)
@@ -35,7 +36,7 @@ class ProblemFromMission(RequestBody):
 
 
 @router.post("/missions/{mission_id}/plan-problem", operation_id="planProblemFromMission",
-             **allow(*OPERATORS))
+             **with_limit(allow(*OPERATORS), "plan"))
 def plan_problem(mission_id: str, body: ProblemFromMission, db: Db) -> dict[str, Any]:
     """The countersign.plan/1 problem for the mission's areas and vehicle (lawn-mower passes)."""
     orders = orders_from_data(service.get_mission(db, mission_id).draft)
@@ -49,12 +50,15 @@ def plan_problem(mission_id: str, body: ProblemFromMission, db: Db) -> dict[str,
     return problem.model_dump(mode="json", exclude_none=True)
 
 
-@router.post("/plan", operation_id="solvePlan", **allow(*EVERYONE))
-def solve_plan(body: dict[str, Any]) -> dict[str, Any]:
+@router.post("/plan", operation_id="solvePlan", **with_limit(allow(*EVERYONE), "plan"))
+def solve_plan(body: dict[str, Any], request: Request,
+               principal: CurrentPrincipal) -> dict[str, Any]:
     """The best plan (reward, then energy) and its draft orders, or a minimal conflict."""
     problem = problem_from_data(body)
+    slots: PlanSlots = request.app.state.plan_slots
     try:
-        plan = solve(problem, timeout_s=PLAN_TIMEOUT_S)
+        with slots.hold(user_key(principal)):
+            plan = solve(problem, timeout_s=PLAN_TIMEOUT_S)
     except PlanTooLarge as exc:
         raise HTTPException(422, str(exc)) from None
     except PlanTimeout:
