@@ -18,11 +18,17 @@ def heavy_orders(constraints: int = 40, properties: int = 20) -> dict[str, Any]:
     up only at its timeout."""
     data: dict[str, Any] = json.loads(example_bytes("search-and-sample"))
     data["id"] = "heavy-nonlinear"
+    # About issue 15's 6 KB: the exemplar's prose goes, its goals and constraints stay.
+    data["description"] = ""
+    for item in (*data["goals"], *data["constraints"], *data.get("norms", ())):
+        item.pop("params", None)
+        if "text" in item:
+            item["text"] = item["id"]
     q = QUANTITIES
     for j in range(constraints):
         a, b, c, d = q[j % 6], q[(j + 1) % 6], q[(j + 2) % 6], q[(j + 3) % 6]
         data["constraints"].append({
-            "id": f"H{j}", "text": f"Nonlinear bound {j}.", "applies_to": "mission",
+            "id": f"H{j}", "text": f"Bound {j}", "applies_to": "mission",
             "expr": f"{a} * {b} * {c} - {d} * {d} * {a} >= {j + 1}"})
     data["properties"] = [
         {"id": f"P{k}", "always": f"{q[k % 6]} * {q[(k + 2) % 6]} * {q[(k + 4) % 6]} "

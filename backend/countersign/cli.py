@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import sys
 from collections.abc import Sequence
@@ -29,7 +30,7 @@ from .verify.paths import (
     iter_paths,
     trace_text,
 )
-from .verify.report import Report
+from .verify.report import SOLVER_BUDGET_S, Report
 from .verify.structure import check_structure
 
 if TYPE_CHECKING:
@@ -96,9 +97,20 @@ def _print_explanation(report: Report, out: TextIO) -> None:
             out.write(f"  {constraint}: {', '.join(goals)}\n")
 
 
+def _budget_seconds(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not 0 <= value <= 3600:  # also refuses nan and inf
+        raise argparse.ArgumentTypeError(f"give seconds from 0 to 3600, not {text!r}")
+    return value
+
+
 def cmd_validate(args: argparse.Namespace) -> int:
     loaded = _load(args.file)
-    report = validate_with_rules(loaded.orders, loaded.findings)
+    report = validate_with_rules(loaded.orders, loaded.findings,
+                                 solver_budget_s=args.solver_budget)
     if args.format == "json":
         json.dump(report.to_json(explain=args.explain), sys.stdout, indent=2)
         sys.stdout.write("\n")
@@ -384,6 +396,10 @@ def build_parser() -> argparse.ArgumentParser:
         help="also show why: the facts the MEO infers (includes, canIdentify, hasCapability, "
         "performableBy, constraint scope after C3)",
     )
+    validate_cmd.add_argument(
+        "--solver-budget", type=_budget_seconds, default=SOLVER_BUDGET_S, metavar="SECONDS",
+        help=f"solver time for the whole validation (default {SOLVER_BUDGET_S:g}, as the "
+        "server allows); what it leaves undecided is reported as a warning")
     validate_cmd.set_defaults(handler=cmd_validate)
 
     paths_cmd = commands.add_parser(

@@ -3,6 +3,12 @@ request's budget is a warning with the DESIGN.md codes, never an error nor a han
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
+import pytest
+
+from countersign.cli import main
 from countersign.orders.reader import orders_from_data
 from countersign.verify.logic import LogicCache
 from countersign.verify.report import validate
@@ -36,3 +42,21 @@ def test_what_the_budget_leaves_undecided_is_a_warning() -> None:
     # Every path property is reported undecided, under its own code.
     undecided = {f.details.get("property") for f in solver if f.code == "PROPERTY"}
     assert undecided == {"P0", "P1", "SHALLOW"}
+
+
+def test_the_command_line_takes_a_solver_budget(tmp_path: Path,
+                                                capsys: pytest.CaptureFixture[str]) -> None:
+    data = heavy_orders(2, 1)
+    data["properties"].append({"id": "SHALLOW", "always": "depth_m <= 10"})
+    target = tmp_path / "heavy.json"
+    target.write_text(json.dumps(data))
+    main(["validate", str(target), "--format", "json", "--solver-budget", "0"])
+    report = json.loads(capsys.readouterr().out)
+    shallow = [f for f in report["findings"] if f["code"] == "PROPERTY"
+               and "SHALLOW" in f["message"]]
+    assert [f["severity"] for f in shallow] == ["warning"]
+    for bad in ("inf", "nan", "-1", "soon"):
+        with pytest.raises(SystemExit) as exit_code:
+            main(["validate", str(target), "--solver-budget", bad])
+        assert exit_code.value.code == 2
+        assert "--solver-budget" in capsys.readouterr().err
