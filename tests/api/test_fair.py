@@ -3,6 +3,7 @@ another user's small edit; the expensive routes are rate limited per user with a
 
 from __future__ import annotations
 
+import inspect
 import json
 import threading
 import time
@@ -13,10 +14,13 @@ import pytest
 from fastapi.testclient import TestClient
 
 from countersign.orders.examples import example_bytes
-from countersign.store.accounts import create_token, create_user
+from countersign.plan.examples import gravitas_data
+from countersign.store.accounts import HASHER, create_token, create_user
 from countersign.store.db import Database
+from countersign.store.hashing import HASH_SLOTS, BoundedHasher
+from countersign.store.tables import User
 from countersign.web.app import create_app
-from countersign.web.fair import Rate, RateLimiter
+from countersign.web.fair import PlanSlots, Rate, RateLimiter
 from countersign.web.settings import Settings
 
 from ..heavy_orders import heavy_orders
@@ -105,3 +109,47 @@ def test_expensive_routes_answer_429_with_retry_after_per_user(
     # Another user has a bucket of their own.
     other = world.client("supervisor" if kind in {"read", "import"} else "auditor")
     assert send(other) < 429
+
+
+def test_a_user_runs_one_plan_at_a_time_and_a_process_a_few(world: World) -> None:
+    slots = PlanSlots(per_user=1, total=2)
+    world.app.state.plan_slots = slots
+    with world.database.session() as db:
+        ids = {role: db.query(User).filter_by(username=world.usernames[role]).one().id
+               for role in ("operator", "auditor", "supervisor")}
+    client = world.client("operator")
+    with slots.hold(f"user:{ids['operator']}"):  # the operator's plan still being solved
+        busy = client.post("/api/plan", json=gravitas_data())
+        assert busy.status_code == 429 and int(busy.headers["Retry-After"]) >= 1
+        assert busy.headers["content-type"].startswith("application/problem+json")
+        assert "plan of yours" in busy.json()["detail"]
+        # Another user's plan runs meanwhile.
+        assert world.client("auditor").post("/api/plan", json=gravitas_data()).status_code == 200
+        with slots.hold(f"user:{ids['auditor']}"):  # two plans in this process: full
+            full = world.client("supervisor").post("/api/plan", json=gravitas_data())
+            assert full.status_code == 429 and "busy" in full.json()["detail"]
+    assert client.post("/api/plan", json=gravitas_data()).status_code == 200
+
+
+def test_password_hashes_take_a_bounded_slot() -> None:
+    hasher = BoundedHasher(slots=1, time_cost=1, memory_cost=8, parallelism=1)
+    stored = hasher.hash("a long password 1")
+    results: list[bool] = []
+    hasher.slots.acquire()  # another login's hash holds the only slot
+    try:
+        waiting = threading.Thread(target=lambda: results.append(
+            hasher.verify(stored, "a long password 1")))
+        waiting.start()
+        waiting.join(0.5)
+        assert waiting.is_alive() and results == []
+    finally:
+        hasher.slots.release()
+    waiting.join(PATIENCE_S)
+    assert results == [True]
+    assert isinstance(HASHER, BoundedHasher) and HASHER.slots._initial_value == HASH_SLOTS
+
+
+def test_health_answers_on_the_event_loop(world: World) -> None:
+    # Not in a worker thread: logins and plans holding every thread cannot delay it.
+    route = next(r for r in world.app.routes if getattr(r, "path", "") == "/api/health")
+    assert inspect.iscoroutinefunction(route.endpoint)  # type: ignore[attr-defined]
