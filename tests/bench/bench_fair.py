@@ -9,6 +9,7 @@
    costs an Argon2 hash), repeated for the run. Target: p99 under 100 ms.
 
 Run: .venv/bin/python -m tests.bench.bench_fair [--seconds 30] [--validation-processes 2]
+     [--only heavy|login]
 """
 
 from __future__ import annotations
@@ -153,6 +154,8 @@ def main() -> None:
     parser.add_argument("--interval", type=float, default=0.25,
                         help="pause between the light user's validations (s)")
     parser.add_argument("--validation-processes", type=int, default=2)
+    parser.add_argument("--only", choices=["heavy", "login"], default=None,
+                        help="run one of the two parts")
     args = parser.parse_args()
     print(f"cores {os.cpu_count()}, load {os.getloadavg()[0]:.1f}, "
           f"validation processes {args.validation_processes}, {args.seconds:g} s per run, "
@@ -163,8 +166,10 @@ def main() -> None:
         tokens = _users(url)
         server, base = _serve(url, 1, data, Path(data) / "server.log")
         try:
-            asyncio.run(heavy_run(base, tokens, args.seconds, args.interval))
-            asyncio.run(login_flood(base, args.seconds))
+            if args.only != "login":
+                asyncio.run(heavy_run(base, tokens, args.seconds, args.interval))
+            if args.only != "heavy":
+                asyncio.run(login_flood(base, args.seconds))
         finally:
             server.terminate()
             server.wait(30)
