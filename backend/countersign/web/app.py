@@ -142,9 +142,8 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
 
     @app.get("/api/health", operation_id="health", tags=["system"],
              openapi_extra={"x-roles": ["anonymous"]})
-    async def health() -> dict[str, str]:
-        """Liveness: the app answers and knows its version. On the event loop itself, so that
-        a flood of logins or plans holding every worker thread cannot delay it."""
+    async def health() -> dict[str, str]:  # on the event loop: busy worker threads cannot delay it
+        """Liveness: the app answers and knows its version."""
         return {"status": "ok", "version": __version__}
 
     app.include_router(auth.router)
