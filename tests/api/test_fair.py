@@ -14,7 +14,9 @@ import pytest
 from fastapi.testclient import TestClient
 
 from countersign.orders.examples import example_bytes
+from countersign.orders.model import Orders
 from countersign.plan.examples import gravitas_data
+from countersign.rehearse.checks import validate_with_rules
 from countersign.store.accounts import HASHER, create_token, create_user
 from countersign.store.db import Database
 from countersign.store.hashing import HASH_SLOTS, BoundedHasher
@@ -22,6 +24,7 @@ from countersign.store.tables import User
 from countersign.web.app import create_app
 from countersign.web.fair import PlanSlots, Rate, RateLimiter
 from countersign.web.settings import Settings
+from countersign.web.validation_pool import SUBMITTER
 
 from ..heavy_orders import heavy_orders
 from .conftest import World
@@ -153,3 +156,23 @@ def test_health_answers_on_the_event_loop(world: World) -> None:
     # Not in a worker thread: logins and plans holding every thread cannot delay it.
     route = next(r for r in world.app.routes if getattr(r, "path", "") == "/api/health")
     assert inspect.iscoroutinefunction(route.endpoint)  # type: ignore[attr-defined]
+
+
+def test_a_draft_edit_is_validated_in_its_authors_queue(world: World) -> None:
+    seen: list[str] = []
+
+    def validator(orders: Orders) -> dict[str, object]:
+        seen.append(SUBMITTER.get())
+        return validate_with_rules(orders).to_json()
+
+    world.database.validator = validator
+    client = world.client("operator")
+    orders = client.get("/api/missions/search-and-sample").json()["orders"]
+    orders["title"] = f"Edited {uuid.uuid4()}"
+    answer = client.put("/api/missions/search-and-sample/draft", json={"orders": orders},
+                        headers={"If-Match": '"1"'})
+    assert answer.status_code == 200, answer.text
+    with world.database.session() as db:
+        operator = db.query(User).filter_by(username=world.usernames["operator"]).one()
+    # Reading the mission (its report) and saving the edit both validate, in the operator's queue.
+    assert seen and set(seen) == {f"user:{operator.id}"}

@@ -265,7 +265,7 @@ def get_example(name: Annotated[str, Path(max_length=100)]) -> dict[str, Any]:
 
 
 @router.get("/missions/{mission_id}", operation_id="getMission", response_model=MissionDetail,
-            **allow(*EVERYONE))
+            **with_limit(allow(*EVERYONE), None))
 def get_mission(mission_id: str, response: Response, db: Db) -> MissionDetail:
     return _detail(db, service.get_mission_with_report(db, mission_id), response)
 
@@ -321,7 +321,7 @@ REPORT_ROUTE: dict[str, Any] = {"response_model": ReportOut,
 
 
 @router.get("/missions/{mission_id}/report", operation_id="getReport", **REPORT_ROUTE,
-            **allow(*EVERYONE))
+            **with_limit(allow(*EVERYONE), None))
 def get_report(mission_id: str, db: Db) -> Response:
     mission = service.get_mission(db, mission_id)
     # A report is answered as stored (it was made by this server): no model round trip.
