@@ -97,6 +97,11 @@ class RevocationIn(RequestBody):
 class EnvelopeIn(RequestBody):
     envelope: str = Field(min_length=2, max_length=200_000,
                           description="the DSSE envelope as JSON text, stored verbatim")
+    password: str | None = Field(
+        default=None, max_length=1024,
+        description="the signer's password, entered again for this decision: checked by the "
+        "server (argon2) in this request and counted against the sign-in throttle; without "
+        "it, or wrong, the decision is refused (403) even when validly signed")
 
 
 class SubmitIn(RequestBody):
@@ -148,7 +153,7 @@ class ApprovalPage(BaseModel):
 def _key_out(db: Db, key: SigningKey) -> KeyOut:
     user = db.get(User, key.user_id)
     return KeyOut(key_id=key.id, public_key=key.public_key, user=user.username if user else None,
-                  name=key.name, status=service.key_status(key), created_at=key.created_at,
+                  name=key.name, status=service.key_status(db, key), created_at=key.created_at,
                   revoked_at=key.revoked_at)
 
 
@@ -320,7 +325,7 @@ def prepare_decision(submission_id: RowId, body: DecisionIn, principal: CurrentP
 def sign_decision(submission_id: RowId, body: EnvelopeIn, principal: CurrentPrincipal, db: Db,
                   signer: Signer) -> ApprovalOut:
     approval = service.decide(db, submission_id=submission_id, supervisor=principal.user,
-                              envelope=body.envelope, signer=signer)
+                              envelope=body.envelope, signer=signer, password=body.password)
     return ApprovalOut(**service.approval_summary(db, approval))
 
 
@@ -337,7 +342,7 @@ def prepare_revocation(approval_id: RowId, body: RevocationIn, principal: Curren
 def revoke_approval(approval_id: RowId, body: EnvelopeIn, principal: CurrentPrincipal, db: Db,
                     signer: Signer) -> ApprovalOut:
     approval = service.revoke(db, approval_id=approval_id, supervisor=principal.user,
-                              envelope=body.envelope, signer=signer)
+                              envelope=body.envelope, signer=signer, password=body.password)
     return ApprovalOut(**service.approval_summary(db, approval))
 
 
