@@ -168,6 +168,10 @@ def test_submit_sign_verify_export_and_detect_tampering(
     expect(supervisor.get_by_test_id("review-paths-to-COMPLETE")).to_have_text("25")
     expect(supervisor.get_by_test_id("review-paths-to-ABORT")).to_have_text("50")
     expect(supervisor.get_by_test_id("review-paths").get_by_role("listitem")).to_have_count(50)
+    # Without the password, a click signs nothing and nothing is sent (issue 14 item 2).
+    supervisor.get_by_role("button", name="Sign approval").click()
+    expect(supervisor.get_by_role("alert")).to_contain_text("Enter your password")
+    supervisor.get_by_label("Your password").fill(PASSWORD["supervisor"])
     supervisor.get_by_role("button", name="Sign approval").click()
     verdict = supervisor.get_by_test_id("decision-verdict")
     expect(verdict).to_contain_text("The server verified your signature and recorded the "
@@ -214,6 +218,7 @@ def test_submit_sign_verify_export_and_detect_tampering(
     supervisor.get_by_role("button", name="Apply filters").click()
     supervisor.get_by_role("link", name=re.compile(r"^Record \d+$")).click()
     supervisor.get_by_label("Reason (signed)").fill("Area A is closed to sampling this week")
+    supervisor.get_by_label("Your password").fill(PASSWORD["supervisor"])
     supervisor.get_by_role("button", name="Sign revocation").click()
     expect(supervisor.get_by_role("status").filter(has_text="Revocation recorded as record")
            ).to_be_visible()

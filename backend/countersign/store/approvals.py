@@ -684,6 +684,9 @@ def build_bundle(db: DbSession, *, signer: Ed25519PrivateKey,
     return {
         "format": BUNDLE_FORMAT,
         "created_at": _now_text(),
+        # The mission the approvals were exported for (None: all); decisions of other
+        # missions need no envelope in this bundle (approvals/log_rules.py).
+        "scope": mission,
         "log_key": {"key_id": latest.key_id, "public_key": latest.public_key},
         "entries": list(db.scalars(select(LogEntry.entry).order_by(LogEntry.index))),
         "checkpoints": [checkpoint_json(c) for c in db.scalars(

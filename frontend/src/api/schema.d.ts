@@ -1092,6 +1092,11 @@ export interface components {
              * @description the DSSE envelope as JSON text, stored verbatim
              */
             envelope: string;
+            /**
+             * Password
+             * @description the signer's password, entered again for this decision: checked by the server (argon2) in this request and counted against the sign-in throttle; without it, or wrong, the decision is refused (403) even when validly signed
+             */
+            password?: string | null;
         };
         /** EventOut */
         EventOut: {

@@ -145,6 +145,9 @@ function DecisionForm({ review, onDecided, username }: { review: Review; onDecid
   const keys = useSigningKeys(username);
   const [keyId, setKeyId] = useState("");
   const [reason, setReason] = useState("");
+  // Fresh password for every decision: the server checks it, so a script that can use this
+  // browser's key and session still cannot decide (issue 14 item 2).
+  const [password, setPassword] = useState("");
   const [busy, setBusy] = useState(false);
   const [error, setError] = useState<unknown>(null);
   const [result, setResult] = useState<ApprovalSummary | null>(null);
@@ -158,6 +161,7 @@ function DecisionForm({ review, onDecided, username }: { review: Review; onDecid
     setResult(null);
     try {
       if (decision === "rejected" && !reason.trim()) throw new Error("A rejection needs a reason: say what must change.");
+      if (!password) throw new Error("Enter your password to sign: the server checks it with your decision.");
       const prepared = unwrap(
         await api.POST("/api/submissions/{submission_id}/statement", {
           params: { path: { submission_id: submission.id } },
@@ -168,9 +172,10 @@ function DecisionForm({ review, onDecided, username }: { review: Review; onDecid
       const stored = unwrap(
         await api.POST("/api/submissions/{submission_id}/decision", {
           params: { path: { submission_id: submission.id } },
-          body: { envelope },
+          body: { envelope, password },
         }),
       );
+      setPassword("");
       setResult(stored);
       onDecided();
     } catch (e) {
@@ -202,6 +207,16 @@ function DecisionForm({ review, onDecided, username }: { review: Review; onDecid
           )}
           <label htmlFor="decision-reason">Reason (required to reject)</label>
           <textarea id="decision-reason" rows={3} value={reason} onChange={(e) => setReason(e.target.value)} maxLength={2000} />
+          <label htmlFor="decision-password">Your password (checked by the server with this decision)</label>
+          <input
+            id="decision-password"
+            type="password"
+            autoComplete="current-password"
+            required
+            value={password}
+            onChange={(e) => setPassword(e.target.value)}
+            maxLength={1024}
+          />
           <div className="actions">
             <button
               type="button"
