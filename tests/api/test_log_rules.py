@@ -86,7 +86,8 @@ def test_a_deleted_revocation_row_is_named(world: World) -> None:
                "bundle holds no envelope" in p for p in problems), problems
 
 
-def test_a_key_revoked_before_it_signed_is_refused_by_the_verifier(world: World) -> None:
+def test_a_key_revoked_before_it_signed_is_refused_by_the_verifier(
+        world: World, monkeypatch: pytest.MonkeyPatch) -> None:
     """Issue 15's survivor: the bundle's key-history check. The key's row is reset so that the
     server accepts the decision (as before this issue) and the verifier must catch it."""
     supervisor = world.client("supervisor")
@@ -101,6 +102,17 @@ def test_a_key_revoked_before_it_signed_is_refused_by_the_verifier(world: World)
     refused = supervisor.post(f"/api/submissions/{submission}/decision",
                               json={"envelope": envelope, "password": PASSWORD})
     assert refused.status_code == 403 and "revoked (log entry" in refused.json()["detail"]
+    # A server that trusted the row (as before) accepts it; the offline verifier must not.
+    monkeypatch.setattr(service, "logged_key_revocation", lambda db, key_id: None)
+    accepted = supervisor.post(f"/api/submissions/{submission}/decision",
+                               json={"envelope": envelope, "password": PASSWORD})
+    assert accepted.status_code == 201, accepted.text
+    index = accepted.json()["log_index"]
+    problems = _problems(world)
+    assert any(f"approval {accepted.json()['id']}: key {signer.key_id} was revoked" in p
+               for p in problems), problems
+    assert any(f"log entry {index} is signed with key {signer.key_id}, revoked" in p
+               for p in problems), problems
 
 
 def test_check_log_names_a_revoked_keys_later_signature_and_duplicate_submissions() -> None:
