@@ -144,3 +144,28 @@ def test_statements_outside_the_freshness_window_are_refused(
         "envelope": envelope_for(statement_bytes(statement), signer), "password": PASSWORD})
     assert response.status_code == 409, response.text
     assert words in response.json()["detail"]
+
+
+def test_rows_that_disagree_with_the_log_are_reported_not_shown_as_fact(world: World) -> None:
+    """Finding 5: `UPDATE submissions SET state='approved'` on a rejected one, or editing
+    `approvals.decision`/reason, was shown as fact."""
+    supervisor = world.client("supervisor")
+    signer = register_key(supervisor)
+    submission = submit(world, new_version(world))
+    rejection = approve(world, supervisor, signer, submission, "rejected", "too shallow")
+    auditor = world.client("auditor")
+    assert auditor.get(f"/api/submissions/{submission}").json()["integrity"] == []
+    assert auditor.get(f"/api/approvals/{rejection['id']}").json()["integrity"] == []
+    with world.database.engine.begin() as connection:
+        connection.execute(text("UPDATE submissions SET state = 'approved' WHERE id = :i"),
+                           {"i": submission})
+    bypass_triggers(world.database, "approvals",
+                    "UPDATE approvals SET decision = 'approved', reason = 'fine' WHERE id = :i",
+                    i=rejection["id"])
+    shown = auditor.get(f"/api/submissions/{submission}").json()
+    assert shown["integrity"] == [f"submission {submission}: the table says approved, the log "
+                                  "says rejected"]
+    listed = auditor.get("/api/approvals").json()["items"][0]
+    assert any("the table says decision = 'approved', its log entry says 'rejected'" in p
+               for p in listed["integrity"]), listed
+    assert any("reason = 'fine'" in p for p in listed["integrity"])

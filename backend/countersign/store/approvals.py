@@ -41,6 +41,7 @@ from .decide_guard import (
     logged_key_revocation,
 )
 from .events import record
+from .integrity import approval_integrity
 from .missions import Conflict, MissionError, NotFound, get_mission, get_version, report_for
 from .reauth import confirm_password
 from .rehearsals import attach as attach_rehearsal
@@ -638,7 +639,9 @@ def approval_summary(db: DbSession, approval: Approval) -> dict[str, Any]:
             "revokes": approval.revokes, "operator": _username(db, approval.author_id),
             "supervisor": _username(db, approval.supervisor_id), "key_id": approval.key_id,
             "submission": approval.submission_id, "created_at": approval.created_at,
-            "log_index": log_index_of(db, approval.event_id)}
+            "log_index": log_index_of(db, approval.event_id),
+            # issue 14 item 5 (branch decisions): the row checked against its log entry.
+            "integrity": approval_integrity(db, approval)}
 
 
 def build_bundle(db: DbSession, *, signer: Ed25519PrivateKey,

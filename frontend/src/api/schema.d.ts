@@ -981,6 +981,11 @@ export interface components {
             digest: string;
             /** Id */
             id: number;
+            /**
+             * Integrity
+             * @description how this row disagrees with its log entry, which is the source of truth
+             */
+            integrity?: string[];
             /** Key Id */
             key_id: string;
             /** Log Index */
@@ -1613,6 +1618,11 @@ export interface components {
             digest: string;
             /** Id */
             id: number;
+            /**
+             * Integrity
+             * @description how this row disagrees with the log, which is the source of truth (empty: agrees)
+             */
+            integrity?: string[];
             /** Mission */
             mission: string;
             /** Reason */

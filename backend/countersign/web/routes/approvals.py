@@ -18,6 +18,7 @@ from ...orders.reader import orders_from_data
 from ...orders.writers import write
 from ...rehearse.plain import rules_sentences
 from ...store import approvals as service
+from ...store.integrity import submission_integrity
 from ...store.missions import get_version, report_for
 from ...store.rehearsals import attach, get_record, record_summary
 from ...store.tables import Approval, MissionVersion, SigningKey, Submission, User
@@ -126,6 +127,8 @@ class SubmissionOut(BaseModel):
     decided_by: str | None
     decided_at: datetime | None
     reason: str
+    integrity: list[str] = Field(default_factory=list, description=(
+        "how this row disagrees with the log, which is the source of truth (empty: agrees)"))
 
 
 class ApprovalOut(BaseModel):
@@ -143,6 +146,8 @@ class ApprovalOut(BaseModel):
     submission: int
     created_at: datetime
     log_index: int | None
+    integrity: list[str] = Field(default_factory=list, description=(
+        "how this row disagrees with its log entry, which is the source of truth"))
 
 
 class ApprovalPage(BaseModel):
@@ -171,7 +176,8 @@ def _submission_out(db: Db, submission_id: int) -> SubmissionOut:
                          submitted_at=submission.submitted_at,
                          decided_by=name(submission.decided_by),
                          decided_at=submission.decided_at, reason=submission.reason,
-                         rehearsal=submission.rehearsal_digest)
+                         rehearsal=submission.rehearsal_digest,
+                         integrity=submission_integrity(db, submission))
 
 
 # --- keys -----------------------------------------------------------------------------------

@@ -18,7 +18,7 @@ import { useLoad } from "../../useLoad";
 import { type ApprovalDetail, approvalHref, bundleHref, loadApproval, loadEntries, type Prepared, reviewHref } from "./api";
 import { LogKeyPanel, useLogKeyPin } from "./LogKeyPin";
 import { OrdersGraph } from "./OrdersGraph";
-import { FindingsTable, PathSummaryTable, RulesSection, StateBadge } from "./parts";
+import { FindingsTable, IntegrityWarning, PathSummaryTable, RulesSection, StateBadge } from "./parts";
 import { signPrepared, useSigningKeys } from "./signing";
 
 export function ApprovalPage({ id }: { id: number }) {
@@ -50,6 +50,7 @@ export function ApprovalPage({ id }: { id: number }) {
         </h1>
         <StateBadge state={record.decision} />
       </div>
+      <IntegrityWarning problems={record.integrity} />
       <dl className="facts">
         <div>
           <dt>Supervisor</dt>

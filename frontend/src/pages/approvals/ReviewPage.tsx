@@ -16,7 +16,7 @@ import { useLoad } from "../../useLoad";
 import { type ApprovalSummary, approvalHref, loadReview, type Prepared, type Review } from "./api";
 import { describeDiff, diffOrders } from "./diff";
 import { OrdersGraph } from "./OrdersGraph";
-import { DiffView, FindingsTable, PathList, PathSummaryTable, RulesSection, StateBadge } from "./parts";
+import { DiffView, FindingsTable, IntegrityWarning, PathList, PathSummaryTable, RulesSection, StateBadge } from "./parts";
 import { signPrepared, useSigningKeys } from "./signing";
 
 export function ReviewPage({ mission, version }: { mission: string; version: number }) {
@@ -45,6 +45,7 @@ export function ReviewPage({ mission, version }: { mission: string; version: num
       <h1 id="review-title" tabIndex={-1}>
         Review: {title} v{version}
       </h1>
+      <IntegrityWarning problems={(current as { integrity?: string[] } | undefined)?.integrity} />
       <dl className="facts">
         <div>
           <dt>State</dt>
