@@ -5,7 +5,9 @@
 - `sign --server URL --submission ID --decision approved|rejected [--reason TEXT] --key FILE`
   asks the server for the exact statement, signs its DSSE PAE locally and sends the envelope;
   `sign --revoke APPROVAL_ID --reason TEXT` signs a revocation. The API token comes from
-  COUNTERSIGN_TOKEN or --token-file; the private key never leaves this machine.
+  COUNTERSIGN_TOKEN or --token-file; the private key never leaves this machine. The signer's
+  password is asked for (or read from --password-file) and sent with the envelope: the server
+  refuses a decision without it (issue 14: a key alone is not the supervisor).
 - `audit verify BUNDLE [--log-key B64] [--checkpoint FILE]...` checks an exported bundle offline:
   exit 0 when everything verifies, 1 with a report of what failed, 2 when unreadable.
 """
@@ -13,6 +15,7 @@
 from __future__ import annotations
 
 import argparse
+import getpass
 import json
 import os
 import sys
@@ -48,6 +51,9 @@ def add_commands(commands: argparse._SubParsersAction) -> None:  # type: ignore[
                         help="revoke this approval")
     sign.add_argument("--decision", choices=["approved", "rejected"], default=None)
     sign.add_argument("--reason", default="")
+    sign.add_argument("--password-file", type=Path, default=None,
+                      help="file holding your account password (first line); without it the "
+                      "password is asked for. The server checks it with every decision")
     sign.set_defaults(handler=cmd_sign)
 
     audit = commands.add_parser("audit", help="verify an exported audit bundle offline")
@@ -126,6 +132,17 @@ def cmd_sign(args: argparse.Namespace) -> int:
         _err(f"{args.key}: {exc}")
         return EXIT_UNREADABLE
     kid = dsse.key_id(key.public_key())
+    try:
+        password = (args.password_file.read_text().splitlines() or [""])[0] \
+            if args.password_file is not None else getpass.getpass("countersign password: ")
+    except OSError as exc:
+        _err(f"cannot read {args.password_file}: {exc.strerror}")
+        return EXIT_UNREADABLE
+    except EOFError:
+        password = ""
+    if not password:
+        _err("a decision needs your password (--password-file or typed when asked)")
+        return EXIT_UNREADABLE
     if args.submission is not None:
         if args.decision is None:
             _err("--decision approved or rejected is needed with --submission")
@@ -141,7 +158,8 @@ def cmd_sign(args: argparse.Namespace) -> int:
         prepared = _call(args.server, token, f"{base}/statement", prepare)
         payload = dsse.unb64(prepared["payload"], "the payload")
         envelope = dsse.sign_envelope(payload, key, prepared["payloadType"])
-        stored = _call(args.server, token, finish, {"envelope": json.dumps(envelope)})
+        stored = _call(args.server, token, finish, {"envelope": json.dumps(envelope),
+                                                     "password": password})
     except (ApiError, dsse.SignatureError, KeyError) as exc:
         _err(f"refused: {exc}")
         return EXIT_FAILED

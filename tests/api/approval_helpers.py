@@ -73,7 +73,7 @@ def approve(world: World, client: TestClient, signer: Signer, submission: int,
             decision: str = "approved", reason: str = "") -> dict[str, Any]:
     envelope = sign_prepared(prepare(client, submission, signer, decision, reason), signer)
     response = client.post(f"/api/submissions/{submission}/decision",
-                           json={"envelope": envelope})
+                           json={"envelope": envelope, "password": PASSWORD})
     assert response.status_code == 201, response.text
     data: dict[str, Any] = response.json()
     return data

@@ -104,8 +104,17 @@ def test_keygen_sign_and_audit_verify(world: World, database_url: str, tmp_path:
         assert response.status_code == 201, response.text
         submission = _submission(_client(url, world.tokens["operator"]))
         monkeypatch.setenv("COUNTERSIGN_TOKEN", world.tokens["supervisor"])
+        password_file = tmp_path / "password"
+        password_file.write_text(PASSWORD + "\n")
+        monkeypatch.setattr("getpass.getpass", lambda prompt="": "not the password")
+        # Without the right password a validly signed decision is refused (issue 14 item 2).
         assert run_cli("sign", "--server", url, "--key", str(key_file), "--submission",
-                       str(submission), "--decision", "approved") == 0
+                       str(submission), "--decision", "approved") == 1
+        assert "password is wrong" in capsys.readouterr().err
+        monkeypatch.setattr("getpass.getpass", lambda prompt="": PASSWORD)
+        assert run_cli("sign", "--server", url, "--key", str(key_file), "--submission",
+                       str(submission), "--decision", "approved", "--password-file",
+                       str(password_file)) == 0
         out = capsys.readouterr().out
         assert out.startswith(f"approved: {MISSION} version 1 (sha256:")
         # The same decision again: refused, with the server's reason.
@@ -174,7 +183,7 @@ def test_killing_the_server_during_approvals(world: World, database_url: str,
                 try:
                     result["status"] = supervisor.post(
                         f"/api/submissions/{submission}/decision",
-                        json={"envelope": envelope}).status_code
+                        json={"envelope": envelope, "password": PASSWORD}).status_code
                 except httpx.HTTPError as exc:
                     result["error"] = type(exc).__name__
 

@@ -31,6 +31,8 @@ from .conftest import PASSWORD, World
 def _refused(world: World, client: Any, path: str, body: dict[str, Any], status: int,
              words: str) -> None:
     before = counts(world.database)
+    if "envelope" in body:  # every signed request carries the fresh password
+        body = {"password": PASSWORD, **body}
     response = client.post(path, json=body)
     assert response.status_code == status, response.text
     assert response.headers["content-type"] == "application/problem+json"
@@ -182,7 +184,7 @@ def test_replayed_envelope(setup: tuple[World, Any, Signer, int]) -> None:
     world, supervisor, signer, submission = setup
     envelope = sign_prepared(prepare(supervisor, submission, signer), signer)
     response = supervisor.post(f"/api/submissions/{submission}/decision",
-                               json={"envelope": envelope})
+                               json={"envelope": envelope, "password": PASSWORD})
     assert response.status_code == 201
     _refused(world, supervisor, f"/api/submissions/{submission}/decision",
              {"envelope": envelope}, 409, "replay refused")

@@ -43,7 +43,7 @@ def test_operator_submits_supervisor_signs_auditor_verifies(world: World) -> Non
 
     envelope = sign_prepared(prepared, signer)
     response = supervisor.post(f"/api/submissions/{submission}/decision",
-                               json={"envelope": envelope})
+                               json={"envelope": envelope, "password": PASSWORD})
     assert response.status_code == 201, response.text
     approval = response.json()
     assert approval["decision"] == "approved" and approval["log_index"] is not None
@@ -174,7 +174,8 @@ def test_revoking_an_approval_is_signed(world: World) -> None:
     prepared = response.json()
     assert prepared["statement"]["predicate"]["revokes"].startswith("sha256:")
     response = supervisor.post(f"/api/approvals/{approval['id']}/revoke",
-                               json={"envelope": sign_prepared(prepared, signer)})
+                               json={"envelope": sign_prepared(prepared, signer),
+                                     "password": PASSWORD})
     assert response.status_code == 201, response.text
     assert response.json()["decision"] == "revoked"
     assert response.json()["revokes"] == approval["id"]

@@ -168,6 +168,10 @@ def test_submit_sign_verify_export_and_detect_tampering(
     expect(supervisor.get_by_test_id("review-paths-to-COMPLETE")).to_have_text("25")
     expect(supervisor.get_by_test_id("review-paths-to-ABORT")).to_have_text("50")
     expect(supervisor.get_by_test_id("review-paths").get_by_role("listitem")).to_have_count(50)
+    # Without the password, a click signs nothing and nothing is sent (issue 14 item 2).
+    supervisor.get_by_role("button", name="Sign approval").click()
+    expect(supervisor.get_by_role("alert")).to_contain_text("Enter your password")
+    supervisor.get_by_label("Your password").fill(PASSWORD["supervisor"])
     supervisor.get_by_role("button", name="Sign approval").click()
     verdict = supervisor.get_by_test_id("decision-verdict")
     expect(verdict).to_contain_text("The server verified your signature and recorded the "
@@ -214,6 +218,7 @@ def test_submit_sign_verify_export_and_detect_tampering(
     supervisor.get_by_role("button", name="Apply filters").click()
     supervisor.get_by_role("link", name=re.compile(r"^Record \d+$")).click()
     supervisor.get_by_label("Reason (signed)").fill("Area A is closed to sampling this week")
+    supervisor.get_by_label("Your password").fill(PASSWORD["supervisor"])
     supervisor.get_by_role("button", name="Sign revocation").click()
     expect(supervisor.get_by_role("status").filter(has_text="Revocation recorded as record")
            ).to_be_visible()
@@ -233,7 +238,7 @@ def test_submit_sign_verify_export_and_detect_tampering(
            ).to_be_visible()
     verification = auditor.get_by_test_id("verification-verdict")
     expect(verification).to_have_text(re.compile(
-        r"^All 9 checks passed, against a log key not pinned"), timeout=30_000)
+        r"^All 10 checks passed, against a log key not pinned"), timeout=30_000)
     # Trust on first use: the auditor pins the log key the server presents, explicitly.
     checkpoint: dict[str, Any] = auditor.evaluate(
         "async () => (await fetch('/api/log/checkpoint')).json()")
@@ -241,7 +246,7 @@ def test_submit_sign_verify_export_and_detect_tampering(
     expect(auditor.get_by_test_id("log-key-presented")).to_contain_text(checkpoint["key_id"])
     auditor.get_by_role("button", name="Pin this key…").click()
     auditor.get_by_role("button", name="Confirm: pin this key").click()
-    expect(verification).to_have_text("All 10 checks passed.", timeout=30_000)
+    expect(verification).to_have_text("All 11 checks passed.", timeout=30_000)
     expect(auditor.get_by_test_id("check-pin")).to_contain_text(
         f"signed by log key {server_print}, the key pinned in this browser")
     expect(auditor.get_by_test_id("approval-plain")).to_contain_text("Search Area A")

@@ -24,6 +24,7 @@ from .dsse import (
     verify_envelope,
 )
 from .log import GENESIS, verify_checkpoint
+from .log_rules import check_log
 from .merkle import Tree, leaf_hash, verify_consistency, verify_inclusion
 from .statement import json_digest, subject_digest
 
@@ -127,6 +128,11 @@ def verify_bundle(
         _check_published(checkpoint, tree, log_key, report)
     keys = _keys_from_log(events, report)
     _check_bundle_keys(bundle.get("keys", []), keys, report)
+    # --- issue 14 item 5 (branch decisions): log-wide rules, approvals/log_rules.py ---
+    enveloped = [a.get("log_index") for a in bundle.get("approvals", []) if isinstance(a, dict)]
+    report.problems += check_log(events, enveloped=[i for i in enveloped if isinstance(i, int)],
+                                 scope=bundle.get("scope"))
+    # --- end issue 14 item 5 ---
     orders = bundle.get("orders", {})
     for approval in bundle.get("approvals", []):
         report.approvals += 1

@@ -15,6 +15,7 @@ from typing import Any
 from argon2.exceptions import InvalidHashError, VerificationError
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
 from sqlalchemy import Select, select
+from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session as DbSession
 from sqlalchemy.orm import aliased
 
@@ -33,13 +34,20 @@ from ..approvals.statement import (
 from ..orders.reader import orders_from_data
 from .accounts import HASHER
 from .db import BEGIN_MODE
+from .decide_guard import (
+    editors_up_to,
+    lock_submission,
+    lock_version,
+    logged_key_revocation,
+)
 from .events import record
+from .integrity import approval_integrity
 from .missions import Conflict, MissionError, NotFound, get_mission, get_version, report_for
+from .reauth import confirm_password
 from .rehearsals import attach as attach_rehearsal
 from .tables import (
     Approval,
     Checkpoint,
-    Event,
     LogEntry,
     Mission,
     MissionVersion,
@@ -125,8 +133,11 @@ def revoke_key(db: DbSession, *, user: User, key_id: str, password: str,
     return key
 
 
-def key_status(key: SigningKey) -> str:
-    return "revoked" if key.revoked_at is not None else "active"
+def key_status(db: DbSession, key: SigningKey) -> str:
+    """From the log (issue 14 item 5); a row that claims otherwise is reported by integrity."""
+    if key.revoked_at is not None or logged_key_revocation(db, key.id) is not None:
+        return "revoked"
+    return "active"
 
 
 def _usable_key(db: DbSession, key_id: str, supervisor: User) -> SigningKey:
@@ -137,6 +148,12 @@ def _usable_key(db: DbSession, key_id: str, supervisor: User) -> SigningKey:
         raise Refused(f"the key {key_id} belongs to someone else")
     if key.revoked_at is not None:
         raise Refused(f"the key {key_id} was revoked at {key.revoked_at.isoformat()}")
+    # The log, not the row, says whether a key is revoked (issue 14 finding 5: a writer who
+    # sets revoked_at back to NULL must not make the key usable again).
+    logged = logged_key_revocation(db, key_id)
+    if logged is not None:
+        raise Refused(f"the key {key_id} was revoked (log entry {logged}); the signing_keys "
+                      "row disagrees with the log")
     return key
 
 
@@ -150,6 +167,7 @@ def submit(db: DbSession, *, mission_id: str, number: int, operator: User,
            rehearsal: str | None = None) -> Submission:
     mission = get_mission(db, mission_id)
     version = get_version(db, mission_id, number)
+    lock_version(db, version.id)  # issue 14 item 6: parallel submits of one version queue here
     report = _report(db, version)
     errors = [f for f in report["findings"] if f["severity"] == "error"]
     if errors:
@@ -162,7 +180,10 @@ def submit(db: DbSession, *, mission_id: str, number: int, operator: User,
         raise Stale(f"version {number} is {active.state} already (submission {active.id})")
     submission = Submission(version_id=version.id, submitted_by=operator.id)
     db.add(submission)
-    db.flush()
+    try:
+        db.flush()
+    except IntegrityError:  # uq_submissions_active_version: a parallel submit won
+        raise Stale(f"version {number} was submitted by another request just now") from None
     mission.status = "submitted"
     record(db, kind="submission.created", actor=operator, mission_id=mission_id,
            after=version.digest, detail={"submission": submission.id, "version": number})
@@ -193,11 +214,8 @@ def withdraw(db: DbSession, *, submission_id: int, operator: User) -> Submission
 
 
 def _editors(db: DbSession, version: MissionVersion) -> set[int]:
-    """Everyone who authored or edited the content of this version."""
-    actors = set(db.scalars(select(Event.actor_id).where(
-        Event.mission_id == version.mission_id, Event.after_digest == version.digest,
-        Event.kind.in_(("mission.created", "draft.updated", "version.created")))))
-    return {a for a in actors if a is not None} | {version.author_id}
+    """Everyone who authored or edited any revision leading to this version (decide_guard)."""
+    return editors_up_to(db, version)
 
 
 def _check_duties(db: DbSession, supervisor: User, version: MissionVersion,
@@ -401,14 +419,23 @@ def _store(db: DbSession, ctx: Context, *, envelope_text: str, statement: dict[s
     ctx.submission.decided_by, ctx.submission.decided_at = supervisor.id, utcnow()
     ctx.submission.reason = approval.reason
     ctx.mission.status = decision
-    db.flush()
+    try:
+        db.flush()
+    except IntegrityError:  # uq_approvals_*_submission: a parallel decision won
+        raise Stale(f"submission {ctx.submission.id} was decided by another request just now"
+                    ) from None
     _checkpoint_now(db, signer)
     return approval
 
 
 def decide(db: DbSession, *, submission_id: int, supervisor: User, envelope: str,
-           signer: Ed25519PrivateKey) -> Approval:
-    """Verify a signed decision and store its envelope verbatim, or refuse with nothing kept."""
+           signer: Ed25519PrivateKey, password: str | None) -> Approval:
+    """Verify a signed decision and store its envelope verbatim, or refuse with nothing kept.
+    `password` is the supervisor's, entered again for this decision (store/reauth.py)."""
+    # issue 14 (decisions): user verification first, then the row locks (store/decide_guard.py).
+    confirm_password(db, username=supervisor.username, password_hash=supervisor.password_hash,
+                     password=password)
+    lock_submission(db, submission_id)
     ctx = _context(db, submission_id)
     _check_duties(db, supervisor, ctx.version, ctx.submission)
     _, statement, key, _ = _verified(db, envelope, supervisor)
@@ -453,7 +480,11 @@ def prepare_revocation(db: DbSession, *, approval_id: int, supervisor: User, rea
 
 
 def revoke(db: DbSession, *, approval_id: int, supervisor: User, envelope: str,
-           signer: Ed25519PrivateKey) -> Approval:
+           signer: Ed25519PrivateKey, password: str | None) -> Approval:
+    # issue 14 (decisions): user verification first, then the row locks (store/decide_guard.py).
+    confirm_password(db, username=supervisor.username, password_hash=supervisor.password_hash,
+                     password=password)
+    lock_submission(db, get_approval(db, approval_id).submission_id)
     approval, ctx = _revocable(db, approval_id)
     _check_duties(db, supervisor, ctx.version, ctx.submission)
     _, statement, key, _ = _verified(db, envelope, supervisor)
@@ -608,7 +639,9 @@ def approval_summary(db: DbSession, approval: Approval) -> dict[str, Any]:
             "revokes": approval.revokes, "operator": _username(db, approval.author_id),
             "supervisor": _username(db, approval.supervisor_id), "key_id": approval.key_id,
             "submission": approval.submission_id, "created_at": approval.created_at,
-            "log_index": log_index_of(db, approval.event_id)}
+            "log_index": log_index_of(db, approval.event_id),
+            # issue 14 item 5 (branch decisions): the row checked against its log entry.
+            "integrity": approval_integrity(db, approval)}
 
 
 def build_bundle(db: DbSession, *, signer: Ed25519PrivateKey,
@@ -654,6 +687,9 @@ def build_bundle(db: DbSession, *, signer: Ed25519PrivateKey,
     return {
         "format": BUNDLE_FORMAT,
         "created_at": _now_text(),
+        # The mission the approvals were exported for (None: all); decisions of other
+        # missions need no envelope in this bundle (approvals/log_rules.py).
+        "scope": mission,
         "log_key": {"key_id": latest.key_id, "public_key": latest.public_key},
         "entries": list(db.scalars(select(LogEntry.entry).order_by(LogEntry.index))),
         "checkpoints": [checkpoint_json(c) for c in db.scalars(

@@ -14,12 +14,14 @@ from sqlalchemy import (
     Boolean,
     DateTime,
     ForeignKey,
+    Index,
     Integer,
     LargeBinary,
     MetaData,
     String,
     Text,
     UniqueConstraint,
+    text,
 )
 from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column
 from sqlalchemy.types import TypeDecorator
@@ -164,6 +166,12 @@ class Submission(Base):
     # The stored rehearsal record the operator attached; the approval statement cites it.
     rehearsal_digest: Mapped[str | None] = mapped_column(
         ForeignKey("rehearsal_records.digest"), default=None)
+    # One active submission per version, enforced by the database (migration 0005).
+    __table_args__ = (
+        Index("uq_submissions_active_version", "version_id", unique=True,
+              sqlite_where=text("state IN ('submitted', 'approved')"),
+              postgresql_where=text("state IN ('submitted', 'approved')")),
+    )
 
 
 class RehearsalRecord(Base):
@@ -232,6 +240,15 @@ class Approval(Base):
     orders_digest: Mapped[str] = mapped_column(String(71))
     event_id: Mapped[int] = mapped_column(ForeignKey("events.id"), unique=True)
     created_at: Mapped[datetime] = mapped_column(default=utcnow, index=True)
+    # One decision and at most one revocation per submission (migration 0005).
+    __table_args__ = (
+        Index("uq_approvals_decision_submission", "submission_id", unique=True,
+              sqlite_where=text("decision IN ('approved', 'rejected')"),
+              postgresql_where=text("decision IN ('approved', 'rejected')")),
+        Index("uq_approvals_revocation_submission", "submission_id", unique=True,
+              sqlite_where=text("decision = 'revoked'"),
+              postgresql_where=text("decision = 'revoked'")),
+    )
 
 
 class LogEntry(Base):

@@ -981,6 +981,11 @@ export interface components {
             digest: string;
             /** Id */
             id: number;
+            /**
+             * Integrity
+             * @description how this row disagrees with its log entry, which is the source of truth
+             */
+            integrity?: string[];
             /** Key Id */
             key_id: string;
             /** Log Index */
@@ -1092,6 +1097,11 @@ export interface components {
              * @description the DSSE envelope as JSON text, stored verbatim
              */
             envelope: string;
+            /**
+             * Password
+             * @description the signer's password, entered again for this decision: checked by the server (argon2) in this request and counted against the sign-in throttle; without it, or wrong, the decision is refused (403) even when validly signed
+             */
+            password?: string | null;
         };
         /** EventOut */
         EventOut: {
@@ -1608,6 +1618,11 @@ export interface components {
             digest: string;
             /** Id */
             id: number;
+            /**
+             * Integrity
+             * @description how this row disagrees with the log, which is the source of truth (empty: agrees)
+             */
+            integrity?: string[];
             /** Mission */
             mission: string;
             /** Reason */

@@ -8,6 +8,7 @@
 import { fromBase64, fromHex, fromUtf8, sha256Hex, toBase64, toHex, utf8 } from "./bytes";
 import { jsonDigest } from "./canonical";
 import { ED25519, importPublicKey, keyId, parseEnvelope, PAYLOAD_TYPE, verifyEnvelope } from "./dsse";
+import { checkLog } from "./logRules";
 import { leafHash, rootOf, verifyInclusion } from "./merkle";
 
 export const GENESIS = "0".repeat(64);
@@ -49,7 +50,7 @@ export interface ApprovalRecord {
 }
 
 export interface Check {
-  id: "pin" | "checkpoint" | "chain" | "root" | "inclusion" | "logged" | "key" | "signature" | "statement" | "orders";
+  id: "pin" | "checkpoint" | "chain" | "root" | "rules" | "inclusion" | "logged" | "key" | "signature" | "statement" | "orders";
   label: string;
   ok: boolean;
   detail: string;
@@ -196,6 +197,18 @@ export async function verifyApproval(record: ApprovalRecord, entries: LogEntryRo
       ? `the RFC 6962 root of entries 0..${cp.size - 1} is the signed root`
       : `log entries 0..${cp.size - 1} differ from what the checkpoint at size ${cp.size} signed (an entry in that range was changed)`,
   });
+
+  // --- issue 14 item 5 (branch decisions): log-wide rules, logRules.ts ---
+  const ruleProblems = checkLog(events);
+  checks.push({
+    id: "rules",
+    label: "The log describes a legal history",
+    ok: ruleProblems.length === 0,
+    detail: ruleProblems.length
+      ? ruleProblems.slice(0, 3).join("; ") + (ruleProblems.length > 3 ? ` (and ${ruleProblems.length - 3} more)` : "")
+      : "one decision per submission, one active submission per version, no signature by a revoked key",
+  });
+  // --- end issue 14 item 5 ---
 
   const proof = record.inclusion;
   if (index === null || !proof || index >= leaves.length) {

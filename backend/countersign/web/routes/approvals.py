@@ -18,6 +18,7 @@ from ...orders.reader import orders_from_data
 from ...orders.writers import write
 from ...rehearse.plain import rules_sentences
 from ...store import approvals as service
+from ...store.integrity import submission_integrity
 from ...store.missions import get_version, report_for
 from ...store.rehearsals import attach, get_record, record_summary
 from ...store.tables import Approval, MissionVersion, SigningKey, Submission, User
@@ -97,6 +98,11 @@ class RevocationIn(RequestBody):
 class EnvelopeIn(RequestBody):
     envelope: str = Field(min_length=2, max_length=200_000,
                           description="the DSSE envelope as JSON text, stored verbatim")
+    password: str | None = Field(
+        default=None, max_length=1024,
+        description="the signer's password, entered again for this decision: checked by the "
+        "server (argon2) in this request and counted against the sign-in throttle; without "
+        "it, or wrong, the decision is refused (403) even when validly signed")
 
 
 class SubmitIn(RequestBody):
@@ -121,6 +127,8 @@ class SubmissionOut(BaseModel):
     decided_by: str | None
     decided_at: datetime | None
     reason: str
+    integrity: list[str] = Field(default_factory=list, description=(
+        "how this row disagrees with the log, which is the source of truth (empty: agrees)"))
 
 
 class ApprovalOut(BaseModel):
@@ -138,6 +146,8 @@ class ApprovalOut(BaseModel):
     submission: int
     created_at: datetime
     log_index: int | None
+    integrity: list[str] = Field(default_factory=list, description=(
+        "how this row disagrees with its log entry, which is the source of truth"))
 
 
 class ApprovalPage(BaseModel):
@@ -148,7 +158,7 @@ class ApprovalPage(BaseModel):
 def _key_out(db: Db, key: SigningKey) -> KeyOut:
     user = db.get(User, key.user_id)
     return KeyOut(key_id=key.id, public_key=key.public_key, user=user.username if user else None,
-                  name=key.name, status=service.key_status(key), created_at=key.created_at,
+                  name=key.name, status=service.key_status(db, key), created_at=key.created_at,
                   revoked_at=key.revoked_at)
 
 
@@ -166,7 +176,8 @@ def _submission_out(db: Db, submission_id: int) -> SubmissionOut:
                          submitted_at=submission.submitted_at,
                          decided_by=name(submission.decided_by),
                          decided_at=submission.decided_at, reason=submission.reason,
-                         rehearsal=submission.rehearsal_digest)
+                         rehearsal=submission.rehearsal_digest,
+                         integrity=submission_integrity(db, submission))
 
 
 # --- keys -----------------------------------------------------------------------------------
@@ -320,7 +331,7 @@ def prepare_decision(submission_id: RowId, body: DecisionIn, principal: CurrentP
 def sign_decision(submission_id: RowId, body: EnvelopeIn, principal: CurrentPrincipal, db: Db,
                   signer: Signer) -> ApprovalOut:
     approval = service.decide(db, submission_id=submission_id, supervisor=principal.user,
-                              envelope=body.envelope, signer=signer)
+                              envelope=body.envelope, signer=signer, password=body.password)
     return ApprovalOut(**service.approval_summary(db, approval))
 
 
@@ -337,7 +348,7 @@ def prepare_revocation(approval_id: RowId, body: RevocationIn, principal: Curren
 def revoke_approval(approval_id: RowId, body: EnvelopeIn, principal: CurrentPrincipal, db: Db,
                     signer: Signer) -> ApprovalOut:
     approval = service.revoke(db, approval_id=approval_id, supervisor=principal.user,
-                              envelope=body.envelope, signer=signer)
+                              envelope=body.envelope, signer=signer, password=body.password)
     return ApprovalOut(**service.approval_summary(db, approval))
 
 

@@ -18,7 +18,7 @@ import { useLoad } from "../../useLoad";
 import { type ApprovalDetail, approvalHref, bundleHref, loadApproval, loadEntries, type Prepared, reviewHref } from "./api";
 import { LogKeyPanel, useLogKeyPin } from "./LogKeyPin";
 import { OrdersGraph } from "./OrdersGraph";
-import { FindingsTable, PathSummaryTable, RulesSection, StateBadge } from "./parts";
+import { FindingsTable, IntegrityWarning, PathSummaryTable, RulesSection, StateBadge } from "./parts";
 import { signPrepared, useSigningKeys } from "./signing";
 
 export function ApprovalPage({ id }: { id: number }) {
@@ -50,6 +50,7 @@ export function ApprovalPage({ id }: { id: number }) {
         </h1>
         <StateBadge state={record.decision} />
       </div>
+      <IntegrityWarning problems={record.integrity} />
       <dl className="facts">
         <div>
           <dt>Supervisor</dt>
@@ -208,6 +209,7 @@ function Revoke({ record, onRevoked }: { record: ApprovalDetail; onRevoked: () =
 function RevokeForm({ record, onRevoked, username }: { record: ApprovalDetail; onRevoked: () => void; username: string }) {
   const keys = useSigningKeys(username);
   const [reason, setReason] = useState("");
+  const [password, setPassword] = useState(""); // checked by the server (issue 14 item 2)
   const [busy, setBusy] = useState(false);
   const [error, setError] = useState<unknown>(null);
   const [done, setDone] = useState<number | null>(null);
@@ -219,6 +221,7 @@ function RevokeForm({ record, onRevoked, username }: { record: ApprovalDetail; o
     setError(null);
     try {
       if (!reason.trim()) throw new Error("A revocation needs a reason.");
+      if (!password) throw new Error("Enter your password to sign: the server checks it with the revocation.");
       const prepared = unwrap(
         await api.POST("/api/approvals/{approval_id}/statement", {
           params: { path: { approval_id: record.id } },
@@ -227,7 +230,7 @@ function RevokeForm({ record, onRevoked, username }: { record: ApprovalDetail; o
       ) as unknown as Prepared;
       const envelope = await signPrepared(prepared, key, { digest: record.digest, decision: "revoked" });
       const stored = unwrap(
-        await api.POST("/api/approvals/{approval_id}/revoke", { params: { path: { approval_id: record.id } }, body: { envelope } }),
+        await api.POST("/api/approvals/{approval_id}/revoke", { params: { path: { approval_id: record.id } }, body: { envelope, password } }),
       );
       setDone(stored.id);
       onRevoked();
@@ -242,6 +245,8 @@ function RevokeForm({ record, onRevoked, username }: { record: ApprovalDetail; o
       <h2 id="revoke-title">Revoke this approval</h2>
       <label htmlFor="revocation-reason">Reason (signed)</label>
       <textarea id="revocation-reason" rows={2} value={reason} maxLength={2000} onChange={(e) => setReason(e.target.value)} />
+      <label htmlFor="revocation-password">Your password (checked by the server with this revocation)</label>
+      <input id="revocation-password" type="password" autoComplete="current-password" required value={password} maxLength={1024} onChange={(e) => setPassword(e.target.value)} />
       <div className="actions">
         <button type="submit" className="danger" disabled={busy || !key} aria-describedby={!key ? "revoke-no-key" : undefined}>
           Sign revocation

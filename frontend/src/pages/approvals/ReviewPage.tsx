@@ -16,7 +16,7 @@ import { useLoad } from "../../useLoad";
 import { type ApprovalSummary, approvalHref, loadReview, type Prepared, type Review } from "./api";
 import { describeDiff, diffOrders } from "./diff";
 import { OrdersGraph } from "./OrdersGraph";
-import { DiffView, FindingsTable, PathList, PathSummaryTable, RulesSection, StateBadge } from "./parts";
+import { DiffView, FindingsTable, IntegrityWarning, PathList, PathSummaryTable, RulesSection, StateBadge } from "./parts";
 import { signPrepared, useSigningKeys } from "./signing";
 
 export function ReviewPage({ mission, version }: { mission: string; version: number }) {
@@ -45,6 +45,7 @@ export function ReviewPage({ mission, version }: { mission: string; version: num
       <h1 id="review-title" tabIndex={-1}>
         Review: {title} v{version}
       </h1>
+      <IntegrityWarning problems={(current as { integrity?: string[] } | undefined)?.integrity} />
       <dl className="facts">
         <div>
           <dt>State</dt>
@@ -145,6 +146,9 @@ function DecisionForm({ review, onDecided, username }: { review: Review; onDecid
   const keys = useSigningKeys(username);
   const [keyId, setKeyId] = useState("");
   const [reason, setReason] = useState("");
+  // Fresh password for every decision: the server checks it, so a script that can use this
+  // browser's key and session still cannot decide (issue 14 item 2).
+  const [password, setPassword] = useState("");
   const [busy, setBusy] = useState(false);
   const [error, setError] = useState<unknown>(null);
   const [result, setResult] = useState<ApprovalSummary | null>(null);
@@ -158,6 +162,7 @@ function DecisionForm({ review, onDecided, username }: { review: Review; onDecid
     setResult(null);
     try {
       if (decision === "rejected" && !reason.trim()) throw new Error("A rejection needs a reason: say what must change.");
+      if (!password) throw new Error("Enter your password to sign: the server checks it with your decision.");
       const prepared = unwrap(
         await api.POST("/api/submissions/{submission_id}/statement", {
           params: { path: { submission_id: submission.id } },
@@ -168,9 +173,10 @@ function DecisionForm({ review, onDecided, username }: { review: Review; onDecid
       const stored = unwrap(
         await api.POST("/api/submissions/{submission_id}/decision", {
           params: { path: { submission_id: submission.id } },
-          body: { envelope },
+          body: { envelope, password },
         }),
       );
+      setPassword("");
       setResult(stored);
       onDecided();
     } catch (e) {
@@ -202,6 +208,16 @@ function DecisionForm({ review, onDecided, username }: { review: Review; onDecid
           )}
           <label htmlFor="decision-reason">Reason (required to reject)</label>
           <textarea id="decision-reason" rows={3} value={reason} onChange={(e) => setReason(e.target.value)} maxLength={2000} />
+          <label htmlFor="decision-password">Your password (checked by the server with this decision)</label>
+          <input
+            id="decision-password"
+            type="password"
+            autoComplete="current-password"
+            required
+            value={password}
+            onChange={(e) => setPassword(e.target.value)}
+            maxLength={1024}
+          />
           <div className="actions">
             <button
               type="button"

@@ -38,6 +38,8 @@ export interface Review {
 
 /** GET /api/approvals/{id} */
 export interface ApprovalDetail extends ApprovalRecord {
+  /** How the row disagrees with its log entry (empty: agrees). */
+  integrity?: string[];
   vehicle: string | null;
   reason: string;
   revokes: number | null;

@@ -18,6 +18,22 @@ export function StateBadge({ state }: { state: string }) {
   );
 }
 
+/** Where a row disagrees with the log (the source of truth): the server's `integrity` list,
+ * shown as a warning so that the row's value is never taken as fact (issue 14 item 5). */
+export function IntegrityWarning({ problems }: { problems?: string[] | null }) {
+  if (!problems || problems.length === 0) return null;
+  return (
+    <div className="message error" role="alert" data-testid="integrity-warning">
+      <p>The database disagrees with the log; the log is what counts:</p>
+      <ul>
+        {problems.map((p) => (
+          <li key={p}>{p}</li>
+        ))}
+      </ul>
+    </div>
+  );
+}
+
 /** The contingency rules (a normal default theory, seed 004) as the server words them, one
  * sentence per rule; they guide the vehicle when observations go wrong during the mission. */
 export function RulesSection({ rules, headingLevel = 2 }: { rules: string[]; headingLevel?: 2 | 3 }) {

@@ -1,0 +1,57 @@
+"""Rows checked against the log (issue 14 item 5): the log is the source of truth, so what the
+API shows of an approval or a submission is compared with the log entries that record it, and
+every disagreement is returned as a sentence (the responses' `integrity` lists; the pages show
+them as warnings) instead of being shown as fact."""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+from sqlalchemy import or_, select
+from sqlalchemy.orm import Session as DbSession
+
+from ..approvals.log_rules import row_problems, submission_state
+from .tables import Approval, LogEntry, Submission
+
+
+def _event(text: str) -> dict[str, Any] | None:
+    try:
+        event = json.loads(text)["event"]
+    except (ValueError, KeyError, TypeError):
+        return None
+    return event if isinstance(event, dict) else None
+
+
+def logged_event(db: DbSession, event_id: int) -> dict[str, Any] | None:
+    text = db.scalar(select(LogEntry.entry).where(LogEntry.event_id == event_id))
+    return _event(text) if text is not None else None
+
+
+def approval_integrity(db: DbSession, approval: Approval) -> list[str]:
+    what = f"approval {approval.id}"
+    event = logged_event(db, approval.event_id)
+    problems = row_problems({"decision": approval.decision, "reason": approval.reason,
+                             "key_id": approval.key_id, "submission": approval.submission_id,
+                             "orders_digest": approval.orders_digest,
+                             "mission": approval.mission_id}, event, what)
+    if event is not None and event.get("kind") != f"approval.{approval.decision}":
+        problems.append(f"{what}: the table says {approval.decision}, its log entry records "
+                        f"{event.get('kind')}")
+    return problems
+
+
+def submission_integrity(db: DbSession, submission: Submission) -> list[str]:
+    """The submission's state as the log tells it (RFC 8785 entries: `"submission":N` is
+    followed by `,` or `}`), against its row."""
+    sid = submission.id
+    texts = db.scalars(select(LogEntry.entry).where(or_(
+        LogEntry.entry.like(f'%"submission":{sid},%'),
+        LogEntry.entry.like(f'%"submission":{sid}}}%'))).order_by(LogEntry.index))
+    events = [e for e in (_event(t) for t in texts) if e is not None]
+    logged = submission_state(events, sid)
+    if logged is None:
+        return [f"submission {sid} has no log entry"]
+    if logged != submission.state:
+        return [f"submission {sid}: the table says {submission.state}, the log says {logged}"]
+    return []

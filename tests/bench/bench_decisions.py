@@ -1,0 +1,95 @@
+"""Decision latency with the fresh-password check (issue 14 item 2).
+
+Times `POST /api/submissions/{id}/decision` (envelope + password: argon2 verify, signature
+check, row lock, log append, checkpoint) against the same request's work without the password
+check, over N submissions on a fresh SQLite database (PostgreSQL when
+COUNTERSIGN_TEST_POSTGRES_URL is set). Prints median and p95; asserts nothing about time.
+
+Run: .venv/bin/python -m tests.bench.bench_decisions [--rounds 40]
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import tempfile
+import time
+from pathlib import Path
+
+from fastapi.testclient import TestClient
+
+from countersign.orders.examples import load_example
+from countersign.store import reauth
+from countersign.store.accounts import create_token, create_user
+from countersign.store.db import Database
+from countersign.store.missions import create_mission
+from countersign.web.app import create_app
+from countersign.web.settings import Settings
+from tests.api.approval_helpers import Signer, prepare, register_key, sign_prepared
+
+PASSWORD = "correct horse battery staple"
+MISSION = "search-and-sample"
+
+
+class _NoHash:
+    def verify(self, _hash: str, _password: str) -> bool:
+        return True
+
+
+def _percentile(values: list[float], fraction: float) -> float:
+    ordered = sorted(values)
+    return ordered[min(len(ordered) - 1, round(fraction * (len(ordered) - 1)))]
+
+
+def run(rounds: int, skip_password: bool, url: str | None, data_dir: Path) -> list[float]:
+    url = url or f"sqlite:///{data_dir / 'bench.sqlite'}"
+    database = Database(url)
+    app = create_app(Settings(data_dir=data_dir, database_url=url), database)
+    with database.session() as db:
+        operator = create_user(db, username="op", role="operator", password=PASSWORD)
+        supervisor = create_user(db, username="sup", role="supervisor", password=PASSWORD)
+        create_mission(db, orders=load_example(MISSION), author=operator)
+        tokens = {"op": create_token(db, user=operator, name="b")[1],
+                  "sup": create_token(db, user=supervisor, name="b")[1]}
+    op, sup = TestClient(app), TestClient(app)
+    op.headers["Authorization"] = f"Bearer {tokens['op']}"
+    sup.headers["Authorization"] = f"Bearer {tokens['sup']}"
+    signer: Signer = register_key(sup)
+    original = reauth.HASHER
+    if skip_password:  # the same request without the argon2 check, for comparison
+        reauth.HASHER = _NoHash()  # type: ignore[assignment]
+    times: list[float] = []
+    try:
+        for _ in range(rounds):
+            number = op.post(f"/api/missions/{MISSION}/versions").json()["number"]
+            submission = op.post(f"/api/missions/{MISSION}/versions/{number}/submit").json()["id"]
+            envelope = sign_prepared(prepare(sup, submission, signer), signer)
+            start = time.perf_counter()
+            response = sup.post(f"/api/submissions/{submission}/decision",
+                                json={"envelope": envelope, "password": PASSWORD})
+            times.append(time.perf_counter() - start)
+            assert response.status_code == 201, response.text
+    finally:
+        reauth.HASHER = original
+        app.state.rehearsals.shutdown()
+        database.engine.dispose()
+    return times
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--rounds", type=int, default=40)
+    args = parser.parse_args()
+    url = os.environ.get("COUNTERSIGN_TEST_POSTGRES_URL") or None
+    engine = "PostgreSQL" if url else "SQLite"
+    for label, skip in (("with password check", False), ("without (comparison)", True)):
+        with tempfile.TemporaryDirectory() as tmp:
+            times = run(args.rounds, skip, url, Path(tmp))
+        print(f"decision latency {label} on {engine}, {args.rounds} decisions: "
+              f"median {statistics.median(times) * 1000:.1f} ms, "
+              f"p95 {_percentile(times, 0.95) * 1000:.1f} ms")
+
+
+if __name__ == "__main__":
+    main()
