@@ -529,6 +529,10 @@ def _align(graph: Graph) -> bool:
 _NATURAL: Final = re.compile(r"(\d+)")
 MAX_DEPTH: Final = 64
 MAX_LIST_ITEMS: Final = 200_000
+# A document whose values share no list decodes about one value per statement; a few times
+# that (a node read twice, small documents) is allowed, more means expanding shared structure.
+DECODE_FACTOR: Final = 4
+DECODE_SLACK: Final = 10_000
 
 
 def natural_key(text: str) -> tuple[Any, ...]:
@@ -542,11 +546,23 @@ class _Reader:
     name: str
     findings: list[Finding] = field(default_factory=list)
     _goal_ids: set[str] | None = None
+    # Values decoded so far. A list or map shared by several uses is decoded at each of them,
+    # so nested sharing expands exponentially: the budget keeps the work linear in the input.
+    decodes: int = 0
+    _decode_budget: int | None = None
 
     # -- the record
 
     def decode(self, node: Node, depth: int = 0) -> Any:
         graph = self.graph
+        self.decodes += 1
+        if self._decode_budget is None:
+            self._decode_budget = DECODE_FACTOR * len(graph) + DECODE_SLACK
+        if self.decodes > self._decode_budget:
+            raise OrdersReadError(
+                [Problem("$", f"{self.name} shares RDF lists or maps so that its values expand "
+                         "to far more than its statements")]
+            )
         if depth > MAX_DEPTH:
             raise OrdersReadError(
                 [Problem("$", f"{self.name} nests values more than {MAX_DEPTH} levels deep")]
