@@ -55,6 +55,7 @@ from .canonical import orders_to_json
 from .findings import Finding, error
 from .model import Constraint, Feature, Orders
 from .reader import OrdersReadError, Problem, ReadResult, problems_from_validation
+from .turtle_writer import serialize_turtle
 
 MEO: Final = Namespace("https://countersign.example/ontology/meo#")
 CS: Final = Namespace("https://countersign.example/ontology/orders#")
@@ -392,7 +393,7 @@ def write_turtle(orders: Orders) -> str:
         "individuals.\n# Vocabulary: meo: ontology/meo.ttl; cs: the orders record "
         "(read back losslessly by Countersign).\n"
     )
-    return header + orders_to_graph(orders).serialize(format="turtle")
+    return header + serialize_turtle(orders_to_graph(orders))
 
 
 def nps_graph(orders: Orders) -> Graph:
@@ -446,7 +447,7 @@ def write_nps_turtle(orders: Orders) -> str:
         "# (a view written by Countersign: titles and successors only, not read back "
         "losslessly).\n"
     )
-    return header + nps_graph(orders).serialize(format="turtle")
+    return header + serialize_turtle(nps_graph(orders))
 
 
 def _nps_names() -> dict[Node, list[Node]]:
