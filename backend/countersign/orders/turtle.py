@@ -55,7 +55,7 @@ from .canonical import orders_to_json
 from .findings import Finding, error
 from .model import Constraint, Feature, Orders
 from .reader import OrdersReadError, Problem, ReadResult, problems_from_validation
-from .turtle_writer import serialize_turtle
+from .turtle_writer import TripleSet, serialize_turtle
 
 MEO: Final = Namespace("https://countersign.example/ontology/meo#")
 CS: Final = Namespace("https://countersign.example/ontology/orders#")
@@ -187,17 +187,21 @@ def can_test(feature: Feature, constraint: Constraint) -> bool:
 def orders_to_graph(orders: Orders, *, record: bool = True) -> Graph:
     """The orders as an RDF graph: the MEO meaning, plus (when `record`) the `cs:` record that
     makes the graph read back to the same orders."""
-    iris = MissionIris(orders.id)
     graph = Graph()
+    _fill(graph, orders, record)
+    return graph
+
+
+def _fill(graph: Graph | TripleSet, orders: Orders, record: bool) -> None:
+    iris = MissionIris(orders.id)
     graph.bind("meo", MEO)
     graph.bind("cs", CS)
     graph.bind("mission", URIRef(MISSION_BASE))
     for prefix, namespace in iris.namespaces().items():
         graph.bind(prefix, namespace)
-    _meaning(graph, orders, iris)
+    _meaning(graph, orders, iris)  # type: ignore[arg-type]
     if record:
-        _record(graph, orders, iris)
-    return graph
+        _record(graph, orders, iris)  # type: ignore[arg-type]
 
 
 def _meaning(graph: Graph, orders: Orders, iris: MissionIris) -> None:
@@ -351,8 +355,14 @@ _RESERVED: Final = frozenset({"extra", "key", "value", "entry", "implicit", "nul
 def _list(graph: Graph, nodes: list[Node]) -> Node:
     if not nodes:
         return RDF.nil
-    head = BNode()
-    Collection(graph, head, nodes)
+    # The rdf:first/rdf:rest cells written directly (rdflib's Collection reads the graph back
+    # at every append, which made long lists quadratic).
+    head = cell = BNode()
+    for index, item in enumerate(nodes):
+        graph.add((cell, RDF.first, item))
+        following: Node = BNode() if index + 1 < len(nodes) else RDF.nil
+        graph.add((cell, RDF.rest, following))
+        cell = following  # type: ignore[assignment]
     return head
 
 
@@ -393,7 +403,9 @@ def write_turtle(orders: Orders) -> str:
         "individuals.\n# Vocabulary: meo: ontology/meo.ttl; cs: the orders record "
         "(read back losslessly by Countersign).\n"
     )
-    return header + serialize_turtle(orders_to_graph(orders))
+    triples = TripleSet()
+    _fill(triples, orders, record=True)
+    return header + serialize_turtle(triples)
 
 
 def nps_graph(orders: Orders) -> Graph:

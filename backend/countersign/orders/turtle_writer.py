@@ -10,10 +10,11 @@ a stable graph. It writes plain Turtle (subject; predicate object, ...) that any
 from __future__ import annotations
 
 import re
-from typing import Final
+from collections.abc import Iterator
+from typing import Any, Final
 
 from rdflib import BNode, Graph, Literal, URIRef
-from rdflib.namespace import RDF, XSD
+from rdflib.namespace import OWL, RDF, RDFS, XSD
 from rdflib.term import Node
 
 # A local name safe in every Turtle reader: no dots, no escapes, no leading digit or dash.
@@ -26,13 +27,40 @@ _PLAIN_NUMBER: Final = {XSD.integer: re.compile(r"[+-]?[0-9]+"),
                         XSD.decimal: re.compile(r"[+-]?[0-9]*\.[0-9]+")}
 
 
+class TripleSet:
+    """The part of rdflib's Graph that the orders writers use (add, bind), as an ordered set of
+    triples: a tenth of the cost of a Graph's indexes for output that is never queried."""
+
+    def __init__(self) -> None:
+        self._triples: dict[tuple[Node, Node, Node], None] = {}
+        self._namespaces: dict[str, URIRef] = {
+            "rdf": URIRef(str(RDF)), "rdfs": URIRef(str(RDFS)), "xsd": URIRef(str(XSD)),
+            "owl": URIRef(str(OWL)),
+        }
+
+    def add(self, triple: tuple[Node, Node, Node]) -> None:
+        self._triples[triple] = None
+
+    def bind(self, prefix: str, namespace: Any) -> None:
+        self._namespaces[prefix] = URIRef(str(namespace))
+
+    def namespaces(self) -> Iterator[tuple[str, URIRef]]:
+        return iter(self._namespaces.items())
+
+    def __iter__(self) -> Iterator[tuple[Node, Node, Node]]:
+        return iter(self._triples)
+
+    def __len__(self) -> int:
+        return len(self._triples)
+
+
 def _escape_char(match: re.Match[str]) -> str:
     char = match.group(0)
     return _ESCAPES.get(char) or f"\\u{ord(char):04X}"
 
 
 class _Terms:
-    def __init__(self, graph: Graph) -> None:
+    def __init__(self, graph: Graph | TripleSet) -> None:
         # Longest namespace first, so that nested namespaces pick the most specific prefix.
         self.namespaces = sorted(((str(ns), prefix) for prefix, ns in graph.namespaces()),
                                  key=lambda item: -len(item[0]))
@@ -85,7 +113,7 @@ class _Terms:
         return quoted
 
 
-def serialize_turtle(graph: Graph) -> str:
+def serialize_turtle(graph: Graph | TripleSet) -> str:
     """The graph as Turtle, in time linear in its statements."""
     terms = _Terms(graph)
     by_subject: dict[Node, list[tuple[Node, Node]]] = {}
