@@ -55,6 +55,7 @@ from .canonical import orders_to_json
 from .findings import Finding, error
 from .model import Constraint, Feature, Orders
 from .reader import OrdersReadError, Problem, ReadResult, problems_from_validation
+from .turtle_writer import TripleSet, serialize_turtle
 
 MEO: Final = Namespace("https://countersign.example/ontology/meo#")
 CS: Final = Namespace("https://countersign.example/ontology/orders#")
@@ -186,17 +187,21 @@ def can_test(feature: Feature, constraint: Constraint) -> bool:
 def orders_to_graph(orders: Orders, *, record: bool = True) -> Graph:
     """The orders as an RDF graph: the MEO meaning, plus (when `record`) the `cs:` record that
     makes the graph read back to the same orders."""
-    iris = MissionIris(orders.id)
     graph = Graph()
+    _fill(graph, orders, record)
+    return graph
+
+
+def _fill(graph: Graph | TripleSet, orders: Orders, record: bool) -> None:
+    iris = MissionIris(orders.id)
     graph.bind("meo", MEO)
     graph.bind("cs", CS)
     graph.bind("mission", URIRef(MISSION_BASE))
     for prefix, namespace in iris.namespaces().items():
         graph.bind(prefix, namespace)
-    _meaning(graph, orders, iris)
+    _meaning(graph, orders, iris)  # type: ignore[arg-type]
     if record:
-        _record(graph, orders, iris)
-    return graph
+        _record(graph, orders, iris)  # type: ignore[arg-type]
 
 
 def _meaning(graph: Graph, orders: Orders, iris: MissionIris) -> None:
@@ -350,8 +355,14 @@ _RESERVED: Final = frozenset({"extra", "key", "value", "entry", "implicit", "nul
 def _list(graph: Graph, nodes: list[Node]) -> Node:
     if not nodes:
         return RDF.nil
-    head = BNode()
-    Collection(graph, head, nodes)
+    # The rdf:first/rdf:rest cells written directly (rdflib's Collection reads the graph back
+    # at every append, which made long lists quadratic).
+    head = cell = BNode()
+    for index, item in enumerate(nodes):
+        graph.add((cell, RDF.first, item))
+        following: Node = BNode() if index + 1 < len(nodes) else RDF.nil
+        graph.add((cell, RDF.rest, following))
+        cell = following  # type: ignore[assignment]
     return head
 
 
@@ -392,7 +403,9 @@ def write_turtle(orders: Orders) -> str:
         "individuals.\n# Vocabulary: meo: ontology/meo.ttl; cs: the orders record "
         "(read back losslessly by Countersign).\n"
     )
-    return header + orders_to_graph(orders).serialize(format="turtle")
+    triples = TripleSet()
+    _fill(triples, orders, record=True)
+    return header + serialize_turtle(triples)
 
 
 def nps_graph(orders: Orders) -> Graph:
@@ -446,7 +459,7 @@ def write_nps_turtle(orders: Orders) -> str:
         "# (a view written by Countersign: titles and successors only, not read back "
         "losslessly).\n"
     )
-    return header + nps_graph(orders).serialize(format="turtle")
+    return header + serialize_turtle(nps_graph(orders))
 
 
 def _nps_names() -> dict[Node, list[Node]]:
@@ -529,6 +542,10 @@ def _align(graph: Graph) -> bool:
 _NATURAL: Final = re.compile(r"(\d+)")
 MAX_DEPTH: Final = 64
 MAX_LIST_ITEMS: Final = 200_000
+# A document whose values share no list decodes about one value per statement; a few times
+# that (a node read twice, small documents) is allowed, more means expanding shared structure.
+DECODE_FACTOR: Final = 4
+DECODE_SLACK: Final = 10_000
 
 
 def natural_key(text: str) -> tuple[Any, ...]:
@@ -542,11 +559,23 @@ class _Reader:
     name: str
     findings: list[Finding] = field(default_factory=list)
     _goal_ids: set[str] | None = None
+    # Values decoded so far. A list or map shared by several uses is decoded at each of them,
+    # so nested sharing expands exponentially: the budget keeps the work linear in the input.
+    decodes: int = 0
+    _decode_budget: int | None = None
 
     # -- the record
 
     def decode(self, node: Node, depth: int = 0) -> Any:
         graph = self.graph
+        self.decodes += 1
+        if self._decode_budget is None:
+            self._decode_budget = DECODE_FACTOR * len(graph) + DECODE_SLACK
+        if self.decodes > self._decode_budget:
+            raise OrdersReadError(
+                [Problem("$", f"{self.name} shares RDF lists or maps so that its values expand "
+                         "to far more than its statements")]
+            )
         if depth > MAX_DEPTH:
             raise OrdersReadError(
                 [Problem("$", f"{self.name} nests values more than {MAX_DEPTH} levels deep")]

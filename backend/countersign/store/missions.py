@@ -15,6 +15,7 @@ from .. import __version__
 from ..orders.canonical import digest, orders_to_json
 from ..orders.model import Orders
 from ..rehearse.checks import validate_with_rules
+from ..verify.reuse import SHARED_REPORT_REUSE
 from .db import database_of, writable
 from .events import record
 from .tables import Mission, MissionVersion, User, ValidationReport, utcnow
@@ -203,8 +204,13 @@ def _validated(db: DbSession, key: str, orders: Orders) -> dict[str, Any]:
         done = _RECENT.get(key)
         if done is None:
             validator = database_of(db).validator
-            done = (validator(orders) if validator is not None
-                    else validate_with_rules(orders).to_json())
+
+            def full(orders: Orders) -> dict[str, Any]:
+                return (validator(orders) if validator is not None
+                        else validate_with_rules(orders).to_json())
+
+            # An edit of descriptions only is answered from the last report of the same facts.
+            done = SHARED_REPORT_REUSE.report(orders, key, full)
             _RECENT[key] = done
             while len(_RECENT) > 256:
                 _RECENT.pop(next(iter(_RECENT)))

@@ -68,6 +68,9 @@ VERSION = "countersign.logic/1"
 DEFAULT_TIMEOUT_MS = 2_000
 DEFAULT_TOTAL_S = 60.0
 MAX_CORES_PER_UNIT = 3
+# Vacuity of many constraints settled from shared models (False: one check per constraint, the
+# reference the batched path is tested against).
+BATCH_VACUITY = True
 # Longer expressions are cut short in explanations (the finding's details keep the ids).
 MAX_WORDS = 240
 
@@ -717,6 +720,7 @@ class Session:
         self._based: set[str] = set()
         self._items: dict[str, Item] = {}
         self.in_scope = False
+        self._batches = 0
         self.calls = 0
         self.undecided = False
 
@@ -806,6 +810,66 @@ class Session:
         if reason in {"canceled", "timeout"}:
             reason = f"timeout after {timeout:,} ms"
         return CheckResult("unknown", reason=reason)
+
+    def satisfiable_groups(self, groups: Sequence[Sequence[Item]]) -> list[bool]:
+        """Which groups of items are shown satisfiable (each on its own), with few checks:
+        ask for a model of "some group holds", mark every group that model satisfies, and
+        ask again for the rest. False means not shown (unsatisfiable or undecided): the caller
+        checks those one by one, so results are those of one check per group."""
+        shown = [False] * len(groups)
+        if not groups or self.limits.remaining_ms() <= 0:
+            return shown
+        assert not self.in_scope
+        z3 = self.z3
+        formulas = []
+        for group in groups:
+            parts = [item.formula(self.translator) for item in group]
+            formulas.append(parts[0] if len(parts) == 1 else f"(and {' '.join(parts)})")
+        base = self._batches
+        self._batches += len(groups)
+        names = [f"|v:{base + i}|" for i in range(len(groups))]
+        # Declarations at the base level (they assert nothing), definitions inside the scope.
+        symbols = self.translator.symbols
+        chunks = [f"(declare-const {s} {sort})"
+                  for s, sort in list(symbols.items())[self._declared_symbols:]]
+        self._declared_symbols = len(symbols)
+        chunks.extend(f"(declare-const {name} Bool)" for name in names)
+        self.solver.from_string("".join(chunks))
+        literals = [z3.Bool(name.strip("|"), self.ctx) for name in names]
+        self.solver.push()
+        try:
+            self.solver.from_string("".join(
+                f"(assert (= {name} {formula}))"
+                for name, formula in zip(names, formulas, strict=True)
+            ))
+            pending = list(range(len(groups)))
+            while pending:
+                remaining = self.limits.remaining_ms()
+                if remaining <= 0:
+                    break
+                timeout = max(1, min(self.limits.per_call_ms, remaining))
+                if timeout != self._timeout:
+                    self.solver.set("timeout", timeout)
+                    self._timeout = timeout
+                self.calls += 1
+                self.solver.push()
+                try:
+                    self.solver.add(z3.Or([literals[i] for i in pending]))
+                    if self.solver.check() != z3.sat:
+                        break
+                    model = self.solver.model()
+                    found = [i for i in pending
+                             if z3.is_true(model.eval(literals[i], model_completion=True))]
+                finally:
+                    self.solver.pop()
+                if not found:  # pragma: no cover - a model of the disjunction satisfies one
+                    break
+                for i in found:
+                    shown[i] = True
+                pending = [i for i in pending if not shown[i]]
+        finally:
+            self.solver.pop()
+        return shown
 
     def witness(self, quantities: Iterable[str], suffix: str = "") -> dict[str, str]:
         """Values of some quantities in the model of the last satisfiable check."""
@@ -1119,6 +1183,25 @@ class LogicRun:
 
     # Vacuous constraints -------------------------------------------------------------------
 
+    def vacuous_batch(self, constraints: Iterable[ParsedConstraint]) -> None:
+        """Settle the constraints whose negation can hold with few solver checks (one model
+        serves many), caching the same result one check each would give; the others (the
+        vacuous and the undecided) are left for `vacuous`."""
+        model = self.model
+        pending: list[tuple[str, list[Item]]] = []
+        for c in constraints:
+            items = [model.constraint_item(c, negate=True), *model.background(c.reads.quantities)]
+            key = unit_key("vacuous", items)
+            if self.cache.get(key) is None:
+                pending.append((key, items))
+        if len(pending) < 2:
+            return
+        shown = self.session.satisfiable_groups([items for _, items in pending])
+        for (key, _), sat in zip(pending, shown, strict=True):
+            if sat:
+                self.solved_units += 1
+                self.cache.put(key, VacuousResult(None, None))
+
     def vacuous(self, c: ParsedConstraint) -> VacuousResult:
         model = self.model
         negation = model.constraint_item(c, negate=True)
@@ -1375,6 +1458,8 @@ def _risk(model: LogicModel, goal: Goal, risk: Risk) -> Finding:
 def _vacuous_findings(
     model: LogicModel, run: LogicRun, mission: MissionResult
 ) -> Iterator[Finding]:
+    if BATCH_VACUITY:
+        run.vacuous_batch(c for c in model.constraints if c.key not in mission.quarantined)
     for c in model.constraints:
         if c.key in mission.quarantined:
             continue

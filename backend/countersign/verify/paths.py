@@ -182,23 +182,19 @@ def iter_path_lines(
     encoded += [json.dumps(t.id) for t in graph.terminals]
     words = ['"succeed"', '"fail"', '"violate"']
     stop = counts.total if limit is None else min(counts.total, offset + limit)
-    # JSON of goals[:i+1] and outcomes[:i+1], rebuilt only from the first position that changed.
+    # One encoded piece per position, kept in step with the walk and joined per line: memory
+    # stays linear in the path's length (a JSON prefix per depth would be quadratic).
     goal_json: list[str] = []
     outcome_json: list[str] = []
     index = offset
     for goals, outcomes, terminal, changed in _walk(graph, counts, offset):
         del goal_json[changed:], outcome_json[changed:]
-        for i in range(changed, len(goals)):
-            if i:
-                goal_json.append(f"{goal_json[i - 1]},{encoded[goals[i]]}")
-                outcome_json.append(f"{outcome_json[i - 1]},{words[outcomes[i]]}")
-            else:
-                goal_json.append(encoded[goals[0]])
-                outcome_json.append(words[outcomes[0]])
+        goal_json.extend(encoded[g] for g in goals[changed:])
+        outcome_json.extend(words[k] for k in outcomes[changed:])
         index += 1
         yield (
-            f'{{"index":{index},"goals":[{goal_json[-1]}],'
-            f'"outcomes":[{outcome_json[-1]}],"terminal":{encoded[terminal]}}}'
+            f'{{"index":{index},"goals":[{",".join(goal_json)}],'
+            f'"outcomes":[{",".join(outcome_json)}],"terminal":{encoded[terminal]}}}'
         )
         if index >= stop:
             return
@@ -206,7 +202,7 @@ def iter_path_lines(
 
 def trace_text(orders_graph: MissionGraph, path: MissionPath) -> str:
     """The path as an ethical mission execution trace, exactly as seed 000 Figure 6 prints it."""
-    labels = {g.id: g.label for g in orders_graph.goals}
+    labels = _labels(orders_graph)
     lines = [f"Ethical Mission Execution Trace #{path.index}:", "?- execute_mission."]
     for goal_id, outcome in zip(path.goals, path.outcomes, strict=True):
         lines.append(commence_line(labels[goal_id]))
@@ -214,6 +210,16 @@ def trace_text(orders_graph: MissionGraph, path: MissionPath) -> str:
     terminal = next(t for t in orders_graph.terminals if t.id == path.terminal)
     lines.append(END_LINE[terminal.kind])
     return "\n".join(lines)
+
+
+def _labels(orders_graph: MissionGraph) -> dict[str, str]:
+    # Cached on the graph so a page of traces costs its paths' length, not the mission's size
+    # again for every path.
+    cached: dict[str, str] | None = getattr(orders_graph, "_trace_labels", None)
+    if cached is None:
+        cached = {g.id: g.label for g in orders_graph.goals}
+        object.__setattr__(orders_graph, "_trace_labels", cached)
+    return cached
 
 
 QUESTION = "Did goal Succeed (s), Fail (f), or end with a Constraint (c)?"

@@ -1,0 +1,66 @@
+"""Reports reused across edits that change no checked fact (issue 22).
+
+No check reads a description (the mission's or a goal's): the findings, path counts and costs
+of orders that differ only there are the same. A report is therefore filed under the digest of
+its orders with every description blanked, and an edit whose blanked digest was seen is
+answered from that report with only its digest replaced. Titles are not in this list: logic
+findings quote goal labels. Tests check the reused report equals a full validation.
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import threading
+from collections import OrderedDict
+from collections.abc import Callable
+from typing import Any
+
+import rfc8785
+
+from ..orders.canonical import orders_to_json
+from ..orders.model import Orders
+
+
+def checked_digest(orders: Orders) -> str:
+    """The digest of what the checks read: the orders without descriptions (written or not)."""
+    data = orders_to_json(orders)
+    data.pop("description", None)
+    for goal in data.get("goals", []):
+        goal.pop("description", None)
+    return "sha256:" + hashlib.sha256(bytes(rfc8785.dumps(data))).hexdigest()
+
+
+class ReportReuse:
+    """The last reports by checked digest, bounded and safe to share between threads."""
+
+    def __init__(self, max_entries: int = 256) -> None:
+        self._reports: OrderedDict[str, dict[str, Any]] = OrderedDict()
+        self._max = max_entries
+        self._lock = threading.Lock()
+
+    def report(self, orders: Orders, orders_digest: str,
+               validate: Callable[[Orders], dict[str, Any]]) -> dict[str, Any]:
+        """The report of these orders: reused when only descriptions changed, else validated."""
+        key = checked_digest(orders)
+        with self._lock:
+            found = self._reports.get(key)
+            if found is not None:
+                self._reports.move_to_end(key)
+        if found is not None:
+            reused = copy.deepcopy(found)
+            reused["digest"] = orders_digest
+            return reused
+        done = validate(orders)
+        with self._lock:
+            self._reports[key] = copy.deepcopy(done)
+            while len(self._reports) > self._max:
+                self._reports.popitem(last=False)
+        return done
+
+    def clear(self) -> None:
+        with self._lock:
+            self._reports.clear()
+
+
+SHARED_REPORT_REUSE = ReportReuse()

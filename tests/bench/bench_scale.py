@@ -1,0 +1,203 @@
+"""Benchmarks of issue 22: costs that grow with the mission.
+
+Run: .venv/bin/python -m tests.bench.bench_scale [--quick]
+
+Each figure is printed beside a naive baseline measured in this same process: the first path
+of a 10,000-goal DAG and of a 100,000-goal chain (peak traced memory and time, against the
+per-depth JSON prefix the old writer kept and a recursive DFS); Turtle export and import at
+1,000 and 10,000 goals (against rdflib's own Turtle serializer); vacuity at 200 goals/50
+constraints and 10,000 goals/1,000 constraints (batched against one check per constraint);
+and a description edit of a 1,000-goal mission through the API (against a full validation).
+"""
+
+from __future__ import annotations
+
+import argparse
+import gc
+import json
+import sys
+import tempfile
+import time
+import tracemalloc
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from countersign.orders.model import Orders
+from countersign.orders.turtle import orders_to_graph, read_turtle, write_turtle
+from countersign.verify import logic
+from countersign.verify.logic import LogicCache, check_logic
+from countersign.verify.paths import iter_path_lines, paths_of
+
+from .baseline import naive_paths
+from .bench_logic import logic_orders
+from .generated import random_dag
+
+
+def measure(action: Callable[[], object]) -> tuple[float, float]:
+    """(seconds, peak MiB traced) of one run."""
+    gc.collect()
+    tracemalloc.start()
+    start = time.perf_counter()
+    action()
+    seconds = time.perf_counter() - start
+    peak = tracemalloc.get_traced_memory()[1] / 2**20
+    tracemalloc.stop()
+    return seconds, peak
+
+
+def prefix_lines(orders: Orders) -> str:
+    """The old writer: a JSON prefix string per depth (quadratic memory)."""
+    graph, counts = paths_of(orders)
+    assert counts is not None
+    goals: list[str] = []
+    node = graph.start
+    assert node is not None
+    prefixes: list[str] = []
+    while node < graph.goal_count:
+        encoded = json.dumps(graph.goal_ids[node])
+        prefixes.append(f"{prefixes[-1]},{encoded}" if prefixes else encoded)
+        goals.append(graph.goal_ids[node])
+        node = graph.succ[node][0]
+    return prefixes[-1]
+
+
+def first_line(orders: Orders) -> str:
+    graph, counts = paths_of(orders)
+    assert counts is not None
+    return next(iter(iter_path_lines(graph, counts, 0, 1)))
+
+
+def naive_first(orders: Orders) -> str:
+    sys.setrecursionlimit(max(sys.getrecursionlimit(), 4 * len(orders.goals) + 1000))
+    return json.dumps(next(iter(naive_paths(orders))))
+
+
+def chain(n: int) -> Orders:
+    items = [{"id": f"G{i}", "next": {"succeed": f"G{i + 1}" if i + 1 < n else "COMPLETE",
+                                      "fail": "ABORT", "violate": "ABORT"}} for i in range(n)]
+    return Orders.model_validate({"id": f"chain-{n}", "start": "G0", "goals": items})
+
+
+def row(label: str, ours: tuple[float, float], naive: tuple[float, float] | None,
+        naive_label: str) -> None:
+    text = f"  {label:<44} {ours[0]:8.3f} s {ours[1]:9.1f} MiB"
+    if naive is not None:
+        text += (f"   | {naive_label}: {naive[0]:8.3f} s {naive[1]:9.1f} MiB"
+                 f"  ({naive[0] / max(ours[0], 1e-9):.1f}x time)")
+    print(text, flush=True)
+
+
+def bench_paths(quick: bool) -> None:
+    print("## First path line (NDJSON): ours vs per-depth prefixes and a recursive DFS")
+    cases = [("10,000-goal DAG", random_dag(2_000 if quick else 10_000)),
+             ("50,000-goal chain (the most orders hold)", chain(10_000 if quick else 50_000))]
+    for label, orders in cases:
+        ours = measure(lambda o=orders: first_line(o))  # type: ignore[misc]
+        row(label, ours, measure(lambda o=orders: prefix_lines(o)),  # type: ignore[misc]
+            "prefixes")
+        try:
+            row("  (naive DFS)", measure(lambda o=orders: naive_first(o)), None, "")  # type: ignore[misc]
+        except RecursionError:
+            print("  (naive DFS)  recursion limit: the chain is too deep for it")
+
+
+def bench_turtle(quick: bool) -> None:
+    print("## Turtle export and import: ours vs rdflib's Turtle serializer")
+    for goals in ((200, 1_000) if quick else (1_000, 10_000)):
+        orders = logic_orders(goals=goals, constraints=50, norms=10)
+        text = write_turtle(orders)
+        row(f"export {goals:,} goals", measure(lambda o=orders: write_turtle(o)),  # type: ignore[misc]
+            measure(lambda o=orders: orders_to_graph(o).serialize(format="turtle")),  # type: ignore[misc]
+            "rdflib")
+        row(f"  of which the graph ({goals:,} goals)",
+            measure(lambda o=orders: orders_to_graph(o)), None, "")  # type: ignore[misc]
+        row(f"import {goals:,} goals", measure(lambda t=text: read_turtle(t.encode())),  # type: ignore[misc]
+            None, "")
+
+
+def vacuity(orders: Orders, batched: bool) -> int:
+    logic.BATCH_VACUITY = batched
+    try:
+        # A generous total budget: a run cut short by it reports different undecided warnings.
+        return len(check_logic(orders, LogicCache(), total_timeout_s=900))
+    finally:
+        logic.BATCH_VACUITY = True
+
+
+def bench_logic(quick: bool) -> None:
+    print("## check_logic, cold: batched vacuity vs one check per constraint")
+    cases = [(200, 50), (2_000, 200) if quick else (10_000, 1_000)]
+    for goals, constraints in cases:
+        orders = logic_orders(goals=goals, constraints=constraints, norms=20)
+        assert vacuity(orders, True) == vacuity(orders, False)
+        # Timed without tracemalloc (it slows the Python side of z3 calls unevenly), best of 2.
+        ours = min(timed(lambda o=orders: vacuity(o, True)) for _ in range(2))  # type: ignore[misc]
+        naive = min(timed(lambda o=orders: vacuity(o, False)) for _ in range(2))  # type: ignore[misc]
+        row(f"{goals:,} goals / {constraints:,} constraints", (ours, 0.0), (naive, 0.0),
+            "one check each")
+
+
+def timed(action: Callable[[], object]) -> float:
+    gc.collect()
+    start = time.perf_counter()
+    action()
+    return time.perf_counter() - start
+
+
+def bench_edit(quick: bool) -> None:
+    from fastapi.testclient import TestClient
+
+    from countersign.store.accounts import create_token, create_user
+    from countersign.store.db import Database
+    from countersign.web.app import create_app
+    from countersign.web.settings import Settings
+
+    print("## Description edit of a 1,000-goal mission through the API: reused vs validated")
+    goals = 300 if quick else 1_000
+    with tempfile.TemporaryDirectory() as folder:
+        url = f"sqlite:///{Path(folder) / 'bench.db'}"
+        database = Database(url)
+        app = create_app(Settings(data_dir=Path(folder), database_url=url), database)
+        with database.session() as db:
+            user = create_user(db, username="bench", role="operator",
+                               password="a long bench password 1")
+            token = create_token(db, user=user, name="bench")[1]
+        client = TestClient(app)
+        client.headers["Authorization"] = f"Bearer {token}"
+        orders: dict[str, Any] = logic_orders(goals=goals, constraints=50, norms=10).model_dump(
+            mode="json", exclude_unset=True)
+        orders["id"] = "bench"
+        assert client.post("/api/missions", json=orders).status_code in (200, 201)
+
+        def edit(field: str, value: str) -> None:
+            etag = client.get("/api/missions/bench").headers["etag"]
+            target = orders["goals"][0] if field == "title" else orders
+            target[field] = value
+            done = client.put("/api/missions/bench/draft", json={"orders": orders},
+                              headers={"If-Match": etag})
+            assert done.status_code == 200, done.text
+            assert client.get("/api/missions/bench/report").status_code == 200
+
+        edit("description", "warm-up")
+        edit("title", "warm-up title")  # what the checks read: validated in full
+        ours = measure(lambda: edit("description", "Edited description"))
+        full = measure(lambda: edit("title", "Goal title edited"))
+        row(f"description edit, {goals:,} goals", ours, full, "title edit (full)")
+        app.state.rehearsals.shutdown()
+        database.engine.dispose()
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--quick", action="store_true", help="smaller missions")
+    parser.add_argument("--only", choices=["paths", "turtle", "logic", "edit"])
+    args = parser.parse_args()
+    for name, bench in (("paths", bench_paths), ("turtle", bench_turtle),
+                        ("logic", bench_logic), ("edit", bench_edit)):
+        if args.only in (None, name):
+            bench(args.quick)
+
+
+if __name__ == "__main__":
+    main()
