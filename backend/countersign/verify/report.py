@@ -19,6 +19,8 @@ from .meo import MeoResult, meo_check
 from .paths import PathCounts, count_paths
 from .properties import check_properties
 from .structure import check_structure
+from .text import check_text
+from .vehicle import check_vehicle
 
 # The MEO route re-derives the structural verdicts too (tests prove both routes agree); the
 # report takes from it only the rules no other check covers.
@@ -77,6 +79,8 @@ def validate(
     findings.extend(check_budget(costs))
     meo = meo_check(orders)
     findings.extend(f for f in meo.findings if f.code in MEO_ONLY_CODES)
+    findings.extend(check_vehicle(orders))
+    findings.extend(check_text(orders))
     findings.extend(check_logic(orders, cache))
     findings.extend(check_properties(orders, graph, cache))
     return Report(orders.id, digest(orders), findings, counts, costs, meo)
