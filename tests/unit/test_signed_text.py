@@ -177,3 +177,33 @@ def test_asserted_cantest_is_honoured() -> None:
     assert "M6" not in codes(orders)
     # and it survives our own Turtle
     assert "M6" not in codes(read_turtle(write_turtle(orders).encode()).orders)
+
+
+# D. Imported reader findings stay with the orders
+
+
+@needs_nps
+def test_pirates_sink_warnings_survive_storage_as_json() -> None:
+    assert AVCL is not None
+    loaded = read_avcl((AVCL / "PiratesSeizingMerchantDefense.xml").read_bytes())
+    reader_sinks = [f for f in loaded.findings if f.code == "SINK"]
+    assert len(reader_sinks) == 19
+    # as the server stores it: the orders JSON alone, no reader findings
+    stored = read_json(json.dumps(orders_to_json(loaded.orders)).encode())
+    sinks = [f for f in validate(stored).findings if f.code == "SINK" and f.severity == "warning"]
+    assert [f.message for f in sinks] == [f.message for f in reader_sinks]
+    # given by the reader too, they are not repeated
+    both = validate(loaded.orders, loaded.findings).findings
+    assert sum(f.code == "SINK" and f.severity == "warning" for f in both) == 19
+
+
+def test_a_default_the_author_replaced_is_no_longer_reported() -> None:
+    data = exemplar()
+    goal = data["goals"][0]
+    goal["defaulted"] = {"violate": "fail"}
+    goal["next"]["violate"] = goal["next"]["fail"]
+    orders = read_json(json.dumps(data).encode())
+    assert [f.subjects for f in validate(orders).findings if f.code == "SINK"] == [("G1",)]
+    goal["next"]["violate"] = "ABORT" if goal["next"]["fail"] != "ABORT" else "COMPLETE"
+    orders = read_json(json.dumps(data).encode())
+    assert "SINK" not in codes(orders)

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..orders.canonical import digest
+from ..orders.defaults import defaulted_findings
 from ..orders.findings import Finding
 from ..orders.model import Orders
 from .budget import WorstPath, check_budget, worst_paths
@@ -73,6 +74,11 @@ def validate(
     graph = graph or build_graph(orders)
     cache = logic_cache if logic_cache is not None else SHARED_LOGIC_CACHE
     findings = list(reader_findings)
+    # Warnings an importer recorded in the orders (NPS default handlers) stay in every report;
+    # the reader returns them too, so those already given are not repeated.
+    given = {(f.code, f.subjects, f.message) for f in findings}
+    findings.extend(f for f in defaulted_findings(orders)
+                    if (f.code, f.subjects, f.message) not in given)
     findings.extend(check_structure(orders, graph))
     counts = count_paths(graph)
     costs = worst_paths(orders, graph) if counts is not None else None
