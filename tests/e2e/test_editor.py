@@ -365,8 +365,10 @@ def _chain(mission: str, size: int) -> dict[str, object]:
         following = f"G{n + 1}" if n < size else "COMPLETE"
         goals.append({"id": f"G{n}", "title": f"Leg {n}",
                       "next": {"succeed": following, "fail": "ABORT", "violate": "ABORT"}})
+    # a profile of the target vehicle, or VEHICLE (issue 16)
     return {"format": "countersign.orders/1", "id": mission, "title": f"{size} goals",
-            "start": "G1", "goals": goals}
+            "start": "G1", "goals": goals,
+            "vehicle": "auv", "vehicles": [{"id": "auv", "behaviors": ["transit"]}]}
 
 
 def print_breakdown(page: Page) -> None:
