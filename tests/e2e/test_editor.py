@@ -155,6 +155,13 @@ def test_operator_builds_checks_fixes_and_undoes(page: Page, server: Server) -> 
     page.get_by_role("button", name="Auto layout").click()
     expect(canvas).to_have_attribute("data-ready", "true")
     expect(page.get_by_test_id("save-state")).to_have_text("Saved")
+    # A profile of the target vehicle, or VEHICLE (issue 16).
+    page.get_by_role("tab", name="Vehicle").click()
+    page.get_by_role("button", name="Add vehicle profile").click()
+    behaviours = page.get_by_label("Trusted behaviours (comma-separated)")
+    behaviours.fill("transit")
+    behaviours.press("Enter")
+    expect(page.get_by_test_id("save-state")).to_have_text("Saved")
 
     # Mouse: drag outcome handles to their successors.
     drag_connect(page, "G1", "succeed", "G2")
