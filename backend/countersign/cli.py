@@ -387,7 +387,8 @@ def build_parser() -> argparse.ArgumentParser:
         help="check orders: structure, paths, budget, contradictions, norms, properties, "
         "contingency rules",
         description="Check orders and count every path. Exit 0 no errors, 1 errors, "
-        "2 unreadable input.",
+        "2 unreadable input. The command line has no vehicle registry: orders must carry the "
+        "profile of their target vehicle, or VEHICLE is reported (an error).",
     )
     validate_cmd.add_argument("file", metavar="FILE", help=FILE_HELP)
     validate_cmd.add_argument("--format", choices=["text", "json"], default="text")

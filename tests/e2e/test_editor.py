@@ -155,6 +155,13 @@ def test_operator_builds_checks_fixes_and_undoes(page: Page, server: Server) -> 
     page.get_by_role("button", name="Auto layout").click()
     expect(canvas).to_have_attribute("data-ready", "true")
     expect(page.get_by_test_id("save-state")).to_have_text("Saved")
+    # A profile of the target vehicle, or VEHICLE (issue 16).
+    page.get_by_role("tab", name="Vehicle").click()
+    page.get_by_role("button", name="Add vehicle profile").click()
+    behaviours = page.get_by_label("Trusted behaviours (comma-separated)")
+    behaviours.fill("transit")
+    behaviours.press("Enter")
+    expect(page.get_by_test_id("save-state")).to_have_text("Saved")
 
     # Mouse: drag outcome handles to their successors.
     drag_connect(page, "G1", "succeed", "G2")
@@ -365,8 +372,10 @@ def _chain(mission: str, size: int) -> dict[str, object]:
         following = f"G{n + 1}" if n < size else "COMPLETE"
         goals.append({"id": f"G{n}", "title": f"Leg {n}",
                       "next": {"succeed": following, "fail": "ABORT", "violate": "ABORT"}})
+    # a profile of the target vehicle, or VEHICLE (issue 16)
     return {"format": "countersign.orders/1", "id": mission, "title": f"{size} goals",
-            "start": "G1", "goals": goals}
+            "start": "G1", "goals": goals,
+            "vehicle": "auv", "vehicles": [{"id": "auv", "behaviors": ["transit"]}]}
 
 
 def print_breakdown(page: Page) -> None:

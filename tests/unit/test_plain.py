@@ -76,26 +76,31 @@ def test_goal_5_ends_the_mission(exemplar: str) -> None:
 def test_constraints_as_in_figure_4(exemplar: str) -> None:
     assert paragraph(exemplar, "Constraint 1:") == (
         "Constraint 1: The vehicle must maintain navigational accuracy within acceptable "
-        "limits. Applies to entire mission."
+        "limits. Checked as: navigation error at most 10 m (`nav_error_m <= 10`). "
+        "Applies to entire mission."
     )
     assert paragraph(exemplar, "Constraint 3:") == (
         "Constraint 3: All mission systems must be operational. "
+        "Checked as: mission systems operational (`mission_systems_ok`). "
         "Applies to Goal 1, Goal 2, and Goal 3."
     )
     assert paragraph(exemplar, "Constraint 4:").endswith(
         "Applies to Goal 1, Goal 2, Goal 3, and Goal 4."
     )
     assert paragraph(exemplar, "Constraint 7:") == (
-        "Constraint 7: Minimum depth of 20 meters is to be maintained. Applies to Goal 5."
+        "Constraint 7: Minimum depth of 20 meters is to be maintained. "
+        "Checked as: depth at least 20 m (`depth_m >= 20`). Applies to Goal 5."
     )
 
 
 def test_sections_and_norms(exemplar: str) -> None:
     blocks = paragraphs(exemplar)
     assert blocks.index("Goals") < blocks.index("Constraints") < blocks.index("Norms")
-    assert blocks[-1] == (
+    assert blocks.index("Norms") < blocks.index("Vehicle profile")
+    assert paragraph(exemplar, "Norm 1:") == (
         "Norm 1: In a marine protected area: forbidden: behavior == 'sample'. "
-        "No sampling inside a marine protected area."
+        "No sampling inside a marine protected area. "
+        "Checked as: behavior is 'sample' (`behavior == 'sample'`)."
     )
 
 
@@ -239,16 +244,20 @@ def test_constraint_numbering_scope_and_fallback() -> None:
     goals = [goal("G1", succeed="G2", fail="ABORT", violate="ABORT"), goal("G2", **ALL_DONE)]
     text = plain_orders(orders(goals, constraints=constraints))
     assert paragraph(text, "Constraint 1") == (
-        "Constraint 1 (nav-accuracy): Keep navigation accurate. Applies to entire mission."
+        "Constraint 1 (nav-accuracy): Keep navigation accurate. "
+        "Not checked: the orders give no condition. Applies to entire mission."
     )
     assert paragraph(text, "Constraint 2:") == (
-        "Constraint 2: depth_m >= 20. Applies to Goal 2 and Goal 1."
+        "Constraint 2: depth_m >= 20. Checked as: depth at least 20 m (`depth_m >= 20`). "
+        "Applies to Goal 2 and Goal 1."
     )
     assert paragraph(text, "Constraint 3:") == (
-        "Constraint 3: Stay clear. Applies to Goal 1 and G9 (not a goal of these orders)."
+        "Constraint 3: Stay clear. Not checked: the orders give no condition. "
+        "Applies to Goal 1 and G9 (not a goal of these orders)."
     )
     assert paragraph(text, "Constraint 4:") == (
-        "Constraint 4: (The orders give neither a text nor an expression.) Applies to no goal."
+        "Constraint 4: (The orders give neither a text nor an expression.) "
+        "Not checked: the orders give no condition. Applies to no goal."
     )
 
 
@@ -269,10 +278,13 @@ def test_norm_context_expression_and_areas() -> None:
     text = plain_orders(orders([goal("G1", **ALL_DONE)], norms=norms, areas=areas))
     assert paragraph(text, "Norm 1") == (
         "Norm 1 (no-loiter): In a shipping lane: forbidden: behavior == 'loiter'. "
+        "Checked as: behavior is 'loiter' (`behavior == 'loiter'`). "
         "Applies in Traffic lane and M."
     )
     assert paragraph(text, "Norm 2:") == (
-        "Norm 2: When depth_m < 5: obligated: behavior == 'transit'. Keep moving in shallow water."
+        "Norm 2: When depth_m < 5: obligated: behavior == 'transit'. "
+        "Keep moving in shallow water. "
+        "Checked as: behavior is 'transit' (`behavior == 'transit'`)."
     )
 
 

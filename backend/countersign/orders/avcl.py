@@ -28,7 +28,8 @@ from defusedxml import (
 from defusedxml.ElementTree import fromstring
 from pydantic import TypeAdapter, ValidationError
 
-from .findings import Finding, warning
+from .defaults import defaulted_findings
+from .findings import Finding
 from .model import MAX_ID_LENGTH, Id, Orders
 from .reader import (
     MAX_PROBLEMS_SHOWN,
@@ -58,11 +59,6 @@ _ABORT_WORDS = ("fail", "abort", "exception", "beacon", "await")
 _COMPLETE_WORDS = ("success", "complete")
 _ID_ADAPTER: TypeAdapter[str] = TypeAdapter(Id)
 _DEGREES = re.compile(r"([NSEW])?\s*(\d+(?:\.\d+)?)\s*°\s*(\d+(?:\.\d+)?)?\s*'?\s*([NSEW])?")
-_HANDLER = {"fail": "nextOnFailure", "violate": "nextOnException"}
-_OUTCOME_WORDS = {
-    "fail": "fails",
-    "violate": "ends with an imminent constraint violation",
-}
 
 
 @dataclass
@@ -103,7 +99,6 @@ def read_avcl(data: bytes, name: str = "<input>") -> ReadResult:
         raise OrdersReadError(problems[:MAX_PROBLEMS_SHOWN], total=len(problems))
 
     reached_on_success = {g.success for g in raw if g.success}
-    labels = {g.id: g.label for g in raw}
     goals: list[dict[str, Any]] = []
     terminals: list[dict[str, Any]] = []
     areas: list[dict[str, Any]] = []
@@ -114,7 +109,9 @@ def read_avcl(data: bytes, name: str = "<input>") -> ReadResult:
             terminals.append({"id": goal.id, "kind": kind, "title": goal.title})
             continue
         goals.append(_goal_data(goal, areas, problems))
-        findings.extend(_defaults(goal, goals[-1]["next"], labels))
+        defaulted = _defaulted(goal)
+        if defaulted:
+            goals[-1]["defaulted"] = defaulted
     if problems:
         raise OrdersReadError(problems[:MAX_PROBLEMS_SHOWN], total=len(problems))
 
@@ -143,7 +140,7 @@ def read_avcl(data: bytes, name: str = "<input>") -> ReadResult:
         orders = Orders.model_validate(data_out)
     except ValidationError as exc:
         raise problems_from_validation(exc) from None
-    return ReadResult(orders, findings, "avcl")
+    return ReadResult(orders, [*findings, *defaulted_findings(orders)], "avcl")
 
 
 def _parse(data: bytes) -> Element:
@@ -303,36 +300,15 @@ def _goal_data(
     return data
 
 
-def _defaults(goal: _AvclGoal, applied: dict[str, str], labels: dict[str, str]) -> list[Finding]:
-    findings: list[Finding] = []
-    given = {"fail": goal.failure, "violate": goal.exception}
-    for outcome in ("fail", "violate"):
-        target = applied.get(outcome)
-        if given[outcome] is not None or target is None:
-            continue
-        if outcome == "fail":
-            like = "a failure is handled like a success"
-        elif goal.failure is not None:
-            like = "a constraint violation is handled like a failure"
-        else:
-            like = (
-                "a constraint violation is handled like a success (the failure handler is "
-                "missing too)"
-            )
-        findings.append(
-            warning(
-                "SINK",
-                [goal.id],
-                f"Goal {goal.label} does not say what comes next when it "
-                f"{_OUTCOME_WORDS[outcome]}: the AVCL orders give no {_HANDLER[outcome]}. "
-                f"Following the NPS convention, {like}, so the mission continues with "
-                f"{labels.get(target, target)}. Confirm that this is intended, or add the "
-                "handler explicitly.",
-                outcome=outcome,
-                defaulted_to=target,
-            )
-        )
-    return findings
+def _defaulted(goal: _AvclGoal) -> dict[str, str]:
+    """Which outcomes the NPS convention filled in, and the outcome each is handled like; the
+    SINK warnings are derived from this record (orders.defaults)."""
+    record: dict[str, str] = {}
+    if goal.failure is None and goal.success is not None:
+        record["fail"] = "succeed"
+    if goal.exception is None and (goal.failure or goal.success) is not None:
+        record["violate"] = "fail" if goal.failure is not None else "succeed"
+    return record
 
 
 def _coordinate(text: str | None, positive: str) -> float | None:

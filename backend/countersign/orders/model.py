@@ -172,6 +172,9 @@ class Feature(_Strict):
     title: Text = ""
     fulfills: list[Id] = Field(default_factory=list)
     measures: list[Id] = Field(default_factory=list)
+    # Constraints the feature is asserted to test (MEO canTest, NPS canMeasure): honoured by M6
+    # when the constraint's condition did not survive (NPS Turtle carries no expressions).
+    tests: list[Id] = Field(default_factory=list)
 
 
 RuleKind = Literal["observation", "estimation", "goal", "safety", "action"]

@@ -1,5 +1,10 @@
 """Plain-language orders: the text a supervisor reads and signs (seed 000 Figures 3 and 4).
 
+Every constraint and norm shows its text and the condition that is checked, in words and in
+symbols; every terminal is named by its own title; path properties and the vehicle profile
+that was checked follow (the contingency rules are appended by `rehearse.plain`), so nothing
+the signature covers is left unread.
+
 Goals and constraints are numbered by their position in the orders; successors are named by
 those numbers. Outcomes that lead to the same place are merged into one sentence, and every
 defect (a missing outcome, an unknown target or scope) is said in words rather than hidden, so
@@ -12,7 +17,10 @@ from __future__ import annotations
 import re
 from collections.abc import Sequence
 
-from .model import OUTCOMES, Area, Constraint, Goal, Norm, Orders, Terminal
+from ..verify.vehicle import profile_of
+from .conditions import condition_words, quantities_of
+from .model import OUTCOMES, Area, Constraint, Goal, Norm, Orders, Quantity, Terminal
+from .plain_profile import plain_properties, plain_vehicle
 
 _CONDITIONS: dict[tuple[str, ...], str] = {
     ("succeed",): "if the goal succeeds",
@@ -73,7 +81,20 @@ class Names:
         terminal = self.terminals.get(target)
         if terminal is None:
             return f"go to {target}, which is neither a goal nor a terminal of these orders"
-        return "the mission is complete" if terminal.kind == "complete" else "abort the mission"
+        return terminal_action(terminal)
+
+
+_DEFAULT_TITLES = {"", "mission complete", "mission abort", "complete", "abort"}
+
+
+def terminal_action(terminal: Terminal) -> str:
+    """'abort the mission', or with the terminal's own title when it has one: two terminals
+    with different titles are different orders and must never read as one."""
+    plain = "the mission is complete" if terminal.kind == "complete" else "abort the mission"
+    title = _one_line(terminal.title).rstrip(".")
+    if title.lower() in _DEFAULT_TITLES:
+        return plain
+    return f"{plain}: {title}"
 
 
 def _outcome_action(goal: Goal, outcome: str, names: Names) -> str:
@@ -132,17 +153,24 @@ def _scope(constraint: Constraint, names: Names) -> str:
     return f"Applies to {join_english(goals)}."
 
 
-def plain_constraint(constraint: Constraint, number: int, names: Names) -> str:
+def plain_constraint(
+    constraint: Constraint, number: int, names: Names,
+    quantities: dict[str, Quantity] | None = None,
+) -> str:
     text = _sentence(constraint.text) or _sentence(constraint.expr or "")
     text = text or "(The orders give neither a text nor an expression.)"
-    return f"{_numbered('Constraint', number, constraint.id)}: {text} {_scope(constraint, names)}"
+    checked = condition_words(constraint.expr, quantities or {})
+    heading = _numbered("Constraint", number, constraint.id)
+    return f"{heading}: {text} {checked} {_scope(constraint, names)}"
 
 
 def _article(words: str) -> str:
     return ("an " if words[:1].lower() in "aeiou" else "a ") + words
 
 
-def plain_norm(norm: Norm, number: int, orders: Orders) -> str:
+def plain_norm(
+    norm: Norm, number: int, orders: Orders, quantities: dict[str, Quantity] | None = None
+) -> str:
     context = _one_line(norm.context)
     if _TAG.fullmatch(context):
         where = f"In {_article(context.replace('_', ' '))}"
@@ -161,6 +189,7 @@ def plain_norm(norm: Norm, number: int, orders: Orders) -> str:
     parts = [f"{_numbered('Norm', number, norm.id)}: {where}: {modality}: {_sentence(rule)}"]
     if norm.text:
         parts.append(_sentence(norm.text))
+    parts.append(condition_words(rule, quantities if quantities is not None else {}))
     if areas:
         parts.append(f"Applies in {join_english(areas)}.")
     return " ".join(parts)
@@ -192,6 +221,7 @@ def _header(orders: Orders, names: Names) -> list[str]:
 def plain_orders(orders: Orders) -> str:
     """The whole plain-language document: header, goals, constraints and norms."""
     names = Names(orders)
+    quantities = quantities_of(orders)
     blocks = ["\n".join(_header(orders, names))]
     if orders.description:
         blocks.append(_sentence(orders.description))
@@ -205,12 +235,15 @@ def plain_orders(orders: Orders) -> str:
     if orders.constraints:
         blocks.append("Constraints")
         blocks.extend(
-            plain_constraint(constraint, number, names)
+            plain_constraint(constraint, number, names, quantities)
             for number, constraint in enumerate(orders.constraints, start=1)
         )
     if orders.norms:
         blocks.append("Norms")
         blocks.extend(
-            plain_norm(norm, number, orders) for number, norm in enumerate(orders.norms, start=1)
+            plain_norm(norm, number, orders, quantities)
+            for number, norm in enumerate(orders.norms, start=1)
         )
+    blocks.extend(plain_properties(orders, quantities))
+    blocks.extend(plain_vehicle(profile_of(orders), quantities))
     return "\n\n".join(blocks) + "\n"

@@ -269,6 +269,8 @@ def _meaning(graph: Graph, orders: Orders, iris: MissionIris) -> None:
             for constraint in constraints:
                 if constraint.expr is not None and reads[constraint.id] <= measured:
                     add((f, MEO.canTest, iris.element("constraint", constraint.id)))
+            for constraint_id in feature.tests:  # asserted (canTest / NPS canMeasure)
+                add((f, MEO.canTest, iris.element("constraint", constraint_id)))
 
 
 _T = TypeVar("_T")
@@ -925,6 +927,12 @@ class _Reader:
             listed = written if isinstance(written, list) else []
             if set(listed) != set(meaning) or (meaning and written is None):
                 data[key] = _ordered_union(listed, meaning)
+        # An asserted canTest is kept when no record says otherwise (our own records derive it
+        # from the measures, so copying it there would change the orders on a round trip).
+        tested = sorted((self.element_id(o) for o in graph.objects(node, MEO.canTest)),
+                        key=natural_key)
+        if tested and not self.has_record(node):
+            data["tests"] = tested
         return data
 
     def performer(self, mission: Node, data: dict[str, Any]) -> None:

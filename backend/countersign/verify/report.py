@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..orders.canonical import digest
+from ..orders.defaults import defaulted_findings
 from ..orders.findings import Finding
 from ..orders.model import Orders
 from .budget import WorstPath, check_budget, worst_paths
@@ -20,6 +21,8 @@ from .meo import MeoResult, meo_check
 from .paths import PathCounts, count_paths
 from .properties import check_properties
 from .structure import check_structure
+from .text import check_text
+from .vehicle import check_vehicle
 
 # The MEO route re-derives the structural verdicts too (tests prove both routes agree); the
 # report takes from it only the rules no other check covers.
@@ -80,12 +83,19 @@ def validate(
     graph = graph or build_graph(orders)
     cache = logic_cache if logic_cache is not None else SHARED_LOGIC_CACHE
     findings = list(reader_findings)
+    # Warnings an importer recorded in the orders (NPS default handlers) stay in every report;
+    # the reader returns them too, so those already given are not repeated.
+    given = {(f.code, f.subjects, f.message) for f in findings}
+    findings.extend(f for f in defaulted_findings(orders)
+                    if (f.code, f.subjects, f.message) not in given)
     findings.extend(check_structure(orders, graph))
     counts = count_paths(graph)
     costs = worst_paths(orders, graph) if counts is not None else None
     findings.extend(check_budget(costs))
     meo = meo_check(orders)
     findings.extend(f for f in meo.findings if f.code in MEO_ONLY_CODES)
+    findings.extend(check_vehicle(orders))
+    findings.extend(check_text(orders))
     deadline = time.monotonic() + solver_budget_s
     findings.extend(check_logic(orders, cache, timeout_ms=SOLVER_CALL_MS,
                                 total_timeout_s=solver_budget_s))

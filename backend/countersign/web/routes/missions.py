@@ -26,6 +26,7 @@ from ...rehearse.plain import write_for_supervisor
 from ...store import missions as service
 from ...store.db import database_of
 from ...store.tables import Mission, MissionVersion, User
+from ...store.vehicles import with_registry
 from ...verify.graph import build_graph
 from ...verify.paths import count_paths, iter_path_lines, iter_paths, trace_text
 from ..deps import (
@@ -184,7 +185,7 @@ def list_missions(
              response_model=MissionDetail, **with_limit(allow(*OPERATORS), None))
 def create_mission(body: dict[str, Any], response: Response, principal: CurrentPrincipal,
                    db: Db) -> MissionDetail:
-    orders = _orders(body)
+    orders = with_registry(db, _orders(body))
     validated = _validate_first(db, orders)
     mission = service.create_mission(db, orders=orders, author=principal.user,
                                      orders_digest=validated.digest)
@@ -213,8 +214,9 @@ async def import_mission(request: Request, response: Response, principal: Curren
 def _import(db: DbSession, data: bytes, response: Response,
             principal: CurrentPrincipal) -> MissionDetail:
     loaded = read_bytes(data, "the uploaded file")
-    validated = _validate_first(db, loaded.orders)
-    mission = service.create_mission(db, orders=loaded.orders, author=principal.user,
+    orders = with_registry(db, loaded.orders)
+    validated = _validate_first(db, orders)
+    mission = service.create_mission(db, orders=orders, author=principal.user,
                                      orders_digest=validated.digest)
     validated.keep(db)
     return _detail(db, mission, response, [f.to_json() for f in loaded.findings])
@@ -284,7 +286,7 @@ def _revision(if_match: str | None) -> int:
 def update_draft(mission_id: str, body: DraftIn, response: Response,
                  principal: CurrentPrincipal, db: Db,
                  if_match: Annotated[str | None, Header()] = None) -> MissionDetail:
-    orders, expected = _orders(body.orders), _revision(if_match)
+    orders, expected = with_registry(db, _orders(body.orders)), _revision(if_match)
     validated = _validate_first(db, orders, mission_id, expected)
     mission = service.update_draft(
         db, mission_id=mission_id, orders=orders, layout=body.layout,
@@ -359,7 +361,7 @@ def _validate_body(db: DbSession, data: bytes) -> Response:
         if stored is not None:
             return JSONResponse(stored)
     # The importer's JSON reader: duplicate keys, bad UTF-8 and bad JSON are 422 problems.
-    report = service.report_for(db, read_json(data)).report
+    report = service.report_for(db, with_registry(db, read_json(data))).report
     with _BODY_DIGESTS_LOCK:
         _BODY_DIGESTS[key] = report["digest"]
         while len(_BODY_DIGESTS) > BODY_DIGESTS_KEPT:

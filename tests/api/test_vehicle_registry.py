@@ -1,0 +1,45 @@
+"""Issue 16: orders naming a vehicle without its profile get the registry's, copied into the
+draft (and so into every version and approval digest); without one, VEHICLE."""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+from countersign.orders.examples import example_bytes
+
+from .conftest import World
+
+
+def orders_without_profile(mission_id: str) -> tuple[dict[str, Any], dict[str, Any]]:
+    data: dict[str, Any] = json.loads(example_bytes("search-and-sample"))
+    profile = data.pop("vehicles")[0]
+    data["id"] = mission_id
+    return data, profile
+
+
+def codes(report: dict[str, Any]) -> list[str]:
+    return [f["code"] for f in report["findings"]]
+
+
+def test_no_profile_anywhere_is_vehicle(world: World) -> None:
+    data, _ = orders_without_profile("no-profile")
+    response = world.client("operator").post("/api/validate", json=data)
+    assert response.status_code == 200, response.text
+    assert "VEHICLE" in codes(response.json()) and not response.json()["ok"]
+
+
+def test_registry_profile_is_copied_into_the_draft(world: World) -> None:
+    data, profile = orders_without_profile("from-registry")
+    admin = world.client("admin")
+    assert admin.put(f"/api/vehicles/{profile['id']}", json=profile).status_code == 200
+    operator = world.client("operator")
+    response = operator.post("/api/validate", json=data)
+    assert "VEHICLE" not in codes(response.json()), response.json()
+    created = operator.post("/api/missions", json=data)
+    assert created.status_code == 201, created.text
+    mission = operator.get("/api/missions/from-registry").json()
+    assert mission["orders"]["vehicles"][0]["id"] == profile["id"]
+    assert mission["orders"]["vehicles"][0]["behaviors"] == profile["behaviors"]
+    report = operator.get("/api/missions/from-registry/report").json()
+    assert "VEHICLE" not in codes(report)
