@@ -11,7 +11,6 @@ import { ED25519, importPublicKey, keyId, parseEnvelope, PAYLOAD_TYPE, verifyEnv
 import { leafHash, rootOf, verifyInclusion } from "./merkle";
 
 export const GENESIS = "0".repeat(64);
-export const LOG_ORIGIN = "countersign-log/1";
 
 export interface Checkpoint {
   size: number;
@@ -65,8 +64,14 @@ interface LogEvent {
   detail?: Record<string, unknown>;
 }
 
-export function checkpointNote(size: number, root: Uint8Array): string {
-  return `${LOG_ORIGIN}\n${size}\n${toBase64(root)}\n`;
+/** A C2SP tlog-checkpoint body: the log's origin line, its size and base64 root. */
+export function checkpointNote(origin: string, size: number, root: Uint8Array): string {
+  return `${origin}\n${size}\n${toBase64(root)}\n`;
+}
+
+/** The origin line of a checkpoint body (unique to the log). */
+export function checkpointOrigin(note: string): string {
+  return note.split("\n", 1)[0] ?? "";
 }
 
 /** The checkpoint's Ed25519 signature over its note, which must state its size and root. */
@@ -77,7 +82,8 @@ export async function verifyCheckpoint(checkpoint: Checkpoint): Promise<string |
   } catch (e) {
     return (e as Error).message;
   }
-  if (checkpoint.note !== checkpointNote(checkpoint.size, root)) {
+  const origin = checkpointOrigin(checkpoint.note);
+  if (!origin || checkpoint.note !== checkpointNote(origin, checkpoint.size, root)) {
     return `the checkpoint note does not state size ${checkpoint.size} and its root`;
   }
   try {
