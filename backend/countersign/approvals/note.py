@@ -37,7 +37,7 @@ def verifier_key(name: str, public: bytes, kind: int = ED25519) -> str:
 def parse_verifier_key(text: str) -> tuple[str, int, bytes]:
     """(name, type, raw public key) of a `name+hash+key` verifier key."""
     try:
-        name, hash_hex, key_b64 = text.strip().rsplit("+", 2)
+        name, hash_hex, key_b64 = text.strip().split("+", 2)  # names hold no "+"
         blob = base64.b64decode(key_b64, validate=True)
     except ValueError:
         raise SignatureError("a verifier key is name+hash+base64 key") from None
