@@ -600,9 +600,12 @@ def log_index_of(db: DbSession, event_id: int) -> int | None:
 
 
 def entries(db: DbSession, *, start: int, limit: int) -> list[dict[str, Any]]:
-    rows = db.scalars(select(LogEntry).where(LogEntry.index >= start)
-                      .order_by(LogEntry.index).limit(limit))
-    return [{"index": r.index, "leaf_hash": r.leaf_hash, "entry": r.entry} for r in rows]
+    rows = list(db.scalars(select(LogEntry).where(LogEntry.index >= start)
+                           .order_by(LogEntry.index).limit(limit)))
+    receipts = dict(db.execute(select(LogReceipt.index, LogReceipt.receipt).where(
+        LogReceipt.index.in_([r.index for r in rows]))).all()) if rows else {}
+    return [{"index": r.index, "leaf_hash": r.leaf_hash, "entry": r.entry,
+             "receipt": receipts.get(r.index)} for r in rows]
 
 
 def _receipts(db: DbSession, size: int) -> list[str | None]:
