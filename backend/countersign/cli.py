@@ -243,6 +243,14 @@ def _database(args: argparse.Namespace) -> tuple[Settings, Database]:
         database.migrate()
     except DatabaseTooNew as exc:
         raise UsageError(str(exc)) from None
+    # What the CLI appends to the log (users, demo missions) is receipted by the log signer.
+    from .approvals.signer import SignerError
+    from .web.log_signer import open_log_signer
+
+    try:
+        database.log_signer = open_log_signer(settings)
+    except SignerError as exc:
+        raise UsageError(str(exc)) from None
     return settings, database
 
 
@@ -524,6 +532,9 @@ def build_parser() -> argparse.ArgumentParser:
     add_rules_commands(commands)
     add_rehearse_commands(commands)
     add_approval_commands(commands)
+    from .cli_witness import add_commands as add_witness_commands
+
+    add_witness_commands(commands)
     return parser
 
 

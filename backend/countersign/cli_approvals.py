@@ -8,8 +8,10 @@
   COUNTERSIGN_TOKEN or --token-file; the private key never leaves this machine. The signer's
   password is asked for (or read from --password-file) and sent with the envelope: the server
   refuses a decision without it (issue 14: a key alone is not the supervisor).
-- `audit verify BUNDLE [--log-key B64] [--checkpoint FILE]...` checks an exported bundle offline:
-  exit 0 when everything verifies, 1 with a report of what failed, 2 when unreadable.
+- `audit verify BUNDLE [--log-key B64] [--checkpoint FILE]... [--state FILE]` checks an
+  exported bundle offline: exit 0 when everything verifies, 1 with a report of what failed, 2
+  when unreadable. Every log entry must carry the log signer's receipt; with --state the log
+  must extend the head verified last time.
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ from pathlib import Path
 from typing import Any
 
 from .approvals import dsse
+from .approvals.auditor_state import load_state, save_state
 from .approvals.bundle import verify_bundle
 
 EXIT_OK, EXIT_FAILED, EXIT_UNREADABLE = 0, 1, 2
@@ -66,6 +69,10 @@ def add_commands(commands: argparse._SubParsersAction) -> None:  # type: ignore[
                         help="the server's published log public key (base64) to pin")
     verify.add_argument("--checkpoint", type=Path, action="append", default=[],
                         help="a checkpoint published earlier (JSON); the log must extend it")
+    verify.add_argument("--state", type=Path, default=None, metavar="FILE",
+                        help="keep the last verified tree head of each log in FILE (created on "
+                        "first use): the bundle's log must extend it, else the rollback or "
+                        "fork is reported naming both heads; updated when the bundle verifies")
     verify.add_argument("--format", choices=["text", "json"], default="text")
     verify.set_defaults(handler=cmd_audit_verify)
 
@@ -179,7 +186,15 @@ def cmd_audit_verify(args: argparse.Namespace) -> int:
     except ValueError as exc:
         _err(f"not JSON: {exc}")
         return EXIT_UNREADABLE
-    report = verify_bundle(bundle, trusted_log_key=args.log_key, published=published)
+    try:
+        seen = load_state(args.state) if args.state is not None else {}
+    except dsse.SignatureError as exc:
+        _err(str(exc))
+        return EXIT_UNREADABLE
+    report = verify_bundle(bundle, trusted_log_key=args.log_key, published=published, seen=seen)
+    if args.state is not None and report.ok and report.head is not None:
+        seen[report.head.origin] = report.head
+        save_state(args.state, seen)
     if args.format == "json":
         sys.stdout.write(json.dumps(report.to_json(), indent=2) + "\n")
     else:

@@ -48,7 +48,10 @@ def server_process(database_url: str,
     with socket.socket() as sock:
         sock.bind(("127.0.0.1", 0))
         port = sock.getsockname()[1]
-    env = {**os.environ, "COUNTERSIGN_DATABASE_URL": database_url}
+    # One log has one signer: the server shares the log key directory of the `world` fixture's
+    # app (tmp_path/log-signer), which receipted the entries the fixture appended.
+    env = {**os.environ, "COUNTERSIGN_DATABASE_URL": database_url,
+           "COUNTERSIGN_LOG_KEY_DIR": str(data_dir.parent / "log-signer")}
     process = subprocess.Popen(
         [sys.executable, "-m", "countersign.cli", "serve", "--port", str(port), "--data-dir",
          str(data_dir)], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)

@@ -212,6 +212,7 @@ def test_log_proofs_and_checkpoints(world: World) -> None:
 def test_database_refuses_updates_and_deletes(world: World, table: str) -> None:
     supervisor = world.client("supervisor")
     approve(world, supervisor, register_key(supervisor), submit(world, new_version(world)))
+    assert supervisor.get("/api/log/checkpoint").status_code == 200  # signs one
     column = {"events": "kind", "log_entries": "entry", "approvals": "reason",
               "checkpoints": "note", "mission_versions": "digest"}[table]
     for sql in (f"UPDATE {table} SET {column} = 'x'", f"DELETE FROM {table}"):

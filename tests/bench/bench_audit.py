@@ -7,6 +7,11 @@
    (SQLite, and PostgreSQL when COUNTERSIGN_TEST_POSTGRES_URL is set), target < 10 ms, against
    a naive server that loads every leaf and recomputes the tree for each proof.
 
+3. Issue 14: the same bundle verified with every entry's receipt, 10 checkpoints and a state
+   file (consistency from a head seen before); a witness round (fetch, consistency proof,
+   cosign, post) against an in-process server with a 10,000-event log; and the latency of a
+   signed decision with its receipt (POST /decision, median and p95).
+
 Run: .venv/bin/python -m tests.bench.bench_audit [--events 10000] [--approvals 1000]
 """
 
@@ -31,6 +36,8 @@ from countersign.approvals import dsse
 from countersign.approvals.bundle import BUNDLE_FORMAT, orders_digest, verify_bundle
 from countersign.approvals.log import GENESIS, entry_bytes, entry_leaf, event_data, sign_checkpoint
 from countersign.approvals.merkle import Tree, leaf_hash, node_hash, verify_inclusion
+from countersign.approvals.note import Head
+from countersign.approvals.receipt import make_receipt
 from countersign.approvals.statement import build_statement, json_digest, statement_bytes
 from countersign.orders.examples import example_bytes
 from countersign.store import approvals as service
@@ -39,6 +46,7 @@ from countersign.store.events import record
 from countersign.store.tables import LogEntry
 
 SUPERVISORS = 5
+ORIGIN = "countersign.bench/0000000000000000"
 
 
 def timed(action: Callable[[], Any]) -> tuple[float, Any]:
@@ -94,13 +102,19 @@ def build_bundle(events: int, approvals: int) -> dict[str, Any]:
         if envelope_text is not None:
             bundled.append({"id": made, "log_index": index, "envelope": envelope_text})
     tree = Tree(leaf_hash(t.encode()) for t in texts)
-    checkpoint = sign_checkpoint(log_key, tree.size, tree.root())
+    checkpoint = sign_checkpoint(log_key, tree.size, tree.root(), origin=ORIGIN)
+    # Ten checkpoints along the log, as the signer publishes them while it grows.
+    checkpoints = [sign_checkpoint(log_key, size, tree.root(size), origin=ORIGIN)
+                   for size in range(events // 10, events, events // 10)] + [checkpoint]
+    receipts = [make_receipt(log_key, ORIGIN, i, tree.levels[0][i].hex(), "2026-01-01T00:00:00Z")
+                for i in range(tree.size)]
     for approval in bundled:
         approval["inclusion"] = {"index": approval["log_index"], "size": tree.size, "hashes": [
             h.hex() for h in tree.inclusion_proof(approval["log_index"])]}
-    return {"format": BUNDLE_FORMAT, "log_key": {"public_key": checkpoint["public_key"]},
-            "entries": texts, "checkpoints": [checkpoint], "keys": [], "orders": orders,
-            "approvals": bundled}
+    return {"format": BUNDLE_FORMAT, "log_key": {"public_key": checkpoint["public_key"],
+                                                 "origin": ORIGIN},
+            "entries": texts, "checkpoints": checkpoints, "receipts": receipts, "keys": [],
+            "orders": orders, "approvals": bundled}
 
 
 def _naive_root(leaves: list[bytes]) -> bytes:
@@ -144,7 +158,15 @@ def bench_offline(events: int, approvals: int) -> None:
         path = Path(folder) / "bundle.json"
         path.write_text(json.dumps(bundle))
         seconds, report = timed(lambda: verify_bundle(json.loads(path.read_bytes())))
+        middle = bundle["checkpoints"][4]
+        seen = {ORIGIN: Head(ORIGIN, middle["size"], bytes.fromhex(middle["root"]))}
+        with_state, stated = timed(lambda: verify_bundle(
+            json.loads(path.read_bytes()), trusted_log_key=bundle["log_key"]["public_key"],
+            published=bundle["checkpoints"][:-1], seen=seen))
     assert report.ok, report.problems[:5]
+    assert stated.ok, stated.problems[:5]
+    print(f"{'verify + receipts + 10 checkpoints + state':<44} {with_state:8.2f} s   (every "
+          f"entry's receipt, consistency from 9 published heads and the state's)")
     assert report.approvals == approvals and report.entries == events
     sample = min(20, approvals)
     naive_sample, _ = timed(lambda: naive_inclusion_checks(bundle, sample))
@@ -207,12 +229,102 @@ def bench_server(url: str, label: str, events: int) -> None:
     print(f"{'ratio naive / ours':<44} {baseline / ours:8.1f} x")
 
 
+def bench_witness_and_decisions(rounds: int, events: int) -> None:
+    """A witness round and decision latency against an in-process server (SQLite)."""
+    from fastapi.testclient import TestClient
+
+    from countersign.cli_witness import witness_round
+    from countersign.orders.examples import load_example
+    from countersign.store.accounts import create_token, create_user
+    from countersign.store.missions import create_mission
+    from countersign.web.app import create_app
+    from countersign.web.settings import Settings
+
+    print(f"\n## Witness round and decision latency with receipt (SQLite, {events:,} events)")
+    with tempfile.TemporaryDirectory() as folder:
+        url = f"sqlite:///{folder}/bench.db"
+        database = Database(url)
+        app = create_app(Settings(data_dir=Path(folder), database_url=url), database)
+        tokens = {}
+        with database.session() as db:
+            for role in ("operator", "supervisor", "auditor"):
+                user = create_user(db, username=f"{role}1", role=role,
+                                   password="benchmark password")
+                tokens[role] = create_token(db, user=user, name="bench")[1]
+                if role == "operator":
+                    create_mission(db, orders=load_example("search-and-sample"), author=user)
+            for index in range(events):
+                record(db, kind="draft.updated", actor=None, mission_id="bench",
+                       detail={"revision": index})
+
+        def client(role: str) -> TestClient:
+            return TestClient(app, headers={"Authorization": f"Bearer {tokens[role]}"})
+
+        operator, supervisor, auditor = client("operator"), client("supervisor"), client("auditor")
+        key = dsse.generate_key()
+        kid = supervisor.post("/api/keys", json={"public_key": dsse.public_text(key),
+                                                 "password": "benchmark password"}
+                              ).json()["key_id"]
+        decisions: list[float] = []
+        for _ in range(rounds):
+            number = operator.post("/api/missions/search-and-sample/versions").json()["number"]
+            sub = operator.post(f"/api/missions/search-and-sample/versions/{number}/submit"
+                                ).json()["id"]
+            prepared = supervisor.post(f"/api/submissions/{sub}/statement", json={
+                "decision": "approved", "reason": "", "key_id": kid}).json()
+            envelope = json.dumps(dsse.sign_envelope(dsse.unb64(prepared["payload"], "p"), key))
+            began = time.perf_counter()
+            stored = supervisor.post(f"/api/submissions/{sub}/decision",
+                                     json={"envelope": envelope})
+            decisions.append(time.perf_counter() - began)
+            assert stored.status_code == 201 and stored.json()["receipt"], stored.text
+
+        def get(path: str) -> dict[str, Any]:
+            data: dict[str, Any] = auditor.get(path).json()
+            return data
+
+        def post(path: str, body: dict[str, Any]) -> dict[str, Any]:
+            data: dict[str, Any] = auditor.post(path, json=body).json()
+            return data
+
+        witness_key = dsse.generate_key()
+        from countersign.approvals.note import COSIGNATURE, verifier_key
+        (database.log_signer.directory / "witnesses").write_text(verifier_key(  # type: ignore[union-attr]
+            "witness.bench", dsse.raw_public(witness_key.public_key()), COSIGNATURE) + "\n")
+        log_key = get("/api/log/checkpoint")["public_key"]
+        state = Path(folder) / "witness.json"
+        witness_round(get, post, log_key=log_key, state=state, key=witness_key,
+                      name="witness.bench")
+        times = []
+        for _ in range(rounds):
+            operator.post("/api/missions/search-and-sample/versions")  # the log grows
+            seconds, result = timed(lambda: witness_round(
+                get, post, log_key=log_key, state=state, key=witness_key, name="witness.bench"))
+            assert result.ok, result.lines
+            times.append(seconds)
+        app.state.rehearsals.shutdown()
+        database.engine.dispose()
+    print(f"{'witness round (checkpoint, proof, cosign)':<44} "
+          f"{statistics.median(times) * 1000:8.1f} ms median, p95 "
+          f"{percentile(times, 0.95) * 1000:.1f} ms ({rounds} rounds)")
+    print(f"{'decision with receipt (POST /decision)':<44} "
+          f"{statistics.median(decisions) * 1000:8.1f} ms median, p95 "
+          f"{percentile(decisions, 0.95) * 1000:.1f} ms ({rounds} decisions)")
+
+
+def percentile(values: list[float], q: float) -> float:
+    ordered = sorted(values)
+    return ordered[min(len(ordered) - 1, int(q * len(ordered)))]
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--events", type=int, default=10_000)
     parser.add_argument("--approvals", type=int, default=1_000)
+    parser.add_argument("--rounds", type=int, default=40)
     args = parser.parse_args()
     bench_offline(args.events, args.approvals)
+    bench_witness_and_decisions(args.rounds, args.events)
     with tempfile.TemporaryDirectory() as folder:
         bench_server(f"sqlite:///{folder}/bench.db", "SQLite", args.events)
     postgres = os.environ.get("COUNTERSIGN_TEST_POSTGRES_URL")

@@ -238,7 +238,7 @@ def test_submit_sign_verify_export_and_detect_tampering(
            ).to_be_visible()
     verification = auditor.get_by_test_id("verification-verdict")
     expect(verification).to_have_text(re.compile(
-        r"^All 10 checks passed, against a log key not pinned"), timeout=30_000)
+        r"^All 12 checks passed, against a log key not pinned"), timeout=30_000)
     # Trust on first use: the auditor pins the log key the server presents, explicitly.
     checkpoint: dict[str, Any] = auditor.evaluate(
         "async () => (await fetch('/api/log/checkpoint')).json()")
@@ -246,7 +246,7 @@ def test_submit_sign_verify_export_and_detect_tampering(
     expect(auditor.get_by_test_id("log-key-presented")).to_contain_text(checkpoint["key_id"])
     auditor.get_by_role("button", name="Pin this key…").click()
     auditor.get_by_role("button", name="Confirm: pin this key").click()
-    expect(verification).to_have_text("All 11 checks passed.", timeout=30_000)
+    expect(verification).to_have_text("All 13 checks passed.", timeout=30_000)
     expect(auditor.get_by_test_id("check-pin")).to_contain_text(
         f"signed by log key {server_print}, the key pinned in this browser")
     expect(auditor.get_by_test_id("approval-plain")).to_contain_text("Search Area A")

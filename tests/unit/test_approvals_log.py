@@ -24,6 +24,7 @@ from countersign.approvals.merkle import (
     verify_consistency,
     verify_inclusion,
 )
+from countersign.approvals.receipt import make_receipt
 
 
 def _reference_root(leaves: list[bytes]) -> bytes:
@@ -91,9 +92,11 @@ def _log(kinds: list[str]) -> list[str]:
 def _bundle(texts: list[str], log_key: Any) -> dict[str, Any]:
     leaves = [leaf_hash(t.encode()) for t in texts]
     checkpoint = sign_checkpoint(log_key, len(texts), Tree(leaves).root())
+    receipts = [make_receipt(log_key, checkpoint["origin"], i, leaf.hex(), "2026-01-01T00:00:00Z")
+                for i, leaf in enumerate(leaves)]
     return {"format": BUNDLE_FORMAT, "log_key": {"public_key": checkpoint["public_key"]},
-            "entries": texts, "checkpoints": [checkpoint], "keys": [], "orders": {},
-            "approvals": []}
+            "entries": texts, "checkpoints": [checkpoint], "receipts": receipts, "keys": [],
+            "orders": {}, "approvals": []}
 
 
 def test_a_log_that_forks_from_a_published_checkpoint_fails() -> None:
@@ -107,12 +110,15 @@ def test_a_log_that_forks_from_a_published_checkpoint_fails() -> None:
     assert alone.ok, alone.problems  # self-consistent on its own...
     report = verify_bundle(bundle, trusted_log_key=dsse.public_text(log_key),
                            published=[published])
-    assert report.problems == ["the log forks from the published checkpoint at size 5"]
+    assert len(report.problems) == 1, report.problems
+    assert report.problems[0].startswith(
+        f"the log forks from the checkpoint seen before (size 5, root {published['root']}); "
+        f"the log now has size 6, root {bundle['checkpoints'][0]['root']}")
     extended = verify_bundle(_bundle(_log(["a", "b", "c", "d", "e", "f"]), log_key),
                              published=[published])
     assert extended.ok, extended.problems
     shorter = verify_bundle(_bundle(honest[:3], log_key), published=[published])
-    assert any("entries were removed" in p for p in shorter.problems)
+    assert any("rolled back (truncated)" in p for p in shorter.problems)
 
 
 def test_checkpoints_signed_by_another_key_fail() -> None:

@@ -23,9 +23,11 @@ from .dsse import (
     public_key,
     verify_envelope,
 )
-from .log import GENESIS, verify_checkpoint
+from .log import GENESIS, verify_checkpoint_head
 from .log_rules import check_log
 from .merkle import Tree, leaf_hash, verify_consistency, verify_inclusion
+from .note import Head
+from .receipt import verify_receipt
 from .statement import json_digest, subject_digest
 
 BUNDLE_FORMAT = "countersign.audit-bundle/1"
@@ -38,6 +40,7 @@ class BundleReport:
     entries: int = 0
     approvals: int = 0
     checkpoints: int = 0
+    head: Head | None = None  # the newest checkpoint that verified (for a state file)
 
     @property
     def ok(self) -> bool:
@@ -99,11 +102,12 @@ def orders_match(orders: Any, signed: str) -> bool:
 
 def verify_bundle(
     bundle: dict[str, Any], *, trusted_log_key: str | None = None,
-    published: list[dict[str, Any]] | None = None,
+    published: list[dict[str, Any]] | None = None, seen: dict[str, Head] | None = None,
 ) -> BundleReport:
     """Check a bundle; `trusted_log_key` pins the server's checkpoint key (otherwise the
     bundle's own is used and a note says so); `published` are checkpoints seen earlier, which
-    the bundle's log must extend (no fork, no removed entries)."""
+    the bundle's log must extend (no fork, no removed entries); `seen` are the heads an
+    auditor verified before, by origin (its state file), which the log must extend too."""
     report = BundleReport()
     if not isinstance(bundle, dict) or bundle.get("format") != BUNDLE_FORMAT:
         report.problems.append(f"not an audit bundle (format {BUNDLE_FORMAT} expected)")
@@ -124,8 +128,16 @@ def verify_bundle(
     leaves, events = _check_chain(texts, report)
     tree = Tree(leaves)
     latest = _check_checkpoints(bundle.get("checkpoints", []), tree, log_key, report)
+    # Receipts name the log's origin; without a valid checkpoint, the bundle's word for it
+    # (a receipt still needs the log key's signature).
+    origin = latest.origin if latest is not None else \
+        str((bundle.get("log_key") or {}).get("origin") or "") or None
+    _check_receipts(bundle.get("receipts") or [], leaves, events, origin, log_key, report)
     for checkpoint in published or []:
         _check_published(checkpoint, tree, log_key, report)
+    if latest is not None and seen and latest.origin in seen:
+        check_extends(seen[latest.origin], tree, report.problems)
+    report.head = latest
     keys = _keys_from_log(events, report)
     _check_bundle_keys(bundle.get("keys", []), keys, report)
     # --- issue 14 item 5 (branch decisions): log-wide rules, approvals/log_rules.py ---
@@ -168,17 +180,43 @@ def _check_chain(
     return leaves, events
 
 
+def _check_receipts(receipts: list[Any], leaves: list[bytes], events: list[dict[str, Any]],
+                    origin: str | None, key: Ed25519PublicKey, report: BundleReport) -> None:
+    """Every entry carries the log signer's receipt: an entry without one was not appended by
+    the app (a row written straight into the database)."""
+    if origin is None:
+        return
+    for index, leaf in enumerate(leaves):
+        text = receipts[index] if index < len(receipts) else None
+        try:
+            verify_receipt(text if isinstance(text, str) else None, index=index, leaf=leaf.hex(),
+                           origin=origin, key=key)
+        except SignatureError as exc:
+            kind = events[index].get("kind") or "?"
+            report.problems.append(f"log entry {index} ({kind}) {exc}: it was not appended by "
+                                   "the app's log signer")
+
+
 def _check_checkpoints(checkpoints: list[dict[str, Any]], tree: Tree, key: Ed25519PublicKey,
-                       report: BundleReport) -> tuple[int, bytes] | None:
-    latest: tuple[int, bytes] | None = None
+                       report: BundleReport) -> Head | None:
+    latest: Head | None = None
     good = 0
+    seen: dict[int, Head] = {}
     for checkpoint in sorted(checkpoints, key=lambda c: int(c.get("size", 0))):
         report.checkpoints += 1
         try:
-            size, root = verify_checkpoint(checkpoint, key)
+            head = verify_checkpoint_head(checkpoint, key)
         except SignatureError as exc:
             report.problems.append(str(exc))
             continue
+        size, root = head.size, head.root
+        other = seen.setdefault(size, head)
+        if other.root != root:
+            report.problems.append(f"the log key signed two heads of one size, a fork: "
+                                   f"{other} and {head}")
+        if latest is not None and latest.origin != head.origin:
+            report.problems.append(f"checkpoints of two logs: origins {latest.origin!r} and "
+                                   f"{head.origin!r}")
         if size > tree.size:
             report.problems.append(f"a signed checkpoint covers {size} entries but the bundle "
                                    f"holds {tree.size}: entries were removed")
@@ -186,14 +224,15 @@ def _check_checkpoints(checkpoints: list[dict[str, Any]], tree: Tree, key: Ed255
         if tree.root(size) != root:
             report.problems.append(
                 f"log entries {good}..{size - 1} differ from what the checkpoint at size "
-                f"{size} signed (an entry in that range was changed)")
+                f"{size} signed (an entry in that range was changed): the signed head is "
+                f"{head}, the bundle's log gives size {size}, root {tree.root(size).hex()}")
             continue
         good = size
-        latest = (size, root)
+        latest = head
     if latest is None:
         report.problems.append("no valid signed checkpoint covers the log")
-    elif latest[0] < tree.size:
-        report.problems.append(f"log entries {latest[0]}..{tree.size - 1} are not covered by "
+    elif latest.size < tree.size:
+        report.problems.append(f"log entries {latest.size}..{tree.size - 1} are not covered by "
                                "a signed checkpoint")
     return latest
 
@@ -201,16 +240,25 @@ def _check_checkpoints(checkpoints: list[dict[str, Any]], tree: Tree, key: Ed255
 def _check_published(checkpoint: dict[str, Any], tree: Tree, key: Ed25519PublicKey,
                      report: BundleReport) -> None:
     try:
-        size, root = verify_checkpoint(checkpoint, key)
+        seen = verify_checkpoint_head(checkpoint, key)
     except SignatureError as exc:
         report.problems.append(f"published checkpoint: {exc}")
         return
-    if size > tree.size:
-        report.problems.append(f"the log is shorter than the published checkpoint at size "
-                               f"{size}: entries were removed")
-    elif size and not verify_consistency(size, tree.size, tree.consistency_proof(size),
-                                         root, tree.root()):
-        report.problems.append(f"the log forks from the published checkpoint at size {size}")
+    check_extends(seen, tree, report.problems)
+
+
+def check_extends(seen: Head, tree: Tree, problems: list[str]) -> None:
+    """The log (tree) is the head seen before (a state file, a published checkpoint) or a
+    consistent extension of it (RFC 6962 consistency proof); a problem names both heads."""
+    current = f"size {tree.size}, root {tree.root().hex()}"
+    if seen.size > tree.size:
+        problems.append(f"the log was rolled back (truncated): a checkpoint seen before has "
+                        f"{seen}; the log now has {current}")
+    elif seen.size and not verify_consistency(seen.size, tree.size,
+                                              tree.consistency_proof(seen.size), seen.root,
+                                              tree.root()):
+        problems.append(f"the log forks from the checkpoint seen before ({seen}); the log now "
+                        f"has {current}")
 
 
 def _keys_from_log(events: list[dict[str, Any]], report: BundleReport) -> dict[str, _Key]:
@@ -242,7 +290,7 @@ def _check_bundle_keys(bundle_keys: list[dict[str, Any]], keys: dict[str, _Key],
 
 def _check_approval(approval: dict[str, Any], events: list[dict[str, Any]], leaves: list[bytes],
                     keys: dict[str, _Key], orders: dict[str, Any],
-                    latest: tuple[int, bytes] | None, report: BundleReport,
+                    latest: Head | None, report: BundleReport,
                     rehearsals: dict[str, Any] | None = None) -> None:
     name = f"approval {approval.get('id')}"
     index = approval.get("log_index")
@@ -294,8 +342,8 @@ def _check_approval(approval: dict[str, Any], events: list[dict[str, Any]], leav
     if latest is not None:
         try:
             hashes = [bytes.fromhex(h) for h in proof.get("hashes", [])]
-            included = int(proof.get("size", -1)) == latest[0] and verify_inclusion(
-                leaves[index], index, latest[0], hashes, latest[1])
+            included = int(proof.get("size", -1)) == latest.size and verify_inclusion(
+                leaves[index], index, latest.size, hashes, latest.root)
         except (ValueError, TypeError):
             included = False
         if not included:

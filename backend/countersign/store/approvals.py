@@ -13,7 +13,6 @@ from datetime import datetime, timedelta
 from typing import Any
 
 from argon2.exceptions import InvalidHashError, VerificationError
-from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
 from sqlalchemy import Select, select
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session as DbSession
@@ -22,8 +21,9 @@ from sqlalchemy.orm import aliased
 from ..approvals import dsse
 from ..approvals.bundle import BUNDLE_FORMAT
 from ..approvals.dsse import SignatureError
-from ..approvals.log import sign_checkpoint
 from ..approvals.merkle import Tree
+from ..approvals.signer import LogSigner
+from ..approvals.signer import Refused as SignerRefused
 from ..approvals.statement import (
     build_statement,
     json_digest,
@@ -49,6 +49,7 @@ from .tables import (
     Approval,
     Checkpoint,
     LogEntry,
+    LogReceipt,
     Mission,
     MissionVersion,
     RehearsalRecord,
@@ -373,30 +374,55 @@ def _check_fresh(db: DbSession, ctx: Context, statement: dict[str, Any], supervi
                     f"current report ({fields} differ); prepare it again")
 
 
-def _checkpoint_now(db: DbSession, signer: Ed25519PrivateKey) -> Checkpoint:
-    """The checkpoint of the log as this transaction sees it, signed now unless the latest
-    one already covers it. A read-only session signs through a short write session."""
+class LogUnvouched(MissionError):
+    """The log signer refused to vouch for the log as the database holds it."""
+
+    status = 503
+
+
+def _checkpoint_now(db: DbSession, signer: LogSigner) -> tuple[Checkpoint | None, str | None]:
+    """The checkpoint of the committed log, signed now unless the latest one covers it, and
+    why the signer refused to sign a newer one (None when it did not refuse). Only committed
+    entries are signed, so a signed head is never rolled back with a failed transaction.
+    A read-only session signs through a short write session."""
     if not db.info.get("write", True):
         from .db import database_of
 
         with database_of(db).session() as writer:
             return _checkpoint_now(writer, signer)
-    tree = log_tree(db, pending=True)
-    latest = db.scalar(select(Checkpoint).order_by(Checkpoint.tree_size.desc()).limit(1))
-    if latest is not None and latest.tree_size == tree.size:
-        return latest
-    signed = sign_checkpoint(signer, tree.size, tree.root())
+    tree = _committed_tree(db)
+    latest = db.scalar(select(Checkpoint).where(Checkpoint.tree_size <= tree.size)
+                       .order_by(Checkpoint.tree_size.desc()).limit(1))
+    if tree.size == 0 or (latest is not None and latest.tree_size == tree.size):
+        return latest, None
+    head = signer.head()
+    if tree.size < head.size:
+        # Another process signed a newer head that this snapshot does not see yet.
+        return latest, None
+    receipts = dict(db.execute(select(LogReceipt.index, LogReceipt.receipt).where(
+        LogReceipt.index >= head.size, LogReceipt.index < tree.size)).all())
+    try:
+        signed = signer.sign_head(tree, receipts)
+    except SignerRefused as exc:
+        return latest, str(exc)
     row = Checkpoint(tree_size=tree.size, root_hash=signed["root"], key_id=signed["key_id"],
-                     public_key=signed["public_key"], note=signed["note"],
+                     public_key=signed["public_key"], note=signed["signed_note"],
                      signature=signed["signature"])
     db.add(row)
     db.flush()
-    return row
+    return row, None
+
+
+def receipt_of(db: DbSession, approval: Approval) -> str | None:
+    """The log signer's receipt for the approval's log entry."""
+    index = log_index_of(db, approval.event_id)
+    return None if index is None else db.scalar(
+        select(LogReceipt.receipt).where(LogReceipt.index == index))
 
 
 def _store(db: DbSession, ctx: Context, *, envelope_text: str, statement: dict[str, Any],
            key: SigningKey, supervisor: User, revokes: Approval | None,
-           signer: Ed25519PrivateKey) -> Approval:
+           signer: LogSigner) -> Approval:
     predicate = statement["predicate"]
     decision = str(predicate["decision"])
     detail = {"decision": decision, "envelope_digest": dsse.envelope_digest(envelope_text),
@@ -424,12 +450,13 @@ def _store(db: DbSession, ctx: Context, *, envelope_text: str, statement: dict[s
     except IntegrityError:  # uq_approvals_*_submission: a parallel decision won
         raise Stale(f"submission {ctx.submission.id} was decided by another request just now"
                     ) from None
-    _checkpoint_now(db, signer)
+    # The entry's receipt (receipt_of) is the caller's proof of logging; checkpoints are
+    # signed over committed entries only (_checkpoint_now).
     return approval
 
 
 def decide(db: DbSession, *, submission_id: int, supervisor: User, envelope: str,
-           signer: Ed25519PrivateKey, password: str | None) -> Approval:
+           signer: LogSigner, password: str | None) -> Approval:
     """Verify a signed decision and store its envelope verbatim, or refuse with nothing kept.
     `password` is the supervisor's, entered again for this decision (store/reauth.py)."""
     # issue 14 (decisions): user verification first, then the row locks (store/decide_guard.py).
@@ -480,7 +507,7 @@ def prepare_revocation(db: DbSession, *, approval_id: int, supervisor: User, rea
 
 
 def revoke(db: DbSession, *, approval_id: int, supervisor: User, envelope: str,
-           signer: Ed25519PrivateKey, password: str | None) -> Approval:
+           signer: LogSigner, password: str | None) -> Approval:
     # issue 14 (decisions): user verification first, then the row locks (store/decide_guard.py).
     confirm_password(db, username=supervisor.username, password_hash=supervisor.password_hash,
                      password=password)
@@ -553,13 +580,27 @@ def log_tree(db: DbSession, *, pending: bool = False) -> Tree:
     return tree
 
 
-def latest_checkpoint(db: DbSession, *, signer: Ed25519PrivateKey) -> Checkpoint:
-    return _checkpoint_now(db, signer)
+def latest_checkpoint(db: DbSession, *, signer: LogSigner) -> Checkpoint:
+    row, refusal = _checkpoint_now(db, signer)
+    if row is None:
+        raise LogUnvouched(refusal or "the log has no signed checkpoint yet")
+    return row
 
 
-def checkpoint_json(row: Checkpoint) -> dict[str, Any]:
-    return {"size": row.tree_size, "root": row.root_hash, "note": row.note,
-            "key_id": row.key_id, "public_key": row.public_key, "signature": row.signature,
+def checkpoint_refusal(db: DbSession, *, signer: LogSigner) -> str | None:
+    """Why the signer will not sign the log's current head (None when it signs)."""
+    return _checkpoint_now(db, signer)[1]
+
+
+def checkpoint_json(row: Checkpoint, cosignatures: list[str] | None = None) -> dict[str, Any]:
+    body, signed = row.note, row.note
+    if "\n\n" in row.note:  # a signed note (older rows hold only the body)
+        body = row.note.split("\n\n", 1)[0] + "\n"
+    if cosignatures:
+        signed = signed + "".join(cosignatures)
+    return {"size": row.tree_size, "root": row.root_hash, "note": body, "signed_note": signed,
+            "origin": body.split("\n", 1)[0], "key_id": row.key_id,
+            "public_key": row.public_key, "signature": row.signature,
             "created_at": row.created_at.isoformat()}
 
 
@@ -590,9 +631,17 @@ def log_index_of(db: DbSession, event_id: int) -> int | None:
 
 
 def entries(db: DbSession, *, start: int, limit: int) -> list[dict[str, Any]]:
-    rows = db.scalars(select(LogEntry).where(LogEntry.index >= start)
-                      .order_by(LogEntry.index).limit(limit))
-    return [{"index": r.index, "leaf_hash": r.leaf_hash, "entry": r.entry} for r in rows]
+    rows = list(db.scalars(select(LogEntry).where(LogEntry.index >= start)
+                           .order_by(LogEntry.index).limit(limit)))
+    receipts = dict(db.execute(select(LogReceipt.index, LogReceipt.receipt).where(
+        LogReceipt.index.in_([r.index for r in rows]))).all()) if rows else {}
+    return [{"index": r.index, "leaf_hash": r.leaf_hash, "entry": r.entry,
+             "receipt": receipts.get(r.index)} for r in rows]
+
+
+def _receipts(db: DbSession, size: int) -> list[str | None]:
+    found = dict(db.execute(select(LogReceipt.index, LogReceipt.receipt)).all())
+    return [found.get(i) for i in range(size)]
 
 
 # --- audit ----------------------------------------------------------------------------------
@@ -644,7 +693,7 @@ def approval_summary(db: DbSession, approval: Approval) -> dict[str, Any]:
             "integrity": approval_integrity(db, approval)}
 
 
-def build_bundle(db: DbSession, *, signer: Ed25519PrivateKey,
+def build_bundle(db: DbSession, *, signer: LogSigner,
                  mission: str | None = None) -> dict[str, Any]:
     """Everything an auditor needs to verify offline: the whole log, its checkpoints, the
     log key, the supervisors' keys, the envelopes with inclusion proofs and their orders."""
@@ -654,8 +703,9 @@ def build_bundle(db: DbSession, *, signer: Ed25519PrivateKey,
 
         with database_of(db).session() as writer:
             return build_bundle(writer, signer=signer, mission=mission)
-    latest = _checkpoint_now(db, signer)
+    latest, refusal = _checkpoint_now(db, signer)
     tree = log_tree(db, pending=True)
+    covered = latest.tree_size if latest is not None else 0
     rows = list(db.scalars(approvals_query(Filters(mission=mission)).order_by(None)
                            .order_by(Approval.id)))
     indexes: dict[int, int] = {}
@@ -676,9 +726,9 @@ def build_bundle(db: DbSession, *, signer: Ed25519PrivateKey,
         approvals.append({
             "id": approval.id, "mission": approval.mission_id, "decision": approval.decision,
             "log_index": index, "envelope": approval.envelope,
-            "inclusion": {"index": index, "size": latest.tree_size,
-                          "hashes": [h.hex() for h in tree.inclusion_proof(index,
-                                                                           latest.tree_size)]},
+            "inclusion": {"index": index, "size": covered,
+                          "hashes": [h.hex() for h in tree.inclusion_proof(index, covered)]
+                          if index < covered else []},
         })
     keys = [{"key_id": k.id, "public_key": k.public_key, "user": _username(db, k.user_id),
              "created_at": k.created_at.isoformat(),
@@ -690,8 +740,12 @@ def build_bundle(db: DbSession, *, signer: Ed25519PrivateKey,
         # The mission the approvals were exported for (None: all); decisions of other
         # missions need no envelope in this bundle (approvals/log_rules.py).
         "scope": mission,
-        "log_key": {"key_id": latest.key_id, "public_key": latest.public_key},
+        "log_key": {"key_id": signer.key_id, "public_key": signer.public_text,
+                    "origin": signer.origin, "verifier_key": signer.verifier_key},
         "entries": list(db.scalars(select(LogEntry.entry).order_by(LogEntry.index))),
+        # The signer's receipt per entry (None where an entry has none: not appended by it).
+        "receipts": _receipts(db, tree.size),
+        "signer_refused": refusal,
         "checkpoints": [checkpoint_json(c) for c in db.scalars(
             select(Checkpoint).order_by(Checkpoint.tree_size))],
         "keys": keys,

@@ -17,6 +17,7 @@ from sqlalchemy.exc import TimeoutError as PoolTimeout
 from sqlalchemy.orm import Session, sessionmaker
 
 if TYPE_CHECKING:
+    from ..approvals.signer import LogSigner
     from ..orders.model import Orders
 
 MIGRATIONS = Path(__file__).resolve().parents[3] / "migrations"
@@ -135,6 +136,9 @@ class Database:
         # Computes a validation report when none is cached; None: in the calling thread.
         self.validator: Callable[[Orders], dict[str, Any]] | None = None
         self.engine = make_engine(url)
+        # The log signer (approvals/signer.py) that receipts each appended entry; set by
+        # whoever holds the log key (the server, the CLI's demo seeding).
+        self.log_signer: LogSigner | None = None
         self.sessions = sessionmaker(self.engine, expire_on_commit=False)
         self.write_sessions = sessionmaker(
             self.engine.execution_options(**{BEGIN_MODE: "IMMEDIATE"}), expire_on_commit=False

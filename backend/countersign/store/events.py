@@ -13,7 +13,7 @@ from sqlalchemy import inspect, select, text
 from sqlalchemy.orm import Session as DbSession
 
 from ..approvals.log import GENESIS, entry_bytes, entry_leaf, event_data
-from .tables import Event, LogEntry, User, utcnow
+from .tables import Event, LogEntry, LogReceipt, User, utcnow
 
 # Appends take one PostgreSQL advisory lock, so that concurrent transactions chain in order;
 # SQLite serialises writers already (the event row is written before the head is read).
@@ -75,4 +75,19 @@ def append_to_log(db: DbSession, event: Event, actor: str | None) -> LogEntry:
                      leaf_hash=entry_leaf(data))
     db.add(entry)
     db.flush()
+    _receipt(db, entry)
     return entry
+
+
+def _receipt(db: DbSession, entry: LogEntry) -> None:
+    """The log signer's receipt for this entry (kept beside it, shown to the caller): the
+    signer later vouches only for entries that carry one. A database without a signer (a
+    tool run without the log key) appends entries the signer will refuse to cover."""
+    signer = getattr(db.info.get("database"), "log_signer", None)
+    if signer is None:
+        return
+    receipt = signer.receipt(entry.index, entry.leaf_hash,
+                             utcnow().isoformat().replace("+00:00", "Z"))
+    db.add(LogReceipt(index=entry.index, receipt=receipt))
+    db.flush()
+

@@ -276,6 +276,29 @@ class Checkpoint(Base):
     created_at: Mapped[datetime] = mapped_column(default=utcnow)
 
 
+class LogReceipt(Base):
+    """The log signer's receipt for one entry it appended (approvals/receipt.py)."""
+
+    __tablename__ = "log_receipts"
+    index: Mapped[int] = mapped_column(
+        BigInteger().with_variant(Integer, "sqlite"), primary_key=True, autoincrement=False)
+    receipt: Mapped[str] = mapped_column(Text)
+
+
+class Cosignature(Base):
+    """A witness's cosignature line over a checkpoint body (c2sp.org/tlog-cosignature)."""
+
+    __tablename__ = "log_cosignatures"
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    tree_size: Mapped[int] = mapped_column(BigInteger, index=True)
+    body: Mapped[str] = mapped_column(Text)
+    witness: Mapped[str] = mapped_column(String(200))
+    line: Mapped[str] = mapped_column(Text)
+    created_at: Mapped[datetime] = mapped_column(default=utcnow)
+
+
 APPEND_ONLY_TABLES = ("events", "mission_versions", "approvals", "log_entries", "checkpoints")
 # Made append-only by revision 0003 (0002 protects the tables above).
 APPEND_ONLY_TABLES_0003 = ("rehearsal_records",)
+# Made append-only by revision 0004.
+APPEND_ONLY_TABLES_0004 = ("log_receipts", "log_cosignatures")

@@ -16,8 +16,9 @@ from .. import __version__
 from ..store.db import REQUEST_THREADS, Database
 from . import problems
 from .fair import PlanSlots, RateLimiter
+from .log_signer import open_log_signer
 from .rehearsal_hub import RehearsalHub
-from .routes import admin, approvals, auth, missions, planning, rehearsals
+from .routes import admin, approvals, auth, log_witness, missions, planning, rehearsals
 from .settings import Settings
 from .validation_pool import ValidationPool
 
@@ -101,6 +102,9 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     settings.prepare()
     database = database or Database(settings.database_url)
     database.migrate()
+    if database.log_signer is None:
+        # Refuses to start on an unusable key file (readable by others, say).
+        database.log_signer = open_log_signer(settings)
     hub = RehearsalHub()
 
     @asynccontextmanager
@@ -151,6 +155,7 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     app.include_router(admin.router)
     app.include_router(planning.router)
     app.include_router(approvals.router)
+    app.include_router(log_witness.router)
     app.include_router(rehearsals.router)
     app.include_router(rehearsals.viewer)
     _serve_frontend(app, settings.frontend_dist)

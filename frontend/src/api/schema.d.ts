@@ -312,6 +312,46 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/log/cosignatures": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Post Cosignature
+         * @description Accept a registered witness's cosignature of a checkpoint the log signed.
+         */
+        post: operations["addCosignature"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/log/cosigned": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Get Cosigned
+         * @description The latest checkpoint with the witnesses' cosignature lines appended to its note.
+         */
+        get: operations["getCosignedCheckpoint"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/log/entries": {
         parameters: {
             query?: never;
@@ -1028,6 +1068,19 @@ export interface components {
         } & {
             [key: string]: unknown;
         };
+        /** CosignatureIn */
+        CosignatureIn: {
+            /**
+             * Checkpoint
+             * @description the checkpoint body the witness cosigned
+             */
+            checkpoint: string;
+            /**
+             * Cosignature
+             * @description its C2SP tlog-cosignature line
+             */
+            cosignature: string;
+        };
         /** CostPathOut */
         CostPathOut: {
             /** Goals */
@@ -1048,6 +1101,45 @@ export interface components {
              * @default
              */
             reason: string;
+        };
+        /** DecisionOut */
+        DecisionOut: {
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
+            /** Decision */
+            decision: string;
+            /** Digest */
+            digest: string;
+            /** Id */
+            id: number;
+            /** Key Id */
+            key_id: string;
+            /** Log Index */
+            log_index: number | null;
+            /** Mission */
+            mission: string;
+            /** Operator */
+            operator: string | null;
+            /** Reason */
+            reason: string;
+            /**
+             * Receipt
+             * @description the log signer's signed receipt for the decision's log entry (entry hash, index, time)
+             */
+            receipt: string | null;
+            /** Revokes */
+            revokes: number | null;
+            /** Submission */
+            submission: number;
+            /** Supervisor */
+            supervisor: string | null;
+            /** Vehicle */
+            vehicle: string | null;
+            /** Version */
+            version: number;
         };
         /**
          * DefaultRule
@@ -1889,7 +1981,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["ApprovalOut"];
+                    "application/json": components["schemas"]["DecisionOut"];
                 };
             };
             /** @description Validation Error */
@@ -2318,6 +2410,63 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    addCosignature: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["CosignatureIn"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            201: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": {
+                        [key: string]: unknown;
+                    };
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    getCosignedCheckpoint: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": {
+                        [key: string]: unknown;
+                    };
                 };
             };
         };
@@ -3236,7 +3385,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["ApprovalOut"];
+                    "application/json": components["schemas"]["DecisionOut"];
                 };
             };
             /** @description Validation Error */

@@ -142,6 +142,7 @@ describe("verifying an approval in the browser", () => {
     const root = await rootOf(await Promise.all(rows.map((r) => leafHash(utf8(r.entry)))));
     const note = `countersign-log/1\n3\n${toBase64(root)}\n`;
     const signature = new Uint8Array(await crypto.subtle.sign({ name: "Ed25519" }, logKey.privateKey, utf8(note)));
+    for (const row of rows) row.receipt = await receiptFor(logKey.privateKey, "countersign-log/1", row.index, row.leaf_hash);
     const leaves = await Promise.all(rows.map((r) => leafHash(utf8(r.entry))));
     const record: ApprovalRecord = {
       id: 1,
@@ -170,5 +171,26 @@ describe("verifying an approval in the browser", () => {
 
     const changedOrders = await verifyApproval({ ...record, orders: { ...orders, id: "n" } }, rows);
     expect(changedOrders.find((c) => c.id === "orders")?.ok).toBe(false);
+
+    // Finding 2: rows INSERTed behind the app's back carry no receipt of the log signer (a
+    // database writer has no log key), or one made with another key: named by entry.
+    const otherKey = (await crypto.subtle.generateKey({ name: "Ed25519" }, false, ["sign", "verify"])) as CryptoKeyPair;
+    const forged = rows.map((r) => ({ ...r }));
+    forged[0]!.receipt = null;
+    forged[2]!.receipt = await receiptFor(otherKey.privateKey, "countersign-log/1", 2, forged[2]!.leaf_hash);
+    const unreceipted = await verifyApproval(record, forged);
+    const receipts = unreceipted.find((c) => c.id === "receipts")!;
+    expect(receipts.ok).toBe(false);
+    expect(receipts.detail).toBe(
+      "log entry 0 (key.registered) carries no receipt from the log signer: it was not appended by the app's log signer; " +
+        "log entry 2 (approval.approved) has a receipt not signed by the log key",
+    );
   });
 });
+
+async function receiptFor(key: CryptoKey, origin: string, index: number, leaf: string): Promise<string> {
+  const time = "2026-12-01T00:00:00Z";
+  const message = `countersign-receipt/v1\n${origin}\n${index}\n${leaf}\n${time}\n`;
+  const signature = new Uint8Array(await crypto.subtle.sign({ name: "Ed25519" }, key, utf8(message)));
+  return JSON.stringify({ format: "countersign-receipt/v1", origin, index, leaf, time, signature: toBase64(signature) });
+}

@@ -62,3 +62,45 @@ export async function verifyInclusion(
   }
   return sn === 0 && equalBytes(r, root);
 }
+
+/** Whether `proof` shows the tree of `first` leaves (firstRoot) is a prefix of the tree of
+ * `second` leaves (secondRoot): RFC 9162 section 2.1.4.2. */
+export async function verifyConsistency(
+  first: number,
+  second: number,
+  proof: Uint8Array[],
+  firstRoot: Uint8Array,
+  secondRoot: Uint8Array,
+): Promise<boolean> {
+  if (!(Number.isSafeInteger(first) && Number.isSafeInteger(second) && 0 < first && first <= second)) return false;
+  if (first === second) return proof.length === 0 && equalBytes(firstRoot, secondRoot);
+  const path = [...proof];
+  if ((first & (first - 1)) === 0) path.unshift(firstRoot);
+  if (path.length === 0) return false;
+  let fn = first - 1;
+  let sn = second - 1;
+  while (fn % 2 === 1) {
+    fn = Math.floor(fn / 2);
+    sn = Math.floor(sn / 2);
+  }
+  let fr = path[0]!;
+  let sr = path[0]!;
+  for (const c of path.slice(1)) {
+    if (sn === 0) return false;
+    if (fn % 2 === 1 || fn === sn) {
+      fr = await nodeHash(c, fr);
+      sr = await nodeHash(c, sr);
+      if (fn % 2 === 0) {
+        while (fn % 2 === 0 && fn !== 0) {
+          fn = Math.floor(fn / 2);
+          sn = Math.floor(sn / 2);
+        }
+      }
+    } else {
+      sr = await nodeHash(sr, c);
+    }
+    fn = Math.floor(fn / 2);
+    sn = Math.floor(sn / 2);
+  }
+  return sn === 0 && equalBytes(fr, firstRoot) && equalBytes(sr, secondRoot);
+}

@@ -10,9 +10,9 @@ import { jsonDigest } from "./canonical";
 import { ED25519, importPublicKey, keyId, parseEnvelope, PAYLOAD_TYPE, verifyEnvelope } from "./dsse";
 import { checkLog } from "./logRules";
 import { leafHash, rootOf, verifyInclusion } from "./merkle";
+import { receiptProblems } from "./receipts";
 
 export const GENESIS = "0".repeat(64);
-export const LOG_ORIGIN = "countersign-log/1";
 
 export interface Checkpoint {
   size: number;
@@ -33,6 +33,7 @@ export interface LogEntryRow {
   index: number;
   leaf_hash: string;
   entry: string;
+  receipt?: string | null;
 }
 
 export interface ApprovalRecord {
@@ -50,7 +51,7 @@ export interface ApprovalRecord {
 }
 
 export interface Check {
-  id: "pin" | "checkpoint" | "chain" | "root" | "rules" | "inclusion" | "logged" | "key" | "signature" | "statement" | "orders";
+  id: "pin" | "history" | "receipts" | "checkpoint" | "chain" | "root" | "rules" | "inclusion" | "logged" | "key" | "signature" | "statement" | "orders";
   label: string;
   ok: boolean;
   detail: string;
@@ -66,8 +67,14 @@ interface LogEvent {
   detail?: Record<string, unknown>;
 }
 
-export function checkpointNote(size: number, root: Uint8Array): string {
-  return `${LOG_ORIGIN}\n${size}\n${toBase64(root)}\n`;
+/** A C2SP tlog-checkpoint body: the log's origin line, its size and base64 root. */
+export function checkpointNote(origin: string, size: number, root: Uint8Array): string {
+  return `${origin}\n${size}\n${toBase64(root)}\n`;
+}
+
+/** The origin line of a checkpoint body (unique to the log). */
+export function checkpointOrigin(note: string): string {
+  return note.split("\n", 1)[0] ?? "";
 }
 
 /** The checkpoint's Ed25519 signature over its note, which must state its size and root. */
@@ -78,7 +85,8 @@ export async function verifyCheckpoint(checkpoint: Checkpoint): Promise<string |
   } catch (e) {
     return (e as Error).message;
   }
-  if (checkpoint.note !== checkpointNote(checkpoint.size, root)) {
+  const origin = checkpointOrigin(checkpoint.note);
+  if (!origin || checkpoint.note !== checkpointNote(origin, checkpoint.size, root)) {
     return `the checkpoint note does not state size ${checkpoint.size} and its root`;
   }
   try {
@@ -155,8 +163,10 @@ function fail(id: Check["id"], label: string, detail: string): Check {
 }
 
 /** Every check of one approval, in the order they are shown. `entries` are the log's first
- * `checkpoint.size` entries as fetched from the server. */
-export async function verifyApproval(record: ApprovalRecord, entries: LogEntryRow[]): Promise<Check[]> {
+ * `checkpoint.size` entries as fetched from the server (or more, up to the approval's own
+ * entry: every one must carry a receipt of the log signer). */
+export async function verifyApproval(record: ApprovalRecord, all: LogEntryRow[]): Promise<Check[]> {
+  const entries = all.slice(0, record.checkpoint.size);
   const checks: Check[] = [];
   const cp = record.checkpoint;
   const index = record.log_index;
@@ -170,7 +180,23 @@ export async function verifyApproval(record: ApprovalRecord, entries: LogEntryRo
     detail: checkpointProblem ?? `size ${cp.size}, log key ${cp.key_id.slice(0, 16)}…`,
   });
 
-  const { leaves, events, problems } = await checkChain(entries);
+  const { leaves, events, problems } = await checkChain(all);
+  leaves.splice(record.checkpoint.size);
+  let receiptIssues: string[];
+  try {
+    const allLeaves = await Promise.all(all.map(async (r) => toHex(await leafHash(utf8(r.entry)))));
+    receiptIssues = await receiptProblems(all, allLeaves, checkpointOrigin(cp.note), cp.public_key);
+  } catch (e) {
+    receiptIssues = [(e as Error).message];
+  }
+  checks.push({
+    id: "receipts",
+    label: "Every log entry carries the log signer's receipt",
+    ok: receiptIssues.length === 0,
+    detail: receiptIssues.length
+      ? receiptIssues.slice(0, 3).join("; ") + (receiptIssues.length > 3 ? ` (and ${receiptIssues.length - 3} more)` : "")
+      : `${all.length} entries, each receipted by the log key`,
+  });
   if (entries.length !== cp.size) {
     problems.unshift(`the server sent ${entries.length} log entries, but the checkpoint covers ${cp.size}`);
   }

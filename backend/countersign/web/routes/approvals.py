@@ -3,17 +3,15 @@
 from __future__ import annotations
 
 import json
-import os
-import threading
 from datetime import datetime
 from typing import Annotated, Any
 
-from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
 from fastapi import APIRouter, Depends, Path, Query, Request
 from pydantic import BaseModel, Field
 from sqlalchemy import select
 
 from ...approvals import dsse
+from ...approvals.signer import LogSigner
 from ...orders.reader import orders_from_data
 from ...orders.writers import write
 from ...rehearse.plain import rules_sentences
@@ -39,27 +37,16 @@ from .schemas import RequestBody
 router = APIRouter(prefix="/api", tags=["approvals"], route_class=TransactionRoute)
 SUPERVISORS = ("supervisor",)
 KEY_READERS = ("supervisor", "auditor", "admin")
-LOG_KEY_ENV = "COUNTERSIGN_LOG_KEY"
-_signer_lock = threading.Lock()
 
 
-def get_signer(request: Request) -> Ed25519PrivateKey:
-    """The server's checkpoint key: PEM from COUNTERSIGN_LOG_KEY (shared by replicas), or a
-    key generated on first use into the data directory (mode 0600)."""
-    state = request.app.state
-    with _signer_lock:
-        if getattr(state, "log_signer", None) is None:
-            pem = os.environ.get(LOG_KEY_ENV)
-            if pem:
-                state.log_signer = dsse.load_private_pem(pem.encode())
-            else:
-                path = state.settings.data_dir / "log-signing-key.pem"
-                state.log_signer = dsse.load_or_create_private_key(path)
-    signer: Ed25519PrivateKey = state.log_signer
+def get_signer(request: Request) -> LogSigner:
+    """The log signer the app opened at start (web/log_signer.py): its key is a file of its
+    own, outside the database."""
+    signer: LogSigner = request.app.state.database.log_signer
     return signer
 
 
-Signer = Annotated[Ed25519PrivateKey, Depends(get_signer)]
+Signer = Annotated[LogSigner, Depends(get_signer)]
 
 
 class KeyIn(RequestBody):
@@ -148,6 +135,11 @@ class ApprovalOut(BaseModel):
     log_index: int | None
     integrity: list[str] = Field(default_factory=list, description=(
         "how this row disagrees with its log entry, which is the source of truth"))
+
+
+class DecisionOut(ApprovalOut):
+    receipt: str | None = Field(description="the log signer's signed receipt for the "
+                                "decision's log entry (entry hash, index, time)")
 
 
 class ApprovalPage(BaseModel):
@@ -327,12 +319,13 @@ def prepare_decision(submission_id: RowId, body: DecisionIn, principal: CurrentP
 
 
 @router.post("/submissions/{submission_id}/decision", operation_id="signDecision",
-             status_code=201, response_model=ApprovalOut, **allow(*SUPERVISORS))
+             status_code=201, response_model=DecisionOut, **allow(*SUPERVISORS))
 def sign_decision(submission_id: RowId, body: EnvelopeIn, principal: CurrentPrincipal, db: Db,
-                  signer: Signer) -> ApprovalOut:
+                  signer: Signer) -> DecisionOut:
     approval = service.decide(db, submission_id=submission_id, supervisor=principal.user,
                               envelope=body.envelope, signer=signer, password=body.password)
-    return ApprovalOut(**service.approval_summary(db, approval))
+    return DecisionOut(**service.approval_summary(db, approval),
+                       receipt=service.receipt_of(db, approval))
 
 
 @router.post("/approvals/{approval_id}/statement", operation_id="prepareRevocation",
@@ -344,12 +337,13 @@ def prepare_revocation(approval_id: RowId, body: RevocationIn, principal: Curren
 
 
 @router.post("/approvals/{approval_id}/revoke", operation_id="revokeApproval",
-             status_code=201, response_model=ApprovalOut, **allow(*SUPERVISORS))
+             status_code=201, response_model=DecisionOut, **allow(*SUPERVISORS))
 def revoke_approval(approval_id: RowId, body: EnvelopeIn, principal: CurrentPrincipal, db: Db,
-                    signer: Signer) -> ApprovalOut:
+                    signer: Signer) -> DecisionOut:
     approval = service.revoke(db, approval_id=approval_id, supervisor=principal.user,
                               envelope=body.envelope, signer=signer, password=body.password)
-    return ApprovalOut(**service.approval_summary(db, approval))
+    return DecisionOut(**service.approval_summary(db, approval),
+                       receipt=service.receipt_of(db, approval))
 
 
 # --- audit ----------------------------------------------------------------------------------

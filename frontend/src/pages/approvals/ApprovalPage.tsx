@@ -20,6 +20,7 @@ import { LogKeyPanel, useLogKeyPin } from "./LogKeyPin";
 import { OrdersGraph } from "./OrdersGraph";
 import { FindingsTable, IntegrityWarning, PathSummaryTable, RulesSection, StateBadge } from "./parts";
 import { signPrepared, useSigningKeys } from "./signing";
+import { historyCheck } from "./history";
 
 export function ApprovalPage({ id }: { id: number }) {
   const { data: record, error, loading, reload } = useLoad(() => loadApproval(id), [id]);
@@ -139,8 +140,10 @@ export function ApprovalPage({ id }: { id: number }) {
 function Verification({ record }: { record: ApprovalDetail }) {
   const [run, setRun] = useState(0);
   const { data: logChecks, error, loading } = useLoad(async () => {
-    const entries = await loadEntries(record.checkpoint.size);
-    return verifyApproval(record, entries);
+    // Up to the approval's own entry, so that its receipt is checked even if uncovered.
+    const entries = await loadEntries(Math.max(record.checkpoint.size, (record.log_index ?? -1) + 1));
+    const checks = await verifyApproval(record, entries);
+    return [await historyCheck(record.checkpoint), ...checks];
   }, [record, run]);
   const pin = useLogKeyPin(record.checkpoint.public_key);
   const pinned = pin.state ? pinCheck(pin.state) : null;

@@ -18,6 +18,7 @@ import { describeDiff, diffOrders } from "./diff";
 import { OrdersGraph } from "./OrdersGraph";
 import { DiffView, FindingsTable, IntegrityWarning, PathList, PathSummaryTable, RulesSection, StateBadge } from "./parts";
 import { signPrepared, useSigningKeys } from "./signing";
+import { ReceiptNote } from "./Receipt";
 
 export function ReviewPage({ mission, version }: { mission: string; version: number }) {
   const { data: review, error, loading, reload } = useLoad(() => loadReview(mission, version), [mission, version]);
@@ -261,6 +262,7 @@ function DecisionForm({ review, onDecided, username }: { review: Review; onDecid
             {result.log_index !== null ? `, log entry ${result.log_index}` : ""}).
           </span>{" "}
           <Link href={approvalHref(result.id)}>Open the record</Link>
+          <ReceiptNote receipt={(result as { receipt?: string | null }).receipt} />
         </Notice>
       )}
     </section>

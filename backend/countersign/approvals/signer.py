@@ -1,0 +1,196 @@
+"""The log signer: the only holder of the log key, which it keeps in its own directory, outside
+the database. It vouches only for what it appended:
+
+* each entry the app appends gets a signed receipt (receipt.py);
+* it signs a checkpoint only if every entry since its last signed head carries a valid receipt
+  of its own, and the new head is a consistent extension of the last one (an RFC 6962
+  consistency proof from the stored head, and the new root recomputed from the stored right
+  frontier and the receipted leaves);
+* its last signed head lives in a state file beside the key, updated under an exclusive file
+  lock, so that several server processes on one host share one history.
+
+Directory layout (mode 0700): `log-key.pem` (0600; refused if group or others may read it),
+`origin` (the log's unique origin line, chosen when the key is made), `state.json`, `lock`."""
+
+from __future__ import annotations
+
+import fcntl
+import json
+import os
+import secrets
+import socket
+import stat
+from collections.abc import Iterator, Mapping, Sequence
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey, Ed25519PublicKey
+
+from . import dsse
+from .log import sign_checkpoint
+from .merkle import EMPTY_ROOT, Tree, node_hash, verify_consistency
+from .note import Head, verifier_key
+from .receipt import make_receipt, verify_receipt
+
+KEY_FILE = "log-key.pem"
+ORIGIN_FILE = "origin"
+STATE_FILE = "state.json"
+LOCK_FILE = "lock"
+
+
+class SignerError(RuntimeError):
+    """The signer will not sign this (unusable key file, or a head it must not vouch for)."""
+
+
+class Refused(SignerError):
+    pass
+
+
+def _frontier_append(frontier: list[bytes], size: int, leaf: bytes) -> None:
+    """Add a leaf to the right frontier (the roots of the perfect subtrees, left to right)."""
+    node = leaf
+    while size & 1:
+        node = node_hash(frontier.pop(), node)
+        size >>= 1
+    frontier.append(node)
+
+
+def _frontier_root(frontier: Sequence[bytes]) -> bytes:
+    if not frontier:
+        return EMPTY_ROOT
+    root = frontier[-1]
+    for node in reversed(frontier[:-1]):
+        root = node_hash(node, root)
+    return root
+
+
+@dataclass
+class _State:
+    size: int
+    root: bytes
+    frontier: list[bytes]
+
+
+class LogSigner:
+    def __init__(self, directory: Path) -> None:
+        self.directory = directory
+        self.key, self.origin = self._load_or_create()
+        self.public: Ed25519PublicKey = self.key.public_key()
+        self.public_text = dsse.public_text(self.key)
+        self.key_id = dsse.key_id(self.public)
+        self.verifier_key = verifier_key(self.origin, dsse.raw_public(self.public))
+
+    # --- key -----------------------------------------------------------------------------
+
+    def _load_or_create(self) -> tuple[Ed25519PrivateKey, str]:
+        self.directory.mkdir(mode=0o700, parents=True, exist_ok=True)
+        path, origin_path = self.directory / KEY_FILE, self.directory / ORIGIN_FILE
+        if not path.exists():
+            key = dsse.generate_key()
+            # The origin names this log alone: the host and a random instance id.
+            origin = f"countersign.{socket.gethostname() or 'host'}/{secrets.token_hex(8)}"
+            fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+            with os.fdopen(fd, "wb") as out:
+                out.write(dsse.private_pem(key))
+            origin_path.write_text(origin + "\n")
+            return key, origin
+        mode = path.stat().st_mode
+        if mode & (stat.S_IRWXG | stat.S_IRWXO):
+            raise SignerError(f"{path} may be read by others (mode {oct(mode & 0o777)}); "
+                              f"chmod 600 {path}")
+        try:
+            key = dsse.load_private_pem(path.read_bytes())
+        except dsse.SignatureError as exc:
+            raise SignerError(f"{path}: {exc}") from None
+        try:
+            origin = origin_path.read_text().strip()
+        except OSError:
+            raise SignerError(f"{origin_path} is missing: the log's origin line") from None
+        if not origin or "\n" in origin:
+            raise SignerError(f"{origin_path} does not hold one origin line")
+        return key, origin
+
+    # --- receipts ------------------------------------------------------------------------
+
+    def receipt(self, index: int, leaf: str, time: str) -> str:
+        return make_receipt(self.key, self.origin, index, leaf, time)
+
+    # --- checkpoints ---------------------------------------------------------------------
+
+    @contextmanager
+    def _locked(self) -> Iterator[None]:
+        with open(self.directory / LOCK_FILE, "a") as lock:
+            fcntl.flock(lock, fcntl.LOCK_EX)
+            try:
+                yield
+            finally:
+                fcntl.flock(lock, fcntl.LOCK_UN)
+
+    def _read(self) -> _State:
+        try:
+            data = json.loads((self.directory / STATE_FILE).read_text())
+        except FileNotFoundError:
+            return _State(0, EMPTY_ROOT, [])
+        except ValueError:
+            raise SignerError(f"{self.directory / STATE_FILE} is not the signer's state") \
+                from None
+        return _State(int(data["size"]), bytes.fromhex(data["root"]),
+                      [bytes.fromhex(h) for h in data["frontier"]])
+
+    def _write(self, state: _State) -> None:
+        path = self.directory / STATE_FILE
+        tmp = path.with_suffix(".tmp")
+        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+        with os.fdopen(fd, "w") as out:
+            json.dump({"origin": self.origin, "size": state.size, "root": state.root.hex(),
+                       "frontier": [h.hex() for h in state.frontier]}, out)
+            out.flush()
+            os.fsync(out.fileno())
+        os.replace(tmp, path)
+
+    def head(self) -> Head:
+        with self._locked():
+            state = self._read()
+        return Head(self.origin, state.size, state.root)
+
+    def sign_head(self, tree: Tree, receipts: Mapping[int, str]) -> dict[str, Any]:
+        """Sign the head of this tree, given the receipts of the entries since the signer's
+        last head; refuse (Refused, naming both heads or the entry) a head that is not a
+        consistent extension of the last one or covers an entry without a valid receipt.
+        The new head becomes the signer's last."""
+        size, root = tree.size, tree.root()
+        with self._locked():
+            state = self._read()
+            last = Head(self.origin, state.size, state.root)
+            new = Head(self.origin, size, root)
+            if size < state.size:
+                raise Refused(f"the log would roll back: the signer's last head is {last}, "
+                              f"the new head is {new}")
+            if size == state.size:
+                if root != state.root:
+                    raise Refused(f"the log forks: the signer's last head is {last}, the new "
+                                  f"head is {new}")
+            elif state.size and not verify_consistency(
+                    state.size, size, tree.consistency_proof(state.size, size), state.root,
+                    root):
+                raise Refused(f"the new head is not a consistent extension of the last: the "
+                              f"signer's last head is {last}, the new head is {new}")
+            frontier = list(state.frontier)
+            for index in range(state.size, size):
+                leaf = tree.levels[0][index]
+                try:
+                    verify_receipt(receipts.get(index), index=index, leaf=leaf.hex(),
+                                   origin=self.origin, key=self.public)
+                except dsse.SignatureError as exc:
+                    raise Refused(f"log entry {index} {exc}: the signer did not append it and "
+                                  "will not vouch for it") from None
+                _frontier_append(frontier, index, leaf)
+            if _frontier_root(frontier) != root:
+                raise Refused(f"the receipted entries do not hash to the new head {new} (from "
+                              f"the signer's last head {last})")
+            signed = sign_checkpoint(self.key, size, root, origin=self.origin)
+            if size > state.size:
+                self._write(_State(size, root, frontier))
+        return signed

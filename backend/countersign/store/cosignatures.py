@@ -1,0 +1,71 @@
+"""Witness cosignatures of checkpoints (c2sp.org/tlog-cosignature): accepted when they verify
+under a witness key the server's administrator listed (the `witnesses` file beside the log key,
+one `name+hash+key` verifier key per line), kept append-only and published with the
+checkpoint."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from sqlalchemy import select
+from sqlalchemy.orm import Session as DbSession
+
+from ..approvals.dsse import SignatureError
+from ..approvals.note import COSIGNATURE, parse_body, parse_verifier_key, verify_cosignature
+from .missions import MissionError, NotFound
+from .tables import Checkpoint, Cosignature
+
+WITNESSES_FILE = "witnesses"
+
+
+class BadCosignature(MissionError):
+    status = 400
+
+
+def witness_keys(directory: Path) -> dict[str, bytes]:
+    """The registered witnesses: name to raw Ed25519 public key (lines starting # ignored)."""
+    try:
+        lines = (directory / WITNESSES_FILE).read_text().splitlines()
+    except FileNotFoundError:
+        return {}
+    keys: dict[str, bytes] = {}
+    for line in lines:
+        if line.strip() and not line.startswith("#"):
+            name, kind, raw = parse_verifier_key(line)
+            if kind == COSIGNATURE:
+                keys[name] = raw
+    return keys
+
+
+def add_cosignature(db: DbSession, *, directory: Path, body: str, line: str) -> Cosignature:
+    try:
+        head = parse_body(body)
+    except SignatureError as exc:
+        raise BadCosignature(f"checkpoint: {exc}") from None
+    if not line.endswith("\n"):
+        line += "\n"
+    name = line.split(" ")[1] if line.count(" ") >= 2 else ""
+    keys = witness_keys(directory)
+    if name not in keys:
+        raise BadCosignature(f"cosignature: {name!r} is not a registered witness (the "
+                             f"administrator lists witness keys in {directory / WITNESSES_FILE})")
+    rows = db.scalars(select(Checkpoint).where(Checkpoint.tree_size == head.size))
+    if not any(r.note.startswith(body + "\n") or r.note == body for r in rows):
+        raise NotFound(f"the log signed no checkpoint with this body (size {head.size})")
+    try:
+        verify_cosignature(line, body, name, keys[name])
+    except (SignatureError, ValueError) as exc:
+        raise BadCosignature(f"cosignature: {exc}") from None
+    row = Cosignature(tree_size=head.size, body=body, witness=name, line=line)
+    db.add(row)
+    db.flush()
+    return row
+
+
+def cosignature_lines(db: DbSession, body: str) -> list[str]:
+    """The published cosignature lines over this checkpoint body, one per witness (newest)."""
+    lines: dict[str, str] = {}
+    for row in db.scalars(select(Cosignature).where(Cosignature.body == body)
+                          .order_by(Cosignature.id)):
+        lines[row.witness] = row.line
+    return list(lines.values())

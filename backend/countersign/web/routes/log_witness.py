@@ -1,0 +1,42 @@
+"""Witness cosignatures: a witness (`countersign witness`) posts its cosignature of a checkpoint
+it verified; the server keeps those by registered witnesses and publishes them."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from fastapi import APIRouter, Request
+from pydantic import Field
+
+from ...store import approvals as service
+from ...store.cosignatures import add_cosignature, cosignature_lines
+from ..deps import EVERYONE, LOG_READERS, Db, TransactionRoute, allow
+from ..log_signer import signer_directory
+from .schemas import RequestBody
+
+router = APIRouter(prefix="/api", tags=["approvals"], route_class=TransactionRoute)
+
+
+class CosignatureIn(RequestBody):
+    checkpoint: str = Field(min_length=1, max_length=1000,
+                            description="the checkpoint body the witness cosigned")
+    cosignature: str = Field(min_length=1, max_length=1000,
+                             description="its C2SP tlog-cosignature line")
+
+
+@router.post("/log/cosignatures", operation_id="addCosignature", status_code=201,
+             **allow(*LOG_READERS))
+def post_cosignature(body: CosignatureIn, db: Db, request: Request) -> dict[str, Any]:
+    """Accept a registered witness's cosignature of a checkpoint the log signed."""
+    row = add_cosignature(db, directory=signer_directory(request.app.state.settings),
+                          body=body.checkpoint, line=body.cosignature)
+    return {"size": row.tree_size, "witness": row.witness, "cosignature": row.line}
+
+
+@router.get("/log/cosigned", operation_id="getCosignedCheckpoint", **allow(*EVERYONE))
+def get_cosigned(db: Db, request: Request) -> dict[str, Any]:
+    """The latest checkpoint with the witnesses' cosignature lines appended to its note."""
+    row = service.latest_checkpoint(db, signer=request.app.state.database.log_signer)
+    plain = service.checkpoint_json(row)
+    lines = cosignature_lines(db, plain["note"])
+    return {**service.checkpoint_json(row, lines), "cosignatures": lines}
