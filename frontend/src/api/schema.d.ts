@@ -1115,6 +1115,11 @@ export interface components {
             digest: string;
             /** Id */
             id: number;
+            /**
+             * Integrity
+             * @description how this row disagrees with its log entry, which is the source of truth
+             */
+            integrity?: string[];
             /** Key Id */
             key_id: string;
             /** Log Index */
@@ -1243,6 +1248,8 @@ export interface components {
             id: string;
             /** Measures */
             measures?: string[];
+            /** Tests */
+            tests?: string[];
             /**
              * Title
              * @default
