@@ -5,17 +5,18 @@ from __future__ import annotations
 import functools
 import hmac
 import inspect
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Coroutine, Iterable, Iterator
 from dataclasses import dataclass
 from typing import Annotated, Any
 
-from fastapi import Depends, HTTPException, Path, Request
+from fastapi import Depends, HTTPException, Path, Request, Response
 from fastapi.routing import APIRoute
 from sqlalchemy.orm import Session as DbSession
 
 from ..store.accounts import session_user, token_user
 from ..store.db import Database
 from ..store.tables import User
+from .strict_body import strict_handler
 
 SESSION_COOKIE = "countersign_session"
 CSRF_HEADER = "X-CSRF-Token"
@@ -56,6 +57,10 @@ class TransactionRoute(APIRoute):
                 endpoint):
             endpoint = _committing(endpoint)
         super().__init__(path, endpoint, **kwargs)
+
+    # Issue 15: JSON bodies are parsed under the one JSON policy (see strict_body).
+    def get_route_handler(self) -> Callable[[Request], Coroutine[Any, Any, Response]]:
+        return strict_handler(super().get_route_handler())
 
 
 def in_one_transaction(db: DbSession, action: Callable[..., Any], *args: Any) -> Any:

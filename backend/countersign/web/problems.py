@@ -13,6 +13,7 @@ from sqlalchemy.exc import TimeoutError as SqlTimeout
 from ..orders.reader import OrdersReadError
 from ..store.accounts import AccountError, TooManyAttempts
 from ..store.missions import MissionError, PreconditionFailed
+from .strict_body import BodyPolicyError
 
 PROBLEM = "application/problem+json"
 TITLES = {400: "Bad request", 401: "Not signed in", 403: "Forbidden", 404: "Not found",
@@ -43,6 +44,10 @@ def install(app: FastAPI) -> None:
     @app.exception_handler(HTTPException)
     async def _http(request: Request, exc: HTTPException) -> JSONResponse:
         return problem(exc.status_code, str(exc.detail), request)
+
+    @app.exception_handler(BodyPolicyError)
+    async def _body(request: Request, exc: BodyPolicyError) -> JSONResponse:
+        return problem(422, str(exc.detail), request, errors=exc.errors)
 
     @app.exception_handler(RequestValidationError)
     async def _validation(request: Request, exc: RequestValidationError) -> JSONResponse:
