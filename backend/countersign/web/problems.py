@@ -81,7 +81,9 @@ def install(app: FastAPI) -> None:
 
     @app.exception_handler(TooManyAttempts)
     async def _rate(request: Request, exc: TooManyAttempts) -> JSONResponse:
-        return problem(429, str(exc), request)
+        response = problem(429, str(exc), request)
+        response.headers["Retry-After"] = str(exc.retry_after_s)
+        return response
 
     @app.exception_handler(AccountError)
     async def _account(request: Request, exc: AccountError) -> JSONResponse:
