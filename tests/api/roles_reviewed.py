@@ -10,6 +10,8 @@ from __future__ import annotations
 REVIEWED_ROLES: dict[str, tuple[str, ...]] = {
     # POST /api/submissions/{submission_id}/rehearsal
     "attachRehearsal": ("operator",),
+    # POST /api/auth/password
+    "changePassword": ("operator", "supervisor", "auditor", "admin"),
     # POST /api/rehearsals/{rehearsal_id}/outcome
     "chooseOutcome": ("operator", "supervisor"),
     # POST /api/missions
