@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 from typing import Any, TextIO
 
+from . import strict_json
 from .orders.findings import Finding
 from .orders.reader import MAX_INPUT_BYTES, OrdersReadError, read_bytes
 from .rehearse.rules import (
@@ -73,15 +74,6 @@ def _read_source(source: str) -> tuple[bytes, str]:
         raise _usage_error(f"cannot read {source}: {exc.strerror or exc}") from None
 
 
-def _no_duplicates(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
-    result: dict[str, Any] = {}
-    for key, value in pairs:
-        if key in result:
-            raise ValueError(f"duplicate key {key!r}")
-        result[key] = value
-    return result
-
-
 def load_rules(source: str) -> tuple[DefaultTheory, list[Finding], str]:
     """The theory named by `source`, its design findings and a label for output."""
     from .orders.examples import example_bytes
@@ -104,8 +96,8 @@ def load_rules(source: str) -> tuple[DefaultTheory, list[Finding], str]:
     parsed: Any = None
     if data.lstrip()[:1] == b"{":
         try:
-            parsed = json.loads(data, object_pairs_hook=_no_duplicates)
-        except (ValueError, UnicodeDecodeError) as exc:
+            parsed = strict_json.loads(data)
+        except strict_json.JsonPolicyError as exc:
             raise _usage_error(f"{name} is not valid JSON: {exc}") from None
     if isinstance(parsed, dict) and "format" not in parsed:
         body = parsed.get("rules", parsed) if set(parsed) <= {"rules"} else parsed

@@ -2,7 +2,7 @@
 version, as unique partial indexes (issue 14 item 6; branch `decisions`)
 
 Revision ID: 0005
-Revises: 0003
+Revises: 0004
 Create Date: 2026-12-01 23:30:00
 """
 

@@ -8,7 +8,8 @@ from typing import Any
 
 from sqlalchemy import select
 
-from countersign.store.accounts import LOGIN_MAX_FAILURES, create_token
+from countersign.store.accounts import create_token
+from countersign.store.login_throttle import FREE_FAILURES
 from countersign.store.tables import User
 
 from .approval_helpers import (
@@ -54,9 +55,10 @@ def test_wrong_decision_passwords_are_throttled_like_sign_in(world: World) -> No
     signer = register_key(supervisor)
     submission = submit(world, new_version(world))
     envelope = sign_prepared(prepare(supervisor, submission, signer), signer)
-    for _ in range(LOGIN_MAX_FAILURES):
+    for _ in range(FREE_FAILURES):
         assert _post_decision(supervisor, submission, envelope,
                               password="guess").status_code == 403
+    # Past the free failures, sign-in's back-off (store/login_throttle.py) holds for both.
     response = _post_decision(supervisor, submission, envelope, password=PASSWORD)
     assert response.status_code == 429, response.text
     assert world.client().post("/api/auth/login", json={

@@ -104,7 +104,7 @@ def _health(port: int) -> int:
     """GET /api/health on a new connection. A connection the kernel queued on a process that
     was dying is reset: retried, as a browser or load balancer would."""
     for attempt in range(5):
-        connection = http.client.HTTPConnection("127.0.0.1", port, timeout=10)
+        connection = http.client.HTTPConnection("127.0.0.1", port, timeout=60)
         try:
             connection.request("GET", "/api/health")
             return connection.getresponse().status
@@ -129,7 +129,7 @@ def test_workers_listen_each_share_connections_and_are_replaced(tmp_path: Path) 
         # 40 kept-alive connections, as 40 browsers: the kernel spreads them over both.
         connections = []
         for _ in range(40):
-            connection = http.client.HTTPConnection("127.0.0.1", port, timeout=10)
+            connection = http.client.HTTPConnection("127.0.0.1", port, timeout=60)
             connection.request("GET", "/api/health")
             response = connection.getresponse()
             response.read()

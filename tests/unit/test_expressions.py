@@ -3,7 +3,6 @@ translation to z3, and pathological input."""
 
 from __future__ import annotations
 
-import time
 from fractions import Fraction
 
 import pytest
@@ -164,10 +163,9 @@ def test_unicode_look_alikes_are_named(source: str, fragment: str) -> None:
         ("x" * 20_000, "longer than 10,000 characters"),
     ],
 )
-def test_pathological_expressions_fail_fast(source: str, fragment: str) -> None:
-    start = time.perf_counter()
+def test_pathological_expressions_are_refused(source: str, fragment: str) -> None:
+    # How fast: tests/bench/bench_fail_fast.py (no wall-clock bound in a unit test).
     assert fragment in error_of(source)
-    assert time.perf_counter() - start < 1.0
 
 
 def test_large_but_legal_numbers_are_exact() -> None:

@@ -5,13 +5,13 @@ from __future__ import annotations
 
 import copy
 import json
-import time
 from collections.abc import Callable
 from typing import Any
 
 import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from pydantic import ValidationError
 
 from countersign.orders.examples import example_bytes, example_names, load_example
 from countersign.orders.findings import Finding
@@ -292,22 +292,31 @@ def test_expression_errors_are_findings_with_positions() -> None:
 def test_extreme_numbers_and_long_expressions_never_crash() -> None:
     def extreme(data: dict[str, Any]) -> None:
         goal(data, "G1")["envelope"] = {"depth_m": [25, 1e308], "nav_error_m": [-1e308, 0]}
-        goal(data, "G2")["envelope"] = {"depth_m": [float("-inf"), float("inf")]}
-        goal(data, "G3")["envelope"] = {"depth_m": [float("nan"), 40]}
+        # Non-finite bounds are refused by the model itself (issue 15; see below).
+        goal(data, "G2")["envelope"] = {"depth_m": [-1.7e308, 1.7e308]}
+        goal(data, "G3")["envelope"] = {"depth_m": [5e-324, 40]}
         data["constraints"].append({
             "id": "C8", "applies_to": ["G4"],
             "expr": " + ".join(["depth_m"] * 900) + " >= 1e30"})
         data["constraints"].append({
             "id": "C9", "applies_to": ["G5"], "expr": "depth_m * depth_m * depth_m > 1e30"})
 
-    start = time.perf_counter()
+    # The solver's own budget bounds this; the time taken is in tests/bench/bench_fail_fast.py.
     findings = check_logic(variant(extreme), timeout_ms=500, total_timeout_s=10)
-    assert time.perf_counter() - start < 10
     by_subject = {f.subjects[0]: f for f in findings}
     # 900 depths add up to at most 36,000 m in G4's envelope: not 10^30.
     assert by_subject["G4"].code == "CONTRADICTION"
     assert "C8" in by_subject["G4"].subjects
     assert "G5" in by_subject and "C9" in by_subject["G5"].subjects
+
+
+@pytest.mark.parametrize("bound", [float("inf"), float("-inf"), float("nan")])
+def test_non_finite_envelope_bounds_are_refused_by_the_model(bound: float) -> None:
+    def infinite(data: dict[str, Any]) -> None:
+        goal(data, "G2")["envelope"] = {"depth_m": [0, bound]}
+
+    with pytest.raises(ValidationError, match="finite"):
+        variant(infinite)
 
 
 
@@ -320,9 +329,8 @@ def test_a_hard_constraint_times_out_as_a_finding() -> None:
             "expr": "xa * xa * xa * xa + xb * xb * xb * xb == xc * xc * xc * xc",
         })
 
-    start = time.perf_counter()
+    # The solver's own budget bounds this; the time taken is in tests/bench/bench_fail_fast.py.
     findings = check_logic(variant(hard), timeout_ms=200, total_timeout_s=5)
-    assert time.perf_counter() - start < 5
     undecided = [f for f in findings if f.details.get("undecided")]
     assert undecided and all(f.severity == "warning" for f in undecided)
     assert any("G1" in f.subjects for f in undecided)

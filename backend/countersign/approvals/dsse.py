@@ -8,7 +8,6 @@ from __future__ import annotations
 import base64
 import binascii
 import hashlib
-import json
 import os
 from pathlib import Path
 from typing import Any
@@ -16,6 +15,8 @@ from typing import Any
 from cryptography.exceptions import InvalidSignature
 from cryptography.hazmat.primitives import serialization
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey, Ed25519PublicKey
+
+from .. import strict_json
 
 PAYLOAD_TYPE = "application/vnd.in-toto+json"
 
@@ -72,7 +73,7 @@ def sign_envelope(payload: bytes, key: Ed25519PrivateKey,
 def parse_envelope(envelope: str | dict[str, Any]) -> dict[str, Any]:
     if isinstance(envelope, str):
         try:
-            data = json.loads(envelope)
+            data = strict_json.loads(envelope)
         except ValueError:
             raise SignatureError("the envelope is not JSON") from None
     else:

@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import hashlib
-import json
 from typing import Any
 
 import rfc8785
+
+from .. import strict_json
 
 STATEMENT_TYPE = "https://in-toto.io/Statement/v1"
 PREDICATE_TYPE = "https://countersign.invalid/approval/v1"
@@ -47,7 +48,7 @@ def statement_bytes(statement: dict[str, Any]) -> bytes:
 def parse_statement(payload: bytes) -> dict[str, Any]:
     """The statement in these payload bytes; it must be canonical RFC 8785 JSON."""
     try:
-        data = json.loads(payload)
+        data = strict_json.loads(payload)
     except (ValueError, UnicodeDecodeError):
         raise ValueError("the payload is not JSON") from None
     if not isinstance(data, dict) or data.get("_type") != STATEMENT_TYPE or data.get(

@@ -62,7 +62,8 @@ Envelope = Annotated[dict[str, Interval], AfterValidator(_check_envelope)]
 
 class _Strict(BaseModel):
     # Unknown fields are kept (they round-trip and are hashed) so newer orders still load.
-    model_config = ConfigDict(extra="allow", frozen=True, populate_by_name=True)
+    model_config = ConfigDict(extra="allow", frozen=True, populate_by_name=True,
+                              allow_inf_nan=False)
 
 
 class Cost(_Strict):
@@ -184,7 +185,8 @@ MAX_LITERAL_LENGTH = 200
 class _AliasedRule(_Strict):
     # `if` is a Python keyword: the field is `if_` but reads and writes as "if" everywhere.
     model_config = ConfigDict(
-        extra="allow", frozen=True, populate_by_name=True, serialize_by_alias=True
+        extra="allow", frozen=True, populate_by_name=True, serialize_by_alias=True,
+        allow_inf_nan=False,
     )
 
 

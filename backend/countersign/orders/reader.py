@@ -14,6 +14,7 @@ from typing import Any
 
 from pydantic import ValidationError
 
+from .. import strict_json
 from .findings import Finding
 from .model import Orders
 
@@ -121,20 +122,12 @@ def orders_from_data(data: Any) -> Orders:
 
 
 def read_json(data: bytes) -> Orders:
+    # One JSON policy everywhere (strict_json): no duplicate keys, no NaN/Infinity/1e999,
+    # bounded depth; each refusal names its JSON path.
     try:
-        text = data.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise OrdersReadError([Problem("$", f"not UTF-8 text (byte {exc.start})")]) from None
-    try:
-        parsed = json.loads(text, object_pairs_hook=reject_duplicate_keys)
-    except json.JSONDecodeError as exc:
-        raise OrdersReadError(
-            [Problem("$", f"invalid JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}")]
-        ) from None
-    except ValueError as exc:
-        raise OrdersReadError([Problem("$", str(exc))]) from None
-    except RecursionError:
-        raise OrdersReadError([Problem("$", "JSON nested too deeply")]) from None
+        parsed = strict_json.loads(data)
+    except strict_json.JsonPolicyError as exc:
+        raise OrdersReadError([Problem(exc.path, exc.message)]) from None
     return orders_from_data(parsed)
 
 

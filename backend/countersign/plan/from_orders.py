@@ -17,7 +17,10 @@ import math
 from collections.abc import Iterable, Mapping
 from typing import Any
 
+from pydantic import ValidationError
+
 from ..orders.model import Area, Orders
+from ..orders.reader import location_path
 from .model import PlanProblem
 
 EARTH_RADIUS_M = 6_371_000.0
@@ -128,7 +131,10 @@ def problem_from_orders(
             "mandatory": area_id in must or bool(extra.get("mandatory", False)),
             "passes": lawnmower_passes(points, _swath(orders, area, swath_m), wh_per_m),
         })
-    return PlanProblem.model_validate({
+    # Inputs within their own bounds can still make a problem the model refuses (a start far
+    # from the areas puts passes beyond the coordinate bound): say so rather than fail.
+    try:
+        return PlanProblem.model_validate({
         "format": "countersign.plan/1",
         "level": level,
         "start": list(to_metres(start)),
@@ -136,4 +142,10 @@ def problem_from_orders(
         "vehicle": {"transit_wh_per_m": wh_per_m, "battery_wh": battery,
                     "reserve_wh": reserve_wh},
         "areas": items,
-    })
+        })
+    except ValidationError as exc:
+        first = exc.errors(include_url=False)[0]
+        where = location_path(tuple(first["loc"]))
+        message = str(first["msg"]).removeprefix("Value error, ")
+        raise CannotBuildProblem(f"the planning problem would not be valid: {where}: "
+                                 f"{message}") from None

@@ -12,20 +12,19 @@ that already reports unreadable orders reports it the same way) with JSON paths.
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 from typing import Annotated, Any, Final, Literal
 
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError, model_validator
 
+from .. import strict_json
 from ..orders.model import Id, Text
 from ..orders.reader import (
     MAX_INPUT_BYTES,
     OrdersReadError,
     Problem,
     location_path,
-    reject_duplicate_keys,
 )
 
 FORMAT: Final = "countersign.plan/1"
@@ -55,7 +54,7 @@ Amount = Annotated[float, Field(ge=0), AfterValidator(_finite)]
 
 
 class _Model(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, allow_inf_nan=False)
 
 
 class PlanVehicle(_Model):
@@ -179,19 +178,9 @@ def json_from_bytes(data: bytes, name: str = "<input>") -> Any:
     if not data.strip():
         raise PlanReadError([Problem("$", f"{name} is empty")])
     try:
-        text = data.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise PlanReadError([Problem("$", f"not UTF-8 text (byte {exc.start})")]) from None
-    try:
-        return json.loads(text, object_pairs_hook=reject_duplicate_keys)
-    except json.JSONDecodeError as exc:
-        raise PlanReadError(
-            [Problem("$", f"invalid JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}")]
-        ) from None
-    except ValueError as exc:
-        raise PlanReadError([Problem("$", str(exc))]) from None
-    except RecursionError:
-        raise PlanReadError([Problem("$", "JSON nested too deeply")]) from None
+        return strict_json.loads(data)
+    except strict_json.JsonPolicyError as exc:
+        raise PlanReadError([Problem(exc.path, exc.message)]) from None
 
 
 def read_bytes(data: bytes, name: str = "<input>") -> PlanProblem:

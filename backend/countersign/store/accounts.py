@@ -8,19 +8,19 @@ from dataclasses import dataclass
 from datetime import datetime, timedelta
 
 from argon2.exceptions import InvalidHashError, VerificationError
-from sqlalchemy import delete, func, select, update
+from sqlalchemy import delete, select, update
 from sqlalchemy.orm import Session as DbSession
 
+from . import login_throttle
 from .db import database_of, writable
 from .events import record
 from .hashing import BoundedHasher
-from .tables import ROLES, ApiToken, LoginAttempt, Session, User, utcnow
+from .password_policy import password_problem
+from .tables import ROLES, ApiToken, Session, User, utcnow
 
 HASHER = BoundedHasher()
 SESSION_LIFETIME = timedelta(hours=12)
-LOGIN_WINDOW = timedelta(minutes=15)
-LOGIN_MAX_FAILURES = 10
-MIN_PASSWORD_LENGTH = 10
+SESSION_IDLE = timedelta(minutes=30)
 # Verifying against a dummy hash makes unknown usernames cost as much as wrong passwords.
 _DUMMY_HASH = HASHER.hash("countersign-timing-equaliser")
 
@@ -30,7 +30,9 @@ class AccountError(ValueError):
 
 
 class TooManyAttempts(AccountError):
-    pass
+    def __init__(self, message: str, retry_after_s: int = 60) -> None:
+        super().__init__(message)
+        self.retry_after_s = retry_after_s
 
 
 def token_hash(token: str) -> str:
@@ -41,11 +43,10 @@ def new_secret() -> str:
     return secrets.token_urlsafe(32)
 
 
-def hash_password(password: str) -> str:
-    if len(password) < MIN_PASSWORD_LENGTH:
-        raise AccountError(f"a password needs at least {MIN_PASSWORD_LENGTH} characters")
-    if len(password) > 1024:
-        raise AccountError("a password may have at most 1024 characters")
+def hash_password(password: str, *, username: str = "", display_name: str = "") -> str:
+    problem = password_problem(password, username=username, display_name=display_name)
+    if problem is not None:
+        raise AccountError(problem)
     return HASHER.hash(password)
 
 
@@ -61,30 +62,26 @@ def create_user(
     if db.scalar(select(User).where(User.username == username)) is not None:
         raise AccountError(f"the username {username!r} is taken")
     user = User(username=username, role=role, display_name=display_name or username,
-                password_hash=hash_password(password))
+                password_hash=hash_password(password, username=username,
+                                            display_name=display_name))
     db.add(user)
     db.flush()
     record(db, kind="user.created", actor=actor, detail={"user": username, "role": role})
     return user
 
 
-def authenticate(db: DbSession, *, username: str, password: str) -> User | None:
-    """The user for these credentials, or None; raises TooManyAttempts when rate limited.
+def authenticate(db: DbSession, *, username: str, password: str,
+                 address: str | None = None) -> User | None:
+    """The user for these credentials, or None; raises TooManyAttempts when throttled.
 
-    The rate limit is read and the password checked (argon2: tens of milliseconds of CPU by
-    design) in a read transaction of their own: on SQLite a writing session holds the one
-    write lock from its first query, and every other writer would wait for the hash."""
-    since = utcnow() - LOGIN_WINDOW
+    The attempt is recorded and counted before the password is checked (login_throttle); the
+    hash (argon2: tens of milliseconds of CPU by design) is checked outside any write
+    transaction: on SQLite a writing session holds the one write lock from its first query."""
+    try:
+        login_throttle.admit(db, username, address)
+    except login_throttle.Throttled as exc:
+        raise TooManyAttempts(str(exc), exc.retry_after_s) from None
     with database_of(db).session(write=False) as reader:
-        failures = reader.scalar(
-            select(func.count()).select_from(LoginAttempt)
-            .where(LoginAttempt.username == username, LoginAttempt.at >= since)
-        ) or 0
-        if failures >= LOGIN_MAX_FAILURES:
-            raise TooManyAttempts(
-                f"too many failed sign-ins for {username!r}; try again in "
-                f"{int(LOGIN_WINDOW.total_seconds() // 60)} minutes"
-            )
         found = reader.scalar(select(User).where(User.username == username))
         stored_hash = found.password_hash if found else _DUMMY_HASH
         user_id = found.id if found is not None and not found.disabled else None
@@ -95,11 +92,10 @@ def authenticate(db: DbSession, *, username: str, password: str) -> User | None:
         valid = False
     user = db.get(User, user_id) if valid and user_id is not None else None
     if user is None or user.password_hash != stored_hash or user.disabled:
-        db.add(LoginAttempt(username=username[:64]))
         return None
     if HASHER.check_needs_rehash(user.password_hash):
         user.password_hash = HASHER.hash(password)
-    db.execute(delete(LoginAttempt).where(LoginAttempt.username == username))
+    login_throttle.succeeded(db, username)
     return user
 
 
@@ -128,8 +124,15 @@ def session_user(db: DbSession, cookie: str) -> tuple[User, Session] | None:
     if found is None:
         return None
     row, user = found
-    if row.expires_at < utcnow() or user.disabled:
+    now = utcnow()
+    seen = row.last_seen_at or row.created_at
+    # Absolute timeout (expires_at, 12 h from sign-in) and idle timeout (30 min unused).
+    if row.expires_at < now or now - seen > SESSION_IDLE or user.disabled:
         return None
+    if now - seen > timedelta(minutes=1):  # a minute's precision: reads stay mostly reads
+        with writable(db) as writer:
+            writer.execute(update(Session).where(Session.token_hash == row.token_hash)
+                           .values(last_seen_at=now))
     return user, row
 
 
@@ -137,16 +140,38 @@ def close_session(db: DbSession, cookie: str) -> None:
     db.execute(delete(Session).where(Session.token_hash == token_hash(cookie)))
 
 
-def create_token(db: DbSession, *, user: User, name: str) -> tuple[ApiToken, str]:
+SCOPES = ("read", "write", "decide")
+# A token's default life; the longest one may ask for (issue 15: tokens never expired).
+TOKEN_LIFETIME = timedelta(days=90)
+MAX_TOKEN_LIFETIME = timedelta(days=366)
+
+
+def create_token(db: DbSession, *, user: User, name: str,
+                 scopes: tuple[str, ...] = SCOPES,
+                 lifetime: timedelta | None = TOKEN_LIFETIME) -> tuple[ApiToken, str]:
+    unknown = sorted(set(scopes) - set(SCOPES))
+    if unknown or not scopes:
+        raise AccountError(f"scopes are some of {', '.join(SCOPES)}; not {unknown or 'none'}")
+    if lifetime is not None and not timedelta(0) < lifetime <= MAX_TOKEN_LIFETIME:
+        raise AccountError(f"a token lives at most {MAX_TOKEN_LIFETIME.days} days")
     secret = "cst_" + new_secret()
-    token = ApiToken(user_id=user.id, name=name[:100] or "token", token_hash=token_hash(secret))
+    token = ApiToken(user_id=user.id, name=name[:100] or "token", token_hash=token_hash(secret),
+                     scopes=" ".join(s for s in SCOPES if s in scopes),
+                     expires_at=utcnow() + lifetime if lifetime is not None else None)
     db.add(token)
     db.flush()
-    record(db, kind="token.created", actor=user, detail={"token": token.id, "name": token.name})
+    record(db, kind="token.created", actor=user,
+           detail={"token": token.id, "name": token.name, "scopes": token.scopes})
     return token, secret
 
 
 def token_user(db: DbSession, secret: str) -> User | None:
+    found = token_lookup(db, secret)
+    return found[0] if found else None
+
+
+def token_lookup(db: DbSession, secret: str) -> tuple[User, ApiToken] | None:
+    """The live token for this secret and its user: not revoked, not expired, user enabled."""
     # One indexed query (api_tokens.token_hash is unique) for the token and its user.
     found = db.execute(
         select(ApiToken, User).join(User, User.id == ApiToken.user_id)
@@ -155,13 +180,45 @@ def token_user(db: DbSession, secret: str) -> User | None:
     if found is None:
         return None
     token, user = found
-    if token.revoked or user.disabled:
-        return None
     now = utcnow()
+    if token.revoked or user.disabled or (token.expires_at is not None
+                                          and token.expires_at <= now):
+        return None
     # Recording every use would turn each read into a write; a minute's precision is enough,
     # written in a transaction of its own so that read-only requests stay read-only.
     if token.last_used_at is None or now - token.last_used_at > timedelta(minutes=1):
         with writable(db) as writer:
             writer.execute(update(ApiToken).where(ApiToken.id == token.id)
                            .values(last_used_at=now))
-    return user
+    return user, token
+
+
+def revoke_credentials(db: DbSession, user: User, *, keep_session: str | None = None) -> None:
+    """End every session and revoke every API token of `user` (after a password change or
+    reset, or when the account is disabled); `keep_session` is a cookie left signed in."""
+    query = delete(Session).where(Session.user_id == user.id)
+    if keep_session is not None:
+        query = query.where(Session.token_hash != token_hash(keep_session))
+    db.execute(query)
+    db.execute(update(ApiToken).where(ApiToken.user_id == user.id, ApiToken.revoked.is_(False))
+               .values(revoked=True))
+
+
+def change_password(db: DbSession, user: User, *, current: str, new: str,
+                    keep_session: str | None = None) -> None:
+    """The user's own change: the current password is checked first."""
+    try:
+        HASHER.verify(user.password_hash, current)
+    except (VerificationError, InvalidHashError):
+        raise AccountError("the current password is wrong") from None
+    set_password(db, user, new, actor=user, keep_session=keep_session)
+
+
+def set_password(db: DbSession, user: User, new: str, *, actor: User,
+                 keep_session: str | None = None) -> None:
+    """Set a password (own change or an admin's reset); every other credential ends."""
+    user.password_hash = hash_password(new, username=user.username,
+                                       display_name=user.display_name)
+    revoke_credentials(db, user, keep_session=keep_session)
+    record(db, kind="user.password_changed", actor=actor,
+           detail={"user": user.username, "by": "self" if actor.id == user.id else "admin"})

@@ -11,12 +11,15 @@ attempt (and nothing else: the caller has written nothing yet) before refusing."
 
 from __future__ import annotations
 
+import math
+
 from argon2.exceptions import InvalidHashError, VerificationError
-from sqlalchemy import func, select
+from sqlalchemy import select
 from sqlalchemy.orm import Session as DbSession
 
-from .accounts import HASHER, LOGIN_MAX_FAILURES, LOGIN_WINDOW, TooManyAttempts
+from .accounts import HASHER, TooManyAttempts
 from .db import database_of
+from .login_throttle import WINDOW, account_delay
 from .missions import MissionError
 from .tables import LoginAttempt, utcnow
 
@@ -33,15 +36,20 @@ def confirm_password(db: DbSession, *, username: str, password_hash: str,
     if not password:
         raise PasswordRequired("a signed decision needs your password, entered again: the "
                                "signature alone may come from a script in your browser")
-    since = utcnow() - LOGIN_WINDOW
+    now = utcnow()
     # The throttle is read and the hash checked outside the request's write transaction (as at
-    # sign-in): argon2 takes tens of milliseconds and SQLite has one writer.
+    # sign-in): argon2 takes tens of milliseconds and SQLite has one writer. The back-off is
+    # sign-in's (store/login_throttle.py): the same failures, the same delay.
     with database_of(db).session(write=False) as reader:
-        failures = reader.scalar(select(func.count()).select_from(LoginAttempt).where(
-            LoginAttempt.username == username, LoginAttempt.at >= since)) or 0
-    if failures >= LOGIN_MAX_FAILURES:
+        earlier = list(reader.scalars(
+            select(LoginAttempt.at).where(LoginAttempt.username == username[:64],
+                                          LoginAttempt.at >= now - WINDOW)
+            .order_by(LoginAttempt.at.desc()).limit(64)))
+    wait = account_delay(len(earlier))
+    if earlier and wait and now - earlier[0] < wait:
+        left = math.ceil((wait - (now - earlier[0])).total_seconds())
         raise TooManyAttempts(f"too many wrong passwords for {username!r}; try again in "
-                              f"{int(LOGIN_WINDOW.total_seconds() // 60)} minutes")
+                              f"{left} s", left)
     try:
         HASHER.verify(password_hash, password)
     except (VerificationError, InvalidHashError):

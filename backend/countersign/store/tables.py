@@ -82,7 +82,9 @@ class Session(Base):
     user_id: Mapped[int] = mapped_column(ForeignKey("users.id", ondelete="CASCADE"), index=True)
     csrf_token: Mapped[str] = mapped_column(String(64))
     created_at: Mapped[datetime] = mapped_column(default=utcnow)
-    expires_at: Mapped[datetime]
+    expires_at: Mapped[datetime]  # the absolute timeout
+    # The idle timeout counts from here (written at most once a minute; None: since created).
+    last_seen_at: Mapped[datetime | None] = mapped_column(default=None)
 
 
 class ApiToken(Base):
@@ -94,6 +96,10 @@ class ApiToken(Base):
     created_at: Mapped[datetime] = mapped_column(default=utcnow)
     last_used_at: Mapped[datetime | None] = mapped_column(default=None)
     revoked: Mapped[bool] = mapped_column(Boolean, default=False)
+    expires_at: Mapped[datetime | None] = mapped_column(default=None)
+    # Space-separated: read (GET), write (other changes), decide (approval decisions).
+    scopes: Mapped[str] = mapped_column(String(64), default="read write decide",
+                                        server_default="read write decide")
 
 
 class LoginAttempt(Base):
@@ -103,6 +109,8 @@ class LoginAttempt(Base):
     id: Mapped[int] = mapped_column(Integer, primary_key=True)
     username: Mapped[str] = mapped_column(String(64), index=True)
     at: Mapped[datetime] = mapped_column(default=utcnow, index=True)
+    # The client address, so that spraying one password over many accounts is limited too.
+    address: Mapped[str | None] = mapped_column(String(64), default=None, index=True)
 
 
 class VehicleProfile(Base):

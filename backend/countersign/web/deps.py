@@ -5,17 +5,19 @@ from __future__ import annotations
 import functools
 import hmac
 import inspect
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Coroutine, Iterable, Iterator
 from dataclasses import dataclass
 from typing import Annotated, Any
 
-from fastapi import Depends, HTTPException, Path, Request
+from fastapi import Depends, HTTPException, Path, Request, Response
 from fastapi.routing import APIRoute
 from sqlalchemy.orm import Session as DbSession
 
-from ..store.accounts import session_user, token_user
+from ..store.accounts import session_user, token_lookup
 from ..store.db import Database
 from ..store.tables import User
+from .strict_body import strict_handler
+from .token_scopes import token_refusal
 
 SESSION_COOKIE = "countersign_session"
 CSRF_HEADER = "X-CSRF-Token"
@@ -56,6 +58,10 @@ class TransactionRoute(APIRoute):
                 endpoint):
             endpoint = _committing(endpoint)
         super().__init__(path, endpoint, **kwargs)
+
+    # Issue 15: JSON bodies are parsed under the one JSON policy (see strict_body).
+    def get_route_handler(self) -> Callable[[Request], Coroutine[Any, Any, Response]]:
+        return strict_handler(super().get_route_handler())
 
 
 def in_one_transaction(db: DbSession, action: Callable[..., Any], *args: Any) -> Any:
@@ -116,9 +122,15 @@ def current_principal(request: Request, db: Db) -> Principal:
 def _principal(request: Request, db: DbSession) -> Principal:
     header = request.headers.get("Authorization", "")
     if header.lower().startswith("bearer "):
-        user = token_user(db, header[7:].strip())
-        if user is None:
-            raise HTTPException(401, "the API token is unknown, revoked or its user is disabled")
+        live = token_lookup(db, header[7:].strip())
+        if live is None:
+            raise HTTPException(401, "the API token is unknown, revoked or expired, or its "
+                                     "user is disabled")
+        user, token = live
+        # Issue 15: scopes, and no minting of tokens by tokens (see token_scopes).
+        refusal = token_refusal(request, token.scopes)
+        if refusal is not None:
+            raise HTTPException(403, refusal)
         return Principal(user, "token", None)
     cookie = request.cookies.get(SESSION_COOKIE)
     found = session_user(db, cookie) if cookie else None

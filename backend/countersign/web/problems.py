@@ -13,6 +13,7 @@ from sqlalchemy.exc import TimeoutError as SqlTimeout
 from ..orders.reader import OrdersReadError
 from ..store.accounts import AccountError, TooManyAttempts
 from ..store.missions import MissionError, PreconditionFailed
+from .strict_body import BodyPolicyError
 
 PROBLEM = "application/problem+json"
 TITLES = {400: "Bad request", 401: "Not signed in", 403: "Forbidden", 404: "Not found",
@@ -48,6 +49,10 @@ def install(app: FastAPI) -> None:
             response.headers[name] = value
         return response
 
+    @app.exception_handler(BodyPolicyError)
+    async def _body(request: Request, exc: BodyPolicyError) -> JSONResponse:
+        return problem(422, str(exc.detail), request, errors=exc.errors)
+
     @app.exception_handler(RequestValidationError)
     async def _validation(request: Request, exc: RequestValidationError) -> JSONResponse:
         errors = [{"path": _location(tuple(e.get("loc", ()))), "message": str(e.get("msg"))}
@@ -80,7 +85,9 @@ def install(app: FastAPI) -> None:
 
     @app.exception_handler(TooManyAttempts)
     async def _rate(request: Request, exc: TooManyAttempts) -> JSONResponse:
-        return problem(429, str(exc), request)
+        response = problem(429, str(exc), request)
+        response.headers["Retry-After"] = str(exc.retry_after_s)
+        return response
 
     @app.exception_handler(AccountError)
     async def _account(request: Request, exc: AccountError) -> JSONResponse:

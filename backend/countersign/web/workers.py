@@ -61,8 +61,11 @@ class _Server(uvicorn.Server):
 
 
 def _run_worker(config: uvicorn.Config, serving: EventType) -> None:
+    # Bound but not yet listening: uvicorn listens (asyncio's create_server) only after the
+    # app has loaded and its startup has run. A replacement process that listened at once was
+    # handed its share of new connections while it was still importing and migrating, seconds
+    # on a busy machine, and they waited or were reset if it failed (issue 15).
     sock = _socket(config.host, config.port)
-    sock.listen(config.backlog)
     _Server(config, serving).run(sockets=[sock])
 
 

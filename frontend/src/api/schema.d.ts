@@ -151,6 +151,27 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/auth/password": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Password
+         * @description Change your own password. Every other session and every API token of yours ends; the
+         *     browser session that asked stays signed in.
+         */
+        post: operations["changePassword"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/events": {
         parameters: {
             query?: never;
@@ -1436,6 +1457,13 @@ export interface components {
              */
             outcome: "succeed" | "fail" | "violate";
         };
+        /** PasswordChange */
+        PasswordChange: {
+            /** Current Password */
+            current_password: string;
+            /** New Password */
+            new_password: string;
+        };
         /** PathCountsOut */
         PathCountsOut: {
             /** By Terminal */
@@ -1750,11 +1778,27 @@ export interface components {
         };
         /** TokenIn */
         TokenIn: {
+            /**
+             * Expires In Days
+             * @default 90
+             */
+            expires_in_days: number;
             /** Name */
             name: string;
+            /**
+             * Scopes
+             * @default [
+             *       "read",
+             *       "write",
+             *       "decide"
+             *     ]
+             */
+            scopes: ("read" | "write" | "decide")[];
         };
         /** TokenOut */
         TokenOut: {
+            /** Expires At */
+            expires_at?: string | null;
             /** Id */
             id: number;
             /** Name */
@@ -1764,6 +1808,8 @@ export interface components {
              * @default false
              */
             revoked: boolean;
+            /** Scopes */
+            scopes?: string[];
             /** Token */
             token?: string | null;
         };
@@ -2139,6 +2185,37 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["SessionOut"];
+                };
+            };
+        };
+    };
+    changePassword: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["PasswordChange"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            204: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content?: never;
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
         };

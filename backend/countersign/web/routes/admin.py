@@ -2,14 +2,21 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Any
+from datetime import datetime, timedelta
+from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, HTTPException, Query
 from pydantic import BaseModel, Field
 from sqlalchemy import select
 
 from ...orders.model import Vehicle
-from ...store.accounts import AccountError, create_token, create_user, hash_password
+from ...store.accounts import (
+    AccountError,
+    create_token,
+    create_user,
+    revoke_credentials,
+    set_password,
+)
 from ...store.events import record
 from ...store.tables import ApiToken, Event, User, VehicleProfile
 from ..deps import (
@@ -43,6 +50,9 @@ class UserPatch(RequestBody):
 
 class TokenIn(RequestBody):
     name: str = Field(min_length=1, max_length=100)
+    scopes: list[Literal["read", "write", "decide"]] = Field(
+        default=["read", "write", "decide"], min_length=1, max_length=3)
+    expires_in_days: int = Field(default=90, ge=1, le=366)
 
 
 class TokenOut(BaseModel):
@@ -50,6 +60,8 @@ class TokenOut(BaseModel):
     name: str
     token: str | None = None
     revoked: bool = False
+    scopes: list[str] = Field(default_factory=list)
+    expires_at: datetime | None = None
 
 
 @router.get("/users", operation_id="listUsers", response_model=list[UserOut], **allow(*ADMINS))
@@ -87,8 +99,11 @@ def change_user(user_id: RowId, body: UserPatch, principal: CurrentPrincipal, db
     if body.display_name is not None:
         user.display_name = changes["display_name"] = body.display_name
     if body.password is not None:
-        user.password_hash = hash_password(body.password)
-        changes["password"] = "changed"
+        # An admin's reset: every session and API token of that user ends (issue 15).
+        set_password(db, user, body.password, actor=principal.user)
+        changes["password"] = "reset"
+    if body.disabled:
+        revoke_credentials(db, user)
     record(db, kind="user.updated", actor=principal.user,
            detail={"user": user.username, **changes})
     return UserOut.of(user)
@@ -98,14 +113,18 @@ def change_user(user_id: RowId, body: UserPatch, principal: CurrentPrincipal, db
             **allow(*EVERYONE))
 def list_tokens(principal: CurrentPrincipal, db: Db) -> list[TokenOut]:
     rows = db.scalars(select(ApiToken).where(ApiToken.user_id == principal.user.id))
-    return [TokenOut(id=t.id, name=t.name, revoked=t.revoked) for t in rows]
+    return [TokenOut(id=t.id, name=t.name, revoked=t.revoked, scopes=t.scopes.split(),
+                     expires_at=t.expires_at) for t in rows]
 
 
 @router.post("/tokens", operation_id="createToken", status_code=201, response_model=TokenOut,
              **allow(*EVERYONE))
 def add_token(body: TokenIn, principal: CurrentPrincipal, db: Db) -> TokenOut:
-    token, secret = create_token(db, user=principal.user, name=body.name)
-    return TokenOut(id=token.id, name=token.name, token=secret)
+    token, secret = create_token(db, user=principal.user, name=body.name,
+                                 scopes=tuple(body.scopes),
+                                 lifetime=timedelta(days=body.expires_in_days))
+    return TokenOut(id=token.id, name=token.name, token=secret, scopes=token.scopes.split(),
+                    expires_at=token.expires_at)
 
 
 @router.delete("/tokens/{token_id}", operation_id="revokeToken", status_code=204,

@@ -32,6 +32,7 @@ from ..deps import (
     TransactionRoute,
     allow,
 )
+from .instants import Instant
 from .schemas import RequestBody
 
 router = APIRouter(prefix="/api", tags=["approvals"], route_class=TransactionRoute)
@@ -357,8 +358,8 @@ def list_approvals(
     supervisor: Annotated[str | None, Query(max_length=64)] = None,
     vehicle: Annotated[str | None, Query(max_length=100)] = None,
     decision: Annotated[str | None, Query(pattern="^(approved|rejected|revoked)$")] = None,
-    since: datetime | None = None,
-    until: datetime | None = None,
+    since: Instant | None = None,
+    until: Instant | None = None,
     limit: Annotated[int, Query(ge=1, le=500)] = 50,
     cursor: Annotated[int | None, Query(ge=1, le=2**31 - 1)] = None,
 ) -> ApprovalPage:

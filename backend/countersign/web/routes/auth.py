@@ -5,7 +5,8 @@ from __future__ import annotations
 from fastapi import APIRouter, HTTPException, Request, Response
 from pydantic import BaseModel, Field
 
-from ...store.accounts import authenticate, close_session, open_session
+from ...store.accounts import authenticate, change_password, close_session, open_session
+from ...store.tables import User
 from ..deps import EVERYONE, SESSION_COOKIE, CurrentPrincipal, Db, TransactionRoute, allow
 from .schemas import RequestBody, UserOut
 
@@ -25,10 +26,9 @@ class SessionOut(BaseModel):
 @router.post("/login", operation_id="login", response_model=SessionOut,
              openapi_extra={"x-roles": ["anonymous"]})
 def login(body: LoginRequest, request: Request, response: Response, db: Db) -> SessionOut:
-    user = authenticate(db, username=body.username, password=body.password)
+    address = request.client.host if request.client else None
+    user = authenticate(db, username=body.username, password=body.password, address=address)
     if user is None:
-        # Commit the failed attempt (rate limiting) before answering.
-        db.commit()
         raise HTTPException(401, "wrong username or password")
     session = open_session(db, user)
     secure = request.url.scheme == "https" or request.app.state.settings.secure_cookies
@@ -48,3 +48,19 @@ def logout(request: Request, response: Response, principal: CurrentPrincipal, db
 @router.get("/me", operation_id="whoAmI", response_model=SessionOut, **allow(*EVERYONE))
 def me(principal: CurrentPrincipal) -> SessionOut:
     return SessionOut(user=UserOut.of(principal.user), csrf_token=principal.csrf_token)
+
+
+class PasswordChange(RequestBody):
+    current_password: str = Field(min_length=1, max_length=1024)
+    new_password: str = Field(min_length=1, max_length=1024)
+
+
+@router.post("/password", operation_id="changePassword", status_code=204, **allow(*EVERYONE))
+def password(body: PasswordChange, request: Request, principal: CurrentPrincipal,
+             db: Db) -> None:
+    """Change your own password. Every other session and every API token of yours ends; the
+    browser session that asked stays signed in."""
+    user = db.get_one(User, principal.user.id)
+    keep = request.cookies.get(SESSION_COOKIE) if principal.via == "cookie" else None
+    change_password(db, user, current=body.current_password, new=body.new_password,
+                    keep_session=keep)

@@ -396,6 +396,8 @@ def list_paths(
             offset = int(_decode_cursor(cursor))
         except ValueError:
             raise HTTPException(400, "the cursor is not valid") from None
+        if not 0 <= offset <= counts.total:  # e.g. "LTE=", which decodes to -1
+            raise HTTPException(400, "the cursor is not valid")
     if format == "ndjson" or "application/x-ndjson" in request.headers.get("accept", ""):
         def lines() -> Iterator[str]:
             for line in iter_path_lines(graph, counts, offset):

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any
+from typing import Annotated, Any
 
 from fastapi import APIRouter, HTTPException, Request
 from pydantic import Field
@@ -23,15 +23,23 @@ router = APIRouter(prefix="/api", tags=["planning"], route_class=TransactionRout
 PLAN_TIMEOUT_S = 10.0
 
 
+# Issue 15: every number bounded, so that no input reaches arithmetic that overflows.
+Latitude = Annotated[float, Field(ge=-90, le=90)]
+Longitude = Annotated[float, Field(ge=-180, le=180)]
+LatLon = tuple[Latitude, Longitude]
+Energy = Annotated[float, Field(ge=0, le=1e9)]
+
+
 class ProblemFromMission(RequestBody):
-    start: tuple[float, float]
-    recovery: tuple[float, float]
-    battery_wh: float | None = Field(default=None, gt=0)
-    reserve_wh: float = Field(default=0.0, ge=0)
+    start: LatLon
+    recovery: LatLon
+    battery_wh: Annotated[float, Field(gt=0, le=1e9)] | None = None
+    reserve_wh: Energy = 0.0
     areas: list[str] | None = Field(default=None, max_length=64)
-    rewards: dict[str, float] | None = None
+    rewards: dict[str, Annotated[float, Field(ge=0, le=1e9)]] | None = Field(
+        default=None, max_length=64)
     mandatory: list[str] = Field(default_factory=list, max_length=64)
-    swath_m: float | None = Field(default=None, gt=0)
+    swath_m: Annotated[float, Field(ge=0.01, le=1e5)] | None = None
     level: int = Field(default=2, ge=1, le=2)
 
 

@@ -1,0 +1,98 @@
+"""The one JSON policy of every reader and request body (issue 15).
+
+Python's `json` accepts what RFC 8259 does not: `NaN`, `Infinity`, numbers such as `1e999` that
+overflow to infinity, and the same key twice in one object (the last one silently wins). Each of
+these has cost a 500 or a silently wrong value somewhere, so every JSON the application reads
+from outside goes through `loads`, which refuses them with the JSON path of the value, and also
+bounds nesting depth (the C parser's own limit is the interpreter's recursion limit).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from typing import Any
+
+# Orders nest about six levels (orders > goals > goal > envelope > quantity > bound); request
+# bodies fewer. 64 leaves room for free-form `params` without letting a body recurse deeply.
+MAX_DEPTH = 64
+
+
+class JsonPolicyError(ValueError):
+    """JSON that parses but breaks the policy (or does not parse); `path` says where."""
+
+    def __init__(self, path: str, message: str) -> None:
+        self.path = path
+        self.message = message
+        super().__init__(f"{path}: {message}")
+
+
+class _DuplicateKey(ValueError):
+    def __init__(self, key: str) -> None:
+        self.key = key
+        super().__init__(key)
+
+
+def _pairs(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    result: dict[str, Any] = {}
+    for key, value in pairs:
+        if key in result:
+            raise _DuplicateKey(key)
+        result[key] = value
+    return result
+
+
+def _constant(name: str) -> float:
+    # NaN, Infinity and -Infinity are not JSON; keep them as floats so that the walk below
+    # reports them with their path.
+    return float(name)
+
+
+def _key_path(path: str, key: str) -> str:
+    if key.replace("_", "").isalnum():
+        return f"{path}.{key}"
+    return f"{path}[{json.dumps(key)}]"
+
+
+def check(value: Any, max_depth: int = MAX_DEPTH) -> None:
+    """Raise `JsonPolicyError` for the first non-finite number or too-deep value, by path.
+
+    Iterative, so that its own depth is not limited by the interpreter's recursion limit."""
+    stack: list[tuple[Any, str, int]] = [(value, "$", 0)]
+    while stack:
+        item, path, depth = stack.pop()
+        if isinstance(item, float):
+            if not math.isfinite(item):
+                raise JsonPolicyError(
+                    path, "numbers must be finite (NaN, Infinity and values beyond "
+                    "±1.8e308 such as 1e999 are not accepted)")
+        elif isinstance(item, (dict, list)):
+            if depth >= max_depth:
+                raise JsonPolicyError(path, f"JSON nested deeper than {max_depth} levels")
+            if isinstance(item, dict):
+                children = [(v, _key_path(path, str(k)), depth + 1) for k, v in item.items()]
+            else:
+                children = [(v, f"{path}[{i}]", depth + 1) for i, v in enumerate(item)]
+            stack.extend(reversed(children))
+
+
+def loads(text: str | bytes, max_depth: int = MAX_DEPTH) -> Any:
+    """Parse `text` under the policy, or raise `JsonPolicyError` saying what and where."""
+    if isinstance(text, bytes):
+        try:
+            text = text.decode("utf-8-sig")
+        except UnicodeDecodeError as exc:
+            raise JsonPolicyError("$", f"not UTF-8 text (byte {exc.start})") from None
+    try:
+        parsed = json.loads(text, object_pairs_hook=_pairs, parse_constant=_constant)
+    except json.JSONDecodeError as exc:
+        raise JsonPolicyError(
+            "$", f"invalid JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}") from None
+    except _DuplicateKey as exc:
+        raise JsonPolicyError("$", f"the key {exc.key!r} appears twice in one object") from None
+    except RecursionError:
+        raise JsonPolicyError("$", "JSON nested too deeply") from None
+    except ValueError as exc:  # e.g. an integer with more digits than int() converts
+        raise JsonPolicyError("$", f"invalid JSON: {exc}") from None
+    check(parsed, max_depth)
+    return parsed

@@ -1,0 +1,99 @@
+"""Issue 15: hostile numbers, duplicate keys, cursors and times are 4xx problems naming where,
+never 500s or silently changed values."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from .conftest import World
+
+READERS = ("/api/validate", "/api/missions", "/api/import", "/api/read")
+
+
+def _orders_text(world: World) -> str:
+    orders = world.client("operator").get("/api/missions/search-and-sample").json()["orders"]
+    orders["id"] = "hostile"
+    return json.dumps(orders)
+
+
+@pytest.mark.parametrize("number", ["1e999", "-1e999", "Infinity", "-Infinity", "NaN"])
+def test_non_finite_numbers_are_refused_with_their_path(world: World, number: str) -> None:
+    text = _orders_text(world)
+    assert '"pd": 0.8' in text
+    body = text.replace('"pd": 0.8', f'"pd": {number}', 1).encode()
+    client = world.client("operator")
+    for route in READERS:
+        response = client.post(route, content=body, headers={"content-type": "application/json"})
+        assert response.status_code == 422, (route, response.text)
+        assert response.headers["content-type"].startswith("application/problem+json")
+        assert response.json()["errors"][0]["path"] == "$.goals[0].params.pd", route
+    assert client.get("/api/missions/hostile").status_code == 404
+
+
+def test_non_finite_polygon_coordinate_is_refused(world: World) -> None:
+    orders = json.loads(_orders_text(world))
+    orders["areas"][0]["polygon"][1][0] = 1e308
+    text = json.dumps(orders).replace("1e+308", "1e999")
+    for route in READERS:
+        response = world.client("operator").post(
+            route, content=text.encode(), headers={"content-type": "application/json"})
+        assert response.status_code == 422, (route, response.text)
+        assert response.json()["errors"][0]["path"] == "$.areas[0].polygon[1][0]", response.text
+
+
+def test_duplicate_keys_are_refused_by_every_reader(world: World) -> None:
+    text = _orders_text(world)
+    body = (text[:-1] + ', "title": "again"}').encode()
+    for route in READERS:
+        response = world.client("operator").post(
+            route, content=body, headers={"content-type": "application/json"})
+        assert response.status_code == 422, (route, response.text)
+        assert "twice" in response.json()["errors"][0]["message"]
+
+
+def test_vehicle_profile_with_huge_number_is_refused_not_stored_as_null(world: World) -> None:
+    admin = world.client("admin")
+    orders = json.loads(_orders_text(world))
+    vehicle = orders["vehicles"][0]
+    vehicle["speed_mps"] = 1.5
+    text = json.dumps(vehicle).replace('"speed_mps": 1.5', '"speed_mps": 1e999')
+    response = admin.put(f"/api/vehicles/{vehicle['id']}", content=text.encode(),
+                         headers={"content-type": "application/json"})
+    assert response.status_code == 422, response.text
+    assert response.json()["errors"][0]["path"] == "$.speed_mps"
+    stored = admin.get("/api/vehicles").json()
+    assert all(v.get("speed_mps") is not None or v["id"] != vehicle["id"] for v in stored)
+
+
+def test_deeply_nested_body_is_refused(world: World) -> None:
+    body = b'{"a":' * 100 + b"1" + b"}" * 100
+    response = world.client("admin").put("/api/vehicles/x", content=body,
+                                         headers={"content-type": "application/json"})
+    assert response.status_code == 422
+    assert "deeper" in response.json()["errors"][0]["message"]
+
+
+@pytest.mark.parametrize("point", [[1e300, 1e300], [91, 0], [0, 181]])
+def test_plan_problem_with_huge_coordinates_is_422(world: World, point: list[float]) -> None:
+    response = world.client("operator").post(
+        "/api/missions/search-and-sample/plan-problem", json={"start": point, "recovery": [0, 0]})
+    assert response.status_code == 422, response.text
+
+
+def test_negative_path_cursor_is_400(world: World) -> None:
+    response = world.client("operator").get("/api/missions/search-and-sample/paths",
+                                            params={"cursor": "LTE="})
+    assert response.status_code == 400
+
+
+@pytest.mark.parametrize("when", ["2020-01-01T00:00:00", "9999-12-31T23:59:59-05:00"])
+@pytest.mark.parametrize("name", ["since", "until"])
+def test_approval_times_without_zone_or_past_9999_are_422(world: World, name: str,
+                                                          when: str) -> None:
+    response = world.client("auditor").get("/api/approvals", params={name: when})
+    assert response.status_code == 422, response.text
+    assert response.json()["errors"][0]["path"] == f"$.{name}"
+    ok = world.client("auditor").get("/api/approvals", params={name: "2020-01-01T00:00:00Z"})
+    assert ok.status_code == 200
