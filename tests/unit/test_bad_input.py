@@ -93,7 +93,8 @@ def test_structural_defects_are_findings_not_read_errors(tmp_path: Path) -> None
                      "--format", "json")
     assert result.returncode == 1
     report = json.loads(result.stdout)
-    assert {f["code"] for f in report["findings"]} == {"M1"} | {"SINK", "G3", "G7"}
+    # No vehicle profile either: VEHICLE (M6 and M7 cannot be decided).
+    assert {f["code"] for f in report["findings"]} == {"M1", "VEHICLE"} | {"SINK", "G3", "G7"}
     assert report["paths"] is None
 
 
