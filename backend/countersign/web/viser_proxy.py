@@ -34,6 +34,8 @@ from websockets.asyncio.client import ClientConnection, connect
 from websockets.exceptions import ConnectionClosed, InvalidHandshake
 from websockets.typing import Subprotocol
 
+from ..rehearse.viser_gate import VIEWER_HEADER
+
 log = logging.getLogger("countersign.rehearsal")
 
 MAX_FRAME = 1024 * 1024  # browser -> rehearsal: GUI clicks and camera moves are tiny
@@ -57,7 +59,11 @@ POLICY_VIOLATION, TOO_BIG, GOING_AWAY, UNAVAILABLE = 1008, 1009, 1001, 1011
 # inline module script, compiles zstd WebAssembly and starts a blob: worker; its bundle also
 # evaluates generated code (Chromium reports an EvalError without 'unsafe-eval'). Nothing is
 # fetched from other origins and the websocket goes back to this origin only.
-CLIENT_CSP = ("default-src 'none'; "
+# `sandbox allow-scripts` gives the viewer an opaque origin: whatever runs in it (viser's code,
+# or markup smuggled into the scene) cannot read the app's cookies, storage or IndexedDB keys,
+# and its requests to the app carry no session. Its websocket is authorised by a ticket in its
+# URL instead (viewer_tickets.py).
+CLIENT_CSP = ("sandbox allow-scripts; default-src 'none'; "
               "script-src 'self' 'unsafe-inline' 'unsafe-eval' 'wasm-unsafe-eval'; "
               "worker-src 'self' blob:; style-src 'self' 'unsafe-inline'; "
               "img-src 'self' data: blob:; font-src 'self' data:; "
@@ -162,19 +168,26 @@ def _aligned(offset: int) -> int:
     return (offset + 7) // 8 * 8
 
 
-async def open_upstream(port: int, subprotocols: list[str]) -> ClientConnection:
-    """Connect to the rehearsal's viser server (loopback only); raises OSError when it is gone."""
+async def open_upstream(port: int, subprotocols: list[str],
+                        secret: str | None = None) -> ClientConnection:
+    """Connect to the rehearsal's viser server (loopback only), with the rehearsal's secret
+    (rehearse/viser_gate.py); raises OSError when it is gone."""
+    headers = {VIEWER_HEADER: secret} if secret else {}
     try:
         return await connect(
             f"ws://127.0.0.1:{port}", subprotocols=[Subprotocol(p) for p in subprotocols[:4]],
+            additional_headers=headers,
             compression=None, open_timeout=5, max_size=None, ping_interval=None,
             close_timeout=2, proxy=None)
     except (InvalidHandshake, TimeoutError) as exc:
         raise OSError(f"the rehearsal's viser server did not accept: {exc}") from exc
 
 
-async def relay(browser: WebSocket, upstream: ClientConnection, stats: ProxyStats) -> None:
-    """Relay frames until either side closes; the other side is then closed too."""
+async def relay(browser: WebSocket, upstream: ClientConnection, stats: ProxyStats,
+                watch: Callable[[], Awaitable[str]] | None = None) -> None:
+    """Relay frames until either side closes; the other side is then closed too. `watch`,
+    when given, returns once the connection may no longer relay (its session ended), with
+    the reason: the browser is then cut off."""
 
     async def to_server() -> None:
         window, count = time.monotonic(), 0
@@ -220,6 +233,13 @@ async def relay(browser: WebSocket, upstream: ClientConnection, stats: ProxyStat
             stats.to_browser += 1
         await _close(browser, stats, GOING_AWAY, "the rehearsal ended")
 
+    async def watcher() -> None:
+        if watch is None:
+            await anyio.sleep_forever()
+            return
+        reason = await watch()
+        await _close(browser, stats, POLICY_VIOLATION, reason)
+
     async def run(side: Callable[[], Awaitable[None]], group: anyio.abc.TaskGroup) -> None:
         try:
             await side()
@@ -234,6 +254,7 @@ async def relay(browser: WebSocket, upstream: ClientConnection, stats: ProxyStat
         async with anyio.create_task_group() as group:
             group.start_soon(run, to_server, group)
             group.start_soon(run, to_browser, group)
+            group.start_soon(run, watcher, group)
     finally:
         # The closing handshake with viser runs on its own: the browser's side is done now.
         closing = asyncio.get_running_loop().create_task(_close_upstream(upstream))
