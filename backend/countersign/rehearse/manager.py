@@ -87,7 +87,7 @@ class Rehearsal:
         *,
         owner: str,
         options: RehearsalOptions,
-        headless: bool = False,
+        headless: bool = False, gated: bool = True,
         limits: Limits | None = None,
         idle_timeout_s: float = 900.0,
         on_stopped: Callable[[Rehearsal], None] | None = None,
@@ -120,12 +120,14 @@ class Rehearsal:
         self._serializer: Any = None
         self.port = 0
         # Sent by the app's proxy to viser (viser_gate.py): viser's port answers nobody else.
+        # The CLI's own viewer (gated=False) is opened by the user's browser straight on it.
         self.viewer_secret = secrets.token_urlsafe(32)
         if not headless:
             self._server = viser.ViserServer(host="127.0.0.1", port=0,
                                              label=self.orders_title[:80], verbose=False)
             try:
-                viser_gate.install(self._server, self.viewer_secret)
+                if gated:
+                    viser_gate.install(self._server, self.viewer_secret)
                 self.port = self._server.get_port()
                 self._scene = Scene(
                     self._server, self._sim, title=self.orders_title,
