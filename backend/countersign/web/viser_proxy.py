@@ -19,6 +19,7 @@ import asyncio
 import contextlib
 import functools
 import logging
+import re
 import time
 from collections.abc import Awaitable, Callable
 from dataclasses import dataclass, field
@@ -67,8 +68,17 @@ CLIENT_CSP = ("sandbox allow-scripts; default-src 'none'; "
               "script-src 'self' 'unsafe-inline' 'unsafe-eval' 'wasm-unsafe-eval'; "
               "worker-src 'self' blob:; style-src 'self' 'unsafe-inline'; "
               "img-src 'self' data: blob:; font-src 'self' data:; "
-              "connect-src 'self' data: blob:; media-src 'self' data: blob:; "
+              "connect-src 'self' {sockets} data: blob:; media-src 'self' data: blob:; "
               "frame-ancestors 'self'; base-uri 'none'; form-action 'none'")
+_HOST = re.compile(r"[A-Za-z0-9.-]{1,253}(:[0-9]{1,5})?|\[[0-9A-Fa-f:.]{2,45}\](:[0-9]{1,5})?")
+
+
+def client_csp(host: str | None) -> str:
+    """CLIENT_CSP for a request to `host`. In an opaque origin 'self' matches nothing for
+    viser's websocket (it is opened from a blob: worker), so the app's own host is named."""
+    if host and _HOST.fullmatch(host):
+        return CLIENT_CSP.format(sockets=f"ws://{host} wss://{host}")
+    return CLIENT_CSP.format(sockets="")
 # The standalone replay is viser's client plus the recording inlined; it needs no network.
 REPLAY_CSP = ("default-src 'none'; script-src 'unsafe-inline' 'unsafe-eval' 'wasm-unsafe-eval'; "
               "worker-src blob:; style-src 'unsafe-inline'; img-src data: blob:; "
@@ -76,13 +86,40 @@ REPLAY_CSP = ("default-src 'none'; script-src 'unsafe-inline' 'unsafe-eval' 'was
               "frame-ancestors 'self'; base-uri 'none'; form-action 'none'; sandbox allow-scripts")
 
 
+# viser's client, as built, cannot start in an opaque origin; this shim, run before viser's
+# loader, adapts the two places where it fails (checked by tests/e2e/test_rehearsal_page.py):
+# - history.replaceState with a URL throws SecurityError: it tidies viser's own URL, which
+#   the frame does not need, so the call becomes a no-op there;
+# - its websocket worker is a module worker from a blob: URL, which an opaque origin cannot
+#   load; its source needs no module features except revoking its own URL, so it starts as a
+#   classic worker without that first statement.
+_OPAQUE_ORIGIN_SHIM = b"""<script>(function(){
+var h=window.history,r=h.replaceState;
+h.replaceState=function(){try{return r.apply(h,arguments)}
+catch(e){if(!(e instanceof DOMException))throw e}};
+var B=window.Blob,first="URL.revokeObjectURL(import.meta.url);";
+var P=function(parts,options){if(parts&&parts[0]===first)parts=parts.slice(1);
+return new B(parts,options)};
+P.prototype=B.prototype;window.Blob=P;
+var W=window.Worker;
+var V=function(url,options){
+if(options&&options.type==="module"&&String(url).indexOf("blob:")===0){
+options=Object.assign({},options);delete options.type}
+return new W(url,options)};
+V.prototype=W.prototype;window.Worker=V;
+})();</script>"""
+
+
 @functools.cache
 def client_index() -> bytes:
-    """viser's built client (a single self-contained HTML file in the installed package)."""
+    """viser's built client (a single self-contained HTML file in the installed package),
+    with the opaque-origin shim first in its head."""
     import viser
 
     index = Path(viser.__file__).resolve().parent / "client" / "build" / "index.html"
-    return index.read_bytes()
+    html = index.read_bytes()
+    head = html.index(b"<head>") + len(b"<head>")
+    return html[:head] + _OPAQUE_ORIGIN_SHIM + html[head:]
 
 
 @functools.cache

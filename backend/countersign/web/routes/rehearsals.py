@@ -32,9 +32,9 @@ from ..deps import EVERYONE, SESSION_COOKIE, CurrentPrincipal, Db, TransactionRo
 from ..rehearsal_hub import Live, RehearsalHub
 from ..viewer_tickets import SESSION_CHECK_S, Credential, SocketLimit, Ticket
 from ..viser_proxy import (
-    CLIENT_CSP,
     REPLAY_CSP,
     ProxyStats,
+    client_csp,
     client_index,
     open_upstream,
     relay,
@@ -303,7 +303,8 @@ def viewer_client(rehearsal_id: RehearsalId, ticket: TicketText, request: Reques
     if isinstance(checked, Denied):
         return problems.problem(checked.status, checked.detail, request)
     return Response(client_index(), media_type="text/html; charset=utf-8", headers={
-        "Content-Security-Policy": CLIENT_CSP, "X-Frame-Options": "SAMEORIGIN",
+        "Content-Security-Policy": client_csp(request.headers.get("host")),
+        "X-Frame-Options": "SAMEORIGIN",
         "Cache-Control": "no-store"})
 
 
