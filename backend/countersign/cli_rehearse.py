@@ -127,7 +127,8 @@ def _rehearse(args: argparse.Namespace, out: TextIO) -> int:
     # summary (or JSON) here: send them to standard error.
     try:
         with contextlib.redirect_stdout(sys.stderr):
-            rehearsal = Rehearsal(orders, owner="cli", options=options, headless=not serve)
+            rehearsal = Rehearsal(orders, owner="cli", options=options, headless=not serve,
+                                  gated=False)
     except ValueError as exc:
         sys.stderr.write(f"countersign rehearse: cannot rehearse {args.file}: {exc}\n")
         return EXIT_CANNOT_RUN

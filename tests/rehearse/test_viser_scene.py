@@ -27,7 +27,7 @@ def test_scene_nodes_and_a_gui_click_chooses_the_outcome(
 ) -> None:
     rehearsal = manager.start(exemplar, owner="alice",
                               options=RehearsalOptions(source="manual", speed=100_000))
-    with ViserTestClient(rehearsal.port) as client:
+    with ViserTestClient(rehearsal.port, secret=rehearsal.viewer_secret) as client:
         client.hello()
         assert client.wait_for(lambda c: "/vehicle" in c.scene_nodes())
         nodes = client.scene_nodes()
@@ -67,7 +67,7 @@ def test_a_click_in_the_wrong_state_is_ignored(
 ) -> None:
     rehearsal = manager.start(exemplar, owner="alice",
                               options=RehearsalOptions(source="simulate", speed=20))
-    with ViserTestClient(rehearsal.port) as client:
+    with ViserTestClient(rehearsal.port, secret=rehearsal.viewer_secret) as client:
         client.hello()
         assert client.wait_for(lambda c: "/vehicle" in c.scene_nodes())
         client.click("Succeed")  # disabled in the GUI; a crafted click must change nothing
@@ -79,7 +79,7 @@ def test_a_click_in_the_wrong_state_is_ignored(
 def test_fault_button_injects_the_fault(manager: RehearsalManager, exemplar: Orders) -> None:
     rehearsal = manager.start(exemplar, owner="alice",
                               options=RehearsalOptions(source="simulate", speed=50))
-    with ViserTestClient(rehearsal.port) as client:
+    with ViserTestClient(rehearsal.port, secret=rehearsal.viewer_secret) as client:
         client.hello()
         assert client.wait_for(lambda c: "/vehicle" in c.scene_nodes())
         client.click("Leak")
@@ -96,7 +96,7 @@ def test_malformed_messages_and_share_requests_do_no_harm(
                               options=RehearsalOptions(source="manual", speed=2_000))
     server = rehearsal._server
     assert server is not None
-    with ViserTestClient(rehearsal.port) as client:
+    with ViserTestClient(rehearsal.port, secret=rehearsal.viewer_secret) as client:
         client.hello()
         assert client.wait_for(lambda c: "/vehicle" in c.scene_nodes())
         uuid = client.button("Succeed")["uuid"]
@@ -108,7 +108,7 @@ def test_malformed_messages_and_share_requests_do_no_harm(
         assert not client.closed  # handled (and ignored) by the server's handlers
     # Undecodable frames make viser close that one connection, nothing more.
     for message in ({"type": "NoSuchMessage", "x": 1}, {"no type": True}):
-        with ViserTestClient(rehearsal.port) as client:
+        with ViserTestClient(rehearsal.port, secret=rehearsal.viewer_secret) as client:
             client.send(message)
             client.pump(0.5)
             assert client.closed
@@ -117,14 +117,14 @@ def test_malformed_messages_and_share_requests_do_no_harm(
         msgspec.msgpack.encode({"type": "ViewerCameraMessage", "wxyz": "x"}),
     ]
     for frame in bad_frames:
-        with ViserTestClient(rehearsal.port) as client:
+        with ViserTestClient(rehearsal.port, secret=rehearsal.viewer_secret) as client:
             client.send_raw(frame)
             client.pump(0.3)
     time.sleep(0.5)
     assert server._share_tunnel is None  # no tunnel was opened
     assert rehearsal.status()["state"] in ("running", "waiting_for_outcome")
     # The server still serves a new client, with the whole scene.
-    with ViserTestClient(rehearsal.port) as client:
+    with ViserTestClient(rehearsal.port, secret=rehearsal.viewer_secret) as client:
         client.hello()
         assert client.wait_for(lambda c: "/areas/A/outline" in c.scene_nodes())
 
@@ -140,3 +140,32 @@ def test_stop_frees_the_port(manager: RehearsalManager, exemplar: Orders) -> Non
     assert rehearsal.status()["state"] == "stopped"
     with socket.socket() as probe:
         assert probe.connect_ex(("127.0.0.1", port)) != 0
+
+
+HOSTILE = '<iframe srcdoc="<script>parent.__pwned=1</script>"></iframe><img src=x onerror=x()>'
+
+
+def test_user_text_reaches_the_scene_as_text_never_markdown(
+    manager: RehearsalManager, exemplar: Orders
+) -> None:
+    """Issue 14: viser's markdown passes raw HTML, so the goal's title (the orders author's
+    text) is shown in a read-only text field and never enters markdown."""
+    from countersign.orders.canonical import orders_to_json
+    from countersign.orders.reader import orders_from_data
+
+    data = orders_to_json(exemplar)
+    for goal in data["goals"]:
+        goal["title"] = HOSTILE + " [x](javascript:alert(1)) ![i](http://e/x.png)"
+    hostile = orders_from_data(data)
+    rehearsal = manager.start(hostile, owner="alice",
+                              options=RehearsalOptions(source="manual", speed=100_000))
+    with ViserTestClient(rehearsal.port, secret=rehearsal.viewer_secret) as client:
+        client.hello()
+        assert _wait(lambda: rehearsal.status()["state"] == "waiting_for_outcome")
+        assert client.wait_for(lambda c: any("Goal:" in t for t in c.markdown()))
+        assert client.wait_for(lambda c: any(
+            e["props"].get("value", "").startswith(HOSTILE) for e in c.gui().values()
+            if e["type"] == "GuiTextMessage"))
+        for text in client.markdown():
+            assert "<" not in text and "](" not in text, text
+    manager.stop(rehearsal.id)

@@ -21,10 +21,12 @@ from websockets.sync.client import ClientConnection, connect
 
 
 class ViserTestClient:
-    def __init__(self, port: int, host: str = "127.0.0.1") -> None:
+    def __init__(self, port: int, host: str = "127.0.0.1", secret: str | None = None) -> None:
+        # The app's rehearsals answer only with their secret (rehearse/viser_gate.py).
         self.ws: ClientConnection = connect(
             f"ws://{host}:{port}", subprotocols=[f"viser-v{viser.__version__}"],  # type: ignore[list-item]
             open_timeout=10, max_size=None,
+            additional_headers={"X-Countersign-Viewer": secret} if secret else None,
         )
         self.messages: list[dict[str, Any]] = []
         self.closed = False

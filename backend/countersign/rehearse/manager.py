@@ -28,6 +28,7 @@ import viser
 
 from ..orders.canonical import digest as orders_digest
 from ..orders.model import OUTCOMES, Orders
+from . import viser_gate
 from .record import FORMAT, RehearsalRecord
 from .scene import Scene
 from .sim import FAULTS, FaultSpec, Limits, Simulation
@@ -86,7 +87,7 @@ class Rehearsal:
         *,
         owner: str,
         options: RehearsalOptions,
-        headless: bool = False,
+        headless: bool = False, gated: bool = True,
         limits: Limits | None = None,
         idle_timeout_s: float = 900.0,
         on_stopped: Callable[[Rehearsal], None] | None = None,
@@ -118,10 +119,15 @@ class Rehearsal:
         self._scene: Scene | None = None
         self._serializer: Any = None
         self.port = 0
+        # Sent by the app's proxy to viser (viser_gate.py): viser's port answers nobody else.
+        # The CLI's own viewer (gated=False) is opened by the user's browser straight on it.
+        self.viewer_secret = secrets.token_urlsafe(32)
         if not headless:
             self._server = viser.ViserServer(host="127.0.0.1", port=0,
                                              label=self.orders_title[:80], verbose=False)
             try:
+                if gated:
+                    viser_gate.install(self._server, self.viewer_secret)
                 self.port = self._server.get_port()
                 self._scene = Scene(
                     self._server, self._sim, title=self.orders_title,
@@ -415,12 +421,14 @@ class RehearsalManager:
         rehearsal.start()
         return rehearsal
 
-    def get(self, rehearsal_id: str) -> Rehearsal | None:
+    def get(self, rehearsal_id: str, *, touch: bool = True) -> Rehearsal | None:
+        """The rehearsal; a lookup counts as activity unless `touch` is False (book-keeping
+        must not keep an idle rehearsal alive)."""
         if not isinstance(rehearsal_id, str):
             return None
         with self._lock:
             rehearsal = self._active.get(rehearsal_id) or self._stopped.get(rehearsal_id)
-        if rehearsal is not None:
+        if rehearsal is not None and touch:
             rehearsal.touch()
         return rehearsal
 

@@ -205,6 +205,10 @@ class Scene:
         gui = self.server.gui
         gui.set_panel_label(title[:80])
         self.status = gui.add_markdown("Starting...")
+        # The goal's title is the orders author's text: a read-only text field shows it as
+        # text. viser's markdown passes raw HTML, so only the app's words (and escaped ids)
+        # go into markdown.
+        self.goal_title: Any = gui.add_text("Goal", "", disabled=True)
         self.question = gui.add_markdown("", visible=manual)
         self.outcome_buttons: dict[str, Any] = {}
         buttons: tuple[tuple[str, str, Literal["green", "yellow", "red"]], ...] = (
@@ -331,8 +335,11 @@ class Scene:
     def _gui_state(self) -> None:
         sim = self.sim
         active = sim.active
-        goal = f"**{active.goal.id}** {active.goal.label}" if active else "none"
-        outcomes = ", ".join(f"{g} {OUTCOME_WORDS[o]}" for g, o in
+        goal = f"**{markdown_text(active.goal.id)}**" if active else "none"
+        title = active.goal.label if active else ""
+        if self.goal_title.value != title:
+            self.goal_title.value = title
+        outcomes = ", ".join(f"{markdown_text(g)} {OUTCOME_WORDS[o]}" for g, o in
                              zip(sim.run.goals, sim.run.outcomes, strict=False)) or "none yet"
         hours, rem = divmod(int(sim.time_s), 3600)
         self.status.content = (
@@ -351,11 +358,23 @@ class Scene:
             self.question.content = (
                 "Did goal Succeed (s), Fail (f), or end with a Constraint (c)?  \n"
                 f"_The simulation saw: {OUTCOME_WORDS[active.suggestion[0]]} "
-                f"({active.suggestion[1]})._")
+                f"({markdown_text(active.suggestion[1])})._")
         elif waiting:
             self.question.content = "Did goal Succeed (s), Fail (f), or end with a Constraint (c)?"
         else:
             self.question.content = ""
+
+
+_PUNCTUATION = frozenset("!\"#$%&'()*+,-./:;=?@[\\]^_`{|}~")
+_ANGLES = {"<": "\u2039", ">": "\u203a"}
+
+
+def markdown_text(text: str) -> str:
+    """`text` for viser's markdown as text, never markup: every ASCII punctuation mark is
+    backslash-escaped (CommonMark), and angle brackets, which could open raw HTML in
+    renderers that skip escapes, become the look-alike quotation marks."""
+    return "".join(_ANGLES.get(c) or (f"\\{c}" if c in _PUNCTUATION else c)
+                   for c in text.replace("\r", " ").replace("\n", " "))
 
 
 def _forward(callback: Callable[[str], None], value: str) -> Callable[[Any], None]:

@@ -14,7 +14,7 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from .. import __version__
 from ..store.db import REQUEST_THREADS, Database
-from . import problems
+from . import api_docs, problems
 from .fair import PlanSlots, RateLimiter
 from .log_signer import open_log_signer
 from .rehearsal_hub import RehearsalHub
@@ -61,21 +61,28 @@ class _TooLarge(Exception):
     pass
 
 
+# Scripts: the app's own files only (no inline script, no eval), and every DOM sink that could
+# run script (innerHTML, script.src...) refuses strings: Trusted Types with no policy at all.
+# Frames: the rehearsal viewer only, which runs sandboxed in an opaque origin (viser_proxy.py).
+APP_CSP = ("default-src 'self'; script-src 'self'; object-src 'none'; base-uri 'none'; "
+           "form-action 'self'; img-src 'self' data:; style-src 'self' 'unsafe-inline'; "
+           "frame-src 'self'; frame-ancestors 'none'; "
+           "require-trusted-types-for 'script'; trusted-types 'none'")
 SECURITY_HEADERS = {
     "X-Content-Type-Options": "nosniff",
     "X-Frame-Options": "DENY",
     "Referrer-Policy": "no-referrer",
-    "Content-Security-Policy": "default-src 'self'; img-src 'self' data:; "
-    "style-src 'self' 'unsafe-inline'; frame-ancestors 'none'",
+    "Content-Security-Policy": APP_CSP,
 }
+HSTS = (b"strict-transport-security", b"max-age=31536000; includeSubDomains")
 
 
 class SecurityHeaders:
     """Add SECURITY_HEADERS (and no-store on /api/) to every response that lacks them. Plain
     ASGI: Starlette's @app.middleware("http") costs a task and a stream per request."""
 
-    def __init__(self, app: ASGIApp) -> None:
-        self.app = app
+    def __init__(self, app: ASGIApp, *, secure_cookies: bool = False) -> None:
+        self.app, self.secure_cookies = app, secure_cookies
         self.api = [(name.lower().encode(), value.encode())
                     for name, value in SECURITY_HEADERS.items()]
 
@@ -84,6 +91,10 @@ class SecurityHeaders:
             await self.app(scope, receive, send)
             return
         extra = list(self.api)
+        # HSTS only where the browser reached us over TLS (or behind a TLS proxy, which
+        # COUNTERSIGN_SECURE_COOKIES declares): over plain HTTP it is ignored or wrong.
+        if scope.get("scheme") == "https" or self.secure_cookies:
+            extra.append(HSTS)
         if scope["path"].startswith("/api/"):
             extra.append((b"cache-control", b"no-store"))
 
@@ -132,7 +143,7 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
                 database.validator = None
                 pool.shutdown()
 
-    app = FastAPI(title="Countersign", version=__version__, docs_url="/api/docs",
+    app = FastAPI(title="Countersign", version=__version__, docs_url=None,
                   openapi_url="/api/openapi.json", redoc_url=None, lifespan=lifespan)
     app.state.settings = settings
     app.state.database = database
@@ -142,7 +153,8 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     app.state.plan_slots = PlanSlots()
     problems.install(app)
 
-    app.add_middleware(SecurityHeaders)
+    app.add_middleware(SecurityHeaders, secure_cookies=settings.secure_cookies)
+    api_docs.install(app)
 
     @app.get("/api/health", operation_id="health", tags=["system"],
              openapi_extra={"x-roles": ["anonymous"]})

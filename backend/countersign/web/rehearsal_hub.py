@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 from ..orders.model import Orders
 from ..store.missions import Conflict, MissionError, NotFound
 from ..store.tables import utcnow
+from .viewer_tickets import ViewerRegistry
 
 if TYPE_CHECKING:
     from ..rehearse.manager import Rehearsal, RehearsalManager, RehearsalOptions
@@ -25,6 +26,9 @@ if TYPE_CHECKING:
 MAX_PER_USER = 3
 MAX_TOTAL = 16
 IDLE_TIMEOUT_S = 900
+# When every slot is taken, a rehearsal nobody has watched or called for this long is stopped
+# to make room (its owner can still stop it into a record); below it, the newcomer gets 503.
+EVICT_IDLE_S = 120.0
 ENDED_MEMORY = 2000  # ids of ended rehearsals remembered to answer 410 instead of 404
 
 
@@ -53,8 +57,11 @@ class Live:
 
 class RehearsalHub:
     def __init__(self, *, per_user: int = MAX_PER_USER, total: int = MAX_TOTAL,
-                 idle_timeout_s: float = IDLE_TIMEOUT_S) -> None:
+                 idle_timeout_s: float = IDLE_TIMEOUT_S,
+                 evict_idle_s: float = EVICT_IDLE_S) -> None:
         self.per_user, self.total, self.idle_timeout_s = per_user, total, idle_timeout_s
+        self.evict_idle_s = evict_idle_s
+        self.viewers = ViewerRegistry()
         self._manager: RehearsalManager | None = None
         self._lock = threading.RLock()
         self._live: dict[str, Live] = {}
@@ -85,6 +92,8 @@ class RehearsalHub:
                 raise TooManyForUser(f"you have {mine} live rehearsals (at most "
                                      f"{self.per_user}); stop one first")
             running = sum(1 for live in self._live.values() if live.rehearsal.state != "stopped")
+            if running + sum(self._starting.values()) >= self.total and self._evict_one():
+                running -= 1
             if running + sum(self._starting.values()) >= self.total:
                 raise Busy(f"the server runs {self.total} rehearsals already; try again later")
             self._starting[user_id] = self._starting.get(user_id, 0) + 1
@@ -164,11 +173,25 @@ class RehearsalHub:
         if self._manager is not None:
             self._manager.shutdown()
 
+    def _evict_one(self) -> bool:
+        """Stop the rehearsal idle the longest, if it has been idle EVICT_IDLE_S (no API call,
+        no viewer open); True when one was stopped."""
+        idle = [(live.rehearsal.idle_for(), live) for live in self._live.values()
+                if live.rehearsal.state != "stopped" and not live.sockets
+                and not self.viewers.sockets(live.rehearsal.id)]
+        idle = [pair for pair in idle if pair[0] >= self.evict_idle_s]
+        if not idle:
+            return False
+        _, oldest = max(idle, key=lambda pair: pair[0])
+        oldest.rehearsal.stop()  # stays known, state "stopped", until its owner records it
+        return True
+
     def _prune(self) -> None:
         """Forget rehearsals the manager no longer knows (it keeps the last stopped ones)."""
         if self._manager is None:
             return
-        for rehearsal_id in [k for k in self._live if self._manager.get(k) is None]:
+        for rehearsal_id in [k for k in self._live
+                             if self._manager.get(k, touch=False) is None]:
             self._forget(rehearsal_id, None)
 
     def _forget(self, rehearsal_id: str, digest: str | None) -> None:

@@ -19,6 +19,7 @@ import asyncio
 import contextlib
 import functools
 import logging
+import re
 import time
 from collections.abc import Awaitable, Callable
 from dataclasses import dataclass, field
@@ -33,6 +34,8 @@ from starlette.websockets import WebSocket, WebSocketDisconnect
 from websockets.asyncio.client import ClientConnection, connect
 from websockets.exceptions import ConnectionClosed, InvalidHandshake
 from websockets.typing import Subprotocol
+
+from ..rehearse.viser_gate import VIEWER_HEADER
 
 log = logging.getLogger("countersign.rehearsal")
 
@@ -57,12 +60,25 @@ POLICY_VIOLATION, TOO_BIG, GOING_AWAY, UNAVAILABLE = 1008, 1009, 1001, 1011
 # inline module script, compiles zstd WebAssembly and starts a blob: worker; its bundle also
 # evaluates generated code (Chromium reports an EvalError without 'unsafe-eval'). Nothing is
 # fetched from other origins and the websocket goes back to this origin only.
-CLIENT_CSP = ("default-src 'none'; "
+# `sandbox allow-scripts` gives the viewer an opaque origin: whatever runs in it (viser's code,
+# or markup smuggled into the scene) cannot read the app's cookies, storage or IndexedDB keys,
+# and its requests to the app carry no session. Its websocket is authorised by a ticket in its
+# URL instead (viewer_tickets.py).
+CLIENT_CSP = ("sandbox allow-scripts; default-src 'none'; "
               "script-src 'self' 'unsafe-inline' 'unsafe-eval' 'wasm-unsafe-eval'; "
               "worker-src 'self' blob:; style-src 'self' 'unsafe-inline'; "
               "img-src 'self' data: blob:; font-src 'self' data:; "
-              "connect-src 'self' data: blob:; media-src 'self' data: blob:; "
+              "connect-src 'self' {sockets} data: blob:; media-src 'self' data: blob:; "
               "frame-ancestors 'self'; base-uri 'none'; form-action 'none'")
+_HOST = re.compile(r"[A-Za-z0-9.-]{1,253}(:[0-9]{1,5})?|\[[0-9A-Fa-f:.]{2,45}\](:[0-9]{1,5})?")
+
+
+def client_csp(host: str | None) -> str:
+    """CLIENT_CSP for a request to `host`. In an opaque origin 'self' matches nothing for
+    viser's websocket (it is opened from a blob: worker), so the app's own host is named."""
+    if host and _HOST.fullmatch(host):
+        return CLIENT_CSP.format(sockets=f"ws://{host} wss://{host}")
+    return CLIENT_CSP.format(sockets="")
 # The standalone replay is viser's client plus the recording inlined; it needs no network.
 REPLAY_CSP = ("default-src 'none'; script-src 'unsafe-inline' 'unsafe-eval' 'wasm-unsafe-eval'; "
               "worker-src blob:; style-src 'unsafe-inline'; img-src data: blob:; "
@@ -70,13 +86,40 @@ REPLAY_CSP = ("default-src 'none'; script-src 'unsafe-inline' 'unsafe-eval' 'was
               "frame-ancestors 'self'; base-uri 'none'; form-action 'none'; sandbox allow-scripts")
 
 
+# viser's client, as built, cannot start in an opaque origin; this shim, run before viser's
+# loader, adapts the two places where it fails (checked by tests/e2e/test_rehearsal_page.py):
+# - history.replaceState with a URL throws SecurityError: it tidies viser's own URL, which
+#   the frame does not need, so the call becomes a no-op there;
+# - its websocket worker is a module worker from a blob: URL, which an opaque origin cannot
+#   load; its source needs no module features except revoking its own URL, so it starts as a
+#   classic worker without that first statement.
+_OPAQUE_ORIGIN_SHIM = b"""<script>(function(){
+var h=window.history,r=h.replaceState;
+h.replaceState=function(){try{return r.apply(h,arguments)}
+catch(e){if(!(e instanceof DOMException))throw e}};
+var B=window.Blob,first="URL.revokeObjectURL(import.meta.url);";
+var P=function(parts,options){if(parts&&parts[0]===first)parts=parts.slice(1);
+return new B(parts,options)};
+P.prototype=B.prototype;window.Blob=P;
+var W=window.Worker;
+var V=function(url,options){
+if(options&&options.type==="module"&&String(url).indexOf("blob:")===0){
+options=Object.assign({},options);delete options.type}
+return new W(url,options)};
+V.prototype=W.prototype;window.Worker=V;
+})();</script>"""
+
+
 @functools.cache
 def client_index() -> bytes:
-    """viser's built client (a single self-contained HTML file in the installed package)."""
+    """viser's built client (a single self-contained HTML file in the installed package),
+    with the opaque-origin shim first in its head."""
     import viser
 
     index = Path(viser.__file__).resolve().parent / "client" / "build" / "index.html"
-    return index.read_bytes()
+    html = index.read_bytes()
+    head = html.index(b"<head>") + len(b"<head>")
+    return html[:head] + _OPAQUE_ORIGIN_SHIM + html[head:]
 
 
 @functools.cache
@@ -162,19 +205,26 @@ def _aligned(offset: int) -> int:
     return (offset + 7) // 8 * 8
 
 
-async def open_upstream(port: int, subprotocols: list[str]) -> ClientConnection:
-    """Connect to the rehearsal's viser server (loopback only); raises OSError when it is gone."""
+async def open_upstream(port: int, subprotocols: list[str],
+                        secret: str | None = None) -> ClientConnection:
+    """Connect to the rehearsal's viser server (loopback only), with the rehearsal's secret
+    (rehearse/viser_gate.py); raises OSError when it is gone."""
+    headers = {VIEWER_HEADER: secret} if secret else {}
     try:
         return await connect(
             f"ws://127.0.0.1:{port}", subprotocols=[Subprotocol(p) for p in subprotocols[:4]],
+            additional_headers=headers,
             compression=None, open_timeout=5, max_size=None, ping_interval=None,
             close_timeout=2, proxy=None)
     except (InvalidHandshake, TimeoutError) as exc:
         raise OSError(f"the rehearsal's viser server did not accept: {exc}") from exc
 
 
-async def relay(browser: WebSocket, upstream: ClientConnection, stats: ProxyStats) -> None:
-    """Relay frames until either side closes; the other side is then closed too."""
+async def relay(browser: WebSocket, upstream: ClientConnection, stats: ProxyStats,
+                watch: Callable[[], Awaitable[str]] | None = None) -> None:
+    """Relay frames until either side closes; the other side is then closed too. `watch`,
+    when given, returns once the connection may no longer relay (its session ended), with
+    the reason: the browser is then cut off."""
 
     async def to_server() -> None:
         window, count = time.monotonic(), 0
@@ -220,6 +270,13 @@ async def relay(browser: WebSocket, upstream: ClientConnection, stats: ProxyStat
             stats.to_browser += 1
         await _close(browser, stats, GOING_AWAY, "the rehearsal ended")
 
+    async def watcher() -> None:
+        if watch is None:
+            await anyio.sleep_forever()
+            return
+        reason = await watch()
+        await _close(browser, stats, POLICY_VIOLATION, reason)
+
     async def run(side: Callable[[], Awaitable[None]], group: anyio.abc.TaskGroup) -> None:
         try:
             await side()
@@ -234,6 +291,7 @@ async def relay(browser: WebSocket, upstream: ClientConnection, stats: ProxyStat
         async with anyio.create_task_group() as group:
             group.start_soon(run, to_server, group)
             group.start_soon(run, to_browser, group)
+            group.start_soon(run, watcher, group)
     finally:
         # The closing handshake with viser runs on its own: the browser's side is done now.
         closing = asyncio.get_running_loop().create_task(_close_upstream(upstream))

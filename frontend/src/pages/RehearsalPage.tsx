@@ -230,6 +230,8 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
               className="viser-frame"
               data-testid="viser-frame"
               allow="fullscreen"
+              // An opaque origin: the viewer cannot reach this app's storage, keys or API.
+              sandbox="allow-scripts"
             />
             <MissionGraph orders={mission.orders as Orders} current={currentGoal} visited={outcomeGoals(live.status)} />
           </div>

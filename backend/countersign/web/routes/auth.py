@@ -8,6 +8,7 @@ from pydantic import BaseModel, Field
 from ...store.accounts import authenticate, change_password, close_session, open_session
 from ...store.tables import User
 from ..deps import EVERYONE, SESSION_COOKIE, CurrentPrincipal, Db, TransactionRoute, allow
+from ..viewer_tickets import Credential
 from .schemas import RequestBody, UserOut
 
 router = APIRouter(prefix="/api/auth", tags=["auth"], route_class=TransactionRoute)
@@ -31,9 +32,8 @@ def login(body: LoginRequest, request: Request, response: Response, db: Db) -> S
     if user is None:
         raise HTTPException(401, "wrong username or password")
     session = open_session(db, user)
-    secure = request.url.scheme == "https" or request.app.state.settings.secure_cookies
     response.set_cookie(SESSION_COOKIE, session.cookie, httponly=True, samesite="strict",
-                        secure=secure, path="/", expires=session.expires_at)
+                        secure=_secure(request), path="/", expires=session.expires_at)
     return SessionOut(user=UserOut.of(user), csrf_token=session.csrf_token)
 
 
@@ -42,7 +42,16 @@ def logout(request: Request, response: Response, principal: CurrentPrincipal, db
     cookie = request.cookies.get(SESSION_COOKIE)
     if cookie:
         close_session(db, cookie)
-    response.delete_cookie(SESSION_COOKIE, path="/")
+        # The session's rehearsal viewers stop relaying now (other server processes notice
+        # within viewer_tickets.SESSION_CHECK_S).
+        request.app.state.rehearsals.viewers.credential_ended(Credential(cookie, None))
+    # The same attributes as at sign-in, so that browsers treat it as the same cookie.
+    response.delete_cookie(SESSION_COOKIE, path="/", httponly=True, samesite="strict",
+                           secure=_secure(request))
+
+
+def _secure(request: Request) -> bool:
+    return request.url.scheme == "https" or bool(request.app.state.settings.secure_cookies)
 
 
 @router.get("/me", operation_id="whoAmI", response_model=SessionOut, **allow(*EVERYONE))

@@ -10,9 +10,11 @@ from __future__ import annotations
 
 import hmac
 import logging
+from dataclasses import dataclass
 from typing import Annotated, Any, Literal
 from urllib.parse import urlsplit
 
+import anyio
 from fastapi import APIRouter, Path, Query, Request, WebSocket
 from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import RedirectResponse, Response
@@ -28,10 +30,11 @@ from ...store.tables import User
 from .. import problems
 from ..deps import EVERYONE, SESSION_COOKIE, CurrentPrincipal, Db, TransactionRoute, allow
 from ..rehearsal_hub import Live, RehearsalHub
+from ..viewer_tickets import SESSION_CHECK_S, Credential, SocketLimit, Ticket
 from ..viser_proxy import (
-    CLIENT_CSP,
     REPLAY_CSP,
     ProxyStats,
+    client_csp,
     client_index,
     open_upstream,
     relay,
@@ -44,6 +47,7 @@ log = logging.getLogger("countersign.rehearsal")
 
 REHEARSERS = ("operator", "supervisor")
 RehearsalId = Annotated[str, Path(min_length=1, max_length=64, pattern=r"^[A-Za-z0-9_-]+$")]
+TicketText = Annotated[str, Path(min_length=20, max_length=100, pattern=r"^[A-Za-z0-9_-]+$")]
 RecordDigest = Annotated[str, Path(pattern=r"^sha256:[0-9a-f]{64}$")]
 FaultName = Annotated[str, Field(min_length=1, max_length=40, pattern=r"^[a-z][a-z0-9_]*$")]
 FaultSpecText = Annotated[str, Field(min_length=1, max_length=140,
@@ -279,13 +283,28 @@ def viewer_redirect(rehearsal_id: RehearsalId) -> Response:
 
 @viewer.get("/rehearsal/{rehearsal_id}/", include_in_schema=False)
 def viewer_page(rehearsal_id: RehearsalId, request: Request) -> Response:
-    """viser's bundled client for the caller's live rehearsal."""
-    checked = _authorize(request.app.state.database, hub_of(request), rehearsal_id,
-                         request.cookies.get(SESSION_COOKIE), _bearer(request.headers))
+    """The signed-in owner's way in: a ticket for this rehearsal's viewer, and the frame sent
+    to the viewer's ticket URL (viewer_tickets.py)."""
+    credential = Credential(request.cookies.get(SESSION_COOKIE), _bearer(request.headers))
+    hub = hub_of(request)
+    checked = _authorize(request.app.state.database, hub, rehearsal_id, credential.cookie,
+                         credential.bearer)
     if not isinstance(checked, Live):
         return problems.problem(checked[0], checked[1], request)
+    ticket = hub.viewers.mint(rehearsal_id, checked.user_id, credential)
+    return RedirectResponse(f"/rehearsal/{rehearsal_id}/t/{ticket}/", status_code=303,
+                            headers={"Cache-Control": "no-store"})
+
+
+@viewer.get("/rehearsal/{rehearsal_id}/t/{ticket}/", include_in_schema=False)
+def viewer_client(rehearsal_id: RehearsalId, ticket: TicketText, request: Request) -> Response:
+    """viser's bundled client, in an opaque origin (CLIENT_CSP), for a live ticket."""
+    checked = _redeem(request.app.state.database, hub_of(request), rehearsal_id, ticket)
+    if isinstance(checked, Denied):
+        return problems.problem(checked.status, checked.detail, request)
     return Response(client_index(), media_type="text/html; charset=utf-8", headers={
-        "Content-Security-Policy": CLIENT_CSP, "X-Frame-Options": "SAMEORIGIN",
+        "Content-Security-Policy": client_csp(request.headers.get("host")),
+        "X-Frame-Options": "SAMEORIGIN",
         "Cache-Control": "no-store"})
 
 
@@ -295,41 +314,121 @@ def viewer_other(rehearsal_id: RehearsalId, rest: str, request: Request) -> Resp
                             request)
 
 
-@viewer.websocket("/rehearsal/{rehearsal_id}")
-async def viewer_socket(websocket: WebSocket, rehearsal_id: str) -> None:
-    """viser's websocket, after the session (cookie or bearer token), the Origin and the
-    ownership of the rehearsal are checked; refused before the upgrade otherwise."""
-    hub = hub_of(websocket)
-    cookie, bearer = websocket.cookies.get(SESSION_COOKIE), _bearer(websocket.headers)
-    if not _origin_ok(websocket.headers.get("origin"), websocket.headers.get("host"),
-                      cookie_auth=bearer is None):
+@dataclass(frozen=True)
+class Denied:
+    status: int
+    detail: str
+
+
+@dataclass(frozen=True)
+class Admitted:
+    live: Live
+    ticket: Ticket
+
+
+def _redeem(database: Database, hub: RehearsalHub, rehearsal_id: str,
+            ticket: str) -> Denied | Admitted:
+    found = hub.viewers.redeem(rehearsal_id, ticket)
+    if found is None:
+        return Denied(403, "the viewer's ticket is unknown or expired; reopen the rehearsal")
+    checked = _authorize(database, hub, rehearsal_id, found.credential.cookie,
+                         found.credential.bearer)
+    if not isinstance(checked, Live):
+        return Denied(*checked)
+    if checked.user_id != found.user_id:
+        return Denied(403, "the viewer's ticket is not yours")
+    return Admitted(checked, found)
+
+
+@viewer.websocket("/rehearsal/{rehearsal_id}/t/{ticket}")
+async def viewer_ticket_socket(websocket: WebSocket, rehearsal_id: str, ticket: str) -> None:
+    """viser's websocket from the sandboxed viewer (Origin `null`, no cookie): the ticket in
+    its URL is the authority. A foreign Origin is refused all the same."""
+    origin = websocket.headers.get("origin")
+    if origin not in (None, "null") and not _origin_ok(origin, websocket.headers.get("host"),
+                                                       cookie_auth=True):
         await _deny(websocket, 403, "the websocket's Origin is not this app")
         return
-    if len(rehearsal_id) > 64 or not rehearsal_id.replace("-", "").replace("_", "").isalnum():
+    if not _plain_id(rehearsal_id) or len(ticket) > 100:
+        await _deny(websocket, 404, "no such rehearsal")
+        return
+    checked = await run_in_threadpool(_redeem, websocket.app.state.database, hub_of(websocket),
+                                      rehearsal_id, ticket)
+    if isinstance(checked, Denied):
+        await _deny(websocket, checked.status, checked.detail)
+        return
+    await _proxy(websocket, checked.live, checked.ticket.credential)
+
+
+@viewer.websocket("/rehearsal/{rehearsal_id}")
+async def viewer_socket(websocket: WebSocket, rehearsal_id: str) -> None:
+    """viser's websocket for API clients, after the session (cookie or bearer token), the
+    Origin and the ownership of the rehearsal are checked; refused before the upgrade
+    otherwise."""
+    hub = hub_of(websocket)
+    credential = Credential(websocket.cookies.get(SESSION_COOKIE), _bearer(websocket.headers))
+    if not _origin_ok(websocket.headers.get("origin"), websocket.headers.get("host"),
+                      cookie_auth=credential.bearer is None):
+        await _deny(websocket, 403, "the websocket's Origin is not this app")
+        return
+    if not _plain_id(rehearsal_id):
         await _deny(websocket, 404, "no such rehearsal")
         return
     checked = await run_in_threadpool(_authorize, websocket.app.state.database, hub,
-                                      rehearsal_id, cookie, bearer)
+                                      rehearsal_id, credential.cookie, credential.bearer)
     if not isinstance(checked, Live):
         await _deny(websocket, checked[0], checked[1])
         return
+    await _proxy(websocket, checked, credential)
+
+
+def _plain_id(rehearsal_id: str) -> bool:
+    return len(rehearsal_id) <= 64 and rehearsal_id.replace("-", "").replace("_", "").isalnum()
+
+
+async def _proxy(websocket: WebSocket, live: Live, credential: Credential) -> None:
+    """Relay viser's websocket within the socket caps, until either side closes or the
+    credential that opened it is gone (signed out, revoked, expired) or the rehearsal ends."""
+    hub = hub_of(websocket)
+    rehearsal_id = live.rehearsal.id
     try:
-        upstream = await open_upstream(checked.rehearsal.port,
-                                       list(websocket.scope.get("subprotocols", [])))
-    except OSError as exc:
-        log.info("rehearsal %s: viser not reachable: %s", rehearsal_id, exc)
-        await _deny(websocket, 410, f"the rehearsal {rehearsal_id} has ended")
+        socket = hub.viewers.open(rehearsal_id, live.user_id, credential.key)
+    except SocketLimit as exc:
+        await _deny(websocket, 429, str(exc))
         return
-    await websocket.accept(subprotocol=upstream.subprotocol)
-    stats = ProxyStats()
-    checked.sockets += 1
-    proxied: list[ProxyStats] = websocket.app.state.rehearsal_proxies
-    proxied.append(stats)
-    del proxied[:-200]
     try:
-        await relay(websocket, upstream, stats)
+        try:
+            upstream = await open_upstream(live.rehearsal.port,
+                                           list(websocket.scope.get("subprotocols", [])),
+                                           live.rehearsal.viewer_secret)
+        except OSError as exc:
+            log.info("rehearsal %s: viser not reachable: %s", rehearsal_id, exc)
+            await _deny(websocket, 410, f"the rehearsal {rehearsal_id} has ended")
+            return
+        await websocket.accept(subprotocol=upstream.subprotocol)
+        stats = ProxyStats()
+        live.sockets += 1
+        proxied: list[ProxyStats] = websocket.app.state.rehearsal_proxies
+        proxied.append(stats)
+        del proxied[:-200]
+        database = websocket.app.state.database
+
+        async def watch() -> str:
+            while True:
+                with anyio.move_on_after(SESSION_CHECK_S):
+                    await socket.ended.wait()
+                    return socket.reason or "signed out"
+                still = await run_in_threadpool(_authorize, database, hub, rehearsal_id,
+                                                credential.cookie, credential.bearer)
+                if not isinstance(still, Live):
+                    return "the session or the rehearsal has ended"
+
+        try:
+            await relay(websocket, upstream, stats, watch)
+        finally:
+            live.sockets -= 1
     finally:
-        checked.sockets -= 1
+        hub.viewers.close(socket)
 
 
 async def _deny(websocket: WebSocket, status: int, detail: str) -> None:
