@@ -248,7 +248,7 @@ def _database(args: argparse.Namespace) -> tuple[Settings, Database]:
     from .web.log_signer import open_log_signer
 
     try:
-        database.log_signer = open_log_signer(settings)
+        database.log_signer = open_log_signer(settings, database)
     except SignerError as exc:
         raise UsageError(str(exc)) from None
     return settings, database

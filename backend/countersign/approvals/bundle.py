@@ -133,6 +133,7 @@ def verify_bundle(
     origin = latest.origin if latest is not None else \
         str((bundle.get("log_key") or {}).get("origin") or "") or None
     _check_receipts(bundle.get("receipts") or [], leaves, events, origin, log_key, report)
+    _note_adoption(events, tree, report)
     for checkpoint in published or []:
         _check_published(checkpoint, tree, log_key, report)
     if latest is not None and seen and latest.origin in seen:
@@ -195,6 +196,24 @@ def _check_receipts(receipts: list[Any], leaves: list[bytes], events: list[dict[
             kind = events[index].get("kind") or "?"
             report.problems.append(f"log entry {index} ({kind}) {exc}: it was not appended by "
                                    "the app's log signer")
+
+
+def _note_adoption(events: list[dict[str, Any]], tree: Tree, report: BundleReport) -> None:
+    """Say which entries the log signer adopted at upgrade (receipted after the fact, being
+    older than receipts: store/log_adoption.py), and check the adoption names them."""
+    for index, event in enumerate(events):
+        if event.get("kind") != "log.adopted":
+            continue
+        detail = event.get("detail") or {}
+        size = detail.get("entries")
+        if not isinstance(size, int) or not 0 < size <= index or \
+                tree.root(size).hex() != detail.get("root"):
+            report.problems.append(f"log entry {index} (log.adopted) does not name the entries "
+                                   "before it (their count and root)")
+            continue
+        report.notes.append(f"log entries 0..{size - 1} were appended before the log signer "
+                            f"issued receipts; it adopted them on upgrade (log entry {index}), "
+                            "so their receipts are not from when they were appended")
 
 
 def _check_checkpoints(checkpoints: list[dict[str, Any]], tree: Tree, key: Ed25519PublicKey,

@@ -10,7 +10,13 @@ the database. It vouches only for what it appended:
   lock, so that several server processes on one host share one history.
 
 Directory layout (mode 0700): `log-key.pem` (0600; refused if group or others may read it),
-`origin` (the log's unique origin line, chosen when the key is made), `state.json`, `lock`."""
+`origin` (the log's unique origin line, chosen when the key is made), `state.json`, `lock`.
+
+Upgrades: a deployment whose log key predates this directory (a key file in the data directory
+or a PEM in the environment) has it imported when the directory's key is first made, so the
+log keeps its public key (and its old origin, LEGACY_ORIGIN, under which its old checkpoints
+were signed). `fresh` says whether this start made or imported the key: only then may a log
+appended before receipts existed be adopted (store/log_adoption.py)."""
 
 from __future__ import annotations
 
@@ -20,6 +26,7 @@ import os
 import secrets
 import socket
 import stat
+import sys
 from collections.abc import Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -38,6 +45,8 @@ KEY_FILE = "log-key.pem"
 ORIGIN_FILE = "origin"
 STATE_FILE = "state.json"
 LOCK_FILE = "lock"
+# The origin line of the checkpoints signed before the signer had its own directory.
+LEGACY_ORIGIN = "countersign-log/1"
 
 
 class SignerError(RuntimeError):
@@ -71,12 +80,26 @@ class _State:
     size: int
     root: bytes
     frontier: list[bytes]
+    adopted: int | None = None  # entries adopted at upgrade, appended before receipts
+
+
+@dataclass(frozen=True)
+class LegacyKey:
+    """The log key of a deployment from before the signer's directory: its PEM, where it came
+    from (for the message), and the file to remove once it is imported (None: environment)."""
+
+    pem: bytes
+    source: str
+    path: Path | None = None
 
 
 class LogSigner:
-    def __init__(self, directory: Path) -> None:
+    def __init__(self, directory: Path, legacy: LegacyKey | None = None) -> None:
         self.directory = directory
-        self.key, self.origin = self._load_or_create()
+        # Whether this start made the key (or imported the legacy one): adoption's condition.
+        self.fresh = False
+        self.imported: str | None = None
+        self.key, self.origin = self._load_or_create(legacy)
         self.public: Ed25519PublicKey = self.key.public_key()
         self.public_text = dsse.public_text(self.key)
         self.key_id = dsse.key_id(self.public)
@@ -84,18 +107,49 @@ class LogSigner:
 
     # --- key -----------------------------------------------------------------------------
 
-    def _load_or_create(self) -> tuple[Ed25519PrivateKey, str]:
+    def _load_or_create(self, legacy: LegacyKey | None) -> tuple[Ed25519PrivateKey, str]:
         self.directory.mkdir(mode=0o700, parents=True, exist_ok=True)
-        path, origin_path = self.directory / KEY_FILE, self.directory / ORIGIN_FILE
+        path = self.directory / KEY_FILE
         if not path.exists():
+            # Under the lock: of several processes starting at once, one makes the key.
+            with self._locked():
+                if not path.exists():
+                    return self._create(path, legacy)
+        return self._load(path)
+
+    def _create(self, path: Path, legacy: LegacyKey | None) -> tuple[Ed25519PrivateKey, str]:
+        if legacy is not None:
+            try:
+                key = dsse.load_private_pem(legacy.pem)
+            except dsse.SignatureError as exc:
+                raise SignerError(f"the legacy log key ({legacy.source}): {exc}") from None
+            # The log goes on under its old name, so its old checkpoints stay one log with
+            # the new ones.
+            origin = LEGACY_ORIGIN
+        else:
             key = dsse.generate_key()
             # The origin names this log alone: the host and a random instance id.
             origin = f"countersign.{socket.gethostname() or 'host'}/{secrets.token_hex(8)}"
-            fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
-            with os.fdopen(fd, "wb") as out:
-                out.write(dsse.private_pem(key))
-            origin_path.write_text(origin + "\n")
-            return key, origin
+        fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+        with os.fdopen(fd, "wb") as out:
+            out.write(dsse.private_pem(key))
+            out.flush()
+            os.fsync(out.fileno())
+        (self.directory / ORIGIN_FILE).write_text(origin + "\n")
+        self.fresh = True
+        if legacy is not None:
+            self.imported = legacy.source
+            if legacy.path is not None:
+                legacy.path.unlink()  # moved: the key lives in one place, not beside the data
+            sys.stderr.write(
+                f"countersign: the log key from {legacy.source} was moved to {path} (mode "
+                f"0600); the log keeps its public key {dsse.public_text(key)}"
+                + (" (COUNTERSIGN_LOG_KEY is no longer read: unset it)"
+                   if legacy.path is None else "") + "\n")
+        return key, origin
+
+    def _load(self, path: Path) -> tuple[Ed25519PrivateKey, str]:
+        origin_path = self.directory / ORIGIN_FILE
         mode = path.stat().st_mode
         if mode & (stat.S_IRWXG | stat.S_IRWXO):
             raise SignerError(f"{path} may be read by others (mode {oct(mode & 0o777)}); "
@@ -136,30 +190,46 @@ class LogSigner:
         except ValueError:
             raise SignerError(f"{self.directory / STATE_FILE} is not the signer's state") \
                 from None
+        adopted = data.get("adopted")
         return _State(int(data["size"]), bytes.fromhex(data["root"]),
-                      [bytes.fromhex(h) for h in data["frontier"]])
+                      [bytes.fromhex(h) for h in data["frontier"]],
+                      int(adopted) if adopted is not None else None)
 
     def _write(self, state: _State) -> None:
         path = self.directory / STATE_FILE
         tmp = path.with_suffix(".tmp")
         fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
         with os.fdopen(fd, "w") as out:
-            json.dump({"origin": self.origin, "size": state.size, "root": state.root.hex(),
-                       "frontier": [h.hex() for h in state.frontier]}, out)
+            data: dict[str, Any] = {"origin": self.origin, "size": state.size,
+                                    "root": state.root.hex(),
+                                    "frontier": [h.hex() for h in state.frontier]}
+            if state.adopted is not None:
+                data["adopted"] = state.adopted
+            json.dump(data, out)
             out.flush()
             os.fsync(out.fileno())
         os.replace(tmp, path)
+
+    def has_state(self) -> bool:
+        return (self.directory / STATE_FILE).exists()
+
+    def adopted(self) -> int | None:
+        """How many entries the signer adopted at upgrade (None: it adopted none)."""
+        with self._locked():
+            return self._read().adopted
 
     def head(self) -> Head:
         with self._locked():
             state = self._read()
         return Head(self.origin, state.size, state.root)
 
-    def sign_head(self, tree: Tree, receipts: Mapping[int, str]) -> dict[str, Any]:
+    def sign_head(self, tree: Tree, receipts: Mapping[int, str],
+                  adopted: int | None = None) -> dict[str, Any]:
         """Sign the head of this tree, given the receipts of the entries since the signer's
         last head; refuse (Refused, naming both heads or the entry) a head that is not a
         consistent extension of the last one or covers an entry without a valid receipt.
-        The new head becomes the signer's last."""
+        The new head becomes the signer's last. `adopted` (the first head only) records in
+        the state how many entries were adopted at upgrade."""
         size, root = tree.size, tree.root()
         with self._locked():
             state = self._read()
@@ -192,5 +262,7 @@ class LogSigner:
                               f"the signer's last head {last})")
             signed = sign_checkpoint(self.key, size, root, origin=self.origin)
             if size > state.size:
-                self._write(_State(size, root, frontier))
+                if adopted is not None and state.size == 0:
+                    state.adopted = adopted
+                self._write(_State(size, root, frontier, state.adopted))
         return signed

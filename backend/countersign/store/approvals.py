@@ -22,6 +22,7 @@ from ..approvals import dsse
 from ..approvals.bundle import BUNDLE_FORMAT
 from ..approvals.dsse import SignatureError
 from ..approvals.merkle import Tree
+from ..approvals.note import signature_line
 from ..approvals.signer import LogSigner
 from ..approvals.signer import Refused as SignerRefused
 from ..approvals.statement import (
@@ -380,7 +381,8 @@ class LogUnvouched(MissionError):
     status = 503
 
 
-def _checkpoint_now(db: DbSession, signer: LogSigner) -> tuple[Checkpoint | None, str | None]:
+def _checkpoint_now(db: DbSession, signer: LogSigner, *,
+                    adopted: int | None = None) -> tuple[Checkpoint | None, str | None]:
     """The checkpoint of the committed log, signed now unless the latest one covers it, and
     why the signer refused to sign a newer one (None when it did not refuse). Only committed
     entries are signed, so a signed head is never rolled back with a failed transaction.
@@ -389,7 +391,7 @@ def _checkpoint_now(db: DbSession, signer: LogSigner) -> tuple[Checkpoint | None
         from .db import database_of
 
         with database_of(db).session() as writer:
-            return _checkpoint_now(writer, signer)
+            return _checkpoint_now(writer, signer, adopted=adopted)
     tree = _committed_tree(db)
     latest = db.scalar(select(Checkpoint).where(Checkpoint.tree_size <= tree.size)
                        .order_by(Checkpoint.tree_size.desc()).limit(1))
@@ -402,7 +404,7 @@ def _checkpoint_now(db: DbSession, signer: LogSigner) -> tuple[Checkpoint | None
     receipts = dict(db.execute(select(LogReceipt.index, LogReceipt.receipt).where(
         LogReceipt.index >= head.size, LogReceipt.index < tree.size)).all())
     try:
-        signed = signer.sign_head(tree, receipts)
+        signed = signer.sign_head(tree, receipts, adopted)
     except SignerRefused as exc:
         return latest, str(exc)
     row = Checkpoint(tree_size=tree.size, root_hash=signed["root"], key_id=signed["key_id"],
@@ -596,12 +598,27 @@ def checkpoint_json(row: Checkpoint, cosignatures: list[str] | None = None) -> d
     body, signed = row.note, row.note
     if "\n\n" in row.note:  # a signed note (older rows hold only the body)
         body = row.note.split("\n\n", 1)[0] + "\n"
+    else:
+        signed = legacy_signed_note(row)
     if cosignatures:
         signed = signed + "".join(cosignatures)
     return {"size": row.tree_size, "root": row.root_hash, "note": body, "signed_note": signed,
             "origin": body.split("\n", 1)[0], "key_id": row.key_id,
             "public_key": row.public_key, "signature": row.signature,
             "created_at": row.created_at.isoformat()}
+
+
+def legacy_signed_note(row: Checkpoint) -> str:
+    """The signed note of a checkpoint signed before checkpoints were signed notes: its
+    signature is the log key's Ed25519 signature over the body, which is what a note's
+    signature line carries (so the old checkpoint verifies as a note, under its origin)."""
+    origin = row.note.split("\n", 1)[0]
+    try:
+        public = dsse.raw_public(dsse.public_key(row.public_key))
+        signature = dsse.unb64(row.signature, "the checkpoint signature")
+    except dsse.SignatureError:
+        return row.note  # left for the verifier to refuse
+    return row.note + "\n" + signature_line(origin, public, signature)
 
 
 def inclusion_proof(db: DbSession, *, index: int, size: int | None = None) -> dict[str, Any]:

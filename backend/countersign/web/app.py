@@ -115,7 +115,7 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     database.migrate()
     if database.log_signer is None:
         # Refuses to start on an unusable key file (readable by others, say).
-        database.log_signer = open_log_signer(settings)
+        database.log_signer = open_log_signer(settings, database)
     hub = RehearsalHub()
 
     @asynccontextmanager
