@@ -181,3 +181,17 @@ def test_the_legacy_key_from_the_environment_is_imported(
     assert stat.S_IMODE((tmp_path / "log-signer" / "log-key.pem").stat().st_mode) == 0o600
     monkeypatch.setenv(LEGACY_KEY_ENV, "not a key")  # read only when the key is made
     create_app(settings, Database(settings.database_url))
+
+
+def test_no_adoption_when_the_signer_has_state(database_url: str, tmp_path: Path) -> None:
+    """A state file (a head signed before, here restored without its key) means the signer
+    already vouched for a history: a receipt-less log is not adopted, even with a new key."""
+    _, tokens, usernames = _old_deployment(database_url, tmp_path)
+    directory = tmp_path / "log-signer"
+    directory.mkdir(mode=0o700)
+    (directory / "state.json").write_text(json.dumps({"size": 0, "root": "00" * 32,
+                                                      "frontier": []}))
+    world = _start(database_url, tmp_path, tokens, usernames)
+    assert world.database.log_signer.fresh
+    assert _adoptions(world) == 0
+    assert count_rows(world.database, "SELECT count(*) FROM log_receipts") == 0
