@@ -64,6 +64,7 @@ interface SignedStatement {
 
 interface LogEvent {
   kind?: string;
+  actor?: unknown;
   detail?: Record<string, unknown>;
 }
 
