@@ -35,7 +35,8 @@ CHROMIUM_ARGS = [
     "--disable-background-networking", "--disable-component-update", "--disable-sync",
 ]
 ROLES = ("operator", "supervisor", "auditor", "admin")
-PASSWORD = {role: f"e2e-{role}-pass-Xy7" for role in ROLES}
+# Reversed role names: the password policy refuses a password that contains the username.
+PASSWORD = {role: f"e2e-{role[::-1]}-pass-Xy7" for role in ROLES}
 
 
 def missing_prerequisite() -> str | None:

@@ -80,6 +80,24 @@ def bypass(server: Server, table: str, sql: str, *params: Any) -> None:
         connection.close()
 
 
+def delete_row(server: Server, table: str, sql: str, *params: Any) -> None:
+    """Runs one DELETE directly on the server's SQLite database past the table's no-delete
+    trigger, as an attacker would (issue 14 finding 5)."""
+    connection = sqlite3.connect(server.data_dir / "countersign.db", timeout=30)
+    try:
+        found = connection.execute(
+            "SELECT sql FROM sqlite_master WHERE type = 'trigger' AND name = ?",
+            (f"{table}_no_delete",)).fetchone()
+        with connection:
+            if found:
+                connection.execute(f"DROP TRIGGER {table}_no_delete")
+            assert connection.execute(sql, params).rowcount == 1
+            if found:
+                connection.execute(found[0])
+    finally:
+        connection.close()
+
+
 def stored(server: Server, sql: str, *params: Any) -> Any:
     connection = sqlite3.connect(server.data_dir / "countersign.db", timeout=30)
     try:
@@ -238,7 +256,7 @@ def test_submit_sign_verify_export_and_detect_tampering(
            ).to_be_visible()
     verification = auditor.get_by_test_id("verification-verdict")
     expect(verification).to_have_text(re.compile(
-        r"^All 12 checks passed, against a log key not pinned"), timeout=30_000)
+        r"^All 13 checks passed, against a log key not pinned"), timeout=30_000)
     # Trust on first use: the auditor pins the log key the server presents, explicitly.
     checkpoint: dict[str, Any] = auditor.evaluate(
         "async () => (await fetch('/api/log/checkpoint')).json()")
@@ -246,7 +264,7 @@ def test_submit_sign_verify_export_and_detect_tampering(
     expect(auditor.get_by_test_id("log-key-presented")).to_contain_text(checkpoint["key_id"])
     auditor.get_by_role("button", name="Pin this key…").click()
     auditor.get_by_role("button", name="Confirm: pin this key").click()
-    expect(verification).to_have_text("All 13 checks passed.", timeout=30_000)
+    expect(verification).to_have_text("All 14 checks passed.", timeout=30_000)
     expect(auditor.get_by_test_id("check-pin")).to_contain_text(
         f"signed by log key {server_print}, the key pinned in this browser")
     expect(auditor.get_by_test_id("approval-plain")).to_contain_text("Search Area A")
@@ -255,11 +273,19 @@ def test_submit_sign_verify_export_and_detect_tampering(
     bundle = export_bundle(auditor, tmp_path / "bundle.json")
     checked = audit_verify(server, bundle)
     assert checked.returncode == 0, checked.stdout + checked.stderr
-
-    # One byte of the stored envelope changes in the database: the page names the entry.
     record: dict[str, Any] = auditor.evaluate(
         f"""async () => (await (await fetch("/api/approvals?mission={MISSION}&decision=approved"))
             .json()).items[0]""")
+
+    # Finding 5: the revocation's approvals row is deleted; the log still names it.
+    delete_row(server, "approvals", "DELETE FROM approvals WHERE revokes = ?", record["id"])
+    auditor.reload()
+    expect(verification).to_contain_text("checks failed", timeout=30_000)
+    expect(auditor.get_by_test_id("check-records")).to_contain_text(
+        re.compile(rf"log entry \d+ revokes approval {record['id']}, but the server shows it "
+                   "as not revoked"))
+
+    # One byte of the stored envelope changes in the database: the page names the entry.
     tamper_envelope(server, int(record["id"]))
     auditor.reload()
     expect(verification).to_contain_text("checks failed", timeout=30_000)

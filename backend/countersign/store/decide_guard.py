@@ -16,9 +16,8 @@ import json
 from sqlalchemy import select
 from sqlalchemy.orm import Session as DbSession
 
+from ..approvals.duty_rules import EDIT_KINDS
 from .tables import Event, LogEntry, MissionVersion, Submission
-
-EDIT_KINDS = ("mission.created", "draft.updated", "version.created")
 
 
 def lock_submission(db: DbSession, submission_id: int) -> None:

@@ -3,10 +3,14 @@
  * whatever the tables say, the logged events must describe a legal history. One decision per
  * submission, one active submission per version, a revocation only of an approved submission,
  * no signature by a key after the log revoked it, and (when the caller knows which entries it
- * holds envelopes for) an envelope for every logged decision. Pure: events in, problems out.
+ * holds envelopes for) an envelope for every logged decision; and no decision by its mission's
+ * editor or submitter (dutyRules.ts). Pure: events in, problems out.
  */
+import { checkDuties } from "./dutyRules";
+
 export interface RuleEvent {
   kind?: string;
+  actor?: unknown;
   mission?: unknown;
   detail?: Record<string, unknown>;
 }
@@ -83,5 +87,5 @@ export function checkLog(events: RuleEvent[], enveloped?: Iterable<number>, scop
       }
     }
   });
-  return problems;
+  return [...problems, ...checkDuties(events)];
 }

@@ -11,6 +11,7 @@ import { ED25519, importPublicKey, keyId, parseEnvelope, PAYLOAD_TYPE, verifyEnv
 import { checkLog } from "./logRules";
 import { leafHash, rootOf, verifyInclusion } from "./merkle";
 import { receiptProblems } from "./receipts";
+import { type ApprovalRow, checkRecords } from "./recordRules";
 
 export const GENESIS = "0".repeat(64);
 
@@ -51,7 +52,7 @@ export interface ApprovalRecord {
 }
 
 export interface Check {
-  id: "pin" | "history" | "receipts" | "checkpoint" | "chain" | "root" | "rules" | "inclusion" | "logged" | "key" | "signature" | "statement" | "orders";
+  id: "pin" | "history" | "receipts" | "checkpoint" | "chain" | "root" | "rules" | "records" | "inclusion" | "logged" | "key" | "signature" | "statement" | "orders";
   label: string;
   ok: boolean;
   detail: string;
@@ -64,6 +65,7 @@ interface SignedStatement {
 
 interface LogEvent {
   kind?: string;
+  actor?: unknown;
   detail?: Record<string, unknown>;
 }
 
@@ -164,8 +166,9 @@ function fail(id: Check["id"], label: string, detail: string): Check {
 
 /** Every check of one approval, in the order they are shown. `entries` are the log's first
  * `checkpoint.size` entries as fetched from the server (or more, up to the approval's own
- * entry: every one must carry a receipt of the log signer). */
-export async function verifyApproval(record: ApprovalRecord, all: LogEntryRow[]): Promise<Check[]> {
+ * entry: every one must carry a receipt of the log signer). `rows`, when given, are every
+ * approval record the server lists for the record's mission: each must agree with the log. */
+export async function verifyApproval(record: ApprovalRecord, all: LogEntryRow[], rows?: ApprovalRow[]): Promise<Check[]> {
   const entries = all.slice(0, record.checkpoint.size);
   const checks: Check[] = [];
   const cp = record.checkpoint;
@@ -235,6 +238,18 @@ export async function verifyApproval(record: ApprovalRecord, all: LogEntryRow[])
       : "one decision per submission, one active submission per version, no signature by a revoked key",
   });
   // --- end issue 14 item 5 ---
+  if (rows) {
+    // Finding 5: a deleted revocation (or decision) row, caught from the log.
+    const recordProblems = checkRecords(events, record.mission, record.id, rows);
+    checks.push({
+      id: "records",
+      label: "The server's approval records agree with the log",
+      ok: recordProblems.length === 0,
+      detail: recordProblems.length
+        ? recordProblems.slice(0, 3).join("; ") + (recordProblems.length > 3 ? ` (and ${recordProblems.length - 3} more)` : "")
+        : `every decision the log holds on ${record.mission} has its record, and every logged revocation of this approval is shown`,
+    });
+  }
 
   const proof = record.inclusion;
   if (index === null || !proof || index >= leaves.length) {

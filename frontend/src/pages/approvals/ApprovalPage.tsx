@@ -15,7 +15,7 @@ import { type Check, verifyApproval } from "../../crypto/verify";
 import { formatDateTime, shortDigest } from "../../format";
 import { useSession } from "../../session";
 import { useLoad } from "../../useLoad";
-import { type ApprovalDetail, approvalHref, bundleHref, loadApproval, loadEntries, type Prepared, reviewHref } from "./api";
+import { type ApprovalDetail, approvalHref, bundleHref, loadApproval, loadEntries, loadMissionApprovals, type Prepared, reviewHref } from "./api";
 import { LogKeyPanel, useLogKeyPin } from "./LogKeyPin";
 import { OrdersGraph } from "./OrdersGraph";
 import { FindingsTable, IntegrityWarning, PathSummaryTable, RulesSection, StateBadge } from "./parts";
@@ -142,7 +142,8 @@ function Verification({ record }: { record: ApprovalDetail }) {
   const { data: logChecks, error, loading } = useLoad(async () => {
     // Up to the approval's own entry, so that its receipt is checked even if uncovered.
     const entries = await loadEntries(Math.max(record.checkpoint.size, (record.log_index ?? -1) + 1));
-    const checks = await verifyApproval(record, entries);
+    // Every record of the mission too: a decision or revocation in the log must have one.
+    const checks = await verifyApproval(record, entries, await loadMissionApprovals(record.mission));
     return [await historyCheck(record.checkpoint), ...checks];
   }, [record, run]);
   const pin = useLogKeyPin(record.checkpoint.public_key);

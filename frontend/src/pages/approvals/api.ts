@@ -77,6 +77,21 @@ export async function loadApproval(id: number): Promise<ApprovalDetail> {
   return unwrap(result) as unknown as ApprovalDetail;
 }
 
+/** Every approval record the server lists for a mission (pages of 500), for the browser
+ * verifier to hold against the log (issue 14 finding 5). */
+export async function loadMissionApprovals(mission: string): Promise<ApprovalSummary[]> {
+  const rows: ApprovalSummary[] = [];
+  let cursor: number | null | undefined;
+  do {
+    const query: { mission: string; limit: number; cursor?: number } = { mission, limit: 500 };
+    if (cursor) query.cursor = cursor;
+    const page = unwrap(await api.GET("/api/approvals", { params: { query } })) as ApprovalPage;
+    rows.push(...page.items);
+    cursor = page.next_cursor;
+  } while (cursor);
+  return rows;
+}
+
 /** The log's first `size` entries (pages of up to 5,000). */
 export async function loadEntries(size: number): Promise<LogEntryRow[]> {
   const rows: LogEntryRow[] = [];
