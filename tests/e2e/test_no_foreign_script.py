@@ -338,10 +338,15 @@ def _scan(frame: Frame) -> dict[str, Any] | None:
 
 def visit(page: Page, findings: Findings, path: str, ready: str | None = None) -> None:
     page.goto(path)
-    expect(page.locator("main h1").first).to_be_visible(timeout=60_000)
-    expect(page.locator("p.loading")).to_have_count(0, timeout=60_000)
-    if ready:
-        expect(page.locator(ready).first).to_be_visible(timeout=60_000)
+    try:
+        expect(page.locator("main h1").first).to_be_visible(timeout=60_000)
+        expect(page.locator("p.loading")).to_have_count(0, timeout=60_000)
+        if ready:
+            expect(page.locator(ready).first).to_be_visible(timeout=60_000)
+    except AssertionError as exc:
+        # A page the CSP broke draws nothing: say why, not only that it did not appear.
+        raise AssertionError(f"{path} did not finish drawing: {exc}\nwhat the browser "
+                             "reported:\n" + "\n".join(findings.problems())) from None
     check_frames(page, findings, path)
 
 
