@@ -336,6 +336,22 @@ def _scan(frame: Frame) -> dict[str, Any] | None:
     return result
 
 
+def self_test(page: Page, findings: Findings) -> None:
+    """The detector itself: a write to the canary is reported by the trap and seen by the
+    frame check (then the page is reloaded and the findings cleared)."""
+    page.evaluate("() => { window.__pwned = 'self-test'; }")
+    for _ in range(100):
+        if findings.pwned:
+            break
+        page.wait_for_timeout(50)
+    assert findings.pwned, "the canary trap did not report a write"
+    scanned = _scan(page.main_frame)
+    assert scanned is not None and scanned["pwned"], "the frame check did not see the canary"
+    findings.pwned.clear()
+    page.reload()
+    expect(page.get_by_test_id("current-role")).to_be_visible()
+
+
 def visit(page: Page, findings: Findings, path: str, ready: str | None = None) -> None:
     page.goto(path)
     try:
@@ -372,7 +388,10 @@ def rehearse_and_replay(page: Page, findings: Findings) -> None:
     expect(page.get_by_test_id("rehearsal-state")).to_have_text("Waiting for the outcome",
                                                                  timeout=60_000)
     expect(page.get_by_test_id("current-goal")).to_contain_text("Changed v2", timeout=30_000)
-    page.wait_for_timeout(1000)  # the scene's labels and the GUI's goal field arrive
+    # The goal's title reaches viser's GUI as the value of a read-only text field.
+    expect(viewer.locator("input[disabled]").first).to_have_value(re.compile("Changed v2 <img"),
+                                                                  timeout=30_000)
+    page.wait_for_timeout(1000)  # the scene's labels arrive
     check_frames(page, findings, "live rehearsal, first goal")
     page.get_by_test_id("outcome-succeed").click()
     expect(page.get_by_test_id("rehearsal-step")).to_have_text("1", timeout=30_000)
@@ -399,6 +418,7 @@ def test_no_script_the_app_did_not_ship_runs(browser: Browser, xss_server: Serve
     try:
         supervisor = open_context(browser, server, findings, opened)
         sign_in(supervisor, "supervisor")
+        self_test(supervisor, findings)
         register_browser_key(supervisor)
         before_api, before_rows = api_state(server), tables(server)
         assert len(before_api["approvals"]) == len(made.approvals)
@@ -407,6 +427,9 @@ def test_no_script_the_app_did_not_ship_runs(browser: Browser, xss_server: Serve
         visit(supervisor, findings, "/missions", f'a[href="/missions/{MISSION}"]')
         for tab in ("orders", "findings", "paths", "versions", "rehearse"):
             visit(supervisor, findings, f"/missions/{MISSION}?tab={tab}")
+        # The strings did reach the page, as text.
+        expect(supervisor.locator("main h1")).to_contain_text(PAYLOADS[0])
+        expect(supervisor.get_by_test_id("current-user")).to_contain_text(PAYLOADS[1])
         for number in sorted(made.submissions):
             visit(supervisor, findings, f"/missions/{MISSION}/versions/{number}/review",
                   '[data-testid="review-plain"]')
