@@ -35,8 +35,8 @@ CHROMIUM_ARGS = [
     "--disable-background-networking", "--disable-component-update", "--disable-sync",
 ]
 ROLES = ("operator", "supervisor", "auditor", "admin")
-# Reversed role names: the password policy refuses a password that contains the username.
-PASSWORD = {role: f"e2e-{role[::-1]}-pass-Xy7" for role in ROLES}
+# Never containing the username (the password policy refuses that, issue 15).
+PASSWORD = {role: f"Xy7-{role[:3]}-e2e-Qw9-pass" for role in ROLES}
 
 
 def missing_prerequisite() -> str | None:
