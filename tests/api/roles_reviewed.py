@@ -32,6 +32,8 @@ REVIEWED_ROLES: dict[str, tuple[str, ...]] = {
     "getApproval": ("supervisor", "auditor", "admin"),
     # GET /api/log/checkpoint
     "getCheckpoint": ("operator", "supervisor", "auditor", "admin"),
+    "getCosignedCheckpoint": ("operator", "supervisor", "auditor", "admin"),
+    "addCosignature": ("supervisor", "auditor", "admin"),
     # GET /api/log/consistency
     "getConsistencyProof": ("supervisor", "auditor", "admin"),
     # GET /api/examples/{name}

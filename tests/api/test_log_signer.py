@@ -13,6 +13,7 @@ import os
 import stat
 from pathlib import Path
 from typing import Any
+from unittest import mock
 
 import pytest
 from fastapi.testclient import TestClient
@@ -62,8 +63,11 @@ def _forge_approval(world: World, submission: int) -> None:
         prepared = service.prepare_decision(db, submission_id=submission, supervisor=supervisor,
                                             decision="approved", reason="", key_id=kid)
         envelope = json.dumps(dsse.sign_envelope(prepared.payload, key))
-        service.decide(db, submission_id=submission, supervisor=supervisor, envelope=envelope,
-                       signer=None)  # type: ignore[arg-type]  # the attacker has none
+        # The attacker writes rows with the app's code but skips its password check.
+        with mock.patch.object(service, "confirm_password", lambda *a, **k: None):
+            service.decide(db, submission_id=submission, supervisor=supervisor,
+                           envelope=envelope, password=None,
+                           signer=None)  # type: ignore[arg-type]  # the attacker has none
     attacker.engine.dispose()
 
 

@@ -40,9 +40,10 @@ def _running_app(tmp_path: Path) -> tuple[TestClient, Database, str]:
 def test_a_running_app_validates_in_a_pool_process(tmp_path: Path) -> None:
     client, database, token = _running_app(tmp_path)
     client.headers["Authorization"] = f"Bearer {token}"
-    # Orders no other test validated: the process keeps its recent reports (store/missions.py).
+    # Orders no other test validated: the process keeps its recent reports (store/missions.py),
+    # and reuses a report for an edit of descriptions only, so the title differs.
     orders = {**orders_to_json(load_example("search-and-sample")),
-              "description": f"pool test {uuid.uuid4()}"}
+              "title": f"pool test {uuid.uuid4()}"}
     with client:  # runs the lifespan, as `countersign serve` does
         pool = client.app.state.validation_pool  # type: ignore[attr-defined]
         assert database.validator is not None
@@ -57,7 +58,8 @@ def test_a_running_app_validates_in_a_pool_process(tmp_path: Path) -> None:
 
         # The pool's process dies (killed, out of memory): the next validation still answers.
         os.kill(first, signal.SIGKILL)
-        changed = {**orders, "description": f"after the pool process died {uuid.uuid4()}"}
+        # A title, not a description: an edit of descriptions only reuses the last report.
+        changed = {**orders, "title": f"after the pool process died {uuid.uuid4()}"}
         again = client.post("/api/validate", json=changed)
         assert again.status_code == 200, again.text
         assert again.json()["digest"] != answer.json()["digest"]
