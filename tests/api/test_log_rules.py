@@ -169,3 +169,32 @@ def test_rows_that_disagree_with_the_log_are_reported_not_shown_as_fact(world: W
     assert any("the table says decision = 'approved', its log entry says 'rejected'" in p
                for p in listed["integrity"]), listed
     assert any("reason = 'fine'" in p for p in listed["integrity"])
+
+
+def test_events_edited_behind_the_app_are_reported_by_the_activity_log(world: World) -> None:
+    """Finding 5: editing `events` (actor, reason) was shown as fact on the activity page."""
+    supervisor = world.client("supervisor")
+    signer = register_key(supervisor)
+    submission = submit(world, new_version(world))
+    approve(world, supervisor, signer, submission, "rejected", "too shallow")
+    auditor = world.client("auditor")
+    events = auditor.get("/api/events", params={"limit": 1000}).json()
+    assert events and all(e["integrity"] == [] for e in events)
+    rejected = next(e for e in events if e["kind"] == "approval.rejected")
+    admin_id = world.database.engine.connect().execute(text(
+        "SELECT id FROM users WHERE role = 'admin' ORDER BY id LIMIT 1")).scalar_one()
+    bypass_triggers(world.database, "events",
+                    "UPDATE events SET actor_id = :a, detail = :d WHERE id = :i",
+                    a=admin_id, d=json.dumps({**rejected["detail"], "reason": "fine"}),
+                    i=rejected["id"])
+    shown = {e["id"]: e for e in auditor.get("/api/events", params={"limit": 1000}).json()}
+    assert shown[rejected["id"]]["integrity"] == [
+        f"event {rejected['id']}: the table's actor, detail disagree with log entry "
+        f"{_log_index(world, rejected['id'])}"]
+    assert all(e["integrity"] == [] for i, e in shown.items() if i != rejected["id"])
+
+
+def _log_index(world: World, event_id: int) -> int:
+    with world.database.engine.connect() as connection:
+        return int(connection.execute(text('SELECT "index" FROM log_entries WHERE event_id = :i'),
+                                      {"i": event_id}).scalar_one())

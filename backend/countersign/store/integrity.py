@@ -6,13 +6,15 @@ them as warnings) instead of being shown as fact."""
 from __future__ import annotations
 
 import json
+from datetime import UTC
 from typing import Any
 
 from sqlalchemy import or_, select
 from sqlalchemy.orm import Session as DbSession
 
+from ..approvals.log import event_data
 from ..approvals.log_rules import row_problems, submission_state
-from .tables import Approval, LogEntry, Submission
+from .tables import Approval, Event, LogEntry, Submission
 
 
 def _event(text: str) -> dict[str, Any] | None:
@@ -55,3 +57,32 @@ def submission_integrity(db: DbSession, submission: Submission) -> list[str]:
     if logged != submission.state:
         return [f"submission {sid}: the table says {submission.state}, the log says {logged}"]
     return []
+
+
+def event_integrity(db: DbSession, events: list[Event], actors: dict[int, str]
+                    ) -> dict[int, list[str]]:
+    """For each listed event row, how it disagrees with the log entry that recorded it (the
+    entry's event is what the row said when it was appended; a later UPDATE shows here)."""
+    logged: dict[int, tuple[int, dict[str, Any] | None]] = {}
+    ids = [e.id for e in events]
+    for start in range(0, len(ids), 500):
+        for event_id, index, text in db.execute(
+                select(LogEntry.event_id, LogEntry.index, LogEntry.entry)
+                .where(LogEntry.event_id.in_(ids[start:start + 500]))):
+            logged[event_id] = (index, _event(text))
+    out: dict[int, list[str]] = {}
+    for event in events:
+        found = logged.get(event.id)
+        if found is None:
+            out[event.id] = [f"event {event.id} has no log entry"]
+            continue
+        index, entry = found
+        at = event.at if event.at.tzinfo is not None else event.at.replace(tzinfo=UTC)
+        row = event_data(id=event.id, at=at, actor=actors.get(event.actor_id or -1),
+                         kind=event.kind, mission=event.mission_id, before=event.before_digest,
+                         after=event.after_digest, detail=event.detail)
+        differing = sorted(k for k in row if entry is None or row[k] != entry.get(k))
+        out[event.id] = [f"event {event.id}: the table's {', '.join(differing)} disagree"
+                         f"{'s' if len(differing) == 1 else ''} with log entry {index}"
+                         ] if differing else []
+    return out

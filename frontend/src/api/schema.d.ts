@@ -1240,6 +1240,11 @@ export interface components {
             };
             /** Id */
             id: number;
+            /**
+             * Integrity
+             * @description how this row disagrees with its log entry, which is the source of truth
+             */
+            integrity?: string[];
             /** Kind */
             kind: string;
             /** Mission */

@@ -60,6 +60,13 @@ export function EventsPage() {
                   <td>{e.actor ?? "system"}</td>
                   <td>
                     <code>{e.kind}</code>
+                    {e.integrity && e.integrity.length > 0 ? (
+                      <ul className="integrity warning" role="alert" data-testid="event-integrity">
+                        {e.integrity.map((problem) => (
+                          <li key={problem}>Not as logged: {problem}</li>
+                        ))}
+                      </ul>
+                    ) : null}
                   </td>
                   <td>{e.mission ? <Link href={missionHref(e.mission)}>{e.mission}</Link> : "—"}</td>
                   <td>

@@ -18,6 +18,7 @@ from ...store.accounts import (
     set_password,
 )
 from ...store.events import record
+from ...store.integrity import event_integrity
 from ...store.tables import ApiToken, Event, User, VehicleProfile
 from ..deps import (
     ADMINS,
@@ -169,13 +170,12 @@ def list_events(
     if mission:
         query = query.where(Event.mission_id == mission)
     names: dict[int, str] = {}
-    out = []
-    for event in db.scalars(query):
-        actor = None
-        if event.actor_id is not None:
-            if event.actor_id not in names:
-                user = db.get(User, event.actor_id)
-                names[event.actor_id] = user.username if user else f"#{event.actor_id}"
-            actor = names[event.actor_id]
-        out.append(EventOut.of(event, actor))
-    return out
+    events = list(db.scalars(query))
+    for event in events:
+        if event.actor_id is not None and event.actor_id not in names:
+            user = db.get(User, event.actor_id)
+            names[event.actor_id] = user.username if user else f"#{event.actor_id}"
+    # The log is the source of truth: a row edited behind the app's back is reported.
+    integrity = event_integrity(db, events, names)
+    return [EventOut.of(e, names.get(e.actor_id) if e.actor_id is not None else None,
+                        integrity[e.id]) for e in events]

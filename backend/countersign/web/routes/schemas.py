@@ -5,7 +5,7 @@ from __future__ import annotations
 from datetime import datetime
 from typing import Any
 
-from pydantic import BaseModel, ConfigDict
+from pydantic import BaseModel, ConfigDict, Field
 
 from ...store.tables import Event, Mission, MissionVersion, User
 
@@ -125,12 +125,16 @@ class EventOut(BaseModel):
     before_digest: str | None
     after_digest: str | None
     detail: dict[str, Any]
+    integrity: list[str] = Field(default_factory=list, description=(
+        "how this row disagrees with its log entry, which is the source of truth"))
 
     @classmethod
-    def of(cls, event: Event, actor: str | None) -> EventOut:
+    def of(cls, event: Event, actor: str | None, integrity: list[str] | None = None
+           ) -> EventOut:
         return cls(id=event.id, at=event.at, actor=actor, kind=event.kind,
                    mission=event.mission_id, before_digest=event.before_digest,
-                   after_digest=event.after_digest, detail=event.detail)
+                   after_digest=event.after_digest, detail=event.detail,
+                   integrity=integrity or [])
 
 
 def version_out(version: MissionVersion, author: str, with_orders: bool) -> VersionOut:
