@@ -101,10 +101,16 @@ class ApiError(Exception):
     pass
 
 
-def _call(server: str, token: str, path: str, body: dict[str, Any]) -> dict[str, Any]:
+def api_request(server: str, token: str | None, path: str,
+                body: dict[str, Any] | None) -> dict[str, Any]:
+    """GET (no body) or POST JSON to the server's API; an error answer raises ApiError with
+    the problem's detail."""
+    headers = {"Content-Type": "application/json"}
+    if token:
+        headers["Authorization"] = f"Bearer {token}"
     request = urllib.request.Request(
-        server.rstrip("/") + path, data=json.dumps(body).encode(), method="POST",
-        headers={"Authorization": f"Bearer {token}", "Content-Type": "application/json"})
+        server.rstrip("/") + path, method="GET" if body is None else "POST", headers=headers,
+        data=None if body is None else json.dumps(body).encode())
     try:
         with urllib.request.urlopen(request, timeout=60) as response:
             data: dict[str, Any] = json.loads(response.read())
@@ -162,10 +168,10 @@ def cmd_sign(args: argparse.Namespace) -> int:
         prepare = {"reason": args.reason, "key_id": kid}
         finish = f"{base}/revoke"
     try:
-        prepared = _call(args.server, token, f"{base}/statement", prepare)
+        prepared = api_request(args.server, token, f"{base}/statement", prepare)
         payload = dsse.unb64(prepared["payload"], "the payload")
         envelope = dsse.sign_envelope(payload, key, prepared["payloadType"])
-        stored = _call(args.server, token, finish, {"envelope": json.dumps(envelope),
+        stored = api_request(args.server, token, finish, {"envelope": json.dumps(envelope),
                                                      "password": password})
     except (ApiError, dsse.SignatureError, KeyError) as exc:
         _err(f"refused: {exc}")

@@ -9,7 +9,6 @@ fork is reported naming both tree heads, exit 1; nothing is cosigned then."""
 from __future__ import annotations
 
 import argparse
-import json
 import socket
 import sys
 import time
@@ -26,6 +25,7 @@ from .approvals.auditor_state import consistency_problem, load_state, save_state
 from .approvals.log import verify_checkpoint_head
 from .approvals.merkle import verify_consistency
 from .approvals.note import COSIGNATURE, cosign, verifier_key
+from .cli_approvals import ApiError, api_request
 
 EXIT_OK, EXIT_FAILED, EXIT_UNREADABLE = 0, 1, 2
 
@@ -99,24 +99,10 @@ def add_commands(commands: argparse._SubParsersAction) -> None:  # type: ignore[
 
 def _http(url: str, token: str | None) -> tuple[Get, Post]:
     def call(path: str, body: dict[str, Any] | None) -> dict[str, Any]:
-        headers = {"Content-Type": "application/json"}
-        if token:
-            headers["Authorization"] = f"Bearer {token}"
-        request = urllib.request.Request(
-            url.rstrip("/") + path, method="GET" if body is None else "POST", headers=headers,
-            data=None if body is None else json.dumps(body).encode())
         try:
-            with urllib.request.urlopen(request, timeout=60) as response:
-                data: dict[str, Any] = json.loads(response.read())
-                return data
-        except urllib.error.HTTPError as exc:
-            try:
-                detail = json.loads(exc.read()).get("detail", "")
-            except ValueError:
-                detail = ""
-            raise WitnessError(f"{path}: {exc.code} {detail}".strip()) from None
-        except urllib.error.URLError as exc:
-            raise WitnessError(f"cannot reach {url}: {exc.reason}") from None
+            return api_request(url, token, path, body)
+        except ApiError as exc:
+            raise WitnessError(str(exc)) from None
 
     return (lambda path: call(path, None)), call
 
