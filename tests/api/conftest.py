@@ -65,10 +65,8 @@ class World:
         return client, response.json()["csrf_token"]
 
 
-@pytest.fixture
-def world(database_url: str, tmp_path: Path) -> Iterator[World]:
-    database = Database(database_url)
-    app = create_app(Settings(data_dir=tmp_path, database_url=database_url), database)
+def seed_users(database: Database) -> tuple[dict[str, str], dict[str, str]]:
+    """One user per role (their API tokens and usernames) and the operator's example mission."""
     tokens: dict[str, str] = {}
     usernames: dict[str, str] = {}
     with database.session() as db:
@@ -78,6 +76,14 @@ def world(database_url: str, tmp_path: Path) -> Iterator[World]:
             tokens[role] = create_token(db, user=user, name="tests")[1]
             if role == "operator":
                 create_mission(db, orders=load_example("search-and-sample"), author=user)
+    return tokens, usernames
+
+
+@pytest.fixture
+def world(database_url: str, tmp_path: Path) -> Iterator[World]:
+    database = Database(database_url)
+    app = create_app(Settings(data_dir=tmp_path, database_url=database_url), database)
+    tokens, usernames = seed_users(database)
     yield World(app, database, tokens, usernames)
     app.state.rehearsals.shutdown()  # rehearsals a test started (their viser servers)
     database.engine.dispose()

@@ -18,19 +18,17 @@ from countersign.approvals import dsse
 from countersign.approvals.note import checkpoint_body
 from countersign.approvals.signer import LEGACY_ORIGIN, LogSigner
 from countersign.cli import main
-from countersign.orders.examples import load_example
-from countersign.store.accounts import create_token, create_user
+from countersign.store.accounts import create_user
 from countersign.store.approvals import log_tree
 from countersign.store.db import Database
 from countersign.store.events import record
-from countersign.store.missions import create_mission
 from countersign.store.tables import Checkpoint, User
 from countersign.web.app import create_app
 from countersign.web.log_signer import LEGACY_KEY_ENV, LEGACY_KEY_FILE, LOG_KEY_DIR_ENV
 from countersign.web.settings import Settings
 
 from .approval_helpers import approve, new_version, register_key, submit
-from .conftest import PASSWORD, ROLES, World, count_rows
+from .conftest import PASSWORD, World, count_rows, seed_users
 
 
 def _old_deployment(url: str, data_dir: Path) -> tuple[Ed25519PrivateKey, dict[str, str],
@@ -40,15 +38,7 @@ def _old_deployment(url: str, data_dir: Path) -> tuple[Ed25519PrivateKey, dict[s
     old = Database(url)
     assert old.log_signer is None
     old.migrate()
-    tokens: dict[str, str] = {}
-    usernames: dict[str, str] = {}
-    with old.session() as db:
-        for role in ROLES:
-            user = create_user(db, username=f"{role}1", role=role, password=PASSWORD)
-            usernames[role] = user.username
-            tokens[role] = create_token(db, user=user, name="tests")[1]
-            if role == "operator":
-                create_mission(db, orders=load_example("search-and-sample"), author=user)
+    tokens, usernames = seed_users(old)
     key = dsse.generate_key()
     dsse.write_private_key(data_dir / LEGACY_KEY_FILE, key)
     with old.session() as db:
