@@ -15,6 +15,12 @@ import { type ApprovalRow, checkRecords } from "./recordRules";
 
 export const GENESIS = "0".repeat(64);
 
+/** The first three problems and how many more: a check's detail line stays readable. */
+function firstProblems(problems: string[]): string {
+  const more = problems.length > 3 ? ` (and ${problems.length - 3} more)` : "";
+  return problems.slice(0, 3).join("; ") + more;
+}
+
 export interface Checkpoint {
   size: number;
   root: string;
@@ -197,7 +203,7 @@ export async function verifyApproval(record: ApprovalRecord, all: LogEntryRow[],
     label: "Every log entry carries the log signer's receipt",
     ok: receiptIssues.length === 0,
     detail: receiptIssues.length
-      ? receiptIssues.slice(0, 3).join("; ") + (receiptIssues.length > 3 ? ` (and ${receiptIssues.length - 3} more)` : "")
+      ? firstProblems(receiptIssues)
       : `${all.length} entries, each receipted by the log key`,
   });
   if (entries.length !== cp.size) {
@@ -208,7 +214,7 @@ export async function verifyApproval(record: ApprovalRecord, all: LogEntryRow[],
     label: "Hash chain of the log",
     ok: problems.length === 0,
     detail: problems.length
-      ? problems.slice(0, 3).join("; ") + (problems.length > 3 ? ` (and ${problems.length - 3} more)` : "")
+      ? firstProblems(problems)
       : `${entries.length} entries, each chained to the one before`,
   });
 
@@ -234,7 +240,7 @@ export async function verifyApproval(record: ApprovalRecord, all: LogEntryRow[],
     label: "The log describes a legal history",
     ok: ruleProblems.length === 0,
     detail: ruleProblems.length
-      ? ruleProblems.slice(0, 3).join("; ") + (ruleProblems.length > 3 ? ` (and ${ruleProblems.length - 3} more)` : "")
+      ? firstProblems(ruleProblems)
       : "one decision per submission, one active submission per version, no signature by a revoked key",
   });
   // --- end issue 14 item 5 ---
@@ -246,7 +252,7 @@ export async function verifyApproval(record: ApprovalRecord, all: LogEntryRow[],
       label: "The server's approval records agree with the log",
       ok: recordProblems.length === 0,
       detail: recordProblems.length
-        ? recordProblems.slice(0, 3).join("; ") + (recordProblems.length > 3 ? ` (and ${recordProblems.length - 3} more)` : "")
+        ? firstProblems(recordProblems)
         : `every decision the log holds on ${record.mission} has its record, and every logged revocation of this approval is shown`,
     });
   }
