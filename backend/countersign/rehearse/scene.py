@@ -348,7 +348,7 @@ class Scene:
             f"**Outcomes:** {outcomes}  \n"
             f"**Time:** {hours}h{rem // 60:02d}m  "
             f"**Energy left:** {sim.energy_remaining_wh:.0f} Wh  \n"
-            f"**Faults:** {', '.join(sorted(sim.active_faults)) or 'none'}"
+            f"**Faults:** {markdown_text(', '.join(sorted(sim.active_faults))) or 'none'}"
         )
         waiting = sim.state == "waiting_for_outcome"
         for button in self.outcome_buttons.values():
