@@ -18,7 +18,6 @@ from typing import TYPE_CHECKING, TextIO
 from . import __version__
 from .orders.examples import example_bytes, example_names
 from .orders.reader import OrdersReadError, ReadResult, read_bytes, read_file
-from .rehearse.checks import validate_with_rules
 from .verify.graph import build_graph
 from .verify.paths import (
     ANSWER,
@@ -30,7 +29,7 @@ from .verify.paths import (
     iter_paths,
     trace_text,
 )
-from .verify.report import SOLVER_BUDGET_S, Report
+from .verify.report import SOLVER_BUDGET_S, Report, validate
 from .verify.structure import check_structure
 
 if TYPE_CHECKING:
@@ -109,8 +108,7 @@ def _budget_seconds(text: str) -> float:
 
 def cmd_validate(args: argparse.Namespace) -> int:
     loaded = _load(args.file)
-    report = validate_with_rules(loaded.orders, loaded.findings,
-                                 solver_budget_s=args.solver_budget)
+    report = validate(loaded.orders, loaded.findings, solver_budget_s=args.solver_budget)
     if args.format == "json":
         json.dump(report.to_json(explain=args.explain), sys.stdout, indent=2)
         sys.stdout.write("\n")

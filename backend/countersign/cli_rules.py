@@ -11,7 +11,7 @@ from typing import Any, TextIO
 from . import strict_json
 from .orders.findings import Finding
 from .orders.reader import MAX_INPUT_BYTES, OrdersReadError, read_bytes
-from .rehearse.rules import (
+from .rules import (
     ActionVerdict,
     DefaultTheory,
     Extension,
@@ -26,8 +26,8 @@ from .rehearse.rules import (
     theory_for,
     theory_names,
 )
-from .rehearse.rules.engine import TheoryTooLarge
-from .rehearse.rules.syntax import LiteralSyntaxError
+from .rules.engine import TheoryTooLarge
+from .rules.syntax import LiteralSyntaxError
 
 EXIT_OK, EXIT_FINDINGS, EXIT_UNREADABLE = 0, 1, 2
 

@@ -16,11 +16,11 @@ from fastapi.testclient import TestClient
 from countersign.orders.examples import example_bytes
 from countersign.orders.model import Orders
 from countersign.plan.examples import gravitas_data
-from countersign.rehearse.checks import validate_with_rules
 from countersign.store.accounts import HASHER, create_token, create_user
 from countersign.store.db import Database
 from countersign.store.hashing import HASH_SLOTS, BoundedHasher
 from countersign.store.tables import User
+from countersign.verify import validate
 from countersign.web.app import create_app
 from countersign.web.fair import PlanSlots, Rate, RateLimiter
 from countersign.web.settings import Settings
@@ -163,7 +163,7 @@ def test_a_draft_edit_is_validated_in_its_authors_queue(world: World) -> None:
 
     def validator(orders: Orders) -> dict[str, object]:
         seen.append(SUBMITTER.get())
-        return validate_with_rules(orders).to_json()
+        return validate(orders).to_json()
 
     world.database.validator = validator
     client = world.client("operator")

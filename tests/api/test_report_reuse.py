@@ -8,8 +8,8 @@ from typing import Any
 import pytest
 
 from countersign.orders.model import Orders
-from countersign.rehearse.checks import validate_with_rules
 from countersign.store import missions
+from countersign.verify import validate
 from countersign.verify.reuse import SHARED_REPORT_REUSE
 
 from .conftest import World
@@ -27,9 +27,9 @@ def test_a_description_edit_reuses_the_report_and_equals_a_full_validation(
     def counting(orders: Orders, *args: Any, **kwargs: Any) -> Any:
         if orders.id == "reuse":
             calls.append(orders.id)
-        return validate_with_rules(orders, *args, **kwargs)
+        return validate(orders, *args, **kwargs)
 
-    monkeypatch.setattr(missions, "validate_with_rules", counting)
+    monkeypatch.setattr(missions, "validate", counting)
     client = world.client("operator")
     orders = client.get(f"/api/missions/{EXAMPLE}").json()["orders"]
     orders["id"] = "reuse"
@@ -47,7 +47,7 @@ def test_a_description_edit_reuses_the_report_and_equals_a_full_validation(
     assert edited.status_code == 200, edited.text
     report = client.get("/api/missions/reuse/report").json()
     assert calls == ["reuse"]  # not validated again
-    full = validate_with_rules(Orders.model_validate(orders)).to_json()
+    full = validate(Orders.model_validate(orders)).to_json()
     assert report == full
     assert report["digest"] != first["digest"]
 
@@ -57,4 +57,4 @@ def test_a_description_edit_reuses_the_report_and_equals_a_full_validation(
     client.put("/api/missions/reuse/draft", json={"orders": orders}, headers={"If-Match": etag})
     report = client.get("/api/missions/reuse/report").json()
     assert calls == ["reuse", "reuse"]
-    assert report == validate_with_rules(Orders.model_validate(orders)).to_json()
+    assert report == validate(Orders.model_validate(orders)).to_json()

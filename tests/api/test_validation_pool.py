@@ -16,9 +16,9 @@ from fastapi.testclient import TestClient
 from countersign.orders.canonical import orders_to_json
 from countersign.orders.examples import example_bytes, load_example
 from countersign.orders.reader import orders_from_data
-from countersign.rehearse.checks import validate_with_rules
 from countersign.store.accounts import create_token, create_user
 from countersign.store.db import Database
+from countersign.verify import validate
 from countersign.web.app import create_app
 from countersign.web.settings import Settings
 from countersign.web.validation_pool import NICENESS
@@ -49,7 +49,7 @@ def test_a_running_app_validates_in_a_pool_process(tmp_path: Path) -> None:
         assert database.validator is not None
         answer = client.post("/api/validate", json=orders)
         assert answer.status_code == 200, answer.text
-        assert answer.json() == validate_with_rules(orders_from_data(orders)).to_json()
+        assert answer.json() == validate(orders_from_data(orders)).to_json()
         first = pool.last_pid
         assert first is not None and first != os.getpid()
         if os.getpriority(os.PRIO_PROCESS, 0) + NICENESS <= 19:

@@ -23,7 +23,7 @@ from typing import Any
 from countersign.orders.examples import load_example
 from countersign.orders.model import OUTCOMES, Orders
 from countersign.orders.turtle import orders_to_graph
-from countersign.rehearse.checks import validate_with_rules
+from countersign.verify import validate
 from countersign.verify.meo import meo_check
 from countersign.verify.meo.reasoning import infer, naive_closure
 from countersign.verify.meo.shapes import shacl_violations, validation_graph
@@ -76,7 +76,7 @@ def meo_mission(goals: int, seed: int = 3) -> Orders:
 def checked(orders: Orders) -> Orders:
     """The benchmark's input, refused unless it validates without errors: timing an invalid
     mission measures the wrong work."""
-    report = validate_with_rules(orders)
+    report = validate(orders)
     errors = [f"{f.code}: {f.message}" for f in report.findings if f.severity == "error"]
     if errors:
         raise SystemExit(f"benchmark input {orders.id} is invalid: " + "; ".join(errors[:5]))

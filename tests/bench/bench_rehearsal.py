@@ -20,7 +20,7 @@ import time
 from collections.abc import Callable
 from typing import Any
 
-from countersign.rehearse.rules import (
+from countersign.rules import (
     DefaultTheory,
     check_action,
     extension,

@@ -5,12 +5,12 @@ from __future__ import annotations
 import pytest
 
 from countersign.orders.model import Orders
-from countersign.rehearse.checks import validate_with_rules
+from countersign.verify import validate
 from tests.bench.bench_meo import checked, meo_mission
 
 
 def test_meo_benchmark_mission_is_valid() -> None:
-    report = validate_with_rules(meo_mission(60))
+    report = validate(meo_mission(60))
     assert [f.code for f in report.findings if f.severity == "error"] == []
     assert checked(meo_mission(60)).id == "meo-60"
 

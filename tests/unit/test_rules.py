@@ -12,8 +12,7 @@ from countersign.orders.canonical import digest, orders_to_json
 from countersign.orders.examples import example_bytes, load_example
 from countersign.orders.model import Orders
 from countersign.orders.reader import read_json
-from countersign.rehearse.checks import rules_findings, validate_with_rules
-from countersign.rehearse.rules import (
+from countersign.rules import (
     DefaultTheory,
     TheoryError,
     check_action,
@@ -24,6 +23,8 @@ from countersign.rehearse.rules import (
     plain_rules,
     theory_for,
 )
+from countersign.verify import validate
+from countersign.verify.rules_design import rules_findings
 
 from .test_bad_input import run_cli
 
@@ -301,9 +302,9 @@ def test_shipped_orders_carry_the_shipped_theories() -> None:
         assert theory is not None
         assert theory.rules == load_theory(theory_name).rules
         assert design_findings(theory, orders) == []
-        report = validate_with_rules(orders)
+        report = validate(orders)
         assert report.ok and report.findings == [], report.findings
-    transect_report = validate_with_rules(load_example("transect-survey"))
+    transect_report = validate(load_example("transect-survey"))
     assert transect_report.paths is not None and transect_report.paths.total == 39
 
 
@@ -342,7 +343,7 @@ def test_bad_rules_in_orders_are_a_rules_finding_not_a_read_error(tmp_path: Path
     findings = rules_findings(orders)
     assert [(f.code, f.severity, f.subjects) for f in findings] == [
         ("RULES", "error", ("rules.defaults[0].then",))]
-    report = validate_with_rules(orders)
+    report = validate(orders)
     assert not report.ok and report.findings[-1].code == "RULES"
     path = tmp_path / "bad-rules.json"
     path.write_text(json.dumps(orders_to_json(orders)))
@@ -515,7 +516,7 @@ def test_extensions_from_many_threads_agree_with_serial(transect: DefaultTheory)
 
 
 def test_grounding_is_bounded() -> None:
-    from countersign.rehearse.rules.engine import MAX_GROUND_RULES, TheoryTooLarge
+    from countersign.rules.engine import MAX_GROUND_RULES, TheoryTooLarge
 
     constants = [{"id": f"F{i}", "fact": f"p(c{i})"} for i in range(1_000)]
     theory = parse_theory({"facts": constants, "strict": [

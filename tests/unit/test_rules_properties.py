@@ -22,8 +22,8 @@ import z3
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from countersign.rehearse.rules import extension, parse_theory
-from countersign.rehearse.rules.syntax import parse_literal
+from countersign.rules import extension, parse_theory
+from countersign.rules.syntax import parse_literal
 
 ATOMS = ("a", "b", "c", "d", "e")
 LITERALS = tuple([*ATOMS, *(f"not {a}" for a in ATOMS)])

@@ -1,6 +1,6 @@
 """The simulation's side of the contingency rules (seed 004): the simulated vehicle's
 observations become observations of the default theory, its extension is computed and the
-planned action is checked with eq. (17). The rules themselves live in `rehearse.rules`.
+planned action is checked with eq. (17). The rules themselves live in `countersign.rules`.
 
 An extension only changes when the observations change, and simulated observations change
 rarely (a fix lost, a leak), so verdicts are cached by observation set: the rules cost almost
@@ -13,7 +13,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 from ..orders.model import Goal, Orders
-from .rules import ActionVerdict, DefaultTheory, Extension, check_action, extension, theory_for
+from ..rules import ActionVerdict, DefaultTheory, Extension, check_action, extension, theory_for
 
 MAX_CACHE = 4_096
 

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from ..orders.model import Orders
 from ..orders.writers import write
-from .rules import TheoryError, plain_rules, theory_for
+from ..rules import TheoryError, plain_rules, theory_for
 
 SECTION = "Contingency rules"
 

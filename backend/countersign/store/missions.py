@@ -14,7 +14,7 @@ from sqlalchemy.orm import Session as DbSession
 from .. import __version__
 from ..orders.canonical import digest, orders_to_json
 from ..orders.model import Orders
-from ..rehearse.checks import validate_with_rules
+from ..verify.report import validate
 from ..verify.reuse import SHARED_REPORT_REUSE
 from .db import database_of, writable
 from .events import record
@@ -207,7 +207,7 @@ def _validated(db: DbSession, key: str, orders: Orders) -> dict[str, Any]:
 
             def full(orders: Orders) -> dict[str, Any]:
                 return (validator(orders) if validator is not None
-                        else validate_with_rules(orders).to_json())
+                        else validate(orders).to_json())
 
             # An edit of descriptions only is answered from the last report of the same facts.
             done = SHARED_REPORT_REUSE.report(orders, key, full)

@@ -1,6 +1,7 @@
 """The validation report: every check that exists, run on one set of orders.
 
-One pure function, so the command line, the API and the tests share a code path.
+One pure function, so the command line, the API and the tests share a code path: the contingency
+rules' design checks (RULES) run here too, so there is no second entry point to choose.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from .logic import LogicCache, check_logic
 from .meo import MeoResult, meo_check
 from .paths import PathCounts, count_paths
 from .properties import check_properties
+from .rules_design import rules_findings
 from .structure import check_structure
 from .text import check_text
 from .vehicle import check_vehicle
@@ -101,4 +103,5 @@ def validate(
                                 total_timeout_s=solver_budget_s))
     findings.extend(check_properties(orders, graph, cache, timeout_ms=SOLVER_CALL_MS,
                                      total_timeout_s=max(0.0, deadline - time.monotonic())))
+    findings.extend(rules_findings(orders))
     return Report(orders.id, digest(orders), findings, counts, costs, meo)

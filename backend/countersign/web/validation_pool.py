@@ -35,7 +35,7 @@ from typing import Any
 from ..orders.model import Orders
 
 NICENESS = 5  # below the web processes: reads first, validations in the gaps
-CHECKS_MODULE = "countersign.rehearse.checks"
+CHECKS_MODULE = "countersign.verify.report"
 
 # Who asks for the validation running in this context: routes set it (fair.py) before handing
 # the work to a thread, which copies the context. Unset, work shares one anonymous queue.
@@ -48,9 +48,9 @@ def _lower_priority() -> None:
 
 
 def _validate(orders: Orders) -> tuple[int, dict[str, Any]]:
-    from ..rehearse.checks import validate_with_rules
+    from ..verify.report import validate
 
-    return os.getpid(), validate_with_rules(orders).to_json()
+    return os.getpid(), validate(orders).to_json()
 
 
 class ValidationPool:
@@ -126,7 +126,7 @@ class ValidationPool:
             return self._executor
 
     def validate(self, orders: Orders, submitter: str | None = None) -> dict[str, Any]:
-        """The report of `validate_with_rules(orders)`, computed in a pool process when it is
+        """The report of `verify.validate(orders)`, computed in a pool process when it is
         the submitter's turn (by default SUBMITTER of the calling context). A pool broken by a
         dead process (killed, out of memory) is replaced once."""
         with self._turn(SUBMITTER.get() if submitter is None else submitter):

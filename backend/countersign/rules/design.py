@@ -19,12 +19,12 @@ from __future__ import annotations
 from collections.abc import Iterable
 from typing import TYPE_CHECKING
 
-from ...orders.findings import Finding, error, warning
+from ..orders.findings import Finding, error, warning
 from .syntax import Literal
 from .theory import DO_SAFE, GOAL, NEXT_ACTION, DefaultTheory, Rule
 
 if TYPE_CHECKING:
-    from ...orders.model import Orders
+    from ..orders.model import Orders
 
 CODE = "RULES"
 

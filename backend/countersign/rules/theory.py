@@ -24,7 +24,7 @@ from typing import TYPE_CHECKING, Any, Final
 from .syntax import Literal, LiteralSyntaxError, is_variable, parse_atom, parse_literal
 
 if TYPE_CHECKING:
-    from ...orders.model import Orders
+    from ..orders.model import Orders
 
 KINDS: Final[tuple[str, ...]] = ("observation", "estimation", "goal", "safety", "action")
 DO_SAFE: Final = "do_safe"

@@ -7,7 +7,7 @@ from importlib import resources
 
 from .theory import DefaultTheory, parse_theory
 
-_PACKAGE = "countersign.rehearse.rules.data"
+_PACKAGE = "countersign.rules.data"
 
 
 def theory_names() -> list[str]:
