@@ -165,7 +165,7 @@ def test_a_draft_edit_is_validated_in_its_authors_queue(world: World) -> None:
         seen.append(SUBMITTER.get())
         return validate(orders).to_json()
 
-    world.database.validator = validator
+    world.database.reports.validator = validator
     client = world.client("operator")
     orders = client.get("/api/missions/search-and-sample").json()["orders"]
     orders["title"] = f"Edited {uuid.uuid4()}"

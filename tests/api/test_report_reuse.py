@@ -8,9 +8,8 @@ from typing import Any
 import pytest
 
 from countersign.orders.model import Orders
-from countersign.store import missions
+from countersign.verify import report as verify_report
 from countersign.verify import validate
-from countersign.verify.reuse import SHARED_REPORT_REUSE
 
 from .conftest import World
 
@@ -20,8 +19,7 @@ EXAMPLE = "search-and-sample"
 def test_a_description_edit_reuses_the_report_and_equals_a_full_validation(
     world: World, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    SHARED_REPORT_REUSE.clear()
-    missions._RECENT.clear()  # the other database's run of this test left its report there
+    world.database.reports.clear()
     calls: list[str] = []
 
     def counting(orders: Orders, *args: Any, **kwargs: Any) -> Any:
@@ -29,7 +27,7 @@ def test_a_description_edit_reuses_the_report_and_equals_a_full_validation(
             calls.append(orders.id)
         return validate(orders, *args, **kwargs)
 
-    monkeypatch.setattr(missions, "validate", counting)
+    monkeypatch.setattr(verify_report, "validate", counting)
     client = world.client("operator")
     orders = client.get(f"/api/missions/{EXAMPLE}").json()["orders"]
     orders["id"] = "reuse"

@@ -40,13 +40,13 @@ def _running_app(tmp_path: Path) -> tuple[TestClient, Database, str]:
 def test_a_running_app_validates_in_a_pool_process(tmp_path: Path) -> None:
     client, database, token = _running_app(tmp_path)
     client.headers["Authorization"] = f"Bearer {token}"
-    # Orders no other test validated: the process keeps its recent reports (store/missions.py),
+    # Orders no other test validated: the process keeps its recent reports (report_service),
     # and reuses a report for an edit of descriptions only, so the title differs.
     orders = {**orders_to_json(load_example("search-and-sample")),
               "title": f"pool test {uuid.uuid4()}"}
     with client:  # runs the lifespan, as `countersign serve` does
         pool = client.app.state.validation_pool  # type: ignore[attr-defined]
-        assert database.validator is not None
+        assert database.reports.validator is not None
         answer = client.post("/api/validate", json=orders)
         assert answer.status_code == 200, answer.text
         assert answer.json() == validate(orders_from_data(orders)).to_json()
@@ -65,7 +65,7 @@ def test_a_running_app_validates_in_a_pool_process(tmp_path: Path) -> None:
         assert again.json()["digest"] != answer.json()["digest"]
         assert pool.last_pid not in (None, first)
     # The lifespan's end stops the pool and validation falls back to the calling thread.
-    assert database.validator is None
+    assert database.reports.validator is None
 
 
 def test_validate_reads_its_body_and_refuses_what_is_not_orders(world: World) -> None:

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import threading
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -16,9 +16,10 @@ from sqlalchemy import Engine, create_engine, event
 from sqlalchemy.exc import TimeoutError as PoolTimeout
 from sqlalchemy.orm import Session, sessionmaker
 
+from .report_service import ReportService
+
 if TYPE_CHECKING:
     from ..approvals.signer import LogSigner
-    from ..orders.model import Orders
 
 MIGRATIONS = Path(__file__).resolve().parents[3] / "migrations"
 
@@ -133,8 +134,8 @@ def upgrade_to_head(engine: Engine) -> None:
 class Database:
     def __init__(self, url: str) -> None:
         self.url = url
-        # Computes a validation report when none is cached; None: in the calling thread.
-        self.validator: Callable[[Orders], dict[str, Any]] | None = None
+        # Computes validation reports when none is stored (single flight, reuse, the pool).
+        self.reports = ReportService()
         self.engine = make_engine(url)
         # The log signer (approvals/signer.py) that receipts each appended entry; set by
         # whoever holds the log key (the server, the CLI's demo seeding).

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import threading
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -14,8 +13,6 @@ from sqlalchemy.orm import Session as DbSession
 from .. import __version__
 from ..orders.canonical import digest, orders_to_json
 from ..orders.model import Orders
-from ..verify.report import validate
-from ..verify.reuse import SHARED_REPORT_REUSE
 from .db import database_of, writable
 from .events import record
 from .tables import Mission, MissionVersion, User, ValidationReport, utcnow
@@ -191,36 +188,10 @@ class CachedReport:
     cached: bool
 
 
-_IN_FLIGHT: dict[str, threading.Lock] = {}
-_IN_FLIGHT_GUARD = threading.Lock()
-
-
 def _validated(db: DbSession, key: str, orders: Orders) -> dict[str, Any]:
-    """Validate once per digest in this process even when many requests ask at once, with
-    the database's validator (the web app's pool of validation processes) if it has one."""
-    with _IN_FLIGHT_GUARD:
-        lock = _IN_FLIGHT.setdefault(key, threading.Lock())
-    with lock:
-        done = _RECENT.get(key)
-        if done is None:
-            validator = database_of(db).validator
-
-            def full(orders: Orders) -> dict[str, Any]:
-                return (validator(orders) if validator is not None
-                        else validate(orders).to_json())
-
-            # An edit of descriptions only is answered from the last report of the same facts.
-            done = SHARED_REPORT_REUSE.report(orders, key, full)
-            _RECENT[key] = done
-            while len(_RECENT) > 256:
-                _RECENT.pop(next(iter(_RECENT)))
-    with _IN_FLIGHT_GUARD:
-        _IN_FLIGHT.pop(key, None)
-    return done
-
-
-# The last reports computed here, so that requests that waited on the same digest reuse it.
-_RECENT: dict[str, dict[str, Any]] = {}
+    """Validated by the database's report service (once per digest in this process, with the
+    web app's pool of validation processes while it runs)."""
+    return database_of(db).reports.report(key, orders)
 
 
 def cached_report(db: DbSession, orders_digest: str) -> dict[str, Any] | None:

@@ -62,5 +62,3 @@ class ReportReuse:
         with self._lock:
             self._reports.clear()
 
-
-SHARED_REPORT_REUSE = ReportReuse()

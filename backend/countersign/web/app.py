@@ -132,7 +132,7 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
         pool = (ValidationPool(settings.validation_processes)
                 if settings.validation_processes > 0 else None)
         if pool is not None:
-            database.validator = pool.validate
+            database.reports.validator = pool.validate
         app.state.validation_pool = pool
         try:
             yield
@@ -140,7 +140,7 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
             # Every live rehearsal's viser server (threads and port) ends with the app.
             hub.shutdown()
             if pool is not None:
-                database.validator = None
+                database.reports.validator = None
                 pool.shutdown()
 
     app = FastAPI(title="Countersign", version=__version__, docs_url=None,

@@ -1,0 +1,48 @@
+"""The report service owns the single-flight cache and the validator (issue 17 item 1): one per
+database, injected, no module state."""
+
+from __future__ import annotations
+
+import threading
+from typing import Any
+
+from countersign.orders.examples import load_example
+from countersign.orders.model import Orders
+from countersign.store.db import Database
+from countersign.store.report_service import ReportService, validate_here
+
+
+def test_many_requests_for_one_digest_validate_once() -> None:
+    orders = load_example("search-and-sample")
+    calls: list[str] = []
+    release = threading.Event()
+
+    def slow(given: Orders) -> dict[str, Any]:
+        calls.append(given.id)
+        release.wait(60)
+        return {"digest": "sha256:x", "mission": given.id}
+
+    service = ReportService(validator=slow)
+    answers: list[dict[str, Any]] = []
+    threads = [threading.Thread(target=lambda: answers.append(service.report("k", orders)))
+               for _ in range(4)]
+    for thread in threads:
+        thread.start()
+    release.set()
+    for thread in threads:
+        thread.join(60)
+    assert calls == ["search-and-sample"]
+    assert len(answers) == 4 and all(a == answers[0] for a in answers)
+
+
+def test_each_database_has_its_own_service(tmp_path: Any) -> None:
+    first = Database(f"sqlite:///{tmp_path / 'a.db'}")
+    second = Database(f"sqlite:///{tmp_path / 'b.db'}")
+    assert first.reports is not second.reports
+    orders = load_example("search-and-sample")
+    first.reports.validator = lambda given: {"digest": "from-first"}
+    assert first.reports.report("k", orders) == {"digest": "from-first"}
+    # The other database's service saw nothing and validates with the real checks.
+    assert second.reports.report("k", orders) == validate_here(orders)
+    first.engine.dispose()
+    second.engine.dispose()
