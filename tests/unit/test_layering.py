@@ -25,13 +25,6 @@ ALLOWED: dict[str, set[str]] = {
 }
 # Packages the store may not import: validation goes through verify, never rehearse.
 STORE_FORBIDDEN = {"rehearse", "web", "cli"}
-# Outward imports that predate this test, each to be removed (issue 17 item 2).
-KNOWN = {
-    "countersign/orders/conditions.py:12 imports countersign.verify.expressions",
-    "countersign/orders/conditions.py:78 imports countersign.verify.expressions",
-    "countersign/orders/plain.py:20 imports countersign.verify.vehicle",
-    "countersign/orders/plain_profile.py:13 imports countersign.verify.expressions",
-}
 
 
 def _imports(path: Path, root: Path) -> Iterator[tuple[str, int]]:
@@ -79,7 +72,7 @@ def violations(root: Path = ROOT) -> list[str]:
 
 
 def test_dependencies_point_inward() -> None:
-    assert [v for v in violations() if v not in KNOWN] == []
+    assert violations() == []
 
 
 def test_the_check_sees_an_outward_import(tmp_path: Path) -> None:

@@ -14,12 +14,12 @@ from rdflib.namespace import RDF
 
 from countersign.orders.canonical import digest, orders_to_json
 from countersign.orders.examples import example_names, load_example
+from countersign.orders.expressions import expression_quantities
 from countersign.orders.model import Orders
 from countersign.orders.reader import OrdersReadError, read_bytes, sniff_format
 from countersign.orders.turtle import (
     MEO,
     MissionIris,
-    expression_quantities,
     nps_graph,
     orders_to_graph,
     read_turtle,

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-from ..verify.expressions import (
+from .expressions import (
     Compare,
     Expr,
     ExprError,
@@ -18,6 +18,7 @@ from ..verify.expressions import (
     Not,
     describe,
     parse,
+    quantity_table,
 )
 from .model import Orders, Quantity
 
@@ -74,7 +75,4 @@ def condition_words(source: str | None, quantities: Mapping[str, Quantity]) -> s
 
 
 def quantities_of(orders: Orders) -> dict[str, Quantity]:
-    # Imported here: the verify package imports the orders model at import time.
-    from ..verify.expressions import quantity_table
-
     return quantity_table(orders)

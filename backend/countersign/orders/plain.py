@@ -17,10 +17,10 @@ from __future__ import annotations
 import re
 from collections.abc import Sequence
 
-from ..verify.vehicle import profile_of
 from .conditions import condition_words, quantities_of
 from .model import OUTCOMES, Area, Constraint, Goal, Norm, Orders, Quantity, Terminal
 from .plain_profile import plain_properties, plain_vehicle
+from .profile import profile_of
 
 _CONDITIONS: dict[tuple[str, ...], str] = {
     ("succeed",): "if the goal succeeds",

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 
-from ..verify.expressions import number_words, quantity_words, with_unit
 from .conditions import condition_words
+from .expressions import number_words, quantity_words, with_unit
 from .model import Orders, Quantity, Vehicle
 
 

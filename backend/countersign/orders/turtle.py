@@ -30,9 +30,9 @@ RDF can say things orders cannot, e.g. that a goal requires a Constraint: such s
 contradict a domain or range of meo.ttl, and the reader reports them as findings whose code is
 the violated rule (`typing_findings`).
 
-The quantities a constraint reads are the identifiers of its expression (a small tokenizer here,
-until the shared expression parser of `countersign.verify.expressions` can be used from this
-layer); a feature can test a constraint (F2, V4) when it measures every one of them.
+The quantities a constraint reads are the quantity names of its expression, read with the one
+expression parser (`orders.expressions`); a feature can test a constraint (F2, V4) when it
+measures every one of them.
 """
 
 from __future__ import annotations
@@ -52,8 +52,9 @@ from rdflib.term import Node
 from ..ontology_files import MEO as MEO_FILE
 from ..ontology_files import NPS_ALIGNMENT, load_graph
 from .canonical import orders_to_json
+from .expressions import expression_quantities
 from .findings import Finding, error
-from .model import Constraint, Feature, Orders
+from .model import Orders
 from .reader import OrdersReadError, Problem, ReadResult, problems_from_validation
 from .turtle_writer import TripleSet, serialize_turtle
 
@@ -79,30 +80,6 @@ _ELEMENT_LISTS: Final = {
     "vehicles": "vehicle",
     "properties": "property",
 }
-
-# --------------------------------------------------------------------------------------------
-# Expressions: the quantities a constraint reads
-
-_KEYWORDS: Final = frozenset(
-    {"and", "or", "not", "implies", "true", "false", "behavior", "area", "context"}
-)
-_TOKENS: Final = re.compile(
-    r"""'(?:[^'\\]|\\.)*'?|"(?:[^"\\]|\\.)*"?|([A-Za-z_][A-Za-z0-9_]*)|\d+(?:\.\d*)?(?:[eE][+-]?\d+)?|."""
-)
-
-
-def expression_quantities(expr: str | None) -> list[str]:
-    """Identifiers an expression reads, in order of first use: names that are not keywords and
-    not inside quotes (a stand-in for the shared expression parser)."""
-    if not expr:
-        return []
-    names: dict[str, None] = {}
-    for match in _TOKENS.finditer(expr):
-        name = match.group(1)
-        if name and name not in _KEYWORDS:
-            names[name] = None
-    return list(names)
-
 
 # --------------------------------------------------------------------------------------------
 # IRIs
@@ -174,14 +151,6 @@ class _Resolver:
 
 # --------------------------------------------------------------------------------------------
 # Orders -> graph
-
-
-def can_test(feature: Feature, constraint: Constraint) -> bool:
-    """F2 grounding: a feature can test a constraint when it measures every quantity the
-    constraint's expression reads (a constraint without an expression cannot be tested)."""
-    if constraint.expr is None:
-        return False
-    return set(expression_quantities(constraint.expr)) <= set(feature.measures)
 
 
 def orders_to_graph(orders: Orders, *, record: bool = True) -> Graph:

@@ -13,20 +13,11 @@ from collections.abc import Callable
 
 from ..orders.findings import Finding, error
 from ..orders.model import Orders, Vehicle
+from ..orders.profile import is_stub, profile_of
 
 RegistryLookup = Callable[[str], Vehicle | None]
 
-
-def is_stub(vehicle: Vehicle) -> bool:
-    """A vehicle entry that only names the vehicle (an AVCL `vehicleName`): it lists no
-    behaviour, feature or envelope, so nothing about the vehicle can be checked against it."""
-    return not (vehicle.behaviors or vehicle.features or vehicle.envelope)
-
-
-def profile_of(orders: Orders) -> Vehicle | None:
-    """The profile of the target vehicle that the checks can use, or None."""
-    vehicle = orders.target_vehicle()
-    return None if vehicle is None or is_stub(vehicle) else vehicle
+__all__ = ["RegistryLookup", "check_vehicle", "is_stub", "profile_of", "with_registry_profile"]
 
 
 def with_registry_profile(orders: Orders, lookup: RegistryLookup | None) -> Orders:

@@ -41,12 +41,12 @@ from rdflib import Graph
 from rdflib.namespace import RDF
 from rdflib.term import Node
 
+from ...orders.expressions import expression_quantities
 from ...orders.findings import Finding, error
 from ...orders.model import Orders, Vehicle
 from ...orders.turtle import (
     MEO,
     OUTCOME_PROPERTY,
-    expression_quantities,
     local_id,
     natural_key,
     orders_to_graph,
