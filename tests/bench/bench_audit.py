@@ -33,12 +33,13 @@ from typing import Any
 from sqlalchemy import select, text
 
 from countersign.approvals import dsse
-from countersign.approvals.bundle import BUNDLE_FORMAT, orders_digest, verify_bundle
+from countersign.approvals.bundle import BUNDLE_FORMAT, verify_bundle
 from countersign.approvals.log import GENESIS, entry_bytes, entry_leaf, event_data, sign_checkpoint
 from countersign.approvals.merkle import Tree, leaf_hash, node_hash, verify_inclusion
 from countersign.approvals.note import Head
 from countersign.approvals.receipt import make_receipt
 from countersign.approvals.statement import build_statement, json_digest, statement_bytes
+from countersign.approvals.statement import json_digest as orders_digest
 from countersign.orders.examples import example_bytes
 from countersign.store import approvals as service
 from countersign.store.db import Database, make_engine

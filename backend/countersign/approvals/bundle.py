@@ -60,10 +60,6 @@ class _Key:
     revoked: int | None = None
 
 
-def orders_digest(orders: Any) -> str:
-    return "sha256:" + hashlib.sha256(bytes(rfc8785.dumps(orders))).hexdigest()
-
-
 def _es_numbers(value: Any) -> Any:
     """Floats as ECMAScript writes them where Python's repr agrees (integral floats become
     ints; others must lie in [1e-4, 1e16)); anything else raises ValueError (slow path)."""
@@ -95,7 +91,7 @@ def orders_match(orders: Any, signed: str) -> bool:
     except (ValueError, UnicodeEncodeError):
         pass
     try:
-        return orders_digest(orders) == signed
+        return json_digest(orders) == signed
     except (rfc8785.CanonicalizationError, TypeError, ValueError):
         return False
 

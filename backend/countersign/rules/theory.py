@@ -17,7 +17,7 @@ misspelt "default" silently ignored would drop a safety rule.
 from __future__ import annotations
 
 import re
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Final
 
@@ -286,8 +286,3 @@ def theory_for(orders: Orders) -> DefaultTheory | None:
 def _dump(model: Any) -> dict[str, Any]:
     data: dict[str, Any] = model.model_dump(mode="json", exclude_unset=True, by_alias=True)
     return data
-
-
-def iter_literals(rule: Rule) -> Iterator[Literal]:
-    yield from rule.body
-    yield rule.head

@@ -35,6 +35,18 @@ class TooManyAttempts(AccountError):
         self.retry_after_s = retry_after_s
 
 
+def username_of(db: DbSession, user_id: int, cache: dict[int, str] | None = None) -> str:
+    """The user's name for display, `#id` for a row that is gone; `cache` spares a listing one
+    lookup per repeated author."""
+    if cache is not None and user_id in cache:
+        return cache[user_id]
+    user = db.get(User, user_id)
+    name = user.username if user else f"#{user_id}"
+    if cache is not None:
+        cache[user_id] = name
+    return name
+
+
 def token_hash(token: str) -> str:
     return hashlib.sha256(token.encode()).hexdigest()
 

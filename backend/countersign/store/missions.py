@@ -167,13 +167,6 @@ def create_version(db: DbSession, *, mission_id: str, author: User) -> MissionVe
     return version
 
 
-def versions_of(db: DbSession, mission_id: str) -> list[MissionVersion]:
-    return list(db.scalars(
-        select(MissionVersion).where(MissionVersion.mission_id == mission_id)
-        .order_by(MissionVersion.number)
-    ))
-
-
 def get_version(db: DbSession, mission_id: str, number: int) -> MissionVersion:
     version = db.scalar(select(MissionVersion).where(
         MissionVersion.mission_id == mission_id, MissionVersion.number == number))

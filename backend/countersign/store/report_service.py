@@ -2,7 +2,8 @@
 
 It owns what used to be module state: the single-flight locks (many requests asking for one
 digest at once validate it once), the last reports computed here, the reuse of a report across
-description-only edits, and the validator, which by default runs `verify.validate` in the
+description-only edits, the orders digests of recently validated request bodies (POST
+/validate), and the validator, which by default runs `verify.validate` in the
 calling thread and which the web app replaces with its pool of validation processes while it
 runs. One service belongs to one `Database` (`database.reports`), so two apps in one process,
 as in the test suite, share nothing.
@@ -26,6 +27,7 @@ if TYPE_CHECKING:
 
 Validator = Callable[["Orders"], dict[str, Any]]
 RECENT_REPORTS = 256
+BODY_DIGESTS_KEPT = 1024
 
 
 def validate_here(orders: Orders) -> dict[str, Any]:
@@ -48,6 +50,8 @@ class ReportService:
         self._guard = threading.Lock()
         # The last reports computed here, so that requests that waited on a digest reuse it.
         self._recent: OrderedDict[str, dict[str, Any]] = OrderedDict()
+        # The orders digest of recently validated request bodies, by the bodies' SHA-256.
+        self._bodies: OrderedDict[bytes, str] = OrderedDict()
 
     def report(self, key: str, orders: Orders) -> dict[str, Any]:
         """The report of these orders (digest `key`), validated once even when many requests
@@ -72,7 +76,19 @@ class ReportService:
         validator = self.validator
         return validator(orders) if validator is not None else validate_here(orders)
 
+    def body_digest(self, body_sha256: bytes) -> str | None:
+        """The orders digest of a request body validated lately, or None."""
+        with self._guard:
+            return self._bodies.get(body_sha256)
+
+    def remember_body(self, body_sha256: bytes, orders_digest: str) -> None:
+        with self._guard:
+            self._bodies[body_sha256] = orders_digest
+            while len(self._bodies) > BODY_DIGESTS_KEPT:
+                self._bodies.popitem(last=False)
+
     def clear(self) -> None:
         with self._guard:
             self._recent.clear()
+            self._bodies.clear()
         self._reuse.clear()

@@ -29,16 +29,30 @@ ADMINS = ("admin",)
 LOG_READERS = ("supervisor", "auditor", "admin")
 
 
-# POST routes that only compute (their body is input, not a change): no write lock needed.
-READ_ONLY_POSTS = frozenset({"/api/validate"})
+def computes_only() -> None:
+    """Declares a POST route that only computes (its body is input, not a change): its session
+    is opened without the write lock. CSRF and token scopes still treat it as a POST."""
+
+
+def computing(route: dict[str, Any]) -> dict[str, Any]:
+    """Route keyword arguments (allow(...)'s) plus the computes_only declaration."""
+    return {**route, "dependencies": [*route.get("dependencies", ()), Depends(computes_only)]}
+
+
+def opens_for_writing(request: Request) -> bool:
+    """Whether the request's session takes the write lock: a write method on a route that does
+    not declare computes_only (the route is matched before its dependencies run)."""
+    if request.method in SAFE_METHODS:
+        return False
+    declared = getattr(request.scope.get("route"), "dependencies", ())
+    return not any(d.dependency is computes_only for d in declared)
 
 
 def get_db(request: Request) -> Iterator[DbSession]:
     """The request's session. Its transaction begins at the first query and, for synchronous
     routes, is committed by TransactionRoute in the worker thread that ran the route."""
     database: Database = request.app.state.database
-    write = request.method not in SAFE_METHODS and request.url.path not in READ_ONLY_POSTS
-    with database.open(write=write) as session:
+    with database.open(write=opens_for_writing(request)) as session:
         yield session
 
 

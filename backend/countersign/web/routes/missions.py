@@ -4,8 +4,6 @@ from __future__ import annotations
 
 import base64
 import hashlib
-import threading
-from collections import OrderedDict
 from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import Annotated, Any, Literal
@@ -24,8 +22,9 @@ from ...orders.reader import orders_from_data, read_bytes, read_json
 from ...orders.writers import WRITERS
 from ...rehearse.plain import write_for_supervisor
 from ...store import missions as service
+from ...store.accounts import username_of
 from ...store.db import database_of
-from ...store.tables import Mission, MissionVersion, User
+from ...store.tables import Mission, MissionVersion
 from ...store.vehicles import with_registry
 from ...verify.graph import build_graph
 from ...verify.paths import count_paths, iter_path_lines, iter_paths, trace_text
@@ -37,6 +36,7 @@ from ..deps import (
     RowId,
     TransactionRoute,
     allow,
+    computing,
     in_one_transaction,
 )
 from ..fair import with_limit
@@ -61,13 +61,6 @@ MAX_PATH_PAGE = 1000
 class DraftIn(RequestBody):
     orders: dict[str, Any]
     layout: dict[str, Any] | None = None
-
-
-def _username(db: DbSession, user_id: int, cache: dict[int, str]) -> str:
-    if user_id not in cache:
-        user = db.get(User, user_id)
-        cache[user_id] = user.username if user else f"#{user_id}"
-    return cache[user_id]
 
 
 def _orders(data: dict[str, Any]) -> Orders:
@@ -119,7 +112,7 @@ def _summary(db: DbSession, mission: Mission, names: dict[int, str],
     if latest is False:
         latest = db.scalar(select(func.max(MissionVersion.number))
                            .where(MissionVersion.mission_id == mission.id))
-    return summary_fields(mission, report, latest, _username(db, mission.updated_by, names))
+    return summary_fields(mission, report, latest, username_of(db, mission.updated_by, names))
 
 
 def _detail(db: DbSession, mission: Mission, response: Response | None,
@@ -131,7 +124,7 @@ def _detail(db: DbSession, mission: Mission, response: Response | None,
                MissionVersion.created_at)
         .where(MissionVersion.mission_id == mission.id).order_by(MissionVersion.number)
     ).all()
-    versions = [VersionOut(number=number, digest=value, author=_username(db, author, names),
+    versions = [VersionOut(number=number, digest=value, author=username_of(db, author, names),
                            created_at=created_at)
                 for number, value, author, created_at in rows]
     if response is not None:
@@ -312,7 +305,7 @@ def create_version(mission_id: str, principal: CurrentPrincipal, db: Db) -> Vers
             response_model=VersionOut, **allow(*EVERYONE))
 def get_version(mission_id: str, number: RowId, db: Db) -> VersionOut:
     version = service.get_version(db, mission_id, number)
-    author = _username(db, version.author_id, {})
+    author = username_of(db, version.author_id)
     return version_out(version, author, True)
 
 
@@ -338,34 +331,27 @@ VALIDATE_ROUTE["openapi_extra"]["requestBody"] = {"required": True, "content": {
 VALIDATE_ROUTE["responses"] = {422: {"description": "Validation Error", "content": {
     "application/json": {"schema": {"$ref": "#/components/schemas/HTTPValidationError"}}}}}
 
-# The orders digest of recently validated request bodies (by their SHA-256): the same body
-# sent again (an editor re-checking, a CI job) skips parsing and canonicalising.
-_BODY_DIGESTS: OrderedDict[bytes, str] = OrderedDict()
-_BODY_DIGESTS_LOCK = threading.Lock()
-BODY_DIGESTS_KEPT = 1024
-
 
 @router.post("/validate", operation_id="validateOrders", **REPORT_ROUTE,
-             **with_limit(VALIDATE_ROUTE, "validate"))
+             **computing(with_limit(VALIDATE_ROUTE, "validate")))
 async def validate_orders(request: Request, db: Db) -> Response:
     data = await request.body()
     return await run_in_threadpool(in_one_transaction, db, _validate_body, db, data)
 
 
 def _validate_body(db: DbSession, data: bytes) -> Response:
+    # The same body sent again (an editor re-checking, a CI job) skips parsing and
+    # canonicalising: the report service remembers the orders digest of recent bodies.
+    reports = database_of(db).reports
     key = hashlib.sha256(data).digest()
-    with _BODY_DIGESTS_LOCK:
-        known = _BODY_DIGESTS.get(key)
+    known = reports.body_digest(key)
     if known is not None:
         stored = service.cached_report(db, known)
         if stored is not None:
             return JSONResponse(stored)
     # The importer's JSON reader: duplicate keys, bad UTF-8 and bad JSON are 422 problems.
     report = service.report_for(db, with_registry(db, read_json(data))).report
-    with _BODY_DIGESTS_LOCK:
-        _BODY_DIGESTS[key] = report["digest"]
-        while len(_BODY_DIGESTS) > BODY_DIGESTS_KEPT:
-            _BODY_DIGESTS.popitem(last=False)
+    reports.remember_body(key, report["digest"])
     return JSONResponse(report)
 
 
