@@ -1,7 +1,7 @@
 /**
  * Client-side reading of the orders' expression language (DESIGN.md, "Expressions"), for inline
  * parse errors and completion while typing. It mirrors the server's grammar
- * (backend/countersign/verify/expressions.py); the server stays the judge (EXPR findings).
+ * (backend/countersign/orders/expressions/); the server stays the judge (EXPR findings).
  *
  *   implies := or ('implies' implies)?            weakest, right-associative
  *   or      := and ('or' and)*
