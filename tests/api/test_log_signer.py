@@ -25,7 +25,7 @@ from countersign.approvals.log import entry_leaf
 from countersign.approvals.note import COSIGNATURE, verifier_key
 from countersign.approvals.signer import SignerError
 from countersign.cli import main
-from countersign.cli_witness import witness_round
+from countersign.cli.witness import witness_round
 from countersign.store import approvals as service
 from countersign.store.db import Database
 from countersign.store.events import record
