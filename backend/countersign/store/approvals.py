@@ -32,6 +32,7 @@ from ..approvals.statement import (
     statement_bytes,
     subject_digest,
 )
+from ..errors import Forbidden, Invalid, Unavailable
 from ..orders.reader import orders_from_data
 from .accounts import HASHER
 from .db import BEGIN_MODE
@@ -65,20 +66,16 @@ CLOCK_SKEW = timedelta(minutes=5)
 MAX_REASON = 2000
 
 
-class Refused(MissionError):
+class Refused(Forbidden):
     """The caller may not do this (wrong role, own work, someone else's key)."""
 
-    status = 403
 
-
-class Stale(MissionError):
+class Stale(Conflict):
     """The request was made against a state that has changed (or was already used)."""
 
-    status = 409
 
-
-class BadSignature(MissionError):
-    status = 400
+class BadSignature(Invalid):
+    pass
 
 
 def _now_text() -> str:
@@ -375,10 +372,8 @@ def _check_fresh(db: DbSession, ctx: Context, statement: dict[str, Any], supervi
                     f"current report ({fields} differ); prepare it again")
 
 
-class LogUnvouched(MissionError):
+class LogUnvouched(Unavailable):
     """The log signer refused to vouch for the log as the database holds it."""
-
-    status = 503
 
 
 def _checkpoint_now(db: DbSession, signer: LogSigner, *,
