@@ -63,6 +63,7 @@ from .expressions import (
     tag_state,
     with_unit,
 )
+from .z3_adapter import check_assumptions
 
 VERSION = "countersign.logic/1"
 DEFAULT_TIMEOUT_MS = 2_000
@@ -787,21 +788,15 @@ class Session:
             self._timeout = timeout
         self.calls += 1
         literals = [self._literal(i) for i in items]
-        # The C call directly: z3's Python wrapper re-checks the sort of every assumption,
-        # which costs more than solving these small problems.
-        assumptions = (z3.Ast * len(literals))()
-        for index, literal in enumerate(literals):
-            assumptions[index] = literal.as_ast()
+        # The C call directly (z3_adapter): the wrapper's own checks cost more than solving.
         try:
-            code = z3.Z3_solver_check_assumptions(
-                self.ctx.ref(), self.solver.solver, len(literals), assumptions
-            )
+            status = check_assumptions(z3, self.ctx, self.solver, literals)
         except z3.Z3Exception as exc:  # pragma: no cover - defensive: never crash a report
             self.undecided = True
             return CheckResult("unknown", reason=f"solver error: {exc}")
-        if code == z3.Z3_L_TRUE:
+        if status == "sat":
             return CheckResult("sat")
-        if code == z3.Z3_L_FALSE:
+        if status == "unsat":
             ids = {literal.get_id() for literal in self.solver.unsat_core()}
             core = tuple(i for i in items if self._ids[i.key] in ids)
             return CheckResult("unsat", core or tuple(items))
