@@ -23,8 +23,8 @@ import httpx
 import pytest
 from sqlalchemy import text
 
-from countersign import cli_approvals
 from countersign.approvals import dsse
+from countersign.cli import approvals as cli_approvals
 
 from .approval_helpers import MISSION, sign_prepared
 from .conftest import PASSWORD, World

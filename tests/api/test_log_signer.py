@@ -25,7 +25,7 @@ from countersign.approvals.log import entry_leaf
 from countersign.approvals.note import COSIGNATURE, verifier_key
 from countersign.approvals.signer import SignerError
 from countersign.cli import main
-from countersign.cli_witness import witness_round
+from countersign.cli.witness import witness_round
 from countersign.store import approvals as service
 from countersign.store.db import Database
 from countersign.store.events import record
@@ -163,7 +163,7 @@ def test_the_signer_refuses_a_rewritten_log(world: World) -> None:
     before = world.client("auditor").get("/api/log/checkpoint").json()
     _rewrite_last_entry(world)
     new_version(world)  # grows the log past the rewritten entry
-    service._CACHE.trees.clear()  # a fresh process: no cached tree
+    world.database.log_tree_cache.clear()  # a fresh process: no cached tree
     bundle = _bundle(world)
     refusal = bundle["signer_refused"]
     assert refusal.startswith("the new head is not a consistent extension of the last: the "
@@ -204,7 +204,7 @@ def _resigned_world(world: World, tmp_path: Path, keep: int) -> World:
     (directory / "state.json").unlink()
     database.log_signer = world.app.state.database.log_signer
     app = create_app(Settings(data_dir=tmp_path / f"data-{keep}", database_url=url), database)
-    service._CACHE.trees.clear()
+    database.log_tree_cache.clear()
     return World(app, database, world.tokens, world.usernames)
 
 

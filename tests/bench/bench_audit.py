@@ -234,7 +234,7 @@ def bench_witness_and_decisions(rounds: int, events: int) -> None:
     """A witness round and decision latency against an in-process server (SQLite)."""
     from fastapi.testclient import TestClient
 
-    from countersign.cli_witness import witness_round
+    from countersign.cli.witness import witness_round
     from countersign.orders.examples import load_example
     from countersign.store.accounts import create_token, create_user
     from countersign.store.missions import create_mission

@@ -14,7 +14,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from countersign import cli
-from countersign.cli_plan import add_commands
+from countersign.cli.plan import add_commands
 from countersign.plan import (
     PlanProblem,
     PlanReadError,

@@ -19,8 +19,8 @@ from typing import Any, Literal
 
 import numpy as np
 import viser
-from viser import _messages as viser_messages
 
+from . import viser_adapter
 from .geo import Point
 from .sim import FAULTS, Event, Simulation
 from .world import World
@@ -55,11 +55,8 @@ def disable_sharing(server: viser.ViserServer) -> None:
     send (viser would otherwise open a public tunnel to this server). The app's proxy drops
     these messages too."""
     server.gui.configure_theme(show_share_button=False)
-    websock = server._websock_server  # the only place viser registers these handlers
-    for message_cls in (viser_messages.ShareUrlRequest, viser_messages.ShareUrlDisconnect):
-        if message_cls in websock._incoming_handlers:
-            websock.unregister_handler(message_cls)
-        websock.register_handler(message_cls, _drop)
+    for message_cls in viser_adapter.share_message_types():
+        viser_adapter.replace_handler(server, message_cls, _drop)
 
     def refuse(verbose: bool = True) -> str | None:
         return None

@@ -6,14 +6,16 @@ the proxy sends in a request header (`VIEWER_HEADER`); a websocket without it is
 viser builds a client for it, so none of its messages is ever handled.
 
 viser exposes no hook before its connection callbacks, so the gate goes first in its websocket
-server's connect callbacks (private attributes of viser 1.1, checked by tests/api tests that
-connect without the secret)."""
+server's connect callbacks (private attributes of viser 1.1, reached through viser_adapter and
+checked by tests/api tests that connect without the secret)."""
 
 from __future__ import annotations
 
 import hmac
 import logging
 from typing import Any
+
+from . import viser_adapter
 
 VIEWER_HEADER = "X-Countersign-Viewer"
 
@@ -33,26 +35,19 @@ _FILTER = _QuietRefusals()
 
 def install(server: Any, secret: str) -> None:
     """Refuse every websocket of `server` (a viser.ViserServer) without `secret`."""
-    websock = server._websock_server
     expected = secret.encode()
 
     async def gate(client: Any) -> None:
-        connection = websock._live_connections.get(client.client_id)
-        sent = ""
-        if connection is not None and connection.request is not None:
-            sent = connection.request.headers.get(VIEWER_HEADER, "")
-        if connection is not None and hmac.compare_digest(sent.encode(), expected):
+        sent = viser_adapter.connection_request_header(server, client.client_id, VIEWER_HEADER)
+        if sent is not None and hmac.compare_digest(sent.encode(), expected):
             return
         # Forget the client viser just registered, then end its handler: the message
         # consumer never starts, so nothing this connection sent reaches a callback.
-        websock._live_connections.pop(client.client_id, None)
-        websock._client_state_from_id.pop(client.client_id, None)
-        if connection is not None:
-            connection.logger.logger.addFilter(_FILTER)
-            await connection.close(1008, "not through the app")
+        await viser_adapter.refuse_client(server, client.client_id, 1008,
+                                          "not through the app", quiet=_FILTER)
         raise ViewerRefused("a websocket without the rehearsal's secret")
 
-    websock._client_connect_cb.insert(0, gate)
+    viser_adapter.connect_first(server, gate)
     # viser listens from its constructor on: whoever connected before the gate is cut off
     # (it can only come back through the gate). The scene has no controls yet at this point.
-    websock.disconnect_all_clients()
+    viser_adapter.disconnect_all(server)

@@ -11,6 +11,7 @@ from argon2.exceptions import InvalidHashError, VerificationError
 from sqlalchemy import delete, select, update
 from sqlalchemy.orm import Session as DbSession
 
+from ..errors import Invalid, TooMany
 from . import login_throttle
 from .db import database_of, writable
 from .events import record
@@ -25,11 +26,11 @@ SESSION_IDLE = timedelta(minutes=30)
 _DUMMY_HASH = HASHER.hash("countersign-timing-equaliser")
 
 
-class AccountError(ValueError):
+class AccountError(Invalid, ValueError):
     """A request about accounts that cannot be honoured; the message says why."""
 
 
-class TooManyAttempts(AccountError):
+class TooManyAttempts(TooMany, AccountError):
     def __init__(self, message: str, retry_after_s: int = 60) -> None:
         super().__init__(message)
         self.retry_after_s = retry_after_s

@@ -12,14 +12,15 @@ from sqlalchemy.orm import Session as DbSession
 
 from ..approvals.dsse import SignatureError
 from ..approvals.note import COSIGNATURE, parse_body, parse_verifier_key, verify_cosignature
-from .missions import MissionError, NotFound
+from ..errors import Invalid
+from .missions import NotFound
 from .tables import Checkpoint, Cosignature
 
 WITNESSES_FILE = "witnesses"
 
 
-class BadCosignature(MissionError):
-    status = 400
+class BadCosignature(Invalid):
+    pass
 
 
 def witness_keys(directory: Path) -> dict[str, bytes]:

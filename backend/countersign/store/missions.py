@@ -11,6 +11,7 @@ from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session as DbSession
 
 from .. import __version__
+from ..errors import Conflict, DomainError, NotFound, PreconditionFailed
 from ..orders.canonical import digest, orders_to_json
 from ..orders.model import Orders
 from .db import database_of, writable
@@ -20,24 +21,9 @@ from .tables import Mission, MissionVersion, User, ValidationReport, utcnow
 MAX_LAYOUT_NODES = 50_000
 
 
-class MissionError(Exception):
-    status = 400
-
-
-class NotFound(MissionError):
-    status = 404
-
-
-class Conflict(MissionError):
-    status = 409
-
-
-class PreconditionFailed(MissionError):
-    status = 412
-
-    def __init__(self, message: str, current_revision: int) -> None:
-        super().__init__(message)
-        self.current_revision = current_revision
+# The domain's errors (countersign.errors), under the names the store has always used.
+MissionError = DomainError
+__all__ = ["Conflict", "MissionError", "NotFound", "PreconditionFailed"]
 
 
 def _check_layout(layout: dict[str, Any]) -> dict[str, Any]:

@@ -17,17 +17,15 @@ from argon2.exceptions import InvalidHashError, VerificationError
 from sqlalchemy import select
 from sqlalchemy.orm import Session as DbSession
 
+from ..errors import Forbidden
 from .accounts import HASHER, TooManyAttempts
 from .db import database_of
 from .login_throttle import WINDOW, account_delay
-from .missions import MissionError
 from .tables import LoginAttempt, utcnow
 
 
-class PasswordRequired(MissionError):
+class PasswordRequired(Forbidden):
     """The decision lacks the signer's fresh password, or it is wrong."""
-
-    status = 403
 
 
 def confirm_password(db: DbSession, *, username: str, password_hash: str,

@@ -15,14 +15,12 @@ from sqlalchemy.orm import Session as DbSession
 from sqlalchemy.orm import undefer
 
 from .events import record as record_event
-from .missions import Conflict, MissionError, NotFound
+from .missions import Conflict, NotFound
 from .tables import MissionVersion, RehearsalRecord, Submission, User
 
 
-class NotThisVersion(MissionError):
+class NotThisVersion(Conflict):
     """The record rehearsed other orders than the submitted version."""
-
-    status = 409
 
 
 def save_record(

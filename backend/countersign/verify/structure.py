@@ -8,12 +8,14 @@ from __future__ import annotations
 import itertools
 from collections import Counter
 from collections.abc import Iterator
-
-import networkx as nx
+from typing import TYPE_CHECKING
 
 from ..orders.findings import Finding, error
 from ..orders.model import OUTCOMES, Orders
 from .graph import MISSING, MissionGraph, build_graph
+
+if TYPE_CHECKING:
+    import networkx as nx
 
 MAX_LOOPS_REPORTED = 50
 
@@ -111,8 +113,33 @@ def _outcome_targets(orders: Orders, graph: MissionGraph) -> Iterator[Finding]:
                     )
 
 
+def _has_loop(graph: MissionGraph) -> bool:
+    """Whether any goal can be reached again (Kahn's algorithm over the goals).
+
+    Most orders have no loop: answering this without networkx spares every such validation
+    the import of networkx (a quarter of a second of start-up)."""
+    indegree = [0] * graph.goal_count
+    for node in range(graph.goal_count):
+        for target in graph.out_nodes(node):
+            if target < graph.goal_count:
+                indegree[target] += 1
+    ready = [n for n in range(graph.goal_count) if indegree[n] == 0]
+    removed = 0
+    while ready:
+        node = ready.pop()
+        removed += 1
+        for target in graph.out_nodes(node):
+            if target < graph.goal_count:
+                indegree[target] -= 1
+                if indegree[target] == 0:
+                    ready.append(target)
+    return removed < graph.goal_count
+
+
 def _cyclic_components(graph: MissionGraph) -> nx.DiGraph:
     """The goal subgraph restricted to goals that lie on some loop."""
+    import networkx as nx
+
     digraph = nx.DiGraph()
     digraph.add_nodes_from(range(graph.goal_count))
     for node in range(graph.goal_count):
@@ -147,6 +174,10 @@ def _loop_outcomes(graph: MissionGraph, cycle: list[int]) -> list[list[str]]:
 
 
 def _loops(graph: MissionGraph) -> Iterator[Finding]:
+    if not _has_loop(graph):
+        return
+    import networkx as nx
+
     looping = _cyclic_components(graph)
     if looping.number_of_nodes() == 0:
         return

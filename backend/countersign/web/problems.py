@@ -10,9 +10,20 @@ from fastapi.responses import JSONResponse
 from sqlalchemy.exc import OperationalError
 from sqlalchemy.exc import TimeoutError as SqlTimeout
 
+from ..errors import (
+    Conflict,
+    DomainError,
+    Forbidden,
+    Gone,
+    Invalid,
+    NotFound,
+    PreconditionFailed,
+    TooMany,
+    Unavailable,
+    Unprocessable,
+)
 from ..orders.reader import OrdersReadError
-from ..store.accounts import AccountError, TooManyAttempts
-from ..store.missions import MissionError, PreconditionFailed
+from ..store.accounts import TooManyAttempts
 from .strict_body import BodyPolicyError
 
 PROBLEM = "application/problem+json"
@@ -21,6 +32,21 @@ TITLES = {400: "Bad request", 401: "Not signed in", 403: "Forbidden", 404: "Not 
           415: "Unsupported media type", 422: "Unprocessable content",
           428: "Precondition required", 429: "Too many requests",
           500: "Internal server error", 503: "Service unavailable"}
+
+
+# Each kind of domain error (countersign.errors) and its status; the most specific kind wins.
+STATUS_OF: dict[type[DomainError], int] = {
+    Unprocessable: 422, Invalid: 400, Forbidden: 403, NotFound: 404, Conflict: 409,
+    Gone: 410, PreconditionFailed: 412, TooMany: 429, Unavailable: 503, DomainError: 400,
+}
+
+
+def status_of(exc: DomainError) -> int:
+    """The HTTP status of a domain error: that of the nearest kind in its class's ancestry."""
+    for kind in type(exc).__mro__:
+        if kind in STATUS_OF:
+            return STATUS_OF[kind]
+    return 400
 
 
 def problem(status: int, detail: str, request: Request | None = None, **extra: Any) -> JSONResponse:
@@ -71,9 +97,9 @@ def install(app: FastAPI) -> None:
         response.headers["ETag"] = f'"{exc.current_revision}"'
         return response
 
-    @app.exception_handler(MissionError)
-    async def _mission(request: Request, exc: MissionError) -> JSONResponse:
-        return problem(exc.status, str(exc), request)
+    @app.exception_handler(DomainError)
+    async def _domain(request: Request, exc: DomainError) -> JSONResponse:
+        return problem(status_of(exc), str(exc), request)
 
     @app.exception_handler(OperationalError)
     @app.exception_handler(SqlTimeout)
@@ -89,6 +115,3 @@ def install(app: FastAPI) -> None:
         response.headers["Retry-After"] = str(exc.retry_after_s)
         return response
 
-    @app.exception_handler(AccountError)
-    async def _account(request: Request, exc: AccountError) -> JSONResponse:
-        return problem(400, str(exc), request)

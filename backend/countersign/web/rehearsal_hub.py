@@ -14,8 +14,9 @@ from dataclasses import dataclass, field
 from datetime import datetime
 from typing import TYPE_CHECKING
 
+from ..errors import Gone, TooMany, Unavailable
 from ..orders.model import Orders
-from ..store.missions import Conflict, MissionError, NotFound
+from ..store.missions import Conflict, NotFound
 from ..store.tables import utcnow
 from .viewer_tickets import ViewerRegistry
 
@@ -32,16 +33,12 @@ EVICT_IDLE_S = 120.0
 ENDED_MEMORY = 2000  # ids of ended rehearsals remembered to answer 410 instead of 404
 
 
-class TooManyForUser(MissionError):
-    status = 429
+class TooManyForUser(TooMany):
+    pass
 
 
-class Busy(MissionError):
-    status = 503
-
-
-class Gone(MissionError):
-    status = 410
+class Busy(Unavailable):
+    pass
 
 
 @dataclass

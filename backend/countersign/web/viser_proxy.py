@@ -23,7 +23,6 @@ import re
 import time
 from collections.abc import Awaitable, Callable
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any
 
 import anyio
@@ -114,19 +113,18 @@ V.prototype=W.prototype;window.Worker=V;
 def client_index() -> bytes:
     """viser's built client (a single self-contained HTML file in the installed package),
     with the opaque-origin shim first in its head."""
-    import viser
+    from ..rehearse.viser_adapter import client_index_path
 
-    index = Path(viser.__file__).resolve().parent / "client" / "build" / "index.html"
-    html = index.read_bytes()
+    html = client_index_path().read_bytes()
     head = html.index(b"<head>") + len(b"<head>")
     return html[:head] + _OPAQUE_ORIGIN_SHIM + html[head:]
 
 
 @functools.cache
 def _viser_message_class() -> Any:
-    from viser import _messages
+    from ..rehearse.viser_adapter import message_base
 
-    return _messages.Message
+    return message_base()
 
 
 @dataclass

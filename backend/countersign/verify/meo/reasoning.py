@@ -43,6 +43,7 @@ from rdflib.term import Node
 from ...ontology_files import MEO as MEO_FILE
 from ...ontology_files import load_graph
 from ...orders.turtle import MEO, NEXT_PROPERTIES
+from .owlrl_adapter import RoleSemantics
 
 # Properties whose axioms the graph stage evaluates instead of owlrl.
 GRAPH_PROPERTIES = frozenset({MEO.isNext, MEO.follows, *NEXT_PROPERTIES})
@@ -101,22 +102,6 @@ class Inference:
 
     def inferred(self, prop: URIRef) -> set[tuple[Node, Node]]:
         return self.pairs(prop) - self.asserted.get(prop, set())
-
-
-class RoleSemantics(owlrl.OWLRL_Semantics):  # type: ignore[misc]
-    """OWL 2 RL as owlrl implements it, without rule eq-ref alone.
-
-    eq-ref states `x owl:sameAs x` for every term of every triple: true of any graph, and no
-    other rule derives anything new from it (eq-rep-* with x = y rewrite a triple into itself).
-    owlrl stores those statements anyway, which doubles the graph every cycle walks; skipping
-    them halves the reasoning time and changes no role assertion (the tests compare with the
-    unmodified closure). Triples about equality itself still get the full eq-* rules.
-    """
-
-    def _equality(self, triple: tuple[Node, Node, Node], cycle_num: int) -> None:
-        _s, p, o = triple
-        if p in (OWL.sameAs, OWL.differentFrom) or (p == RDF.type and o == OWL.AllDifferent):
-            super()._equality(triple, cycle_num)
 
 
 def role_tbox() -> Graph:

@@ -20,6 +20,7 @@ from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import RedirectResponse, Response
 from pydantic import BaseModel, Field
 
+from ...errors import Unprocessable
 from ...orders.reader import orders_from_data
 from ...store import rehearsals as records
 from ...store.accounts import session_user, token_user
@@ -54,8 +55,6 @@ FaultSpecText = Annotated[str, Field(min_length=1, max_length=140,
                                      pattern=r"^[a-z][a-z0-9_]*(@[A-Za-z0-9_.:-]{1,100})?$")]
 
 
-class Unprocessable(MissionError):
-    status = 422
 
 
 class RehearsalIn(RequestBody):
@@ -273,7 +272,7 @@ def _authorize(database: Database, hub: RehearsalHub, rehearsal_id: str, cookie:
     try:
         return hub.get(rehearsal_id, user_id=user.id)
     except MissionError as exc:
-        return exc.status, str(exc)
+        return problems.status_of(exc), str(exc)
 
 
 @viewer.get("/rehearsal/{rehearsal_id}", include_in_schema=False)

@@ -12,20 +12,12 @@ import argparse
 import socket
 import sys
 import time
-import urllib.error
-import urllib.parse
-import urllib.request
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from .approvals import dsse
-from .approvals.auditor_state import consistency_problem, load_state, save_state
-from .approvals.log import verify_checkpoint_head
-from .approvals.merkle import verify_consistency
-from .approvals.note import COSIGNATURE, cosign, verifier_key
-from .cli_approvals import ApiError, api_request
+from .approvals import ApiError, api_request
 
 EXIT_OK, EXIT_FAILED, EXIT_UNREADABLE = 0, 1, 2
 
@@ -46,6 +38,14 @@ class Round:
 def witness_round(get: Get, post: Post | None, *, log_key: str, state: Path,
                   key: Any = None, name: str = "") -> Round:
     """One round: fetch, verify, check consistency, remember, cosign (when `key` is given)."""
+    import urllib.parse
+
+    from ..approvals import dsse
+    from ..approvals.auditor_state import consistency_problem, load_state, save_state
+    from ..approvals.log import verify_checkpoint_head
+    from ..approvals.merkle import verify_consistency
+    from ..approvals.note import cosign
+
     lines: list[str] = []
     checkpoint = get("/api/log/checkpoint")
     head = verify_checkpoint_head(checkpoint, dsse.public_key(log_key))
@@ -109,6 +109,9 @@ def _http(url: str, token: str | None) -> tuple[Get, Post]:
 
 def cmd_witness(args: argparse.Namespace) -> int:
     import os
+
+    from ..approvals import dsse
+    from ..approvals.note import COSIGNATURE, verifier_key
 
     key = None
     if args.key is not None:

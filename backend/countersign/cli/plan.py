@@ -12,20 +12,21 @@ import json
 import sys
 import time
 from collections.abc import Callable
-from typing import Any, TextIO
+from typing import TYPE_CHECKING, Any, TextIO
 
-from .orders.canonical import orders_to_json
-from .plan.check import check_plan, plan_from_data
-from .plan.draft import orders_from_plan
-from .plan.examples import EXAMPLES, example_problem
-from .plan.model import PlanProblem, PlanReadError, json_from_bytes, read_bytes, read_path_bytes
-from .plan.solver import Plan, PlanTimeout, PlanTooLarge, solve
+if TYPE_CHECKING:
+    from ..plan.model import PlanProblem
+    from ..plan.solver import Plan
 
 EXIT_OK, EXIT_NO_PLAN, EXIT_UNREADABLE = 0, 1, 2
 
+# plan.examples.EXAMPLES, named here so that help does not import the planner
+# (tests/unit/test_cli_startup.py holds the two equal).
+EXAMPLE_NAMES = ("gravitas", "gravitas-currency", "gravitas-level1", "gravitas-replan")
+
 PROBLEM_HELP = (
     "planning problem JSON (countersign.plan/1); '-' reads standard input, "
-    f"'example:NAME' a built-in example ({', '.join(sorted(EXAMPLES))})"
+    f"'example:NAME' a built-in example ({', '.join(EXAMPLE_NAMES)})"
 )
 
 DESCRIPTION = """\
@@ -69,20 +70,25 @@ fails, or the timeout passed, 2 unreadable input or bad usage.
 
 
 def _usage_error(message: str) -> Exception:
-    from .cli import UsageError  # cli imports this module: import late
+    from .common import UsageError
 
     return UsageError(message)
 
 
 def _source_bytes(source: str) -> tuple[bytes, str]:
+    from ..plan.model import read_path_bytes
+
     if source == "-":
-        from .orders.reader import MAX_INPUT_BYTES
+        from ..orders.reader import MAX_INPUT_BYTES
 
         return sys.stdin.buffer.read(MAX_INPUT_BYTES + 1), "standard input"
     return read_path_bytes(source), source
 
 
 def load_problem(source: str) -> PlanProblem:
+    from ..plan.examples import example_problem
+    from ..plan.model import read_bytes
+
     if source.startswith("example:"):
         try:
             return example_problem(source.removeprefix("example:"))
@@ -124,6 +130,12 @@ def _write_text(problem: PlanProblem, plan: Plan, out: TextIO) -> None:
 
 
 def cmd_plan(args: argparse.Namespace) -> int:
+    from ..orders.canonical import orders_to_json
+    from ..plan.check import check_plan, plan_from_data
+    from ..plan.draft import orders_from_plan
+    from ..plan.model import PlanReadError, json_from_bytes
+    from ..plan.solver import PlanTimeout, PlanTooLarge, solve
+
     problem = load_problem(args.file)
     if args.check is not None:
         try:

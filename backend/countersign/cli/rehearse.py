@@ -13,14 +13,16 @@ import json
 import sys
 import time
 from pathlib import Path
-from typing import Any, TextIO
+from typing import TYPE_CHECKING, Any, TextIO
 
-from .orders.examples import example_bytes
-from .orders.model import Orders
-from .orders.reader import MAX_INPUT_BYTES, read_bytes
-from .rehearse.manager import Rehearsal, RehearsalOptions
-from .rehearse.sim import FAULTS, FaultSpec
-from .rehearse.sources import SOURCES
+if TYPE_CHECKING:
+    from ..orders.model import Orders
+    from ..rehearse.manager import Rehearsal
+
+# rehearse.sim.FAULTS and rehearse.sources.SOURCES, named here so that help does not import
+# the simulation and viser (tests/unit/test_cli_startup.py holds them equal).
+FAULTS = ("gps_loss", "nav_drift", "leak", "low_energy", "contact_close")
+SOURCES = ("manual", "replay", "tour", "simulate")
 
 EXIT_OK, EXIT_CANNOT_RUN, EXIT_UNREADABLE = 0, 1, 2
 END = {"complete": "Mission Complete!", "abort": "Mission Abort!"}
@@ -84,6 +86,9 @@ def add_commands(commands: Any) -> None:
 
 
 def _load(source: str) -> Orders:
+    from ..orders.examples import example_bytes
+    from ..orders.reader import MAX_INPUT_BYTES, read_bytes
+
     if source.startswith("example:"):
         try:
             data, label = example_bytes(source.removeprefix("example:")), source
@@ -108,6 +113,9 @@ def cmd_rehearse(args: argparse.Namespace) -> int:
 
 
 def _rehearse(args: argparse.Namespace, out: TextIO) -> int:
+    from ..rehearse.manager import Rehearsal, RehearsalOptions
+    from ..rehearse.sim import FaultSpec
+
     for fault in args.fault:
         try:
             FaultSpec.parse(fault)

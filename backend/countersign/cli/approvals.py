@@ -17,18 +17,11 @@
 from __future__ import annotations
 
 import argparse
-import getpass
 import json
 import os
 import sys
-import urllib.error
-import urllib.request
 from pathlib import Path
 from typing import Any
-
-from .approvals import dsse
-from .approvals.auditor_state import load_state, save_state
-from .approvals.bundle import verify_bundle
 
 EXIT_OK, EXIT_FAILED, EXIT_UNREADABLE = 0, 1, 2
 
@@ -82,6 +75,8 @@ def _err(message: str) -> None:
 
 
 def cmd_keygen(args: argparse.Namespace) -> int:
+    from ..approvals import dsse
+
     key = dsse.generate_key()
     try:
         dsse.write_private_key(args.out, key)
@@ -105,6 +100,9 @@ def api_request(server: str, token: str | None, path: str,
                 body: dict[str, Any] | None) -> dict[str, Any]:
     """GET (no body) or POST JSON to the server's API; an error answer raises ApiError with
     the problem's detail."""
+    import urllib.error
+    import urllib.request
+
     headers = {"Content-Type": "application/json"}
     if token:
         headers["Authorization"] = f"Bearer {token}"
@@ -132,6 +130,10 @@ def _token(args: argparse.Namespace) -> str | None:
 
 
 def cmd_sign(args: argparse.Namespace) -> int:
+    import getpass
+
+    from ..approvals import dsse
+
     token = _token(args)
     if not token:
         _err("set COUNTERSIGN_TOKEN or pass --token-file with an API token")
@@ -183,6 +185,10 @@ def cmd_sign(args: argparse.Namespace) -> int:
 
 
 def cmd_audit_verify(args: argparse.Namespace) -> int:
+    from ..approvals import dsse
+    from ..approvals.auditor_state import load_state, save_state
+    from ..approvals.bundle import verify_bundle
+
     try:
         bundle = json.loads(args.bundle.read_bytes())
         published = [json.loads(p.read_bytes()) for p in args.checkpoint]

@@ -6,28 +6,13 @@ import argparse
 import json
 import sys
 from pathlib import Path
-from typing import Any, TextIO
+from typing import TYPE_CHECKING, Any, TextIO
 
-from . import strict_json
-from .orders.findings import Finding
-from .orders.reader import MAX_INPUT_BYTES, OrdersReadError, read_bytes
-from .rules import (
-    ActionVerdict,
-    DefaultTheory,
-    Extension,
-    TheoryError,
-    check_action,
-    design_findings,
-    extension,
-    load_theory,
-    parse_observations,
-    parse_theory,
-    plain_rules,
-    theory_for,
-    theory_names,
-)
-from .rules.engine import TheoryTooLarge
-from .rules.syntax import LiteralSyntaxError
+from .. import strict_json
+
+if TYPE_CHECKING:
+    from ..orders.findings import Finding
+    from ..rules import ActionVerdict, DefaultTheory, Extension
 
 EXIT_OK, EXIT_FINDINGS, EXIT_UNREADABLE = 0, 1, 2
 
@@ -65,6 +50,8 @@ def _usage_error(message: str) -> Exception:
 
 
 def _read_source(source: str) -> tuple[bytes, str]:
+    from ..orders.reader import MAX_INPUT_BYTES
+
     if source == "-":
         return sys.stdin.buffer.read(MAX_INPUT_BYTES + 1), "standard input"
     try:
@@ -76,7 +63,9 @@ def _read_source(source: str) -> tuple[bytes, str]:
 
 def load_rules(source: str) -> tuple[DefaultTheory, list[Finding], str]:
     """The theory named by `source`, its design findings and a label for output."""
-    from .orders.examples import example_bytes
+    from ..orders.examples import example_bytes
+    from ..orders.reader import MAX_INPUT_BYTES, read_bytes
+    from ..rules import design_findings, load_theory, parse_theory, theory_for
 
     if source.startswith("theory:"):
         try:
@@ -114,6 +103,8 @@ def _write_text(
     label: str, theory: DefaultTheory, findings: list[Finding], observations: dict[str, bool],
     ext: Extension, verdict: ActionVerdict | None, out: TextIO,
 ) -> None:
+    from ..rules import plain_rules
+
     out.write(f"Rules of {label} ({len(theory)}: {len(theory.defaults)} defaults, "
               f"{len(theory.facts) + len(theory.strict)} facts and strict rules)\n")
     for sentence in plain_rules(theory):
@@ -150,6 +141,17 @@ def cmd_rules(args: argparse.Namespace) -> int:
 
 
 def _rules(args: argparse.Namespace) -> int:
+    from ..orders.reader import OrdersReadError
+    from ..rules import (
+        TheoryError,
+        TheoryTooLarge,
+        check_action,
+        extension,
+        parse_observations,
+        plain_rules,
+    )
+    from ..rules.syntax import LiteralSyntaxError
+
     try:
         theory, findings, label = load_rules(args.file)
         observations = parse_observations(args.observe or "")
@@ -191,13 +193,24 @@ def _rules(args: argparse.Namespace) -> int:
     return EXIT_FINDINGS if any(f.severity == "error" for f in findings) else EXIT_OK
 
 
+class _TheoriesFormatter(argparse.RawDescriptionHelpFormatter):
+    """Names the built-in theories only when help is shown (reading them imports the rules)."""
+
+    def _format_text(self, text: str) -> str:
+        if "{theories}" in text:
+            from ..rules import theory_names
+
+            text = text.replace("{theories}", ", ".join(theory_names()))
+        return super()._format_text(text)
+
+
 def add_commands(commands: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
     rules_cmd = commands.add_parser(
         "rules",
         help="contingency rules (seed 004): plain English, extension, eq. 17 action check",
         description=DESCRIPTION,
-        epilog=EPILOG.replace("{theories}", ", ".join(theory_names())),
-        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog=EPILOG,
+        formatter_class=_TheoriesFormatter,
     )
     rules_cmd.add_argument("file", metavar="FILE", help="orders or a rules file (see below)")
     rules_cmd.add_argument(

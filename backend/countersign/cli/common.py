@@ -1,0 +1,64 @@
+"""What every command shares: exit codes, usage errors and reading orders.
+
+Imports nothing heavy at module level: `countersign --help` loads every command module.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from ..orders.reader import ReadResult
+
+EXIT_OK, EXIT_FINDINGS, EXIT_UNREADABLE, EXIT_INTERNAL = 0, 1, 2, 3
+
+# The solver budget the server allows (verify.report.SOLVER_BUDGET_S; the help text shows it
+# without importing the verifier; tests/unit/test_cli_startup.py holds the two equal).
+SOLVER_BUDGET_S = 8.0
+
+FILE_HELP = (
+    "orders JSON (countersign.orders/1) or AVCL XML; '-' reads standard input, "
+    "'example:NAME' a built-in example"
+)
+
+
+class UsageError(Exception):
+    """Bad input the user can fix; printed without a trace, exit code 2."""
+
+
+def load_orders(source: str) -> ReadResult:
+    """Orders from a path, `-` for standard input, or `example:NAME` for a built-in."""
+    from ..orders.examples import example_bytes
+    from ..orders.reader import MAX_INPUT_BYTES, read_bytes, read_file
+
+    if source.startswith("example:"):
+        try:
+            return read_bytes(example_bytes(source.removeprefix("example:")), source)
+        except KeyError as exc:
+            raise UsageError(str(exc.args[0])) from None
+    if source == "-":
+        return read_bytes(sys.stdin.buffer.read(MAX_INPUT_BYTES + 1), "standard input")
+    return read_file(source)
+
+
+def budget_seconds(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not 0 <= value <= 3600:  # also refuses nan and inf
+        raise argparse.ArgumentTypeError(f"give seconds from 0 to 3600, not {text!r}")
+    return value
+
+
+def non_negative(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError("must be 0 or more")
+    return value

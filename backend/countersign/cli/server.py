@@ -1,0 +1,196 @@
+"""The server commands: serve and users create (the database, the web app)."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from .. import __version__
+from .common import EXIT_OK, UsageError
+
+if TYPE_CHECKING:
+    from ..store.db import Database
+    from ..web.settings import Settings
+
+
+def _database(args: argparse.Namespace) -> tuple[Settings, Database]:
+    from ..store.db import Database, DatabaseTooNew
+    from ..web.settings import Settings
+
+    settings = Settings.from_environment(data_dir=args.data_dir)
+    settings.prepare()
+    database = Database(settings.database_url)
+    try:
+        database.migrate()
+    except DatabaseTooNew as exc:
+        raise UsageError(str(exc)) from None
+    # What the CLI appends to the log (users, demo missions) is receipted by the log signer.
+    from ..approvals.signer import SignerError
+    from ..web.log_signer import open_log_signer
+
+    try:
+        database.log_signer = open_log_signer(settings, database)
+    except SignerError as exc:
+        raise UsageError(str(exc)) from None
+    return settings, database
+
+
+def _seed_demo(database: Database) -> None:
+    import secrets
+
+    from sqlalchemy import select
+
+    from ..orders.examples import example_bytes, example_names
+    from ..orders.reader import read_bytes
+    from ..store.accounts import create_user
+    from ..store.missions import create_mission
+    from ..store.tables import Mission, User
+
+    with database.session() as db:
+        created = []
+        for role in ("operator", "supervisor", "auditor", "admin"):
+            name = f"demo-{role}"
+            if db.scalar(select(User).where(User.username == name)) is None:
+                password = secrets.token_urlsafe(12)
+                create_user(db, username=name, role=role, password=password,
+                            display_name=f"Demo {role}")
+                created.append((name, role, password))
+        operator = db.scalar(select(User).where(User.username == "demo-operator"))
+        assert operator is not None
+        for name in example_names():
+            if db.get(Mission, name) is None:
+                orders = read_bytes(example_bytes(name), name).orders
+                create_mission(db, orders=orders, author=operator)
+    if created:
+        sys.stderr.write("Demo users (one-time passwords, shown only now):\n")
+        for name, role, password in created:
+            sys.stderr.write(f"  {name:<18} {role:<11} {password}\n")
+    else:
+        sys.stderr.write("Demo users exist already (their passwords were shown when created).\n")
+
+
+def _has_users(database: Database) -> bool:
+    from sqlalchemy import select
+
+    from ..store.tables import User
+
+    with database.session() as db:
+        return db.scalar(select(User.id).limit(1)) is not None
+
+
+def cmd_serve(args: argparse.Namespace) -> int:
+    import uvicorn
+
+    from ..web.app import create_app
+    from ..web.workers import serve_workers
+
+    if args.validation_processes is not None:
+        if not 0 <= args.validation_processes <= 64:
+            raise UsageError("--validation-processes must be from 0 to 64")
+        # Read by Settings here and in every server process.
+        os.environ["COUNTERSIGN_VALIDATION_PROCESSES"] = str(args.validation_processes)
+    settings, database = _database(args)
+    if args.demo:
+        _seed_demo(database)
+    elif not _has_users(database):
+        sys.stderr.write(
+            "No accounts yet. Create the first admin with\n"
+            "  countersign users create --username admin --role admin"
+            + (f" --data-dir {args.data_dir}" if args.data_dir else "")
+            + "\nor start with --demo for demo users and the built-in examples.\n"
+        )
+    sys.stderr.write(
+        f"Countersign {__version__} on http://{args.host}:{args.port}/ "
+        f"(database: {database.engine.url.render_as_string(hide_password=True)})\n"
+    )
+    if args.workers <= 1:
+        uvicorn.run(create_app(settings, database), host=args.host, port=args.port,
+                    log_level="info")
+        return EXIT_OK
+    # Several server processes: each builds its app from the environment (the database is
+    # migrated above, once, before any of them starts). The app keeps no state that another
+    # process could contradict: sessions, tokens, rate limiting, reports and the log live in
+    # the database; the in-process caches (reports, solver results, the log's Merkle tree) are
+    # pure or checked against the database on use.
+    database.engine.dispose()
+    os.environ["COUNTERSIGN_DATA_DIR"] = str(settings.data_dir)
+    os.environ["COUNTERSIGN_DATABASE_URL"] = settings.database_url
+    return serve_workers("countersign.web.app:app_from_environment", host=args.host,
+                         port=args.port, workers=args.workers, log_level="info")
+
+
+def cmd_users_create(args: argparse.Namespace) -> int:
+    import getpass
+    import secrets
+
+    from ..store.accounts import AccountError, create_user
+
+    _, database = _database(args)
+    generated = False
+    if args.password_stdin:
+        password = sys.stdin.readline().rstrip("\n")
+    elif sys.stdin.isatty():
+        password = getpass.getpass(f"Password for {args.username}: ")
+    else:
+        password, generated = secrets.token_urlsafe(12), True
+    try:
+        with database.session() as db:
+            create_user(db, username=args.username, role=args.role, password=password,
+                        display_name=args.display_name or args.username)
+    except AccountError as exc:
+        raise UsageError(str(exc)) from None
+    sys.stdout.write(f"Created {args.role} {args.username}.\n")
+    if generated:
+        sys.stdout.write(f"One-time password: {password}\n")
+    return EXIT_OK
+
+
+def add_commands(commands: Any) -> None:
+    serve_cmd = commands.add_parser(
+        "serve",
+        help="run the web app",
+        description="Run the Countersign web app. Data lives in --data-dir (default: the "
+        "per-user data directory, e.g. ~/.local/share/countersign) unless COUNTERSIGN_DATABASE_URL "
+        "names a database.",
+    )
+    serve_cmd.add_argument("--host", default="127.0.0.1")
+    serve_cmd.add_argument("--port", type=int, default=8000)
+    serve_cmd.add_argument("--data-dir", type=Path, default=None)
+    serve_cmd.add_argument(
+        "--workers", type=int, default=1, metavar="N",
+        help="server processes (default 1), each with its own listening socket on the port "
+        "so that connections spread over them; more use more cores: on SQLite they share the "
+        "one writer, on PostgreSQL they scale reads and validation",
+    )
+    serve_cmd.add_argument(
+        "--validation-processes", type=int, default=None, metavar="N",
+        help="processes that validate orders beside each server process, at a lower "
+        "priority so that reads go first, each user queued fairly so that one user's heavy "
+        "validation leaves a process for another's edit (default 2, or "
+        "COUNTERSIGN_VALIDATION_PROCESSES; 0: validate in the server's own threads)",
+    )
+    serve_cmd.add_argument(
+        "--demo", action="store_true",
+        help="seed demo users (printing one-time passwords) and the built-in examples",
+    )
+    serve_cmd.set_defaults(handler=cmd_serve)
+
+    users_cmd = commands.add_parser("users", help="manage accounts (e.g. the first admin)")
+    users_sub = users_cmd.add_subparsers(dest="users_command", required=True, metavar="ACTION")
+    create_cmd = users_sub.add_parser(
+        "create", help="create an account",
+        description="Create an account in the database of --data-dir (or "
+        "COUNTERSIGN_DATABASE_URL). The password is read with --password-stdin, asked for on "
+        "a terminal, or generated and printed once.",
+    )
+    create_cmd.add_argument("--username", required=True)
+    create_cmd.add_argument("--role", required=True,
+                            choices=["operator", "supervisor", "auditor", "admin"])
+    create_cmd.add_argument("--display-name", default="")
+    create_cmd.add_argument("--password-stdin", action="store_true",
+                            help="read the password from the first line of standard input")
+    create_cmd.add_argument("--data-dir", type=Path, default=None)
+    create_cmd.set_defaults(handler=cmd_users_create)

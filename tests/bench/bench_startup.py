@@ -1,0 +1,60 @@
+"""Start-up of the command line as whole processes (issue 17, item 11).
+
+Targets: `countersign --help` under 0.3 s and `countersign validate` of the exemplar
+(example:search-and-sample, seed 000 Figures 3-7) under 0.8 s, beside `python -c pass`.
+Each figure is the median of 5 runs: wall seconds and CPU seconds (user + system of the child;
+on a shared, busy machine the wall figure includes waiting for a core, the CPU figure does not).
+
+Run: .venv/bin/python -m tests.bench.bench_startup
+"""
+
+from __future__ import annotations
+
+import os
+import statistics
+import subprocess
+import sys
+import time
+
+RUNS = 5
+COMMANDS: dict[str, list[str]] = {
+    "python -c pass": [sys.executable, "-c", "pass"],
+    "countersign --help": [sys.executable, "-m", "countersign.cli", "--help"],
+    "countersign validate example:search-and-sample": [
+        sys.executable, "-m", "countersign.cli", "validate", "example:search-and-sample"],
+}
+TARGETS = {"countersign --help": 0.3, "countersign validate example:search-and-sample": 0.8}
+
+
+def _run_once(argv: list[str]) -> tuple[float, float]:
+    before = os.times()
+    start = time.perf_counter()
+    subprocess.run(argv, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=False)
+    wall = time.perf_counter() - start
+    after = os.times()
+    cpu = (after.children_user - before.children_user) + (
+        after.children_system - before.children_system)
+    return wall, cpu
+
+
+def measure(argv: list[str], runs: int = RUNS) -> tuple[float, float]:
+    """Median wall and CPU seconds over `runs` runs (one warm-up run first: .pyc files)."""
+    _run_once(argv)
+    samples = [_run_once(argv) for _ in range(runs)]
+    return (statistics.median(s[0] for s in samples), statistics.median(s[1] for s in samples))
+
+
+def main() -> None:
+    figures = {label: measure(argv) for label, argv in COMMANDS.items()}
+    _, base_cpu = figures["python -c pass"]
+    print(f"{'command':<48} {'wall s':>7} {'cpu s':>7} {'x pass (cpu)':>13} {'target':>7}")
+    for label, (wall, cpu) in figures.items():
+        target = TARGETS.get(label)
+        shown = f"{target:g}" if target is not None else "-"
+        ratio = cpu / base_cpu if base_cpu > 0 else float("nan")
+        print(f"{label:<48} {wall:7.3f} {cpu:7.3f} {ratio:13.1f} {shown:>7}")
+    print(f"(median of {RUNS} runs each; load average {os.getloadavg()[0]:.1f})")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,62 @@
+"""The command line starts light (issue 17, item 11): heavy libraries load in the commands
+that need them, so `import countersign.cli` and building its parser (what `--help` does) import
+none of them. The figures are in tests/bench/bench_startup.py."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+from countersign.cli import build_parser
+from countersign.cli import common as cli_common
+from countersign.cli import plan as cli_plan
+from countersign.cli import rehearse as cli_rehearse
+
+HEAVY = ("z3", "rdflib", "networkx", "fastapi", "sqlalchemy", "pydantic", "viser", "owlrl")
+
+
+def _loaded_after(code: str) -> list[str]:
+    report = f"print(json.dumps(sorted(set({HEAVY!r}) & set(sys.modules))))"
+    probe = f"import json, sys\n{code}\n{report}"
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                         check=True, timeout=120).stdout
+    loaded: list[str] = json.loads(out.strip().splitlines()[-1])
+    return loaded
+
+
+def test_importing_the_command_line_imports_no_heavy_library() -> None:
+    assert _loaded_after("import countersign.cli") == []
+
+
+def test_building_every_parser_imports_no_heavy_library() -> None:
+    # What `countersign --help` and `countersign COMMAND --help` need.
+    code = ("import contextlib, io\nfrom countersign.cli import build_parser\n"
+            "parser = build_parser()\n"
+            "for name in ('rules', 'rehearse', 'plan', 'validate', 'serve', 'witness'):\n"
+            "    with contextlib.suppress(SystemExit), contextlib.redirect_stdout(io.StringIO()):\n"
+            "        parser.parse_args([name, '--help'])\n")
+    assert _loaded_after(code) == []
+
+
+def test_the_help_names_what_the_libraries_define() -> None:
+    from countersign.plan.examples import EXAMPLES
+    from countersign.rehearse.sim import FAULTS
+    from countersign.rehearse.sources import SOURCES
+    from countersign.verify.report import SOLVER_BUDGET_S
+
+    assert cli_common.SOLVER_BUDGET_S == SOLVER_BUDGET_S
+    assert tuple(sorted(EXAMPLES)) == cli_plan.EXAMPLE_NAMES
+    assert cli_rehearse.FAULTS == FAULTS
+    assert cli_rehearse.SOURCES == SOURCES
+
+
+def test_the_rules_help_lists_the_built_in_theories() -> None:
+    from countersign.rehearse.rules import theory_names
+
+    parser = build_parser()
+    rules = next(a for a in parser._subparsers._group_actions  # type: ignore[union-attr]
+                 ).choices["rules"]
+    text = rules.format_help()
+    assert "{theories}" not in text
+    assert all(name in text for name in theory_names())
