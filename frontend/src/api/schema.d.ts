@@ -1149,7 +1149,7 @@ export interface components {
              * Title
              * @default
              */
-            title: string;
+            title?: string;
         } & {
             [key: string]: unknown;
         };
@@ -1303,7 +1303,7 @@ export interface components {
              * Applies To
              * @default mission
              */
-            applies_to: "mission" | string[];
+            applies_to?: "mission" | string[];
             /** Expr */
             expr?: string | null;
             /** Id */
@@ -1312,7 +1312,7 @@ export interface components {
              * Text
              * @default
              */
-            text: string;
+            text?: string;
         } & {
             [key: string]: unknown;
         };
@@ -1327,14 +1327,14 @@ export interface components {
              * @default linear
              * @enum {string}
              */
-            kind: "linear" | "exponential";
+            kind?: "linear" | "exponential";
             /** Rate */
             rate: number;
             /**
              * Scale
              * @default 1
              */
-            scale: number;
+            scale?: number;
         };
         /** CosignatureIn */
         CosignatureIn: {
@@ -1409,7 +1409,7 @@ export interface components {
              * Reason
              * @default
              */
-            reason: string;
+            reason?: string;
         };
         /** DecisionOut */
         DecisionOut: {
@@ -1469,17 +1469,17 @@ export interface components {
              * @default estimation
              * @enum {string}
              */
-            kind: "observation" | "estimation" | "goal" | "safety" | "action";
+            kind?: "observation" | "estimation" | "goal" | "safety" | "action";
             /**
              * Priority
              * @default 0
              */
-            priority: number;
+            priority?: number;
             /**
              * Text
              * @default
              */
-            text: string;
+            text?: string;
             /** Then */
             then: string;
         } & {
@@ -1568,7 +1568,7 @@ export interface components {
              * Title
              * @default
              */
-            title: string;
+            title?: string;
         } & {
             [key: string]: unknown;
         };
@@ -1598,7 +1598,7 @@ export interface components {
              * Description
              * @default
              */
-            description: string;
+            description?: string;
             /** Envelope */
             envelope?: {
                 [key: string]: [
@@ -1622,7 +1622,7 @@ export interface components {
              * Title
              * @default
              */
-            title: string;
+            title?: string;
         } & {
             [key: string]: unknown;
         };
@@ -1650,7 +1650,7 @@ export interface components {
              * Name
              * @default
              */
-            name: string;
+            name?: string;
             /**
              * Password
              * @description fresh confirmation
@@ -1690,7 +1690,7 @@ export interface components {
              * Reason
              * @default
              */
-            reason: string;
+            reason?: string;
         };
         /** LogEntryOut */
         LogEntryOut: {
@@ -1733,7 +1733,7 @@ export interface components {
              * Import Findings
              * @default []
              */
-            import_findings: {
+            import_findings?: {
                 [key: string]: unknown;
             }[];
             /** Latest Version */
@@ -1830,7 +1830,7 @@ export interface components {
              * Text
              * @default
              */
-            text: string;
+            text?: string;
         } & {
             [key: string]: unknown;
         };
@@ -1844,13 +1844,13 @@ export interface components {
              * Description
              * @default
              */
-            description: string;
+            description?: string;
             /**
              * Format
              * @default countersign.orders/1
              * @constant
              */
-            format: "countersign.orders/1";
+            format?: "countersign.orders/1";
             /** Goals */
             goals?: components["schemas"]["Goal"][];
             /** Id */
@@ -1872,7 +1872,7 @@ export interface components {
              * Title
              * @default
              */
-            title: string;
+            title?: string;
             /** Vehicle */
             vehicle?: string | null;
             /** Vehicles */
@@ -1906,7 +1906,7 @@ export interface components {
              * Title
              * @default
              */
-            title: string;
+            title?: string;
         };
         /** PasswordChange */
         PasswordChange: {
@@ -1949,7 +1949,7 @@ export interface components {
              * Text
              * @default
              */
-            text: string;
+            text?: string;
         } & {
             [key: string]: unknown;
         };
@@ -1961,7 +1961,7 @@ export interface components {
              * Mandatory
              * @default false
              */
-            mandatory: boolean;
+            mandatory?: boolean;
             /** Passes */
             passes: components["schemas"]["Pass"][];
             /** Reward */
@@ -1970,7 +1970,7 @@ export interface components {
              * Title
              * @default
              */
-            title: string;
+            title?: string;
         };
         /**
          * PlanOut
@@ -2016,13 +2016,13 @@ export interface components {
              * @default countersign.plan/1
              * @constant
              */
-            format: "countersign.plan/1";
+            format?: "countersign.plan/1";
             /**
              * Level
              * @default 2
              * @enum {integer}
              */
-            level: 1 | 2;
+            level?: 1 | 2;
             /** Recovery */
             recovery: [
                 number,
@@ -2043,7 +2043,7 @@ export interface components {
              * Reserve Wh
              * @default 0
              */
-            reserve_wh: number;
+            reserve_wh?: number;
             /** Transit Wh Per M */
             transit_wh_per_m: number;
         };
@@ -2087,7 +2087,7 @@ export interface components {
              * Level
              * @default 2
              */
-            level: number;
+            level?: number;
             /** Mandatory */
             mandatory?: string[];
             /** Recovery */
@@ -2099,7 +2099,7 @@ export interface components {
              * Reserve Wh
              * @default 0
              */
-            reserve_wh: number;
+            reserve_wh?: number;
             /** Rewards */
             rewards?: {
                 [key: string]: number;
@@ -2122,18 +2122,18 @@ export interface components {
              * Title
              * @default
              */
-            title: string;
+            title?: string;
             /**
              * Type
              * @default real
              * @enum {string}
              */
-            type: "real" | "integer" | "boolean";
+            type?: "real" | "integer" | "boolean";
             /**
              * Unit
              * @default
              */
-            unit: string;
+            unit?: string;
         } & {
             [key: string]: unknown;
         };
@@ -2146,7 +2146,7 @@ export interface components {
              * Findings
              * @default []
              */
-            findings: {
+            findings?: {
                 [key: string]: unknown;
             }[];
             /** Orders */
@@ -2214,19 +2214,19 @@ export interface components {
              * Seed
              * @default 0
              */
-            seed: number;
+            seed?: number;
             /**
              * Source
              * @default manual
              * @enum {string}
              */
-            source: "manual" | "replay" | "tour" | "simulate";
+            source?: "manual" | "replay" | "tour" | "simulate";
             /**
              * Speed
              * @description simulated seconds per wall second
              * @default 50
              */
-            speed: number;
+            speed?: number;
             /**
              * Version
              * @description the version to rehearse; omitted: the draft
@@ -2334,7 +2334,7 @@ export interface components {
              * Text
              * @default
              */
-            text: string;
+            text?: string;
         } & {
             [key: string]: unknown;
         };
@@ -2406,12 +2406,12 @@ export interface components {
              * @default estimation
              * @enum {string}
              */
-            kind: "observation" | "estimation" | "goal" | "safety" | "action";
+            kind?: "observation" | "estimation" | "goal" | "safety" | "action";
             /**
              * Text
              * @default
              */
-            text: string;
+            text?: string;
             /** Then */
             then: string;
         } & {
@@ -2471,7 +2471,7 @@ export interface components {
              * Title
              * @default
              */
-            title: string;
+            title?: string;
         } & {
             [key: string]: unknown;
         };
@@ -2481,7 +2481,7 @@ export interface components {
              * Expires In Days
              * @default 90
              */
-            expires_in_days: number;
+            expires_in_days?: number;
             /** Name */
             name: string;
             /**
@@ -2492,7 +2492,7 @@ export interface components {
              *       "decide"
              *     ]
              */
-            scopes: ("read" | "write" | "decide")[];
+            scopes?: ("read" | "write" | "decide")[];
         };
         /** TokenOut */
         TokenOut: {
@@ -2506,7 +2506,7 @@ export interface components {
              * Revoked
              * @default false
              */
-            revoked: boolean;
+            revoked?: boolean;
             /** Scopes */
             scopes?: string[];
             /** Token */
@@ -2518,7 +2518,7 @@ export interface components {
              * Display Name
              * @default
              */
-            display_name: string;
+            display_name?: string;
             /** Password */
             password: string;
             /** Role */
@@ -2532,7 +2532,7 @@ export interface components {
              * Disabled
              * @default false
              */
-            disabled: boolean;
+            disabled?: boolean;
             /** Display Name */
             display_name: string;
             /** Id */
@@ -2591,7 +2591,7 @@ export interface components {
              * Title
              * @default
              */
-            title: string;
+            title?: string;
         } & {
             [key: string]: unknown;
         };
@@ -2619,13 +2619,13 @@ export interface components {
              * Estimated Cost
              * @default []
              */
-            estimated_cost: string[];
+            estimated_cost?: string[];
             path: components["schemas"]["CostPathOut"] | null;
             /**
              * Unknown Cost
              * @default []
              */
-            unknown_cost: string[];
+            unknown_cost?: string[];
             /** Worst */
             worst: number;
         };
