@@ -3,7 +3,11 @@
  * enforces the same rules; the UI only hides what would be refused anyway.
  */
 
-export type Role = "operator" | "supervisor" | "auditor" | "admin";
+import { OPERATION_ROLES } from "./roles.gen";
+
+/** Every role a signed-in user may hold: those admitted to `whoAmI`. */
+export const ROLES = OPERATION_ROLES.whoAmI;
+export type Role = (typeof ROLES)[number];
 
 export type Action =
   | "createMission"
@@ -14,21 +18,20 @@ export type Action =
   | "manageUsers"
   | "readEvents";
 
-const ALLOWED: Record<Action, readonly Role[]> = {
-  createMission: ["operator"],
-  importMission: ["operator"],
-  editDraft: ["operator"],
-  deleteDraft: ["operator"],
-  createVersion: ["operator"],
-  manageUsers: ["admin"],
-  readEvents: ["auditor", "supervisor", "admin"],
-};
+/** The route behind each action: its roles are the server's (roles.gen.ts, from x-roles). */
+export const ACTION_OPERATION = {
+  createMission: "createMission",
+  importMission: "importMission",
+  editDraft: "updateDraft",
+  deleteDraft: "deleteMission",
+  createVersion: "createVersion",
+  manageUsers: "createUser",
+  readEvents: "listEvents",
+} as const satisfies Record<Action, keyof typeof OPERATION_ROLES>;
 
 export function can(role: string | null | undefined, action: Action): boolean {
-  return !!role && (ALLOWED[action] as readonly string[]).includes(role);
+  return !!role && (OPERATION_ROLES[ACTION_OPERATION[action]] as readonly string[]).includes(role);
 }
-
-export const ROLES: readonly Role[] = ["operator", "supervisor", "auditor", "admin"];
 
 export const ROLE_LABEL: Record<Role, string> = {
   operator: "Operator",

@@ -4,14 +4,19 @@
  * server breaks the build here instead of a screen at run time.
  */
 import createClient, { type Middleware } from "openapi-fetch";
+import type { Readable } from "openapi-typescript-helpers";
 
 import { applyCsrf, CsrfToken } from "./csrf";
 import { problemMessage } from "./problem";
-import type { paths } from "./schema";
+import type { components, paths } from "./schema";
 
 export type { paths };
 
-type JsonBody<R> = R extends { content: { "application/json": infer T } } ? T : never;
+/** A response body as openapi-fetch hands it over (`Readable`: tuples read as arrays). */
+/** A named schema of the OpenAPI document, as a response carries it. */
+export type Schema<K extends keyof components["schemas"]> = Readable<components["schemas"][K]>;
+
+type JsonBody<R> = R extends { content: { "application/json": infer T } } ? Readable<T> : never;
 
 export type Session = JsonBody<paths["/api/auth/me"]["get"]["responses"][200]>;
 export type User = Session["user"];

@@ -1029,6 +1029,65 @@ export interface paths {
 export type webhooks = Record<string, never>;
 export interface components {
     schemas: {
+        /**
+         * ApprovalDetailOut
+         * @description An approval as signed (GET /api/approvals/{id}).
+         */
+        ApprovalDetailOut: {
+            checkpoint: components["schemas"]["CheckpointOut"];
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
+            /** Decision */
+            decision: string;
+            /** Digest */
+            digest: string;
+            /** Envelope */
+            envelope: string;
+            /** Findings */
+            findings: components["schemas"]["FindingOut"][];
+            /** Id */
+            id: number;
+            inclusion: components["schemas"]["InclusionProofOut"] | null;
+            /**
+             * Integrity
+             * @description how this row disagrees with its log entry, which is the source of truth
+             */
+            integrity?: string[];
+            key: components["schemas"]["KeyOut"];
+            /** Key Id */
+            key_id: string;
+            /** Log Index */
+            log_index: number | null;
+            /** Mission */
+            mission: string;
+            /** Operator */
+            operator: string | null;
+            /** Orders */
+            orders: components["schemas"]["Orders"];
+            paths: components["schemas"]["PathCountsOut"] | null;
+            /** Plain */
+            plain: string;
+            /** Reason */
+            reason: string;
+            rehearsal: components["schemas"]["CitedRehearsalOut"] | null;
+            /** Revokes */
+            revokes: number | null;
+            /** Rules */
+            rules: string[];
+            /** Statement */
+            statement: components["schemas"]["Statement"];
+            /** Submission */
+            submission: number;
+            /** Supervisor */
+            supervisor: string | null;
+            /** Vehicle */
+            vehicle: string | null;
+            /** Version */
+            version: number;
+        };
         /** ApprovalOut */
         ApprovalOut: {
             /**
@@ -1075,6 +1134,25 @@ export interface components {
             /** Next Cursor */
             next_cursor: number | null;
         };
+        /** Area */
+        Area: {
+            /** Contexts */
+            contexts?: string[];
+            /** Id */
+            id: string;
+            /** Polygon */
+            polygon?: [
+                number,
+                number
+            ][];
+            /**
+             * Title
+             * @default
+             */
+            title?: string;
+        } & {
+            [key: string]: unknown;
+        };
         /** AttachIn */
         AttachIn: {
             /** Rehearsal */
@@ -1089,6 +1167,175 @@ export interface components {
         } & {
             [key: string]: unknown;
         };
+        /** BundleApprovalOut */
+        BundleApprovalOut: {
+            /** Decision */
+            decision: string;
+            /** Envelope */
+            envelope: string;
+            /** Id */
+            id: number;
+            inclusion: components["schemas"]["BundleInclusionOut"];
+            /** Log Index */
+            log_index: number;
+            /** Mission */
+            mission: string;
+        };
+        /** BundleInclusionOut */
+        BundleInclusionOut: {
+            /** Hashes */
+            hashes: string[];
+            /** Index */
+            index: number;
+            /** Size */
+            size: number;
+        };
+        /** BundleKeyOut */
+        BundleKeyOut: {
+            /** Created At */
+            created_at: string;
+            /** Key Id */
+            key_id: string;
+            /** Public Key */
+            public_key: string;
+            /** Revoked At */
+            revoked_at: string | null;
+            /** User */
+            user: string | null;
+        };
+        /**
+         * BundleOut
+         * @description An audit bundle for `countersign audit verify BUNDLE` (DESIGN.md, approval record).
+         */
+        BundleOut: {
+            /** Approvals */
+            approvals: components["schemas"]["BundleApprovalOut"][];
+            /** Checkpoints */
+            checkpoints: components["schemas"]["CheckpointOut"][];
+            /** Created At */
+            created_at: string;
+            /** Entries */
+            entries: string[];
+            /** Format */
+            format: string;
+            /** Keys */
+            keys: components["schemas"]["BundleKeyOut"][];
+            log_key: components["schemas"]["LogKeyOut"];
+            /** Orders */
+            orders: {
+                [key: string]: components["schemas"]["Orders"];
+            };
+            /** Receipts */
+            receipts: (string | null)[];
+            /** Rehearsals */
+            rehearsals: {
+                [key: string]: {
+                    [key: string]: unknown;
+                };
+            };
+            /** Scope */
+            scope: string | null;
+            /** Signer Refused */
+            signer_refused: string | null;
+        };
+        /** CheckpointOut */
+        CheckpointOut: {
+            /** Created At */
+            created_at: string;
+            /** Key Id */
+            key_id: string;
+            /** Note */
+            note: string;
+            /** Origin */
+            origin: string;
+            /** Public Key */
+            public_key: string;
+            /** Root */
+            root: string;
+            /** Signature */
+            signature: string;
+            /** Signed Note */
+            signed_note: string;
+            /** Size */
+            size: number;
+        };
+        /** CitedRehearsalOut */
+        CitedRehearsalOut: {
+            /** Created At */
+            created_at: string;
+            /** Digest */
+            digest: string;
+            /** Mission */
+            mission: string;
+            /** Orders Digest */
+            orders_digest: string;
+            /** Owner */
+            owner: string | null;
+            /** Record */
+            record: {
+                [key: string]: unknown;
+            };
+            /** Replay */
+            replay: string;
+            /** Replay Digest */
+            replay_digest: string;
+            /** Source */
+            source: string;
+            /** Version */
+            version: number | null;
+        };
+        /** ConsistencyProofOut */
+        ConsistencyProofOut: {
+            /** First */
+            first: number;
+            /** First Root */
+            first_root: string;
+            /** Hashes */
+            hashes: string[];
+            /** Second */
+            second: number;
+            /** Second Root */
+            second_root: string;
+        };
+        /** Constraint */
+        Constraint: {
+            /**
+             * Applies To
+             * @default mission
+             */
+            applies_to?: "mission" | string[];
+            /** Expr */
+            expr?: string | null;
+            /** Id */
+            id: string;
+            /**
+             * Text
+             * @default
+             */
+            text?: string;
+        } & {
+            [key: string]: unknown;
+        };
+        /**
+         * Conversion
+         * @description A conversion function to the common currency of the rewards (seed 001 section 5.3):
+         *     linear `rate * x`, or exponential `scale * (exp(rate * x) - 1)`, x the amount used.
+         */
+        Conversion: {
+            /**
+             * Kind
+             * @default linear
+             * @enum {string}
+             */
+            kind?: "linear" | "exponential";
+            /** Rate */
+            rate: number;
+            /**
+             * Scale
+             * @default 1
+             */
+            scale?: number;
+        };
         /** CosignatureIn */
         CosignatureIn: {
             /**
@@ -1101,6 +1348,47 @@ export interface components {
              * @description its C2SP tlog-cosignature line
              */
             cosignature: string;
+        };
+        /** CosignatureOut */
+        CosignatureOut: {
+            /** Cosignature */
+            cosignature: string;
+            /** Size */
+            size: number;
+            /** Witness */
+            witness: string;
+        };
+        /** CosignedCheckpointOut */
+        CosignedCheckpointOut: {
+            /** Cosignatures */
+            cosignatures: string[];
+            /** Created At */
+            created_at: string;
+            /** Key Id */
+            key_id: string;
+            /** Note */
+            note: string;
+            /** Origin */
+            origin: string;
+            /** Public Key */
+            public_key: string;
+            /** Root */
+            root: string;
+            /** Signature */
+            signature: string;
+            /** Signed Note */
+            signed_note: string;
+            /** Size */
+            size: number;
+        };
+        /** Cost */
+        Cost: {
+            /** Duration S */
+            duration_s?: number | null;
+            /** Energy Wh */
+            energy_wh?: number | null;
+        } & {
+            [key: string]: unknown;
         };
         /** CostPathOut */
         CostPathOut: {
@@ -1121,7 +1409,7 @@ export interface components {
              * Reason
              * @default
              */
-            reason: string;
+            reason?: string;
         };
         /** DecisionOut */
         DecisionOut: {
@@ -1181,17 +1469,17 @@ export interface components {
              * @default estimation
              * @enum {string}
              */
-            kind: "observation" | "estimation" | "goal" | "safety" | "action";
+            kind?: "observation" | "estimation" | "goal" | "safety" | "action";
             /**
              * Priority
              * @default 0
              */
-            priority: number;
+            priority?: number;
             /**
              * Text
              * @default
              */
-            text: string;
+            text?: string;
             /** Then */
             then: string;
         } & {
@@ -1280,7 +1568,7 @@ export interface components {
              * Title
              * @default
              */
-            title: string;
+            title?: string;
         } & {
             [key: string]: unknown;
         };
@@ -1299,10 +1587,62 @@ export interface components {
             /** Subjects */
             subjects: string[];
         };
+        /** Goal */
+        Goal: {
+            /** Area */
+            area?: string | null;
+            /** Behavior */
+            behavior?: string | null;
+            cost?: components["schemas"]["Cost"] | null;
+            /**
+             * Description
+             * @default
+             */
+            description?: string;
+            /** Envelope */
+            envelope?: {
+                [key: string]: [
+                    number,
+                    number
+                ];
+            };
+            /** Id */
+            id: string;
+            /** Next */
+            next?: {
+                [key: string]: string | string[] | null;
+            };
+            /** Params */
+            params?: {
+                [key: string]: unknown;
+            };
+            /** Requires */
+            requires?: string[];
+            /**
+             * Title
+             * @default
+             */
+            title?: string;
+        } & {
+            [key: string]: unknown;
+        };
         /** HTTPValidationError */
         HTTPValidationError: {
             /** Detail */
             detail?: components["schemas"]["ValidationError"][];
+        };
+        /** InclusionProofOut */
+        InclusionProofOut: {
+            /** Hashes */
+            hashes: string[];
+            /** Index */
+            index: number;
+            /** Leaf Hash */
+            leaf_hash: string;
+            /** Root */
+            root: string;
+            /** Size */
+            size: number;
         };
         /** KeyIn */
         KeyIn: {
@@ -1310,7 +1650,7 @@ export interface components {
              * Name
              * @default
              */
-            name: string;
+            name?: string;
             /**
              * Password
              * @description fresh confirmation
@@ -1350,7 +1690,29 @@ export interface components {
              * Reason
              * @default
              */
-            reason: string;
+            reason?: string;
+        };
+        /** LogEntryOut */
+        LogEntryOut: {
+            /** Entry */
+            entry: string;
+            /** Index */
+            index: number;
+            /** Leaf Hash */
+            leaf_hash: string;
+            /** Receipt */
+            receipt: string | null;
+        };
+        /** LogKeyOut */
+        LogKeyOut: {
+            /** Key Id */
+            key_id: string;
+            /** Origin */
+            origin: string;
+            /** Public Key */
+            public_key: string;
+            /** Verifier Key */
+            verifier_key: string;
         };
         /** LoginRequest */
         LoginRequest: {
@@ -1371,7 +1733,7 @@ export interface components {
              * Import Findings
              * @default []
              */
-            import_findings: {
+            import_findings?: {
                 [key: string]: unknown;
             }[];
             /** Latest Version */
@@ -1383,9 +1745,7 @@ export interface components {
             /** Ok */
             ok: boolean | null;
             /** Orders */
-            orders: {
-                [key: string]: unknown;
-            };
+            orders: components["schemas"]["Orders"];
             /** Revision */
             revision: number;
             /** Status */
@@ -1454,6 +1814,72 @@ export interface components {
             /** Warnings */
             warnings: number | null;
         };
+        /** Norm */
+        Norm: {
+            /** Context */
+            context: string;
+            /** Forbidden */
+            forbidden?: string | null;
+            /** Id */
+            id: string;
+            /** Obligated */
+            obligated?: string | null;
+            /** Permitted */
+            permitted?: string | null;
+            /**
+             * Text
+             * @default
+             */
+            text?: string;
+        } & {
+            [key: string]: unknown;
+        };
+        /** Orders */
+        Orders: {
+            /** Areas */
+            areas?: components["schemas"]["Area"][];
+            /** Constraints */
+            constraints?: components["schemas"]["Constraint"][];
+            /**
+             * Description
+             * @default
+             */
+            description?: string;
+            /**
+             * Format
+             * @default countersign.orders/1
+             * @constant
+             */
+            format?: "countersign.orders/1";
+            /** Goals */
+            goals?: components["schemas"]["Goal"][];
+            /** Id */
+            id: string;
+            /** Norms */
+            norms?: components["schemas"]["Norm"][];
+            /** Properties */
+            properties?: components["schemas"]["PathProperty"][];
+            /** Quantities */
+            quantities?: {
+                [key: string]: components["schemas"]["Quantity"];
+            };
+            rules?: components["schemas"]["RuleSet"] | null;
+            /** Start */
+            start?: string | string[] | null;
+            /** Terminals */
+            terminals?: components["schemas"]["Terminal"][] | null;
+            /**
+             * Title
+             * @default
+             */
+            title?: string;
+            /** Vehicle */
+            vehicle?: string | null;
+            /** Vehicles */
+            vehicles?: components["schemas"]["Vehicle"][];
+        } & {
+            [key: string]: unknown;
+        };
         /** OutcomeIn */
         OutcomeIn: {
             /**
@@ -1461,6 +1887,26 @@ export interface components {
              * @enum {string}
              */
             outcome: "succeed" | "fail" | "violate";
+        };
+        /** Pass */
+        Pass: {
+            /** Entry */
+            entry: [
+                number,
+                number
+            ];
+            /** Exit */
+            exit: [
+                number,
+                number
+            ];
+            /** Survey Wh */
+            survey_wh: number;
+            /**
+             * Title
+             * @default
+             */
+            title?: string;
         };
         /** PasswordChange */
         PasswordChange: {
@@ -1491,6 +1937,146 @@ export interface components {
             /** Next Cursor */
             next_cursor: string | null;
         };
+        /** PathProperty */
+        PathProperty: {
+            /** Always */
+            always?: string | null;
+            /** Id */
+            id: string;
+            /** Never */
+            never?: string | null;
+            /**
+             * Text
+             * @default
+             */
+            text?: string;
+        } & {
+            [key: string]: unknown;
+        };
+        /** PlanArea */
+        PlanArea: {
+            /** Id */
+            id: string;
+            /**
+             * Mandatory
+             * @default false
+             */
+            mandatory?: boolean;
+            /** Passes */
+            passes: components["schemas"]["Pass"][];
+            /** Reward */
+            reward: number;
+            /**
+             * Title
+             * @default
+             */
+            title?: string;
+        };
+        /**
+         * PlanOut
+         * @description The best plan (`feasible`) or why there is none (`conflict`, `message`); a feasible
+         *     plan carries its draft `orders`.
+         */
+        PlanOut: {
+            /** Conflict */
+            conflict?: string[] | null;
+            /** Energy Wh */
+            energy_wh?: number | null;
+            /** Feasible */
+            feasible: boolean;
+            /** Legs Wh */
+            legs_wh?: (number)[] | null;
+            /** Limit Wh */
+            limit_wh?: number | null;
+            /** Message */
+            message?: string | null;
+            /** Order */
+            order?: string[] | null;
+            /** Orders */
+            orders?: components["schemas"]["Orders"] | null;
+            /** Passes */
+            passes?: {
+                [key: string]: number;
+            } | null;
+            /** Reward */
+            reward?: number | null;
+            /** Value */
+            value?: number | null;
+        };
+        /** PlanProblem */
+        PlanProblem: {
+            /** Areas */
+            areas?: components["schemas"]["PlanArea"][];
+            /** Conversion */
+            conversion?: {
+                [key: string]: components["schemas"]["Conversion"];
+            };
+            /**
+             * Format
+             * @default countersign.plan/1
+             * @constant
+             */
+            format?: "countersign.plan/1";
+            /**
+             * Level
+             * @default 2
+             * @enum {integer}
+             */
+            level?: 1 | 2;
+            /** Recovery */
+            recovery: [
+                number,
+                number
+            ];
+            /** Start */
+            start: [
+                number,
+                number
+            ];
+            vehicle: components["schemas"]["PlanVehicle"];
+        };
+        /** PlanVehicle */
+        PlanVehicle: {
+            /** Battery Wh */
+            battery_wh: number;
+            /**
+             * Reserve Wh
+             * @default 0
+             */
+            reserve_wh?: number;
+            /** Transit Wh Per M */
+            transit_wh_per_m: number;
+        };
+        /**
+         * PreparedOut
+         * @description The statement to sign: sign `pae` (which must equal PAE(payloadType, payload)).
+         */
+        PreparedOut: {
+            /** Pae */
+            pae: string;
+            /** Payload */
+            payload: string;
+            /** Payloadtype */
+            payloadType: string;
+            /** Statement */
+            statement: components["schemas"]["Statement"];
+        };
+        /**
+         * PreviousApprovalOut
+         * @description The version approved before this one, for the review's diff.
+         */
+        PreviousApprovalOut: {
+            /** Approval */
+            approval: number;
+            /** Digest */
+            digest: string;
+            /** Orders */
+            orders: components["schemas"]["Orders"];
+            /** State */
+            state: string;
+            /** Version */
+            version: number;
+        };
         /** ProblemFromMission */
         ProblemFromMission: {
             /** Areas */
@@ -1501,7 +2087,7 @@ export interface components {
              * Level
              * @default 2
              */
-            level: number;
+            level?: number;
             /** Mandatory */
             mandatory?: string[];
             /** Recovery */
@@ -1513,7 +2099,7 @@ export interface components {
              * Reserve Wh
              * @default 0
              */
-            reserve_wh: number;
+            reserve_wh?: number;
             /** Rewards */
             rewards?: {
                 [key: string]: number;
@@ -1526,6 +2112,31 @@ export interface components {
             /** Swath M */
             swath_m?: number | null;
         };
+        /** Quantity */
+        Quantity: {
+            /** Max */
+            max?: number | null;
+            /** Min */
+            min?: number | null;
+            /**
+             * Title
+             * @default
+             */
+            title?: string;
+            /**
+             * Type
+             * @default real
+             * @enum {string}
+             */
+            type?: "real" | "integer" | "boolean";
+            /**
+             * Unit
+             * @default
+             */
+            unit?: string;
+        } & {
+            [key: string]: unknown;
+        };
         /**
          * ReadOrdersOut
          * @description Orders read from a file without storing anything, with what reading them found.
@@ -1535,13 +2146,11 @@ export interface components {
              * Findings
              * @default []
              */
-            findings: {
+            findings?: {
                 [key: string]: unknown;
             }[];
             /** Orders */
-            orders: {
-                [key: string]: unknown;
-            };
+            orders: components["schemas"]["Orders"];
         };
         /** RecordDetail */
         RecordDetail: {
@@ -1605,19 +2214,19 @@ export interface components {
              * Seed
              * @default 0
              */
-            seed: number;
+            seed?: number;
             /**
              * Source
              * @default manual
              * @enum {string}
              */
-            source: "manual" | "replay" | "tour" | "simulate";
+            source?: "manual" | "replay" | "tour" | "simulate";
             /**
              * Speed
              * @description simulated seconds per wall second
              * @default 50
              */
-            speed: number;
+            speed?: number;
             /**
              * Version
              * @description the version to rehearse; omitted: the draft
@@ -1662,6 +2271,49 @@ export interface components {
             ok: boolean;
             paths: components["schemas"]["PathCountsOut"] | null;
         };
+        /**
+         * ReviewOut
+         * @description What a review shows of one version (GET .../versions/{number}/review).
+         */
+        ReviewOut: {
+            /** Author */
+            author: string | null;
+            /** Created At */
+            created_at: string;
+            /** Decide Refusal */
+            decide_refusal: string | null;
+            /** Digest */
+            digest: string;
+            /** Findings */
+            findings: components["schemas"]["FindingOut"][];
+            /** May Decide */
+            may_decide: boolean;
+            /** May Submit */
+            may_submit: boolean;
+            /** Mission */
+            mission: string;
+            /** Ok */
+            ok: boolean;
+            /** Orders */
+            orders: components["schemas"]["Orders"];
+            /** Path Items */
+            path_items: components["schemas"]["MissionPathOut"][];
+            paths: components["schemas"]["PathCountsOut"] | null;
+            /** Plain */
+            plain: string;
+            previous: components["schemas"]["PreviousApprovalOut"] | null;
+            /**
+             * Rules
+             * @description the contingency rules, one plain-language sentence each (empty when none or unreadable)
+             */
+            rules: string[];
+            /** Submissions */
+            submissions: components["schemas"]["SubmissionOut"][];
+            /** Submit Refusal */
+            submit_refusal: string | null;
+            /** Version */
+            version: number;
+        };
         /** RevocationIn */
         RevocationIn: {
             /** Key Id */
@@ -1682,7 +2334,7 @@ export interface components {
              * Text
              * @default
              */
-            text: string;
+            text?: string;
         } & {
             [key: string]: unknown;
         };
@@ -1714,6 +2366,31 @@ export interface components {
             user: components["schemas"]["UserOut"];
         };
         /**
+         * Statement
+         * @description An in-toto statement whose predicate is the countersign approval predicate.
+         */
+        Statement: {
+            /** Type */
+            _type: string;
+            /** Predicate */
+            predicate: {
+                [key: string]: unknown;
+            };
+            /** Predicatetype */
+            predicateType: string;
+            /** Subject */
+            subject: components["schemas"]["StatementSubject"][];
+        };
+        /** StatementSubject */
+        StatementSubject: {
+            /** Digest */
+            digest: {
+                [key: string]: string;
+            };
+            /** Name */
+            name: string;
+        };
+        /**
          * StrictRule
          * @description `if` literals imply `then` (seed 004 W_est, W_goal, W_safety); exceptions are these.
          */
@@ -1729,12 +2406,12 @@ export interface components {
              * @default estimation
              * @enum {string}
              */
-            kind: "observation" | "estimation" | "goal" | "safety" | "action";
+            kind?: "observation" | "estimation" | "goal" | "safety" | "action";
             /**
              * Text
              * @default
              */
-            text: string;
+            text?: string;
             /** Then */
             then: string;
         } & {
@@ -1781,13 +2458,30 @@ export interface components {
              */
             rehearsal?: string | null;
         };
+        /** Terminal */
+        Terminal: {
+            /** Id */
+            id: string;
+            /**
+             * Kind
+             * @enum {string}
+             */
+            kind: "complete" | "abort";
+            /**
+             * Title
+             * @default
+             */
+            title?: string;
+        } & {
+            [key: string]: unknown;
+        };
         /** TokenIn */
         TokenIn: {
             /**
              * Expires In Days
              * @default 90
              */
-            expires_in_days: number;
+            expires_in_days?: number;
             /** Name */
             name: string;
             /**
@@ -1798,7 +2492,7 @@ export interface components {
              *       "decide"
              *     ]
              */
-            scopes: ("read" | "write" | "decide")[];
+            scopes?: ("read" | "write" | "decide")[];
         };
         /** TokenOut */
         TokenOut: {
@@ -1812,7 +2506,7 @@ export interface components {
              * Revoked
              * @default false
              */
-            revoked: boolean;
+            revoked?: boolean;
             /** Scopes */
             scopes?: string[];
             /** Token */
@@ -1824,7 +2518,7 @@ export interface components {
              * Display Name
              * @default
              */
-            display_name: string;
+            display_name?: string;
             /** Password */
             password: string;
             /** Role */
@@ -1838,7 +2532,7 @@ export interface components {
              * Disabled
              * @default false
              */
-            disabled: boolean;
+            disabled?: boolean;
             /** Display Name */
             display_name: string;
             /** Id */
@@ -1897,7 +2591,7 @@ export interface components {
              * Title
              * @default
              */
-            title: string;
+            title?: string;
         } & {
             [key: string]: unknown;
         };
@@ -1915,9 +2609,7 @@ export interface components {
             /** Number */
             number: number;
             /** Orders */
-            orders?: {
-                [key: string]: unknown;
-            } | null;
+            orders?: components["schemas"]["Orders"] | null;
         };
         /** WorstCostOut */
         WorstCostOut: {
@@ -1927,13 +2619,13 @@ export interface components {
              * Estimated Cost
              * @default []
              */
-            estimated_cost: string[];
+            estimated_cost?: string[];
             path: components["schemas"]["CostPathOut"] | null;
             /**
              * Unknown Cost
              * @default []
              */
-            unknown_cost: string[];
+            unknown_cost?: string[];
             /** Worst */
             worst: number;
         };
@@ -2002,9 +2694,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["ApprovalDetailOut"];
                 };
             };
             /** @description Validation Error */
@@ -2074,9 +2764,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["PreparedOut"];
                 };
             };
             /** @description Validation Error */
@@ -2107,9 +2795,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["BundleOut"];
                 };
             };
             /** @description Validation Error */
@@ -2295,9 +2981,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["Orders"];
                 };
             };
             /** @description Validation Error */
@@ -2462,9 +3146,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["CheckpointOut"];
                 };
             };
         };
@@ -2487,9 +3169,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["ConsistencyProofOut"];
                 };
             };
             /** @description Validation Error */
@@ -2522,9 +3202,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["CosignatureOut"];
                 };
             };
             /** @description Validation Error */
@@ -2553,9 +3231,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["CosignedCheckpointOut"];
                 };
             };
         };
@@ -2578,9 +3254,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    }[];
+                    "application/json": components["schemas"]["LogEntryOut"][];
                 };
             };
             /** @description Validation Error */
@@ -2612,9 +3286,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["InclusionProofOut"];
                 };
             };
             /** @description Validation Error */
@@ -2886,9 +3558,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["PlanProblem"];
                 };
             };
             /** @description Validation Error */
@@ -3082,9 +3752,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["ReviewOut"];
                 };
             };
             /** @description Validation Error */
@@ -3155,9 +3823,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["PlanOut"];
                 };
             };
             /** @description Validation Error */
@@ -3544,9 +4210,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["PreparedOut"];
                 };
             };
             /** @description Validation Error */
@@ -3811,9 +4475,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    }[];
+                    "application/json": components["schemas"]["Vehicle"][];
                 };
             };
         };
@@ -3839,9 +4501,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["Vehicle"];
                 };
             };
             /** @description Validation Error */

@@ -24,25 +24,21 @@ import {
   ReactFlowProvider,
   useReactFlow,
 } from "@xyflow/react";
-import { type KeyboardEvent, memo, type ReactNode, useCallback, useEffect, useLayoutEffect, useMemo, useRef, useState } from "react";
+import { type KeyboardEvent, useCallback, useEffect, useLayoutEffect, useMemo, useRef, useState } from "react";
 
 import { api, exportHref, fetchText, type Finding, type MissionDetail, type Report, unwrap } from "../api/client";
 import { ErrorMessage } from "../components/Status";
 import { plural } from "../format";
 import {
-  addConstraint,
   addGoal,
   addTerminal,
   checkConnection,
   connect,
-  deleteConstraint,
   deleteNodes,
   describeDifferences,
   disconnect,
   edgeMarkers,
-  envelopeToText,
   findingPath,
-  type GoalSpec,
   goals,
   type Layout,
   markersBySubject,
@@ -52,21 +48,14 @@ import {
   OUTCOME_LETTER,
   type Outcome,
   OUTCOMES,
-  parseEnvelope,
   type PathLike,
   pathElements,
-  setSuccessor,
-  startIds,
   terminals,
-  toggleScope,
-  updateConstraint,
-  updateGoal,
   updateTerminal,
 } from "./graph";
 import { knownQuantities } from "./expr";
-import { ExprField, CommitField } from "./fields";
 import { canRedo, canUndo, createHistory, type History, push, redo, reset, undo } from "./history";
-import { copyGoals, paramsToText, parseParams, pasteGoals, readClip } from "./model";
+import { copyGoals, pasteGoals, readClip } from "./model";
 import { AreasPanel, MissionPanel, NormsPanel, QuantitiesPanel, VehiclePanel } from "./panels";
 import { PathsPanel } from "./PathsPanel";
 import { ImportMenu, NewFromExample, readOrdersFile } from "./ImportMenu";
@@ -74,6 +63,9 @@ import { PlanDialog } from "./PlanDialog";
 import { Tabs } from "../components/Tabs";
 import { autoLayout, ELK_MAX_GOALS, fastLayout } from "./layout";
 import { EDGE_TYPES, NODE_TYPES, type NodeData } from "./nodes";
+import { type Conflict, ConflictDialog } from "./ConflictDialog";
+import { ConstraintsPanel, FindingsList, GoalInspector } from "./Inspector";
+import { ExportMenu, ToolbarMenu } from "./Toolbar";
 
 interface Draft {
   orders: Orders;
@@ -122,11 +114,6 @@ export default function MissionEditor(props: { mission: MissionDetail; onSaved: 
 }
 
 type SaveState = "saved" | "pending" | "saving" | "conflict" | "error";
-
-interface Conflict {
-  theirs: MissionDetail;
-  differences: string[];
-}
 
 /** Whether every goal and terminal of the draft has a position (an empty draft counts as not). */
 function isLaidOut(draft: Draft): boolean {
@@ -910,393 +897,4 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
       {conflict && <ConflictDialog conflict={conflict} onReload={reloadTheirs} onKeepMine={keepMine} />}
     </div>
   );
-}
-
-function ConflictDialog({ conflict, onReload, onKeepMine }: { conflict: Conflict; onReload: () => void; onKeepMine: () => void }) {
-  const first = useRef<HTMLButtonElement>(null);
-  useEffect(() => first.current?.focus(), []);
-  return (
-    <div className="dialog-backdrop">
-      <div role="alertdialog" aria-modal="true" aria-labelledby="conflict-title" aria-describedby="conflict-text" className="dialog">
-        <h3 id="conflict-title">Someone else saved this draft</h3>
-        <p id="conflict-text">
-          {conflict.theirs.updated_by} saved revision {conflict.theirs.revision} while you were editing. Nothing was
-          overwritten. Differences between your version and theirs:
-        </p>
-        <ul data-testid="conflict-differences">
-          {conflict.differences.length === 0 ? <li>Only node positions differ.</li> : conflict.differences.map((d) => <li key={d}>{d}</li>)}
-        </ul>
-        <div className="actions">
-          <button type="button" ref={first} onClick={onReload}>
-            Reload theirs
-          </button>
-          <button type="button" className="danger" onClick={onKeepMine}>
-            Keep mine (overwrite theirs)
-          </button>
-        </div>
-      </div>
-    </div>
-  );
-}
-
-type EditOrders = (change: (o: Orders) => Orders, group?: string) => void;
-
-/** A toolbar menu: a summary that opens a column of actions. Choosing an action (a button with
- * class menu-item), Escape, or a press outside the menu closes it. */
-function ToolbarMenu({ label, children }: { label: string; children: ReactNode }) {
-  const ref = useRef<HTMLDetailsElement>(null);
-  const [open, setOpen] = useState(false);
-  useEffect(() => {
-    if (!open) return;
-    const outside = (event: PointerEvent) => {
-      if (ref.current && !ref.current.contains(event.target as globalThis.Node)) ref.current.open = false;
-    };
-    document.addEventListener("pointerdown", outside);
-    return () => document.removeEventListener("pointerdown", outside);
-  }, [open]);
-  return (
-    <details
-      ref={ref}
-      className="toolbar-menu"
-      onToggle={(e) => setOpen(e.currentTarget.open)}
-      onKeyDown={(e) => {
-        if (e.key !== "Escape" || !ref.current?.open) return;
-        e.stopPropagation();
-        ref.current.open = false;
-        ref.current.querySelector("summary")?.focus();
-      }}
-      onClick={(e) => {
-        if ((e.target as HTMLElement).closest(".menu-item") && ref.current) ref.current.open = false;
-      }}
-    >
-      <summary>{label}</summary>
-      <div className="toolbar-menu-body" role="group" aria-label={label}>
-        {children}
-      </div>
-    </details>
-  );
-}
-
-/** Findings listed before "Show all": a long list (one per unreachable goal) renders late. */
-const FINDINGS_SHOWN = 50;
-
-/** The editor's findings, each a button that selects its subjects; memoised, so that the
- * renders that follow an edit (nodes, selection) do not rebuild a long list. */
-const FindingsList = memo(function FindingsList({ findings, onPick }: { findings: Finding[]; onPick: (f: Finding) => void }) {
-  const [all, setAll] = useState(false);
-  const shown = all ? findings : findings.slice(0, FINDINGS_SHOWN);
-  return (
-    <>
-      <ul className="editor-findings" data-testid="editor-findings">
-        {shown.map((f, i) => (
-          <li key={`${f.code}-${i}`}>
-            <button type="button" className={`finding finding-${f.severity}`} onClick={() => onPick(f)}>
-              <code>{f.code}</code> {f.severity}: {f.message}
-              {f.subjects.length > 0 && <span className="hint"> ({f.subjects.join(", ")})</span>}
-            </button>
-          </li>
-        ))}
-      </ul>
-      {shown.length < findings.length && (
-        <button type="button" onClick={() => setAll(true)} data-testid="findings-show-all">
-          Show all {findings.length} findings
-        </button>
-      )}
-    </>
-  );
-});
-
-const GoalInspector = memo(function GoalInspector({
-  goal,
-  orders,
-  editOrders,
-  titleRef,
-  markers,
-  findings,
-}: {
-  goal: GoalSpec;
-  orders: Orders;
-  editOrders: EditOrders;
-  titleRef: React.RefObject<HTMLInputElement | null>;
-  markers: ReturnType<typeof markersBySubject>;
-  findings: Finding[];
-}) {
-  const id = goal.id;
-  const set = (patch: Partial<GoalSpec>, group?: string) => editOrders((o) => updateGoal(o, id, patch), group);
-  const vehicle = ((orders.vehicles as { id: string; behaviors?: string[] }[] | undefined) ?? []).find((v) => v.id === orders.vehicle);
-  const areas = ((orders.areas as { id: string; title?: string }[] | undefined) ?? []);
-  const targets = [...goals(orders).map((g) => g.id), ...terminals(orders).map((t) => t.id)];
-  const [requires, setRequires] = useState((goal.requires ?? []).join(", "));
-  const [envelope, setEnvelope] = useState(envelopeToText(goal.envelope));
-  const [envelopeError, setEnvelopeError] = useState("");
-  const mark = markers.get(id);
-  const costValue = (key: "energy_wh" | "duration_s") => goal.cost?.[key] ?? "";
-  const setCost = (key: "energy_wh" | "duration_s", text: string) => {
-    const cost = { ...(goal.cost ?? {}) };
-    if (text === "") delete cost[key];
-    else cost[key] = Number(text);
-    set({ cost: Object.keys(cost).length > 0 ? cost : undefined }, `g:${id}:cost:${key}`);
-  };
-  return (
-    <fieldset className="inspector">
-      <legend>
-        Goal <code>{id}</code>
-      </legend>
-      {mark && (
-        <p className={`message ${mark.severity === "error" ? "error" : ""}`}>Findings: {mark.codes.join(", ")}</p>
-      )}
-      <label htmlFor="goal-title">Title</label>
-      <input id="goal-title" ref={titleRef} value={goal.title ?? ""} onChange={(e) => set({ title: e.target.value }, `g:${id}:title`)} />
-      <label className="check">
-        <input
-          type="checkbox"
-          checked={startIds(orders).includes(id)}
-          onChange={(e) => editOrders((o) => ({ ...o, start: e.target.checked ? id : null }))}
-        />{" "}
-        Start goal
-      </label>
-      <label htmlFor="goal-behavior">Behaviour</label>
-      <input
-        id="goal-behavior"
-        list="behaviour-options"
-        value={goal.behavior ?? ""}
-        onChange={(e) => set({ behavior: e.target.value || undefined }, `g:${id}:behavior`)}
-      />
-      <datalist id="behaviour-options">
-        {(vehicle?.behaviors ?? ["area_search", "sample", "rendezvous", "transit", "recover"]).map((b) => (
-          <option key={b} value={b} />
-        ))}
-      </datalist>
-      <label htmlFor="goal-area">Area</label>
-      <select id="goal-area" value={goal.area ?? ""} onChange={(e) => set({ area: e.target.value || undefined })}>
-        <option value="">— none —</option>
-        {goal.area && !areas.some((a) => a.id === goal.area) && <option value={goal.area}>{goal.area} (unknown)</option>}
-        {areas.map((a) => (
-          <option key={a.id} value={a.id}>
-            {a.title ? `${a.id}: ${a.title}` : a.id}
-          </option>
-        ))}
-      </select>
-      <label htmlFor="goal-requires">Requires (comma-separated)</label>
-      <input
-        id="goal-requires"
-        value={requires}
-        onChange={(e) => setRequires(e.target.value)}
-        onBlur={() => {
-          const list = requires.split(",").map((s) => s.trim()).filter(Boolean);
-          if (list.join(",") !== (goal.requires ?? []).join(",")) set({ requires: list.length > 0 ? list : undefined });
-        }}
-      />
-      <FieldFindings findings={findings} subject={id} codes={["M7"]} />
-      <label htmlFor="goal-envelope">Envelope (one "quantity min max" per line)</label>
-      <textarea
-        id="goal-envelope"
-        rows={2}
-        value={envelope}
-        aria-invalid={!!envelopeError}
-        aria-describedby="goal-envelope-error"
-        onChange={(e) => setEnvelope(e.target.value)}
-        onBlur={() => {
-          const parsed = parseEnvelope(envelope);
-          setEnvelopeError(parsed.error ?? "");
-          if (parsed.envelope && envelopeToText(parsed.envelope) !== envelopeToText(goal.envelope)) {
-            set({ envelope: Object.keys(parsed.envelope).length > 0 ? parsed.envelope : undefined });
-          }
-        }}
-      />
-      <span id="goal-envelope-error" className="field-error">
-        {envelopeError}
-      </span>
-      <FieldFindings findings={findings} subject={id} codes={["CONTRADICTION"]} />
-      <CommitField
-        id="goal-params"
-        label='Parameters (one "name value" per line)'
-        multiline
-        value={paramsToText(goal.params)}
-        onCommit={(text) => {
-          const parsed = parseParams(text);
-          if (parsed.error) return parsed.error;
-          set({ params: parsed.params && Object.keys(parsed.params).length > 0 ? parsed.params : undefined });
-        }}
-      />
-      <div className="pair">
-        <span>
-          <label htmlFor="goal-energy">Energy (Wh)</label>
-          <input id="goal-energy" type="number" min={0} value={costValue("energy_wh")} onChange={(e) => setCost("energy_wh", e.target.value)} />
-        </span>
-        <span>
-          <label htmlFor="goal-duration">Duration (s)</label>
-          <input id="goal-duration" type="number" min={0} value={costValue("duration_s")} onChange={(e) => setCost("duration_s", e.target.value)} />
-        </span>
-      </div>
-      <FieldFindings findings={findings} subject={id} codes={["BUDGET", "NORM"]} />
-      <FieldFindings findings={findings} subject={id} codes={["SINK", "G3", "G5", "G7"]} />
-      {OUTCOMES.map((o) => {
-        const current = goal.next?.[o];
-        const value = typeof current === "string" ? current : "";
-        return (
-          <div key={o}>
-            <label htmlFor={`goal-next-${o}`}>
-              <span className={`outcome-letter outcome-${o}`}>{OUTCOME_LETTER[o]}</span> {OUTCOME_LABEL[o]} → next
-            </label>
-            <select id={`goal-next-${o}`} value={value} onChange={(e) => editOrders((x) => setSuccessor(x, id, o, e.target.value || null))}>
-              <option value="">— none —</option>
-              {value && !targets.includes(value) && <option value={value}>{value} (unknown)</option>}
-              {targets.map((t) => (
-                <option key={t} value={t}>
-                  {t}
-                </option>
-              ))}
-            </select>
-          </div>
-        );
-      })}
-    </fieldset>
-  );
-});
-
-function ConstraintsPanel({
-  orders,
-  editOrders,
-  markers,
-  findings,
-}: {
-  orders: Orders;
-  editOrders: EditOrders;
-  markers: ReturnType<typeof markersBySubject>;
-  findings: Finding[];
-}) {
-  const list = orders.constraints ?? [];
-  const known = useMemo(() => knownQuantities(orders), [orders]);
-  return (
-    <section aria-labelledby="constraints-title">
-      <h3 id="constraints-title">Constraints</h3>
-      {list.length === 0 && <p className="empty">No constraints.</p>}
-      {list.map((c) => {
-        const mark = markers.get(c.id);
-        const whole = c.applies_to === undefined || c.applies_to === "mission";
-        return (
-          <fieldset key={c.id} className="constraint">
-            <legend>
-              Constraint <code>{c.id}</code> {mark && <span className={`badge ${mark.severity === "error" ? "bad" : "warn"}`}>{mark.codes.join(" ")}</span>}
-            </legend>
-            <label htmlFor={`c-${c.id}-text`}>{`${c.id} text`}</label>
-            <input id={`c-${c.id}-text`} value={c.text ?? ""} onChange={(e) => editOrders((o) => updateConstraint(o, c.id, { text: e.target.value }), `c:${c.id}:text`)} />
-            <ExprField
-              id={`c-${c.id}-expr`}
-              label={`${c.id} expression`}
-              value={c.expr ?? ""}
-              known={known}
-              onChange={(text) => editOrders((o) => updateConstraint(o, c.id, { expr: text }), `c:${c.id}:expr`)}
-            />
-            <FieldFindings findings={findings} subject={c.id} codes={null} />
-            <div role="group" aria-label={`Scope of ${c.id}`} className="scope">
-              <label className="check">
-                <input
-                  type="checkbox"
-                  checked={whole}
-                  onChange={(e) => editOrders((o) => updateConstraint(o, c.id, { applies_to: e.target.checked ? "mission" : [] }))}
-                />{" "}
-                {c.id} applies to the whole mission
-              </label>
-              {!whole &&
-                goals(orders).map((g) => (
-                  <label key={g.id} className="check">
-                    <input
-                      type="checkbox"
-                      checked={Array.isArray(c.applies_to) && c.applies_to.includes(g.id)}
-                      onChange={() => editOrders((o) => toggleScope(o, c.id, g.id))}
-                    />{" "}
-                    <span className="visually-hidden">{c.id} applies to </span>
-                    {g.id}
-                  </label>
-                ))}
-            </div>
-            <button type="button" className="danger" onClick={() => editOrders((o) => deleteConstraint(o, c.id))}>
-              Delete constraint {c.id}
-            </button>
-          </fieldset>
-        );
-      })}
-      <button type="button" onClick={() => editOrders((o) => addConstraint(o).orders)} data-testid="add-constraint">
-        Add constraint
-      </button>
-    </section>
-  );
-}
-
-/** Findings about one subject, shown beside the inspector field they concern (codes null: all). */
-function FieldFindings({ findings, subject, codes }: { findings: Finding[]; subject: string; codes: string[] | null }) {
-  const mine = findings.filter((f) => f.subjects.includes(subject) && (codes === null || codes.includes(f.code)));
-  if (mine.length === 0) return null;
-  return (
-    <ul className="field-findings" data-testid={`field-findings-${subject}`}>
-      {mine.map((f, i) => (
-        <li key={i} className={`finding-${f.severity}`}>
-          {f.severity === "error" ? "✖" : "⚠"} <code>{f.code}</code> {f.message}
-        </li>
-      ))}
-    </ul>
-  );
-}
-
-/** Downloads of the saved draft in every format, plus an SVG drawing of the canvas. */
-function ExportMenu({ missionId, saved }: { missionId: string; saved: boolean }) {
-  const svg = () => {
-    const canvas = document.querySelector(".editor-canvas .react-flow__viewport");
-    const edges = document.querySelector(".editor-canvas .react-flow__edges");
-    if (!canvas) return;
-    const text = canvasSvg(canvas as HTMLElement, edges as SVGElement | null);
-    const url = URL.createObjectURL(new Blob([text], { type: "image/svg+xml" }));
-    const a = document.createElement("a");
-    a.href = url;
-    a.download = `${missionId}.svg`;
-    a.click();
-    window.setTimeout(() => URL.revokeObjectURL(url), 1000);
-  };
-  return (
-    <details className="export-menu">
-      {/* One label whatever the save state: a summary that changed width re-wrapped the
-          toolbar and moved the canvas under the pointer (see .save-state in styles.css). */}
-      <summary>Export</summary>
-      <ul>
-        {!saved && <li className="hint">The last saved draft (saving…)</li>}
-        {(["json", "avcl", "turtle", "dot", "plain"] as const).map((f) => (
-          <li key={f}>
-            <a href={exportHref(missionId, f)} download data-testid={`editor-export-${f}`}>
-              {f === "json" ? "JSON" : f === "avcl" ? "AVCL" : f === "turtle" ? "Turtle" : f === "dot" ? "DOT" : "Plain text"}
-            </a>
-          </li>
-        ))}
-        <li>
-          <button type="button" onClick={svg}>
-            SVG of the canvas
-          </button>
-        </li>
-      </ul>
-    </details>
-  );
-}
-
-/** An SVG document of the canvas: React Flow's edge layer plus a box and label per node. */
-function canvasSvg(viewport: HTMLElement, edges: SVGElement | null): string {
-  const esc = (t: string) => t.replace(/&/g, "&amp;").replace(/</g, "&lt;").replace(/>/g, "&gt;");
-  const boxes: string[] = [];
-  let maxX = 0;
-  let maxY = 0;
-  viewport.querySelectorAll<HTMLElement>(".react-flow__node").forEach((n) => {
-    const m = /translate\(([-\d.]+)px, ([-\d.]+)px\)/.exec(n.style.transform);
-    const x = m ? Number(m[1]) : 0;
-    const y = m ? Number(m[2]) : 0;
-    const w = n.offsetWidth;
-    const h = n.offsetHeight;
-    maxX = Math.max(maxX, x + w);
-    maxY = Math.max(maxY, y + h);
-    boxes.push(
-      `<g><rect x="${x}" y="${y}" width="${w}" height="${h}" rx="6" fill="#fff" stroke="#333"/>` +
-        `<text x="${x + 8}" y="${y + 18}" font-family="sans-serif" font-size="12">${esc(n.innerText.split("\n").slice(0, 3).join(" · "))}</text></g>`,
-    );
-  });
-  const edgeMarkup = edges ? edges.innerHTML : "";
-  return `<svg xmlns="http://www.w3.org/2000/svg" viewBox="-20 -20 ${maxX + 40} ${maxY + 40}">${edgeMarkup}${boxes.join("")}</svg>`;
 }

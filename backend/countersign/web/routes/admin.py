@@ -30,7 +30,7 @@ from ..deps import (
     TransactionRoute,
     allow,
 )
-from .schemas import EventOut, RequestBody, UserOut
+from .schemas import EventOut, RequestBody, UserOut, VehicleJson
 
 router = APIRouter(prefix="/api", tags=["administration"], route_class=TransactionRoute)
 
@@ -138,12 +138,14 @@ def revoke_token(token_id: RowId, principal: CurrentPrincipal, db: Db) -> None:
     record(db, kind="token.revoked", actor=principal.user, detail={"token": token_id})
 
 
-@router.get("/vehicles", operation_id="listVehicles", **allow(*EVERYONE))
+@router.get("/vehicles", operation_id="listVehicles", response_model=list[VehicleJson],
+            **allow(*EVERYONE))
 def list_vehicles(db: Db) -> list[dict[str, Any]]:
     return [v.profile for v in db.scalars(select(VehicleProfile).order_by(VehicleProfile.id))]
 
 
-@router.put("/vehicles/{vehicle_id}", operation_id="putVehicle", **allow(*ADMINS))
+@router.put("/vehicles/{vehicle_id}", operation_id="putVehicle", response_model=VehicleJson,
+            **allow(*ADMINS))
 def put_vehicle(vehicle_id: str, body: Vehicle, principal: CurrentPrincipal,
                 db: Db) -> dict[str, Any]:
     if body.id != vehicle_id:

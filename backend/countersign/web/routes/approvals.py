@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import json
-from datetime import datetime
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Depends, Path, Query, Request
-from pydantic import BaseModel, Field
+from pydantic import Field
 from sqlalchemy import select
 
 from ...approvals import dsse
@@ -32,12 +31,29 @@ from ..deps import (
     TransactionRoute,
     allow,
 )
+from .approval_schemas import (
+    ApprovalDetailOut,
+    ApprovalOut,
+    ApprovalPage,
+    BundleOut,
+    CheckpointOut,
+    ConsistencyProofOut,
+    DecisionOut,
+    InclusionProofOut,
+    KeyOut,
+    LogEntryOut,
+    PreparedOut,
+    ReviewOut,
+    SubmissionOut,
+)
 from .instants import Instant
 from .schemas import RequestBody
 
 router = APIRouter(prefix="/api", tags=["approvals"], route_class=TransactionRoute)
 SUPERVISORS = ("supervisor",)
 KEY_READERS = ("supervisor", "auditor", "admin")
+# Bodies built as dicts: a key the dict leaves out (a finding's `details`) stays out.
+AS_BUILT: dict[str, Any] = {"response_model_exclude_unset": True}
 
 
 def get_signer(request: Request) -> LogSigner:
@@ -60,16 +76,6 @@ class KeyIn(RequestBody):
 class KeyRevokeIn(RequestBody):
     password: str = Field(min_length=1, max_length=1024)
     reason: str = Field(default="", max_length=2000)
-
-
-class KeyOut(BaseModel):
-    key_id: str
-    public_key: str
-    user: str | None
-    name: str
-    status: str
-    created_at: datetime
-    revoked_at: datetime | None
 
 
 class DecisionIn(RequestBody):
@@ -101,51 +107,6 @@ class SubmitIn(RequestBody):
 
 class AttachIn(RequestBody):
     rehearsal: str = Field(pattern=r"^sha256:[0-9a-f]{64}$")
-
-
-class SubmissionOut(BaseModel):
-    id: int
-    mission: str
-    version: int
-    digest: str
-    state: str
-    rehearsal: str | None = None
-    submitted_by: str | None
-    submitted_at: datetime
-    decided_by: str | None
-    decided_at: datetime | None
-    reason: str
-    integrity: list[str] = Field(default_factory=list, description=(
-        "how this row disagrees with the log, which is the source of truth (empty: agrees)"))
-
-
-class ApprovalOut(BaseModel):
-    id: int
-    mission: str
-    version: int
-    digest: str
-    vehicle: str | None
-    decision: str
-    reason: str
-    revokes: int | None
-    operator: str | None
-    supervisor: str | None
-    key_id: str
-    submission: int
-    created_at: datetime
-    log_index: int | None
-    integrity: list[str] = Field(default_factory=list, description=(
-        "how this row disagrees with its log entry, which is the source of truth"))
-
-
-class DecisionOut(ApprovalOut):
-    receipt: str | None = Field(description="the log signer's signed receipt for the "
-                                "decision's log entry (entry hash, index, time)")
-
-
-class ApprovalPage(BaseModel):
-    items: list[ApprovalOut]
-    next_cursor: int | None
 
 
 def _key_out(db: Db, key: SigningKey) -> KeyOut:
@@ -258,7 +219,7 @@ REVIEW_PATHS = 50
 
 
 @router.get("/missions/{mission_id}/versions/{number}/review", operation_id="reviewVersion",
-            **allow(*EVERYONE))
+            response_model=ReviewOut, **AS_BUILT, **allow(*EVERYONE))
 def review_version(mission_id: str, number: RowId, principal: CurrentPrincipal,
                    db: Db) -> dict[str, Any]:
     """What a review shows of one version: its orders, plain-language orders, contingency
@@ -304,7 +265,7 @@ def review_version(mission_id: str, number: RowId, principal: CurrentPrincipal,
 
 
 @router.post("/submissions/{submission_id}/statement", operation_id="prepareDecision",
-             **allow(*SUPERVISORS))
+             response_model=PreparedOut, **allow(*SUPERVISORS))
 def prepare_decision(submission_id: RowId, body: DecisionIn, principal: CurrentPrincipal,
                      db: Db) -> dict[str, Any]:
     """The exact in-toto statement to sign: sign the DSSE PAE bytes (`pae`, base64) with the
@@ -325,7 +286,7 @@ def sign_decision(submission_id: RowId, body: EnvelopeIn, principal: CurrentPrin
 
 
 @router.post("/approvals/{approval_id}/statement", operation_id="prepareRevocation",
-             **allow(*SUPERVISORS))
+             response_model=PreparedOut, **allow(*SUPERVISORS))
 def prepare_revocation(approval_id: RowId, body: RevocationIn, principal: CurrentPrincipal,
                        db: Db) -> dict[str, Any]:
     return service.prepare_revocation(db, approval_id=approval_id, supervisor=principal.user,
@@ -369,7 +330,8 @@ def list_approvals(
     return ApprovalPage(items=items, next_cursor=rows[limit - 1].id if len(rows) > limit else None)
 
 
-@router.get("/approvals/{approval_id}", operation_id="getApproval", **allow(*LOG_READERS))
+@router.get("/approvals/{approval_id}", operation_id="getApproval",
+            response_model=ApprovalDetailOut, **AS_BUILT, **allow(*LOG_READERS))
 def get_approval(approval_id: RowId, db: Db, signer: Signer) -> dict[str, Any]:
     """An approval as signed: envelope, statement, the orders as approved, plain-language
     orders and contingency rules, findings, path summary, the key, and an inclusion proof
@@ -412,14 +374,16 @@ def _cited_rehearsal(db: Db, submission_id: int) -> dict[str, Any] | None:
             "record": row.record}
 
 
-@router.get("/log/checkpoint", operation_id="getCheckpoint", **allow(*EVERYONE))
+@router.get("/log/checkpoint", operation_id="getCheckpoint",
+            response_model=CheckpointOut, **allow(*EVERYONE))
 def get_checkpoint(db: Db, signer: Signer) -> dict[str, Any]:
     """The latest signed checkpoint (tree size and RFC 6962 root), signed anew when the log
     has grown since the last one."""
     return service.checkpoint_json(service.latest_checkpoint(db, signer=signer))
 
 
-@router.get("/log/entries", operation_id="listLogEntries", **allow(*LOG_READERS))
+@router.get("/log/entries", operation_id="listLogEntries",
+            response_model=list[LogEntryOut], **allow(*LOG_READERS))
 def list_log_entries(
     db: Db, start: Annotated[int, Query(ge=0, le=2**62)] = 0,
     limit: Annotated[int, Query(ge=1, le=5000)] = 1000,
@@ -427,7 +391,8 @@ def list_log_entries(
     return service.entries(db, start=start, limit=limit)
 
 
-@router.get("/log/inclusion", operation_id="getInclusionProof", **allow(*LOG_READERS))
+@router.get("/log/inclusion", operation_id="getInclusionProof",
+            response_model=InclusionProofOut, **allow(*LOG_READERS))
 def get_inclusion_proof(
     db: Db, index: Annotated[int, Query(ge=0, le=2**62)],
     size: Annotated[int | None, Query(ge=1, le=2**62)] = None,
@@ -435,7 +400,8 @@ def get_inclusion_proof(
     return service.inclusion_proof(db, index=index, size=size)
 
 
-@router.get("/log/consistency", operation_id="getConsistencyProof", **allow(*LOG_READERS))
+@router.get("/log/consistency", operation_id="getConsistencyProof",
+            response_model=ConsistencyProofOut, **allow(*LOG_READERS))
 def get_consistency_proof(
     db: Db, first: Annotated[int, Query(ge=1, le=2**62)],
     second: Annotated[int | None, Query(ge=1, le=2**62)] = None,
@@ -443,7 +409,8 @@ def get_consistency_proof(
     return service.consistency_proof(db, first=first, second=second)
 
 
-@router.get("/audit/bundle", operation_id="exportBundle", **allow(*LOG_READERS))
+@router.get("/audit/bundle", operation_id="exportBundle",
+            response_model=BundleOut, **AS_BUILT, **allow(*LOG_READERS))
 def export_bundle(db: Db, signer: Signer,
                   mission: Annotated[str | None, Query(max_length=100)] = None
                   ) -> dict[str, Any]:

@@ -12,6 +12,7 @@ from ...store import approvals as service
 from ...store.cosignatures import add_cosignature, cosignature_lines
 from ..deps import EVERYONE, LOG_READERS, Db, TransactionRoute, allow
 from ..log_signer import signer_directory
+from .approval_schemas import CosignatureOut, CosignedCheckpointOut
 from .schemas import RequestBody
 
 router = APIRouter(prefix="/api", tags=["approvals"], route_class=TransactionRoute)
@@ -25,7 +26,7 @@ class CosignatureIn(RequestBody):
 
 
 @router.post("/log/cosignatures", operation_id="addCosignature", status_code=201,
-             **allow(*LOG_READERS))
+             response_model=CosignatureOut, **allow(*LOG_READERS))
 def post_cosignature(body: CosignatureIn, db: Db, request: Request) -> dict[str, Any]:
     """Accept a registered witness's cosignature of a checkpoint the log signed."""
     row = add_cosignature(db, directory=signer_directory(request.app.state.settings),
@@ -33,7 +34,8 @@ def post_cosignature(body: CosignatureIn, db: Db, request: Request) -> dict[str,
     return {"size": row.tree_size, "witness": row.witness, "cosignature": row.line}
 
 
-@router.get("/log/cosigned", operation_id="getCosignedCheckpoint", **allow(*EVERYONE))
+@router.get("/log/cosigned", operation_id="getCosignedCheckpoint",
+            response_model=CosignedCheckpointOut, **allow(*EVERYONE))
 def get_cosigned(db: Db, request: Request) -> dict[str, Any]:
     """The latest checkpoint with the witnesses' cosignature lines appended to its note."""
     row = service.latest_checkpoint(db, signer=request.app.state.database.log_signer)

@@ -45,6 +45,7 @@ from .schemas import (
     MissionPage,
     MissionPathOut,
     MissionSummary,
+    OrdersJson,
     PathPage,
     ReportOut,
     RequestBody,
@@ -218,7 +219,7 @@ def _import(db: DbSession, data: bytes, response: Response,
 class ReadOrdersOut(BaseModel):
     """Orders read from a file without storing anything, with what reading them found."""
 
-    orders: dict[str, Any]
+    orders: OrdersJson
     findings: list[dict[str, Any]] = []
 
 
@@ -251,7 +252,7 @@ def list_examples() -> list[ExampleOut]:
     return items
 
 
-@router.get("/examples/{name}", operation_id="getExample", response_model=dict[str, Any],
+@router.get("/examples/{name}", operation_id="getExample", response_model=OrdersJson,
             **allow(*EVERYONE))
 def get_example(name: Annotated[str, Path(max_length=100)]) -> dict[str, Any]:
     if name not in example_names():

@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import Annotated, Any
 
 from fastapi import APIRouter, HTTPException, Request
-from pydantic import Field
+from pydantic import BaseModel, Field
 
 from ...orders.canonical import orders_to_json
 from ...orders.reader import orders_from_data
@@ -16,7 +16,7 @@ from ...plan.solver import PlanTimeout, PlanTooLarge, solve
 from ...store import missions as service
 from ..deps import EVERYONE, OPERATORS, CurrentPrincipal, Db, TransactionRoute, allow
 from ..fair import PlanSlots, user_key, with_limit
-from .schemas import RequestBody
+from .schemas import Number, OrdersJson, PlanProblemJson, RequestBody
 
 router = APIRouter(prefix="/api", tags=["planning"], route_class=TransactionRoute)
 # A web request must not hold a worker for minutes; the command line allows longer runs.
@@ -43,8 +43,25 @@ class ProblemFromMission(RequestBody):
     level: int = Field(default=2, ge=1, le=2)
 
 
+class PlanOut(BaseModel):
+    """The best plan (`feasible`) or why there is none (`conflict`, `message`); a feasible
+    plan carries its draft `orders`."""
+
+    feasible: bool
+    conflict: list[str] | None = None
+    message: str | None = None
+    reward: Number | None = None
+    energy_wh: Number | None = None
+    value: Number | None = None
+    limit_wh: Number | None = None
+    order: list[str] | None = None
+    passes: dict[str, int] | None = None
+    legs_wh: list[Number] | None = None
+    orders: OrdersJson | None = None
+
+
 @router.post("/missions/{mission_id}/plan-problem", operation_id="planProblemFromMission",
-             **with_limit(allow(*OPERATORS), "plan"))
+             response_model=PlanProblemJson, **with_limit(allow(*OPERATORS), "plan"))
 def plan_problem(mission_id: str, body: ProblemFromMission, db: Db) -> dict[str, Any]:
     """The countersign.plan/1 problem for the mission's areas and vehicle (lawn-mower passes)."""
     orders = orders_from_data(service.get_mission(db, mission_id).draft)
@@ -58,7 +75,8 @@ def plan_problem(mission_id: str, body: ProblemFromMission, db: Db) -> dict[str,
     return problem.model_dump(mode="json", exclude_none=True)
 
 
-@router.post("/plan", operation_id="solvePlan", **with_limit(allow(*EVERYONE), "plan"))
+@router.post("/plan", operation_id="solvePlan", response_model=PlanOut,
+             response_model_exclude_unset=True, **with_limit(allow(*EVERYONE), "plan"))
 def solve_plan(body: dict[str, Any], request: Request,
                principal: CurrentPrincipal) -> dict[str, Any]:
     """The best plan (reward, then energy) and its draft orders, or a minimal conflict."""

@@ -3,11 +3,43 @@
 from __future__ import annotations
 
 from datetime import datetime
-from typing import Any
+from typing import Annotated, Any
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, GetCoreSchemaHandler, GetJsonSchemaHandler
+from pydantic.json_schema import JsonSchemaValue
+from pydantic_core import CoreSchema
+from pydantic_core import core_schema as cs
 
+from ...orders.model import Orders, Vehicle
+from ...plan.model import PlanProblem
 from ...store.tables import Event, Mission, MissionVersion, User
+
+
+class SchemaOf:
+    """A JSON object passed through untouched (stored orders keep their exact bytes, ints stay
+    ints) but documented in OpenAPI by `model`'s schema, so the front end's types come from the
+    Pydantic model rather than a hand-written copy."""
+
+    def __init__(self, model: type[BaseModel]) -> None:
+        self.model = model
+
+    def __get_pydantic_core_schema__(self, source: Any, handler: GetCoreSchemaHandler
+                                     ) -> CoreSchema:
+        return cs.dict_schema(keys_schema=cs.str_schema(), values_schema=cs.any_schema())
+
+    def __get_pydantic_json_schema__(self, schema: CoreSchema, handler: GetJsonSchemaHandler
+                                     ) -> JsonSchemaValue:
+        # A bare $ref would be resolved and inlined by pydantic; as a list item it stays a
+        # named component, and allOf keeps it one.
+        item = handler(cs.list_schema(self.model.__pydantic_core_schema__))["items"]
+        return {"allOf": [item]}
+
+
+OrdersJson = Annotated[dict[str, Any], SchemaOf(Orders)]
+VehicleJson = Annotated[dict[str, Any], SchemaOf(Vehicle)]
+PlanProblemJson = Annotated[dict[str, Any], SchemaOf(PlanProblem)]
+# Numbers as the server computed them: an int stays an int (a `float` field would add ".0").
+Number = int | float
 
 
 class RequestBody(BaseModel):
@@ -34,7 +66,7 @@ class VersionOut(BaseModel):
     digest: str
     author: str
     created_at: datetime
-    orders: dict[str, Any] | None = None
+    orders: OrdersJson | None = None
 
 
 class FindingOut(BaseModel):
@@ -105,7 +137,7 @@ class MissionSummary(BaseModel):
 
 
 class MissionDetail(MissionSummary):
-    orders: dict[str, Any]
+    orders: OrdersJson
     layout: dict[str, Any]
     versions: list[VersionOut]
     import_findings: list[dict[str, Any]] = []

@@ -15,7 +15,7 @@ import { type Check, verifyApproval } from "../../crypto/verify";
 import { formatDateTime, shortDigest } from "../../format";
 import { useSession } from "../../session";
 import { useLoad } from "../../useLoad";
-import { type ApprovalDetail, approvalHref, bundleHref, loadApproval, loadEntries, loadMissionApprovals, type Prepared, reviewHref } from "./api";
+import { type ApprovalDetail, approvalHref, bundleHref, loadApproval, loadEntries, loadMissionApprovals, reviewHref } from "./api";
 import { LogKeyPanel, useLogKeyPin } from "./LogKeyPin";
 import { OrdersGraph } from "./OrdersGraph";
 import { FindingsTable, IntegrityWarning, PathSummaryTable, RulesSection, StateBadge } from "./parts";
@@ -231,7 +231,7 @@ function RevokeForm({ record, onRevoked, username }: { record: ApprovalDetail; o
           params: { path: { approval_id: record.id } },
           body: { reason, key_id: key.keyId },
         }),
-      ) as unknown as Prepared;
+      );
       const envelope = await signPrepared(prepared, key, { digest: record.digest, decision: "revoked" });
       const stored = unwrap(
         await api.POST("/api/approvals/{approval_id}/revoke", { params: { path: { approval_id: record.id } }, body: { envelope, password } }),

@@ -13,7 +13,7 @@ import { formatDateTime, shortDigest } from "../../format";
 import { missionHref } from "../../router";
 import { useSession } from "../../session";
 import { useLoad } from "../../useLoad";
-import { type ApprovalSummary, approvalHref, loadReview, type Prepared, type Review } from "./api";
+import { type ApprovalSummary, approvalHref, loadReview, type Review } from "./api";
 import { describeDiff, diffOrders } from "./diff";
 import { OrdersGraph } from "./OrdersGraph";
 import { DiffView, FindingsTable, IntegrityWarning, PathList, PathSummaryTable, RulesSection, StateBadge } from "./parts";
@@ -169,7 +169,7 @@ function DecisionForm({ review, onDecided, username }: { review: Review; onDecid
           params: { path: { submission_id: submission.id } },
           body: { decision, reason, key_id: selected.keyId },
         }),
-      ) as unknown as Prepared;
+      );
       const envelope = await signPrepared(prepared, selected, { digest: review.digest, decision, submission: submission.id });
       const stored = unwrap(
         await api.POST("/api/submissions/{submission_id}/decision", {

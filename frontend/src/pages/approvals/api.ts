@@ -1,80 +1,30 @@
 /** Types and calls of the approvals API (docs/api.md, "Approvals and audit") for these pages. */
-import { api, type Finding, type MissionPath, unwrap } from "../../api/client";
-import type { components } from "../../api/schema";
-import type { ApprovalRecord, LogEntryRow } from "../../crypto/verify";
+import { api, type Schema, unwrap } from "../../api/client";
+import type { LogEntryRow } from "../../crypto/verify";
 
-export type Submission = components["schemas"]["SubmissionOut"];
-export type Key = components["schemas"]["KeyOut"];
-export type ApprovalSummary = components["schemas"]["ApprovalOut"];
-export type ApprovalPage = components["schemas"]["ApprovalPage"];
+export type Submission = Schema<"SubmissionOut">;
+export type Key = Schema<"KeyOut">;
+export type ApprovalSummary = Schema<"ApprovalOut">;
+export type ApprovalPage = Schema<"ApprovalPage">;
 
-export interface PathSummary {
-  count: number;
-  by_terminal: Record<string, number>;
-}
-
+export type PathSummary = Schema<"PathCountsOut">;
 /** GET /api/missions/{id}/versions/{number}/review */
-export interface Review {
-  mission: string;
-  version: number;
-  digest: string;
-  author: string | null;
-  created_at: string;
-  orders: Record<string, unknown>;
-  plain: string;
-  /** The contingency rules, one plain-language sentence each ([] when none or unreadable). */
-  rules: string[];
-  ok: boolean;
-  findings: Finding[];
-  paths: PathSummary | null;
-  path_items: MissionPath[];
-  submissions: Submission[];
-  previous: { version: number; digest: string; approval: number; state: string; orders: Record<string, unknown> } | null;
-  may_submit: boolean;
-  submit_refusal: string | null;
-  may_decide: boolean;
-  decide_refusal: string | null;
-}
-
+export type Review = Schema<"ReviewOut">;
 /** GET /api/approvals/{id} */
-export interface ApprovalDetail extends ApprovalRecord {
-  /** How the row disagrees with its log entry (empty: agrees). */
-  integrity?: string[];
-  vehicle: string | null;
-  reason: string;
-  revokes: number | null;
-  operator: string | null;
-  supervisor: string | null;
-  key_id: string;
-  submission: number;
-  created_at: string;
-  statement: { predicate?: Record<string, unknown>; subject?: { name?: string }[] };
-  plain: string;
-  rules: string[];
-  findings: Finding[];
-  paths: PathSummary | null;
-  rehearsal: unknown;
-  key: ApprovalRecord["key"] & { name: string; status: string; created_at: string; revoked_at: string | null };
-}
-
+export type ApprovalDetail = Schema<"ApprovalDetailOut">;
 /** The server's prepared statement: sign `pae` (which must equal PAE(payloadType, payload)). */
-export interface Prepared {
-  payloadType: string;
-  payload: string;
-  pae: string;
-  statement: { subject?: { name?: string; digest?: Record<string, string> }[]; predicate?: Record<string, unknown> };
-}
+export type Prepared = Schema<"PreparedOut">;
 
 export async function loadReview(mission: string, version: number): Promise<Review> {
   const result = await api.GET("/api/missions/{mission_id}/versions/{number}/review", {
     params: { path: { mission_id: mission, number: version } },
   });
-  return unwrap(result) as unknown as Review;
+  return unwrap(result);
 }
 
 export async function loadApproval(id: number): Promise<ApprovalDetail> {
   const result = await api.GET("/api/approvals/{approval_id}", { params: { path: { approval_id: id } } });
-  return unwrap(result) as unknown as ApprovalDetail;
+  return unwrap(result);
 }
 
 /** Every approval record the server lists for a mission (pages of 500), for the browser
@@ -85,7 +35,7 @@ export async function loadMissionApprovals(mission: string): Promise<ApprovalSum
   do {
     const query: { mission: string; limit: number; cursor?: number } = { mission, limit: 500 };
     if (cursor) query.cursor = cursor;
-    const page = unwrap(await api.GET("/api/approvals", { params: { query } })) as ApprovalPage;
+    const page = unwrap(await api.GET("/api/approvals", { params: { query } }));
     rows.push(...page.items);
     cursor = page.next_cursor;
   } while (cursor);
@@ -98,7 +48,7 @@ export async function loadEntries(size: number): Promise<LogEntryRow[]> {
   while (rows.length < size) {
     const limit = Math.min(5000, size - rows.length);
     const result = await api.GET("/api/log/entries", { params: { query: { start: rows.length, limit } } });
-    const page = unwrap(result) as unknown as LogEntryRow[];
+    const page: LogEntryRow[] = unwrap(result);
     if (page.length === 0) break;
     rows.push(...page);
   }

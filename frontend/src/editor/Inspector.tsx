@@ -1,0 +1,291 @@
+/** The editor's side panels: findings, the goal inspector and the constraints panel. */
+import { memo, useMemo, useState } from "react";
+
+import type { Finding } from "../api/client";
+import {
+  addConstraint,
+  deleteConstraint,
+  envelopeToText,
+  type GoalSpec,
+  goals,
+  markersBySubject,
+  type Orders,
+  OUTCOME_LABEL,
+  OUTCOME_LETTER,
+  OUTCOMES,
+  parseEnvelope,
+  setSuccessor,
+  startIds,
+  terminals,
+  toggleScope,
+  updateConstraint,
+  updateGoal,
+} from "./graph";
+import { knownQuantities } from "./expr";
+import { ExprField, CommitField } from "./fields";
+import { paramsToText, parseParams } from "./model";
+
+export type EditOrders = (change: (o: Orders) => Orders, group?: string) => void;
+
+/** Findings listed before "Show all": a long list (one per unreachable goal) renders late. */
+const FINDINGS_SHOWN = 50;
+
+/** The editor's findings, each a button that selects its subjects; memoised, so that the
+ * renders that follow an edit (nodes, selection) do not rebuild a long list. */
+export const FindingsList = memo(function FindingsList({ findings, onPick }: { findings: Finding[]; onPick: (f: Finding) => void }) {
+  const [all, setAll] = useState(false);
+  const shown = all ? findings : findings.slice(0, FINDINGS_SHOWN);
+  return (
+    <>
+      <ul className="editor-findings" data-testid="editor-findings">
+        {shown.map((f, i) => (
+          <li key={`${f.code}-${i}`}>
+            <button type="button" className={`finding finding-${f.severity}`} onClick={() => onPick(f)}>
+              <code>{f.code}</code> {f.severity}: {f.message}
+              {f.subjects.length > 0 && <span className="hint"> ({f.subjects.join(", ")})</span>}
+            </button>
+          </li>
+        ))}
+      </ul>
+      {shown.length < findings.length && (
+        <button type="button" onClick={() => setAll(true)} data-testid="findings-show-all">
+          Show all {findings.length} findings
+        </button>
+      )}
+    </>
+  );
+});
+
+export const GoalInspector = memo(function GoalInspector({
+  goal,
+  orders,
+  editOrders,
+  titleRef,
+  markers,
+  findings,
+}: {
+  goal: GoalSpec;
+  orders: Orders;
+  editOrders: EditOrders;
+  titleRef: React.RefObject<HTMLInputElement | null>;
+  markers: ReturnType<typeof markersBySubject>;
+  findings: Finding[];
+}) {
+  const id = goal.id;
+  const set = (patch: Partial<GoalSpec>, group?: string) => editOrders((o) => updateGoal(o, id, patch), group);
+  const vehicle = ((orders.vehicles as { id: string; behaviors?: string[] }[] | undefined) ?? []).find((v) => v.id === orders.vehicle);
+  const areas = ((orders.areas as { id: string; title?: string }[] | undefined) ?? []);
+  const targets = [...goals(orders).map((g) => g.id), ...terminals(orders).map((t) => t.id)];
+  const [requires, setRequires] = useState((goal.requires ?? []).join(", "));
+  const [envelope, setEnvelope] = useState(envelopeToText(goal.envelope));
+  const [envelopeError, setEnvelopeError] = useState("");
+  const mark = markers.get(id);
+  const costValue = (key: "energy_wh" | "duration_s") => goal.cost?.[key] ?? "";
+  const setCost = (key: "energy_wh" | "duration_s", text: string) => {
+    const cost = { ...(goal.cost ?? {}) };
+    if (text === "") delete cost[key];
+    else cost[key] = Number(text);
+    set({ cost: Object.keys(cost).length > 0 ? cost : undefined }, `g:${id}:cost:${key}`);
+  };
+  return (
+    <fieldset className="inspector">
+      <legend>
+        Goal <code>{id}</code>
+      </legend>
+      {mark && (
+        <p className={`message ${mark.severity === "error" ? "error" : ""}`}>Findings: {mark.codes.join(", ")}</p>
+      )}
+      <label htmlFor="goal-title">Title</label>
+      <input id="goal-title" ref={titleRef} value={goal.title ?? ""} onChange={(e) => set({ title: e.target.value }, `g:${id}:title`)} />
+      <label className="check">
+        <input
+          type="checkbox"
+          checked={startIds(orders).includes(id)}
+          onChange={(e) => editOrders((o) => ({ ...o, start: e.target.checked ? id : null }))}
+        />{" "}
+        Start goal
+      </label>
+      <label htmlFor="goal-behavior">Behaviour</label>
+      <input
+        id="goal-behavior"
+        list="behaviour-options"
+        value={goal.behavior ?? ""}
+        onChange={(e) => set({ behavior: e.target.value || undefined }, `g:${id}:behavior`)}
+      />
+      <datalist id="behaviour-options">
+        {(vehicle?.behaviors ?? ["area_search", "sample", "rendezvous", "transit", "recover"]).map((b) => (
+          <option key={b} value={b} />
+        ))}
+      </datalist>
+      <label htmlFor="goal-area">Area</label>
+      <select id="goal-area" value={goal.area ?? ""} onChange={(e) => set({ area: e.target.value || undefined })}>
+        <option value="">— none —</option>
+        {goal.area && !areas.some((a) => a.id === goal.area) && <option value={goal.area}>{goal.area} (unknown)</option>}
+        {areas.map((a) => (
+          <option key={a.id} value={a.id}>
+            {a.title ? `${a.id}: ${a.title}` : a.id}
+          </option>
+        ))}
+      </select>
+      <label htmlFor="goal-requires">Requires (comma-separated)</label>
+      <input
+        id="goal-requires"
+        value={requires}
+        onChange={(e) => setRequires(e.target.value)}
+        onBlur={() => {
+          const list = requires.split(",").map((s) => s.trim()).filter(Boolean);
+          if (list.join(",") !== (goal.requires ?? []).join(",")) set({ requires: list.length > 0 ? list : undefined });
+        }}
+      />
+      <FieldFindings findings={findings} subject={id} codes={["M7"]} />
+      <label htmlFor="goal-envelope">Envelope (one "quantity min max" per line)</label>
+      <textarea
+        id="goal-envelope"
+        rows={2}
+        value={envelope}
+        aria-invalid={!!envelopeError}
+        aria-describedby="goal-envelope-error"
+        onChange={(e) => setEnvelope(e.target.value)}
+        onBlur={() => {
+          const parsed = parseEnvelope(envelope);
+          setEnvelopeError(parsed.error ?? "");
+          if (parsed.envelope && envelopeToText(parsed.envelope) !== envelopeToText(goal.envelope)) {
+            set({ envelope: Object.keys(parsed.envelope).length > 0 ? parsed.envelope : undefined });
+          }
+        }}
+      />
+      <span id="goal-envelope-error" className="field-error">
+        {envelopeError}
+      </span>
+      <FieldFindings findings={findings} subject={id} codes={["CONTRADICTION"]} />
+      <CommitField
+        id="goal-params"
+        label='Parameters (one "name value" per line)'
+        multiline
+        value={paramsToText(goal.params)}
+        onCommit={(text) => {
+          const parsed = parseParams(text);
+          if (parsed.error) return parsed.error;
+          set({ params: parsed.params && Object.keys(parsed.params).length > 0 ? parsed.params : undefined });
+        }}
+      />
+      <div className="pair">
+        <span>
+          <label htmlFor="goal-energy">Energy (Wh)</label>
+          <input id="goal-energy" type="number" min={0} value={costValue("energy_wh")} onChange={(e) => setCost("energy_wh", e.target.value)} />
+        </span>
+        <span>
+          <label htmlFor="goal-duration">Duration (s)</label>
+          <input id="goal-duration" type="number" min={0} value={costValue("duration_s")} onChange={(e) => setCost("duration_s", e.target.value)} />
+        </span>
+      </div>
+      <FieldFindings findings={findings} subject={id} codes={["BUDGET", "NORM"]} />
+      <FieldFindings findings={findings} subject={id} codes={["SINK", "G3", "G5", "G7"]} />
+      {OUTCOMES.map((o) => {
+        const current = goal.next?.[o];
+        const value = typeof current === "string" ? current : "";
+        return (
+          <div key={o}>
+            <label htmlFor={`goal-next-${o}`}>
+              <span className={`outcome-letter outcome-${o}`}>{OUTCOME_LETTER[o]}</span> {OUTCOME_LABEL[o]} → next
+            </label>
+            <select id={`goal-next-${o}`} value={value} onChange={(e) => editOrders((x) => setSuccessor(x, id, o, e.target.value || null))}>
+              <option value="">— none —</option>
+              {value && !targets.includes(value) && <option value={value}>{value} (unknown)</option>}
+              {targets.map((t) => (
+                <option key={t} value={t}>
+                  {t}
+                </option>
+              ))}
+            </select>
+          </div>
+        );
+      })}
+    </fieldset>
+  );
+});
+
+export function ConstraintsPanel({
+  orders,
+  editOrders,
+  markers,
+  findings,
+}: {
+  orders: Orders;
+  editOrders: EditOrders;
+  markers: ReturnType<typeof markersBySubject>;
+  findings: Finding[];
+}) {
+  const list = orders.constraints ?? [];
+  const known = useMemo(() => knownQuantities(orders), [orders]);
+  return (
+    <section aria-labelledby="constraints-title">
+      <h3 id="constraints-title">Constraints</h3>
+      {list.length === 0 && <p className="empty">No constraints.</p>}
+      {list.map((c) => {
+        const mark = markers.get(c.id);
+        const whole = c.applies_to === undefined || c.applies_to === "mission";
+        return (
+          <fieldset key={c.id} className="constraint">
+            <legend>
+              Constraint <code>{c.id}</code> {mark && <span className={`badge ${mark.severity === "error" ? "bad" : "warn"}`}>{mark.codes.join(" ")}</span>}
+            </legend>
+            <label htmlFor={`c-${c.id}-text`}>{`${c.id} text`}</label>
+            <input id={`c-${c.id}-text`} value={c.text ?? ""} onChange={(e) => editOrders((o) => updateConstraint(o, c.id, { text: e.target.value }), `c:${c.id}:text`)} />
+            <ExprField
+              id={`c-${c.id}-expr`}
+              label={`${c.id} expression`}
+              value={c.expr ?? ""}
+              known={known}
+              onChange={(text) => editOrders((o) => updateConstraint(o, c.id, { expr: text }), `c:${c.id}:expr`)}
+            />
+            <FieldFindings findings={findings} subject={c.id} codes={null} />
+            <div role="group" aria-label={`Scope of ${c.id}`} className="scope">
+              <label className="check">
+                <input
+                  type="checkbox"
+                  checked={whole}
+                  onChange={(e) => editOrders((o) => updateConstraint(o, c.id, { applies_to: e.target.checked ? "mission" : [] }))}
+                />{" "}
+                {c.id} applies to the whole mission
+              </label>
+              {!whole &&
+                goals(orders).map((g) => (
+                  <label key={g.id} className="check">
+                    <input
+                      type="checkbox"
+                      checked={Array.isArray(c.applies_to) && c.applies_to.includes(g.id)}
+                      onChange={() => editOrders((o) => toggleScope(o, c.id, g.id))}
+                    />{" "}
+                    <span className="visually-hidden">{c.id} applies to </span>
+                    {g.id}
+                  </label>
+                ))}
+            </div>
+            <button type="button" className="danger" onClick={() => editOrders((o) => deleteConstraint(o, c.id))}>
+              Delete constraint {c.id}
+            </button>
+          </fieldset>
+        );
+      })}
+      <button type="button" onClick={() => editOrders((o) => addConstraint(o).orders)} data-testid="add-constraint">
+        Add constraint
+      </button>
+    </section>
+  );
+}
+
+/** Findings about one subject, shown beside the inspector field they concern (codes null: all). */
+export function FieldFindings({ findings, subject, codes }: { findings: Finding[]; subject: string; codes: string[] | null }) {
+  const mine = findings.filter((f) => f.subjects.includes(subject) && (codes === null || codes.includes(f.code)));
+  if (mine.length === 0) return null;
+  return (
+    <ul className="field-findings" data-testid={`field-findings-${subject}`}>
+      {mine.map((f, i) => (
+        <li key={i} className={`finding-${f.severity}`}>
+          {f.severity === "error" ? "✖" : "⚠"} <code>{f.code}</code> {f.message}
+        </li>
+      ))}
+    </ul>
+  );
+}
