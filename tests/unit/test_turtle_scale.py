@@ -5,8 +5,9 @@ from __future__ import annotations
 import pytest
 
 from countersign.orders import turtle
+from countersign.orders.model import Orders
 from countersign.orders.reader import OrdersReadError
-from countersign.orders.turtle import read_turtle
+from countersign.orders.turtle import read_turtle, write_turtle
 
 HEAD = (b"@prefix cs: <https://countersign.example/ontology/orders#> .\n"
         b"@prefix meo: <https://countersign.example/ontology/meo#> .\n"
@@ -49,3 +50,15 @@ def test_nested_shared_lists_are_refused_after_linear_work(
 def test_shallow_shared_lists_are_still_read() -> None:
     orders = read_turtle(shared_lists(3)).orders
     assert orders.id == "m"
+
+
+def test_literals_with_every_line_separator_and_escape_read_back() -> None:
+    # The Turtle reader splits Oxigraph's N-Triples at "\n" only; these characters are line
+    # boundaries for str.splitlines() and are written unescaped inside literals.
+    tricky = 'a\u2028b\x85c\x0bd\x1ce\u2029f "quoted" back\\slash\ttab\nnewline \U0001F600'
+    orders = Orders.model_validate({
+        "id": "tricky", "title": tricky, "description": tricky, "start": "G1",
+        "goals": [{"id": "G1", "title": tricky,
+                   "next": {"succeed": "COMPLETE", "fail": "ABORT", "violate": "ABORT"}}],
+    })
+    assert read_turtle(write_turtle(orders).encode()).orders == orders

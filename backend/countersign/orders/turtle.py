@@ -37,6 +37,8 @@ measures every one of them.
 
 from __future__ import annotations
 
+import functools
+import itertools
 import re
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
@@ -55,6 +57,7 @@ from .canonical import orders_to_json
 from .expressions import expression_quantities
 from .findings import Finding, error
 from .model import Orders
+from .rdf_index import TripleIndex, TurtleSyntaxError, parse_turtle
 from .reader import OrdersReadError, Problem, ReadResult, problems_from_validation
 from .turtle_writer import TripleSet, serialize_turtle
 
@@ -296,7 +299,7 @@ def _element_nodes(
                 else iris.element(kind, item_id)
             )
         else:
-            node = BNode()
+            node = _blank()
         for key, value in item.items():
             if kind == "vehicle" and key == "features" and isinstance(value, list):
                 inner = iris if named else None
@@ -311,12 +314,38 @@ def _element_nodes(
 
 def _field(graph: Graph, node: Node, key: str, value: Any) -> None:
     if _NAME.fullmatch(key) and key not in _RESERVED:
-        graph.add((node, CS[key], _encode(graph, value)))
+        graph.add((node, _record_property(key), _encode(graph, value)))
     else:
-        entry = BNode()
-        graph.add((node, CS.extra, entry))
-        graph.add((entry, CS.key, Literal(key)))
-        graph.add((entry, CS.value, _encode(graph, value)))
+        entry = _blank()
+        graph.add((node, _EXTRA, entry))
+        graph.add((entry, _KEY, _literal("str", key)))
+        graph.add((entry, _VALUE, _encode(graph, value)))
+
+
+@functools.lru_cache(maxsize=1024)
+def _record_property(key: str) -> URIRef:
+    return CS[key]
+
+
+# Short values (keys, ids, outcome names) repeat; long texts are not kept alive by the cache.
+_CACHED_TEXT: Final = 64
+
+
+@functools.lru_cache(maxsize=65536)
+def _literal(kind: str, value: Any) -> Literal:
+    """One Literal per distinct (type, value): a record repeats its keys and ids thousands of
+    times, and rdflib's Literal constructor is the writer's largest cost. `kind` keeps True
+    and 1 apart."""
+    return Literal(value)
+
+
+_BLANK_LABELS: Final = itertools.count()
+
+
+def _blank() -> BNode:
+    # rdflib's BNode() draws a uuid4 each time; a counter is unique within the process and
+    # costs a tenth (labels are renumbered by the Turtle writer anyway).
+    return BNode(f"csr{next(_BLANK_LABELS)}")
 
 
 _NAME: Final = re.compile(r"[a-z][a-z0-9_]*")
@@ -328,37 +357,35 @@ def _list(graph: Graph, nodes: list[Node]) -> Node:
         return RDF.nil
     # The rdf:first/rdf:rest cells written directly (rdflib's Collection reads the graph back
     # at every append, which made long lists quadratic).
-    head = cell = BNode()
+    head = cell = _blank()
     for index, item in enumerate(nodes):
-        graph.add((cell, RDF.first, item))
-        following: Node = BNode() if index + 1 < len(nodes) else RDF.nil
-        graph.add((cell, RDF.rest, following))
+        graph.add((cell, _FIRST, item))
+        following: Node = _blank() if index + 1 < len(nodes) else _NIL
+        graph.add((cell, _REST, following))
         cell = following  # type: ignore[assignment]
     return head
 
 
 def _encode(graph: Graph, value: Any) -> Node:
     if value is None:
-        return CS.null
-    if isinstance(value, bool):
+        return _NULL
+    if isinstance(value, str) and len(value) > _CACHED_TEXT:
         return Literal(value)
-    if isinstance(value, int):
-        return Literal(value)
+    if isinstance(value, bool | int | str):
+        return _literal(type(value).__name__, value)
     if isinstance(value, float):
         # xsd:decimal keeps every digit through rdflib's Turtle writer (xsd:double does not).
         return Literal(format(Decimal(repr(value)), "f"), datatype=XSD.decimal)
-    if isinstance(value, str):
-        return Literal(value)
     if isinstance(value, list):
         return _list(graph, [_encode(graph, item) for item in value])
     if isinstance(value, dict):
-        node = BNode()
-        graph.add((node, RDF.type, CS.Map))
+        node = _blank()
+        graph.add((node, _TYPE, _MAP))
         for key, item in value.items():
-            entry = BNode()
-            graph.add((node, CS.entry, entry))
-            graph.add((entry, CS.key, Literal(key)))
-            graph.add((entry, CS.value, _encode(graph, item)))
+            entry = _blank()
+            graph.add((node, _ENTRY, entry))
+            graph.add((entry, _KEY, _literal("str", key)))
+            graph.add((entry, _VALUE, _encode(graph, item)))
         return node
     raise TypeError(f"cannot encode {type(value).__name__} in RDF")
 
@@ -467,49 +494,57 @@ def read_turtle(data: bytes, name: str = "<input>") -> ReadResult:
         raise OrdersReadError([Problem("$", f"{name} is nested too deeply")]) from None
 
 
-def _read(graph: Graph, renamed: bool, name: str) -> ReadResult:
+def _read(graph: TripleIndex, renamed: bool, name: str) -> ReadResult:
     findings = typing_findings(graph)
     result = _Reader(graph, renamed, name).read()
     return ReadResult(result.orders, findings + result.findings, "turtle")
 
 
-def _parse(data: bytes, name: str) -> Graph:
+def _parse(data: bytes, name: str) -> TripleIndex:
     try:
-        text = data.decode("utf-8-sig")
+        data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise OrdersReadError([Problem("$", f"not UTF-8 text (byte {exc.start})")]) from None
-    graph = Graph()
     try:
-        graph.parse(data=text, format="turtle")
-    except Exception as exc:  # rdflib raises many kinds (BadSyntax, ValueError, ...)
-        raise OrdersReadError([Problem("$", _syntax_message(exc, text))]) from None
+        graph = parse_turtle(data.removeprefix(b"\xef\xbb\xbf"))
+    except TurtleSyntaxError as exc:
+        where = f" at line {exc.line}" if exc.line is not None else ""
+        raise OrdersReadError([Problem("$", f"invalid Turtle{where}: {exc.reason}")]) from None
     if len(graph) == 0:
         raise OrdersReadError([Problem("$", f"{name} holds no RDF statements")])
     return graph
 
 
-def _syntax_message(exc: Exception, text: str) -> str:
-    lines = getattr(exc, "lines", None)
-    reason = getattr(exc, "_why", None) or str(exc).splitlines()[0][:200]
-    if isinstance(lines, int):
-        return f"invalid Turtle at line {lines + 1}: {reason}"
-    return f"invalid Turtle: {reason}"
-
-
-def _align(graph: Graph) -> bool:
+def _align(graph: TripleIndex) -> bool:
     """Rename NPS terms to meo: in place; True when any NPS term was found."""
     mapping = {theirs: ours for ours, theirs in _equivalences()}
-    found = False
-    for s, p, o in list(graph):
-        new_p = mapping.get(p, p)
-        new_o = mapping.get(o, o) if p == RDF.type else o
-        if new_p != p or new_o != o:
-            found = True
-            graph.remove((s, p, o))
-            graph.add((s, new_p, new_o))
-    return found
+    renamed: list[tuple[tuple[Node, Node, Node], tuple[Node, Node, Node]]] = []
+    for theirs, ours in mapping.items():
+        renamed.extend(((s, p, o), (s, ours, o)) for s, p, o in graph.triples((None, theirs, None)))
+    for s, p, o in list(graph.triples((None, RDF.type, None))):
+        if o in mapping:
+            renamed.append(((s, p, o), (s, p, mapping[o])))
+    for old, new in renamed:
+        graph.remove(old)
+        graph.add(new)
+    return bool(renamed)
 
 
+# Terms the record decoder compares at every value, looked up once (rdflib namespaces resolve
+# attributes on every access).
+_NULL: Final = CS.null
+_NIL: Final = RDF.nil
+_FIRST: Final = RDF.first
+_REST: Final = RDF.rest
+_TYPE: Final = RDF.type
+_MAP: Final = CS.Map
+_KEY: Final = CS.key
+_VALUE: Final = CS.value
+_EXTRA: Final = CS.extra
+_ENTRY: Final = CS.entry
+_FLOAT_TYPES: Final = frozenset({XSD.double, XSD.decimal, XSD.float})
+_INT_TYPES: Final = frozenset({XSD.integer, XSD.int, XSD.long})
+_BOOLEAN: Final = XSD.boolean
 _NATURAL: Final = re.compile(r"(\d+)")
 MAX_DEPTH: Final = 64
 MAX_LIST_ITEMS: Final = 200_000
@@ -525,7 +560,7 @@ def natural_key(text: str) -> tuple[Any, ...]:
 
 @dataclass
 class _Reader:
-    graph: Graph
+    graph: TripleIndex
     aligned: bool  # the input used NPS names (renamed to meo:)
     name: str
     findings: list[Finding] = field(default_factory=list)
@@ -551,22 +586,23 @@ class _Reader:
             raise OrdersReadError(
                 [Problem("$", f"{self.name} nests values more than {MAX_DEPTH} levels deep")]
             )
-        if node == CS.null:
-            return None
         if isinstance(node, Literal):
-            if node.datatype in (XSD.double, XSD.decimal, XSD.float):
+            datatype = node.datatype
+            if datatype in _FLOAT_TYPES:
                 return float(str(node))
-            if node.datatype in (XSD.integer, XSD.int, XSD.long):
+            if datatype in _INT_TYPES:
                 return int(str(node))
-            if node.datatype == XSD.boolean:
+            if datatype == _BOOLEAN:
                 return str(node).strip().lower() in ("true", "1")
             return str(node)
-        if node == RDF.nil or (node, RDF.first, None) in graph:
+        if node == _NULL:
+            return None
+        if node == _NIL or graph.value(node, _FIRST) is not None:
             return [self.decode(item, depth + 1) for item in self.items(node)]
-        if (node, RDF.type, CS.Map) in graph:
+        if (node, _TYPE, _MAP) in graph:
             return {
-                str(graph.value(entry, CS.key)): self.decode(_value(graph, entry), depth + 1)
-                for entry in graph.objects(node, CS.entry)
+                str(graph.value(entry, _KEY)): self.decode(_value(graph, entry), depth + 1)
+                for entry in graph.objects(node, _ENTRY)
             }
         return str(node)
 
@@ -606,11 +642,11 @@ class _Reader:
                     [Problem("$", f"{self.name} holds an RDF list that loops or is too long")]
                 )
             seen.add(node)
-            first = self.graph.value(node, RDF.first)
+            first = self.graph.value(node, _FIRST)
             if first is None:
                 break
             members.append(first)
-            node = self.graph.value(node, RDF.rest)
+            node = self.graph.value(node, _REST)
         return members
 
     def ordered(self, owner: Node, key: str, members: list[Node]) -> list[Node]:
@@ -929,12 +965,12 @@ class _Absent:
 _ABSENT: Final = _Absent()
 
 
-def _declared(graph: Graph, node: Node) -> bool:
+def _declared(graph: TripleIndex, node: Node) -> bool:
     """Something the graph says anything about (not merely a name used as an object)."""
     return any(True for _ in graph.predicate_objects(node))
 
 
-def _value(graph: Graph, entry: Node) -> Node:
+def _value(graph: TripleIndex, entry: Node) -> Node:
     value = graph.value(entry, CS.value)
     return CS.null if value is None else value
 
@@ -951,7 +987,7 @@ def _ordered_union(written: list[str], meaning: list[str]) -> list[str]:
 # Typing rules of RDF input
 
 
-def typing_findings(graph: Graph) -> list[Finding]:
+def typing_findings(graph: TripleIndex) -> list[Finding]:
     """Statements of a Turtle input that contradict a domain or range of meo.ttl: the subject
     or object is asserted to be of a class disjoint with the one the rule requires (under OWL
     the ontology would be inconsistent). Each finding's code is the rule of the violated axiom
