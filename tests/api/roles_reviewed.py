@@ -26,6 +26,9 @@ REVIEWED_ROLES: dict[str, tuple[str, ...]] = {
     "deleteMission": ("operator",),
     # GET /api/audit/bundle
     "exportBundle": ("supervisor", "auditor", "admin"),
+    # GET /api/missions/{mission_id}/versions/{number}/vehicle/{format}[/{name}] (issue 19)
+    "getVehicleExport": ("operator", "supervisor", "auditor", "admin"),
+    "downloadVehicleExport": ("operator", "supervisor", "auditor", "admin"),
     # GET /api/missions/{mission_id}/export
     "exportMission": ("operator", "supervisor", "auditor", "admin"),
     # GET /api/approvals/{approval_id}
