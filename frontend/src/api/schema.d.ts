@@ -642,6 +642,40 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/missions/{mission_id}/versions/{number}/vehicle/{format}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Get Vehicle Export */
+        get: operations["getVehicleExport"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/missions/{mission_id}/versions/{number}/vehicle/{format}/{name}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Download Vehicle Export */
+        get: operations["downloadVehicleExport"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/plan": {
         parameters: {
             query?: never;
@@ -1260,6 +1294,26 @@ export interface components {
             name: string;
             /** Title */
             title: string;
+        };
+        /** ExportFileOut */
+        ExportFileOut: {
+            /** Media Type */
+            media_type: string;
+            /** Name */
+            name: string;
+            /** Sha256 */
+            sha256: string;
+            /** Size */
+            size: number;
+        };
+        /** ExportNoteOut */
+        ExportNoteOut: {
+            /** Code */
+            code: string;
+            /** Message */
+            message: string;
+            /** Path */
+            path: string;
         };
         /** FaultIn */
         FaultIn: {
@@ -1900,6 +1954,26 @@ export interface components {
             title: string;
         } & {
             [key: string]: unknown;
+        };
+        /** VehicleExportOut */
+        VehicleExportOut: {
+            /** Approved */
+            approved: boolean;
+            /** Files */
+            files: components["schemas"]["ExportFileOut"][];
+            /**
+             * Format
+             * @enum {string}
+             */
+            format: "imc" | "moos";
+            /** Mission */
+            mission: string;
+            /** Notes */
+            notes: components["schemas"]["ExportNoteOut"][];
+            /** Orders Digest */
+            orders_digest: string;
+            /** Version */
+            version: number;
         };
         /** VersionOut */
         VersionOut: {
@@ -3121,6 +3195,73 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["SubmissionOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    getVehicleExport: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                mission_id: string;
+                number: number;
+                format: "imc" | "moos";
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["VehicleExportOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    downloadVehicleExport: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                mission_id: string;
+                number: number;
+                format: "imc" | "moos";
+                name: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/octet-stream": unknown;
                 };
             };
             /** @description Validation Error */
