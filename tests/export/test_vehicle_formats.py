@@ -118,9 +118,20 @@ def test_orders_that_cannot_be_a_plan_are_refused(fmt: str) -> None:
         export_vehicle(Orders.model_validate(data), fmt)
 
 
+def test_a_plan_too_large_for_one_imc_message_is_refused() -> None:
+    goals = [{"id": f"G{i}", "title": "A goal with a long enough title " * 3,
+              "next": {o: f"G{i + 1}" if i < 399 else "COMPLETE"
+                       for o in ("succeed", "fail", "violate")}} for i in range(400)]
+    orders = Orders.model_validate({"id": "big", "start": "G0", "goals": goals})
+    with pytest.raises(ExportError, match="65,535 bytes"):
+        export_vehicle(orders, "imc")
+    assert export_vehicle(orders, "moos").primary.content  # MOOS has no such limit
+
+
 @pytest.mark.skipif(not AVCL, reason=f"NPS reference missions not found under {NPS}")
 @pytest.mark.parametrize("path", AVCL, ids=[p.name for p in AVCL])
 def test_nps_avcl_missions_export_to_both_formats(path: object) -> None:
+    assert len(AVCL) == 10  # the NPS folder's missions, loops and unreachable goals included
     orders = read_file(str(path)).orders
     _, graph = read_imc(export_vehicle(orders, "imc").primary.content)
     _check_against_mea(orders, graph)

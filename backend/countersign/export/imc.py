@@ -23,10 +23,11 @@ from .common import (
     speed_of,
     uncarried,
 )
-from .notes import ExportFile, ExportNote, VehicleExport
+from .notes import ExportError, ExportFile, ExportNote, VehicleExport
 from .provenance import Provenance
 
 MEDIA_TYPE = "application/vnd.lsts.imc"
+MAX_MESSAGE_BYTES = 65_535
 CONDITIONS = {"succeed": "ManeuverIsDone", "fail": "ManeuverFailed",
               "violate": "ConstraintViolated"}
 OUTCOME_OF = {v: k for k, v in CONDITIONS.items()}
@@ -148,6 +149,11 @@ def build_plan(orders: Orders, provenance: Provenance) -> tuple[Any, list[Export
 
 def export_imc(orders: Orders, provenance: Provenance) -> VehicleExport:
     plan, notes = build_plan(orders, provenance)
-    data = bytes(plan.serialize())
+    try:
+        data = bytes(plan.serialize())
+    except RuntimeError as exc:
+        # An IMC message carries a 16-bit payload size: a few hundred goals at most.
+        raise ExportError(f"the IMC plan does not fit in one IMC message of at most "
+                          f"{MAX_MESSAGE_BYTES:,} bytes ({exc}); split the mission") from None
     return VehicleExport("imc", (ExportFile(f"{orders.id}.imc", MEDIA_TYPE, data),),
                          tuple(notes))

@@ -21,10 +21,12 @@ from .common import (
 )
 from .geometry import bounding_box, local_xy
 from .moos_condition import violation
-from .notes import ExportFile, ExportNote, VehicleExport
+from .notes import ExportError, ExportFile, ExportNote, VehicleExport
 from .provenance import Provenance
 
 BHV_MEDIA_TYPE = "text/plain; charset=utf-8"
+# One Timer per goal and constraint in its scope: bound the file a request can make.
+MAX_CONSTRAINT_RELAYS = 200_000
 _UNSAFE = re.compile(r"[^A-Za-z0-9_]")
 
 
@@ -124,6 +126,10 @@ def write_bhv(orders: Orders, provenance: Provenance, notes: list[ExportNote]) -
                 f"set MODE = {modes[terminal.id]} {{", "  MODE = ACTIVE",
                 f"  MISSION_GOAL = {modes[terminal.id]}", "}", ""]
     scope = _constraint_scope(orders)
+    relays = sum(len(watched) for watched in scope.values())
+    if relays > MAX_CONSTRAINT_RELAYS:
+        raise ExportError(f"{relays:,} constraint monitors (goals times constraints in scope) "
+                          f"exceed the {MAX_CONSTRAINT_RELAYS:,} a helm file may hold")
     for place in placements(orders, notes):
         out += _goal_behaviours(place, modes, origin, speed, scope, notes)
     for terminal in terminals:
