@@ -547,6 +547,9 @@ def build_parser() -> argparse.ArgumentParser:
     from .cli_witness import add_commands as add_witness_commands
 
     add_witness_commands(commands)
+    from .cli_package import add_commands as add_package_commands
+
+    add_package_commands(commands)
     return parser
 
 

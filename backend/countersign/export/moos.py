@@ -7,6 +7,7 @@ outcome. Terminal modes post MISSION_RESULT and DEPLOY = false, which parks the 
 
 from __future__ import annotations
 
+import json
 import re
 
 from ..orders.model import OUTCOMES, Orders
@@ -99,8 +100,8 @@ def write_bhv(orders: Orders, provenance: Provenance, notes: list[ExportNote]) -
     out = [
         f"// MOOS-IvP helm behaviours for mission {orders.id}, written by Countersign.",
         f"// orders {provenance.digest}  plan {provenance.plan_id}",
-        "// approval " + (_comment(str(provenance.approval)) if provenance.approval
-                          else "none: these orders are not signed"),
+        "// approval " + (json.dumps(provenance.approval, sort_keys=True)
+                          if provenance.approval else "none: these orders are not signed"),
         "// A goal ends in one outcome: its maneuver's end flag is succeed; the vehicle's",
         "// monitors post GOAL_OUTCOME = fail | violate | succeed; broken constraints below",
         "// are violate. Each outcome selects the next mode through MISSION_GOAL.",
@@ -203,7 +204,7 @@ def _unexpressed(orders: Orders, notes: list[ExportNote]) -> list[str]:
     return out
 
 
-def write_moos(orders: Orders, bhv_name: str) -> str:
+def write_moos(orders: Orders, bhv_name: str, provenance: Provenance) -> str:
     lat, lon = _origin(orders)
     community = _UNSAFE.sub("_", orders.vehicle or orders.id)
     vehicle = orders.target_vehicle()
@@ -211,6 +212,7 @@ def write_moos(orders: Orders, bhv_name: str) -> str:
     speed = (vehicle.speed_mps if vehicle and vehicle.speed_mps else 1.0) * 2
     return "\n".join([
         f"// uSimMarine run of mission {orders.id} (Countersign); behaviours in {bhv_name}",
+        f"// orders {provenance.digest}  plan {provenance.plan_id}",
         "ServerHost = localhost", "ServerPort = 9000", f"Community  = {community}",
         "MOOSTimeWarp = 1", f"LatOrigin  = {lat:.6f}", f"LongOrigin = {lon:.6f}", "",
         "ProcessConfig = ANTLER", "{", "  MSBetweenLaunches = 200",
@@ -243,7 +245,7 @@ def export_moos(orders: Orders, provenance: Provenance) -> VehicleExport:
     require_sound(orders, notes)
     bhv_name = f"{orders.id}.bhv"
     bhv = write_bhv(orders, provenance, notes)
-    moos = write_moos(orders, bhv_name)
+    moos = write_moos(orders, bhv_name, provenance)
     files = (ExportFile(bhv_name, BHV_MEDIA_TYPE, bhv.encode()),
              ExportFile(f"{orders.id}.moos", BHV_MEDIA_TYPE, moos.encode()))
     return VehicleExport("moos", files, tuple(notes))

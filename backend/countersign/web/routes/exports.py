@@ -12,11 +12,14 @@ from sqlalchemy import select
 from sqlalchemy.orm import Session as DbSession
 
 from ...export.notes import ExportError, VehicleExport
+from ...export.package import build_package, export_provenance
 from ...export.vehicle import export_vehicle
 from ...orders.reader import orders_from_data
 from ...store import missions as service
-from ...store.tables import Approval, MissionVersion, User
+from ...store.packages import package_parts
+from ...store.tables import Approval, MissionVersion
 from ..deps import EVERYONE, Db, RowId, TransactionRoute, allow
+from .approvals import Signer
 
 router = APIRouter(prefix="/api", tags=["exports"], route_class=TransactionRoute)
 VehicleFormat = Literal["imc", "moos"]
@@ -55,11 +58,7 @@ def approval_facts(db: DbSession, version: MissionVersion) -> dict[str, Any] | N
     approved = [row for row in rows if row.decision == "approved" and row.id not in revoked]
     if not approved:
         return None
-    row = approved[-1]
-    supervisor = db.get(User, row.supervisor_id)
-    return {"decision": "approved", "envelope_digest": row.envelope_digest,
-            "supervisor": supervisor.username if supervisor else f"#{row.supervisor_id}",
-            "signed_at": row.created_at.isoformat(timespec="seconds")}
+    return export_provenance(approved[-1].envelope)
 
 
 def _export(db: DbSession, mission_id: str, number: int, fmt: str
@@ -102,4 +101,20 @@ def download_vehicle_export(mission_id: str, number: RowId, format: VehicleForma
         raise HTTPException(404, f"this export has no file {name!r} (it has {names})")
     return Response(item.content, media_type=item.media_type, headers={
         "Content-Disposition": f'attachment; filename="{item.name}"',
+        "X-Content-Type-Options": "nosniff"})
+
+
+@router.get("/missions/{mission_id}/versions/{number}/package", operation_id="downloadPackage",
+            response_class=Response,
+            responses={200: {"content": {"application/x-tar": {}}}}, **allow(*EVERYONE))
+def download_package(mission_id: str, number: RowId, db: Db, signer: Signer) -> Response:
+    """The approved package of a version (countersign.package/1 tar): orders, vehicle files,
+    envelope, receipt, inclusion proof, checkpoint; `countersign vehicle verify` checks it."""
+    try:
+        data = build_package(package_parts(db, mission_id=mission_id, number=number,
+                                           signer=signer))
+    except ExportError as exc:
+        raise HTTPException(422, str(exc)) from None
+    return Response(data, media_type="application/x-tar", headers={
+        "Content-Disposition": f'attachment; filename="{mission_id}-v{number}.package.tar"',
         "X-Content-Type-Options": "nosniff"})
