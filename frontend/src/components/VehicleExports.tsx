@@ -24,6 +24,11 @@ export function vehicleFileHref(mission: string, version: number, format: Vehicl
   return `/api/missions/${m}/versions/${version}/vehicle/${format}/${encodeURIComponent(name)}`;
 }
 
+/** The signed package of an approved version (409 problem when it has no standing approval). */
+export function packageHref(mission: string, version: number): string {
+  return `/api/missions/${encodeURIComponent(mission)}/versions/${version}/package`;
+}
+
 export function VehicleExports({ mission, version }: { mission: string; version: number }) {
   const [notes, setNotes] = useState<VehicleExport[] | null>(null);
   const [error, setError] = useState<unknown>(null);
@@ -52,6 +57,10 @@ export function VehicleExports({ mission, version }: { mission: string; version:
           {f.label}
         </a>
       ))}{" "}
+      <a href={packageHref(mission, version)} download
+         title="approved package: orders, vehicle files, envelope, receipt, proof, checkpoint">
+        Approved package
+      </a>{" "}
       {notes === null ? (
         <button type="button" className="link" onClick={() => void loadNotes()}>
           What they cannot carry
