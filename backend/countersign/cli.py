@@ -550,6 +550,9 @@ def build_parser() -> argparse.ArgumentParser:
     from .cli_package import add_commands as add_package_commands
 
     add_package_commands(commands)
+    from .cli_execution import add_commands as add_execution_commands
+
+    add_execution_commands(commands)
     return parser
 
 
