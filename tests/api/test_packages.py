@@ -155,3 +155,31 @@ def test_an_unapproved_version_has_no_package(world: World, role: str) -> None:
     number = new_version(world)
     response = world.client(role).get(f"/api/missions/{MISSION}/versions/{number}/package")
     assert response.status_code == 409
+
+
+def test_executions_are_checked_and_recorded_in_the_log(world: World) -> None:
+    supervisor = world.client("supervisor")
+    signer = register_key(supervisor)
+    number = new_version(world)
+    base = f"/api/missions/{MISSION}/versions/{number}/executions"
+    steps = [("G1", "violate"), ("G4", "succeed"), ("G5", "succeed")]
+    log = "".join(json.dumps({"goal": g, "outcome": o}) + "\n" for g, o in steps)
+    operator = world.client("operator")
+    assert operator.post(base, json={"log": log}).status_code == 409  # not approved yet
+    approve(world, supervisor, signer, submit(world, number))
+    response = operator.post(base, json={"log": log})
+    assert response.status_code == 201, response.text
+    body = response.json()
+    assert body["ok"] and body["terminal"] == "COMPLETE"
+    assert body["summary"] == f"executed as path {body['path']} to COMPLETE, no deviation"
+    bad = log.replace('"G5", "outcome": "succeed"}', '"G5", "outcome": "succeed", '
+                      '"readings": {"depth_m": 12}}')
+    deviated = supervisor.post(base, json={"log": bad}).json()
+    assert deviated["deviations"][0]["code"] == "CONSTRAINT"
+    entries = world.client("auditor").get("/api/log/entries").json()
+    recorded = [json.loads(e["entry"])["event"] for e in entries
+                if json.loads(e["entry"])["event"]["kind"] == "execution.recorded"]
+    assert [r["detail"]["ok"] for r in recorded] == [True, False]
+    assert recorded[0]["detail"]["path"] == body["path"]
+    assert world.client("auditor").post(base, json={"log": log}).status_code == 403
+    assert operator.post(base, json={"log": "nonsense"}).status_code == 422

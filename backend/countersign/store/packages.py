@@ -18,6 +18,14 @@ class NotApproved(MissionError):
     status = 409
 
 
+def standing_approval(db: DbSession, version_id: int) -> Approval | None:
+    rows = list(db.scalars(select(Approval).where(Approval.version_id == version_id)
+                           .order_by(Approval.id)))
+    revoked = {r.revokes for r in rows if r.decision == "revoked"}
+    approved = [r for r in rows if r.decision == "approved" and r.id not in revoked]
+    return approved[-1] if approved else None
+
+
 def package_parts(db: DbSession, *, mission_id: str, number: int, signer: LogSigner,
                   standing_only: bool = True) -> PackageParts:
     """Parts of the package of a version's approval; refuses a version without a standing

@@ -602,6 +602,23 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/missions/{mission_id}/versions/{number}/executions": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Post Execution */
+        post: operations["recordExecution"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/missions/{mission_id}/versions/{number}/package": {
         parameters: {
             query?: never;
@@ -1252,6 +1269,15 @@ export interface components {
         } & {
             [key: string]: unknown;
         };
+        /** DeviationOut */
+        DeviationOut: {
+            /** Code */
+            code: string;
+            /** Message */
+            message: string;
+            /** Step */
+            step: number;
+        };
         /** DraftIn */
         DraftIn: {
             /** Layout */
@@ -1315,6 +1341,32 @@ export interface components {
             name: string;
             /** Title */
             title: string;
+        };
+        /** ExecutionIn */
+        ExecutionIn: {
+            /**
+             * Log
+             * @description NDJSON, one line per goal run: goal, outcome, time, readings
+             */
+            log: string;
+        };
+        /** ExecutionOut */
+        ExecutionOut: {
+            /** Deviations */
+            deviations: components["schemas"]["DeviationOut"][];
+            /**
+             * Log Index
+             * @description the execution.recorded entry in the audit log
+             */
+            log_index: number | null;
+            /** Ok */
+            ok: boolean;
+            /** Path */
+            path: number | null;
+            /** Summary */
+            summary: string;
+            /** Terminal */
+            terminal: string | null;
         };
         /** ExportFileOut */
         ExportFileOut: {
@@ -3146,6 +3198,42 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["VersionOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    recordExecution: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                mission_id: string;
+                number: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["ExecutionIn"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            201: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ExecutionOut"];
                 };
             };
             /** @description Validation Error */
