@@ -26,6 +26,13 @@ REVIEWED_ROLES: dict[str, tuple[str, ...]] = {
     "deleteMission": ("operator",),
     # GET /api/audit/bundle
     "exportBundle": ("supervisor", "auditor", "admin"),
+    # GET /api/missions/{mission_id}/versions/{number}/vehicle/{format}[/{name}] (issue 19)
+    "getVehicleExport": ("operator", "supervisor", "auditor", "admin"),
+    "downloadVehicleExport": ("operator", "supervisor", "auditor", "admin"),
+    # POST /api/missions/{mission_id}/versions/{number}/executions (issue 19)
+    "recordExecution": ("operator", "supervisor"),
+    # GET /api/missions/{mission_id}/versions/{number}/package (issue 19)
+    "downloadPackage": ("operator", "supervisor", "auditor", "admin"),
     # GET /api/missions/{mission_id}/export
     "exportMission": ("operator", "supervisor", "auditor", "admin"),
     # GET /api/approvals/{approval_id}

@@ -52,7 +52,7 @@ def test_the_help_names_what_the_libraries_define() -> None:
 
 
 def test_the_rules_help_lists_the_built_in_theories() -> None:
-    from countersign.rehearse.rules import theory_names
+    from countersign.rules import theory_names
 
     parser = build_parser()
     rules = next(a for a in parser._subparsers._group_actions  # type: ignore[union-attr]

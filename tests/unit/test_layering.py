@@ -20,7 +20,9 @@ ALLOWED: dict[str, set[str]] = {
     "verify": {"orders", "rules"},
     "rehearse": {"orders", "rules", "verify"},
     "plan": {"orders", "rules", "verify"},
-    "export": {"orders", "rules", "verify"},
+    # An approved package holds approvals' envelope, receipt and proofs, and its verifier
+    # checks them; approvals never imports export (checked below through this table).
+    "export": {"orders", "rules", "verify", "approvals"},
     "approvals": {"orders", "rules", "verify"},
 }
 # Packages the store may not import: validation goes through verify, never rehearse.

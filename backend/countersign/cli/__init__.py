@@ -12,7 +12,7 @@ import sys
 from collections.abc import Sequence
 
 from .. import __version__
-from . import approvals, orders, plan, rehearse, rules, server, witness
+from . import approvals, execution, orders, package, plan, rehearse, rules, server, witness
 from .common import EXIT_INTERNAL, EXIT_OK, EXIT_UNREADABLE, UsageError
 
 __all__ = ["UsageError", "build_parser", "main"]
@@ -31,7 +31,7 @@ def build_parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     # The order of the groups is the order of `countersign --help`.
-    for group in (orders, server, plan, rules, rehearse, approvals, witness):
+    for group in (orders, server, plan, rules, rehearse, approvals, witness, package, execution):
         group.add_commands(commands)
     return parser
 

@@ -21,6 +21,7 @@ from .common import (
     load_orders,
     non_negative,
 )
+from .export_vehicle import add_export_arguments
 
 if TYPE_CHECKING:
     from ..orders.reader import ReadResult
@@ -169,6 +170,10 @@ def cmd_export(args: argparse.Namespace) -> int:
     from ..rehearse.plain import write_for_supervisor
 
     loaded = load_orders(args.file)
+    if args.format in ("imc", "moos"):
+        from .export_vehicle import write_vehicle_export
+
+        return write_vehicle_export(loaded.orders, args)
     sys.stdout.write(write_for_supervisor(loaded.orders, args.format))
     return EXIT_OK
 
@@ -255,17 +260,23 @@ def add_commands(commands: Any) -> None:
 
     export_cmd = commands.add_parser(
         "export",
-        help="write orders as plain language, JSON, DOT, MEO Turtle, NPS MEO 3.0 Turtle or AVCL",
+        help="write orders as plain language, JSON, DOT, Turtle, AVCL, or IMC/MOOS-IvP "
+        "for a vehicle",
         description="Convert orders between formats: the plain-language orders a supervisor "
         "reads (seed 000 Figures 3 and 4; with a \"Contingency rules\" section, one sentence "
         "per rule, when the orders or their vehicle carry rules), orders JSON, a Graphviz DOT "
-        "graph, MEO Turtle (lossless), an NPS MEO 3.0 Turtle view, or AVCL XML.",
+        "graph, MEO Turtle (lossless), an NPS MEO 3.0 Turtle view, or AVCL XML; or for a "
+        "vehicle: an IMC PlanSpecification (imc, binary) or MOOS-IvP helm behaviours plus "
+        "uSimMarine lines (moos). What a vehicle format cannot carry is printed to standard "
+        "error as notes (code, path, message).",
     )
     export_cmd.add_argument("file", metavar="FILE", help=FILE_HELP)
     export_cmd.add_argument(
-        "--format", choices=["plain", "json", "dot", "turtle", "nps-turtle", "avcl"],
+        "--format",
+        choices=["plain", "json", "dot", "turtle", "nps-turtle", "avcl", "imc", "moos"],
         default="plain",
     )
+    add_export_arguments(export_cmd)
     export_cmd.set_defaults(handler=cmd_export)
 
     explain_cmd = commands.add_parser(

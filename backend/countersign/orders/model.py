@@ -225,9 +225,9 @@ class DefaultRule(_AliasedRule):
 
 
 class RuleSet(_Strict):
-    """A normal default theory carried by orders or a vehicle profile (rehearse.rules reads it).
+    """A normal default theory carried by orders or a vehicle profile (countersign.rules reads it).
 
-    Typed here only structurally: the literal syntax is checked by `rehearse.rules.parse_theory`
+    Typed here only structurally: the literal syntax is checked by `countersign.rules.parse_theory`
     and reported as RULES findings, so a typo in a rule never makes the orders unreadable.
     """
 

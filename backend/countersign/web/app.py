@@ -19,6 +19,8 @@ from .fair import PlanSlots, RateLimiter
 from .log_signer import open_log_signer
 from .rehearsal_hub import RehearsalHub
 from .routes import admin, approvals, auth, log_witness, missions, planning, rehearsals
+from .routes import executions as execution_routes  # issue 19
+from .routes import exports as export_routes  # issue 19
 from .settings import Settings
 from .validation_pool import ValidationPool
 
@@ -170,6 +172,8 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     app.include_router(log_witness.router)
     app.include_router(rehearsals.router)
     app.include_router(rehearsals.viewer)
+    app.include_router(export_routes.router)
+    app.include_router(execution_routes.router)
     _serve_frontend(app, settings.frontend_dist)
     app.add_middleware(BodyLimit, limit=settings.max_body_bytes)
     return app

@@ -602,6 +602,44 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/missions/{mission_id}/versions/{number}/executions": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Post Execution */
+        post: operations["recordExecution"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/missions/{mission_id}/versions/{number}/package": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Download Package
+         * @description The approved package of a version (countersign.package/1 tar): orders, vehicle files,
+         *     envelope, receipt, inclusion proof, checkpoint; `countersign vehicle verify` checks it.
+         */
+        get: operations["downloadPackage"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/missions/{mission_id}/versions/{number}/review": {
         parameters: {
             query?: never;
@@ -636,6 +674,40 @@ export interface paths {
         put?: never;
         /** Submit Version */
         post: operations["submitVersion"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/missions/{mission_id}/versions/{number}/vehicle/{format}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Get Vehicle Export */
+        get: operations["getVehicleExport"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/missions/{mission_id}/versions/{number}/vehicle/{format}/{name}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Download Vehicle Export */
+        get: operations["downloadVehicleExport"];
+        put?: never;
+        post?: never;
         delete?: never;
         options?: never;
         head?: never;
@@ -1485,6 +1557,15 @@ export interface components {
         } & {
             [key: string]: unknown;
         };
+        /** DeviationOut */
+        DeviationOut: {
+            /** Code */
+            code: string;
+            /** Message */
+            message: string;
+            /** Step */
+            step: number;
+        };
         /** DraftIn */
         DraftIn: {
             /** Layout */
@@ -1548,6 +1629,52 @@ export interface components {
             name: string;
             /** Title */
             title: string;
+        };
+        /** ExecutionIn */
+        ExecutionIn: {
+            /**
+             * Log
+             * @description NDJSON, one line per goal run: goal, outcome, time, readings
+             */
+            log: string;
+        };
+        /** ExecutionOut */
+        ExecutionOut: {
+            /** Deviations */
+            deviations: components["schemas"]["DeviationOut"][];
+            /**
+             * Log Index
+             * @description the execution.recorded entry in the audit log
+             */
+            log_index: number | null;
+            /** Ok */
+            ok: boolean;
+            /** Path */
+            path: number | null;
+            /** Summary */
+            summary: string;
+            /** Terminal */
+            terminal: string | null;
+        };
+        /** ExportFileOut */
+        ExportFileOut: {
+            /** Media Type */
+            media_type: string;
+            /** Name */
+            name: string;
+            /** Sha256 */
+            sha256: string;
+            /** Size */
+            size: number;
+        };
+        /** ExportNoteOut */
+        ExportNoteOut: {
+            /** Code */
+            code: string;
+            /** Message */
+            message: string;
+            /** Path */
+            path: string;
         };
         /** FaultIn */
         FaultIn: {
@@ -2594,6 +2721,26 @@ export interface components {
             title?: string;
         } & {
             [key: string]: unknown;
+        };
+        /** VehicleExportOut */
+        VehicleExportOut: {
+            /** Approved */
+            approved: boolean;
+            /** Files */
+            files: components["schemas"]["ExportFileOut"][];
+            /**
+             * Format
+             * @enum {string}
+             */
+            format: "imc" | "moos";
+            /** Mission */
+            mission: string;
+            /** Notes */
+            notes: components["schemas"]["ExportNoteOut"][];
+            /** Orders Digest */
+            orders_digest: string;
+            /** Version */
+            version: number;
         };
         /** VersionOut */
         VersionOut: {
@@ -3734,6 +3881,74 @@ export interface operations {
             };
         };
     };
+    recordExecution: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                mission_id: string;
+                number: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["ExecutionIn"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            201: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ExecutionOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    downloadPackage: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                mission_id: string;
+                number: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/x-tar": unknown;
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
     reviewVersion: {
         parameters: {
             query?: never;
@@ -3789,6 +4004,73 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["SubmissionOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    getVehicleExport: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                mission_id: string;
+                number: number;
+                format: "imc" | "moos";
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["VehicleExportOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    downloadVehicleExport: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                mission_id: string;
+                number: number;
+                format: "imc" | "moos";
+                name: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/octet-stream": unknown;
                 };
             };
             /** @description Validation Error */

@@ -22,6 +22,7 @@ import {
 } from "../components/Pager";
 import { CheckBadge, ErrorMessage, Loading, Notice } from "../components/Status";
 import { Tabs } from "../components/Tabs";
+import { VehicleExports } from "../components/VehicleExports";
 import { formatDateTime, formatNumber, plural, shortDigest, statusLabel } from "../format";
 import { navigate } from "../navigation";
 import { missionHref } from "../router";
@@ -363,6 +364,7 @@ function VersionsTab({ mission, onChange }: { mission: MissionDetail; onChange: 
               <th scope="col">Digest</th>
               <th scope="col">Author</th>
               <th scope="col">Created</th>
+              <th scope="col">Vehicle files</th>
             </tr>
           </thead>
           <tbody>
@@ -375,6 +377,9 @@ function VersionsTab({ mission, onChange }: { mission: MissionDetail; onChange: 
                 <td>{v.author}</td>
                 <td>
                   <time dateTime={v.created_at}>{formatDateTime(v.created_at)}</time>
+                </td>
+                <td>
+                  <VehicleExports mission={mission.id} version={v.number} />
                 </td>
               </tr>
             ))}

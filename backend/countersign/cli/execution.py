@@ -1,0 +1,59 @@
+"""`countersign execution check ORDERS LOG`: which path a vehicle's execution log followed, and
+its deviations from the orders. Its own module so the command line package split can move it."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+from .common import load_orders
+
+EXIT_OK, EXIT_DEVIATION, EXIT_UNREADABLE = 0, 1, 2
+MAX_LOG_BYTES = 16 * 1024 * 1024
+
+
+def add_commands(commands: Any) -> None:
+    execution = commands.add_parser("execution", help="check what a vehicle did")
+    actions = execution.add_subparsers(dest="execution_command", required=True,
+                                       metavar="ACTION")
+    check = actions.add_parser(
+        "check", help="check an execution log against the orders",
+        description="Read an execution log (NDJSON, one line per goal run: {\"goal\", "
+        "\"outcome\": succeed|fail|violate, \"time\", \"readings\": {quantity: value}}) and "
+        "say which path of the orders it followed, numbered as `countersign paths` numbers "
+        "them, or name every deviation: SKIPPED-GOAL, WRONG-TRANSITION, UNKNOWN-GOAL, "
+        "CONSTRAINT (a reading breaks a constraint in scope), INCOMPLETE, AFTER-END. Exit 0 "
+        "no deviation, 1 deviations, 2 unreadable input.")
+    check.add_argument("orders", metavar="ORDERS", help="orders file (or example:NAME)")
+    check.add_argument("log", metavar="LOG", type=Path, help="execution log (NDJSON)")
+    check.add_argument("--format", choices=["text", "json"], default="text")
+    check.set_defaults(handler=cmd_execution_check)
+
+
+def cmd_execution_check(args: argparse.Namespace) -> int:
+    from ..rehearse.execution import ExecutionLogError, check_execution, read_log
+
+    orders = load_orders(args.orders).orders
+    try:
+        with args.log.open("rb") as handle:
+            text = handle.read(MAX_LOG_BYTES + 1).decode()
+        if len(text) > MAX_LOG_BYTES:
+            raise ExecutionLogError(f"the log is larger than {MAX_LOG_BYTES:,} bytes")
+        verdict = check_execution(orders, read_log(text))
+    except (OSError, UnicodeDecodeError) as exc:
+        sys.stderr.write(f"countersign: cannot read {args.log}: {exc}\n")
+        return EXIT_UNREADABLE
+    except ExecutionLogError as exc:
+        sys.stderr.write(f"countersign: {args.log}: {exc}\n")
+        return EXIT_UNREADABLE
+    if args.format == "json":
+        sys.stdout.write(json.dumps(verdict.to_json()) + "\n")
+    else:
+        sys.stdout.write(verdict.summary() + "\n")
+        for deviation in verdict.deviations:
+            sys.stdout.write(f"  step {deviation.step}  {deviation.code:<16} "
+                             f"{deviation.message}\n")
+    return EXIT_OK if verdict.ok else EXIT_DEVIATION

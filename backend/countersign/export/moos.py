@@ -1,0 +1,251 @@
+"""MOOS-IvP helm behaviours (.bhv) and a uSimMarine community (.moos) written from orders.
+
+One hierarchical helm mode per goal (`ACTIVE:<goal>`), selected by MISSION_GOAL. A goal's
+maneuver posts its succeed successor as an end flag; Timer behaviours relay an outcome posted
+in GOAL_OUTCOME (by the vehicle's monitors) or a broken constraint to the successor of that
+outcome. Terminal modes post MISSION_RESULT and DEPLOY = false, which parks the helm."""
+
+from __future__ import annotations
+
+import json
+import re
+
+from ..orders.model import OUTCOMES, Orders
+from .common import (
+    Placement,
+    duration_s,
+    lane_width,
+    placements,
+    require_sound,
+    speed_of,
+    uncarried,
+)
+from .geometry import bounding_box, local_xy
+from .moos_condition import violation
+from .notes import ExportError, ExportFile, ExportNote, VehicleExport
+from .provenance import Provenance
+
+BHV_MEDIA_TYPE = "text/plain; charset=utf-8"
+# One Timer per goal and constraint in its scope: bound the file a request can make.
+MAX_CONSTRAINT_RELAYS = 200_000
+_UNSAFE = re.compile(r"[^A-Za-z0-9_]")
+
+
+def _comment(text: str) -> str:
+    # User text inside a comment: one line, so it cannot start a declaration.
+    return " ".join(text.split())[:200]
+
+
+def mode_names(ids: list[str]) -> dict[str, str]:
+    """Helm mode name per goal or terminal id: MOOS names take letters, digits and _."""
+    names: dict[str, str] = {}
+    used: set[str] = set()
+    for item in ids:
+        base = _UNSAFE.sub("_", item) or "_"
+        name, n = base, 1
+        while name in used or name in {"ACTIVE", "INACTIVE"}:
+            n += 1
+            name = f"{base}_{n}"
+        used.add(name)
+        names[item] = name
+    return names
+
+
+def _origin(orders: Orders) -> tuple[float, float]:
+    points = [p for a in orders.areas for p in a.polygon]
+    box = bounding_box(points)
+    return box.centre if box is not None else (0.0, 0.0)
+
+
+def _block(kind: str, lines: list[str]) -> list[str]:
+    return ["Behavior = " + kind, "{", *(f"  {line}" for line in lines), "}", ""]
+
+
+def _maneuver(place: Placement, origin: tuple[float, float], speed: float) -> tuple[str,
+                                                                                   list[str]]:
+    box = place.box
+    if place.kind == "here" or box is None:
+        return "BHV_StationKeep", ["center_activate = true", "inner_radius = 5",
+                                   "outer_radius = 20"]
+    x, y = local_xy(origin, box.centre)
+    if place.kind == "rows":
+        return "BHV_Waypoint", [
+            f"speed = {speed:g}",
+            f"points = format=lawnmower, x={x:g}, y={y:g}, height={box.height_m:.1f}, "
+            f"width={box.width_m:.1f}, lane_width={lane_width(place.goal):g}, "
+            "rows=north-south, degs=0",
+            "repeat = 0"]
+    if place.kind == "loiter":
+        radius = max(20.0, min(box.width_m, box.height_m) / 2)
+        lines = [f"speed = {speed:g}",
+                 f"polygon = format=radial, x={x:g}, y={y:g}, radius={radius:.1f}, pts=8"]
+        return "BHV_Loiter", lines + _duration(place)
+    if place.kind == "station":
+        return "BHV_StationKeep", [f"station_pt = {x:g},{y:g}", "inner_radius = 5",
+                                   "outer_radius = 20", *_duration(place)]
+    return "BHV_Waypoint", [f"speed = {speed:g}", f"points = {x:g},{y:g}", "capture_radius = 10"]
+
+
+def _duration(place: Placement) -> list[str]:
+    seconds = duration_s(place.goal)
+    return [f"duration = {seconds}", "duration_idle_decay = false"] if seconds else []
+
+
+def write_bhv(orders: Orders, provenance: Provenance, notes: list[ExportNote]) -> str:
+    speed = speed_of(orders, notes)
+    origin = _origin(orders)
+    terminals = orders.effective_terminals
+    modes = mode_names([g.id for g in orders.goals] + [t.id for t in terminals])
+    start = modes[str(orders.start)]
+    out = [
+        f"// MOOS-IvP helm behaviours for mission {orders.id}, written by Countersign.",
+        f"// orders {provenance.digest}  plan {provenance.plan_id}",
+        "// approval " + (json.dumps(provenance.approval, sort_keys=True)
+                          if provenance.approval else "none: these orders are not signed"),
+        "// A goal ends in one outcome: its maneuver's end flag is succeed; the vehicle's",
+        "// monitors post GOAL_OUTCOME = fail | violate | succeed; broken constraints below",
+        "// are violate. Each outcome selects the next mode through MISSION_GOAL.",
+        "",
+        "initialize DEPLOY = false",
+        "initialize RETURN = false",
+        f"initialize MISSION_GOAL = {start}",
+        "initialize GOAL_OUTCOME = none",
+        "initialize MISSION_RESULT = none",
+        "",
+        "set MODE = ACTIVE {",
+        "  DEPLOY = true",
+        "} INACTIVE",
+        "",
+    ]
+    for goal in orders.goals:
+        out += [f"// mode {modes[goal.id]} = goal {goal.id}: {_comment(goal.label)}",
+                f"set MODE = {modes[goal.id]} {{", "  MODE = ACTIVE",
+                f"  MISSION_GOAL = {modes[goal.id]}", "}", ""]
+    for terminal in terminals:
+        out += [f"// mode {modes[terminal.id]} = terminal {terminal.id} ({terminal.kind}): "
+                f"{_comment(terminal.label)}",
+                f"set MODE = {modes[terminal.id]} {{", "  MODE = ACTIVE",
+                f"  MISSION_GOAL = {modes[terminal.id]}", "}", ""]
+    scope = _constraint_scope(orders)
+    relays = sum(len(watched) for watched in scope.values())
+    if relays > MAX_CONSTRAINT_RELAYS:
+        raise ExportError(f"{relays:,} constraint monitors (goals times constraints in scope) "
+                          f"exceed the {MAX_CONSTRAINT_RELAYS:,} a helm file may hold")
+    for place in placements(orders, notes):
+        out += _goal_behaviours(place, modes, origin, speed, scope, notes)
+    for terminal in terminals:
+        name = modes[terminal.id]
+        out += _block("BHV_Timer", [
+            f"name = {name}_stop", f"condition = MODE == ACTIVE:{name}",
+            f"runflag = MISSION_RESULT = {terminal.kind}", "runflag = DEPLOY = false"])
+    out += _unexpressed(orders, notes)
+    uncarried(orders, "MOOS-IvP", notes)
+    return "\n".join(out).rstrip("\n") + "\n"
+
+
+def _constraint_scope(orders: Orders) -> dict[str, list[tuple[int, str, str]]]:
+    """Goal id -> (constraint index, id, helm violation condition) it must watch."""
+    scope: dict[str, list[tuple[int, str, str]]] = {g.id: [] for g in orders.goals}
+    for index, constraint in enumerate(orders.constraints):
+        condition = violation(constraint.expr)
+        if condition is None:
+            continue
+        goals = scope if constraint.applies_to == "mission" else constraint.applies_to
+        for goal_id in goals:
+            if goal_id in scope:
+                scope[goal_id].append((index, constraint.id, condition))
+    return scope
+
+
+def _goal_behaviours(place: Placement, modes: dict[str, str], origin: tuple[float, float],
+                     speed: float, scope: dict[str, list[tuple[int, str, str]]],
+                     notes: list[ExportNote]) -> list[str]:
+    goal = place.goal
+    name = modes[goal.id]
+    target = {o: modes[goal.successors(o)[0]] for o in OUTCOMES}
+    when = f"condition = MODE == ACTIVE:{name}"
+    kind, lines = _maneuver(place, origin, speed)
+    if kind != "BHV_Waypoint" and not duration_s(goal):
+        notes.append(ExportNote("SUCCEED", f"/goals/{place.index}", f"goal {goal.id} has no "
+                                "ordered duration: its maneuver never ends by itself, so its "
+                                "succeed must be posted as GOAL_OUTCOME = succeed"))
+    out = [f"//---------- goal {goal.id} ({_comment(goal.behavior or 'no behaviour')})"]
+    out += _block(kind, [f"name = {name}_run", "pwt = 100", when, "perpetual = true",
+                         f"endflag = MISSION_GOAL = {target['succeed']}",
+                         "endflag = GOAL_OUTCOME = none", *lines])
+    if place.depth_m is not None:
+        out += _block("BHV_ConstantDepth", [f"name = {name}_depth", "pwt = 100", when,
+                                            f"depth = {place.depth_m:g}"])
+    for outcome in OUTCOMES:
+        out += _block("BHV_Timer", [
+            f"name = {name}_{outcome}", when, f"condition = GOAL_OUTCOME == {outcome}",
+            "perpetual = true", f"runflag = MISSION_GOAL = {target[outcome]}",
+            "runflag = GOAL_OUTCOME = none"])
+    for _, constraint_id, condition in scope[goal.id]:
+        out += _block("BHV_Timer", [
+            f"name = {name}_violate_{_UNSAFE.sub('_', constraint_id)}", when,
+            f"condition = {condition}", "perpetual = true",
+            f"runflag = MISSION_GOAL = {target['violate']}",
+            f"runflag = CONSTRAINT_VIOLATED = {_UNSAFE.sub('_', constraint_id)}"])
+    return out
+
+
+def _unexpressed(orders: Orders, notes: list[ExportNote]) -> list[str]:
+    out: list[str] = []
+    for index, constraint in enumerate(orders.constraints):
+        if violation(constraint.expr) is not None:
+            continue
+        out.append(f"// constraint {constraint.id} ({_comment(constraint.expr or 'no condition')}"
+                   "): no helm condition can express it; the vehicle's monitor must post "
+                   "GOAL_OUTCOME = violate")
+        notes.append(ExportNote("MONITOR", f"/constraints/{index}",
+                                f"constraint {constraint.id} cannot be a helm condition "
+                                "(arithmetic, behaviour, area or context); named in a comment"))
+    return out
+
+
+def write_moos(orders: Orders, bhv_name: str, provenance: Provenance) -> str:
+    lat, lon = _origin(orders)
+    community = _UNSAFE.sub("_", orders.vehicle or orders.id)
+    vehicle = orders.target_vehicle()
+    top = (vehicle.envelope.get("depth_m") if vehicle else None) or (0.0, 100.0)
+    speed = (vehicle.speed_mps if vehicle and vehicle.speed_mps else 1.0) * 2
+    return "\n".join([
+        f"// uSimMarine run of mission {orders.id} (Countersign); behaviours in {bhv_name}",
+        f"// orders {provenance.digest}  plan {provenance.plan_id}",
+        "ServerHost = localhost", "ServerPort = 9000", f"Community  = {community}",
+        "MOOSTimeWarp = 1", f"LatOrigin  = {lat:.6f}", f"LongOrigin = {lon:.6f}", "",
+        "ProcessConfig = ANTLER", "{", "  MSBetweenLaunches = 200",
+        "  Run = MOOSDB        @ NewConsole = false",
+        "  Run = uSimMarine    @ NewConsole = false",
+        "  Run = pMarinePID    @ NewConsole = false",
+        "  Run = pHelmIvP      @ NewConsole = false", "}", "",
+        "ProcessConfig = uSimMarine", "{", "  AppTick = 10", "  CommsTick = 10",
+        "  start_pos = x=0, y=0, heading=0, speed=0, depth=0", "  prefix = NAV",
+        "  buoyancy_rate = 0.025", "  max_depth_rate = 5", "  max_depth_rate_speed = 2.0", "}",
+        "",
+        "ProcessConfig = pHelmIvP", "{", "  AppTick = 4", "  CommsTick = 4",
+        f"  behaviors = {bhv_name}", "  domain = course:0:359:360",
+        f"  domain = speed:0:{speed:g}:21", f"  domain = depth:0:{top[1]:g}:{int(top[1]) + 1}",
+        "}", "",
+        "ProcessConfig = pMarinePID", "{", "  AppTick = 10", "  CommsTick = 10",
+        "  verbose = terse", "  depth_control = true", "  yaw_pid_kp = 1.2",
+        "  yaw_pid_kd = 0.0", "  yaw_pid_ki = 0.3", "  yaw_pid_integral_limit = 0.07",
+        "  speed_pid_kp = 1.0", "  speed_pid_kd = 0.0", "  speed_pid_ki = 0.0",
+        "  speed_pid_integral_limit = 0.07", "  z_to_pitch_pid_kp = 0.12",
+        "  z_to_pitch_pid_kd = 0.0", "  z_to_pitch_pid_ki = 0.004",
+        "  z_to_pitch_pid_integral_limit = 0.05", "  pitch_pid_kp = 0.5",
+        "  pitch_pid_kd = 1.0", "  pitch_pid_ki = 0.0", "  pitch_pid_integral_limit = 0",
+        "  maxrudder = 100", "  maxthrust = 100", "  maxpitch = 15", "  maxelevator = 13",
+        "  speed_factor = 20", "}", ""])
+
+
+def export_moos(orders: Orders, provenance: Provenance) -> VehicleExport:
+    notes: list[ExportNote] = []
+    require_sound(orders, notes)
+    bhv_name = f"{orders.id}.bhv"
+    bhv = write_bhv(orders, provenance, notes)
+    moos = write_moos(orders, bhv_name, provenance)
+    files = (ExportFile(bhv_name, BHV_MEDIA_TYPE, bhv.encode()),
+             ExportFile(f"{orders.id}.moos", BHV_MEDIA_TYPE, moos.encode()))
+    return VehicleExport("moos", files, tuple(notes))

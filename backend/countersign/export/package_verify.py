@@ -1,0 +1,166 @@
+"""Offline check of an approved package, as a vehicle or a launch checklist runs it.
+
+Checks run in a fixed order and the first failure is the verdict, named by a stable code
+(tools/verify_package.py, the standalone verifier, follows the same order and codes):
+FORMAT, LOG-KEY, CHECKPOINT, LOG, PROOF, RECEIPT, EXPIRED, ENVELOPE, SIGNATURE, ORDERS,
+REVOKED, EXPORT."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import tarfile
+from dataclasses import dataclass
+from datetime import UTC, datetime, timedelta
+from typing import Any
+
+from ..approvals.dsse import (
+    SignatureError,
+    envelope_key_id,
+    parse_envelope,
+    public_key,
+    verify_envelope,
+)
+from ..approvals.merkle import leaf_hash, root_of, verify_inclusion
+from ..approvals.note import parse_body, verify_note
+from ..approvals.receipt import verify_receipt
+from ..approvals.statement import parse_statement, subject_digest
+from ..orders.reader import orders_from_data
+from .package import ENVELOPE_FILE, ORDERS_FILE, PACKAGE_FORMAT, package_files, read_tar
+
+DEFAULT_MAX_AGE = timedelta(days=7)
+
+
+@dataclass(frozen=True)
+class Verdict:
+    ok: bool
+    code: str
+    message: str
+
+    def to_json(self) -> dict[str, Any]:
+        return {"ok": self.ok, "code": self.code, "message": self.message}
+
+
+class Refusal(Exception):
+    def __init__(self, code: str, message: str) -> None:
+        super().__init__(message)
+        self.code, self.message = code, message
+
+
+def _sha(data: bytes) -> str:
+    return "sha256:" + hashlib.sha256(data).hexdigest()
+
+
+def verify_package(data: bytes, *, log_key: str, now: datetime | None = None,
+                   max_age: timedelta = DEFAULT_MAX_AGE) -> Verdict:
+    try:
+        message = _verify(data, log_key, now or datetime.now(UTC), max_age)
+    except Refusal as refusal:
+        return Verdict(False, refusal.code, refusal.message)
+    return Verdict(True, "OK", message)
+
+
+def _verify(data: bytes, log_key: str, now: datetime, max_age: timedelta) -> str:
+    try:
+        files = read_tar(data)
+        manifest = json.loads(files["manifest.json"])
+        if manifest.get("format") != PACKAGE_FORMAT:
+            raise ValueError(f"not a {PACKAGE_FORMAT} package")
+        mission, version = str(manifest["mission"]), int(manifest["version"])
+        index = int(manifest["approval_index"])
+        entries = files["log/entries.ndjson"].decode().splitlines()
+        proof = json.loads(files["log/inclusion.json"])
+        note = files["log/checkpoint"].decode()
+    except (ValueError, KeyError, TypeError, UnicodeDecodeError, OSError,
+            tarfile.TarError) as exc:
+        raise Refusal("FORMAT", f"the package is not readable: {exc}") from None
+    try:
+        key = public_key(log_key)
+    except SignatureError as exc:
+        raise Refusal("LOG-KEY", f"the log key is unusable: {exc}") from None
+    # --- the log: checkpoint, entries, proof, receipts
+    try:
+        origin = note.split("\n", 1)[0]
+        head = parse_body(verify_note(note, origin, key))
+    except SignatureError as exc:
+        raise Refusal("CHECKPOINT", f"the checkpoint does not verify under the log key: {exc}"
+                      ) from None
+    leaves = [leaf_hash(e.encode()) for e in entries]
+    prev = "0" * 64
+    events: list[dict[str, Any]] = []
+    for i, text in enumerate(entries):
+        entry = json.loads(text)
+        if entry.get("index") != i or entry.get("prev") != prev:
+            raise Refusal("LOG", f"log entry {i} does not chain to the one before")
+        events.append(entry["event"])
+        prev = leaves[i].hex()
+    if len(leaves) != head.size or root_of(leaves) != head.root:
+        raise Refusal("LOG", f"the log entries do not hash to the checkpoint ({head})")
+    if not 0 <= index < head.size:
+        raise Refusal("PROOF", f"the approval entry {index} is outside the checkpoint")
+    try:
+        hashes = [bytes.fromhex(h) for h in proof["hashes"]]
+        proved = proof["index"] == index and proof["size"] == head.size and \
+            verify_inclusion(leaves[index], index, head.size, hashes, head.root)
+    except (KeyError, TypeError, ValueError):
+        proved = False
+    if not proved:
+        raise Refusal("PROOF", f"the inclusion proof of entry {index} does not lead to the "
+                      "checkpoint's root")
+    for name, at in (("log/receipt.json", index), ("log/head-receipt.json", head.size - 1)):
+        try:
+            receipt = verify_receipt(files[name].decode(), index=at, leaf=leaves[at].hex(),
+                                     origin=head.origin, key=key)
+        except (SignatureError, KeyError, UnicodeDecodeError) as exc:
+            raise Refusal("RECEIPT", f"log entry {at} {exc}") from None
+    newest = datetime.fromisoformat(receipt.time.replace("Z", "+00:00"))
+    if now - newest > max_age:
+        raise Refusal("EXPIRED", f"the checkpoint covers nothing newer than {receipt.time}, "
+                      f"older than {max_age.days} day(s): fetch a fresh package")
+    # --- the approval: its entry, envelope, signature, orders, revocation
+    event = events[index]
+    detail = event.get("detail") or {}
+    envelope_text = files[ENVELOPE_FILE].decode()
+    if event.get("kind") != "approval.approved" or event.get("mission") != mission or \
+            detail.get("version") != version or \
+            detail.get("envelope_digest") != _sha(envelope_text.encode()):
+        raise Refusal("ENVELOPE", f"the envelope is not the logged approval of {mission} "
+                      f"version {version} (log entry {index})")
+    try:
+        envelope = parse_envelope(envelope_text)
+        key_id = envelope_key_id(envelope)
+        registered = [e for e in events if e.get("kind") == "key.registered"
+                      and (e.get("detail") or {}).get("key_id") == key_id]
+        if not registered:
+            raise SignatureError(f"its key {key_id[:16]} is not registered in the log")
+        payload = verify_envelope(envelope, public_key(registered[0]["detail"]["public_key"]))
+        statement = parse_statement(payload)
+    except (SignatureError, ValueError, KeyError, TypeError) as exc:
+        raise Refusal("SIGNATURE", f"the approval envelope does not verify: {exc}") from None
+    orders_bytes = files[ORDERS_FILE]
+    signed = subject_digest(statement)
+    if _sha(orders_bytes) != signed or detail.get("orders_digest") != signed:
+        raise Refusal("ORDERS", "the orders are not the ones the approval signed "
+                      f"({signed})")
+    for later in events[index + 1:]:
+        if later.get("kind") == "approval.revoked" and \
+                (later.get("detail") or {}).get("submission") == detail.get("submission"):
+            raise Refusal("REVOKED", f"the approval was revoked (by {later.get('actor')} at "
+                          f"{later.get('at')}), as of the checkpoint")
+    # --- the exports: rebuilt from the signed orders, byte for byte
+    try:
+        orders = orders_from_data(json.loads(orders_bytes))
+    except ValueError as exc:
+        raise Refusal("ORDERS", f"the signed orders do not load: {exc}") from None
+    from .package import PackageParts  # the parts that determine the exports
+
+    rebuilt = package_files(PackageParts(orders, version, envelope_text, index, [], "", "",
+                                         {}, ""))
+    for name, content in rebuilt.items():
+        if name.startswith("vehicle/") and files.get(name) != content:
+            raise Refusal("EXPORT", f"{name} is not the export of the approved orders")
+    extra = sorted(n for n in files if n.startswith("vehicle/") and n not in rebuilt)
+    if extra:
+        raise Refusal("EXPORT", f"{extra[0]} is not an export of the approved orders")
+    return (f"{mission} version {version}: approved, orders {signed}, log entry {index} in "
+            f"checkpoint size {head.size}; vehicle files match")

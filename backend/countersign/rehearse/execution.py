@@ -1,0 +1,141 @@
+"""Execution logs checked against the orders: which path the vehicle followed (numbered as
+`countersign paths` numbers them) and every deviation, named.
+
+A log is NDJSON, one line per goal run: {"goal", "outcome", "time"?, "readings"?}, outcome
+succeed, fail or violate, readings the measured values of constrained quantities. A
+rehearsal's record is an execution in simulation and goes through the same check."""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from typing import Any
+
+from ..orders.model import OUTCOMES, Orders
+from ..verify.paths import paths_of
+from .monitor import facts_of, monitors_of
+
+MAX_STEPS = 100_000
+MAX_LINE = 64 * 1024
+
+
+class ExecutionLogError(ValueError):
+    """A log that cannot be read at all (the message names the line)."""
+
+
+@dataclass(frozen=True)
+class Step:
+    goal: str
+    outcome: str
+    time: str | None = None
+    readings: dict[str, float | bool | str] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Deviation:
+    code: str  # SKIPPED-GOAL, WRONG-TRANSITION, UNKNOWN-GOAL, CONSTRAINT, INCOMPLETE, AFTER-END
+    step: int  # 1-based line of the log
+    message: str
+
+    def to_json(self) -> dict[str, Any]:
+        return {"code": self.code, "step": self.step, "message": self.message}
+
+
+@dataclass(frozen=True)
+class ExecutionVerdict:
+    path: int | None  # the path number when the run followed the orders
+    terminal: str | None
+    deviations: tuple[Deviation, ...]
+
+    @property
+    def ok(self) -> bool:
+        return not self.deviations
+
+    def summary(self) -> str:
+        if self.ok:
+            return f"executed as path {self.path} to {self.terminal}, no deviation"
+        first = self.deviations[0]
+        more = f" (and {len(self.deviations) - 1} more)" if len(self.deviations) > 1 else ""
+        return f"deviation at step {first.step}: {first.message}{more}"
+
+    def to_json(self) -> dict[str, Any]:
+        return {"ok": self.ok, "path": self.path, "terminal": self.terminal,
+                "summary": self.summary(), "deviations": [d.to_json() for d in self.deviations]}
+
+
+def read_log(text: str) -> list[Step]:
+    steps: list[Step] = []
+    for number, line in enumerate(text.splitlines(), 1):
+        if not line.strip():
+            continue
+        if len(line) > MAX_LINE or len(steps) >= MAX_STEPS:
+            raise ExecutionLogError(f"line {number}: the log is too large")
+        try:
+            data = json.loads(line)
+            goal, outcome = str(data["goal"]), str(data["outcome"])
+            readings = data.get("readings") or {}
+            if not isinstance(readings, dict) or not all(
+                    isinstance(v, int | float | bool | str) for v in readings.values()):
+                raise TypeError("readings must map quantities to values")
+        except (ValueError, KeyError, TypeError, AttributeError) as exc:
+            raise ExecutionLogError(f"line {number}: not a step {{goal, outcome, time?, "
+                                    f"readings?}} ({exc})") from None
+        if outcome == "constraint":
+            outcome = "violate"
+        if outcome not in OUTCOMES:
+            raise ExecutionLogError(f"line {number}: outcome {outcome[:40]!r} is not succeed, "
+                                    "fail or violate")
+        time = data.get("time")
+        steps.append(Step(goal, outcome, None if time is None else str(time), readings))
+    return steps
+
+
+def check_execution(orders: Orders, steps: list[Step]) -> ExecutionVerdict:
+    graph, counts = paths_of(orders)
+    if counts is None or graph.start is None:
+        raise ExecutionLogError("the orders have no countable paths (fix their structure)")
+    index = {goal_id: i for i, goal_id in enumerate(graph.goal_ids)}
+    goals = orders.goal_index()
+    monitors, _ = monitors_of(orders)
+    deviations: list[Deviation] = []
+    node: int | None = graph.start
+    rank = 0
+    for number, step in enumerate(steps, 1):
+        if node is None or graph.is_terminal(node):
+            deviations.append(Deviation("AFTER-END", number, f"{step.goal} ran after the "
+                                        "mission ended"))
+            break
+        expected = graph.goal_ids[node]
+        if step.goal != expected:
+            if step.goal not in index:
+                code, text = "UNKNOWN-GOAL", f"{step.goal} is not a goal of the orders"
+            elif index[step.goal] in graph.succ[node]:
+                code, text = "SKIPPED-GOAL", f"{expected} was skipped: {step.goal} ran instead"
+            else:
+                code, text = "WRONG-TRANSITION", (
+                    f"the orders name {expected} next, but {step.goal} ran")
+            deviations.append(Deviation(code, number, text))
+            if step.goal not in index:
+                break
+            node = index[step.goal]  # follow what the vehicle did, to name later deviations
+            rank = -1
+        goal = goals[step.goal]
+        facts = facts_of(goal, orders)
+        for monitor in monitors:
+            if monitor.applies(step.goal) and step.readings and \
+                    monitor.holds(step.readings, facts) is False:
+                shown = ", ".join(f"{k}={v}" for k, v in sorted(step.readings.items()))
+                deviations.append(Deviation(
+                    "CONSTRAINT", number, f"readings {shown} break {monitor.constraint_id} "
+                    f"({monitor.expr}) during {step.goal}"
+                    + (f" at {step.time}" if step.time else "")))
+        k = OUTCOMES.index(step.outcome)
+        if rank >= 0:
+            rank += sum(counts.per_node[graph.succ[node][j]] for j in range(k))
+        node = graph.succ[node][k]
+    if node is not None and not graph.is_terminal(node):
+        deviations.append(Deviation("INCOMPLETE", len(steps), f"the log ends before "
+                                    f"{graph.goal_ids[node]} ran"))
+    terminal = graph.node_id(node) if node is not None and graph.is_terminal(node) else None
+    ok = not deviations and rank >= 0
+    return ExecutionVerdict(rank + 1 if ok else None, terminal, tuple(deviations))

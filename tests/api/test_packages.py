@@ -1,0 +1,185 @@
+"""Approved packages (issue 19): the API builds one, `countersign vehicle verify` and the
+standalone tools/verify_package.py accept it and refuse the same eight tamperings with the same
+reason (the tampered packages are the shared test vectors)."""
+
+from __future__ import annotations
+
+import importlib.util
+import io
+import json
+import subprocess
+import sys
+import tarfile
+from collections.abc import Callable
+from datetime import UTC, datetime, timedelta
+from pathlib import Path
+from types import ModuleType
+
+import pytest
+
+from countersign.approvals import dsse
+from countersign.cli import main
+from countersign.export.package import build_package, read_tar, write_tar
+from countersign.export.package_verify import verify_package
+from countersign.store.packages import package_parts
+
+from .approval_helpers import (
+    MISSION,
+    PASSWORD,
+    approve,
+    new_version,
+    register_key,
+    sign_prepared,
+    submit,
+)
+from .conftest import World
+
+TOOL = Path(__file__).resolve().parents[2] / "tools" / "verify_package.py"
+IMC = f"vehicle/{MISSION}.imc"
+
+
+def _standalone() -> ModuleType:
+    spec = importlib.util.spec_from_file_location("verify_package", TOOL)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def _package(world: World, number: int) -> bytes:
+    response = world.client("auditor").get(f"/api/missions/{MISSION}/versions/{number}/package")
+    assert response.status_code == 200, response.text
+    assert response.headers["content-type"] == "application/x-tar"
+    return response.content
+
+
+def _edit(data: bytes, change: Callable[[dict[str, bytes]], None], *,
+          rehash: bool = True) -> bytes:
+    """The package with files changed as a careful attacker would: manifest hashes updated."""
+    import hashlib
+
+    files = read_tar(data)
+    change(files)
+    if rehash:
+        manifest = json.loads(files["manifest.json"])
+        manifest["files"] = {n: "sha256:" + hashlib.sha256(c).hexdigest()
+                             for n, c in sorted(files.items()) if n != "manifest.json"}
+        files["manifest.json"] = json.dumps(manifest, sort_keys=True, indent=1).encode()
+    return write_tar(files)
+
+
+def _flip_b64(text: str) -> str:
+    return text[:10] + ("A" if text[10] != "A" else "B") + text[11:]
+
+
+def test_packages_verify_and_eight_tamperings_are_refused_alike(world: World,
+                                                                tmp_path: Path) -> None:
+    supervisor = world.client("supervisor")
+    signer = register_key(supervisor)
+    first = new_version(world)
+    approve(world, supervisor, signer, submit(world, first))
+    second = new_version(world)
+    approval = approve(world, supervisor, signer, submit(world, second))
+    log_key = world.client("auditor").get("/api/log/checkpoint").json()["public_key"]
+    good, other = _package(world, second), _package(world, first)
+    assert good == _package(world, second)  # deterministic
+    with tarfile.open(fileobj=io.BytesIO(good)) as tar:
+        assert all(m.mtime == 0 for m in tar.getmembers())
+
+    # Revoke the second approval and package it anyway (the API refuses to).
+    prepared = supervisor.post(f"/api/approvals/{approval['id']}/statement",
+                               json={"reason": "lane moved", "key_id": signer.key_id}).json()
+    assert supervisor.post(f"/api/approvals/{approval['id']}/revoke", json={
+        "envelope": sign_prepared(prepared, signer), "password": PASSWORD}).status_code == 201
+    refused = world.client("auditor").get(f"/api/missions/{MISSION}/versions/{second}/package")
+    assert refused.status_code == 409 and "no standing approval" in refused.json()["detail"]
+    with world.database.session() as db:
+        revoked = build_package(package_parts(db, mission_id=MISSION, number=second,
+                                              signer=world.database.log_signer,
+                                              standing_only=False))
+
+    def orders_byte(files: dict[str, bytes]) -> None:
+        files["orders.json"] = files["orders.json"].replace(b"Search Area A", b"Search Area B", 1)
+
+    def receipt(files: dict[str, bytes]) -> None:
+        data = json.loads(files["log/receipt.json"])
+        data["signature"] = _flip_b64(data["signature"])
+        files["log/receipt.json"] = json.dumps(data).encode()
+
+    def proof(files: dict[str, bytes]) -> None:
+        data = json.loads(files["log/inclusion.json"])
+        data["hashes"][0] = "00" * 32
+        files["log/inclusion.json"] = json.dumps(data).encode()
+
+    later = datetime.now(UTC) + timedelta(days=30)
+    wrong_key = dsse.public_text(dsse.generate_key())
+    vectors: list[tuple[str, bytes, str, datetime | None, str]] = [
+        ("good", good, log_key, None, "OK"),
+        ("export swapped", _edit(good, lambda f: f.update({IMC: read_tar(other)[IMC]})),
+         log_key, None, "EXPORT"),
+        ("orders byte changed", _edit(good, orders_byte), log_key, None, "ORDERS"),
+        ("envelope from another version", _edit(good, lambda f: f.update(
+            {"approval.dsse.json": read_tar(other)["approval.dsse.json"]})),
+         log_key, None, "ENVELOPE"),
+        ("revoked approval", revoked, log_key, None, "REVOKED"),
+        ("wrong log key", good, wrong_key, None, "CHECKPOINT"),
+        ("bad receipt", _edit(good, receipt), log_key, None, "RECEIPT"),
+        ("bad proof", _edit(good, proof), log_key, None, "PROOF"),
+        ("expired checkpoint", good, log_key, later, "EXPIRED"),
+        ("not a package", b"hello", log_key, None, "FORMAT"),
+    ]
+    tool = _standalone()
+    verdicts = {}
+    for name, data, key, now, expected in vectors:
+        main_verdict = verify_package(data, log_key=key, now=now)
+        ok, code, message = tool.verify(data, key, now)
+        assert ok == main_verdict.ok
+        verdicts[name] = (expected, main_verdict.code, code)
+        assert main_verdict.message and message
+    assert all(e == m == s for e, m, s in verdicts.values()), verdicts
+
+    # The command lines: countersign vehicle verify, and the tool as a vehicle runs it.
+    path = tmp_path / "good.tar"
+    path.write_bytes(good)
+    bad = tmp_path / "swapped.tar"
+    bad.write_bytes(vectors[1][1])
+    assert main(["vehicle", "verify", str(path), "--log-key", log_key]) == 0
+    assert main(["vehicle", "verify", str(bad), "--log-key", log_key]) == 1
+    run = subprocess.run([sys.executable, str(TOOL), str(bad), "--log-key", log_key],
+                         capture_output=True, text=True, timeout=120, check=False)
+    assert run.returncode == 1 and run.stdout.startswith("REFUSED EXPORT:"), run.stdout
+
+
+@pytest.mark.parametrize("role", ["operator", "auditor"])
+def test_an_unapproved_version_has_no_package(world: World, role: str) -> None:
+    number = new_version(world)
+    response = world.client(role).get(f"/api/missions/{MISSION}/versions/{number}/package")
+    assert response.status_code == 409
+
+
+def test_executions_are_checked_and_recorded_in_the_log(world: World) -> None:
+    supervisor = world.client("supervisor")
+    signer = register_key(supervisor)
+    number = new_version(world)
+    base = f"/api/missions/{MISSION}/versions/{number}/executions"
+    steps = [("G1", "violate"), ("G4", "succeed"), ("G5", "succeed")]
+    log = "".join(json.dumps({"goal": g, "outcome": o}) + "\n" for g, o in steps)
+    operator = world.client("operator")
+    assert operator.post(base, json={"log": log}).status_code == 409  # not approved yet
+    approve(world, supervisor, signer, submit(world, number))
+    response = operator.post(base, json={"log": log})
+    assert response.status_code == 201, response.text
+    body = response.json()
+    assert body["ok"] and body["terminal"] == "COMPLETE"
+    assert body["summary"] == f"executed as path {body['path']} to COMPLETE, no deviation"
+    bad = log.replace('"G5", "outcome": "succeed"}', '"G5", "outcome": "succeed", '
+                      '"readings": {"depth_m": 12}}')
+    deviated = supervisor.post(base, json={"log": bad}).json()
+    assert deviated["deviations"][0]["code"] == "CONSTRAINT"
+    entries = world.client("auditor").get("/api/log/entries").json()
+    recorded = [json.loads(e["entry"])["event"] for e in entries
+                if json.loads(e["entry"])["event"]["kind"] == "execution.recorded"]
+    assert [r["detail"]["ok"] for r in recorded] == [True, False]
+    assert recorded[0]["detail"]["path"] == body["path"]
+    assert world.client("auditor").post(base, json={"log": log}).status_code == 403
+    assert operator.post(base, json={"log": "nonsense"}).status_code == 422

@@ -1,0 +1,139 @@
+"""IMC and MOOS-IvP exports, read back by independent readers (imcpy; a small .bhv reader)
+and compared with the MEA path for path, for every built-in example and the NPS AVCL missions."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from countersign.export.notes import ExportError
+from countersign.export.vehicle import export_vehicle
+from countersign.orders.examples import example_bytes, example_names
+from countersign.orders.model import Orders
+from countersign.orders.reader import read_bytes, read_file
+from countersign.verify.paths import iter_paths, paths_of
+
+from .readers import AVCL, NPS, Graph, description, graph_paths, mode_map, read_bhv, read_imc
+
+EXAMPLES = example_names()
+
+
+def _example(name: str) -> Orders:
+    return read_bytes(example_bytes(name), name).orders
+
+
+def _mea(orders: Orders) -> list[tuple[tuple[str, ...], tuple[str, ...], str]]:
+    graph, counts = paths_of(orders)
+    assert counts is not None
+    return [(p.goals, p.outcomes, p.terminal) for p in iter_paths(graph, counts)]
+
+
+def _edges(orders: Orders) -> dict[str, dict[str, str]]:
+    return {g.id: {o: g.successors(o)[0] for o in ("succeed", "fail", "violate")}
+            for g in orders.goals}
+
+
+def _check_against_mea(orders: Orders, graph: Graph, rename: dict[str, str] | None = None) -> None:
+    name = (lambda n: rename[n]) if rename else (lambda n: n)
+    edges = {name(s): {o: name(t) for o, t in out.items()} for s, out in graph.edges.items()}
+    assert name(graph.start) == orders.start
+    assert edges == _edges(orders)
+    kinds = {t.id: t.kind for t in orders.effective_terminals}
+    assert {name(t): k for t, k in graph.terminals.items()} == kinds
+    _, counts = paths_of(orders)
+    if counts is None:  # loops (NPS missions with G7): the edge sets above are the MEA
+        return
+    read = [(tuple(map(name, g)), o, name(t)) for g, o, t in graph_paths(graph)]
+    assert read == _mea(orders)
+
+
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_imc_export_parses_back_to_the_mea(name: str) -> None:
+    orders = _example(name)
+    export = export_vehicle(orders, "imc", version=4, approval={"decision": "approved"})
+    plan, graph = read_imc(export.primary.content)
+    assert plan.plan_id == f"{orders.id}@v4"
+    meta = description(plan)
+    assert meta["orders_digest"].startswith("sha256:") and meta["version"] == 4
+    assert meta["approval"] == {"decision": "approved"}
+    _check_against_mea(orders, graph)
+    # Deterministic: the same orders give the same bytes.
+    assert export_vehicle(orders, "imc", version=4,
+                          approval={"decision": "approved"}).primary.content \
+        == export.primary.content
+
+
+def test_imc_maneuvers_follow_behaviour_and_area() -> None:
+    orders = _example("search-and-sample")
+    plan, _ = read_imc(export_vehicle(orders, "imc").primary.content)
+    kinds = {m.maneuver_id: m.data.msg_name for m in plan.maneuvers}
+    assert kinds == {"G1": "Rows", "G2": "StationKeeping", "G3": "Rows", "G4": "Loiter",
+                     "G5": "Goto", "COMPLETE": "PopUp", "ABORT": "PopUp"}
+    g5 = next(m.data for m in plan.maneuvers if m.maneuver_id == "G5")
+    base = orders.area_index()["BASE"].polygon
+    assert math.degrees(g5.lat) == pytest.approx(sum(p[0] for p in base) / 4, abs=1e-3)
+    assert g5.z == pytest.approx(40) and g5.speed == pytest.approx(1.5)
+    names = [v.name for v in plan.variables]
+    assert names == [f"constraint.C{i}" for i in range(1, 8)]
+
+
+@pytest.mark.parametrize("name", EXAMPLES)
+def test_moos_mode_graph_equals_the_mea(name: str) -> None:
+    orders = _example(name)
+    export = export_vehicle(orders, "moos", version=1)
+    text = export.primary.content.decode()
+    _check_against_mea(orders, read_bhv(text), mode_map(text))
+    moos = export.file(f"{orders.id}.moos")
+    assert moos is not None and b"uSimMarine" in moos.content
+    assert f"behaviors = {orders.id}.bhv".encode() in moos.content
+
+
+def test_moos_constraints_become_conditions_or_named_comments() -> None:
+    orders = _example("search-and-sample")
+    text = export_vehicle(orders, "moos").primary.content.decode()
+    assert "condition = ((LANE_DISTANCE_M < 1000) and (DEPTH_M < 20))" in text
+    assert "name = G5_violate_C7" in text and "name = G5_violate_C4" not in text
+    data = orders.model_dump(mode="json", exclude_unset=True)
+    data["constraints"][0]["expr"] = "nav_error_m + 1 <= 10"
+    export = export_vehicle(Orders.model_validate(data), "moos")
+    assert "// constraint C1 (nav_error_m + 1 <= 10): no helm condition" in \
+        export.primary.content.decode()
+    assert any(n.code == "MONITOR" and n.path == "/constraints/0" for n in export.notes)
+
+
+@pytest.mark.parametrize("fmt", ["imc", "moos"])
+def test_every_export_names_what_it_cannot_carry(fmt: str) -> None:
+    export = export_vehicle(_example("search-and-sample-rules"), fmt)
+    found = {(n.code, n.path) for n in export.notes}
+    assert ("NORM", "/norms/0") in found and ("RULES", "/rules") in found
+    assert all(n.message for n in export.notes)
+
+
+@pytest.mark.parametrize("fmt", ["imc", "moos"])
+def test_orders_that_cannot_be_a_plan_are_refused(fmt: str) -> None:
+    data = _example("search-and-sample").model_dump(mode="json", exclude_unset=True)
+    data["goals"][0]["next"]["fail"] = "NOWHERE"
+    with pytest.raises(ExportError, match="G3"):
+        export_vehicle(Orders.model_validate(data), fmt)
+
+
+def test_a_plan_too_large_for_one_imc_message_is_refused() -> None:
+    goals = [{"id": f"G{i}", "title": "A goal with a long enough title " * 3,
+              "next": {o: f"G{i + 1}" if i < 399 else "COMPLETE"
+                       for o in ("succeed", "fail", "violate")}} for i in range(400)]
+    orders = Orders.model_validate({"id": "big", "start": "G0", "goals": goals})
+    with pytest.raises(ExportError, match="65,535 bytes"):
+        export_vehicle(orders, "imc")
+    assert export_vehicle(orders, "moos").primary.content  # MOOS has no such limit
+
+
+@pytest.mark.skipif(not AVCL, reason=f"NPS reference missions not found under {NPS}")
+@pytest.mark.parametrize("path", AVCL, ids=[p.name for p in AVCL])
+def test_nps_avcl_missions_export_to_both_formats(path: object) -> None:
+    assert len(AVCL) == 10  # the NPS folder's missions, loops and unreachable goals included
+    orders = read_file(str(path)).orders
+    _, graph = read_imc(export_vehicle(orders, "imc").primary.content)
+    _check_against_mea(orders, graph)
+    text = export_vehicle(orders, "moos").primary.content.decode()
+    _check_against_mea(orders, read_bhv(text), mode_map(text))

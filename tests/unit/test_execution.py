@@ -1,0 +1,99 @@
+"""Execution logs against the orders: all 75 paths of the exemplar are recognised with their
+`countersign paths` numbers; planted deviations are named."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from countersign.orders.examples import example_bytes
+from countersign.orders.reader import read_bytes
+from countersign.rehearse.execution import (
+    ExecutionLogError,
+    check_execution,
+    read_log,
+)
+from countersign.verify.paths import iter_paths, paths_of
+
+ORDERS = read_bytes(example_bytes("search-and-sample"), "exemplar").orders
+
+
+def _log(*steps: tuple[str, str] | tuple[str, str, dict[str, float]]) -> str:
+    return "".join(json.dumps({"goal": s[0], "outcome": s[1], "time": f"T{i}",
+                               "readings": s[2] if len(s) > 2 else {}}) + "\n"
+                   for i, s in enumerate(steps))
+
+
+def test_every_path_of_the_exemplar_is_recognised_with_its_number() -> None:
+    graph, counts = paths_of(ORDERS)
+    assert counts is not None
+    seen = 0
+    for path in iter_paths(graph, counts):
+        log = _log(*zip(path.goals, path.outcomes, strict=True))
+        verdict = check_execution(ORDERS, read_log(log))
+        assert verdict.ok, verdict.deviations
+        assert (verdict.path, verdict.terminal) == (path.index, path.terminal)
+        seen += 1
+    assert seen == 75
+
+
+def test_a_skipped_goal_is_named() -> None:
+    verdict = check_execution(ORDERS, read_log(_log(("G1", "succeed"), ("G3", "succeed"),
+                                                    ("G4", "succeed"), ("G5", "succeed"))))
+    assert [d.code for d in verdict.deviations] == ["SKIPPED-GOAL"]
+    assert "G2 was skipped" in verdict.summary() and verdict.path is None
+
+
+def test_a_wrong_transition_is_named() -> None:
+    verdict = check_execution(ORDERS, read_log(_log(("G1", "fail"), ("G2", "succeed"),
+                                                    ("G3", "succeed"), ("G4", "succeed"),
+                                                    ("G5", "succeed"))))
+    assert verdict.deviations[0].code == "WRONG-TRANSITION"
+    assert verdict.deviations[0].step == 2 and "G3 next, but G2 ran" in \
+        verdict.deviations[0].message
+
+
+def test_a_depth_reading_below_a_constraint_is_named() -> None:
+    verdict = check_execution(ORDERS, read_log(_log(
+        ("G1", "violate", {"depth_m": 30}), ("G4", "succeed"),
+        ("G5", "succeed", {"depth_m": 15.5}))))
+    assert [(d.code, d.step) for d in verdict.deviations] == [("CONSTRAINT", 3)]
+    assert "depth_m=15.5 break C7 (depth_m >= 20) during G5 at T2" in \
+        verdict.deviations[0].message
+
+
+def test_an_unfinished_log_and_steps_after_the_end_are_named() -> None:
+    short = check_execution(ORDERS, read_log(_log(("G1", "violate"), ("G4", "succeed"))))
+    assert [d.code for d in short.deviations] == ["INCOMPLETE"]
+    extra = check_execution(ORDERS, read_log(_log(("G1", "violate"), ("G4", "succeed"),
+                                                  ("G5", "fail"), ("G5", "succeed"))))
+    assert [d.code for d in extra.deviations] == ["AFTER-END"]
+
+
+@pytest.mark.parametrize("text", ['{"goal": "G1"}', "not json", '{"goal": "G1", "outcome": "x"}'])
+def test_unreadable_logs_name_the_line(text: str) -> None:
+    with pytest.raises(ExecutionLogError, match="line 1"):
+        read_log(text)
+
+
+def test_the_command_line_names_the_path_or_the_deviation(
+        tmp_path: pytest.TempPathFactory, capsys: pytest.CaptureFixture[str]) -> None:
+    from pathlib import Path
+
+    from countersign.cli import main
+
+    log = Path(str(tmp_path)) / "run.ndjson"
+    log.write_text(_log(("G1", "violate"), ("G4", "succeed"), ("G5", "succeed")))
+    assert main(["execution", "check", "example:search-and-sample", str(log)]) == 0
+    graph, counts = paths_of(ORDERS)
+    assert counts is not None
+    number = next(p.index for p in iter_paths(graph, counts)
+                  if p.outcomes == ("violate", "succeed", "succeed"))
+    assert capsys.readouterr().out.startswith(f"executed as path {number} to COMPLETE")
+    log.write_text(_log(("G1", "fail"), ("G2", "succeed")))
+    assert main(["execution", "check", "example:search-and-sample", str(log),
+                 "--format", "json"]) == 1
+    assert json.loads(capsys.readouterr().out)["deviations"][0]["code"] == "WRONG-TRANSITION"
+    log.write_text("nonsense\n")
+    assert main(["execution", "check", "example:search-and-sample", str(log)]) == 2

@@ -1,0 +1,270 @@
+#!/usr/bin/env python3
+"""Standalone verifier of a Countersign approved package (countersign.package/1).
+
+For vehicles that cannot install Countersign: one file, the standard library plus
+`cryptography`. Usage: python3 verify_package.py PACKAGE.tar --log-key BASE64 [--max-age-days N]
+Exit 0 and "OK ..." when the package verifies; exit 1 and "REFUSED CODE: reason" otherwise.
+It runs the same checks in the same order as `countersign vehicle verify` and names the first
+failure with the same code: FORMAT, LOG-KEY, CHECKPOINT, LOG, PROOF, RECEIPT, EXPIRED,
+ENVELOPE, SIGNATURE, ORDERS, REVOKED, EXPORT. It cannot rebuild the vehicle files, so it
+checks that each matches the manifest and names the approved orders, version and envelope."""
+
+from __future__ import annotations
+
+import argparse
+import base64
+import binascii
+import hashlib
+import io
+import json
+import sys
+import tarfile
+from datetime import UTC, datetime, timedelta
+from typing import Any
+
+from cryptography.exceptions import InvalidSignature
+from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PublicKey
+
+FORMAT = "countersign.package/1"
+MAX_BYTES = 64 * 1024 * 1024
+DASH = "\u2014"
+
+
+class Refused(Exception):
+    def __init__(self, code: str, message: str) -> None:
+        super().__init__(message)
+        self.code = code
+
+
+def sha(data: bytes) -> str:
+    return "sha256:" + hashlib.sha256(data).hexdigest()
+
+
+def b64(text: str) -> bytes:
+    return base64.b64decode(text.encode(), validate=True)
+
+
+def ed25519(text: str) -> Ed25519PublicKey:
+    raw = b64(text)
+    if len(raw) != 32:
+        raise ValueError("an Ed25519 public key has 32 bytes")
+    return Ed25519PublicKey.from_public_bytes(raw)
+
+
+def leaf(data: bytes) -> bytes:
+    return hashlib.sha256(b"\x00" + data).digest()
+
+
+def node(left: bytes, right: bytes) -> bytes:
+    return hashlib.sha256(b"\x01" + left + right).digest()
+
+
+def merkle_root(leaves: list[bytes]) -> bytes:
+    """RFC 6962 tree head (pairs left to right, an odd last node carried up)."""
+    if not leaves:
+        return hashlib.sha256(b"").digest()
+    level = leaves
+    while len(level) > 1:
+        nxt = [node(level[i], level[i + 1]) for i in range(0, len(level) - 1, 2)]
+        if len(level) % 2:
+            nxt.append(level[-1])
+        level = nxt
+    return level[0]
+
+
+def included(leaf_hash: bytes, index: int, size: int, proof: list[bytes], root: bytes) -> bool:
+    """RFC 9162 section 2.1.3.2 inclusion proof verification."""
+    if not 0 <= index < size:
+        return False
+    fn, sn, r = index, size - 1, leaf_hash
+    for p in proof:
+        if sn == 0:
+            return False
+        if fn % 2 == 1 or fn == sn:
+            r = node(p, r)
+            while fn % 2 == 0 and fn != 0:
+                fn >>= 1
+                sn >>= 1
+        else:
+            r = node(r, p)
+        fn >>= 1
+        sn >>= 1
+    return sn == 0 and r == root
+
+
+def note_body(note: str, key: Ed25519PublicKey, raw: bytes) -> tuple[str, int, bytes]:
+    """(origin, size, root) of a C2SP checkpoint signed by this key under its origin."""
+    body, sep, rest = note.partition("\n\n")
+    body += "\n"
+    lines = body.split("\n")
+    if not sep or len(lines) < 4:
+        raise ValueError("not a signed checkpoint note")
+    origin = lines[0]
+    want = hashlib.sha256(origin.encode() + b"\n\x01" + raw).digest()[:4]
+    for line in rest.rstrip("\n").split("\n"):
+        parts = line.split(" ")
+        if len(parts) == 3 and parts[0] == DASH and parts[1] == origin:
+            blob = b64(parts[2])
+            if blob[:4] == want:
+                key.verify(blob[4:], body.encode())
+                return origin, int(lines[1]), b64(lines[2])
+    raise ValueError(f"no signature by {origin} with this key")
+
+
+def receipt_time(text: str, *, origin: str, index: int, leaf_hex: str,
+                 key: Ed25519PublicKey) -> str:
+    data = json.loads(text)
+    if (data["origin"], data["index"], data["leaf"]) != (origin, index, leaf_hex):
+        raise ValueError("is a receipt for another entry")
+    message = f"countersign-receipt/v1\n{origin}\n{index}\n{leaf_hex}\n{data['time']}\n"
+    key.verify(b64(data["signature"]), message.encode())
+    return str(data["time"])
+
+
+def read_package(data: bytes) -> dict[str, bytes]:
+    if len(data) > MAX_BYTES:
+        raise ValueError("the package is too large")
+    files: dict[str, bytes] = {}
+    with tarfile.open(fileobj=io.BytesIO(data), mode="r:") as tar:
+        for member in tar.getmembers():
+            if not member.isfile() or member.name in files:
+                raise ValueError(f"member {member.name[:80]!r} is not one plain file")
+            handle = tar.extractfile(member)
+            assert handle is not None
+            files[member.name] = handle.read()
+    return files
+
+
+def check(data: bytes, log_key: str, now: datetime, max_age: timedelta) -> str:
+    try:
+        files = read_package(data)
+        manifest = json.loads(files["manifest.json"])
+        if manifest.get("format") != FORMAT:
+            raise ValueError(f"not a {FORMAT} package")
+        mission, version = str(manifest["mission"]), int(manifest["version"])
+        index = int(manifest["approval_index"])
+        entries = files["log/entries.ndjson"].decode().splitlines()
+        proof = json.loads(files["log/inclusion.json"])
+        note = files["log/checkpoint"].decode()
+    except (ValueError, KeyError, TypeError, OSError, tarfile.TarError) as exc:
+        raise Refused("FORMAT", f"the package is not readable: {exc}") from None
+    try:
+        key, raw = ed25519(log_key), b64(log_key)
+    except (ValueError, binascii.Error) as exc:
+        raise Refused("LOG-KEY", f"the log key is unusable: {exc}") from None
+    try:
+        origin, size, root = note_body(note, key, raw)
+    except (ValueError, InvalidSignature, binascii.Error) as exc:
+        raise Refused("CHECKPOINT", f"the checkpoint does not verify under the log key: "
+                      f"{exc or 'bad signature'}") from None
+    leaves = [leaf(e.encode()) for e in entries]
+    events: list[dict[str, Any]] = []
+    prev = "0" * 64
+    for i, text in enumerate(entries):
+        entry = json.loads(text)
+        if entry.get("index") != i or entry.get("prev") != prev:
+            raise Refused("LOG", f"log entry {i} does not chain to the one before")
+        events.append(entry["event"])
+        prev = leaves[i].hex()
+    if len(leaves) != size or merkle_root(leaves) != root:
+        raise Refused("LOG", "the log entries do not hash to the checkpoint")
+    if not 0 <= index < size:
+        raise Refused("PROOF", f"the approval entry {index} is outside the checkpoint")
+    try:
+        proved = proof["index"] == index and proof["size"] == size and included(
+            leaves[index], index, size, [bytes.fromhex(h) for h in proof["hashes"]], root)
+    except (KeyError, TypeError, ValueError):
+        proved = False
+    if not proved:
+        raise Refused("PROOF", f"the inclusion proof of entry {index} does not lead to the "
+                      "checkpoint's root")
+    time = ""
+    for name, at in (("log/receipt.json", index), ("log/head-receipt.json", size - 1)):
+        try:
+            time = receipt_time(files[name].decode(), origin=origin, index=at,
+                                leaf_hex=leaves[at].hex(), key=key)
+        except (ValueError, KeyError, TypeError, InvalidSignature, binascii.Error) as exc:
+            raise Refused("RECEIPT", f"log entry {at} has no valid receipt: "
+                          f"{exc or 'bad signature'}") from None
+    if now - datetime.fromisoformat(time.replace("Z", "+00:00")) > max_age:
+        raise Refused("EXPIRED", f"the checkpoint covers nothing newer than {time}")
+    event = events[index]
+    detail = event.get("detail") or {}
+    envelope_bytes = files.get("approval.dsse.json", b"")
+    if event.get("kind") != "approval.approved" or event.get("mission") != mission or \
+            detail.get("version") != version or detail.get("envelope_digest") != sha(
+                envelope_bytes):
+        raise Refused("ENVELOPE", f"the envelope is not the logged approval of {mission} "
+                      f"version {version}")
+    try:
+        envelope = json.loads(envelope_bytes)
+        signature = envelope["signatures"][0]
+        registered = [e for e in events if e.get("kind") == "key.registered"
+                      and (e.get("detail") or {}).get("key_id") == signature["keyid"]]
+        if not registered or len(envelope["signatures"]) != 1:
+            raise ValueError("its key is not registered in the log")
+        payload = b64(envelope["payload"])
+        kind = envelope["payloadType"].encode()
+        pae = b"DSSEv1 %d %s %d %s" % (len(kind), kind, len(payload), payload)
+        ed25519(registered[0]["detail"]["public_key"]).verify(b64(signature["sig"]), pae)
+        statement = json.loads(payload)
+        signed = "sha256:" + statement["subject"][0]["digest"]["sha256"]
+    except (ValueError, KeyError, TypeError, IndexError, InvalidSignature,
+            binascii.Error) as exc:
+        raise Refused("SIGNATURE", f"the approval envelope does not verify: "
+                      f"{exc or 'bad signature'}") from None
+    if sha(files.get("orders.json", b"")) != signed or detail.get("orders_digest") != signed:
+        raise Refused("ORDERS", f"the orders are not the ones the approval signed ({signed})")
+    for later in events[index + 1:]:
+        if later.get("kind") == "approval.revoked" and \
+                (later.get("detail") or {}).get("submission") == detail.get("submission"):
+            raise Refused("REVOKED", "the approval was revoked, as of the checkpoint")
+    approval = {"decision": "approved", "envelope_digest": sha(envelope_bytes)}
+    plan = f"{mission}@v{version}"
+    imc = json.dumps({"approval": approval, "generator": "countersign", "mission": mission,
+                      "orders_digest": signed, "version": version}, sort_keys=True).encode()
+    header = f"// orders {signed}  plan {plan}\n".encode()
+    names = manifest.get("files") or {}
+    vehicle = sorted(n for n in files if n.startswith("vehicle/"))
+    if not vehicle:
+        raise Refused("EXPORT", "the package holds no vehicle files")
+    for name in vehicle:
+        content = files[name]
+        if names.get(name) != sha(content):
+            raise Refused("EXPORT", f"{name} is not the file the manifest lists")
+        expected = imc if name.endswith(".imc") else header
+        if expected not in content or (name.endswith(".bhv") and json.dumps(
+                approval, sort_keys=True).encode() not in content):
+            raise Refused("EXPORT", f"{name} is not the export of the approved orders")
+    return (f"{mission} version {version}: approved, orders {signed}, log entry {index} in "
+            f"checkpoint size {size}; vehicle files match")
+
+
+def verify(data: bytes, log_key: str, now: datetime | None = None,
+           max_age: timedelta = timedelta(days=7)) -> tuple[bool, str, str]:
+    """(ok, code, message): code is OK or the first failed check."""
+    try:
+        return True, "OK", check(data, log_key, now or datetime.now(UTC), max_age)
+    except Refused as refusal:
+        return False, refusal.code, str(refusal)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("package")
+    parser.add_argument("--log-key", required=True, help="the log's Ed25519 public key, base64")
+    parser.add_argument("--max-age-days", type=float, default=7.0)
+    args = parser.parse_args(argv)
+    try:
+        with open(args.package, "rb") as handle:
+            data = handle.read(MAX_BYTES + 1)
+    except OSError as exc:
+        print(f"REFUSED FORMAT: cannot read {args.package}: {exc.strerror}")
+        return 2
+    ok, code, message = verify(data, args.log_key, max_age=timedelta(days=args.max_age_days))
+    print(f"OK {message}" if ok else f"REFUSED {code}: {message}")
+    return 0 if ok else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
