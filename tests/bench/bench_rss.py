@@ -33,6 +33,11 @@ PAGE = os.sysconf("SC_PAGE_SIZE")
 
 def tree_rss_mb(root: int) -> float:
     """Resident memory of `root` and all its descendants (psutil-free: /proc)."""
+    return sum(per_process_mb(root).values())
+
+
+def per_process_mb(root: int) -> dict[str, float]:
+    """RSS by process of the tree, named `pid command`."""
     parents: dict[int, int] = {}
     for name in os.listdir("/proc"):
         if name.isdigit():
@@ -48,13 +53,15 @@ def tree_rss_mb(root: int) -> float:
             if parent == pid and child not in tree:
                 tree.add(child)
                 frontier.append(child)
-    total = 0
+    sizes = {}
     for pid in tree:
         try:
-            total += int(Path(f"/proc/{pid}/statm").read_text().split()[1]) * PAGE
+            rss = int(Path(f"/proc/{pid}/statm").read_text().split()[1]) * PAGE
+            command = Path(f"/proc/{pid}/cmdline").read_bytes().replace(b"\0", b" ")
         except (OSError, ValueError, IndexError):
             continue
-    return total / 2**20
+        sizes[f"{pid} {command.decode(errors='replace')[:60]}"] = rss / 2**20
+    return sizes
 
 
 def bad_requests() -> list[tuple[str, str, bytes, str]]:
@@ -135,6 +142,8 @@ def main() -> None:
                 one_round(client, admin, args.heavy)
                 warm = tree_rss_mb(server.pid)
                 print(f"  after a warm-up round     {warm:8.1f}")
+                for name, size in sorted(per_process_mb(server.pid).items()):
+                    print(f"    {size:8.1f}  {name}")
                 sizes = [warm]
                 for n in range(1, args.rounds + 1):
                     start = time.perf_counter()
@@ -143,6 +152,8 @@ def main() -> None:
                     print(f"  after round {n:<2}            {sizes[-1]:8.1f}   "
                           f"({refused} refused 4xx, {other} other, heavy {heavy}, "
                           f"{time.perf_counter() - start:5.1f} s)")
+                for name, size in sorted(per_process_mb(server.pid).items()):
+                    print(f"    {size:8.1f}  {name}")
                 last = sizes[-1] - sizes[-2]
                 verdict = "PASS" if last < 0.1 * warm else "MISS"
                 print(f"growth over the rounds {sizes[-1] - warm:+.1f} MB; last round "
