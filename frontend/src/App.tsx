@@ -4,6 +4,7 @@ import { api, csrf, onUnauthorized, type Session } from "./api/client";
 import { Link } from "./components/Link";
 import { ErrorMessage, Loading } from "./components/Status";
 import { navigate, useLocationRoute } from "./navigation";
+import { AccountPage } from "./pages/AccountPage";
 import { EventsPage } from "./pages/EventsPage";
 import { ImportPage } from "./pages/ImportPage";
 import { LoginPage } from "./pages/LoginPage";
@@ -163,6 +164,9 @@ function Shell({
           <span className={`role role-${role}`} data-testid="current-role">
             {ROLE_LABEL[role] ?? user.role}
           </span>
+          <Link href="/account" aria-current={current("account")}>
+            Account
+          </Link>
           <button type="button" onClick={() => void signOut()}>
             Sign out
           </button>
@@ -188,6 +192,8 @@ function Page({ route, search, role }: { route: Route; search: string; role: Rol
       return can(role, "manageUsers") ? <UsersPage /> : <Forbidden />;
     case "events":
       return can(role, "readEvents") ? <EventsPage /> : <Forbidden />;
+    case "account":
+      return <AccountPage />;
     case "approvals":
       return <ApprovalPages route={route.page} role={role} forbidden={<Forbidden />} />;
     case "notFound":

@@ -60,6 +60,15 @@ class _Key:
     revoked: int | None = None
 
 
+def from_problem(document: Any) -> tuple[Any, str | None]:
+    """The bundle inside the server's 409 problem for a log with deleted entries (GET
+    /api/audit/bundle), with the server's own words; any other document is returned as is."""
+    if isinstance(document, dict) and document.get("status") == 409 and \
+            isinstance(document.get("bundle"), dict):
+        return document["bundle"], str(document.get("detail", ""))
+    return document, None
+
+
 def _es_numbers(value: Any) -> Any:
     """Floats as ECMAScript writes them where Python's repr agrees (integral floats become
     ints; others must lie in [1e-4, 1e16)); anything else raises ValueError (slow path)."""
@@ -309,6 +318,9 @@ def _check_approval(approval: dict[str, Any], events: list[dict[str, Any]], leav
                     rehearsals: dict[str, Any] | None = None) -> None:
     name = f"approval {approval.get('id')}"
     index = approval.get("log_index")
+    if index is None:
+        report.problems.append(f"{name}: its log entry is missing (deleted from the log)")
+        return
     if not isinstance(index, int) or not 0 <= index < len(events):
         report.problems.append(f"{name}: its log entry {index} is not in the log")
         return

@@ -57,7 +57,8 @@ def add_commands(commands: argparse._SubParsersAction) -> None:  # type: ignore[
     verify = audit_sub.add_parser(
         "verify", help="check signatures, keys, orders digests, the log chain, Merkle proofs "
         "and checkpoints of a bundle, with no server and no network")
-    verify.add_argument("bundle", type=Path)
+    verify.add_argument("bundle", type=Path, help="the exported bundle (or the server's 409 "
+                        "problem for a log with deleted entries, which holds one)")
     verify.add_argument("--log-key", default=None,
                         help="the server's published log public key (base64) to pin")
     verify.add_argument("--checkpoint", type=Path, action="append", default=[],
@@ -187,7 +188,7 @@ def cmd_sign(args: argparse.Namespace) -> int:
 def cmd_audit_verify(args: argparse.Namespace) -> int:
     from ..approvals import dsse
     from ..approvals.auditor_state import load_state, save_state
-    from ..approvals.bundle import verify_bundle
+    from ..approvals.bundle import from_problem, verify_bundle
 
     try:
         bundle = json.loads(args.bundle.read_bytes())
@@ -203,7 +204,10 @@ def cmd_audit_verify(args: argparse.Namespace) -> int:
     except dsse.SignatureError as exc:
         _err(str(exc))
         return EXIT_UNREADABLE
+    bundle, server_said = from_problem(bundle)
     report = verify_bundle(bundle, trusted_log_key=args.log_key, published=published, seen=seen)
+    if server_said:
+        report.problems.insert(0, f"the server refused the bundle: {server_said}")
     if args.state is not None and report.ok and report.head is not None:
         seen[report.head.origin] = report.head
         save_state(args.state, seen)

@@ -89,7 +89,9 @@ export interface paths {
         };
         /**
          * Export Bundle
-         * @description An audit bundle for `countersign audit verify BUNDLE` (offline).
+         * @description An audit bundle for `countersign audit verify BUNDLE` (offline). A log with entries
+         *     deleted behind the app's back is a 409 problem naming them, whose `bundle` member holds
+         *     what remains.
          */
         get: operations["exportBundle"];
         put?: never;

@@ -5,6 +5,7 @@ import { ErrorMessage, Loading, Notice } from "../components/Status";
 import { ROLE_LABEL, ROLES, type Role } from "../roles";
 import { useSession } from "../session";
 import { useLoad } from "../useLoad";
+import { ResetPassword } from "./users/ResetPassword";
 
 export function UsersPage() {
   const me = useSession().user;
@@ -96,6 +97,15 @@ export function UsersPage() {
                       {u.disabled ? "Enable" : "Disable"}
                       <span className="visually-hidden"> {u.username}</span>
                     </button>
+                  )}
+                  {u.id !== me.id && (
+                    <ResetPassword
+                      user={u}
+                      onDone={(done) => {
+                        setNotice(done);
+                        reload();
+                      }}
+                    />
                   )}
                 </td>
               </tr>

@@ -9,6 +9,7 @@ from sqlalchemy.orm import Session as DbSession
 
 from ...approvals.bundle import BUNDLE_FORMAT
 from ...approvals.signer import LogSigner
+from ..log_gaps import LogEntriesMissing, approvals_without_entry, describe, missing_entries
 from ..tables import (
     Approval,
     Checkpoint,
@@ -33,7 +34,13 @@ def build_bundle(db: DbSession, *, signer: LogSigner,
 
         with database_of(db).session() as writer:
             return build_bundle(writer, signer=signer, mission=mission)
-    latest, refusal = _checkpoint_now(db, signer)
+    gaps, orphans = missing_entries(db), approvals_without_entry(db)
+    damaged = bool(gaps or orphans)
+    if damaged:  # a log with holes: no new checkpoint, no proofs (store/log_gaps.py)
+        latest = db.scalar(select(Checkpoint).order_by(Checkpoint.tree_size.desc()).limit(1))
+        refusal: str | None = describe(gaps, orphans)
+    else:
+        latest, refusal = _checkpoint_now(db, signer)
     tree = log_tree(db, pending=True)
     covered = latest.tree_size if latest is not None else 0
     rows = list(db.scalars(approvals_query(Filters(mission=mission)).order_by(None)
@@ -52,19 +59,19 @@ def build_bundle(db: DbSession, *, signer: LogSigner,
         submission = db.get_one(Submission, approval.submission_id)
         if submission.rehearsal_digest is not None:
             cited.add(submission.rehearsal_digest)
-        index = indexes[approval.event_id]
+        logged = indexes.get(approval.event_id)
         approvals.append({
             "id": approval.id, "mission": approval.mission_id, "decision": approval.decision,
-            "log_index": index, "envelope": approval.envelope,
-            "inclusion": {"index": index, "size": covered,
-                          "hashes": [h.hex() for h in tree.inclusion_proof(index, covered)]
-                          if index < covered else []},
+            "log_index": logged, "envelope": approval.envelope,
+            "inclusion": {"index": logged, "size": covered,
+                          "hashes": [h.hex() for h in tree.inclusion_proof(logged, covered)]
+                          if not damaged and logged is not None and logged < covered else []},
         })
     keys = [{"key_id": k.id, "public_key": k.public_key, "user": _username(db, k.user_id),
              "created_at": k.created_at.isoformat(),
              "revoked_at": k.revoked_at.isoformat() if k.revoked_at else None}
             for k in db.scalars(select(SigningKey).order_by(SigningKey.created_at))]
-    return {
+    bundle = {
         "format": BUNDLE_FORMAT,
         "created_at": _now_text(),
         # The mission the approvals were exported for (None: all); decisions of other
@@ -86,3 +93,6 @@ def build_bundle(db: DbSession, *, signer: LogSigner,
             select(RehearsalRecord).where(RehearsalRecord.digest.in_(sorted(cited))))}
         if cited else {},
     }
+    if damaged:
+        raise LogEntriesMissing(gaps, orphans, bundle)
+    return bundle

@@ -6,6 +6,7 @@ import json
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Depends, Path, Query, Request
+from fastapi.responses import JSONResponse
 from pydantic import Field
 from sqlalchemy import select
 
@@ -16,6 +17,7 @@ from ...orders.writers import write
 from ...rehearse.plain import rules_sentences
 from ...store import approvals as service
 from ...store.integrity import submission_integrity
+from ...store.log_gaps import LogEntriesMissing
 from ...store.missions import get_version, report_for
 from ...store.rehearsals import attach, get_record, record_summary
 from ...store.tables import Approval, MissionVersion, SigningKey, Submission, User
@@ -31,6 +33,7 @@ from ..deps import (
     TransactionRoute,
     allow,
 )
+from ..problems import problem
 from .approval_schemas import (
     ApprovalDetailOut,
     ApprovalOut,
@@ -411,8 +414,13 @@ def get_consistency_proof(
 
 @router.get("/audit/bundle", operation_id="exportBundle",
             response_model=BundleOut, **AS_BUILT, **allow(*LOG_READERS))
-def export_bundle(db: Db, signer: Signer,
+def export_bundle(request: Request, db: Db, signer: Signer,
                   mission: Annotated[str | None, Query(max_length=100)] = None
-                  ) -> dict[str, Any]:
-    """An audit bundle for `countersign audit verify BUNDLE` (offline)."""
-    return service.build_bundle(db, signer=signer, mission=mission)
+                  ) -> dict[str, Any] | JSONResponse:
+    """An audit bundle for `countersign audit verify BUNDLE` (offline). A log with entries
+    deleted behind the app's back is a 409 problem naming them, whose `bundle` member holds
+    what remains."""
+    try:
+        return service.build_bundle(db, signer=signer, mission=mission)
+    except LogEntriesMissing as exc:
+        return problem(409, str(exc), request, **exc.extra())

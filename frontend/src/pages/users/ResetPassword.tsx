@@ -1,0 +1,63 @@
+import { type FormEvent, useId, useState } from "react";
+
+import { api, ApiError, type User } from "../../api/client";
+import { ErrorMessage } from "../../components/Status";
+
+/** An admin's reset of another user's password: the server applies the password policy and
+ * ends every session and API token of that user. */
+export function ResetPassword({ user, onDone }: { user: User; onDone: (notice: string) => void }) {
+  const [open, setOpen] = useState(false);
+  const [password, setPassword] = useState("");
+  const [error, setError] = useState<unknown>(null);
+  const [busy, setBusy] = useState(false);
+  const id = useId();
+
+  if (!open) {
+    return (
+      <button type="button" onClick={() => setOpen(true)}>
+        Reset password<span className="visually-hidden"> of {user.username}</span>
+      </button>
+    );
+  }
+
+  const submit = async (event: FormEvent) => {
+    event.preventDefault();
+    setBusy(true);
+    setError(null);
+    try {
+      const result = await api.PATCH("/api/users/{user_id}", {
+        params: { path: { user_id: user.id } },
+        body: { password },
+      });
+      if (!result.response.ok) throw new ApiError(result.response.status, result.error);
+      setPassword("");
+      setOpen(false);
+      onDone(`Password of ${user.username} reset; their sessions and API tokens have ended.`);
+    } catch (e) {
+      setError(e);
+    } finally {
+      setBusy(false);
+    }
+  };
+
+  return (
+    <form className="reset-password" onSubmit={submit} aria-label={`Reset password of ${user.username}`}>
+      <label htmlFor={`${id}-password`}>New password for {user.username}</label>
+      <input
+        id={`${id}-password`}
+        type="password"
+        required
+        autoComplete="new-password"
+        value={password}
+        onChange={(e) => setPassword(e.target.value)}
+      />
+      <button type="submit" disabled={busy}>
+        {busy ? "Resetting…" : "Set password"}
+      </button>
+      <button type="button" onClick={() => setOpen(false)}>
+        Cancel
+      </button>
+      <ErrorMessage error={error} />
+    </form>
+  );
+}
