@@ -96,6 +96,8 @@ REVIEWED_ROLES: dict[str, tuple[str, ...]] = {
     "prepareRevocation": ("supervisor",),
     # PUT /api/vehicles/{vehicle_id}
     "putVehicle": ("admin",),
+    # GET /api/vehicles/{vehicle_id}/versions
+    "listVehicleVersions": ("operator", "supervisor", "auditor", "admin"),
     # POST /api/read
     "readOrders": ("operator",),
     # POST /api/keys

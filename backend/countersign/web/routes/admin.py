@@ -19,6 +19,7 @@ from ...store.accounts import (
 )
 from ...store.events import record
 from ...store.integrity import event_integrity
+from ...store.vehicles import save_vehicle
 from ...store.tables import ApiToken, Event, User, VehicleProfile
 from ..deps import (
     ADMINS,
@@ -148,13 +149,9 @@ def put_vehicle(vehicle_id: str, body: Vehicle, principal: CurrentPrincipal,
                 db: Db) -> dict[str, Any]:
     if body.id != vehicle_id:
         raise HTTPException(400, f"the profile's id {body.id!r} differs from {vehicle_id!r}")
-    profile = body.model_dump(mode="json", exclude_unset=True)
-    row = db.get(VehicleProfile, vehicle_id)
-    if row is None:
-        db.add(VehicleProfile(id=vehicle_id, title=body.title, profile=profile))
-    else:
-        row.title, row.profile = body.title, profile
-    record(db, kind="vehicle.saved", actor=principal.user, detail={"vehicle": vehicle_id})
+    profile, number = save_vehicle(db, body, principal.user)
+    record(db, kind="vehicle.saved", actor=principal.user,
+           detail={"vehicle": vehicle_id, "version": number})
     return profile
 
 
