@@ -12,6 +12,7 @@ export type Action =
   | "deleteDraft"
   | "createVersion"
   | "manageUsers"
+  | "manageVehicles"
   | "readEvents";
 
 const ALLOWED: Record<Action, readonly Role[]> = {
@@ -21,6 +22,7 @@ const ALLOWED: Record<Action, readonly Role[]> = {
   deleteDraft: ["operator"],
   createVersion: ["operator"],
   manageUsers: ["admin"],
+  manageVehicles: ["admin"],
   readEvents: ["auditor", "supervisor", "admin"],
 };
 

@@ -6,6 +6,7 @@ export type Route =
   | { name: "mission"; id: string; tab: string }
   | { name: "import" }
   | { name: "users" }
+  | { name: "vehicles" }
   | { name: "events" }
   | { name: "login" }
   | { name: "approvals"; page: ApprovalRoute }
@@ -18,6 +19,7 @@ export function parseRoute(pathname: string, search = ""): Route {
   if (path === "/login") return { name: "login" };
   if (path === "/import") return { name: "import" };
   if (path === "/users") return { name: "users" };
+  if (path === "/vehicles") return { name: "vehicles" };
   if (path === "/events") return { name: "events" };
   const mission = /^\/missions\/([^/]+)$/.exec(path);
   if (mission?.[1]) {

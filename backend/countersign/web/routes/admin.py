@@ -19,8 +19,8 @@ from ...store.accounts import (
 )
 from ...store.events import record
 from ...store.integrity import event_integrity
-from ...store.vehicles import save_vehicle
 from ...store.tables import ApiToken, Event, User, VehicleProfile
+from ...store.vehicles import save_vehicle
 from ..deps import (
     ADMINS,
     EVERYONE,
