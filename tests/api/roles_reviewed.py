@@ -42,6 +42,8 @@ REVIEWED_ROLES: dict[str, tuple[str, ...]] = {
     "getInclusionProof": ("supervisor", "auditor", "admin"),
     # GET /api/missions/{mission_id}
     "getMission": ("operator", "supervisor", "auditor", "admin"),
+    # GET /api/missions/{mission_id}/standing
+    "getMissionStanding": ("operator", "supervisor", "auditor", "admin"),
     # GET /api/rehearsals/{rehearsal_id}
     "getRehearsal": ("operator", "supervisor"),
     # GET /api/rehearsal-records/{digest}

@@ -121,17 +121,17 @@ def test_changed_profile_since_signing_needs_reapproval(page: Page, server: Serv
         f"speed_mps: {json.dumps(profile['speed_mps'])} → {json.dumps(slower['speed_mps'])}")
 
 
-def approve(server: Server, submission: int) -> int:
+def approve(server: Server, submission: int, decision: str = "approved", reason: str = "") -> int:
     """A supervisor signs the approval as a client does: a registered key, the server's PAE."""
     key = dsse.generate_key()
     with client(server, "supervisor") as supervisor:
         registered = supervisor.post("/api/keys", json={
-            "public_key": dsse.public_text(key), "name": "e2e drift",
+            "public_key": dsse.public_text(key), "name": f"e2e {submission}",
             "password": PASSWORD["supervisor"]})
         assert registered.status_code == 201, registered.text
         key_id = registered.json()["key_id"]
         prepared = supervisor.post(f"/api/submissions/{submission}/statement",
-                                   json={"decision": "approved", "reason": "",
+                                   json={"decision": decision, "reason": reason,
                                          "key_id": key_id}).json()
         signature = key.sign(dsse.unb64(prepared["pae"], "pae"))
         envelope = json.dumps({"payloadType": prepared["payloadType"],

@@ -26,6 +26,7 @@ from .routes import (
     missions,
     planning,
     rehearsals,
+    standing,
     vehicles,
 )
 from .settings import Settings
@@ -175,6 +176,7 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     app.include_router(missions.router)
     app.include_router(admin.router)
     app.include_router(vehicles.router)
+    app.include_router(standing.router)
     app.include_router(planning.router)
     app.include_router(approvals.router)
     app.include_router(log_witness.router)

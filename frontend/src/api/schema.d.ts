@@ -568,6 +568,23 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/missions/{mission_id}/standing": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Get Standing */
+        get: operations["getMissionStanding"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/missions/{mission_id}/versions": {
         parameters: {
             query?: never;
@@ -1140,50 +1157,6 @@ export interface components {
              */
             reason: string;
         };
-        /** DecisionOut */
-        DecisionOut: {
-            /**
-             * Created At
-             * Format: date-time
-             */
-            created_at: string;
-            /** Decision */
-            decision: string;
-            /** Digest */
-            digest: string;
-            /** Id */
-            id: number;
-            /**
-             * Integrity
-             * @description how this row disagrees with its log entry, which is the source of truth
-             */
-            integrity?: string[];
-            /** Key Id */
-            key_id: string;
-            /** Log Index */
-            log_index: number | null;
-            /** Mission */
-            mission: string;
-            /** Operator */
-            operator: string | null;
-            /** Reason */
-            reason: string;
-            /**
-             * Receipt
-             * @description the log signer's signed receipt for the decision's log entry (entry hash, index, time)
-             */
-            receipt: string | null;
-            /** Revokes */
-            revokes: number | null;
-            /** Submission */
-            submission: number;
-            /** Supervisor */
-            supervisor: string | null;
-            /** Vehicle */
-            vehicle: string | null;
-            /** Version */
-            version: number;
-        };
         /**
          * DefaultRule
          * @description A normal default `if : then / then` (seed 004 D_est, D_goal, D_safety).
@@ -1730,6 +1703,11 @@ export interface components {
             csrf_token: string | null;
             user: components["schemas"]["UserOut"];
         };
+        /** StandingOut */
+        StandingOut: {
+            approved: components["schemas"]["countersign__web__routes__standing__DecisionOut"] | null;
+            latest: components["schemas"]["countersign__web__routes__standing__DecisionOut"] | null;
+        };
         /**
          * StrictRule
          * @description `if` literals imply `then` (seed 004 W_est, W_goal, W_safety); exceptions are these.
@@ -1974,6 +1952,59 @@ export interface components {
             /** Worst */
             worst: number;
         };
+        /** DecisionOut */
+        countersign__web__routes__approvals__DecisionOut: {
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
+            /** Decision */
+            decision: string;
+            /** Digest */
+            digest: string;
+            /** Id */
+            id: number;
+            /**
+             * Integrity
+             * @description how this row disagrees with its log entry, which is the source of truth
+             */
+            integrity?: string[];
+            /** Key Id */
+            key_id: string;
+            /** Log Index */
+            log_index: number | null;
+            /** Mission */
+            mission: string;
+            /** Operator */
+            operator: string | null;
+            /** Reason */
+            reason: string;
+            /**
+             * Receipt
+             * @description the log signer's signed receipt for the decision's log entry (entry hash, index, time)
+             */
+            receipt: string | null;
+            /** Revokes */
+            revokes: number | null;
+            /** Submission */
+            submission: number;
+            /** Supervisor */
+            supervisor: string | null;
+            /** Vehicle */
+            vehicle: string | null;
+            /** Version */
+            version: number;
+        };
+        /** DecisionOut */
+        countersign__web__routes__standing__DecisionOut: {
+            /** Decision */
+            decision: string;
+            /** Record */
+            record: number;
+            /** Version */
+            version: number;
+        };
     };
     responses: never;
     parameters: never;
@@ -2076,7 +2107,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["DecisionOut"];
+                    "application/json": components["schemas"]["countersign__web__routes__approvals__DecisionOut"];
                 };
             };
             /** @description Validation Error */
@@ -3038,6 +3069,37 @@ export interface operations {
             };
         };
     };
+    getMissionStanding: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                mission_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["StandingOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
     createVersion: {
         parameters: {
             query?: never;
@@ -3511,7 +3573,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["DecisionOut"];
+                    "application/json": components["schemas"]["countersign__web__routes__approvals__DecisionOut"];
                 };
             };
             /** @description Validation Error */

@@ -22,6 +22,7 @@ import {
 } from "../components/Pager";
 import { CheckBadge, ErrorMessage, Loading, Notice } from "../components/Status";
 import { Tabs } from "../components/Tabs";
+import { MissionStanding } from "./MissionStanding";
 import { formatDateTime, formatNumber, plural, shortDigest, statusLabel } from "../format";
 import { navigate } from "../navigation";
 import { missionHref } from "../router";
@@ -111,6 +112,12 @@ export function MissionPage({ id, tab }: { id: string; tab: string }) {
           <dt>Status</dt>
           <dd>
             <span className={`status status-${mission.status}`}>{statusLabel(mission.status)}</span>
+          </dd>
+        </div>
+        <div>
+          <dt>Decisions</dt>
+          <dd>
+            <MissionStanding id={mission.id} status={mission.status} />
           </dd>
         </div>
         <div>
