@@ -1845,6 +1845,8 @@ export interface components {
         };
         /** UserPatch */
         UserPatch: {
+            /** Admin Password */
+            admin_password?: string | null;
             /** Disabled */
             disabled?: boolean | null;
             /** Display Name */

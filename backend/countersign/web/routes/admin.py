@@ -19,6 +19,7 @@ from ...store.accounts import (
 )
 from ...store.events import record
 from ...store.integrity import event_integrity
+from ...store.role_change import confirm_role_change
 from ...store.tables import ApiToken, Event, User, VehicleProfile
 from ...store.vehicles import save_vehicle
 from ..deps import (
@@ -48,6 +49,8 @@ class UserPatch(RequestBody):
     disabled: bool | None = None
     password: str | None = Field(default=None, max_length=1024)
     display_name: str | None = Field(default=None, max_length=200)
+    # A role change is confirmed with the admin's own password, entered again (issue 16).
+    admin_password: str | None = Field(default=None, max_length=1024)
 
 
 class TokenIn(RequestBody):
@@ -86,6 +89,9 @@ def change_user(user_id: RowId, body: UserPatch, principal: CurrentPrincipal, db
     if user is None:
         raise HTTPException(404, f"no user {user_id}")
     changes: dict[str, Any] = {}
+    if body.role is not None and body.role != user.role:
+        confirm_role_change(db, principal.user, body.admin_password)
+        changes["previous_role"] = user.role
     if body.role is not None:
         from ...store.tables import ROLES
 
