@@ -10,6 +10,10 @@ describe("profileDiff", () => {
       { field: "behaviors", before: ["transit"], after: ["transit", "recover"] },
     ]);
     expect(profileDiff(before, { ...before })).toEqual([]);
+    // A field written on one side only is a change (a new speed, a dropped budget).
+    expect(profileDiff(before, { ...before, speed_mps: 1.5 })).toEqual([
+      { field: "speed_mps", before: undefined, after: 1.5 },
+    ]);
   });
 
   it("shows lists of words joined", () => {
