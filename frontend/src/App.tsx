@@ -11,6 +11,7 @@ import { LoginPage } from "./pages/LoginPage";
 import { MissionListPage } from "./pages/MissionListPage";
 import { MissionPage } from "./pages/MissionPage";
 import { UsersPage } from "./pages/UsersPage";
+import { VehiclesPage } from "./pages/vehicles/VehiclesPage";
 import { ApprovalNavLinks, ApprovalPages } from "./pages/approvals";
 import { can, ROLE_LABEL, type Role } from "./roles";
 import type { Route } from "./router";
@@ -155,6 +156,13 @@ function Shell({
                 </Link>
               </li>
             )}
+            {can(role, "manageVehicles") && (
+              <li>
+                <Link href="/vehicles" aria-current={current("vehicles")}>
+                  Vehicles
+                </Link>
+              </li>
+            )}
           </ul>
         </nav>
         <div className="whoami" aria-label="Signed-in user">
@@ -190,6 +198,8 @@ function Page({ route, search, role }: { route: Route; search: string; role: Rol
       return can(role, "importMission") ? <ImportPage /> : <Forbidden />;
     case "users":
       return can(role, "manageUsers") ? <UsersPage /> : <Forbidden />;
+    case "vehicles":
+      return can(role, "manageVehicles") ? <VehiclesPage /> : <Forbidden />;
     case "events":
       return can(role, "readEvents") ? <EventsPage /> : <Forbidden />;
     case "account":

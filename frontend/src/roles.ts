@@ -16,6 +16,7 @@ export type Action =
   | "deleteDraft"
   | "createVersion"
   | "manageUsers"
+  | "manageVehicles"
   | "readEvents";
 
 /** The route behind each action: its roles are the server's (roles.gen.ts, from x-roles). */
@@ -26,6 +27,7 @@ export const ACTION_OPERATION = {
   deleteDraft: "deleteMission",
   createVersion: "createVersion",
   manageUsers: "createUser",
+  manageVehicles: "putVehicle",
   readEvents: "listEvents",
 } as const satisfies Record<Action, keyof typeof OPERATION_ROLES>;
 

@@ -7,6 +7,7 @@ export type Route =
   | { name: "import" }
   | { name: "users" }
   | { name: "account" }
+  | { name: "vehicles" }
   | { name: "events" }
   | { name: "login" }
   | { name: "approvals"; page: ApprovalRoute }
@@ -20,6 +21,7 @@ export function parseRoute(pathname: string, search = ""): Route {
   if (path === "/import") return { name: "import" };
   if (path === "/users") return { name: "users" };
   if (path === "/account") return { name: "account" };
+  if (path === "/vehicles") return { name: "vehicles" };
   if (path === "/events") return { name: "events" };
   const mission = /^\/missions\/([^/]+)$/.exec(path);
   if (mission?.[1]) {

@@ -49,6 +49,8 @@ REVIEWED_ROLES: dict[str, tuple[str, ...]] = {
     "getInclusionProof": ("supervisor", "auditor", "admin"),
     # GET /api/missions/{mission_id}
     "getMission": ("operator", "supervisor", "auditor", "admin"),
+    # GET /api/missions/{mission_id}/standing
+    "getMissionStanding": ("operator", "supervisor", "auditor", "admin"),
     # GET /api/rehearsals/{rehearsal_id}
     "getRehearsal": ("operator", "supervisor"),
     # GET /api/rehearsal-records/{digest}
@@ -103,6 +105,8 @@ REVIEWED_ROLES: dict[str, tuple[str, ...]] = {
     "prepareRevocation": ("supervisor",),
     # PUT /api/vehicles/{vehicle_id}
     "putVehicle": ("admin",),
+    # GET /api/vehicles/{vehicle_id}/versions
+    "listVehicleVersions": ("operator", "supervisor", "auditor", "admin"),
     # POST /api/read
     "readOrders": ("operator",),
     # POST /api/keys

@@ -116,7 +116,8 @@ def test_self_approval(world: World) -> None:
     dual.headers["Authorization"] = f"Bearer {_token_for(world, 'dual')}"
     number = dual.post(f"/api/missions/{MISSION}/versions").json()["number"]
     submission = submit(world, number)
-    assert admin.patch(f"/api/users/{dual_id}", json={"role": "supervisor"}).status_code == 200
+    assert admin.patch(f"/api/users/{dual_id}", json={
+        "role": "supervisor", "admin_password": PASSWORD}).status_code == 200
     signer = register_key(dual)
     _refused(world, dual, f"/api/submissions/{submission}/statement",
              {"decision": "approved", "key_id": signer.key_id}, 403, "separation of duties")

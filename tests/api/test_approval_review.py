@@ -82,7 +82,7 @@ def test_review_tells_a_supervisor_who_authored_the_version_why_not(world: World
     number = dual.post(f"/api/missions/{MISSION}/versions").json()["number"]
     submit(world, number)
     assert admin.patch(f"/api/users/{created.json()['id']}",
-                       json={"role": "supervisor"}).status_code == 200
+                       json={"role": "supervisor", "admin_password": PASSWORD}).status_code == 200
     review = dual.get(f"/api/missions/{MISSION}/versions/{number}/review").json()
     assert review["may_decide"] is False
     assert review["decide_refusal"].startswith("separation of duties")

@@ -134,7 +134,7 @@ def test_an_editor_of_an_earlier_revision_promoted_to_supervisor_cannot_decide(
     assert response.status_code == 200, response.text
     submission = submit(world, new_version(world))
     assert admin.patch(f"/api/users/{created.json()['id']}",
-                       json={"role": "supervisor"}).status_code == 200
+                       json={"role": "supervisor", "admin_password": PASSWORD}).status_code == 200
     signer: Signer = register_key(dual)
     response = dual.post(f"/api/submissions/{submission}/statement",
                          json={"decision": "approved", "reason": "", "key_id": signer.key_id})

@@ -54,7 +54,8 @@ def test_an_editor_promoted_to_supervisor_who_approves_is_named(
                         headers={"If-Match": mission.headers["ETag"]})
     assert edited.status_code == 200, edited.text
     submission = submit(world, new_version(world))  # operator1 cuts and submits it
-    promoted = world.client("admin").patch(f"/api/users/{eve_id}", json={"role": "supervisor"})
+    promoted = world.client("admin").patch(f"/api/users/{eve_id}", json={
+        "role": "supervisor", "admin_password": PASSWORD})
     assert promoted.status_code == 200, promoted.text
     signer = register_key(editor)
     # The app refuses eve (test_decision_guards.py); without the guard it would not.

@@ -43,3 +43,23 @@ def test_registry_profile_is_copied_into_the_draft(world: World) -> None:
     assert mission["orders"]["vehicles"][0]["behaviors"] == profile["behaviors"]
     report = operator.get("/api/missions/from-registry/report").json()
     assert "VEHICLE" not in codes(report)
+
+
+def test_each_changed_save_is_a_new_version(world: World) -> None:
+    _, profile = orders_without_profile("versions")
+    profile["id"] = "versioned-auv"
+    admin = world.client("admin")
+    assert admin.put("/api/vehicles/versioned-auv", json=profile).status_code == 200
+    # Saving the same profile again adds no version.
+    assert admin.put("/api/vehicles/versioned-auv", json=profile).status_code == 200
+    changed = {**profile, "behaviors": [*profile["behaviors"], "recover"]}
+    assert admin.put("/api/vehicles/versioned-auv", json=changed).status_code == 200
+    versions = world.client("operator").get("/api/vehicles/versioned-auv/versions")
+    assert versions.status_code == 200, versions.text
+    listed = versions.json()
+    assert [v["number"] for v in listed] == [2, 1]
+    assert listed[0]["profile"]["behaviors"][-1] == "recover"
+    assert "recover" not in listed[1]["profile"]["behaviors"]
+    assert listed[0]["saved_by"]
+    missing = world.client("operator").get("/api/vehicles/no-such-auv/versions")
+    assert missing.status_code == 404

@@ -111,6 +111,9 @@ def test_operator_builds_the_exemplar_by_mouse_and_keyboard(own_page: Page) -> N
     # ---- Mission fields ----
     panel(page, "Mission")
     page.get_by_label("Mission description").fill(spec["description"])
+    # The vehicle is not in the registry: its profile comes with these orders (below).
+    page.get_by_label("Target vehicle", exact=True).select_option(
+        label="Other id (not in the registry)…")
     vehicle_field = page.get_by_label("Target vehicle (id)")
     vehicle_field.fill(spec["vehicle"])
     vehicle_field.press("Enter")

@@ -19,7 +19,7 @@ NAV_LINKS = {
     "operator": ["Missions", "Import"],
     "supervisor": ["Missions", "Activity", "Reviews", "Audit", "Keys"],
     "auditor": ["Missions", "Activity", "Audit"],
-    "admin": ["Missions", "Activity", "Audit", "Users"],
+    "admin": ["Missions", "Activity", "Audit", "Users", "Vehicles"],
 }
 MISSION_TABS = {
     "operator": ["Orders", "Findings", "Paths", "Versions", "Rehearse", "Edit orders",
@@ -73,7 +73,7 @@ def test_each_role_sees_only_its_own_actions(page: Page, role: str, seeded_missi
 
     # Pages of other roles are not offered, and typing their address does not open them.
     for path, allowed in (("/users", role == "admin"), ("/import", role == "operator"),
-                          ("/events", role != "operator")):
+                          ("/events", role != "operator"), ("/vehicles", role == "admin")):
         page.goto(path)
         refused = page.get_by_role("heading", name="Not available to your role")
         expect(refused).to_have_count(0 if allowed else 1)

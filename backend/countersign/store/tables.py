@@ -121,6 +121,19 @@ class VehicleProfile(Base):
     updated_at: Mapped[datetime] = mapped_column(default=utcnow)
 
 
+class VehicleVersion(Base):
+    """Every saved profile of a registry vehicle, numbered from 1; inserted, never changed, so
+    an approval's profile can be compared with what the registry says now."""
+
+    __tablename__ = "vehicle_versions"
+    vehicle_id: Mapped[str] = mapped_column(String(100), primary_key=True)
+    number: Mapped[int] = mapped_column(Integer, primary_key=True)
+    title: Mapped[str] = mapped_column(String(200), default="")
+    profile: Mapped[dict[str, Any]]
+    saved_by: Mapped[str | None] = mapped_column(String(64), default=None)
+    saved_at: Mapped[datetime] = mapped_column(default=utcnow)
+
+
 class Mission(Base):
     """A mission and its editable draft head; `revision` is the draft's ETag."""
 

@@ -8,12 +8,16 @@ cannot change what an approval covered.
 
 from __future__ import annotations
 
+from typing import Any
+
+import rfc8785
 from pydantic import ValidationError
+from sqlalchemy import select
 from sqlalchemy.orm import Session
 
 from ..orders.model import Orders, Vehicle
 from ..verify.vehicle import with_registry_profile
-from .tables import VehicleProfile
+from .tables import User, VehicleProfile, VehicleVersion
 
 
 def registry_profile(db: Session, vehicle_id: str) -> Vehicle | None:
@@ -29,3 +33,28 @@ def registry_profile(db: Session, vehicle_id: str) -> Vehicle | None:
 
 def with_registry(db: Session, orders: Orders) -> Orders:
     return with_registry_profile(orders, lambda vehicle_id: registry_profile(db, vehicle_id))
+
+
+def save_vehicle(db: Session, vehicle: Vehicle, actor: User) -> tuple[dict[str, Any], int]:
+    """Stores the profile as the registry's current one; a profile that differs from the last
+    saved one becomes the next version (saving the same profile again adds none)."""
+    profile = vehicle.model_dump(mode="json", exclude_unset=True)
+    row = db.get(VehicleProfile, vehicle.id)
+    if row is None:
+        db.add(VehicleProfile(id=vehicle.id, title=vehicle.title, profile=profile))
+    else:
+        row.title, row.profile = vehicle.title, profile
+    last = db.scalars(select(VehicleVersion).where(VehicleVersion.vehicle_id == vehicle.id)
+                      .order_by(VehicleVersion.number.desc()).limit(1)).first()
+    if last is not None and rfc8785.dumps(last.profile) == rfc8785.dumps(profile):
+        return profile, last.number
+    number = 1 if last is None else last.number + 1
+    db.add(VehicleVersion(vehicle_id=vehicle.id, number=number, title=vehicle.title,
+                          profile=profile, saved_by=actor.username))
+    return profile, number
+
+
+def vehicle_versions(db: Session, vehicle_id: str) -> list[VehicleVersion]:
+    """The vehicle's saved profiles, newest first."""
+    return list(db.scalars(select(VehicleVersion).where(VehicleVersion.vehicle_id == vehicle_id)
+                           .order_by(VehicleVersion.number.desc()).limit(1000)))

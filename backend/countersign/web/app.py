@@ -18,7 +18,17 @@ from . import api_docs, problems
 from .fair import PlanSlots, RateLimiter
 from .log_signer import open_log_signer
 from .rehearsal_hub import RehearsalHub
-from .routes import admin, approvals, auth, log_witness, missions, planning, rehearsals
+from .routes import (
+    admin,
+    approvals,
+    auth,
+    log_witness,
+    missions,
+    planning,
+    rehearsals,
+    standing,
+    vehicles,
+)
 from .routes import executions as execution_routes  # issue 19
 from .routes import exports as export_routes  # issue 19
 from .settings import Settings
@@ -167,6 +177,8 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     app.include_router(auth.router)
     app.include_router(missions.router)
     app.include_router(admin.router)
+    app.include_router(vehicles.router)
+    app.include_router(standing.router)
     app.include_router(planning.router)
     app.include_router(approvals.router)
     app.include_router(log_witness.router)

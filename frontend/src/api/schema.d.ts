@@ -89,9 +89,7 @@ export interface paths {
         };
         /**
          * Export Bundle
-         * @description An audit bundle for `countersign audit verify BUNDLE` (offline). A log with entries
-         *     deleted behind the app's back is a 409 problem naming them, whose `bundle` member holds
-         *     what remains.
+         * @description An audit bundle for `countersign audit verify BUNDLE` (offline).
          */
         get: operations["exportBundle"];
         put?: never;
@@ -570,6 +568,23 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/missions/{mission_id}/standing": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Get Standing */
+        get: operations["getMissionStanding"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/missions/{mission_id}/versions": {
         parameters: {
             query?: never;
@@ -596,44 +611,6 @@ export interface paths {
         };
         /** Get Version */
         get: operations["getVersion"];
-        put?: never;
-        post?: never;
-        delete?: never;
-        options?: never;
-        head?: never;
-        patch?: never;
-        trace?: never;
-    };
-    "/api/missions/{mission_id}/versions/{number}/executions": {
-        parameters: {
-            query?: never;
-            header?: never;
-            path?: never;
-            cookie?: never;
-        };
-        get?: never;
-        put?: never;
-        /** Post Execution */
-        post: operations["recordExecution"];
-        delete?: never;
-        options?: never;
-        head?: never;
-        patch?: never;
-        trace?: never;
-    };
-    "/api/missions/{mission_id}/versions/{number}/package": {
-        parameters: {
-            query?: never;
-            header?: never;
-            path?: never;
-            cookie?: never;
-        };
-        /**
-         * Download Package
-         * @description The approved package of a version (countersign.package/1 tar): orders, vehicle files,
-         *     envelope, receipt, inclusion proof, checkpoint; `countersign vehicle verify` checks it.
-         */
-        get: operations["downloadPackage"];
         put?: never;
         post?: never;
         delete?: never;
@@ -676,40 +653,6 @@ export interface paths {
         put?: never;
         /** Submit Version */
         post: operations["submitVersion"];
-        delete?: never;
-        options?: never;
-        head?: never;
-        patch?: never;
-        trace?: never;
-    };
-    "/api/missions/{mission_id}/versions/{number}/vehicle/{format}": {
-        parameters: {
-            query?: never;
-            header?: never;
-            path?: never;
-            cookie?: never;
-        };
-        /** Get Vehicle Export */
-        get: operations["getVehicleExport"];
-        put?: never;
-        post?: never;
-        delete?: never;
-        options?: never;
-        head?: never;
-        patch?: never;
-        trace?: never;
-    };
-    "/api/missions/{mission_id}/versions/{number}/vehicle/{format}/{name}": {
-        parameters: {
-            query?: never;
-            header?: never;
-            path?: never;
-            cookie?: never;
-        };
-        /** Download Vehicle Export */
-        get: operations["downloadVehicleExport"];
-        put?: never;
-        post?: never;
         delete?: never;
         options?: never;
         head?: never;
@@ -1099,69 +1042,27 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/vehicles/{vehicle_id}/versions": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** List Vehicle Versions */
+        get: operations["listVehicleVersions"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
 }
 export type webhooks = Record<string, never>;
 export interface components {
     schemas: {
-        /**
-         * ApprovalDetailOut
-         * @description An approval as signed (GET /api/approvals/{id}).
-         */
-        ApprovalDetailOut: {
-            checkpoint: components["schemas"]["CheckpointOut"];
-            /**
-             * Created At
-             * Format: date-time
-             */
-            created_at: string;
-            /** Decision */
-            decision: string;
-            /** Digest */
-            digest: string;
-            /** Envelope */
-            envelope: string;
-            /** Findings */
-            findings: components["schemas"]["FindingOut"][];
-            /** Id */
-            id: number;
-            inclusion: components["schemas"]["InclusionProofOut"] | null;
-            /**
-             * Integrity
-             * @description how this row disagrees with its log entry, which is the source of truth
-             */
-            integrity?: string[];
-            key: components["schemas"]["KeyOut"];
-            /** Key Id */
-            key_id: string;
-            /** Log Index */
-            log_index: number | null;
-            /** Mission */
-            mission: string;
-            /** Operator */
-            operator: string | null;
-            /** Orders */
-            orders: components["schemas"]["Orders"];
-            paths: components["schemas"]["PathCountsOut"] | null;
-            /** Plain */
-            plain: string;
-            /** Reason */
-            reason: string;
-            rehearsal: components["schemas"]["CitedRehearsalOut"] | null;
-            /** Revokes */
-            revokes: number | null;
-            /** Rules */
-            rules: string[];
-            /** Statement */
-            statement: components["schemas"]["Statement"];
-            /** Submission */
-            submission: number;
-            /** Supervisor */
-            supervisor: string | null;
-            /** Vehicle */
-            vehicle: string | null;
-            /** Version */
-            version: number;
-        };
         /** ApprovalOut */
         ApprovalOut: {
             /**
@@ -1208,25 +1109,6 @@ export interface components {
             /** Next Cursor */
             next_cursor: number | null;
         };
-        /** Area */
-        Area: {
-            /** Contexts */
-            contexts?: string[];
-            /** Id */
-            id: string;
-            /** Polygon */
-            polygon?: [
-                number,
-                number
-            ][];
-            /**
-             * Title
-             * @default
-             */
-            title?: string;
-        } & {
-            [key: string]: unknown;
-        };
         /** AttachIn */
         AttachIn: {
             /** Rehearsal */
@@ -1241,175 +1123,6 @@ export interface components {
         } & {
             [key: string]: unknown;
         };
-        /** BundleApprovalOut */
-        BundleApprovalOut: {
-            /** Decision */
-            decision: string;
-            /** Envelope */
-            envelope: string;
-            /** Id */
-            id: number;
-            inclusion: components["schemas"]["BundleInclusionOut"];
-            /** Log Index */
-            log_index: number;
-            /** Mission */
-            mission: string;
-        };
-        /** BundleInclusionOut */
-        BundleInclusionOut: {
-            /** Hashes */
-            hashes: string[];
-            /** Index */
-            index: number;
-            /** Size */
-            size: number;
-        };
-        /** BundleKeyOut */
-        BundleKeyOut: {
-            /** Created At */
-            created_at: string;
-            /** Key Id */
-            key_id: string;
-            /** Public Key */
-            public_key: string;
-            /** Revoked At */
-            revoked_at: string | null;
-            /** User */
-            user: string | null;
-        };
-        /**
-         * BundleOut
-         * @description An audit bundle for `countersign audit verify BUNDLE` (DESIGN.md, approval record).
-         */
-        BundleOut: {
-            /** Approvals */
-            approvals: components["schemas"]["BundleApprovalOut"][];
-            /** Checkpoints */
-            checkpoints: components["schemas"]["CheckpointOut"][];
-            /** Created At */
-            created_at: string;
-            /** Entries */
-            entries: string[];
-            /** Format */
-            format: string;
-            /** Keys */
-            keys: components["schemas"]["BundleKeyOut"][];
-            log_key: components["schemas"]["LogKeyOut"];
-            /** Orders */
-            orders: {
-                [key: string]: components["schemas"]["Orders"];
-            };
-            /** Receipts */
-            receipts: (string | null)[];
-            /** Rehearsals */
-            rehearsals: {
-                [key: string]: {
-                    [key: string]: unknown;
-                };
-            };
-            /** Scope */
-            scope: string | null;
-            /** Signer Refused */
-            signer_refused: string | null;
-        };
-        /** CheckpointOut */
-        CheckpointOut: {
-            /** Created At */
-            created_at: string;
-            /** Key Id */
-            key_id: string;
-            /** Note */
-            note: string;
-            /** Origin */
-            origin: string;
-            /** Public Key */
-            public_key: string;
-            /** Root */
-            root: string;
-            /** Signature */
-            signature: string;
-            /** Signed Note */
-            signed_note: string;
-            /** Size */
-            size: number;
-        };
-        /** CitedRehearsalOut */
-        CitedRehearsalOut: {
-            /** Created At */
-            created_at: string;
-            /** Digest */
-            digest: string;
-            /** Mission */
-            mission: string;
-            /** Orders Digest */
-            orders_digest: string;
-            /** Owner */
-            owner: string | null;
-            /** Record */
-            record: {
-                [key: string]: unknown;
-            };
-            /** Replay */
-            replay: string;
-            /** Replay Digest */
-            replay_digest: string;
-            /** Source */
-            source: string;
-            /** Version */
-            version: number | null;
-        };
-        /** ConsistencyProofOut */
-        ConsistencyProofOut: {
-            /** First */
-            first: number;
-            /** First Root */
-            first_root: string;
-            /** Hashes */
-            hashes: string[];
-            /** Second */
-            second: number;
-            /** Second Root */
-            second_root: string;
-        };
-        /** Constraint */
-        Constraint: {
-            /**
-             * Applies To
-             * @default mission
-             */
-            applies_to?: "mission" | string[];
-            /** Expr */
-            expr?: string | null;
-            /** Id */
-            id: string;
-            /**
-             * Text
-             * @default
-             */
-            text?: string;
-        } & {
-            [key: string]: unknown;
-        };
-        /**
-         * Conversion
-         * @description A conversion function to the common currency of the rewards (seed 001 section 5.3):
-         *     linear `rate * x`, or exponential `scale * (exp(rate * x) - 1)`, x the amount used.
-         */
-        Conversion: {
-            /**
-             * Kind
-             * @default linear
-             * @enum {string}
-             */
-            kind?: "linear" | "exponential";
-            /** Rate */
-            rate: number;
-            /**
-             * Scale
-             * @default 1
-             */
-            scale?: number;
-        };
         /** CosignatureIn */
         CosignatureIn: {
             /**
@@ -1422,47 +1135,6 @@ export interface components {
              * @description its C2SP tlog-cosignature line
              */
             cosignature: string;
-        };
-        /** CosignatureOut */
-        CosignatureOut: {
-            /** Cosignature */
-            cosignature: string;
-            /** Size */
-            size: number;
-            /** Witness */
-            witness: string;
-        };
-        /** CosignedCheckpointOut */
-        CosignedCheckpointOut: {
-            /** Cosignatures */
-            cosignatures: string[];
-            /** Created At */
-            created_at: string;
-            /** Key Id */
-            key_id: string;
-            /** Note */
-            note: string;
-            /** Origin */
-            origin: string;
-            /** Public Key */
-            public_key: string;
-            /** Root */
-            root: string;
-            /** Signature */
-            signature: string;
-            /** Signed Note */
-            signed_note: string;
-            /** Size */
-            size: number;
-        };
-        /** Cost */
-        Cost: {
-            /** Duration S */
-            duration_s?: number | null;
-            /** Energy Wh */
-            energy_wh?: number | null;
-        } & {
-            [key: string]: unknown;
         };
         /** CostPathOut */
         CostPathOut: {
@@ -1483,51 +1155,7 @@ export interface components {
              * Reason
              * @default
              */
-            reason?: string;
-        };
-        /** DecisionOut */
-        DecisionOut: {
-            /**
-             * Created At
-             * Format: date-time
-             */
-            created_at: string;
-            /** Decision */
-            decision: string;
-            /** Digest */
-            digest: string;
-            /** Id */
-            id: number;
-            /**
-             * Integrity
-             * @description how this row disagrees with its log entry, which is the source of truth
-             */
-            integrity?: string[];
-            /** Key Id */
-            key_id: string;
-            /** Log Index */
-            log_index: number | null;
-            /** Mission */
-            mission: string;
-            /** Operator */
-            operator: string | null;
-            /** Reason */
             reason: string;
-            /**
-             * Receipt
-             * @description the log signer's signed receipt for the decision's log entry (entry hash, index, time)
-             */
-            receipt: string | null;
-            /** Revokes */
-            revokes: number | null;
-            /** Submission */
-            submission: number;
-            /** Supervisor */
-            supervisor: string | null;
-            /** Vehicle */
-            vehicle: string | null;
-            /** Version */
-            version: number;
         };
         /**
          * DefaultRule
@@ -1543,30 +1171,21 @@ export interface components {
              * @default estimation
              * @enum {string}
              */
-            kind?: "observation" | "estimation" | "goal" | "safety" | "action";
+            kind: "observation" | "estimation" | "goal" | "safety" | "action";
             /**
              * Priority
              * @default 0
              */
-            priority?: number;
+            priority: number;
             /**
              * Text
              * @default
              */
-            text?: string;
+            text: string;
             /** Then */
             then: string;
         } & {
             [key: string]: unknown;
-        };
-        /** DeviationOut */
-        DeviationOut: {
-            /** Code */
-            code: string;
-            /** Message */
-            message: string;
-            /** Step */
-            step: number;
         };
         /** DraftIn */
         DraftIn: {
@@ -1632,52 +1251,6 @@ export interface components {
             /** Title */
             title: string;
         };
-        /** ExecutionIn */
-        ExecutionIn: {
-            /**
-             * Log
-             * @description NDJSON, one line per goal run: goal, outcome, time, readings
-             */
-            log: string;
-        };
-        /** ExecutionOut */
-        ExecutionOut: {
-            /** Deviations */
-            deviations: components["schemas"]["DeviationOut"][];
-            /**
-             * Log Index
-             * @description the execution.recorded entry in the audit log
-             */
-            log_index: number | null;
-            /** Ok */
-            ok: boolean;
-            /** Path */
-            path: number | null;
-            /** Summary */
-            summary: string;
-            /** Terminal */
-            terminal: string | null;
-        };
-        /** ExportFileOut */
-        ExportFileOut: {
-            /** Media Type */
-            media_type: string;
-            /** Name */
-            name: string;
-            /** Sha256 */
-            sha256: string;
-            /** Size */
-            size: number;
-        };
-        /** ExportNoteOut */
-        ExportNoteOut: {
-            /** Code */
-            code: string;
-            /** Message */
-            message: string;
-            /** Path */
-            path: string;
-        };
         /** FaultIn */
         FaultIn: {
             /** Fault */
@@ -1697,7 +1270,7 @@ export interface components {
              * Title
              * @default
              */
-            title?: string;
+            title: string;
         } & {
             [key: string]: unknown;
         };
@@ -1716,62 +1289,10 @@ export interface components {
             /** Subjects */
             subjects: string[];
         };
-        /** Goal */
-        Goal: {
-            /** Area */
-            area?: string | null;
-            /** Behavior */
-            behavior?: string | null;
-            cost?: components["schemas"]["Cost"] | null;
-            /**
-             * Description
-             * @default
-             */
-            description?: string;
-            /** Envelope */
-            envelope?: {
-                [key: string]: [
-                    number,
-                    number
-                ];
-            };
-            /** Id */
-            id: string;
-            /** Next */
-            next?: {
-                [key: string]: string | string[] | null;
-            };
-            /** Params */
-            params?: {
-                [key: string]: unknown;
-            };
-            /** Requires */
-            requires?: string[];
-            /**
-             * Title
-             * @default
-             */
-            title?: string;
-        } & {
-            [key: string]: unknown;
-        };
         /** HTTPValidationError */
         HTTPValidationError: {
             /** Detail */
             detail?: components["schemas"]["ValidationError"][];
-        };
-        /** InclusionProofOut */
-        InclusionProofOut: {
-            /** Hashes */
-            hashes: string[];
-            /** Index */
-            index: number;
-            /** Leaf Hash */
-            leaf_hash: string;
-            /** Root */
-            root: string;
-            /** Size */
-            size: number;
         };
         /** KeyIn */
         KeyIn: {
@@ -1779,7 +1300,7 @@ export interface components {
              * Name
              * @default
              */
-            name?: string;
+            name: string;
             /**
              * Password
              * @description fresh confirmation
@@ -1819,29 +1340,7 @@ export interface components {
              * Reason
              * @default
              */
-            reason?: string;
-        };
-        /** LogEntryOut */
-        LogEntryOut: {
-            /** Entry */
-            entry: string;
-            /** Index */
-            index: number;
-            /** Leaf Hash */
-            leaf_hash: string;
-            /** Receipt */
-            receipt: string | null;
-        };
-        /** LogKeyOut */
-        LogKeyOut: {
-            /** Key Id */
-            key_id: string;
-            /** Origin */
-            origin: string;
-            /** Public Key */
-            public_key: string;
-            /** Verifier Key */
-            verifier_key: string;
+            reason: string;
         };
         /** LoginRequest */
         LoginRequest: {
@@ -1862,7 +1361,7 @@ export interface components {
              * Import Findings
              * @default []
              */
-            import_findings?: {
+            import_findings: {
                 [key: string]: unknown;
             }[];
             /** Latest Version */
@@ -1874,7 +1373,9 @@ export interface components {
             /** Ok */
             ok: boolean | null;
             /** Orders */
-            orders: components["schemas"]["Orders"];
+            orders: {
+                [key: string]: unknown;
+            };
             /** Revision */
             revision: number;
             /** Status */
@@ -1943,72 +1444,6 @@ export interface components {
             /** Warnings */
             warnings: number | null;
         };
-        /** Norm */
-        Norm: {
-            /** Context */
-            context: string;
-            /** Forbidden */
-            forbidden?: string | null;
-            /** Id */
-            id: string;
-            /** Obligated */
-            obligated?: string | null;
-            /** Permitted */
-            permitted?: string | null;
-            /**
-             * Text
-             * @default
-             */
-            text?: string;
-        } & {
-            [key: string]: unknown;
-        };
-        /** Orders */
-        Orders: {
-            /** Areas */
-            areas?: components["schemas"]["Area"][];
-            /** Constraints */
-            constraints?: components["schemas"]["Constraint"][];
-            /**
-             * Description
-             * @default
-             */
-            description?: string;
-            /**
-             * Format
-             * @default countersign.orders/1
-             * @constant
-             */
-            format?: "countersign.orders/1";
-            /** Goals */
-            goals?: components["schemas"]["Goal"][];
-            /** Id */
-            id: string;
-            /** Norms */
-            norms?: components["schemas"]["Norm"][];
-            /** Properties */
-            properties?: components["schemas"]["PathProperty"][];
-            /** Quantities */
-            quantities?: {
-                [key: string]: components["schemas"]["Quantity"];
-            };
-            rules?: components["schemas"]["RuleSet"] | null;
-            /** Start */
-            start?: string | string[] | null;
-            /** Terminals */
-            terminals?: components["schemas"]["Terminal"][] | null;
-            /**
-             * Title
-             * @default
-             */
-            title?: string;
-            /** Vehicle */
-            vehicle?: string | null;
-            /** Vehicles */
-            vehicles?: components["schemas"]["Vehicle"][];
-        } & {
-            [key: string]: unknown;
-        };
         /** OutcomeIn */
         OutcomeIn: {
             /**
@@ -2016,26 +1451,6 @@ export interface components {
              * @enum {string}
              */
             outcome: "succeed" | "fail" | "violate";
-        };
-        /** Pass */
-        Pass: {
-            /** Entry */
-            entry: [
-                number,
-                number
-            ];
-            /** Exit */
-            exit: [
-                number,
-                number
-            ];
-            /** Survey Wh */
-            survey_wh: number;
-            /**
-             * Title
-             * @default
-             */
-            title?: string;
         };
         /** PasswordChange */
         PasswordChange: {
@@ -2066,146 +1481,6 @@ export interface components {
             /** Next Cursor */
             next_cursor: string | null;
         };
-        /** PathProperty */
-        PathProperty: {
-            /** Always */
-            always?: string | null;
-            /** Id */
-            id: string;
-            /** Never */
-            never?: string | null;
-            /**
-             * Text
-             * @default
-             */
-            text?: string;
-        } & {
-            [key: string]: unknown;
-        };
-        /** PlanArea */
-        PlanArea: {
-            /** Id */
-            id: string;
-            /**
-             * Mandatory
-             * @default false
-             */
-            mandatory?: boolean;
-            /** Passes */
-            passes: components["schemas"]["Pass"][];
-            /** Reward */
-            reward: number;
-            /**
-             * Title
-             * @default
-             */
-            title?: string;
-        };
-        /**
-         * PlanOut
-         * @description The best plan (`feasible`) or why there is none (`conflict`, `message`); a feasible
-         *     plan carries its draft `orders`.
-         */
-        PlanOut: {
-            /** Conflict */
-            conflict?: string[] | null;
-            /** Energy Wh */
-            energy_wh?: number | null;
-            /** Feasible */
-            feasible: boolean;
-            /** Legs Wh */
-            legs_wh?: (number)[] | null;
-            /** Limit Wh */
-            limit_wh?: number | null;
-            /** Message */
-            message?: string | null;
-            /** Order */
-            order?: string[] | null;
-            /** Orders */
-            orders?: components["schemas"]["Orders"] | null;
-            /** Passes */
-            passes?: {
-                [key: string]: number;
-            } | null;
-            /** Reward */
-            reward?: number | null;
-            /** Value */
-            value?: number | null;
-        };
-        /** PlanProblem */
-        PlanProblem: {
-            /** Areas */
-            areas?: components["schemas"]["PlanArea"][];
-            /** Conversion */
-            conversion?: {
-                [key: string]: components["schemas"]["Conversion"];
-            };
-            /**
-             * Format
-             * @default countersign.plan/1
-             * @constant
-             */
-            format?: "countersign.plan/1";
-            /**
-             * Level
-             * @default 2
-             * @enum {integer}
-             */
-            level?: 1 | 2;
-            /** Recovery */
-            recovery: [
-                number,
-                number
-            ];
-            /** Start */
-            start: [
-                number,
-                number
-            ];
-            vehicle: components["schemas"]["PlanVehicle"];
-        };
-        /** PlanVehicle */
-        PlanVehicle: {
-            /** Battery Wh */
-            battery_wh: number;
-            /**
-             * Reserve Wh
-             * @default 0
-             */
-            reserve_wh?: number;
-            /** Transit Wh Per M */
-            transit_wh_per_m: number;
-        };
-        /**
-         * PreparedOut
-         * @description The statement to sign: sign `pae` (which must equal PAE(payloadType, payload)).
-         */
-        PreparedOut: {
-            /** Pae */
-            pae: string;
-            /** Payload */
-            payload: string;
-            /** Payloadtype */
-            payloadType: string;
-            /** Statement */
-            statement: components["schemas"]["Statement"];
-        };
-        /**
-         * PreviousApprovalOut
-         * @description The version approved before this one, for the review's diff.
-         */
-        PreviousApprovalOut: {
-            /** Approval */
-            approval: number;
-            /** Digest */
-            digest: string;
-            /** Orders */
-            orders: components["schemas"]["Orders"];
-            /** State */
-            state: string;
-            /** Version */
-            version: number;
-        };
         /** ProblemFromMission */
         ProblemFromMission: {
             /** Areas */
@@ -2216,7 +1491,7 @@ export interface components {
              * Level
              * @default 2
              */
-            level?: number;
+            level: number;
             /** Mandatory */
             mandatory?: string[];
             /** Recovery */
@@ -2228,7 +1503,7 @@ export interface components {
              * Reserve Wh
              * @default 0
              */
-            reserve_wh?: number;
+            reserve_wh: number;
             /** Rewards */
             rewards?: {
                 [key: string]: number;
@@ -2241,31 +1516,6 @@ export interface components {
             /** Swath M */
             swath_m?: number | null;
         };
-        /** Quantity */
-        Quantity: {
-            /** Max */
-            max?: number | null;
-            /** Min */
-            min?: number | null;
-            /**
-             * Title
-             * @default
-             */
-            title?: string;
-            /**
-             * Type
-             * @default real
-             * @enum {string}
-             */
-            type?: "real" | "integer" | "boolean";
-            /**
-             * Unit
-             * @default
-             */
-            unit?: string;
-        } & {
-            [key: string]: unknown;
-        };
         /**
          * ReadOrdersOut
          * @description Orders read from a file without storing anything, with what reading them found.
@@ -2275,11 +1525,13 @@ export interface components {
              * Findings
              * @default []
              */
-            findings?: {
+            findings: {
                 [key: string]: unknown;
             }[];
             /** Orders */
-            orders: components["schemas"]["Orders"];
+            orders: {
+                [key: string]: unknown;
+            };
         };
         /** RecordDetail */
         RecordDetail: {
@@ -2343,19 +1595,19 @@ export interface components {
              * Seed
              * @default 0
              */
-            seed?: number;
+            seed: number;
             /**
              * Source
              * @default manual
              * @enum {string}
              */
-            source?: "manual" | "replay" | "tour" | "simulate";
+            source: "manual" | "replay" | "tour" | "simulate";
             /**
              * Speed
              * @description simulated seconds per wall second
              * @default 50
              */
-            speed?: number;
+            speed: number;
             /**
              * Version
              * @description the version to rehearse; omitted: the draft
@@ -2400,49 +1652,6 @@ export interface components {
             ok: boolean;
             paths: components["schemas"]["PathCountsOut"] | null;
         };
-        /**
-         * ReviewOut
-         * @description What a review shows of one version (GET .../versions/{number}/review).
-         */
-        ReviewOut: {
-            /** Author */
-            author: string | null;
-            /** Created At */
-            created_at: string;
-            /** Decide Refusal */
-            decide_refusal: string | null;
-            /** Digest */
-            digest: string;
-            /** Findings */
-            findings: components["schemas"]["FindingOut"][];
-            /** May Decide */
-            may_decide: boolean;
-            /** May Submit */
-            may_submit: boolean;
-            /** Mission */
-            mission: string;
-            /** Ok */
-            ok: boolean;
-            /** Orders */
-            orders: components["schemas"]["Orders"];
-            /** Path Items */
-            path_items: components["schemas"]["MissionPathOut"][];
-            paths: components["schemas"]["PathCountsOut"] | null;
-            /** Plain */
-            plain: string;
-            previous: components["schemas"]["PreviousApprovalOut"] | null;
-            /**
-             * Rules
-             * @description the contingency rules, one plain-language sentence each (empty when none or unreadable)
-             */
-            rules: string[];
-            /** Submissions */
-            submissions: components["schemas"]["SubmissionOut"][];
-            /** Submit Refusal */
-            submit_refusal: string | null;
-            /** Version */
-            version: number;
-        };
         /** RevocationIn */
         RevocationIn: {
             /** Key Id */
@@ -2463,7 +1672,7 @@ export interface components {
              * Text
              * @default
              */
-            text?: string;
+            text: string;
         } & {
             [key: string]: unknown;
         };
@@ -2494,30 +1703,10 @@ export interface components {
             csrf_token: string | null;
             user: components["schemas"]["UserOut"];
         };
-        /**
-         * Statement
-         * @description An in-toto statement whose predicate is the countersign approval predicate.
-         */
-        Statement: {
-            /** Type */
-            _type: string;
-            /** Predicate */
-            predicate: {
-                [key: string]: unknown;
-            };
-            /** Predicatetype */
-            predicateType: string;
-            /** Subject */
-            subject: components["schemas"]["StatementSubject"][];
-        };
-        /** StatementSubject */
-        StatementSubject: {
-            /** Digest */
-            digest: {
-                [key: string]: string;
-            };
-            /** Name */
-            name: string;
+        /** StandingOut */
+        StandingOut: {
+            approved: components["schemas"]["countersign__web__routes__standing__DecisionOut"] | null;
+            latest: components["schemas"]["countersign__web__routes__standing__DecisionOut"] | null;
         };
         /**
          * StrictRule
@@ -2535,12 +1724,12 @@ export interface components {
              * @default estimation
              * @enum {string}
              */
-            kind?: "observation" | "estimation" | "goal" | "safety" | "action";
+            kind: "observation" | "estimation" | "goal" | "safety" | "action";
             /**
              * Text
              * @default
              */
-            text?: string;
+            text: string;
             /** Then */
             then: string;
         } & {
@@ -2587,30 +1776,13 @@ export interface components {
              */
             rehearsal?: string | null;
         };
-        /** Terminal */
-        Terminal: {
-            /** Id */
-            id: string;
-            /**
-             * Kind
-             * @enum {string}
-             */
-            kind: "complete" | "abort";
-            /**
-             * Title
-             * @default
-             */
-            title?: string;
-        } & {
-            [key: string]: unknown;
-        };
         /** TokenIn */
         TokenIn: {
             /**
              * Expires In Days
              * @default 90
              */
-            expires_in_days?: number;
+            expires_in_days: number;
             /** Name */
             name: string;
             /**
@@ -2621,7 +1793,7 @@ export interface components {
              *       "decide"
              *     ]
              */
-            scopes?: ("read" | "write" | "decide")[];
+            scopes: ("read" | "write" | "decide")[];
         };
         /** TokenOut */
         TokenOut: {
@@ -2635,7 +1807,7 @@ export interface components {
              * Revoked
              * @default false
              */
-            revoked?: boolean;
+            revoked: boolean;
             /** Scopes */
             scopes?: string[];
             /** Token */
@@ -2647,7 +1819,7 @@ export interface components {
              * Display Name
              * @default
              */
-            display_name?: string;
+            display_name: string;
             /** Password */
             password: string;
             /** Role */
@@ -2661,7 +1833,7 @@ export interface components {
              * Disabled
              * @default false
              */
-            disabled?: boolean;
+            disabled: boolean;
             /** Display Name */
             display_name: string;
             /** Id */
@@ -2673,6 +1845,8 @@ export interface components {
         };
         /** UserPatch */
         UserPatch: {
+            /** Admin Password */
+            admin_password?: string | null;
             /** Disabled */
             disabled?: boolean | null;
             /** Display Name */
@@ -2720,29 +1894,29 @@ export interface components {
              * Title
              * @default
              */
-            title?: string;
+            title: string;
         } & {
             [key: string]: unknown;
         };
-        /** VehicleExportOut */
-        VehicleExportOut: {
-            /** Approved */
-            approved: boolean;
-            /** Files */
-            files: components["schemas"]["ExportFileOut"][];
+        /** VehicleVersionOut */
+        VehicleVersionOut: {
+            /** Number */
+            number: number;
+            /** Profile */
+            profile: {
+                [key: string]: unknown;
+            };
             /**
-             * Format
-             * @enum {string}
+             * Saved At
+             * Format: date-time
              */
-            format: "imc" | "moos";
-            /** Mission */
-            mission: string;
-            /** Notes */
-            notes: components["schemas"]["ExportNoteOut"][];
-            /** Orders Digest */
-            orders_digest: string;
-            /** Version */
-            version: number;
+            saved_at: string;
+            /** Saved By */
+            saved_by: string | null;
+            /** Title */
+            title: string;
+            /** Vehicle Id */
+            vehicle_id: string;
         };
         /** VersionOut */
         VersionOut: {
@@ -2758,7 +1932,9 @@ export interface components {
             /** Number */
             number: number;
             /** Orders */
-            orders?: components["schemas"]["Orders"] | null;
+            orders?: {
+                [key: string]: unknown;
+            } | null;
         };
         /** WorstCostOut */
         WorstCostOut: {
@@ -2768,15 +1944,68 @@ export interface components {
              * Estimated Cost
              * @default []
              */
-            estimated_cost?: string[];
+            estimated_cost: string[];
             path: components["schemas"]["CostPathOut"] | null;
             /**
              * Unknown Cost
              * @default []
              */
-            unknown_cost?: string[];
+            unknown_cost: string[];
             /** Worst */
             worst: number;
+        };
+        /** DecisionOut */
+        countersign__web__routes__approvals__DecisionOut: {
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
+            /** Decision */
+            decision: string;
+            /** Digest */
+            digest: string;
+            /** Id */
+            id: number;
+            /**
+             * Integrity
+             * @description how this row disagrees with its log entry, which is the source of truth
+             */
+            integrity?: string[];
+            /** Key Id */
+            key_id: string;
+            /** Log Index */
+            log_index: number | null;
+            /** Mission */
+            mission: string;
+            /** Operator */
+            operator: string | null;
+            /** Reason */
+            reason: string;
+            /**
+             * Receipt
+             * @description the log signer's signed receipt for the decision's log entry (entry hash, index, time)
+             */
+            receipt: string | null;
+            /** Revokes */
+            revokes: number | null;
+            /** Submission */
+            submission: number;
+            /** Supervisor */
+            supervisor: string | null;
+            /** Vehicle */
+            vehicle: string | null;
+            /** Version */
+            version: number;
+        };
+        /** DecisionOut */
+        countersign__web__routes__standing__DecisionOut: {
+            /** Decision */
+            decision: string;
+            /** Record */
+            record: number;
+            /** Version */
+            version: number;
         };
     };
     responses: never;
@@ -2843,7 +2072,9 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["ApprovalDetailOut"];
+                    "application/json": {
+                        [key: string]: unknown;
+                    };
                 };
             };
             /** @description Validation Error */
@@ -2878,7 +2109,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["DecisionOut"];
+                    "application/json": components["schemas"]["countersign__web__routes__approvals__DecisionOut"];
                 };
             };
             /** @description Validation Error */
@@ -2913,7 +2144,9 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["PreparedOut"];
+                    "application/json": {
+                        [key: string]: unknown;
+                    };
                 };
             };
             /** @description Validation Error */
@@ -2944,7 +2177,9 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["BundleOut"];
+                    "application/json": {
+                        [key: string]: unknown;
+                    };
                 };
             };
             /** @description Validation Error */
@@ -3130,7 +2365,9 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["Orders"];
+                    "application/json": {
+                        [key: string]: unknown;
+                    };
                 };
             };
             /** @description Validation Error */
@@ -3295,7 +2532,9 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["CheckpointOut"];
+                    "application/json": {
+                        [key: string]: unknown;
+                    };
                 };
             };
         };
@@ -3318,7 +2557,9 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["ConsistencyProofOut"];
+                    "application/json": {
+                        [key: string]: unknown;
+                    };
                 };
             };
             /** @description Validation Error */
@@ -3351,7 +2592,9 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["CosignatureOut"];
+                    "application/json": {
+                        [key: string]: unknown;
+                    };
                 };
             };
             /** @description Validation Error */
@@ -3380,7 +2623,9 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["CosignedCheckpointOut"];
+                    "application/json": {
+                        [key: string]: unknown;
+                    };
                 };
             };
         };
@@ -3403,7 +2648,9 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["LogEntryOut"][];
+                    "application/json": {
+                        [key: string]: unknown;
+                    }[];
                 };
             };
             /** @description Validation Error */
@@ -3435,7 +2682,9 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["InclusionProofOut"];
+                    "application/json": {
+                        [key: string]: unknown;
+                    };
                 };
             };
             /** @description Validation Error */
@@ -3707,7 +2956,9 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["PlanProblem"];
+                    "application/json": {
+                        [key: string]: unknown;
+                    };
                 };
             };
             /** @description Validation Error */
@@ -3820,6 +3071,37 @@ export interface operations {
             };
         };
     };
+    getMissionStanding: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                mission_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["StandingOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
     createVersion: {
         parameters: {
             query?: never;
@@ -3883,74 +3165,6 @@ export interface operations {
             };
         };
     };
-    recordExecution: {
-        parameters: {
-            query?: never;
-            header?: never;
-            path: {
-                mission_id: string;
-                number: number;
-            };
-            cookie?: never;
-        };
-        requestBody: {
-            content: {
-                "application/json": components["schemas"]["ExecutionIn"];
-            };
-        };
-        responses: {
-            /** @description Successful Response */
-            201: {
-                headers: {
-                    [name: string]: unknown;
-                };
-                content: {
-                    "application/json": components["schemas"]["ExecutionOut"];
-                };
-            };
-            /** @description Validation Error */
-            422: {
-                headers: {
-                    [name: string]: unknown;
-                };
-                content: {
-                    "application/json": components["schemas"]["HTTPValidationError"];
-                };
-            };
-        };
-    };
-    downloadPackage: {
-        parameters: {
-            query?: never;
-            header?: never;
-            path: {
-                mission_id: string;
-                number: number;
-            };
-            cookie?: never;
-        };
-        requestBody?: never;
-        responses: {
-            /** @description Successful Response */
-            200: {
-                headers: {
-                    [name: string]: unknown;
-                };
-                content: {
-                    "application/x-tar": unknown;
-                };
-            };
-            /** @description Validation Error */
-            422: {
-                headers: {
-                    [name: string]: unknown;
-                };
-                content: {
-                    "application/json": components["schemas"]["HTTPValidationError"];
-                };
-            };
-        };
-    };
     reviewVersion: {
         parameters: {
             query?: never;
@@ -3969,7 +3183,9 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["ReviewOut"];
+                    "application/json": {
+                        [key: string]: unknown;
+                    };
                 };
             };
             /** @description Validation Error */
@@ -4019,73 +3235,6 @@ export interface operations {
             };
         };
     };
-    getVehicleExport: {
-        parameters: {
-            query?: never;
-            header?: never;
-            path: {
-                mission_id: string;
-                number: number;
-                format: "imc" | "moos";
-            };
-            cookie?: never;
-        };
-        requestBody?: never;
-        responses: {
-            /** @description Successful Response */
-            200: {
-                headers: {
-                    [name: string]: unknown;
-                };
-                content: {
-                    "application/json": components["schemas"]["VehicleExportOut"];
-                };
-            };
-            /** @description Validation Error */
-            422: {
-                headers: {
-                    [name: string]: unknown;
-                };
-                content: {
-                    "application/json": components["schemas"]["HTTPValidationError"];
-                };
-            };
-        };
-    };
-    downloadVehicleExport: {
-        parameters: {
-            query?: never;
-            header?: never;
-            path: {
-                mission_id: string;
-                number: number;
-                format: "imc" | "moos";
-                name: string;
-            };
-            cookie?: never;
-        };
-        requestBody?: never;
-        responses: {
-            /** @description Successful Response */
-            200: {
-                headers: {
-                    [name: string]: unknown;
-                };
-                content: {
-                    "application/octet-stream": unknown;
-                };
-            };
-            /** @description Validation Error */
-            422: {
-                headers: {
-                    [name: string]: unknown;
-                };
-                content: {
-                    "application/json": components["schemas"]["HTTPValidationError"];
-                };
-            };
-        };
-    };
     solvePlan: {
         parameters: {
             query?: never;
@@ -4107,7 +3256,9 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["PlanOut"];
+                    "application/json": {
+                        [key: string]: unknown;
+                    };
                 };
             };
             /** @description Validation Error */
@@ -4424,7 +3575,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["DecisionOut"];
+                    "application/json": components["schemas"]["countersign__web__routes__approvals__DecisionOut"];
                 };
             };
             /** @description Validation Error */
@@ -4494,7 +3645,9 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["PreparedOut"];
+                    "application/json": {
+                        [key: string]: unknown;
+                    };
                 };
             };
             /** @description Validation Error */
@@ -4759,7 +3912,9 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["Vehicle"][];
+                    "application/json": {
+                        [key: string]: unknown;
+                    }[];
                 };
             };
         };
@@ -4785,7 +3940,40 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["Vehicle"];
+                    "application/json": {
+                        [key: string]: unknown;
+                    };
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    listVehicleVersions: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                vehicle_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["VehicleVersionOut"][];
                 };
             };
             /** @description Validation Error */

@@ -24,6 +24,7 @@ import {
 import { knownQuantities } from "./expr";
 import { ExprField, CommitField } from "./fields";
 import { paramsToText, parseParams } from "./model";
+import { BehaviourOptions } from "./VehiclePicker";
 
 export type EditOrders = (change: (o: Orders) => Orders, group?: string) => void;
 
@@ -73,7 +74,6 @@ export const GoalInspector = memo(function GoalInspector({
 }) {
   const id = goal.id;
   const set = (patch: Partial<GoalSpec>, group?: string) => editOrders((o) => updateGoal(o, id, patch), group);
-  const vehicle = ((orders.vehicles as { id: string; behaviors?: string[] }[] | undefined) ?? []).find((v) => v.id === orders.vehicle);
   const areas = ((orders.areas as { id: string; title?: string }[] | undefined) ?? []);
   const targets = [...goals(orders).map((g) => g.id), ...terminals(orders).map((t) => t.id)];
   const [requires, setRequires] = useState((goal.requires ?? []).join(", "));
@@ -112,11 +112,7 @@ export const GoalInspector = memo(function GoalInspector({
         value={goal.behavior ?? ""}
         onChange={(e) => set({ behavior: e.target.value || undefined }, `g:${id}:behavior`)}
       />
-      <datalist id="behaviour-options">
-        {(vehicle?.behaviors ?? ["area_search", "sample", "rendezvous", "transit", "recover"]).map((b) => (
-          <option key={b} value={b} />
-        ))}
-      </datalist>
+      <BehaviourOptions vehicle={orders.vehicle as string | undefined} carried={(orders.vehicles as { id: string; behaviors?: string[] }[] | undefined) ?? []} />
       <label htmlFor="goal-area">Area</label>
       <select id="goal-area" value={goal.area ?? ""} onChange={(e) => set({ area: e.target.value || undefined })}>
         <option value="">— none —</option>

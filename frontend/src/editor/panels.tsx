@@ -6,6 +6,7 @@
 import { type PointerEvent as ReactPointerEvent, useMemo, useRef, useState } from "react";
 
 import { ExprField, CommitField } from "./fields";
+import { VehiclePicker } from "./VehiclePicker";
 import { envelopeToText, type Orders, parseEnvelope } from "./graph";
 import {
   addArea,
@@ -79,11 +80,10 @@ export function MissionPanel({ orders, editOrders }: { orders: Orders; editOrder
         value={(orders.description as string | undefined) ?? ""}
         onChange={(e) => editOrders((o) => updateMission(o, { description: e.target.value }), "mission:description")}
       />
-      <CommitField
-        id="mission-vehicle"
-        label="Target vehicle (id)"
+      <VehiclePicker
         value={(orders.vehicle as string | null | undefined) ?? ""}
-        onCommit={(text) => editOrders((o) => updateMission(o, { vehicle: text.trim() || undefined }))}
+        carried={(orders.vehicles as { id: string; title?: string }[] | undefined) ?? []}
+        onChange={(vehicle) => editOrders((o) => updateMission(o, { vehicle }))}
       />
     </fieldset>
   );

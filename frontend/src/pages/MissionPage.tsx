@@ -23,6 +23,7 @@ import {
 import { CheckBadge, ErrorMessage, Loading, Notice } from "../components/Status";
 import { Tabs } from "../components/Tabs";
 import { VehicleExports } from "../components/VehicleExports";
+import { MissionStanding } from "./MissionStanding";
 import { formatDateTime, formatNumber, plural, shortDigest, statusLabel } from "../format";
 import { navigate } from "../navigation";
 import { missionHref } from "../router";
@@ -112,6 +113,12 @@ export function MissionPage({ id, tab }: { id: string; tab: string }) {
           <dt>Status</dt>
           <dd>
             <span className={`status status-${mission.status}`}>{statusLabel(mission.status)}</span>
+          </dd>
+        </div>
+        <div>
+          <dt>Decisions</dt>
+          <dd>
+            <MissionStanding id={mission.id} status={mission.status} />
           </dd>
         </div>
         <div>

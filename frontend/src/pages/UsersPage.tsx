@@ -6,12 +6,14 @@ import { ROLE_LABEL, ROLES, type Role } from "../roles";
 import { useSession } from "../session";
 import { useLoad } from "../useLoad";
 import { ResetPassword } from "./users/ResetPassword";
+import { RoleChangeDialog } from "./RoleChangeDialog";
 
 export function UsersPage() {
   const me = useSession().user;
   const { data, error, loading, reload } = useLoad(async () => unwrap(await api.GET("/api/users")), []);
   const [actionError, setActionError] = useState<unknown>(null);
   const [notice, setNotice] = useState<string | null>(null);
+  const [pending, setPending] = useState<{ user: User; role: Role } | null>(null);
 
   useEffect(() => {
     document.title = "Users · Countersign";
@@ -39,6 +41,19 @@ export function UsersPage() {
       </h1>
       <ErrorMessage error={error ?? actionError} />
       {notice && <Notice>{notice}</Notice>}
+      {pending && (
+        <RoleChangeDialog
+          key={`${pending.user.id}:${pending.role}`}
+          user={pending.user}
+          role={pending.role}
+          onCancel={() => setPending(null)}
+          onDone={(message) => {
+            setPending(null);
+            setNotice(message);
+            reload();
+          }}
+        />
+      )}
       {loading && !data ? (
         <Loading what="users" />
       ) : data ? (
@@ -68,9 +83,7 @@ export function UsersPage() {
                     id={`role-${u.id}`}
                     value={u.role}
                     disabled={u.id === me.id}
-                    onChange={(e) =>
-                      void patch(u, { role: e.target.value }, `${u.username} is now ${e.target.value}.`)
-                    }
+                    onChange={(e) => setPending({ user: u, role: e.target.value as Role })}
                   >
                     {ROLES.map((r) => (
                       <option key={r} value={r}>

@@ -19,7 +19,9 @@ from ...store.accounts import (
 )
 from ...store.events import record
 from ...store.integrity import event_integrity
+from ...store.role_change import confirm_role_change
 from ...store.tables import ApiToken, Event, User, VehicleProfile
+from ...store.vehicles import save_vehicle
 from ..deps import (
     ADMINS,
     EVERYONE,
@@ -47,6 +49,8 @@ class UserPatch(RequestBody):
     disabled: bool | None = None
     password: str | None = Field(default=None, max_length=1024)
     display_name: str | None = Field(default=None, max_length=200)
+    # A role change is confirmed with the admin's own password, entered again (issue 16).
+    admin_password: str | None = Field(default=None, max_length=1024)
 
 
 class TokenIn(RequestBody):
@@ -85,6 +89,9 @@ def change_user(user_id: RowId, body: UserPatch, principal: CurrentPrincipal, db
     if user is None:
         raise HTTPException(404, f"no user {user_id}")
     changes: dict[str, Any] = {}
+    if body.role is not None and body.role != user.role:
+        confirm_role_change(db, principal.user, body.admin_password)
+        changes["previous_role"] = user.role
     if body.role is not None:
         from ...store.tables import ROLES
 
@@ -150,13 +157,9 @@ def put_vehicle(vehicle_id: str, body: Vehicle, principal: CurrentPrincipal,
                 db: Db) -> dict[str, Any]:
     if body.id != vehicle_id:
         raise HTTPException(400, f"the profile's id {body.id!r} differs from {vehicle_id!r}")
-    profile = body.model_dump(mode="json", exclude_unset=True)
-    row = db.get(VehicleProfile, vehicle_id)
-    if row is None:
-        db.add(VehicleProfile(id=vehicle_id, title=body.title, profile=profile))
-    else:
-        row.title, row.profile = body.title, profile
-    record(db, kind="vehicle.saved", actor=principal.user, detail={"vehicle": vehicle_id})
+    profile, number = save_vehicle(db, body, principal.user)
+    record(db, kind="vehicle.saved", actor=principal.user,
+           detail={"vehicle": vehicle_id, "version": number})
     return profile
 
 

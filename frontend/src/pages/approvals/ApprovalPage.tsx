@@ -21,6 +21,7 @@ import { OrdersGraph } from "./OrdersGraph";
 import { FindingsTable, IntegrityWarning, PathSummaryTable, RulesSection, StateBadge } from "./parts";
 import { signPrepared, useSigningKeys } from "./signing";
 import { historyCheck } from "./history";
+import { ProfileDrift } from "../vehicles/ProfileDrift";
 
 export function ApprovalPage({ id }: { id: number }) {
   const { data: record, error, loading, reload } = useLoad(() => loadApproval(id), [id]);
@@ -52,6 +53,7 @@ export function ApprovalPage({ id }: { id: number }) {
         <StateBadge state={record.decision} />
       </div>
       <IntegrityWarning problems={record.integrity} />
+      <ProfileDrift orders={record.orders as Record<string, unknown>} approved={record.decision === "approved"} />
       <dl className="facts">
         <div>
           <dt>Supervisor</dt>

@@ -16,6 +16,7 @@ import { useLoad } from "../../useLoad";
 import { type ApprovalSummary, approvalHref, loadReview, type Review } from "./api";
 import { describeDiff, diffOrders } from "./diff";
 import { OrdersGraph } from "./OrdersGraph";
+import { ProfileDrift } from "../vehicles/ProfileDrift";
 import { DiffView, FindingsTable, IntegrityWarning, PathList, PathSummaryTable, RulesSection, StateBadge } from "./parts";
 import { signPrepared, useSigningKeys } from "./signing";
 import { ReceiptNote } from "./Receipt";
@@ -47,6 +48,7 @@ export function ReviewPage({ mission, version }: { mission: string; version: num
         Review: {title} v{version}
       </h1>
       <IntegrityWarning problems={(current as { integrity?: string[] } | undefined)?.integrity} />
+      <ProfileDrift orders={review.orders} approved={current?.state === "approved"} />
       <dl className="facts">
         <div>
           <dt>State</dt>

@@ -1,0 +1,36 @@
+/**
+ * The mission's standing beside its status: the latest approved version and the latest
+ * decision, each on its own ("v1 approved; v2 rejected"), so a later rejection or a pending
+ * submission never hides which version stands approved.
+ */
+import { api, unwrap } from "../api/client";
+import { Link } from "../components/Link";
+import { approvalHref } from "./approvals/api";
+import { useLoad } from "../useLoad";
+
+export function MissionStanding({ id, status }: { id: string; status: string }) {
+  const { data } = useLoad(
+    async () => unwrap(await api.GET("/api/missions/{mission_id}/standing", { params: { path: { mission_id: id } } })),
+    [id, status],
+  );
+  if (!data) return null;
+  const { approved, latest } = data;
+  if (!approved && !latest) return <span data-testid="mission-standing">No version decided yet</span>;
+  return (
+    <span data-testid="mission-standing">
+      {approved ? (
+        <Link href={approvalHref(approved.record)}>v{approved.version} approved</Link>
+      ) : (
+        "no version approved"
+      )}
+      {latest && latest.record !== approved?.record && (
+        <>
+          {"; "}
+          <Link href={approvalHref(latest.record)}>
+            v{latest.version} {latest.decision}
+          </Link>
+        </>
+      )}
+    </span>
+  );
+}

@@ -1,0 +1,39 @@
+/**
+ * "Needs re-approval": the registry's current profile of the orders' target vehicle differs
+ * from the profile these orders carry (the one the checks and the signature covered). The
+ * signature stays valid for what it covered; the notice says what a new approval would change.
+ */
+import { useLoad } from "../../useLoad";
+import { registryVersions } from "./api";
+import { ProfileChanges } from "./ProfileChanges";
+import { type Profile, profileDiff } from "./profileDiff";
+
+function targetProfile(orders: Record<string, unknown>): Profile | undefined {
+  const carried = (orders.vehicles as Profile[] | undefined) ?? [];
+  const id = orders.vehicle as string | undefined;
+  if (id) return carried.find((v) => v.id === id);
+  return carried.length === 1 ? carried[0] : undefined;
+}
+
+export function ProfileDrift({ orders, approved }: { orders: Record<string, unknown>; approved: boolean }) {
+  const signed = targetProfile(orders);
+  const id = (signed?.id as string | undefined) ?? "";
+  const { data } = useLoad(() => (id ? registryVersions(id) : Promise.resolve([])), [id]);
+  const latest = data?.[0];
+  if (!signed || !latest) return null;
+  const changes = profileDiff(signed, latest.profile as Profile);
+  if (changes.length === 0) return null;
+  return (
+    <section className="message warning" aria-labelledby="profile-drift-title" data-testid="profile-drift">
+      <h2 id="profile-drift-title">{approved ? "Needs re-approval" : "Vehicle profile changed in the registry"}</h2>
+      <p>
+        The registry&apos;s profile of vehicle <code>{id}</code> (version {latest.number}) differs from the profile in these
+        orders.{" "}
+        {approved
+          ? "The signature stays valid for the profile it covered; the vehicle as registered now needs a new version and a new approval."
+          : "These orders were checked against the profile they carry; a new version takes the registry's profile only if the draft drops its own."}
+      </p>
+      <ProfileChanges changes={changes} testId="profile-drift-diff" />
+    </section>
+  );
+}

@@ -1,0 +1,33 @@
+"""Issue 16 item 7 in the browser: after v2 is rejected the mission page says "v1 approved;
+v2 rejected", not only "Rejected"."""
+
+from __future__ import annotations
+
+import json
+
+from playwright.sync_api import Page, expect
+
+from .conftest import Server, _api_import
+from .test_roles import sign_in
+from .test_vehicle_registry import approve, client, exemplar
+
+
+def test_status_shows_the_approved_version_and_the_latest_decision(page: Page,
+                                                                    server: Server) -> None:
+    data = exemplar()
+    data["id"] = "e2e-standing"
+    mission = _api_import(server, json.dumps(data).encode(), "application/json")
+    submissions = []
+    with client(server, "operator") as operator:
+        for _ in range(2):
+            number = operator.post(f"/api/missions/{mission}/versions").json()["number"]
+            submitted = operator.post(f"/api/missions/{mission}/versions/{number}/submit")
+            assert submitted.status_code == 201, submitted.text
+            submissions.append(submitted.json()["id"])
+            if len(submissions) == 1:
+                approve(server, submissions[0])
+    approve(server, submissions[1], "rejected", "the rendezvous is too close to the lane")
+
+    sign_in(page, "operator")
+    page.goto(f"/missions/{mission}")
+    expect(page.get_by_test_id("mission-standing")).to_have_text("v1 approved; v2 rejected")
