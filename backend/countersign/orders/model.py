@@ -8,6 +8,7 @@ sees every problem at once. Only input that cannot be a set of orders at all is 
 from __future__ import annotations
 
 import re
+from fractions import Fraction
 from typing import Annotated, Any, Final, Literal
 
 from pydantic import (
@@ -71,6 +72,46 @@ class Cost(_Strict):
     duration_s: float | None = Field(default=None, ge=0)
 
 
+def _exact(value: float) -> Fraction:
+    # JSON numbers arrive as floats; their shortest decimal form is what the author wrote, so
+    # 0.1 + 0.2 + 0.7 sums to exactly 1.
+    return Fraction(repr(float(value)))
+
+
+ProbabilityValue = Annotated[float, Field(ge=0, le=1)] | tuple[
+    Annotated[float, Field(ge=0, le=1)], Annotated[float, Field(ge=0, le=1)]]
+
+
+class OutcomeProbabilities(_Strict):
+    """How likely each outcome of a goal is: a number each (summing to 1) or an interval
+    `[lo, hi]` each when only bounds are known (verify.probability computes min and max)."""
+
+    succeed: ProbabilityValue
+    fail: ProbabilityValue
+    violate: ProbabilityValue
+
+    def bounds(self) -> tuple[tuple[Fraction, Fraction], ...]:
+        """Exact (lo, hi) per outcome in the order succeed, fail, violate."""
+        result = []
+        for outcome in OUTCOMES:
+            value = getattr(self, outcome)
+            low, high = value if isinstance(value, tuple) else (value, value)
+            result.append((_exact(low), _exact(high)))
+        return tuple(result)
+
+    @model_validator(mode="after")
+    def _sums_to_one(self) -> OutcomeProbabilities:
+        bounds = self.bounds()
+        for outcome, (low, high) in zip(OUTCOMES, bounds, strict=True):
+            if low > high:
+                raise ValueError(f"{outcome}: lower bound {float(low)} is above upper bound "
+                                 f"{float(high)}")
+        if sum(b[0] for b in bounds) > 1 or sum(b[1] for b in bounds) < 1:
+            raise ValueError("the probabilities of succeed, fail and violate must sum to 1 "
+                             "(or, as intervals, admit a sum of 1)")
+        return self
+
+
 class Budget(_Strict):
     energy_wh: float | None = Field(default=None, ge=0)
     duration_s: float | None = Field(default=None, ge=0)
@@ -91,6 +132,9 @@ class Goal(_Strict):
     # A list names several successors for one outcome: a G5 finding, possible from Turtle/AVCL.
     next: dict[Outcome, Id | list[Id] | None] = Field(default_factory=dict)
     cost: Cost | None = None
+    # Outcome probabilities (absent: taken from the vehicle's profile for the behaviour, else
+    # unknown, so only bounds follow).
+    p: OutcomeProbabilities | None = None
 
     @property
     def label(self) -> str:
@@ -251,6 +295,8 @@ class Vehicle(_Strict):
     budget: Budget | None = None
     # Contingency rules of the vehicle itself (absent: no field, so digests are unchanged).
     rules: RuleSet | None = None
+    # Outcome probabilities per behaviour, for goals that give none themselves.
+    p: dict[str, OutcomeProbabilities] | None = None
 
 
 class PathProperty(_Strict):
