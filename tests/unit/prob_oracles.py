@@ -87,11 +87,11 @@ def random_orders(rng: random.Random, goals: int, *, kinds: tuple[str, ...] = ("
             b = rng.randint(0, 20 - a)
             item["p"] = {"succeed": a / 20, "fail": b / 20, "violate": (20 - a - b) / 20}
         elif kind == "interval":
-            centre = [rng.randint(0, 10) for _ in range(3)]
-            total = sum(centre) or 1
-            point = [c / total for c in centre]
-            item["p"] = {o: [max(0.0, round(x - rng.choice((0, 0.1, 0.25)), 2)),
-                             min(1.0, round(x + rng.choice((0, 0.1, 0.25)), 2))]
+            a = rng.randint(0, 100)
+            b = rng.randint(0, 100 - a)
+            point = (a, b, 100 - a - b)  # hundredths, summing to 1 exactly
+            item["p"] = {o: [max(0, x - rng.choice((0, 10, 25))) / 100,
+                             min(100, x + rng.choice((0, 10, 25))) / 100]
                          for o, x in zip(OUTCOMES, point, strict=True)}
         if costs:
             item["cost"] = {"energy_wh": rng.randint(0, 9), "duration_s": rng.choice((1.5, 60))}
