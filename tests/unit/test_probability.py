@@ -261,3 +261,20 @@ def test_path_bounds_are_attainable() -> None:
          "next": {"succeed": "COMPLETE", "fail": "ABORT", "violate": "ABORT"}}]})
     bounds = path_probability_bounds(orders, build_graph(orders))
     assert bounds[0] == ((0.8, 1.0), (0.0, 0.1), (0.0, 0.1))
+
+
+def test_report_and_command_line_show_the_probabilities(tmp_path: Path) -> None:
+    from countersign.verify.report import validate
+
+    from .test_bad_input import run_cli
+
+    orders = with_probabilities(exemplar(), 1)
+    report = validate(orders).to_json()
+    assert report["probabilities"]["terminals"]["COMPLETE"] == {"min": 0.61, "max": 0.61}
+    assert "probabilities" not in validate(Orders.model_validate(exemplar())).to_json()
+    path = tmp_path / "orders.json"
+    path.write_text(json.dumps(orders.model_dump(mode="json", by_alias=True, exclude_none=True)))
+    text = run_cli("validate", str(path))
+    assert "P(COMPLETE) = 0.61" in text.stdout, text.stdout + text.stderr
+    lines = run_cli("paths", str(path), "--limit", "1").stdout.splitlines()
+    assert json.loads(lines[0])["probability"] == pytest.approx(0.0227259648)

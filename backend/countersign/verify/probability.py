@@ -314,3 +314,25 @@ def path_probability_bounds(
     its bounds are the products of the tightened per-outcome bounds)."""
     boxes = fraction_boxes(goal_probabilities(orders, graph))
     return [tuple((float(lo), float(hi)) for lo, hi in box) for box in boxes]
+
+
+def _figure(bound: Bound) -> str:
+    low, high = float(bound.low), float(bound.high)
+    return f"{low:.6g}" if low == high else f"{low:.6g} to {high:.6g}"
+
+
+def summary_lines(figures: Probabilities) -> list[str]:
+    """The figures as plain lines for the command line."""
+    kind = "exact" if figures.exact else "bounds: some goals give intervals or nothing"
+    lines = [f"Outcome probabilities ({kind}):"]
+    lines.extend(f"  P({terminal}) = {_figure(b)}" for terminal, b in figures.terminals.items())
+    lines.append(f"  P(any violation) = {_figure(figures.violation)}")
+    for quantity, expectation in figures.expected.items():
+        line = f"  Expected {quantity} = {_figure(expectation.bound)}"
+        if expectation.quantiles:
+            line += " (" + ", ".join(f"p{float(level) * 100:g} {value:g}"
+                                     for level, value in expectation.quantiles.items()) + ")"
+        lines.append(line)
+    if figures.unknown:
+        lines.append(f"  Goals without probabilities: {', '.join(figures.unknown[:20])}")
+    return lines
