@@ -7,6 +7,7 @@ sees every problem at once. Only input that cannot be a set of orders at all is 
 
 from __future__ import annotations
 
+import functools
 import re
 from fractions import Fraction
 from typing import Annotated, Any, Final, Literal
@@ -72,6 +73,7 @@ class Cost(_Strict):
     duration_s: float | None = Field(default=None, ge=0)
 
 
+@functools.lru_cache(maxsize=4096)
 def _exact(value: float) -> Fraction:
     # JSON numbers arrive as floats; their shortest decimal form is what the author wrote, so
     # 0.1 + 0.2 + 0.7 sums to exactly 1.

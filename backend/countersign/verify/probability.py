@@ -33,9 +33,10 @@ from .paths import topological_order
 # Bounds (lo, hi) per outcome in units of 1/Q.
 Box = tuple[tuple[int, int], tuple[int, int], tuple[int, int]]
 QUANTILES: tuple[str, ...] = ("0.5", "0.9", "0.95", "0.99")
-# The cost distribution is kept per goal as {total: probability}; past this many distinct
-# totals at one goal the quantiles are not computed (the expectation still is, exactly).
-MAX_SUPPORT = 4_096
+# The cost distribution is kept per goal as {total: probability} in exact fractions; past this
+# many (total, probability) updates over the whole mission the quantiles are not computed (the
+# expectation still is, exactly): the number of distinct totals can grow with the paths.
+MAX_DISTRIBUTION_WORK = 50_000
 
 
 @dataclass(frozen=True)
@@ -111,9 +112,13 @@ def fraction_boxes(
 ) -> list[tuple[tuple[Fraction, Fraction], ...]]:
     """Exact tightened (lo, hi) per outcome: lo_k >= 1 - sum of the other highs, and so on, so
     that every bound is attained by some distribution."""
-    boxes = []
+    boxes: list[tuple[tuple[Fraction, Fraction], ...]] = []
     for p in given:
         raw = UNKNOWN_BOUNDS if p is None else p.bounds()
+        if p is not None and not isinstance(p.succeed, tuple) and not isinstance(
+                p.fail, tuple) and not isinstance(p.violate, tuple):
+            boxes.append(raw)  # a point: nothing to tighten
+            continue
         low_sum = sum(b[0] for b in raw)
         high_sum = sum(b[1] for b in raw)
         boxes.append(tuple(
@@ -126,6 +131,10 @@ def _common_denominator(values: Sequence[Fraction]) -> int:
     for value in values:
         q = math.lcm(q, value.denominator)
     return q
+
+
+def _units(value: Fraction, q: int) -> int:
+    return value.numerator * (q // value.denominator)
 
 
 class _Scaled:
@@ -141,8 +150,8 @@ class _Scaled:
         self.box: list[Box | None] = [None] * goal_count
         for node in order:
             (a, b), (c, d), (e, f) = boxes[node]
-            self.box[node] = ((int(a * q), int(b * q)), (int(c * q), int(d * q)),
-                              (int(e * q), int(f * q)))
+            self.box[node] = ((_units(a, q), _units(b, q)), (_units(c, q), _units(d, q)),
+                              (_units(e, q), _units(f, q)))
         height = [0] * (goal_count + len(graph.terminals))
         for node in order:
             height[node] = 1 + max(height[t] for t in graph.succ[node])
@@ -249,40 +258,51 @@ def outcome_probabilities(orders: Orders, graph: MissionGraph) -> Probabilities 
             else:
                 costs[node] = Fraction(repr(float(cost)))
         scale = _common_denominator(costs)
-        ints = [int(c * scale) for c in costs]
+        ints = [_units(c, scale) for c in costs]
         bound = both(lambda t: 0, extra=ints)
         bound = Bound(bound.low / scale, bound.high / scale)
-        quantiles = cost_quantiles(graph, order, boxes, ints, scale) if exact else None
+        quantiles = cost_quantiles(scaled, ints, scale) if exact else None
         expected[quantity] = Expectation(
             bound, quantiles, tuple(graph.goal_ids[n] for n in sorted(missing)))
     return Probabilities(terminals, violation, expected, unknown, intervals)
 
 
-def cost_distribution(
-    graph: MissionGraph, order: list[int],
-    boxes: Sequence[tuple[tuple[Fraction, Fraction], ...]], costs: Sequence[int],
-) -> dict[int, Fraction] | None:
-    """{total cost: probability} from the start (point probabilities only), or None when some
-    goal would hold more than MAX_SUPPORT distinct totals."""
+def cost_distribution(scaled: _Scaled, costs: Sequence[int]) -> dict[int, Fraction] | None:
+    """{total cost: probability} from the start (point probabilities only), or None when it
+    would take more than MAX_DISTRIBUTION_WORK updates. Weights are integers over Q^height as
+    in `_Scaled.run`."""
+    graph = scaled.graph
     goal_count = graph.goal_count
-    dist: list[dict[int, Fraction] | None] = [None] * goal_count
-    finished: dict[int, Fraction] = {0: Fraction(1)}
-    for node in order:
-        merged: dict[int, Fraction] = {}
+    height = scaled.height
+    power = scaled.power
+    dist: list[dict[int, int] | None] = [None] * goal_count
+    finished: dict[int, int] = {0: 1}
+    work = 0
+    for node in scaled.order:
+        top = height[node] - 1
+        bounds = scaled.box[node]
+        assert bounds is not None
+        merged: dict[int, int] = {}
         for k, target in enumerate(graph.succ[node]):
-            p = boxes[node][k][0]
+            p = bounds[k][0]
             if not p:
                 continue
             tail = finished if target >= goal_count else dist[target]
             assert tail is not None
+            work += len(tail)
+            if work > MAX_DISTRIBUTION_WORK:
+                return None
+            factor = p * power(top - height[target])
             for total, weight in tail.items():
-                merged[total] = merged.get(total, Fraction(0)) + p * weight
-        if len(merged) > MAX_SUPPORT:
-            return None
+                merged[total] = merged.get(total, 0) + factor * weight
         own = costs[node]
         dist[node] = {own + total: weight for total, weight in merged.items()}
-    assert graph.start is not None
-    return dist[graph.start]
+    start = graph.start
+    assert start is not None
+    result = dist[start]
+    assert result is not None
+    scale = power(height[start])
+    return {total: Fraction(weight, scale) for total, weight in result.items()}
 
 
 def quantile(distribution: dict[int, Fraction], level: Fraction) -> int:
@@ -296,11 +316,8 @@ def quantile(distribution: dict[int, Fraction], level: Fraction) -> int:
     return totals[-1]
 
 
-def cost_quantiles(
-    graph: MissionGraph, order: list[int],
-    boxes: Sequence[tuple[tuple[Fraction, Fraction], ...]], costs: Sequence[int], scale: int,
-) -> dict[str, float] | None:
-    distribution = cost_distribution(graph, order, boxes, costs)
+def cost_quantiles(scaled: _Scaled, costs: Sequence[int], scale: int) -> dict[str, float] | None:
+    distribution = cost_distribution(scaled, costs)
     if distribution is None:
         return None
     return {level: float(Fraction(quantile(distribution, Fraction(level)), scale))
