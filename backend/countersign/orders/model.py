@@ -301,11 +301,44 @@ class Vehicle(_Strict):
     p: dict[str, OutcomeProbabilities] | None = None
 
 
+class Event(_Strict):
+    """What happens at one position of a path: a goal ending with an outcome, or the terminal.
+    Every field given must match (a list: any of its items)."""
+
+    goal: Id | list[Id] | None = None
+    outcome: Outcome | list[Outcome] | None = None
+    behavior: str | list[str] | None = None
+    terminal: Id | list[Id] | None = None
+    kind: TerminalKind | None = None
+
+
+PatternKind = Literal["absence", "existence", "universality", "precedence", "response",
+                      "bounded_response"]
+ScopeKind = Literal["globally", "before", "after", "between"]
+
+
+class Within(_Strict):
+    """The bound of a bounded response: goals run, seconds or watt-hours from p to s."""
+
+    steps: int | None = Field(default=None, ge=0)
+    duration_s: float | None = Field(default=None, ge=0)
+    energy_wh: float | None = Field(default=None, ge=0)
+
+
 class PathProperty(_Strict):
     id: Id
     always: Text | None = None
     never: Text | None = None
     text: Text = ""
+    # A temporal specification pattern (Dwyer et al.) over every path (verify.patterns):
+    # `p` and `s` are its events, `q` and `r` open and close its scope.
+    pattern: PatternKind | None = None
+    scope: ScopeKind = "globally"
+    p: Event | None = None
+    s: Event | None = None
+    q: Event | None = None
+    r: Event | None = None
+    within: Within | None = None
 
 
 class Orders(_Strict):

@@ -19,6 +19,7 @@ from .graph import MissionGraph, build_graph
 from .logic import LogicCache, check_logic
 from .meo import MeoResult, meo_check
 from .paths import PathCounts, count_paths
+from .patterns import check_patterns
 from .probability import Probabilities, declares_probabilities, outcome_probabilities
 from .properties import check_properties
 from .structure import check_structure
@@ -106,6 +107,7 @@ def validate(
                                 total_timeout_s=solver_budget_s))
     findings.extend(check_properties(orders, graph, cache, timeout_ms=SOLVER_CALL_MS,
                                      total_timeout_s=max(0.0, deadline - time.monotonic())))
+    findings.extend(check_patterns(orders, graph))
     probabilities = (outcome_probabilities(orders, graph)
                      if counts is not None and declares_probabilities(orders) else None)
     return Report(orders.id, digest(orders), findings, counts, costs, meo, probabilities)
