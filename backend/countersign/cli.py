@@ -20,11 +20,6 @@ from .orders.examples import example_bytes, example_names
 from .orders.reader import OrdersReadError, ReadResult, read_bytes, read_file
 from .rehearse.checks import validate_with_rules
 from .verify.graph import build_graph
-from .verify.probability import (
-    declares_probabilities,
-    path_probability_bounds,
-    summary_lines,
-)
 from .verify.paths import (
     ANSWER,
     END_LINE,
@@ -34,6 +29,11 @@ from .verify.paths import (
     iter_path_lines,
     iter_paths,
     trace_text,
+)
+from .verify.probability import (
+    declares_probabilities,
+    path_probability_bounds,
+    summary_lines,
 )
 from .verify.report import SOLVER_BUDGET_S, Report
 from .verify.structure import check_structure

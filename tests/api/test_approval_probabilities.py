@@ -35,10 +35,11 @@ def test_review_and_statement_carry_the_probabilities(world: World) -> None:
 
     supervisor = world.client("supervisor")
     signer = register_key(supervisor)
-    prepared = prepare(supervisor, submit(world, number), signer)
+    submission = submit(world, number)
+    prepared = prepare(supervisor, submission, signer)
     assert prepared["statement"]["predicate"]["probabilities"] == figures
     envelope = sign_prepared(prepared, signer)
-    response = supervisor.post(f"/api/submissions/{prepared['statement']['predicate']['submission']}/decision",
+    response = supervisor.post(f"/api/submissions/{submission}/decision",
                                json={"envelope": envelope, "password": PASSWORD})
     assert response.status_code == 201, response.text
 

@@ -136,8 +136,9 @@ def storm_figures(orders: Orders) -> dict[str, float]:
     for t in range(graph.goal_count, nodes):
         for flag in (0, 1):
             rows[state[(t, flag)]][state[(t, flag)]] = 1.0
-    builder = datastructures.SparseMatrixBuilder(rows=0, columns=0, entries=0, force_dimensions=False,
-                                          has_custom_row_grouping=False)
+    builder = datastructures.SparseMatrixBuilder(
+        rows=0, columns=0, entries=0, force_dimensions=False,
+        has_custom_row_grouping=False)
     for r, row in enumerate(rows):
         for c in sorted(row):
             builder.add_next_value(r, c, row[c])
@@ -147,7 +148,7 @@ def storm_figures(orders: Orders) -> dict[str, float]:
         labels.add_label(name)
     assert graph.start is not None
     labels.add_label_to_state("init", state[(graph.start, 0)])
-    for t, terminal in enumerate(graph.terminals):
+    for t in range(len(graph.terminals)):
         for flag in (0, 1):
             s = state[(graph.goal_count + t, flag)]
             labels.add_label_to_state(f"t{t}", s)

@@ -16,7 +16,6 @@ and stops before `r`; in `between`, a position with both q and r opens nothing.
 
 from __future__ import annotations
 
-from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -164,7 +163,7 @@ class Counterexample:
 
 
 def check_pattern(orders: Orders, graph: MissionGraph, prop: PathProperty
-                  ) -> Counterexample | None | str:
+                  ) -> Counterexample | str | None:
     """A shortest violating path, None when every path satisfies the property, or a reason why
     it cannot be decided."""
     limit, quantity = _limit(prop)
@@ -178,31 +177,42 @@ def check_pattern(orders: Orders, graph: MissionGraph, prop: PathProperty
     ends = [Position(None, None, None, t.id, t.kind) for t in graph.terminals]
     first: State = monitor.initial()
     parent: dict[tuple[int, State], tuple[tuple[int, State], int] | None] = {(start, first): None}
-    # For cost-bounded responses: the largest pending cost seen per (node, phase, flags).
+    # For cost-bounded responses: the largest pending cost seen per (node, phase, flags) in an
+    # earlier layer; within one layer only the largest survives.
+    bounded_by_cost = limit is not None and quantity != "steps"
     best: dict[tuple[int, int, int], float] = {}
-    queue: deque[tuple[int, State]] = deque([(start, first)])
-    while queue:
-        key = queue.popleft()
-        node, state = key
-        for k, target in enumerate(graph.succ[node]):
-            after = monitor.step(state, positions[node][k], costs[node])
-            if target >= goal_count:
-                final = monitor.step(after, ends[target - goal_count], 0.0)
-                if monitor.finish(final):
-                    return _path(graph, parent, key, k, target)
-                continue
-            nxt = (target, after)
-            if nxt in parent:
-                continue
-            if limit is not None and quantity != "steps":
-                dominant = (target, after[0], after[1])
-                if best.get(dominant, -1.0) >= after[2]:
+    layer: list[tuple[int, State]] = [(start, first)]
+    while layer:
+        candidates: dict[object, tuple[tuple[int, State], tuple[tuple[int, State], int]]] = {}
+        for key in layer:
+            node, state = key
+            for k, target in enumerate(graph.succ[node]):
+                after = monitor.step(state, positions[node][k], costs[node])
+                if target >= goal_count:
+                    final = monitor.step(after, ends[target - goal_count], 0.0)
+                    if monitor.finish(final):
+                        return _path(graph, parent, key, k, target)
                     continue
-                best[dominant] = after[2]
-            parent[nxt] = (key, k)
-            if len(parent) > MAX_STATES:
-                return "the pattern's product with the mission has too many states"
-            queue.append(nxt)
+                nxt = (target, after)
+                if nxt in parent:
+                    continue
+                slot: object = nxt
+                if bounded_by_cost:
+                    slot = (target, after[0], after[1])
+                    if best.get(slot, -1.0) >= after[2]:
+                        continue
+                    held = candidates.get(slot)
+                    if held is not None and held[0][1][2] >= after[2]:
+                        continue
+                candidates[slot] = (nxt, (key, k))
+        layer = []
+        for slot, (nxt, link) in candidates.items():
+            if bounded_by_cost:
+                best[slot] = nxt[1][2]  # type: ignore[index]
+            parent[nxt] = link
+            layer.append(nxt)
+        if len(parent) > MAX_STATES:
+            return "the pattern's product with the mission has too many states"
     return None
 
 

@@ -20,6 +20,7 @@ solution of a linear programme over `lo <= p <= hi, sum p = 1`).
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -197,6 +198,10 @@ class _Scaled:
         return Fraction(value[start], power(height[start]))
 
 
+def _indicator(node: int, t: int) -> int:
+    return 1 if t == node else 0
+
+
 def _extreme(weights: list[int], bounds: Box, q: int, maximise: bool) -> int:
     """max (or min) of sum_k a_k w_k over integers lo_k <= a_k <= hi_k with sum a_k = q."""
     (l0, h0), (l1, h1), (l2, h2) = bounds
@@ -240,8 +245,7 @@ def outcome_probabilities(orders: Orders, graph: MissionGraph) -> Probabilities 
 
     terminals: dict[str, Bound] = {}
     for index, terminal in enumerate(graph.terminals):
-        node = goal_count + index
-        terminals[terminal.id] = both(lambda t, node=node: 1 if t == node else 0)
+        terminals[terminal.id] = both(functools.partial(_indicator, goal_count + index))
     clean = both(lambda t: 1, zero_violate=True)
     violation = Bound(1 - clean.high, 1 - clean.low)
 
