@@ -2,6 +2,7 @@
 import { api, type Finding, type MissionPath, unwrap } from "../../api/client";
 import type { components } from "../../api/schema";
 import type { ApprovalRecord, LogEntryRow } from "../../crypto/verify";
+import type { OutcomeFigures } from "./probabilities";
 
 export type Submission = components["schemas"]["SubmissionOut"];
 export type Key = components["schemas"]["KeyOut"];
@@ -28,6 +29,8 @@ export interface Review {
   findings: Finding[];
   paths: PathSummary | null;
   path_items: MissionPath[];
+  /** Outcome probabilities (issue 20); absent when the orders declare none. */
+  probabilities?: OutcomeFigures | null;
   submissions: Submission[];
   previous: { version: number; digest: string; approval: number; state: string; orders: Record<string, unknown> } | null;
   may_submit: boolean;
