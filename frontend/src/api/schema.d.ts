@@ -1462,6 +1462,30 @@ export interface components {
              */
             outcome: "succeed" | "fail" | "violate";
         };
+        /**
+         * OutcomeProbabilities
+         * @description How likely each outcome of a goal is: a number each (summing to 1) or an interval
+         *     `[lo, hi]` each when only bounds are known (verify.probability computes min and max).
+         */
+        OutcomeProbabilities: {
+            /** Fail */
+            fail: number | [
+                number,
+                number
+            ];
+            /** Succeed */
+            succeed: number | [
+                number,
+                number
+            ];
+            /** Violate */
+            violate: number | [
+                number,
+                number
+            ];
+        } & {
+            [key: string]: unknown;
+        };
         /** PasswordChange */
         PasswordChange: {
             /** Current Password */
@@ -1888,6 +1912,10 @@ export interface components {
             features?: components["schemas"]["Feature"][];
             /** Id */
             id: string;
+            /** P */
+            p?: {
+                [key: string]: components["schemas"]["OutcomeProbabilities"];
+            } | null;
             /** Power W */
             power_w?: number | null;
             rules?: components["schemas"]["RuleSet"] | null;
