@@ -50,3 +50,13 @@ def test_orders_without_probabilities_sign_no_probabilities(world: World) -> Non
     signer = register_key(supervisor)
     prepared = prepare(supervisor, submit(world, number), signer)
     assert "probabilities" not in prepared["statement"]["predicate"]
+
+
+def test_the_paths_explorer_gives_each_path_its_probability(world: World) -> None:
+    client = world.client("supervisor")
+    assert client.get(f"/api/missions/{MISSION}/paths").json()["items"][0]["probability"] is None
+    _with_probabilities(world)
+    page = client.get(f"/api/missions/{MISSION}/paths", params={"limit": 100}).json()
+    assert abs(sum(item["probability"] for item in page["items"]) - 1) < 1e-9
+    streamed = client.get(f"/api/missions/{MISSION}/paths", params={"format": "ndjson"})
+    assert '"probability":' in streamed.text.splitlines()[0]

@@ -1421,6 +1421,11 @@ export interface components {
             index: number;
             /** Outcomes */
             outcomes: string[];
+            /** Probability */
+            probability?: number | [
+                number,
+                number
+            ] | null;
             /** Terminal */
             terminal: string;
         };
