@@ -23,21 +23,28 @@ def build_statement(
     submission: int, report_digest: str, paths: dict[str, Any] | None, vehicle: str | None,
     author: str, supervisor: str, key_id: str, time: str, nonce: str,
     rehearsal_digest: str | None = None, revokes: str | None = None,
+    probabilities: dict[str, Any] | None = None,
 ) -> dict[str, Any]:
     if decision not in DECISIONS:
         raise ValueError(f"decision must be one of {', '.join(DECISIONS)}")
     algorithm, _, hexdigest = orders_digest.partition(":")
+    predicate: dict[str, Any] = {
+        "mission": mission, "version": version, "submission": submission,
+        "decision": decision, "reason": reason, "revokes": revokes,
+        "report_digest": report_digest, "paths": paths,
+        "rehearsal_digest": rehearsal_digest, "vehicle": vehicle, "author": author,
+        "supervisor": supervisor, "key_id": key_id, "time": time, "nonce": nonce,
+    }
+    # The outcome probabilities the supervisor saw (issue 20). Only present when the orders
+    # declare some, so the statements of orders without them stay byte for byte as before and
+    # approvals prepared before this field existed still match when they are decided.
+    if probabilities is not None:
+        predicate["probabilities"] = probabilities
     return {
         "_type": STATEMENT_TYPE,
         "subject": [{"name": f"{mission}@v{version}", "digest": {algorithm: hexdigest}}],
         "predicateType": PREDICATE_TYPE,
-        "predicate": {
-            "mission": mission, "version": version, "submission": submission,
-            "decision": decision, "reason": reason, "revokes": revokes,
-            "report_digest": report_digest, "paths": paths,
-            "rehearsal_digest": rehearsal_digest, "vehicle": vehicle, "author": author,
-            "supervisor": supervisor, "key_id": key_id, "time": time, "nonce": nonce,
-        },
+        "predicate": predicate,
     }
 
 

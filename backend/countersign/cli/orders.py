@@ -50,6 +50,10 @@ def _print_report_text(report: Report, out: TextIO) -> None:
     for quantity, worst in (report.costs or {}).items():
         limit = f" of budget {worst.budget:g}" if worst.budget is not None else ""
         out.write(f"Worst {quantity}: {worst.total:g}{limit}\n")
+    if report.probabilities is not None:
+        from ..verify.probability import summary_lines
+
+        out.write("\n".join(summary_lines(report.probabilities)) + "\n")
     verdict = "OK" if report.ok else "NOT OK"
     out.write(f"{verdict}: {errors} error(s), {warnings} warning(s).\n")
 
@@ -107,11 +111,16 @@ def cmd_paths(args: argparse.Namespace) -> int:
             loaded, f"the paths of {args.file} cannot be enumerated")
         return refused if refused is not None else EXIT_FINDINGS
     out = sys.stdout
+    from ..verify.probability import declares_probabilities, path_probability_bounds
+
+    # Each path's probability (or its bounds) when the orders declare outcome probabilities.
+    bounds = (path_probability_bounds(loaded.orders, graph)
+              if declares_probabilities(loaded.orders) else None)
     if args.format == "trace":
         for path in iter_paths(graph, counts, args.offset, args.limit):
             out.write(trace_text(graph, path) + "\n")
     else:
-        for line in iter_path_lines(graph, counts, args.offset, args.limit):
+        for line in iter_path_lines(graph, counts, args.offset, args.limit, bounds):
             out.write(line + "\n")
     out.flush()
     return EXIT_OK
@@ -216,7 +225,10 @@ def add_commands(commands: Any) -> None:
         "contingency rules",
         description="Check orders and count every path. Exit 0 no errors, 1 errors, "
         "2 unreadable input. The command line has no vehicle registry: orders must carry the "
-        "profile of their target vehicle, or VEHICLE is reported (an error).",
+        "profile of their target vehicle, or VEHICLE is reported (an error). When goals (or "
+        "the vehicle, per behaviour) carry outcome probabilities `p`, it also prints the exact "
+        "probability of each terminal and of any violation, the expected energy and time "
+        "with quantiles, and min/max where probabilities are intervals or missing.",
     )
     validate_cmd.add_argument("file", metavar="FILE", help=FILE_HELP)
     validate_cmd.add_argument("--format", choices=["text", "json"], default="text")
@@ -236,7 +248,8 @@ def add_commands(commands: Any) -> None:
         help="enumerate every path lazily (succeed, fail, violate first)",
         description="Enumerate the paths from the start goal to a terminal, depth first in "
         "the order succeed, fail, violate. 'json' writes one JSON object per line (NDJSON): "
-        '{"index", "goals", "outcomes", "terminal"}; \'trace\' writes Figure 6 traces.',
+        '{"index", "goals", "outcomes", "terminal"} plus "probability" (a number, or [min, max]) '
+        "when the orders carry outcome probabilities; 'trace' writes Figure 6 traces.",
     )
     paths_cmd.add_argument("file", metavar="FILE", help=FILE_HELP)
     paths_cmd.add_argument("--limit", type=non_negative, default=None, help="at most N paths")

@@ -7,7 +7,9 @@ sees every problem at once. Only input that cannot be a set of orders at all is 
 
 from __future__ import annotations
 
+import functools
 import re
+from fractions import Fraction
 from typing import Annotated, Any, Final, Literal
 
 from pydantic import (
@@ -71,6 +73,47 @@ class Cost(_Strict):
     duration_s: float | None = Field(default=None, ge=0)
 
 
+@functools.lru_cache(maxsize=4096)
+def _exact(value: float) -> Fraction:
+    # JSON numbers arrive as floats; their shortest decimal form is what the author wrote, so
+    # 0.1 + 0.2 + 0.7 sums to exactly 1.
+    return Fraction(repr(float(value)))
+
+
+ProbabilityValue = Annotated[float, Field(ge=0, le=1)] | tuple[
+    Annotated[float, Field(ge=0, le=1)], Annotated[float, Field(ge=0, le=1)]]
+
+
+class OutcomeProbabilities(_Strict):
+    """How likely each outcome of a goal is: a number each (summing to 1) or an interval
+    `[lo, hi]` each when only bounds are known (verify.probability computes min and max)."""
+
+    succeed: ProbabilityValue
+    fail: ProbabilityValue
+    violate: ProbabilityValue
+
+    def bounds(self) -> tuple[tuple[Fraction, Fraction], ...]:
+        """Exact (lo, hi) per outcome in the order succeed, fail, violate."""
+        result = []
+        for outcome in OUTCOMES:
+            value = getattr(self, outcome)
+            low, high = value if isinstance(value, tuple) else (value, value)
+            result.append((_exact(low), _exact(high)))
+        return tuple(result)
+
+    @model_validator(mode="after")
+    def _sums_to_one(self) -> OutcomeProbabilities:
+        bounds = self.bounds()
+        for outcome, (low, high) in zip(OUTCOMES, bounds, strict=True):
+            if low > high:
+                raise ValueError(f"{outcome}: lower bound {float(low)} is above upper bound "
+                                 f"{float(high)}")
+        if sum(b[0] for b in bounds) > 1 or sum(b[1] for b in bounds) < 1:
+            raise ValueError("the probabilities of succeed, fail and violate must sum to 1 "
+                             "(or, as intervals, admit a sum of 1)")
+        return self
+
+
 class Budget(_Strict):
     energy_wh: float | None = Field(default=None, ge=0)
     duration_s: float | None = Field(default=None, ge=0)
@@ -91,6 +134,9 @@ class Goal(_Strict):
     # A list names several successors for one outcome: a G5 finding, possible from Turtle/AVCL.
     next: dict[Outcome, Id | list[Id] | None] = Field(default_factory=dict)
     cost: Cost | None = None
+    # Outcome probabilities (absent: taken from the vehicle's profile for the behaviour, else
+    # unknown, so only bounds follow).
+    p: OutcomeProbabilities | None = None
 
     @property
     def label(self) -> str:
@@ -251,6 +297,32 @@ class Vehicle(_Strict):
     budget: Budget | None = None
     # Contingency rules of the vehicle itself (absent: no field, so digests are unchanged).
     rules: RuleSet | None = None
+    # Outcome probabilities per behaviour, for goals that give none themselves.
+    p: dict[str, OutcomeProbabilities] | None = None
+
+
+class Event(_Strict):
+    """What happens at one position of a path: a goal ending with an outcome, or the terminal.
+    Every field given must match (a list: any of its items)."""
+
+    goal: Id | list[Id] | None = None
+    outcome: Outcome | list[Outcome] | None = None
+    behavior: str | list[str] | None = None
+    terminal: Id | list[Id] | None = None
+    kind: TerminalKind | None = None
+
+
+PatternKind = Literal["absence", "existence", "universality", "precedence", "response",
+                      "bounded_response"]
+ScopeKind = Literal["globally", "before", "after", "between"]
+
+
+class Within(_Strict):
+    """The bound of a bounded response: goals run, seconds or watt-hours from p to s."""
+
+    steps: int | None = Field(default=None, ge=0)
+    duration_s: float | None = Field(default=None, ge=0)
+    energy_wh: float | None = Field(default=None, ge=0)
 
 
 class PathProperty(_Strict):
@@ -258,6 +330,15 @@ class PathProperty(_Strict):
     always: Text | None = None
     never: Text | None = None
     text: Text = ""
+    # A temporal specification pattern (Dwyer et al.) over every path (verify.patterns):
+    # `p` and `s` are its events, `q` and `r` open and close its scope.
+    pattern: PatternKind | None = None
+    scope: ScopeKind = "globally"
+    p: Event | None = None
+    s: Event | None = None
+    q: Event | None = None
+    r: Event | None = None
+    within: Within | None = None
 
 
 class Orders(_Strict):

@@ -13,6 +13,7 @@ from collections.abc import Mapping, Sequence
 from .conditions import condition_words
 from .expressions import number_words, quantity_words, with_unit
 from .model import Orders, Quantity, Vehicle
+from .pattern_words import pattern_sentence
 
 
 def _one_line(text: str) -> str:
@@ -33,6 +34,10 @@ def plain_properties(orders: Orders, quantities: Mapping[str, Quantity]) -> list
         return []
     blocks = ["Path properties"]
     for number, prop in enumerate(orders.properties, start=1):
+        if prop.pattern is not None:
+            blocks.append(f"Property {number} ({prop.id}): {pattern_sentence(prop)}"
+                          + (f" {_sentence(prop.text)}" if prop.text else ""))
+            continue
         mode, expr = ("always", prop.always) if prop.always else ("never", prop.never)
         checked = condition_words(expr, quantities)
         # "always" must hold at every goal of every path; "never" at no goal of any path.

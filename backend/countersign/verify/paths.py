@@ -9,7 +9,7 @@ more than one path in memory and skips to any offset using the counts.
 from __future__ import annotations
 
 import json
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 from ..orders.model import OUTCOMES, Orders
@@ -35,14 +35,35 @@ class MissionPath:
     goals: tuple[str, ...]
     outcomes: tuple[str, ...]
     terminal: str
+    # The path's probability (a number, or [min, max] where goals give intervals or nothing).
+    probability: float | tuple[float, float] | None = None
 
     def to_json(self) -> dict[str, object]:
-        return {
+        data: dict[str, object] = {
             "index": self.index,
             "goals": list(self.goals),
             "outcomes": list(self.outcomes),
             "terminal": self.terminal,
         }
+        if self.probability is not None:
+            data["probability"] = (list(self.probability)
+                                   if isinstance(self.probability, tuple) else self.probability)
+        return data
+
+
+# Per goal node, (lo, hi) per outcome (verify.probability.path_probability_bounds).
+PathBounds = Sequence[Sequence[tuple[float, float]]]
+
+
+def _path_probability(
+    bounds: PathBounds, goals: Sequence[int], outcomes: Sequence[int],
+) -> float | tuple[float, float]:
+    low = high = 1.0
+    for g, k in zip(goals, outcomes, strict=True):
+        lo, hi = bounds[g][k]
+        low *= lo
+        high *= hi
+    return low if low == high else (low, high)
 
 
 def topological_order(graph: MissionGraph) -> list[int] | None:
@@ -152,7 +173,8 @@ def _walk(
 
 
 def iter_paths(
-    graph: MissionGraph, counts: PathCounts, offset: int = 0, limit: int | None = None
+    graph: MissionGraph, counts: PathCounts, offset: int = 0, limit: int | None = None,
+    probabilities: PathBounds | None = None,
 ) -> Iterator[MissionPath]:
     """Paths in the order of Figure 6's exhaustive testing (succeed, fail, violate first)."""
     if offset >= counts.total or (limit is not None and limit <= 0):
@@ -166,13 +188,15 @@ def iter_paths(
             tuple(ids[g] for g in goals),
             tuple(OUTCOMES[k] for k in outcomes),
             graph.node_id(terminal),
+            None if probabilities is None else _path_probability(probabilities, goals, outcomes),
         )
         if limit is not None and index - offset >= limit:
             return
 
 
 def iter_path_lines(
-    graph: MissionGraph, counts: PathCounts, offset: int = 0, limit: int | None = None
+    graph: MissionGraph, counts: PathCounts, offset: int = 0, limit: int | None = None,
+    probabilities: PathBounds | None = None,
 ) -> Iterator[str]:
     """The same paths as NDJSON lines (without newline), built with as little work per path as
     possible so that streaming millions of paths stays fast."""
@@ -192,9 +216,13 @@ def iter_path_lines(
         goal_json.extend(encoded[g] for g in goals[changed:])
         outcome_json.extend(words[k] for k in outcomes[changed:])
         index += 1
+        tail = ""
+        if probabilities is not None:
+            tail = ',"probability":' + json.dumps(
+                _path_probability(probabilities, goals, outcomes))
         yield (
             f'{{"index":{index},"goals":[{",".join(goal_json)}],'
-            f'"outcomes":[{",".join(outcome_json)}],"terminal":{encoded[terminal]}}}'
+            f'"outcomes":[{",".join(outcome_json)}],"terminal":{encoded[terminal]}{tail}}}'
         )
         if index >= stop:
             return

@@ -291,7 +291,8 @@ def check_properties(
             if expr is not None:
                 states.append(_StateProperty(prop, mode, expr, text))
         bounds.extend(_bounds(prop, findings))
-        if prop.always is None and prop.never is None and not (prop.model_extra or {}).get("max"):
+        if (prop.always is None and prop.never is None and prop.pattern is None
+                and not (prop.model_extra or {}).get("max")):
             findings.append(error("EXPR", [prop.id], f"{prop.id} states nothing: give 'always', "
                                   "'never' or 'max'.", field="always"))
     findings[:0] = expr_findings

@@ -20,6 +20,8 @@ from .graph import MissionGraph, build_graph
 from .logic import LogicCache, check_logic
 from .meo import MeoResult, meo_check
 from .paths import PathCounts, count_paths
+from .patterns import check_patterns
+from .probability import Probabilities, declares_probabilities, outcome_probabilities
 from .properties import check_properties
 from .rules_design import rules_findings
 from .structure import check_structure
@@ -49,6 +51,8 @@ class Report:
     paths: PathCounts | None
     costs: dict[str, WorstPath] | None
     meo: MeoResult | None = field(default=None, repr=False, compare=False)
+    # Outcome probabilities (issue 20), only for orders that declare some.
+    probabilities: Probabilities | None = None
 
     @property
     def explanation(self) -> dict[str, Any] | None:
@@ -69,6 +73,8 @@ class Report:
             "paths": self.paths.to_json() if self.paths else None,
             "costs": {q: w.to_json() for q, w in self.costs.items()} if self.costs else None,
         }
+        if self.probabilities is not None:
+            data["probabilities"] = self.probabilities.to_json()
         if explain:
             data["explanation"] = self.explanation
         return data
@@ -104,4 +110,7 @@ def validate(
     findings.extend(check_properties(orders, graph, cache, timeout_ms=SOLVER_CALL_MS,
                                      total_timeout_s=max(0.0, deadline - time.monotonic())))
     findings.extend(rules_findings(orders))
-    return Report(orders.id, digest(orders), findings, counts, costs, meo)
+    findings.extend(check_patterns(orders, graph))
+    probabilities = (outcome_probabilities(orders, graph)
+                     if counts is not None and declares_probabilities(orders) else None)
+    return Report(orders.id, digest(orders), findings, counts, costs, meo, probabilities)

@@ -1411,6 +1411,11 @@ export interface components {
             index: number;
             /** Outcomes */
             outcomes: string[];
+            /** Probability */
+            probability?: number | [
+                number,
+                number
+            ] | null;
             /** Terminal */
             terminal: string;
         };
@@ -1451,6 +1456,30 @@ export interface components {
              * @enum {string}
              */
             outcome: "succeed" | "fail" | "violate";
+        };
+        /**
+         * OutcomeProbabilities
+         * @description How likely each outcome of a goal is: a number each (summing to 1) or an interval
+         *     `[lo, hi]` each when only bounds are known (verify.probability computes min and max).
+         */
+        OutcomeProbabilities: {
+            /** Fail */
+            fail: number | [
+                number,
+                number
+            ];
+            /** Succeed */
+            succeed: number | [
+                number,
+                number
+            ];
+            /** Violate */
+            violate: number | [
+                number,
+                number
+            ];
+        } & {
+            [key: string]: unknown;
         };
         /** PasswordChange */
         PasswordChange: {
@@ -1885,6 +1914,10 @@ export interface components {
             features?: components["schemas"]["Feature"][];
             /** Id */
             id: string;
+            /** P */
+            p?: {
+                [key: string]: components["schemas"]["OutcomeProbabilities"];
+            } | null;
             /** Power W */
             power_w?: number | null;
             rules?: components["schemas"]["RuleSet"] | null;

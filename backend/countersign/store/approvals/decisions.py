@@ -74,7 +74,8 @@ def _statement(db: DbSession, ctx: Context, *, decision: str, reason: str, super
         report_digest=json_digest(ctx.report), paths=ctx.report.get("paths"),
         vehicle=orders.get("vehicle"), author=_username(db, ctx.version.author_id) or "",
         supervisor=supervisor.username, key_id=key_id, time=time, nonce=nonce, revokes=revokes,
-        rehearsal_digest=ctx.submission.rehearsal_digest)
+        rehearsal_digest=ctx.submission.rehearsal_digest,
+        probabilities=ctx.report.get("probabilities"))
 
 
 @dataclass(frozen=True)

@@ -94,6 +94,10 @@ class ReviewOut(BaseModel):
     findings: list[FindingOut]
     paths: PathCountsOut | None
     path_items: list[MissionPathOut]
+    probabilities: dict[str, Any] | None = Field(
+        default=None, description="outcome probabilities (issue 20): terminals, violation, "
+        "expected energy and time, min/max where probabilities are intervals or missing; "
+        "absent when the orders declare none")
     submissions: list[SubmissionOut]
     previous: PreviousApprovalOut | None
     may_submit: bool

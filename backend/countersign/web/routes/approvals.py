@@ -23,6 +23,7 @@ from ...store.rehearsals import attach, get_record, record_summary
 from ...store.tables import Approval, MissionVersion, SigningKey, Submission, User
 from ...verify.graph import build_graph
 from ...verify.paths import count_paths, iter_paths
+from ...verify.probability import path_probability_bounds
 from ..deps import (
     EVERYONE,
     LOG_READERS,
@@ -239,7 +240,10 @@ def review_version(mission_id: str, number: RowId, principal: CurrentPrincipal,
     graph = build_graph(orders)
     counts = count_paths(graph)
     if counts is not None:
-        items = [p.to_json() for p in iter_paths(graph, counts, 0, REVIEW_PATHS)]
+        bounds = (path_probability_bounds(orders, graph)
+                  if report.get("probabilities") is not None else None)
+        items = [p.to_json() for p in iter_paths(graph, counts, 0, REVIEW_PATHS,
+                                                 probabilities=bounds)]
     refused = service.submit_refusal(user=principal.user, number=number, report=report,
                                      active=current)
     submit_refusal = str(refused) if refused is not None else None
@@ -260,6 +264,7 @@ def review_version(mission_id: str, number: RowId, principal: CurrentPrincipal,
         "plain": write(orders, "plain"), "rules": rules_sentences(orders),
         "ok": report["ok"], "findings": report["findings"],
         "paths": report.get("paths"), "path_items": items,
+        "probabilities": report.get("probabilities"),
         "submissions": [_submission_out(db, s.id).model_dump(mode="json") for s in submissions],
         "previous": previous_out,
         "may_submit": submit_refusal is None, "submit_refusal": submit_refusal,

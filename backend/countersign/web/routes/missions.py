@@ -28,6 +28,7 @@ from ...store.tables import Mission, MissionVersion
 from ...store.vehicles import with_registry
 from ...verify.graph import build_graph
 from ...verify.paths import count_paths, iter_path_lines, iter_paths, trace_text
+from ...verify.probability import declares_probabilities, path_probability_bounds
 from ..deps import (
     EVERYONE,
     OPERATORS,
@@ -372,8 +373,11 @@ def list_paths(
     format: Annotated[str, Query(pattern="^(json|ndjson|trace)$")] = "json",
 ) -> PathPage | StreamingResponse | PlainTextResponse:
     mission = service.get_mission(db, mission_id)
-    graph = build_graph(_orders(mission.draft))
+    orders = _orders(mission.draft)
+    graph = build_graph(orders)
     counts = count_paths(graph)
+    bounds = (path_probability_bounds(orders, graph)
+              if declares_probabilities(orders) else None)
     if counts is None:
         raise HTTPException(409, "the paths cannot be counted until the structural errors "
                                  "in the report are fixed")
@@ -387,16 +391,17 @@ def list_paths(
             raise HTTPException(400, "the cursor is not valid")
     if format == "ndjson" or "application/x-ndjson" in request.headers.get("accept", ""):
         def lines() -> Iterator[str]:
-            for line in iter_path_lines(graph, counts, offset):
+            for line in iter_path_lines(graph, counts, offset, probabilities=bounds):
                 yield line + "\n"
         return StreamingResponse(lines(), media_type="application/x-ndjson")
-    page = list(iter_paths(graph, counts, offset, limit))
+    page = list(iter_paths(graph, counts, offset, limit, probabilities=bounds))
     if format == "trace":
         return PlainTextResponse("\n".join(trace_text(graph, p) for p in page) + "\n")
     following = offset + len(page)
     return PathPage(count=counts.total, by_terminal=counts.by_terminal,
                     items=[MissionPathOut(index=p.index, goals=list(p.goals),
-                                          outcomes=list(p.outcomes), terminal=p.terminal)
+                                          outcomes=list(p.outcomes), terminal=p.terminal,
+                                          probability=p.probability)
                            for p in page],
                     next_cursor=_encode_cursor(following) if following < counts.total else None)
 

@@ -112,6 +112,8 @@ class MissionPathOut(BaseModel):
     goals: list[str]
     outcomes: list[str]
     terminal: str
+    # The path's probability, or [min, max]; absent when the orders declare no probabilities.
+    probability: float | tuple[float, float] | None = None
 
 
 class PathPage(BaseModel):

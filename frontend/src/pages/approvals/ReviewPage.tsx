@@ -3,6 +3,7 @@
  * findings, paths), what changed since the previously approved version, and the decision,
  * signed in this browser with the supervisor's non-extractable key.
  */
+import { ProbabilityTable } from "./Probabilities";
 import { useEffect, useMemo, useState } from "react";
 
 import { api, unwrap } from "../../api/client";
@@ -106,6 +107,7 @@ export function ReviewPage({ mission, version }: { mission: string; version: num
       <h2>Paths</h2>
       <PathSummaryTable paths={review.paths} />
       <PathList items={review.path_items} total={review.paths?.count ?? 0} />
+      <ProbabilityTable figures={review.probabilities} />
 
       <Decision review={review} onDecided={reload} />
     </section>

@@ -1,5 +1,6 @@
 /** Pieces shared by the review and audit pages: findings, path summary, diff, state badge,
  * contingency rules. */
+import { pathProbability } from "./probabilities";
 import type { MissionPath } from "../../api/client";
 import { plural, statusLabel } from "../../format";
 import { FindingsTable } from "../../components/FindingsTable";
@@ -78,6 +79,8 @@ export function PathList({ items, total }: { items: MissionPath[]; total: number
           <li key={p.index} value={p.index}>
             {p.goals.map((g, i) => `${g} (${{ succeed: "s", fail: "f", violate: "c" }[p.outcomes[i] ?? ""] ?? "?"})`).join(" → ")} →{" "}
             <strong>{p.terminal}</strong>
+            {pathProbability((p as { probability?: unknown }).probability) !== null &&
+              ` (p = ${pathProbability((p as { probability?: unknown }).probability)})`}
           </li>
         ))}
       </ol>

@@ -1,0 +1,280 @@
+"""Issue 20 part 1: exact outcome probabilities, checked against path enumeration, the vertices
+of each goal's polytope (intervals) and Storm on the same Markov chain."""
+
+from __future__ import annotations
+
+import itertools
+import json
+import random
+from fractions import Fraction
+from pathlib import Path
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from pydantic import ValidationError
+
+from countersign.orders.examples import example_bytes
+from countersign.orders.model import Orders
+from countersign.orders.reader import read_file
+from countersign.verify.graph import build_graph
+from countersign.verify.paths import count_paths, iter_path_lines, iter_paths
+from countersign.verify.probability import (
+    QUANTILES,
+    fraction_boxes,
+    goal_probabilities,
+    outcome_probabilities,
+    path_probability_bounds,
+    quantile,
+)
+
+from .prob_oracles import (
+    Dist,
+    enumerate_figures,
+    random_orders,
+    storm_figures,
+    vertices,
+    with_probabilities,
+)
+
+
+def _reference() -> Path | None:
+    here = Path(__file__).resolve()
+    for root in (*here.parents, Path("/work")):
+        candidate = root / "shared" / "reference" / "nps-ethical-control" / "missions" / "avcl"
+        if candidate.is_dir():
+            return candidate
+    return None
+
+
+AVCL = _reference()
+
+
+def exemplar() -> dict[str, object]:
+    data: dict[str, object] = json.loads(example_bytes("search-and-sample"))
+    return data
+
+
+def point_dists(orders: Orders) -> list[Dist]:
+    boxes = fraction_boxes(goal_probabilities(orders, build_graph(orders)))
+    return [(b[0][0], b[1][0], b[2][0]) for b in boxes]
+
+
+def energies(orders: Orders) -> list[Fraction]:
+    return [Fraction(repr(g.cost.energy_wh)) if g.cost and g.cost.energy_wh is not None
+            else Fraction(0) for g in build_graph(orders).goals]
+
+
+def assert_matches_enumeration(orders: Orders) -> None:
+    graph = build_graph(orders)
+    figures = outcome_probabilities(orders, graph)
+    assert figures is not None and figures.exact
+    oracle = enumerate_figures(graph, point_dists(orders), energies(orders))
+    for terminal, value in oracle["terminals"].items():
+        assert figures.terminals[terminal].exact == value
+    assert figures.violation.exact == oracle["violation"]
+    assert figures.expected["energy_wh"].bound.exact == oracle["expected"]
+    quantiles = figures.expected["energy_wh"].quantiles
+    assert quantiles is not None
+    for level in QUANTILES:
+        assert quantiles[level] == float(quantile(oracle["distribution"], Fraction(level)))
+
+
+def assert_matches_storm(orders: Orders) -> None:
+    graph = build_graph(orders)
+    figures = outcome_probabilities(orders, graph)
+    assert figures is not None
+    storm = storm_figures(orders)
+    for terminal, bound in figures.terminals.items():
+        assert float(bound.low) == pytest.approx(storm[f"t_{terminal}"], abs=1e-9)
+    assert float(figures.violation.low) == pytest.approx(storm["violated"], abs=1e-9)
+    assert float(figures.expected["energy_wh"].bound.low) == pytest.approx(
+        storm["energy"], rel=1e-9, abs=1e-9)
+
+
+def test_the_exemplar_matches_storm_and_enumeration() -> None:
+    for seed in range(5):
+        orders = with_probabilities(exemplar(), seed)
+        assert_matches_storm(orders)
+        assert_matches_enumeration(orders)
+
+
+@pytest.mark.skipif(AVCL is None, reason="NPS reference missions (shared/reference/"
+                    "nps-ethical-control/missions/avcl) are not present on this machine")
+def test_the_nps_missions_match_storm() -> None:
+    assert AVCL is not None
+    checked = 0
+    for path in sorted(AVCL.glob("*.xml")):
+        loaded = read_file(path)
+        if loaded.orders is None:
+            continue
+        orders = with_probabilities(loaded.orders.model_dump(mode="json", by_alias=True), 3)
+        if count_paths(build_graph(orders)) is None:
+            continue
+        assert_matches_storm(orders)
+        checked += 1
+    assert checked >= 5
+
+
+def test_random_graphs_match_storm() -> None:
+    rng = random.Random(20)
+    for _ in range(25):
+        assert_matches_storm(random_orders(rng, rng.randint(1, 30), terminals=rng.randint(1, 3)))
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(0, 2**32), st.integers(1, 8))
+def test_point_figures_equal_enumeration(seed: int, goals: int) -> None:
+    assert_matches_enumeration(random_orders(random.Random(seed), goals,
+                                             terminals=random.Random(seed).randint(1, 3)))
+
+
+def _extremes_by_vertices(orders: Orders) -> dict[str, tuple[Fraction, Fraction]]:
+    graph = build_graph(orders)
+    boxes = fraction_boxes(goal_probabilities(orders, graph))
+    costs = energies(orders)
+    best: dict[str, tuple[Fraction, Fraction]] = {}
+    for choice in itertools.product(*(vertices(b) for b in boxes)):
+        oracle = enumerate_figures(graph, list(choice), costs)
+        values = {**{f"t_{t}": v for t, v in oracle["terminals"].items()},
+                  "violated": oracle["violation"], "energy": oracle["expected"]}
+        for name, value in values.items():
+            low, high = best.get(name, (value, value))
+            best[name] = (min(low, value), max(high, value))
+    return best
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(0, 2**32), st.integers(1, 4))
+def test_interval_bounds_equal_brute_force_over_vertices(seed: int, goals: int) -> None:
+    orders = random_orders(random.Random(seed), goals, kinds=("point", "interval", "none"))
+    figures = outcome_probabilities(orders, build_graph(orders))
+    assert figures is not None
+    brute = _extremes_by_vertices(orders)
+    for terminal, bound in figures.terminals.items():
+        assert (bound.low, bound.high) == brute[f"t_{terminal}"]
+    assert (figures.violation.low, figures.violation.high) == brute["violated"]
+    energy = figures.expected["energy_wh"].bound
+    assert (energy.low, energy.high) == brute["energy"]
+
+
+def test_missing_probabilities_give_bounds_and_names() -> None:
+    data = exemplar()
+    orders = with_probabilities(data, 1)
+    goals = orders.model_dump(mode="json", by_alias=True)
+    goals["goals"][4].pop("p")  # G5 Return to Base: unknown
+    orders = Orders.model_validate(goals)
+    figures = outcome_probabilities(orders, build_graph(orders))
+    assert figures is not None and not figures.exact
+    assert figures.unknown == ("G5",)
+    # Every path passes G5, which may complete or abort with any probability.
+    assert (figures.terminals["COMPLETE"].low, figures.terminals["COMPLETE"].high) == (0, 1)
+    assert figures.expected["energy_wh"].quantiles is None
+
+
+def test_vehicle_profile_gives_probabilities_per_behaviour() -> None:
+    data = json.loads(json.dumps(exemplar()))
+    vehicle = data["vehicles"][0]  # type: ignore[index]
+    vehicle["p"] = {"area_search": {"succeed": 0.9, "fail": 0.1, "violate": 0}}
+    orders = Orders.model_validate(data)
+    graph = build_graph(orders)
+    given_p = goal_probabilities(orders, graph)
+    searching = [g.id for g, p in zip(graph.goals, given_p, strict=True) if p is not None]
+    assert searching == [g.id for g in graph.goals if g.behavior == "area_search"]
+    assert searching
+
+
+@pytest.mark.parametrize("p", [
+    {"succeed": 0.5, "fail": 0.2, "violate": 0.2},
+    {"succeed": 0.5, "fail": 0.6, "violate": 0.0},
+    {"succeed": [0.6, 0.5], "fail": 0.2, "violate": 0.2},
+    {"succeed": [0.0, 0.2], "fail": [0, 0.2], "violate": [0, 0.2]},
+    {"succeed": 1.5, "fail": -0.5, "violate": 0},
+    {"succeed": 1.0, "fail": 0.0},
+])
+def test_bad_probabilities_are_rejected(p: dict[str, object]) -> None:
+    with pytest.raises(ValidationError):
+        Orders.model_validate({"id": "x", "start": "G1", "goals": [
+            {"id": "G1", "p": p, "next": {"succeed": "COMPLETE", "fail": "ABORT",
+                                          "violate": "ABORT"}}]})
+
+
+def test_decimal_probabilities_sum_exactly() -> None:
+    Orders.model_validate({"id": "x", "goals": [
+        {"id": "G1", "p": {"succeed": 0.1, "fail": 0.2, "violate": 0.7}}]})
+
+
+def test_each_path_carries_its_probability() -> None:
+    orders = with_probabilities(exemplar(), 2)
+    graph = build_graph(orders)
+    counts = count_paths(graph)
+    assert counts is not None
+    bounds = path_probability_bounds(orders, graph)
+    dists = point_dists(orders)
+    total = 0.0
+    lines = list(iter_path_lines(graph, counts, probabilities=bounds))
+    paths = list(iter_paths(graph, counts, probabilities=bounds))
+    assert len(lines) == len(paths) == 75
+    for line, path in zip(lines, paths, strict=True):
+        data = json.loads(line)
+        assert data == path.to_json()
+        exact = Fraction(1)
+        for goal, outcome in zip(path.goals, path.outcomes, strict=True):
+            node = graph.goal_ids.index(goal)
+            exact *= dists[node][("succeed", "fail", "violate").index(outcome)]
+        assert data["probability"] == pytest.approx(float(exact), rel=1e-12)
+        total += data["probability"]
+    assert total == pytest.approx(1.0)
+
+
+def test_paths_without_probabilities_are_unchanged() -> None:
+    orders = Orders.model_validate(exemplar())
+    graph = build_graph(orders)
+    counts = count_paths(graph)
+    assert counts is not None
+    assert "probability" not in next(iter_path_lines(graph, counts))
+
+
+def test_interval_paths_carry_bounds() -> None:
+    data = with_probabilities(exemplar(), 2).model_dump(mode="json", by_alias=True)
+    data["goals"][0]["p"] = {"succeed": [0.5, 0.7], "fail": [0.1, 0.3], "violate": [0.1, 0.3]}
+    orders = Orders.model_validate(data)
+    graph = build_graph(orders)
+    counts = count_paths(graph)
+    assert counts is not None
+    first = json.loads(next(iter_path_lines(graph, counts,
+                                            probabilities=path_probability_bounds(orders, graph))))
+    low, high = first["probability"]
+    assert 0 < low < high
+
+
+def test_unknown_start_gives_no_figures() -> None:
+    orders = Orders.model_validate({"id": "x", "goals": [
+        {"id": "G1", "p": {"succeed": 1, "fail": 0, "violate": 0}}]})
+    assert outcome_probabilities(orders, build_graph(orders)) is None
+
+
+def test_path_bounds_are_attainable() -> None:
+    # succeed can only be 0.8 or more, since fail and violate together give at most 0.2.
+    orders = Orders.model_validate({"id": "x", "start": "G1", "goals": [
+        {"id": "G1", "p": {"succeed": [0.5, 1], "fail": [0, 0.1], "violate": [0, 0.1]},
+         "next": {"succeed": "COMPLETE", "fail": "ABORT", "violate": "ABORT"}}]})
+    bounds = path_probability_bounds(orders, build_graph(orders))
+    assert bounds[0] == ((0.8, 1.0), (0.0, 0.1), (0.0, 0.1))
+
+
+def test_report_and_command_line_show_the_probabilities(tmp_path: Path) -> None:
+    from countersign.verify.report import validate
+
+    from .test_bad_input import run_cli
+
+    orders = with_probabilities(exemplar(), 1)
+    report = validate(orders).to_json()
+    assert report["probabilities"]["terminals"]["COMPLETE"] == {"min": 0.61, "max": 0.61}
+    assert "probabilities" not in validate(Orders.model_validate(exemplar())).to_json()
+    path = tmp_path / "orders.json"
+    path.write_text(json.dumps(orders.model_dump(mode="json", by_alias=True, exclude_none=True)))
+    text = run_cli("validate", str(path))
+    assert "P(COMPLETE) = 0.61" in text.stdout, text.stdout + text.stderr
+    lines = run_cli("paths", str(path), "--limit", "1").stdout.splitlines()
+    assert json.loads(lines[0])["probability"] == pytest.approx(0.0227259648)
