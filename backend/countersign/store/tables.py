@@ -121,6 +121,21 @@ class VehicleProfile(Base):
     updated_at: Mapped[datetime] = mapped_column(default=utcnow)
 
 
+class ChartRecord(Base):
+    """A shared chart of the registry (issue 21); the box makes the region query cheap."""
+
+    __tablename__ = "charts"
+    id: Mapped[str] = mapped_column(String(100), primary_key=True)
+    title: Mapped[str] = mapped_column(String(200), default="")
+    kind: Mapped[str] = mapped_column(String(32), default="other")
+    chart: Mapped[dict[str, Any]]
+    south: Mapped[float]
+    west: Mapped[float]
+    north: Mapped[float]
+    east: Mapped[float]
+    updated_at: Mapped[datetime] = mapped_column(default=utcnow)
+
+
 class Mission(Base):
     """A mission and its editable draft head; `revision` is the draft's ETag."""
 

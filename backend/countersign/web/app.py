@@ -18,7 +18,7 @@ from . import api_docs, problems
 from .fair import PlanSlots, RateLimiter
 from .log_signer import open_log_signer
 from .rehearsal_hub import RehearsalHub
-from .routes import admin, approvals, auth, log_witness, missions, planning, rehearsals
+from .routes import admin, approvals, auth, charts, log_witness, missions, planning, rehearsals
 from .settings import Settings
 from .validation_pool import ValidationPool
 
@@ -165,6 +165,7 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     app.include_router(auth.router)
     app.include_router(missions.router)
     app.include_router(admin.router)
+    app.include_router(charts.router)
     app.include_router(planning.router)
     app.include_router(approvals.router)
     app.include_router(log_witness.router)
