@@ -535,6 +535,9 @@ def build_parser() -> argparse.ArgumentParser:
     from .cli_witness import add_commands as add_witness_commands
 
     add_witness_commands(commands)
+    from .cli_charts import add_commands as add_chart_commands
+
+    add_chart_commands(commands)
     return parser
 
 

@@ -11,7 +11,6 @@ and the mission's norms whose context is one of the area's tags (or an expressio
 
 from __future__ import annotations
 
-from collections.abc import Iterable
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -89,13 +88,11 @@ class Rules:
 
 def regions(orders: Orders, frame: Frame) -> list[Region]:
     found: list[Region] = []
-    seen: set[str] = set()
-    areas: Iterable[Area] = [*orders.areas, *orders.charts]
-    for area in areas:
-        if area.id in seen:
-            continue
-        seen.add(area.id)
-        shape = frame.polygon(area.polygon)
+    unique: dict[str, Area] = {}
+    for area in [*orders.areas, *orders.charts]:
+        unique.setdefault(area.id, area)
+    areas = list(unique.values())
+    for area, shape in zip(areas, frame.polygons([a.polygon for a in areas]), strict=True):
         if shape is not None:
             tags = frozenset(area.contexts)
             found.append(Region(area.id, area.title, tags, shape,
@@ -120,6 +117,7 @@ class _Paths:
         self.graph = graph
         self.index = {gid: n for n, gid in enumerate(graph.goal_ids)}
         self._onward: dict[int, int] | None = None
+        self._memo: dict[tuple[str, str], dict[str, object] | None] = {}
 
     def onward(self) -> dict[int, int]:
         """Per goal, an outcome that leads to a terminal (backward breadth-first search)."""
@@ -143,6 +141,12 @@ class _Paths:
         return self._onward
 
     def through(self, goal: str, outcome: str) -> dict[str, object] | None:
+        key = (goal, outcome)
+        if key not in self._memo:
+            self._memo[key] = self._through(goal, outcome)
+        return self._memo[key]
+
+    def _through(self, goal: str, outcome: str) -> dict[str, object] | None:
         graph = self.graph
         node = self.index.get(goal)
         if node is None:
@@ -176,8 +180,11 @@ class _Paths:
 def _path_words(path: dict[str, object] | None) -> str:
     if path is None:
         return " No path from the start takes this edge."
-    steps = ", ".join(f"{g} {o}" for g, o in zip(path["goals"], path["outcomes"],  # type: ignore[call-overload]
-                                                  strict=True))
+    pairs = [f"{g} {o}" for g, o in zip(path["goals"], path["outcomes"],  # type: ignore[call-overload]
+                                         strict=True)]
+    if len(pairs) > 12:  # the finding's path holds every step
+        pairs = [*pairs[:5], f"... {len(pairs) - 10} more ...", *pairs[-5:]]
+    steps = ", ".join(pairs)
     return f" A path that takes it: {steps} -> {path['terminal']}."
 
 
@@ -215,6 +222,8 @@ def _leg_findings(found_legs: list[Leg], where: dict[str, Place], zones: list[Re
                                                     dtype=object)[zone_idx])
     findings = []
     for i, z in zip(leg_idx[hits].tolist(), zone_idx[hits].tolist(), strict=True):
+        if len(findings) > MAX_FINDINGS:
+            break  # check_geo says how many more there are not
         leg, zone = found_legs[i], zones[z]
         if zone.id in (where[leg.goal].area, where[leg.to].area) and not _forbids_all(zone):
             continue  # leaving or reaching a goal's own area: NORM judges the goal there
@@ -278,10 +287,8 @@ def _land_findings(frame: Frame, found_legs: list[Leg], where: dict[str, Place],
             edge={"goal": leg.goal, "outcome": leg.outcome, "to": leg.to}, area="land",
             element="leg", path=path, at=list(hit),
         ))
-    for place in where.values():
-        if place.track is None:
-            continue
-        hit = land_hits(frame, [place.track])[0]
+    sweeps = [place for place in where.values() if place.track is not None]
+    for place, hit in zip(sweeps, land_hits(frame, [p.track for p in sweeps]), strict=True):
         if hit is not None:
             findings.append(error(
                 "GEO", [place.goal, "land"],

@@ -13,13 +13,12 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
-import shapely
 from shapely.geometry import LineString
 
 from . import land_mask
 from .legs import Frame
 
-SAMPLE_M = 250.0
+SAMPLE_M = 1_000.0  # land that counts is 2 km across (LAND_SURE_M each way): a sample lands in it
 LAND_MARGIN_M = 600.0
 MAX_SAMPLES_PER_LINE = 4_000
 MAX_COAST_CELLS = 200
@@ -45,24 +44,35 @@ def surely_land(lats: np.ndarray, lons: np.ndarray) -> np.ndarray:
     return sure
 
 
+def _samples(line: LineString) -> np.ndarray:
+    """Points every SAMPLE_M along the line, leaving out LAND_MARGIN_M at either end."""
+    coords = np.asarray(line.coords, dtype=float)[:, :2]
+    steps = np.hypot(*np.diff(coords, axis=0).T)
+    along = np.concatenate([[0.0], np.cumsum(steps)])
+    usable = along[-1] - 2 * LAND_MARGIN_M
+    if usable <= 0:
+        return np.empty((0, 2))
+    step = max(SAMPLE_M, usable / MAX_SAMPLES_PER_LINE)
+    distances = LAND_MARGIN_M + np.arange(0.0, usable + 1e-9, step)
+    return np.column_stack([np.interp(distances, along, coords[:, 0]),
+                            np.interp(distances, along, coords[:, 1])])
+
+
 def land_hits(frame: Frame, lines: Sequence[LineString]) -> list[tuple[float, float] | None]:
     """Per line, the first sampled point on land (lat, lon), or None."""
     owners: list[np.ndarray] = []
     points: list[np.ndarray] = []
     for i, line in enumerate(lines):
-        usable = line.length - 2 * LAND_MARGIN_M
-        if usable <= 0:
-            continue
-        step = max(SAMPLE_M, usable / MAX_SAMPLES_PER_LINE)
-        distances = LAND_MARGIN_M + np.arange(0.0, usable + 1e-9, step)
-        points.append(shapely.line_interpolate_point(line, distances))
-        owners.append(np.full(len(distances), i))
+        sampled = _samples(line)
+        if len(sampled):
+            points.append(sampled)
+            owners.append(np.full(len(sampled), i))
     result: list[tuple[float, float] | None] = [None] * len(lines)
     if not points:
         return result
     flat = np.concatenate(points)
     owner = np.concatenate(owners)
-    lats, lons = frame.to_latlon(shapely.get_x(flat), shapely.get_y(flat))
+    lats, lons = frame.to_latlon(flat[:, 0], flat[:, 1])
     land = surely_land(lats, lons)
     for k in np.flatnonzero(land).tolist():
         i = int(owner[k])

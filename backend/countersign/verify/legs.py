@@ -46,16 +46,31 @@ class Frame:
         return np.asarray(lats), np.asarray(lons)
 
     def polygon(self, points: Sequence[LatLon]) -> Polygon | None:
-        """The area's polygon in the frame, repaired if it self-intersects; None if degenerate."""
-        if len(points) < 3:
-            return None
-        xs, ys = self.to_xy([p[0] for p in points], [p[1] for p in points])
-        shape = Polygon(np.column_stack([xs, ys]))
-        if not shape.is_valid:
-            repaired = shapely.make_valid(shape)
-            polys = [g for g in getattr(repaired, "geoms", [repaired]) if g.geom_type == "Polygon"]
-            shape = max(polys, key=lambda g: g.area) if polys else shape
-        return shape if shape.area > 0 else None
+        return self.polygons([points])[0]
+
+    def polygons(self, rings: Sequence[Sequence[LatLon]]) -> list[Polygon | None]:
+        """Areas' polygons in the frame (one projection call for all of them)."""
+        flat = [p for ring in rings for p in ring]
+        if not flat:
+            return [None] * len(rings)
+        xs, ys = self.to_xy([p[0] for p in flat], [p[1] for p in flat])
+        result: list[Polygon | None] = []
+        at = 0
+        for ring in rings:
+            result.append(_shape(np.column_stack([xs[at:at + len(ring)], ys[at:at + len(ring)]]))
+                          if len(ring) >= 3 else None)
+            at += len(ring)
+        return result
+
+
+def _shape(coords: np.ndarray) -> Polygon | None:
+    """The polygon, repaired if it self-intersects; None if degenerate."""
+    shape = Polygon(coords)
+    if not shape.is_valid:
+        repaired = shapely.make_valid(shape)
+        polys = [g for g in getattr(repaired, "geoms", [repaired]) if g.geom_type == "Polygon"]
+        shape = max(polys, key=lambda g: g.area) if polys else shape
+    return shape if shape.area > 0 else None
 
 
 @lru_cache(maxsize=64)
@@ -152,13 +167,12 @@ def place(goal: Goal, shape: Polygon) -> Place:
 
 def places(orders: Orders, frame: Frame) -> dict[str, Place]:
     areas = orders.area_index()
-    shapes: dict[str, Polygon | None] = {}
+    used = sorted({g.area for g in orders.goals if g.area is not None and g.area in areas})
+    shapes = dict(zip(used, frame.polygons([areas[a].polygon for a in used]), strict=True))
     result: dict[str, Place] = {}
     for goal in orders.goals:
         if goal.id in result or goal.area is None or goal.area not in areas:
             continue
-        if goal.area not in shapes:
-            shapes[goal.area] = frame.polygon(areas[goal.area].polygon)
         shape = shapes[goal.area]
         if shape is not None:
             result[goal.id] = place(goal, shape)
