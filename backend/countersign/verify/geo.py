@@ -220,7 +220,7 @@ def _leg_findings(found_legs: list[Leg], where: dict[str, Place], zones: list[Re
         return []
     hits = shapely.crosses(lines[leg_idx], np.array([z.shape for z in zones],
                                                     dtype=object)[zone_idx])
-    findings = []
+    findings: list[Finding] = []
     for i, z in zip(leg_idx[hits].tolist(), zone_idx[hits].tolist(), strict=True):
         if len(findings) > MAX_FINDINGS:
             break  # check_geo says how many more there are not

@@ -36,11 +36,13 @@ class Frame:
     lat0: float
     lon0: float
 
-    def to_xy(self, lats: Sequence[float], lons: Sequence[float]) -> tuple[np.ndarray, np.ndarray]:
+    def to_xy(self, lats: Sequence[float] | np.ndarray,
+              lons: Sequence[float] | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         xs, ys = _forward(self.lat0, self.lon0).transform(np.asarray(lons), np.asarray(lats))
         return np.asarray(xs), np.asarray(ys)
 
-    def to_latlon(self, xs: Sequence[float], ys: Sequence[float]) -> tuple[np.ndarray, np.ndarray]:
+    def to_latlon(self, xs: Sequence[float] | np.ndarray,
+                  ys: Sequence[float] | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         lons, lats = _forward(self.lat0, self.lon0).transform(
             np.asarray(xs), np.asarray(ys), direction="INVERSE")
         return np.asarray(lats), np.asarray(lons)
