@@ -8,6 +8,13 @@ declaration). Roles: operator, supervisor, auditor, admin, or anonymous (no sign
 from __future__ import annotations
 
 REVIEWED_ROLES: dict[str, tuple[str, ...]] = {
+    # Chart registry and plan view (issue 21): admins write, every signed-in role reads.
+    "listCharts": ("operator", "supervisor", "auditor", "admin"),
+    "exportCharts": ("operator", "supervisor", "auditor", "admin"),
+    "putChart": ("admin",),
+    "importCharts": ("admin",),
+    "deleteChart": ("admin",),
+    "planView": ("operator", "supervisor", "auditor", "admin"),
     # POST /api/submissions/{submission_id}/rehearsal
     "attachRehearsal": ("operator",),
     # POST /api/auth/password

@@ -22,11 +22,11 @@ NAV_LINKS = {
     "admin": ["Missions", "Activity", "Audit", "Users", "Vehicles"],
 }
 MISSION_TABS = {
-    "operator": ["Orders", "Findings", "Paths", "Versions", "Rehearse", "Edit orders",
+    "operator": ["Orders", "Findings", "Paths", "Plan view", "Versions", "Rehearse", "Edit orders",
                  "Graph editor"],
-    "supervisor": ["Orders", "Findings", "Paths", "Versions", "Rehearse"],
-    "auditor": ["Orders", "Findings", "Paths", "Versions", "Rehearse"],
-    "admin": ["Orders", "Findings", "Paths", "Versions", "Rehearse"],
+    "supervisor": ["Orders", "Findings", "Paths", "Plan view", "Versions", "Rehearse"],
+    "auditor": ["Orders", "Findings", "Paths", "Plan view", "Versions", "Rehearse"],
+    "admin": ["Orders", "Findings", "Paths", "Plan view", "Versions", "Rehearse"],
 }
 
 

@@ -103,7 +103,7 @@ def test_export_plain_appends_the_contingency_rules() -> None:
     plain = run_cli("export", "example:search-and-sample", "--format", "plain").stdout
     # the plain orders end with the vehicle profile that was checked
     assert "Contingency rules" not in plain
-    assert plain.endswith("Budget: energy 1,000 Wh, duration 28,800 s.\n")
+    assert plain.endswith("Budget: energy 1,500 Wh, duration 43,200 s.\n")
     # other formats are the orders writers' own
     exported = run_cli("export", "example:search-and-sample-rules", "--format", "json")
     assert "Contingency rules" not in exported.stdout

@@ -79,7 +79,7 @@ def test_plain_orders_show_the_vehicle_profile_and_properties() -> None:
     assert "Trusted behaviours: area search, sample, rendezvous, transit." in text
     assert "Feature sampler (Water sampler): fulfils sample; measures nothing." in text
     assert "Envelope: depth 0 to 100 m (`depth_m`)" in text
-    assert "Budget: energy 1,000 Wh, duration 28,800 s." in text
+    assert "Budget: energy 1,500 Wh, duration 43,200 s." in text
     assert ("Property 1 (P1): on every path, never. Stay shallow. "
             "Checked as: depth above 90 m (`depth_m > 90`).") in text
 

@@ -12,7 +12,18 @@ import sys
 from collections.abc import Sequence
 
 from .. import __version__
-from . import approvals, execution, orders, package, plan, rehearse, rules, server, witness
+from . import (
+    approvals,
+    charts,
+    execution,
+    orders,
+    package,
+    plan,
+    rehearse,
+    rules,
+    server,
+    witness,
+)
 from .common import EXIT_INTERNAL, EXIT_OK, EXIT_UNREADABLE, UsageError
 
 __all__ = ["UsageError", "build_parser", "main"]
@@ -31,7 +42,8 @@ def build_parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     # The order of the groups is the order of `countersign --help`.
-    for group in (orders, server, plan, rules, rehearse, approvals, witness, package, execution):
+    for group in (orders, server, plan, rules, rehearse, approvals, witness, package, execution,
+                  charts):
         group.add_commands(commands)
     return parser
 

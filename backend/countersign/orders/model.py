@@ -206,6 +206,27 @@ class Area(_Strict):
         return value
 
 
+ChartKind = Literal["protected_area", "shipping_lane", "traffic_separation", "keep_out",
+                   "anchorage", "land", "other"]
+
+
+class ChartNorm(_Strict):
+    """A norm a chart carries for its own area: `forbidden` is an expression over `behavior`
+    (a leg between goals is behaviour 'transit'), e.g. `behavior == 'transit'`."""
+
+    id: Id
+    forbidden: Text
+    text: Text = ""
+
+
+class Chart(Area):
+    """A shared area from the server's chart registry, copied into the orders it was checked
+    with so that the digest (and an approval) covers it (verify/geo.py reads it)."""
+
+    kind: ChartKind = "other"
+    norms: list[ChartNorm] = Field(default_factory=list, max_length=100)
+
+
 class Quantity(_Strict):
     unit: str = ""
     type: Literal["real", "integer", "boolean"] = "real"
@@ -354,6 +375,8 @@ class Orders(_Strict):
     constraints: list[Constraint] = Field(default_factory=list, max_length=MAX_LIST_LENGTH)
     norms: list[Norm] = Field(default_factory=list, max_length=MAX_LIST_LENGTH)
     areas: list[Area] = Field(default_factory=list, max_length=MAX_LIST_LENGTH)
+    # Registry charts in use (issue 21); absent from orders that predate charts.
+    charts: list[Chart] = Field(default_factory=list, max_length=MAX_LIST_LENGTH)
     quantities: dict[str, Quantity] = Field(default_factory=dict)
     vehicles: list[Vehicle] = Field(default_factory=list, max_length=1000)
     properties: list[PathProperty] = Field(default_factory=list, max_length=1000)

@@ -13,6 +13,7 @@ from sqlalchemy import (
     BigInteger,
     Boolean,
     DateTime,
+    Float,
     ForeignKey,
     Index,
     Integer,
@@ -132,6 +133,21 @@ class VehicleVersion(Base):
     profile: Mapped[dict[str, Any]]
     saved_by: Mapped[str | None] = mapped_column(String(64), default=None)
     saved_at: Mapped[datetime] = mapped_column(default=utcnow)
+
+
+class ChartRecord(Base):
+    """A shared chart of the registry (issue 21); the box makes the region query cheap."""
+
+    __tablename__ = "charts"
+    id: Mapped[str] = mapped_column(String(100), primary_key=True)
+    title: Mapped[str] = mapped_column(String(200), default="")
+    kind: Mapped[str] = mapped_column(String(32), default="other")
+    chart: Mapped[dict[str, Any]]
+    south: Mapped[float] = mapped_column(Float)
+    west: Mapped[float] = mapped_column(Float)
+    north: Mapped[float] = mapped_column(Float)
+    east: Mapped[float] = mapped_column(Float)
+    updated_at: Mapped[datetime] = mapped_column(default=utcnow)
 
 
 class Mission(Base):

@@ -32,7 +32,11 @@ def registry_profile(db: Session, vehicle_id: str) -> Vehicle | None:
 
 
 def with_registry(db: Session, orders: Orders) -> Orders:
-    return with_registry_profile(orders, lambda vehicle_id: registry_profile(db, vehicle_id))
+    """The registry's vehicle profile and the charts in use (store/charts.py) copied in."""
+    from .charts import with_registry_charts
+
+    profiled = with_registry_profile(orders, lambda vehicle_id: registry_profile(db, vehicle_id))
+    return with_registry_charts(db, profiled)
 
 
 def save_vehicle(db: Session, vehicle: Vehicle, actor: User) -> tuple[dict[str, Any], int]:

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from ..orders.findings import Finding, error, warning
 from ..orders.model import BUDGET_QUANTITIES, OUTCOMES, Area, Goal, Orders, Vehicle
 from .graph import MissionGraph
+from .legs import leg_lengths
 from .paths import topological_order
 
 UNITS = {"energy_wh": ("Wh", "energy"), "duration_s": ("s", "time")}
@@ -92,6 +93,17 @@ def goal_cost(
     return None, False
 
 
+def _leg_cost(metres: float | None, quantity: str, vehicle: Vehicle | None) -> float:
+    if metres is None or vehicle is None or not vehicle.speed_mps:
+        return 0.0
+    seconds = metres / vehicle.speed_mps
+    if quantity == "duration_s":
+        return seconds
+    if quantity == "energy_wh" and vehicle.power_w is not None:
+        return vehicle.power_w * seconds / 3600.0
+    return 0.0
+
+
 def worst_paths(orders: Orders, graph: MissionGraph) -> dict[str, WorstPath] | None:
     """The costliest path per budget quantity, or None when paths cannot be counted."""
     order = topological_order(graph)
@@ -99,14 +111,15 @@ def worst_paths(orders: Orders, graph: MissionGraph) -> dict[str, WorstPath] | N
         return None
     vehicle = orders.target_vehicle()
     areas = orders.area_index()
+    # The transit between goals costs too: the geodesic leg of each outcome edge (issue 21).
+    legs = leg_lengths(orders) if vehicle is not None and vehicle.speed_mps else {}
     result: dict[str, WorstPath] = {}
     for quantity in BUDGET_QUANTITIES:
         costs: dict[int, float] = {}
         unknown: list[int] = []
         estimated: list[int] = []
         for node in order:
-            goal = graph.goals[node]
-            cost, was_estimated = goal_cost(goal, quantity, vehicle, areas)
+            cost, was_estimated = goal_cost(graph.goals[node], quantity, vehicle, areas)
             if cost is None:
                 unknown.append(node)
             elif was_estimated:
@@ -115,9 +128,11 @@ def worst_paths(orders: Orders, graph: MissionGraph) -> dict[str, WorstPath] | N
         best: dict[int, float] = {}
         choice: dict[int, int] = {}
         for node in order:  # successors come first
+            goal = graph.goals[node]
             options = [
-                best.get(target, 0.0) if target < graph.goal_count else 0.0
-                for target in graph.succ[node]
+                (best.get(target, 0.0) if target < graph.goal_count else 0.0)
+                + _leg_cost(legs.get((goal.id, OUTCOMES[k])), quantity, vehicle)
+                for k, target in enumerate(graph.succ[node])
             ]
             k = max(range(3), key=lambda i: (options[i], -i))
             choice[node] = k

@@ -16,6 +16,7 @@ from ..orders.defaults import defaulted_findings
 from ..orders.findings import Finding
 from ..orders.model import Orders
 from .budget import WorstPath, check_budget, worst_paths
+from .geo import check_geo
 from .graph import MissionGraph, build_graph
 from .logic import LogicCache, check_logic
 from .meo import MeoResult, meo_check
@@ -104,6 +105,7 @@ def validate(
     findings.extend(f for f in meo.findings if f.code in MEO_ONLY_CODES)
     findings.extend(check_vehicle(orders))
     findings.extend(check_text(orders))
+    findings.extend(check_geo(orders, graph))
     deadline = time.monotonic() + solver_budget_s
     findings.extend(check_logic(orders, cache, timeout_ms=SOLVER_CALL_MS,
                                 total_timeout_s=solver_budget_s))

@@ -22,6 +22,7 @@ from .routes import (
     admin,
     approvals,
     auth,
+    charts,
     log_witness,
     missions,
     planning,
@@ -179,6 +180,7 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     app.include_router(admin.router)
     app.include_router(vehicles.router)
     app.include_router(standing.router)
+    app.include_router(charts.router)
     app.include_router(planning.router)
     app.include_router(approvals.router)
     app.include_router(log_witness.router)

@@ -10,6 +10,7 @@ import {
   type PathPage,
   unwrap,
 } from "../api/client";
+import { ChartPlanView } from "../components/ChartPlanView";
 import { FindingsTable } from "../components/FindingsTable";
 import { Link } from "../components/Link";
 import { PathCounts } from "../components/PathCounts";
@@ -33,7 +34,9 @@ import { useLoad } from "../useLoad";
 import { SubmissionPanel } from "./approvals";
 import { RehearsalPanel } from "./RehearsalPage";
 
-const TABS = ["orders", "findings", "paths", "versions", "rehearse", "edit", "editor"] as const;
+const TABS = [
+  "orders", "findings", "paths", "plan", "versions", "rehearse", "edit", "editor",
+] as const;
 
 // The graph editor (React Flow, ELK) is a large module: loaded when an operator opens it. It is
 // held in state rather than React.lazy: a suspended lazy component is revealed only after
@@ -91,6 +94,7 @@ export function MissionPage({ id, tab }: { id: string; tab: string }) {
         ? "Findings"
         : `Findings (${(mission.errors ?? 0) + (mission.warnings ?? 0)})`,
     paths: "Paths",
+    plan: "Plan view",
     versions: `Versions (${mission.versions.length})`,
     edit: "Edit orders",
     editor: "Graph editor",
@@ -170,6 +174,7 @@ export function MissionPage({ id, tab }: { id: string; tab: string }) {
         {selected === "orders" && <OrdersTab id={mission.id} digest={mission.draft_digest} />}
         {selected === "findings" && <FindingsTab mission={mission} />}
         {selected === "paths" && <PathsTab mission={mission} />}
+        {selected === "plan" && <ChartPlanView orders={mission.orders} />}
         {selected === "versions" && <VersionsTab mission={mission} onChange={reload} />}
         {selected === "rehearse" && <RehearsalPanel mission={mission} canRehearse={canRehearse} />}
         {selected === "edit" && canEdit && <EditTab mission={mission} onSaved={reload} />}

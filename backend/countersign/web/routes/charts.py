@@ -1,0 +1,96 @@
+"""The chart registry (admins write, everyone signed in reads) and the plan view."""
+
+from __future__ import annotations
+
+from typing import Any, Literal
+
+from fastapi import APIRouter, HTTPException, Request
+from fastapi.concurrency import run_in_threadpool
+from pydantic import BaseModel, Field
+
+from ...orders.geo_formats import (
+    MAX_BYTES,
+    GeoFormatError,
+    areas_to_geojson,
+    charts_from_geojson,
+    charts_from_kml,
+)
+from ...orders.model import Chart
+from ...orders.reader import read_json
+from ...store.charts import all_charts, delete_chart, save_charts
+from ...store.events import record
+from ...store.vehicles import with_registry
+from ...verify.plan_view import plan_view
+from ..deps import ADMINS, EVERYONE, CurrentPrincipal, Db, TransactionRoute, allow
+from .schemas import RequestBody
+
+router = APIRouter(prefix="/api", tags=["charts"], route_class=TransactionRoute)
+
+
+class ChartImport(RequestBody):
+    format: Literal["geojson", "kml"]
+    content: str = Field(max_length=MAX_BYTES)
+
+
+class ChartsSaved(BaseModel):
+    saved: list[str]
+
+
+@router.get("/charts", operation_id="listCharts", response_model=list[Chart],
+            **allow(*EVERYONE))
+def list_charts(db: Db) -> list[Chart]:
+    return all_charts(db)
+
+
+@router.get("/charts/geojson", operation_id="exportCharts", **allow(*EVERYONE))
+def export_charts(db: Db) -> dict[str, Any]:
+    return areas_to_geojson(all_charts(db))
+
+
+@router.put("/charts/{chart_id}", operation_id="putChart", response_model=Chart,
+            **allow(*ADMINS))
+def put_chart(chart_id: str, body: Chart, principal: CurrentPrincipal, db: Db) -> Chart:
+    if body.id != chart_id:
+        raise HTTPException(400, f"the chart's id {body.id!r} differs from {chart_id!r}")
+    if len(body.polygon) < 3:
+        raise HTTPException(422, f"chart {chart_id}: a polygon needs at least three points")
+    save_charts(db, [body])
+    record(db, kind="chart.saved", actor=principal.user, detail={"charts": [chart_id]})
+    return body
+
+
+@router.post("/charts/import", operation_id="importCharts", response_model=ChartsSaved,
+             **allow(*ADMINS))
+def import_charts(body: ChartImport, principal: CurrentPrincipal, db: Db) -> ChartsSaved:
+    try:
+        reader = charts_from_kml if body.format == "kml" else charts_from_geojson
+        charts = reader(body.content)
+    except GeoFormatError as exc:
+        raise HTTPException(422, f"{body.format} charts: {exc}") from None
+    saved = save_charts(db, charts)
+    record(db, kind="chart.saved", actor=principal.user, detail={"charts": saved[:1000]})
+    return ChartsSaved(saved=saved)
+
+
+@router.delete("/charts/{chart_id}", operation_id="deleteChart", status_code=204,
+               **allow(*ADMINS))
+def remove_chart(chart_id: str, principal: CurrentPrincipal, db: Db) -> None:
+    if not delete_chart(db, chart_id):
+        raise HTTPException(404, f"there is no chart {chart_id!r}")
+    record(db, kind="chart.deleted", actor=principal.user, detail={"charts": [chart_id]})
+
+
+PLAN_ROUTE = allow(*EVERYONE)
+PLAN_ROUTE["openapi_extra"]["requestBody"] = {"required": True, "content": {
+    "application/json": {"schema": {"type": "object", "additionalProperties": True,
+                                    "title": "Body"}}}}
+
+
+@router.post("/plan-view", operation_id="planView", **PLAN_ROUTE)
+async def post_plan_view(request: Request, db: Db) -> dict[str, Any]:
+    """The plan view of orders (with the registry's charts in use copied in, as validation)."""
+    data = await request.body()
+    if len(data) > 20 * MAX_BYTES:
+        raise HTTPException(413, "the orders are too large for a plan view")
+    orders = with_registry(db, read_json(data))
+    return await run_in_threadpool(plan_view, orders)

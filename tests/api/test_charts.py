@@ -1,0 +1,79 @@
+"""The chart registry over the API: admins write, everyone reads, missions use and sign it."""
+
+from __future__ import annotations
+
+import json
+
+from countersign.orders.examples import example_bytes
+
+from .conftest import World
+
+# A keep-out box across the exemplar's legs from G4 (and G2 on fail) to G5.
+KEEP_OUT = {"type": "FeatureCollection", "features": [{
+    "type": "Feature", "id": "RANGE",
+    "properties": {"title": "Firing range", "kind": "keep_out", "contexts": ["keep_out"]},
+    "geometry": {"type": "Polygon", "coordinates": [[
+        [-121.845, 36.75], [-121.825, 36.75], [-121.825, 36.77], [-121.845, 36.77],
+        [-121.845, 36.75]]]}}]}
+
+
+def _import(world: World, role: str, content: str, fmt: str = "geojson") -> object:
+    return world.client(role).post("/api/charts/import",
+                                   json={"format": fmt, "content": content})
+
+
+def test_only_admins_write_and_everyone_reads(world: World) -> None:
+    assert _import(world, "operator", json.dumps(KEEP_OUT)).status_code == 403  # type: ignore[attr-defined]
+    saved = _import(world, "admin", json.dumps(KEEP_OUT))
+    assert saved.status_code == 200, saved.text  # type: ignore[attr-defined]
+    assert saved.json() == {"saved": ["RANGE"]}  # type: ignore[attr-defined]
+    for role in ("operator", "supervisor", "auditor"):
+        listed = world.client(role).get("/api/charts").json()
+        assert [c["id"] for c in listed] == ["RANGE"] and listed[0]["kind"] == "keep_out"
+    exported = world.client("auditor").get("/api/charts/geojson").json()
+    assert exported["features"][0]["id"] == "RANGE"
+    assert world.client("operator").delete("/api/charts/RANGE").status_code == 403
+    assert world.client("admin").delete("/api/charts/RANGE").status_code == 204
+    assert world.client("admin").get("/api/charts").json() == []
+
+
+def test_bad_chart_files_are_problems_naming_where(world: World) -> None:
+    bad = {"type": "FeatureCollection", "features": [{
+        "type": "Feature", "id": "x", "properties": {},
+        "geometry": {"type": "LineString", "coordinates": [[0, 0], [1, 1]]}}]}
+    response = _import(world, "admin", json.dumps(bad))
+    assert response.status_code == 422  # type: ignore[attr-defined]
+    assert "feature 0" in response.json()["detail"]  # type: ignore[attr-defined]
+    bomb = '<!DOCTYPE kml [<!ENTITY a "b">]><kml>&a;</kml>'
+    response = _import(world, "admin", bomb, "kml")
+    assert response.status_code == 422 and "Traceback" not in response.text  # type: ignore[attr-defined]
+
+
+def test_charts_in_use_are_checked_and_copied_into_the_version(world: World) -> None:
+    assert _import(world, "admin", json.dumps(KEEP_OUT)).status_code == 200  # type: ignore[attr-defined]
+    client = world.client("operator")
+    report = client.post("/api/validate", content=example_bytes("search-and-sample")).json()
+    geo = sorted(tuple(f["subjects"]) for f in report["findings"] if f["code"] == "GEO")
+    assert geo == [("G2", "fail", "RANGE"), ("G4", "fail", "RANGE"),
+                   ("G4", "succeed", "RANGE"), ("G4", "violate", "RANGE")]
+    assert report["ok"] is False
+    orders = json.loads(example_bytes("search-and-sample"))
+    orders["id"] = "charted"
+    # Leaving the chart out of the orders does not leave it out of the check.
+    orders["charts"] = []
+    assert client.post("/api/missions", json=orders).status_code == 201
+    draft = client.get("/api/missions/charted").json()["orders"]
+    assert [c["id"] for c in draft["charts"]] == ["RANGE"]
+    assert client.post("/api/missions/charted/versions").status_code == 201
+    version = client.get("/api/missions/charted/versions/1").json()
+    assert [c["id"] for c in version["orders"]["charts"]] == ["RANGE"]
+
+
+def test_plan_view_has_legs_crossings_and_coastline(world: World) -> None:
+    assert _import(world, "admin", json.dumps(KEEP_OUT)).status_code == 200  # type: ignore[attr-defined]
+    view = world.client("supervisor").post(
+        "/api/plan-view", content=example_bytes("search-and-sample")).json()
+    assert len(view["legs"]) == 12 and view["charts"][0]["id"] == "RANGE"
+    crossed = {(c["edge"]["goal"], c["edge"]["outcome"]) for c in view["crossings"]}
+    assert crossed == {("G2", "fail"), ("G4", "succeed"), ("G4", "fail"), ("G4", "violate")}
+    assert view["coastline"], "Monterey Bay has a coast within the view"
