@@ -617,7 +617,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
       select(f.subjects);
       const shown = f.subjects.filter((id) => nodeIds.current.has(id));
       if (shown.length > 0) void flow.fitView({ nodes: shown.map((id) => ({ id })), padding: 0.5, maxZoom: 1 });
-      const path = findingPath(f as unknown as Record<string, unknown>);
+      const path = findingPath(f);
       highlightPath(path, path ? `${f.code} counterexample` : "");
     },
     [select, flow, highlightPath],

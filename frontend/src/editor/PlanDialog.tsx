@@ -102,7 +102,7 @@ export function PlanDialog({ mission, orders, onClose }: { mission: MissionDetai
     setError(null);
     try {
       const body = { ...solution.orders, id: newId.trim(), title: `Survey plan from ${orders.title || mission.id}` };
-      const created = unwrap(await api.POST("/api/missions", { body: body as never })) as unknown as { id: string };
+      const created = unwrap(await api.POST("/api/missions", { body: body as never }));
       navigate(missionHref(created.id, "editor"));
       onClose();
     } catch (e) {
