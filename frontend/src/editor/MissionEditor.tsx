@@ -26,7 +26,7 @@ import {
 } from "@xyflow/react";
 import { type KeyboardEvent, useCallback, useEffect, useLayoutEffect, useMemo, useRef, useState } from "react";
 
-import { api, exportHref, fetchText, type Finding, type MissionDetail, type Report, unwrap } from "../api/client";
+import { api, exportHref, fetchText, type Finding, type MissionDetail, unwrap } from "../api/client";
 import { ErrorMessage } from "../components/Status";
 import { plural } from "../format";
 import {
@@ -54,23 +54,20 @@ import {
   updateTerminal,
 } from "./graph";
 import { knownQuantities } from "./expr";
-import { canRedo, canUndo, createHistory, type History, push, redo, reset, undo } from "./history";
+import { canRedo, canUndo, push, redo, reset, undo } from "./history";
 import { copyGoals, pasteGoals, readClip } from "./model";
 import { AreasPanel, MissionPanel, NormsPanel, QuantitiesPanel, VehiclePanel } from "./panels";
 import { PathsPanel } from "./PathsPanel";
 import { ImportMenu, NewFromExample, readOrdersFile } from "./ImportMenu";
 import { PlanDialog } from "./PlanDialog";
 import { Tabs } from "../components/Tabs";
-import { autoLayout, ELK_MAX_GOALS, fastLayout } from "./layout";
+import { autoLayout } from "./layout";
 import { EDGE_TYPES, NODE_TYPES, type NodeData } from "./nodes";
 import { type Conflict, ConflictDialog } from "./ConflictDialog";
+import { type Draft, isLaidOut, useDraftHistory } from "./useDraftHistory";
+import { useServerCheck } from "./useServerCheck";
 import { ConstraintsPanel, FindingsList, GoalInspector } from "./Inspector";
 import { ExportMenu, ToolbarMenu } from "./Toolbar";
-
-interface Draft {
-  orders: Orders;
-  layout: Layout;
-}
 
 const SAVE_DELAY_MS = 250;
 const PANELS = [
@@ -115,49 +112,18 @@ export default function MissionEditor(props: { mission: MissionDetail; onSaved: 
 
 type SaveState = "saved" | "pending" | "saving" | "conflict" | "error";
 
-/** Whether every goal and terminal of the draft has a position (an empty draft counts as not). */
-function isLaidOut(draft: Draft): boolean {
-  const ids = [...goals(draft.orders).map((g) => g.id), ...terminals(draft.orders).map((t) => t.id)];
-  return ids.length > 0 && ids.every((id) => draft.layout[id]);
-}
-
 function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved: MissionDetail) => void }) {
   const flow = useReactFlow();
-  // A large draft without positions is laid out at once (the linear-time layout), so that the
-  // canvas never renders it unplaced; smaller ones wait for ELK (below) before they render.
-  const [history, setHistory] = useState<History<Draft>>(() => {
-    performance.mark("editor:first-render");
-    const opened = { orders: mission.orders as Orders, layout: (mission.layout ?? {}) as Layout };
-    if (goals(opened.orders).length > ELK_MAX_GOALS && !isLaidOut(opened)) {
-      opened.layout = { ...fastLayout(opened.orders), ...opened.layout };
-    }
-    return createHistory(opened);
-  });
+  const { history, latest, updateHistory } = useDraftHistory(mission);
   const draft = history.present;
   const orders = draft.orders;
-  // The newest history and draft, updated when they are set (not when React renders them), so
-  // that an edit can be sent to the server from its event handler.
-  const historyNow = useRef(history);
-  const latest = useRef(draft);
-  const updateHistory = useCallback((update: (h: History<Draft>) => History<Draft>) => {
-    const next = update(historyNow.current);
-    historyNow.current = next;
-    latest.current = next.present;
-    setHistory(next);
-  }, []);
-  // The orders whose report is shown (the opened ones: the report is read below); a save of
-  // the same orders (a node moved, a layout computed) sends no check.
-  const lastChecked = useRef<Orders | null>(mission.orders as Orders);
   const revision = useRef(mission.revision);
   const [savedRevision, setSavedRevision] = useState(mission.revision);
   const [saveState, setSaveState] = useState<SaveState>("saved");
   const [saveError, setSaveError] = useState<unknown>(null);
   const [conflict, setConflict] = useState<Conflict | null>(null);
-  const [report, setReport] = useState<Report | null>(null);
   const [plain, setPlain] = useState<string>("");
   const [notice, setNotice] = useState<string>("");
-  const [checkMs, setCheckMs] = useState<number | null>(null);
-  const editedAt = useRef<number>(0);
   const saving = useRef(false);
   const again = useRef(false);
 
@@ -165,38 +131,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
     performance.mark("editor:mounted");
   }, []);
 
-  const refreshChecks = useCallback(async () => {
-    const path = { params: { path: { mission_id: mission.id } } };
-    setReport(unwrap(await api.GET("/api/missions/{mission_id}/report", path)));
-  }, [mission.id]);
-
-  useEffect(() => {
-    refreshChecks().catch(setSaveError);
-  }, [refreshChecks]);
-
-  // Checks orders on the server (nothing stored; the report is cached there by digest) and
-  // shows the report if they are still the newest. Not queued behind a save in progress: an
-  // edit is checked at once. Resolves whether the server answered with a report.
-  const pendingCheck = useRef<{ orders: Orders; done: Promise<boolean> } | null>(null);
-  const check = useCallback((orders: Orders): Promise<boolean> => {
-    if (orders === lastChecked.current) return Promise.resolve(true);
-    if (pendingCheck.current?.orders === orders) return pendingCheck.current.done;
-    const done = api.POST("/api/validate", { body: orders }).then(
-      (x) => {
-        performance.mark("editor:validated");
-        if (!x.response.ok || !x.data) return false;
-        if (latest.current.orders === orders) {
-          lastChecked.current = orders;
-          setReport(x.data);
-          if (editedAt.current) setCheckMs(Math.round(performance.now() - editedAt.current));
-        }
-        return true;
-      },
-      () => false,
-    );
-    pendingCheck.current = { orders, done };
-    return done;
-  }, []);
+  const { report, checkMs, lastChecked, editedAt, refreshChecks, check } = useServerCheck(mission, latest, setSaveError);
 
   const save = useCallback(async () => {
     if (saving.current) {
@@ -682,7 +617,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
       select(f.subjects);
       const shown = f.subjects.filter((id) => nodeIds.current.has(id));
       if (shown.length > 0) void flow.fitView({ nodes: shown.map((id) => ({ id })), padding: 0.5, maxZoom: 1 });
-      const path = findingPath(f as unknown as Record<string, unknown>);
+      const path = findingPath(f);
       highlightPath(path, path ? `${f.code} counterexample` : "");
     },
     [select, flow, highlightPath],

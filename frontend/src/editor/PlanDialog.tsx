@@ -6,7 +6,7 @@
  */
 import { useEffect, useMemo, useRef, useState } from "react";
 
-import { api, ApiError, unwrap, type MissionDetail } from "../api/client";
+import { api, ApiError, unwrap, type MissionDetail, type Schema } from "../api/client";
 import { ErrorMessage } from "../components/Status";
 import { formatNumber } from "../format";
 import { navigate } from "../navigation";
@@ -23,17 +23,8 @@ interface Problem {
   vehicle: { transit_wh_per_m: number; battery_wh: number; reserve_wh?: number };
   [key: string]: unknown;
 }
-interface Solution {
-  feasible: boolean;
-  reward?: number;
-  energy_wh?: number;
-  limit_wh?: number;
-  order?: string[];
-  passes?: Record<string, number>;
-  conflict?: string[];
-  message?: string;
-  orders?: Record<string, unknown>;
-}
+/** POST /api/plan: the best plan, or why there is none. */
+type Solution = Schema<"PlanOut">;
 
 export function PlanDialog({ mission, orders, onClose }: { mission: MissionDetail; orders: Orders; onClose: () => void }) {
   const withPolygons = areas(orders).filter((a) => (a.polygon ?? []).length >= 3);
@@ -81,7 +72,7 @@ export function PlanDialog({ mission, orders, onClose }: { mission: MissionDetai
         await api.POST("/api/missions/{mission_id}/plan-problem", { params: { path: { mission_id: mission.id } }, body }),
       ) as unknown as Problem;
       setProblem(built);
-      const solved = unwrap(await api.POST("/api/plan", { body: built as never })) as unknown as Solution;
+      const solved = unwrap(await api.POST("/api/plan", { body: built as never }));
       setSolution(solved);
     } catch (e) {
       setError(e);
@@ -111,7 +102,7 @@ export function PlanDialog({ mission, orders, onClose }: { mission: MissionDetai
     setError(null);
     try {
       const body = { ...solution.orders, id: newId.trim(), title: `Survey plan from ${orders.title || mission.id}` };
-      const created = unwrap(await api.POST("/api/missions", { body: body as never })) as unknown as { id: string };
+      const created = unwrap(await api.POST("/api/missions", { body: body as never }));
       navigate(missionHref(created.id, "editor"));
       onClose();
     } catch (e) {

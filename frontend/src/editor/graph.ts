@@ -424,7 +424,7 @@ export function edgeMarkers(
       const cycle = new Set(f.subjects);
       for (const e of edges) if (cycle.has(e.source) && cycle.has(e.target)) add(e.id, f.code, f.severity);
     } else {
-      const path = findingPath(f as unknown as Record<string, unknown>);
+      const path = findingPath(f);
       if (path) for (const id of pathElements(path).edges) add(id, f.code, f.severity);
     }
   }
