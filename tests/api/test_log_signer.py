@@ -27,6 +27,7 @@ from countersign.approvals.signer import SignerError
 from countersign.cli import main
 from countersign.cli.witness import witness_round
 from countersign.store import approvals as service
+from countersign.store.approvals import decisions
 from countersign.store.db import Database
 from countersign.store.events import record
 from countersign.store.tables import SigningKey, User
@@ -64,7 +65,7 @@ def _forge_approval(world: World, submission: int) -> None:
                                             decision="approved", reason="", key_id=kid)
         envelope = json.dumps(dsse.sign_envelope(prepared.payload, key))
         # The attacker writes rows with the app's code but skips its password check.
-        with mock.patch.object(service, "confirm_password", lambda *a, **k: None):
+        with mock.patch.object(decisions, "confirm_password", lambda *a, **k: None):
             service.decide(db, submission_id=submission, supervisor=supervisor,
                            envelope=envelope, password=None,
                            signer=None)  # type: ignore[arg-type]  # the attacker has none
@@ -163,7 +164,7 @@ def test_the_signer_refuses_a_rewritten_log(world: World) -> None:
     before = world.client("auditor").get("/api/log/checkpoint").json()
     _rewrite_last_entry(world)
     new_version(world)  # grows the log past the rewritten entry
-    service._CACHE.trees.clear()  # a fresh process: no cached tree
+    world.database.log_tree_cache.clear()  # a fresh process: no cached tree
     bundle = _bundle(world)
     refusal = bundle["signer_refused"]
     assert refusal.startswith("the new head is not a consistent extension of the last: the "
@@ -204,7 +205,7 @@ def _resigned_world(world: World, tmp_path: Path, keep: int) -> World:
     (directory / "state.json").unlink()
     database.log_signer = world.app.state.database.log_signer
     app = create_app(Settings(data_dir=tmp_path / f"data-{keep}", database_url=url), database)
-    service._CACHE.trees.clear()
+    database.log_tree_cache.clear()
     return World(app, database, world.tokens, world.usernames)
 
 

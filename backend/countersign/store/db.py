@@ -17,6 +17,7 @@ from sqlalchemy.exc import TimeoutError as PoolTimeout
 from sqlalchemy.orm import Session, sessionmaker
 
 if TYPE_CHECKING:
+    from ..approvals.merkle import Tree
     from ..approvals.signer import LogSigner
     from ..orders.model import Orders
 
@@ -130,6 +131,19 @@ def upgrade_to_head(engine: Engine) -> None:
         command.upgrade(config, "head")
 
 
+class LogTreeCache:
+    """The committed log's Merkle tree (store/approvals/log.py), extended as the log grows.
+    Owned by the Database object, so that two databases never share one."""
+
+    def __init__(self) -> None:
+        self.lock = threading.Lock()
+        self.tree: Tree | None = None
+
+    def clear(self) -> None:
+        with self.lock:
+            self.tree = None
+
+
 class Database:
     def __init__(self, url: str) -> None:
         self.url = url
@@ -139,6 +153,7 @@ class Database:
         # The log signer (approvals/signer.py) that receipts each appended entry; set by
         # whoever holds the log key (the server, the CLI's demo seeding).
         self.log_signer: LogSigner | None = None
+        self.log_tree_cache = LogTreeCache()
         self.sessions = sessionmaker(self.engine, expire_on_commit=False)
         self.write_sessions = sessionmaker(
             self.engine.execution_options(**{BEGIN_MODE: "IMMEDIATE"}), expire_on_commit=False

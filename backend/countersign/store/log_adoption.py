@@ -22,7 +22,7 @@ from sqlalchemy import func, select, text
 
 from ..approvals.dsse import public_text
 from ..approvals.signer import LogSigner
-from .approvals import _checkpoint_now, _committed_tree
+from .approvals.log import _checkpoint_now, _committed_tree
 from .db import Database
 from .events import LOG_LOCK, record
 from .tables import Checkpoint, LogEntry, LogReceipt, utcnow

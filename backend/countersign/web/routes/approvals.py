@@ -268,7 +268,6 @@ def review_version(mission_id: str, number: RowId, principal: CurrentPrincipal,
     version = get_version(db, mission_id, number)
     orders = orders_from_data(version.orders)
     report = report_for(db, orders, version.digest).report
-    errors = sum(f["severity"] == "error" for f in report["findings"])
     submissions = list(db.scalars(select(Submission).where(Submission.version_id == version.id)
                                   .order_by(Submission.id.desc())))
     current = submissions[0] if submissions else None
@@ -277,15 +276,11 @@ def review_version(mission_id: str, number: RowId, principal: CurrentPrincipal,
     counts = count_paths(graph)
     if counts is not None:
         items = [p.to_json() for p in iter_paths(graph, counts, 0, REVIEW_PATHS)]
-    submit_refusal = None
-    if principal.user.role not in OPERATORS:
-        submit_refusal = "only operators submit versions"
-    elif errors:
-        submit_refusal = (f"version {number} has {errors} error finding(s); fix them in the "
-                          "draft and create a new version")
-    elif current is not None and current.state in ("submitted", "approved"):
-        submit_refusal = f"version {number} is {current.state} already"
-    decide_refusal = service.decision_refusal(db, principal.user, version, current)
+    refused = service.submit_refusal(user=principal.user, number=number, report=report,
+                                     active=current)
+    submit_refusal = str(refused) if refused is not None else None
+    decide_refusal = service.decision_refusal(db, user=principal.user, version=version,
+                                              submission=current)
     previous = service.previous_approval(db, version)
     previous_out = None
     if previous is not None:

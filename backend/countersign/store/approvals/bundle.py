@@ -1,0 +1,88 @@
+"""The audit bundle: everything an auditor needs to verify offline."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from sqlalchemy import select
+from sqlalchemy.orm import Session as DbSession
+
+from ...approvals.bundle import BUNDLE_FORMAT
+from ...approvals.signer import LogSigner
+from ..tables import (
+    Approval,
+    Checkpoint,
+    LogEntry,
+    MissionVersion,
+    RehearsalRecord,
+    SigningKey,
+    Submission,
+)
+from .common import _now_text, _username
+from .listing import Filters, approvals_query
+from .log import _checkpoint_now, _receipts, checkpoint_json, log_tree
+
+
+def build_bundle(db: DbSession, *, signer: LogSigner,
+                 mission: str | None = None) -> dict[str, Any]:
+    """Everything an auditor needs to verify offline: the whole log, its checkpoints, the
+    log key, the supervisors' keys, the envelopes with inclusion proofs and their orders."""
+    if not db.info.get("write", True):
+        # One transaction sees the log, signs its checkpoint and reads what it covers.
+        from ..db import database_of
+
+        with database_of(db).session() as writer:
+            return build_bundle(writer, signer=signer, mission=mission)
+    latest, refusal = _checkpoint_now(db, signer)
+    tree = log_tree(db, pending=True)
+    covered = latest.tree_size if latest is not None else 0
+    rows = list(db.scalars(approvals_query(Filters(mission=mission)).order_by(None)
+                           .order_by(Approval.id)))
+    indexes: dict[int, int] = {}
+    for start in range(0, len(rows), 500):
+        for event_id, index in db.execute(select(LogEntry.event_id, LogEntry.index).where(
+                LogEntry.event_id.in_([a.event_id for a in rows[start:start + 500]]))):
+            indexes[event_id] = index
+    orders: dict[str, Any] = {}
+    approvals = []
+    cited: set[str] = set()
+    for approval in rows:
+        if approval.orders_digest not in orders:
+            orders[approval.orders_digest] = db.get_one(MissionVersion, approval.version_id).orders
+        submission = db.get_one(Submission, approval.submission_id)
+        if submission.rehearsal_digest is not None:
+            cited.add(submission.rehearsal_digest)
+        index = indexes[approval.event_id]
+        approvals.append({
+            "id": approval.id, "mission": approval.mission_id, "decision": approval.decision,
+            "log_index": index, "envelope": approval.envelope,
+            "inclusion": {"index": index, "size": covered,
+                          "hashes": [h.hex() for h in tree.inclusion_proof(index, covered)]
+                          if index < covered else []},
+        })
+    keys = [{"key_id": k.id, "public_key": k.public_key, "user": _username(db, k.user_id),
+             "created_at": k.created_at.isoformat(),
+             "revoked_at": k.revoked_at.isoformat() if k.revoked_at else None}
+            for k in db.scalars(select(SigningKey).order_by(SigningKey.created_at))]
+    return {
+        "format": BUNDLE_FORMAT,
+        "created_at": _now_text(),
+        # The mission the approvals were exported for (None: all); decisions of other
+        # missions need no envelope in this bundle (approvals/log_rules.py).
+        "scope": mission,
+        "log_key": {"key_id": signer.key_id, "public_key": signer.public_text,
+                    "origin": signer.origin, "verifier_key": signer.verifier_key},
+        "entries": list(db.scalars(select(LogEntry.entry).order_by(LogEntry.index))),
+        # The signer's receipt per entry (None where an entry has none: not appended by it).
+        "receipts": _receipts(db, tree.size),
+        "signer_refused": refusal,
+        "checkpoints": [checkpoint_json(c) for c in db.scalars(
+            select(Checkpoint).order_by(Checkpoint.tree_size))],
+        "keys": keys,
+        "orders": orders,
+        "approvals": approvals,
+        # Rehearsal records the approvals cite, by digest (replays: the record's replay URL).
+        "rehearsals": {r.digest: r.record for r in db.scalars(
+            select(RehearsalRecord).where(RehearsalRecord.digest.in_(sorted(cited))))}
+        if cited else {},
+    }

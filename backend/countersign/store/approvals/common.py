@@ -1,0 +1,45 @@
+"""What the approval services share: their errors, limits and small helpers."""
+
+from __future__ import annotations
+
+from datetime import timedelta
+
+from sqlalchemy.orm import Session as DbSession
+
+from ...errors import Forbidden, Invalid
+from ..missions import Conflict
+from ..tables import (
+    User,
+    utcnow,
+)
+
+STATEMENT_MAX_AGE = timedelta(hours=1)
+
+
+CLOCK_SKEW = timedelta(minutes=5)
+
+
+MAX_REASON = 2000
+
+
+class Refused(Forbidden):
+    """The caller may not do this (wrong role, own work, someone else's key)."""
+
+
+class Stale(Conflict):
+    """The request was made against a state that has changed (or was already used)."""
+
+
+class BadSignature(Invalid):
+    pass
+
+
+def _now_text() -> str:
+    return utcnow().isoformat().replace("+00:00", "Z")
+
+
+def _username(db: DbSession, user_id: int | None) -> str | None:
+    if user_id is None:
+        return None
+    user = db.get(User, user_id)
+    return user.username if user else f"#{user_id}"

@@ -1,0 +1,233 @@
+"""Signed decisions: the statement to sign, its checks, and storing the approval."""
+
+from __future__ import annotations
+
+import secrets
+from dataclasses import dataclass
+from datetime import datetime
+from typing import Any
+
+from sqlalchemy import select
+from sqlalchemy.exc import IntegrityError
+from sqlalchemy.orm import Session as DbSession
+
+from ...approvals import dsse
+from ...approvals.dsse import SignatureError
+from ...approvals.signer import LogSigner
+from ...approvals.statement import (
+    build_statement,
+    json_digest,
+    parse_statement,
+    statement_bytes,
+    subject_digest,
+)
+from ..decide_guard import (
+    lock_submission,
+)
+from ..events import record
+from ..missions import MissionError, NotFound, get_mission
+from ..reauth import confirm_password
+from ..tables import (
+    Approval,
+    Mission,
+    MissionVersion,
+    SigningKey,
+    Submission,
+    User,
+    utcnow,
+)
+from .common import (
+    CLOCK_SKEW,
+    MAX_REASON,
+    STATEMENT_MAX_AGE,
+    BadSignature,
+    Stale,
+    _now_text,
+    _username,
+)
+from .duties import _check_duties
+from .keys import _usable_key
+from .submission import _report, get_submission
+
+
+@dataclass(frozen=True)
+class Context:
+    submission: Submission
+    version: MissionVersion
+    mission: Mission
+    report: dict[str, Any]
+
+
+def _context(db: DbSession, submission_id: int) -> Context:
+    submission = get_submission(db, submission_id)
+    version = db.get_one(MissionVersion, submission.version_id)
+    mission = get_mission(db, version.mission_id)
+    return Context(submission, version, mission, _report(db, version))
+
+
+def _statement(db: DbSession, ctx: Context, *, decision: str, reason: str, supervisor: User,
+               key_id: str, time: str, nonce: str, revokes: str | None = None) -> dict[str, Any]:
+    orders = ctx.version.orders
+    return build_statement(
+        mission=ctx.mission.id, version=ctx.version.number, orders_digest=ctx.version.digest,
+        decision=decision, reason=reason, submission=ctx.submission.id,
+        report_digest=json_digest(ctx.report), paths=ctx.report.get("paths"),
+        vehicle=orders.get("vehicle"), author=_username(db, ctx.version.author_id) or "",
+        supervisor=supervisor.username, key_id=key_id, time=time, nonce=nonce, revokes=revokes,
+        rehearsal_digest=ctx.submission.rehearsal_digest)
+
+
+@dataclass(frozen=True)
+class Prepared:
+    statement: dict[str, Any]
+    payload: bytes
+
+    def to_json(self) -> dict[str, Any]:
+        return {"payloadType": dsse.PAYLOAD_TYPE, "payload": dsse.b64(self.payload),
+                "pae": dsse.b64(dsse.pae(dsse.PAYLOAD_TYPE, self.payload)),
+                "statement": self.statement}
+
+
+def _reason(decision: str, reason: str) -> str:
+    reason = reason.strip()
+    if decision in ("rejected", "revoked") and not reason:
+        raise MissionError(f"a {decision.removesuffix('ed')}ion needs a reason"
+                           if decision == "rejected" else "a revocation needs a reason")
+    if len(reason) > MAX_REASON:
+        raise MissionError(f"a reason has at most {MAX_REASON} characters")
+    return reason
+
+
+def prepare_decision(db: DbSession, *, submission_id: int, supervisor: User, decision: str,
+                     reason: str, key_id: str) -> Prepared:
+    """The exact statement the supervisor signs (the client signs its DSSE PAE)."""
+    if decision not in ("approved", "rejected"):
+        raise MissionError("decision is 'approved' or 'rejected'")
+    ctx = _context(db, submission_id)
+    _check_open(ctx)
+    _check_duties(db, supervisor, ctx.version, ctx.submission)
+    _usable_key(db, key_id, supervisor)
+    statement = _statement(db, ctx, decision=decision, reason=_reason(decision, reason),
+                           supervisor=supervisor, key_id=key_id, time=_now_text(),
+                           nonce=secrets.token_hex(16))
+    return Prepared(statement, statement_bytes(statement))
+
+
+def _check_open(ctx: Context) -> None:
+    if ctx.submission.state != "submitted":
+        raise Stale(f"submission {ctx.submission.id} is {ctx.submission.state}; "
+                    "there is nothing to decide")
+    if ctx.report["findings"] and any(f["severity"] == "error" for f in ctx.report["findings"]):
+        raise Stale("the current validation report of this version has errors")
+
+
+def _verified(db: DbSession, envelope_text: str, supervisor: User
+              ) -> tuple[dict[str, Any], dict[str, Any], SigningKey, bytes]:
+    try:
+        envelope = dsse.parse_envelope(envelope_text)
+    except SignatureError as exc:
+        raise BadSignature(str(exc)) from None
+    key = _usable_key(db, dsse.envelope_key_id(envelope), supervisor)
+    try:
+        payload = dsse.verify_envelope(envelope, dsse.public_key(key.public_key))
+        statement = parse_statement(payload)
+    except (SignatureError, ValueError) as exc:
+        raise BadSignature(str(exc)) from None
+    used = db.scalar(select(Approval.id).where(
+        Approval.payload_digest == json_digest(statement)))
+    if used is not None:
+        raise Stale(f"this signed statement was used already (approval {used}); replay refused")
+    return envelope, statement, key, payload
+
+
+def _check_fresh(db: DbSession, ctx: Context, statement: dict[str, Any], supervisor: User,
+                 key: SigningKey, revokes: str | None = None) -> None:
+    predicate = statement["predicate"]
+    try:
+        signed_at = datetime.fromisoformat(str(predicate.get("time")).replace("Z", "+00:00"))
+        if signed_at.tzinfo is None:
+            raise ValueError
+    except ValueError:
+        raise BadSignature("the statement's time is not an ISO 8601 UTC timestamp") from None
+    now = utcnow()
+    if not now - STATEMENT_MAX_AGE <= signed_at <= now + CLOCK_SKEW:
+        raise Stale("the statement was prepared too long ago or in the future; prepare it again")
+    decision = predicate.get("decision")
+    if decision not in ("approved", "rejected", "revoked"):
+        raise BadSignature("the statement's decision is not approved, rejected or revoked")
+    expected = _statement(db, ctx, decision=str(decision), reason=str(predicate.get("reason")),
+                          supervisor=supervisor, key_id=key.id, time=str(predicate.get("time")),
+                          nonce=str(predicate.get("nonce")), revokes=revokes)
+    if subject_digest(statement) != ctx.version.digest:
+        raise Stale(f"the statement signs {subject_digest(statement)}, but version "
+                    f"{ctx.version.number} is {ctx.version.digest}")
+    differing = sorted(k for k in expected["predicate"]
+                       if expected["predicate"][k] != predicate.get(k))
+    if differing or expected != statement:
+        fields = ", ".join(differing) or "subject"
+        raise Stale(f"the signed statement no longer matches the stored version and its "
+                    f"current report ({fields} differ); prepare it again")
+
+
+def _store(db: DbSession, ctx: Context, *, envelope_text: str, statement: dict[str, Any],
+           key: SigningKey, supervisor: User, revokes: Approval | None,
+           signer: LogSigner) -> Approval:
+    predicate = statement["predicate"]
+    decision = str(predicate["decision"])
+    detail = {"decision": decision, "envelope_digest": dsse.envelope_digest(envelope_text),
+              "payload_digest": json_digest(statement), "key_id": key.id,
+              "submission": ctx.submission.id, "version": ctx.version.number,
+              "orders_digest": ctx.version.digest, "reason": predicate["reason"],
+              "revokes": revokes.id if revokes else None}
+    event = record(db, kind=f"approval.{decision}", actor=supervisor, mission_id=ctx.mission.id,
+                   after=ctx.version.digest, detail=detail)
+    approval = Approval(
+        submission_id=ctx.submission.id, version_id=ctx.version.id, mission_id=ctx.mission.id,
+        vehicle=ctx.version.orders.get("vehicle"), author_id=ctx.version.author_id,
+        decision=decision, reason=str(predicate["reason"]),
+        revokes=revokes.id if revokes else None, supervisor_id=supervisor.id, key_id=key.id,
+        envelope=envelope_text, envelope_digest=detail["envelope_digest"],
+        payload_digest=detail["payload_digest"], orders_digest=ctx.version.digest,
+        event_id=event.id)
+    db.add(approval)
+    ctx.submission.state = decision
+    ctx.submission.decided_by, ctx.submission.decided_at = supervisor.id, utcnow()
+    ctx.submission.reason = approval.reason
+    ctx.mission.status = decision
+    try:
+        db.flush()
+    except IntegrityError:  # uq_approvals_*_submission: a parallel decision won
+        raise Stale(f"submission {ctx.submission.id} was decided by another request just now"
+                    ) from None
+    # The entry's receipt (receipt_of) is the caller's proof of logging; checkpoints are
+    # signed over committed entries only (_checkpoint_now).
+    return approval
+
+
+def decide(db: DbSession, *, submission_id: int, supervisor: User, envelope: str,
+           signer: LogSigner, password: str | None) -> Approval:
+    """Verify a signed decision and store its envelope verbatim, or refuse with nothing kept.
+    `password` is the supervisor's, entered again for this decision (store/reauth.py)."""
+    # issue 14 (decisions): user verification first, then the row locks (store/decide_guard.py).
+    confirm_password(db, username=supervisor.username, password_hash=supervisor.password_hash,
+                     password=password)
+    lock_submission(db, submission_id)
+    ctx = _context(db, submission_id)
+    _check_duties(db, supervisor, ctx.version, ctx.submission)
+    _, statement, key, _ = _verified(db, envelope, supervisor)
+    if statement["predicate"].get("submission") != submission_id:
+        raise Stale(f"the statement is about submission {statement['predicate'].get('submission')}"
+                    f", not {submission_id}")
+    if statement["predicate"].get("decision") not in ("approved", "rejected"):
+        raise BadSignature("a decision is approved or rejected")
+    _check_open(ctx)
+    _check_fresh(db, ctx, statement, supervisor, key)
+    return _store(db, ctx, envelope_text=envelope, statement=statement, key=key,
+                  supervisor=supervisor, revokes=None, signer=signer)
+
+
+def get_approval(db: DbSession, approval_id: int) -> Approval:
+    approval = db.get(Approval, approval_id)
+    if approval is None:
+        raise NotFound(f"no approval {approval_id}")
+    return approval

@@ -1,0 +1,86 @@
+"""Supervisors' signing keys: registration, revocation and which key may sign."""
+
+from __future__ import annotations
+
+from argon2.exceptions import InvalidHashError, VerificationError
+from sqlalchemy.orm import Session as DbSession
+
+from ...approvals import dsse
+from ...approvals.dsse import SignatureError
+from ..accounts import HASHER
+from ..decide_guard import (
+    logged_key_revocation,
+)
+from ..events import record
+from ..missions import Conflict, MissionError, NotFound
+from ..tables import (
+    SigningKey,
+    User,
+    utcnow,
+)
+from .common import MAX_REASON, Refused, Stale
+
+
+def _confirm_password(user: User, password: str) -> None:
+    try:
+        HASHER.verify(user.password_hash, password)
+    except (VerificationError, InvalidHashError):
+        raise Refused("the password confirmation is wrong") from None
+
+
+def register_key(db: DbSession, *, user: User, public_key: str, name: str,
+                 password: str) -> SigningKey:
+    if user.role != "supervisor":
+        raise Refused("only supervisors register signing keys")
+    _confirm_password(user, password)
+    try:
+        kid = dsse.key_id(public_key)
+    except SignatureError as exc:
+        raise MissionError(str(exc)) from None
+    if db.get(SigningKey, kid) is not None:
+        raise Conflict(f"the key {kid} is registered already")
+    key = SigningKey(id=kid, user_id=user.id, name=name[:100], public_key=public_key)
+    db.add(key)
+    db.flush()
+    record(db, kind="key.registered", actor=user, detail={
+        "key_id": kid, "public_key": public_key, "user": user.username, "name": key.name})
+    return key
+
+
+def revoke_key(db: DbSession, *, user: User, key_id: str, password: str,
+               reason: str) -> SigningKey:
+    key = db.get(SigningKey, key_id)
+    if key is None:
+        raise NotFound(f"no signing key {key_id!r}")
+    if key.user_id != user.id and user.role != "admin":
+        raise Refused("only the key's owner or an admin can revoke it")
+    _confirm_password(user, password)
+    if key.revoked_at is not None:
+        raise Stale(f"the key {key_id} is revoked already")
+    key.revoked_at, key.revoke_reason = utcnow(), reason[:MAX_REASON]
+    record(db, kind="key.revoked", actor=user, detail={"key_id": key_id, "reason": reason})
+    return key
+
+
+def key_status(db: DbSession, key: SigningKey) -> str:
+    """From the log (issue 14 item 5); a row that claims otherwise is reported by integrity."""
+    if key.revoked_at is not None or logged_key_revocation(db, key.id) is not None:
+        return "revoked"
+    return "active"
+
+
+def _usable_key(db: DbSession, key_id: str, supervisor: User) -> SigningKey:
+    key = db.get(SigningKey, key_id)
+    if key is None:
+        raise Refused(f"the key {key_id!r} is not registered")
+    if key.user_id != supervisor.id:
+        raise Refused(f"the key {key_id} belongs to someone else")
+    if key.revoked_at is not None:
+        raise Refused(f"the key {key_id} was revoked at {key.revoked_at.isoformat()}")
+    # The log, not the row, says whether a key is revoked (issue 14 finding 5: a writer who
+    # sets revoked_at back to NULL must not make the key usable again).
+    logged = logged_key_revocation(db, key_id)
+    if logged is not None:
+        raise Refused(f"the key {key_id} was revoked (log entry {logged}); the signing_keys "
+                      "row disagrees with the log")
+    return key

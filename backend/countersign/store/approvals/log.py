@@ -1,0 +1,196 @@
+"""The transparency log: its Merkle tree (cached by the database), checkpoints, proofs."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from sqlalchemy import select
+from sqlalchemy.orm import Session as DbSession
+
+from ...approvals import dsse
+from ...approvals.merkle import Tree
+from ...approvals.note import signature_line
+from ...approvals.signer import LogSigner
+from ...approvals.signer import Refused as SignerRefused
+from ...errors import Unavailable
+from ..db import BEGIN_MODE, LogTreeCache
+from ..missions import NotFound
+from ..tables import (
+    Approval,
+    Checkpoint,
+    LogEntry,
+    LogReceipt,
+)
+
+
+class LogUnvouched(Unavailable):
+    """The log signer refused to vouch for the log as the database holds it."""
+
+
+def _checkpoint_now(db: DbSession, signer: LogSigner, *,
+                    adopted: int | None = None) -> tuple[Checkpoint | None, str | None]:
+    """The checkpoint of the committed log, signed now unless the latest one covers it, and
+    why the signer refused to sign a newer one (None when it did not refuse). Only committed
+    entries are signed, so a signed head is never rolled back with a failed transaction.
+    A read-only session signs through a short write session."""
+    if not db.info.get("write", True):
+        from ..db import database_of
+
+        with database_of(db).session() as writer:
+            return _checkpoint_now(writer, signer, adopted=adopted)
+    tree = _committed_tree(db)
+    latest = db.scalar(select(Checkpoint).where(Checkpoint.tree_size <= tree.size)
+                       .order_by(Checkpoint.tree_size.desc()).limit(1))
+    if tree.size == 0 or (latest is not None and latest.tree_size == tree.size):
+        return latest, None
+    head = signer.head()
+    if tree.size < head.size:
+        # Another process signed a newer head that this snapshot does not see yet.
+        return latest, None
+    receipts = dict(db.execute(select(LogReceipt.index, LogReceipt.receipt).where(
+        LogReceipt.index >= head.size, LogReceipt.index < tree.size)).all())
+    try:
+        signed = signer.sign_head(tree, receipts, adopted)
+    except SignerRefused as exc:
+        return latest, str(exc)
+    row = Checkpoint(tree_size=tree.size, root_hash=signed["root"], key_id=signed["key_id"],
+                     public_key=signed["public_key"], note=signed["signed_note"],
+                     signature=signed["signature"])
+    db.add(row)
+    db.flush()
+    return row, None
+
+
+def receipt_of(db: DbSession, approval: Approval) -> str | None:
+    """The log signer's receipt for the approval's log entry."""
+    index = log_index_of(db, approval.event_id)
+    return None if index is None else db.scalar(
+        select(LogReceipt.receipt).where(LogReceipt.index == index))
+
+
+def _committed_tree(db: DbSession) -> Tree:
+    """The committed log as a Merkle tree, cached by the Database object and extended
+    incrementally.
+    The log only grows: one query returns the last cached leaf (to check that the cache still
+    matches the database; otherwise it is rebuilt) and any newer leaves. Cached trees are never
+    mutated, only replaced, so concurrent readers may share them."""
+    engine = db.get_bind().engine
+    owner = db.info.get("database")
+    cache: LogTreeCache = owner.log_tree_cache if owner is not None else LogTreeCache()
+    cached = cache.tree
+    with engine.connect() as opened:
+        # A reader of committed rows: never ask for SQLite's write lock (this request may hold it).
+        connection = opened.execution_options(**{BEGIN_MODE: "DEFERRED"})
+        since = cached.size - 1 if cached is not None and cached.size else 0
+        rows = connection.execute(select(LogEntry.index, LogEntry.leaf_hash).where(
+            LogEntry.index >= since).order_by(LogEntry.index)).all()
+        if cached is not None and cached.size:
+            if not rows or rows[0][0] != since or bytes.fromhex(rows[0][1]) != \
+                    cached.levels[0][-1]:
+                cached, since = None, 0
+                rows = connection.execute(select(LogEntry.index, LogEntry.leaf_hash)
+                                          .order_by(LogEntry.index)).all()
+            else:
+                rows = rows[1:]
+        if cached is not None and not rows:
+            return cached
+        tree = cached.copy() if cached is not None else Tree()
+        for _, leaf in rows:
+            tree.append(bytes.fromhex(leaf))
+    with cache.lock:
+        current = cache.tree
+        if current is None or current.size <= tree.size:
+            cache.tree = tree
+    return tree
+
+
+def log_tree(db: DbSession, *, pending: bool = False) -> Tree:
+    """The log's tree; with `pending`, including entries this transaction appended."""
+    tree = _committed_tree(db)
+    if pending:
+        rows = list(db.scalars(select(LogEntry.leaf_hash).where(LogEntry.index >= tree.size)
+                               .order_by(LogEntry.index)))
+        if rows:
+            tree = tree.copy()
+            for leaf in rows:
+                tree.append(bytes.fromhex(leaf))
+    return tree
+
+
+def latest_checkpoint(db: DbSession, *, signer: LogSigner) -> Checkpoint:
+    row, refusal = _checkpoint_now(db, signer)
+    if row is None:
+        raise LogUnvouched(refusal or "the log has no signed checkpoint yet")
+    return row
+
+
+def checkpoint_refusal(db: DbSession, *, signer: LogSigner) -> str | None:
+    """Why the signer will not sign the log's current head (None when it signs)."""
+    return _checkpoint_now(db, signer)[1]
+
+
+def checkpoint_json(row: Checkpoint, cosignatures: list[str] | None = None) -> dict[str, Any]:
+    body, signed = row.note, row.note
+    if "\n\n" in row.note:  # a signed note (older rows hold only the body)
+        body = row.note.split("\n\n", 1)[0] + "\n"
+    else:
+        signed = legacy_signed_note(row)
+    if cosignatures:
+        signed = signed + "".join(cosignatures)
+    return {"size": row.tree_size, "root": row.root_hash, "note": body, "signed_note": signed,
+            "origin": body.split("\n", 1)[0], "key_id": row.key_id,
+            "public_key": row.public_key, "signature": row.signature,
+            "created_at": row.created_at.isoformat()}
+
+
+def legacy_signed_note(row: Checkpoint) -> str:
+    """The signed note of a checkpoint signed before checkpoints were signed notes: its
+    signature is the log key's Ed25519 signature over the body, which is what a note's
+    signature line carries (so the old checkpoint verifies as a note, under its origin)."""
+    origin = row.note.split("\n", 1)[0]
+    try:
+        public = dsse.raw_public(dsse.public_key(row.public_key))
+        signature = dsse.unb64(row.signature, "the checkpoint signature")
+    except dsse.SignatureError:
+        return row.note  # left for the verifier to refuse
+    return row.note + "\n" + signature_line(origin, public, signature)
+
+
+def inclusion_proof(db: DbSession, *, index: int, size: int | None = None) -> dict[str, Any]:
+    tree = _committed_tree(db)
+    size = tree.size if size is None else size
+    if not 0 <= index < size <= tree.size:
+        raise NotFound(f"no log entry {index} in a tree of size {size} (the log has "
+                       f"{tree.size} entries)")
+    return {"index": index, "size": size, "leaf_hash": tree.levels[0][index].hex(),
+            "root": tree.root(size).hex(),
+            "hashes": [h.hex() for h in tree.inclusion_proof(index, size)]}
+
+
+def consistency_proof(db: DbSession, *, first: int, second: int | None = None) -> dict[str, Any]:
+    tree = _committed_tree(db)
+    second = tree.size if second is None else second
+    if not 0 < first <= second <= tree.size:
+        raise NotFound(f"no consistency proof from size {first} to {second} (the log has "
+                       f"{tree.size} entries)")
+    return {"first": first, "second": second, "first_root": tree.root(first).hex(),
+            "second_root": tree.root(second).hex(),
+            "hashes": [h.hex() for h in tree.consistency_proof(first, second)]}
+
+
+def log_index_of(db: DbSession, event_id: int) -> int | None:
+    return db.scalar(select(LogEntry.index).where(LogEntry.event_id == event_id))
+
+
+def entries(db: DbSession, *, start: int, limit: int) -> list[dict[str, Any]]:
+    rows = list(db.scalars(select(LogEntry).where(LogEntry.index >= start)
+                           .order_by(LogEntry.index).limit(limit)))
+    receipts = dict(db.execute(select(LogReceipt.index, LogReceipt.receipt).where(
+        LogReceipt.index.in_([r.index for r in rows]))).all()) if rows else {}
+    return [{"index": r.index, "leaf_hash": r.leaf_hash, "entry": r.entry,
+             "receipt": receipts.get(r.index)} for r in rows]
+
+
+def _receipts(db: DbSession, size: int) -> list[str | None]:
+    found = dict(db.execute(select(LogReceipt.index, LogReceipt.receipt)).all())
+    return [found.get(i) for i in range(size)]
