@@ -25,8 +25,8 @@ from typing import Any
 
 from countersign.orders.model import Orders
 from countersign.orders.turtle import orders_to_graph, read_turtle, write_turtle
-from countersign.verify import logic
 from countersign.verify.logic import LogicCache, check_logic
+from countersign.verify.logic import findings as logic
 from countersign.verify.paths import iter_path_lines, paths_of
 
 from .baseline import naive_paths

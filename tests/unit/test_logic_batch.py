@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from countersign.verify import logic
 from countersign.verify.logic import LogicCache, check_logic
+from countersign.verify.logic import findings as logic
 from tests.bench.bench_logic import logic_orders
 
 

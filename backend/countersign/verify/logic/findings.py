@@ -1,0 +1,249 @@
+"""The logic check's findings (CONTRADICTION, NORM, VACUOUS, ...): `check_logic`."""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Iterator
+
+from ...orders.findings import Finding, error, warning
+from ...orders.model import Goal, Orders
+from ..expressions import (
+    quantity_words,
+    with_unit,
+)
+from .cache import LogicCache
+from .constants import DEFAULT_TIMEOUT_MS, DEFAULT_TOTAL_S, GOAL_KINDS
+from .items import Item
+from .model import LogicModel
+from .results import Core, MissionResult, Risk
+from .run import LogicRun
+from .session import Limits
+from .wording import _core_details, _ids, _subjects, core_sentence, join_words
+
+# Vacuity of many constraints settled from shared models (False: one check per constraint, the
+# reference the batched path is tested against).
+BATCH_VACUITY = True
+
+
+def check_logic(
+    orders: Orders,
+    cache: LogicCache | None = None,
+    *,
+    timeout_ms: int = DEFAULT_TIMEOUT_MS,
+    total_timeout_s: float = DEFAULT_TOTAL_S,
+) -> list[Finding]:
+    """EXPR, CONTRADICTION, NORM and VACUOUS findings of a set of orders.
+
+    Pass a long-lived LogicCache to re-solve only the units whose inputs changed. Every solver
+    call stops after `timeout_ms`, and the whole check after `total_timeout_s`; what could not
+    be decided is reported as a warning."""
+    model = cache.model(orders) if cache is not None else LogicModel(orders)
+    with model.lock:
+        run = LogicRun(model, cache, Limits.start(timeout_ms, total_timeout_s))
+        findings = list(model.expr_findings)
+        mission = run.mission()
+        findings.extend(_mission_findings(model, mission))
+        findings.extend(_goal_findings(model, run, mission))
+        if not mission.cores:
+            findings.extend(_vacuous_findings(model, run, mission))
+    return findings
+
+
+def _mission_findings(model: LogicModel, mission: MissionResult) -> Iterator[Finding]:
+    for core in mission.cores:
+        constraints = _ids(core.parts, "constraint")
+        verb = "applies" if len(constraints) == 1 else "apply"
+        applies = f" while {join_words(constraints)} {verb}" if constraints else ""
+        yield error(
+            "CONTRADICTION",
+            _subjects([], core.parts),
+            f"{core_sentence(core.parts)} No goal can run as ordered on this vehicle{applies}.",
+            **_core_details(core),
+        )
+    if mission.undecided:
+        yield warning(
+            "CONTRADICTION",
+            [c.id for c in model.mission_constraints] or [model.orders.id],
+            f"The solver could not decide whether the mission-wide constraints can hold on "
+            f"this vehicle ({mission.undecided}).",
+            undecided=mission.undecided,
+        )
+
+
+def _goal_findings(model: LogicModel, run: LogicRun, mission: MissionResult) -> Iterator[Finding]:
+    shared: dict[tuple[str, ...], tuple[Core, list[str]]] = {}
+    out_of_time: list[str] = []
+    for goal in model.goals.values():
+        result = run.goal(goal, mission.quarantined)
+        label = model.goal_label(goal)
+        for core in result.contradictions:
+            if not any(p.kind in GOAL_KINDS for p in core.parts):
+                key = tuple(p.key for p in core.parts)
+                shared.setdefault(key, (core, []))[1].append(goal.id)
+                continue
+            constraints = _ids(core.parts, "constraint")
+            if constraints:
+                why = f" without violating {join_words(constraints)}"
+            elif any(p.kind == "vehicle" for p in core.parts):
+                why = " on this vehicle"
+            else:
+                why = ""
+            yield error(
+                "CONTRADICTION",
+                _subjects([goal.id], core.parts),
+                f"{core_sentence(core.parts)} {goal.id} cannot run as ordered{why}.",
+                goal=goal.id,
+                **_core_details(core),
+            )
+        for core in result.refusals:
+            yield _refusal(model, goal, core)
+        for risk in result.risks:
+            yield _risk(model, goal, risk)
+        if result.undecided == "time budget exhausted":
+            out_of_time.append(goal.id)
+        elif result.undecided:
+            scope = [c.id for c in model.scope.get(goal.id, ())]
+            yield warning(
+                "CONTRADICTION",
+                [goal.id],
+                f"The solver could not decide whether {label} can run as ordered under its "
+                f"constraints and norms ({result.undecided}). Simplify the expressions that "
+                f"apply to it{': ' + ', '.join(scope) if scope else ''}.",
+                goal=goal.id,
+                undecided=result.undecided,
+            )
+    for core, goals in shared.values():
+        constraints = _ids(core.parts, "constraint")
+        yield error(
+            "CONTRADICTION",
+            _subjects(constraints, core.parts) + [g for g in goals if g not in constraints],
+            f"{core_sentence(core.parts)} {'Goal' if len(goals) == 1 else 'Goals'} "
+            f"{join_words(goals)} cannot run as ordered.",
+            goals=goals,
+            **_core_details(core),
+        )
+    if out_of_time:
+        yield warning(
+            "CONTRADICTION",
+            out_of_time,
+            f"The logic checks ran out of time before deciding {len(out_of_time)} goal(s): "
+            f"{', '.join(out_of_time[:20])}{' ...' if len(out_of_time) > 20 else ''}.",
+            undecided="time budget exhausted",
+        )
+
+
+def _norm_context_subjects(model: LogicModel, goal: Goal, core: Core) -> list[str]:
+    norms = [n for n in model.norms if n.norm.id in _ids(core.parts, "norm")]
+    tags = [n.tag for n in norms if n.tag is not None]
+    if not tags:
+        facts = model.facts(goal)
+        tags = [p.key.split(":", 2)[2] for p in core.parts
+                if p.kind == "context" and p.key.split(":", 2)[2] in facts.tags]
+    if not tags and goal.area:
+        tags = [goal.area]
+    return list(dict.fromkeys(tags))
+
+
+def _refusal(model: LogicModel, goal: Goal, core: Core) -> Finding:
+    norms = _ids(core.parts, "norm")
+    texts = [n.norm.text for n in model.norms if n.norm.id in norms and n.norm.text]
+    named = join_words(norms) + (f" ({'; '.join(texts)})" if texts else "")
+    verb = "conflict" if len(norms) > 1 else "break"
+    lead = (f"Refusal: {model.goal_label(goal)} cannot run as ordered without breaking {named}"
+            if len(norms) == 1 else
+            f"Refusal: {model.goal_label(goal)} cannot run as ordered: the norms {named} {verb}")
+    return error(
+        "NORM",
+        [goal.id, *norms, *_norm_context_subjects(model, goal, core)],
+        f"{lead}. {core_sentence(core.parts)}",
+        goal=goal.id,
+        norms=norms,
+        **_core_details(core),
+    )
+
+
+def _risk(model: LogicModel, goal: Goal, risk: Risk) -> Finding:
+    norm = next((n for n in model.norms if n.key == risk.norm.key), None)
+    text = f" ({norm.norm.text})" if norm is not None and norm.norm.text else ""
+    values = join_words([
+        f"{quantity_words(q, model.quantities)} {with_unit(v, model.unit(q))}"
+        if v not in {"true", "false"} else f"{quantity_words(q, model.quantities)} {v}"
+        for q, v in risk.witness
+    ])
+    where = f" in {model.area_label(goal.area)}" if goal.area else ""
+    subjects = [goal.id, risk.norm.subject]
+    if norm is not None and norm.tag is not None:
+        subjects.append(norm.tag)
+    elif goal.area:
+        subjects.append(goal.area)
+    return warning(
+        "NORM",
+        subjects,
+        f"{model.goal_label(goal)} may break {risk.norm.subject}{text}: {risk.norm.phrase}, "
+        f"and nothing in the orders of {goal.id} rules out {values or 'a breach'}{where}. "
+        "Narrow the goal's envelope or add a constraint.",
+        goal=goal.id,
+        norm=risk.norm.subject,
+        witness=dict(risk.witness),
+    )
+
+
+def _vacuous_findings(
+    model: LogicModel, run: LogicRun, mission: MissionResult
+) -> Iterator[Finding]:
+    if BATCH_VACUITY:
+        run.vacuous_batch(c for c in model.constraints if c.key not in mission.quarantined)
+    for c in model.constraints:
+        if c.key in mission.quarantined:
+            continue
+        result = run.vacuous(c)
+        if result.core is None:
+            continue
+        reasons = [p for p in result.core.parts if p.kind in {"vehicle", "domain"}]
+        if reasons:
+            why = (f"{join_words([p.phrase for p in reasons])}, so {model.words(c.expr)} "
+                   "always holds")
+        else:
+            why = f"{model.words(c.expr)} holds whatever the vehicle does"
+        yield warning(
+            "VACUOUS",
+            _subjects([c.id], reasons),
+            f"{c.id} can never trigger: {why}. A constraint that cannot be violated is likely "
+            "a typo.",
+            **_core_details(result.core),
+        )
+
+
+def core_satisfiable(
+    orders: Orders, keys: Iterable[str], *, timeout_ms: int = DEFAULT_TIMEOUT_MS
+) -> bool | None:
+    """Whether the items named by keys (as reported in a finding's core) can hold together;
+    None when undecided. For tests and tools that want to re-check a reported core."""
+    model = LogicModel(orders)
+    run = LogicRun(model, None, Limits.start(timeout_ms, timeout_ms / 1000 * 10))
+    wanted = set(keys)
+    pool: dict[str, Item] = {}
+    everything = frozenset[str]()
+    for goal in model.goals.values():
+        norms = model.relevant_norms(goal)
+        items, _ = run.goal_items(goal, everything, [model.norm_reads(n) for n in norms])
+        for item in items:
+            pool[item.key] = item
+        for pair in (model.norm_items(n) for n in norms):
+            for item in pair:
+                pool[item.key] = item
+    for c in model.constraints:
+        pool.setdefault(c.key, model.constraint_item(c))
+        negation = model.constraint_item(c, negate=True)
+        pool[negation.key] = negation
+        for item in model.background(c.reads.quantities):
+            pool[item.key] = item
+    for item in model.background(model.vehicle.envelope if model.vehicle else ()):
+        pool[item.key] = item
+    missing = wanted - set(pool)
+    if missing:
+        raise KeyError(f"unknown core items: {sorted(missing)}")
+    items = [pool[k] for k in sorted(wanted)]
+    session = run.session
+    with session.scope(items):
+        result = session.check(items)
+    return None if result.status == "unknown" else result.status == "sat"

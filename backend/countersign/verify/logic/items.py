@@ -1,0 +1,145 @@
+"""Items: the statements the solver sees, each behind its own indicator literal."""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from fractions import Fraction
+
+from ...orders.model import Quantity
+from ..expressions import (
+    Expr,
+    Translator,
+    number_words,
+    smt_int,
+    smt_real,
+    with_unit,
+)
+from .constants import ItemKind
+
+
+@dataclass(frozen=True)
+class Part:
+    """What a core reports about one item: enough to explain it, nothing to solve it."""
+
+    key: str
+    kind: str
+    subject: str
+    phrase: str
+
+    def to_json(self) -> dict[str, str]:
+        return {"key": self.key, "kind": self.kind, "subject": self.subject, "text": self.phrase}
+
+
+class Item:
+    """One statement for the solver, asserted behind its own indicator literal. Its phrase is
+    built only when a core reports it."""
+
+    __slots__ = ("_digest", "_phrase", "formula", "key", "kind", "quantities", "shared",
+                 "source", "subject")
+
+    def __init__(
+        self,
+        key: str,
+        kind: ItemKind,
+        subject: str,
+        phrase: str | Callable[[], str],
+        source: str,
+        formula: Callable[[Translator], str],
+        shared: bool = True,
+        quantities: tuple[str, ...] = (),
+    ) -> None:
+        self.key = key
+        self.kind = kind
+        self.subject = subject
+        self._phrase = phrase
+        # Everything that determines the formula and the phrase: what a cache key digests.
+        self.source = source
+        self.formula = formula
+        # Asserted once per session (same formula for every goal) rather than per goal scope.
+        self.shared = shared
+        self.quantities = quantities
+        self._digest: bytes | None = None
+
+    @property
+    def digest(self) -> bytes:
+        if self._digest is None:
+            self._digest = hashlib.sha256(self.source.encode()).digest()
+        return self._digest
+
+    @property
+    def phrase(self) -> str:
+        if not isinstance(self._phrase, str):
+            self._phrase = self._phrase()
+        return self._phrase
+
+    @property
+    def part(self) -> Part:
+        return Part(self.key, self.kind, self.subject, self.phrase)
+
+    def __repr__(self) -> str:
+        return f"Item({self.key!r})"
+
+
+def _bound(value: float) -> Fraction | None:
+    if not math.isfinite(value):
+        return None
+    return Fraction(repr(float(value)))
+
+
+def _range_words(low: float, high: float, unit: str) -> str:
+    lo, hi = number_words(low), number_words(high)
+    if low == high:
+        return with_unit(lo, unit)
+    joiner = " to " if low < 0 or high < 0 else "-"
+    return with_unit(f"{lo}{joiner}{hi}", unit)
+
+
+def _interval_formula(
+    quantity: str, spec: Quantity, low: float | None, high: float | None
+) -> Callable[[Translator], str]:
+    def build(translator: Translator) -> str:
+        symbol, kind = translator.quantity(quantity)
+        parts: list[str] = []
+        lo = _bound(low) if low is not None else None
+        hi = _bound(high) if high is not None else None
+        if kind == "boolean":
+            if lo is not None and lo > 0:
+                parts.append(symbol)
+            if hi is not None and hi < 1:
+                parts.append(f"(not {symbol})")
+        elif kind == "integer":
+            if lo is not None:
+                parts.append(f"(<= {smt_int(math.ceil(lo))} {symbol})")
+            if hi is not None:
+                parts.append(f"(<= {symbol} {smt_int(math.floor(hi))})")
+        else:
+            if lo is not None:
+                parts.append(f"(<= {smt_real(lo)} {symbol})")
+            if hi is not None:
+                parts.append(f"(<= {symbol} {smt_real(hi)})")
+        if not parts:
+            return "true"
+        return parts[0] if len(parts) == 1 else f"(and {' '.join(parts)})"
+
+    return build
+
+
+def expr_formula(expr: Expr, negate: bool = False) -> Callable[[Translator], str]:
+    def build(translator: Translator) -> str:
+        term = translator.condition(expr)
+        return f"(not {term})" if negate else term
+
+    return build
+
+
+def _with_suffix(build: Callable[[Translator], str], suffix: str) -> Callable[[Translator], str]:
+    if not suffix:
+        return build
+
+    def suffixed(translator: Translator) -> str:
+        return build(translator.with_suffix(suffix))
+
+    return suffixed

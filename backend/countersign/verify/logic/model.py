@@ -1,0 +1,491 @@
+"""The logic model of orders: every item of the mission, its goals and its norms."""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from typing import Literal
+
+from ...orders.findings import Finding, error
+from ...orders.model import Goal, Norm, Orders, Quantity, Vehicle
+from ..expressions import (
+    RESERVED,
+    Compare,
+    Context,
+    Expr,
+    ExprError,
+    Facts,
+    Logic,
+    Not,
+    Reads,
+    Special,
+    Text,
+    TypeChecker,
+    describe,
+    fold,
+    in_tag,
+    number_words,
+    parse,
+    quantity_table,
+    quantity_words,
+    reads,
+    smt_int,
+    tag_state,
+    with_unit,
+)
+from .constants import _IDENTIFIER, MAX_WORDS
+from .items import Item, _interval_formula, _range_words, _with_suffix, expr_formula
+from .session import Session
+
+
+@dataclass(frozen=True)
+class ParsedConstraint:
+    id: str
+    key: str
+    text: str
+    source: str
+    expr: Expr
+    reads: Reads
+    mission: bool
+    goals: frozenset[str]
+
+
+@dataclass(frozen=True)
+class ParsedNorm:
+    norm: Norm
+    key: str
+    modality: Literal["forbidden", "obligated", "permitted"]
+    context: Expr
+    tag: str | None
+    body: Expr
+    reads: Reads
+
+
+def _merge_reads(items: Iterable[Reads]) -> Reads:
+    quantities: set[str] = set()
+    tags: set[str] = set()
+    behavior = area = False
+    for r in items:
+        quantities |= r.quantities
+        tags |= r.tags
+        behavior = behavior or r.behavior
+        area = area or r.area
+    return Reads(frozenset(quantities), frozenset(tags), behavior, area)
+
+
+class LogicModel:
+    """Everything the checks need from the orders, computed once per call."""
+
+    def __init__(self, orders: Orders) -> None:
+        self.orders = orders
+        self.quantities = quantity_table(orders)
+        self.checker = TypeChecker(self.quantities)
+        self.vehicle: Vehicle | None = orders.target_vehicle()
+        self.goals: dict[str, Goal] = orders.goal_index()
+        self.areas = orders.area_index()
+        self.expr_findings: list[Finding] = []
+        self.constraints: list[ParsedConstraint] = []
+        self.norms: list[ParsedNorm] = []
+        self._spec_cache: dict[str, str] = {}
+        self._parse_constraints()
+        self._parse_norms()
+        self.mission_constraints = [c for c in self.constraints if c.mission]
+        self.scope: dict[str, list[ParsedConstraint]] = {gid: [] for gid in self.goals}
+        for constraint in self.constraints:
+            targets = self.goals if constraint.mission else constraint.goals
+            for gid in targets:
+                if gid in self.scope:
+                    self.scope[gid].append(constraint)
+        self._items: dict[str, Item] = {}
+        self.permissions = [n for n in self.norms if n.modality == "permitted"]
+        self._breaches: dict[str, Expr] = {}
+        self._relevant: dict[tuple[str | None, str | None], list[ParsedNorm]] = {}
+        self._residual: dict[tuple[str, str | None, str | None], bool] = {}
+        self._scope_reads: dict[str, Reads] = {}
+        # One z3 session per version of the orders, shared by check_logic and
+        # check_properties; runs that use it hold the lock.
+        self.session: Session | None = None
+        self.lock = threading.RLock()
+
+    # Parsing -----------------------------------------------------------------------------
+
+    def parse_condition(self, text: str, label: str, subject: str, field_name: str,
+                        sink: list[Finding] | None = None) -> Expr | None:
+        """The checked tree of a condition, or None after adding an EXPR finding to `sink`
+        (by default the model's own list)."""
+        try:
+            expr = parse(text)
+            self.checker.condition(expr)
+        except ExprError as exc:
+            (self.expr_findings if sink is None else sink).append(
+                error(
+                    "EXPR",
+                    [subject],
+                    exc.located(label),
+                    field=field_name,
+                    column=exc.column,
+                    expression=text[:500],
+                )
+            )
+            return None
+        return expr
+
+    def _parse_constraints(self) -> None:
+        seen: dict[str, int] = {}
+        for constraint in self.orders.constraints:
+            if constraint.expr is None:
+                continue
+            expr = self.parse_condition(constraint.expr, constraint.id, constraint.id, "expr")
+            if expr is None:
+                continue
+            count = seen.get(constraint.id, 0)
+            seen[constraint.id] = count + 1
+            key = f"con:{constraint.id}" + (f"#{count}" if count else "")
+            mission = constraint.applies_to == "mission"
+            goals = frozenset() if mission else frozenset(constraint.applies_to)
+            self.constraints.append(
+                ParsedConstraint(
+                    constraint.id, key, constraint.text, constraint.expr, expr, reads(expr),
+                    mission, goals,
+                )
+            )
+
+    def _norm_context(self, norm: Norm) -> tuple[Expr | None, str | None]:
+        text = norm.context.strip()
+        known_tags = {tag for area in self.orders.areas for tag in area.contexts}
+        if text in known_tags or (
+            _IDENTIFIER.fullmatch(text)
+            and text not in self.quantities
+            and text.lower() not in RESERVED
+        ):
+            return Context(text, 1), text
+        return self.parse_condition(norm.context, f"{norm.id} context", norm.id, "context"), None
+
+    def _parse_norms(self) -> None:
+        seen: dict[str, int] = {}
+        for norm in self.orders.norms:
+            context, tag = self._norm_context(norm)
+            modality: Literal["forbidden", "obligated", "permitted"]
+            if norm.forbidden:
+                modality, text = "forbidden", norm.forbidden
+            elif norm.obligated:
+                modality, text = "obligated", norm.obligated
+            else:
+                modality, text = "permitted", norm.permitted or ""
+            body = self.parse_condition(text, f"{norm.id} {modality}", norm.id, modality)
+            if context is None or body is None:
+                continue
+            count = seen.get(norm.id, 0)
+            seen[norm.id] = count + 1
+            key = f"norm:{norm.id}" + (f"#{count}" if count else "")
+            self.norms.append(
+                ParsedNorm(norm, key, modality, context, tag, body,
+                           _merge_reads([reads(context), reads(body)]))
+            )
+
+    # Words -------------------------------------------------------------------------------
+
+    def spec(self, name: str) -> str:
+        """A quantity's declaration as text, for cache keys."""
+        cached = self._spec_cache.get(name)
+        if cached is None:
+            q = self.quantities.get(name) or Quantity()
+            cached = f"{name}:{q.type}:{q.unit}:{q.min}:{q.max}:{q.title}"
+            self._spec_cache[name] = cached
+        return cached
+
+    def specs(self, names: Iterable[str]) -> str:
+        return ",".join(self.spec(n) for n in sorted(names))
+
+    def words(self, expr: Expr) -> str:
+        text = describe(expr, self.quantities)
+        return text if len(text) <= MAX_WORDS else text[:MAX_WORDS - 5].rstrip() + " ..."
+
+    def unit(self, name: str) -> str:
+        spec = self.quantities.get(name)
+        return spec.unit if spec is not None else ""
+
+    @staticmethod
+    def goal_label(goal: Goal) -> str:
+        return f"{goal.id} {goal.title}" if goal.title else goal.id
+
+    def area_label(self, area_id: str) -> str:
+        area = self.areas.get(area_id)
+        return area.title if area is not None and area.title else f"area {area_id}"
+
+    def vehicle_label(self) -> str:
+        if self.vehicle is None:
+            return "the vehicle"
+        return f"the vehicle {self.vehicle.title or self.vehicle.id}"
+
+    def scope_reads(self, goal_id: str) -> Reads:
+        """What the constraints in a goal's scope read together (a superset when some are
+        quarantined, which only adds harmless facts and bounds)."""
+        found = self._scope_reads.get(goal_id)
+        if found is None:
+            found = self._scope_reads[goal_id] = _merge_reads(
+                c.reads for c in self.scope.get(goal_id, ()))
+        return found
+
+    def facts(self, goal: Goal) -> Facts:
+        area = self.areas.get(goal.area) if goal.area else None
+        return Facts(goal.behavior, goal.area, frozenset(area.contexts) if area else frozenset())
+
+    # Items -------------------------------------------------------------------------------
+
+    def _memo(self, key: str, build: Callable[[], Item]) -> Item:
+        item = self._items.get(key)
+        if item is None:
+            item = self._items[key] = build()
+        return item
+
+    def constraint_item(self, c: ParsedConstraint, suffix: str = "", negate: bool = False) -> Item:
+        key = ("neg:" if negate else "") + c.key + suffix
+
+        def build() -> Item:
+            return Item(
+                key, "negation" if negate else "constraint", c.id,
+                lambda: f"{c.id} requires {self.words(c.expr)}",
+                f"{key}|{c.source}|{c.text}|{self.specs(c.reads.quantities)}",
+                _with_suffix(expr_formula(c.expr, negate), suffix),
+                shared=not suffix, quantities=tuple(sorted(c.reads.quantities)),
+            )
+
+        return self._memo(key, build)
+
+    def envelope_item(self, goal: Goal, name: str, suffix: str = "") -> Item:
+        key = f"env:{goal.id}:{name}{suffix}"
+
+        def build() -> Item:
+            low, high = goal.envelope[name]
+            spec = self.quantities.get(name) or Quantity()
+
+            def phrase() -> str:
+                words = quantity_words(name, self.quantities)
+                if spec.type == "boolean":
+                    value = "true" if low > 0 else "false" if high < 1 else "true or false"
+                    return f"{self.goal_label(goal)} is ordered with {words} {value}"
+                return (f"{self.goal_label(goal)} is ordered at {words} "
+                        f"{_range_words(low, high, spec.unit)}")
+
+            return Item(
+                key, "envelope", goal.id, phrase,
+                f"{key}|{goal.title}|{low!r}|{high!r}|{self.spec(name)}",
+                _with_suffix(_interval_formula(name, spec, low, high), suffix),
+                shared=False, quantities=(name,),
+            )
+
+        return self._memo(key, build)
+
+    def vehicle_item(self, name: str, suffix: str = "") -> Item | None:
+        if self.vehicle is None or name not in self.vehicle.envelope:
+            return None
+        vehicle = self.vehicle
+        key = f"veh:{vehicle.id}:{name}{suffix}"
+
+        def build() -> Item:
+            low, high = vehicle.envelope[name]
+            spec = self.quantities.get(name) or Quantity()
+
+            def phrase() -> str:
+                return (f"{self.vehicle_label()} is limited to "
+                        f"{quantity_words(name, self.quantities)} "
+                        f"{_range_words(low, high, spec.unit)}")
+
+            return Item(
+                key, "vehicle", vehicle.id, phrase,
+                f"{key}|{vehicle.title}|{low!r}|{high!r}|{self.spec(name)}",
+                _with_suffix(_interval_formula(name, spec, low, high), suffix),
+                shared=not suffix, quantities=(name,),
+            )
+
+        return self._memo(key, build)
+
+    def domain_item(self, name: str, suffix: str = "") -> Item | None:
+        spec = self.quantities.get(name)
+        if spec is None or spec.type == "boolean" or (spec.min is None and spec.max is None):
+            return None
+        key = f"dom:{name}{suffix}"
+
+        def phrase() -> str:
+            assert spec is not None
+            words = quantity_words(name, self.quantities)
+            if spec.min is not None and spec.max is not None:
+                return f"{words} always lies within {_range_words(spec.min, spec.max, spec.unit)}"
+            if spec.min is not None:
+                return f"{words} is never below {with_unit(number_words(spec.min), spec.unit)}"
+            assert spec.max is not None
+            return f"{words} is never above {with_unit(number_words(spec.max), spec.unit)}"
+
+        def build() -> Item:
+            assert spec is not None
+            return Item(
+                key, "domain", name, phrase, f"{key}|{self.spec(name)}",
+                _with_suffix(_interval_formula(name, spec, spec.min, spec.max), suffix),
+                shared=not suffix, quantities=(name,),
+            )
+
+        return self._memo(key, build)
+
+    def background(self, names: Iterable[str], suffix: str = "") -> list[Item]:
+        """Vehicle envelope and domain items of some quantities."""
+        items: list[Item] = []
+        for name in sorted(set(names)):
+            for item in (self.vehicle_item(name, suffix), self.domain_item(name, suffix)):
+                if item is not None:
+                    items.append(item)
+        return items
+
+    def fact_items(self, goal: Goal, needs: Reads, suffix: str = "") -> list[Item]:
+        items: list[Item] = []
+        label = self.goal_label(goal)
+        if needs.behavior:
+            key = f"beh:{goal.id}{suffix}"
+
+            def behavior() -> Item:
+                code_of = goal.behavior
+                return Item(
+                    key, "behavior", goal.id,
+                    lambda: (f"{label} has behavior {goal.behavior!r}" if goal.behavior
+                             else f"{label} names no behavior"),
+                    f"{key}|{goal.title}|{goal.behavior}",
+                    _with_suffix(
+                        lambda t: f"(= {t.special('behavior')} {smt_int(t.string_code(code_of))})",
+                        suffix,
+                    ),
+                    shared=False,
+                )
+
+            items.append(self._memo(key, behavior))
+        if needs.area:
+            key = f"area:{goal.id}{suffix}"
+
+            def area() -> Item:
+                code_of = goal.area
+                return Item(
+                    key, "area", goal.id,
+                    lambda: (f"{label} runs in {self.area_label(goal.area)}" if goal.area
+                             else f"{label} names no area"),
+                    f"{key}|{goal.title}|{goal.area}|{self.area_label(goal.area or '')}",
+                    _with_suffix(
+                        lambda t: f"(= {t.special('area')} {smt_int(t.string_code(code_of))})",
+                        suffix,
+                    ),
+                    shared=False,
+                )
+
+            items.append(self._memo(key, area))
+        facts = self.facts(goal)
+        for tag in sorted(needs.tags):
+            key = f"ctx:{goal.id}:{tag}{suffix}"
+            holds = tag in facts.tags
+
+            def context(tag: str = tag, holds: bool = holds, key: str = key) -> Item:
+                def phrase() -> str:
+                    if goal.area:
+                        return f"{self.area_label(goal.area)} {tag_state(tag, holds)}"
+                    return f"{label} names no area, so it is not {in_tag(tag)}"
+
+                return Item(
+                    key, "context", goal.area or goal.id, phrase,
+                    f"{key}|{goal.title}|{goal.area}|{self.area_label(goal.area or '')}|{holds}",
+                    _with_suffix(
+                        lambda t: t.context(tag) if holds else f"(not {t.context(tag)})", suffix
+                    ),
+                    shared=False,
+                )
+
+            items.append(self._memo(key, context))
+        return items
+
+    # Norms -------------------------------------------------------------------------------
+
+    def _where(self, n: ParsedNorm) -> str:
+        if n.tag is not None:
+            return in_tag(n.tag)
+        return f"when {self.words(n.context)}"
+
+    def _object(self, n: ParsedNorm) -> str:
+        body = n.body
+        if (isinstance(body, Compare) and body.ops == ("==",)
+                and isinstance(body.operands[0], Special) and body.operands[0].name == "behavior"
+                and isinstance(body.operands[1], Text)):
+            return f"the behavior {body.operands[1].value!r}"
+        return self.words(body)
+
+    def norm_phrase(self, n: ParsedNorm) -> str:
+        verb = {"forbidden": "forbids", "obligated": "requires", "permitted": "permits"}
+        return f"{n.norm.id} {verb[n.modality]} {self._object(n)} {self._where(n)}"
+
+    def breach_expr(self, n: ParsedNorm) -> Expr:
+        """The states that break a norm: the context with the forbidden state, or the context
+        without the obligated one. A permission that applies is an exception to a prohibition
+        (every permission of the orders is considered; one whose context does not hold for a
+        goal excuses nothing there)."""
+        found = self._breaches.get(n.key)
+        if found is not None:
+            return found
+        if n.modality == "obligated":
+            breach: Expr = Logic("and", (n.context, Not(n.body, 1)), 1)
+        else:
+            operands: list[Expr] = [n.context, n.body]
+            for p in self.permissions:
+                operands.append(Not(Logic("and", (p.context, p.body), 1), 1))
+            breach = Logic("and", tuple(operands), 1)
+        self._breaches[n.key] = breach
+        return breach
+
+    def relevant_norms(self, goal: Goal) -> list[ParsedNorm]:
+        """Prohibitions and obligations that the goal's facts do not already rule out."""
+        key = (goal.behavior, goal.area)
+        found = self._relevant.get(key)
+        if found is None:
+            facts = self.facts(goal)
+            found = [n for n in self.norms if n.modality != "permitted"
+                     and fold(self.breach_expr(n), facts) is not False]
+            self._relevant[key] = found
+        return found
+
+    def residual(self, n: ParsedNorm, goal: Goal) -> bool:
+        """Whether a breach of the norm depends on quantities (not decided by facts alone)."""
+        key = (n.key, goal.behavior, goal.area)
+        found = self._residual.get(key)
+        if found is None:
+            found = self._residual[key] = fold(self.breach_expr(n), self.facts(goal)) is None
+        return found
+
+    def norm_items(self, n: ParsedNorm) -> tuple[Item, Item]:
+        """(the norm as a rule: no breach, the breach itself) for one norm."""
+        def build_rule() -> Item:
+            permissions = self.permissions if n.modality == "forbidden" else []
+            quantities = tuple(sorted(_merge_reads(
+                [n.reads, *(p.reads for p in permissions)]).quantities))
+            exceptions = "".join(
+                f"|{p.norm.id}:{p.norm.context}:{p.norm.permitted}" for p in permissions
+            )
+            source = (f"{n.key}|{n.norm.context}|{n.modality}|{getattr(n.norm, n.modality)}|"
+                      f"{n.norm.text}{exceptions}|{self.specs(quantities)}")
+
+            def phrase() -> str:
+                words = self.norm_phrase(n)
+                if permissions:
+                    words += " (unless " + " or ".join(
+                        self.norm_phrase(p) for p in permissions) + ")"
+                return words
+
+            return Item(n.key, "norm", n.norm.id, phrase, source,
+                        expr_formula(self.breach_expr(n), negate=True), quantities=quantities)
+
+        rule = self._memo(n.key, build_rule)
+        breach_key = f"breach:{n.key}"
+        broken = self._memo(breach_key, lambda: Item(
+            breach_key, "breach", n.norm.id, lambda: rule.phrase, "breach|" + rule.source,
+            expr_formula(self.breach_expr(n)), quantities=rule.quantities,
+        ))
+        return rule, broken
+
+    def norm_reads(self, n: ParsedNorm) -> Reads:
+        if n.modality != "forbidden":
+            return n.reads
+        return _merge_reads([n.reads, *(p.reads for p in self.permissions)])

@@ -1,0 +1,213 @@
+"""One run of the logic check: the units, their cache and their solver session."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterable, Sequence
+from typing import Any
+
+from ...orders.model import Goal
+from ..expressions import (
+    Reads,
+)
+from .cache import LogicCache, unit_key
+from .constants import _KIND_ORDER, MAX_CORES_PER_UNIT
+from .items import Item, Part
+from .model import LogicModel, ParsedConstraint, _merge_reads
+from .results import Core, GoalResult, MissionResult, Risk, VacuousResult
+from .session import Limits, Session
+
+
+class LogicRun:
+    """One run of checks: the units, the cache and the model's z3 session."""
+
+    def __init__(self, model: LogicModel, cache: LogicCache | None, limits: Limits) -> None:
+        self.model = model
+        self.cache = cache if cache is not None else LogicCache()
+        self.limits = limits
+        self._session: Session | None = None
+        self.solved_units = 0
+
+    @property
+    def session(self) -> Session:
+        """The model's z3 session (one per version of the orders), under this run's limits.
+        Callers hold `model.lock` for the whole run."""
+        if self._session is None:
+            session = self.model.session
+            if session is None:
+                session = self.model.session = Session(self.model.quantities, self.limits)
+            session.limits = self.limits
+            self._session = session
+        return self._session
+
+    def cached(self, kind: str, items: Iterable[Item], solve: Callable[[], Any]) -> Any:
+        key = unit_key(kind, items)
+        found = self.cache.get(key)
+        if found is not None:
+            return found
+        self.solved_units += 1
+        result = solve()
+        # What a timeout cut short (undecided, or a core not proven minimal) is tried again.
+        cores = [c for name in ("cores", "contradictions", "refusals", "core")
+                 for c in _as_tuple(getattr(result, name, ()))]
+        if getattr(result, "undecided", None) is None and all(c.minimal for c in cores):
+            self.cache.put(key, result)
+        return result
+
+    def cores(self, items: list[Item], drop: Callable[[list[Item]], list[Item]],
+              limit: int = MAX_CORES_PER_UNIT) -> tuple[list[Core], list[Item], str | None]:
+        """Minimal cores of an item set, dropping items after each so that independent
+        contradictions are all found (up to a limit). Returns (cores, remaining, undecided)."""
+        session = self.session
+        found: list[Core] = []
+        result = session.check(items)
+        while result.status == "unsat" and len(found) < limit:
+            core, minimal = session.minimal_core(result.core)
+            if not core:
+                break
+            found.append(Core(tuple(sorted_parts(core)), minimal))
+            removed = drop(core)
+            if not removed:
+                break
+            items = [i for i in items if i not in removed]
+            result = session.check(items)
+        undecided = result.reason if result.status == "unknown" else None
+        return found, items, undecided
+
+    # Mission -------------------------------------------------------------------------------
+
+    def mission(self) -> MissionResult:
+        model = self.model
+        names: set[str] = set(model.vehicle.envelope) if model.vehicle else set()
+        for c in model.mission_constraints:
+            names |= c.reads.quantities
+        items = model.background(names) + [model.constraint_item(c)
+                                           for c in model.mission_constraints]
+        result: MissionResult = self.cached("mission", items, lambda: self._solve_mission(items))
+        return result
+
+    def _solve_mission(self, items: list[Item]) -> MissionResult:
+        def drop(core: list[Item]) -> list[Item]:
+            return [i for i in core if i.kind == "constraint"] or [
+                i for i in core if i.kind == "vehicle"] or core
+
+        with self.session.scope(items):
+            cores, remaining, undecided = self.cores(items, drop, limit=5)
+        quarantined = frozenset(i.key for i in items if i not in remaining)
+        return MissionResult(tuple(cores), quarantined, undecided)
+
+    # Goals ---------------------------------------------------------------------------------
+
+    def goal_items(self, goal: Goal, quarantined: frozenset[str],
+                   extra: Sequence[Reads] = ()) -> tuple[list[Item], list[ParsedConstraint]]:
+        """The statements that hold while a goal runs as ordered: its envelope, the facts that
+        expressions read, the constraints in scope, the vehicle envelope and the domains."""
+        model = self.model
+        constraints = [c for c in model.scope.get(goal.id, ()) if c.key not in quarantined]
+        needs = _merge_reads([model.scope_reads(goal.id), *extra])
+        names = set(goal.envelope) | needs.quantities
+        items = [model.envelope_item(goal, name) for name in sorted(goal.envelope)]
+        items += model.fact_items(goal, needs)
+        items += [model.constraint_item(c) for c in constraints]
+        items += [i for i in model.background(names) if i.key not in quarantined]
+        return items, constraints
+
+    def goal(self, goal: Goal, quarantined: frozenset[str]) -> GoalResult:
+        model = self.model
+        norms = model.relevant_norms(goal)
+        items, _ = self.goal_items(goal, quarantined, [model.norm_reads(n) for n in norms])
+        norm_items = [model.norm_items(n) for n in norms]
+        residual = [pair for n, pair in zip(norms, norm_items, strict=True)
+                    if model.residual(n, goal)]
+        every = items + [i for pair in norm_items for i in pair]
+        result: GoalResult = self.cached(
+            "goal", every, lambda: self._solve_goal(items, norm_items, residual)
+        )
+        return result
+
+    def _solve_goal(self, items: list[Item], norm_items: list[tuple[Item, Item]],
+                    residual: list[tuple[Item, Item]]) -> GoalResult:
+        session = self.session
+        every = items + [i for pair in norm_items for i in pair]
+
+        def drop_contradiction(core: list[Item]) -> list[Item]:
+            return [i for i in core if i.kind == "constraint"] or [
+                i for i in core if i.kind == "envelope"] or core
+
+        def drop_norms(core: list[Item]) -> list[Item]:
+            return [i for i in core if i.kind == "norm"] or core
+
+        rules = [rule for rule, _ in norm_items]
+        refusals: list[Core] = []
+        undecided: str | None = None
+        with session.scope(every):
+            # Most goals are fine: one check of everything settles both questions.
+            together = session.check(items + rules) if rules else None
+            if together is None or together.status != "sat":
+                contradictions, _, undecided = self.cores(items, drop_contradiction)
+                if contradictions or undecided is not None or not rules:
+                    return GoalResult(tuple(contradictions), (), (), undecided)
+                refusals, _, undecided = self.cores(items + rules, drop_norms,
+                                                    limit=len(rules))
+            refused = {i.key for core in refusals for i in core.parts}
+            risks: list[Risk] = []
+            for rule, breach in residual:
+                if rule.key in refused or undecided is not None:
+                    continue
+                result = session.check([*items, breach])
+                if result.status == "sat":
+                    witness = session.witness(breach.quantities)
+                    risks.append(Risk(rule.part, tuple(sorted(witness.items()))))
+                elif result.status == "unknown":
+                    undecided = result.reason
+        return GoalResult((), tuple(refusals), tuple(risks), undecided)
+
+    # Vacuous constraints -------------------------------------------------------------------
+
+    def vacuous_batch(self, constraints: Iterable[ParsedConstraint]) -> None:
+        """Settle the constraints whose negation can hold with few solver checks (one model
+        serves many), caching the same result one check each would give; the others (the
+        vacuous and the undecided) are left for `vacuous`."""
+        model = self.model
+        pending: list[tuple[str, list[Item]]] = []
+        for c in constraints:
+            items = [model.constraint_item(c, negate=True), *model.background(c.reads.quantities)]
+            key = unit_key("vacuous", items)
+            if self.cache.get(key) is None:
+                pending.append((key, items))
+        if len(pending) < 2:
+            return
+        shown = self.session.satisfiable_groups([items for _, items in pending])
+        for (key, _), sat in zip(pending, shown, strict=True):
+            if sat:
+                self.solved_units += 1
+                self.cache.put(key, VacuousResult(None, None))
+
+    def vacuous(self, c: ParsedConstraint) -> VacuousResult:
+        model = self.model
+        negation = model.constraint_item(c, negate=True)
+        items = [negation, *model.background(c.reads.quantities)]
+        result: VacuousResult = self.cached("vacuous", items, lambda: self._solve_vacuous(items))
+        return result
+
+    def _solve_vacuous(self, items: list[Item]) -> VacuousResult:
+        session = self.session
+        with session.scope(items):
+            result = session.check(items)
+            if result.status == "unknown":
+                return VacuousResult(None, result.reason)
+            if result.status == "sat" or items[0] not in result.core:
+                return VacuousResult(None, None)
+            core, minimal = session.minimal_core(result.core)
+        if items[0] not in core:
+            return VacuousResult(None, None)
+        return VacuousResult(Core(tuple(sorted_parts(core)), minimal), None)
+
+
+def _as_tuple(value: object) -> tuple[Core, ...]:
+    if isinstance(value, Core):
+        return (value,)
+    return tuple(c for c in value if isinstance(c, Core)) if isinstance(value, tuple) else ()
+
+
+def sorted_parts(items: Iterable[Item]) -> list[Part]:
+    return [i.part for i in sorted(items, key=lambda i: (_KIND_ORDER.get(i.kind, 9), i.key))]

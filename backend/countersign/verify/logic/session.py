@@ -1,0 +1,268 @@
+"""A z3 session: items asserted behind indicators, checks under a time budget."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterable, Iterator, Sequence
+from contextlib import contextmanager
+from dataclasses import dataclass
+from fractions import Fraction
+from typing import Any, Literal
+
+from ...orders.model import Quantity
+from ..expressions import (
+    Translator,
+    number_words,
+)
+from ..z3_adapter import check_assumptions
+from .items import Item
+
+
+def _z3() -> Any:
+    import z3
+
+    return z3
+
+
+@dataclass
+class Limits:
+    per_call_ms: int
+    deadline: float
+
+    @classmethod
+    def start(cls, per_call_ms: int, total_s: float) -> Limits:
+        return cls(per_call_ms, time.monotonic() + total_s)
+
+    def remaining_ms(self) -> int:
+        return int((self.deadline - time.monotonic()) * 1000)
+
+
+@dataclass(frozen=True)
+class CheckResult:
+    status: Literal["sat", "unsat", "unknown"]
+    core: tuple[Item, ...] = ()
+    reason: str = ""
+
+
+class Session:
+    """A z3 context and an incremental solver. Shared items are asserted once at the base
+    level; goal-specific items inside a push/pop scope."""
+
+    def __init__(self, quantities: dict[str, Quantity], limits: Limits) -> None:
+        z3 = _z3()
+        self.z3 = z3
+        self.ctx = z3.Context()
+        self.solver = z3.SimpleSolver(ctx=self.ctx)
+        self.limits = limits
+        self.translator = Translator(quantities)
+        self._timeout: int | None = None
+        self._declared_symbols = 0
+        self._indicators: dict[str, str] = {}
+        self._literals: dict[str, Any] = {}
+        self._ids: dict[str, int] = {}
+        self._based: set[str] = set()
+        self._items: dict[str, Item] = {}
+        self.in_scope = False
+        self._batches = 0
+        self.calls = 0
+        self.undecided = False
+
+    def _indicator(self, item: Item) -> tuple[str, bool]:
+        name = self._indicators.get(item.key)
+        if name is not None:
+            return name, False
+        name = f"a:{len(self._indicators)}"
+        self._indicators[item.key] = name
+        return name, True
+
+    def _assert(self, items: Iterable[Item]) -> None:
+        chunks: list[str] = []
+        for item in items:
+            name, new = self._indicator(item)
+            self._items[name] = item
+            formula = item.formula(self.translator)
+            if new:
+                chunks.append(f"(declare-const |{name}| Bool)")
+            chunks.append(f"(assert (=> |{name}| {formula}))")
+        symbols = self.translator.symbols
+        if len(symbols) > self._declared_symbols:
+            fresh = list(symbols.items())[self._declared_symbols:]
+            self._declared_symbols = len(symbols)
+            chunks.insert(0, "".join(f"(declare-const {s} {sort})" for s, sort in fresh))
+        if chunks:
+            self.solver.from_string("".join(chunks))
+
+    @contextmanager
+    def scope(self, items: Iterable[Item]) -> Iterator[None]:
+        """Make items checkable: shared ones permanently, the others until the scope ends."""
+        assert not self.in_scope
+        items = list(items)
+        shared = [i for i in items if i.shared and i.key not in self._based]
+        if shared:
+            self._assert(shared)
+            self._based.update(i.key for i in shared)
+        self.solver.push()
+        self.in_scope = True
+        try:
+            self._assert(i for i in items if not i.shared)
+            yield
+        finally:
+            self.solver.pop()
+            self.in_scope = False
+
+    def _literal(self, item: Item) -> Any:
+        name = self._indicators[item.key]
+        literal = self._literals.get(name)
+        if literal is None:
+            literal = self._literals[name] = self.z3.Bool(name, self.ctx)
+            self._ids[item.key] = literal.get_id()
+        return literal
+
+    def check(self, items: Sequence[Item]) -> CheckResult:
+        z3 = self.z3
+        remaining = self.limits.remaining_ms()
+        if remaining <= 0:
+            self.undecided = True
+            return CheckResult("unknown", reason="time budget exhausted")
+        timeout = max(1, min(self.limits.per_call_ms, remaining))
+        if timeout != self._timeout:
+            self.solver.set("timeout", timeout)
+            self._timeout = timeout
+        self.calls += 1
+        literals = [self._literal(i) for i in items]
+        # The C call directly (z3_adapter): the wrapper's own checks cost more than solving.
+        try:
+            status = check_assumptions(z3, self.ctx, self.solver, literals)
+        except z3.Z3Exception as exc:  # pragma: no cover - defensive: never crash a report
+            self.undecided = True
+            return CheckResult("unknown", reason=f"solver error: {exc}")
+        if status == "sat":
+            return CheckResult("sat")
+        if status == "unsat":
+            ids = {literal.get_id() for literal in self.solver.unsat_core()}
+            core = tuple(i for i in items if self._ids[i.key] in ids)
+            return CheckResult("unsat", core or tuple(items))
+        self.undecided = True
+        reason = self.solver.reason_unknown()
+        if reason in {"canceled", "timeout"}:
+            reason = f"timeout after {timeout:,} ms"
+        return CheckResult("unknown", reason=reason)
+
+    def satisfiable_groups(self, groups: Sequence[Sequence[Item]]) -> list[bool]:
+        """Which groups of items are shown satisfiable (each on its own), with few checks:
+        ask for a model of "some group holds", mark every group that model satisfies, and
+        ask again for the rest. False means not shown (unsatisfiable or undecided): the caller
+        checks those one by one, so results are those of one check per group."""
+        shown = [False] * len(groups)
+        if not groups or self.limits.remaining_ms() <= 0:
+            return shown
+        assert not self.in_scope
+        z3 = self.z3
+        formulas = []
+        for group in groups:
+            parts = [item.formula(self.translator) for item in group]
+            formulas.append(parts[0] if len(parts) == 1 else f"(and {' '.join(parts)})")
+        base = self._batches
+        self._batches += len(groups)
+        names = [f"|v:{base + i}|" for i in range(len(groups))]
+        # Declarations at the base level (they assert nothing), definitions inside the scope.
+        symbols = self.translator.symbols
+        chunks = [f"(declare-const {s} {sort})"
+                  for s, sort in list(symbols.items())[self._declared_symbols:]]
+        self._declared_symbols = len(symbols)
+        chunks.extend(f"(declare-const {name} Bool)" for name in names)
+        self.solver.from_string("".join(chunks))
+        literals = [z3.Bool(name.strip("|"), self.ctx) for name in names]
+        self.solver.push()
+        try:
+            self.solver.from_string("".join(
+                f"(assert (= {name} {formula}))"
+                for name, formula in zip(names, formulas, strict=True)
+            ))
+            pending = list(range(len(groups)))
+            while pending:
+                remaining = self.limits.remaining_ms()
+                if remaining <= 0:
+                    break
+                timeout = max(1, min(self.limits.per_call_ms, remaining))
+                if timeout != self._timeout:
+                    self.solver.set("timeout", timeout)
+                    self._timeout = timeout
+                self.calls += 1
+                self.solver.push()
+                try:
+                    self.solver.add(z3.Or([literals[i] for i in pending]))
+                    if self.solver.check() != z3.sat:
+                        break
+                    model = self.solver.model()
+                    found = [i for i in pending
+                             if z3.is_true(model.eval(literals[i], model_completion=True))]
+                finally:
+                    self.solver.pop()
+                if not found:  # pragma: no cover - a model of the disjunction satisfies one
+                    break
+                for i in found:
+                    shown[i] = True
+                pending = [i for i in pending if not shown[i]]
+        finally:
+            self.solver.pop()
+        return shown
+
+    def witness(self, quantities: Iterable[str], suffix: str = "") -> dict[str, str]:
+        """Values of some quantities in the model of the last satisfiable check."""
+        z3 = self.z3
+        model = self.solver.model()
+        translator = self.translator.with_suffix(suffix)
+        values: dict[str, str] = {}
+        for name in quantities:
+            symbol, kind = translator.quantity(name)
+            sort = {"boolean": z3.BoolSort(self.ctx), "integer": z3.IntSort(self.ctx)}.get(
+                kind, z3.RealSort(self.ctx)
+            )
+            value = model.eval(z3.Const(symbol.strip("|"), sort), model_completion=True)
+            if kind == "boolean":
+                values[name] = "true" if z3.is_true(value) else "false"
+            elif kind == "integer":
+                values[name] = str(value.as_long())
+            else:
+                values[name] = _decimal(value)
+        return values
+
+    # Minimal cores (seed 001, Algorithm 1) ---------------------------------------------------
+
+    def minimal_core(self, core: Sequence[Item], hard: Sequence[Item] = ()) -> tuple[
+        list[Item], bool
+    ]:
+        """A minimal subset M of `core` with `hard` + M unsatisfiable, given that `hard` alone
+        is satisfiable and `hard` + `core` is not. Returns (M, proven minimal)."""
+        self.undecided = False
+        found = self._minimise(list(core), list(hard))
+        return found, not self.undecided
+
+    def _minimise(self, s: list[Item], s0: list[Item]) -> list[Item]:
+        # Algorithm 1: split S in two halves S' and S''. If either half is already
+        # unsatisfiable with S0, recurse into it; otherwise each half needs part of the other:
+        # minimise S' against S0 + S'', then S'' against S0 + S'min.
+        if len(s) <= 1:
+            return s
+        half = len(s) // 2
+        first, second = s[:half], s[half:]
+        result = self.check([*s0, *first])
+        if result.status == "unsat":
+            inside = [i for i in first if i in result.core]
+            return self._minimise(inside, s0) if inside else []
+        result = self.check([*s0, *second])
+        if result.status == "unsat":
+            inside = [i for i in second if i in result.core]
+            return self._minimise(inside, s0) if inside else []
+        first_min = self._minimise(first, [*s0, *second])
+        second_min = self._minimise(second, [*s0, *first_min])
+        return first_min + second_min
+
+
+def _decimal(value: Any) -> str:
+    try:
+        fraction = Fraction(value.numerator_as_long(), value.denominator_as_long())
+    except Exception:  # algebraic numbers from nonlinear problems
+        return str(value.as_decimal(6)).rstrip("?")
+    return number_words(fraction)
