@@ -19,8 +19,8 @@ from countersign import cli
 from countersign.approvals.bundle import verify_bundle
 from countersign.approvals.duty_rules import check_duties
 from countersign.approvals.log_rules import check_log
-from countersign.store import approvals as service
 from countersign.store.accounts import create_token, create_user
+from countersign.store.approvals import decisions
 
 from .approval_helpers import MISSION, approve, new_version, register_key, submit
 from .conftest import PASSWORD, World
@@ -59,7 +59,7 @@ def test_an_editor_promoted_to_supervisor_who_approves_is_named(
     assert promoted.status_code == 200, promoted.text
     signer = register_key(editor)
     # The app refuses eve (test_decision_guards.py); without the guard it would not.
-    monkeypatch.setattr(service, "_check_duties", lambda *a, **k: None)
+    monkeypatch.setattr(decisions, "_check_duties", lambda *a, **k: None)
     approval = approve(world, editor, signer, submission)
 
     bundle = world.client("auditor").get("/api/audit/bundle").json()

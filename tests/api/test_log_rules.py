@@ -14,7 +14,7 @@ from sqlalchemy import text
 from countersign.approvals.bundle import verify_bundle
 from countersign.approvals.log_rules import check_log
 from countersign.approvals.statement import statement_bytes
-from countersign.store import approvals as service
+from countersign.store.approvals import decisions, keys
 from countersign.store.tables import utcnow
 
 from .approval_helpers import (
@@ -47,11 +47,11 @@ def test_two_decisions_on_one_submission_are_named(world: World,
     submission = submit(world, new_version(world))
     approved = sign_prepared(prepare(supervisor, submission, signer, "approved"), signer)
     rejected = sign_prepared(prepare(supervisor, submission, signer, "rejected", "no"), signer)
-    monkeypatch.setattr(service, "_check_open", lambda ctx: None)
+    monkeypatch.setattr(decisions, "_check_open", lambda ctx: None)
     first = supervisor.post(f"/api/submissions/{submission}/decision",
                             json={"envelope": approved, "password": PASSWORD})
     assert first.status_code == 201, first.text
-    monkeypatch.setattr(service, "_check_fresh", lambda *a, **k: None)
+    monkeypatch.setattr(decisions, "_check_fresh", lambda *a, **k: None)
     second = supervisor.post(f"/api/submissions/{submission}/decision",
                              json={"envelope": rejected, "password": PASSWORD})
     assert second.status_code == 201, second.text
@@ -103,7 +103,7 @@ def test_a_key_revoked_before_it_signed_is_refused_by_the_verifier(
                               json={"envelope": envelope, "password": PASSWORD})
     assert refused.status_code == 403 and "revoked (log entry" in refused.json()["detail"]
     # A server that trusted the row (as before) accepts it; the offline verifier must not.
-    monkeypatch.setattr(service, "logged_key_revocation", lambda db, key_id: None)
+    monkeypatch.setattr(keys, "logged_key_revocation", lambda db, key_id: None)
     accepted = supervisor.post(f"/api/submissions/{submission}/decision",
                                json={"envelope": envelope, "password": PASSWORD})
     assert accepted.status_code == 201, accepted.text

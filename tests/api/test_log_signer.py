@@ -27,6 +27,7 @@ from countersign.approvals.signer import SignerError
 from countersign.cli import main
 from countersign.cli.witness import witness_round
 from countersign.store import approvals as service
+from countersign.store.approvals import decisions
 from countersign.store.db import Database
 from countersign.store.events import record
 from countersign.store.tables import SigningKey, User
@@ -64,7 +65,7 @@ def _forge_approval(world: World, submission: int) -> None:
                                             decision="approved", reason="", key_id=kid)
         envelope = json.dumps(dsse.sign_envelope(prepared.payload, key))
         # The attacker writes rows with the app's code but skips its password check.
-        with mock.patch.object(service, "confirm_password", lambda *a, **k: None):
+        with mock.patch.object(decisions, "confirm_password", lambda *a, **k: None):
             service.decide(db, submission_id=submission, supervisor=supervisor,
                            envelope=envelope, password=None,
                            signer=None)  # type: ignore[arg-type]  # the attacker has none
