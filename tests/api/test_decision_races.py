@@ -33,7 +33,7 @@ def server(world: World) -> Iterator[str]:
                                              log_level="warning"))
     thread = threading.Thread(target=instance.run, daemon=True)
     thread.start()
-    deadline = time.monotonic() + 30
+    deadline = time.monotonic() + 120
     while not instance.started:
         assert time.monotonic() < deadline, "server did not start"
         time.sleep(0.05)

@@ -89,7 +89,9 @@ export interface paths {
         };
         /**
          * Export Bundle
-         * @description An audit bundle for `countersign audit verify BUNDLE` (offline).
+         * @description An audit bundle for `countersign audit verify BUNDLE` (offline). A log with entries
+         *     deleted behind the app's back is a 409 problem naming them, whose `bundle` member holds
+         *     what remains.
          */
         get: operations["exportBundle"];
         put?: never;
@@ -688,6 +690,44 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/missions/{mission_id}/versions/{number}/executions": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /** Post Execution */
+        post: operations["recordExecution"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/missions/{mission_id}/versions/{number}/package": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Download Package
+         * @description The approved package of a version (countersign.package/1 tar): orders, vehicle files,
+         *     envelope, receipt, inclusion proof, checkpoint; `countersign vehicle verify` checks it.
+         */
+        get: operations["downloadPackage"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/missions/{mission_id}/versions/{number}/review": {
         parameters: {
             query?: never;
@@ -722,6 +762,40 @@ export interface paths {
         put?: never;
         /** Submit Version */
         post: operations["submitVersion"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/missions/{mission_id}/versions/{number}/vehicle/{format}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Get Vehicle Export */
+        get: operations["getVehicleExport"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/missions/{mission_id}/versions/{number}/vehicle/{format}/{name}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Download Vehicle Export */
+        get: operations["downloadVehicleExport"];
+        put?: never;
+        post?: never;
         delete?: never;
         options?: never;
         head?: never;
@@ -1152,6 +1226,65 @@ export interface paths {
 export type webhooks = Record<string, never>;
 export interface components {
     schemas: {
+        /**
+         * ApprovalDetailOut
+         * @description An approval as signed (GET /api/approvals/{id}).
+         */
+        ApprovalDetailOut: {
+            checkpoint: components["schemas"]["CheckpointOut"];
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
+            /** Decision */
+            decision: string;
+            /** Digest */
+            digest: string;
+            /** Envelope */
+            envelope: string;
+            /** Findings */
+            findings: components["schemas"]["FindingOut"][];
+            /** Id */
+            id: number;
+            inclusion: components["schemas"]["InclusionProofOut"] | null;
+            /**
+             * Integrity
+             * @description how this row disagrees with its log entry, which is the source of truth
+             */
+            integrity?: string[];
+            key: components["schemas"]["KeyOut"];
+            /** Key Id */
+            key_id: string;
+            /** Log Index */
+            log_index: number | null;
+            /** Mission */
+            mission: string;
+            /** Operator */
+            operator: string | null;
+            /** Orders */
+            orders: components["schemas"]["Orders"];
+            paths: components["schemas"]["PathCountsOut"] | null;
+            /** Plain */
+            plain: string;
+            /** Reason */
+            reason: string;
+            rehearsal: components["schemas"]["CitedRehearsalOut"] | null;
+            /** Revokes */
+            revokes: number | null;
+            /** Rules */
+            rules: string[];
+            /** Statement */
+            statement: components["schemas"]["Statement"];
+            /** Submission */
+            submission: number;
+            /** Supervisor */
+            supervisor: string | null;
+            /** Vehicle */
+            vehicle: string | null;
+            /** Version */
+            version: number;
+        };
         /** ApprovalOut */
         ApprovalOut: {
             /**
@@ -1198,6 +1331,25 @@ export interface components {
             /** Next Cursor */
             next_cursor: number | null;
         };
+        /** Area */
+        Area: {
+            /** Contexts */
+            contexts?: string[];
+            /** Id */
+            id: string;
+            /** Polygon */
+            polygon?: [
+                number,
+                number
+            ][];
+            /**
+             * Title
+             * @default
+             */
+            title?: string;
+        } & {
+            [key: string]: unknown;
+        };
         /** AttachIn */
         AttachIn: {
             /** Rehearsal */
@@ -1211,6 +1363,77 @@ export interface components {
             energy_wh?: number | null;
         } & {
             [key: string]: unknown;
+        };
+        /** BundleApprovalOut */
+        BundleApprovalOut: {
+            /** Decision */
+            decision: string;
+            /** Envelope */
+            envelope: string;
+            /** Id */
+            id: number;
+            inclusion: components["schemas"]["BundleInclusionOut"];
+            /** Log Index */
+            log_index: number;
+            /** Mission */
+            mission: string;
+        };
+        /** BundleInclusionOut */
+        BundleInclusionOut: {
+            /** Hashes */
+            hashes: string[];
+            /** Index */
+            index: number;
+            /** Size */
+            size: number;
+        };
+        /** BundleKeyOut */
+        BundleKeyOut: {
+            /** Created At */
+            created_at: string;
+            /** Key Id */
+            key_id: string;
+            /** Public Key */
+            public_key: string;
+            /** Revoked At */
+            revoked_at: string | null;
+            /** User */
+            user: string | null;
+        };
+        /**
+         * BundleOut
+         * @description An audit bundle for `countersign audit verify BUNDLE` (DESIGN.md, approval record).
+         */
+        BundleOut: {
+            /** Approvals */
+            approvals: components["schemas"]["BundleApprovalOut"][];
+            /** Checkpoints */
+            checkpoints: components["schemas"]["CheckpointOut"][];
+            /** Created At */
+            created_at: string;
+            /** Entries */
+            entries: string[];
+            /** Format */
+            format: string;
+            /** Keys */
+            keys: components["schemas"]["BundleKeyOut"][];
+            log_key: components["schemas"]["LogKeyOut"];
+            /** Orders */
+            orders: {
+                [key: string]: components["schemas"]["Orders"];
+            };
+            /** Receipts */
+            receipts: (string | null)[];
+            /** Rehearsals */
+            rehearsals: {
+                [key: string]: {
+                    [key: string]: unknown;
+                };
+            };
+            /** Scope */
+            scope: string | null;
+            /** Signer Refused */
+            signer_refused: string | null;
         };
         /**
          * Chart
@@ -1227,7 +1450,7 @@ export interface components {
              * @default other
              * @enum {string}
              */
-            kind: "protected_area" | "shipping_lane" | "traffic_separation" | "keep_out" | "anchorage" | "land" | "other";
+            kind?: "protected_area" | "shipping_lane" | "traffic_separation" | "keep_out" | "anchorage" | "land" | "other";
             /** Norms */
             norms?: components["schemas"]["ChartNorm"][];
             /** Polygon */
@@ -1239,7 +1462,7 @@ export interface components {
              * Title
              * @default
              */
-            title: string;
+            title?: string;
         } & {
             [key: string]: unknown;
         };
@@ -1267,7 +1490,7 @@ export interface components {
              * Text
              * @default
              */
-            text: string;
+            text?: string;
         } & {
             [key: string]: unknown;
         };
@@ -1275,6 +1498,104 @@ export interface components {
         ChartsSaved: {
             /** Saved */
             saved: string[];
+        };
+        /** CheckpointOut */
+        CheckpointOut: {
+            /** Created At */
+            created_at: string;
+            /** Key Id */
+            key_id: string;
+            /** Note */
+            note: string;
+            /** Origin */
+            origin: string;
+            /** Public Key */
+            public_key: string;
+            /** Root */
+            root: string;
+            /** Signature */
+            signature: string;
+            /** Signed Note */
+            signed_note: string;
+            /** Size */
+            size: number;
+        };
+        /** CitedRehearsalOut */
+        CitedRehearsalOut: {
+            /** Created At */
+            created_at: string;
+            /** Digest */
+            digest: string;
+            /** Mission */
+            mission: string;
+            /** Orders Digest */
+            orders_digest: string;
+            /** Owner */
+            owner: string | null;
+            /** Record */
+            record: {
+                [key: string]: unknown;
+            };
+            /** Replay */
+            replay: string;
+            /** Replay Digest */
+            replay_digest: string;
+            /** Source */
+            source: string;
+            /** Version */
+            version: number | null;
+        };
+        /** ConsistencyProofOut */
+        ConsistencyProofOut: {
+            /** First */
+            first: number;
+            /** First Root */
+            first_root: string;
+            /** Hashes */
+            hashes: string[];
+            /** Second */
+            second: number;
+            /** Second Root */
+            second_root: string;
+        };
+        /** Constraint */
+        Constraint: {
+            /**
+             * Applies To
+             * @default mission
+             */
+            applies_to?: "mission" | string[];
+            /** Expr */
+            expr?: string | null;
+            /** Id */
+            id: string;
+            /**
+             * Text
+             * @default
+             */
+            text?: string;
+        } & {
+            [key: string]: unknown;
+        };
+        /**
+         * Conversion
+         * @description A conversion function to the common currency of the rewards (seed 001 section 5.3):
+         *     linear `rate * x`, or exponential `scale * (exp(rate * x) - 1)`, x the amount used.
+         */
+        Conversion: {
+            /**
+             * Kind
+             * @default linear
+             * @enum {string}
+             */
+            kind?: "linear" | "exponential";
+            /** Rate */
+            rate: number;
+            /**
+             * Scale
+             * @default 1
+             */
+            scale?: number;
         };
         /** CosignatureIn */
         CosignatureIn: {
@@ -1288,6 +1609,47 @@ export interface components {
              * @description its C2SP tlog-cosignature line
              */
             cosignature: string;
+        };
+        /** CosignatureOut */
+        CosignatureOut: {
+            /** Cosignature */
+            cosignature: string;
+            /** Size */
+            size: number;
+            /** Witness */
+            witness: string;
+        };
+        /** CosignedCheckpointOut */
+        CosignedCheckpointOut: {
+            /** Cosignatures */
+            cosignatures: string[];
+            /** Created At */
+            created_at: string;
+            /** Key Id */
+            key_id: string;
+            /** Note */
+            note: string;
+            /** Origin */
+            origin: string;
+            /** Public Key */
+            public_key: string;
+            /** Root */
+            root: string;
+            /** Signature */
+            signature: string;
+            /** Signed Note */
+            signed_note: string;
+            /** Size */
+            size: number;
+        };
+        /** Cost */
+        Cost: {
+            /** Duration S */
+            duration_s?: number | null;
+            /** Energy Wh */
+            energy_wh?: number | null;
+        } & {
+            [key: string]: unknown;
         };
         /** CostPathOut */
         CostPathOut: {
@@ -1308,7 +1670,7 @@ export interface components {
              * Reason
              * @default
              */
-            reason: string;
+            reason?: string;
         };
         /**
          * DefaultRule
@@ -1324,21 +1686,30 @@ export interface components {
              * @default estimation
              * @enum {string}
              */
-            kind: "observation" | "estimation" | "goal" | "safety" | "action";
+            kind?: "observation" | "estimation" | "goal" | "safety" | "action";
             /**
              * Priority
              * @default 0
              */
-            priority: number;
+            priority?: number;
             /**
              * Text
              * @default
              */
-            text: string;
+            text?: string;
             /** Then */
             then: string;
         } & {
             [key: string]: unknown;
+        };
+        /** DeviationOut */
+        DeviationOut: {
+            /** Code */
+            code: string;
+            /** Message */
+            message: string;
+            /** Step */
+            step: number;
         };
         /** DraftIn */
         DraftIn: {
@@ -1363,6 +1734,25 @@ export interface components {
              * @description the signer's password, entered again for this decision: checked by the server (argon2) in this request and counted against the sign-in throttle; without it, or wrong, the decision is refused (403) even when validly signed
              */
             password?: string | null;
+        };
+        /**
+         * Event
+         * @description What happens at one position of a path: a goal ending with an outcome, or the terminal.
+         *     Every field given must match (a list: any of its items).
+         */
+        Event: {
+            /** Behavior */
+            behavior?: string | string[] | null;
+            /** Goal */
+            goal?: string | string[] | null;
+            /** Kind */
+            kind?: ("complete" | "abort") | null;
+            /** Outcome */
+            outcome?: ("succeed" | "fail" | "violate") | ("succeed" | "fail" | "violate")[] | null;
+            /** Terminal */
+            terminal?: string | string[] | null;
+        } & {
+            [key: string]: unknown;
         };
         /** EventOut */
         EventOut: {
@@ -1404,6 +1794,52 @@ export interface components {
             /** Title */
             title: string;
         };
+        /** ExecutionIn */
+        ExecutionIn: {
+            /**
+             * Log
+             * @description NDJSON, one line per goal run: goal, outcome, time, readings
+             */
+            log: string;
+        };
+        /** ExecutionOut */
+        ExecutionOut: {
+            /** Deviations */
+            deviations: components["schemas"]["DeviationOut"][];
+            /**
+             * Log Index
+             * @description the execution.recorded entry in the audit log
+             */
+            log_index: number | null;
+            /** Ok */
+            ok: boolean;
+            /** Path */
+            path: number | null;
+            /** Summary */
+            summary: string;
+            /** Terminal */
+            terminal: string | null;
+        };
+        /** ExportFileOut */
+        ExportFileOut: {
+            /** Media Type */
+            media_type: string;
+            /** Name */
+            name: string;
+            /** Sha256 */
+            sha256: string;
+            /** Size */
+            size: number;
+        };
+        /** ExportNoteOut */
+        ExportNoteOut: {
+            /** Code */
+            code: string;
+            /** Message */
+            message: string;
+            /** Path */
+            path: string;
+        };
         /** FaultIn */
         FaultIn: {
             /** Fault */
@@ -1423,7 +1859,7 @@ export interface components {
              * Title
              * @default
              */
-            title: string;
+            title?: string;
         } & {
             [key: string]: unknown;
         };
@@ -1442,10 +1878,63 @@ export interface components {
             /** Subjects */
             subjects: string[];
         };
+        /** Goal */
+        Goal: {
+            /** Area */
+            area?: string | null;
+            /** Behavior */
+            behavior?: string | null;
+            cost?: components["schemas"]["Cost"] | null;
+            /**
+             * Description
+             * @default
+             */
+            description?: string;
+            /** Envelope */
+            envelope?: {
+                [key: string]: [
+                    number,
+                    number
+                ];
+            };
+            /** Id */
+            id: string;
+            /** Next */
+            next?: {
+                [key: string]: string | string[] | null;
+            };
+            p?: components["schemas"]["OutcomeProbabilities"] | null;
+            /** Params */
+            params?: {
+                [key: string]: unknown;
+            };
+            /** Requires */
+            requires?: string[];
+            /**
+             * Title
+             * @default
+             */
+            title?: string;
+        } & {
+            [key: string]: unknown;
+        };
         /** HTTPValidationError */
         HTTPValidationError: {
             /** Detail */
             detail?: components["schemas"]["ValidationError"][];
+        };
+        /** InclusionProofOut */
+        InclusionProofOut: {
+            /** Hashes */
+            hashes: string[];
+            /** Index */
+            index: number;
+            /** Leaf Hash */
+            leaf_hash: string;
+            /** Root */
+            root: string;
+            /** Size */
+            size: number;
         };
         /** KeyIn */
         KeyIn: {
@@ -1453,7 +1942,7 @@ export interface components {
              * Name
              * @default
              */
-            name: string;
+            name?: string;
             /**
              * Password
              * @description fresh confirmation
@@ -1493,7 +1982,29 @@ export interface components {
              * Reason
              * @default
              */
-            reason: string;
+            reason?: string;
+        };
+        /** LogEntryOut */
+        LogEntryOut: {
+            /** Entry */
+            entry: string;
+            /** Index */
+            index: number;
+            /** Leaf Hash */
+            leaf_hash: string;
+            /** Receipt */
+            receipt: string | null;
+        };
+        /** LogKeyOut */
+        LogKeyOut: {
+            /** Key Id */
+            key_id: string;
+            /** Origin */
+            origin: string;
+            /** Public Key */
+            public_key: string;
+            /** Verifier Key */
+            verifier_key: string;
         };
         /** LoginRequest */
         LoginRequest: {
@@ -1514,7 +2025,7 @@ export interface components {
              * Import Findings
              * @default []
              */
-            import_findings: {
+            import_findings?: {
                 [key: string]: unknown;
             }[];
             /** Latest Version */
@@ -1526,9 +2037,7 @@ export interface components {
             /** Ok */
             ok: boolean | null;
             /** Orders */
-            orders: {
-                [key: string]: unknown;
-            };
+            orders: components["schemas"]["Orders"];
             /** Revision */
             revision: number;
             /** Status */
@@ -1602,6 +2111,74 @@ export interface components {
             /** Warnings */
             warnings: number | null;
         };
+        /** Norm */
+        Norm: {
+            /** Context */
+            context: string;
+            /** Forbidden */
+            forbidden?: string | null;
+            /** Id */
+            id: string;
+            /** Obligated */
+            obligated?: string | null;
+            /** Permitted */
+            permitted?: string | null;
+            /**
+             * Text
+             * @default
+             */
+            text?: string;
+        } & {
+            [key: string]: unknown;
+        };
+        /** Orders */
+        Orders: {
+            /** Areas */
+            areas?: components["schemas"]["Area"][];
+            /** Charts */
+            charts?: components["schemas"]["Chart"][];
+            /** Constraints */
+            constraints?: components["schemas"]["Constraint"][];
+            /**
+             * Description
+             * @default
+             */
+            description?: string;
+            /**
+             * Format
+             * @default countersign.orders/1
+             * @constant
+             */
+            format?: "countersign.orders/1";
+            /** Goals */
+            goals?: components["schemas"]["Goal"][];
+            /** Id */
+            id: string;
+            /** Norms */
+            norms?: components["schemas"]["Norm"][];
+            /** Properties */
+            properties?: components["schemas"]["PathProperty"][];
+            /** Quantities */
+            quantities?: {
+                [key: string]: components["schemas"]["Quantity"];
+            };
+            rules?: components["schemas"]["RuleSet"] | null;
+            /** Start */
+            start?: string | string[] | null;
+            /** Terminals */
+            terminals?: components["schemas"]["Terminal"][] | null;
+            /**
+             * Title
+             * @default
+             */
+            title?: string;
+            /** Vehicle */
+            vehicle?: string | null;
+            /** Vehicles */
+            vehicles?: components["schemas"]["Vehicle"][];
+        } & {
+            [key: string]: unknown;
+        };
         /** OutcomeIn */
         OutcomeIn: {
             /**
@@ -1634,6 +2211,26 @@ export interface components {
         } & {
             [key: string]: unknown;
         };
+        /** Pass */
+        Pass: {
+            /** Entry */
+            entry: [
+                number,
+                number
+            ];
+            /** Exit */
+            exit: [
+                number,
+                number
+            ];
+            /** Survey Wh */
+            survey_wh: number;
+            /**
+             * Title
+             * @default
+             */
+            title?: string;
+        };
         /** PasswordChange */
         PasswordChange: {
             /** Current Password */
@@ -1663,6 +2260,159 @@ export interface components {
             /** Next Cursor */
             next_cursor: string | null;
         };
+        /** PathProperty */
+        PathProperty: {
+            /** Always */
+            always?: string | null;
+            /** Id */
+            id: string;
+            /** Never */
+            never?: string | null;
+            p?: components["schemas"]["Event"] | null;
+            /** Pattern */
+            pattern?: ("absence" | "existence" | "universality" | "precedence" | "response" | "bounded_response") | null;
+            q?: components["schemas"]["Event"] | null;
+            r?: components["schemas"]["Event"] | null;
+            s?: components["schemas"]["Event"] | null;
+            /**
+             * Scope
+             * @default globally
+             * @enum {string}
+             */
+            scope?: "globally" | "before" | "after" | "between";
+            /**
+             * Text
+             * @default
+             */
+            text?: string;
+            within?: components["schemas"]["Within"] | null;
+        } & {
+            [key: string]: unknown;
+        };
+        /** PlanArea */
+        PlanArea: {
+            /** Id */
+            id: string;
+            /**
+             * Mandatory
+             * @default false
+             */
+            mandatory?: boolean;
+            /** Passes */
+            passes: components["schemas"]["Pass"][];
+            /** Reward */
+            reward: number;
+            /**
+             * Title
+             * @default
+             */
+            title?: string;
+        };
+        /**
+         * PlanOut
+         * @description The best plan (`feasible`) or why there is none (`conflict`, `message`); a feasible
+         *     plan carries its draft `orders`.
+         */
+        PlanOut: {
+            /** Conflict */
+            conflict?: string[] | null;
+            /** Energy Wh */
+            energy_wh?: number | null;
+            /** Feasible */
+            feasible: boolean;
+            /** Legs Wh */
+            legs_wh?: (number)[] | null;
+            /** Limit Wh */
+            limit_wh?: number | null;
+            /** Message */
+            message?: string | null;
+            /** Order */
+            order?: string[] | null;
+            /** Orders */
+            orders?: components["schemas"]["Orders"] | null;
+            /** Passes */
+            passes?: {
+                [key: string]: number;
+            } | null;
+            /** Reward */
+            reward?: number | null;
+            /** Value */
+            value?: number | null;
+        };
+        /** PlanProblem */
+        PlanProblem: {
+            /** Areas */
+            areas?: components["schemas"]["PlanArea"][];
+            /** Conversion */
+            conversion?: {
+                [key: string]: components["schemas"]["Conversion"];
+            };
+            /**
+             * Format
+             * @default countersign.plan/1
+             * @constant
+             */
+            format?: "countersign.plan/1";
+            /**
+             * Level
+             * @default 2
+             * @enum {integer}
+             */
+            level?: 1 | 2;
+            /** Recovery */
+            recovery: [
+                number,
+                number
+            ];
+            /** Start */
+            start: [
+                number,
+                number
+            ];
+            vehicle: components["schemas"]["PlanVehicle"];
+        };
+        /** PlanVehicle */
+        PlanVehicle: {
+            /** Battery Wh */
+            battery_wh: number;
+            /**
+             * Reserve Wh
+             * @default 0
+             */
+            reserve_wh?: number;
+            /** Transit Wh Per M */
+            transit_wh_per_m: number;
+        };
+        /**
+         * PreparedOut
+         * @description The statement to sign: sign `pae` (which must equal PAE(payloadType, payload)).
+         */
+        PreparedOut: {
+            /** Pae */
+            pae: string;
+            /** Payload */
+            payload: string;
+            /** Payloadtype */
+            payloadType: string;
+            /** Statement */
+            statement: components["schemas"]["Statement"];
+        };
+        /**
+         * PreviousApprovalOut
+         * @description The version approved before this one, for the review's diff.
+         */
+        PreviousApprovalOut: {
+            /** Approval */
+            approval: number;
+            /** Digest */
+            digest: string;
+            /** Orders */
+            orders: components["schemas"]["Orders"];
+            /** State */
+            state: string;
+            /** Version */
+            version: number;
+        };
         /** ProblemFromMission */
         ProblemFromMission: {
             /** Areas */
@@ -1673,7 +2423,7 @@ export interface components {
              * Level
              * @default 2
              */
-            level: number;
+            level?: number;
             /** Mandatory */
             mandatory?: string[];
             /** Recovery */
@@ -1685,7 +2435,7 @@ export interface components {
              * Reserve Wh
              * @default 0
              */
-            reserve_wh: number;
+            reserve_wh?: number;
             /** Rewards */
             rewards?: {
                 [key: string]: number;
@@ -1698,6 +2448,31 @@ export interface components {
             /** Swath M */
             swath_m?: number | null;
         };
+        /** Quantity */
+        Quantity: {
+            /** Max */
+            max?: number | null;
+            /** Min */
+            min?: number | null;
+            /**
+             * Title
+             * @default
+             */
+            title?: string;
+            /**
+             * Type
+             * @default real
+             * @enum {string}
+             */
+            type?: "real" | "integer" | "boolean";
+            /**
+             * Unit
+             * @default
+             */
+            unit?: string;
+        } & {
+            [key: string]: unknown;
+        };
         /**
          * ReadOrdersOut
          * @description Orders read from a file without storing anything, with what reading them found.
@@ -1707,13 +2482,11 @@ export interface components {
              * Findings
              * @default []
              */
-            findings: {
+            findings?: {
                 [key: string]: unknown;
             }[];
             /** Orders */
-            orders: {
-                [key: string]: unknown;
-            };
+            orders: components["schemas"]["Orders"];
         };
         /** RecordDetail */
         RecordDetail: {
@@ -1777,19 +2550,19 @@ export interface components {
              * Seed
              * @default 0
              */
-            seed: number;
+            seed?: number;
             /**
              * Source
              * @default manual
              * @enum {string}
              */
-            source: "manual" | "replay" | "tour" | "simulate";
+            source?: "manual" | "replay" | "tour" | "simulate";
             /**
              * Speed
              * @description simulated seconds per wall second
              * @default 50
              */
-            speed: number;
+            speed?: number;
             /**
              * Version
              * @description the version to rehearse; omitted: the draft
@@ -1834,6 +2607,56 @@ export interface components {
             ok: boolean;
             paths: components["schemas"]["PathCountsOut"] | null;
         };
+        /**
+         * ReviewOut
+         * @description What a review shows of one version (GET .../versions/{number}/review).
+         */
+        ReviewOut: {
+            /** Author */
+            author: string | null;
+            /** Created At */
+            created_at: string;
+            /** Decide Refusal */
+            decide_refusal: string | null;
+            /** Digest */
+            digest: string;
+            /** Findings */
+            findings: components["schemas"]["FindingOut"][];
+            /** May Decide */
+            may_decide: boolean;
+            /** May Submit */
+            may_submit: boolean;
+            /** Mission */
+            mission: string;
+            /** Ok */
+            ok: boolean;
+            /** Orders */
+            orders: components["schemas"]["Orders"];
+            /** Path Items */
+            path_items: components["schemas"]["MissionPathOut"][];
+            paths: components["schemas"]["PathCountsOut"] | null;
+            /** Plain */
+            plain: string;
+            previous: components["schemas"]["PreviousApprovalOut"] | null;
+            /**
+             * Probabilities
+             * @description outcome probabilities (issue 20): terminals, violation, expected energy and time, min/max where probabilities are intervals or missing; absent when the orders declare none
+             */
+            probabilities?: {
+                [key: string]: unknown;
+            } | null;
+            /**
+             * Rules
+             * @description the contingency rules, one plain-language sentence each (empty when none or unreadable)
+             */
+            rules: string[];
+            /** Submissions */
+            submissions: components["schemas"]["SubmissionOut"][];
+            /** Submit Refusal */
+            submit_refusal: string | null;
+            /** Version */
+            version: number;
+        };
         /** RevocationIn */
         RevocationIn: {
             /** Key Id */
@@ -1854,15 +2677,15 @@ export interface components {
              * Text
              * @default
              */
-            text: string;
+            text?: string;
         } & {
             [key: string]: unknown;
         };
         /**
          * RuleSet
-         * @description A normal default theory carried by orders or a vehicle profile (rehearse.rules reads it).
+         * @description A normal default theory carried by orders or a vehicle profile (countersign.rules reads it).
          *
-         *     Typed here only structurally: the literal syntax is checked by `rehearse.rules.parse_theory`
+         *     Typed here only structurally: the literal syntax is checked by `countersign.rules.parse_theory`
          *     and reported as RULES findings, so a typo in a rule never makes the orders unreadable.
          */
         RuleSet: {
@@ -1891,6 +2714,31 @@ export interface components {
             latest: components["schemas"]["countersign__web__routes__standing__DecisionOut"] | null;
         };
         /**
+         * Statement
+         * @description An in-toto statement whose predicate is the countersign approval predicate.
+         */
+        Statement: {
+            /** Type */
+            _type: string;
+            /** Predicate */
+            predicate: {
+                [key: string]: unknown;
+            };
+            /** Predicatetype */
+            predicateType: string;
+            /** Subject */
+            subject: components["schemas"]["StatementSubject"][];
+        };
+        /** StatementSubject */
+        StatementSubject: {
+            /** Digest */
+            digest: {
+                [key: string]: string;
+            };
+            /** Name */
+            name: string;
+        };
+        /**
          * StrictRule
          * @description `if` literals imply `then` (seed 004 W_est, W_goal, W_safety); exceptions are these.
          */
@@ -1906,12 +2754,12 @@ export interface components {
              * @default estimation
              * @enum {string}
              */
-            kind: "observation" | "estimation" | "goal" | "safety" | "action";
+            kind?: "observation" | "estimation" | "goal" | "safety" | "action";
             /**
              * Text
              * @default
              */
-            text: string;
+            text?: string;
             /** Then */
             then: string;
         } & {
@@ -1958,13 +2806,30 @@ export interface components {
              */
             rehearsal?: string | null;
         };
+        /** Terminal */
+        Terminal: {
+            /** Id */
+            id: string;
+            /**
+             * Kind
+             * @enum {string}
+             */
+            kind: "complete" | "abort";
+            /**
+             * Title
+             * @default
+             */
+            title?: string;
+        } & {
+            [key: string]: unknown;
+        };
         /** TokenIn */
         TokenIn: {
             /**
              * Expires In Days
              * @default 90
              */
-            expires_in_days: number;
+            expires_in_days?: number;
             /** Name */
             name: string;
             /**
@@ -1975,7 +2840,7 @@ export interface components {
              *       "decide"
              *     ]
              */
-            scopes: ("read" | "write" | "decide")[];
+            scopes?: ("read" | "write" | "decide")[];
         };
         /** TokenOut */
         TokenOut: {
@@ -1989,7 +2854,7 @@ export interface components {
              * Revoked
              * @default false
              */
-            revoked: boolean;
+            revoked?: boolean;
             /** Scopes */
             scopes?: string[];
             /** Token */
@@ -2001,7 +2866,7 @@ export interface components {
              * Display Name
              * @default
              */
-            display_name: string;
+            display_name?: string;
             /** Password */
             password: string;
             /** Role */
@@ -2015,7 +2880,7 @@ export interface components {
              * Disabled
              * @default false
              */
-            disabled: boolean;
+            disabled?: boolean;
             /** Display Name */
             display_name: string;
             /** Id */
@@ -2080,9 +2945,29 @@ export interface components {
              * Title
              * @default
              */
-            title: string;
+            title?: string;
         } & {
             [key: string]: unknown;
+        };
+        /** VehicleExportOut */
+        VehicleExportOut: {
+            /** Approved */
+            approved: boolean;
+            /** Files */
+            files: components["schemas"]["ExportFileOut"][];
+            /**
+             * Format
+             * @enum {string}
+             */
+            format: "imc" | "moos";
+            /** Mission */
+            mission: string;
+            /** Notes */
+            notes: components["schemas"]["ExportNoteOut"][];
+            /** Orders Digest */
+            orders_digest: string;
+            /** Version */
+            version: number;
         };
         /** VehicleVersionOut */
         VehicleVersionOut: {
@@ -2118,9 +3003,21 @@ export interface components {
             /** Number */
             number: number;
             /** Orders */
-            orders?: {
-                [key: string]: unknown;
-            } | null;
+            orders?: components["schemas"]["Orders"] | null;
+        };
+        /**
+         * Within
+         * @description The bound of a bounded response: goals run, seconds or watt-hours from p to s.
+         */
+        Within: {
+            /** Duration S */
+            duration_s?: number | null;
+            /** Energy Wh */
+            energy_wh?: number | null;
+            /** Steps */
+            steps?: number | null;
+        } & {
+            [key: string]: unknown;
         };
         /** WorstCostOut */
         WorstCostOut: {
@@ -2130,18 +3027,18 @@ export interface components {
              * Estimated Cost
              * @default []
              */
-            estimated_cost: string[];
+            estimated_cost?: string[];
             path: components["schemas"]["CostPathOut"] | null;
             /**
              * Unknown Cost
              * @default []
              */
-            unknown_cost: string[];
+            unknown_cost?: string[];
             /** Worst */
             worst: number;
         };
         /** DecisionOut */
-        countersign__web__routes__approvals__DecisionOut: {
+        countersign__web__routes__approval_schemas__DecisionOut: {
             /**
              * Created At
              * Format: date-time
@@ -2258,9 +3155,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["ApprovalDetailOut"];
                 };
             };
             /** @description Validation Error */
@@ -2295,7 +3190,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["countersign__web__routes__approvals__DecisionOut"];
+                    "application/json": components["schemas"]["countersign__web__routes__approval_schemas__DecisionOut"];
                 };
             };
             /** @description Validation Error */
@@ -2330,9 +3225,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["PreparedOut"];
                 };
             };
             /** @description Validation Error */
@@ -2363,9 +3256,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["BundleOut"];
                 };
             };
             /** @description Validation Error */
@@ -2690,9 +3581,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["Orders"];
                 };
             };
             /** @description Validation Error */
@@ -2857,9 +3746,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["CheckpointOut"];
                 };
             };
         };
@@ -2882,9 +3769,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["ConsistencyProofOut"];
                 };
             };
             /** @description Validation Error */
@@ -2917,9 +3802,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["CosignatureOut"];
                 };
             };
             /** @description Validation Error */
@@ -2948,9 +3831,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["CosignedCheckpointOut"];
                 };
             };
         };
@@ -2973,9 +3854,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    }[];
+                    "application/json": components["schemas"]["LogEntryOut"][];
                 };
             };
             /** @description Validation Error */
@@ -3007,9 +3886,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["InclusionProofOut"];
                 };
             };
             /** @description Validation Error */
@@ -3281,9 +4158,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["PlanProblem"];
                 };
             };
             /** @description Validation Error */
@@ -3490,6 +4365,74 @@ export interface operations {
             };
         };
     };
+    recordExecution: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                mission_id: string;
+                number: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["ExecutionIn"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            201: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ExecutionOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    downloadPackage: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                mission_id: string;
+                number: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/x-tar": unknown;
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
     reviewVersion: {
         parameters: {
             query?: never;
@@ -3508,9 +4451,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["ReviewOut"];
                 };
             };
             /** @description Validation Error */
@@ -3560,6 +4501,73 @@ export interface operations {
             };
         };
     };
+    getVehicleExport: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                mission_id: string;
+                number: number;
+                format: "imc" | "moos";
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["VehicleExportOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    downloadVehicleExport: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                mission_id: string;
+                number: number;
+                format: "imc" | "moos";
+                name: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/octet-stream": unknown;
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
     solvePlan: {
         parameters: {
             query?: never;
@@ -3581,9 +4589,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["PlanOut"];
                 };
             };
             /** @description Validation Error */
@@ -3928,7 +4934,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["countersign__web__routes__approvals__DecisionOut"];
+                    "application/json": components["schemas"]["countersign__web__routes__approval_schemas__DecisionOut"];
                 };
             };
             /** @description Validation Error */
@@ -3998,9 +5004,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["PreparedOut"];
                 };
             };
             /** @description Validation Error */
@@ -4265,9 +5269,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    }[];
+                    "application/json": components["schemas"]["Vehicle"][];
                 };
             };
         };
@@ -4293,9 +5295,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["Vehicle"];
                 };
             };
             /** @description Validation Error */

@@ -5,7 +5,7 @@ import type { components } from "../../api/schema";
 import { ErrorMessage, Loading, Notice } from "../../components/Status";
 import { useLoad } from "../../useLoad";
 
-type Scope = components["schemas"]["TokenIn"]["scopes"][number];
+type Scope = NonNullable<components["schemas"]["TokenIn"]["scopes"]>[number];
 const SCOPES: Scope[] = ["read", "write", "decide"];
 
 /** One's own API tokens: listed, created (the secret is shown once) and revoked. */

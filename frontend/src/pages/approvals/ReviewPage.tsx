@@ -4,6 +4,7 @@
  * signed in this browser with the supervisor's non-extractable key.
  */
 import { ProbabilityTable } from "./Probabilities";
+import type { OutcomeFigures } from "./probabilities";
 import { useEffect, useMemo, useState } from "react";
 
 import { api, unwrap } from "../../api/client";
@@ -107,7 +108,8 @@ export function ReviewPage({ mission, version }: { mission: string; version: num
       <h2>Paths</h2>
       <PathSummaryTable paths={review.paths} />
       <PathList items={review.path_items} total={review.paths?.count ?? 0} />
-      <ProbabilityTable figures={review.probabilities} />
+      {/* The report field is an open object in the API; its shape is verify/probability.py. */}
+      <ProbabilityTable figures={review.probabilities as OutcomeFigures | null | undefined} />
 
       <Decision review={review} onDecided={reload} />
     </section>
