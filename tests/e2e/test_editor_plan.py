@@ -24,7 +24,7 @@ def test_plan_survey_dialog_solves_and_creates_a_draft(page: Page, seeded_missio
     dialog = page.get_by_role("dialog", name="Plan survey")
     expect(dialog).to_be_visible()
     # Defaults: start and recovery at the recovery area, battery from the vehicle's budget.
-    expect(dialog.get_by_label("Battery (Wh)")).to_have_value("1000")
+    expect(dialog.get_by_label("Battery (Wh)")).to_have_value("1500")
     expect(dialog.get_by_label("Include BASE", exact=True)).not_to_be_checked()
     dialog.get_by_label("Include LANE", exact=True).uncheck()
     dialog.get_by_label("Battery (Wh)").fill("20000")

@@ -492,7 +492,7 @@ def test_problem_from_orders_areas_and_vehicle() -> None:
     assert plan.feasible and "A" in plan.order
     assert _oracle(problem) == (plan.reward, pytest.approx(plan.energy_wh))
     assert validate(orders_from_plan(problem, plan)).ok
-    assert problem_from_orders(orders, start=base, recovery=base).vehicle.battery_wh == 1000
+    assert problem_from_orders(orders, start=base, recovery=base).vehicle.battery_wh == 1500
     with pytest.raises(CannotBuildProblem, match="no polygon"):
         problem_from_orders(orders, start=base, recovery=base, areas=["NOPE"])
 

@@ -1494,6 +1494,23 @@ export interface components {
         } & {
             [key: string]: unknown;
         };
+        /**
+         * ChartsGeoJsonOut
+         * @description The registry as one GeoJSON FeatureCollection (RFC 7946), a Polygon feature per chart.
+         */
+        ChartsGeoJsonOut: {
+            /** Features */
+            features: {
+                [key: string]: unknown;
+            }[];
+            /**
+             * Type
+             * @constant
+             */
+            type: "FeatureCollection";
+        } & {
+            [key: string]: unknown;
+        };
         /** ChartsSaved */
         ChartsSaved: {
             /** Saved */
@@ -2308,6 +2325,21 @@ export interface components {
              */
             title?: string;
         };
+        /** PlanLegOut */
+        PlanLegOut: {
+            /** End */
+            end: number[];
+            /** Goal */
+            goal: string;
+            /** Length M */
+            length_m: number;
+            /** Outcome */
+            outcome: string;
+            /** Start */
+            start: number[];
+            /** To */
+            to: string;
+        };
         /**
          * PlanOut
          * @description The best plan (`feasible`) or why there is none (`conflict`, `message`); a feasible
@@ -2382,6 +2414,35 @@ export interface components {
             reserve_wh?: number;
             /** Transit Wh Per M */
             transit_wh_per_m: number;
+        };
+        /**
+         * PlanViewOut
+         * @description What the plan view draws: areas, charts, where each goal runs, each outcome edge's leg,
+         *     the crossings (GEO findings) and a coastline from the land mask, in degrees.
+         */
+        PlanViewOut: {
+            /** Areas */
+            areas: {
+                [key: string]: unknown;
+            }[];
+            /** Box */
+            box: number[] | null;
+            /** Charts */
+            charts: {
+                [key: string]: unknown;
+            }[];
+            /** Coastline */
+            coastline: number[][][];
+            /** Crossings */
+            crossings: {
+                [key: string]: unknown;
+            }[];
+            /** Legs */
+            legs: components["schemas"]["PlanLegOut"][];
+            /** Places */
+            places: {
+                [key: string]: unknown;
+            }[];
         };
         /**
          * PreparedOut
@@ -3407,9 +3468,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["ChartsGeoJsonOut"];
                 };
             };
         };
@@ -4624,9 +4683,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["PlanViewOut"];
                 };
             };
         };

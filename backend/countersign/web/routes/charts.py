@@ -6,7 +6,7 @@ from typing import Any, Literal
 
 from fastapi import APIRouter, HTTPException, Request
 from fastapi.concurrency import run_in_threadpool
-from pydantic import BaseModel, Field
+from pydantic import BaseModel, ConfigDict, Field
 
 from ...orders.geo_formats import (
     MAX_BYTES,
@@ -42,7 +42,38 @@ def list_charts(db: Db) -> list[Chart]:
     return all_charts(db)
 
 
-@router.get("/charts/geojson", operation_id="exportCharts", **allow(*EVERYONE))
+class ChartsGeoJsonOut(BaseModel):
+    """The registry as one GeoJSON FeatureCollection (RFC 7946), a Polygon feature per chart."""
+
+    model_config = ConfigDict(extra="allow")
+    type: Literal["FeatureCollection"]
+    features: list[dict[str, Any]]
+
+
+class PlanLegOut(BaseModel):
+    goal: str
+    outcome: str
+    to: str
+    start: list[float]
+    end: list[float]
+    length_m: float
+
+
+class PlanViewOut(BaseModel):
+    """What the plan view draws: areas, charts, where each goal runs, each outcome edge's leg,
+    the crossings (GEO findings) and a coastline from the land mask, in degrees."""
+
+    areas: list[dict[str, Any]]
+    charts: list[dict[str, Any]]
+    places: list[dict[str, Any]]
+    legs: list[PlanLegOut]
+    crossings: list[dict[str, Any]]
+    coastline: list[list[list[float]]]
+    box: list[float] | None
+
+
+@router.get("/charts/geojson", operation_id="exportCharts", response_model=ChartsGeoJsonOut,
+            response_model_exclude_unset=True, **allow(*EVERYONE))
 def export_charts(db: Db) -> dict[str, Any]:
     return areas_to_geojson(all_charts(db))
 
@@ -86,7 +117,7 @@ PLAN_ROUTE["openapi_extra"]["requestBody"] = {"required": True, "content": {
                                     "title": "Body"}}}}
 
 
-@router.post("/plan-view", operation_id="planView", **PLAN_ROUTE)
+@router.post("/plan-view", operation_id="planView", response_model=PlanViewOut, **PLAN_ROUTE)
 async def post_plan_view(request: Request, db: Db) -> dict[str, Any]:
     """The plan view of orders (with the registry's charts in use copied in, as validation)."""
     data = await request.body()
