@@ -19,6 +19,7 @@ from countersign.orders.reader import orders_from_data
 from countersign.store.accounts import create_token, create_user
 from countersign.store.db import Database
 from countersign.verify import validate
+from countersign.web import validation_pool
 from countersign.web.app import create_app
 from countersign.web.settings import Settings
 from countersign.web.validation_pool import NICENESS
@@ -98,3 +99,20 @@ def test_validation_processes_setting_is_checked(monkeypatch: pytest.MonkeyPatch
         Settings.from_environment(tmp_path)
     monkeypatch.setenv("COUNTERSIGN_VALIDATION_PROCESSES", "0")
     assert Settings.from_environment(tmp_path).validation_processes == 0
+
+
+def test_validation_processes_are_replaced_after_their_share_of_work(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    # Bounded memory: z3 keeps what it allocated, so a process serves a fixed number of
+    # validations and is then replaced by a fresh one from the forkserver.
+    monkeypatch.setattr(validation_pool, "TASKS_PER_PROCESS", 2)
+    pool = validation_pool.ValidationPool(1)
+    try:
+        orders = load_example("search-and-sample")
+        pids = []
+        for _ in range(4):
+            pool.validate(orders)
+            pids.append(pool.last_pid)
+        assert pids[0] == pids[1] and pids[2] == pids[3] and pids[1] != pids[2], pids
+    finally:
+        pool.shutdown()
