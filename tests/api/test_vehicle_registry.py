@@ -63,3 +63,19 @@ def test_each_changed_save_is_a_new_version(world: World) -> None:
     assert listed[0]["saved_by"]
     missing = world.client("operator").get("/api/vehicles/no-such-auv/versions")
     assert missing.status_code == 404
+
+
+def test_a_body_validated_again_after_a_registry_change_sees_the_change(world: World) -> None:
+    # The body cache of /api/validate keys on the registry's state: the same bytes sent
+    # before and after the profile is registered get different reports.
+    data, profile = orders_without_profile("cached-body")
+    profile["id"] = data["vehicle"] = "cache-probe-auv"
+    body = json.dumps(data).encode()
+    operator = world.client("operator")
+    headers = {"Content-Type": "application/json"}
+    before = operator.post("/api/validate", content=body, headers=headers)
+    assert "VEHICLE" in codes(before.json()), before.json()
+    admin = world.client("admin")
+    assert admin.put(f"/api/vehicles/{profile['id']}", json=profile).status_code == 200
+    after = operator.post("/api/validate", content=body, headers=headers)
+    assert "VEHICLE" not in codes(after.json()), after.json()

@@ -10,7 +10,7 @@ from sqlalchemy.orm import Session
 
 from ..orders.model import Chart, Orders
 from ..verify.charts import Box, box_of, with_charts
-from .tables import ChartRecord
+from .tables import ChartRecord, utcnow
 
 MAX_CHARTS_IN_USE = 5_000
 
@@ -51,6 +51,7 @@ def save_charts(db: Session, charts: Iterable[Chart]) -> list[str]:
             row = ChartRecord(id=chart.id)
             db.add(row)
         row.title, row.kind, row.chart = chart.title, chart.kind, data
+        row.updated_at = utcnow()
         row.south, row.west, row.north, row.east = box
         saved.append(chart.id)
     db.flush()

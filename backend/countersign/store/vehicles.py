@@ -12,12 +12,12 @@ from typing import Any
 
 import rfc8785
 from pydantic import ValidationError
-from sqlalchemy import select
+from sqlalchemy import func, select
 from sqlalchemy.orm import Session
 
 from ..orders.model import Orders, Vehicle
 from ..verify.vehicle import with_registry_profile
-from .tables import User, VehicleProfile, VehicleVersion
+from .tables import ChartRecord, User, VehicleProfile, VehicleVersion, utcnow
 
 
 def registry_profile(db: Session, vehicle_id: str) -> Vehicle | None:
@@ -39,6 +39,15 @@ def with_registry(db: Session, orders: Orders) -> Orders:
     return with_registry_charts(db, profiled)
 
 
+def registry_stamp(db: Session) -> bytes:
+    """What with_registry reads, in a few bytes: the row count and latest change of the vehicle
+    profiles and of the charts. Caches of results computed with the registry copied in key on
+    it, so a saved or deleted profile or chart is never answered from before the change."""
+    stamps = [db.execute(select(func.count(), func.max(table.updated_at))).one()
+              for table in (VehicleProfile, ChartRecord)]
+    return repr(stamps).encode()
+
+
 def save_vehicle(db: Session, vehicle: Vehicle, actor: User) -> tuple[dict[str, Any], int]:
     """Stores the profile as the registry's current one; a profile that differs from the last
     saved one becomes the next version (saving the same profile again adds none)."""
@@ -47,7 +56,7 @@ def save_vehicle(db: Session, vehicle: Vehicle, actor: User) -> tuple[dict[str, 
     if row is None:
         db.add(VehicleProfile(id=vehicle.id, title=vehicle.title, profile=profile))
     else:
-        row.title, row.profile = vehicle.title, profile
+        row.title, row.profile, row.updated_at = vehicle.title, profile, utcnow()
     last = db.scalars(select(VehicleVersion).where(VehicleVersion.vehicle_id == vehicle.id)
                       .order_by(VehicleVersion.number.desc()).limit(1)).first()
     if last is not None and rfc8785.dumps(last.profile) == rfc8785.dumps(profile):

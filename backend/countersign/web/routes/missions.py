@@ -25,7 +25,7 @@ from ...store import missions as service
 from ...store.accounts import username_of
 from ...store.db import database_of
 from ...store.tables import Mission, MissionVersion
-from ...store.vehicles import with_registry
+from ...store.vehicles import registry_stamp, with_registry
 from ...verify.graph import build_graph
 from ...verify.paths import count_paths, iter_path_lines, iter_paths, trace_text
 from ...verify.probability import declares_probabilities, path_probability_bounds
@@ -343,9 +343,10 @@ async def validate_orders(request: Request, db: Db) -> Response:
 
 def _validate_body(db: DbSession, data: bytes) -> Response:
     # The same body sent again (an editor re-checking, a CI job) skips parsing and
-    # canonicalising: the report service remembers the orders digest of recent bodies.
+    # canonicalising: the report service remembers the orders digest of recent bodies. The
+    # registry's profiles and charts are copied into the orders, so they are part of the key.
     reports = database_of(db).reports
-    key = hashlib.sha256(data).digest()
+    key = hashlib.sha256(registry_stamp(db) + b"\0" + data).digest()
     known = reports.body_digest(key)
     if known is not None:
         stored = service.cached_report(db, known)
