@@ -4,11 +4,15 @@ is set, as .ci/run does) migrated by the app itself, users of every role, signed
 from __future__ import annotations
 
 import os
+import socket
+import threading
+import time
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
+import uvicorn
 from fastapi import FastAPI
 from fastapi.testclient import TestClient
 from sqlalchemy import text
@@ -92,3 +96,23 @@ def world(database_url: str, tmp_path: Path) -> Iterator[World]:
 def count_rows(database: Database, sql: str) -> int:
     with database.engine.connect() as connection:
         return int(connection.execute(text(sql)).scalar_one())
+
+
+@pytest.fixture
+def server(world: World) -> Iterator[str]:
+    """The world's app served by a real uvicorn on a free loopback port, for clients that need
+    HTTP (the command line, concurrent raw requests)."""
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        port = sock.getsockname()[1]
+    instance = uvicorn.Server(uvicorn.Config(world.app, host="127.0.0.1", port=port,
+                                             log_level="warning"))
+    thread = threading.Thread(target=instance.run, daemon=True)
+    thread.start()
+    deadline = time.monotonic() + 120
+    while not instance.started:
+        assert time.monotonic() < deadline, "server did not start"
+        time.sleep(0.05)
+    yield f"http://127.0.0.1:{port}"
+    instance.should_exit = True
+    thread.join(timeout=30)

@@ -6,15 +6,10 @@ found the race."""
 
 from __future__ import annotations
 
-import socket
 import threading
-import time
 from collections import Counter
-from collections.abc import Iterator
 
 import httpx
-import pytest
-import uvicorn
 
 from .approval_helpers import MISSION, new_version, prepare, register_key, sign_prepared, submit
 from .conftest import PASSWORD, World, count_rows
@@ -22,24 +17,6 @@ from .conftest import PASSWORD, World, count_rows
 DECISION_ROUNDS = 20
 SUBMIT_ROUNDS = 10
 SUBMITTERS = 4
-
-
-@pytest.fixture
-def server(world: World) -> Iterator[str]:
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        port = sock.getsockname()[1]
-    instance = uvicorn.Server(uvicorn.Config(world.app, host="127.0.0.1", port=port,
-                                             log_level="warning"))
-    thread = threading.Thread(target=instance.run, daemon=True)
-    thread.start()
-    deadline = time.monotonic() + 120
-    while not instance.started:
-        assert time.monotonic() < deadline, "server did not start"
-        time.sleep(0.05)
-    yield f"http://127.0.0.1:{port}"
-    instance.should_exit = True
-    thread.join(timeout=30)
 
 
 def _at_once(server: str, token: str, posts: list[tuple[str, dict[str, object]]]
