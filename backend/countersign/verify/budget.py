@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from ..orders.findings import Finding, error, warning
 from ..orders.model import BUDGET_QUANTITIES, OUTCOMES, Area, Goal, Orders, Vehicle
 from .graph import MissionGraph
-from .legs import leg_lengths
+from .legs import MissionLegs, leg_lengths
 from .paths import topological_order
 
 UNITS = {"energy_wh": ("Wh", "energy"), "duration_s": ("s", "time")}
@@ -104,7 +104,8 @@ def _leg_cost(metres: float | None, quantity: str, vehicle: Vehicle | None) -> f
     return 0.0
 
 
-def worst_paths(orders: Orders, graph: MissionGraph) -> dict[str, WorstPath] | None:
+def worst_paths(orders: Orders, graph: MissionGraph, legs: MissionLegs | None = None
+                ) -> dict[str, WorstPath] | None:
     """The costliest path per budget quantity, or None when paths cannot be counted."""
     order = topological_order(graph)
     if order is None or graph.start is None:
@@ -112,7 +113,7 @@ def worst_paths(orders: Orders, graph: MissionGraph) -> dict[str, WorstPath] | N
     vehicle = orders.target_vehicle()
     areas = orders.area_index()
     # The transit between goals costs too: the geodesic leg of each outcome edge (issue 21).
-    legs = leg_lengths(orders) if vehicle is not None and vehicle.speed_mps else {}
+    lengths = leg_lengths(orders, legs) if vehicle is not None and vehicle.speed_mps else {}
     result: dict[str, WorstPath] = {}
     for quantity in BUDGET_QUANTITIES:
         costs: dict[int, float] = {}
@@ -131,7 +132,7 @@ def worst_paths(orders: Orders, graph: MissionGraph) -> dict[str, WorstPath] | N
             goal = graph.goals[node]
             options = [
                 (best.get(target, 0.0) if target < graph.goal_count else 0.0)
-                + _leg_cost(legs.get((goal.id, OUTCOMES[k])), quantity, vehicle)
+                + _leg_cost(lengths.get((goal.id, OUTCOMES[k])), quantity, vehicle)
                 for k, target in enumerate(graph.succ[node])
             ]
             k = max(range(3), key=lambda i: (options[i], -i))

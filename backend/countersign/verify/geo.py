@@ -24,7 +24,7 @@ from ..orders.model import OUTCOMES, Area, Chart, Orders
 from .expressions import ExprError, Facts, fold, parse
 from .graph import MissionGraph, build_graph
 from .land import land_hits
-from .legs import Frame, Leg, Place, mission_legs
+from .legs import Frame, Leg, MissionLegs, Place, mission_legs
 
 MAX_FINDINGS = 500
 FORBIDDING_TAGS = {"keep_out": "keep-out area", "land": "land"}
@@ -188,8 +188,9 @@ def _path_words(path: dict[str, object] | None) -> str:
     return f" A path that takes it: {steps} -> {path['terminal']}."
 
 
-def check_geo(orders: Orders, graph: MissionGraph | None = None) -> list[Finding]:
-    frame, where, found_legs = mission_legs(orders)
+def check_geo(orders: Orders, graph: MissionGraph | None = None,
+              legs: MissionLegs | None = None) -> list[Finding]:
+    frame, where, found_legs = legs if legs is not None else mission_legs(orders)
     if frame is None:
         return []
     graph = graph or build_graph(orders)

@@ -210,7 +210,12 @@ def legs(orders: Orders, frame: Frame, where: dict[str, Place]) -> list[Leg]:
     ]
 
 
-def mission_legs(orders: Orders) -> tuple[Frame | None, dict[str, Place], list[Leg]]:
+# The frame, where each goal runs, and the leg of each outcome edge: computed once per
+# validation and shared by the budget and the GEO check.
+MissionLegs = tuple[Frame | None, dict[str, Place], list[Leg]]
+
+
+def mission_legs(orders: Orders) -> MissionLegs:
     frame = frame_for(orders.areas)
     if frame is None:
         return None, {}, []
@@ -218,7 +223,7 @@ def mission_legs(orders: Orders) -> tuple[Frame | None, dict[str, Place], list[L
     return frame, where, legs(orders, frame, where)
 
 
-def leg_lengths(orders: Orders) -> dict[tuple[str, str], float]:
+def leg_lengths(orders: Orders, legs: MissionLegs | None = None) -> dict[tuple[str, str], float]:
     """Geodesic metres of the leg of each outcome edge (goal, outcome) that has one."""
-    _, _, found = mission_legs(orders)
+    _, _, found = legs if legs is not None else mission_legs(orders)
     return {(leg.goal, leg.outcome): leg.length_m for leg in found}

@@ -15,9 +15,10 @@ COAST_MARGIN_DEG = 0.05
 
 
 def plan_view(orders: Orders) -> dict[str, Any]:
-    frame, where, legs = mission_legs(orders)
+    computed = mission_legs(orders)
+    frame, where, legs = computed
     crossings = []
-    for finding in check_geo(orders):
+    for finding in check_geo(orders, legs=computed):
         edge = finding.details.get("edge")
         crossings.append({"subjects": list(finding.subjects), "message": finding.message,
                           "area": finding.details.get("area"), "edge": edge,

@@ -18,6 +18,7 @@ from ..orders.model import Orders
 from .budget import WorstPath, check_budget, worst_paths
 from .geo import check_geo
 from .graph import MissionGraph, build_graph
+from .legs import mission_legs
 from .logic import LogicCache, check_logic
 from .meo import MeoResult, meo_check
 from .paths import PathCounts, count_paths
@@ -99,13 +100,14 @@ def validate(
                     if (f.code, f.subjects, f.message) not in given)
     findings.extend(check_structure(orders, graph))
     counts = count_paths(graph)
-    costs = worst_paths(orders, graph) if counts is not None else None
+    legs = mission_legs(orders)
+    costs = worst_paths(orders, graph, legs) if counts is not None else None
     findings.extend(check_budget(costs))
     meo = meo_check(orders)
     findings.extend(f for f in meo.findings if f.code in MEO_ONLY_CODES)
     findings.extend(check_vehicle(orders))
     findings.extend(check_text(orders))
-    findings.extend(check_geo(orders, graph))
+    findings.extend(check_geo(orders, graph, legs))
     deadline = time.monotonic() + solver_budget_s
     findings.extend(check_logic(orders, cache, timeout_ms=SOLVER_CALL_MS,
                                 total_timeout_s=solver_budget_s))
