@@ -137,3 +137,19 @@ def test_nps_avcl_missions_export_to_both_formats(path: object) -> None:
     _check_against_mea(orders, graph)
     text = export_vehicle(orders, "moos").primary.content.decode()
     _check_against_mea(orders, read_bhv(text), mode_map(text))
+
+
+def test_user_text_cannot_start_a_helm_declaration() -> None:
+    # Titles and behaviours are the operator's text; in the .bhv they stand only inside
+    # one-line comments, so a line break (any Unicode one) cannot start a mode or behaviour.
+    injected = "x\nset MODE = EVIL {\n  MODE = ACTIVE\n}\u2028Behavior = BHV_Waypoint\x85{"
+    data = _example("search-and-sample").model_dump(mode="json", exclude_unset=True)
+    for goal in data["goals"]:
+        goal["title"] = injected
+        goal["behavior"] = injected
+    orders = Orders.model_validate(data)
+    text = export_vehicle(orders, "moos", version=1).primary.content.decode()
+    assert "EVIL" not in mode_map(text).values()
+    assert not any(line.startswith(("set MODE = EVIL", "Behavior = BHV_Waypoint{"))
+                   for line in text.splitlines())
+    _check_against_mea(orders, read_bhv(text), mode_map(text))
