@@ -1,32 +1,17 @@
 /**
  * The graph editor of a mission draft (operators). The pure logic lives in graph.ts,
- * history.ts and layout.ts; this component wires it to React Flow and the API: every edit
- * sends the new orders to /api/validate at once (from the event handler, before React renders
- * the edit), then saves the draft with If-Match; typing waits for a pause first. The plain
- * orders are fetched only while their tab is open.
+ * history.ts and layout.ts; the state in one store (store.ts) with hooks for the draft's
+ * history, autosave and conflict, the server check and the canvas's elements. Every edit sends
+ * the new orders to /api/validate at once (from the event handler, before React renders the
+ * edit), then saves the draft with If-Match; typing waits for a pause first. The plain orders
+ * are fetched only while their tab is open.
  */
 import "@xyflow/react/dist/style.css";
 
-import {
-  applyEdgeChanges,
-  applyNodeChanges,
-  Background,
-  type Connection,
-  Controls,
-  type Edge,
-  type EdgeChange,
-  MarkerType,
-  MiniMap,
-  type Node,
-  Position,
-  type NodeChange,
-  ReactFlow,
-  ReactFlowProvider,
-  useReactFlow,
-} from "@xyflow/react";
-import { type KeyboardEvent, useCallback, useEffect, useLayoutEffect, useMemo, useRef, useState } from "react";
+import { Background, type Connection, Controls, type Edge, MiniMap, type Node, ReactFlow, ReactFlowProvider, useReactFlow } from "@xyflow/react";
+import { type KeyboardEvent, useCallback, useEffect, useMemo, useRef, useState } from "react";
 
-import { api, exportHref, fetchText, type Finding, type MissionDetail, unwrap } from "../api/client";
+import { exportHref, fetchText, type Finding, type MissionDetail } from "../api/client";
 import { ErrorMessage } from "../components/Status";
 import { plural } from "../format";
 import {
@@ -35,26 +20,18 @@ import {
   checkConnection,
   connect,
   deleteNodes,
-  describeDifferences,
   disconnect,
-  edgeMarkers,
   findingPath,
   goals,
-  type Layout,
-  markersBySubject,
   type Orders,
-  ordersToGraph,
-  OUTCOME_LABEL,
   OUTCOME_LETTER,
   type Outcome,
-  OUTCOMES,
   type PathLike,
-  pathElements,
   terminals,
   updateTerminal,
 } from "./graph";
 import { knownQuantities } from "./expr";
-import { canRedo, canUndo, push, redo, reset, undo } from "./history";
+import { canRedo, canUndo, redo, reset, undo } from "./history";
 import { copyGoals, pasteGoals, readClip } from "./model";
 import { AreasPanel, MissionPanel, NormsPanel, QuantitiesPanel, VehiclePanel } from "./panels";
 import { PathsPanel } from "./PathsPanel";
@@ -62,14 +39,16 @@ import { ImportMenu, NewFromExample, readOrdersFile } from "./ImportMenu";
 import { PlanDialog } from "./PlanDialog";
 import { Tabs } from "../components/Tabs";
 import { autoLayout } from "./layout";
-import { EDGE_TYPES, NODE_TYPES, type NodeData } from "./nodes";
-import { type Conflict, ConflictDialog } from "./ConflictDialog";
-import { type Draft, isLaidOut, useDraftHistory } from "./useDraftHistory";
+import { EDGE_TYPES, NODE_TYPES } from "./nodes";
+import { ConflictDialog } from "./ConflictDialog";
+import { createEditorStore, EditorStoreContext, isLaidOut, useEditor, useEditorApi } from "./store";
+import { useDraftHistory } from "./useDraftHistory";
 import { useServerCheck } from "./useServerCheck";
+import { useAutosave } from "./useAutosave";
+import { LARGE_GOALS, useFlowElements } from "./useFlowElements";
 import { ConstraintsPanel, FindingsList, GoalInspector } from "./Inspector";
 import { ExportMenu, ToolbarMenu } from "./Toolbar";
 
-const SAVE_DELAY_MS = 250;
 const PANELS = [
   { id: "editor-constraints", label: "Constraints" },
   { id: "editor-norms", label: "Norms" },
@@ -81,136 +60,54 @@ const PANELS = [
   { id: "editor-plain", label: "Plain orders" },
 ];
 const CLIP_KEY = "countersign.editor.clipboard";
-/** Node sizes and handle positions as the CSS draws them (goal 220 x 112, handles 18 px). */
-const PRESET = {
-  goal: {
-    initialWidth: 220,
-    initialHeight: 112,
-    handles: [
-      { id: "in", type: "target" as const, position: Position.Left, x: -6, y: 50, width: 12, height: 12 },
-      ...OUTCOMES.map((o, i) => ({ id: o, type: "source" as const, position: Position.Right, x: 211, y: 28 * (i + 1) - 9, width: 18, height: 18 })),
-    ],
-  },
-  terminal: {
-    initialWidth: 160,
-    initialHeight: 60,
-    handles: [{ id: "in", type: "target" as const, position: Position.Left, x: -6, y: 24, width: 12, height: 12 }],
-  },
-};
-/** Above this many goals the canvas renders only what is in view and opens at the start goal. */
-const LARGE_GOALS = 200;
-const COLOURS: Record<Outcome, string> = { succeed: "#1a7f37", fail: "#c25e00", violate: "#c9202c" };
 
 /** `onSaved` gets the mission as the save answered it (the page shows it without re-reading). */
 export default function MissionEditor(props: { mission: MissionDetail; onSaved: (saved: MissionDetail) => void }) {
+  const [store] = useState(() => createEditorStore(props.mission));
   return (
-    <ReactFlowProvider>
-      <Editor {...props} />
-    </ReactFlowProvider>
+    <EditorStoreContext.Provider value={store}>
+      <ReactFlowProvider>
+        <Editor {...props} />
+      </ReactFlowProvider>
+    </EditorStoreContext.Provider>
   );
 }
 
-type SaveState = "saved" | "pending" | "saving" | "conflict" | "error";
-
 function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved: MissionDetail) => void }) {
   const flow = useReactFlow();
-  const { history, latest, updateHistory } = useDraftHistory(mission);
+  const store = useEditorApi();
+  const { history, latest, updateHistory } = useDraftHistory();
   const draft = history.present;
   const orders = draft.orders;
-  const revision = useRef(mission.revision);
-  const [savedRevision, setSavedRevision] = useState(mission.revision);
-  const [saveState, setSaveState] = useState<SaveState>("saved");
-  const [saveError, setSaveError] = useState<unknown>(null);
-  const [conflict, setConflict] = useState<Conflict | null>(null);
+  const set = useEditor((s) => s.set);
+  const savedRevision = useEditor((s) => s.savedRevision);
+  const revision = useEditor((s) => s.revision);
+  const saveState = useEditor((s) => s.saveState);
+  const saveError = useEditor((s) => s.saveError);
+  const conflict = useEditor((s) => s.conflict);
+  const notice = useEditor((s) => s.notice);
+  const connectMessage = useEditor((s) => s.connectMessage);
+  const report = useEditor((s) => s.report);
+  const checkMs = useEditor((s) => s.checkMs);
+  const highlight = useEditor((s) => s.highlight);
+  const ready = useEditor((s) => s.ready);
+  const panel = useEditor((s) => s.panel);
+  const nodes = useEditor((s) => s.nodes);
+  const edges = useEditor((s) => s.edges);
+  const onNodesChange = useEditor((s) => s.onNodesChange);
+  const onEdgesChange = useEditor((s) => s.onEdgesChange);
+  const select = useEditor((s) => s.select);
+  const setConnectMessage = useCallback((connectMessage: string) => set({ connectMessage }), [set]);
+  const setReady = useCallback((ready: boolean) => set({ ready }), [set]);
+  const setPanel = useCallback((panel: string) => set({ panel }), [set]);
   const [plain, setPlain] = useState<string>("");
-  const [notice, setNotice] = useState<string>("");
-  const saving = useRef(false);
-  const again = useRef(false);
 
   useEffect(() => {
     performance.mark("editor:mounted");
   }, []);
 
-  const { report, checkMs, lastChecked, editedAt, refreshChecks, check } = useServerCheck(mission, latest, setSaveError);
-
-  const save = useCallback(async () => {
-    if (saving.current) {
-      again.current = true;
-      return;
-    }
-    saving.current = true;
-    setSaveState("saving");
-    const sent = latest.current;
-    try {
-      // Saved once checked: the save then finds the report cached instead of validating the
-      // same orders a second time beside the check.
-      const reported = await check(sent.orders);
-      const result = await api.PUT("/api/missions/{mission_id}/draft", {
-        params: { path: { mission_id: mission.id }, header: { "if-match": `"${revision.current}"` } },
-        body: { orders: sent.orders, layout: sent.layout },
-      });
-      if (result.response.status === 412) {
-        const theirs = unwrap(await api.GET("/api/missions/{mission_id}", { params: { path: { mission_id: mission.id } } }));
-        const differences = describeDifferences(latest.current.orders, theirs.orders as Orders);
-        setConflict({ theirs, differences });
-        setSaveState("conflict");
-        again.current = false;
-        return;
-      }
-      const saved = unwrap(result);
-      revision.current = saved.revision;
-      setSavedRevision(saved.revision);
-      setSaveError(null);
-      setSaveState(latest.current === sent ? "saved" : "pending");
-      onSaved(saved);
-      // The check above reported these orders; re-read the report only if it failed.
-      if (!reported && latest.current === sent) await refreshChecks();
-    } catch (e) {
-      setSaveError(e);
-      setSaveState("error");
-    } finally {
-      saving.current = false;
-      if (again.current) {
-        again.current = false;
-        void save();
-      }
-    }
-  }, [mission.id, onSaved, refreshChecks, check]);
-
-  // Every change of the present draft (edit, undo, redo) is checked and saved: discrete edits
-  // at once, from the event handler; typing in a field after a short pause.
-  const inConflict = useRef(false);
-  inConflict.current = conflict !== null;
-  const saveTimer = useRef<number | undefined>(undefined);
-  useEffect(() => () => window.clearTimeout(saveTimer.current), []);
-  const changed = useCallback(
-    (group?: string) => {
-      editedAt.current = performance.now();
-      performance.mark("editor:edit");
-      if (inConflict.current) return;
-      window.clearTimeout(saveTimer.current);
-      setSaveState("pending");
-      if (group) {
-        saveTimer.current = window.setTimeout(() => void save(), SAVE_DELAY_MS);
-        return;
-      }
-      void check(latest.current.orders);
-      void save();
-    },
-    [save, check],
-  );
-
-  const edit = useCallback(
-    (change: (d: Draft) => Draft, group?: string) => {
-      updateHistory((h) => push(h, change(h.present), group ? { group } : {}));
-      changed(group);
-    },
-    [updateHistory, changed],
-  );
-  const editOrders = useCallback(
-    (change: (o: Orders) => Orders, group?: string) => edit((d) => ({ ...d, orders: change(d.orders) }), group),
-    [edit],
-  );
+  const server = useServerCheck();
+  const { edit, editOrders, changed, saveComputedLayout, reloadTheirs, keepMine } = useAutosave(mission, onSaved, server);
 
   // Lay out a draft that has no positions yet (new or imported), without an undo step.
   // Small orders open fitted to the canvas; large ones open at the start goal at a readable
@@ -218,20 +115,6 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
   const laidOut = useRef(false);
   const large = useRef(goals(mission.orders as Orders).length > LARGE_GOALS);
   const openView = useRef(false);
-  const [ready, setReady] = useState(false);
-  // Until the opened draft has positions, the canvas gets no nodes (they would all render,
-  // stacked, with every edge crossing the view, only to move a moment later).
-  const [placed, setPlaced] = useState(() => isLaidOut(draft));
-  // Positions computed on open are saved with the draft (once), so that it opens as laid out.
-  const savedLayout = useRef((mission.layout ?? {}) as Layout);
-  const saveComputedLayout = useCallback(
-    (layout: Layout) => {
-      if (inConflict.current || Object.keys(layout).every((id) => savedLayout.current[id])) return;
-      setSaveState("pending");
-      void save();
-    },
-    [save],
-  );
   useEffect(() => {
     if (ready) performance.mark("editor:ready");
   }, [ready]);
@@ -240,131 +123,27 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
     laidOut.current = true;
     if (isLaidOut(draft)) {
       openView.current = true;
-      saveComputedLayout(draft.layout); // a large draft laid out as it opened (above)
+      saveComputedLayout(draft.layout); // a large draft laid out as it opened (store.ts)
       return;
     }
-    void autoLayout(orders).then((layout) => {
-      openView.current = true;
-      updateHistory((h) => reset({ ...h.present, layout: { ...layout, ...h.present.layout } }));
-      setPlaced(true);
-      saveComputedLayout(layout);
-    }, () => {
-      openView.current = true;
-      setPlaced(true); // no layout: show the default positions rather than nothing
-    });
-  }, [orders, draft.layout, flow, updateHistory, saveComputedLayout]);
+    void autoLayout(orders).then(
+      (layout) => {
+        openView.current = true;
+        updateHistory((h) => reset({ ...h.present, layout: { ...layout, ...h.present.layout } }));
+        set({ placed: true });
+        saveComputedLayout(layout);
+      },
+      () => {
+        openView.current = true;
+        set({ placed: true }); // no layout: show the default positions rather than nothing
+      },
+    );
+  }, [orders, draft, updateHistory, saveComputedLayout, set]);
 
   // ---- React Flow nodes and edges, synchronised with the draft ----
-  const findings = useMemo(() => report?.findings ?? [], [report]);
-  useEffect(() => {
-    if (report) performance.mark("editor:findings-rendered");
-  }, [report]);
-  const markers = useMemo(() => markersBySubject(findings), [findings]);
-  const graph = useMemo(() => ordersToGraph(orders, draft.layout), [orders, draft.layout]);
-  const edgeMarks = useMemo(() => edgeMarkers(findings, graph.edges), [findings, graph.edges]);
-  const [highlight, setHighlight] = useState<{ path: PathLike; label: string } | null>(null);
-  const onPath = useMemo(() => (highlight ? pathElements(highlight.path) : null), [highlight]);
-  const highlightPath = useCallback((path: PathLike | null, label = "") => setHighlight(path ? { path, label } : null), []);
-  const [nodes, setNodes] = useState<Node<NodeData>[]>([]);
-  const [edges, setEdges] = useState<Edge[]>([]);
+  const { graph, findings, markers } = useFlowElements(large.current);
+  const highlightPath = useCallback((path: PathLike | null, label = "") => set({ highlight: path ? { path, label } : null }), [set]);
   const selectNext = useRef<string[] | null>(null);
-
-  // Before the browser paints: markers show in the same frame as the findings list.
-  useLayoutEffect(() => {
-    if (!placed) return;
-    setNodes((previous) => {
-      const before = new Map(previous.map((n) => [n.id, n]));
-      return graph.nodes.map((n) => {
-        const old = before.get(n.id);
-        const mark = markers.get(n.id);
-        const data: NodeData = {
-          label: n.label,
-          start: n.start,
-          codes: mark?.codes ?? [],
-          severity: mark?.severity ?? null,
-          terminalKind: n.terminalKind,
-        };
-        const lit = onPath?.nodes.has(n.id) ?? false;
-        const ariaLabel = `${n.kind === "goal" ? "Goal" : "Terminal"} ${n.id}: ${n.label}${n.start ? " (start)" : ""}${
-          mark ? `; findings ${mark.codes.join(", ")}` : ""
-        }${lit ? "; on the highlighted path" : ""}`;
-        const className = lit ? "on-path" : "";
-        // Unchanged nodes keep their object, so React Flow re-renders only what changed.
-        if (
-          old &&
-          old.type === n.kind &&
-          old.position.x === n.position.x &&
-          old.position.y === n.position.y &&
-          old.ariaLabel === ariaLabel &&
-          (old.className ?? "") === className &&
-          old.data.severity === data.severity &&
-          old.data.terminalKind === data.terminalKind &&
-          old.data.codes.join() === data.codes.join()
-        ) {
-          return old;
-        }
-        return {
-          id: n.id,
-          type: n.kind,
-          position: n.position,
-          // Large missions: sizes and handle positions are given, so React Flow need not render
-          // every node once to measure it; only the nodes in view are rendered.
-          ...(large.current ? PRESET[n.kind] : {}),
-          data,
-          ariaLabel,
-          className,
-          selected: old?.selected ?? false,
-          ...(old?.measured ? { measured: old.measured } : {}),
-        };
-      });
-    });
-    setEdges((previous) => {
-      const before = new Map(previous.map((e) => [e.id, e]));
-      return graph.edges
-        .filter((e) => !e.dangling)
-        .map((e) => {
-          const old = before.get(e.id);
-          const mark = edgeMarks.get(e.id);
-          const lit = onPath?.edges.has(e.id) ?? false;
-          const colour = COLOURS[e.outcome];
-          const label = `${OUTCOME_LETTER[e.outcome]}${mark ? ` ${mark.severity === "error" ? "✖" : "⚠"} ${mark.codes.join(" ")}` : ""}${lit ? " ●" : ""}`;
-          const className = `edge-${e.outcome}${mark ? ` edge-marked edge-marked-${mark.severity}` : ""}${lit ? " edge-on-path" : ""}`;
-          const ariaLabel = `${e.source} ${OUTCOME_LABEL[e.outcome]} to ${e.target}${mark ? `; findings ${mark.codes.join(", ")}` : ""}${
-            lit ? "; on the highlighted path" : ""
-          }`;
-          // Unchanged edges keep their object (the id names source, outcome and target; the
-          // style follows from the label and class), so React Flow re-renders only what changed.
-          if (old && old.label === label && old.className === className && old.ariaLabel === ariaLabel) return old;
-          return {
-            id: e.id,
-            type: "outcome",
-            source: e.source,
-            sourceHandle: e.outcome,
-            target: e.target,
-            targetHandle: "in",
-            label,
-            className,
-            style: { stroke: colour, strokeWidth: lit ? 5 : mark ? 3 : 2, strokeDasharray: mark ? "6 4" : undefined },
-            labelStyle: { fill: colour, fontWeight: 700 },
-            markerEnd: { type: MarkerType.ArrowClosed, color: colour },
-            ariaLabel,
-            selected: old?.selected ?? false,
-          };
-        });
-    });
-  }, [graph, markers, edgeMarks, onPath, placed]);
-
-  const onNodesChange = useCallback((changes: NodeChange<Node<NodeData>>[]) => {
-    setNodes((ns) => applyNodeChanges(changes.filter((c) => c.type !== "remove"), ns));
-  }, []);
-  const onEdgesChange = useCallback((changes: EdgeChange[]) => {
-    setEdges((es) => applyEdgeChanges(changes.filter((c) => c.type !== "remove"), es));
-  }, []);
-
-  const select = useCallback((ids: string[]) => {
-    setNodes((ns) => ns.map((n) => ({ ...n, selected: ids.includes(n.id) })));
-    setEdges((es) => es.map((e) => ({ ...e, selected: false })));
-  }, []);
 
   // Zoom to fit once the nodes carry their new positions (after an auto layout).
   const fitPending = useRef(false);
@@ -385,7 +164,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
       void flow.fitView({ padding: 0.15 });
       setReady(true);
     });
-  }, [nodes, flow]);
+  }, [nodes, flow, setReady]);
 
   // Select what was just added once its node exists (the inspector then shows it).
   useEffect(() => {
@@ -397,17 +176,16 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
   }, [nodes, select]);
 
   const [gotoText, setGotoText] = useState("");
-  const [panel, setPanel] = useState("editor-constraints");
   // The plain orders (as saved): fetched when their tab opens and after each save while open.
   const plainShown = panel === "editor-plain";
   useEffect(() => {
     if (!plainShown) return;
     let current = true;
-    fetchText(exportHref(mission.id, "plain")).then((text) => current && setPlain(text), (e: unknown) => current && setSaveError(e));
+    fetchText(exportHref(mission.id, "plain")).then((text) => current && setPlain(text), (e: unknown) => current && set({ saveError: e }));
     return () => {
       current = false;
     };
-  }, [plainShown, savedRevision, mission.id]);
+  }, [plainShown, savedRevision, mission.id, set]);
   const [planOpen, setPlanOpen] = useState(false);
   const known = useMemo(() => knownQuantities(orders), [orders]);
   const goTo = (id: string) => {
@@ -423,10 +201,9 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
   const selectedNodes = nodes.filter((n) => n.selected).map((n) => n.id);
   const selectedId = selectedNodes.length === 1 ? selectedNodes[0] : undefined;
 
-  const [connectMessage, setConnectMessage] = useState("");
   const onConnect = useCallback(
     (c: Connection) => {
-      const result = connect(latest.current.orders, c.source, c.sourceHandle ?? "", c.target);
+      const result = connect(latest().orders, c.source, c.sourceHandle ?? "", c.target);
       if (!result.check.ok) {
         setConnectMessage(result.check.reason ?? "That connection is not allowed.");
         return;
@@ -435,11 +212,11 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
       // Applied to the newest orders (a previous edit may not have rendered yet).
       editOrders((o) => connect(o, c.source, c.sourceHandle ?? "", c.target).orders);
     },
-    [editOrders],
+    [editOrders, latest, setConnectMessage],
   );
   const isValidConnection = useCallback(
-    (c: Connection | Edge) => checkConnection(latest.current.orders, c.source, c.sourceHandle, c.target).ok,
-    [],
+    (c: Connection | Edge) => checkConnection(latest().orders, c.source, c.sourceHandle, c.target).ok,
+    [latest],
   );
 
   const onNodeDragStop = useCallback(
@@ -458,27 +235,28 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
     const centre = pane
       ? flow.screenToFlowPosition({ x: pane.left + pane.width / 2, y: pane.top + pane.height / 2 })
       : { x: 0, y: 0 };
-    const n = Object.keys(latest.current.layout).length % 6;
+    const n = Object.keys(latest().layout).length % 6;
     return { x: Math.round(centre.x - 110 + n * 24), y: Math.round(centre.y - 48 + n * 24) };
-  }, [flow]);
+  }, [flow, latest]);
 
   const titleRef = useRef<HTMLInputElement>(null);
   const addGoalNode = () => {
     const at = placeNew();
-    const { orders: next, id } = addGoal(latest.current.orders);
+    const { orders: next, id } = addGoal(latest().orders);
     selectNext.current = [id];
     edit((d) => ({ orders: next, layout: { ...d.layout, [id]: at } }));
     window.setTimeout(() => titleRef.current?.select(), 50);
   };
   const addTerminalNode = (kind: "complete" | "abort") => {
     const at = placeNew();
-    const { orders: next, id } = addTerminal(latest.current.orders, kind);
+    const { orders: next, id } = addTerminal(latest().orders, kind);
     selectNext.current = [id];
     edit((d) => ({ orders: next, layout: { ...d.layout, [id]: at } }));
   };
   const deleteSelected = () => {
-    const nodeIds = nodes.filter((n) => n.selected).map((n) => n.id);
-    const edgeList = edges.filter((e) => e.selected);
+    const { nodes: ns, edges: es } = store.getState();
+    const nodeIds = ns.filter((n) => n.selected).map((n) => n.id);
+    const edgeList = es.filter((e) => e.selected);
     if (nodeIds.length === 0 && edgeList.length === 0) return;
     edit((d) => {
       let o = deleteNodes(d.orders, nodeIds);
@@ -494,7 +272,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
     for (const n of flow.getNodes()) {
       if (n.measured?.width && n.measured.height) sizes[n.id] = { width: n.measured.width, height: n.measured.height };
     }
-    const layout = await autoLayout(latest.current.orders, sizes);
+    const layout = await autoLayout(latest().orders, sizes);
     fitPending.current = true;
     edit((d) => ({ ...d, layout }));
   };
@@ -511,9 +289,9 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
       fitPending.current = true;
       edit(() => ({ orders: next, layout }));
       const codes = [...new Set(found.map((f) => f.code).filter(Boolean))];
-      setNotice(
-        `Imported ${file.name}: ${plural(goals(next).length, "goal")}${codes.length > 0 ? `; reading it found ${codes.join(", ")}` : ""}. Undo brings the previous draft back.`,
-      );
+      set({
+        notice: `Imported ${file.name}: ${plural(goals(next).length, "goal")}${codes.length > 0 ? `; reading it found ${codes.join(", ")}` : ""}. Undo brings the previous draft back.`,
+      });
     } finally {
       setImporting(false);
     }
@@ -545,31 +323,9 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
     event.preventDefault();
   };
 
-  // ---- Conflict resolution ----
-  const reloadTheirs = () => {
-    if (!conflict) return;
-    revision.current = conflict.theirs.revision;
-    setSavedRevision(conflict.theirs.revision);
-    updateHistory(() => reset({ orders: conflict.theirs.orders as Orders, layout: (conflict.theirs.layout ?? {}) as Layout }));
-    lastChecked.current = conflict.theirs.orders as Orders;
-    setConflict(null);
-    setSaveState("saved");
-    setNotice("Reloaded the draft someone else saved.");
-    void refreshChecks();
-    onSaved(conflict.theirs);
-  };
-  const keepMine = () => {
-    if (!conflict) return;
-    revision.current = conflict.theirs.revision;
-    inConflict.current = false;
-    setConflict(null);
-    setNotice("Your version replaced theirs.");
-    void save();
-  };
-
   // ---- Copy, paste, duplicate (clipboard JSON; also kept in localStorage between missions) ----
   const copySelected = () => {
-    const clip = copyGoals(latest.current.orders, latest.current.layout, selectedNodes);
+    const clip = copyGoals(latest().orders, latest().layout, selectedNodes);
     if (!clip) {
       setConnectMessage("Select goals to copy.");
       return null;
@@ -590,7 +346,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
       setConnectMessage("Nothing to paste: copy goals first.");
       return;
     }
-    const result = pasteGoals(latest.current.orders, latest.current.layout, clip);
+    const result = pasteGoals(latest().orders, latest().layout, clip);
     selectNext.current = result.ids;
     edit(() => ({ orders: result.orders, layout: result.layout }));
     setConnectMessage(`Pasted ${result.ids.join(", ")}.`);
@@ -606,7 +362,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
     else void navigator.clipboard?.readText().then(pasteClip, () => pasteClip(null));
   };
   const duplicateSelected = () => {
-    const clip = copyGoals(latest.current.orders, latest.current.layout, selectedNodes);
+    const clip = copyGoals(latest().orders, latest().layout, selectedNodes);
     if (clip) pasteClip(JSON.stringify(clip));
   };
 
@@ -635,7 +391,6 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
   const selectedGoal = goals(orders).find((g) => g.id === selectedId);
   const selectedTerminal = terminals(orders).find((t) => t.id === selectedId);
   const errors = findings.filter((f) => f.severity === "error").length;
-
   return (
     <div className="editor">
       <div className="editor-toolbar" role="toolbar" aria-label="Graph editing">
@@ -718,7 +473,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
             {highlight.path.goals.map((g, i) => `${g} ${OUTCOME_LETTER[highlight.path.outcomes[i] as Outcome] ?? "?"}`).join(" → ")}
             {highlight.path.terminal ? ` → ${highlight.path.terminal}` : ""}
           </code>{" "}
-          <button type="button" onClick={() => setHighlight(null)}>
+          <button type="button" onClick={() => set({ highlight: null })}>
             Clear highlight
           </button>
         </p>
@@ -813,7 +568,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
           {panel === "editor-vehicle" && <VehiclePanel orders={orders} editOrders={editOrders} markers={markers} />}
           {panel === "editor-mission" && <MissionPanel orders={orders} editOrders={editOrders} />}
           {panel === "editor-paths" && (
-            <PathsPanel missionId={mission.id} orders={orders} report={report} revision={saveState === "saved" ? revision.current : null} onHighlight={highlightPath} />
+            <PathsPanel missionId={mission.id} orders={orders} report={report} revision={saveState === "saved" ? revision : null} onHighlight={highlightPath} />
           )}
           {panel === "editor-plain" && (
             <section aria-labelledby="editor-plain-title" className="printable">

@@ -2,6 +2,7 @@
  * Pure graph-editing logic of the mission editor: orders (countersign.orders/1) to nodes and
  * edges and back, connection rules, edits. No React here; everything returns new objects.
  */
+import type { components } from "../api/schema";
 
 export const OUTCOMES = ["succeed", "fail", "violate"] as const;
 export type Outcome = (typeof OUTCOMES)[number];
@@ -13,39 +14,13 @@ export const OUTCOME_LABEL: Record<Outcome, string> = {
   violate: "Violate (constraint)",
 };
 
-export interface GoalSpec {
-  id: string;
-  title?: string;
-  behavior?: string | null;
-  area?: string | null;
-  requires?: string[];
-  envelope?: Record<string, [number, number]>;
-  cost?: { energy_wh?: number | null; duration_s?: number | null } | null;
-  next?: Partial<Record<Outcome, string | string[] | null>>;
-  [key: string]: unknown;
-}
-export interface TerminalSpec {
-  id: string;
-  kind: "complete" | "abort";
-  title?: string;
-}
-export interface ConstraintSpec {
-  id: string;
-  text?: string;
-  applies_to?: "mission" | string[];
-  expr?: string | null;
-}
-export interface Orders {
-  format?: string;
-  id: string;
-  title?: string;
-  vehicle?: string | null;
-  start?: string | string[] | null;
-  goals?: GoalSpec[];
-  terminals?: TerminalSpec[] | null;
-  constraints?: ConstraintSpec[];
-  [key: string]: unknown;
-}
+// The orders' types are the server's (generated from its Pydantic model via OpenAPI), so the
+// editor cannot drift from what the API accepts.
+type Schemas = components["schemas"];
+export type GoalSpec = Schemas["Goal"];
+export type TerminalSpec = Schemas["Terminal"];
+export type ConstraintSpec = Schemas["Constraint"];
+export type Orders = Schemas["Orders"];
 
 export interface Point {
   x: number;
@@ -188,7 +163,7 @@ export function disconnect(orders: Orders, source: string, outcome: Outcome, tar
     const rest = successors(g, outcome).filter((t) => t !== target);
     const next = { ...(g.next ?? {}) };
     if (rest.length === 0) delete next[outcome];
-    else next[outcome] = rest.length === 1 ? rest[0] : rest;
+    else next[outcome] = rest.length === 1 ? rest[0]! : rest;
     return { ...g, next };
   });
 }
@@ -233,7 +208,7 @@ export function deleteNodes(orders: Orders, ids: Iterable<string>): Orders {
       const next: GoalSpec["next"] = {};
       for (const outcome of OUTCOMES) {
         const rest = successors(g, outcome).filter((t) => !gone.has(t));
-        if (rest.length > 0) next[outcome] = rest.length === 1 ? rest[0] : rest;
+        if (rest.length > 0) next[outcome] = rest.length === 1 ? rest[0]! : rest;
       }
       return { ...g, next };
     });

@@ -24,12 +24,14 @@ export interface QuantitySpec {
   min?: number;
   max?: number;
   title?: string;
+  [key: string]: unknown;
 }
 export interface FeatureSpec {
   id: string;
   title?: string;
   fulfills: string[];
   measures: string[];
+  [key: string]: unknown;
 }
 export interface VehicleSpec {
   id: string;
@@ -197,12 +199,17 @@ export function deleteQuantity(orders: Orders, name: string): Orders {
 export function norms(orders: Orders): NormSpec[] {
   return (orders.norms as NormSpec[] | undefined) ?? [];
 }
+/** The orders with these norms. A norm being written may still lack its context (the check
+ * reports it), which the server's type does not allow: the one place that says so. */
+function withNorms(orders: Orders, list: NormSpec[]): Orders {
+  return { ...orders, norms: list as Orders["norms"] };
+}
 export function addNorm(orders: Orders): { orders: Orders; id: string } {
   const id = freeId(norms(orders).map((n) => n.id), "N");
-  return { orders: { ...orders, norms: [...norms(orders), { id }] }, id };
+  return { orders: withNorms(orders, [...norms(orders), { id }]), id };
 }
 export function updateNorm(orders: Orders, id: string, changes: Record<string, unknown>): Orders {
-  return { ...orders, norms: norms(orders).map((n) => (n.id === id ? patch(n, changes) : n)) };
+  return withNorms(orders, norms(orders).map((n) => (n.id === id ? patch(n, changes) : n)));
 }
 export function normKind(norm: NormSpec): NormKind {
   return NORM_KINDS.find((k) => norm[k] !== undefined) ?? "forbidden";
@@ -223,6 +230,10 @@ export function deleteNorm(orders: Orders, id: string): Orders {
 export function vehicles(orders: Orders): VehicleSpec[] {
   return (orders.vehicles as VehicleSpec[] | undefined) ?? [];
 }
+/** The orders with these vehicle profiles (a profile being written may be incomplete). */
+function withVehicles(orders: Orders, list: VehicleSpec[]): Orders {
+  return { ...orders, vehicles: list as Orders["vehicles"] };
+}
 /** The target vehicle's profile in the orders (the one `vehicle` names). */
 export function targetVehicle(orders: Orders): VehicleSpec | undefined {
   return vehicles(orders).find((v) => v.id === orders.vehicle);
@@ -231,10 +242,10 @@ export function targetVehicle(orders: Orders): VehicleSpec | undefined {
 export function addVehicle(orders: Orders, id?: string): Orders {
   const vid = id || (orders.vehicle as string | undefined) || freeId(vehicles(orders).map((v) => v.id), "vehicle-");
   if (vehicles(orders).some((v) => v.id === vid)) return { ...orders, vehicle: vid };
-  return { ...orders, vehicle: vid, vehicles: [...vehicles(orders), { id: vid }] };
+  return withVehicles({ ...orders, vehicle: vid }, [...vehicles(orders), { id: vid }]);
 }
 export function updateVehicle(orders: Orders, id: string, changes: Record<string, unknown>): Orders {
-  return { ...orders, vehicles: vehicles(orders).map((v) => (v.id === id ? patch(v, changes) : v)) };
+  return withVehicles(orders, vehicles(orders).map((v) => (v.id === id ? patch(v, changes) : v)));
 }
 /** Renames a vehicle profile and the orders' target when it named that profile. */
 export function renameVehicle(orders: Orders, id: string, to: string): { orders: Orders; error?: string } {
@@ -242,11 +253,10 @@ export function renameVehicle(orders: Orders, id: string, to: string): { orders:
   if (!to) return { orders, error: "A vehicle needs an id." };
   if (vehicles(orders).some((v) => v.id === to)) return { orders, error: `Vehicle ${to} exists already.` };
   return {
-    orders: {
-      ...orders,
-      vehicle: orders.vehicle === id ? to : orders.vehicle,
-      vehicles: vehicles(orders).map((v) => (v.id === id ? { ...v, id: to } : v)),
-    },
+    orders: withVehicles(
+      { ...orders, vehicle: orders.vehicle === id ? to : orders.vehicle },
+      vehicles(orders).map((v) => (v.id === id ? { ...v, id: to } : v)),
+    ),
   };
 }
 export function addFeature(orders: Orders, vehicle: string): { orders: Orders; id: string } {
@@ -340,7 +350,7 @@ export function pasteGoals(
       const targets = successors(g, o)
         .map((t) => renamed.get(t) ?? (known.has(t) ? t : null))
         .filter((t): t is string => t !== null);
-      if (targets.length > 0) next[o] = targets.length === 1 ? targets[0] : targets;
+      if (targets.length > 0) next[o] = targets.length === 1 ? targets[0]! : targets;
     }
     return { ...structuredClone(g), id: renamed.get(g.id)!, next };
   });

@@ -1,49 +1,23 @@
-/** The editor's draft (orders and layout) under undo/redo (history.ts). */
-import { type RefObject, useCallback, useRef, useState } from "react";
+/** The editor's draft (orders and layout) under undo/redo (history.ts), kept in the store. */
+import { useCallback } from "react";
 
-import type { MissionDetail } from "../api/client";
-import { goals, type Layout, type Orders, terminals } from "./graph";
-import { createHistory, type History } from "./history";
-import { ELK_MAX_GOALS, fastLayout } from "./layout";
+import type { History } from "./history";
+import { type Draft, useEditor, useEditorApi } from "./store";
 
-export interface Draft {
-  orders: Orders;
-  layout: Layout;
-}
-
-/** Whether every goal and terminal of the draft has a position (an empty draft counts as not). */
-export function isLaidOut(draft: Draft): boolean {
-  const ids = [...goals(draft.orders).map((g) => g.id), ...terminals(draft.orders).map((t) => t.id)];
-  return ids.length > 0 && ids.every((id) => draft.layout[id]);
-}
+export { type Draft, isLaidOut } from "./store";
 
 export interface DraftHistory {
   history: History<Draft>;
-  /** The newest history and draft, updated when they are set (not when React renders them), so
-   * that an edit can be sent to the server from its event handler. */
-  historyNow: RefObject<History<Draft>>;
-  latest: RefObject<Draft>;
+  /** The newest draft, as set (not as React last rendered it), so that an edit can be sent to
+   * the server from its event handler. */
+  latest: () => Draft;
   updateHistory: (update: (h: History<Draft>) => History<Draft>) => void;
 }
 
-export function useDraftHistory(mission: MissionDetail): DraftHistory {
-  // A large draft without positions is laid out at once (the linear-time layout), so that the
-  // canvas never renders it unplaced; smaller ones wait for ELK before they render.
-  const [history, setHistory] = useState<History<Draft>>(() => {
-    performance.mark("editor:first-render");
-    const opened = { orders: mission.orders as Orders, layout: (mission.layout ?? {}) as Layout };
-    if (goals(opened.orders).length > ELK_MAX_GOALS && !isLaidOut(opened)) {
-      opened.layout = { ...fastLayout(opened.orders), ...opened.layout };
-    }
-    return createHistory(opened);
-  });
-  const historyNow = useRef(history);
-  const latest = useRef(history.present);
-  const updateHistory = useCallback((update: (h: History<Draft>) => History<Draft>) => {
-    const next = update(historyNow.current);
-    historyNow.current = next;
-    latest.current = next.present;
-    setHistory(next);
-  }, []);
-  return { history, historyNow, latest, updateHistory };
+export function useDraftHistory(): DraftHistory {
+  const store = useEditorApi();
+  const history = useEditor((s) => s.history);
+  const latest = useCallback(() => store.getState().history.present, [store]);
+  const updateHistory = useCallback((update: (h: History<Draft>) => History<Draft>) => store.getState().setHistory(update), [store]);
+  return { history, latest, updateHistory };
 }

@@ -1,0 +1,144 @@
+/**
+ * The mission editor's state in one store (zustand, as React Flow's state-management guide
+ * shows): the draft under undo/redo, the save and conflict state, the server's report and the
+ * canvas's nodes and edges. One store per mounted editor (a context gives it to the hooks), so
+ * two editors never share a draft. Actions read the newest state with `get()`, so an edit can be
+ * sent to the server from its event handler before React renders it.
+ */
+import { applyEdgeChanges, applyNodeChanges, type Edge, type EdgeChange, type Node, type NodeChange } from "@xyflow/react";
+import { createContext, useContext } from "react";
+import { createStore, type StoreApi, useStore } from "zustand";
+
+import type { MissionDetail, Report } from "../api/client";
+import type { Conflict } from "./ConflictDialog";
+import type { Layout, Orders, PathLike } from "./graph";
+import { goals, terminals } from "./graph";
+import { createHistory, type History } from "./history";
+import { ELK_MAX_GOALS, fastLayout } from "./layout";
+import type { NodeData } from "./nodes";
+
+export interface Draft {
+  orders: Orders;
+  layout: Layout;
+}
+
+export type SaveState = "saved" | "pending" | "saving" | "conflict" | "error";
+
+export interface Highlight {
+  path: PathLike;
+  label: string;
+}
+
+type Update<T> = T | ((previous: T) => T);
+function apply<T>(update: Update<T>, previous: T): T {
+  return typeof update === "function" ? (update as (p: T) => T)(previous) : update;
+}
+
+export interface EditorState {
+  missionId: string;
+  /** The draft (orders and layout) under undo/redo. */
+  history: History<Draft>;
+  /** The ETag the next save sends (the revision last read or saved). */
+  revision: number;
+  /** The revision last saved or loaded, as rendered (the plain orders re-read on change). */
+  savedRevision: number;
+  saveState: SaveState;
+  saveError: unknown;
+  conflict: Conflict | null;
+  notice: string;
+  /** Spoken by the canvas's live region (connections, copy, paste). */
+  connectMessage: string;
+  // The server check.
+  report: Report | null;
+  checkMs: number | null;
+  /** The orders whose report is shown; a save of the same orders sends no check. */
+  lastChecked: Orders | null;
+  /** performance.now() of the last edit (the check time is measured from it). */
+  editedAt: number;
+  // The canvas.
+  nodes: Node<NodeData>[];
+  edges: Edge[];
+  highlight: Highlight | null;
+  /** Whether the canvas shows the newest positions (tests wait for it). */
+  ready: boolean;
+  /** Whether the opened draft has positions (until then the canvas gets no nodes). */
+  placed: boolean;
+  panel: string;
+
+  setHistory: (update: Update<History<Draft>>) => void;
+  setNodes: (update: Update<Node<NodeData>[]>) => void;
+  setEdges: (update: Update<Edge[]>) => void;
+  onNodesChange: (changes: NodeChange<Node<NodeData>>[]) => void;
+  onEdgesChange: (changes: EdgeChange[]) => void;
+  select: (ids: string[]) => void;
+  set: (patch: Partial<EditorState>) => void;
+}
+
+function openedDraft(mission: MissionDetail): Draft {
+  const opened = { orders: mission.orders as Orders, layout: (mission.layout ?? {}) as Layout };
+  // A large draft without positions is laid out at once (the linear-time layout), so that the
+  // canvas never renders it unplaced; smaller ones wait for ELK before they render.
+  if (goals(opened.orders).length > ELK_MAX_GOALS && !isLaidOut(opened)) {
+    opened.layout = { ...fastLayout(opened.orders), ...opened.layout };
+  }
+  return opened;
+}
+
+/** Whether every goal and terminal of the draft has a position (an empty draft counts as not). */
+export function isLaidOut(draft: Draft): boolean {
+  const ids = [...goals(draft.orders).map((g) => g.id), ...terminals(draft.orders).map((t) => t.id)];
+  return ids.length > 0 && ids.every((id) => draft.layout[id]);
+}
+
+export function createEditorStore(mission: MissionDetail): StoreApi<EditorState> {
+  performance.mark("editor:first-render");
+  const draft = openedDraft(mission);
+  return createStore<EditorState>()((set) => ({
+    missionId: mission.id,
+    history: createHistory(draft),
+    revision: mission.revision,
+    savedRevision: mission.revision,
+    saveState: "saved",
+    saveError: null,
+    conflict: null,
+    notice: "",
+    connectMessage: "",
+    report: null,
+    checkMs: null,
+    lastChecked: mission.orders as Orders,
+    editedAt: 0,
+    nodes: [],
+    edges: [],
+    highlight: null,
+    ready: false,
+    placed: isLaidOut(draft),
+    panel: "editor-constraints",
+
+    setHistory: (update) => set((s) => ({ history: apply(update, s.history) })),
+    setNodes: (update) => set((s) => ({ nodes: apply(update, s.nodes) })),
+    setEdges: (update) => set((s) => ({ edges: apply(update, s.edges) })),
+    // Removals go through the orders (deleteSelected), never straight to the canvas.
+    onNodesChange: (changes) => set((s) => ({ nodes: applyNodeChanges(changes.filter((c) => c.type !== "remove"), s.nodes) })),
+    onEdgesChange: (changes) => set((s) => ({ edges: applyEdgeChanges(changes.filter((c) => c.type !== "remove"), s.edges) })),
+    select: (ids) =>
+      set((s) => ({
+        nodes: s.nodes.map((n) => ({ ...n, selected: ids.includes(n.id) })),
+        edges: s.edges.map((e) => ({ ...e, selected: false })),
+      })),
+    set: (patch) => set(patch),
+  }));
+}
+
+export const EditorStoreContext = createContext<StoreApi<EditorState> | null>(null);
+
+/** The editor's store (for actions that read the newest state with getState()). */
+export function useEditorApi(): StoreApi<EditorState> {
+  const store = useContext(EditorStoreContext);
+  if (!store) throw new Error("useEditorApi outside the mission editor");
+  return store;
+}
+
+/** A slice of the editor's state; the component re-renders when that slice changes. */
+export function useEditor<T>(selector: (state: EditorState) => T): T {
+  return useStore(useEditorApi(), selector);
+}

@@ -1,0 +1,142 @@
+/**
+ * Autosave and conflict: every change of the present draft (edit, undo, redo) is checked and
+ * saved with If-Match (discrete edits at once, from the event handler; typing after a short
+ * pause). A 412 opens the conflict; nothing is overwritten until the operator chooses.
+ */
+import { useCallback, useEffect, useRef } from "react";
+
+import { api, type MissionDetail, unwrap } from "../api/client";
+import { describeDifferences, type Layout, type Orders } from "./graph";
+import { push, reset } from "./history";
+import { type Draft, useEditorApi } from "./store";
+import type { ServerCheck } from "./useServerCheck";
+
+const SAVE_DELAY_MS = 250;
+
+export interface Autosave {
+  /** Applies a change to the draft as one undo step (`group`: typing, coalesced) and saves it. */
+  edit: (change: (d: Draft) => Draft, group?: string) => void;
+  editOrders: (change: (o: Orders) => Orders, group?: string) => void;
+  /** Checks and saves the present draft after it changed outside `edit` (undo, redo). */
+  changed: (group?: string) => void;
+  save: () => Promise<void>;
+  /** Saves positions computed on open, once, unless the draft opened with them all. */
+  saveComputedLayout: (layout: Layout) => void;
+  reloadTheirs: () => void;
+  keepMine: () => void;
+}
+
+export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDetail) => void, server: ServerCheck): Autosave {
+  const store = useEditorApi();
+  const { check, refreshChecks } = server;
+  const saving = useRef(false);
+  const again = useRef(false);
+  const latest = useCallback(() => store.getState().history.present, [store]);
+  const inConflict = useCallback(() => store.getState().conflict !== null, [store]);
+
+  const save = useCallback(async () => {
+    const { set } = store.getState();
+    if (saving.current) {
+      again.current = true;
+      return;
+    }
+    saving.current = true;
+    set({ saveState: "saving" });
+    const sent = latest();
+    try {
+      // Saved once checked: the save then finds the report cached instead of validating the
+      // same orders a second time beside the check.
+      const reported = await check(sent.orders);
+      const result = await api.PUT("/api/missions/{mission_id}/draft", {
+        params: { path: { mission_id: mission.id }, header: { "if-match": `"${store.getState().revision}"` } },
+        body: { orders: sent.orders, layout: sent.layout },
+      });
+      if (result.response.status === 412) {
+        const theirs = unwrap(await api.GET("/api/missions/{mission_id}", { params: { path: { mission_id: mission.id } } }));
+        const differences = describeDifferences(latest().orders, theirs.orders as Orders);
+        set({ conflict: { theirs, differences }, saveState: "conflict" });
+        again.current = false;
+        return;
+      }
+      const saved = unwrap(result);
+      set({ revision: saved.revision, savedRevision: saved.revision, saveError: null, saveState: latest() === sent ? "saved" : "pending" });
+      onSaved(saved);
+      // The check above reported these orders; re-read the report only if it failed.
+      if (!reported && latest() === sent) await refreshChecks();
+    } catch (e) {
+      set({ saveError: e, saveState: "error" });
+    } finally {
+      saving.current = false;
+      if (again.current) {
+        again.current = false;
+        void save();
+      }
+    }
+  }, [store, latest, mission.id, onSaved, refreshChecks, check]);
+
+  const saveTimer = useRef<number | undefined>(undefined);
+  useEffect(() => () => window.clearTimeout(saveTimer.current), []);
+  const changed = useCallback(
+    (group?: string) => {
+      store.getState().set({ editedAt: performance.now() });
+      performance.mark("editor:edit");
+      if (inConflict()) return;
+      window.clearTimeout(saveTimer.current);
+      store.getState().set({ saveState: "pending" });
+      if (group) {
+        saveTimer.current = window.setTimeout(() => void save(), SAVE_DELAY_MS);
+        return;
+      }
+      void check(latest().orders);
+      void save();
+    },
+    [store, save, check, latest, inConflict],
+  );
+
+  const edit = useCallback(
+    (change: (d: Draft) => Draft, group?: string) => {
+      store.getState().setHistory((h) => push(h, change(h.present), group ? { group } : {}));
+      changed(group);
+    },
+    [store, changed],
+  );
+  const editOrders = useCallback(
+    (change: (o: Orders) => Orders, group?: string) => edit((d) => ({ ...d, orders: change(d.orders) }), group),
+    [edit],
+  );
+
+  const savedLayout = useRef((mission.layout ?? {}) as Layout);
+  const saveComputedLayout = useCallback(
+    (layout: Layout) => {
+      if (inConflict() || Object.keys(layout).every((id) => savedLayout.current[id])) return;
+      store.getState().set({ saveState: "pending" });
+      void save();
+    },
+    [store, save, inConflict],
+  );
+
+  const reloadTheirs = useCallback(() => {
+    const { conflict, set, setHistory } = store.getState();
+    if (!conflict) return;
+    setHistory(reset({ orders: conflict.theirs.orders as Orders, layout: (conflict.theirs.layout ?? {}) as Layout }));
+    set({
+      revision: conflict.theirs.revision,
+      savedRevision: conflict.theirs.revision,
+      lastChecked: conflict.theirs.orders as Orders,
+      conflict: null,
+      saveState: "saved",
+      notice: "Reloaded the draft someone else saved.",
+    });
+    void refreshChecks();
+    onSaved(conflict.theirs);
+  }, [store, refreshChecks, onSaved]);
+
+  const keepMine = useCallback(() => {
+    const { conflict, set } = store.getState();
+    if (!conflict) return;
+    set({ revision: conflict.theirs.revision, conflict: null, notice: "Your version replaced theirs." });
+    void save();
+  }, [store, save]);
+
+  return { edit, editOrders, changed, save, saveComputedLayout, reloadTheirs, keepMine };
+}

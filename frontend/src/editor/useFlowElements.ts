@@ -1,0 +1,158 @@
+/**
+ * The canvas's React Flow nodes and edges, kept in the store and synchronised with the draft,
+ * the findings (markers) and the highlighted path. Unchanged nodes and edges keep their objects,
+ * so React Flow re-renders only what changed.
+ */
+import { type Edge, MarkerType, type Node, Position } from "@xyflow/react";
+import { useEffect, useLayoutEffect, useMemo } from "react";
+
+import type { Finding } from "../api/client";
+import {
+  edgeMarkers,
+  type GraphEdge,
+  type GraphNode,
+  markersBySubject,
+  ordersToGraph,
+  OUTCOME_LABEL,
+  OUTCOME_LETTER,
+  type Outcome,
+  OUTCOMES,
+  pathElements,
+} from "./graph";
+import type { NodeData } from "./nodes";
+import { useEditor, useEditorApi } from "./store";
+
+/** Above this many goals the canvas renders only what is in view and opens at the start goal. */
+export const LARGE_GOALS = 200;
+const COLOURS: Record<Outcome, string> = { succeed: "#1a7f37", fail: "#c25e00", violate: "#c9202c" };
+/** Node sizes and handle positions as the CSS draws them (goal 220 x 112, handles 18 px). */
+const PRESET = {
+  goal: {
+    initialWidth: 220,
+    initialHeight: 112,
+    handles: [
+      { id: "in", type: "target" as const, position: Position.Left, x: -6, y: 50, width: 12, height: 12 },
+      ...OUTCOMES.map((o, i) => ({ id: o, type: "source" as const, position: Position.Right, x: 211, y: 28 * (i + 1) - 9, width: 18, height: 18 })),
+    ],
+  },
+  terminal: {
+    initialWidth: 160,
+    initialHeight: 60,
+    handles: [{ id: "in", type: "target" as const, position: Position.Left, x: -6, y: 24, width: 12, height: 12 }],
+  },
+};
+
+export type Markers = ReturnType<typeof markersBySubject>;
+
+export interface FlowElements {
+  graph: { nodes: GraphNode[]; edges: GraphEdge[] };
+  findings: Finding[];
+  markers: Markers;
+}
+
+export function useFlowElements(large: boolean): FlowElements {
+  const store = useEditorApi();
+  const draft = useEditor((s) => s.history.present);
+  const report = useEditor((s) => s.report);
+  const highlight = useEditor((s) => s.highlight);
+  const placed = useEditor((s) => s.placed);
+
+  const findings = useMemo(() => report?.findings ?? [], [report]);
+  useEffect(() => {
+    if (report) performance.mark("editor:findings-rendered");
+  }, [report]);
+  const markers = useMemo(() => markersBySubject(findings), [findings]);
+  const graph = useMemo(() => ordersToGraph(draft.orders, draft.layout), [draft.orders, draft.layout]);
+  const edgeMarks = useMemo(() => edgeMarkers(findings, graph.edges), [findings, graph.edges]);
+  const onPath = useMemo(() => (highlight ? pathElements(highlight.path) : null), [highlight]);
+
+  // Before the browser paints: markers show in the same frame as the findings list.
+  useLayoutEffect(() => {
+    if (!placed) return;
+    const { setNodes, setEdges } = store.getState();
+    setNodes((previous) => {
+      const before = new Map(previous.map((n) => [n.id, n]));
+      return graph.nodes.map((n) => {
+        const old = before.get(n.id);
+        const mark = markers.get(n.id);
+        const data: NodeData = {
+          label: n.label,
+          start: n.start,
+          codes: mark?.codes ?? [],
+          severity: mark?.severity ?? null,
+          terminalKind: n.terminalKind,
+        };
+        const lit = onPath?.nodes.has(n.id) ?? false;
+        const ariaLabel = `${n.kind === "goal" ? "Goal" : "Terminal"} ${n.id}: ${n.label}${n.start ? " (start)" : ""}${
+          mark ? `; findings ${mark.codes.join(", ")}` : ""
+        }${lit ? "; on the highlighted path" : ""}`;
+        const className = lit ? "on-path" : "";
+        if (
+          old &&
+          old.type === n.kind &&
+          old.position.x === n.position.x &&
+          old.position.y === n.position.y &&
+          old.ariaLabel === ariaLabel &&
+          (old.className ?? "") === className &&
+          old.data.severity === data.severity &&
+          old.data.terminalKind === data.terminalKind &&
+          old.data.codes.join() === data.codes.join()
+        ) {
+          return old;
+        }
+        return {
+          id: n.id,
+          type: n.kind,
+          position: n.position,
+          // Large missions: sizes and handle positions are given, so React Flow need not render
+          // every node once to measure it; only the nodes in view are rendered.
+          ...(large ? PRESET[n.kind] : {}),
+          data,
+          ariaLabel,
+          className,
+          selected: old?.selected ?? false,
+          ...(old?.measured ? { measured: old.measured } : {}),
+        };
+      });
+    });
+    setEdges((previous) => {
+      const before = new Map(previous.map((e) => [e.id, e]));
+      return graph.edges
+        .filter((e) => !e.dangling)
+        .map((e): Edge => {
+          const old = before.get(e.id);
+          const mark = edgeMarks.get(e.id);
+          const lit = onPath?.edges.has(e.id) ?? false;
+          const colour = COLOURS[e.outcome];
+          const label = `${OUTCOME_LETTER[e.outcome]}${mark ? ` ${mark.severity === "error" ? "✖" : "⚠"} ${mark.codes.join(" ")}` : ""}${lit ? " ●" : ""}`;
+          const className = `edge-${e.outcome}${mark ? ` edge-marked edge-marked-${mark.severity}` : ""}${lit ? " edge-on-path" : ""}`;
+          const ariaLabel = `${e.source} ${OUTCOME_LABEL[e.outcome]} to ${e.target}${mark ? `; findings ${mark.codes.join(", ")}` : ""}${
+            lit ? "; on the highlighted path" : ""
+          }`;
+          // Unchanged edges keep their object (the id names source, outcome and target; the
+          // style follows from the label and class).
+          if (old && old.label === label && old.className === className && old.ariaLabel === ariaLabel) return old;
+          return {
+            id: e.id,
+            type: "outcome",
+            source: e.source,
+            sourceHandle: e.outcome,
+            target: e.target,
+            targetHandle: "in",
+            label,
+            className,
+            style: { stroke: colour, strokeWidth: lit ? 5 : mark ? 3 : 2, strokeDasharray: mark ? "6 4" : undefined },
+            labelStyle: { fill: colour, fontWeight: 700 },
+            markerEnd: { type: MarkerType.ArrowClosed, color: colour },
+            ariaLabel,
+            selected: old?.selected ?? false,
+          };
+        });
+    });
+  }, [store, graph, markers, edgeMarks, onPath, placed, large]);
+
+  return { graph, findings, markers };
+}
+
+/** The node type of the canvas's nodes. */
+export type FlowNode = Node<NodeData>;
