@@ -64,6 +64,7 @@ export const OPERATION_ROLES = {
   revokeApproval: ["supervisor"],
   revokeKey: ["supervisor", "admin"],
   revokeToken: ["operator", "supervisor", "auditor", "admin"],
+  saveLayout: ["operator"],
   signDecision: ["supervisor"],
   solvePlan: ["operator", "supervisor", "auditor", "admin"],
   startRehearsal: ["operator", "supervisor"],

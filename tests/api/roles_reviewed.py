@@ -128,6 +128,8 @@ REVIEWED_ROLES: dict[str, tuple[str, ...]] = {
     "revokeToken": ("operator", "supervisor", "auditor", "admin"),
     # POST /api/submissions/{submission_id}/decision
     "signDecision": ("supervisor",),
+    # PUT /api/missions/{mission_id}/layout
+    "saveLayout": ("operator",),
     # POST /api/plan
     "solvePlan": ("operator", "supervisor", "auditor", "admin"),
     # POST /api/missions/{mission_id}/rehearsals

@@ -121,6 +121,18 @@ def update_draft(
     return mission
 
 
+def save_layout(db: DbSession, *, mission_id: str, layout: dict[str, Any]) -> Mission:
+    """The editor's node positions, stored beside the draft: not orders, so no revision, no
+    "Updated by" and no event (two operators moving nodes never conflict on the draft)."""
+    mission = get_mission(db, mission_id)
+    db.execute(
+        update(Mission).where(Mission.id == mission_id).values(layout=_check_layout(layout))
+        .execution_options(synchronize_session=False)
+    )
+    db.refresh(mission)
+    return mission
+
+
 def delete_mission(db: DbSession, *, mission_id: str, actor: User) -> None:
     mission = get_mission(db, mission_id)
     versions = db.scalar(

@@ -548,6 +548,26 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/missions/{mission_id}/layout": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        /**
+         * Save Layout
+         * @description Node positions of the graph editor: editor data, not orders (no revision, no If-Match).
+         */
+        put: operations["saveLayout"];
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/missions/{mission_id}/paths": {
         parameters: {
             query?: never;
@@ -2001,6 +2021,20 @@ export interface components {
              */
             reason?: string;
         };
+        /** LayoutIn */
+        LayoutIn: {
+            /** Layout */
+            layout: {
+                [key: string]: components["schemas"]["Position"];
+            };
+        };
+        /** LayoutOut */
+        LayoutOut: {
+            /** Layout */
+            layout: {
+                [key: string]: unknown;
+            };
+        };
         /** LogEntryOut */
         LogEntryOut: {
             /** Entry */
@@ -2443,6 +2477,13 @@ export interface components {
             places: {
                 [key: string]: unknown;
             }[];
+        };
+        /** Position */
+        Position: {
+            /** X */
+            x: number;
+            /** Y */
+            y: number;
         };
         /**
          * PreparedOut
@@ -4146,6 +4187,41 @@ export interface operations {
                 };
                 content: {
                     "text/plain": string;
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    saveLayout: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                mission_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["LayoutIn"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["LayoutOut"];
                 };
             };
             /** @description Validation Error */

@@ -107,7 +107,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
   }, []);
 
   const server = useServerCheck();
-  const { edit, editOrders, changed, saveComputedLayout, reloadTheirs, keepMine } = useAutosave(mission, onSaved, server);
+  const { edit, editOrders, changed, saveComputedLayout, reloadTheirs, resolve } = useAutosave(mission, onSaved, server);
 
   // Lay out a draft that has no positions yet (new or imported), without an undo step.
   // Small orders open fitted to the canvas; large ones open at the start goal at a readable
@@ -584,7 +584,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
         </Tabs>
       </div>
       {planOpen && <PlanDialog mission={mission} orders={orders} onClose={() => setPlanOpen(false)} />}
-      {conflict && <ConflictDialog conflict={conflict} onReload={reloadTheirs} onKeepMine={keepMine} />}
+      {conflict && <ConflictDialog conflict={conflict} onReload={reloadTheirs} onResolve={resolve} />}
     </div>
   );
 }

@@ -40,6 +40,10 @@ export interface EditorState {
   history: History<Draft>;
   /** The ETag the next save sends (the revision last read or saved). */
   revision: number;
+  /** The orders of that revision: the common ancestor of a three-way merge (merge.ts). */
+  base: Orders;
+  /** The positions last saved or loaded (saved apart from the orders: no revision). */
+  savedLayout: Layout;
   /** The revision last saved or loaded, as rendered (the plain orders re-read on change). */
   savedRevision: number;
   saveState: SaveState;
@@ -97,6 +101,8 @@ export function createEditorStore(mission: MissionDetail): StoreApi<EditorState>
     missionId: mission.id,
     history: createHistory(draft),
     revision: mission.revision,
+    base: mission.orders as Orders,
+    savedLayout: (mission.layout ?? {}) as Layout,
     savedRevision: mission.revision,
     saveState: "saved",
     saveError: null,

@@ -8,10 +8,15 @@ import { useCallback, useEffect, useRef } from "react";
 import { api, type MissionDetail, unwrap } from "../api/client";
 import { describeDifferences, type Layout, type Orders } from "./graph";
 import { push, reset } from "./history";
+import { mergeOrders, resolveMerge, type Side } from "./merge";
 import { type Draft, useEditorApi } from "./store";
 import type { ServerCheck } from "./useServerCheck";
 
 const SAVE_DELAY_MS = 250;
+
+function mergedNotice(theirs: MissionDetail, merged: string[]): string {
+  return `${theirs.updated_by} saved revision ${theirs.revision} meanwhile; merged with your edits${merged.length > 0 ? `: ${merged.join(" ")}` : "."}`;
+}
 
 export interface Autosave {
   /** Applies a change to the draft as one undo step (`group`: typing, coalesced) and saves it. */
@@ -23,7 +28,8 @@ export interface Autosave {
   /** Saves positions computed on open, once, unless the draft opened with them all. */
   saveComputedLayout: (layout: Layout) => void;
   reloadTheirs: () => void;
-  keepMine: () => void;
+  /** Applies the conflict dialog's choice per overlapping item to the merged orders and saves. */
+  resolve: (choices: Record<string, Side>) => void;
 }
 
 export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDetail) => void, server: ServerCheck): Autosave {
@@ -34,6 +40,37 @@ export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDeta
   const latest = useCallback(() => store.getState().history.present, [store]);
   const inConflict = useCallback(() => store.getState().conflict !== null, [store]);
 
+  /** Someone else saved meanwhile: merges their orders with mine (three-way, against the
+   * revision both started from). Returns whether the merged draft should be saved at once (no
+   * overlap); otherwise the conflict dialog asks per item. */
+  const mergeTheirs = useCallback(
+    (theirs: MissionDetail): boolean => {
+      const { base, set } = store.getState();
+      const merge = mergeOrders(base, latest().orders, theirs.orders as Orders);
+      if (merge.conflicts.length > 0) {
+        const differences = describeDifferences(latest().orders, theirs.orders as Orders);
+        set({ conflict: { theirs, differences, merge }, saveState: "conflict" });
+        return false;
+      }
+      adoptMerged(theirs, merge.orders);
+      set({ notice: mergedNotice(theirs, merge.merged) });
+      return true;
+    },
+    [store, latest],
+  );
+  /** Takes merged orders as a new undo step, on top of their revision (mine positions first). */
+  const adoptMerged = useCallback(
+    (theirs: MissionDetail, orders: Orders) => {
+      const { setHistory, set } = store.getState();
+      setHistory((h) => push(h, { orders, layout: { ...((theirs.layout ?? {}) as Layout), ...h.present.layout } }));
+      set({ revision: theirs.revision, base: theirs.orders as Orders, conflict: null, saveState: "pending" });
+      void check(orders);
+    },
+    [store, check],
+  );
+
+  // A save sends what changed: the orders (If-Match; a new revision) and, apart, the positions
+  // (editor data: no revision, no "Updated by").
   const save = useCallback(async () => {
     const { set } = store.getState();
     if (saving.current) {
@@ -44,25 +81,30 @@ export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDeta
     set({ saveState: "saving" });
     const sent = latest();
     try {
-      // Saved once checked: the save then finds the report cached instead of validating the
-      // same orders a second time beside the check.
-      const reported = await check(sent.orders);
-      const result = await api.PUT("/api/missions/{mission_id}/draft", {
-        params: { path: { mission_id: mission.id }, header: { "if-match": `"${store.getState().revision}"` } },
-        body: { orders: sent.orders, layout: sent.layout },
-      });
-      if (result.response.status === 412) {
-        const theirs = unwrap(await api.GET("/api/missions/{mission_id}", { params: { path: { mission_id: mission.id } } }));
-        const differences = describeDifferences(latest().orders, theirs.orders as Orders);
-        set({ conflict: { theirs, differences }, saveState: "conflict" });
-        again.current = false;
-        return;
+      if (sent.orders !== store.getState().base) {
+        // Saved once checked: the save then finds the report cached instead of validating the
+        // same orders a second time beside the check.
+        const reported = await check(sent.orders);
+        const result = await api.PUT("/api/missions/{mission_id}/draft", {
+          params: { path: { mission_id: mission.id }, header: { "if-match": `"${store.getState().revision}"` } },
+          body: { orders: sent.orders },
+        });
+        if (result.response.status === 412) {
+          const theirs = unwrap(await api.GET("/api/missions/{mission_id}", { params: { path: { mission_id: mission.id } } }));
+          again.current = mergeTheirs(theirs);
+          return;
+        }
+        const saved = unwrap(result);
+        set({ revision: saved.revision, savedRevision: saved.revision, base: sent.orders, saveError: null });
+        onSaved(saved);
+        // The check above reported these orders; re-read the report only if it failed.
+        if (!reported && latest() === sent) await refreshChecks();
       }
-      const saved = unwrap(result);
-      set({ revision: saved.revision, savedRevision: saved.revision, saveError: null, saveState: latest() === sent ? "saved" : "pending" });
-      onSaved(saved);
-      // The check above reported these orders; re-read the report only if it failed.
-      if (!reported && latest() === sent) await refreshChecks();
+      if (sent.layout !== store.getState().savedLayout) {
+        await api.PUT("/api/missions/{mission_id}/layout", { params: { path: { mission_id: mission.id } }, body: { layout: sent.layout } }).then(unwrap);
+        set({ savedLayout: sent.layout });
+      }
+      set({ saveError: null, saveState: latest() === sent ? "saved" : "pending" });
     } catch (e) {
       set({ saveError: e, saveState: "error" });
     } finally {
@@ -72,7 +114,7 @@ export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDeta
         void save();
       }
     }
-  }, [store, latest, mission.id, onSaved, refreshChecks, check]);
+  }, [store, latest, mission.id, onSaved, refreshChecks, check, mergeTheirs]);
 
   const saveTimer = useRef<number | undefined>(undefined);
   useEffect(() => () => window.clearTimeout(saveTimer.current), []);
@@ -105,10 +147,10 @@ export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDeta
     [edit],
   );
 
-  const savedLayout = useRef((mission.layout ?? {}) as Layout);
+  const opened = useRef((mission.layout ?? {}) as Layout);
   const saveComputedLayout = useCallback(
     (layout: Layout) => {
-      if (inConflict() || Object.keys(layout).every((id) => savedLayout.current[id])) return;
+      if (inConflict() || Object.keys(layout).every((id) => opened.current[id])) return;
       store.getState().set({ saveState: "pending" });
       void save();
     },
@@ -123,6 +165,8 @@ export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDeta
       revision: conflict.theirs.revision,
       savedRevision: conflict.theirs.revision,
       lastChecked: conflict.theirs.orders as Orders,
+      base: conflict.theirs.orders as Orders,
+      savedLayout: (conflict.theirs.layout ?? {}) as Layout,
       conflict: null,
       saveState: "saved",
       notice: "Reloaded the draft someone else saved.",
@@ -131,12 +175,22 @@ export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDeta
     onSaved(conflict.theirs);
   }, [store, refreshChecks, onSaved]);
 
-  const keepMine = useCallback(() => {
-    const { conflict, set } = store.getState();
-    if (!conflict) return;
-    set({ revision: conflict.theirs.revision, conflict: null, notice: "Your version replaced theirs." });
-    void save();
-  }, [store, save]);
+  const resolve = useCallback(
+    (choices: Record<string, Side>) => {
+      const { conflict, set } = store.getState();
+      if (!conflict) return;
+      const orders = resolveMerge(conflict.merge, choices);
+      const mine = conflict.merge.conflicts.filter((c) => choices[c.key] === "mine").map((c) => c.label);
+      adoptMerged(conflict.theirs, orders);
+      set({
+        notice: `${mergedNotice(conflict.theirs, conflict.merge.merged)} Overlapping edits: ${
+          mine.length > 0 ? `yours kept for ${mine.join(", ")}` : "theirs kept"
+        }${mine.length > 0 && mine.length < conflict.merge.conflicts.length ? ", theirs for the rest" : ""}. Undo brings your version back.`,
+      });
+      void save();
+    },
+    [store, adoptMerged, save],
+  );
 
-  return { edit, editOrders, changed, save, saveComputedLayout, reloadTheirs, keepMine };
+  return { edit, editOrders, changed, save, saveComputedLayout, reloadTheirs, resolve };
 }

@@ -11,7 +11,7 @@ from typing import Annotated, Any, Literal
 from fastapi import APIRouter, Header, HTTPException, Path, Query, Request, Response
 from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import JSONResponse, PlainTextResponse, StreamingResponse
-from pydantic import BaseModel
+from pydantic import BaseModel, Field
 from sqlalchemy import func, or_, select
 from sqlalchemy.orm import Session as DbSession
 
@@ -63,6 +63,20 @@ MAX_PATH_PAGE = 1000
 class DraftIn(RequestBody):
     orders: dict[str, Any]
     layout: dict[str, Any] | None = None
+
+
+class Position(RequestBody):
+    x: float = Field(allow_inf_nan=False)
+    y: float = Field(allow_inf_nan=False)
+
+
+class LayoutIn(RequestBody):
+    layout: dict[Annotated[str, Field(max_length=100)], Position] = Field(
+        max_length=service.MAX_LAYOUT_NODES)
+
+
+class LayoutOut(BaseModel):
+    layout: dict[str, Any]
 
 
 def _orders(data: dict[str, Any]) -> Orders:
@@ -288,6 +302,15 @@ def update_draft(mission_id: str, body: DraftIn, response: Response,
         expected_revision=expected, author=principal.user, orders_digest=validated.digest)
     validated.keep(db)
     return _detail(db, mission, response)
+
+
+@router.put("/missions/{mission_id}/layout", operation_id="saveLayout",
+            response_model=LayoutOut, **allow(*OPERATORS))
+def save_layout(mission_id: str, body: LayoutIn, db: Db) -> LayoutOut:
+    """Node positions of the graph editor: editor data, not orders (no revision, no If-Match)."""
+    layout = {node: {"x": p.x, "y": p.y} for node, p in body.layout.items()}
+    mission = service.save_layout(db, mission_id=mission_id, layout=layout)
+    return LayoutOut(layout=mission.layout)
 
 
 @router.delete("/missions/{mission_id}", operation_id="deleteMission", status_code=204,
