@@ -12,11 +12,11 @@ def test_saving_the_layout_leaves_revision_author_and_events(world: World) -> No
     client = world.client("operator")
     before = client.get(f"/api/missions/{EXAMPLE}").json()
     events = count_rows(world.database, "SELECT count(*) FROM events")
-    saved = client.put(f"/api/missions/{EXAMPLE}/layout",
-                       json={"layout": {"G1": {"x": 10, "y": 20.5}, "COMPLETE": {"x": 300, "y": 0}}})
+    layout = {"G1": {"x": 10, "y": 20.5}, "COMPLETE": {"x": 300, "y": 0}}
+    saved = client.put(f"/api/missions/{EXAMPLE}/layout", json={"layout": layout})
     assert saved.status_code == 200, saved.text
     after = client.get(f"/api/missions/{EXAMPLE}").json()
-    assert after["layout"] == {"G1": {"x": 10, "y": 20.5}, "COMPLETE": {"x": 300, "y": 0}}
+    assert after["layout"] == layout
     for field in ("revision", "updated_by", "updated_at", "draft_digest"):
         assert after[field] == before[field], field
     assert count_rows(world.database, "SELECT count(*) FROM events") == events
