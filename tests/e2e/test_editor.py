@@ -232,6 +232,8 @@ def test_operator_builds_checks_fixes_and_undoes(page: Page, server: Server) -> 
 
 
 def test_second_browser_gets_the_conflict_dialog(page: Page, server: Server) -> None:
+    """A save meanwhile that touched something else merges by itself (issue 18 item 4); one
+    that changed the same field shows both versions side by side."""
     del server
     sign_in(page, "operator")
     mission = "editor-conflict"
@@ -242,27 +244,44 @@ def test_second_browser_gets_the_conflict_dialog(page: Page, server: Server) -> 
     assert created.status == 201, created.text()
     page.goto(f"/missions/{mission}?tab=editor")
     expect(page.get_by_test_id("node-COMPLETE")).to_be_visible()
-    # The layout computed on open is saved (revision 2); someone else saves next (a title
-    # change through the API).
+    # The layout computed on open is saved apart from the orders (no revision); someone else
+    # saves next (a title change through the API).
     expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
     expect(page.get_by_test_id("save-state")).to_have_text("Saved")
     etag = page.request.get(f"/api/missions/{mission}").headers["etag"]
-    assert etag == '"2"', etag
+    assert etag == '"1"', etag
     changed = page.request.put(f"/api/missions/{mission}/draft",
                                headers={"X-CSRF-Token": token, "If-Match": etag},
                                data={"orders": {"format": "countersign.orders/1", "id": mission,
                                                 "title": "Theirs", "goals": []}})
     assert changed.ok, changed.text()
     page.get_by_role("button", name="Add goal").click()
+    expect(page.get_by_test_id("save-state")).to_have_text("Saved")
+    expect(page.get_by_role("alertdialog")).to_have_count(0)
+    expect(page.get_by_test_id("editor-notice")).to_contain_text(
+        "Mission field title: their change kept")
+    orders = page.request.get(f"/api/missions/{mission}").json()["orders"]
+    assert [g["id"] for g in orders["goals"]] == ["G1"] and orders["title"] == "Theirs"
+
+    # The same field on both sides: the dialog, both versions shown, mine chosen.
+    etag = page.request.get(f"/api/missions/{mission}").headers["etag"]
+    theirs = {**orders, "goals": [{**orders["goals"][0], "title": "Their G1"}]}
+    changed = page.request.put(f"/api/missions/{mission}/draft",
+                               headers={"X-CSRF-Token": token, "If-Match": etag},
+                               data={"orders": theirs})
+    assert changed.ok, changed.text()
+    page.get_by_test_id("node-G1").click()
+    page.locator("#goal-title").fill("My G1")
     dialog = page.get_by_role("alertdialog")
     expect(dialog).to_be_visible()
-    expect(dialog.get_by_test_id("conflict-differences")).to_contain_text("Goal G1: only in yours")
-    expect(dialog).to_contain_text("Title")
-    dialog.get_by_role("button", name="Keep mine (overwrite theirs)").click()
+    expect(dialog.get_by_test_id("conflict-differences")).to_contain_text("Goal G1")
+    expect(dialog.get_by_test_id("conflict-mine-goals:G1")).to_contain_text("My G1")
+    expect(dialog.get_by_test_id("conflict-theirs-goals:G1")).to_contain_text("Their G1")
+    dialog.get_by_role("button", name="Apply these choices").click()
     expect(dialog).to_have_count(0)
     expect(page.get_by_test_id("save-state")).to_have_text("Saved")
     orders = page.request.get(f"/api/missions/{mission}").json()["orders"]
-    assert [g["id"] for g in orders["goals"]] == ["G1"]
+    assert orders["goals"][0]["title"] == "My G1"
 
 
 def test_toolbar_is_one_row_and_its_menus_work_by_keyboard(page: Page,
@@ -311,8 +330,8 @@ def test_toolbar_is_one_row_and_its_menus_work_by_keyboard(page: Page,
 
 
 def test_layout_computed_on_open_is_saved_once(page: Page, server: Server) -> None:
-    """A draft without positions is laid out as it opens, and that layout is saved with it
-    (one save: the draft then opens as laid out, and nothing saves again)."""
+    """A draft without positions is laid out as it opens, and that layout is saved apart from
+    the orders (issue 18: no revision, no "Updated by"; the draft then opens as laid out)."""
     del server
     sign_in(page, "operator")
     mission = "editor-layout-on-open"
@@ -326,11 +345,11 @@ def test_layout_computed_on_open_is_saved_once(page: Page, server: Server) -> No
     expect(page.get_by_test_id("save-state")).to_have_text("Saved")
     shown = {node: page.get_by_test_id(f"node-{node}").bounding_box() for node in ("G1", "G5")}
     detail = page.request.get(f"/api/missions/{mission}").json()
-    assert detail["revision"] == 2, detail["revision"]
+    assert detail["revision"] == 1, detail["revision"]
     assert set(detail["layout"]) == {"G1", "G2", "G3", "G4", "G5", "COMPLETE", "ABORT"}
     assert detail["layout"]["G1"] != detail["layout"]["G5"]
     page.wait_for_timeout(1000)
-    assert page.request.get(f"/api/missions/{mission}").json()["revision"] == 2
+    assert page.request.get(f"/api/missions/{mission}").json()["revision"] == 1
     # Opened again, it shows the saved positions and saves nothing.
     page.reload()
     expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
@@ -338,7 +357,7 @@ def test_layout_computed_on_open_is_saved_once(page: Page, server: Server) -> No
         again = page.get_by_test_id(f"node-{node}").bounding_box()
         assert box and again and abs(again["x"] - box["x"]) < 2 and abs(again["y"] - box["y"]) < 2
     page.wait_for_timeout(500)
-    assert page.request.get(f"/api/missions/{mission}").json()["revision"] == 2
+    assert page.request.get(f"/api/missions/{mission}").json()["revision"] == 1
 
 
 def test_findings_appear_quickly_after_an_edit(page: Page, seeded_mission: str) -> None:

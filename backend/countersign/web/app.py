@@ -75,12 +75,14 @@ class _TooLarge(Exception):
 
 
 # Scripts: the app's own files only (no inline script, no eval), and every DOM sink that could
-# run script (innerHTML, script.src...) refuses strings: Trusted Types with no policy at all.
+# run script (innerHTML, script.src...) refuses strings: Trusted Types with one policy only,
+# `layout-worker`, which passes nothing but the app's own layout worker script (same origin,
+# frontend/src/editor/layoutClient.ts) to `new Worker`.
 # Frames: the rehearsal viewer only, which runs sandboxed in an opaque origin (viser_proxy.py).
 APP_CSP = ("default-src 'self'; script-src 'self'; object-src 'none'; base-uri 'none'; "
            "form-action 'self'; img-src 'self' data:; style-src 'self' 'unsafe-inline'; "
            "frame-src 'self'; frame-ancestors 'none'; "
-           "require-trusted-types-for 'script'; trusted-types 'none'")
+           "require-trusted-types-for 'script'; trusted-types layout-worker")
 SECURITY_HEADERS = {
     "X-Content-Type-Options": "nosniff",
     "X-Frame-Options": "DENY",

@@ -8,7 +8,7 @@
  */
 import "@xyflow/react/dist/style.css";
 
-import { Background, type Connection, Controls, type Edge, MiniMap, type Node, ReactFlow, ReactFlowProvider, useReactFlow } from "@xyflow/react";
+import { Background, type Connection, Controls, type Edge, type FinalConnectionState, type Node, ReactFlow, ReactFlowProvider, useReactFlow } from "@xyflow/react";
 import { type KeyboardEvent, useCallback, useEffect, useMemo, useRef, useState } from "react";
 
 import { exportHref, fetchText, type Finding, type MissionDetail } from "../api/client";
@@ -38,7 +38,7 @@ import { PathsPanel } from "./PathsPanel";
 import { ImportMenu, NewFromExample, readOrdersFile } from "./ImportMenu";
 import { PlanDialog } from "./PlanDialog";
 import { Tabs } from "../components/Tabs";
-import { autoLayout } from "./layout";
+import { canvasAspect, layoutOffThread } from "./layoutClient";
 import { EDGE_TYPES, NODE_TYPES } from "./nodes";
 import { ConflictDialog } from "./ConflictDialog";
 import { createEditorStore, EditorStoreContext, isLaidOut, useEditor, useEditorApi } from "./store";
@@ -48,6 +48,7 @@ import { useAutosave } from "./useAutosave";
 import { LARGE_GOALS, useFlowElements } from "./useFlowElements";
 import { ConstraintsPanel, FindingsList, GoalInspector } from "./Inspector";
 import { ExportMenu, ToolbarMenu } from "./Toolbar";
+import { FIT, freePlace, MIN_ZOOM, SideMinimap, Splitter, useFillWindow, useSideWidth, ZoomDetail } from "./canvas";
 
 const PANELS = [
   { id: "editor-constraints", label: "Constraints" },
@@ -126,7 +127,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
       saveComputedLayout(draft.layout); // a large draft laid out as it opened (store.ts)
       return;
     }
-    void autoLayout(orders).then(
+    void layoutOffThread(orders, {}, canvasAspect()).then(
       (layout) => {
         openView.current = true;
         updateHistory((h) => reset({ ...h.present, layout: { ...layout, ...h.present.layout } }));
@@ -153,7 +154,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
       const start = nodes.find((n) => n.data.start) ?? nodes[0]!;
       window.requestAnimationFrame(() => {
         if (large.current) void flow.setCenter(start.position.x + 300, start.position.y + 150, { zoom: 0.6 });
-        else void flow.fitView({ padding: 0.15 });
+        else void flow.fitView(FIT);
         setReady(true);
       });
       return;
@@ -161,7 +162,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
     if (!fitPending.current) return;
     fitPending.current = false;
     window.requestAnimationFrame(() => {
-      void flow.fitView({ padding: 0.15 });
+      void flow.fitView(FIT);
       setReady(true);
     });
   }, [nodes, flow, setReady]);
@@ -176,6 +177,10 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
   }, [nodes, select]);
 
   const [gotoText, setGotoText] = useState("");
+  const mainRef = useRef<HTMLDivElement>(null);
+  const canvasRef = useRef<HTMLDivElement>(null);
+  const canvasHeight = useFillWindow(mainRef);
+  const [sideWidth, setSideWidth] = useSideWidth();
   // The plain orders (as saved): fetched when their tab opens and after each save while open.
   const plainShown = panel === "editor-plain";
   useEffect(() => {
@@ -214,6 +219,19 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
     },
     [editOrders, latest, setConnectMessage],
   );
+  // A connection dropped anywhere on a node's body (not only on its input dot) connects to it.
+  const onConnectEnd = useCallback(
+    (event: MouseEvent | TouchEvent, state: FinalConnectionState) => {
+      if (state.isValid || !state.fromNode || !state.fromHandle?.id || state.fromHandle.type !== "source") return;
+      const point = "changedTouches" in event ? event.changedTouches[0] : event;
+      if (!point) return;
+      const hit = document.elementFromPoint(point.clientX, point.clientY)?.closest(".react-flow__node");
+      const target = hit?.getAttribute("data-id");
+      if (!target || target === state.fromNode.id) return;
+      onConnect({ source: state.fromNode.id, sourceHandle: state.fromHandle.id, target, targetHandle: "in" });
+    },
+    [onConnect],
+  );
   const isValidConnection = useCallback(
     (c: Connection | Edge) => checkConnection(latest().orders, c.source, c.sourceHandle, c.target).ok,
     [latest],
@@ -230,14 +248,29 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
     [edit],
   );
 
+  // New nodes go to free space: beside the selected node, else near the centre of the view.
   const placeNew = useCallback((): { x: number; y: number } => {
     const pane = document.querySelector(".editor-canvas")?.getBoundingClientRect();
     const centre = pane
       ? flow.screenToFlowPosition({ x: pane.left + pane.width / 2, y: pane.top + pane.height / 2 })
       : { x: 0, y: 0 };
-    const n = Object.keys(latest().layout).length % 6;
-    return { x: Math.round(centre.x - 110 + n * 24), y: Math.round(centre.y - 48 + n * 24) };
-  }, [flow, latest]);
+    const sizes: Record<string, { width: number; height: number }> = {};
+    let selected: { x: number; y: number } | null = null;
+    for (const n of store.getState().nodes) {
+      if (n.measured?.width && n.measured.height) sizes[n.id] = { width: n.measured.width, height: n.measured.height };
+      if (n.selected && !selected) selected = n.position;
+    }
+    const at = freePlace(latest().layout, sizes, selected, centre);
+    // Keep the new node in view (the zoom stays as it is).
+    if (pane) {
+      const corner = flow.flowToScreenPosition(at);
+      const far = flow.flowToScreenPosition({ x: at.x + 220, y: at.y + 112 });
+      if (corner.x < pane.left || corner.y < pane.top || far.x > pane.right || far.y > pane.bottom) {
+        void flow.setCenter(at.x + 110, at.y + 56, { zoom: flow.getZoom() });
+      }
+    }
+    return at;
+  }, [flow, latest, store]);
 
   const titleRef = useRef<HTMLInputElement>(null);
   const addGoalNode = () => {
@@ -272,9 +305,16 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
     for (const n of flow.getNodes()) {
       if (n.measured?.width && n.measured.height) sizes[n.id] = { width: n.measured.width, height: n.measured.height };
     }
-    const layout = await autoLayout(latest().orders, sizes);
+    const layout = await layoutOffThread(latest().orders, sizes, canvasAspect());
     fitPending.current = true;
     edit((d) => ({ ...d, layout }));
+    // A layout equal to the one shown changes no node: fit (and say ready) all the same.
+    window.setTimeout(() => {
+      if (!fitPending.current) return;
+      fitPending.current = false;
+      void flow.fitView(FIT);
+      setReady(true);
+    }, 150);
   };
   // Import: the server reads the file (nothing stored); the draft is replaced by one ordinary
   // edit (undoable), laid out afresh, and saved with If-Match like any other.
@@ -284,7 +324,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
     try {
       const { orders: read, findings: found } = await readOrdersFile(file);
       const next = { ...read, id: mission.id } as Orders;
-      const layout = await autoLayout(next);
+      const layout = await layoutOffThread(next, {}, canvasAspect());
       setReady(false);
       fitPending.current = true;
       edit(() => ({ orders: next, layout }));
@@ -443,7 +483,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
           <button type="submit">Go</button>
         </form>
         <ToolbarMenu label="More">
-          <button type="button" className="menu-item" onClick={() => void flow.fitView({ padding: 0.15 })}>
+          <button type="button" className="menu-item" onClick={() => void flow.fitView(FIT)}>
             Zoom to fit
           </button>
           <button type="button" className="menu-item" onClick={() => setPlanOpen(true)}>
@@ -478,8 +518,9 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
           </button>
         </p>
       )}
-      <div className="editor-main">
+      <div className="editor-main" ref={mainRef} style={{ height: canvasHeight, gridTemplateColumns: `minmax(0, 1fr) 8px ${sideWidth}px` }}>
         <div
+          ref={canvasRef}
           className="editor-canvas"
           tabIndex={0}
           role="group"
@@ -496,20 +537,24 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
             onNodesChange={onNodesChange}
             onEdgesChange={onEdgesChange}
             onConnect={onConnect}
+            onConnectEnd={onConnectEnd}
             isValidConnection={isValidConnection}
             onNodeDragStop={onNodeDragStop}
             deleteKeyCode={null}
-            minZoom={0.05}
+            minZoom={MIN_ZOOM}
             fitView={!large.current}
+            fitViewOptions={FIT}
             onlyRenderVisibleElements={nodes.length > LARGE_GOALS}
             proOptions={{ hideAttribution: true }}
           >
             <Background />
-            <MiniMap pannable zoomable ariaLabel="Minimap of the mission graph" />
-            <Controls showInteractive={false} />
+            <Controls showInteractive={false} fitViewOptions={FIT} />
+            <ZoomDetail canvas={canvasRef} />
           </ReactFlow>
         </div>
+        <Splitter width={sideWidth} onWidth={setSideWidth} />
         <aside className="editor-side" aria-label="Inspector">
+          <SideMinimap width={sideWidth - 24} />
           <h3>Inspector</h3>
           {selectedGoal ? (
             <GoalInspector

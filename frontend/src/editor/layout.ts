@@ -8,7 +8,7 @@ import type { ElkNode } from "elkjs/lib/elk-api";
 import { goals, type Layout, type Orders, OUTCOMES, successors, terminals } from "./graph";
 
 export const GOAL_SIZE = { width: 220, height: 96 };
-export const TERMINAL_SIZE = { width: 160, height: 48 };
+export const TERMINAL_SIZE = { width: 160, height: 72 };
 
 export const LAYOUT_OPTIONS: Record<string, string> = {
   "elk.algorithm": "layered",
@@ -26,7 +26,17 @@ export function portId(node: string, port: string): string {
 /** Rendered sizes of nodes (React Flow's measurements), when known: ELK then leaves room for them. */
 export type Sizes = Record<string, { width: number; height: number }>;
 
-export function toElkGraph(orders: Orders, sizes: Sizes = {}): ElkNode {
+/** Long chains wrap into rows of about this width : height (ELK's layered wrapping). */
+export function wrapOptions(aspect: number | undefined): Record<string, string> {
+  if (!aspect) return {};
+  return {
+    "elk.layered.wrapping.strategy": "MULTI_EDGE",
+    "elk.aspectRatio": aspect.toFixed(2),
+    "elk.layered.wrapping.additionalEdgeSpacing": "20",
+  };
+}
+
+export function toElkGraph(orders: Orders, sizes: Sizes = {}, aspect?: number): ElkNode {
   const ids = new Set<string>();
   const children: ElkNode[] = [];
   for (const g of goals(orders)) {
@@ -68,7 +78,7 @@ export function toElkGraph(orders: Orders, sizes: Sizes = {}): ElkNode {
       }
     }
   }
-  return { id: "root", layoutOptions: LAYOUT_OPTIONS, children, edges };
+  return { id: "root", layoutOptions: { ...LAYOUT_OPTIONS, ...wrapOptions(aspect) }, children, edges };
 }
 
 /** The positions ELK computed, keyed by node id (top-left corners, as React Flow wants). */
@@ -81,14 +91,14 @@ export function fromElkGraph(result: ElkNode): Layout {
 }
 
 /** Above this many goals ELK's layered layout takes seconds; a linear-time one is used. */
-export const ELK_MAX_GOALS = 40;
+export const ELK_MAX_GOALS = 120;
 
 /**
  * A linear-time layered layout for large orders: goals in columns by their longest distance
  * from the start (back edges of loops ignored), terminals in the last column, and inside a
  * column ordered by the mean position of their predecessors' outcome ports (s above f above c).
  */
-export function fastLayout(orders: Orders): Layout {
+export function fastLayout(orders: Orders, aspect?: number): Layout {
   const goalIds = [...new Set(goals(orders).map((g) => g.id))];
   const isGoal = new Set(goalIds);
   const out = new Map<string, { target: string; rank: number }[]>();
@@ -139,6 +149,13 @@ export function fastLayout(orders: Orders): Layout {
   const last = Math.max(0, ...layer.values()) + (goalIds.length > 0 ? 1 : 0);
   const columns: string[][] = [];
   for (const id of order) (columns[layer.get(id) ?? 0] ??= []).push(id);
+  // Wrapped (`aspect` given): bands of columns, one below the other, so that a long chain
+  // reads like lines of text at about that aspect ratio instead of one thin strip.
+  const height = Math.max(1, ...columns.map((c) => c.length), terminals(orders).length);
+  const bandWidth = aspect ? Math.max(2, Math.ceil(Math.sqrt((last + 1) * height * aspect * (GOAL_SIZE.height + 40) / (GOAL_SIZE.width + 90)))) : Infinity;
+  const bandGap = (height + 1) * (GOAL_SIZE.height + 40);
+  const place = (column: number, y: number) =>
+    aspect ? { x: (column % bandWidth) * dx, y: Math.floor(column / bandWidth) * bandGap + y } : { x: column * dx, y };
   const row = new Map<string, number>();
   const incoming = new Map<string, number[]>();
   const layout: Layout = {};
@@ -152,22 +169,22 @@ export function fastLayout(orders: Orders): Layout {
     const sorted = x === 0 ? column : [...column].sort((a, b) => weight(a) - weight(b));
     sorted.forEach((id, y) => {
       row.set(id, y);
-      layout[id] = { x: x * dx, y: y * dy };
+      layout[id] = place(x, y * dy);
       for (const { target, rank } of out.get(id) ?? []) {
         (incoming.get(target) ?? incoming.set(target, []).get(target)!).push(y + rank);
       }
     });
   });
   terminals(orders).forEach((t, i) => {
-    if (!layout[t.id]) layout[t.id] = { x: last * dx, y: i * (TERMINAL_SIZE.height + 60) };
+    if (!layout[t.id]) layout[t.id] = place(last, i * (TERMINAL_SIZE.height + 60));
   });
   return layout;
 }
 
 /** Lays the orders out: ELK (loaded on first use, a large module) or, for large orders, fastLayout. */
-export async function autoLayout(orders: Orders, sizes: Sizes = {}): Promise<Layout> {
-  if (goals(orders).length > ELK_MAX_GOALS) return fastLayout(orders);
+export async function autoLayout(orders: Orders, sizes: Sizes = {}, aspect?: number): Promise<Layout> {
+  if (goals(orders).length > ELK_MAX_GOALS) return fastLayout(orders, aspect);
   const { default: ELK } = await import("elkjs/lib/elk.bundled.js");
   const elk = new ELK();
-  return fromElkGraph(await elk.layout(toElkGraph(orders, sizes)));
+  return fromElkGraph(await elk.layout(toElkGraph(orders, sizes, aspect)));
 }

@@ -83,7 +83,7 @@ function openedDraft(mission: MissionDetail): Draft {
   // A large draft without positions is laid out at once (the linear-time layout), so that the
   // canvas never renders it unplaced; smaller ones wait for ELK before they render.
   if (goals(opened.orders).length > ELK_MAX_GOALS && !isLaidOut(opened)) {
-    opened.layout = { ...fastLayout(opened.orders), ...opened.layout };
+    opened.layout = { ...fastLayout(opened.orders, Math.max(0.8, (window.innerWidth - 400) / Math.max(300, window.innerHeight - 250))), ...opened.layout };
   }
   return opened;
 }

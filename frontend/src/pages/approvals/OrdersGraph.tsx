@@ -1,31 +1,69 @@
 /**
  * A read-only drawing of the orders' goal graph for the review and audit pages: the mission
  * editor's pure graph and layout code (editor/graph.ts, editor/layout.ts) drawn as SVG, with a
- * text list of every transition beside it for keyboard and screen reader users.
+ * text list of every transition beside it for keyboard and screen reader users. Laid out like
+ * the editor (ELK layered in a worker, long chains wrapped), opened fitted to its frame, with
+ * zoom buttons; each edge carries its outcome letter.
  */
-import { useMemo } from "react";
+import { useEffect, useLayoutEffect, useMemo, useRef, useState } from "react";
 
-import { type Orders, ordersToGraph, OUTCOME_LABEL, OUTCOME_LETTER } from "../../editor/graph";
+import { type Layout, type Orders, ordersToGraph, OUTCOME_LABEL, OUTCOME_LETTER } from "../../editor/graph";
 import { fastLayout, GOAL_SIZE, TERMINAL_SIZE } from "../../editor/layout";
+import { layoutOffThread } from "../../editor/layoutClient";
+
+const ASPECT = 1.6;
+/** Never drawn smaller than this: 13 px titles stay at least 7 px (the zoom buttons enlarge). */
+const MIN_FIT = 0.55;
+const ZOOMS = [0.25, 0.35, 0.5, 0.65, 0.8, 1, 1.25, 1.5, 2];
 
 const PAD = 20;
 const COLORS: Record<string, string> = { succeed: "#1a7f37", fail: "#b35900", violate: "#b42318" };
 
 export function OrdersGraph({ orders, label }: { orders: Record<string, unknown>; label: string }) {
-  const graph = useMemo(() => {
-    const o = orders as unknown as Orders;
-    return ordersToGraph(o, fastLayout(o));
-  }, [orders]);
+  const o = orders as Orders;
+  const [layout, setLayout] = useState<Layout>(() => fastLayout(o, ASPECT));
+  useEffect(() => {
+    let current = true;
+    layoutOffThread(o, {}, ASPECT).then((l) => current && setLayout(l), () => undefined);
+    return () => {
+      current = false;
+    };
+  }, [o]);
+  const graph = useMemo(() => ordersToGraph(o, layout), [o, layout]);
+  const frame = useRef<HTMLDivElement>(null);
+  const [zoom, setZoom] = useState<number | null>(null);
+  const [fit, setFit] = useState(1);
   const size = (kind: string) => (kind === "goal" ? GOAL_SIZE : TERMINAL_SIZE);
   const byId = new Map(graph.nodes.map((n) => [n.id, n]));
   const width = Math.max(...graph.nodes.map((n) => n.position.x + size(n.kind).width), 200) + 2 * PAD;
   const height = Math.max(...graph.nodes.map((n) => n.position.y + size(n.kind).height), 100) + 2 * PAD;
+  useLayoutEffect(() => {
+    const w = frame.current?.clientWidth ?? width;
+    setFit(Math.max(MIN_FIT, Math.min(1, (w - 4) / width)));
+  }, [width]);
+  const scale = zoom ?? fit;
+  const step = (dir: 1 | -1) => {
+    const next = dir > 0 ? ZOOMS.find((z) => z > scale + 0.01) : [...ZOOMS].reverse().find((z) => z < scale - 0.01);
+    if (next) setZoom(next);
+  };
   return (
     <figure className="orders-graph">
-      <div className="orders-graph-canvas" role="region" tabIndex={0} aria-label={`${label} (scrollable)`}>
+      <div className="orders-graph-tools" role="toolbar" aria-label="Graph zoom">
+        <button type="button" onClick={() => setZoom(null)}>
+          Fit
+        </button>
+        <button type="button" onClick={() => step(-1)} aria-label="Zoom out">
+          −
+        </button>
+        <button type="button" onClick={() => step(1)} aria-label="Zoom in">
+          +
+        </button>
+        <span data-testid="orders-graph-zoom">{Math.round(scale * 100)}%</span>
+      </div>
+      <div className="orders-graph-canvas" ref={frame} role="region" tabIndex={0} aria-label={`${label} (scrollable)`}>
         <svg
-          width={width}
-          height={height}
+          width={Math.round(width * scale)}
+          height={Math.round(height * scale)}
           viewBox={`${-PAD} ${-PAD} ${width} ${height}`}
           role="img"
           aria-label={`${label}: ${graph.nodes.length} goals and terminals, ${graph.edges.length} transitions`}
@@ -47,7 +85,17 @@ export function OrdersGraph({ orders, label }: { orders: Record<string, unknown>
             const y2 = to.position.y + size(to.kind).height / 2;
             const bend = Math.max(40, Math.abs(x2 - x1) / 2);
             const d = x2 > x1 ? `M ${x1} ${y1} C ${x1 + bend} ${y1}, ${x2 - bend} ${y2}, ${x2} ${y2}` : `M ${x1} ${y1} C ${x1 + 80} ${y1 - 120 - i * 4}, ${x2 - 80} ${y2 - 120 - i * 4}, ${x2} ${y2}`;
-            return <path key={e.id} d={d} fill="none" stroke={COLORS[e.outcome]} strokeWidth={1.5} markerEnd="url(#arrow)" opacity={0.8} />;
+            // The outcome letter near the start of the edge, where edges of one goal are apart.
+            const lx = x1 + 14;
+            const ly = y1 - 4;
+            return (
+              <g key={e.id} data-testid={`orders-edge-${e.id}`}>
+                <path d={d} fill="none" stroke={COLORS[e.outcome]} strokeWidth={1.5} markerEnd="url(#arrow)" opacity={0.8} />
+                <text x={lx} y={ly} fontSize={12} fontWeight={700} fill={COLORS[e.outcome]} className="orders-edge-letter">
+                  {OUTCOME_LETTER[e.outcome]}
+                </text>
+              </g>
+            );
           })}
           {graph.nodes.map((n) => {
             const s = size(n.kind);

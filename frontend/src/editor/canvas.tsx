@@ -1,0 +1,152 @@
+/**
+ * Canvas geometry of the graph editor (issue 18 item 1): the canvas fills the window under the
+ * toolbar, the inspector beside it is resizable, the minimap sits outside the graph (so it never
+ * covers a handle) and can be hidden, zoom is bounded and nodes switch to a level of detail
+ * whose titles stay legible, and new nodes go to free space beside the selection.
+ */
+import { MiniMap, useStore } from "@xyflow/react";
+import { type KeyboardEvent, type PointerEvent, type RefObject, useEffect, useLayoutEffect, useState } from "react";
+
+import type { Layout, Point } from "./graph";
+import { GOAL_SIZE } from "./layout";
+
+/** The least zoom of the canvas and of every fit. Below about 0.6 nodes show their title only,
+ * drawn large enough to stay legible (styles.css, `--zoom`). */
+export const MIN_ZOOM = 0.2;
+export const FIT = { padding: 0.08, minZoom: MIN_ZOOM, maxZoom: 1.2 };
+const MIN_CANVAS_PX = 420;
+
+/** Keeps the element's height to the bottom of the window (at least MIN_CANVAS_PX). */
+export function useFillWindow(ref: RefObject<HTMLElement | null>): number {
+  const [height, setHeight] = useState(620);
+  useLayoutEffect(() => {
+    const measure = () => {
+      const top = ref.current?.getBoundingClientRect().top ?? 0;
+      setHeight(Math.max(MIN_CANVAS_PX, Math.round(window.innerHeight - Math.max(0, top) - 12)));
+    };
+    measure();
+    window.addEventListener("resize", measure);
+    return () => window.removeEventListener("resize", measure);
+  }, [ref]);
+  return height;
+}
+
+/** Publishes the zoom as `--zoom` and a level of detail (`data-lod`) on the canvas element. */
+export function ZoomDetail({ canvas }: { canvas: RefObject<HTMLElement | null> }) {
+  const zoom = useStore((s) => s.transform[2]);
+  useEffect(() => {
+    const el = canvas.current;
+    if (!el) return;
+    el.style.setProperty("--zoom", String(zoom));
+    el.dataset.lod = zoom < 0.6 ? "far" : "near";
+  }, [zoom, canvas]);
+  return null;
+}
+
+const SIDE_KEY = "countersign.editor.inspectorWidth";
+const SIDE_MIN = 240;
+const SIDE_MAX = 640;
+
+/** The inspector's width, changed by dragging the splitter or with its arrow keys. */
+export function useSideWidth(): [number, (w: number) => void] {
+  const [width, setWidth] = useState(() => {
+    const stored = Number(window.localStorage?.getItem(SIDE_KEY));
+    return Number.isFinite(stored) && stored >= SIDE_MIN ? Math.min(stored, SIDE_MAX) : 352;
+  });
+  const set = (w: number) => {
+    const bounded = Math.round(Math.min(SIDE_MAX, Math.max(SIDE_MIN, w)));
+    setWidth(bounded);
+    try {
+      window.localStorage.setItem(SIDE_KEY, String(bounded));
+    } catch {
+      /* storage disabled: the width holds for this page */
+    }
+  };
+  return [width, set];
+}
+
+export function Splitter({ width, onWidth }: { width: number; onWidth: (w: number) => void }) {
+  const start = (event: PointerEvent<HTMLDivElement>) => {
+    const x0 = event.clientX;
+    const w0 = width;
+    const el = event.currentTarget;
+    el.setPointerCapture(event.pointerId);
+    const move = (e: globalThis.PointerEvent) => onWidth(w0 - (e.clientX - x0));
+    const end = () => {
+      el.removeEventListener("pointermove", move);
+      el.removeEventListener("pointerup", end);
+    };
+    el.addEventListener("pointermove", move);
+    el.addEventListener("pointerup", end);
+  };
+  const key = (event: KeyboardEvent<HTMLDivElement>) => {
+    if (event.key === "ArrowLeft") onWidth(width + 24);
+    else if (event.key === "ArrowRight") onWidth(width - 24);
+    else return;
+    event.preventDefault();
+  };
+  return (
+    <div
+      className="editor-splitter"
+      role="separator"
+      aria-orientation="vertical"
+      aria-label="Resize the inspector (arrow keys)"
+      aria-valuenow={width}
+      aria-valuemin={SIDE_MIN}
+      aria-valuemax={SIDE_MAX}
+      tabIndex={0}
+      onPointerDown={start}
+      onKeyDown={key}
+      data-testid="inspector-splitter"
+    />
+  );
+}
+
+/** The minimap, outside the graph's area (at the top of the inspector), shown or hidden. */
+export function SideMinimap({ width }: { width: number }) {
+  const [shown, setShown] = useState(true);
+  return (
+    <div className="side-minimap">
+      <button type="button" className="link-button" onClick={() => setShown(!shown)} aria-expanded={shown}>
+        {shown ? "Hide minimap" : "Show minimap"}
+      </button>
+      {shown && <MiniMap pannable zoomable ariaLabel="Minimap of the mission graph" nodeColor="#c8ccd2" style={{ width, height: 120, position: "static", margin: 0 }} />}
+    </div>
+  );
+}
+
+interface Box {
+  x: number;
+  y: number;
+  width: number;
+  height: number;
+}
+const GAP = 40;
+
+function overlaps(a: Box, b: Box): boolean {
+  return a.x < b.x + b.width + GAP / 2 && b.x < a.x + a.width + GAP / 2 && a.y < b.y + b.height + GAP / 2 && b.y < a.y + a.height + GAP / 2;
+}
+
+/**
+ * A free place for a new node: right of the selection (then below it, then further right), or
+ * when nothing is selected near `around` (the centre of the view), never on an existing node.
+ */
+export function freePlace(layout: Layout, sizes: Record<string, { width: number; height: number }>, selected: Point | null, around: Point): Point {
+  const boxes: Box[] = Object.entries(layout).map(([id, p]) => ({ ...p, ...(sizes[id] ?? GOAL_SIZE) }));
+  const size = { width: GOAL_SIZE.width, height: 112 };
+  const free = (p: Point) => !boxes.some((b) => overlaps({ ...p, ...size }, b));
+  const dx = size.width + GAP * 2;
+  const dy = size.height + GAP;
+  const origin = selected ? { x: selected.x + dx, y: selected.y } : { x: Math.round(around.x - size.width / 2), y: Math.round(around.y - size.height / 2) };
+  // Rings around the origin: columns to the right first, then rows below and above.
+  for (let ring = 0; ring < 40; ring += 1) {
+    for (let col = 0; col <= ring; col += 1) {
+      for (const row of [ring - col, -(ring - col)]) {
+        const p = { x: origin.x + col * dx, y: origin.y + row * dy };
+        if (free(p)) return p;
+      }
+    }
+  }
+  const right = Math.max(0, ...boxes.map((b) => b.x + b.width));
+  return { x: right + GAP * 2, y: origin.y };
+}
