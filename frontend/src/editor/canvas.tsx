@@ -12,7 +12,7 @@ import { GOAL_SIZE } from "./layout";
 
 /** The least zoom of the canvas and of every fit. Below about 0.6 nodes show their title only,
  * drawn large enough to stay legible (styles.css, `--zoom`). */
-export const MIN_ZOOM = 0.2;
+export const MIN_ZOOM = 0.15;
 export const FIT = { padding: 0.08, minZoom: MIN_ZOOM, maxZoom: 1.2 };
 const MIN_CANVAS_PX = 420;
 

@@ -91,7 +91,7 @@ export function fromElkGraph(result: ElkNode): Layout {
 }
 
 /** Above this many goals ELK's layered layout takes seconds; a linear-time one is used. */
-export const ELK_MAX_GOALS = 120;
+export const ELK_MAX_GOALS = 60;
 
 /**
  * A linear-time layered layout for large orders: goals in columns by their longest distance
@@ -151,16 +151,16 @@ export function fastLayout(orders: Orders, aspect?: number): Layout {
   for (const id of order) (columns[layer.get(id) ?? 0] ??= []).push(id);
   // Wrapped (`aspect` given): bands of columns, one below the other, so that a long chain
   // reads like lines of text at about that aspect ratio instead of one thin strip.
-  const height = Math.max(1, ...columns.map((c) => c.length), terminals(orders).length);
-  const bandWidth = aspect ? Math.max(2, Math.ceil(Math.sqrt((last + 1) * height * aspect * (GOAL_SIZE.height + 40) / (GOAL_SIZE.width + 90)))) : Infinity;
-  const bandGap = (height + 1) * (GOAL_SIZE.height + 40);
+  const dx = GOAL_SIZE.width + 90;
+  const dy = GOAL_SIZE.height + 40;
+  const height = Math.max(1, ...columns.map((c) => c.length));
+  const bandGap = height * dy + 60;
+  const bandWidth = aspect ? Math.max(2, Math.ceil(Math.sqrt(((last + 1) * aspect * bandGap) / dx))) : Infinity;
   const place = (column: number, y: number) =>
     aspect ? { x: (column % bandWidth) * dx, y: Math.floor(column / bandWidth) * bandGap + y } : { x: column * dx, y };
   const row = new Map<string, number>();
   const incoming = new Map<string, number[]>();
   const layout: Layout = {};
-  const dx = GOAL_SIZE.width + 90;
-  const dy = GOAL_SIZE.height + 40;
   columns.forEach((column, x) => {
     const weight = (id: string) => {
       const ys = incoming.get(id);

@@ -54,12 +54,30 @@ export function canvasAspect(): number | undefined {
   return pane && pane.height > 0 ? Math.min(3, Math.max(0.8, pane.width / pane.height)) : undefined;
 }
 
+/** A worker that has not answered in this long is dropped and the layout done on the page. */
+const WORKER_PATIENCE_MS = 10_000;
+
 export function layoutOffThread(orders: Orders, sizes: Sizes = {}, aspect?: number): Promise<Layout> {
   const w = layoutWorker();
   if (!w) return autoLayout(orders, sizes, aspect);
   const id = nextId++;
-  return new Promise((resolve, reject) => {
-    waiting.set(id, { resolve, reject });
+  return new Promise<Layout>((resolve, reject) => {
+    const timer = window.setTimeout(() => {
+      waiting.delete(id);
+      w.terminate();
+      if (worker === w) worker = null;
+      autoLayout(orders, sizes, aspect).then(resolve, reject);
+    }, WORKER_PATIENCE_MS);
+    waiting.set(id, {
+      resolve: (l) => {
+        window.clearTimeout(timer);
+        resolve(l);
+      },
+      reject: (e) => {
+        window.clearTimeout(timer);
+        autoLayout(orders, sizes, aspect).then(resolve, () => reject(e));
+      },
+    });
     w.postMessage({ id, orders, sizes, aspect });
   });
 }
