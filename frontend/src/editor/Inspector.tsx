@@ -1,5 +1,6 @@
 /** The editor's side panels: findings, the goal inspector and the constraints panel. */
-import { memo, useMemo, useState } from "react";
+import type { Node } from "@xyflow/react";
+import { memo, useCallback, useEffect, useMemo, useState } from "react";
 
 import type { Finding } from "../api/client";
 import {
@@ -25,6 +26,7 @@ import { knownQuantities } from "./expr";
 import { CommitField, CommitSelect, ExprField, Picker } from "./fields";
 import { paramsToText, parseParams } from "./model";
 import { idAndTitle, successorChoices } from "./pickers";
+import { useEditor, useEditorApi } from "./store";
 import { BehaviourPicker } from "./VehiclePicker";
 
 export type EditOrders = (change: (o: Orders) => Orders, group?: string) => void;
@@ -76,7 +78,7 @@ export const GoalInspector = memo(function GoalInspector({
   const id = goal.id;
   const set = (patch: Partial<GoalSpec>, group?: string) => editOrders((o) => updateGoal(o, id, patch), group);
   const areas = ((orders.areas as { id: string; title?: string }[] | undefined) ?? []);
-  const successors = useMemo(() => successorChoices(goals(orders).filter((g) => g.id !== id), terminals(orders)), [orders, id]);
+  const successors = useMemo(() => successorChoices(goals(orders), terminals(orders)), [orders]);
   const [requires, setRequires] = useState((goal.requires ?? []).join(", "));
   const [envelope, setEnvelope] = useState(envelopeToText(goal.envelope));
   const [envelopeError, setEnvelopeError] = useState("");
@@ -198,26 +200,49 @@ export const GoalInspector = memo(function GoalInspector({
   );
 });
 
+/** The canvas's node click while a constraint's scope is being picked: the clicked goal goes
+ * into the scope or out of it (terminals are not goals and are ignored). */
+export function useScopePickClick(editOrders: EditOrders): (event: unknown, node: Node) => void {
+  const store = useEditorApi();
+  return useCallback(
+    (_event: unknown, node: Node) => {
+      const constraint = store.getState().scopePick;
+      if (!constraint || node.type !== "goal") return;
+      editOrders((o) => toggleScope(o, constraint, node.id));
+    },
+    [store, editOrders],
+  );
+}
+
 /**
  * The constraints. A constraint's scope is the whole mission or a set of goals, ticked here
- * (each goal by id and title) or, with "Pick scope on the graph", by clicking goals on the
- * canvas (`scopePick` names the constraint being picked; the editor toggles clicked goals).
+ * (each goal by id and title) or, with "Pick the scope on the graph", by clicking goals on the
+ * canvas (the store's `scopePick` names the constraint; useScopePickClick toggles the goal).
  */
 export function ConstraintsPanel({
   orders,
   editOrders,
   markers,
   findings,
-  scopePick = null,
-  onScopePick,
 }: {
   orders: Orders;
   editOrders: EditOrders;
   markers: ReturnType<typeof markersBySubject>;
   findings: Finding[];
-  scopePick?: string | null;
-  onScopePick?: (constraint: string | null) => void;
 }) {
+  const scopePick = useEditor((s) => s.scopePick);
+  const setState = useEditor((s) => s.set);
+  const onScopePick = useCallback((constraint: string | null) => setState({ scopePick: constraint }), [setState]);
+  // Escape ends picking; so does leaving the panel (unmount).
+  useEffect(() => {
+    if (!scopePick) return;
+    const onKey = (e: KeyboardEvent) => {
+      if (e.key === "Escape") onScopePick(null);
+    };
+    document.addEventListener("keydown", onKey);
+    return () => document.removeEventListener("keydown", onKey);
+  }, [scopePick, onScopePick]);
+  useEffect(() => () => onScopePick(null), [onScopePick]);
   const list = orders.constraints ?? [];
   const known = useMemo(() => knownQuantities(orders), [orders]);
   return (
@@ -266,25 +291,23 @@ export function ConstraintsPanel({
                     {g.title && <span className="hint"> {g.title}</span>}
                   </label>
                 ))}
-              {onScopePick && (
-                <p className="scope-pick">
-                  <button
-                    type="button"
-                    aria-pressed={picking}
-                    data-testid={`pick-scope-${c.id}`}
-                    onClick={() => onScopePick(picking ? null : c.id)}
-                  >
-                    {picking ? `Done picking the scope of ${c.id}` : `Pick the scope of ${c.id} on the graph`}
-                  </button>
-                  {picking && (
-                    <span className="hint" role="status" data-testid="scope-pick-status">
-                      {" "}
-                      Click goals on the graph to add them to {c.id} or take them out (Escape ends).{" "}
-                      {scoped.length === 0 ? "No goal yet." : `Now: ${scoped.map((g) => idAndTitle(g, goals(orders).find((x) => x.id === g)?.title)).join("; ")}.`}
-                    </span>
-                  )}
-                </p>
-              )}
+              <p className="scope-pick">
+                <button
+                  type="button"
+                  aria-pressed={picking}
+                  data-testid={`pick-scope-${c.id}`}
+                  onClick={() => onScopePick(picking ? null : c.id)}
+                >
+                  {picking ? `Done picking the scope of ${c.id}` : `Pick the scope of ${c.id} on the graph`}
+                </button>
+                {picking && (
+                  <span className="hint" role="status" data-testid="scope-pick-status">
+                    {" "}
+                    Click goals on the graph to add them to {c.id} or take them out (Escape ends).{" "}
+                    {scoped.length === 0 ? "No goal yet." : `Now: ${scoped.map((g) => idAndTitle(g, goals(orders).find((x) => x.id === g)?.title)).join("; ")}.`}
+                  </span>
+                )}
+              </p>
             </div>
             <button type="button" className="danger" onClick={() => editOrders((o) => deleteConstraint(o, c.id))}>
               Delete constraint {c.id}
