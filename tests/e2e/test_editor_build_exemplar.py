@@ -226,7 +226,7 @@ def test_operator_builds_the_exemplar_by_mouse_and_keyboard(own_page: Page) -> N
         if constraint["applies_to"] != "mission":
             page.get_by_label(f"{cid} applies to the whole mission").uncheck()
             for goal in constraint["applies_to"]:
-                page.get_by_label(f"{cid} applies to {goal}", exact=True).check()
+                page.get_by_label(re.compile(rf"^{cid} applies to {goal}( |$)")).check()
     saved(page)
 
     # ---- Norms ----

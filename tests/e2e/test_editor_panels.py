@@ -208,6 +208,10 @@ def test_path_rows_align_ids_and_titles_and_hover_highlights(wide: tuple[Page, i
     assert on_path <= ids, (on_path, ids)
     page.mouse.move(5, 5)
     expect(page.get_by_test_id("highlight-note")).to_have_count(0)
+    # A click keeps a path chosen, with its trace.
+    rows.first.click()
+    expect(rows.first).to_have_attribute("aria-selected", "true")
+    expect(page.get_by_test_id("path-trace")).to_contain_text("Commence:")
 
 
 def _review(page: Page, server: Server, mission: str) -> None:

@@ -285,6 +285,7 @@ export function ConstraintsPanel({
                       type="checkbox"
                       checked={Array.isArray(c.applies_to) && c.applies_to.includes(g.id)}
                       onChange={() => editOrders((o) => toggleScope(o, c.id, g.id))}
+                      aria-label={`${c.id} applies to ${g.id}${g.title ? ` ${g.title}` : ""}`}
                     />{" "}
                     <span className="visually-hidden">{c.id} applies to </span>
                     {g.id}
