@@ -47,10 +47,25 @@ def drag_connect(page: Page, source: str, outcome: str, target: str) -> None:
     page.mouse.up()
 
 
+def pick(page: Page, label: str | re.Pattern[str], value: str, option: str | None = None) -> None:
+    """Picks `value` in a searchable picker (a combobox): types it (or `option`), then clicks
+    the choice labelled `option`, or whose label is the value or starts with "value:" ("" picks
+    "— none —")."""
+    box = page.get_by_role("combobox", name=label)
+    box.click()
+    box.fill(option if option is not None else value)
+    if option is not None:
+        name = re.compile(rf"^{re.escape(option)}")
+    else:
+        name = re.compile(rf"^{re.escape(value)}(:| ·|$)") if value else re.compile("^— none —")
+    menu = page.locator(f"[id='{box.get_attribute('aria-controls')}']")
+    menu.get_by_role("option", name=name).first.click()
+
+
 def choose_next(page: Page, goal: str, outcome: str, target: str) -> None:
     """The keyboard route: select the goal's node, then pick the successor in the inspector."""
     select_node(page, goal)
-    page.get_by_label(re.compile(rf"{outcome.capitalize()}.*→ next")).select_option(target)
+    pick(page, re.compile(rf"{outcome.capitalize()}.*→ next"), target)
 
 
 def select_node(page: Page, node: str) -> None:
@@ -67,14 +82,18 @@ def edge(page: Page, source: str, outcome: str, target: str):
     return page.locator(f'.react-flow__edge[data-id="{source}:{outcome}:{target}"]')
 
 
-# Installed before an edit: notes when the select changes (the edit) and when the marker test
-# holds (the findings are in the DOM), then the next frame after it (the findings painted).
+# Installed before an edit: notes when a picker's choice is clicked (the edit) and when the
+# marker test holds (the findings are in the DOM), then the next frame after it (painted).
 _WATCH = """([testid, text, gone]) => {
     const w = window.__editWatch = {edit: null, dom: null, painted: null};
     performance.clearResourceTimings();
     performance.clearMarks();
-    document.addEventListener('change', () => { w.edit = performance.now(); },
-                              {capture: true, once: true});
+    const picked = (e) => {
+        if (!e.target.closest || !e.target.closest('[role="option"]')) return;
+        w.edit = performance.now();
+        document.removeEventListener('click', picked, true);
+    };
+    document.addEventListener('click', picked, true);
     const holds = () => {
         const el = document.querySelector(`[data-testid="${testid}"]`);
         return gone ? el === null : el !== null && el.textContent.includes(text);
@@ -112,7 +131,7 @@ def timed_edit(page: Page, goal: str, outcome: str, target: str, testid: str, te
     """Sets a successor in the inspector; returns ms from the change event to the first frame
     painted after the findings show (the marker `testid` contains `text`, or is `gone`)."""
     page.evaluate(_WATCH, [testid, text, gone])
-    page.get_by_label(re.compile(rf"{outcome.capitalize()}.*→ next")).select_option(target)
+    pick(page, re.compile(rf"{outcome.capitalize()}.*→ next"), target)
     page.wait_for_function("() => window.__editWatch.painted !== null", timeout=10_000)
     times = page.evaluate(_TIMES)
     if verbose:

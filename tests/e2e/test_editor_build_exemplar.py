@@ -24,7 +24,7 @@ import pytest
 from playwright.sync_api import Browser, Locator, Page, expect
 
 from .conftest import Server, running_server
-from .test_editor import choose_next, drag_connect, edge, select_node
+from .test_editor import choose_next, drag_connect, edge, pick, select_node
 from .test_roles import sign_in
 
 EXAMPLE = "search-and-sample"
@@ -112,8 +112,7 @@ def test_operator_builds_the_exemplar_by_mouse_and_keyboard(own_page: Page) -> N
     panel(page, "Mission")
     page.get_by_label("Mission description").fill(spec["description"])
     # The vehicle is not in the registry: its profile comes with these orders (below).
-    page.get_by_label("Target vehicle", exact=True).select_option(
-        label="Other id (not in the registry)…")
+    pick(page, "Target vehicle", "", option="Other id")
     vehicle_field = page.get_by_label("Target vehicle (id)")
     vehicle_field.fill(spec["vehicle"])
     vehicle_field.press("Enter")
@@ -188,7 +187,7 @@ def test_operator_builds_the_exemplar_by_mouse_and_keyboard(own_page: Page) -> N
         expect(page.locator(".inspector legend").first).to_contain_text(f"G{number}")
         assert goal["id"] == f"G{number}"
         page.get_by_label("Title", exact=True).fill(goal["title"])
-        page.get_by_label("Behaviour").fill(goal["behavior"])
+        pick(page, "Behaviour", goal["behavior"])
         page.get_by_label("Area", exact=True).select_option(goal["area"])
         commit(page.get_by_label("Requires (comma-separated)"), ", ".join(goal["requires"]))
         commit(page.get_by_label(re.compile("^Envelope")),
@@ -227,7 +226,7 @@ def test_operator_builds_the_exemplar_by_mouse_and_keyboard(own_page: Page) -> N
         if constraint["applies_to"] != "mission":
             page.get_by_label(f"{cid} applies to the whole mission").uncheck()
             for goal in constraint["applies_to"]:
-                page.get_by_label(f"{cid} applies to {goal}", exact=True).check()
+                page.get_by_label(re.compile(rf"^{cid} applies to {goal}( |$)")).check()
     saved(page)
 
     # ---- Norms ----
@@ -307,7 +306,7 @@ def test_operator_builds_the_exemplar_by_mouse_and_keyboard(own_page: Page) -> N
     expect(page.get_by_test_id("paths-counts")).to_contain_text("75 paths")
     expect(page.get_by_test_id("paths-counts")).to_contain_text("25 to COMPLETE")
     page.get_by_role("button", name="List paths").click()
-    first = page.get_by_role("option", name=re.compile(r"^#1 "))
+    first = page.get_by_role("option", name=re.compile(r"^Path 1: "))
     first.click()
     expect(page.get_by_test_id("path-trace")).to_contain_text("Commence: Search Area A.")
     expect(page.get_by_test_id("highlight-note")).to_be_visible()

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import contextlib
 import json
+import re
 from collections.abc import Iterator
 from typing import Any
 
@@ -84,14 +85,18 @@ def test_operator_picks_the_vehicle_and_behaviours_from_the_registry(page: Page,
     page.goto(f"/missions/{mission}?tab=editor")
     expect(page.get_by_test_id("node-G1")).to_be_visible()
     panel(page, "Mission")
-    picker = page.get_by_label("Target vehicle", exact=True)
-    expect(picker.locator("option", has_text="e2e-picked-auv: Picked AUV (registry)")
+    picker = page.get_by_role("combobox", name="Target vehicle")
+    picker.click()
+    picker.fill("Picked AUV")  # found by its title
+    expect(page.get_by_role("option", name="e2e-picked-auv: Picked AUV · registry")
            ).to_have_count(1)
-    picker.select_option("e2e-picked-auv")
+    page.get_by_role("option", name="e2e-picked-auv: Picked AUV · registry").click()
     saved(page)
-    # The goal inspector suggests the registry vehicle's trusted behaviours.
+    # The goal inspector's behaviour picker offers the registry vehicle's trusted behaviours.
     page.get_by_test_id("node-G1").click()
-    expect(page.locator("#behaviour-options option[value='e2e_hover']")).to_have_count(1)
+    page.get_by_role("combobox", name="Behaviour").click()
+    expect(page.get_by_role("option", name=re.compile(r"^e2e_hover · trusted by e2e-picked-auv"))
+           ).to_have_count(1)
     with client(server, "operator") as operator:
         draft = operator.get(f"/api/missions/{mission}").json()
     assert draft["orders"]["vehicle"] == "e2e-picked-auv"

@@ -575,7 +575,12 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        /** List Paths */
+        /**
+         * List Paths
+         * @description The paths in the order of Figure 6, a page at a time (`next_cursor`). With `goal` or
+         *     `terminal`, only the matching paths (`matching` counts them), each keeping its index in the
+         *     full list; the cursor then counts matches.
+         */
         get: operations["listPaths"];
         put?: never;
         post?: never;
@@ -2308,6 +2313,8 @@ export interface components {
             count: number;
             /** Items */
             items: components["schemas"]["MissionPathOut"][];
+            /** Matching */
+            matching?: number | null;
             /** Next Cursor */
             next_cursor: string | null;
         };
@@ -4241,6 +4248,12 @@ export interface operations {
                 limit?: number;
                 cursor?: string | null;
                 format?: string;
+                /** @description list the paths of this stored version instead of the draft */
+                version?: number | null;
+                /** @description only the paths through this goal (JSON pages and traces) */
+                goal?: string | null;
+                /** @description only the paths ending at this terminal (JSON pages and traces) */
+                terminal?: string | null;
             };
             header?: never;
             path: {

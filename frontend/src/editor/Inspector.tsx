@@ -1,5 +1,6 @@
 /** The editor's side panels: findings, the goal inspector and the constraints panel. */
-import { memo, useMemo, useState } from "react";
+import type { Node } from "@xyflow/react";
+import { memo, useCallback, useEffect, useMemo, useState } from "react";
 
 import type { Finding } from "../api/client";
 import {
@@ -22,9 +23,11 @@ import {
   updateGoal,
 } from "./graph";
 import { knownQuantities } from "./expr";
-import { ExprField, CommitField } from "./fields";
+import { CommitField, CommitSelect, ExprField, Picker } from "./fields";
 import { paramsToText, parseParams } from "./model";
-import { BehaviourOptions } from "./VehiclePicker";
+import { idAndTitle, successorChoices } from "./pickers";
+import { useEditor, useEditorApi } from "./store";
+import { BehaviourPicker } from "./VehiclePicker";
 
 export type EditOrders = (change: (o: Orders) => Orders, group?: string) => void;
 
@@ -75,7 +78,7 @@ export const GoalInspector = memo(function GoalInspector({
   const id = goal.id;
   const set = (patch: Partial<GoalSpec>, group?: string) => editOrders((o) => updateGoal(o, id, patch), group);
   const areas = ((orders.areas as { id: string; title?: string }[] | undefined) ?? []);
-  const targets = [...goals(orders).map((g) => g.id), ...terminals(orders).map((t) => t.id)];
+  const successors = useMemo(() => successorChoices(goals(orders), terminals(orders)), [orders]);
   const [requires, setRequires] = useState((goal.requires ?? []).join(", "));
   const [envelope, setEnvelope] = useState(envelopeToText(goal.envelope));
   const [envelopeError, setEnvelopeError] = useState("");
@@ -105,16 +108,14 @@ export const GoalInspector = memo(function GoalInspector({
         />{" "}
         Start goal
       </label>
-      <label htmlFor="goal-behavior">Behaviour</label>
-      <input
-        id="goal-behavior"
-        list="behaviour-options"
+      <BehaviourPicker
         value={goal.behavior ?? ""}
-        onChange={(e) => set({ behavior: e.target.value || undefined }, `g:${id}:behavior`)}
+        vehicle={(orders.vehicle as string | null | undefined) ?? undefined}
+        carried={(orders.vehicles as { id: string; behaviors?: string[] }[] | undefined) ?? []}
+        onChange={(behavior) => set({ behavior })}
       />
-      <BehaviourOptions vehicle={orders.vehicle as string | undefined} carried={(orders.vehicles as { id: string; behaviors?: string[] }[] | undefined) ?? []} />
       <label htmlFor="goal-area">Area</label>
-      <select id="goal-area" value={goal.area ?? ""} onChange={(e) => set({ area: e.target.value || undefined })}>
+      <CommitSelect id="goal-area" value={goal.area ?? ""} onCommit={(v) => set({ area: v || undefined })}>
         <option value="">— none —</option>
         {goal.area && !areas.some((a) => a.id === goal.area) && <option value={goal.area}>{goal.area} (unknown)</option>}
         {areas.map((a) => (
@@ -122,7 +123,7 @@ export const GoalInspector = memo(function GoalInspector({
             {a.title ? `${a.id}: ${a.title}` : a.id}
           </option>
         ))}
-      </select>
+      </CommitSelect>
       <label htmlFor="goal-requires">Requires (comma-separated)</label>
       <input
         id="goal-requires"
@@ -179,28 +180,45 @@ export const GoalInspector = memo(function GoalInspector({
       <FieldFindings findings={findings} subject={id} codes={["SINK", "G3", "G5", "G7"]} />
       {OUTCOMES.map((o) => {
         const current = goal.next?.[o];
-        const value = typeof current === "string" ? current : "";
         return (
-          <div key={o}>
-            <label htmlFor={`goal-next-${o}`}>
-              <span className={`outcome-letter outcome-${o}`}>{OUTCOME_LETTER[o]}</span> {OUTCOME_LABEL[o]} → next
-            </label>
-            <select id={`goal-next-${o}`} value={value} onChange={(e) => editOrders((x) => setSuccessor(x, id, o, e.target.value || null))}>
-              <option value="">— none —</option>
-              {value && !targets.includes(value) && <option value={value}>{value} (unknown)</option>}
-              {targets.map((t) => (
-                <option key={t} value={t}>
-                  {t}
-                </option>
-              ))}
-            </select>
-          </div>
+          <Picker
+            key={o}
+            id={`goal-next-${o}`}
+            testId={`goal-next-${o}-picker`}
+            label={
+              <>
+                <span className={`outcome-letter outcome-${o}`}>{OUTCOME_LETTER[o]}</span> {OUTCOME_LABEL[o]} → next
+              </>
+            }
+            value={typeof current === "string" ? current : ""}
+            choices={successors}
+            onCommit={(target) => editOrders((x) => setSuccessor(x, id, o, target || null))}
+          />
         );
       })}
     </fieldset>
   );
 });
 
+/** The canvas's node click while a constraint's scope is being picked: the clicked goal goes
+ * into the scope or out of it (terminals are not goals and are ignored). */
+export function useScopePickClick(editOrders: EditOrders): (event: unknown, node: Node) => void {
+  const store = useEditorApi();
+  return useCallback(
+    (_event: unknown, node: Node) => {
+      const constraint = store.getState().scopePick;
+      if (!constraint || node.type !== "goal") return;
+      editOrders((o) => toggleScope(o, constraint, node.id));
+    },
+    [store, editOrders],
+  );
+}
+
+/**
+ * The constraints. A constraint's scope is the whole mission or a set of goals, ticked here
+ * (each goal by id and title) or, with "Pick the scope on the graph", by clicking goals on the
+ * canvas (the store's `scopePick` names the constraint; useScopePickClick toggles the goal).
+ */
 export function ConstraintsPanel({
   orders,
   editOrders,
@@ -212,6 +230,19 @@ export function ConstraintsPanel({
   markers: ReturnType<typeof markersBySubject>;
   findings: Finding[];
 }) {
+  const scopePick = useEditor((s) => s.scopePick);
+  const setState = useEditor((s) => s.set);
+  const onScopePick = useCallback((constraint: string | null) => setState({ scopePick: constraint }), [setState]);
+  // Escape ends picking; so does leaving the panel (unmount).
+  useEffect(() => {
+    if (!scopePick) return;
+    const onKey = (e: KeyboardEvent) => {
+      if (e.key === "Escape") onScopePick(null);
+    };
+    document.addEventListener("keydown", onKey);
+    return () => document.removeEventListener("keydown", onKey);
+  }, [scopePick, onScopePick]);
+  useEffect(() => () => onScopePick(null), [onScopePick]);
   const list = orders.constraints ?? [];
   const known = useMemo(() => knownQuantities(orders), [orders]);
   return (
@@ -221,8 +252,10 @@ export function ConstraintsPanel({
       {list.map((c) => {
         const mark = markers.get(c.id);
         const whole = c.applies_to === undefined || c.applies_to === "mission";
+        const picking = scopePick === c.id;
+        const scoped = Array.isArray(c.applies_to) ? c.applies_to : [];
         return (
-          <fieldset key={c.id} className="constraint">
+          <fieldset key={c.id} className={`constraint${picking ? " picking-scope" : ""}`}>
             <legend>
               Constraint <code>{c.id}</code> {mark && <span className={`badge ${mark.severity === "error" ? "bad" : "warn"}`}>{mark.codes.join(" ")}</span>}
             </legend>
@@ -252,11 +285,30 @@ export function ConstraintsPanel({
                       type="checkbox"
                       checked={Array.isArray(c.applies_to) && c.applies_to.includes(g.id)}
                       onChange={() => editOrders((o) => toggleScope(o, c.id, g.id))}
+                      aria-label={`${c.id} applies to ${g.id}${g.title ? ` ${g.title}` : ""}`}
                     />{" "}
                     <span className="visually-hidden">{c.id} applies to </span>
                     {g.id}
+                    {g.title && <span className="hint"> {g.title}</span>}
                   </label>
                 ))}
+              <p className="scope-pick">
+                <button
+                  type="button"
+                  aria-pressed={picking}
+                  data-testid={`pick-scope-${c.id}`}
+                  onClick={() => onScopePick(picking ? null : c.id)}
+                >
+                  {picking ? `Done picking the scope of ${c.id}` : `Pick the scope of ${c.id} on the graph`}
+                </button>
+                {picking && (
+                  <span className="hint" role="status" data-testid="scope-pick-status">
+                    {" "}
+                    Click goals on the graph to add them to {c.id} or take them out (Escape ends).{" "}
+                    {scoped.length === 0 ? "No goal yet." : `Now: ${scoped.map((g) => idAndTitle(g, goals(orders).find((x) => x.id === g)?.title)).join("; ")}.`}
+                  </span>
+                )}
+              </p>
             </div>
             <button type="button" className="danger" onClick={() => editOrders((o) => deleteConstraint(o, c.id))}>
               Delete constraint {c.id}

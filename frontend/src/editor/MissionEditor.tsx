@@ -46,7 +46,8 @@ import { useDraftHistory } from "./useDraftHistory";
 import { useServerCheck } from "./useServerCheck";
 import { useAutosave } from "./useAutosave";
 import { LARGE_GOALS, useFlowElements } from "./useFlowElements";
-import { ConstraintsPanel, FindingsList, GoalInspector } from "./Inspector";
+import { ConstraintsPanel, FindingsList, GoalInspector, useScopePickClick } from "./Inspector";
+import { CommitSelect } from "./fields";
 import { ExportMenu, ToolbarMenu } from "./Toolbar";
 import { FIT, freePlace, MIN_ZOOM, SideMinimap, Splitter, useFillWindow, useSideWidth, ZoomDetail } from "./canvas";
 
@@ -109,6 +110,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
 
   const server = useServerCheck();
   const { edit, editOrders, changed, saveComputedLayout, reloadTheirs, resolve } = useAutosave(mission, onSaved, server);
+  const onScopePickClick = useScopePickClick(editOrders);
 
   // Lay out a draft that has no positions yet (new or imported), without an undo step.
   // Small orders open fitted to the canvas; large ones open at the start goal at a readable
@@ -547,6 +549,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
             onConnectEnd={onConnectEnd}
             isValidConnection={isValidConnection}
             onNodeDragStop={onNodeDragStop}
+            onNodeClick={onScopePickClick}
             deleteKeyCode={null}
             minZoom={MIN_ZOOM}
             fitView={!large.current}
@@ -583,14 +586,14 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
                 onChange={(e) => editOrders((o) => updateTerminal(o, selectedTerminal.id, { title: e.target.value }), `t:${selectedTerminal.id}:title`)}
               />
               <label htmlFor="terminal-kind">Kind</label>
-              <select
+              <CommitSelect
                 id="terminal-kind"
                 value={selectedTerminal.kind}
-                onChange={(e) => editOrders((o) => updateTerminal(o, selectedTerminal.id, { kind: e.target.value as "complete" | "abort" }))}
+                onCommit={(kind) => editOrders((o) => updateTerminal(o, selectedTerminal.id, { kind: kind as "complete" | "abort" }))}
               >
                 <option value="complete">complete</option>
                 <option value="abort">abort</option>
-              </select>
+              </CommitSelect>
             </fieldset>
           ) : (
             <p className="hint">

@@ -1,18 +1,22 @@
 /**
  * Paths explorer: counts per terminal (from the report), the saved draft's paths fetched page
  * by page with a progress bar and a cancel button, a virtualised list (only visible rows are
- * in the DOM), and the selected path highlighted on the graph with its Figure 6 trace.
+ * in the DOM) whose rows align each step in a column (goal id, title, outcome letter), the
+ * path under the pointer highlighted on the graph, and the chosen one with its Figure 6 trace.
  */
-import { useEffect, useRef, useState } from "react";
+import { useVirtualizer } from "@tanstack/react-virtual";
+import { useEffect, useMemo, useRef, useState } from "react";
 
 import type { MissionPath, PathPage, Report } from "../api/client";
+import { PathGridHead, PathGridRow } from "../components/PathGrid";
 import { formatNumber } from "../format";
-import { outcomeLetters, traceText } from "../trace";
+import { gridWidth, titlesOf } from "../pathGrid";
+import { traceText } from "../trace";
 import type { Orders, PathLike } from "./graph";
 
 const PAGE = 500;
-const ROW = 26;
-const HEIGHT = 260;
+const ROW = 27;
+const HEIGHT = 280;
 
 export function PathsPanel({
   missionId,
@@ -32,7 +36,8 @@ export function PathsPanel({
   const [loading, setLoading] = useState(false);
   const [error, setError] = useState("");
   const [chosen, setChosen] = useState<number | null>(null);
-  const [scroll, setScroll] = useState(0);
+  const [hovered, setHovered] = useState<number | null>(null);
+  const listBox = useRef<HTMLDivElement>(null);
   const abort = useRef<AbortController | null>(null);
 
   const load = async () => {
@@ -76,9 +81,15 @@ export function PathsPanel({
   }, [revision]);
 
   const counts = report?.paths;
-  const first = Math.max(0, Math.floor(scroll / ROW) - 5);
-  const last = Math.min(paths.length, first + Math.ceil(HEIGHT / ROW) + 10);
   const selectedPath = chosen === null ? null : paths[chosen] ?? null;
+  const titles = useMemo(() => titlesOf(orders as Parameters<typeof titlesOf>[0]), [orders]);
+  const steps = useMemo(() => paths.reduce((n, p) => Math.max(n, p.goals.length), 1), [paths]);
+  const rows = useVirtualizer({ count: paths.length, getScrollElement: () => listBox.current, estimateSize: () => ROW, overscan: 8 });
+  const hover = (i: number | null) => {
+    setHovered(i);
+    const p = i === null ? selectedPath : paths[i];
+    onHighlight(p ?? null, p ? `path #${p.index}` : undefined);
+  };
 
   return (
     <section aria-labelledby="paths-title">
@@ -116,13 +127,15 @@ export function PathsPanel({
       {paths.length > 0 && (
         <div className="paths-explorer">
           <div
-            className="path-list"
+            ref={listBox}
+            className="path-list path-grid-scroll"
             role="listbox"
             aria-label="Paths"
+            data-testid="editor-path-list"
             tabIndex={0}
-            style={{ height: HEIGHT, overflowY: "auto", position: "relative" }}
-            onScroll={(e) => setScroll(e.currentTarget.scrollTop)}
+            style={{ height: HEIGHT }}
             aria-activedescendant={chosen !== null ? `path-${chosen}` : undefined}
+            onMouseLeave={() => hover(null)}
             onKeyDown={(e) => {
               if (e.key !== "ArrowDown" && e.key !== "ArrowUp") return;
               e.preventDefault();
@@ -130,30 +143,31 @@ export function PathsPanel({
               setChosen(next);
               const p = paths[next]!;
               onHighlight(p, `path #${p.index}`);
-              const top = next * ROW;
-              const box = e.currentTarget;
-              if (top < box.scrollTop) box.scrollTop = top;
-              else if (top + ROW > box.scrollTop + HEIGHT) box.scrollTop = top + ROW - HEIGHT;
+              rows.scrollToIndex(next);
             }}
           >
-            <div style={{ height: paths.length * ROW, position: "relative" }}>
-              {paths.slice(first, last).map((p, k) => {
-                const i = first + k;
+            <PathGridHead steps={steps} />
+            <div style={{ height: rows.getTotalSize(), width: gridWidth(steps), position: "relative" }}>
+              {rows.getVirtualItems().map((row) => {
+                const i = row.index;
+                const p = paths[i]!;
                 return (
-                  <div
+                  <PathGridRow
                     key={p.index}
                     id={`path-${i}`}
                     role="option"
                     aria-selected={i === chosen}
-                    className={`path-row${i === chosen ? " active" : ""}`}
-                    style={{ position: "absolute", top: i * ROW, height: ROW, left: 0, right: 0 }}
+                    path={p}
+                    titles={titles}
+                    steps={steps}
+                    className={`${i === chosen ? "active" : ""}${i === hovered ? " hovered" : ""}`}
+                    style={{ position: "absolute", top: row.start, height: ROW, left: 0, width: gridWidth(steps) }}
+                    onMouseEnter={() => hover(i)}
                     onClick={() => {
                       setChosen(i);
                       onHighlight(p, `path #${p.index}`);
                     }}
-                  >
-                    #{p.index} <code>{outcomeLetters(p.outcomes)}</code> → {p.terminal}
-                  </div>
+                  />
                 );
               })}
             </div>

@@ -3,9 +3,154 @@
  * loses focus (ids, lists, multi-line specs), and the expression field with completion of
  * quantity names and inline parse errors.
  */
-import { type KeyboardEvent, useEffect, useId, useLayoutEffect, useMemo, useRef, useState } from "react";
+import { useCombobox } from "downshift";
+import { type KeyboardEvent, type ReactNode, type SelectHTMLAttributes, useEffect, useId, useLayoutEffect, useMemo, useRef, useState } from "react";
 
 import { applyCompletion, checkExpr, completions } from "./expr";
+import { type Choice, CHOICES_SHOWN, filterChoices, movesThroughOptions } from "./pickers";
+
+/**
+ * A native drop-down that commits on a real choice (a click on an option, Enter, or focus
+ * leaving it), not on each option the arrow keys or type-ahead pass: Chromium fires "change"
+ * for every one of those, which used to save and re-validate the draft each time. Escape
+ * goes back to the saved value.
+ */
+export function CommitSelect({
+  value,
+  onCommit,
+  children,
+  onKeyDown,
+  onBlur,
+  ...rest
+}: Omit<SelectHTMLAttributes<HTMLSelectElement>, "value" | "onChange"> & {
+  value: string;
+  onCommit: (value: string) => void;
+  children: ReactNode;
+}) {
+  const [pending, setPending] = useState<string | null>(null);
+  const byKeys = useRef(false);
+  const commit = (next: string) => {
+    setPending(null);
+    if (next !== value) onCommit(next);
+  };
+  return (
+    <select
+      {...rest}
+      value={pending ?? value}
+      data-pending={pending !== null ? "true" : undefined}
+      onKeyDown={(e) => {
+        byKeys.current = movesThroughOptions(e.key, e);
+        if (e.key === "Enter" && pending !== null) {
+          e.preventDefault();
+          commit(pending);
+        } else if (e.key === "Escape" && pending !== null) {
+          e.preventDefault();
+          setPending(null);
+        }
+        onKeyDown?.(e);
+      }}
+      onPointerDown={() => {
+        byKeys.current = false;
+      }}
+      onChange={(e) => {
+        const next = e.target.value;
+        if (byKeys.current) {
+          byKeys.current = false;
+          setPending(next === value ? null : next);
+        } else commit(next);
+      }}
+      onBlur={(e) => {
+        if (pending !== null) commit(pending);
+        onBlur?.(e);
+      }}
+    >
+      {children}
+    </select>
+  );
+}
+
+/**
+ * A searchable picker (WAI-ARIA combobox, downshift): typing narrows the choices by id or
+ * title, the arrow keys only highlight, and Enter or a click commits the highlighted choice.
+ * Leaving the field (or Escape) keeps the saved value.
+ */
+export function Picker({
+  id,
+  label,
+  value,
+  choices,
+  onCommit,
+  describedBy,
+  testId,
+}: {
+  id: string;
+  label: ReactNode;
+  value: string;
+  choices: Choice[];
+  onCommit: (value: string) => void;
+  describedBy?: string;
+  testId?: string;
+}) {
+  const [query, setQuery] = useState("");
+  const selected = choices.find((c) => c.value === value) ?? (value ? { value, label: `${value} (unknown)` } : null);
+  const found = useMemo(() => filterChoices(choices, query), [choices, query]);
+  const items = found.slice(0, CHOICES_SHOWN);
+  const { isOpen, highlightedIndex, getLabelProps, getInputProps, getMenuProps, getItemProps, getToggleButtonProps } = useCombobox<Choice>({
+    items,
+    inputId: id,
+    labelId: `${id}-label`,
+    menuId: `${id}-menu`,
+    toggleButtonId: `${id}-toggle`,
+    getItemId: (index) => `${id}-option-${index}`,
+    itemToString: (c) => (c ? c.label : ""),
+    itemToKey: (c) => c?.value,
+    selectedItem: selected,
+    onInputValueChange: ({ inputValue, type }) => {
+      if (type === useCombobox.stateChangeTypes.InputChange) setQuery(inputValue ?? "");
+    },
+    onIsOpenChange: ({ isOpen: open }) => {
+      if (!open) setQuery("");
+    },
+    onSelectedItemChange: ({ selectedItem }) => {
+      if (selectedItem && selectedItem.value !== value) onCommit(selectedItem.value);
+    },
+    stateReducer: (_state, { type, changes }) => {
+      // Leaving the field never picks the highlighted choice: only Enter or a click commits.
+      if (type === useCombobox.stateChangeTypes.InputBlur) {
+        return { ...changes, selectedItem: selected, inputValue: selected?.label ?? "" };
+      }
+      return changes;
+    },
+  });
+  return (
+    <div className="picker" data-testid={testId}>
+      <label {...getLabelProps()}>{label}</label>
+      <div className="picker-field">
+        <input {...getInputProps({ "aria-describedby": describedBy, spellCheck: false })} />
+        <button type="button" className="small" aria-label="Show the choices" tabIndex={-1} {...getToggleButtonProps()}>
+          ▾
+        </button>
+      </div>
+      <ul {...getMenuProps()} className="picker-menu" hidden={!isOpen}>
+        {isOpen &&
+          items.map((c, index) => (
+            <li
+              key={c.value}
+              className={`${highlightedIndex === index ? "active" : ""}${c.value === value ? " current" : ""}`}
+              {...getItemProps({ item: c, index })}
+            >
+              {c.label}
+              {c.detail && <span className="hint"> · {c.detail}</span>}
+            </li>
+          ))}
+        {isOpen && items.length === 0 && <li className="empty">Nothing matches “{query}”.</li>}
+        {isOpen && found.length > items.length && (
+          <li className="hint">{found.length - items.length} more: type to narrow the list.</li>
+        )}
+      </ul>
+    </div>
+  );
+}
 
 /**
  * A text input (or textarea) that keeps its own text while typing and calls `onCommit` on

@@ -5,7 +5,7 @@
  */
 import { type PointerEvent as ReactPointerEvent, useMemo, useRef, useState } from "react";
 
-import { ExprField, CommitField } from "./fields";
+import { CommitField, CommitSelect, ExprField } from "./fields";
 import { VehiclePicker } from "./VehiclePicker";
 import { envelopeToText, type Orders, parseEnvelope } from "./graph";
 import {
@@ -429,16 +429,16 @@ export function QuantitiesPanel({ orders, editOrders }: { orders: Orders; editOr
                 <input aria-label={`${q} title`} value={spec.title ?? ""} onChange={(e) => editOrders((o) => updateQuantity(o, q, { title: e.target.value }), `q:${q}:title`)} />
               </td>
               <td>
-                <select
+                <CommitSelect
                   aria-label={`${q} type`}
                   value={spec.type ?? ""}
-                  onChange={(e) => editOrders((o) => updateQuantity(o, q, { type: e.target.value || undefined }))}
+                  onCommit={(v) => editOrders((o) => updateQuantity(o, q, { type: v || undefined }))}
                 >
                   <option value="">real (default)</option>
                   <option value="real">real</option>
                   <option value="integer">integer</option>
                   <option value="boolean">boolean</option>
-                </select>
+                </CommitSelect>
               </td>
               <td>
                 <input aria-label={`${q} unit`} size={5} value={spec.unit ?? ""} onChange={(e) => editOrders((o) => updateQuantity(o, q, { unit: e.target.value }), `q:${q}:unit`)} />
@@ -643,13 +643,13 @@ export function NormsPanel({ orders, editOrders, markers, known }: { orders: Ord
               onChange={(e) => editOrders((o) => updateNorm(o, n.id, { context: e.target.value }), `n:${n.id}:context`)}
             />
             <label htmlFor={`norm-${n.id}-kind`}>{`Norm ${n.id} kind`}</label>
-            <select id={`norm-${n.id}-kind`} value={kind} onChange={(e) => editOrders((o) => setNormKind(o, n.id, e.target.value as NormKind))}>
+            <CommitSelect id={`norm-${n.id}-kind`} value={kind} onCommit={(v) => editOrders((o) => setNormKind(o, n.id, v as NormKind))}>
               {NORM_KINDS.map((k) => (
                 <option key={k} value={k}>
                   {k}
                 </option>
               ))}
-            </select>
+            </CommitSelect>
             <ExprField
               id={`norm-${n.id}-expr`}
               label={`Norm ${n.id} expression`}

@@ -68,6 +68,8 @@ export interface EditorState {
   /** Whether the opened draft has positions (until then the canvas gets no nodes). */
   placed: boolean;
   panel: string;
+  /** The constraint whose scope clicks on goals now toggle ("Pick scope on the graph"), or null. */
+  scopePick: string | null;
 
   setHistory: (update: Update<History<Draft>>) => void;
   setNodes: (update: Update<Node<NodeData>[]>) => void;
@@ -119,6 +121,7 @@ export function createEditorStore(mission: MissionDetail): StoreApi<EditorState>
     ready: false,
     placed: isLaidOut(draft),
     panel: "editor-constraints",
+    scopePick: null,
 
     setHistory: (update) => set((s) => ({ history: apply(update, s.history) })),
     setNodes: (update) => set((s) => ({ nodes: apply(update, s.nodes) })),

@@ -50,12 +50,20 @@ export interface FlowElements {
   markers: Markers;
 }
 
+/** The goals in the scope of the constraint being picked (marked on the canvas). */
+function scopeOf(orders: { constraints?: { id: string; applies_to?: unknown }[] | null }, constraint: string | null): Set<string> {
+  const c = constraint ? (orders.constraints ?? []).find((x) => x.id === constraint) : undefined;
+  return new Set(c && Array.isArray(c.applies_to) ? (c.applies_to as string[]) : []);
+}
+
 export function useFlowElements(large: boolean): FlowElements {
   const store = useEditorApi();
   const draft = useEditor((s) => s.history.present);
   const report = useEditor((s) => s.report);
   const highlight = useEditor((s) => s.highlight);
   const placed = useEditor((s) => s.placed);
+  const scopePick = useEditor((s) => s.scopePick);
+  const inScope = useMemo(() => scopeOf(draft.orders, scopePick), [draft.orders, scopePick]);
 
   const findings = useMemo(() => report?.findings ?? [], [report]);
   useEffect(() => {
@@ -86,7 +94,7 @@ export function useFlowElements(large: boolean): FlowElements {
         const ariaLabel = `${n.kind === "goal" ? "Goal" : "Terminal"} ${n.id}: ${n.label}${n.start ? " (start)" : ""}${
           mark ? `; findings ${mark.codes.join(", ")}` : ""
         }${lit ? "; on the highlighted path" : ""}`;
-        const className = lit ? "on-path" : "";
+        const className = `${lit ? "on-path" : ""}${inScope.has(n.id) ? " in-scope" : ""}`.trim();
         if (
           old &&
           old.type === n.kind &&

@@ -27,6 +27,7 @@ from ...store.db import database_of
 from ...store.tables import Mission, MissionVersion
 from ...store.vehicles import registry_stamp, with_registry
 from ...verify.graph import build_graph
+from ...verify.path_search import UnknownNode, count_matching, iter_matching, path_query
 from ...verify.paths import count_paths, iter_path_lines, iter_paths, trace_text
 from ...verify.probability import declares_probabilities, path_probability_bounds
 from ..deps import (
@@ -395,9 +396,20 @@ def list_paths(
     limit: Annotated[int, Query(ge=1, le=MAX_PATH_PAGE)] = 100,
     cursor: Annotated[str | None, Query(max_length=2000)] = None,
     format: Annotated[str, Query(pattern="^(json|ndjson|trace)$")] = "json",
+    version: Annotated[int | None, Query(ge=1, description=(
+        "list the paths of this stored version instead of the draft"))] = None,
+    goal: Annotated[str | None, Query(max_length=200, description=(
+        "only the paths through this goal (JSON pages and traces)"))] = None,
+    terminal: Annotated[str | None, Query(max_length=200, description=(
+        "only the paths ending at this terminal (JSON pages and traces)"))] = None,
 ) -> PathPage | StreamingResponse | PlainTextResponse:
-    mission = service.get_mission(db, mission_id)
-    orders = _orders(mission.draft)
+    """The paths in the order of Figure 6, a page at a time (`next_cursor`). With `goal` or
+    `terminal`, only the matching paths (`matching` counts them), each keeping its index in the
+    full list; the cursor then counts matches."""
+    if version is not None:
+        orders = _orders(service.get_version(db, mission_id, version).orders)
+    else:
+        orders = _orders(service.get_mission(db, mission_id).draft)
     graph = build_graph(orders)
     counts = count_paths(graph)
     bounds = (path_probability_bounds(orders, graph)
@@ -405,29 +417,43 @@ def list_paths(
     if counts is None:
         raise HTTPException(409, "the paths cannot be counted until the structural errors "
                                  "in the report are fixed")
+    searching = bool(goal or terminal)
+    try:
+        query = path_query(graph, goal, terminal)
+    except UnknownNode as e:
+        raise HTTPException(400, f"{e}: search by one of its goal or terminal ids") from None
+    matching = count_matching(graph, query) if searching else counts.total
+    assert matching is not None  # counted above
     offset = 0
     if cursor:
         try:
             offset = int(_decode_cursor(cursor))
         except ValueError:
             raise HTTPException(400, "the cursor is not valid") from None
-        if not 0 <= offset <= counts.total:  # e.g. "LTE=", which decodes to -1
+        if not 0 <= offset <= matching:  # e.g. "LTE=", which decodes to -1
             raise HTTPException(400, "the cursor is not valid")
     if format == "ndjson" or "application/x-ndjson" in request.headers.get("accept", ""):
+        if searching:
+            raise HTTPException(400, "goal and terminal apply to JSON pages and traces; "
+                                     "stream every path without them")
         def lines() -> Iterator[str]:
             for line in iter_path_lines(graph, counts, offset, probabilities=bounds):
                 yield line + "\n"
         return StreamingResponse(lines(), media_type="application/x-ndjson")
-    page = list(iter_paths(graph, counts, offset, limit, probabilities=bounds))
+    if searching:
+        page = list(iter_matching(graph, counts, query, offset, limit, probabilities=bounds))
+    else:
+        page = list(iter_paths(graph, counts, offset, limit, probabilities=bounds))
     if format == "trace":
         return PlainTextResponse("\n".join(trace_text(graph, p) for p in page) + "\n")
     following = offset + len(page)
     return PathPage(count=counts.total, by_terminal=counts.by_terminal,
+                    matching=matching if searching else None,
                     items=[MissionPathOut(index=p.index, goals=list(p.goals),
                                           outcomes=list(p.outcomes), terminal=p.terminal,
                                           probability=p.probability)
                            for p in page],
-                    next_cursor=_encode_cursor(following) if following < counts.total else None)
+                    next_cursor=_encode_cursor(following) if following < matching else None)
 
 
 @router.get("/missions/{mission_id}/export", operation_id="exportMission",

@@ -119,6 +119,8 @@ class MissionPathOut(BaseModel):
 class PathPage(BaseModel):
     count: int
     by_terminal: dict[str, int]
+    # With a goal or terminal search: how many paths match (`count` stays the total).
+    matching: int | None = None
     items: list[MissionPathOut]
     next_cursor: str | None
 

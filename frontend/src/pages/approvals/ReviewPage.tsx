@@ -19,7 +19,8 @@ import { type ApprovalSummary, approvalHref, loadReview, type Review } from "./a
 import { describeDiff, diffOrders } from "./diff";
 import { OrdersGraph } from "./OrdersGraph";
 import { ProfileDrift } from "../vehicles/ProfileDrift";
-import { DiffView, FindingsTable, IntegrityWarning, PathList, PathSummaryTable, RulesSection, StateBadge } from "./parts";
+import { DiffView, FindingsTable, IntegrityWarning, PathSummaryTable, RulesSection, StateBadge } from "./parts";
+import { ReviewPaths } from "./ReviewPaths";
 import { signPrepared, useSigningKeys } from "./signing";
 import { ReceiptNote } from "./Receipt";
 
@@ -107,7 +108,7 @@ export function ReviewPage({ mission, version }: { mission: string; version: num
 
       <h2>Paths</h2>
       <PathSummaryTable paths={review.paths} />
-      <PathList items={review.path_items} total={review.paths?.count ?? 0} />
+      {review.paths && <ReviewPaths mission={mission} version={version} orders={review.orders} total={review.paths.count} />}
       {/* The report field is an open object in the API; its shape is verify/probability.py. */}
       <ProbabilityTable figures={review.probabilities as OutcomeFigures | null | undefined} />
 

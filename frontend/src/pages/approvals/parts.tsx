@@ -1,8 +1,6 @@
 /** Pieces shared by the review and audit pages: findings, path summary, diff, state badge,
  * contingency rules. */
-import { pathProbability } from "./probabilities";
-import type { MissionPath } from "../../api/client";
-import { plural, statusLabel } from "../../format";
+import { statusLabel } from "../../format";
 import { FindingsTable } from "../../components/FindingsTable";
 import { PathCounts } from "../../components/PathCounts";
 import type { PathSummary } from "./api";
@@ -64,28 +62,6 @@ export function RulesSection({ rules, headingLevel = 2 }: { rules: string[]; hea
 export function PathSummaryTable({ paths }: { paths: PathSummary | null }) {
   if (!paths) return <p className="empty">The paths cannot be counted until the structural errors are fixed.</p>;
   return <PathCounts count={paths.count} byTerminal={paths.by_terminal} testIdPrefix="review-paths-to-" />;
-}
-
-export function PathList({ items, total }: { items: MissionPath[]; total: number }) {
-  if (items.length === 0) return null;
-  return (
-    <>
-      <p className="hint">
-        {items.length < total ? `The first ${items.length} of ${plural(total, "path")}` : `All ${plural(total, "path")}`}{" "}
-        (outcomes: s succeed, f fail, c constraint violated):
-      </p>
-      <ol className="paths" data-testid="review-paths">
-        {items.map((p) => (
-          <li key={p.index} value={p.index}>
-            {p.goals.map((g, i) => `${g} (${{ succeed: "s", fail: "f", violate: "c" }[p.outcomes[i] ?? ""] ?? "?"})`).join(" → ")} →{" "}
-            <strong>{p.terminal}</strong>
-            {pathProbability((p as { probability?: unknown }).probability) !== null &&
-              ` (p = ${pathProbability((p as { probability?: unknown }).probability)})`}
-          </li>
-        ))}
-      </ol>
-    </>
-  );
 }
 
 export function DiffView({ diff }: { diff: OrdersDiff }) {
