@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from datetime import UTC, datetime
 from typing import Any
 
 from ..orders.model import Orders
@@ -62,7 +63,7 @@ def _findings(findings: Sequence[Mapping[str, Any]]) -> str:
 def _paths(orders: Orders, paths: Mapping[str, Any] | None) -> str:
     if not paths:
         return "Paths were not counted (the goal graph is not a DAG)."
-    titles = {t.id: t.label for t in orders.terminals}
+    titles = {t.id: t.label for t in orders.terminals or []}
     lines = [f"{paths.get('count')} path(s) from the start to a terminal."]
     for terminal, count in sorted((paths.get("by_terminal") or {}).items()):
         title = titles.get(terminal)
@@ -80,7 +81,7 @@ def _rehearsal(rehearsal: Mapping[str, Any] | None) -> str:
         f"Record {rehearsal.get('digest')}",
         f"Rehearsed orders {rehearsal.get('orders_digest')} "
         f"(version {rehearsal.get('version')}, {rehearsal.get('source')}) by "
-        f"{rehearsal.get('owner')} on {rehearsal.get('created_at')}.",
+        f"{rehearsal.get('owner')} on {_when(str(rehearsal.get('created_at')))}.",
         f"State {record.get('state')}; ended at {record.get('terminal')} "
         f"({record.get('terminal_kind')}) after {len(record.get('goals') or [])} goal(s), "
         f"{record.get('sim_time_s')} s simulated, {len(runs)} run(s), seed {record.get('seed')}.",
@@ -92,12 +93,21 @@ def _rehearsal(rehearsal: Mapping[str, Any] | None) -> str:
     return "\n".join(lines)
 
 
+def _when(iso: str) -> str:
+    """'2026-12-02 06:55:44 UTC' from an ISO instant (seconds are enough on paper)."""
+    try:
+        moment = datetime.fromisoformat(iso).astimezone(UTC)
+    except ValueError:
+        return iso
+    return moment.strftime("%Y-%m-%d %H:%M:%S UTC")
+
+
 def _decision(decision: Decision | None, pending: str | None) -> tuple[str, str]:
     if decision is None:
         return ("Not decided yet" + (f": {pending}." if pending else "."),
                 "No signature: nothing has been signed for this version.")
     said = [f"{decision.decision.capitalize()} (approval {decision.approval}) on "
-            f"{decision.decided_at}.", f"Reason: {decision.reason or '(none given)'}"]
+            f"{_when(decision.decided_at)}.", f"Reason: {decision.reason or '(none given)'}"]
     if decision.revoked_by is not None:
         said.append(f"Revoked since by approval {decision.revoked_by}.")
     signer = [f"Signed by {decision.supervisor} with key “{decision.key_name}”.",

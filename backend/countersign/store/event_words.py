@@ -47,10 +47,8 @@ def event_target(kind: str, mission: str | None, detail: Mapping[str, Any]) -> s
                                                                     else "")
     elif kind == "version.created":
         target = _mission_version(mission, detail, "number")
-    elif family in {"submission", "approval", "execution"} or kind == "rehearsal.recorded":
+    elif family in {"submission", "approval", "execution", "rehearsal"}:
         target = _mission_version(mission, detail)
-    elif family == "rehearsal":
-        target = f"mission {mission} rehearsal {detail.get('rehearsal')}"
     elif mission:
         target = f"mission {mission}"
     elif family == "log":
@@ -98,11 +96,16 @@ _CHANGES: dict[str, Callable[[str | None, Mapping[str, Any]], str]] = {
     "submission.rehearsal_attached": lambda m, d: (
         f"rehearsal record {_short(d.get('record_digest'))} attached to submission "
         f"{d.get('submission')}"),
-    "rehearsal.started": lambda m, d: f"rehearsal {d.get('rehearsal')} started",
-    "rehearsal.outcome": lambda m, d: f"goal {d.get('goal')} ended by {d.get('outcome')}",
-    "rehearsal.fault": lambda m, d: f"fault {d.get('fault')} injected",
+    "rehearsal.started": lambda m, d: (
+        f"rehearsal {_text(d.get('rehearsal'), 10)} started ({d.get('source')})"),
+    "rehearsal.outcome": lambda m, d: (
+        f"rehearsal {_text(d.get('rehearsal'), 10)}: goal {d.get('goal')} ended by "
+        f"{d.get('outcome')}"),
+    "rehearsal.fault": lambda m, d: (
+        f"rehearsal {_text(d.get('rehearsal'), 10)}: fault {d.get('fault')} injected"),
     "rehearsal.recorded": lambda m, d: (
-        f"rehearsal {d.get('rehearsal')} recorded as {_short(d.get('record_digest'))}"),
+        f"rehearsal {_text(d.get('rehearsal'), 10)} recorded as "
+        f"{_short(d.get('record_digest'))}"),
     "token.created": lambda m, d: (
         f"token “{_text(d.get('name'))}” created ({', '.join(map(str, d.get('scopes') or []))})"),
     "token.revoked": lambda m, d: "token revoked",
