@@ -20,6 +20,8 @@ export const OPERATION_ROLES = {
   getCheckpoint: ["operator", "supervisor", "auditor", "admin"],
   getConsistencyProof: ["supervisor", "auditor", "admin"],
   getCosignedCheckpoint: ["operator", "supervisor", "auditor", "admin"],
+  getDocument: ["operator", "supervisor", "auditor", "admin"],
+  getDocumentText: ["operator", "supervisor", "auditor", "admin"],
   getExample: ["operator", "supervisor", "auditor", "admin"],
   getInclusionProof: ["supervisor", "auditor", "admin"],
   getMission: ["operator", "supervisor", "auditor", "admin"],

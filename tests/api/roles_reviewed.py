@@ -50,6 +50,10 @@ REVIEWED_ROLES: dict[str, tuple[str, ...]] = {
     "addCosignature": ("supervisor", "auditor", "admin"),
     # GET /api/log/consistency
     "getConsistencyProof": ("supervisor", "auditor", "admin"),
+    # GET /api/missions/{mission_id}/versions/{number}/document
+    "getDocument": ("operator", "supervisor", "auditor", "admin"),
+    # GET /api/missions/{mission_id}/versions/{number}/document.txt
+    "getDocumentText": ("operator", "supervisor", "auditor", "admin"),
     # GET /api/examples/{name}
     "getExample": ("operator", "supervisor", "auditor", "admin"),
     # GET /api/log/inclusion

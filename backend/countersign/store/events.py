@@ -13,6 +13,7 @@ from sqlalchemy import inspect, select, text
 from sqlalchemy.orm import Session as DbSession
 
 from ..approvals.log import GENESIS, entry_bytes, entry_leaf, event_data
+from .event_words import event_target
 from .tables import Event, LogEntry, LogReceipt, User, utcnow
 
 # Appends take one PostgreSQL advisory lock, so that concurrent transactions chain in order;
@@ -30,7 +31,8 @@ def record(
     log lock is then held only for the append and the COMMIT, not for the rest of the request.
     Callers that read the log in the same transaction (approvals) must not defer."""
     event = Event(kind=kind, actor_id=actor.id if actor else None, mission_id=mission_id,
-                  before_digest=before, after_digest=after, detail=detail or {}, at=utcnow())
+                  before_digest=before, after_digest=after, detail=detail or {}, at=utcnow(),
+                  target=event_target(kind, mission_id, detail or {}))
     db.add(event)
     db.flush()
     actor_name = actor.username if actor else None

@@ -14,6 +14,7 @@ from sqlalchemy.orm import Session as DbSession
 
 from ..approvals.log import event_data
 from ..approvals.log_rules import row_problems, submission_state
+from .event_words import event_target
 from .tables import Approval, Event, LogEntry, Submission
 
 
@@ -82,7 +83,20 @@ def event_integrity(db: DbSession, events: list[Event], actors: dict[int, str]
                          kind=event.kind, mission=event.mission_id, before=event.before_digest,
                          after=event.after_digest, detail=event.detail)
         differing = sorted(k for k in row if entry is None or row[k] != entry.get(k))
+        if entry is not None and event.target != event_target(
+                str(entry.get("kind")), entry.get("mission"), entry.get("detail") or {}):
+            differing.append("target")
         out[event.id] = [f"event {event.id}: the table's {', '.join(differing)} disagree"
                          f"{'s' if len(differing) == 1 else ''} with log entry {index}"
                          ] if differing else []
     return out
+
+
+def log_indexes(db: DbSession, event_ids: list[int]) -> dict[int, int]:
+    """Each event's index in the transparency log (events whose entry is gone are absent)."""
+    found: dict[int, int] = {}
+    for start in range(0, len(event_ids), 500):
+        found.update({int(e): int(i) for e, i in db.execute(
+            select(LogEntry.event_id, LogEntry.index)
+            .where(LogEntry.event_id.in_(event_ids[start:start + 500])))})
+    return found

@@ -28,9 +28,13 @@ class PasswordRequired(Forbidden):
     """The decision lacks the signer's fresh password, or it is wrong."""
 
 
+WRONG_FOR_DECISION = "the password is wrong; nothing was signed or stored"
+
+
 def confirm_password(db: DbSession, *, username: str, password_hash: str,
-                     password: str | None) -> None:
-    """Refuse unless `password` is the user's password; throttled like sign-in."""
+                     password: str | None, wrong: str = WRONG_FOR_DECISION) -> None:
+    """Refuse unless `password` is the user's password; throttled like sign-in. `wrong` is the
+    refusal's text, saying what did not happen (a decision, a role change)."""
     if not password:
         raise PasswordRequired("a signed decision needs your password, entered again: the "
                                "signature alone may come from a script in your browser")
@@ -54,4 +58,4 @@ def confirm_password(db: DbSession, *, username: str, password_hash: str,
         db.rollback()
         db.add(LoginAttempt(username=username[:64]))
         db.commit()
-        raise PasswordRequired("the password is wrong; nothing was signed or stored") from None
+        raise PasswordRequired(wrong) from None

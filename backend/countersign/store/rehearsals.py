@@ -77,7 +77,8 @@ def attach(db: DbSession, *, submission: Submission, digest: str, actor: User) -
     submission.rehearsal_digest = digest
     record_event(db, kind="submission.rehearsal_attached", actor=actor,
                  mission_id=version.mission_id, after=version.digest,
-                 detail={"submission": submission.id, "record_digest": digest})
+                 detail={"submission": submission.id, "version": version.number,
+                         "record_digest": digest})
 
 
 def record_summary(db: DbSession, row: RehearsalRecord) -> dict[str, Any]:

@@ -16,4 +16,4 @@ def confirm_role_change(db: Session, admin: User, password: str | None) -> None:
         raise PasswordRequired("a role change needs your password, entered again "
                                "(admin_password)")
     confirm_password(db, username=admin.username, password_hash=admin.password_hash,
-                     password=password)
+                     password=password, wrong="the password is wrong; no role was changed")

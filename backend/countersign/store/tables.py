@@ -241,6 +241,9 @@ class Event(Base):
     before_digest: Mapped[str | None] = mapped_column(String(71), default=None)
     after_digest: Mapped[str | None] = mapped_column(String(71), default=None)
     detail: Mapped[dict[str, Any]] = mapped_column(default=dict)
+    # What the event is about ('user alice', 'mission m v2'), derived from the logged kind,
+    # mission and detail (store/event_words.py) and kept for the activity log's filter.
+    target: Mapped[str | None] = mapped_column(String(200), default=None, index=True)
 
 
 class SigningKey(Base):

@@ -23,6 +23,7 @@ from .routes import (
     approvals,
     auth,
     charts,
+    document,
     log_witness,
     missions,
     planning,
@@ -185,6 +186,7 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     app.include_router(charts.router)
     app.include_router(planning.router)
     app.include_router(approvals.router)
+    app.include_router(document.router)
     app.include_router(log_witness.router)
     app.include_router(rehearsals.router)
     app.include_router(rehearsals.viewer)

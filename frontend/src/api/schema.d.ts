@@ -250,7 +250,11 @@ export interface paths {
             path?: never;
             cookie?: never;
         };
-        /** List Events */
+        /**
+         * List Events
+         * @description The event log, filtered and paged by the server (at most `limit` rows a call). Each
+         *     event carries `index`, its entry's index in the transparency log: the number to show.
+         */
         get: operations["listEvents"];
         put?: never;
         post?: never;
@@ -707,6 +711,47 @@ export interface paths {
         };
         /** Get Version */
         get: operations["getVersion"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/missions/{mission_id}/versions/{number}/document": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Get Document
+         * @description Digest, plain orders with their checked conditions, findings, path counts by terminal,
+         *     the rehearsal summary, the decision, its signer and key fingerprint.
+         */
+        get: operations["getDocument"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/missions/{mission_id}/versions/{number}/document.txt": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Get Document Text
+         * @description The same document as one text file.
+         */
+        get: operations["getDocumentText"];
         put?: never;
         post?: never;
         delete?: never;
@@ -1753,6 +1798,25 @@ export interface components {
             /** Step */
             step: number;
         };
+        /** DocumentOut */
+        DocumentOut: {
+            /** Digest */
+            digest: string;
+            /** Mission */
+            mission: string;
+            /**
+             * Sections
+             * @description in reading order; 'Plain-language orders' is what `countersign export --format plain` writes
+             */
+            sections: components["schemas"]["SectionOut"][];
+            /**
+             * Text
+             * @description the whole document as one text
+             */
+            text: string;
+            /** Version */
+            version: number;
+        };
         /** DraftIn */
         DraftIn: {
             /** Layout */
@@ -1809,12 +1873,23 @@ export interface components {
             at: string;
             /** Before Digest */
             before_digest: string | null;
+            /**
+             * Change
+             * @description what changed, in words
+             * @default
+             */
+            change?: string;
             /** Detail */
             detail: {
                 [key: string]: unknown;
             };
             /** Id */
             id: number;
+            /**
+             * Index
+             * @description this event's entry in the transparency log (None: its entry is missing)
+             */
+            index?: number | null;
             /**
              * Integrity
              * @description how this row disagrees with its log entry, which is the source of truth
@@ -1824,6 +1899,11 @@ export interface components {
             kind: string;
             /** Mission */
             mission: string | null;
+            /**
+             * Target
+             * @description what the event is about
+             */
+            target?: string | null;
         };
         /** ExampleOut */
         ExampleOut: {
@@ -2811,6 +2891,13 @@ export interface components {
         } & {
             [key: string]: unknown;
         };
+        /** SectionOut */
+        SectionOut: {
+            /** Heading */
+            heading: string;
+            /** Text */
+            text: string;
+        };
         /** SessionOut */
         SessionOut: {
             /** Csrf Token */
@@ -3622,7 +3709,21 @@ export interface operations {
         parameters: {
             query?: {
                 mission?: string | null;
+                /** @description an event kind ('user.updated'), or a family without a dot ('user') */
+                kind?: string | null;
+                /** @description the actor's username; 'system' for events without one */
+                actor?: string | null;
+                /** @description words the event's target contains ('alice', 'mission survey v2'), any case */
+                target?: string | null;
+                /** @description events at or after */
+                since?: string | null;
+                /** @description events before */
+                until?: string | null;
+                order?: "oldest" | "newest";
+                /** @description oldest first: ids above */
                 after?: number;
+                /** @description newest first: ids below */
+                before?: number | null;
                 limit?: number;
             };
             header?: never;
@@ -4500,6 +4601,70 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["VersionOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    getDocument: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                mission_id: string;
+                number: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["DocumentOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    getDocumentText: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                mission_id: string;
+                number: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "text/plain": string;
                 };
             };
             /** @description Validation Error */

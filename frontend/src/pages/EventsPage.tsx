@@ -1,4 +1,4 @@
-import { useEffect, useState } from "react";
+import { type FormEvent, useEffect, useState } from "react";
 
 import { api, unwrap } from "../api/client";
 import { Link } from "../components/Link";
@@ -10,50 +10,145 @@ import { useLoad } from "../useLoad";
 
 const PAGE_SIZE = 50;
 
-/** The append-only event log, oldest first (the API pages with `after`: the last id seen). */
+/** Event families and kinds offered by the kind filter (a family matches all its kinds). */
+const KINDS = [
+  "user", "user.created", "user.updated", "user.password_changed", "mission", "draft",
+  "version", "submission", "approval", "approval.approved", "approval.rejected",
+  "approval.revoked", "rehearsal", "key", "token", "vehicle", "chart", "execution", "log",
+];
+
+interface Filters {
+  kind: string;
+  actor: string;
+  target: string;
+  since: string;
+  until: string;
+}
+
+const NO_FILTERS: Filters = { kind: "", actor: "", target: "", since: "", until: "" };
+
+/** A `datetime-local` value (the browser's zone) as an ISO instant, or undefined. */
+function instant(local: string): string | undefined {
+  if (!local) return undefined;
+  const when = new Date(local);
+  return Number.isNaN(when.getTime()) ? undefined : when.toISOString();
+}
+
+/**
+ * The append-only event log, newest first, numbered by each event's index in the transparency
+ * log; filtered and paged by the server (`before`: the last id seen).
+ */
 export function EventsPage() {
-  const [afters, setAfters] = useState<number[]>([0]);
-  const after = afters[afters.length - 1] ?? 0;
+  const [draft, setDraft] = useState<Filters>(NO_FILTERS);
+  const [filters, setFilters] = useState<Filters>(NO_FILTERS);
+  const [befores, setBefores] = useState<(number | undefined)[]>([undefined]);
+  const before = befores[befores.length - 1];
   const { data, error, loading } = useLoad(
     async () =>
-      unwrap(await api.GET("/api/events", { params: { query: { after, limit: PAGE_SIZE } } })),
-    [after],
+      unwrap(
+        await api.GET("/api/events", {
+          params: {
+            query: {
+              order: "newest",
+              before,
+              limit: PAGE_SIZE,
+              kind: filters.kind || undefined,
+              actor: filters.actor || undefined,
+              target: filters.target || undefined,
+              since: instant(filters.since),
+              until: instant(filters.until),
+            },
+          },
+        }),
+      ),
+    [before, filters],
   );
 
   useEffect(() => {
     document.title = "Activity · Countersign";
   }, []);
 
+  const apply = (next: Filters) => {
+    setFilters(next);
+    setBefores([undefined]);
+  };
+  const submit = (e: FormEvent) => {
+    e.preventDefault();
+    apply({ ...draft, actor: draft.actor.trim(), target: draft.target.trim() });
+  };
+  const field = (name: keyof Filters) => ({
+    value: draft[name],
+    onChange: (e: { target: { value: string } }) => setDraft({ ...draft, [name]: e.target.value }),
+  });
+  const filtered = Object.values(filters).some(Boolean);
   const last = data?.[data.length - 1];
   return (
     <section aria-labelledby="events-title">
       <h1 id="events-title" tabIndex={-1}>
         Activity log
       </h1>
-      <p className="hint">Every state change, in order. Entries are never edited or removed.</p>
+      <p className="hint">
+        Every state change, newest first. # is the event's entry in the transparency log. Entries are never edited
+        or removed.
+      </p>
+      <form className="filters" role="search" aria-label="Filter the log" onSubmit={submit}>
+        <label htmlFor="events-kind">Kind</label>
+        <select id="events-kind" {...field("kind")}>
+          <option value="">Any kind</option>
+          {KINDS.map((k) => (
+            <option key={k} value={k}>
+              {k.includes(".") ? k : `${k}.*`}
+            </option>
+          ))}
+        </select>
+        <label htmlFor="events-actor">Who</label>
+        <input id="events-actor" placeholder="username or system" maxLength={64} {...field("actor")} />
+        <label htmlFor="events-target">Target</label>
+        <input id="events-target" type="search" placeholder="user, mission, key…" maxLength={200} {...field("target")} />
+        <label htmlFor="events-since">From</label>
+        <input id="events-since" type="datetime-local" {...field("since")} />
+        <label htmlFor="events-until">Until</label>
+        <input id="events-until" type="datetime-local" {...field("until")} />
+        <button type="submit">Filter</button>
+        {filtered && (
+          <button
+            type="button"
+            onClick={() => {
+              setDraft(NO_FILTERS);
+              apply(NO_FILTERS);
+            }}
+          >
+            Clear filters
+          </button>
+        )}
+      </form>
       <ErrorMessage error={error} />
       {loading && !data ? (
         <Loading what="the log" />
       ) : data && data.length === 0 ? (
-        <p className="empty">No events{afters.length > 1 ? " after these" : ""}.</p>
+        <p className="empty">
+          No events{filtered ? " match these filters" : ""}
+          {befores.length > 1 ? " before these" : ""}.
+        </p>
       ) : data ? (
-        <div className="table-wrap">
+        <div className="table-wrap" aria-busy={loading}>
           <table className="events">
-            <caption className="visually-hidden">Event log entries</caption>
+            <caption className="visually-hidden">Event log entries, newest first</caption>
             <thead>
               <tr>
                 <th scope="col">#</th>
                 <th scope="col">When</th>
                 <th scope="col">Who</th>
                 <th scope="col">What</th>
-                <th scope="col">Mission</th>
+                <th scope="col">Target</th>
+                <th scope="col">Change</th>
                 <th scope="col">Digest before → after</th>
               </tr>
             </thead>
             <tbody>
               {data.map((e) => (
-                <tr key={e.id}>
-                  <td>{e.id}</td>
+                <tr key={e.id} data-testid="event-row" data-index={e.index ?? ""}>
+                  <td>{e.index ?? "—"}</td>
                   <td>
                     <time dateTime={e.at}>{formatDateTime(e.at)}</time>
                   </td>
@@ -68,7 +163,14 @@ export function EventsPage() {
                       </ul>
                     ) : null}
                   </td>
-                  <td>{e.mission ? <Link href={missionHref(e.mission)}>{e.mission}</Link> : "—"}</td>
+                  <td data-testid="event-target">
+                    {e.target && e.mission && e.target.startsWith(`mission ${e.mission}`) ? (
+                      <Link href={missionHref(e.mission)}>{e.target}</Link>
+                    ) : (
+                      (e.target ?? "—")
+                    )}
+                  </td>
+                  <td data-testid="event-change">{e.change}</td>
                   <td>
                     {e.before_digest || e.after_digest ? (
                       <code>
@@ -86,11 +188,11 @@ export function EventsPage() {
       ) : null}
       <Pager
         label="Log pages"
-        page={afters.length}
-        hasPrevious={afters.length > 1}
+        page={befores.length}
+        hasPrevious={befores.length > 1}
         hasNext={!!data && data.length === PAGE_SIZE && !!last}
-        onPrevious={() => setAfters(afters.slice(0, -1))}
-        onNext={() => last && setAfters([...afters, last.id])}
+        onPrevious={() => setBefores(befores.slice(0, -1))}
+        onNext={() => last && setBefores([...befores, last.id])}
       />
     </section>
   );

@@ -2,12 +2,12 @@
 
 from __future__ import annotations
 
-from datetime import datetime, timedelta
+from datetime import UTC, datetime, timedelta
 from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, HTTPException, Query
 from pydantic import BaseModel, Field
-from sqlalchemy import select
+from sqlalchemy import func, select
 
 from ...orders.model import Vehicle
 from ...store.accounts import (
@@ -18,7 +18,7 @@ from ...store.accounts import (
     set_password,
 )
 from ...store.events import record
-from ...store.integrity import event_integrity
+from ...store.integrity import event_integrity, log_indexes
 from ...store.role_change import confirm_role_change
 from ...store.tables import ApiToken, Event, User, VehicleProfile
 from ...store.vehicles import save_vehicle
@@ -168,19 +168,63 @@ def put_vehicle(vehicle_id: str, body: Vehicle, principal: CurrentPrincipal,
 def list_events(
     db: Db,
     mission: Annotated[str | None, Query(max_length=100)] = None,
-    after: Annotated[int, Query(ge=0, le=2**62)] = 0,
+    kind: Annotated[str | None, Query(max_length=64, description=(
+        "an event kind ('user.updated'), or a family without a dot ('user')"))] = None,
+    actor: Annotated[str | None, Query(max_length=64, description="the actor's username; "
+                                       "'system' for events without one")] = None,
+    target: Annotated[str | None, Query(max_length=200, description=(
+        "words the event's target contains ('alice', 'mission survey v2'), any case"))] = None,
+    since: Annotated[datetime | None, Query(description="events at or after")] = None,
+    until: Annotated[datetime | None, Query(description="events before")] = None,
+    order: Annotated[Literal["oldest", "newest"], Query()] = "oldest",
+    after: Annotated[int, Query(ge=0, le=2**62, description="oldest first: ids above")] = 0,
+    before: Annotated[int | None, Query(ge=1, le=2**62,
+                                        description="newest first: ids below")] = None,
     limit: Annotated[int, Query(ge=1, le=1000)] = 100,
 ) -> list[EventOut]:
-    query = select(Event).where(Event.id > after).order_by(Event.id).limit(limit)
+    """The event log, filtered and paged by the server (at most `limit` rows a call). Each
+    event carries `index`, its entry's index in the transparency log: the number to show."""
+    query = select(Event)
+    if order == "newest":
+        query = query.order_by(Event.id.desc())
+        if before is not None:
+            query = query.where(Event.id < before)
+    else:
+        query = query.where(Event.id > after).order_by(Event.id)
     if mission:
         query = query.where(Event.mission_id == mission)
+    if kind:
+        query = query.where(Event.kind == kind if "." in kind else Event.kind.like(
+            _like_prefix(kind) + ".%", escape="\\"))
+    if actor == "system":
+        query = query.where(Event.actor_id.is_(None))
+    elif actor:
+        query = query.where(Event.actor_id.in_(
+            select(User.id).where(User.username == actor)))
+    if target:
+        query = query.where(func.lower(Event.target).like(
+            "%" + _like_prefix(target.lower()) + "%", escape="\\"))
+    if since is not None:
+        query = query.where(Event.at >= _utc(since))
+    if until is not None:
+        query = query.where(Event.at < _utc(until))
     names: dict[int, str] = {}
-    events = list(db.scalars(query))
+    events = list(db.scalars(query.limit(limit)))
     for event in events:
         if event.actor_id is not None and event.actor_id not in names:
             user = db.get(User, event.actor_id)
             names[event.actor_id] = user.username if user else f"#{event.actor_id}"
     # The log is the source of truth: a row edited behind the app's back is reported.
     integrity = event_integrity(db, events, names)
+    indexes = log_indexes(db, [e.id for e in events])
     return [EventOut.of(e, names.get(e.actor_id) if e.actor_id is not None else None,
-                        integrity[e.id]) for e in events]
+                        integrity[e.id], indexes.get(e.id)) for e in events]
+
+
+def _like_prefix(text: str) -> str:
+    return text.replace("\\", "\\\\").replace("%", "\\%").replace("_", "\\_")
+
+
+def _utc(moment: datetime) -> datetime:
+    # A time without a zone is taken as UTC, the zone every stored time is in (UtcDateTime).
+    return moment.astimezone(UTC) if moment.tzinfo else moment.replace(tzinfo=UTC)

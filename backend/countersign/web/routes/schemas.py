@@ -12,6 +12,7 @@ from pydantic_core import core_schema as cs
 
 from ...orders.model import Orders, Vehicle
 from ...plan.model import PlanProblem
+from ...store.event_words import event_change
 from ...store.tables import Event, Mission, MissionVersion, User
 
 
@@ -163,14 +164,19 @@ class EventOut(BaseModel):
     detail: dict[str, Any]
     integrity: list[str] = Field(default_factory=list, description=(
         "how this row disagrees with its log entry, which is the source of truth"))
+    index: int | None = Field(default=None, description=(
+        "this event's entry in the transparency log (None: its entry is missing)"))
+    target: str | None = Field(default=None, description="what the event is about")
+    change: str = Field(default="", description="what changed, in words")
 
     @classmethod
-    def of(cls, event: Event, actor: str | None, integrity: list[str] | None = None
-           ) -> EventOut:
+    def of(cls, event: Event, actor: str | None, integrity: list[str] | None = None,
+           index: int | None = None) -> EventOut:
         return cls(id=event.id, at=event.at, actor=actor, kind=event.kind,
                    mission=event.mission_id, before_digest=event.before_digest,
                    after_digest=event.after_digest, detail=event.detail,
-                   integrity=integrity or [])
+                   integrity=integrity or [], index=index, target=event.target,
+                   change=event_change(event.kind, event.mission_id, event.detail or {}))
 
 
 def version_out(version: MissionVersion, author: str, with_orders: bool) -> VersionOut:

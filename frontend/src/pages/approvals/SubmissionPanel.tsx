@@ -5,12 +5,13 @@
 import { useEffect, useState } from "react";
 
 import { api, unwrap } from "../../api/client";
+import { RehearsalCitation } from "./RehearsalCitation";
 import { Link } from "../../components/Link";
 import { ErrorMessage, Loading, Notice } from "../../components/Status";
 import { formatDateTime } from "../../format";
 import { useSession } from "../../session";
 import { useLoad } from "../../useLoad";
-import { loadReview, reviewHref } from "./api";
+import { documentHref, loadReview, reviewHref } from "./api";
 import { StateBadge } from "./parts";
 
 export function SubmissionPanel({
@@ -114,7 +115,20 @@ export function SubmissionPanel({
               </button>
             )}
             <Link href={reviewHref(mission, chosen)}>Open the review of v{chosen}</Link>
+            <Link href={documentHref(mission, chosen)}>Printable approval document of v{chosen}</Link>
           </div>
+          {current && (
+            <RehearsalCitation
+              mission={mission}
+              version={chosen}
+              submission={current}
+              mayAttach={mayWithdraw}
+              onAttached={(message) => {
+                setDone(message);
+                reload();
+              }}
+            />
+          )}
           {isOperator && review.submit_refusal && (
             <p id="submit-refusal" className="hint" data-testid="submit-refusal">
               Cannot submit: {review.submit_refusal}.

@@ -63,6 +63,11 @@ export function reviewHref(mission: string, version: number): string {
   return `/missions/${encodeURIComponent(mission)}/versions/${version}/review`;
 }
 
+/** The printable approval document of a version (issue 16 item 8). */
+export function documentHref(mission: string, version: number): string {
+  return `/missions/${encodeURIComponent(mission)}/versions/${version}/document`;
+}
+
 export function bundleHref(mission?: string): string {
   return mission ? `/api/audit/bundle?mission=${encodeURIComponent(mission)}` : "/api/audit/bundle";
 }

@@ -4,6 +4,7 @@ import type { ReactNode } from "react";
 import { Link } from "../../components/Link";
 import { ApprovalPage } from "./ApprovalPage";
 import { AuditPage } from "./AuditPage";
+import { DocumentPage } from "./DocumentPage";
 import { KeysPage } from "./KeysPage";
 import { ReviewPage } from "./ReviewPage";
 import { ReviewsPage } from "./ReviewsPage";
@@ -38,6 +39,8 @@ export function ApprovalPages({ route, role, forbidden }: { route: ApprovalRoute
   switch (route.page) {
     case "review":
       return <ReviewPage key={`${route.mission}/${route.version}`} mission={route.mission} version={route.version} />;
+    case "document":
+      return <DocumentPage key={`${route.mission}/${route.version}`} mission={route.mission} version={route.version} />;
     case "reviews":
       return <ReviewsPage />;
     case "keys":

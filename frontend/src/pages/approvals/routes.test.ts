@@ -9,6 +9,11 @@ describe("approval page addresses", () => {
       name: "approvals",
       page: { page: "review", mission: "search-and-sample", version: 3 },
     });
+    expect(parseApprovalRoute("/missions/a%20b/versions/2/document")).toEqual({
+      page: "document",
+      mission: "a b",
+      version: 2,
+    });
     expect(parseRoute("/audit/12")).toEqual({ name: "approvals", page: { page: "approval", id: 12 } });
     expect(parseApprovalRoute("/audit")).toEqual({ page: "audit" });
     expect(parseApprovalRoute("/keys")).toEqual({ page: "keys" });

@@ -1,0 +1,69 @@
+"""Issue 16 item 7 in the browser: the activity log shows a role change as whose role, from
+what to what; newest first; filtered by kind, actor, target and time on the server; each row
+numbered by its entry's index in the transparency log."""
+
+from __future__ import annotations
+
+import json
+
+from playwright.sync_api import Page, expect
+
+from .conftest import PASSWORD, Server
+from .test_roles import sign_in
+from .test_vehicle_registry import client
+
+
+def _log_indexes(server: Server) -> dict[int, int]:
+    with client(server, "auditor") as auditor:
+        entries = auditor.get("/api/log/entries", params={"limit": 5000}).json()
+    return {json.loads(e["entry"])["event"]["id"]: e["index"] for e in entries}
+
+
+def test_the_log_names_a_role_change_newest_first_filtered_and_numbered_as_the_log(
+        page: Page, server: Server) -> None:
+    with client(server, "admin") as admin:
+        made = admin.post("/api/users", json={"username": "e2e-log-heidi", "role": "operator",
+                                              "password": "Qz8-another-long-pass"})
+        assert made.status_code == 201, made.text
+        changed = admin.patch(f"/api/users/{made.json()['id']}",
+                              json={"role": "supervisor", "admin_password": PASSWORD["admin"]})
+        assert changed.status_code == 200, changed.text
+        newest = admin.get("/api/events", params={"order": "newest", "limit": 1}).json()[0]
+
+    sign_in(page, "auditor")
+    page.get_by_role("link", name="Activity", exact=True).click()
+    rows = page.get_by_test_id("event-row")
+    expect(rows.first).to_be_visible()
+    # Newest first: the role change just made heads the log (nothing else ran in between).
+    expect(rows.first.get_by_test_id("event-target")).to_have_text("user e2e-log-heidi")
+    expect(rows.first.get_by_test_id("event-change")).to_have_text(
+        "role from operator to supervisor")
+    numbers = [int(n) for n in rows.evaluate_all("rs => rs.map(r => r.dataset.index)")]
+    assert numbers == sorted(numbers, reverse=True), numbers
+    indexes = _log_indexes(server)
+    assert numbers[0] == indexes[newest["id"]]
+    shown = rows.evaluate_all("rs => rs.map(r => r.cells[0].textContent)")
+    assert [int(n) for n in shown] == numbers  # the # column is the log index
+    assert set(numbers) <= set(indexes.values())
+
+    page.get_by_label("Kind").select_option("user.updated")
+    page.get_by_label("Target").fill("e2e-log-heidi")
+    page.get_by_role("button", name="Filter", exact=True).click()
+    expect(rows).to_have_count(1)
+    expect(rows.first.get_by_test_id("event-change")).to_have_text(
+        "role from operator to supervisor")
+    expect(rows.first).to_have_attribute("data-index", str(indexes[newest["id"]]))
+
+    page.get_by_label("Who").fill("supervisor")  # the admin made the change, not a supervisor
+    page.get_by_role("button", name="Filter", exact=True).click()
+    expect(page.get_by_text("No events match these filters.")).to_be_visible()
+    page.get_by_label("Who").fill("admin")
+    page.get_by_label("From").fill("2099-01-01T00:00")
+    page.get_by_role("button", name="Filter", exact=True).click()
+    expect(page.get_by_text("No events match these filters.")).to_be_visible()
+    page.get_by_label("From").fill("2020-01-01T00:00")
+    page.get_by_role("button", name="Filter", exact=True).click()
+    expect(rows).to_have_count(1)
+    page.get_by_role("button", name="Clear filters").click()
+    expect(rows.first.get_by_test_id("event-target")).to_have_text("user e2e-log-heidi")
+    assert rows.count() > 1
