@@ -22,11 +22,13 @@ def add_commands(commands: Any) -> None:
     check = actions.add_parser(
         "check", help="check an execution log against the orders",
         description="Read an execution log (NDJSON, one line per goal run: {\"goal\", "
-        "\"outcome\": succeed|fail|violate, \"time\", \"readings\": {quantity: value}}) and "
-        "say which path of the orders it followed, numbered as `countersign paths` numbers "
-        "them, or name every deviation: SKIPPED-GOAL, WRONG-TRANSITION, UNKNOWN-GOAL, "
-        "CONSTRAINT (a reading breaks a constraint in scope), INCOMPLETE, AFTER-END. Exit 0 "
-        "no deviation, 1 deviations, 2 unreadable input.")
+        "\"outcome\": succeed|fail|violate, \"time\", \"start\", \"readings\": {quantity: "
+        "value}}) and say which path of the orders it followed, numbered as `countersign "
+        "paths` numbers them, or name every deviation: SKIPPED-GOAL, WRONG-TRANSITION, "
+        "UNKNOWN-GOAL, CONSTRAINT (a reading breaks a constraint in scope), BUDGET (time or "
+        "energy over the vehicle's budget: from energy_wh/duration_s readings, the log's ISO "
+        "8601 times, or else verify's cost model), INCOMPLETE, AFTER-END. Exit 0 no "
+        "deviation, 1 deviations, 2 unreadable input.")
     check.add_argument("orders", metavar="ORDERS", help="orders file (or example:NAME)")
     check.add_argument("log", metavar="LOG", type=Path, help="execution log (NDJSON)")
     check.add_argument("--format", choices=["text", "json"], default="text")
@@ -56,4 +58,8 @@ def cmd_execution_check(args: argparse.Namespace) -> int:
         for deviation in verdict.deviations:
             sys.stdout.write(f"  step {deviation.step}  {deviation.code:<16} "
                              f"{deviation.message}\n")
+        for usage in verdict.usage:
+            budget = "no budget" if usage.budget is None else f"budget {usage.budget:g}"
+            sys.stdout.write(f"  {usage.quantity}: {'>=' if usage.lower_bound else ''}"
+                             f"{usage.used:.1f} used ({usage.source}), {budget}\n")
     return EXIT_OK if verdict.ok else EXIT_DEVIATION

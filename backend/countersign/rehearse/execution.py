@@ -1,9 +1,12 @@
 """Execution logs checked against the orders: which path the vehicle followed (numbered as
 `countersign paths` numbers them) and every deviation, named.
 
-A log is NDJSON, one line per goal run: {"goal", "outcome", "time"?, "readings"?}, outcome
-succeed, fail or violate, readings the measured values of constrained quantities. A
-rehearsal's record is an execution in simulation and goes through the same check."""
+A log is NDJSON, one line per goal run: {"goal", "outcome", "time"?, "start"?, "readings"?},
+outcome succeed, fail or violate, time when the outcome came (start when the goal began),
+readings the measured values of constrained quantities (readings named energy_wh or
+duration_s are the mission's cumulative use). Time and energy are checked against the
+vehicle's budget (execution_budget.py). A rehearsal's record is an execution in simulation and
+goes through the same check."""
 
 from __future__ import annotations
 
@@ -13,6 +16,7 @@ from typing import Any
 
 from ..orders.model import OUTCOMES, Orders
 from ..verify.paths import paths_of
+from .execution_budget import Usage, budget_usage
 from .monitor import facts_of, monitors_of
 
 MAX_STEPS = 100_000
@@ -29,11 +33,13 @@ class Step:
     outcome: str
     time: str | None = None
     readings: dict[str, float | bool | str] = field(default_factory=dict)
+    start: str | None = None
 
 
 @dataclass(frozen=True)
 class Deviation:
-    code: str  # SKIPPED-GOAL, WRONG-TRANSITION, UNKNOWN-GOAL, CONSTRAINT, INCOMPLETE, AFTER-END
+    code: str  # SKIPPED-GOAL, WRONG-TRANSITION, UNKNOWN-GOAL, CONSTRAINT, BUDGET, INCOMPLETE,
+    # AFTER-END
     step: int  # 1-based line of the log
     message: str
 
@@ -46,6 +52,7 @@ class ExecutionVerdict:
     path: int | None  # the path number when the run followed the orders
     terminal: str | None
     deviations: tuple[Deviation, ...]
+    usage: tuple[Usage, ...] = ()
 
     @property
     def ok(self) -> bool:
@@ -60,7 +67,8 @@ class ExecutionVerdict:
 
     def to_json(self) -> dict[str, Any]:
         return {"ok": self.ok, "path": self.path, "terminal": self.terminal,
-                "summary": self.summary(), "deviations": [d.to_json() for d in self.deviations]}
+                "summary": self.summary(), "deviations": [d.to_json() for d in self.deviations],
+                "usage": [u.to_json() for u in self.usage]}
 
 
 def read_log(text: str) -> list[Step]:
@@ -85,8 +93,9 @@ def read_log(text: str) -> list[Step]:
         if outcome not in OUTCOMES:
             raise ExecutionLogError(f"line {number}: outcome {outcome[:40]!r} is not succeed, "
                                     "fail or violate")
-        time = data.get("time")
-        steps.append(Step(goal, outcome, None if time is None else str(time), readings))
+        time, start = data.get("time"), data.get("start")
+        steps.append(Step(goal, outcome, None if time is None else str(time), readings,
+                          None if start is None else str(start)))
     return steps
 
 
@@ -136,6 +145,11 @@ def check_execution(orders: Orders, steps: list[Step]) -> ExecutionVerdict:
     if node is not None and not graph.is_terminal(node):
         deviations.append(Deviation("INCOMPLETE", len(steps), f"the log ends before "
                                     f"{graph.goal_ids[node]} ran"))
+    usage = tuple(budget_usage(orders, steps))
+    for used in usage:
+        if used.over_at is not None:
+            deviations.append(Deviation("BUDGET", used.over_at, used.message()))
+    deviations.sort(key=lambda d: d.step)
     terminal = graph.node_id(node) if node is not None and graph.is_terminal(node) else None
     ok = not deviations and rank >= 0
-    return ExecutionVerdict(rank + 1 if ok else None, terminal, tuple(deviations))
+    return ExecutionVerdict(rank + 1 if ok else None, terminal, tuple(deviations), usage)
