@@ -1,7 +1,8 @@
 """Execution logs checked against the orders: which path the vehicle followed (numbered as
 `countersign paths` numbers them) and every deviation, named.
 
-A log is NDJSON, one line per goal run: {"goal", "outcome", "time"?, "start"?, "readings"?},
+A log is NDJSON, one line per goal run: {"goal", "outcome", "time"?, "start"?, "readings"?,
+"samples"?},
 outcome succeed, fail or violate, time when the outcome came (start when the goal began),
 readings the measured values of constrained quantities (readings named energy_wh or
 duration_s are the mission's cumulative use). Time and energy are checked against the
@@ -21,6 +22,7 @@ from .monitor import facts_of, monitors_of
 
 MAX_STEPS = 100_000
 MAX_LINE = 64 * 1024
+MAX_SAMPLES = 256
 
 
 class ExecutionLogError(ValueError):
@@ -34,6 +36,9 @@ class Step:
     time: str | None = None
     readings: dict[str, float | bool | str] = field(default_factory=dict)
     start: str | None = None
+    # Further readings taken during the goal (a converted vehicle log keeps each quantity's
+    # extremes): each is checked like `readings`.
+    samples: tuple[dict[str, float | bool | str], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -71,6 +76,13 @@ class ExecutionVerdict:
                 "usage": [u.to_json() for u in self.usage]}
 
 
+def _values(data: Any, what: str) -> dict[str, float | bool | str]:
+    if not isinstance(data, dict) or not all(
+            isinstance(v, int | float | bool | str) for v in data.values()):
+        raise TypeError(f"{what} must map quantities to values")
+    return data
+
+
 def read_log(text: str) -> list[Step]:
     steps: list[Step] = []
     for number, line in enumerate(text.splitlines(), 1):
@@ -81,10 +93,11 @@ def read_log(text: str) -> list[Step]:
         try:
             data = json.loads(line)
             goal, outcome = str(data["goal"]), str(data["outcome"])
-            readings = data.get("readings") or {}
-            if not isinstance(readings, dict) or not all(
-                    isinstance(v, int | float | bool | str) for v in readings.values()):
-                raise TypeError("readings must map quantities to values")
+            readings = _values(data.get("readings") or {}, "readings")
+            samples = data.get("samples") or []
+            if not isinstance(samples, list) or len(samples) > MAX_SAMPLES:
+                raise TypeError(f"samples must be a list of at most {MAX_SAMPLES} readings")
+            sampled = tuple(_values(sample, "each sample") for sample in samples)
         except (ValueError, KeyError, TypeError, AttributeError) as exc:
             raise ExecutionLogError(f"line {number}: not a step {{goal, outcome, time?, "
                                     f"readings?}} ({exc})") from None
@@ -95,7 +108,7 @@ def read_log(text: str) -> list[Step]:
                                     "fail or violate")
         time, start = data.get("time"), data.get("start")
         steps.append(Step(goal, outcome, None if time is None else str(time), readings,
-                          None if start is None else str(start)))
+                          None if start is None else str(start), sampled))
     return steps
 
 
@@ -131,9 +144,12 @@ def check_execution(orders: Orders, steps: list[Step]) -> ExecutionVerdict:
         goal = goals[step.goal]
         facts = facts_of(goal, orders)
         for monitor in monitors:
-            if monitor.applies(step.goal) and step.readings and \
-                    monitor.holds(step.readings, facts) is False:
-                shown = ", ".join(f"{k}={v}" for k, v in sorted(step.readings.items()))
+            if not monitor.applies(step.goal):
+                continue
+            broken = next((r for r in (step.readings, *step.samples)
+                           if r and monitor.holds(r, facts) is False), None)
+            if broken is not None:
+                shown = ", ".join(f"{k}={v}" for k, v in sorted(broken.items()))
                 deviations.append(Deviation(
                     "CONSTRAINT", number, f"readings {shown} break {monitor.constraint_id} "
                     f"({monitor.expr}) during {step.goal}"
