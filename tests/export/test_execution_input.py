@@ -190,3 +190,13 @@ def test_the_command_line_reads_plan_control_state(tmp_path: Path,
     log.write_bytes(b"\x54\xfe" + b"\x00" * 10)
     assert main(["execution", "check", "example:search-and-sample", str(log)]) == 2
     assert "no IMC message" in capsys.readouterr().err
+
+
+def test_messages_across_chunk_boundaries_are_all_read() -> None:
+    from countersign.export.execution_input import IMC_CHUNK, _imc_messages
+
+    parts = [_logbook("x" * n, T0 + n) for n in (10, IMC_CHUNK, 3 * IMC_CHUNK + 7, 1, 500)]
+    parts += [_state("G1", T0 + i) for i in range(200)]
+    data = b"".join(parts)
+    assert len(data) > 5 * IMC_CHUNK
+    assert sum(1 for _ in _imc_messages(data)) == len(parts)

@@ -46,7 +46,8 @@ def add_commands(commands: Any) -> None:
         "--max-age-days of this clock), the envelope is the logged approval of this "
         "version and its signature verifies under the key registered in the log, the orders "
         "are the signed ones, no revocation is logged, and the vehicle files are the exports "
-        "of those orders byte for byte and the files whose digests the approval signed. Exit 0 OK, 1 refused (the reason is named: FORMAT, "
+        "of those orders byte for byte and the files whose digests the approval signed. "
+        "Exit 0 OK, 1 refused (the reason is named: FORMAT, "
         "LOG-KEY, CHECKPOINT, LOG, PROOF, RECEIPT, EXPIRED, ENVELOPE, SIGNATURE, ORDERS, "
         "REVOKED, EXPORT), 2 unreadable file. tools/verify_package.py does the same with only "
         "the standard library and cryptography.")

@@ -27,6 +27,7 @@ from .moos import mode_names
 FORMATS = ("auto", "ndjson", "imc", "alog")
 IMC_SYNC = b"\x54\xfe"  # 0xFE54, little endian: the first bytes of an IMC message
 MAX_MESSAGES = 2_000_000
+IMC_CHUNK = 1024
 MAX_SAMPLES = 64  # per goal run: the extremes of each quantity are kept
 MOOS_SAMPLES = {"NAV_DEPTH": "depth_m", "NAV_ALTITUDE": "altitude_m"}
 MOOS_OUTCOMES = {"succeed": "succeed", "fail": "fail", "violate": "violate"}
@@ -158,19 +159,24 @@ class _Sequencer:
 
 
 def _imc_messages(data: bytes) -> Iterable[Any]:
+    """Messages of an IMC byte stream. imcpy's parser keeps a partial message between calls,
+    so it is fed small chunks: slicing the whole rest of the input for every message would
+    copy it quadratically."""
     import imcpy
 
-    parser, at, count = imcpy.Parser(), 0, 0
-    while at < len(data):
-        message, used = parser.parse(data[at:])
-        if used <= 0:
-            break
-        at += used
-        if message is not None:
-            count += 1
-            if count > MAX_MESSAGES:
-                raise ExecutionInputError(f"more than {MAX_MESSAGES:,} IMC messages")
-            yield message
+    parser, count = imcpy.Parser(), 0
+    for base in range(0, len(data), IMC_CHUNK):
+        chunk, offset = data[base:base + IMC_CHUNK], 0
+        while offset < len(chunk):
+            message, used = parser.parse(chunk[offset:] if offset else chunk)
+            if used <= 0:
+                break
+            offset += used
+            if message is not None:
+                count += 1
+                if count > MAX_MESSAGES:
+                    raise ExecutionInputError(f"more than {MAX_MESSAGES:,} IMC messages")
+                yield message
 
 
 def from_imc(orders: Orders, data: bytes) -> Converted:
