@@ -108,3 +108,18 @@ def test_a_rehearsal_record_converts_to_the_execution_log_of_each_run() -> None:
     # Without events (or with some dropped) the run's goals and outcomes still check.
     (bare,) = rehearsal_runs(dict(record, events_dropped=3))
     assert check_execution(ORDERS, read_log(bare.ndjson)).path == path.index
+
+
+def test_a_replayed_rehearsal_is_checked_as_the_path_it_replayed() -> None:
+    """A real (headless) rehearsal replaying path 17: its record, through the execution
+    checker, is path 17 with no deviation; the simulated times and energy are measured."""
+    from countersign.rehearse.manager import Rehearsal, RehearsalOptions
+
+    rehearsal = Rehearsal(ORDERS, owner="1", headless=True,
+                          options=RehearsalOptions(source="replay", path_index=17, seed=1))
+    rehearsal.run_headless(max_wall_s=60)
+    (run,) = rehearsal_runs(rehearsal.stop().to_json())
+    verdict = check_execution(ORDERS, read_log(run.ndjson))
+    assert (run.claimed_path, verdict.path, verdict.deviations) == (17, 17, ())
+    assert {u.quantity: u.source for u in verdict.usage} == {"energy_wh": "readings",
+                                                             "duration_s": "timestamps"}

@@ -28,12 +28,14 @@ def _from_events(events: list[dict[str, Any]]) -> list[list[dict[str, Any]]]:
     used = 0.0
     for event in events:
         kind, goal, data = event.get("kind"), event.get("goal"), event.get("data") or {}
+        if kind in ("goal", "outcome") and not runs:
+            runs.append([])  # one run (not a tour): no "run" event opens it
         if kind == "run":
             runs.append([])
             started, used = {}, 0.0
         elif kind == "goal" and isinstance(goal, str):
             started[goal] = float(event.get("t") or 0.0)
-        elif kind == "outcome" and isinstance(goal, str) and runs:
+        elif kind == "outcome" and isinstance(goal, str):
             step: dict[str, Any] = {"goal": goal, "outcome": data.get("outcome"),
                                     "time": f"{float(event.get('t') or 0.0):g}"}
             if goal in started:
