@@ -6,8 +6,15 @@ For vehicles that cannot install Countersign: one file, the standard library plu
 Exit 0 and "OK ..." when the package verifies; exit 1 and "REFUSED CODE: reason" otherwise.
 It runs the same checks in the same order as `countersign vehicle verify` and names the first
 failure with the same code: FORMAT, LOG-KEY, CHECKPOINT, LOG, PROOF, RECEIPT, EXPIRED,
-ENVELOPE, SIGNATURE, ORDERS, REVOKED, EXPORT. It cannot rebuild the vehicle files, so it
-checks that each matches the manifest and names the approved orders, version and envelope."""
+ENVELOPE, SIGNATURE, ORDERS, REVOKED, EXPORT.
+
+Freshness: the checkpoint's own timestamp (the log's cosignature over it, added when the
+package was made) must lie within the last N days (--max-age-days) of this machine's clock,
+and not more than 5 minutes ahead of it; a package made before timestamps falls back to its
+newest receipt. Exports: it cannot rebuild the vehicle files, so it checks each against the
+digest the approval statement signs. A statement signed before statements carried export
+digests names none: such a package is refused (EXPORT) unless --trust-manifest is given, when
+each file is checked against the manifest and for the approved orders' header only."""
 
 from __future__ import annotations
 
@@ -17,6 +24,7 @@ import binascii
 import hashlib
 import io
 import json
+import struct
 import sys
 import tarfile
 from datetime import UTC, datetime, timedelta
@@ -28,6 +36,7 @@ from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PublicKey
 FORMAT = "countersign.package/1"
 MAX_BYTES = 64 * 1024 * 1024
 DASH = "\u2014"
+CLOCK_SKEW = timedelta(minutes=5)
 
 
 class Refused(Exception):
@@ -92,8 +101,10 @@ def included(leaf_hash: bytes, index: int, size: int, proof: list[bytes], root: 
     return sn == 0 and r == root
 
 
-def note_body(note: str, key: Ed25519PublicKey, raw: bytes) -> tuple[str, int, bytes]:
-    """(origin, size, root) of a C2SP checkpoint signed by this key under its origin."""
+def note_body(note: str, key: Ed25519PublicKey, raw: bytes
+              ) -> tuple[str, int, bytes, int | None]:
+    """(origin, size, root, timestamp) of a C2SP checkpoint signed by this key under its
+    origin; timestamp is the Unix time of the log's own cosignature over it (None: none)."""
     body, sep, rest = note.partition("\n\n")
     body += "\n"
     lines = body.split("\n")
@@ -101,14 +112,37 @@ def note_body(note: str, key: Ed25519PublicKey, raw: bytes) -> tuple[str, int, b
         raise ValueError("not a signed checkpoint note")
     origin = lines[0]
     want = hashlib.sha256(origin.encode() + b"\n\x01" + raw).digest()[:4]
+    stamp_hash = hashlib.sha256(origin.encode() + b"\n\x04" + raw).digest()[:4]
+    signed, stamp = False, None
     for line in rest.rstrip("\n").split("\n"):
         parts = line.split(" ")
         if len(parts) == 3 and parts[0] == DASH and parts[1] == origin:
             blob = b64(parts[2])
-            if blob[:4] == want:
+            if blob[:4] == want and not signed:
                 key.verify(blob[4:], body.encode())
-                return origin, int(lines[1]), b64(lines[2])
-    raise ValueError(f"no signature by {origin} with this key")
+                signed = True
+            elif blob[:4] == stamp_hash and stamp is None and len(blob) == 76:
+                (time,) = struct.unpack(">Q", blob[4:12])
+                key.verify(blob[12:], f"cosignature/v1\ntime {time}\n".encode() + body.encode())
+                stamp = int(time)
+    if not signed:
+        raise ValueError(f"no signature by {origin} with this key")
+    return origin, int(lines[1]), b64(lines[2]), stamp
+
+
+def fresh(stamp: int | None, receipt: str, now: datetime, max_age: timedelta) -> None:
+    if stamp is None:  # a package made before checkpoints carried timestamps
+        if now - datetime.fromisoformat(receipt.replace("Z", "+00:00")) > max_age:
+            raise Refused("EXPIRED", f"the checkpoint has no timestamp and covers nothing "
+                          f"newer than {receipt}")
+        return
+    at = datetime.fromtimestamp(stamp, UTC)
+    if at > now + CLOCK_SKEW:
+        raise Refused("EXPIRED", f"the checkpoint is timestamped {at.isoformat()}, in the "
+                      "future of this clock")
+    if now - at > max_age:
+        raise Refused("EXPIRED", f"the log timestamped the checkpoint at {at.isoformat()}, "
+                      f"outside the last {max_age.total_seconds() / 86400:g} day(s)")
 
 
 def receipt_time(text: str, *, origin: str, index: int, leaf_hex: str,
@@ -135,7 +169,8 @@ def read_package(data: bytes) -> dict[str, bytes]:
     return files
 
 
-def check(data: bytes, log_key: str, now: datetime, max_age: timedelta) -> str:
+def check(data: bytes, log_key: str, now: datetime, max_age: timedelta,
+          trust_manifest: bool = False) -> str:
     try:
         files = read_package(data)
         manifest = json.loads(files["manifest.json"])
@@ -153,7 +188,7 @@ def check(data: bytes, log_key: str, now: datetime, max_age: timedelta) -> str:
     except (ValueError, binascii.Error) as exc:
         raise Refused("LOG-KEY", f"the log key is unusable: {exc}") from None
     try:
-        origin, size, root = note_body(note, key, raw)
+        origin, size, root, stamp = note_body(note, key, raw)
     except (ValueError, InvalidSignature, binascii.Error) as exc:
         raise Refused("CHECKPOINT", f"the checkpoint does not verify under the log key: "
                       f"{exc or 'bad signature'}") from None
@@ -186,8 +221,7 @@ def check(data: bytes, log_key: str, now: datetime, max_age: timedelta) -> str:
         except (ValueError, KeyError, TypeError, InvalidSignature, binascii.Error) as exc:
             raise Refused("RECEIPT", f"log entry {at} has no valid receipt: "
                           f"{exc or 'bad signature'}") from None
-    if now - datetime.fromisoformat(time.replace("Z", "+00:00")) > max_age:
-        raise Refused("EXPIRED", f"the checkpoint covers nothing newer than {time}")
+    fresh(stamp, time, now, max_age)
     event = events[index]
     detail = event.get("detail") or {}
     envelope_bytes = files.get("approval.dsse.json", b"")
@@ -209,6 +243,9 @@ def check(data: bytes, log_key: str, now: datetime, max_age: timedelta) -> str:
         ed25519(registered[0]["detail"]["public_key"]).verify(b64(signature["sig"]), pae)
         statement = json.loads(payload)
         signed = "sha256:" + statement["subject"][0]["digest"]["sha256"]
+        predicate = statement["predicate"]
+        if not isinstance(predicate, dict):
+            raise ValueError("the statement has no predicate")
     except (ValueError, KeyError, TypeError, IndexError, InvalidSignature,
             binascii.Error) as exc:
         raise Refused("SIGNATURE", f"the approval envelope does not verify: "
@@ -219,15 +256,37 @@ def check(data: bytes, log_key: str, now: datetime, max_age: timedelta) -> str:
         if later.get("kind") == "approval.revoked" and \
                 (later.get("detail") or {}).get("submission") == detail.get("submission"):
             raise Refused("REVOKED", "the approval was revoked, as of the checkpoint")
-    approval = {"decision": "approved", "envelope_digest": sha(envelope_bytes)}
-    plan = f"{mission}@v{version}"
-    imc = json.dumps({"approval": approval, "generator": "countersign", "mission": mission,
-                      "orders_digest": signed, "version": version}, sort_keys=True).encode()
-    header = f"// orders {signed}  plan {plan}\n".encode()
-    names = manifest.get("files") or {}
     vehicle = sorted(n for n in files if n.startswith("vehicle/"))
     if not vehicle:
         raise Refused("EXPORT", "the package holds no vehicle files")
+    signed_exports = predicate.get("exports")
+    if isinstance(signed_exports, dict):
+        for name in vehicle:
+            if signed_exports.get(name) != sha(files[name]):
+                raise Refused("EXPORT", f"{name} is not the file the approval signed")
+        missing = sorted(set(signed_exports) - set(vehicle))
+        if missing:
+            raise Refused("EXPORT", f"{missing[0]} is signed but not in the package")
+    elif signed_exports is not None:
+        raise Refused("EXPORT", "the statement's export digests are not a name -> digest map")
+    elif not trust_manifest:
+        raise Refused("EXPORT", "the approval statement signs no export digests (signed "
+                      "before they existed): only `countersign vehicle verify` can rebuild "
+                      "the exports; --trust-manifest checks them against the manifest")
+    else:
+        manifest_only(files, manifest, vehicle, mission, version, signed, envelope_bytes)
+    return (f"{mission} version {version}: approved, orders {signed}, log entry {index} in "
+            f"checkpoint size {size}; vehicle files match")
+
+
+def manifest_only(files: dict[str, bytes], manifest: dict[str, Any], vehicle: list[str],
+                  mission: str, version: int, signed: str, envelope_bytes: bytes) -> None:
+    """The weak check of exports an old statement leaves: manifest digest and header."""
+    approval = {"decision": "approved", "envelope_digest": sha(envelope_bytes)}
+    imc = json.dumps({"approval": approval, "generator": "countersign", "mission": mission,
+                      "orders_digest": signed, "version": version}, sort_keys=True).encode()
+    header = f"// orders {signed}  plan {mission}@v{version}\n".encode()
+    names = manifest.get("files") or {}
     for name in vehicle:
         content = files[name]
         if names.get(name) != sha(content):
@@ -236,15 +295,15 @@ def check(data: bytes, log_key: str, now: datetime, max_age: timedelta) -> str:
         if expected not in content or (name.endswith(".bhv") and json.dumps(
                 approval, sort_keys=True).encode() not in content):
             raise Refused("EXPORT", f"{name} is not the export of the approved orders")
-    return (f"{mission} version {version}: approved, orders {signed}, log entry {index} in "
-            f"checkpoint size {size}; vehicle files match")
 
 
 def verify(data: bytes, log_key: str, now: datetime | None = None,
-           max_age: timedelta = timedelta(days=7)) -> tuple[bool, str, str]:
+           max_age: timedelta = timedelta(days=7),
+           trust_manifest: bool = False) -> tuple[bool, str, str]:
     """(ok, code, message): code is OK or the first failed check."""
     try:
-        return True, "OK", check(data, log_key, now or datetime.now(UTC), max_age)
+        return True, "OK", check(data, log_key, now or datetime.now(UTC), max_age,
+                                 trust_manifest)
     except Refused as refusal:
         return False, refusal.code, str(refusal)
 
@@ -253,7 +312,11 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("package")
     parser.add_argument("--log-key", required=True, help="the log's Ed25519 public key, base64")
-    parser.add_argument("--max-age-days", type=float, default=7.0)
+    parser.add_argument("--max-age-days", type=float, default=7.0,
+                        help="how old the checkpoint's timestamp may be (default 7)")
+    parser.add_argument("--trust-manifest", action="store_true",
+                        help="for approvals signed before statements carried export digests: "
+                        "check the exports against the manifest only")
     args = parser.parse_args(argv)
     try:
         with open(args.package, "rb") as handle:
@@ -261,7 +324,8 @@ def main(argv: list[str] | None = None) -> int:
     except OSError as exc:
         print(f"REFUSED FORMAT: cannot read {args.package}: {exc.strerror}")
         return 2
-    ok, code, message = verify(data, args.log_key, max_age=timedelta(days=args.max_age_days))
+    ok, code, message = verify(data, args.log_key, max_age=timedelta(days=args.max_age_days),
+                               trust_manifest=args.trust_manifest)
     print(f"OK {message}" if ok else f"REFUSED {code}: {message}")
     return 0 if ok else 1
 

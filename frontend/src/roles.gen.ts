@@ -26,6 +26,7 @@ export const OPERATION_ROLES = {
   getInclusionProof: ["supervisor", "auditor", "admin"],
   getMission: ["operator", "supervisor", "auditor", "admin"],
   getMissionStanding: ["operator", "supervisor", "auditor", "admin"],
+  getRecordExecutions: ["supervisor", "auditor", "admin"],
   getRehearsal: ["operator", "supervisor"],
   getRehearsalRecord: ["operator", "supervisor", "auditor", "admin"],
   getRehearsalReplay: ["operator", "supervisor", "auditor", "admin"],

@@ -38,6 +38,8 @@ REVIEWED_ROLES: dict[str, tuple[str, ...]] = {
     "downloadVehicleExport": ("operator", "supervisor", "auditor", "admin"),
     # POST /api/missions/{mission_id}/versions/{number}/executions (issue 19)
     "recordExecution": ("operator", "supervisor"),
+    # GET /api/approvals/{approval_id}/executions (issue 19): the record page's executions
+    "getRecordExecutions": ("supervisor", "auditor", "admin"),
     # GET /api/missions/{mission_id}/versions/{number}/package (issue 19)
     "downloadPackage": ("operator", "supervisor", "auditor", "admin"),
     # GET /api/missions/{mission_id}/export

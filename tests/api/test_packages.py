@@ -36,6 +36,7 @@ from .conftest import World
 
 TOOL = Path(__file__).resolve().parents[2] / "tools" / "verify_package.py"
 IMC = f"vehicle/{MISSION}.imc"
+BHV = f"vehicle/{MISSION}.bhv"
 
 
 def _standalone() -> ModuleType:
@@ -106,10 +107,21 @@ def test_packages_verify_and_eight_tamperings_are_refused_alike(world: World,
         data["signature"] = _flip_b64(data["signature"])
         files["log/receipt.json"] = json.dumps(data).encode()
 
+    def forged_bhv(files: dict[str, bytes]) -> None:
+        # Header lines kept (orders digest, plan id, approval), the behaviours changed.
+        text = files[BHV].decode()
+        head, _, body = text.partition("\n\n")
+        files[BHV] = (head + "\n\n" + body.replace("succeed", "fail", 1)
+                      .replace("depth", "altitude", 1)).encode()
+        assert files[BHV] != read_tar(good)[BHV] and head in files[BHV].decode()
+
     def proof(files: dict[str, bytes]) -> None:
         data = json.loads(files["log/inclusion.json"])
         data["hashes"][0] = "00" * 32
         files["log/inclusion.json"] = json.dumps(data).encode()
+
+    def strip_stamp(files: dict[str, bytes]) -> None:
+        files["log/checkpoint"] = b"\n".join(files["log/checkpoint"].split(b"\n")[:-2]) + b"\n"
 
     later = datetime.now(UTC) + timedelta(days=30)
     wrong_key = dsse.public_text(dsse.generate_key())
@@ -117,6 +129,8 @@ def test_packages_verify_and_eight_tamperings_are_refused_alike(world: World,
         ("good", good, log_key, None, "OK"),
         ("export swapped", _edit(good, lambda f: f.update({IMC: read_tar(other)[IMC]})),
          log_key, None, "EXPORT"),
+        ("forged export, header kept", _edit(good, forged_bhv), log_key, None, "EXPORT"),
+        ("export removed", _edit(good, lambda f: f.pop(IMC)), log_key, None, "EXPORT"),
         ("orders byte changed", _edit(good, orders_byte), log_key, None, "ORDERS"),
         ("envelope from another version", _edit(good, lambda f: f.update(
             {"approval.dsse.json": read_tar(other)["approval.dsse.json"]})),
@@ -126,6 +140,10 @@ def test_packages_verify_and_eight_tamperings_are_refused_alike(world: World,
         ("bad receipt", _edit(good, receipt), log_key, None, "RECEIPT"),
         ("bad proof", _edit(good, proof), log_key, None, "PROOF"),
         ("expired checkpoint", good, log_key, later, "EXPIRED"),
+        ("checkpoint timestamped in the future", good, log_key,
+         datetime.now(UTC) - timedelta(hours=1), "EXPIRED"),
+        ("timestamp stripped, receipts old", _edit(good, strip_stamp), log_key, later,
+         "EXPIRED"),
         ("not a package", b"hello", log_key, None, "FORMAT"),
     ]
     tool = _standalone()
@@ -183,3 +201,86 @@ def test_executions_are_checked_and_recorded_in_the_log(world: World) -> None:
     assert recorded[0]["detail"]["path"] == body["path"]
     assert world.client("auditor").post(base, json={"log": log}).status_code == 403
     assert operator.post(base, json={"log": "nonsense"}).status_code == 422
+
+
+def test_freshness_is_the_checkpoints_timestamp_not_the_logs_last_entry(world: World) -> None:
+    """A log quiet for a month does not expire a package made today; a package made a month
+    ago expires, whatever the log did since."""
+    supervisor = world.client("supervisor")
+    signer = register_key(supervisor)
+    number = new_version(world)
+    approve(world, supervisor, signer, submit(world, number))
+    log_key = world.client("auditor").get("/api/log/checkpoint").json()["public_key"]
+    month = datetime.now(UTC) + timedelta(days=30)
+    with world.database.session() as db:
+        quiet = build_package(package_parts(db, mission_id=MISSION, number=number,
+                                            signer=world.database.log_signer, now=month))
+    tool = _standalone()
+    for data, now, expected in ((quiet, month, "OK"), (_package(world, number), month,
+                                                       "EXPIRED")):
+        assert verify_package(data, log_key=log_key, now=now).code == expected
+        assert tool.verify(data, log_key, now)[1] == expected
+    short = verify_package(quiet, log_key=log_key, now=month + timedelta(hours=2),
+                           max_age=timedelta(hours=1))
+    assert short.code == "EXPIRED" and "window of 0.0416667 day(s)" in short.message
+
+
+def test_a_forged_stamp_is_a_bad_checkpoint(world: World) -> None:
+    supervisor = world.client("supervisor")
+    signer = register_key(supervisor)
+    number = new_version(world)
+    approve(world, supervisor, signer, submit(world, number))
+    log_key = world.client("auditor").get("/api/log/checkpoint").json()["public_key"]
+    good = _package(world, number)
+
+    def bump(files: dict[str, bytes]) -> None:
+        note = files["log/checkpoint"].decode().split("\n")
+        name, blob = note[-2].rsplit(" ", 1)
+        raw = bytearray(dsse.unb64(blob, "stamp"))
+        raw[11] ^= 1  # one second later, same signature
+        note[-2] = f"{name} {dsse.b64(bytes(raw))}"
+        files["log/checkpoint"] = "\n".join(note).encode()
+
+    forged = _edit(good, bump)
+    assert verify_package(forged, log_key=log_key).code == "CHECKPOINT"
+    assert _standalone().verify(forged, log_key)[1] == "CHECKPOINT"
+
+
+def test_an_approval_signed_without_export_digests_still_verifies(
+        world: World, monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    """Statements signed before they carried export digests: the main verifier rebuilds the
+    exports as before; the standalone one refuses unless told to trust the manifest."""
+    from countersign.store.approvals import decisions
+
+    monkeypatch.setattr(decisions, "export_digests", lambda *a, **k: None)
+    supervisor = world.client("supervisor")
+    signer = register_key(supervisor)
+    number = new_version(world)
+    approve(world, supervisor, signer, submit(world, number))
+    log_key = world.client("auditor").get("/api/log/checkpoint").json()["public_key"]
+    old = _package(world, number)
+    envelope = json.loads(read_tar(old)["approval.dsse.json"])
+    assert "exports" not in json.loads(dsse.unb64(envelope["payload"], "p"))["predicate"]
+    assert verify_package(old, log_key=log_key).code == "OK"
+    tool = _standalone()
+    refused = tool.verify(old, log_key)
+    assert refused[1] == "EXPORT" and "signs no export digests" in refused[2]
+    assert tool.verify(old, log_key, trust_manifest=True)[1] == "OK"
+    forged = _edit(old, lambda f: f.update({IMC: read_tar(old)[IMC] + b"x"}))
+    assert verify_package(forged, log_key=log_key).code == "EXPORT"
+    assert tool.verify(forged, log_key, trust_manifest=True)[1] == "OK"  # why it is refused
+
+
+def test_new_statements_sign_every_export(world: World) -> None:
+    supervisor = world.client("supervisor")
+    signer = register_key(supervisor)
+    number = new_version(world)
+    approve(world, supervisor, signer, submit(world, number))
+    files = read_tar(_package(world, number))
+    payload = dsse.unb64(json.loads(files["approval.dsse.json"])["payload"], "p")
+    signed = json.loads(payload)["predicate"]["exports"]
+    import hashlib
+
+    assert signed == {n: "sha256:" + hashlib.sha256(c).hexdigest()
+                      for n, c in files.items() if n.startswith("vehicle/")}
+    assert set(signed) == {IMC, BHV, f"vehicle/{MISSION}.moos"}

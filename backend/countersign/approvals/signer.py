@@ -38,7 +38,7 @@ from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey,
 from . import dsse
 from .log import sign_checkpoint
 from .merkle import EMPTY_ROOT, Tree, node_hash, verify_consistency
-from .note import Head, verifier_key
+from .note import Head, cosign, parse_body, verifier_key
 from .receipt import make_receipt, verify_receipt
 
 KEY_FILE = "log-key.pem"
@@ -266,3 +266,20 @@ class LogSigner:
                     state.adopted = adopted
                 self._write(_State(size, root, frontier, state.adopted))
         return signed
+
+    # --- timestamps ----------------------------------------------------------------------
+
+    def timestamp_head(self, body: str, when: int) -> str | None:
+        """A cosignature line (c2sp.org/tlog-cosignature, by the log key under the log's
+        origin) saying that at `when` (Unix seconds) this checkpoint body is the signer's
+        latest head, or None when it is not: a package's freshness is this time, not the
+        time of the log's last entry, so a quiet log does not expire packages."""
+        try:
+            head = parse_body(body)
+        except dsse.SignatureError:
+            return None
+        with self._locked():
+            state = self._read()
+        if (head.origin, head.size, head.root) != (self.origin, state.size, state.root):
+            return None
+        return cosign(body, self.origin, self.key, when)

@@ -23,7 +23,7 @@ def build_statement(
     submission: int, report_digest: str, paths: dict[str, Any] | None, vehicle: str | None,
     author: str, supervisor: str, key_id: str, time: str, nonce: str,
     rehearsal_digest: str | None = None, revokes: str | None = None,
-    probabilities: dict[str, Any] | None = None,
+    probabilities: dict[str, Any] | None = None, exports: dict[str, str] | None = None,
 ) -> dict[str, Any]:
     if decision not in DECISIONS:
         raise ValueError(f"decision must be one of {', '.join(DECISIONS)}")
@@ -40,6 +40,11 @@ def build_statement(
     # approvals prepared before this field existed still match when they are decided.
     if probabilities is not None:
         predicate["probabilities"] = probabilities
+    # The digest of every vehicle file of the approved package (issue 19), by its name in the
+    # package: only on approvals of orders that export, so other statements stay as before
+    # and a verifier that cannot rebuild the exports can still check them.
+    if exports is not None:
+        predicate["exports"] = exports
     return {
         "_type": STATEMENT_TYPE,
         "subject": [{"name": f"{mission}@v{version}", "digest": {algorithm: hexdigest}}],

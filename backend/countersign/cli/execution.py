@@ -22,33 +22,43 @@ def add_commands(commands: Any) -> None:
     check = actions.add_parser(
         "check", help="check an execution log against the orders",
         description="Read an execution log (NDJSON, one line per goal run: {\"goal\", "
-        "\"outcome\": succeed|fail|violate, \"time\", \"readings\": {quantity: value}}) and "
-        "say which path of the orders it followed, numbered as `countersign paths` numbers "
-        "them, or name every deviation: SKIPPED-GOAL, WRONG-TRANSITION, UNKNOWN-GOAL, "
-        "CONSTRAINT (a reading breaks a constraint in scope), INCOMPLETE, AFTER-END. Exit 0 "
-        "no deviation, 1 deviations, 2 unreadable input.")
+        "\"outcome\": succeed|fail|violate, \"time\", \"start\", \"readings\": {quantity: "
+        "value}}) and say which path of the orders it followed, numbered as `countersign "
+        "paths` numbers them, or name every deviation: SKIPPED-GOAL, WRONG-TRANSITION, "
+        "UNKNOWN-GOAL, CONSTRAINT (a reading breaks a constraint in scope), BUDGET (time or "
+        "energy over the vehicle's budget: from energy_wh/duration_s readings, the log's ISO "
+        "8601 times, or else verify's cost model), INCOMPLETE, AFTER-END. Exit 0 no "
+        "deviation, 1 deviations, 2 unreadable input.")
     check.add_argument("orders", metavar="ORDERS", help="orders file (or example:NAME)")
-    check.add_argument("log", metavar="LOG", type=Path, help="execution log (NDJSON)")
+    check.add_argument("log", metavar="LOG", type=Path,
+                       help="execution log: NDJSON, IMC messages (PlanControlState, "
+                       "LogBookEntry outcomes, EstimatedState depth) or a MOOS alog")
+    check.add_argument("--input-format", choices=["auto", "ndjson", "imc", "alog"],
+                       default="auto", help="the log's format (default: detected)")
     check.add_argument("--format", choices=["text", "json"], default="text")
     check.set_defaults(handler=cmd_execution_check)
 
 
 def cmd_execution_check(args: argparse.Namespace) -> int:
+    from ..export.execution_input import ExecutionInputError, to_execution_log
     from ..rehearse.execution import ExecutionLogError, check_execution, read_log
 
     orders = load_orders(args.orders).orders
     try:
         with args.log.open("rb") as handle:
-            text = handle.read(MAX_LOG_BYTES + 1).decode()
-        if len(text) > MAX_LOG_BYTES:
+            data = handle.read(MAX_LOG_BYTES + 1)
+        if len(data) > MAX_LOG_BYTES:
             raise ExecutionLogError(f"the log is larger than {MAX_LOG_BYTES:,} bytes")
-        verdict = check_execution(orders, read_log(text))
-    except (OSError, UnicodeDecodeError) as exc:
+        converted = to_execution_log(orders, data, args.input_format)
+        verdict = check_execution(orders, read_log(converted.ndjson))
+    except OSError as exc:
         sys.stderr.write(f"countersign: cannot read {args.log}: {exc}\n")
         return EXIT_UNREADABLE
-    except ExecutionLogError as exc:
+    except (ExecutionLogError, ExecutionInputError) as exc:
         sys.stderr.write(f"countersign: {args.log}: {exc}\n")
         return EXIT_UNREADABLE
+    for note in converted.notes:
+        sys.stderr.write(f"countersign: note: {note}\n")
     if args.format == "json":
         sys.stdout.write(json.dumps(verdict.to_json()) + "\n")
     else:
@@ -56,4 +66,8 @@ def cmd_execution_check(args: argparse.Namespace) -> int:
         for deviation in verdict.deviations:
             sys.stdout.write(f"  step {deviation.step}  {deviation.code:<16} "
                              f"{deviation.message}\n")
+        for usage in verdict.usage:
+            budget = "no budget" if usage.budget is None else f"budget {usage.budget:g}"
+            sys.stdout.write(f"  {usage.quantity}: {'>=' if usage.lower_bound else ''}"
+                             f"{usage.used:.1f} used ({usage.source}), {budget}\n")
     return EXIT_OK if verdict.ok else EXIT_DEVIATION

@@ -42,10 +42,12 @@ def add_commands(commands: Any) -> None:
         "verify", help="check an approved package offline",
         description="Check an approved package with no server and no network: the checkpoint "
         "is signed by the log key, the log entries hash to it, the inclusion proof and the "
-        "receipts verify, the checkpoint is fresh, the envelope is the logged approval of this "
+        "receipts verify, the checkpoint is fresh (the log's own timestamp on it lies within "
+        "--max-age-days of this clock), the envelope is the logged approval of this "
         "version and its signature verifies under the key registered in the log, the orders "
         "are the signed ones, no revocation is logged, and the vehicle files are the exports "
-        "of those orders byte for byte. Exit 0 OK, 1 refused (the reason is named: FORMAT, "
+        "of those orders byte for byte and the files whose digests the approval signed. "
+        "Exit 0 OK, 1 refused (the reason is named: FORMAT, "
         "LOG-KEY, CHECKPOINT, LOG, PROOF, RECEIPT, EXPIRED, ENVELOPE, SIGNATURE, ORDERS, "
         "REVOKED, EXPORT), 2 unreadable file. tools/verify_package.py does the same with only "
         "the standard library and cryptography.")
@@ -54,7 +56,8 @@ def add_commands(commands: Any) -> None:
                         help="the log's Ed25519 public key (base64, as GET /api/log/checkpoint "
                         "names it): pin it from a source you trust, not from the package")
     verify.add_argument("--max-age-days", type=float, default=7.0,
-                        help="refuse a checkpoint covering nothing newer than this (default 7)")
+                        help="refuse a checkpoint the log timestamped longer ago than this "
+                        "(default 7; a package made before timestamps: its newest receipt)")
     verify.add_argument("--format", choices=["text", "json"], default="text")
     verify.set_defaults(handler=cmd_vehicle_verify)
 

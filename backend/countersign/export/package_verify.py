@@ -3,10 +3,16 @@
 Checks run in a fixed order and the first failure is the verdict, named by a stable code
 (tools/verify_package.py, the standalone verifier, follows the same order and codes):
 FORMAT, LOG-KEY, CHECKPOINT, LOG, PROOF, RECEIPT, EXPIRED, ENVELOPE, SIGNATURE, ORDERS,
-REVOKED, EXPORT."""
+REVOKED, EXPORT.
+
+Freshness (EXPIRED) is the checkpoint's own timestamp, a cosignature the log signer adds
+when it packages a checkpoint that is its latest head, against the verifier's window
+(max_age before its clock, CLOCK_SKEW after). Exports are rebuilt from the signed orders and,
+when the approval statement signs their digests, compared with those too."""
 
 from __future__ import annotations
 
+import base64
 import hashlib
 import json
 import tarfile
@@ -19,16 +25,35 @@ from ..approvals.dsse import (
     envelope_key_id,
     parse_envelope,
     public_key,
+    raw_public,
     verify_envelope,
 )
 from ..approvals.merkle import leaf_hash, root_of, verify_inclusion
-from ..approvals.note import parse_body, verify_note
+from ..approvals.note import (
+    COSIGNATURE,
+    DASH,
+    key_hash,
+    parse_body,
+    split_note,
+    verify_cosignature,
+    verify_note,
+)
 from ..approvals.receipt import verify_receipt
 from ..approvals.statement import parse_statement, subject_digest
 from ..orders.reader import orders_from_data
-from .package import ENVELOPE_FILE, ORDERS_FILE, PACKAGE_FORMAT, package_files, read_tar
+from .package import (
+    ENVELOPE_FILE,
+    ORDERS_FILE,
+    PACKAGE_FORMAT,
+    SIGNED_EXPORTS,
+    export_provenance,
+    read_tar,
+    signed_provenance,
+    vehicle_files,
+)
 
 DEFAULT_MAX_AGE = timedelta(days=7)
+CLOCK_SKEW = timedelta(minutes=5)
 
 
 @dataclass(frozen=True)
@@ -60,6 +85,43 @@ def verify_package(data: bytes, *, log_key: str, now: datetime | None = None,
     return Verdict(True, "OK", message)
 
 
+def checkpoint_time(note: str, body: str, origin: str, raw: bytes) -> int | None:
+    """The Unix time at which the log itself vouched for this checkpoint as its latest head
+    (its cosignature line under the log's origin), None when the note carries none."""
+    want = key_hash(origin, raw, COSIGNATURE)
+    for name, blob in split_note(note)[1]:
+        if name == origin and blob[:4] == want:
+            line = f"{DASH} {name} " + base64.b64encode(blob).decode() + "\n"
+            return verify_cosignature(line, body, origin, raw)
+    return None
+
+
+def _check_fresh(stamp: int | None, receipt_time: str, now: datetime,
+                 max_age: timedelta) -> None:
+    """Freshness is the checkpoint's own timestamp within the verifier's window [now -
+    max_age, now + CLOCK_SKEW]. A package without one (made before timestamps) falls back to
+    its newest receipt, which is never newer than a timestamp would have been."""
+    if stamp is None:
+        newest = datetime.fromisoformat(receipt_time.replace("Z", "+00:00"))
+        if now - newest > max_age:
+            raise Refusal("EXPIRED", f"the checkpoint has no timestamp and covers nothing "
+                          f"newer than {receipt_time}, older than the window of "
+                          f"{_window(max_age)}: fetch a fresh package")
+        return
+    at = datetime.fromtimestamp(stamp, UTC)
+    shown = at.isoformat().replace("+00:00", "Z")
+    if at > now + CLOCK_SKEW:
+        raise Refusal("EXPIRED", f"the checkpoint is timestamped {shown}, in the future of "
+                      "this verifier's clock")
+    if now - at > max_age:
+        raise Refusal("EXPIRED", f"the log timestamped the checkpoint at {shown}, older than "
+                      f"the window of {_window(max_age)}: fetch a fresh package")
+
+
+def _window(max_age: timedelta) -> str:
+    return f"{max_age.total_seconds() / 86400:g} day(s)"
+
+
 def _verify(data: bytes, log_key: str, now: datetime, max_age: timedelta) -> str:
     try:
         files = read_tar(data)
@@ -81,7 +143,9 @@ def _verify(data: bytes, log_key: str, now: datetime, max_age: timedelta) -> str
     # --- the log: checkpoint, entries, proof, receipts
     try:
         origin = note.split("\n", 1)[0]
-        head = parse_body(verify_note(note, origin, key))
+        body = verify_note(note, origin, key)
+        head = parse_body(body)
+        stamp = checkpoint_time(note, body, origin, raw_public(key))
     except SignatureError as exc:
         raise Refusal("CHECKPOINT", f"the checkpoint does not verify under the log key: {exc}"
                       ) from None
@@ -113,10 +177,7 @@ def _verify(data: bytes, log_key: str, now: datetime, max_age: timedelta) -> str
                                      origin=head.origin, key=key)
         except (SignatureError, KeyError, UnicodeDecodeError) as exc:
             raise Refusal("RECEIPT", f"log entry {at} {exc}") from None
-    newest = datetime.fromisoformat(receipt.time.replace("Z", "+00:00"))
-    if now - newest > max_age:
-        raise Refusal("EXPIRED", f"the checkpoint covers nothing newer than {receipt.time}, "
-                      f"older than {max_age.days} day(s): fetch a fresh package")
+    _check_fresh(stamp, receipt.time, now, max_age)
     # --- the approval: its entry, envelope, signature, orders, revocation
     event = events[index]
     detail = event.get("detail") or {}
@@ -147,20 +208,30 @@ def _verify(data: bytes, log_key: str, now: datetime, max_age: timedelta) -> str
                 (later.get("detail") or {}).get("submission") == detail.get("submission"):
             raise Refusal("REVOKED", f"the approval was revoked (by {later.get('actor')} at "
                           f"{later.get('at')}), as of the checkpoint")
-    # --- the exports: rebuilt from the signed orders, byte for byte
+    # --- the exports: rebuilt from the signed orders, byte for byte, and (statements that
+    # sign them) each one's digest as the approval signed it
     try:
         orders = orders_from_data(json.loads(orders_bytes))
     except ValueError as exc:
         raise Refusal("ORDERS", f"the signed orders do not load: {exc}") from None
-    from .package import PackageParts  # the parts that determine the exports
-
-    rebuilt = package_files(PackageParts(orders, version, envelope_text, index, [], "", "",
-                                         {}, ""))
+    predicate = statement["predicate"]
+    signed_exports = predicate.get(SIGNED_EXPORTS)
+    if signed_exports is not None and not isinstance(signed_exports, dict):
+        raise Refusal("EXPORT", "the statement's export digests are not a name -> digest map")
+    if signed_exports is not None:
+        rebuilt = vehicle_files(orders, version, signed_provenance(int(predicate["submission"])))
+    else:
+        rebuilt = vehicle_files(orders, version, export_provenance(envelope_text))
     for name, content in rebuilt.items():
-        if name.startswith("vehicle/") and files.get(name) != content:
+        if files.get(name) != content:
             raise Refusal("EXPORT", f"{name} is not the export of the approved orders")
+        if signed_exports is not None and signed_exports.get(name) != _sha(content):
+            raise Refusal("EXPORT", f"{name} is not the file the approval signed")
     extra = sorted(n for n in files if n.startswith("vehicle/") and n not in rebuilt)
     if extra:
         raise Refusal("EXPORT", f"{extra[0]} is not an export of the approved orders")
+    if signed_exports is not None and set(signed_exports) != set(rebuilt):
+        missing = sorted(set(signed_exports) ^ set(rebuilt))[0]
+        raise Refusal("EXPORT", f"{missing} is signed but not in the package, or the reverse")
     return (f"{mission} version {version}: approved, orders {signed}, log entry {index} in "
             f"checkpoint size {head.size}; vehicle files match")

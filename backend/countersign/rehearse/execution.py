@@ -1,9 +1,13 @@
 """Execution logs checked against the orders: which path the vehicle followed (numbered as
 `countersign paths` numbers them) and every deviation, named.
 
-A log is NDJSON, one line per goal run: {"goal", "outcome", "time"?, "readings"?}, outcome
-succeed, fail or violate, readings the measured values of constrained quantities. A
-rehearsal's record is an execution in simulation and goes through the same check."""
+A log is NDJSON, one line per goal run: {"goal", "outcome", "time"?, "start"?, "readings"?,
+"samples"?},
+outcome succeed, fail or violate, time when the outcome came (start when the goal began),
+readings the measured values of constrained quantities (readings named energy_wh or
+duration_s are the mission's cumulative use). Time and energy are checked against the
+vehicle's budget (execution_budget.py). A rehearsal's record is an execution in simulation and
+goes through the same check."""
 
 from __future__ import annotations
 
@@ -13,10 +17,12 @@ from typing import Any
 
 from ..orders.model import OUTCOMES, Orders
 from ..verify.paths import paths_of
+from .execution_budget import Usage, budget_usage
 from .monitor import facts_of, monitors_of
 
 MAX_STEPS = 100_000
 MAX_LINE = 64 * 1024
+MAX_SAMPLES = 256
 
 
 class ExecutionLogError(ValueError):
@@ -29,11 +35,16 @@ class Step:
     outcome: str
     time: str | None = None
     readings: dict[str, float | bool | str] = field(default_factory=dict)
+    start: str | None = None
+    # Further readings taken during the goal (a converted vehicle log keeps each quantity's
+    # extremes): each is checked like `readings`.
+    samples: tuple[dict[str, float | bool | str], ...] = ()
 
 
 @dataclass(frozen=True)
 class Deviation:
-    code: str  # SKIPPED-GOAL, WRONG-TRANSITION, UNKNOWN-GOAL, CONSTRAINT, INCOMPLETE, AFTER-END
+    code: str  # SKIPPED-GOAL, WRONG-TRANSITION, UNKNOWN-GOAL, CONSTRAINT, BUDGET, INCOMPLETE,
+    # AFTER-END
     step: int  # 1-based line of the log
     message: str
 
@@ -46,6 +57,7 @@ class ExecutionVerdict:
     path: int | None  # the path number when the run followed the orders
     terminal: str | None
     deviations: tuple[Deviation, ...]
+    usage: tuple[Usage, ...] = ()
 
     @property
     def ok(self) -> bool:
@@ -60,7 +72,15 @@ class ExecutionVerdict:
 
     def to_json(self) -> dict[str, Any]:
         return {"ok": self.ok, "path": self.path, "terminal": self.terminal,
-                "summary": self.summary(), "deviations": [d.to_json() for d in self.deviations]}
+                "summary": self.summary(), "deviations": [d.to_json() for d in self.deviations],
+                "usage": [u.to_json() for u in self.usage]}
+
+
+def _values(data: Any, what: str) -> dict[str, float | bool | str]:
+    if not isinstance(data, dict) or not all(
+            isinstance(v, int | float | bool | str) for v in data.values()):
+        raise TypeError(f"{what} must map quantities to values")
+    return data
 
 
 def read_log(text: str) -> list[Step]:
@@ -73,10 +93,11 @@ def read_log(text: str) -> list[Step]:
         try:
             data = json.loads(line)
             goal, outcome = str(data["goal"]), str(data["outcome"])
-            readings = data.get("readings") or {}
-            if not isinstance(readings, dict) or not all(
-                    isinstance(v, int | float | bool | str) for v in readings.values()):
-                raise TypeError("readings must map quantities to values")
+            readings = _values(data.get("readings") or {}, "readings")
+            samples = data.get("samples") or []
+            if not isinstance(samples, list) or len(samples) > MAX_SAMPLES:
+                raise TypeError(f"samples must be a list of at most {MAX_SAMPLES} readings")
+            sampled = tuple(_values(sample, "each sample") for sample in samples)
         except (ValueError, KeyError, TypeError, AttributeError) as exc:
             raise ExecutionLogError(f"line {number}: not a step {{goal, outcome, time?, "
                                     f"readings?}} ({exc})") from None
@@ -85,8 +106,9 @@ def read_log(text: str) -> list[Step]:
         if outcome not in OUTCOMES:
             raise ExecutionLogError(f"line {number}: outcome {outcome[:40]!r} is not succeed, "
                                     "fail or violate")
-        time = data.get("time")
-        steps.append(Step(goal, outcome, None if time is None else str(time), readings))
+        time, start = data.get("time"), data.get("start")
+        steps.append(Step(goal, outcome, None if time is None else str(time), readings,
+                          None if start is None else str(start), sampled))
     return steps
 
 
@@ -122,9 +144,12 @@ def check_execution(orders: Orders, steps: list[Step]) -> ExecutionVerdict:
         goal = goals[step.goal]
         facts = facts_of(goal, orders)
         for monitor in monitors:
-            if monitor.applies(step.goal) and step.readings and \
-                    monitor.holds(step.readings, facts) is False:
-                shown = ", ".join(f"{k}={v}" for k, v in sorted(step.readings.items()))
+            if not monitor.applies(step.goal):
+                continue
+            broken = next((r for r in (step.readings, *step.samples)
+                           if r and monitor.holds(r, facts) is False), None)
+            if broken is not None:
+                shown = ", ".join(f"{k}={v}" for k, v in sorted(broken.items()))
                 deviations.append(Deviation(
                     "CONSTRAINT", number, f"readings {shown} break {monitor.constraint_id} "
                     f"({monitor.expr}) during {step.goal}"
@@ -136,6 +161,11 @@ def check_execution(orders: Orders, steps: list[Step]) -> ExecutionVerdict:
     if node is not None and not graph.is_terminal(node):
         deviations.append(Deviation("INCOMPLETE", len(steps), f"the log ends before "
                                     f"{graph.goal_ids[node]} ran"))
+    usage = tuple(budget_usage(orders, steps))
+    for used in usage:
+        if used.over_at is not None:
+            deviations.append(Deviation("BUDGET", used.over_at, used.message()))
+    deviations.sort(key=lambda d: d.step)
     terminal = graph.node_id(node) if node is not None and graph.is_terminal(node) else None
     ok = not deviations and rank >= 0
-    return ExecutionVerdict(rank + 1 if ok else None, terminal, tuple(deviations))
+    return ExecutionVerdict(rank + 1 if ok else None, terminal, tuple(deviations), usage)

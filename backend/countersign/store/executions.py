@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import hashlib
+import json
 from collections.abc import Callable, Sequence
 from typing import Any, Protocol, TypeVar
 
+from sqlalchemy import select
 from sqlalchemy.orm import Session as DbSession
 
 from ..orders.model import Orders
@@ -14,9 +16,10 @@ from . import missions as service
 from .approvals import log_index_of
 from .events import record
 from .packages import NotApproved, standing_approval
-from .tables import User
+from .tables import Event, LogEntry, User
 
 MAX_RECORDED_DEVIATIONS = 20
+MAX_LISTED = 200
 
 
 class Deviation(Protocol):
@@ -46,22 +49,44 @@ V = TypeVar("V", bound=Verdict)
 
 
 def record_execution(
-    db: DbSession, *, mission_id: str, number: int, log: str, actor: User,
-    check: Callable[[Orders, str], V],
+    db: DbSession, *, mission_id: str, number: int, log: str | bytes, actor: User,
+    check: Callable[[Orders, str], V], source: dict[str, Any] | None = None,
 ) -> tuple[V, int | None]:
     """Check the log against the version's approved orders with `check` and append the
-    verdict."""
+    verdict. `source`, read after the check ran (which may fill it), names the format the log
+    was read as and what converting it assumed."""
     version = service.get_version(db, mission_id, number)
     if standing_approval(db, version.id) is None:
         raise NotApproved(f"version {number} of {mission_id} has no standing approval to "
                           "execute")
-    verdict = check(orders_from_data(version.orders), log)
+    data = log.encode() if isinstance(log, str) else log
+    verdict = check(orders_from_data(version.orders), data.decode(errors="replace"))
     detail: dict[str, Any] = {
         "version": number, "orders_digest": version.digest,
-        "log_digest": "sha256:" + hashlib.sha256(log.encode()).hexdigest(),
+        "log_digest": "sha256:" + hashlib.sha256(data).hexdigest(),
         "ok": verdict.ok, "path": verdict.path, "terminal": verdict.terminal,
         "summary": verdict.summary(),
         "deviations": [d.to_json() for d in verdict.deviations[:MAX_RECORDED_DEVIATIONS]]}
+    if source:
+        detail["source"] = dict(source)
     event = record(db, kind="execution.recorded", actor=actor, mission_id=mission_id,
                    after=version.digest, detail=detail)
     return verdict, log_index_of(db, event.id)
+
+
+def recorded_executions(db: DbSession, *, mission_id: str, number: int) -> list[dict[str, Any]]:
+    """The execution verdicts of a version as its log entries hold them (the log is the
+    record: a table row that disagrees with it is not what is shown), oldest first."""
+    rows = db.execute(
+        select(LogEntry.index, LogEntry.entry).join(Event, Event.id == LogEntry.event_id)
+        .where(Event.kind == "execution.recorded", Event.mission_id == mission_id)
+        .order_by(LogEntry.index)).all()
+    found: list[dict[str, Any]] = []
+    for index, text in rows:
+        event = json.loads(text).get("event") or {}
+        detail = event.get("detail") or {}
+        if event.get("kind") != "execution.recorded" or detail.get("version") != number:
+            continue
+        found.append({"log_index": index, "at": event.get("at"), "actor": event.get("actor"),
+                      **detail})
+    return found[-MAX_LISTED:]

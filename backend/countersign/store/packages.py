@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from datetime import UTC, datetime
+
 from sqlalchemy import select
 from sqlalchemy.orm import Session as DbSession
 
@@ -27,9 +29,11 @@ def standing_approval(db: DbSession, version_id: int) -> Approval | None:
 
 
 def package_parts(db: DbSession, *, mission_id: str, number: int, signer: LogSigner,
-                  standing_only: bool = True) -> PackageParts:
+                  standing_only: bool = True, now: datetime | None = None) -> PackageParts:
     """Parts of the package of a version's approval; refuses a version without a standing
-    approval (tests pass standing_only=False to package a revoked one on purpose)."""
+    approval (tests pass standing_only=False to package a revoked one on purpose). The
+    checkpoint carries the log's timestamp of `now` (default: the present) when the signer
+    vouches that it is its latest head."""
     version = service.get_version(db, mission_id, number)
     rows = list(db.scalars(select(Approval).where(Approval.version_id == version.id)
                            .order_by(Approval.id)))
@@ -56,4 +60,5 @@ def package_parts(db: DbSession, *, mission_id: str, number: int, signer: LogSig
         envelope=approval.envelope, approval_index=index, entries=entries,
         receipt=receipts.get(index) or "", head_receipt=receipts.get(size - 1) or "",
         inclusion={"index": index, "size": size, "hashes": proof["hashes"]},
-        checkpoint=str(checkpoint["signed_note"]))
+        checkpoint=str(checkpoint["signed_note"]) + (signer.timestamp_head(
+            str(checkpoint["note"]), int((now or datetime.now(UTC)).timestamp())) or ""))

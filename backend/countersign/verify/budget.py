@@ -93,7 +93,7 @@ def goal_cost(
     return None, False
 
 
-def _leg_cost(metres: float | None, quantity: str, vehicle: Vehicle | None) -> float:
+def leg_cost(metres: float | None, quantity: str, vehicle: Vehicle | None) -> float:
     if metres is None or vehicle is None or not vehicle.speed_mps:
         return 0.0
     seconds = metres / vehicle.speed_mps
@@ -132,7 +132,7 @@ def worst_paths(orders: Orders, graph: MissionGraph, legs: MissionLegs | None = 
             goal = graph.goals[node]
             options = [
                 (best.get(target, 0.0) if target < graph.goal_count else 0.0)
-                + _leg_cost(lengths.get((goal.id, OUTCOMES[k])), quantity, vehicle)
+                + leg_cost(lengths.get((goal.id, OUTCOMES[k])), quantity, vehicle)
                 for k, target in enumerate(graph.succ[node])
             ]
             k = max(range(3), key=lambda i: (options[i], -i))

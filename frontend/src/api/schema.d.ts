@@ -46,6 +46,27 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/approvals/{approval_id}/executions": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Get Record Executions
+         * @description The recorded executions of the approval's version, each as the record page states it,
+         *     and the cited rehearsal's runs checked by the same execution checker.
+         */
+        get: operations["getRecordExecutions"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/approvals/{approval_id}/revoke": {
         parameters: {
             query?: never;
@@ -769,7 +790,11 @@ export interface paths {
         };
         get?: never;
         put?: never;
-        /** Post Execution */
+        /**
+         * Post Execution
+         * @description Check an execution log (NDJSON, IMC PlanControlState messages or a MOOS alog) against
+         *     the version's approved orders and append the verdict to the log (execution.recorded).
+         */
         post: operations["recordExecution"];
         delete?: never;
         options?: never;
@@ -1919,20 +1944,43 @@ export interface components {
         /** ExecutionIn */
         ExecutionIn: {
             /**
-             * Log
-             * @description NDJSON, one line per goal run: goal, outcome, time, readings
+             * Data Base64
+             * @description a binary vehicle log, base64: IMC messages (PlanControlState ...)
              */
-            log: string;
+            data_base64?: string | null;
+            /**
+             * Format
+             * @description the log's format (auto: detected)
+             * @default auto
+             * @enum {string}
+             */
+            format?: "auto" | "ndjson" | "imc" | "alog";
+            /**
+             * Log
+             * @description NDJSON, one line per goal run: goal, outcome, time, start, readings; or a MOOS alog (text)
+             */
+            log?: string | null;
         };
         /** ExecutionOut */
         ExecutionOut: {
             /** Deviations */
             deviations: components["schemas"]["DeviationOut"][];
             /**
+             * Format
+             * @description the format the log was read as
+             * @default ndjson
+             */
+            format?: string;
+            /**
              * Log Index
              * @description the execution.recorded entry in the audit log
              */
             log_index: number | null;
+            /**
+             * Notes
+             * @description what converting a vehicle log had to assume
+             */
+            notes?: string[];
             /** Ok */
             ok: boolean;
             /** Path */
@@ -1941,6 +1989,8 @@ export interface components {
             summary: string;
             /** Terminal */
             terminal: string | null;
+            /** Usage */
+            usage?: components["schemas"]["UsageOut"][];
         };
         /** ExportFileOut */
         ExportFileOut: {
@@ -2702,6 +2752,18 @@ export interface components {
             /** Version */
             version: number | null;
         };
+        /** RecordExecutionsOut */
+        RecordExecutionsOut: {
+            /** Decision */
+            decision: string;
+            /** Executions */
+            executions: components["schemas"]["RecordedExecutionOut"][];
+            /**
+             * Rehearsal
+             * @description the cited rehearsal's runs through the execution checker (null: none)
+             */
+            rehearsal: components["schemas"]["RehearsalRunOut"][] | null;
+        };
         /** RecordOut */
         RecordOut: {
             /** Created At */
@@ -2722,6 +2784,30 @@ export interface components {
             source: string;
             /** Version */
             version: number | null;
+        };
+        /** RecordedExecutionOut */
+        RecordedExecutionOut: {
+            /** Actor */
+            actor: string | null;
+            /** At */
+            at: string | null;
+            /** Deviations */
+            deviations: components["schemas"]["DeviationOut"][];
+            /** Log Index */
+            log_index: number;
+            /** Ok */
+            ok: boolean;
+            /** Path */
+            path: number | null;
+            /**
+             * Statement
+             * @description e.g. "approved, executed as path 17, no deviation"
+             */
+            statement: string;
+            /** Summary */
+            summary: string;
+            /** Terminal */
+            terminal: string | null;
         };
         /** RehearsalIn */
         RehearsalIn: {
@@ -2776,6 +2862,15 @@ export interface components {
             version: number | null;
             /** Viewer */
             viewer: string;
+        };
+        /** RehearsalRunOut */
+        RehearsalRunOut: {
+            /**
+             * Claimed Path
+             * @description the path number the rehearsal reported
+             */
+            claimed_path: number | null;
+            verdict: components["schemas"]["ExecutionOut"];
         };
         /**
          * ReportOut
@@ -3055,6 +3150,24 @@ export interface components {
             scopes?: string[];
             /** Token */
             token?: string | null;
+        };
+        /** UsageOut */
+        UsageOut: {
+            /** Budget */
+            budget: number | null;
+            /** Lower Bound */
+            lower_bound: boolean;
+            /** Over */
+            over: boolean;
+            /** Quantity */
+            quantity: string;
+            /**
+             * Source
+             * @description readings, timestamps or model
+             */
+            source: string;
+            /** Used */
+            used: number;
         };
         /** UserIn */
         UserIn: {
@@ -3352,6 +3465,37 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ApprovalDetailOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    getRecordExecutions: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                approval_id: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RecordExecutionsOut"];
                 };
             };
             /** @description Validation Error */

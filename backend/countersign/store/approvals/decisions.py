@@ -21,6 +21,8 @@ from ...approvals.statement import (
     statement_bytes,
     subject_digest,
 )
+from ...export.package import export_digests
+from ...orders.reader import orders_from_data
 from ..decide_guard import (
     lock_submission,
 )
@@ -68,6 +70,8 @@ def _context(db: DbSession, submission_id: int) -> Context:
 def _statement(db: DbSession, ctx: Context, *, decision: str, reason: str, supervisor: User,
                key_id: str, time: str, nonce: str, revokes: str | None = None) -> dict[str, Any]:
     orders = ctx.version.orders
+    exports = export_digests(orders_from_data(orders), version=ctx.version.number,
+                             submission=ctx.submission.id) if decision == "approved" else None
     return build_statement(
         mission=ctx.mission.id, version=ctx.version.number, orders_digest=ctx.version.digest,
         decision=decision, reason=reason, submission=ctx.submission.id,
@@ -75,7 +79,7 @@ def _statement(db: DbSession, ctx: Context, *, decision: str, reason: str, super
         vehicle=orders.get("vehicle"), author=_username(db, ctx.version.author_id) or "",
         supervisor=supervisor.username, key_id=key_id, time=time, nonce=nonce, revokes=revokes,
         rehearsal_digest=ctx.submission.rehearsal_digest,
-        probabilities=ctx.report.get("probabilities"))
+        probabilities=ctx.report.get("probabilities"), exports=exports)
 
 
 @dataclass(frozen=True)

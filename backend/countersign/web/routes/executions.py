@@ -1,23 +1,47 @@
-"""Execution logs of an approved version: checked against its orders, recorded in the log."""
+"""Execution logs of an approved version: checked against its orders, recorded in the log; and
+what a record (approval) page shows of them and of its rehearsal, checked by the same checker."""
 
 from __future__ import annotations
 
-from fastapi import APIRouter, HTTPException
-from pydantic import BaseModel, Field
+import base64
+import binascii
+from typing import Any, Literal
 
+from fastapi import APIRouter, HTTPException
+from pydantic import BaseModel, Field, model_validator
+
+from ...export.execution_input import ExecutionInputError, to_execution_log
+from ...export.rehearsal_log import rehearsal_runs
 from ...orders.model import Orders
+from ...orders.reader import orders_from_data
 from ...rehearse.execution import ExecutionLogError, ExecutionVerdict, check_execution, read_log
-from ...store.executions import record_execution
-from ..deps import CurrentPrincipal, Db, RowId, TransactionRoute, allow
+from ...store import approvals as approvals_service
+from ...store.executions import record_execution, recorded_executions
+from ...store.rehearsals import get_record
+from ...store.tables import MissionVersion, Submission
+from ..deps import LOG_READERS, CurrentPrincipal, Db, RowId, TransactionRoute, allow
 from .schemas import RequestBody
 
 router = APIRouter(prefix="/api", tags=["executions"], route_class=TransactionRoute)
 EXECUTION_ROLES = ("operator", "supervisor")
+MAX_LOG_CHARS = 4 * 1024 * 1024
 
 
 class ExecutionIn(RequestBody):
-    log: str = Field(max_length=4 * 1024 * 1024,
-                     description="NDJSON, one line per goal run: goal, outcome, time, readings")
+    log: str | None = Field(default=None, max_length=MAX_LOG_CHARS,
+                            description="NDJSON, one line per goal run: goal, outcome, time, "
+                            "start, readings; or a MOOS alog (text)")
+    data_base64: str | None = Field(
+        default=None, max_length=MAX_LOG_CHARS * 4 // 3 + 4,
+        description="a binary vehicle log, base64: IMC messages (PlanControlState ...)")
+    format: Literal["auto", "ndjson", "imc", "alog"] = Field(
+        default="auto", description="the log's format (auto: detected)")
+
+    @model_validator(mode="after")
+    def _one_log(self) -> ExecutionIn:
+        if (self.log is None) == (self.data_base64 is None):
+            raise ValueError("give the log as `log` (text) or `data_base64`, not both")
+        return self
 
 
 class DeviationOut(BaseModel):
@@ -26,17 +50,66 @@ class DeviationOut(BaseModel):
     message: str
 
 
+class UsageOut(BaseModel):
+    quantity: str
+    used: float
+    budget: float | None
+    source: str = Field(description="readings, timestamps or model")
+    over: bool
+    lower_bound: bool
+
+
 class ExecutionOut(BaseModel):
     ok: bool
     path: int | None
     terminal: str | None
     summary: str
     deviations: list[DeviationOut]
+    usage: list[UsageOut] = Field(default_factory=list)
+    format: str = Field(default="ndjson", description="the format the log was read as")
+    notes: list[str] = Field(default_factory=list,
+                             description="what converting a vehicle log had to assume")
     log_index: int | None = Field(description="the execution.recorded entry in the audit log")
 
 
-def _check(orders: Orders, log: str) -> ExecutionVerdict:
-    return check_execution(orders, read_log(log))
+class RecordedExecutionOut(BaseModel):
+    log_index: int
+    at: str | None
+    actor: str | None
+    ok: bool
+    path: int | None
+    terminal: str | None
+    summary: str
+    deviations: list[DeviationOut]
+    statement: str = Field(description='e.g. "approved, executed as path 17, no deviation"')
+
+
+class RehearsalRunOut(BaseModel):
+    claimed_path: int | None = Field(description="the path number the rehearsal reported")
+    verdict: ExecutionOut
+
+
+class RecordExecutionsOut(BaseModel):
+    decision: str
+    executions: list[RecordedExecutionOut]
+    rehearsal: list[RehearsalRunOut] | None = Field(
+        description="the cited rehearsal's runs through the execution checker (null: none)")
+
+
+def _input_bytes(body: ExecutionIn) -> bytes:
+    if body.log is not None:
+        return body.log.encode()
+    try:
+        return base64.b64decode(body.data_base64 or "", validate=True)
+    except (binascii.Error, ValueError):
+        raise HTTPException(422, "data_base64 is not base64") from None
+
+
+def _out(verdict: ExecutionVerdict, **extra: Any) -> ExecutionOut:
+    return ExecutionOut(ok=verdict.ok, path=verdict.path, terminal=verdict.terminal,
+                        summary=verdict.summary(),
+                        deviations=[DeviationOut(**d.to_json()) for d in verdict.deviations],
+                        usage=[UsageOut(**u.to_json()) for u in verdict.usage], **extra)
 
 
 @router.post("/missions/{mission_id}/versions/{number}/executions",
@@ -44,13 +117,64 @@ def _check(orders: Orders, log: str) -> ExecutionVerdict:
              **allow(*EXECUTION_ROLES))
 def post_execution(mission_id: str, number: RowId, body: ExecutionIn,
                    principal: CurrentPrincipal, db: Db) -> ExecutionOut:
+    """Check an execution log (NDJSON, IMC PlanControlState messages or a MOOS alog) against
+    the version's approved orders and append the verdict to the log (execution.recorded)."""
+    data = _input_bytes(body)
+    converted: dict[str, Any] = {}
+
+    def check(orders: Orders, log: str) -> ExecutionVerdict:
+        result = to_execution_log(orders, data, body.format)
+        converted.update(format=result.fmt, notes=list(result.notes))
+        return check_execution(orders, read_log(result.ndjson))
+
     try:
-        verdict, index = record_execution(db, mission_id=mission_id, number=number,
-                                          log=body.log, actor=principal.user,
-                                          check=_check)
-    except ExecutionLogError as exc:
+        verdict, index = record_execution(
+            db, mission_id=mission_id, number=number, log=data, actor=principal.user,
+            check=check, source=converted)
+    except (ExecutionLogError, ExecutionInputError) as exc:
         raise HTTPException(422, str(exc)) from None
-    return ExecutionOut(ok=verdict.ok, path=verdict.path, terminal=verdict.terminal,
-                        summary=verdict.summary(),
-                        deviations=[DeviationOut(**d.to_json()) for d in verdict.deviations],
-                        log_index=index)
+    return _out(verdict, log_index=index, format=converted.get("format", "ndjson"),
+                notes=converted.get("notes", []))
+
+
+def statement_of(decision: str, verdict: dict[str, Any]) -> str:
+    """What the record page says of one execution."""
+    if verdict.get("ok"):
+        return f"{decision}, executed as path {verdict.get('path')}, no deviation"
+    deviations = verdict.get("deviations") or []
+    named = "; ".join(f"{d.get('code')} at step {d.get('step')}: {d.get('message')}"
+                      for d in deviations[:5])
+    more = f" (and {len(deviations) - 5} more)" if len(deviations) > 5 else ""
+    return f"{decision}, executed with {len(deviations)} deviation(s): {named}{more}"
+
+
+@router.get("/approvals/{approval_id}/executions", operation_id="getRecordExecutions",
+            response_model=RecordExecutionsOut, **allow(*LOG_READERS))
+def get_record_executions(approval_id: RowId, db: Db) -> RecordExecutionsOut:
+    """The recorded executions of the approval's version, each as the record page states it,
+    and the cited rehearsal's runs checked by the same execution checker."""
+    approval = approvals_service.get_approval(db, approval_id)
+    version = db.get_one(MissionVersion, approval.version_id)
+    executions = [
+        RecordedExecutionOut(
+            log_index=e["log_index"], at=e.get("at"), actor=e.get("actor"),
+            ok=bool(e.get("ok")), path=e.get("path"), terminal=e.get("terminal"),
+            summary=str(e.get("summary", "")),
+            deviations=[DeviationOut(**d) for d in e.get("deviations") or []],
+            statement=statement_of(approval.decision, e))
+        for e in recorded_executions(db, mission_id=version.mission_id, number=version.number)]
+    rehearsal = None
+    digest = db.get_one(Submission, approval.submission_id).rehearsal_digest
+    if digest is not None:
+        orders = orders_from_data(version.orders)
+        rehearsal = []
+        for run in rehearsal_runs(dict(get_record(db, digest).record)):
+            try:
+                verdict = _out(check_execution(orders, read_log(run.ndjson)), log_index=None,
+                               format="rehearsal")
+            except ExecutionLogError as exc:
+                verdict = ExecutionOut(ok=False, path=None, terminal=None, summary=str(exc),
+                                       deviations=[], log_index=None, format="rehearsal")
+            rehearsal.append(RehearsalRunOut(claimed_path=run.claimed_path, verdict=verdict))
+    return RecordExecutionsOut(decision=approval.decision, executions=executions,
+                               rehearsal=rehearsal)

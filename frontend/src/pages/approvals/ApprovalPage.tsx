@@ -19,6 +19,7 @@ import { type ApprovalDetail, approvalHref, bundleHref, loadApproval, loadEntrie
 import { LogKeyPanel, useLogKeyPin } from "./LogKeyPin";
 import { OrdersGraph } from "./OrdersGraph";
 import { FindingsTable, IntegrityWarning, PathSummaryTable, RulesSection, StateBadge } from "./parts";
+import { ExecutionsSection } from "./Executions";
 import { signPrepared, useSigningKeys } from "./signing";
 import { historyCheck } from "./history";
 import { ProfileDrift } from "../vehicles/ProfileDrift";
@@ -130,6 +131,7 @@ export function ApprovalPage({ id }: { id: number }) {
       <PathSummaryTable paths={record.paths} />
       <h2>Rehearsal record</h2>
       <p data-testid="rehearsal">{record.rehearsal ? <code>{JSON.stringify(record.rehearsal)}</code> : "None."}</p>
+      <ExecutionsSection approvalId={record.id} />
       <details>
         <summary>Signed statement (in-toto) and envelope (DSSE)</summary>
         <pre className="orders-text">{JSON.stringify(record.statement, null, 2)}</pre>

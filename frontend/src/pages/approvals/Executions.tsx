@@ -1,0 +1,75 @@
+/**
+ * What a record (approval) page shows of what vehicles did (issue 19): each recorded execution
+ * of the version, stated as "approved, executed as path 17, no deviation" or naming the
+ * deviations, and the cited rehearsal's runs checked by the same execution checker. All text
+ * from the server is rendered as text.
+ */
+import { api, type Schema, unwrap } from "../../api/client";
+import { ErrorMessage, Loading } from "../../components/Status";
+import { formatDateTime } from "../../format";
+import { useLoad } from "../../useLoad";
+
+export type RecordExecutions = Schema<"RecordExecutionsOut">;
+type Verdict = Schema<"ExecutionOut">;
+
+export async function loadRecordExecutions(id: number): Promise<RecordExecutions> {
+  const result = await api.GET("/api/approvals/{approval_id}/executions", { params: { path: { approval_id: id } } });
+  return unwrap(result);
+}
+
+function Deviations({ verdict }: { verdict: Pick<Verdict, "deviations"> }) {
+  if (!verdict.deviations.length) return null;
+  return (
+    <ul className="checks">
+      {verdict.deviations.map((d, i) => (
+        <li key={i} className="check-bad">
+          step {d.step} <strong>{d.code}</strong>: {d.message}
+        </li>
+      ))}
+    </ul>
+  );
+}
+
+export function ExecutionsSection({ approvalId }: { approvalId: number }) {
+  const { data, error, loading } = useLoad(() => loadRecordExecutions(approvalId), [approvalId]);
+  if (loading && !data) return <Loading what="the executions" />;
+  if (!data) return <ErrorMessage error={error ?? "The executions could not be loaded."} />;
+  return (
+    <>
+      <h2>Executions</h2>
+      {data.executions.length === 0 ? (
+        <p data-testid="executions-none">No execution of this version has been recorded.</p>
+      ) : (
+        <ol data-testid="executions">
+          {data.executions.map((e) => (
+            <li key={e.log_index} data-testid="execution" className={e.ok ? "verdict ok" : "verdict bad"}>
+              <span data-testid="execution-statement">{e.statement}</span>{" "}
+              <span className="hint">
+                (log entry {e.log_index}
+                {e.actor ? `, by ${e.actor}` : ""}
+                {e.at ? `, ${formatDateTime(e.at)}` : ""})
+              </span>
+            </li>
+          ))}
+        </ol>
+      )}
+      {data.rehearsal && (
+        <>
+          <h3>Rehearsal through the execution checker</h3>
+          <ol data-testid="rehearsal-verdicts">
+            {data.rehearsal.map((run, i) => (
+              <li key={i} className={run.verdict.ok ? "verdict ok" : "verdict bad"}>
+                <span data-testid="rehearsal-verdict">
+                  {run.verdict.ok
+                    ? `rehearsed as path ${run.verdict.path}, no deviation`
+                    : `rehearsal run ${i + 1}: ${run.verdict.summary}`}
+                </span>
+                <Deviations verdict={run.verdict} />
+              </li>
+            ))}
+          </ol>
+        </>
+      )}
+    </>
+  );
+}
