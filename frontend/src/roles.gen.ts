@@ -65,6 +65,7 @@ export const OPERATION_ROLES = {
   revokeKey: ["supervisor", "admin"],
   revokeToken: ["operator", "supervisor", "auditor", "admin"],
   signDecision: ["supervisor"],
+  skipRehearsal: ["operator", "supervisor"],
   solvePlan: ["operator", "supervisor", "auditor", "admin"],
   startRehearsal: ["operator", "supervisor"],
   stopRehearsal: ["operator", "supervisor"],

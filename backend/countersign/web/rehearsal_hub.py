@@ -10,12 +10,13 @@ from __future__ import annotations
 
 import threading
 from collections import OrderedDict
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from datetime import datetime
 from typing import TYPE_CHECKING
 
 from ..errors import Gone, TooMany, Unavailable
-from ..orders.model import Orders
+from ..orders.model import Chart, Orders
 from ..store.missions import Conflict, NotFound
 from ..store.tables import utcnow
 from .viewer_tickets import ViewerRegistry
@@ -79,7 +80,7 @@ class RehearsalHub:
         return self._manager
 
     def start(self, orders: Orders, *, user_id: int, mission_id: str, version: int | None,
-              options: RehearsalOptions) -> Live:
+              options: RehearsalOptions, charts: Sequence[Chart] = ()) -> Live:
         with self._lock:
             self._prune()
             mine = sum(1 for live in self._live.values()
@@ -98,7 +99,8 @@ class RehearsalHub:
             from ..rehearse.manager import RehearsalLimit
 
             try:
-                rehearsal = self.manager.start(orders, owner=str(user_id), options=options)
+                rehearsal = self.manager.start(orders, owner=str(user_id), options=options,
+                                               charts=charts)
             except RehearsalLimit as exc:
                 raise Busy(str(exc) or "no rehearsal slot is free; try again later") from None
             live = Live(rehearsal, user_id, mission_id, version, options.source)
