@@ -190,9 +190,9 @@ class Scene:
             self.server.scene.add_line_segments(node, np.array([[a, b]], dtype=np.float32),
                                                 colour, thickness=0.015)
             middle = tuple((a[i] + b[i]) / 2 for i in range(3))
-            self.server.scene.add_label(
-                f"{node}/label", f"{leg.goal} {OUTCOME_LETTERS[leg.outcome]} {leg.to}: "
-                f"{leg.length_m / 1000:.2f} km", position=middle)
+            # The letter only: legs between the same areas overlap, and so would long labels.
+            self.server.scene.add_label(f"{node}/label", OUTCOME_LETTERS[leg.outcome],
+                                        position=middle)
 
     def _draw_area(self, area_id: str, title: str, polygon: tuple[Point, ...], centre: Point,
                    colour: tuple[int, int, int], root: str = "/areas") -> None:
