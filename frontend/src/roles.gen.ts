@@ -69,6 +69,7 @@ export const OPERATION_ROLES = {
   revokeToken: ["operator", "supervisor", "auditor", "admin"],
   saveLayout: ["operator"],
   signDecision: ["supervisor"],
+  skipRehearsal: ["operator", "supervisor"],
   solvePlan: ["operator", "supervisor", "auditor", "admin"],
   startRehearsal: ["operator", "supervisor"],
   stopRehearsal: ["operator", "supervisor"],

@@ -88,6 +88,9 @@ def world(database_url: str, tmp_path: Path) -> Iterator[World]:
     database = Database(database_url)
     app = create_app(Settings(data_dir=tmp_path, database_url=database_url), database)
     tokens, usernames = seed_users(database)
+    # viser's GUI controls in the viewer (the CLI's layout): the proxy and gate tests click
+    # them; the app itself keeps them on the page (tests/e2e/test_rehearsal_pace.py).
+    app.state.rehearsals.viewer_controls = True
     yield World(app, database, tokens, usernames)
     app.state.rehearsals.shutdown()  # rehearsals a test started (their viser servers)
     database.engine.dispose()

@@ -19,6 +19,8 @@ REVIEWED_ROLES: dict[str, tuple[str, ...]] = {
     "attachRehearsal": ("operator",),
     # POST /api/auth/password
     "changePassword": ("operator", "supervisor", "auditor", "admin"),
+    # POST /api/rehearsals/{rehearsal_id}/skip
+    "skipRehearsal": ("operator", "supervisor"),
     # POST /api/rehearsals/{rehearsal_id}/outcome
     "chooseOutcome": ("operator", "supervisor"),
     # POST /api/missions

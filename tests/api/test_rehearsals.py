@@ -308,3 +308,43 @@ def test_ten_rehearsals_at_once_progress_and_stop_without_leaks(app_world: World
     while threading.active_count() > baseline and time.monotonic() < deadline:
         time.sleep(0.1)
     assert threading.active_count() <= baseline, [t.name for t in threading.enumerate()]
+
+
+def test_faults_while_waiting_skip_and_a_record_listed_at_once(app_world: World) -> None:
+    """Issue 18 item 7 through the API: the auto pace (no speed), skip, a fault pressed while
+    a goal waits is queued with a message, one on a finished rehearsal is refused with one,
+    and the stored record is in the list as soon as the stop answers."""
+    client = app_world.client("operator")
+    started = client.post(f"/api/missions/{MISSION}/rehearsals", json={"source": "manual"})
+    assert started.status_code == 201, started.text
+    rid = started.json()["id"]
+    assert started.json()["status"]["pace"] == "auto"
+    assert client.post(f"/api/rehearsals/{rid}/skip").status_code == 200
+    _wait(client, rid, _waiting)
+    refused = client.post(f"/api/rehearsals/{rid}/skip")
+    assert refused.status_code == 409 and "nothing to skip" in refused.json()["detail"]
+    queued = client.post(f"/api/rehearsals/{rid}/faults", json={"fault": "gps_loss"})
+    assert queued.status_code == 200, queued.text
+    status = queued.json()["status"]
+    assert status["fault_notice"]["text"].startswith("Fault queued: GPS loss")
+    assert status["queued_faults"] == ["gps_loss"]
+    again = client.post(f"/api/rehearsals/{rid}/faults", json={"fault": "gps_loss"})
+    assert again.status_code == 409 and "already queued" in again.json()["detail"]
+    for _ in range(10):
+        status = client.get(f"/api/rehearsals/{rid}").json()["status"]
+        if status["state"] == "finished":
+            break
+        if status["state"] == "waiting_for_outcome":
+            client.post(f"/api/rehearsals/{rid}/outcome", json={"outcome": "violate"})
+        else:
+            client.post(f"/api/rehearsals/{rid}/skip")
+        _wait(client, rid, lambda s: s["state"] != "running")
+    assert status["state"] == "finished" and status["sim_time_s"] > 0
+    late = client.post(f"/api/rehearsals/{rid}/faults", json={"fault": "leak"})
+    assert late.status_code == 409 and "finished" in late.json()["detail"]
+    begin = time.perf_counter()
+    stored = client.post(f"/api/rehearsals/{rid}/stop")
+    print(f"stop answered in {time.perf_counter() - begin:.2f} s")
+    assert stored.status_code == 200, stored.text
+    listed = client.get(f"/api/missions/{MISSION}/rehearsal-records").json()
+    assert listed[0]["digest"] == stored.json()["digest"]

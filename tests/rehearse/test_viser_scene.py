@@ -26,7 +26,8 @@ def test_scene_nodes_and_a_gui_click_chooses_the_outcome(
     manager: RehearsalManager, exemplar: Orders
 ) -> None:
     rehearsal = manager.start(exemplar, owner="alice",
-                              options=RehearsalOptions(source="manual", speed=100_000))
+                              options=RehearsalOptions(source="manual", speed=100_000),
+                              controls=True)
     with ViserTestClient(rehearsal.port, secret=rehearsal.viewer_secret) as client:
         client.hello()
         assert client.wait_for(lambda c: "/vehicle" in c.scene_nodes())
@@ -66,7 +67,7 @@ def test_a_click_in_the_wrong_state_is_ignored(
     manager: RehearsalManager, exemplar: Orders
 ) -> None:
     rehearsal = manager.start(exemplar, owner="alice",
-                              options=RehearsalOptions(source="simulate", speed=20))
+                              options=RehearsalOptions(source="simulate", speed=20), controls=True)
     with ViserTestClient(rehearsal.port, secret=rehearsal.viewer_secret) as client:
         client.hello()
         assert client.wait_for(lambda c: "/vehicle" in c.scene_nodes())
@@ -78,7 +79,7 @@ def test_a_click_in_the_wrong_state_is_ignored(
 
 def test_fault_button_injects_the_fault(manager: RehearsalManager, exemplar: Orders) -> None:
     rehearsal = manager.start(exemplar, owner="alice",
-                              options=RehearsalOptions(source="simulate", speed=50))
+                              options=RehearsalOptions(source="simulate", speed=50), controls=True)
     with ViserTestClient(rehearsal.port, secret=rehearsal.viewer_secret) as client:
         client.hello()
         assert client.wait_for(lambda c: "/vehicle" in c.scene_nodes())
@@ -93,7 +94,7 @@ def test_malformed_messages_and_share_requests_do_no_harm(
     manager: RehearsalManager, exemplar: Orders
 ) -> None:
     rehearsal = manager.start(exemplar, owner="alice",
-                              options=RehearsalOptions(source="manual", speed=2_000))
+                              options=RehearsalOptions(source="manual", speed=2_000), controls=True)
     server = rehearsal._server
     assert server is not None
     with ViserTestClient(rehearsal.port, secret=rehearsal.viewer_secret) as client:
@@ -158,7 +159,8 @@ def test_user_text_reaches_the_scene_as_text_never_markdown(
         goal["title"] = HOSTILE + " [x](javascript:alert(1)) ![i](http://e/x.png)"
     hostile = orders_from_data(data)
     rehearsal = manager.start(hostile, owner="alice",
-                              options=RehearsalOptions(source="manual", speed=100_000))
+                              options=RehearsalOptions(source="manual", speed=100_000),
+                              controls=True)
     with ViserTestClient(rehearsal.port, secret=rehearsal.viewer_secret) as client:
         client.hello()
         assert _wait(lambda: rehearsal.status()["state"] == "waiting_for_outcome")

@@ -2,18 +2,13 @@
 
 from __future__ import annotations
 
-import math
-
 import pytest
 
 from countersign.orders.examples import load_example
 from countersign.rehearse.geo import (
-    LocalFrame,
     centroid,
     contains,
     distance_to_polygon,
-    lawnmower,
-    path_length,
 )
 from countersign.rehearse.monitor import GoalFacts, compile_expr, monitors_of
 from countersign.verify.expressions import parse
@@ -21,12 +16,22 @@ from countersign.verify.expressions import parse
 SQUARE = ((0.0, 0.0), (1000.0, 0.0), (1000.0, 400.0), (0.0, 400.0))
 
 
-def test_local_frame_is_metric() -> None:
-    frame = LocalFrame(36.7, -121.9)
-    x, y = frame.to_xy(36.7 + 0.01, -121.9)
-    assert x == pytest.approx(0.0) and y == pytest.approx(1112.0, rel=1e-3)
-    x, _ = frame.to_xy(36.7, -121.9 + 0.01)
-    assert x == pytest.approx(1112.0 * math.cos(math.radians(36.7)), rel=1e-3)
+def test_the_world_is_in_the_verifiers_frame() -> None:
+    """Issue 21: the rehearsal's geography is verify/legs.py's, not a flat frame of its own."""
+    import random
+
+    from countersign.rehearse.world import World
+    from countersign.verify.legs import mission_legs
+
+    orders = load_example("search-and-sample")
+    world = World(orders, random.Random(0))
+    frame, places, legs = mission_legs(orders)
+    assert world.frame == frame and world.legs == legs and world.places == places
+    area = orders.areas[0]
+    xs, ys = frame.to_xy([p[0] for p in area.polygon], [p[1] for p in area.polygon])
+    assert world.areas[area.id].polygon[0] == pytest.approx((xs[0], ys[0]))
+    lat, lon = world.to_latlon(world.areas[area.id].polygon[0])
+    assert (lat, lon) == pytest.approx(area.polygon[0], abs=1e-9)
 
 
 def test_polygon_helpers() -> None:
@@ -35,15 +40,6 @@ def test_polygon_helpers() -> None:
     assert distance_to_polygon(SQUARE, (500.0, 200.0)) == 0.0
     assert distance_to_polygon(SQUARE, (1300.0, 800.0)) == pytest.approx(500.0)
     assert not contains(SQUARE[:2], (0.0, 0.0))
-
-
-def test_lawnmower_covers_with_the_swath_and_is_bounded() -> None:
-    legs = lawnmower(SQUARE, 100.0)
-    assert len(legs) == 8  # 4 legs along the long side, 100 m apart
-    assert {round(y) for _, y in legs} == {50, 150, 250, 350}
-    assert all(contains(SQUARE, p) for p in legs)
-    assert path_length(legs) == pytest.approx(4 * 900 + 3 * 100)
-    assert len(lawnmower(SQUARE, 0.001, max_legs=50)) == 100
 
 
 @pytest.mark.parametrize(("expr", "values", "expected"), [

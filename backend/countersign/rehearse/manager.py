@@ -7,9 +7,13 @@ rehearsal, created and stopped by the app.
     rehearsal.choose("fail")  # the same as clicking Fail in the viser GUI
     record = manager.stop(rehearsal.id)
 
-Each rehearsal's thread advances the simulation by `speed` simulated seconds per wall second
-in frames of 50 ms, pushes the frame to the scene and waits; a rehearsal waiting for a manual
-outcome sleeps until `choose`. `stop()` ends the thread, stops the viser server (its port and
+Each rehearsal's thread advances the simulation one frame every 50 ms, pushes the frame to the
+scene and waits; a rehearsal waiting for a manual outcome sleeps until `choose`. The pace is
+counted in frames, not wall time, so it holds on a loaded machine: at the default (auto) pace
+each goal's plan plays in about GOAL_FRAMES frames whatever its length (time compression while
+nothing happens), slowed for a few frames after something worth seeing (a fault, an observed
+outcome); `skip()` runs to the next decision at once; a fixed `speed` plays that many simulated
+seconds per wall second instead. `stop()` ends the thread, stops the viser server (its port and
 threads) and seals the recording into the record's HTML replay. A rehearsal nobody touched
 for `idle_timeout_s` (no API call, no browser connected) stops itself.
 """
@@ -20,21 +24,27 @@ import secrets
 import threading
 import time
 from collections import OrderedDict
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, Literal
 
 import viser
 
 from ..orders.canonical import digest as orders_digest
-from ..orders.model import OUTCOMES, Orders
+from ..orders.model import OUTCOMES, Chart, Orders
 from . import viser_gate
 from .record import FORMAT, RehearsalRecord
 from .scene import Scene
-from .sim import FAULTS, FaultSpec, Limits, Simulation
+from .sim import FAULTS, QUESTION, FaultSpec, Limits, Simulation
 from .sources import SOURCES, make_source
 
 FRAME_S = 0.05
+GOAL_FRAMES = 60  # auto pace: a goal's plan in about 3 s at 20 frames a second
+MIN_AUTO_FRAME_S = 1.0  # ... but never slower than 20x real time
+SLOW_FRAMES = 8  # after a notable event, this many frames at a quarter of the pace
+NOTABLE_EVENTS = frozenset({"fault", "fault_queued", "observed", "safe_action", "current"})
+MAX_FRAME_STEPS = 5_000  # simulated seconds per frame at most (bounded work per frame)
+SKIP_FRAME_S = 20_000.0  # skipping: simulated seconds per frame until the next decision
 RECORD_SPEED = 200.0  # the HTML replay plays 200 simulated seconds per second
 MIN_SPEED, MAX_SPEED = 0.1, 1_000_000.0
 MAX_FAULTS = 20
@@ -54,7 +64,7 @@ class RehearsalOptions:
     seed: int = 0
     path_index: int | None = None
     faults: tuple[str, ...] = ()
-    speed: float = 50.0  # simulated seconds per wall second
+    speed: float | None = None  # simulated seconds per wall second; None: the auto pace
 
     def validated(self) -> RehearsalOptions:
         if self.source not in SOURCES:
@@ -70,7 +80,7 @@ class RehearsalOptions:
             raise ValueError(f"at most {MAX_FAULTS} faults")
         for fault in self.faults:
             FaultSpec.parse(fault)
-        if not MIN_SPEED <= float(self.speed) <= MAX_SPEED:
+        if self.speed is not None and not MIN_SPEED <= float(self.speed) <= MAX_SPEED:
             raise ValueError(f"speed must be between {MIN_SPEED:g} and {MAX_SPEED:g}")
         return self
 
@@ -87,8 +97,9 @@ class Rehearsal:
         *,
         owner: str,
         options: RehearsalOptions,
-        headless: bool = False, gated: bool = True,
+        headless: bool = False, gated: bool = True, controls: bool = False,
         limits: Limits | None = None,
+        charts: Sequence[Chart] = (),
         idle_timeout_s: float = 900.0,
         on_stopped: Callable[[Rehearsal], None] | None = None,
     ) -> None:
@@ -102,13 +113,20 @@ class Rehearsal:
         source = make_source(options.source, orders, path_index=options.path_index,
                              max_tour_paths=self._limits.max_tour_paths)
         self._sim = Simulation(orders, seed=options.seed, source=source,
-                               faults=options.faults, limits=self._limits)
+                               faults=options.faults, limits=self._limits, charts=charts)
         self._lock = threading.RLock()
         self._wake = threading.Event()
         self._stop_event = threading.Event()
         self._stopped = False
         self._sealed = threading.Event()  # set once stop() has sealed the record
-        self._speed = float(options.speed)
+        self._speed: float | None = None if options.speed is None else float(options.speed)
+        self.frames = 0  # frames simulated: the unit of the pace
+        self.first_question_frame: int | None = None
+        self._skipping = False
+        self._slow_frames = 0
+        self._events_paced = 0
+        self._dirty = True  # the scene lags the simulation: push a frame
+        self._notice: dict[str, str] | None = None
         self._on_stopped = on_stopped
         self.idle_timeout_s = idle_timeout_s
         self._record: RehearsalRecord | None = None
@@ -132,7 +150,8 @@ class Rehearsal:
                 self._scene = Scene(
                     self._server, self._sim, title=self.orders_title,
                     on_choose=self.choose, on_inject=self.inject, on_speed=self.set_speed,
-                    speed=self._speed, manual=options.source == "manual",
+                    on_skip=self.skip, speed=self._speed, manual=options.source == "manual",
+                    controls=controls,
                 )
                 self._scene.frame()
                 # Record from here on: the serializer snapshots the scene so far, then
@@ -181,14 +200,19 @@ class Rehearsal:
                 "capacity_wh": sim.capacity_wh,
                 "sim_time_s": round(sim.time_s, 3),
                 "speed": self._speed,
+                "pace": "auto" if self._speed is None else "fixed",
+                "skipping": self._skipping,
+                "frames": self.frames,
+                "first_question_frame": self.first_question_frame,
                 "faults": sorted(sim.active_faults),
+                "queued_faults": list(sim.queued_faults),
+                "fault_notice": self._notice,
                 "events": [e.to_json() for e in sim.events[-STATUS_EVENTS:]],
                 "port": self.port,
             }
             if sim.state == "waiting_for_outcome" and active is not None:
                 suggestion = active.suggestion
-                status["question"] = "Did goal Succeed (s), Fail (f), or end with a " \
-                    "Constraint (c)?"
+                status["question"] = QUESTION
                 status["suggested"] = (
                     {"outcome": suggestion[0], "because": suggestion[1]} if suggestion else None
                 )
@@ -208,22 +232,41 @@ class Rehearsal:
             if self.options.source != "manual":
                 raise ValueError(f"outcomes come from the {self.options.source} source here")
             self._sim.choose(outcome)
+            self._skipping = False
+            self._dirty = True
         self._wake.set()
 
-    def inject(self, fault: str) -> None:
+    def inject(self, fault: str) -> str:
+        """Apply the fault now, or queue it while a goal waits for its outcome; the text says
+        which (ValueError, with the reason, when it is refused)."""
         self.touch()
         if fault not in FAULTS:
             raise ValueError(f"fault must be one of {', '.join(FAULTS)}, not {str(fault)[:40]!r}")
         with self._lock:
             if self._stopped:
-                raise ValueError("the rehearsal is stopped")
-            self._sim.inject(fault)
+                raise ValueError("the rehearsal is stopped: no fault can be injected")
+            text = self._sim.inject(fault)
+            self._notice = {"fault": fault, "text": text,
+                            "state": "queued" if fault in self._sim.queued_faults else "applied"}
+            self._dirty = True
         self._wake.set()
+        return text
 
-    def set_speed(self, speed: float) -> None:
+    def skip(self) -> None:
+        """Run to the next decision (an outcome chosen or asked for) as fast as frames allow."""
         self.touch()
         with self._lock:
-            self._speed = min(MAX_SPEED, max(MIN_SPEED, float(speed)))
+            if self._stopped or self._sim.state != "running":
+                state = self.state.replace("_", " ")
+                raise ValueError(f"nothing to skip: the rehearsal is {state}")
+            self._skipping = True
+        self._wake.set()
+
+    def set_speed(self, speed: float | None) -> None:
+        """Simulated seconds per wall second, or None for the auto pace."""
+        self.touch()
+        with self._lock:
+            self._speed = None if speed is None else min(MAX_SPEED, max(MIN_SPEED, float(speed)))
         self._wake.set()
 
     def record(self) -> RehearsalRecord:
@@ -293,8 +336,14 @@ class Rehearsal:
             with self._lock:
                 sim = self._sim
                 if sim.state == "running":
-                    self._advance(self._speed * FRAME_S, time.perf_counter() + FRAME_S * 0.8)
+                    self._advance_frame()
+                    self._dirty = True
+                if sim.state == "waiting_for_outcome" and self.first_question_frame is None:
+                    self.first_question_frame = self.frames
+                if self._dirty:
+                    # Also after a choice, a fault or the end, so the scene never lags.
                     self._push_frame()
+                    self._dirty = False
                 state = sim.state
             if state == "finished" and self.idle_for() > self.idle_timeout_s:
                 self._stop_idle()
@@ -318,13 +367,43 @@ class Rehearsal:
         if not self._stop_event.is_set():
             self.stop()
 
-    def _advance(self, sim_seconds: float, deadline: float) -> None:
+    def _frame_seconds(self) -> float:
+        """Simulated seconds in the next frame (the pace; see the module's docstring)."""
         sim = self._sim
-        target = sim.time_s + sim_seconds
+        if self._skipping:
+            return SKIP_FRAME_S
+        if self._speed is not None:
+            pace = self._speed * FRAME_S
+        else:
+            planned = sim.active.planned_s if sim.active is not None else 0.0
+            pace = max(MIN_AUTO_FRAME_S, planned / GOAL_FRAMES)
+            if self._slow_frames > 0:
+                self._slow_frames -= 1
+                pace = max(MIN_AUTO_FRAME_S, pace / 4)
+        return min(pace, MAX_FRAME_STEPS * sim.limits.step_s)
+
+    def _decision_mark(self) -> tuple[int, int]:
+        sim = self._sim
+        return len(sim.runs), len(sim.run.outcomes)
+
+    def _advance_frame(self) -> None:
+        """One frame: its simulated seconds in full (no wall-clock cut, so the pace in frames
+        is the same on any machine), ending early where a goal ends so that the next goal
+        gets its own pace."""
+        sim = self._sim
+        mark = self._decision_mark()
+        target = sim.time_s + self._frame_seconds()
         while sim.state == "running" and sim.time_s < target - 1e-9:
-            sim.advance(min(200.0 * sim.limits.step_s, target - sim.time_s))
-            if time.perf_counter() > deadline:
+            sim.step()
+            if self._decision_mark() != mark:
                 break
+        self.frames += 1
+        if self._skipping and (sim.state != "running" or self._decision_mark() != mark):
+            self._skipping = False
+        events = sim.events
+        if any(e.kind in NOTABLE_EVENTS for e in events[self._events_paced:]):
+            self._slow_frames = SLOW_FRAMES
+        self._events_paced = len(events)
 
     def _push_frame(self) -> None:
         if self._scene is None:
@@ -380,6 +459,7 @@ class Rehearsal:
                 "remaining_wh": round(sim.energy_remaining_wh, 3),
             },
             "unmonitored_constraints": list(sim.unmonitored),
+            "legs_flown": list(sim.flown_legs),
             "world": {
                 "recovery": [round(lat, 6), round(lon, 6)],
                 "generated_lane": world.generated_lane,
@@ -396,7 +476,8 @@ class RehearsalManager:
         self._active: dict[str, Rehearsal] = {}
         self._stopped: OrderedDict[str, Rehearsal] = OrderedDict()
 
-    def start(self, orders: Orders, *, owner: str, options: RehearsalOptions) -> Rehearsal:
+    def start(self, orders: Orders, *, owner: str, options: RehearsalOptions,
+              charts: Sequence[Chart] = (), controls: bool = False) -> Rehearsal:
         """A running rehearsal with its own viser server; RehearsalLimit when full,
         ValueError for options or orders that cannot be rehearsed."""
         self._reap()
@@ -409,8 +490,9 @@ class RehearsalManager:
             placeholder = secrets.token_urlsafe(8)
             self._active[placeholder] = None  # type: ignore[assignment]
         try:
-            rehearsal = Rehearsal(orders, owner=owner, options=options,
-                                  idle_timeout_s=self.idle_timeout_s, on_stopped=self._forget)
+            rehearsal = Rehearsal(orders, owner=owner, options=options, charts=charts,
+                                  controls=controls, idle_timeout_s=self.idle_timeout_s,
+                                  on_stopped=self._forget)
         except BaseException:
             with self._lock:
                 self._active.pop(placeholder, None)

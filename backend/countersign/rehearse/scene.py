@@ -22,7 +22,7 @@ import viser
 
 from . import viser_adapter
 from .geo import Point
-from .sim import FAULTS, Event, Simulation
+from .sim import FAULTS, QUESTION, Event, Simulation
 from .world import World
 
 # viser's client whitens whatever is more than about twenty units from the camera, so every
@@ -35,7 +35,13 @@ TRAIL_CHUNK = 200  # points per trail node: a node is re-sent while it fills, th
 MAX_TRAIL_NODES = 200
 MAX_OUTCOME_MARKERS = 500
 OUTCOME_COLOURS = {"succeed": (40, 170, 60), "fail": (235, 160, 20), "violate": (220, 40, 40)}
-OUTCOME_WORDS = {"succeed": "succeed", "fail": "fail", "violate": "constraint"}
+# The app's names for the outcomes (frontend/src/editor/graph.ts OUTCOME_LABEL); the words in
+# labels are DESIGN.md's outcome names.
+OUTCOME_LABELS = {"succeed": "Succeed", "fail": "Fail", "violate": "Violate (constraint)"}
+OUTCOME_WORDS = {"succeed": "succeed", "fail": "fail", "violate": "violate"}
+OUTCOME_LETTERS = {"succeed": "s", "fail": "f", "violate": "c"}  # graph.ts OUTCOME_LETTER
+MAX_LEGS_DRAWN = 500
+CHART_COLOUR = (150, 90, 200)
 AREA_COLOUR = (40, 160, 220)
 LANE_COLOUR = (220, 90, 60)
 RECOVERY_COLOUR = (60, 180, 90)
@@ -77,9 +83,11 @@ class Scene:
         title: str,
         on_choose: Callable[[str], None],
         on_inject: Callable[[str], None],
-        on_speed: Callable[[float], None],
-        speed: float,
+        on_speed: Callable[[float | None], None],
+        on_skip: Callable[[], None],
+        speed: float | None,
         manual: bool,
+        controls: bool = False,
     ) -> None:
         self.server = server
         self.sim = sim
@@ -111,7 +119,15 @@ class Scene:
         )
         self.contacts: dict[str, Any] = {}
         self._draw_contacts()
-        self._gui(title, on_choose, on_inject, on_speed, speed, manual)
+        # In the app the page holds the one set of controls and the status (issue 18): viser's
+        # panel stays empty and minimised so that the scene is unobstructed. The CLI's viewer
+        # has no page around it and keeps its controls in the panel.
+        self.controls = controls
+        if controls:
+            self._gui(title, on_choose, on_inject, on_speed, on_skip, speed, manual)
+        else:
+            server.gui.configure_theme(show_share_button=False, show_logo=False)
+            server.gui.main_panel.minimize()
         server.initial_camera.position = (0.0, -SCENE_SPAN * 0.8, SCENE_SPAN * 0.55)
         server.initial_camera.look_at = (0.0, 0.0, -SCENE_DEPTH / 2)
 
@@ -150,6 +166,10 @@ class Scene:
             self._draw_area(area.id, area.title, area.polygon, area.centre,
                             LANE_COLOUR if area.is_lane else
                             RECOVERY_COLOUR if area.centre == world.recovery else AREA_COLOUR)
+        for chart in world.charts:
+            self._draw_area(f"chart_{chart.id}", chart.title, chart.polygon, chart.centre,
+                            LANE_COLOUR if chart.is_lane else CHART_COLOUR, root="/charts")
+        self._draw_legs(world)
         if world.generated_lane:
             lane = world.lanes[-1]
             self._draw_area("LANE_generated", lane.title, lane.polygon, lane.centre, LANE_COLOUR)
@@ -159,10 +179,25 @@ class Scene:
             scene.add_label("/world/recovery/label", "recovery point",
                             position=(0.0, 0.0, 0.2))
 
+    def _draw_legs(self, world: World) -> None:
+        """Each outcome edge's leg (verify/legs.py), coloured and lettered by its outcome, a
+        little below the surface: the route the vehicle will fly between goals."""
+        for k, leg in enumerate(world.legs[:MAX_LEGS_DRAWN]):
+            (ax, ay), (bx, by) = leg.line.coords[0], leg.line.coords[-1]
+            a, b = self.to_scene(ax, ay, 0.2), self.to_scene(bx, by, 0.2)
+            colour = OUTCOME_COLOURS[leg.outcome]
+            node = f"/legs/{k}"
+            self.server.scene.add_line_segments(node, np.array([[a, b]], dtype=np.float32),
+                                                colour, thickness=0.015)
+            middle = tuple((a[i] + b[i]) / 2 for i in range(3))
+            # The letter only: legs between the same areas overlap, and so would long labels.
+            self.server.scene.add_label(f"{node}/label", OUTCOME_LETTERS[leg.outcome],
+                                        position=middle)
+
     def _draw_area(self, area_id: str, title: str, polygon: tuple[Point, ...], centre: Point,
-                   colour: tuple[int, int, int]) -> None:
+                   colour: tuple[int, int, int], root: str = "/areas") -> None:
         scene = self.server.scene
-        node = f"/areas/{_node_name(area_id)}"
+        node = f"{root}/{_node_name(area_id)}"
         if len(polygon) >= 2:
             ring = [*polygon, polygon[0]]
             segments = np.array(
@@ -197,8 +232,8 @@ class Scene:
     # ------------------------------------------------------------------------------ GUI
 
     def _gui(self, title: str, on_choose: Callable[[str], None],
-             on_inject: Callable[[str], None], on_speed: Callable[[float], None],
-             speed: float, manual: bool) -> None:
+             on_inject: Callable[[str], None], on_speed: Callable[[float | None], None],
+             on_skip: Callable[[], None], speed: float | None, manual: bool) -> None:
         gui = self.server.gui
         gui.set_panel_label(title[:80])
         self.status = gui.add_markdown("Starting...")
@@ -208,20 +243,24 @@ class Scene:
         self.goal_title: Any = gui.add_text("Goal", "", disabled=True)
         self.question = gui.add_markdown("", visible=manual)
         self.outcome_buttons: dict[str, Any] = {}
-        buttons: tuple[tuple[str, str, Literal["green", "yellow", "red"]], ...] = (
-            ("succeed", "Succeed", "green"), ("fail", "Fail", "yellow"),
-            ("violate", "Constraint", "red"))
-        for outcome, label, colour in buttons:
-            button = gui.add_button(label, color=colour, disabled=True, visible=manual,
+        colours: dict[str, Literal["green", "yellow", "red"]] = {
+            "succeed": "green", "fail": "yellow", "violate": "red"}
+        for outcome, label in OUTCOME_LABELS.items():
+            button = gui.add_button(label, color=colours[outcome], disabled=True,
+                                    visible=manual,
                                     hint=f"End the current goal: {OUTCOME_WORDS[outcome]}")
             button.on_click(_forward(on_choose, outcome))
             self.outcome_buttons[outcome] = button
-        self.speed_slider = gui.add_slider("Speed (x real time)", min=1.0, max=5_000.0,
-                                           step=1.0, initial_value=float(min(speed, 5_000.0)))
+        gui.add_button("Skip to the next decision").on_click(
+            lambda _: _call(on_skip))
+        self.speed_slider = gui.add_slider(
+            "Speed (x real time, 0 = auto)", min=0.0, max=5_000.0, step=1.0,
+            initial_value=0.0 if speed is None else float(min(speed, 5_000.0)))
 
         @self.speed_slider.on_update
         def _(_: Any) -> None:
-            on_speed(float(self.speed_slider.value))
+            value = float(self.speed_slider.value)
+            on_speed(value if value > 0 else None)
 
         with gui.add_folder("Inject a fault"):
             for fault in FAULTS:
@@ -250,7 +289,8 @@ class Scene:
                 self._event(event)
             self._events_seen = len(sim.events)
             self._highlight_goal()
-            self._gui_state()
+            if self.controls:
+                self._gui_state()
 
     def _new_run(self, index: int) -> None:
         # A tour restarts from the launch point: clear the previous path's trail and markers
@@ -353,11 +393,11 @@ class Scene:
                 button.disabled = not waiting
         if waiting and active and active.suggestion:
             self.question.content = (
-                "Did goal Succeed (s), Fail (f), or end with a Constraint (c)?  \n"
+                f"{QUESTION}  \n"
                 f"_The simulation saw: {OUTCOME_WORDS[active.suggestion[0]]} "
                 f"({markdown_text(active.suggestion[1])})._")
         elif waiting:
-            self.question.content = "Did goal Succeed (s), Fail (f), or end with a Constraint (c)?"
+            self.question.content = QUESTION
         else:
             self.question.content = ""
 
@@ -381,6 +421,11 @@ def _forward(callback: Callable[[str], None], value: str) -> Callable[[Any], Non
             callback(value)
 
     return handler
+
+
+def _call(callback: Callable[[], None]) -> None:
+    with contextlib.suppress(ValueError):
+        callback()
 
 
 def _yaw(heading: float) -> tuple[float, float, float, float]:

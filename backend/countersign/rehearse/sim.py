@@ -25,10 +25,11 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
-from ..orders.model import OUTCOMES, Goal, Orders
+from ..orders.model import OUTCOMES, Area, Goal, Orders
 from ..verify.expressions import identifiers
+from ..verify.legs import GEOD
 from .contingency import Contingency, RuleVerdict
-from .geo import Point, contains, lawnmower
+from .geo import Point, contains
 from .monitor import GoalFacts, Monitor, facts_of, monitors_of
 from .sources import OutcomeSource
 from .world import FAR_M, World
@@ -69,6 +70,10 @@ ALTITUDE_LOW_M = 3.0
 # depth and carries on. Any other safety action ends the goal.
 POSTURE_ACTIONS = {"surface": 0.0, "ascend": None, "dive": None}
 SCRIPTED_CUT = {"succeed": 1.0, "fail": 0.6, "violate": 0.4}
+QUESTION = "Did goal Succeed (s), Fail (f), or end with a Constraint (c)?"  # DESIGN.md traces
+FAULT_WORDS = {"gps_loss": "GPS loss", "nav_drift": "navigation drift", "leak": "leak",
+               "low_energy": "low energy", "contact_close": "contact closing"}
+REPEATABLE_FAULTS = frozenset({"contact_close", "low_energy"})
 
 
 @dataclass(frozen=True)
@@ -177,7 +182,9 @@ class Waypoint:
     y: float
     depth: float
     hold_s: float = 0.0
-    kind: str = "transit"
+    kind: str = "transit"  # "leg": the transit from the previous goal (verify/legs' leg)
+    geo_m: float = 0.0  # geodesic metres of the segment that ends here
+    scale: float = 1.0  # geodesic metres per metre of the frame on that segment
 
 
 @dataclass
@@ -198,6 +205,7 @@ class ActiveGoal:
     scripted: str | None = None
     suggestion: tuple[str, str] | None = None  # (outcome, reason) seen in manual mode
     last_energy_check: float = -math.inf
+    leg_m: float = 0.0  # geodesic metres flown on the leg into this goal
 
     @property
     def progress(self) -> float:
@@ -218,12 +226,13 @@ class Simulation:
         faults: Sequence[str | FaultSpec] = (),
         limits: Limits | None = None,
         contingency: Contingency | None = None,
+        charts: Sequence[Area] = (),
     ) -> None:
         self.orders = orders
         self.seed = seed
         self.limits = limits or Limits()
         self.rng = random.Random(seed)
-        self.world = World(orders, self.rng)
+        self.world = World(orders, self.rng, tuple(charts))
         self.source = source
         self.goals = orders.goal_index()
         self.terminals = orders.terminal_index()
@@ -247,6 +256,8 @@ class Simulation:
         )
         self.pending_faults: list[FaultSpec] = list(self._initial_faults)
         self.active_faults: set[str] = set()
+        # Faults pressed while a goal waits for its outcome: applied when the next goal starts.
+        self.queued_faults: list[str] = []
         self.fault_log: list[str] = []  # name@simulated-seconds, as activated
         self.choices: list[dict[str, Any]] = []
         self.events: list[Event] = []
@@ -265,6 +276,9 @@ class Simulation:
         self.active: ActiveGoal | None = None
         self.vehicle = Vehicle(*self.world.recovery)
         self.trail: list[tuple[float, float, float]] = []
+        # The legs flown between goals: from, outcome, to and geodesic metres (issue 21).
+        self.flown_legs: list[dict[str, Any]] = []
+        self.leg_rate_wh_per_m = self.power_w / self.speed / 3600.0  # verify/budget's leg cost
         # Per-metre rates of the goals run so far: the price of the way home (seed 001 plans
         # with the consumption it has learnt, not with a catalogue figure).
         self._priced_m = 0.0
@@ -321,14 +335,31 @@ class Simulation:
                              "outcome": outcome})
         self._end_goal(self.active, outcome, "chosen by the person rehearsing")
 
-    def inject(self, fault: str | FaultSpec) -> None:
+    def inject(self, fault: str | FaultSpec) -> str:
+        """Apply, queue or schedule the fault; the text says which. Refused (ValueError) when
+        the rehearsal has finished or the fault is already active or queued."""
         spec = fault if isinstance(fault, FaultSpec) else FaultSpec.parse(fault)
+        words = FAULT_WORDS.get(spec.name, spec.name)
         if self.state == "finished":
-            raise ValueError("the rehearsal has finished")
-        if spec.at_goal is None and spec.at_s is None:
-            self._activate(spec.name)
-        else:
+            raise ValueError(f"the rehearsal has finished: {words} was not injected")
+        if spec.at_goal is not None or spec.at_s is not None:
             self.pending_faults.append(spec)
+            return f"Fault scheduled: {spec}."
+        if spec.name not in REPEATABLE_FAULTS and (
+            spec.name in self.active_faults or spec.name in self.queued_faults
+        ):
+            where = "queued" if spec.name in self.queued_faults else "active"
+            raise ValueError(f"{words} is already {where}")
+        if self.state == "waiting_for_outcome" and self.active is not None:
+            # The goal's plan is over and it waits for a person: a fault cannot change how it
+            # ended, so it is kept for the goal that follows.
+            self.queued_faults.append(spec.name)
+            text = (f"Fault queued: {words} applies when the next goal starts "
+                    f"({self.active.goal.id} is waiting for its outcome).")
+            self._emit("fault_queued", text, self.active.goal.id, {"fault": spec.name})
+            return text
+        self._activate(spec.name)
+        return f"Fault injected: {words}."
 
     def values(self, lookahead_s: float = 0.0,
                needed: frozenset[str] | None = None) -> dict[str, float | bool | str]:
@@ -456,6 +487,10 @@ class Simulation:
     def _finish(self, why: str | None) -> None:
         self.active = None
         self.state = "finished"
+        if self.queued_faults:
+            names = ", ".join(FAULT_WORDS.get(f, f) for f in self.queued_faults)
+            self._emit("warning", f"Queued faults not applied, the rehearsal ended: {names}.")
+            self.queued_faults.clear()
         if why:
             self._emit("finished", f"Rehearsal ended: {why}.")
 
@@ -472,26 +507,25 @@ class Simulation:
         run.goals.append(goal_id)
         facts = facts_of(goal, self.orders)
         waypoints = self._plan(goal)
-        length = 0.0
-        holds = 0.0
-        x, y = self.vehicle.xy
-        for w in waypoints:
-            length += math.dist((x, y), (w.x, w.y))
-            x, y = w.x, w.y
-            holds += w.hold_s
+        length = sum(w.geo_m for w in waypoints)
+        leg_m = sum(w.geo_m for w in waypoints if w.kind == "leg")
+        work_m = length - leg_m
+        holds = sum(w.hold_s for w in waypoints)
         moving_s = length / self.speed
         planned_s = moving_s + holds
-        # Per-metre energy: from the goal's cost when the orders give one (the same figure the
-        # BUDGET check used), otherwise from the vehicle's power at cruise speed.
+        # Energy as the BUDGET check counts it: the leg from the previous goal at the
+        # vehicle's power and speed; the goal's own work from its cost when the orders give
+        # one, otherwise from the vehicle's power at cruise speed.
         hold_w = self.power_w * 0.4
         cost_wh = goal.cost.energy_wh if goal.cost and goal.cost.energy_wh else None
-        if cost_wh is not None and length > 0:
-            rate = max(0.0, cost_wh - hold_w * holds / 3600.0) / length
-        else:
-            rate = self.power_w / self.speed / 3600.0
-        expected = rate * length + hold_w * holds / 3600.0
+        rate = self.leg_rate_wh_per_m
+        if cost_wh is not None and work_m > 0:
+            rate = max(0.0, cost_wh - hold_w * holds / 3600.0) / work_m
+        elif cost_wh is not None and holds > 0:
+            hold_w = cost_wh * 3600.0 / holds
+        expected = rate * work_m + self.leg_rate_wh_per_m * leg_m + hold_w * holds / 3600.0
         self._priced_m += length
-        self._priced_wh += rate * length
+        self._priced_wh += rate * work_m + self.leg_rate_wh_per_m * leg_m
         active = ActiveGoal(goal, facts, waypoints, planned_s, rate, hold_w, self.time_s,
                             expected_wh=expected)
         active.scripted = self.source.scripted(goal_id, len(run.goals) - 1)
@@ -509,6 +543,9 @@ class Simulation:
             if spec.at_goal == goal_id:
                 self.pending_faults.remove(spec)
                 self._activate(spec.name)
+        queued, self.queued_faults = self.queued_faults, []
+        for name in queued:
+            self._activate(name)
 
     def _end_goal(self, active: ActiveGoal, outcome: str, reason: str) -> None:
         goal = active.goal
@@ -585,31 +622,43 @@ class Simulation:
             hold = float(goal.params.get("duration_s", 60.0) or 60.0)
             x, y = self.world.recovery if recovery else self.vehicle.xy
             return [Waypoint(x, y, 0.0 if recovery else depth, min(hold, 3_600.0), "hold")]
+        # Where the goal runs is the verifier's place (verify/legs.py): its sweep or its
+        # station, so the leg flown into it is the leg that was checked.
+        place = self.world.places.get(goal.id)
         points: list[Waypoint] = []
-        if behavior in SEARCH_BEHAVIORS:
-            swath = goal.params.get("swath_width_m", goal.params.get("sweep_width_m"))
-            swath_m = float(swath) if isinstance(swath, int | float) and swath > 0 else \
-                DEFAULT_SWATH_M
-            legs = lawnmower(area.polygon, swath_m)
-            points = [Waypoint(x, y, depth, 0.0, "search") for x, y in legs]
-        elif behavior == "transect":
-            legs = lawnmower(area.polygon, 1e12, max_legs=1)
-            points = [Waypoint(x, y, depth, 0.0, "transect") for x, y in legs]
-        elif behavior in HOLD_BEHAVIORS:
-            hold = goal.params.get("duration_s", HOLD_BEHAVIORS[behavior])
-            hold_s = float(hold) if isinstance(hold, int | float) and hold >= 0 else \
-                HOLD_BEHAVIORS[behavior]
-            cx, cy = area.centre
-            points = [Waypoint(cx, cy, depth, min(hold_s, 6 * 3_600.0), behavior)]
+        if place is not None and place.track is not None:
+            kind = "transect" if behavior == "transect" else "search"
+            points = [Waypoint(float(x), float(y), depth, 0.0, kind)
+                      for x, y in place.track.coords]
         else:
-            cx, cy = area.centre
-            points = [Waypoint(cx, cy, depth, 0.0, "transit")]
+            cx, cy = place.start if place is not None else area.centre
+            if behavior in HOLD_BEHAVIORS:
+                hold = goal.params.get("duration_s", HOLD_BEHAVIORS[behavior])
+                hold_s = float(hold) if isinstance(hold, int | float) and hold >= 0 else \
+                    HOLD_BEHAVIORS[behavior]
+                points = [Waypoint(cx, cy, depth, min(hold_s, 6 * 3_600.0), behavior)]
+            else:
+                points = [Waypoint(cx, cy, depth, 0.0, "transit")]
         if self.vehicle.forced_surface:
             for p in points:
                 p.depth = 0.0
         first = points[0]
-        return [Waypoint(first.x, first.y, first.depth, 0.0, "transit"), *points] \
-            if math.dist(self.vehicle.xy, (first.x, first.y)) > 1.0 else points
+        if math.dist(self.vehicle.xy, (first.x, first.y)) > 1.0:
+            points = [Waypoint(first.x, first.y, first.depth, 0.0, "leg"), *points]
+        return self._measured(points)
+
+    def _measured(self, points: list[Waypoint]) -> list[Waypoint]:
+        """Each segment's geodesic length (one projection call per plan): the vehicle flies
+        the frame's straight line but counts metres on the ellipsoid, as the legs do."""
+        xs = [self.vehicle.x, *(p.x for p in points)]
+        ys = [self.vehicle.y, *(p.y for p in points)]
+        lats, lons = self.world.frame.to_latlon(xs, ys)
+        _, _, metres = GEOD.inv(lons[:-1], lats[:-1], lons[1:], lats[1:])
+        for k, p in enumerate(points):
+            planar = math.dist((xs[k], ys[k]), (xs[k + 1], ys[k + 1]))
+            p.geo_m = float(metres[k]) if planar > 1e-9 else 0.0
+            p.scale = p.geo_m / planar if planar > 1e-9 else 1.0
+        return points
 
     # ------------------------------------------------------------------------------ physics
 
@@ -638,17 +687,25 @@ class Simulation:
         w = active.waypoints[active.index]
         dx, dy = w.x - v.x, w.y - v.y
         distance = math.hypot(dx, dy)
-        step = self.speed * dt
+        step = self.speed * dt  # geodesic metres
         energy = 0.0
+        arrived = distance * w.scale <= step
         if distance > 1e-6:
-            moved = min(step, distance)
+            moved_m = min(step, distance * w.scale)
+            moved = moved_m / w.scale
             v.heading = math.atan2(dy, dx)
-            v.x += dx / distance * moved
-            v.y += dy / distance * moved
+            if arrived:
+                v.x, v.y = w.x, w.y
+            else:
+                v.x += dx / distance * moved
+                v.y += dy / distance * moved
             v.vx, v.vy = dx / distance * moved / dt, dy / distance * moved / dt
-            active.done_s += moved / self.speed
-            energy += moved * active.rate_wh_per_m * self._current_factor()
-            self.expected_used_wh += moved * active.rate_wh_per_m
+            active.done_s += moved_m / self.speed
+            rate = self.leg_rate_wh_per_m if w.kind == "leg" else active.rate_wh_per_m
+            energy += moved_m * rate * self._current_factor()
+            self.expected_used_wh += moved_m * rate
+            if w.kind == "leg":
+                active.leg_m += moved_m
         else:
             v.vx = v.vy = 0.0
         target = 0.0 if v.forced_surface else w.depth
@@ -657,7 +714,9 @@ class Simulation:
         rise = max(-DIVE_RATE_MPS * dt, min(DIVE_RATE_MPS * dt, dz))
         v.depth = max(0.0, v.depth + rise)
         v.vz = rise / dt
-        if distance <= step and abs(target - v.depth) < 0.5:
+        if arrived and abs(target - v.depth) < 0.5:
+            if w.kind == "leg" and active.held_s == 0.0:
+                self._leg_flown(active, w)
             if active.held_s < w.hold_s:
                 active.held_s += dt
                 active.done_s += dt
@@ -672,6 +731,14 @@ class Simulation:
         if not self.trail or math.dist(self.trail[-1][:2], v.xy) >= 25.0 \
                 or abs(self.trail[-1][2] - v.depth) >= 2.0:
             self.trail.append((v.x, v.y, v.depth))
+
+    def _leg_flown(self, active: ActiveGoal, w: Waypoint) -> None:
+        run = self.run
+        if len(run.goals) < 2 or len(self.flown_legs) >= self.limits.max_events:
+            return  # the launch is no leg between goals
+        self.flown_legs.append({"from": run.goals[-2], "outcome": run.outcomes[-1],
+                                "to": active.goal.id, "length_m": round(active.leg_m, 6),
+                                "planned_m": round(w.geo_m, 6)})
 
     def _navigate(self, dt: float) -> None:
         v = self.vehicle
@@ -792,7 +859,7 @@ class Simulation:
         if decision == "wait":
             self.state = "waiting_for_outcome"
             suggestion = active.suggestion or (outcome, reason)
-            self._emit("waiting", "Did goal Succeed (s), Fail (f), or end with a Constraint (c)?",
+            self._emit("waiting", QUESTION,
                        active.goal.id, {"suggested": suggestion[0], "because": suggestion[1]})
             return True
         if active.suggestion is None and not plan_done:

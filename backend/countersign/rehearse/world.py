@@ -1,6 +1,10 @@
-"""The simulated world of one rehearsal: areas and shipping lanes in a local metric frame, a
-seafloor, surface contacts on straight tracks and the recovery point. Everything random is
-drawn from the rehearsal's seed, so the same orders and seed give the same world.
+"""The simulated world of one rehearsal: areas, charts and shipping lanes, a seafloor, surface
+contacts on straight tracks and the recovery point. Everything random is drawn from the
+rehearsal's seed, so the same orders and seed give the same world.
+
+The geography is the verifier's (verify/legs.py, issue 21): the same azimuthal equidistant
+frame, the same place for each goal (sweep, station) and the same leg for each outcome edge,
+so the rehearsal flies, draws and prices the route that was checked and signed.
 """
 
 from __future__ import annotations
@@ -9,8 +13,9 @@ import math
 import random
 from dataclasses import dataclass
 
-from ..orders.model import Orders
-from .geo import LocalFrame, Point, bounds, centroid, distance_to_polygon
+from ..orders.model import Area, Orders
+from ..verify.legs import GEOD, Frame, Leg, Place, mission_legs
+from .geo import Point, bounds, centroid, distance_to_polygon
 
 LANE_CONTEXTS = frozenset({"shipping_lane", "traffic_lane", "traffic_separation_scheme"})
 RECOVERY_CONTEXTS = frozenset({"recovery", "base", "home", "harbor_approach", "launch"})
@@ -50,19 +55,24 @@ class Contact:
 
 
 class World:
-    def __init__(self, orders: Orders, rng: random.Random) -> None:
-        points = [p for a in orders.areas for p in a.polygon]
-        self.frame = LocalFrame.around(points)
+    def __init__(self, orders: Orders, rng: random.Random,
+                 charts: tuple[Area, ...] = ()) -> None:
+        frame, places, legs = mission_legs(orders)
+        # Orders without areas have no frame in the verifier; any centre serves then.
+        self.frame: Frame = frame or Frame(0.0, 0.0)
+        self.places: dict[str, Place] = places
+        self.legs: list[Leg] = legs
         self.areas: dict[str, AreaGeom] = {}
         for area in orders.areas:
-            if not area.polygon:
-                continue
-            polygon = tuple(self.frame.to_xy(lat, lon) for lat, lon in area.polygon)
-            self.areas.setdefault(
-                area.id,
-                AreaGeom(area.id, area.title or area.id, polygon, centroid(polygon),
-                         frozenset(area.contexts)),
-            )
+            if area.polygon and area.id not in self.areas:
+                self.areas[area.id] = self._geom(area)
+        # Charts are drawn (the orders' own and the registry's in use), never flown.
+        self.charts: list[AreaGeom] = []
+        seen: set[str] = set()
+        for chart in (*orders.charts, *charts):
+            if chart.polygon and chart.id not in seen:
+                seen.add(chart.id)
+                self.charts.append(self._geom(chart))
         all_xy = [p for a in self.areas.values() for p in a.polygon] or [(0.0, 0.0)]
         x0, y0, x1, y1 = bounds(all_xy)
         margin = max(2_000.0, 0.15 * max(x1 - x0, y1 - y0))
@@ -86,6 +96,29 @@ class World:
             self.contacts.append(self._lane_contact(f"V{k + 1}", rng))
 
     # -----------------------------------------------------------------------------------------
+
+    def _geom(self, area: Area) -> AreaGeom:
+        """The area in the frame; its centre is the verifier's station (the centroid, or a
+        point inside when the centroid falls outside)."""
+        shape = self.frame.polygon(area.polygon)
+        if shape is None:
+            xs, ys = self.frame.to_xy([p[0] for p in area.polygon], [p[1] for p in area.polygon])
+            polygon = tuple((float(x), float(y)) for x, y in zip(xs, ys, strict=True))
+            centre = centroid(polygon)
+        else:
+            polygon = tuple((float(x), float(y)) for x, y in shape.exterior.coords[:-1])
+            inside = shape.centroid if shape.contains(shape.centroid) \
+                else shape.representative_point()
+            centre = (float(inside.x), float(inside.y))
+        kind = getattr(area, "kind", None)
+        contexts = frozenset(area.contexts) | ({kind} if kind else set())
+        return AreaGeom(area.id, area.title or area.id, polygon, centre, contexts)
+
+    def geodesic_m(self, a: Point, b: Point) -> float:
+        """Metres on WGS84 between two points of the frame (the legs' measure)."""
+        lats, lons = self.frame.to_latlon([a[0], b[0]], [a[1], b[1]])
+        _, _, metres = GEOD.inv(float(lons[0]), float(lats[0]), float(lons[1]), float(lats[1]))
+        return float(metres)
 
     def _generated_lane(self, rng: random.Random) -> AreaGeom:
         """A lane along the long side of the mission, beyond its northern or southern edge."""
@@ -166,7 +199,5 @@ class World:
         return best
 
     def to_latlon(self, point: Point) -> tuple[float, float]:
-        cos0 = math.cos(math.radians(self.frame.lat0)) or 1e-9
-        lat = self.frame.lat0 + math.degrees(point[1] / 6_371_000.0)
-        lon = self.frame.lon0 + math.degrees(point[0] / (6_371_000.0 * cos0))
-        return lat, lon
+        lats, lons = self.frame.to_latlon([point[0]], [point[1]])
+        return float(lats[0]), float(lons[0])

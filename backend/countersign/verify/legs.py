@@ -23,6 +23,7 @@ from shapely.geometry import LineString, Point, Polygon
 from ..orders.model import OUTCOMES, Area, Goal, Orders
 
 SEARCH_BEHAVIORS = frozenset({"area_search", "search", "survey", "patrol", "coverage"})
+TRANSECT_BEHAVIORS = frozenset({"transect"})  # one run along the area's long side
 DEFAULT_SWATH_M = 200.0  # as the rehearsal's simulation
 MAX_SWEEP_LINES = 200
 DEFAULT_LOITER_RADIUS_M = 100.0
@@ -153,8 +154,10 @@ def sweep(shape: Polygon, swath_m: float) -> LineString | None:
 def place(goal: Goal, shape: Polygon) -> Place:
     behavior = (goal.behavior or "").lower()
     station = shape.centroid if shape.contains(shape.centroid) else shape.representative_point()
-    if behavior in SEARCH_BEHAVIORS:
-        track = sweep(shape, _number(goal, "swath_width_m", "sweep_width_m") or DEFAULT_SWATH_M)
+    if behavior in SEARCH_BEHAVIORS or behavior in TRANSECT_BEHAVIORS:
+        swath = math.inf if behavior in TRANSECT_BEHAVIORS else \
+            _number(goal, "swath_width_m", "sweep_width_m") or DEFAULT_SWATH_M
+        track = sweep(shape, swath)
         if track is not None:
             first, last = track.coords[0], track.coords[-1]
             return Place(goal.id, behavior, goal.area or "", (first[0], first[1]),

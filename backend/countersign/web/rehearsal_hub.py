@@ -10,12 +10,13 @@ from __future__ import annotations
 
 import threading
 from collections import OrderedDict
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from datetime import datetime
 from typing import TYPE_CHECKING
 
 from ..errors import Gone, TooMany, Unavailable
-from ..orders.model import Orders
+from ..orders.model import Chart, Orders
 from ..store.missions import Conflict, NotFound
 from ..store.tables import utcnow
 from .viewer_tickets import ViewerRegistry
@@ -55,9 +56,12 @@ class Live:
 class RehearsalHub:
     def __init__(self, *, per_user: int = MAX_PER_USER, total: int = MAX_TOTAL,
                  idle_timeout_s: float = IDLE_TIMEOUT_S,
-                 evict_idle_s: float = EVICT_IDLE_S) -> None:
+                 evict_idle_s: float = EVICT_IDLE_S, viewer_controls: bool = False) -> None:
         self.per_user, self.total, self.idle_timeout_s = per_user, total, idle_timeout_s
         self.evict_idle_s = evict_idle_s
+        # The page holds the one set of controls (issue 18): viser's own GUI stays empty.
+        # Tests of the viewer gate turn it on, so there is something a stray socket could click.
+        self.viewer_controls = viewer_controls
         self.viewers = ViewerRegistry()
         self._manager: RehearsalManager | None = None
         self._lock = threading.RLock()
@@ -79,7 +83,7 @@ class RehearsalHub:
         return self._manager
 
     def start(self, orders: Orders, *, user_id: int, mission_id: str, version: int | None,
-              options: RehearsalOptions) -> Live:
+              options: RehearsalOptions, charts: Sequence[Chart] = ()) -> Live:
         with self._lock:
             self._prune()
             mine = sum(1 for live in self._live.values()
@@ -98,7 +102,8 @@ class RehearsalHub:
             from ..rehearse.manager import RehearsalLimit
 
             try:
-                rehearsal = self.manager.start(orders, owner=str(user_id), options=options)
+                rehearsal = self.manager.start(orders, owner=str(user_id), options=options,
+                                               charts=charts, controls=self.viewer_controls)
             except RehearsalLimit as exc:
                 raise Busy(str(exc) or "no rehearsal slot is free; try again later") from None
             live = Live(rehearsal, user_id, mission_id, version, options.source)

@@ -1049,6 +1049,26 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/rehearsals/{rehearsal_id}/skip": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Skip Rehearsal
+         * @description Run to the next decision (the next outcome chosen or asked for) at once.
+         */
+        post: operations["skipRehearsal"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/rehearsals/{rehearsal_id}/stop": {
         parameters: {
             query?: never;
@@ -2834,10 +2854,9 @@ export interface components {
             source?: "manual" | "replay" | "tour" | "simulate";
             /**
              * Speed
-             * @description simulated seconds per wall second
-             * @default 50
+             * @description simulated seconds per wall second; omitted: the auto pace (each goal's plan in about three seconds)
              */
-            speed?: number;
+            speed?: number | null;
             /**
              * Version
              * @description the version to rehearse; omitted: the draft
@@ -5252,6 +5271,37 @@ export interface operations {
                 "application/json": components["schemas"]["OutcomeIn"];
             };
         };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["RehearsalOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    skipRehearsal: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                rehearsal_id: string;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
         responses: {
             /** @description Successful Response */
             200: {

@@ -15,6 +15,7 @@ import { useLoad } from "../useLoad";
 type JsonBody<R> = R extends { content: { "application/json": infer T } } ? T : never;
 type Started = JsonBody<paths["/api/missions/{mission_id}/rehearsals"]["post"]["responses"][201]>;
 type RecordList = JsonBody<paths["/api/missions/{mission_id}/rehearsal-records"]["get"]["responses"][200]>;
+type StoredRecord = JsonBody<paths["/api/rehearsals/{rehearsal_id}/stop"]["post"]["responses"][200]>;
 type Source = "manual" | "replay" | "tour" | "simulate";
 
 const SOURCES: { value: Source; label: string }[] = [
@@ -40,6 +41,27 @@ const POLL_MS = 1000;
 
 function str(value: unknown): string | null {
   return typeof value === "string" ? value : null;
+}
+
+function num(value: unknown): number | null {
+  return typeof value === "number" && Number.isFinite(value) ? value : null;
+}
+
+function strings(value: unknown): string[] {
+  return Array.isArray(value) ? value.filter((v): v is string => typeof v === "string") : [];
+}
+
+const FAULT_LABEL: Record<string, string> = Object.fromEntries(FAULTS.map((f) => [f.value, f.label]));
+
+/** Simulated time as "5 h 04 min 19 s" (never a bare 0h00m for a rehearsal that ran). */
+export function simulatedTime(seconds: number): string {
+  const s = Math.max(0, Math.round(seconds));
+  const h = Math.floor(s / 3600);
+  const m = Math.floor((s % 3600) / 60);
+  const rest = s % 60;
+  if (h > 0) return `${h} h ${String(m).padStart(2, "0")} min ${String(rest).padStart(2, "0")} s`;
+  if (m > 0) return `${m} min ${String(rest).padStart(2, "0")} s`;
+  return `${rest} s`;
 }
 
 interface CurrentGoal {
@@ -113,6 +135,14 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
   const waiting = state === "waiting_for_outcome";
   const question = str(live?.status.question);
   const terminal = str(live?.status.terminal);
+  const simTime = num(live?.status.sim_time_s);
+  const energyLeft = num(live?.status.energy_wh);
+  const energyUsed = num(live?.status.energy_used_wh);
+  const capacity = num(live?.status.capacity_wh);
+  const activeFaults = strings(live?.status.faults);
+  const queuedFaults = strings(live?.status.queued_faults);
+  const suggested = live?.status.suggested as { outcome?: string; because?: string } | null | undefined;
+  const [faultNotice, setFaultNotice] = useState<string | null>(null);
 
   return (
     <>
@@ -151,9 +181,43 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
               ) : null}
               {terminal ? ` · ended at ${terminal}` : null}
               {" "}· step <span data-testid="rehearsal-step">{String(live.status.step ?? 0)}</span>
-              {typeof live.status.energy_wh === "number" && ` · ${live.status.energy_wh.toFixed(1)} Wh`}
             </p>
-            {live.source === "manual" && waiting && question && <p className="question">{question}</p>}
+            <dl className="rehearsal-figures" data-testid="rehearsal-figures">
+              <dt>Simulated time</dt>
+              <dd data-testid="rehearsal-time">{simTime === null ? "—" : simulatedTime(simTime)}</dd>
+              <dt>Energy</dt>
+              <dd data-testid="rehearsal-energy">
+                {energyLeft === null
+                  ? "—"
+                  : `${energyLeft.toFixed(0)} Wh left of ${capacity?.toFixed(0) ?? "?"} Wh (${energyUsed?.toFixed(1) ?? "?"} Wh used)`}
+              </dd>
+              <dt>Faults</dt>
+              <dd data-testid="rehearsal-faults">
+                {activeFaults.length ? activeFaults.map((f) => FAULT_LABEL[f] ?? f).join(", ") : "none"}
+                {queuedFaults.length
+                  ? ` · queued for the next goal: ${queuedFaults.map((f) => FAULT_LABEL[f] ?? f).join(", ")}`
+                  : ""}
+              </dd>
+            </dl>
+            {faultNotice && (
+              <p className="notice" role="status" data-testid="fault-notice">
+                {faultNotice}
+              </p>
+            )}
+            {live.source === "manual" && waiting && question && (
+              <p className="question" data-testid="rehearsal-question">
+                {question}
+                {suggested?.outcome && (
+                  <>
+                    {" "}
+                    <span className="hint">
+                      The simulation saw: {OUTCOME_LABEL[suggested.outcome as Outcome] ?? suggested.outcome}
+                      {suggested.because ? ` (${suggested.because})` : ""}.
+                    </span>
+                  </>
+                )}
+              </p>
+            )}
             {live.source === "manual" && (
               <div className="button-row" role="group" aria-label="Outcome of the current goal">
                 {OUTCOMES.map((o) => (
@@ -180,6 +244,25 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
                 ))}
               </div>
             )}
+            <button
+              type="button"
+              className="secondary"
+              disabled={busy || state !== "running"}
+              data-testid="skip-rehearsal"
+              onClick={() =>
+                void act(async () => {
+                  setLive(
+                    unwrap(
+                      await api.POST("/api/rehearsals/{rehearsal_id}/skip", {
+                        params: { path: { rehearsal_id: live.id } },
+                      }),
+                    ),
+                  );
+                })
+              }
+            >
+              Skip to the next decision
+            </button>
             <div className="button-row" role="group" aria-label="Inject a fault">
               {FAULTS.map((f) => (
                 <button
@@ -187,16 +270,19 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
                   type="button"
                   className="secondary"
                   disabled={busy || finished}
+                  data-testid={`fault-${f.value}`}
                   onClick={() =>
                     void act(async () => {
-                      setLive(
-                        unwrap(
-                          await api.POST("/api/rehearsals/{rehearsal_id}/faults", {
-                            params: { path: { rehearsal_id: live.id } },
-                            body: { fault: f.value },
-                          }),
-                        ),
+                      setFaultNotice(null);
+                      const answer = unwrap(
+                        await api.POST("/api/rehearsals/{rehearsal_id}/faults", {
+                          params: { path: { rehearsal_id: live.id } },
+                          body: { fault: f.value },
+                        }),
                       );
+                      setLive(answer);
+                      const notice = answer.status.fault_notice as { text?: string } | null | undefined;
+                      setFaultNotice(notice?.text ?? `${f.label}: sent.`);
                     })
                   }
                 >
@@ -210,13 +296,15 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
               data-testid="stop-rehearsal"
               onClick={() =>
                 void act(async () => {
-                  await unwrap(
+                  const stored: StoredRecord = unwrap(
                     await api.POST("/api/rehearsals/{rehearsal_id}/stop", {
                       params: { path: { rehearsal_id: live.id } },
                     }),
                   );
                   setLive(null);
-                  records.reload();
+                  setFaultNotice(null);
+                  // Listed at once from the stop's answer (the record is stored by then).
+                  records.replace([stored, ...(records.data ?? []).filter((r) => r.digest !== stored.digest)]);
                 })
               }
             >
@@ -276,7 +364,7 @@ function outcomeGoals(status: Record<string, unknown>): Set<string> {
 type StartBody = {
   source: Source;
   seed: number;
-  speed: number;
+  speed: number | null;
   path_index?: number | null;
   faults: string[];
   version?: number | null;
@@ -293,7 +381,8 @@ function StartForm({
 }) {
   const [source, setSource] = useState<Source>("manual");
   const [seed, setSeed] = useState(0);
-  const [speed, setSpeed] = useState(50);
+  // Empty: the auto pace (each goal's plan in about three seconds).
+  const [speed, setSpeed] = useState("");
   const [pathIndex, setPathIndex] = useState(1);
   const [version, setVersion] = useState<string>("");
   const [faults, setFaults] = useState<string[]>([]);
@@ -305,7 +394,7 @@ function StartForm({
         onStart({
           source,
           seed,
-          speed,
+          speed: speed.trim() === "" ? null : Number(speed),
           path_index: source === "replay" ? pathIndex : null,
           faults,
           version: version ? Number(version) : null,
@@ -344,14 +433,15 @@ function StartForm({
         <input type="number" min={0} value={seed} onChange={(e) => setSeed(Number(e.target.value) || 0)} />
       </label>
       <label>
-        Speed (× real time)
+        Speed (× real time; empty: auto, each goal in about 3 s)
         <input
           type="number"
           min={0.1}
           max={100000}
           step="any"
+          placeholder="auto"
           value={speed}
-          onChange={(e) => setSpeed(Number(e.target.value) || 50)}
+          onChange={(e) => setSpeed(e.target.value)}
           data-testid="rehearsal-speed"
         />
       </label>

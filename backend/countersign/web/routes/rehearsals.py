@@ -65,8 +65,9 @@ class RehearsalIn(RequestBody):
                                    "counted from 1 as in /paths")
     faults: list[FaultSpecText] = Field(default_factory=list, max_length=8,
                                         description="fault, fault@seconds or fault@goal")
-    speed: float = Field(default=50.0, ge=0.1, le=100_000,
-                         description="simulated seconds per wall second")
+    speed: float | None = Field(default=None, ge=0.1, le=100_000,
+                                description="simulated seconds per wall second; omitted: the "
+                                "auto pace (each goal's plan in about three seconds)")
     version: int | None = Field(default=None, ge=1, le=2**31 - 1,
                                 description="the version to rehearse; omitted: the draft")
 
@@ -130,12 +131,19 @@ def start_rehearsal(mission_id: str, body: RehearsalIn, request: Request,
         data, digest = mission.draft, mission.draft_digest
     orders = orders_from_data(data)
     from ...rehearse.manager import RehearsalOptions
+    from ...store.charts import charts_in
+    from ...verify.charts import mission_box
+
+    # The registry's charts in use are drawn in the scene as the plan view draws them; the
+    # orders (and their digest) stay as stored.
+    region = mission_box(orders)
+    charts = list(charts_in(db, region)) if region is not None else []
 
     options = RehearsalOptions(source=body.source, seed=body.seed, path_index=body.path_index,
                                faults=tuple(body.faults), speed=body.speed)
     try:
         live = hub_of(request).start(orders, user_id=principal.user.id, mission_id=mission_id,
-                                     version=body.version, options=options)
+                                     version=body.version, options=options, charts=charts)
     except ValueError as exc:
         raise Unprocessable(f"the rehearsal cannot start: {exc}") from None
     if live.rehearsal.orders_digest != digest:
@@ -182,6 +190,19 @@ def inject_fault(rehearsal_id: RehearsalId, body: FaultIn, request: Request,
         raise Conflict(str(exc)) from None
     record(db, kind="rehearsal.fault", actor=principal.user, mission_id=live.mission_id,
            detail={"rehearsal": rehearsal_id, "fault": body.fault})
+    return _out(live)
+
+
+@router.post("/rehearsals/{rehearsal_id}/skip", operation_id="skipRehearsal",
+             response_model=RehearsalOut, **allow(*REHEARSERS))
+def skip_rehearsal(rehearsal_id: RehearsalId, request: Request,
+                   principal: CurrentPrincipal) -> RehearsalOut:
+    """Run to the next decision (the next outcome chosen or asked for) at once."""
+    live = hub_of(request).get(rehearsal_id, user_id=principal.user.id)
+    try:
+        live.rehearsal.skip()
+    except ValueError as exc:
+        raise Conflict(str(exc)) from None
     return _out(live)
 
 
