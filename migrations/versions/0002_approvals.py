@@ -14,6 +14,7 @@ from alembic import op
 from countersign.approvals.log import GENESIS, entry_bytes, entry_leaf, event_data
 from countersign.store.tables import APPEND_ONLY_TABLES, UtcDateTime
 
+
 revision = '0002'
 down_revision = '0001'
 branch_labels = None

@@ -13,6 +13,7 @@ from alembic import op
 
 from countersign.store.tables import APPEND_ONLY_TABLES_0003
 
+
 revision = '0003'
 down_revision = '0002'
 branch_labels = None
