@@ -14,7 +14,7 @@ import secrets
 from typing import Any
 
 import rfc8785
-from sqlalchemy import func, select, update
+from sqlalchemy import CursorResult, func, select, update
 from sqlalchemy.dialects.postgresql import insert as pg_insert
 from sqlalchemy.dialects.sqlite import insert as sqlite_insert
 from sqlalchemy.orm import Session as DbSession
@@ -106,7 +106,8 @@ def store_result(db: DbSession, campaign_id: str, index: int, result: dict[str, 
     else:
         statement = sqlite_insert(CampaignRun).values(**values).on_conflict_do_nothing(
             index_elements=["campaign_id", "index"])
-    return bool(db.execute(statement).rowcount)
+    inserted: CursorResult[Any] = db.execute(statement)  # type: ignore[assignment]
+    return bool(inserted.rowcount)
 
 
 def mark_running(db: DbSession, campaign_id: str) -> None:
@@ -129,9 +130,10 @@ def seal(db: DbSession, campaign_id: str, record: dict[str, Any]) -> str | None:
     record's digest is sha256 over its RFC 8785 form. Returns the digest when this call
     finished it."""
     digest = "sha256:" + hashlib.sha256(rfc8785.dumps(record)).hexdigest()
-    done = db.execute(update(Campaign).where(Campaign.id == campaign_id,
-                                             Campaign.state.in_(ACTIVE_STATES))
-                      .values(state="finished", record=record, digest=digest, ended_at=utcnow()))
+    statement = (update(Campaign)
+                 .where(Campaign.id == campaign_id, Campaign.state.in_(ACTIVE_STATES))
+                 .values(state="finished", record=record, digest=digest, ended_at=utcnow()))
+    done: CursorResult[Any] = db.execute(statement)  # type: ignore[assignment]
     return digest if done.rowcount else None
 
 
