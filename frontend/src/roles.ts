@@ -17,7 +17,9 @@ export type Action =
   | "createVersion"
   | "manageUsers"
   | "manageVehicles"
-  | "readEvents";
+  | "readEvents"
+  | "startCampaign"
+  | "cancelCampaign";
 
 /** The route behind each action: its roles are the server's (roles.gen.ts, from x-roles). */
 export const ACTION_OPERATION = {
@@ -29,6 +31,8 @@ export const ACTION_OPERATION = {
   manageUsers: "createUser",
   manageVehicles: "putVehicle",
   readEvents: "listEvents",
+  startCampaign: "startCampaign",
+  cancelCampaign: "cancelCampaign",
 } as const satisfies Record<Action, keyof typeof OPERATION_ROLES>;
 
 export function can(role: string | null | undefined, action: Action): boolean {

@@ -8,6 +8,15 @@ declaration). Roles: operator, supervisor, auditor, admin, or anonymous (no sign
 from __future__ import annotations
 
 REVIEWED_ROLES: dict[str, tuple[str, ...]] = {
+    # Rehearsal campaigns (issue 20): operators and supervisors start and cancel their own;
+    # every role reads; only the submitting operator attaches one to a submission.
+    "startCampaign": ("operator", "supervisor"),
+    "cancelCampaign": ("operator", "supervisor"),
+    "listCampaigns": ("operator", "supervisor", "auditor", "admin"),
+    "getCampaign": ("operator", "supervisor", "auditor", "admin"),
+    "campaignProbabilities": ("operator", "supervisor", "auditor", "admin"),
+    "attachCampaign": ("operator",),
+    "listAttachedCampaigns": ("operator", "supervisor", "auditor", "admin"),
     # Chart registry and plan view (issue 21): admins write, every signed-in role reads.
     "listCharts": ("operator", "supervisor", "auditor", "admin"),
     "exportCharts": ("operator", "supervisor", "auditor", "admin"),

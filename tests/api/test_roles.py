@@ -14,6 +14,7 @@ PATH_VALUES = {"mission_id": "search-and-sample", "number": "1", "user_id": "999
                "token_id": "999", "vehicle_id": "remus-100", "submission_id": "999",
                "approval_id": "999", "key_id": "0" * 64,
                "rehearsal_id": "no-such-rehearsal", "digest": "sha256:" + "0" * 64,
+               "campaign_id": "0" * 16,
                "name": "search-and-sample", "format": "imc",
                "chart_id": "no-such-chart"}
 

@@ -19,6 +19,8 @@ ALLOWED: dict[str, set[str]] = {
     "rules": {"orders"},
     "verify": {"orders", "rules"},
     "rehearse": {"orders", "rules", "verify"},
+    # Campaigns run the rehearsal simulation headless; their jobs (countersign.jobs) store.
+    "campaigns": {"orders", "rules", "verify", "rehearse", "errors"},
     "plan": {"orders", "rules", "verify"},
     # An approved package holds approvals' envelope, receipt and proofs, and its verifier
     # checks them; approvals never imports export (checked below through this table).

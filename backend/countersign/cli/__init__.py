@@ -14,6 +14,7 @@ from collections.abc import Sequence
 from .. import __version__
 from . import (
     approvals,
+    campaign,
     charts,
     execution,
     orders,
@@ -42,8 +43,8 @@ def build_parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     # The order of the groups is the order of `countersign --help`.
-    for group in (orders, server, plan, rules, rehearse, approvals, witness, package, execution,
-                  charts):
+    for group in (orders, server, plan, rules, rehearse, campaign, approvals, witness, package,
+                  execution, charts):
         group.add_commands(commands)
     return parser
 

@@ -229,6 +229,56 @@ class RehearsalRecord(Base):
     created_at: Mapped[datetime] = mapped_column(default=utcnow, index=True)
 
 
+class Campaign(Base):
+    """A rehearsal campaign (issue 20): N seeded simulations of one set of orders over a sweep.
+    `state` moves queued -> running -> finished | cancelled; `record` and `digest` are set once,
+    when the last simulation is stored."""
+
+    __tablename__ = "campaigns"
+    id: Mapped[str] = mapped_column(String(32), primary_key=True)
+    mission_id: Mapped[str | None] = mapped_column(String(100), default=None, index=True)
+    version: Mapped[int | None] = mapped_column(Integer, default=None)
+    orders_digest: Mapped[str] = mapped_column(String(71), index=True)
+    orders: Mapped[dict[str, Any]]
+    owner_id: Mapped[int | None] = mapped_column(ForeignKey("users.id"), default=None,
+                                                 index=True)
+    spec: Mapped[dict[str, Any]]
+    simulations: Mapped[int] = mapped_column(Integer)
+    state: Mapped[str] = mapped_column(String(16), default="queued", index=True)
+    created_at: Mapped[datetime] = mapped_column(default=utcnow)
+    ended_at: Mapped[datetime | None] = mapped_column(default=None)
+    record: Mapped[dict[str, Any] | None] = mapped_column(default=None)
+    digest: Mapped[str | None] = mapped_column(String(71), default=None, unique=True)
+
+
+class CampaignRun(Base):
+    """One simulation's result. At most one per (campaign, index), enforced by the database:
+    a job retried after its worker died can never count a simulation twice."""
+
+    __tablename__ = "campaign_runs"
+    id: Mapped[int] = mapped_column(BigInteger().with_variant(Integer, "sqlite"),
+                                    primary_key=True)
+    campaign_id: Mapped[str] = mapped_column(ForeignKey("campaigns.id", ondelete="CASCADE"))
+    index: Mapped[int] = mapped_column(Integer)
+    result: Mapped[dict[str, Any]]
+    __table_args__ = (UniqueConstraint("campaign_id", "index",
+                                       name="uq_campaign_runs_campaign_index"),)
+
+
+class CampaignAttachment(Base):
+    """A finished campaign's record cited by a submission, beside its rehearsal record."""
+
+    __tablename__ = "campaign_attachments"
+    id: Mapped[int] = mapped_column(Integer, primary_key=True)
+    submission_id: Mapped[int] = mapped_column(ForeignKey("submissions.id"), index=True)
+    campaign_id: Mapped[str] = mapped_column(ForeignKey("campaigns.id"))
+    digest: Mapped[str] = mapped_column(String(71))
+    attached_by: Mapped[int] = mapped_column(ForeignKey("users.id"))
+    attached_at: Mapped[datetime] = mapped_column(default=utcnow)
+    __table_args__ = (UniqueConstraint("submission_id", "campaign_id",
+                                       name="uq_campaign_attachments_submission_campaign"),)
+
+
 class Event(Base):
     """The append-only log of every state change."""
 

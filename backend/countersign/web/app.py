@@ -31,6 +31,7 @@ from .routes import (
     standing,
     vehicles,
 )
+from .routes import campaigns as campaign_routes  # issue 20
 from .routes import executions as execution_routes  # issue 19
 from .routes import exports as export_routes  # issue 19
 from .settings import Settings
@@ -150,11 +151,17 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
         if pool is not None:
             database.reports.validator = pool.validate
         app.state.validation_pool = pool
+        if database.engine.dialect.name != "postgresql":
+            # SQLite: this process runs campaign jobs; pick up those a killed one left.
+            campaign_routes.start_runner(app)
         try:
             yield
         finally:
             # Every live rehearsal's viser server (threads and port) ends with the app.
             hub.shutdown()
+            runner = getattr(app.state, "campaign_runner", None)
+            if runner is not None:
+                runner.close()
             if pool is not None:
                 database.reports.validator = None
                 pool.shutdown()
@@ -192,6 +199,7 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     app.include_router(rehearsals.viewer)
     app.include_router(export_routes.router)
     app.include_router(execution_routes.router)
+    app.include_router(campaign_routes.router)
     _serve_frontend(app, settings.frontend_dist)
     app.add_middleware(BodyLimit, limit=settings.max_body_bytes)
     return app

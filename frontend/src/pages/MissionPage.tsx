@@ -32,6 +32,7 @@ import { useCan, useSession } from "../session";
 import { outcomeLetters, traceText } from "../trace";
 import { useLoad } from "../useLoad";
 import { SubmissionPanel } from "./approvals";
+import { CampaignPanel } from "./campaigns/CampaignPanel";
 import { RehearsalPanel } from "./RehearsalPage";
 
 const TABS = [
@@ -365,6 +366,7 @@ function VersionsTab({ mission, onChange }: { mission: MissionDetail; onChange: 
       <ErrorMessage error={error} />
       {created !== null && <Notice>Version {created} created.</Notice>}
       <SubmissionPanel mission={mission.id} versions={mission.versions.map((v) => v.number)} onChange={onChange} />
+      <CampaignPanel mission={mission.id} versions={mission.versions.map((v) => v.number)} />
       {versions.length === 0 ? (
         <p className="empty">No versions yet.</p>
       ) : (

@@ -1,0 +1,109 @@
+"""The in-process runner for the embedded SQLite default: the same task function as the
+procrastinate workers, on a small pool in this process (threads) or beside it (processes,
+for simulations in parallel). Its queue is the database itself: `resume()` reschedules every
+unfinished campaign's missing chunks, so a process killed mid-run loses nothing that was
+stored and counts nothing twice when started again."""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import logging
+import multiprocessing
+import threading
+from collections.abc import Callable
+
+from ..store import campaigns as store
+from ..store.db import Database
+from .tasks import missing_chunks, run_chunk
+
+log = logging.getLogger("countersign.campaigns")
+MAX_WORKERS = 8
+ATTEMPTS = 3
+
+_process_database: Database | None = None
+
+
+def _process_init(url: str) -> None:
+    global _process_database
+    _process_database = Database(url)
+
+
+def _process_chunk(campaign_id: str, start: int, stop: int) -> int:
+    assert _process_database is not None
+    return _attempts(_process_database, campaign_id, start, stop, None)
+
+
+def _attempts(database: Database, campaign_id: str, start: int, stop: int,
+              on_stored: Callable[[int], None] | None) -> int:
+    """The job, tried ATTEMPTS times (as procrastinate's retry); then the campaign fails."""
+    for attempt in range(1, ATTEMPTS + 1):
+        try:
+            return run_chunk(database, campaign_id, start, stop, on_stored=on_stored)
+        except Exception as exc:
+            log.warning("campaign %s job [%d, %d) attempt %d failed: %r", campaign_id, start,
+                        stop, attempt, exc)
+            if attempt == ATTEMPTS:
+                with database.session() as db:
+                    store.fail(db, campaign_id, f"a job failed {ATTEMPTS} times: "
+                               f"{type(exc).__name__}: {exc}")
+                raise
+    return 0
+
+
+class InProcessRunner:
+    def __init__(self, database: Database, *, workers: int = 1, processes: bool = False,
+                 on_stored: Callable[[int], None] | None = None) -> None:
+        if not 1 <= workers <= MAX_WORKERS:
+            raise ValueError(f"workers must be from 1 to {MAX_WORKERS}")
+        self.database = database
+        self.on_stored = on_stored
+        self._lock = threading.Lock()
+        self._futures: list[cf.Future[int]] = []
+        self._pool: cf.Executor
+        if processes:
+            # Not fork: the caller may run threads (the web server), which fork would copy
+            # in whatever state they are.
+            context = multiprocessing.get_context("spawn")
+            self._pool = cf.ProcessPoolExecutor(workers, mp_context=context,
+                                                initializer=_process_init,
+                                                initargs=(database.url,))
+            self._processes = True
+        else:
+            self._pool = cf.ThreadPoolExecutor(workers, thread_name_prefix="campaign")
+            self._processes = False
+
+    def enqueue(self, campaign_id: str, chunks: list[tuple[int, int]]) -> None:
+        with self._lock:
+            for start, stop in chunks:
+                if self._processes:
+                    future = self._pool.submit(_process_chunk, campaign_id, start, stop)
+                else:
+                    future = self._pool.submit(_attempts, self.database, campaign_id, start,
+                                               stop, self.on_stored)
+                future.add_done_callback(self._report)
+                self._futures.append(future)
+
+    def resume(self) -> list[str]:
+        """Schedule what every unfinished campaign still lacks; their ids."""
+        with self.database.session(write=False) as db:
+            ids = [row.id for row in store.unfinished(db)]
+        for campaign_id in ids:
+            chunks = missing_chunks(self.database, campaign_id)
+            if chunks:
+                self.enqueue(campaign_id, chunks)
+            else:
+                run_chunk(self.database, campaign_id, 0, 0)  # all stored: just seal it
+        return ids
+
+    def wait(self, timeout: float | None = None) -> None:
+        with self._lock:
+            futures = list(self._futures)
+        cf.wait(futures, timeout=timeout)
+
+    def close(self) -> None:
+        self._pool.shutdown(wait=False, cancel_futures=True)
+
+    @staticmethod
+    def _report(future: cf.Future[int]) -> None:
+        if not future.cancelled() and future.exception() is not None:
+            log.error("campaign job failed: %r", future.exception())

@@ -1,0 +1,307 @@
+/**
+ * Rehearsal campaigns on the mission page's Versions tab (issue 20, item 3): start N seeded
+ * simulations of a version over a sweep of faults and injection goals, follow the progress,
+ * cancel, and read the estimates: terminal probabilities with 95% Wilson intervals, the paths
+ * covered (numbered as in the Paths tab), an energy histogram, and per-goal outcome
+ * probabilities offered for the orders' `p` (copied by the operator, never written for them).
+ */
+import { useEffect, useState } from "react";
+
+import { api, type Schema, unwrap } from "../../api/client";
+import { ErrorMessage, Notice } from "../../components/Status";
+import { useCan, useSession } from "../../session";
+import { useLoad } from "../../useLoad";
+
+type Campaign = Schema<"CampaignOut">;
+type Estimate = { count: number; p: number | null; ci: [number, number] };
+type Results = {
+  simulations: number;
+  terminals: Record<string, Estimate>;
+  any_violation: Estimate;
+  no_terminal: Estimate;
+  goals: Record<string, { visits: number } & Record<"succeed" | "fail" | "violate", Estimate>>;
+  coverage: { total_paths: number | null; covered: number; paths: { path: number; count: number }[] };
+  energy_wh: { mean: number | null; min: number | null; max: number | null; histogram: { edges: number[]; counts: number[] } };
+};
+
+const FAULTS = ["none", "gps_loss", "nav_drift", "leak", "low_energy", "contact_close"];
+const ACTIVE = new Set(["queued", "running"]);
+
+export function CampaignPanel({ mission, versions }: { mission: string; versions: number[] }) {
+  const canStart = useCan("startCampaign");
+  const { data, error, reload } = useLoad(
+    async () =>
+      unwrap(await api.GET("/api/missions/{mission_id}/campaigns", { params: { path: { mission_id: mission } } })) as Campaign[],
+    [mission],
+  );
+  const campaigns = data ?? [];
+  const running = campaigns.some((c) => ACTIVE.has(c.state));
+  useEffect(() => {
+    if (!running) return;
+    const timer = window.setInterval(reload, 1000);
+    return () => window.clearInterval(timer);
+  }, [running, reload]);
+  const [shown, setShown] = useState<string | null>(null);
+  const selected = campaigns.find((c) => c.id === shown && c.results);
+  return (
+    <section aria-labelledby="campaigns-title" className="card">
+      <h3 id="campaigns-title">Rehearsal campaigns</h3>
+      <p className="hint">
+        Many seeded simulations of a version; the results estimate how likely each ending is.
+      </p>
+      <ErrorMessage error={error} />
+      {canStart && versions.length > 0 && <StartForm mission={mission} versions={versions} onStarted={reload} />}
+      {campaigns.length > 0 && (
+        <table className="campaigns">
+          <caption className="visually-hidden">Campaigns, newest first</caption>
+          <thead>
+            <tr>
+              <th scope="col">Campaign</th>
+              <th scope="col">Version</th>
+              <th scope="col">Sweep</th>
+              <th scope="col">Progress</th>
+              <th scope="col">State</th>
+              <th scope="col"></th>
+            </tr>
+          </thead>
+          <tbody>
+            {campaigns.map((c) => (
+              <CampaignRow key={c.id} campaign={c} onChange={reload} onShow={() => setShown(c.id)} />
+            ))}
+          </tbody>
+        </table>
+      )}
+      {selected && <CampaignResults campaign={selected} />}
+    </section>
+  );
+}
+
+function StartForm({ mission, versions, onStarted }: { mission: string; versions: number[]; onStarted: () => void }) {
+  const [version, setVersion] = useState(Math.max(...versions));
+  const [simulations, setSimulations] = useState(100);
+  const [faults, setFaults] = useState<string[]>(["none"]);
+  const [goals, setGoals] = useState("start");
+  const [seed, setSeed] = useState(0);
+  const [busy, setBusy] = useState(false);
+  const [error, setError] = useState<unknown>(null);
+  const start = async () => {
+    setBusy(true);
+    setError(null);
+    try {
+      unwrap(
+        await api.POST("/api/missions/{mission_id}/versions/{number}/campaigns", {
+          params: { path: { mission_id: mission, number: version } },
+          body: {
+            simulations,
+            faults,
+            goals: goals.split(",").map((g) => g.trim()).filter(Boolean),
+            seed,
+          },
+        }),
+      );
+      onStarted();
+    } catch (e) {
+      setError(e);
+    } finally {
+      setBusy(false);
+    }
+  };
+  const toggle = (fault: string) =>
+    setFaults((f) => (f.includes(fault) ? f.filter((x) => x !== fault) : [...f, fault]));
+  return (
+    <fieldset className="campaign-form">
+      <legend>New campaign</legend>
+      <label>
+        Version{" "}
+        <select value={version} onChange={(e) => setVersion(Number(e.target.value))}>
+          {versions.map((v) => (
+            <option key={v} value={v}>
+              v{v}
+            </option>
+          ))}
+        </select>
+      </label>{" "}
+      <label>
+        Simulations{" "}
+        <input type="number" min={1} max={10000} value={simulations} onChange={(e) => setSimulations(Number(e.target.value))} />
+      </label>{" "}
+      <label>
+        First seed <input type="number" min={0} value={seed} onChange={(e) => setSeed(Number(e.target.value))} />
+      </label>
+      <div role="group" aria-label="Faults of the sweep">
+        {FAULTS.map((fault) => (
+          <label key={fault}>
+            <input type="checkbox" checked={faults.includes(fault)} onChange={() => toggle(fault)} /> {fault}
+          </label>
+        ))}
+      </div>
+      <label>
+        Inject at (goals, comma separated; start = from the start){" "}
+        <input value={goals} maxLength={400} onChange={(e) => setGoals(e.target.value)} />
+      </label>{" "}
+      <button type="button" className="primary" onClick={start} disabled={busy || faults.length === 0}>
+        {busy ? "Starting…" : "Start campaign"}
+      </button>
+      <ErrorMessage error={error} />
+    </fieldset>
+  );
+}
+
+function CampaignRow({ campaign: c, onChange, onShow }: { campaign: Campaign; onChange: () => void; onShow: () => void }) {
+  const { user } = useSession();
+  const canCancel = useCan("cancelCampaign") && c.owner === user?.username && ACTIVE.has(c.state);
+  const [error, setError] = useState<unknown>(null);
+  const cancel = async () => {
+    setError(null);
+    try {
+      unwrap(await api.POST("/api/campaigns/{campaign_id}/cancel", { params: { path: { campaign_id: c.id } } }));
+      onChange();
+    } catch (e) {
+      setError(e);
+    }
+  };
+  const spec = c.spec as { faults?: string[]; goals?: string[]; seed?: number };
+  return (
+    <tr>
+      <td>
+        <code>{c.id}</code>
+      </td>
+      <td>v{c.version}</td>
+      <td>
+        {(spec.faults ?? []).join(", ")} at {(spec.goals ?? []).join(", ")}; seeds from {spec.seed ?? 0}
+      </td>
+      <td>
+        <progress max={c.simulations} value={c.done} aria-label={`Campaign ${c.id} progress`} /> {c.done} / {c.simulations}
+      </td>
+      <td>
+        {c.state}
+        {c.error && <span className="error"> {c.error}</span>}
+      </td>
+      <td>
+        {canCancel && (
+          <button type="button" onClick={cancel}>
+            Cancel
+          </button>
+        )}
+        {c.results && (
+          <button type="button" onClick={onShow}>
+            Results
+          </button>
+        )}
+        <ErrorMessage error={error} />
+      </td>
+    </tr>
+  );
+}
+
+const percent = (x: number | null) => (x === null ? "—" : `${(100 * x).toFixed(1)}%`);
+
+function EstimateCells({ e }: { e: Estimate }) {
+  return (
+    <>
+      <td>{percent(e.p)}</td>
+      <td>
+        {percent(e.ci[0])} – {percent(e.ci[1])}
+      </td>
+      <td>{e.count}</td>
+    </>
+  );
+}
+
+function CampaignResults({ campaign }: { campaign: Campaign }) {
+  const results = campaign.results as unknown as Results;
+  const [offered, setOffered] = useState<string | null>(null);
+  const offer = async () => {
+    const body = unwrap(
+      await api.GET("/api/campaigns/{campaign_id}/probabilities", { params: { path: { campaign_id: campaign.id } } }),
+    ) as { goals: Record<string, { point: Record<string, number> }> };
+    const p = Object.fromEntries(Object.entries(body.goals).map(([goal, g]) => [goal, { p: g.point }]));
+    setOffered(JSON.stringify(p, null, 2));
+  };
+  const coverage = results.coverage;
+  return (
+    <section aria-labelledby="campaign-results-title" className="campaign-results">
+      <h4 id="campaign-results-title">
+        Campaign <code>{campaign.id}</code>: {results.simulations} simulations
+      </h4>
+      <table>
+        <caption>Estimated probabilities (95% Wilson intervals)</caption>
+        <thead>
+          <tr>
+            <th scope="col">Ending</th>
+            <th scope="col">Estimate</th>
+            <th scope="col">Interval</th>
+            <th scope="col">Simulations</th>
+          </tr>
+        </thead>
+        <tbody>
+          {Object.entries(results.terminals).map(([terminal, e]) => (
+            <tr key={terminal}>
+              <th scope="row">{terminal}</th>
+              <EstimateCells e={e} />
+            </tr>
+          ))}
+          <tr>
+            <th scope="row">Any violation</th>
+            <EstimateCells e={results.any_violation} />
+          </tr>
+        </tbody>
+      </table>
+      <p>
+        Paths covered: {coverage.covered} of {coverage.total_paths ?? "?"}
+        {coverage.paths.length > 0 && ": "}
+        {coverage.paths.map((p) => `#${p.path} (${p.count})`).join(", ")}
+      </p>
+      <EnergyHistogram edges={results.energy_wh.histogram.edges} counts={results.energy_wh.histogram.counts} />
+      <button type="button" onClick={offer}>
+        Offer per-goal probabilities
+      </button>
+      {offered && (
+        <>
+          <Notice>
+            Estimated outcome probabilities per goal, in the orders’ form. Copy them into the draft yourself if you want
+            them; nothing was changed.
+          </Notice>
+          <pre className="offered-p">{offered}</pre>
+        </>
+      )}
+    </section>
+  );
+}
+
+export function EnergyHistogram({ edges, counts }: { edges: number[]; counts: number[] }) {
+  const width = 480;
+  const height = 160;
+  const pad = 28;
+  const peak = Math.max(1, ...counts);
+  const barWidth = counts.length ? (width - 2 * pad) / counts.length : 0;
+  return (
+    <figure>
+      <svg viewBox={`0 0 ${width} ${height}`} width={width} height={height} role="img" aria-label="Energy used per simulation, histogram">
+        <line x1={pad} y1={height - pad} x2={width - pad} y2={height - pad} stroke="currentColor" />
+        {counts.map((count, i) => {
+          const h = ((height - 2 * pad) * count) / peak;
+          return (
+            <rect key={i} x={pad + i * barWidth + 1} y={height - pad - h} width={Math.max(1, barWidth - 2)} height={h} fill="steelblue">
+              <title>{`${edges[i]?.toFixed(0)}–${edges[i + 1]?.toFixed(0)} Wh: ${count}`}</title>
+            </rect>
+          );
+        })}
+        {edges.length > 0 && (
+          <>
+            <text x={pad} y={height - 8} fontSize="11">
+              {(edges[0] ?? 0).toFixed(0)} Wh
+            </text>
+            <text x={width - pad} y={height - 8} fontSize="11" textAnchor="end">
+              {(edges[edges.length - 1] ?? 0).toFixed(0)} Wh
+            </text>
+            <text x={pad} y={pad - 8} fontSize="11">
+              {peak}
+            </text>
+          </>
+        )}
+      </svg>
+      <figcaption>Energy used per simulation (Wh)</figcaption>
+    </figure>
+  );
+}

@@ -1,0 +1,119 @@
+"""Campaigns through the API (issue 20, item 3) on the in-process runner (SQLite) and, with
+COUNTERSIGN_TEST_POSTGRES_URL, the procrastinate queue: start, follow, cancel, bounds,
+per-person concurrency, the offered probabilities (never written into orders), attachment."""
+
+from __future__ import annotations
+
+import time
+from typing import Any
+
+import pytest
+from fastapi.testclient import TestClient
+
+from countersign.store import campaigns as store
+
+from .approval_helpers import MISSION, new_version, submit
+from .conftest import World
+
+
+def _wait_finished(client: TestClient, campaign_id: str, timeout_s: float = 600) -> dict[str, Any]:
+    deadline = time.monotonic() + timeout_s
+    while True:
+        body: dict[str, Any] = client.get(f"/api/campaigns/{campaign_id}").json()
+        if body["state"] not in ("queued", "running"):
+            return body
+        assert time.monotonic() < deadline, f"campaign still {body['state']}: {body['done']}"
+        time.sleep(0.2)
+
+
+def _start(client: TestClient, number: int, **body: Any) -> Any:
+    return client.post(f"/api/missions/{MISSION}/versions/{number}/campaigns",
+                       json={"simulations": 4, **body})
+
+
+@pytest.fixture
+def sqlite_world(world: World) -> World:
+    if world.database.engine.dialect.name != "sqlite":
+        pytest.skip("the in-process runner runs the jobs on SQLite; PostgreSQL needs workers "
+                    "(tests/campaigns/test_campaign_kill.py)")
+    return world
+
+
+def test_a_campaign_runs_reports_and_offers_probabilities(sqlite_world: World) -> None:
+    world = sqlite_world
+    number = new_version(world)
+    operator = world.client("operator")
+    started = _start(operator, number, faults=["none", "nav_drift"])
+    assert started.status_code == 201, started.text
+    campaign = started.json()
+    assert campaign["state"] in ("queued", "running") and campaign["simulations"] == 4
+    done = _wait_finished(operator, campaign["id"])
+    assert done["state"] == "finished" and done["done"] == 4
+    results = done["results"]
+    assert results["coverage"]["total_paths"] == 75
+    assert results["simulations"] == 4
+    assert sum(results["energy_wh"]["histogram"]["counts"]) == 4
+    auditor = world.client("auditor")
+    offered = auditor.get(f"/api/campaigns/{campaign['id']}/probabilities")
+    assert offered.status_code == 200
+    assert set(offered.json()["goals"]["G1"]["point"]) == {"succeed", "fail", "violate"}
+    # Offered, not written: the version's orders carry no p.
+    version = operator.get(f"/api/missions/{MISSION}/versions/{number}").json()
+    assert all("p" not in g for g in version["orders"]["goals"])
+    listed = auditor.get(f"/api/missions/{MISSION}/campaigns").json()
+    assert [c["id"] for c in listed] == [campaign["id"]]
+    # Attached to a submission of exactly that version, by the submitting operator.
+    submission = submit(world, number)
+    refused = world.client("supervisor").post(f"/api/submissions/{submission}/campaigns",
+                                              json={"campaign": campaign["id"]})
+    assert refused.status_code == 403
+    attached = operator.post(f"/api/submissions/{submission}/campaigns",
+                             json={"campaign": campaign["id"]})
+    assert attached.status_code == 201, attached.text
+    assert attached.json()["digest"] == done["digest"]
+    assert auditor.get(f"/api/submissions/{submission}/campaigns").json()[0]["campaign"] \
+        == campaign["id"]
+
+
+def test_bad_campaigns_are_refused_naming_the_field(world: World) -> None:
+    number = new_version(world)
+    operator = world.client("operator")
+    for body, word in [({"simulations": 0}, "simulations"),
+                       ({"simulations": 10_001}, "simulations"),
+                       ({"faults": ["boom"]}, "boom"),
+                       ({"faults": ["leak"], "goals": ["G99"]}, "G99"),
+                       ({"seed": -1}, "seed")]:
+        response = _start(operator, number, **body)
+        assert response.status_code == 422, (body, response.text)
+        assert word in response.text
+    assert _start(world.client("auditor"), number).status_code == 403
+    assert operator.get("/api/campaigns/" + "0" * 16).status_code == 404
+    assert operator.get("/api/campaigns/not-an-id").status_code == 422
+
+
+def test_one_person_runs_a_bounded_number_of_campaigns_and_cancels_their_own(
+        world: World, monkeypatch: pytest.MonkeyPatch) -> None:
+    # No runner: the campaigns stay queued, as they would behind busy workers.
+    class Idle:
+        def enqueue(self, campaign_id: str, chunks: list[tuple[int, int]]) -> None:
+            pass
+
+        def close(self) -> None:
+            pass
+
+    world.app.state.campaign_runner = Idle()
+    number = new_version(world)
+    operator = world.client("operator")
+    ids = [_start(operator, number).json()["id"] for _ in range(store.MAX_ACTIVE_PER_USER)]
+    third = _start(operator, number)
+    assert third.status_code == 429
+    assert f"at most {store.MAX_ACTIVE_PER_USER}" in third.text
+    assert _start(world.client("supervisor"), number).status_code == 201  # another person
+    assert world.client("supervisor").post(f"/api/campaigns/{ids[0]}/cancel").status_code == 403
+    cancelled = operator.post(f"/api/campaigns/{ids[0]}/cancel")
+    assert cancelled.status_code == 200 and cancelled.json()["state"] == "cancelled"
+    assert _start(operator, number).status_code == 201
+    # A cancelled campaign's jobs stop without simulating.
+    from countersign.jobs.tasks import run_chunk
+
+    assert run_chunk(world.database, ids[0], 0, 4) == 0

@@ -1,0 +1,47 @@
+"""Issue 20 item 3 in the browser: an operator starts a campaign on the Versions tab, watches
+its progress bar reach the end, reads the estimates with the covered paths and the SVG energy
+histogram, and is offered per-goal probabilities; a second campaign is cancelled."""
+
+from __future__ import annotations
+
+import json
+import re
+
+from playwright.sync_api import Page, expect
+
+from .conftest import Server, _api_import
+from .test_roles import sign_in
+from .test_vehicle_registry import client, exemplar
+
+
+def test_operator_runs_reads_and_cancels_campaigns(page: Page, server: Server) -> None:
+    data = exemplar()
+    data["id"] = "e2e-campaigns"
+    mission = _api_import(server, json.dumps(data).encode(), "application/json")
+    with client(server, "operator") as operator:
+        assert operator.post(f"/api/missions/{mission}/versions").status_code == 201
+
+    sign_in(page, "operator")
+    page.goto(f"/missions/{mission}")
+    page.get_by_role("tab", name=re.compile("^Versions")).click()
+    panel = page.get_by_role("region", name="Rehearsal campaigns")
+    panel.get_by_role("spinbutton", name="Simulations").fill("3")
+    panel.get_by_label("nav_drift").check()
+    panel.get_by_role("button", name="Start campaign").click()
+    row = panel.get_by_role("row").nth(1)
+    expect(row).to_contain_text("finished", timeout=240_000)
+    expect(row).to_contain_text("3 / 3")
+    row.get_by_role("button", name="Results").click()
+    results = panel.get_by_role("region", name=re.compile("^Campaign "))
+    expect(results).to_contain_text(re.compile(r"Paths covered: \d+ of 75"))
+    expect(results.get_by_role("img", name=re.compile("Energy used"))).to_be_visible()
+    expect(results.locator("svg rect").first).to_be_visible()
+    results.get_by_role("button", name="Offer per-goal probabilities").click()
+    expect(results.locator("pre.offered-p")).to_contain_text('"succeed"')
+
+    panel.get_by_role("spinbutton", name="Simulations").fill("5000")
+    panel.get_by_role("button", name="Start campaign").click()
+    running = panel.get_by_role("row").nth(1)
+    expect(running).to_contain_text("/ 5000")
+    running.get_by_role("button", name="Cancel").click()
+    expect(running).to_contain_text("cancelled")
