@@ -626,11 +626,11 @@ class _Reader:
                 for entry in graph.objects(node, _ENTRY)
             }
         for predicate, objects in list(properties.items()):
-            if objects and predicate.startswith(_KEY_PREFIX):
+            name = str(predicate)
+            if objects and name.startswith(_KEY_PREFIX):
                 if mapped is None:
                     mapped = {}
-                mapped[predicate[len(_KEY_PREFIX):]] = self.decode(next(iter(objects)),
-                                                                   depth + 1)
+                mapped[name[len(_KEY_PREFIX):]] = self.decode(next(iter(objects)), depth + 1)
         return str(node) if mapped is None else mapped
 
     def has_record(self, node: Node) -> bool:
