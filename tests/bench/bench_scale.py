@@ -6,8 +6,11 @@ Each figure is printed beside a naive baseline measured in this same process: th
 of a 10,000-goal DAG and of a 100,000-goal chain (peak traced memory and time, against the
 per-depth JSON prefix the old writer kept and a recursive DFS); Turtle export and import at
 1,000 and 10,000 goals (against rdflib's own Turtle serializer); vacuity at 200 goals/50
-constraints and 10,000 goals/1,000 constraints (batched against one check per constraint);
+constraints and 10,000 goals/1,000 constraints (batched in one solver context against one
+solver call per constraint, findings compared first);
 and a description edit of a 1,000-goal mission through the API (against a full validation).
+Every input is checked before it is timed (`generated.checked`: no error from validate; the
+logic missions, whose findings are the measured work, pass the structural check).
 """
 
 from __future__ import annotations
@@ -17,23 +20,36 @@ import gc
 import json
 import sys
 import tempfile
+import threading
 import time
 import tracemalloc
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from pydantic import ValidationError
 from rdflib import Graph
 
+from countersign.orders.canonical import digest
 from countersign.orders.model import Orders
 from countersign.orders.turtle import orders_to_graph, read_turtle, write_turtle
-from countersign.verify.logic import LogicCache, check_logic
+from countersign.verify.logic import (
+    DEFAULT_TIMEOUT_MS,
+    Limits,
+    LogicCache,
+    LogicModel,
+    LogicRun,
+    VacuousResult,
+    check_logic,
+)
 from countersign.verify.logic import findings as logic
 from countersign.verify.paths import iter_path_lines, paths_of
 
 from .baseline import naive_paths
 from .bench_logic import logic_orders
-from .generated import random_dag
+from .generated import VEHICLE, checked, checked_structure, random_dag
+
+NAIVE_DFS_MAX_GOALS = 10_000
 
 
 def measure(action: Callable[[], object]) -> tuple[float, float]:
@@ -74,14 +90,38 @@ def first_line(orders: Orders) -> str:
 
 
 def naive_first(orders: Orders) -> str:
-    sys.setrecursionlimit(max(sys.getrecursionlimit(), 4 * len(orders.goals) + 1000))
-    return json.dumps(next(iter(naive_paths(orders))))
+    """The recursive DFS's first path, run in a thread with a stack deep enough for the
+    recursion (on the main thread's 8 MiB stack a 50,000-goal chain overflows the C stack and
+    kills the process)."""
+    found: list[str] = []
+    failed: list[BaseException] = []
+
+    def run() -> None:
+        try:
+            found.append(json.dumps(next(iter(naive_paths(orders)))))
+        except BaseException as exc:  # reported on the calling thread
+            failed.append(exc)
+
+    limit = sys.getrecursionlimit()
+    sys.setrecursionlimit(max(limit, 4 * len(orders.goals) + 1000))
+    size = threading.stack_size(1024 * 2**20)
+    try:
+        worker = threading.Thread(target=run)
+        worker.start()
+        worker.join()
+    finally:
+        threading.stack_size(size)
+        sys.setrecursionlimit(limit)
+    if failed:
+        raise failed[0]
+    return found[0]
 
 
 def chain(n: int) -> Orders:
     items = [{"id": f"G{i}", "next": {"succeed": f"G{i + 1}" if i + 1 < n else "COMPLETE",
                                       "fail": "ABORT", "violate": "ABORT"}} for i in range(n)]
-    return Orders.model_validate({"id": f"chain-{n}", "start": "G0", "goals": items})
+    return Orders.model_validate({"id": f"chain-{n}", "start": "G0", "goals": items,
+                                  "vehicle": "v", "vehicles": [VEHICLE]})
 
 
 def row(label: str, ours: tuple[float, float], naive: tuple[float, float] | None,
@@ -95,14 +135,27 @@ def row(label: str, ours: tuple[float, float], naive: tuple[float, float] | None
 
 def bench_paths(quick: bool) -> None:
     print("## First path line (NDJSON): ours vs per-depth prefixes and a recursive DFS")
+    # The issue asks for a 100,000-goal chain; the model refuses orders above 50,000 goals.
+    try:
+        Orders.model_validate(chain(100_000).model_dump(mode="json", exclude_unset=True))
+        print("  a 100,000-goal chain was accepted (the goal limit changed)")
+    except ValidationError as exc:
+        print(f"  100,000-goal chain: refused by the model ({exc.errors()[0]['msg'][:90]})")
     cases = [("10,000-goal DAG", random_dag(2_000 if quick else 10_000)),
              ("50,000-goal chain (the most orders hold)", chain(10_000 if quick else 50_000))]
     for label, orders in cases:
+        checked(orders)
         ours = measure(lambda o=orders: first_line(o))  # type: ignore[misc]
         row(label, ours, measure(lambda o=orders: prefix_lines(o)),  # type: ignore[misc]
             "prefixes")
+        naive = orders
+        if len(orders.goals) > NAIVE_DFS_MAX_GOALS:
+            # Its trails are copied at every level: memory quadratic in the depth (a
+            # 50,000-goal chain passed 18 GiB before it was stopped).
+            naive = chain(NAIVE_DFS_MAX_GOALS)
         try:
-            row("  (naive DFS)", measure(lambda o=orders: naive_first(o)), None, "")  # type: ignore[misc]
+            row(f"  (naive DFS, {len(naive.goals):,} goals)",
+                measure(lambda o=naive: naive_first(o)), None, "")  # type: ignore[misc]
         except RecursionError:
             print("  (naive DFS)  recursion limit: the chain is too deep for it")
 
@@ -110,8 +163,10 @@ def bench_paths(quick: bool) -> None:
 def bench_turtle(quick: bool) -> None:
     print("## Turtle export and import: ours vs rdflib's Turtle serializer")
     for goals in ((200, 1_000) if quick else (1_000, 10_000)):
-        orders = logic_orders(goals=goals, constraints=50, norms=10)
+        orders = checked_structure(logic_orders(goals=goals, constraints=50, norms=10))
         text = write_turtle(orders)
+        if digest(read_turtle(text.encode()).orders) != digest(orders):
+            raise SystemExit(f"the Turtle of {orders.id} does not read back to the same digest")
         row(f"export {goals:,} goals", measure(lambda o=orders: write_turtle(o)),  # type: ignore[misc]
             measure(lambda o=orders: orders_to_graph(o).serialize(format="turtle")),  # type: ignore[misc]
             "rdflib")
@@ -120,28 +175,72 @@ def bench_turtle(quick: bool) -> None:
         row(f"import {goals:,} goals", measure(lambda t=text: read_turtle(t.encode())),  # type: ignore[misc]
             measure(lambda t=text: Graph().parse(data=t, format="turtle")),  # type: ignore[misc]
             "rdflib's parser alone")
+        print(f"    CPU, ours: export {cpu(lambda o=orders: write_turtle(o)):.3f} s, "  # type: ignore[misc]
+              f"import {cpu(lambda t=text: read_turtle(t.encode())):.3f} s", flush=True)
 
 
-def vacuity(orders: Orders, batched: bool) -> int:
+def whole_logic(orders: Orders, batched: bool) -> list[dict[str, Any]]:
     logic.BATCH_VACUITY = batched
     try:
         # A generous total budget: a run cut short by it reports different undecided warnings.
-        return len(check_logic(orders, LogicCache(), total_timeout_s=900))
+        return [f.to_json() for f in check_logic(orders, LogicCache(), total_timeout_s=900)]
     finally:
         logic.BATCH_VACUITY = True
 
 
+def vacuity_units(orders: Orders, batched: bool) -> tuple[float, list[VacuousResult]]:
+    """(seconds, results) of the VACUOUS units alone, cold (a fresh model, session and cache):
+    batched in one solver context, or one solver call per constraint. The model and the
+    mission unit (which creates the z3 context) are built before the clock starts."""
+    model = LogicModel(orders)
+    run = LogicRun(model, None, Limits.start(DEFAULT_TIMEOUT_MS, 900))
+    mission = run.mission()
+    live = [c for c in model.constraints if c.key not in mission.quarantined]
+    gc.collect()
+    start = time.perf_counter()
+    if batched:
+        run.vacuous_batch(live)
+    results = [run.vacuous(c) for c in live]
+    return time.perf_counter() - start, results
+
+
 def bench_logic(quick: bool) -> None:
-    print("## check_logic, cold: batched vacuity vs one check per constraint")
+    print("## Logic, cold: vacuity batched in one solver context vs one solver call per "
+          "constraint")
     cases = [(200, 50), (2_000, 200) if quick else (10_000, 1_000)]
     for goals, constraints in cases:
-        orders = logic_orders(goals=goals, constraints=constraints, norms=20)
-        assert vacuity(orders, True) == vacuity(orders, False)
-        # Timed without tracemalloc (it slows the Python side of z3 calls unevenly), best of 2.
-        ours = min(timed(lambda o=orders: vacuity(o, True)) for _ in range(2))  # type: ignore[misc]
-        naive = min(timed(lambda o=orders: vacuity(o, False)) for _ in range(2))  # type: ignore[misc]
-        row(f"{goals:,} goals / {constraints:,} constraints", (ours, 0.0), (naive, 0.0),
-            "one check each")
+        orders = checked_structure(logic_orders(goals=goals, constraints=constraints, norms=20))
+        batched_results = vacuity_units(orders, True)[1]
+        if batched_results != vacuity_units(orders, False)[1]:
+            raise SystemExit("batched vacuity differs from one check per constraint")
+        vacuous = sum(1 for r in batched_results if r.core is not None)
+        ours = min(vacuity_units(orders, True)[0] for _ in range(3))
+        naive = min(vacuity_units(orders, False)[0] for _ in range(3))
+        row(f"VACUOUS, {goals:,} goals / {constraints:,} constraints ({vacuous} vacuous)",
+            (ours, 0.0), (naive, 0.0), "one call each")
+    goals, constraints = cases[0]
+    orders = logic_orders(goals=goals, constraints=constraints, norms=20)
+    if whole_logic(orders, True) != whole_logic(orders, False):
+        raise SystemExit("batched findings differ from one check per constraint")
+    ours = min(timed(lambda: whole_logic(orders, True)) for _ in range(2))
+    naive = min(timed(lambda: whole_logic(orders, False)) for _ in range(2))
+    row(f"check_logic, {goals:,} goals / {constraints:,} constraints", (ours, 0.0),
+        (naive, 0.0), "one call each")
+    goals, constraints = cases[1]
+    orders = logic_orders(goals=goals, constraints=constraints, norms=20)
+    seconds = timed(lambda: whole_logic(orders, True))
+    model = LogicModel(orders)
+    in_scope = sum(len(model.scope.get(g, ())) for g in model.goals) / max(1, len(model.goals))
+    print(f"  check_logic, {goals:,} goals / {constraints:,} constraints (once) {seconds:8.3f} s"
+          f"  (mostly the per-goal units: {in_scope:.0f} constraints in a goal's scope)")
+
+
+def cpu(action: Callable[[], object]) -> float:
+    """CPU seconds of one run (on a shared machine wall time also measures the load)."""
+    gc.collect()
+    start = time.process_time()
+    action()
+    return time.process_time() - start
 
 
 def timed(action: Callable[[], object]) -> float:
@@ -167,11 +266,12 @@ def bench_edit(quick: bool) -> None:
         app = create_app(Settings(data_dir=Path(folder), database_url=url), database)
         with database.session() as db:
             user = create_user(db, username="bench", role="operator",
-                               password="a long bench password 1")
+                               password="a long harbour passphrase 1")
             token = create_token(db, user=user, name="bench")[1]
         client = TestClient(app)
         client.headers["Authorization"] = f"Bearer {token}"
-        orders: dict[str, Any] = logic_orders(goals=goals, constraints=50, norms=10).model_dump(
+        orders: dict[str, Any] = checked_structure(
+            logic_orders(goals=goals, constraints=50, norms=10)).model_dump(
             mode="json", exclude_unset=True)
         orders["id"] = "bench"
         assert client.post("/api/missions", json=orders).status_code in (200, 201)

@@ -1,10 +1,45 @@
-"""Generated orders for benchmarks: large random ternary DAGs with costs and a budget."""
+"""Generated orders for benchmarks: large random ternary DAGs with costs and a budget, and the
+checks every benchmark runs on its input before timing it (issue 22: a benchmark of an invalid
+mission measures the wrong work)."""
 
 from __future__ import annotations
 
 import random
+from collections.abc import Iterable
 
 from countersign.orders.model import OUTCOMES, Orders
+
+# A vehicle profile the VEHICLE check accepts: it states what the vehicle can do.
+VEHICLE: dict[str, object] = {
+    "id": "v", "title": "Bench vehicle", "envelope": {"depth_m": [0, 300], "speed_mps": [0, 3]},
+    "budget": {"energy_wh": 10**9, "duration_s": 10**12},
+}
+
+
+def checked(orders: Orders, expected: Iterable[str] = ()) -> Orders:
+    """The orders, refused (SystemExit naming the findings) unless `validate` reports no error
+    beyond the codes the benchmark means to produce."""
+    from countersign.verify import validate
+
+    allowed = set(expected)
+    report = validate(orders)
+    errors = [f"{f.code}: {f.message[:120]}" for f in report.findings
+              if f.severity == "error" and f.code not in allowed]
+    if errors:
+        raise SystemExit(f"benchmark input {orders.id} is invalid: " + "; ".join(errors[:5]))
+    return orders
+
+
+def checked_structure(orders: Orders) -> Orders:
+    """The orders, refused unless the structural check passes: for inputs whose logic findings
+    are what a benchmark measures (validating those in full would time the benchmark twice)."""
+    from countersign.verify.structure import check_structure
+
+    errors = [f"{f.code}: {f.message[:120]}" for f in check_structure(orders)
+              if f.severity == "error"]
+    if errors:
+        raise SystemExit(f"benchmark input {orders.id} is invalid: " + "; ".join(errors[:5]))
+    return orders
 
 
 def random_dag(goals: int, seed: int = 7, reach: int = 12) -> Orders:
@@ -28,7 +63,7 @@ def random_dag(goals: int, seed: int = 7, reach: int = 12) -> Orders:
         })
     return Orders.model_validate({
         "id": f"dag-{goals}", "start": "G0", "vehicle": "v", "goals": items,
-        "vehicles": [{"id": "v", "budget": {"energy_wh": 10**9, "duration_s": 10**12}}],
+        "vehicles": [VEHICLE],
     })
 
 

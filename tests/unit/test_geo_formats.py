@@ -8,6 +8,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from countersign.orders.avcl import read_avcl
+from countersign.orders.avcl_writer import write_avcl
+from countersign.orders.canonical import digest
 from countersign.orders.geo_formats import (
     GeoFormatError,
     areas_to_geojson,
@@ -15,7 +18,9 @@ from countersign.orders.geo_formats import (
     charts_from_kml,
     charts_to_kml,
 )
-from countersign.orders.model import Chart
+from countersign.orders.model import Chart, Orders
+from countersign.orders.reader import OrdersReadError
+from countersign.orders.turtle import read_turtle, write_turtle
 
 lat = st.floats(-89.9, 89.9, allow_nan=False)
 lon = st.floats(-179.9, 179.9, allow_nan=False)
@@ -102,3 +107,40 @@ def test_kml_forbids_shortcut_and_multipolygon() -> None:
 def test_bad_geojson_names_what_and_where(text: str, words: str) -> None:
     with pytest.raises(GeoFormatError, match=words):
         charts_from_geojson(text)
+
+
+CHARTS = [
+    {"id": "K1", "title": "Range <west> & \"quoted\"", "kind": "keep_out",
+     "polygon": [[36.8, -122.2], [36.8, -122.18], [36.6, -122.18], [36.6, -122.2]],
+     "contexts": ["range"], "norms": [{"id": "N1", "forbidden": "behavior == 'transit'"}]},
+    {"id": "K2", "polygon": [[36.1, -122.1], [36.2, -122.1], [36.2, -122.0]]},
+]
+
+
+def _charted() -> Orders:
+    return Orders.model_validate({
+        "id": "charted", "title": "Charted", "start": "G1", "charts": CHARTS,
+        "goals": [{"id": "G1", "title": "Go", "behavior": "transit",
+                   "next": {"succeed": "COMPLETE", "fail": "ABORT", "violate": "ABORT"}}],
+    })
+
+
+def test_turtle_carries_the_charts() -> None:
+    orders = _charted()
+    back = read_turtle(write_turtle(orders).encode()).orders
+    assert back.charts == orders.charts
+    assert digest(back) == digest(orders)
+
+
+def test_avcl_carries_the_charts() -> None:
+    orders = _charted()
+    back = read_avcl(write_avcl(orders).encode()).orders
+    assert [c.model_dump() for c in back.charts] == [c.model_dump() for c in orders.charts]
+
+
+def test_an_avcl_chart_that_is_not_json_is_named() -> None:
+    written = write_avcl(_charted())
+    text = written.replace("&quot;id&quot;:&quot;K2", "&quot;id&quot; &quot;K2")
+    assert text != written
+    with pytest.raises(OrdersReadError, match="chart is not JSON"):
+        read_avcl(text.encode())

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from countersign.verify.logic import LogicCache, check_logic
 from countersign.verify.logic import findings as logic
@@ -38,3 +40,16 @@ def test_many_constraints_take_few_vacuity_checks(monkeypatch: pytest.MonkeyPatc
     _, single_calls = findings(orders, False, monkeypatch)
     # One check per non-vacuous constraint in the reference; a handful of models in a batch.
     assert single_calls - batched_calls > 100
+
+
+@settings(max_examples=12, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(seed=st.integers(0, 10**6), goals=st.integers(3, 40), constraints=st.integers(2, 60),
+       norms=st.integers(0, 8))
+def test_batched_vacuity_equals_one_check_per_constraint_on_random_orders(
+    seed: int, goals: int, constraints: int, norms: int
+) -> None:
+    orders = logic_orders(goals=goals, constraints=constraints, norms=norms, seed=seed)
+    with pytest.MonkeyPatch.context() as patch:
+        batched, _ = findings(orders, True, patch)
+        single, _ = findings(orders, False, patch)
+    assert batched == single

@@ -200,3 +200,46 @@ def test_a_pattern_missing_its_events_is_an_expr_finding() -> None:
     findings = validate(Orders.model_validate(data)).findings
     assert any(f.code == "EXPR" and f.subjects == ("P9",) and "'s', 'q', 'r'" in f.message
                for f in findings)
+
+
+@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(0, 2**32), st.integers(1, 12), st.integers(0, 60))
+def test_cost_bounded_responses_equal_brute_force_near_their_limit(
+        seed: int, goals: int, limit: int) -> None:
+    # Pending costs that cannot pass the limit before the end are merged into one state
+    # (issue 20's speed target): the verdict must not move, least of all at the limit.
+    rng = random.Random(seed)
+    orders = _with_behaviours(random_orders(rng, goals, kinds=("none",)), rng)
+    graph = build_graph(orders)
+    data = random_property(rng, goals).model_dump(mode="json", exclude_none=True)
+    data.update(pattern="bounded_response", within={"energy_wh": limit},
+                scope=rng.choice(SCOPES))
+    data.setdefault("s", _event(rng, goals))
+    prop = PathProperty.model_validate(data)
+    violating = [len(g) for g, o, t in all_paths(graph) if violates(prop, graph, g, o, t)]
+    verdict = check_pattern(orders, graph, prop)
+    assert not isinstance(verdict, str)
+    if not violating:
+        assert verdict is None
+        return
+    assert verdict is not None
+    assert violates(prop, graph, *_is_path(graph, verdict))
+    assert len(verdict.goals) == min(violating)
+
+
+def test_a_response_late_by_one_watt_hour_fails_and_on_time_holds() -> None:
+    def verdict(limit: float) -> Counterexample | str | None:
+        # Every outcome leads on: the one path G0 G1 G2 G3, where G3 answers G0.
+        goals = [{"id": f"G{i}", "cost": {"energy_wh": 3},
+                  "next": dict.fromkeys(OUTCOMES, f"G{i + 1}" if i < 3 else "COMPLETE")}
+                 for i in range(4)]
+        orders = Orders.model_validate({"id": "late", "start": "G0", "goals": goals})
+        prop = PathProperty.model_validate({
+            "id": "P1", "pattern": "bounded_response", "p": {"goal": "G0"},
+            "s": {"goal": "G3"}, "within": {"energy_wh": limit}})
+        return check_pattern(orders, build_graph(orders), prop)
+
+    # G0, G1 and G2 spend 9 Wh before G3 answers (the answering goal's own cost not counted).
+    late = verdict(8.0)
+    assert isinstance(late, Counterexample) and late.goals[:3] == ("G0", "G1", "G2")
+    assert verdict(9.0) is None

@@ -82,3 +82,17 @@ def test_z3_raw_check_assumptions_answers_like_the_wrapper() -> None:
     assert z3_adapter.check_assumptions(z3, ctx, solver, [a, b]) == "unsat"
     assert {str(x) for x in solver.unsat_core()} == {"a", "b"}
     assert str(solver.check(a, b)) == "unsat"
+
+
+def test_z3_raw_disjunction_and_model_reading_answer_like_the_wrapper() -> None:
+    import z3
+
+    ctx = z3.Context()
+    solver = z3.Solver(ctx=ctx)
+    a, b, c = (z3.Bool(name, ctx) for name in "abc")
+    solver.add(z3.Not(a), z3.Implies(b, c))
+    z3_adapter.assert_any(z3, ctx, solver, [a, b])
+    assert solver.check() == z3.sat
+    model = solver.model()
+    assert z3_adapter.true_in_model(z3, ctx, model, [a, b, c]) == [
+        z3.is_true(model.eval(x, model_completion=True)) for x in (a, b, c)] == [False, True, True]

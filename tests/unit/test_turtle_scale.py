@@ -2,12 +2,17 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from countersign.orders import turtle
+from countersign.orders.canonical import digest
+from countersign.orders.examples import load_example
 from countersign.orders.model import Orders
 from countersign.orders.reader import OrdersReadError
 from countersign.orders.turtle import read_turtle, write_turtle
+from tests.bench.generated import random_dag
 
 HEAD = (b"@prefix cs: <https://countersign.example/ontology/orders#> .\n"
         b"@prefix meo: <https://countersign.example/ontology/meo#> .\n"
@@ -62,3 +67,32 @@ def test_literals_with_every_line_separator_and_escape_read_back() -> None:
                    "next": {"succeed": "COMPLETE", "fail": "ABORT", "violate": "ABORT"}}],
     })
     assert read_turtle(write_turtle(orders).encode()).orders == orders
+
+
+LEGACY = Path(__file__).with_name("data") / "legacy-record-search-and-sample.ttl"
+
+
+def test_record_maps_are_compact() -> None:
+    # Maps whose keys are names are written as key: properties, one statement per entry;
+    # the cs:entry form took three statements per entry and one for the map's type.
+    orders = random_dag(200, seed=3)
+    statements = len(turtle._parse(write_turtle(orders).encode(), "x"))
+    assert statements <= 17 * 200 + 50
+    assert "cs:entry" not in write_turtle(orders)
+
+
+def test_a_map_with_keys_that_are_not_names_keeps_the_entry_form() -> None:
+    orders = Orders.model_validate({
+        "id": "keys", "start": "G1",
+        "goals": [{"id": "G1", "params": {"two words": 1, "inner": {"ok": [1, {}, {"x.y": 2}]}},
+                   "next": {"succeed": "COMPLETE", "fail": "ABORT", "violate": "ABORT"}}],
+    })
+    text = write_turtle(orders)
+    assert "cs:entry" in text and "key:ok" in text
+    assert read_turtle(text.encode()).orders == orders
+
+
+def test_turtle_written_with_the_entry_form_for_every_map_still_reads_back() -> None:
+    # Written by the writer before the compact form (commit d60e3cc) from the example.
+    back = read_turtle(LEGACY.read_bytes()).orders
+    assert digest(back) == digest(load_example("search-and-sample"))

@@ -12,6 +12,7 @@ an XML bomb is rejected before any expansion.
 
 from __future__ import annotations
 
+import json
 import math
 import re
 from dataclasses import dataclass
@@ -28,6 +29,7 @@ from defusedxml import (
 from defusedxml.ElementTree import fromstring
 from pydantic import TypeAdapter, ValidationError
 
+from .avcl_writer import CHART_META
 from .defaults import defaulted_findings
 from .findings import Finding
 from .model import MAX_ID_LENGTH, Id, Orders
@@ -129,6 +131,11 @@ def read_avcl(data: bytes, name: str = "<input>") -> ReadResult:
         "terminals": terminals or None,
         "areas": areas,
     }
+    charts = _charts(root, problems)
+    if problems:
+        raise OrdersReadError(problems[:MAX_PROBLEMS_SHOWN], total=len(problems))
+    if charts:
+        data_out["charts"] = charts
     vehicle_name = (root.get("vehicleName") or "").strip()
     if vehicle_name:
         vehicle: dict[str, Any] = {"id": _slug(vehicle_name), "title": vehicle_name}
@@ -354,6 +361,22 @@ def _meta(root: Element) -> dict[str, str]:
             if name and content is not None:
                 meta.setdefault(name, content)
     return meta
+
+
+def _charts(root: Element, problems: list[Problem]) -> list[Any]:
+    """The charts written by `write_avcl`: each `<meta name="countersign:chart">` holds one
+    chart as JSON (checked with the orders' own model afterwards)."""
+    charts: list[Any] = []
+    for head in _children(root, "head"):
+        for index, element in enumerate(_children(head, "meta"), start=1):
+            if element.get("name") != CHART_META:
+                continue
+            try:
+                charts.append(json.loads(element.get("content") or ""))
+            except ValueError as exc:
+                problems.append(Problem(f"/AVCL/head/meta[{index}]",
+                                        f"the chart is not JSON: {exc}"))
+    return charts
 
 
 def _slug(text: str) -> str:

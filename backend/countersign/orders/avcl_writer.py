@@ -1,16 +1,21 @@
 """Write orders as AVCL mission XML for the NPS AUV Workbench and its tools.
 
 Goals keep their successors as nextOnSuccess / nextOnFailure / nextOnException; terminals
-become terminal goals (no successors), which is how AVCL ends a mission. Writing uses the
-standard library (only reading untrusted XML needs defusedxml).
+become terminal goals (no successors), which is how AVCL ends a mission. The registry charts
+the orders were checked with (issue 21) travel in the head, one `<meta name="countersign:chart">`
+each holding the chart as JSON (AVCL has no mission-wide area element; tools ignore meta names
+they do not know), and `read_avcl` reads them back. Writing uses the standard library (only
+reading untrusted XML needs defusedxml).
 """
 
 from __future__ import annotations
 
+import json
 import xml.etree.ElementTree as ET
 
 from .model import Orders
 
+CHART_META = "countersign:chart"
 HANDLERS = (("succeed", "nextOnSuccess"), ("fail", "nextOnFailure"),
             ("violate", "nextOnException"))
 
@@ -29,6 +34,10 @@ def write_avcl(orders: Orders) -> str:
     if orders.title:
         ET.SubElement(head, "meta", {"name": "description", "content": orders.title})
     ET.SubElement(head, "meta", {"name": "generator", "content": "Countersign"})
+    for chart in orders.charts:
+        content = json.dumps(chart.model_dump(mode="json", exclude_unset=True),
+                             ensure_ascii=False, separators=(",", ":"))
+        ET.SubElement(head, "meta", {"name": CHART_META, "content": content})
     body = ET.SubElement(root, "body")
     definition = ET.SubElement(body, "MissionDefinition",
                                {"description": orders.description or orders.title})

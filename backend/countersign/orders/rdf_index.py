@@ -37,12 +37,12 @@ class TurtleSyntaxError(ValueError):
 
 class TripleIndex:
     """The part of rdflib's Graph API the orders readers use, indexed by subject and by
-    predicate. Statement order is the document's; a repeated statement is kept once. The index
-    by predicate is built on first use, after the document has been read."""
+    predicate. Statement order is the document's; a repeated statement is kept once. Both
+    indexes grow with each statement added, so reading a document builds them in one pass."""
 
     def __init__(self, triples: Iterable[Triple] = ()) -> None:
         self._spo: dict[Node, dict[Node, dict[Node, None]]] = {}
-        self._pso: dict[Node, list[tuple[Node, Node]]] | None = None
+        self._pso: dict[Node, list[tuple[Node, Node]]] | None = {}
         self._count = 0
         for triple in triples:
             self.add(triple)
@@ -62,7 +62,13 @@ class TripleIndex:
         else:
             objects[o] = None
         self._count += 1
-        self._pso = None
+        pso = self._pso
+        if pso is not None:
+            pairs = pso.get(p)
+            if pairs is None:
+                pso[p] = [(s, o)]
+            else:
+                pairs.append((s, o))
 
     def remove(self, triple: Triple) -> None:
         s, p, o = triple
@@ -71,7 +77,7 @@ class TripleIndex:
             return
         del objects[o]
         self._count -= 1
-        self._pso = None
+        self._pso = None  # rebuilt on next use (removals are rare: NPS names renamed)
 
     def _by_predicate(self) -> dict[Node, list[tuple[Node, Node]]]:
         if self._pso is None:
@@ -118,6 +124,10 @@ class TripleIndex:
             if o is None or triple[2] == o:
                 yield triple
 
+    def properties(self, subject: Node) -> dict[Node, dict[Node, None]]:
+        """Predicate -> objects of one subject (read only: the index's own dictionary)."""
+        return self._spo.get(subject, _NO_PROPERTIES)
+
     def value(self, subject: Node, predicate: Node) -> Node | None:
         by_predicate = self._spo.get(subject)
         objects = by_predicate.get(predicate) if by_predicate is not None else None
@@ -138,6 +148,8 @@ class TripleIndex:
         return iter([(p, o) for p, objects in self._spo.get(subject, {}).items()
                      for o in objects])
 
+
+_NO_PROPERTIES: Final[dict[Node, dict[Node, None]]] = {}
 
 _ECHAR: Final = {"t": "\t", "b": "\b", "n": "\n", "r": "\r", "f": "\f", '"': '"', "'": "'",
                  "\\": "\\"}
@@ -162,12 +174,12 @@ class _Terms:
     rdflib's conventions: a plain string and a language string have no datatype."""
 
     def __init__(self) -> None:
-        self._seen: dict[str, Node] = {}
+        self.seen: dict[str, Node] = {}
 
     def node(self, token: str) -> Node:
-        found = self._seen.get(token)
+        found = self.seen.get(token)
         if found is None:
-            found = self._seen[token] = self._convert(token)
+            found = self.seen[token] = self._convert(token)
         return found
 
     def _convert(self, token: str) -> Node:
@@ -205,7 +217,8 @@ def parse_turtle(data: bytes) -> TripleIndex:
         reason = str(exc.msg or exc).split(": ", 1)[-1][:200]
         raise TurtleSyntaxError(reason, line) from None
     terms = _Terms()
-    node = terms.node
+    seen = terms.seen
+    convert = terms.node
     index = TripleIndex()
     add = index.add
     # Only "\n" ends a statement: str.splitlines() would also split at U+2028 or U+0085,
@@ -214,5 +227,11 @@ def parse_turtle(data: bytes) -> TripleIndex:
         if not statement:
             continue
         subject, predicate, rest = statement.split(" ", 2)
-        add((node(subject), node(predicate), node(rest[:-2])))
+        obj = rest[:-2]
+        # Most tokens repeat: the dictionary lookup inline, the conversion only when new.
+        s = seen.get(subject)
+        p = seen.get(predicate)
+        o = seen.get(obj)
+        add((convert(subject) if s is None else s, convert(predicate) if p is None else p,
+             convert(obj) if o is None else o))
     return index

@@ -8,7 +8,9 @@ Two layers of triples describe one set of orders:
   they fulfil and measure. Verification (`countersign.verify.meo`) reads only this layer.
 - **Record** (`cs:`): how the author wrote the orders, field by field (titles, envelopes, params,
   areas, norms, list order, explicit defaults, unknown fields), so that Turtle written here reads
-  back to orders with the same digest.
+  back to orders with the same digest. A map is a blank node with one `key:` property per
+  entry (`key:succeed "G2"`); a map with a key that is not a name, or an empty one, is a
+  `cs:Map` of `cs:entry [cs:key; cs:value]` nodes, the form every map had before (still read).
 
 Reading trusts the meaning over the record: where someone edited the `meo:` triples (say, in
 Protégé) and the record disagrees, the meaning wins and the record only keeps its order.
@@ -63,6 +65,10 @@ from .turtle_writer import TripleSet, serialize_turtle
 
 MEO: Final = Namespace("https://countersign.example/ontology/meo#")
 CS: Final = Namespace("https://countersign.example/ontology/orders#")
+# A record map's keys as properties (`[ key:succeed "G2" ; key:fail "ABORT" ]`): 1 statement
+# per entry instead of the 3 of a cs:entry node (issue 22). Keys that are not names keep the
+# cs:entry form, which the reader also takes.
+CS_KEY: Final = Namespace("https://countersign.example/ontology/orders/key#")
 MISSION_BASE: Final = "https://countersign.example/mission/"
 NPS3: Final = Namespace("https://savage.nps.edu/EthicalControl/ontologies/MissionExecutionOntology#")
 
@@ -168,6 +174,7 @@ def _fill(graph: Graph | TripleSet, orders: Orders, record: bool) -> None:
     iris = MissionIris(orders.id)
     graph.bind("meo", MEO)
     graph.bind("cs", CS)
+    graph.bind("key", CS_KEY)
     graph.bind("mission", URIRef(MISSION_BASE))
     for prefix, namespace in iris.namespaces().items():
         graph.bind(prefix, namespace)
@@ -327,6 +334,11 @@ def _record_property(key: str) -> URIRef:
     return CS[key]
 
 
+@functools.lru_cache(maxsize=4096)
+def _key_property(key: str) -> URIRef:
+    return CS_KEY[key]
+
+
 # Short values (keys, ids, outcome names) repeat; long texts are not kept alive by the cache.
 _CACHED_TEXT: Final = 64
 
@@ -349,6 +361,8 @@ def _blank() -> BNode:
 
 
 _NAME: Final = re.compile(r"[a-z][a-z0-9_]*")
+# A map key written as a key: property: a local name every Turtle reader takes as it is.
+_KEY_NAME: Final = re.compile(r"[A-Za-z_][A-Za-z0-9_-]*")
 _RESERVED: Final = frozenset({"extra", "key", "value", "entry", "implicit", "null", "map"})
 
 
@@ -380,6 +394,10 @@ def _encode(graph: Graph, value: Any) -> Node:
         return _list(graph, [_encode(graph, item) for item in value])
     if isinstance(value, dict):
         node = _blank()
+        if value and all(isinstance(key, str) and _KEY_NAME.fullmatch(key) for key in value):
+            for key, item in value.items():
+                graph.add((node, _key_property(key), _encode(graph, item)))
+            return node
         graph.add((node, _TYPE, _MAP))
         for key, item in value.items():
             entry = _blank()
@@ -542,6 +560,7 @@ _KEY: Final = CS.key
 _VALUE: Final = CS.value
 _EXTRA: Final = CS.extra
 _ENTRY: Final = CS.entry
+_KEY_PREFIX: Final = str(CS_KEY)
 _FLOAT_TYPES: Final = frozenset({XSD.double, XSD.decimal, XSD.float})
 _INT_TYPES: Final = frozenset({XSD.integer, XSD.int, XSD.long})
 _BOOLEAN: Final = XSD.boolean
@@ -597,14 +616,22 @@ class _Reader:
             return str(node)
         if node == _NULL:
             return None
-        if node == _NIL or graph.value(node, _FIRST) is not None:
+        properties = graph.properties(node)
+        if node == _NIL or _FIRST in properties:
             return [self.decode(item, depth + 1) for item in self.items(node)]
-        if (node, _TYPE, _MAP) in graph:
-            return {
+        mapped: dict[str, Any] | None = None
+        if _MAP in properties.get(_TYPE, ()):
+            mapped = {
                 str(graph.value(entry, _KEY)): self.decode(_value(graph, entry), depth + 1)
                 for entry in graph.objects(node, _ENTRY)
             }
-        return str(node)
+        for predicate, objects in list(properties.items()):
+            name = str(predicate)
+            if objects and name.startswith(_KEY_PREFIX):
+                if mapped is None:
+                    mapped = {}
+                mapped[name[len(_KEY_PREFIX):]] = self.decode(next(iter(objects)), depth + 1)
+        return str(node) if mapped is None else mapped
 
     def has_record(self, node: Node) -> bool:
         return (node, CS.id, None) in self.graph

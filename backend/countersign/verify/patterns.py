@@ -181,6 +181,10 @@ def check_pattern(orders: Orders, graph: MissionGraph, prop: PathProperty
     # earlier layer; within one layer only the largest survives.
     bounded_by_cost = limit is not None and quantity != "steps"
     best: dict[tuple[int, int, int], float] = {}
+    # Interval pruning: a pending cost that cannot pass the limit on any way to the end
+    # behaves like any other such cost, so all of them are one state (cost 0).
+    room = _room(graph, costs) if bounded_by_cost else []
+    slack = 1e-9 * (abs(limit) + 1.0) if limit is not None else 0.0
     layer: list[tuple[int, State]] = [(start, first)]
     while layer:
         candidates: dict[object, tuple[tuple[int, State], tuple[tuple[int, State], int]]] = {}
@@ -193,6 +197,9 @@ def check_pattern(orders: Orders, graph: MissionGraph, prop: PathProperty
                     if monitor.finish(final):
                         return _path(graph, parent, key, k, target)
                     continue
+                if bounded_by_cost and after[1] & 8 and limit is not None and (
+                        after[2] + room[target] < limit - slack * (1.0 + room[target])):
+                    after = (after[0], after[1], 0.0)
                 nxt = (target, after)
                 if nxt in parent:
                     continue
@@ -214,6 +221,18 @@ def check_pattern(orders: Orders, graph: MissionGraph, prop: PathProperty
         if len(parent) > MAX_STATES:
             return "the pattern's product with the mission has too many states"
     return None
+
+
+def _room(graph: MissionGraph, costs: list[float]) -> list[float]:
+    """Per goal, the most cost any way from it to a terminal adds (its own included)."""
+    order = topological_order(graph)
+    assert order is not None
+    goal_count = graph.goal_count
+    room = [0.0] * goal_count
+    for node in order:  # successors first
+        room[node] = costs[node] + max(
+            (room[t] for t in graph.succ[node] if t < goal_count), default=0.0)
+    return room
 
 
 def _position_costs(orders: Orders, graph: MissionGraph, quantity: str | None) -> list[float]:

@@ -158,6 +158,19 @@ class _Scaled:
             height[node] = 1 + max(height[t] for t in graph.succ[node])
         self.height = height
         self._powers = [1]
+        # Per goal with point probabilities, (successor, a_k * Q^(gap)) for each outcome:
+        # then a node's value is a sum of small-integer multiples of its successors' values,
+        # with no per-node choice (the coefficients are shared by every figure's pass).
+        self.coefficients: list[tuple[tuple[int, int, int], ...] | None] = [None] * goal_count
+        for node in order:
+            bounds = self.box[node]
+            assert bounds is not None
+            if any(lo != hi for lo, hi in bounds):
+                continue
+            top = height[node] - 1
+            self.coefficients[node] = tuple(
+                (k, target, bounds[k][0] * self.power(top - height[target]))
+                for k, target in enumerate(graph.succ[node]) if bounds[k][0])
 
     def power(self, exponent: int) -> int:
         powers = self._powers
@@ -177,19 +190,27 @@ class _Scaled:
         value.extend(leaf(t) for t in range(goal_count, goal_count + len(graph.terminals)))
         succ = graph.succ
         box = self.box
+        coefficients = self.coefficients
         q = self.q
         for node in self.order:
             top = height[node] - 1
-            weights = [0, 0, 0]
-            for k, target in enumerate(succ[node]):
-                if k == 2 and zero_violate:
-                    continue
-                x = value[target]
-                if x:
-                    weights[k] = x * power(top - height[target])
-            bounds = box[node]
-            assert bounds is not None
-            total = _extreme(weights, bounds, q, maximise)
+            point = coefficients[node]
+            if point is not None:
+                total = 0
+                for k, target, coefficient in point:
+                    if not (k == 2 and zero_violate):
+                        total += coefficient * value[target]
+            else:
+                weights = [0, 0, 0]
+                for k, target in enumerate(succ[node]):
+                    if k == 2 and zero_violate:
+                        continue
+                    x = value[target]
+                    if x:
+                        weights[k] = x * power(top - height[target])
+                bounds = box[node]
+                assert bounds is not None
+                total = _extreme(weights, bounds, q, maximise)
             if extra is not None and extra[node]:
                 total += extra[node] * power(top + 1)
             value[node] = total

@@ -24,3 +24,32 @@ def check_assumptions(z3: Any, ctx: Any, solver: Any, literals: Sequence[Any]) -
     if code == z3.Z3_L_FALSE:
         return "unsat"
     return "unknown"
+
+
+def assert_any(z3: Any, ctx: Any, solver: Any, literals: Sequence[Any]) -> None:
+    """`solver.add(z3.Or(literals))` without the wrapper's coercion of every argument (it cost
+    more than the checks when a thousand constraints are asked about at once)."""
+    disjuncts = (z3.Ast * len(literals))()
+    for index, literal in enumerate(literals):
+        disjuncts[index] = literal.as_ast()
+    disjunction = z3.Z3_mk_or(ctx.ref(), len(literals), disjuncts)
+    z3.Z3_solver_assert(ctx.ref(), solver.solver, disjunction)
+
+
+def true_in_model(z3: Any, ctx: Any, model: Any, literals: Sequence[Any]) -> list[bool]:
+    """For each Boolean literal, whether the model makes it true (model completion: an
+    unconstrained literal is false), without building a Python expression per answer."""
+    result: list[bool] = []
+    out = (z3.Ast * 1)()
+    context = ctx.ref()
+    for literal in literals:
+        if not z3.Z3_model_eval(context, model.model, literal.as_ast(), True, out):
+            raise z3.Z3Exception("failed to evaluate a literal in the model")
+        value = out[0]
+        # Held while it is read: an answer z3 returns is not yet counted as referenced.
+        z3.Z3_inc_ref(context, value)
+        try:
+            result.append(z3.Z3_get_bool_value(context, value) == z3.Z3_L_TRUE)
+        finally:
+            z3.Z3_dec_ref(context, value)
+    return result

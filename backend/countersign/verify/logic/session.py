@@ -14,7 +14,7 @@ from ..expressions import (
     Translator,
     number_words,
 )
-from ..z3_adapter import check_assumptions
+from ..z3_adapter import assert_any, check_assumptions, true_in_model
 from .items import Item
 
 
@@ -191,12 +191,13 @@ class Session:
                 self.calls += 1
                 self.solver.push()
                 try:
-                    self.solver.add(z3.Or([literals[i] for i in pending]))
+                    candidates = [literals[i] for i in pending]
+                    assert_any(z3, self.ctx, self.solver, candidates)
                     if self.solver.check() != z3.sat:
                         break
                     model = self.solver.model()
-                    found = [i for i in pending
-                             if z3.is_true(model.eval(literals[i], model_completion=True))]
+                    found = [i for i, true in zip(pending, true_in_model(
+                        z3, self.ctx, model, candidates), strict=True) if true]
                 finally:
                     self.solver.pop()
                 if not found:  # pragma: no cover - a model of the disjunction satisfies one
