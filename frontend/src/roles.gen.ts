@@ -18,6 +18,7 @@ export const OPERATION_ROLES = {
   exportMission: ["operator", "supervisor", "auditor", "admin"],
   getApproval: ["supervisor", "auditor", "admin"],
   getCheckpoint: ["operator", "supervisor", "auditor", "admin"],
+  getClientConfig: ["operator", "supervisor", "auditor", "admin"],
   getConsistencyProof: ["supervisor", "auditor", "admin"],
   getCosignedCheckpoint: ["operator", "supervisor", "auditor", "admin"],
   getExample: ["operator", "supervisor", "auditor", "admin"],

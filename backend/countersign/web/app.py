@@ -13,16 +13,19 @@ from fastapi.responses import FileResponse, JSONResponse, Response
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from .. import __version__
+from ..store.accounts import HASHER
 from ..store.db import REQUEST_THREADS, Database
-from . import api_docs, problems
+from . import api_docs, openapi_links, problems
 from .fair import PlanSlots, RateLimiter
 from .log_signer import open_log_signer
+from .map_tiles import tile_origin
 from .rehearsal_hub import RehearsalHub
 from .routes import (
     admin,
     approvals,
     auth,
     charts,
+    client_config,
     log_witness,
     missions,
     planning,
@@ -77,10 +80,18 @@ class _TooLarge(Exception):
 # Scripts: the app's own files only (no inline script, no eval), and every DOM sink that could
 # run script (innerHTML, script.src...) refuses strings: Trusted Types with no policy at all.
 # Frames: the rehearsal viewer only, which runs sandboxed in an opaque origin (viser_proxy.py).
+# Images: the app's own and data: URLs, plus the configured map tiles' origin (map_tiles.py).
 APP_CSP = ("default-src 'self'; script-src 'self'; object-src 'none'; base-uri 'none'; "
            "form-action 'self'; img-src 'self' data:; style-src 'self' 'unsafe-inline'; "
            "frame-src 'self'; frame-ancestors 'none'; "
            "require-trusted-types-for 'script'; trusted-types 'none'")
+
+
+def app_csp(map_tiles: str | None) -> str:
+    if map_tiles is None:
+        return APP_CSP
+    return APP_CSP.replace("img-src 'self' data:;",
+                           f"img-src 'self' data: {tile_origin(map_tiles)};")
 SECURITY_HEADERS = {
     "X-Content-Type-Options": "nosniff",
     "X-Frame-Options": "DENY",
@@ -94,10 +105,12 @@ class SecurityHeaders:
     """Add SECURITY_HEADERS (and no-store on /api/) to every response that lacks them. Plain
     ASGI: Starlette's @app.middleware("http") costs a task and a stream per request."""
 
-    def __init__(self, app: ASGIApp, *, secure_cookies: bool = False) -> None:
+    def __init__(self, app: ASGIApp, *, secure_cookies: bool = False,
+                 csp: str = APP_CSP) -> None:
         self.app, self.secure_cookies = app, secure_cookies
         self.api = [(name.lower().encode(), value.encode())
-                    for name, value in SECURITY_HEADERS.items()]
+                    for name, value in {**SECURITY_HEADERS,
+                                        "Content-Security-Policy": csp}.items()]
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] != "http":
@@ -147,9 +160,12 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
         if pool is not None:
             database.reports.validator = pool.validate
         app.state.validation_pool = pool
+        # Password hashes in a low-priority process with a bounded queue (store/hashing.py).
+        HASHER.use_processes()
         try:
             yield
         finally:
+            HASHER.stop_processes()
             # Every live rehearsal's viser server (threads and port) ends with the app.
             hub.shutdown()
             if pool is not None:
@@ -166,8 +182,10 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     app.state.plan_slots = PlanSlots()
     problems.install(app)
 
-    app.add_middleware(SecurityHeaders, secure_cookies=settings.secure_cookies)
+    app.add_middleware(SecurityHeaders, secure_cookies=settings.secure_cookies,
+                       csp=app_csp(settings.map_tiles))
     api_docs.install(app)
+    openapi_links.install(app)
 
     @app.get("/api/health", operation_id="health", tags=["system"],
              openapi_extra={"x-roles": ["anonymous"]})
@@ -176,6 +194,7 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
         return {"status": "ok", "version": __version__}
 
     app.include_router(auth.router)
+    app.include_router(client_config.router)
     app.include_router(missions.router)
     app.include_router(admin.router)
     app.include_router(vehicles.router)
@@ -203,7 +222,8 @@ def _serve_frontend(app: FastAPI, dist: Path) -> None:
     """Serve the built browser app, falling back to index.html for client-side routes."""
     index = dist / "index.html"
 
-    @app.get("/{path:path}", include_in_schema=False)
+    # HEAD as well as GET: monitors and link checkers ask with HEAD (it answered 405).
+    @app.api_route("/{path:path}", methods=["GET", "HEAD"], include_in_schema=False)
     def spa(path: str) -> Response:
         if path.startswith("api/") or path == "api":
             return problems.problem(404, f"no API route /{path}")
