@@ -22,6 +22,7 @@ export const OPERATION_ROLES = {
   getApproval: ["supervisor", "auditor", "admin"],
   getCampaign: ["operator", "supervisor", "auditor", "admin"],
   getCheckpoint: ["operator", "supervisor", "auditor", "admin"],
+  getClientConfig: ["operator", "supervisor", "auditor", "admin"],
   getConsistencyProof: ["supervisor", "auditor", "admin"],
   getCosignedCheckpoint: ["operator", "supervisor", "auditor", "admin"],
   getDocument: ["operator", "supervisor", "auditor", "admin"],

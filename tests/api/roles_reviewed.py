@@ -59,6 +59,8 @@ REVIEWED_ROLES: dict[str, tuple[str, ...]] = {
     "getApproval": ("supervisor", "auditor", "admin"),
     # GET /api/log/checkpoint
     "getCheckpoint": ("operator", "supervisor", "auditor", "admin"),
+    # GET /api/client-config
+    "getClientConfig": ("operator", "supervisor", "auditor", "admin"),
     "getCosignedCheckpoint": ("operator", "supervisor", "auditor", "admin"),
     "addCosignature": ("supervisor", "auditor", "admin"),
     # GET /api/log/consistency

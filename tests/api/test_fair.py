@@ -5,21 +5,25 @@ from __future__ import annotations
 
 import inspect
 import json
+import os
 import threading
 import time
 import uuid
 from pathlib import Path
 
 import pytest
+from argon2.exceptions import VerifyMismatchError
 from fastapi.testclient import TestClient
+from sqlalchemy import func, select
 
 from countersign.orders.examples import example_bytes
 from countersign.orders.model import Orders
 from countersign.plan.examples import gravitas_data
+from countersign.store import accounts
 from countersign.store.accounts import HASHER, create_token, create_user
 from countersign.store.db import Database
-from countersign.store.hashing import HASH_SLOTS, BoundedHasher
-from countersign.store.tables import User
+from countersign.store.hashing import HASH_NICENESS, HASH_SLOTS, BoundedHasher
+from countersign.store.tables import LoginAttempt, User
 from countersign.verify import validate
 from countersign.web.app import create_app
 from countersign.web.fair import PlanSlots, Rate, RateLimiter
@@ -150,6 +154,42 @@ def test_password_hashes_take_a_bounded_slot() -> None:
     waiting.join(PATIENCE_S)
     assert results == [True]
     assert isinstance(HASHER, BoundedHasher) and HASHER.slots._initial_value == HASH_SLOTS
+
+
+def test_a_running_server_hashes_in_a_low_priority_process() -> None:
+    hasher = BoundedHasher(time_cost=1, memory_cost=8, parallelism=1)
+    stored = hasher.hash("a long password 1")
+    hasher.use_processes()
+    try:
+        probe = hasher.probe()
+        assert probe is not None
+        pid, niceness = probe
+        assert pid != os.getpid()
+        assert niceness == HASH_NICENESS
+        assert hasher.verify(stored, "a long password 1")
+        with pytest.raises(VerifyMismatchError):  # a wrong password fails as in a thread
+            hasher.verify(stored, "another password 2")
+    finally:
+        hasher.stop_processes()
+    assert hasher.probe() is None
+
+
+def test_a_login_beyond_the_hash_queue_is_refused_at_once_and_not_counted(
+        world: World, monkeypatch: pytest.MonkeyPatch) -> None:
+    hasher = BoundedHasher(time_cost=1, memory_cost=8, parallelism=1)
+    monkeypatch.setattr(accounts, "HASHER", hasher)
+    hasher.use_processes(waiting=0)  # as if a flood held every place in the queue
+    assert hasher.probe() is not None  # the hashing process is up
+    try:
+        answer = world.client().post("/api/auth/login", json={
+            "username": "operator1", "password": "not the password"})
+    finally:
+        hasher.stop_processes()
+    assert answer.status_code == 503, answer.text
+    assert answer.headers["content-type"].startswith("application/problem+json")
+    assert answer.headers["Retry-After"] == "1" and "busy" in answer.json()["detail"]
+    with world.database.session() as db:  # the refused try costs the account nothing
+        assert db.scalar(select(func.count()).select_from(LoginAttempt)) == 0
 
 
 def test_health_answers_on_the_event_loop(world: World) -> None:

@@ -116,10 +116,11 @@ def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
 
 
 @contextlib.contextmanager
-def running_server(data_dir: Path, roles: Iterable[str]) -> Iterator[Server]:
-    """`countersign users create` for each role, then `countersign serve` on data_dir, stopped
-    on exit."""
-    env = _server_env(data_dir)
+def running_server(data_dir: Path, roles: Iterable[str],
+                   extra_env: dict[str, str] | None = None) -> Iterator[Server]:
+    """`countersign users create` for each role, then `countersign serve` on data_dir (with
+    extra_env, e.g. COUNTERSIGN_MAP_TILES), stopped on exit."""
+    env = {**_server_env(data_dir), **(extra_env or {})}
     for role in roles:
         done = subprocess.run(
             _cli("users", "create", "--username", role, "--role", role,

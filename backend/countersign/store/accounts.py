@@ -15,7 +15,7 @@ from ..errors import Invalid, TooMany
 from . import login_throttle
 from .db import database_of, writable
 from .events import record
-from .hashing import BoundedHasher
+from .hashing import BoundedHasher, HashingBusy
 from .password_policy import password_problem
 from .tables import ROLES, ApiToken, Session, User, utcnow
 
@@ -89,7 +89,10 @@ def authenticate(db: DbSession, *, username: str, password: str,
 
     The attempt is recorded and counted before the password is checked (login_throttle); the
     hash (argon2: tens of milliseconds of CPU by design) is checked outside any write
-    transaction: on SQLite a writing session holds the one write lock from its first query."""
+    transaction: on SQLite a writing session holds the one write lock from its first query.
+    A full hashing queue refuses first (HashingBusy), before the attempt is counted."""
+    if not HASHER.has_room():
+        raise HashingBusy("the server is busy checking passwords; retry in a moment")
     try:
         login_throttle.admit(db, username, address)
     except login_throttle.Throttled as exc:

@@ -13,10 +13,12 @@ from fastapi.responses import FileResponse, JSONResponse, Response
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from .. import __version__
+from ..store.accounts import HASHER
 from ..store.db import REQUEST_THREADS, Database
-from . import api_docs, problems
+from . import api_docs, openapi_links, problems
 from .fair import PlanSlots, RateLimiter
 from .log_signer import open_log_signer
+from .map_tiles import tile_origin
 from .rehearsal_hub import RehearsalHub
 from .routes import (
     admin,
@@ -24,6 +26,7 @@ from .routes import (
     auth,
     charts,
     document,
+    client_config,
     log_witness,
     missions,
     planning,
@@ -81,10 +84,18 @@ class _TooLarge(Exception):
 # `layout-worker`, which passes nothing but the app's own layout worker script (same origin,
 # frontend/src/editor/layoutClient.ts) to `new Worker`.
 # Frames: the rehearsal viewer only, which runs sandboxed in an opaque origin (viser_proxy.py).
+# Images: the app's own and data: URLs, plus the configured map tiles' origin (map_tiles.py).
 APP_CSP = ("default-src 'self'; script-src 'self'; object-src 'none'; base-uri 'none'; "
            "form-action 'self'; img-src 'self' data:; style-src 'self' 'unsafe-inline'; "
            "frame-src 'self'; frame-ancestors 'none'; "
            "require-trusted-types-for 'script'; trusted-types layout-worker")
+
+
+def app_csp(map_tiles: str | None) -> str:
+    if map_tiles is None:
+        return APP_CSP
+    return APP_CSP.replace("img-src 'self' data:;",
+                           f"img-src 'self' data: {tile_origin(map_tiles)};")
 SECURITY_HEADERS = {
     "X-Content-Type-Options": "nosniff",
     "X-Frame-Options": "DENY",
@@ -98,10 +109,12 @@ class SecurityHeaders:
     """Add SECURITY_HEADERS (and no-store on /api/) to every response that lacks them. Plain
     ASGI: Starlette's @app.middleware("http") costs a task and a stream per request."""
 
-    def __init__(self, app: ASGIApp, *, secure_cookies: bool = False) -> None:
+    def __init__(self, app: ASGIApp, *, secure_cookies: bool = False,
+                 csp: str = APP_CSP) -> None:
         self.app, self.secure_cookies = app, secure_cookies
         self.api = [(name.lower().encode(), value.encode())
-                    for name, value in SECURITY_HEADERS.items()]
+                    for name, value in {**SECURITY_HEADERS,
+                                        "Content-Security-Policy": csp}.items()]
 
     async def __call__(self, scope: Scope, receive: Receive, send: Send) -> None:
         if scope["type"] != "http":
@@ -154,9 +167,12 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
         if database.engine.dialect.name != "postgresql":
             # SQLite: this process runs campaign jobs; pick up those a killed one left.
             campaign_routes.start_runner(app)
+        # Password hashes in a low-priority process with a bounded queue (store/hashing.py).
+        HASHER.use_processes()
         try:
             yield
         finally:
+            HASHER.stop_processes()
             # Every live rehearsal's viser server (threads and port) ends with the app.
             hub.shutdown()
             runner = getattr(app.state, "campaign_runner", None)
@@ -176,8 +192,10 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     app.state.plan_slots = PlanSlots()
     problems.install(app)
 
-    app.add_middleware(SecurityHeaders, secure_cookies=settings.secure_cookies)
+    app.add_middleware(SecurityHeaders, secure_cookies=settings.secure_cookies,
+                       csp=app_csp(settings.map_tiles))
     api_docs.install(app)
+    openapi_links.install(app)
 
     @app.get("/api/health", operation_id="health", tags=["system"],
              openapi_extra={"x-roles": ["anonymous"]})
@@ -186,6 +204,7 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
         return {"status": "ok", "version": __version__}
 
     app.include_router(auth.router)
+    app.include_router(client_config.router)
     app.include_router(missions.router)
     app.include_router(admin.router)
     app.include_router(vehicles.router)
@@ -215,7 +234,8 @@ def _serve_frontend(app: FastAPI, dist: Path) -> None:
     """Serve the built browser app, falling back to index.html for client-side routes."""
     index = dist / "index.html"
 
-    @app.get("/{path:path}", include_in_schema=False)
+    # HEAD as well as GET: monitors and link checkers ask with HEAD (it answered 405).
+    @app.api_route("/{path:path}", methods=["GET", "HEAD"], include_in_schema=False)
     def spa(path: str) -> Response:
         if path.startswith("api/") or path == "api":
             return problems.problem(404, f"no API route /{path}")

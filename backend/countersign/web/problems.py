@@ -99,7 +99,11 @@ def install(app: FastAPI) -> None:
 
     @app.exception_handler(DomainError)
     async def _domain(request: Request, exc: DomainError) -> JSONResponse:
-        return problem(status_of(exc), str(exc), request)
+        response = problem(status_of(exc), str(exc), request)
+        retry_after = getattr(exc, "retry_after_s", None)  # e.g. a full password-hash queue
+        if isinstance(retry_after, int):
+            response.headers["Retry-After"] = str(retry_after)
+        return response
 
     @app.exception_handler(OperationalError)
     @app.exception_handler(SqlTimeout)

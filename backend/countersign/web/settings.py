@@ -8,6 +8,8 @@ from pathlib import Path
 
 from platformdirs import user_data_dir
 
+from .map_tiles import checked_template
+
 FRONTEND_DIST = Path(__file__).resolve().parents[3] / "frontend" / "dist"
 
 
@@ -21,6 +23,9 @@ class Settings:
     # Processes that validate orders beside each server process (0: in the server's threads).
     # Two, so that one user's heavy validation leaves one for another's edit (validation_pool).
     validation_processes: int = 2
+    # Map tiles under the plan view (map_tiles.py): a checked URL template, or None (offline).
+    map_tiles: str | None = None
+    map_tiles_attribution: str = ""
 
     @classmethod
     def from_environment(cls, data_dir: Path | None = None) -> Settings:
@@ -34,8 +39,16 @@ class Settings:
         if not processes.isdigit() or int(processes) > 64:
             raise ValueError("COUNTERSIGN_VALIDATION_PROCESSES must be a whole number from 0 "
                              f"to 64, not {processes!r}")
+        tiles = os.environ.get("COUNTERSIGN_MAP_TILES", "").strip()
+        attribution = os.environ.get("COUNTERSIGN_MAP_TILES_ATTRIBUTION", "").strip()[:200]
         return cls(data_dir=chosen, database_url=url, secure_cookies=secure,
-                   validation_processes=int(processes))
+                   validation_processes=int(processes),
+                   map_tiles=checked_template(tiles) if tiles else None,
+                   map_tiles_attribution=attribution)
+
+    def __post_init__(self) -> None:
+        if self.map_tiles is not None:
+            checked_template(self.map_tiles)
 
     def prepare(self) -> None:
         self.data_dir.mkdir(parents=True, exist_ok=True, mode=0o700)

@@ -65,6 +65,9 @@ class ValidationPool:
         if processes < 1:
             raise ValueError("a validation pool needs at least one process")
         self.processes = processes
+        # Before anything starts the forkserver (the password hasher shares it), so that it
+        # has the checks imported and a replacement process costs a fork, not an import.
+        multiprocessing.get_context("forkserver").set_forkserver_preload([CHECKS_MODULE])
         self._lock = threading.Lock()
         self._executor: ProcessPoolExecutor | None = None
         self.last_pid: int | None = None  # the process that ran the last validation
@@ -127,7 +130,6 @@ class ValidationPool:
         with self._lock:
             if self._executor is None:
                 context = multiprocessing.get_context("forkserver")
-                context.set_forkserver_preload([CHECKS_MODULE])
                 self._executor = ProcessPoolExecutor(
                     self.processes, mp_context=context, initializer=_lower_priority,
                     max_tasks_per_child=TASKS_PER_PROCESS)

@@ -264,6 +264,23 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/client-config": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Client Config */
+        get: operations["getClientConfig"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/events": {
         parameters: {
             query?: never;
@@ -1676,6 +1693,19 @@ export interface components {
             source: string;
             /** Version */
             version: number | null;
+        };
+        /** ClientConfigOut */
+        ClientConfigOut: {
+            /**
+             * Map Tiles
+             * @description URL template of the map tiles under the plan view ({z}/{x}/{y}, Web Mercator, 256 pixels), or null: no tiles, the plan view is drawn offline
+             */
+            map_tiles: string | null;
+            /**
+             * Map Tiles Attribution
+             * @description text to show beside the tiles
+             */
+            map_tiles_attribution: string;
         };
         /** ConsistencyProofOut */
         ConsistencyProofOut: {
@@ -3864,6 +3894,26 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    getClientConfig: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ClientConfigOut"];
                 };
             };
         };

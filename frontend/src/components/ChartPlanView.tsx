@@ -1,8 +1,9 @@
 /**
  * Plan view of a mission's geography (issue 21): areas, registry charts, each outcome edge's
  * leg (letter and colour of its outcome), the GEO crossings highlighted, and the coastline from
- * the server's bundled land mask. Drawn as SVG from /api/plan-view: no map tiles, works offline.
- * Every name is React text, never markup.
+ * the server's bundled land mask. Drawn as SVG from /api/plan-view in Web Mercator; map tiles
+ * beneath only when the server configures them (COUNTERSIGN_MAP_TILES, /api/client-config),
+ * otherwise none are requested and it works offline. Every name is React text, never markup.
  */
 import { useLoad } from "../useLoad";
 import { api, unwrap } from "../api/client";
@@ -57,31 +58,93 @@ const WIDTH = 720;
 const HEIGHT = 480;
 const PAD = 16;
 
-function projector(data: PlanData): (p: LatLon) => [number, number] {
-  const points = [
+const TILE_PX = 256;
+const MAX_ZOOM = 19;
+const MAX_TILES = 48;
+
+/** Web Mercator in unit coordinates: x east from -180°, y south from 85.05°N, both 0..1. */
+function mercator([lat, lon]: LatLon): [number, number] {
+  const sin = Math.sin((Math.max(-85.0511, Math.min(85.0511, lat)) * Math.PI) / 180);
+  return [(lon + 180) / 360, 0.5 - Math.log((1 + sin) / (1 - sin)) / (4 * Math.PI)];
+}
+
+interface Projection {
+  at: (p: LatLon) => [number, number];
+  scale: number; // pixels per unit of Mercator
+  offset: [number, number]; // pixel position of Mercator (0, 0)
+}
+
+function projector(data: PlanData): Projection {
+  const projected = [
     ...data.areas.flatMap((a) => a.polygon),
     ...data.legs.flatMap((l) => [l.start, l.end]),
-  ];
-  const lats = points.map((p) => p[0]);
-  const lons = points.map((p) => p[1]);
-  const [south, north] = lats.length ? [Math.min(...lats), Math.max(...lats)] : [-1, 1];
-  const [west, east] = lons.length ? [Math.min(...lons), Math.max(...lons)] : [-1, 1];
-  const cos = Math.cos((((south + north) / 2) * Math.PI) / 180);
-  const spanX = Math.max((east - west) * cos, 1e-6);
-  const spanY = Math.max(north - south, 1e-6);
+  ].map(mercator);
+  const xs = projected.map((p) => p[0]);
+  const ys = projected.map((p) => p[1]);
+  const [west, east] = xs.length ? [Math.min(...xs), Math.max(...xs)] : [0.49, 0.51];
+  const [north, south] = ys.length ? [Math.min(...ys), Math.max(...ys)] : [0.49, 0.51];
+  const spanX = Math.max(east - west, 1e-9);
+  const spanY = Math.max(south - north, 1e-9);
   const scale = Math.min((WIDTH - 2 * PAD) / spanX, (HEIGHT - 2 * PAD) / spanY);
-  return ([lat, lon]) => [
-    PAD + (lon - west) * cos * scale + (WIDTH - 2 * PAD - spanX * scale) / 2,
-    HEIGHT - PAD - (lat - south) * scale - (HEIGHT - 2 * PAD - spanY * scale) / 2,
+  const offset: [number, number] = [
+    PAD + (WIDTH - 2 * PAD - spanX * scale) / 2 - west * scale,
+    PAD + (HEIGHT - 2 * PAD - spanY * scale) / 2 - north * scale,
   ];
+  return {
+    at: (p) => {
+      const [x, y] = mercator(p);
+      return [offset[0] + x * scale, offset[1] + y * scale];
+    },
+    scale,
+    offset,
+  };
+}
+
+export interface Tile {
+  url: string;
+  x: number;
+  y: number;
+  size: number;
+}
+
+/** The tiles (of a {z}/{x}/{y} template) that cover the drawing, at the zoom nearest its scale. */
+export function tilesFor(template: string, projection: Projection): Tile[] {
+  let zoom = Math.max(0, Math.min(MAX_ZOOM, Math.round(Math.log2(projection.scale / TILE_PX))));
+  for (;;) {
+    const n = 2 ** zoom;
+    const size = projection.scale / n;
+    const range = (offset: number, extent: number): number[] => {
+      const first = Math.max(0, Math.floor((-offset / size)));
+      const last = Math.min(n - 1, Math.floor((extent - offset) / size));
+      return Array.from({ length: Math.max(0, last - first + 1) }, (_, i) => first + i);
+    };
+    const columns = range(projection.offset[0], WIDTH);
+    const rows = range(projection.offset[1], HEIGHT);
+    if (columns.length * rows.length > MAX_TILES && zoom > 0) {
+      zoom -= 1;
+      continue;
+    }
+    return rows.flatMap((row) =>
+      columns.map((column) => ({
+        url: template
+          .replace("{z}", String(zoom))
+          .replace("{x}", String(column))
+          .replace("{y}", String(row)),
+        x: projection.offset[0] + column * size,
+        y: projection.offset[1] + row * size,
+        size,
+      })),
+    );
+  }
 }
 
 function points(shape: LatLon[], at: (p: LatLon) => [number, number]): string {
   return shape.map((p) => at(p).map((v) => v.toFixed(1)).join(",")).join(" ");
 }
 
-export function PlanSvg({ data }: { data: PlanData }) {
-  const at = projector(data);
+export function PlanSvg({ data, tiles = null }: { data: PlanData; tiles?: string | null }) {
+  const projection = projector(data);
+  const at = projection.at;
   const crossed = new Set(
     data.crossings.filter((c) => c.edge).map((c) => `${c.edge!.goal} ${c.edge!.outcome}`),
   );
@@ -96,6 +159,21 @@ export function PlanSvg({ data }: { data: PlanData }) {
       height={HEIGHT}
       style={{ background: "#eef6fb", maxWidth: "100%" }}
     >
+      {tiles && (
+        <g className="map-tiles" opacity={0.8}>
+          {tilesFor(tiles, projection).map((tile) => (
+            <image
+              key={tile.url}
+              href={tile.url}
+              x={tile.x}
+              y={tile.y}
+              width={tile.size}
+              height={tile.size}
+              preserveAspectRatio="none"
+            />
+          ))}
+        </g>
+      )}
       <g className="coastline" stroke="#8d6e63" strokeWidth={1}>
         {data.coastline.map(([a, b], i) => {
           const [x1, y1] = at(a);
@@ -173,16 +251,26 @@ export function ChartPlanView({ orders }: { orders: unknown }) {
       ) as unknown as PlanData,
     [JSON.stringify(orders)],
   );
+  // The server's tile setting; without it (or if it cannot be read) no tile is requested.
+  const config = useLoad(async () => unwrap(await api.GET("/api/client-config")), []);
+  const tiles = config.data?.map_tiles ?? null;
   if (loading && !data) return <Loading what="the plan view" />;
   if (!data) return <ErrorMessage error={error ?? "The plan view could not be drawn."} />;
   return (
     <div className="chart-plan-view">
-      <PlanSvg data={data} />
+      {config.loading && !config.data ? (
+        <Loading what="the map settings" />
+      ) : (
+        <PlanSvg data={data} tiles={tiles} />
+      )}
       <p>
         Legs: <span style={{ color: OUTCOME_STYLE.succeed.colour }}>s succeed</span>,{" "}
         <span style={{ color: OUTCOME_STYLE.fail.colour }}>f fail</span>,{" "}
         <span style={{ color: OUTCOME_STYLE.violate.colour }}>c constraint</span>; crossings in
-        red. No map tiles are loaded; the coastline is the server&apos;s land mask.
+        red.{" "}
+        {tiles
+          ? `Map tiles: ${config.data?.map_tiles_attribution || new URL(tiles.replace(/[{}]/g, "")).host}.`
+          : "No map tiles are loaded; the coastline is the server's land mask."}
       </p>
       {data.crossings.length > 0 ? (
         <ul className="plan-crossings" aria-label="Crossings">
