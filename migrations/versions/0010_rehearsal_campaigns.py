@@ -1,8 +1,8 @@
 """rehearsal campaigns (issue 20): campaigns, one result per (campaign, index), and their
 attachment to submissions
 
-Revision ID: 0011
-Revises: 0008
+Revision ID: 0010
+Revises: 0009
 Create Date: 2026-12-02 06:38:28.036563
 """
 
@@ -13,8 +13,8 @@ from alembic import op
 
 from countersign.store.tables import UtcDateTime
 
-revision = '0011'
-down_revision = '0008'
+revision = '0010'
+down_revision = '0009'
 branch_labels = None
 depends_on = None
 
