@@ -82,7 +82,7 @@ class Scene:
         *,
         title: str,
         on_choose: Callable[[str], None],
-        on_inject: Callable[[str], None],
+        on_inject: Callable[[str], object],
         on_speed: Callable[[float | None], None],
         on_skip: Callable[[], None],
         speed: float | None,
@@ -189,7 +189,7 @@ class Scene:
             node = f"/legs/{k}"
             self.server.scene.add_line_segments(node, np.array([[a, b]], dtype=np.float32),
                                                 colour, thickness=0.015)
-            middle = tuple((a[i] + b[i]) / 2 for i in range(3))
+            middle = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2)
             # The letter only: legs between the same areas overlap, and so would long labels.
             self.server.scene.add_label(f"{node}/label", OUTCOME_LETTERS[leg.outcome],
                                         position=middle)
@@ -232,7 +232,7 @@ class Scene:
     # ------------------------------------------------------------------------------ GUI
 
     def _gui(self, title: str, on_choose: Callable[[str], None],
-             on_inject: Callable[[str], None], on_speed: Callable[[float | None], None],
+             on_inject: Callable[[str], object], on_speed: Callable[[float | None], None],
              on_skip: Callable[[], None], speed: float | None, manual: bool) -> None:
         gui = self.server.gui
         gui.set_panel_label(title[:80])
@@ -414,7 +414,7 @@ def markdown_text(text: str) -> str:
                    for c in text.replace("\r", " ").replace("\n", " "))
 
 
-def _forward(callback: Callable[[str], None], value: str) -> Callable[[Any], None]:
+def _forward(callback: Callable[[str], object], value: str) -> Callable[[Any], None]:
     def handler(_: Any) -> None:
         # A click in the wrong state (double click, finished rehearsal) is ignored.
         with contextlib.suppress(ValueError):

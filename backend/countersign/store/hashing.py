@@ -121,7 +121,7 @@ class BoundedHasher(PasswordHasher):
         if salt is None:
             future = self._submit(_hash, self._argon2_parameters, password)
             if future is not None:
-                return self._result(future)
+                return str(self._result(future))
         with self.slots:
             return super().hash(password, salt=salt)
 
