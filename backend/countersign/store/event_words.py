@@ -47,7 +47,7 @@ def event_target(kind: str, mission: str | None, detail: Mapping[str, Any]) -> s
                                                                     else "")
     elif kind == "version.created":
         target = _mission_version(mission, detail, "number")
-    elif family in {"submission", "approval", "execution", "rehearsal"}:
+    elif family in {"submission", "approval", "execution", "rehearsal", "campaign"}:
         target = _mission_version(mission, detail)
     elif mission:
         target = f"mission {mission}"
@@ -115,6 +115,14 @@ _CHANGES: dict[str, Callable[[str | None, Mapping[str, Any]], str]] = {
     "chart.saved": lambda m, d: f"{len(d.get('charts') or [])} chart(s) saved",
     "chart.deleted": lambda m, d: "chart deleted",
     "execution.recorded": lambda m, d: f"execution recorded: {_text(d.get('summary', ''))}",
+    "submission.campaign_attached": lambda m, d: (
+        f"rehearsal campaign {_text(d.get('campaign'), 16)} attached to submission "
+        f"{d.get('submission')}"),
+    "campaign.created": lambda m, d: (
+        f"rehearsal campaign {_text(d.get('campaign'), 16)} queued"),
+    "campaign.cancelled": lambda m, d: (
+        f"rehearsal campaign {_text(d.get('campaign'), 16)} cancelled after {d.get('done')} "
+        f"simulations"),
     "log.adopted": lambda m, d: f"{d.get('entries')} earlier log entries adopted",
 }
 
