@@ -307,7 +307,10 @@ def test_operator_builds_the_exemplar_by_mouse_and_keyboard(own_page: Page) -> N
     expect(page.get_by_test_id("paths-counts")).to_contain_text("25 to COMPLETE")
     page.get_by_role("button", name="List paths").click()
     first = page.get_by_role("option", name=re.compile(r"^Path 1: "))
-    first.click()
+    expect(first).to_be_visible()
+    # Chosen from the keyboard (the list's own arrow keys), as an operator without a mouse would.
+    page.get_by_test_id("editor-path-list").focus()
+    page.keyboard.press("ArrowDown")
     expect(page.get_by_test_id("path-trace")).to_contain_text("Commence: Search Area A.")
     expect(page.get_by_test_id("highlight-note")).to_be_visible()
     expect(page.locator(".react-flow__edge.edge-on-path")).not_to_have_count(0)
