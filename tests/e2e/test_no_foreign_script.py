@@ -384,13 +384,12 @@ def rehearse_and_replay(page: Page, findings: Findings) -> None:
     page.get_by_test_id("start-rehearsal").click()
     viewer = page.frame_locator('[data-testid="viser-frame"]')
     # Generous timeouts: a viser server and the simulation start on a loaded machine.
-    expect(viewer.get_by_role("button", name="Succeed")).to_be_visible(timeout=90_000)
+    expect(viewer.locator("canvas").first).to_be_visible(timeout=90_000)
     expect(page.get_by_test_id("rehearsal-state")).to_have_text("Waiting for the outcome",
                                                                  timeout=60_000)
     expect(page.get_by_test_id("current-goal")).to_contain_text("Changed v2", timeout=30_000)
-    # The goal's title reaches viser's GUI as the value of a read-only text field.
-    expect(viewer.locator("input[disabled]").first).to_have_value(re.compile("Changed v2 <img"),
-                                                                  timeout=30_000)
+    # The page holds the rehearsal's controls and the goal's title (issue 18); viser's own
+    # panel has none, so the title reaches viser only as scene labels, checked below.
     page.wait_for_timeout(1000)  # the scene's labels arrive
     check_frames(page, findings, "live rehearsal, first goal")
     page.get_by_test_id("outcome-succeed").click()
