@@ -1757,6 +1757,19 @@ export interface components {
             /** Version */
             version: number | null;
         };
+        /** CampaignProbabilitiesOut */
+        CampaignProbabilitiesOut: {
+            /** Campaign */
+            campaign: string;
+            /** Digest */
+            digest: string | null;
+            /** Goals */
+            goals: {
+                [key: string]: unknown;
+            };
+            /** Orders Digest */
+            orders_digest: string;
+        };
         /**
          * Chart
          * @description A shared area from the server's chart registry, copied into the orders it was checked
@@ -4030,9 +4043,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": {
-                        [key: string]: unknown;
-                    };
+                    "application/json": components["schemas"]["CampaignProbabilitiesOut"];
                 };
             };
             /** @description Validation Error */

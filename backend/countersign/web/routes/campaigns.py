@@ -136,8 +136,15 @@ def cancel_campaign(campaign_id: CampaignId, principal: CurrentPrincipal,
                                                         actor=principal.user)))
 
 
+class CampaignProbabilitiesOut(BaseModel):
+    campaign: str
+    digest: str | None
+    orders_digest: str
+    goals: dict[str, Any]
+
+
 @router.get("/campaigns/{campaign_id}/probabilities", operation_id="campaignProbabilities",
-            **allow(*EVERYONE))
+            response_model=CampaignProbabilitiesOut, **allow(*EVERYONE))
 def campaign_probabilities(campaign_id: CampaignId, db: Db) -> dict[str, Any]:
     """Per-goal outcome probabilities estimated by a finished campaign, in the orders' `p`
     form (point estimates and 95% intervals): suggestions for the operator to copy into a new
