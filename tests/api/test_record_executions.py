@@ -4,10 +4,10 @@ in IMC accepted by the API; the cited rehearsal's runs through the same executio
 
 from __future__ import annotations
 
-import pytest
-
 import base64
 import json
+
+import pytest
 
 from countersign.export.rehearsal_log import rehearsal_runs
 from countersign.orders.examples import example_bytes
