@@ -9,8 +9,10 @@ missing; with COUNTERSIGN_REQUIRE_E2E=1 (for CI) that is a failure instead.
 from __future__ import annotations
 
 import contextlib
+import json
 import os
 import re
+import secrets
 import socket
 import subprocess
 import sys
@@ -232,6 +234,17 @@ def seeded_mission(server: Server) -> str:
     from countersign.orders.examples import example_bytes
 
     return _api_import(server, example_bytes("search-and-sample"), "application/json")
+
+
+@pytest.fixture()
+def own_exemplar(server: Server) -> str:
+    """A copy of the exemplar under an id of its own, for a test that counts what it adds
+    (records, versions) and must not see what other tests left on the shared server."""
+    from countersign.orders.examples import example_bytes
+
+    orders = json.loads(example_bytes("search-and-sample"))
+    orders["id"] = f"search-and-sample-{secrets.token_hex(4)}"
+    return _api_import(server, json.dumps(orders).encode(), "application/json")
 
 
 def _api_import(server: Server, body: bytes, content_type: str) -> str:

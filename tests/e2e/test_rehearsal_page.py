@@ -15,11 +15,11 @@ from .conftest import Server
 from .test_roles import sign_in
 
 
-def test_operator_rehearses_in_the_browser(page: Page, server: Server, seeded_mission: str,
+def test_operator_rehearses_in_the_browser(page: Page, server: Server, own_exemplar: str,
                                            tmp_path_factory: pytest.TempPathFactory) -> None:
     del server
     sign_in(page, "operator")
-    page.goto(f"/missions/{seeded_mission}?tab=rehearse")
+    page.goto(f"/missions/{own_exemplar}?tab=rehearse")
     expect(page.get_by_role("tab", name="Rehearse")).to_have_attribute("aria-selected", "true")
     page.get_by_test_id("rehearsal-speed").fill("5000")
     page.get_by_test_id("start-rehearsal").click()

@@ -61,8 +61,11 @@ def test_each_role_sees_only_its_own_actions(page: Page, role: str, seeded_missi
         1 if role == "operator" else 0)
 
     # Every role reads missions: the list, then the mission page with its views.
-    # Other tests add missions with similar titles to the shared server: pick this one by address.
-    page.locator('a[href="/missions/search-and-sample"]').click()
+    # Other tests add missions to the shared server, so the list's first page may not hold this
+    # one: find it with the list's search, then pick it by address.
+    page.get_by_role("searchbox", name="Search").fill(seeded_mission)
+    page.get_by_role("searchbox", name="Search").press("Enter")
+    page.locator(f'a[href="/missions/{seeded_mission}"]').click()
     expect(page.get_by_role("heading", name="Search and sample", level=1)).to_be_visible()
     tabs = [t.strip() for t in page.get_by_role("tab").all_inner_texts()]
     assert [re.sub(r" \(\d+\)$", "", t) for t in tabs] == MISSION_TABS[role]
