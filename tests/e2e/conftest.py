@@ -247,6 +247,24 @@ def own_exemplar(server: Server) -> str:
     return _api_import(server, json.dumps(orders).encode(), "application/json")
 
 
+def make_user(server: Server, role: str) -> tuple[str, str]:
+    """A new account of `role` created by the admin through the API: (username, password), for a
+    test whose assertions depend on that user's own state (keys, sessions) on the shared server."""
+    import httpx
+
+    username = f"{role}-{secrets.token_hex(4)}"
+    password = f"Xy7-{secrets.token_hex(6)}-e2e-Qw9"
+    with httpx.Client(base_url=server.url, timeout=60) as client:
+        login = client.post("/api/auth/login",
+                            json={"username": "admin", "password": PASSWORD["admin"]})
+        login.raise_for_status()
+        made = client.post("/api/users", headers={"X-CSRF-Token": login.json()["csrf_token"]},
+                           json={"username": username, "role": role, "password": password,
+                                 "display_name": f"E2E {role.title()} {username[-8:]}"})
+        assert made.status_code == 201, made.text
+    return username, password
+
+
 def _api_import(server: Server, body: bytes, content_type: str) -> str:
     import httpx
 

@@ -30,12 +30,15 @@ MISSION_TABS = {
 }
 
 
-def sign_in(page: Page, role: str, password: str | None = None) -> None:
+def sign_in(page: Page, role: str, password: str | None = None,
+            username: str | None = None) -> None:
+    """Sign in as the shared account of `role`, or as `username` (an account of that role);
+    with a wrong `password` and no username, the sign-in is expected to fail."""
     page.goto("/")
-    page.get_by_label("Username").fill(role)
+    page.get_by_label("Username").fill(username or role)
     page.get_by_label("Password").fill(password or PASSWORD[role])
     page.get_by_role("button", name="Sign in").click()
-    if password is None:
+    if password is None or username is not None:
         expect(page.get_by_test_id("current-role")).to_have_text(role.title())
 
 
