@@ -57,7 +57,7 @@ def server_process(database_url: str,
          str(data_dir)], env=env, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     url = f"http://127.0.0.1:{port}"
     try:
-        deadline = time.monotonic() + 60
+        deadline = time.monotonic() + 180  # a loaded machine starts a server slowly
         while True:
             try:
                 if httpx.get(f"{url}/api/health", timeout=1).status_code == 200:

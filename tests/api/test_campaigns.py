@@ -4,15 +4,26 @@ per-person concurrency, the offered probabilities (never written into orders), a
 
 from __future__ import annotations
 
+import json
 import time
 from typing import Any
 
 import pytest
 from fastapi.testclient import TestClient
+from sqlalchemy import text
 
+from countersign.approvals import dsse
+from countersign.approvals.bundle import verify_bundle
 from countersign.store import campaigns as store
 
-from .approval_helpers import MISSION, new_version, submit
+from .approval_helpers import (
+    MISSION,
+    approve,
+    new_version,
+    prepare,
+    register_key,
+    submit,
+)
 from .conftest import World
 
 
@@ -117,3 +128,50 @@ def test_one_person_runs_a_bounded_number_of_campaigns_and_cancels_their_own(
     from countersign.jobs.tasks import run_chunk
 
     assert run_chunk(world.database, ids[0], 0, 4) == 0
+
+
+def test_an_attached_campaign_is_signed_exported_and_checked(sqlite_world: World) -> None:
+    """The signature covers the campaign the supervisor was shown (issue 20 item 3): its record
+    digest is in the statement, the audit bundle carries the record, and a record changed in
+    the database afterwards is reported, not trusted."""
+    world = sqlite_world
+    number = new_version(world)
+    operator = world.client("operator")
+    campaign = _start(operator, number).json()
+    done = _wait_finished(operator, campaign["id"])
+    submission = submit(world, number)
+    supervisor = world.client("supervisor")
+    signer = register_key(supervisor)
+    bare = prepare(supervisor, submission, signer)["statement"]["predicate"]
+    assert "campaigns" not in bare  # nothing attached yet: the statement says nothing of it
+    attached = operator.post(f"/api/submissions/{submission}/campaigns",
+                             json={"campaign": campaign["id"]})
+    assert attached.status_code == 201, attached.text
+    # Attached: the statement to sign cites the campaign's record by digest.
+    prepared = prepare(supervisor, submission, signer)
+    assert prepared["statement"]["predicate"]["campaigns"] == [done["digest"]]
+    payload = json.loads(dsse.unb64(prepared["payload"], "payload"))
+    assert payload["predicate"]["campaigns"] == [done["digest"]]
+    approve(world, supervisor, signer, submission)
+
+    bundle = world.client("auditor").get("/api/audit/bundle").json()
+    assert bundle["campaigns"][done["digest"]]["orders"]["digest"] \
+        == operator.get(f"/api/missions/{MISSION}/versions/{number}").json()["digest"]
+    assert verify_bundle(bundle).problems == []
+
+    # A database writer edits the stored campaign record: the bundle's check names it.
+    with world.database.engine.begin() as connection:
+        row = connection.execute(text("SELECT record FROM campaigns WHERE id = :id"),
+                                 {"id": campaign["id"]}).scalar_one()
+        record = json.loads(row) if isinstance(row, str) else row
+        record["simulations"] = 1000
+        connection.execute(text("UPDATE campaigns SET record = :r WHERE id = :id"),
+                           {"r": json.dumps(record), "id": campaign["id"]})
+    tampered = world.client("auditor").get("/api/audit/bundle").json()
+    problems = verify_bundle(tampered).problems
+    assert any(f"the campaign record does not hash to the cited digest {done['digest']}" in p
+               for p in problems), problems
+    # Dropped from the bundle: named as missing.
+    tampered["campaigns"] = {}
+    assert any(f"lacks the campaign record {done['digest']}" in p
+               for p in verify_bundle(tampered).problems)

@@ -154,7 +154,7 @@ def running_server(data_dir: Path, roles: Iterable[str],
 
 
 def _wait_healthy(server: Server, process: subprocess.Popen[bytes]) -> None:
-    deadline = time.monotonic() + 60
+    deadline = time.monotonic() + 180  # a loaded machine starts a server slowly
     while time.monotonic() < deadline:
         if process.poll() is not None:
             pytest.fail(f"countersign serve exited with {process.returncode}:\n"
@@ -166,7 +166,7 @@ def _wait_healthy(server: Server, process: subprocess.Popen[bytes]) -> None:
         except (urllib.error.URLError, OSError):
             pass
         time.sleep(0.2)
-    pytest.fail(f"countersign serve did not answer /api/health within 60 s:\n{server.log_tail()}")
+    pytest.fail(f"countersign serve did not answer /api/health within 180 s:\n{server.log_tail()}")
 
 
 @pytest.fixture(scope="session")

@@ -155,7 +155,7 @@ def verify_bundle(
     for approval in bundle.get("approvals", []):
         report.approvals += 1
         _check_approval(approval, events, leaves, keys, orders, latest, report,
-                        bundle.get("rehearsals") or {})
+                        bundle.get("rehearsals") or {}, bundle.get("campaigns") or {})
     return report
 
 
@@ -315,7 +315,8 @@ def _check_bundle_keys(bundle_keys: list[dict[str, Any]], keys: dict[str, _Key],
 def _check_approval(approval: dict[str, Any], events: list[dict[str, Any]], leaves: list[bytes],
                     keys: dict[str, _Key], orders: dict[str, Any],
                     latest: Head | None, report: BundleReport,
-                    rehearsals: dict[str, Any] | None = None) -> None:
+                    rehearsals: dict[str, Any] | None = None,
+                    campaigns: dict[str, Any] | None = None) -> None:
     name = f"approval {approval.get('id')}"
     index = approval.get("log_index")
     if index is None:
@@ -363,8 +364,11 @@ def _check_approval(approval: dict[str, Any], events: list[dict[str, Any]], leav
         elif not orders_match(covered, signed):
             report.problems.append(f"{name}: the stored orders of {statement['subject'][0]['name']}"
                                    f" do not hash to the signed digest {signed}")
-    _check_rehearsal(name, statement["predicate"].get("rehearsal_digest"), signed,
-                     rehearsals or {}, report)
+    _check_cited(name, "rehearsal", statement["predicate"].get("rehearsal_digest"), signed,
+                 rehearsals or {}, report)
+    cited_campaigns = statement["predicate"].get("campaigns") or []
+    for cited in cited_campaigns if isinstance(cited_campaigns, list) else [cited_campaigns]:
+        _check_cited(name, "campaign", cited, signed, campaigns or {}, report)
     proof = approval.get("inclusion") or {}
     if latest is not None:
         try:
@@ -378,19 +382,20 @@ def _check_approval(approval: dict[str, Any], events: list[dict[str, Any]], leav
                                    "verify against the signed checkpoint")
 
 
-def _check_rehearsal(name: str, cited: Any, signed: str, rehearsals: dict[str, Any],
-                     report: BundleReport) -> None:
-    """A cited rehearsal record is in the bundle, hashes to the cited digest (RFC 8785) and
-    rehearsed the signed orders."""
+def _check_cited(name: str, kind: str, cited: Any, signed: str, records: dict[str, Any],
+                 report: BundleReport) -> None:
+    """A cited rehearsal or campaign record is in the bundle, hashes to the cited digest
+    (RFC 8785) and simulated the signed orders."""
     if cited is None:
         return
-    record = rehearsals.get(str(cited))
+    record = records.get(str(cited))
     if not isinstance(record, dict):
-        report.problems.append(f"{name}: the bundle lacks the rehearsal record {cited} the "
+        report.problems.append(f"{name}: the bundle lacks the {kind} record {cited} the "
                                "statement cites")
     elif json_digest(record) != cited:
-        report.problems.append(f"{name}: the rehearsal record does not hash to the cited "
+        report.problems.append(f"{name}: the {kind} record does not hash to the cited "
                                f"digest {cited}")
     elif (record.get("orders") or {}).get("digest") != signed:
-        report.problems.append(f"{name}: the cited rehearsal record rehearsed other orders "
+        verb = "rehearsed" if kind == "rehearsal" else "simulated"
+        report.problems.append(f"{name}: the cited {kind} record {verb} other orders "
                                f"than {signed}")

@@ -24,6 +24,7 @@ def build_statement(
     author: str, supervisor: str, key_id: str, time: str, nonce: str,
     rehearsal_digest: str | None = None, revokes: str | None = None,
     probabilities: dict[str, Any] | None = None, exports: dict[str, str] | None = None,
+    campaigns: list[str] | None = None,
 ) -> dict[str, Any]:
     if decision not in DECISIONS:
         raise ValueError(f"decision must be one of {', '.join(DECISIONS)}")
@@ -45,6 +46,10 @@ def build_statement(
     # and a verifier that cannot rebuild the exports can still check them.
     if exports is not None:
         predicate["exports"] = exports
+    # The rehearsal campaigns attached to the submission (issue 20), by record digest, sorted:
+    # only when some are, for the same reason as above.
+    if campaigns:
+        predicate["campaigns"] = sorted(campaigns)
     return {
         "_type": STATEMENT_TYPE,
         "subject": [{"name": f"{mission}@v{version}", "digest": {algorithm: hexdigest}}],

@@ -9,9 +9,11 @@ from sqlalchemy.orm import Session as DbSession
 
 from ...approvals.bundle import BUNDLE_FORMAT
 from ...approvals.signer import LogSigner
+from ..campaigns import attached as attached_campaigns
 from ..log_gaps import LogEntriesMissing, approvals_without_entry, describe, missing_entries
 from ..tables import (
     Approval,
+    Campaign,
     Checkpoint,
     LogEntry,
     MissionVersion,
@@ -53,12 +55,14 @@ def build_bundle(db: DbSession, *, signer: LogSigner,
     orders: dict[str, Any] = {}
     approvals = []
     cited: set[str] = set()
+    cited_campaigns: set[str] = set()
     for approval in rows:
         if approval.orders_digest not in orders:
             orders[approval.orders_digest] = db.get_one(MissionVersion, approval.version_id).orders
         submission = db.get_one(Submission, approval.submission_id)
         if submission.rehearsal_digest is not None:
             cited.add(submission.rehearsal_digest)
+        cited_campaigns.update(a.digest for a in attached_campaigns(db, submission.id))
         logged = indexes.get(approval.event_id)
         approvals.append({
             "id": approval.id, "mission": approval.mission_id, "decision": approval.decision,
@@ -92,6 +96,10 @@ def build_bundle(db: DbSession, *, signer: LogSigner,
         "rehearsals": {r.digest: r.record for r in db.scalars(
             select(RehearsalRecord).where(RehearsalRecord.digest.in_(sorted(cited))))}
         if cited else {},
+        # Campaign records the approvals cite, by digest (issue 20).
+        "campaigns": {c.digest: c.record for c in db.scalars(
+            select(Campaign).where(Campaign.digest.in_(sorted(cited_campaigns))))}
+        if cited_campaigns else {},
     }
     if damaged:
         raise LogEntriesMissing(gaps, orphans, bundle)

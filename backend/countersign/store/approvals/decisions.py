@@ -23,6 +23,7 @@ from ...approvals.statement import (
 )
 from ...export.package import export_digests
 from ...orders.reader import orders_from_data
+from ..campaigns import attached as attached_campaigns
 from ..decide_guard import (
     lock_submission,
 )
@@ -79,7 +80,8 @@ def _statement(db: DbSession, ctx: Context, *, decision: str, reason: str, super
         vehicle=orders.get("vehicle"), author=_username(db, ctx.version.author_id) or "",
         supervisor=supervisor.username, key_id=key_id, time=time, nonce=nonce, revokes=revokes,
         rehearsal_digest=ctx.submission.rehearsal_digest,
-        probabilities=ctx.report.get("probabilities"), exports=exports)
+        probabilities=ctx.report.get("probabilities"), exports=exports,
+        campaigns=[a.digest for a in attached_campaigns(db, ctx.submission.id)])
 
 
 @dataclass(frozen=True)

@@ -252,3 +252,4 @@ class BundleOut(BaseModel):
     orders: dict[str, OrdersJson]
     approvals: list[BundleApprovalOut]
     rehearsals: dict[str, dict[str, Any]]
+    campaigns: dict[str, dict[str, Any]] = {}
