@@ -1674,6 +1674,15 @@ export interface components {
         BundleOut: {
             /** Approvals */
             approvals: components["schemas"]["BundleApprovalOut"][];
+            /**
+             * Campaigns
+             * @default {}
+             */
+            campaigns?: {
+                [key: string]: {
+                    [key: string]: unknown;
+                };
+            };
             /** Checkpoints */
             checkpoints: components["schemas"]["CheckpointOut"][];
             /** Created At */

@@ -23,9 +23,11 @@ import { DiffView, FindingsTable, IntegrityWarning, PathSummaryTable, RulesSecti
 import { ReviewPaths } from "./ReviewPaths";
 import { signPrepared, useSigningKeys } from "./signing";
 import { ReceiptNote } from "./Receipt";
+import { type CitedCampaigns, CitedEvidence, useCitedCampaigns } from "./CitedEvidence";
 
 export function ReviewPage({ mission, version }: { mission: string; version: number }) {
   const { data: review, error, loading, reload } = useLoad(() => loadReview(mission, version), [mission, version]);
+  const cited = useCitedCampaigns(review?.submissions[0]?.id);
   useEffect(() => {
     document.title = `Review ${mission} v${version} · Countersign`;
   }, [mission, version]);
@@ -112,7 +114,9 @@ export function ReviewPage({ mission, version }: { mission: string; version: num
       {/* The report field is an open object in the API; its shape is verify/probability.py. */}
       <ProbabilityTable figures={review.probabilities as OutcomeFigures | null | undefined} />
 
-      <Decision review={review} onDecided={reload} />
+      <CitedEvidence rehearsal={current?.rehearsal} cited={cited} />
+
+      <Decision review={review} cited={cited} onDecided={reload} />
     </section>
   );
 }
@@ -144,13 +148,23 @@ function Changes({ review }: { review: Review }) {
   );
 }
 
-function Decision({ review, onDecided }: { review: Review; onDecided: () => void }) {
+function Decision({ review, cited, onDecided }: { review: Review; cited: CitedCampaigns; onDecided: () => void }) {
   const { user } = useSession();
   if (user.role !== "supervisor") return null;
-  return <DecisionForm review={review} onDecided={onDecided} username={user.username} />;
+  return <DecisionForm review={review} cited={cited} onDecided={onDecided} username={user.username} />;
 }
 
-function DecisionForm({ review, onDecided, username }: { review: Review; onDecided: () => void; username: string }) {
+function DecisionForm({
+  review,
+  cited,
+  onDecided,
+  username,
+}: {
+  review: Review;
+  cited: CitedCampaigns;
+  onDecided: () => void;
+  username: string;
+}) {
   const keys = useSigningKeys(username);
   const [keyId, setKeyId] = useState("");
   const [reason, setReason] = useState("");
@@ -177,7 +191,14 @@ function DecisionForm({ review, onDecided, username }: { review: Review; onDecid
           body: { decision, reason, key_id: selected.keyId },
         }),
       );
-      const envelope = await signPrepared(prepared, selected, { digest: review.digest, decision, submission: submission.id });
+      if (cited.loading || cited.error) throw new Error("The attached campaigns are not loaded: reload the review before signing.");
+      const envelope = await signPrepared(prepared, selected, {
+        digest: review.digest,
+        decision,
+        submission: submission.id,
+        rehearsal: submission.rehearsal ?? null,
+        campaigns: cited.campaigns.map((c) => c.digest ?? ""),
+      });
       const stored = unwrap(
         await api.POST("/api/submissions/{submission_id}/decision", {
           params: { path: { submission_id: submission.id } },

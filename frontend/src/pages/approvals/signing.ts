@@ -51,7 +51,14 @@ export function useSigningKeys(username: string): SigningKeys {
 export async function signPrepared(
   prepared: Prepared,
   key: StoredKey,
-  expected: { digest: string; decision: string; submission?: number },
+  expected: {
+    digest: string;
+    decision: string;
+    submission?: number;
+    /** What the review showed as cited: the statement must cite exactly these (none: null, []). */
+    rehearsal?: string | null;
+    campaigns?: string[];
+  },
 ): Promise<string> {
   const payload = fromBase64(prepared.payload, "the payload");
   if (!equalBytes(pae(prepared.payloadType, payload), fromBase64(prepared.pae, "the PAE"))) {
@@ -70,5 +77,15 @@ export async function signPrepared(
     throw new Error("The statement is about another submission; nothing was signed.");
   }
   if (predicate.key_id !== key.keyId) throw new Error("The statement names another key; nothing was signed.");
+  if (expected.rehearsal !== undefined && (predicate.rehearsal_digest ?? null) !== expected.rehearsal) {
+    throw new Error("The statement cites another rehearsal record than the review showed; nothing was signed.");
+  }
+  if (expected.campaigns !== undefined) {
+    const signed = Array.isArray(predicate.campaigns) ? [...(predicate.campaigns as string[])].sort() : [];
+    const shown = [...expected.campaigns].sort();
+    if (signed.length !== shown.length || signed.some((d, i) => d !== shown[i])) {
+      throw new Error("The statement cites other rehearsal campaigns than the review showed; nothing was signed.");
+    }
+  }
   return signEnvelope(prepared.payloadType, payload, key.keyPair.privateKey, key.keyId);
 }

@@ -208,7 +208,8 @@ function EstimateCells({ e }: { e: Estimate }) {
   );
 }
 
-function CampaignResults({ campaign }: { campaign: Campaign }) {
+/** A finished campaign's estimates; `offer` adds the button that offers per-goal probabilities. */
+export function CampaignResults({ campaign, offer: offering = true }: { campaign: Campaign; offer?: boolean }) {
   const results = campaign.results as unknown as Results;
   const [offered, setOffered] = useState<string | null>(null);
   const offer = async () => {
@@ -253,9 +254,11 @@ function CampaignResults({ campaign }: { campaign: Campaign }) {
         {coverage.paths.map((p) => `#${p.path} (${p.count})`).join(", ")}
       </p>
       <EnergyHistogram edges={results.energy_wh.histogram.edges} counts={results.energy_wh.histogram.counts} />
-      <button type="button" onClick={offer}>
-        Offer per-goal probabilities
-      </button>
+      {offering && (
+        <button type="button" onClick={offer}>
+          Offer per-goal probabilities
+        </button>
+      )}
       {offered && (
         <>
           <Notice>

@@ -1,0 +1,67 @@
+/**
+ * What the signature cites besides the orders (issue 20 item 3, DESIGN.md "what a signature must
+ * mean"): the rehearsal record and the rehearsal campaigns attached to the submission, shown to the
+ * supervisor before signing. The decision form signs only a statement that cites exactly these.
+ */
+import { api, type Schema, unwrap } from "../../api/client";
+import { ErrorMessage } from "../../components/Status";
+import { shortDigest } from "../../format";
+import { useLoad } from "../../useLoad";
+import { CampaignResults } from "../campaigns/CampaignPanel";
+
+type Campaign = Schema<"CampaignOut">;
+
+export interface CitedCampaigns {
+  campaigns: Campaign[];
+  error: unknown;
+  loading: boolean;
+}
+
+/** The finished campaigns attached to a submission, with their records' digests and results. */
+export function useCitedCampaigns(submission: number | undefined): CitedCampaigns {
+  const { data, error, loading } = useLoad(async () => {
+    if (submission === undefined) return [];
+    const attached = unwrap(
+      await api.GET("/api/submissions/{submission_id}/campaigns", { params: { path: { submission_id: submission } } }),
+    );
+    return Promise.all(
+      attached.map(async (a) =>
+        unwrap(await api.GET("/api/campaigns/{campaign_id}", { params: { path: { campaign_id: a.campaign } } })),
+      ),
+    );
+  }, [submission]);
+  return { campaigns: data ?? [], error, loading };
+}
+
+export function CitedEvidence({ rehearsal, cited }: { rehearsal: string | null | undefined; cited: CitedCampaigns }) {
+  return (
+    <section aria-labelledby="cited-evidence-title" data-testid="cited-evidence">
+      <h2 id="cited-evidence-title">Rehearsals your signature cites</h2>
+      <p data-testid="review-rehearsal">
+        Rehearsal record:{" "}
+        {rehearsal ? (
+          <a href={`/api/rehearsal-records/${rehearsal}/replay.html`} target="_blank" rel="noreferrer">
+            <code title={rehearsal}>{shortDigest(rehearsal, 16)}</code>
+          </a>
+        ) : (
+          "none attached."
+        )}
+      </p>
+      {cited.error ? <ErrorMessage error={cited.error} /> : null}
+      {cited.campaigns.length === 0 ? (
+        <p data-testid="review-campaigns">{cited.loading ? "Loading the attached campaigns…" : "Rehearsal campaigns: none attached."}</p>
+      ) : (
+        <div data-testid="review-campaigns">
+          {cited.campaigns.map((c) => (
+            <div key={c.id}>
+              <p>
+                Campaign <code>{c.id}</code>, record <code title={c.digest ?? ""}>{shortDigest(c.digest ?? "", 16)}</code>
+              </p>
+              {c.results ? <CampaignResults campaign={c} offer={false} /> : null}
+            </div>
+          ))}
+        </div>
+      )}
+    </section>
+  );
+}
