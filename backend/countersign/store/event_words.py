@@ -93,6 +93,13 @@ def _campaign(detail: Mapping[str, Any]) -> str:
     return f"rehearsal campaign {_text(detail.get('campaign'), 16)}"
 
 
+def _scopes(scopes: Any) -> str:
+    # The log records a token's scopes as the token row has them: one space-separated string
+    # ("read write"); a list is read too.
+    names = scopes.split() if isinstance(scopes, str) else list(scopes or [])
+    return ", ".join(map(str, names))
+
+
 def _submission(detail: Mapping[str, Any]) -> str:
     return f"submission {detail.get('submission')}"
 
@@ -113,7 +120,7 @@ _CHANGES: dict[str, Callable[[str | None, Mapping[str, Any]], str]] = {
     "rehearsal.recorded": lambda m, d: (
         f"{_rehearsal(d)} recorded as {_short(d.get('record_digest'))}"),
     "token.created": lambda m, d: (
-        f"token “{_text(d.get('name'))}” created ({', '.join(map(str, d.get('scopes') or []))})"),
+        f"token “{_text(d.get('name'))}” created ({_scopes(d.get('scopes'))})"),
     "token.revoked": lambda m, d: "token revoked",
     "key.registered": lambda m, d: f"signing key registered for {d.get('user')}",
     "key.revoked": lambda m, d: f"signing key revoked: “{_text(d.get('reason'))}”",
