@@ -24,8 +24,11 @@ def test_review_shows_the_version_and_who_may_act(world: World) -> None:
     review = _review(world, "operator", number)
     assert review["digest"].startswith("sha256:") and review["orders"]["id"] == MISSION
     assert "Search Area A" in review["plain"] and review["ok"] is True
-    assert review["paths"]["count"] == 75 and len(review["path_items"]) == 50
-    assert review["path_items"][0]["index"] == 1
+    assert review["paths"]["count"] == 75 and "path_items" not in review
+    # The review page lists the version's paths from the paths route, a page at a time.
+    page = world.client("operator").get(f"/api/missions/{MISSION}/paths",
+                                        params={"version": number, "limit": 50}).json()
+    assert page["count"] == 75 and len(page["items"]) == 50 and page["items"][0]["index"] == 1
     assert review["submissions"] == [] and review["previous"] is None
     assert review["may_submit"] is True and review["submit_refusal"] is None
     assert review["may_decide"] is False

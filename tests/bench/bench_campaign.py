@@ -22,6 +22,7 @@ from pathlib import Path
 from sqlalchemy import text
 
 from countersign.campaigns.spec import CampaignSpec
+from countersign.jobs import CampaignRunner
 from countersign.jobs.inprocess import InProcessRunner
 from countersign.orders.canonical import digest, orders_to_json
 from countersign.orders.examples import load_example
@@ -48,20 +49,26 @@ def _wait(database: Database, campaign_id: str) -> None:
         time.sleep(0.05)
 
 
+def _rate(database: Database, runner: CampaignRunner, workers: int, n: int) -> float:
+    """Simulations per second of one campaign of `n`, timed from queueing to the sealed record.
+    A first campaign of one simulation per worker starts the workers (imports) before the
+    clock."""
+    warm, _ = _campaign(database, workers)
+    runner.enqueue(warm, [(i, i + 1) for i in range(workers)])
+    _wait(database, warm)
+    campaign_id, chunks = _campaign(database, n)
+    start = time.perf_counter()
+    runner.enqueue(campaign_id, chunks)
+    _wait(database, campaign_id)
+    return n / (time.perf_counter() - start)
+
+
 def sqlite_rate(workers: int, n: int, folder: Path) -> float:
     database = Database(f"sqlite:///{folder / f'bench-{workers}.db'}")
     database.migrate()
     runner = InProcessRunner(database, workers=workers, processes=True)
     try:
-        # Start the processes (imports) before the clock: a campaign of one simulation.
-        warm, chunks = _campaign(database, workers)
-        runner.enqueue(warm, [(i, i + 1) for i in range(workers)])
-        _wait(database, warm)
-        campaign_id, chunks = _campaign(database, n)
-        start = time.perf_counter()
-        runner.enqueue(campaign_id, chunks)
-        _wait(database, campaign_id)
-        return n / (time.perf_counter() - start)
+        return _rate(database, runner, workers, n)
     finally:
         runner.close()
 
@@ -81,14 +88,7 @@ def postgres_rate(workers: int, n: int, url: str) -> float:
                                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
                  for _ in range(workers)]
     try:
-        warm, chunks = _campaign(database, workers)
-        runner.enqueue(warm, [(i, i + 1) for i in range(workers)])
-        _wait(database, warm)
-        campaign_id, chunks = _campaign(database, n)
-        start = time.perf_counter()
-        runner.enqueue(campaign_id, chunks)
-        _wait(database, campaign_id)
-        return n / (time.perf_counter() - start)
+        return _rate(database, runner, workers, n)
     finally:
         for process in processes:
             process.terminate()

@@ -6,7 +6,8 @@ the orders' goal, terminal, constraint, norm, area, quantity and vehicle texts, 
 and descriptions, rejection, revocation and key-revocation reasons, key names and display names
 (a username with markup is refused outright). Then a supervisor with a key registered in the
 browser opens every page (missions, the mission's tabs, the reviews, keys, audit and record
-pages, activity, a live rehearsal with its sandboxed viser viewer, the replay), an operator the
+pages, activity, the plan view with a hostile chart, the printable approval documents, the
+vehicle registry, a live rehearsal with its sandboxed viser viewer, the replay), an operator the
 editors and an admin the users page. On every page and in every frame:
 
 - a canary global (`window.__pwned`, trapped by an init script so that even a write on a page
@@ -206,6 +207,14 @@ def make_hostile_world(server: Server) -> Made:
             "username": DECIDER, "role": "supervisor", "password": DECIDER_PASSWORD,
             "display_name": f"Decider {PAYLOADS[1]}"})
 
+        # A chart (issue 21) whose title and kind the plan view and the 3D scene show.
+        admin.call("POST", "/api/charts/import", json={"format": "geojson", "content": json.dumps(
+            {"type": "FeatureCollection", "features": [{
+                "type": "Feature", "id": "HOSTILE",
+                "properties": {"title": hostile("Chart"), "kind": "keep_out"},
+                "geometry": {"type": "Polygon", "coordinates": [[
+                    [-121.99, 36.99], [-121.98, 36.99], [-121.98, 37.0], [-121.99, 37.0],
+                    [-121.99, 36.99]]]}}]})})
         orders = hostile_orders()
         created = operator.call("POST", "/api/import", 201, content=json.dumps(orders),
                                 headers={"Content-Type": "application/json"})
@@ -424,7 +433,7 @@ def test_no_script_the_app_did_not_ship_runs(browser: Browser, xss_server: Serve
 
         # The supervisor, who could sign here, opens every page.
         visit(supervisor, findings, "/missions", f'a[href="/missions/{MISSION}"]')
-        for tab in ("orders", "findings", "paths", "versions", "rehearse"):
+        for tab in ("orders", "findings", "paths", "plan", "versions", "rehearse"):
             visit(supervisor, findings, f"/missions/{MISSION}?tab={tab}")
         # The strings did reach the page, as text.
         expect(supervisor.locator("main h1")).to_contain_text(PAYLOADS[0])
@@ -433,6 +442,12 @@ def test_no_script_the_app_did_not_ship_runs(browser: Browser, xss_server: Serve
             visit(supervisor, findings, f"/missions/{MISSION}/versions/{number}/review",
                   '[data-testid="review-plain"]')
         expect(supervisor.get_by_role("button", name="Sign approval")).to_be_enabled()
+        # The printable approval document (issue 16 item 8) of each version, its texts shown.
+        for number in sorted(made.submissions):
+            visit(supervisor, findings, f"/missions/{MISSION}/versions/{number}/document",
+                  '[data-testid="approval-document"] h2')
+        expect(supervisor.get_by_test_id("approval-document")).to_contain_text(PAYLOADS[0])
+        visit(supervisor, findings, "/vehicles")
         visit(supervisor, findings, "/reviews")
         visit(supervisor, findings, "/keys")
         visit(supervisor, findings, f"/audit?mission={MISSION}")

@@ -157,6 +157,10 @@ def test_user_text_reaches_the_scene_as_text_never_markdown(
     data = orders_to_json(exemplar)
     for goal in data["goals"]:
         goal["title"] = HOSTILE + " [x](javascript:alert(1)) ![i](http://e/x.png)"
+    # Area titles reach the scene as 3D labels, the mission title as the panel's label.
+    for area in data["areas"]:
+        area["title"] = HOSTILE + " [a](javascript:alert(1))"
+    data["title"] = HOSTILE
     hostile = orders_from_data(data)
     rehearsal = manager.start(hostile, owner="alice",
                               options=RehearsalOptions(source="manual", speed=100_000),
@@ -170,4 +174,12 @@ def test_user_text_reaches_the_scene_as_text_never_markdown(
             if e["type"] == "GuiTextMessage"))
         for text in client.markdown():
             assert "<" not in text and "](" not in text, text
+        # viser draws a scene label's text as glyphs (a texture), never as HTML or markdown:
+        # the hostile area titles go there verbatim, as text.
+        labels = [n["props"]["text"] for n in client.scene_nodes().values()
+                  if n["type"] == "LabelMessage"]
+        assert sum(t.startswith(HOSTILE) for t in labels) == len(data["areas"]), labels
+        # The panel's label is React text in viser's client (ControlPanel), not markdown.
+        assert any(m.get("type") == "SetGuiPanelLabelMessage" and m.get("label") == HOSTILE[:80]
+                   for m in client.messages)
     manager.stop(rehearsal.id)

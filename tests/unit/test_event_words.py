@@ -47,3 +47,12 @@ def test_a_role_change_reads_whose_role_from_what_to_what() -> None:
 def test_targets_are_bounded_and_single_line() -> None:
     target = event_target("user.updated", None, {"user": "a\nb" + "x" * 500})
     assert target is not None and len(target) <= 200 and "\n" not in target
+
+
+def test_token_scopes_read_as_names_as_the_log_records_them() -> None:
+    """The token row (and so the log) keeps scopes as one string "read write"; the words
+    once spelled it letter by letter ("r, e, a, d")."""
+    recorded = {"token": 3, "name": "ci", "scopes": "read write"}
+    assert event_change("token.created", None, recorded) == "token “ci” created (read, write)"
+    listed = {**recorded, "scopes": ["read"]}
+    assert event_change("token.created", None, listed) == "token “ci” created (read)"

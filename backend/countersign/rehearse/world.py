@@ -14,7 +14,7 @@ import random
 from dataclasses import dataclass
 
 from ..orders.model import Area, Orders
-from ..verify.legs import GEOD, Frame, Leg, Place, mission_legs
+from ..verify.legs import Frame, Leg, Place, mission_legs
 from .geo import Point, bounds, centroid, distance_to_polygon
 
 LANE_CONTEXTS = frozenset({"shipping_lane", "traffic_lane", "traffic_separation_scheme"})
@@ -113,12 +113,6 @@ class World:
         kind = getattr(area, "kind", None)
         contexts = frozenset(area.contexts) | ({kind} if kind else set())
         return AreaGeom(area.id, area.title or area.id, polygon, centre, contexts)
-
-    def geodesic_m(self, a: Point, b: Point) -> float:
-        """Metres on WGS84 between two points of the frame (the legs' measure)."""
-        lats, lons = self.frame.to_latlon([a[0], b[0]], [a[1], b[1]])
-        _, _, metres = GEOD.inv(float(lons[0]), float(lats[0]), float(lons[1]), float(lats[1]))
-        return float(metres)
 
     def _generated_lane(self, rng: random.Random) -> AreaGeom:
         """A lane along the long side of the mission, beyond its northern or southern edge."""

@@ -78,12 +78,30 @@ def _user_change(kind: str, detail: Mapping[str, Any]) -> str:
 
 def _approval_change(kind: str, detail: Mapping[str, Any]) -> str:
     decision = kind.split(".", 1)[1]
-    said = f"submission {detail.get('submission')} {decision} with key " \
-           f"{_short(detail.get('key_id'))}"
+    said = f"{_submission(detail)} {decision} with key {_short(detail.get('key_id'))}"
     if detail.get("revokes") is not None:
         said += f", revoking approval {detail['revokes']}"
     reason = detail.get("reason")
     return said + (f": “{_text(reason)}”" if reason else "")
+
+
+def _rehearsal(detail: Mapping[str, Any]) -> str:
+    return f"rehearsal {_text(detail.get('rehearsal'), 10)}"
+
+
+def _campaign(detail: Mapping[str, Any]) -> str:
+    return f"rehearsal campaign {_text(detail.get('campaign'), 16)}"
+
+
+def _scopes(scopes: Any) -> str:
+    # The log records a token's scopes as the token row has them: one space-separated string
+    # ("read write"); a list is read too.
+    names = scopes.split() if isinstance(scopes, str) else list(scopes or [])
+    return ", ".join(map(str, names))
+
+
+def _submission(detail: Mapping[str, Any]) -> str:
+    return f"submission {detail.get('submission')}"
 
 
 _CHANGES: dict[str, Callable[[str | None, Mapping[str, Any]], str]] = {
@@ -91,23 +109,18 @@ _CHANGES: dict[str, Callable[[str | None, Mapping[str, Any]], str]] = {
     "mission.deleted": lambda m, d: "draft mission deleted",
     "draft.updated": lambda m, d: f"draft saved as revision {d.get('revision')}",
     "version.created": lambda m, d: f"version {d.get('number')} created from the draft",
-    "submission.created": lambda m, d: f"submission {d.get('submission')} created for review",
-    "submission.withdrawn": lambda m, d: f"submission {d.get('submission')} withdrawn",
+    "submission.created": lambda m, d: f"{_submission(d)} created for review",
+    "submission.withdrawn": lambda m, d: f"{_submission(d)} withdrawn",
     "submission.rehearsal_attached": lambda m, d: (
-        f"rehearsal record {_short(d.get('record_digest'))} attached to submission "
-        f"{d.get('submission')}"),
-    "rehearsal.started": lambda m, d: (
-        f"rehearsal {_text(d.get('rehearsal'), 10)} started ({d.get('source')})"),
+        f"rehearsal record {_short(d.get('record_digest'))} attached to {_submission(d)}"),
+    "rehearsal.started": lambda m, d: f"{_rehearsal(d)} started ({d.get('source')})",
     "rehearsal.outcome": lambda m, d: (
-        f"rehearsal {_text(d.get('rehearsal'), 10)}: goal {d.get('goal')} ended by "
-        f"{d.get('outcome')}"),
-    "rehearsal.fault": lambda m, d: (
-        f"rehearsal {_text(d.get('rehearsal'), 10)}: fault {d.get('fault')} injected"),
+        f"{_rehearsal(d)}: goal {d.get('goal')} ended by {d.get('outcome')}"),
+    "rehearsal.fault": lambda m, d: f"{_rehearsal(d)}: fault {d.get('fault')} injected",
     "rehearsal.recorded": lambda m, d: (
-        f"rehearsal {_text(d.get('rehearsal'), 10)} recorded as "
-        f"{_short(d.get('record_digest'))}"),
+        f"{_rehearsal(d)} recorded as {_short(d.get('record_digest'))}"),
     "token.created": lambda m, d: (
-        f"token “{_text(d.get('name'))}” created ({', '.join(map(str, d.get('scopes') or []))})"),
+        f"token “{_text(d.get('name'))}” created ({_scopes(d.get('scopes'))})"),
     "token.revoked": lambda m, d: "token revoked",
     "key.registered": lambda m, d: f"signing key registered for {d.get('user')}",
     "key.revoked": lambda m, d: f"signing key revoked: “{_text(d.get('reason'))}”",
@@ -115,14 +128,10 @@ _CHANGES: dict[str, Callable[[str | None, Mapping[str, Any]], str]] = {
     "chart.saved": lambda m, d: f"{len(d.get('charts') or [])} chart(s) saved",
     "chart.deleted": lambda m, d: "chart deleted",
     "execution.recorded": lambda m, d: f"execution recorded: {_text(d.get('summary', ''))}",
-    "submission.campaign_attached": lambda m, d: (
-        f"rehearsal campaign {_text(d.get('campaign'), 16)} attached to submission "
-        f"{d.get('submission')}"),
-    "campaign.created": lambda m, d: (
-        f"rehearsal campaign {_text(d.get('campaign'), 16)} queued"),
+    "submission.campaign_attached": lambda m, d: f"{_campaign(d)} attached to {_submission(d)}",
+    "campaign.created": lambda m, d: f"{_campaign(d)} queued",
     "campaign.cancelled": lambda m, d: (
-        f"rehearsal campaign {_text(d.get('campaign'), 16)} cancelled after {d.get('done')} "
-        f"simulations"),
+        f"{_campaign(d)} cancelled after {d.get('done')} simulations"),
     "log.adopted": lambda m, d: f"{d.get('entries')} earlier log entries adopted",
 }
 

@@ -3,9 +3,9 @@
 The review's path list searches by goal and by terminal over missions whose paths are far too
 many to filter one by one. Counting the matching continuations of every node (two dynamic
 programmes over the DAG: to a matching terminal, and to one through the goal) lets the walk
-skip every subtree with no match and jump to any offset among the matches, as `verify.paths`
-does for all paths. Each match keeps its index in the full enumeration, so "path #12" is the
-same path in every view.
+skip every subtree with no match and jump to any offset among the matches: the walk is
+`verify.paths`' own, given these counts in place of the counts of all paths. Each match keeps
+its index in the full enumeration, so "path #12" is the same path in every view.
 """
 
 from __future__ import annotations
@@ -13,9 +13,15 @@ from __future__ import annotations
 from collections.abc import Iterator
 from dataclasses import dataclass
 
-from ..orders.model import OUTCOMES
 from .graph import MissionGraph
-from .paths import MissionPath, PathBounds, PathCounts, _path_probability, topological_order
+from .paths import (
+    MissionPath,
+    PathBounds,
+    PathCounts,
+    PathMatch,
+    iter_walk_paths,
+    topological_order,
+)
 
 
 @dataclass(frozen=True)
@@ -46,18 +52,7 @@ def path_query(graph: MissionGraph, goal: str | None, terminal: str | None) -> P
     return PathQuery(goal_node, terminal_node)
 
 
-@dataclass(frozen=True)
-class _Weights:
-    # ending[n]: paths from n to a matching terminal; through[n]: those that also pass the goal.
-    ending: list[int]
-    through: list[int]
-    goal: int | None
-
-    def of(self, node: int, passed: bool) -> int:
-        return self.ending[node] if passed or self.goal is None else self.through[node]
-
-
-def _weights(graph: MissionGraph, query: PathQuery) -> _Weights | None:
+def _match(graph: MissionGraph, query: PathQuery) -> PathMatch | None:
     order = topological_order(graph)
     if order is None:
         return None
@@ -72,15 +67,15 @@ def _weights(graph: MissionGraph, query: PathQuery) -> _Weights | None:
         ending[node] = ending[a] + ending[b] + ending[c]
         through[node] = (ending[node] if node == query.goal
                          else through[a] + through[b] + through[c])
-    return _Weights(ending, through, query.goal)
+    return PathMatch(ending, through, query.goal)
 
 
 def count_matching(graph: MissionGraph, query: PathQuery) -> int | None:
     """How many paths match, or None when the paths cannot be counted (no start, a loop)."""
-    weights = _weights(graph, query)
-    if weights is None or graph.start is None:
+    match = _match(graph, query)
+    if match is None or graph.start is None:
         return None
-    return weights.of(graph.start, graph.start == query.goal)
+    return match.size(graph.start, graph.start == query.goal)
 
 
 def iter_matching(
@@ -89,54 +84,9 @@ def iter_matching(
 ) -> Iterator[MissionPath]:
     """The matching paths from the `offset`-th match on, in the full enumeration's order, each
     with its index in that enumeration."""
-    weights = _weights(graph, query)
-    if weights is None or graph.start is None or (limit is not None and limit <= 0):
+    match = _match(graph, query)
+    if match is None or graph.start is None:
         return
-    start = graph.start
-    if offset >= weights.of(start, start == query.goal):
+    if offset >= match.size(graph.start, graph.start == query.goal):
         return
-    succ = graph.succ
-    per_node = counts.per_node
-    goal_count = graph.goal_count
-    ids = graph.goal_ids
-    goals = [start]
-    outcomes: list[int] = []
-    passed = [start == query.goal]
-    next_outcome = [0]
-    before = 0  # paths of the full enumeration before the current position
-    produced = 0
-    while goals:
-        depth = len(goals) - 1
-        k = next_outcome[depth]
-        if k == 3:
-            goals.pop()
-            passed.pop()
-            next_outcome.pop()
-            if outcomes:
-                outcomes.pop()
-            continue
-        next_outcome[depth] = k + 1
-        target = succ[goals[depth]][k]
-        now_passed = passed[depth] or target == query.goal
-        size = weights.of(target, now_passed)
-        if size == 0 or offset >= size:
-            offset -= size
-            before += per_node[target]
-            continue
-        if target >= goal_count:  # a matching terminal, and the offset is reached
-            before += 1
-            path_outcomes = (*outcomes, k)
-            yield MissionPath(
-                before, tuple(ids[g] for g in goals), tuple(OUTCOMES[o] for o in path_outcomes),
-                graph.node_id(target),
-                None if probabilities is None
-                else _path_probability(probabilities, goals, path_outcomes),
-            )
-            produced += 1
-            if limit is not None and produced >= limit:
-                return
-            continue
-        outcomes.append(k)
-        goals.append(target)
-        passed.append(now_passed)
-        next_outcome.append(0)
+    yield from iter_walk_paths(graph, counts, offset, limit, probabilities, match)

@@ -123,12 +123,27 @@ def count_paths(graph: MissionGraph) -> PathCounts | None:
     return PathCounts(totals[graph.start], by_terminal, tuple(totals))
 
 
+@dataclass(frozen=True)
+class PathMatch:
+    """Path counts for a search (verify.path_search): ending[n] is the number of paths from
+    node n to a matching terminal, through[n] those of them that also pass `goal`."""
+
+    ending: Sequence[int]
+    through: Sequence[int]
+    goal: int | None
+
+    def size(self, node: int, passed: bool) -> int:
+        return self.ending[node] if passed or self.goal is None else self.through[node]
+
+
 def _walk(
-    graph: MissionGraph, counts: PathCounts, offset: int
-) -> Iterator[tuple[list[int], list[int], int, int]]:
-    """Depth-first over every path from `offset` on, yielding live (goals, outcomes, terminal,
-    changed) where `changed` is the first position that differs from the previous path. The
-    lists change after each step: copy what must outlive the iteration."""
+    graph: MissionGraph, counts: PathCounts, offset: int, match: PathMatch | None = None,
+) -> Iterator[tuple[list[int], list[int], int, int, int]]:
+    """Depth-first over every path from the `offset`-th on (of the matching ones, with a
+    `match`), yielding live (goals, outcomes, terminal, changed, index) where `changed` is the
+    first position that differs from the previous path and `index` the path's 1-based place in
+    the full enumeration. Subtrees with no path left to skip or to match are jumped over by
+    their counts. The lists change after each step: copy what must outlive the iteration."""
     assert graph.start is not None
     succ = graph.succ
     per_node = counts.per_node
@@ -136,18 +151,10 @@ def _walk(
     goals: list[int] = [graph.start]
     outcomes: list[int] = []
     next_outcome: list[int] = [0]
-    # Descend straight to the offset-th path, skipping whole subtrees by their counts.
-    while offset:
-        node = goals[-1]
-        k = next_outcome[-1]
-        size = per_node[succ[node][k]]
-        next_outcome[-1] = k + 1
-        if offset >= size:
-            offset -= size
-            continue
-        outcomes.append(k)
-        goals.append(succ[node][k])
-        next_outcome.append(0)
+    # Only a search by goal needs to know whether the path so far passed it.
+    goal = None if match is None else match.goal
+    passed: list[bool] = [graph.start == goal]
+    before = 0  # paths of the full enumeration before the current position
     changed = 0
     while goals:
         depth = len(goals) - 1
@@ -155,34 +162,48 @@ def _walk(
         if k == 3:
             goals.pop()
             next_outcome.pop()
+            if goal is not None:
+                passed.pop()
             if outcomes:
                 outcomes.pop()
             continue
         next_outcome[depth] = k + 1
         target = succ[goals[depth]][k]
+        if match is None:
+            size = per_node[target]
+        else:
+            now_passed = goal is not None and (passed[depth] or target == goal)
+            size = match.size(target, now_passed)
+        if offset >= size:  # before the offset, or no match below
+            offset -= size
+            before += per_node[target]
+            continue
         outcomes.append(k)
         if depth < changed:
             changed = depth
         if target >= goal_count:
-            yield goals, outcomes, target, changed
+            before += 1
+            yield goals, outcomes, target, changed, before
             outcomes.pop()
             changed = depth + 1
         else:
             goals.append(target)
             next_outcome.append(0)
+            if goal is not None:
+                passed.append(now_passed)
 
 
-def iter_paths(
-    graph: MissionGraph, counts: PathCounts, offset: int = 0, limit: int | None = None,
-    probabilities: PathBounds | None = None,
+def iter_walk_paths(
+    graph: MissionGraph, counts: PathCounts, offset: int, limit: int | None,
+    probabilities: PathBounds | None, match: PathMatch | None = None,
 ) -> Iterator[MissionPath]:
-    """Paths in the order of Figure 6's exhaustive testing (succeed, fail, violate first)."""
-    if offset >= counts.total or (limit is not None and limit <= 0):
+    """The walk's paths as MissionPath, at most `limit` of them (verify.path_search shares
+    this with iter_paths)."""
+    if limit is not None and limit <= 0:
         return
     ids = graph.goal_ids
-    index = offset
-    for goals, outcomes, terminal, _ in _walk(graph, counts, offset):
-        index += 1
+    walk = _walk(graph, counts, offset, match)
+    for produced, (goals, outcomes, terminal, _, index) in enumerate(walk, 1):
         yield MissionPath(
             index,
             tuple(ids[g] for g in goals),
@@ -190,8 +211,18 @@ def iter_paths(
             graph.node_id(terminal),
             None if probabilities is None else _path_probability(probabilities, goals, outcomes),
         )
-        if limit is not None and index - offset >= limit:
+        if limit is not None and produced >= limit:
             return
+
+
+def iter_paths(
+    graph: MissionGraph, counts: PathCounts, offset: int = 0, limit: int | None = None,
+    probabilities: PathBounds | None = None,
+) -> Iterator[MissionPath]:
+    """Paths in the order of Figure 6's exhaustive testing (succeed, fail, violate first)."""
+    if offset >= counts.total:
+        return
+    yield from iter_walk_paths(graph, counts, offset, limit, probabilities)
 
 
 def iter_path_lines(
@@ -210,12 +241,10 @@ def iter_path_lines(
     # stays linear in the path's length (a JSON prefix per depth would be quadratic).
     goal_json: list[str] = []
     outcome_json: list[str] = []
-    index = offset
-    for goals, outcomes, terminal, changed in _walk(graph, counts, offset):
+    for goals, outcomes, terminal, changed, index in _walk(graph, counts, offset):
         del goal_json[changed:], outcome_json[changed:]
         goal_json.extend(encoded[g] for g in goals[changed:])
         outcome_json.extend(words[k] for k in outcomes[changed:])
-        index += 1
         tail = ""
         if probabilities is not None:
             tail = ',"probability":' + json.dumps(

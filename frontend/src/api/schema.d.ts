@@ -949,9 +949,10 @@ export interface paths {
         /**
          * Review Version
          * @description What a review shows of one version: its orders, plain-language orders, contingency
-         *     `rules` (one sentence each; empty when none or unreadable), findings, path summary and
-         *     first paths, its submissions, the previously approved version's orders (for
-         *     the diff), and whether the caller may submit it or sign a decision on it (and why not).
+         *     `rules` (one sentence each; empty when none or unreadable), findings, path summary (the
+         *     paths themselves page from `GET /missions/{id}/paths?version=`), its submissions, the
+         *     previously approved version's orders (for the diff), and whether the caller may submit it
+         *     or sign a decision on it (and why not).
          */
         get: operations["reviewVersion"];
         put?: never;
@@ -3177,8 +3178,6 @@ export interface components {
             ok: boolean;
             /** Orders */
             orders: components["schemas"]["Orders"];
-            /** Path Items */
-            path_items: components["schemas"]["MissionPathOut"][];
             paths: components["schemas"]["PathCountsOut"] | null;
             /** Plain */
             plain: string;

@@ -10,7 +10,7 @@ from typing import Annotated, Any
 
 from pydantic import BaseModel, Field
 
-from .schemas import FindingOut, MissionPathOut, OrdersJson, PathCountsOut, SchemaOf
+from .schemas import FindingOut, OrdersJson, PathCountsOut, SchemaOf
 
 
 class KeyOut(BaseModel):
@@ -93,7 +93,6 @@ class ReviewOut(BaseModel):
     ok: bool
     findings: list[FindingOut]
     paths: PathCountsOut | None
-    path_items: list[MissionPathOut]
     probabilities: dict[str, Any] | None = Field(
         default=None, description="outcome probabilities (issue 20): terminals, violation, "
         "expected energy and time, min/max where probabilities are intervals or missing; "

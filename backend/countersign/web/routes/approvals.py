@@ -21,9 +21,6 @@ from ...store.log_gaps import LogEntriesMissing
 from ...store.missions import get_version, report_for
 from ...store.rehearsals import attach, get_record, record_summary
 from ...store.tables import Approval, MissionVersion, SigningKey, Submission, User
-from ...verify.graph import build_graph
-from ...verify.paths import count_paths, iter_paths
-from ...verify.probability import path_probability_bounds
 from ..deps import (
     EVERYONE,
     LOG_READERS,
@@ -219,31 +216,21 @@ def withdraw_submission(submission_id: RowId, principal: CurrentPrincipal,
     return _submission_out(db, submission_id)
 
 
-REVIEW_PATHS = 50
-
-
 @router.get("/missions/{mission_id}/versions/{number}/review", operation_id="reviewVersion",
             response_model=ReviewOut, **AS_BUILT, **allow(*EVERYONE))
 def review_version(mission_id: str, number: RowId, principal: CurrentPrincipal,
                    db: Db) -> dict[str, Any]:
     """What a review shows of one version: its orders, plain-language orders, contingency
-    `rules` (one sentence each; empty when none or unreadable), findings, path summary and
-    first paths, its submissions, the previously approved version's orders (for
-    the diff), and whether the caller may submit it or sign a decision on it (and why not)."""
+    `rules` (one sentence each; empty when none or unreadable), findings, path summary (the
+    paths themselves page from `GET /missions/{id}/paths?version=`), its submissions, the
+    previously approved version's orders (for the diff), and whether the caller may submit it
+    or sign a decision on it (and why not)."""
     version = get_version(db, mission_id, number)
     orders = orders_from_data(version.orders)
     report = report_for(db, orders, version.digest).report
     submissions = list(db.scalars(select(Submission).where(Submission.version_id == version.id)
                                   .order_by(Submission.id.desc())))
     current = submissions[0] if submissions else None
-    items: list[dict[str, Any]] = []
-    graph = build_graph(orders)
-    counts = count_paths(graph)
-    if counts is not None:
-        bounds = (path_probability_bounds(orders, graph)
-                  if report.get("probabilities") is not None else None)
-        items = [p.to_json() for p in iter_paths(graph, counts, 0, REVIEW_PATHS,
-                                                 probabilities=bounds)]
     refused = service.submit_refusal(user=principal.user, number=number, report=report,
                                      active=current)
     submit_refusal = str(refused) if refused is not None else None
@@ -263,7 +250,7 @@ def review_version(mission_id: str, number: RowId, principal: CurrentPrincipal,
         "created_at": version.created_at.isoformat(), "orders": version.orders,
         "plain": write(orders, "plain"), "rules": rules_sentences(orders),
         "ok": report["ok"], "findings": report["findings"],
-        "paths": report.get("paths"), "path_items": items,
+        "paths": report.get("paths"),
         "probabilities": report.get("probabilities"),
         "submissions": [_submission_out(db, s.id).model_dump(mode="json") for s in submissions],
         "previous": previous_out,
