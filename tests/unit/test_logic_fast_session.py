@@ -12,7 +12,7 @@ which order: the checks themselves are compared as well as the findings."""
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
-from typing import Any
+from typing import Any, ClassVar
 
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -30,7 +30,7 @@ from tests.bench.bench_logic import logic_orders
 class ReferenceSession(Session):
     """The session without its shortcuts."""
 
-    asked: list[tuple[str, ...]] = []
+    asked: ClassVar[list[tuple[str, ...]]] = []
 
     def _assert(self, items: Iterable[Item]) -> None:
         chunks: list[str] = []
@@ -75,7 +75,7 @@ class ReferenceSession(Session):
 class CountingSession(Session):
     """The session as it is, recording the checks it is asked to make."""
 
-    asked: list[tuple[str, ...]] = []
+    asked: ClassVar[list[tuple[str, ...]]] = []
 
     def check(self, items: Sequence[Item]) -> CheckResult:
         self.asked.append(tuple(i.key for i in items))
