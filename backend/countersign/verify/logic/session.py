@@ -144,7 +144,10 @@ class Session:
             self._timeout = timeout
         self.calls += 1
         asts = self._asts
-        literals = [asts[i.key] if i.key in asts else self._ast(i) for i in items]
+        try:
+            literals = [asts[i.key] for i in items]
+        except KeyError:  # the first check of some item: make its literal
+            literals = [self._ast(i) for i in items]
         # The C call directly (z3_adapter): the wrapper's own checks cost more than solving.
         try:
             status = check_asts(z3, self.ctx, self.solver, literals)
