@@ -147,7 +147,7 @@ class Session:
         try:
             literals = [asts[i.key] for i in items]
         except KeyError:  # the first check of some item: make its literal
-            literals = [self._ast(i) for i in items]
+            literals = [asts.get(i.key) or self._ast(i) for i in items]
         # The C call directly (z3_adapter): the wrapper's own checks cost more than solving.
         try:
             status = check_asts(z3, self.ctx, self.solver, literals)
