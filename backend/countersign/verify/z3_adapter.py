@@ -15,15 +15,32 @@ Status = Literal["sat", "unsat", "unknown"]
 def check_assumptions(z3: Any, ctx: Any, solver: Any, literals: Sequence[Any]) -> Status:
     """`solver.check(*literals)` without the wrapper's per-assumption checks (z3.Z3Exception
     propagates)."""
-    assumptions = (z3.Ast * len(literals))()
-    for index, literal in enumerate(literals):
-        assumptions[index] = literal.as_ast()
-    code = z3.Z3_solver_check_assumptions(ctx.ref(), solver.solver, len(literals), assumptions)
+    return check_asts(z3, ctx, solver, [literal.as_ast() for literal in literals])
+
+
+def check_asts(z3: Any, ctx: Any, solver: Any, asts: Sequence[Any]) -> Status:
+    """`check_assumptions` given the literals' raw ASTs (a caller that checks the same
+    literals many times keeps them, rather than asking each literal again)."""
+    assumptions = (z3.Ast * len(asts))(*asts)
+    code = z3.Z3_solver_check_assumptions(ctx.ref(), solver.solver, len(asts), assumptions)
     if code == z3.Z3_L_TRUE:
         return "sat"
     if code == z3.Z3_L_FALSE:
         return "unsat"
     return "unknown"
+
+
+def unsat_core_ids(z3: Any, ctx: Any, solver: Any) -> set[int]:
+    """The AST ids of the last unsatisfiable check's core, without a Python expression per
+    literal (`solver.unsat_core()` builds one each)."""
+    context = ctx.ref()
+    vector = z3.Z3_solver_get_unsat_core(context, solver.solver)
+    z3.Z3_ast_vector_inc_ref(context, vector)
+    try:
+        return {z3.Z3_get_ast_id(context, z3.Z3_ast_vector_get(context, vector, i))
+                for i in range(z3.Z3_ast_vector_size(context, vector))}
+    finally:
+        z3.Z3_ast_vector_dec_ref(context, vector)
 
 
 def assert_any(z3: Any, ctx: Any, solver: Any, literals: Sequence[Any]) -> None:

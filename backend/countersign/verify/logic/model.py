@@ -103,6 +103,11 @@ class LogicModel:
         self._relevant: dict[tuple[str | None, str | None], list[ParsedNorm]] = {}
         self._residual: dict[tuple[str, str | None, str | None], bool] = {}
         self._scope_reads: dict[str, Reads] = {}
+        # Built once per goal or set of quantities, then copied: every unit of a goal (its own
+        # and one per state property) asks for the same lists.
+        self._scope_items: dict[tuple[str, frozenset[str]], tuple[list[ParsedConstraint],
+                                                                  list[Item]]] = {}
+        self._background: dict[tuple[frozenset[str], str], tuple[Item, ...]] = {}
         # One z3 session per version of the orders, shared by check_logic and
         # check_properties; runs that use it hold the lock.
         self.session: Session | None = None
@@ -330,12 +335,28 @@ class LogicModel:
 
     def background(self, names: Iterable[str], suffix: str = "") -> list[Item]:
         """Vehicle envelope and domain items of some quantities."""
-        items: list[Item] = []
-        for name in sorted(set(names)):
-            for item in (self.vehicle_item(name, suffix), self.domain_item(name, suffix)):
-                if item is not None:
-                    items.append(item)
-        return items
+        key = (frozenset(names), suffix)
+        found = self._background.get(key)
+        if found is None:
+            items: list[Item] = []
+            for name in sorted(key[0]):
+                for item in (self.vehicle_item(name, suffix), self.domain_item(name, suffix)):
+                    if item is not None:
+                        items.append(item)
+            found = self._background[key] = tuple(items)
+        return list(found)
+
+    def scope_items(self, goal_id: str, quarantined: frozenset[str]) -> tuple[
+        list[ParsedConstraint], list[Item]
+    ]:
+        """The constraints in a goal's scope that are not quarantined, and their items."""
+        key = (goal_id, quarantined)
+        found = self._scope_items.get(key)
+        if found is None:
+            constraints = [c for c in self.scope.get(goal_id, ()) if c.key not in quarantined]
+            found = self._scope_items[key] = (
+                constraints, [self.constraint_item(c) for c in constraints])
+        return list(found[0]), list(found[1])
 
     def fact_items(self, goal: Goal, needs: Reads, suffix: str = "") -> list[Item]:
         items: list[Item] = []

@@ -102,13 +102,14 @@ class LogicRun:
         """The statements that hold while a goal runs as ordered: its envelope, the facts that
         expressions read, the constraints in scope, the vehicle envelope and the domains."""
         model = self.model
-        constraints = [c for c in model.scope.get(goal.id, ()) if c.key not in quarantined]
+        constraints, constraint_items = model.scope_items(goal.id, quarantined)
         needs = _merge_reads([model.scope_reads(goal.id), *extra])
         names = set(goal.envelope) | needs.quantities
         items = [model.envelope_item(goal, name) for name in sorted(goal.envelope)]
         items += model.fact_items(goal, needs)
-        items += [model.constraint_item(c) for c in constraints]
-        items += [i for i in model.background(names) if i.key not in quarantined]
+        items += constraint_items
+        background = model.background(names)
+        items += [i for i in background if i.key not in quarantined] if quarantined else background
         return items, constraints
 
     def goal(self, goal: Goal, quarantined: frozenset[str]) -> GoalResult:

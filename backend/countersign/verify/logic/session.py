@@ -14,7 +14,7 @@ from ..expressions import (
     Translator,
     number_words,
 )
-from ..z3_adapter import assert_any, check_assumptions, true_in_model
+from ..z3_adapter import assert_any, check_asts, true_in_model, unsat_core_ids
 from .items import Item
 
 
@@ -60,6 +60,10 @@ class Session:
         self._indicators: dict[str, str] = {}
         self._literals: dict[str, Any] = {}
         self._ids: dict[str, int] = {}
+        # Per item key: the indicator's raw AST, and the formula's SMT text (the same item
+        # is asserted again for every unit that reads it; its text never changes).
+        self._asts: dict[str, Any] = {}
+        self._formulas: dict[str, str] = {}
         self._based: set[str] = set()
         self._items: dict[str, Item] = {}
         self.in_scope = False
@@ -80,7 +84,9 @@ class Session:
         for item in items:
             name, new = self._indicator(item)
             self._items[name] = item
-            formula = item.formula(self.translator)
+            formula = self._formulas.get(item.key)
+            if formula is None:
+                formula = self._formulas[item.key] = item.formula(self.translator)
             if new:
                 chunks.append(f"(declare-const |{name}| Bool)")
             chunks.append(f"(assert (=> |{name}| {formula}))")
@@ -116,7 +122,15 @@ class Session:
         if literal is None:
             literal = self._literals[name] = self.z3.Bool(name, self.ctx)
             self._ids[item.key] = literal.get_id()
+            self._asts[item.key] = literal.as_ast()
         return literal
+
+    def _ast(self, item: Item) -> Any:
+        found = self._asts.get(item.key)
+        if found is None:
+            self._literal(item)
+            found = self._asts[item.key]
+        return found
 
     def check(self, items: Sequence[Item]) -> CheckResult:
         z3 = self.z3
@@ -129,18 +143,23 @@ class Session:
             self.solver.set("timeout", timeout)
             self._timeout = timeout
         self.calls += 1
-        literals = [self._literal(i) for i in items]
+        asts = self._asts
+        try:
+            literals = [asts[i.key] for i in items]
+        except KeyError:  # the first check of some item: make its literal
+            literals = [asts.get(i.key) or self._ast(i) for i in items]
         # The C call directly (z3_adapter): the wrapper's own checks cost more than solving.
         try:
-            status = check_assumptions(z3, self.ctx, self.solver, literals)
+            status = check_asts(z3, self.ctx, self.solver, literals)
         except z3.Z3Exception as exc:  # pragma: no cover - defensive: never crash a report
             self.undecided = True
             return CheckResult("unknown", reason=f"solver error: {exc}")
         if status == "sat":
             return CheckResult("sat")
         if status == "unsat":
-            ids = {literal.get_id() for literal in self.solver.unsat_core()}
-            core = tuple(i for i in items if self._ids[i.key] in ids)
+            ids = unsat_core_ids(z3, self.ctx, self.solver)
+            known = self._ids
+            core = tuple(i for i in items if known[i.key] in ids)
             return CheckResult("unsat", core or tuple(items))
         self.undecided = True
         reason = self.solver.reason_unknown()
