@@ -13,7 +13,7 @@ import pytest
 from countersign.export.rehearsal_log import rehearsal_runs
 from countersign.orders.examples import load_example
 from countersign.orders.model import BUDGET_QUANTITIES, Orders
-from countersign.rehearse.execution import check_execution, read_log
+from countersign.rehearse.execution import Step, check_execution, read_log
 from countersign.rehearse.manager import Rehearsal, RehearsalOptions
 from countersign.verify.budget import goal_cost, leg_cost, worst_paths
 from countersign.verify.legs import leg_lengths
@@ -36,14 +36,19 @@ def verifier_figures(orders: Orders, path: MissionPath) -> dict[str, float]:
     return figures
 
 
-def rehearsed_usage(orders: Orders, path: MissionPath, seed: int) -> dict[str, float]:
-    """A headless replay of the path, through the execution checker: its measured use."""
+def rehearsed_usage(orders: Orders, path: MissionPath, seed: int,
+                    steps: list[Step] | None = None) -> dict[str, float]:
+    """A headless replay of the path, through the execution checker: its measured use (and
+    its log's steps, appended to `steps` when given)."""
     rehearsal = Rehearsal(orders, owner="test", headless=True,
                           options=RehearsalOptions(source="replay", path_index=path.index,
                                                    seed=seed))
     rehearsal.run_headless(max_wall_s=600)
     (run,) = rehearsal_runs(rehearsal.stop().to_json())
-    verdict = check_execution(orders, read_log(run.ndjson))
+    log = read_log(run.ndjson)
+    if steps is not None:
+        steps.extend(log)
+    verdict = check_execution(orders, log)
     assert (run.claimed_path, verdict.path, verdict.deviations) == (path.index, path.index, ())
     sources = {u.quantity: u.source for u in verdict.usage}
     assert sources == {"energy_wh": "readings", "duration_s": "timestamps"}, sources
@@ -82,6 +87,20 @@ def test_the_all_succeed_path_uses_what_the_verifier_charges_for_its_work_and_le
     assert path.outcomes == ("succeed",) * 5
     g5 = ORDERS.goal_index()["G5"].cost
     assert g5 is not None and g5.energy_wh is not None
-    used = rehearsed_usage(ORDERS, path, seed)
+    steps: list[Step] = []
+    used = rehearsed_usage(ORDERS, path, seed, steps)
     assert used["energy_wh"] == pytest.approx(
         verifier_figures(ORDERS, path)["energy_wh"] - g5.energy_wh, abs=0.01)
+    # Each goal, with the leg into it, lasts at most its duration cost plus that leg's time:
+    # G3's sweep of Area B at cruise speed would take longer than its 5,400 s, so it is paced
+    # to its cost (a second per waypoint for the simulation's step).
+    vehicle, goals = ORDERS.target_vehicle(), ORDERS.goal_index()
+    lengths = leg_lengths(ORDERS)
+    previous: tuple[str, str] | None = None
+    for step in steps:
+        cost, _ = goal_cost(goals[step.goal], "duration_s", vehicle, ORDERS.area_index())
+        leg = leg_cost(lengths.get(previous) if previous else None, "duration_s", vehicle)
+        assert step.start is not None and step.time is not None and cost is not None
+        took = float(step.time) - float(step.start)
+        assert took <= cost + leg + 40, (step.goal, took, cost, leg)
+        previous = (step.goal, step.outcome)
