@@ -53,7 +53,8 @@ def test_the_first_choice_comes_after_a_bounded_number_of_frames(
         # The whole plan of G1 was flown (no shortcut), in about GOAL_FRAMES frames.
         assert status["current_goal"]["id"] == "G1"
         assert status["current_goal"]["progress"] == 1.0
-        assert status["sim_time_s"] > 10_000
+        # G1's plan lasts its duration cost (5,400 s); the mission starts where G1 starts.
+        assert status["sim_time_s"] >= 5_400
         assert status["first_question_frame"] <= GOAL_FRAMES + 4 * SLOW_FRAMES
         assert status["pace"] == "auto"
 

@@ -6,15 +6,26 @@ Python; the viser scene only reads the state this module exposes.
 
 Each goal becomes a plan of waypoints (transit to the area at the goal's operating depth, then
 the behaviour: lawn-mower legs for searches, a hold for samples and rendezvous, a straight run
-for transects, a surfacing for recovery). Each step moves the vehicle, spends energy (per
-metre from the goal's cost or the vehicle profile, doubled by a strong opposing current as in
-seed 001), updates navigation error, moves the surface contacts, then asks in order:
+for transects, a surfacing for recovery). Each step moves the vehicle, spends energy,
+updates navigation error, moves the surface contacts, then asks in order:
 1. the default rules (seed 004): a planned action the extension refuses ends the goal;
 2. the constraint monitors: an imminent violation ends the goal with `violate` (EC1);
 3. the energy check (seed 001): a goal that can no longer be finished with the reserve to
    reach recovery is given up (`fail`);
 4. the plan: all waypoints done means `succeed`.
 Which of these may end a goal depends on the outcome source (see `sources.py`).
+
+Energy and time are charged from the verifier's cost model (verify/budget.py), so that the
+verifier's figure for a path bounds what a nominal rehearsal of that path uses (issue 19):
+- the mission starts where its start goal starts (the verifier charges no launch transit);
+- a leg is charged as `leg_cost` charges it: geodesic metres at the vehicle's power and speed;
+- a goal's own work (its sweep, run or holds) is charged exactly its `goal_cost` (given, or
+  estimated as the verifier estimates it) when its plan runs to the end, spread over the work
+  in proportion to time, and paced so that it takes no longer than its duration cost; a goal
+  cut short is charged for the part it ran.
+- seed 001's strong opposing current (doubling consumption) is a disturbance, outside the
+  nominal case that the verifier bounds: only the `simulate` source, whose outcomes the
+  simulation decides, meets it. The normal current is the nominal consumption itself.
 """
 
 from __future__ import annotations
@@ -26,6 +37,7 @@ from dataclasses import dataclass, field
 from typing import Any, Literal
 
 from ..orders.model import OUTCOMES, Area, Goal, Orders
+from ..verify.budget import goal_cost
 from ..verify.expressions import identifiers
 from ..verify.legs import GEOD
 from .contingency import Contingency, RuleVerdict
@@ -206,6 +218,7 @@ class ActiveGoal:
     suggestion: tuple[str, str] | None = None  # (outcome, reason) seen in manual mode
     last_energy_check: float = -math.inf
     leg_m: float = 0.0  # geodesic metres flown on the leg into this goal
+    speed: float = DEFAULT_SPEED_MPS  # over the goal's own work (legs are flown at cruise)
 
     @property
     def progress(self) -> float:
@@ -274,7 +287,7 @@ class Simulation:
                                        if g.area and (g.behavior or "").lower() == "transect"})
         self._transects_done: set[str] = set()
         self.active: ActiveGoal | None = None
-        self.vehicle = Vehicle(*self.world.recovery)
+        self.vehicle = Vehicle(*self._launch_point())
         self.trail: list[tuple[float, float, float]] = []
         # The legs flown between goals: from, outcome, to and geodesic metres (issue 21).
         self.flown_legs: list[dict[str, Any]] = []
@@ -323,6 +336,7 @@ class Simulation:
         self._move(active, dt)
         self._navigate(dt)
         self._judge(active)
+        self._scheduled_faults(after_step=True)
 
     def choose(self, outcome: str) -> None:
         """A person's outcome for the goal waiting for one (the Figure 6 answer)."""
@@ -465,7 +479,7 @@ class Simulation:
         self.runs.append(Run(path_index=path_index))
         if len(self.runs) > 1:
             # A tour starts every path from the same launch with a full battery.
-            self.vehicle = Vehicle(*self.world.recovery, last_gps_s=self.time_s)
+            self.vehicle = Vehicle(*self._launch_point(), last_gps_s=self.time_s)
             self.energy_used_wh = self.expected_used_wh = 0.0
             # Every path of a tour meets the same faults given at the start.
             self.active_faults.clear()
@@ -483,6 +497,13 @@ class Simulation:
         # goal's constraints judge them.
         self.vehicle.depth = self.vehicle.target_depth = self._operating_depth(self.goals[start])
         self._start_goal(start)
+
+    def _launch_point(self) -> Point:
+        """Where the start goal starts (the verifier's place): the orders sign no launch
+        transit and the verifier charges none. Without a place, the recovery point."""
+        start = self.orders.start if isinstance(self.orders.start, str) else None
+        place = self.world.places.get(start) if start else None
+        return place.start if place is not None else self.world.recovery
 
     def _finish(self, why: str | None) -> None:
         self.active = None
@@ -507,31 +528,21 @@ class Simulation:
         run.goals.append(goal_id)
         facts = facts_of(goal, self.orders)
         waypoints = self._plan(goal)
-        length = sum(w.geo_m for w in waypoints)
         leg_m = sum(w.geo_m for w in waypoints if w.kind == "leg")
-        work_m = length - leg_m
+        work_m = sum(w.geo_m for w in waypoints if w.kind != "leg")
+        speed, rate, hold_w = self._priced_work(goal, waypoints, work_m)
         holds = sum(w.hold_s for w in waypoints)
-        moving_s = length / self.speed
-        planned_s = moving_s + holds
-        # Energy as the BUDGET check counts it: the leg from the previous goal at the
-        # vehicle's power and speed; the goal's own work from its cost when the orders give
-        # one, otherwise from the vehicle's power at cruise speed.
-        hold_w = self.power_w * 0.4
-        cost_wh = goal.cost.energy_wh if goal.cost and goal.cost.energy_wh else None
-        rate = self.leg_rate_wh_per_m
-        if cost_wh is not None and work_m > 0:
-            rate = max(0.0, cost_wh - hold_w * holds / 3600.0) / work_m
-        elif cost_wh is not None and holds > 0:
-            hold_w = cost_wh * 3600.0 / holds
+        planned_s = leg_m / self.speed + work_m / speed + holds
         expected = rate * work_m + self.leg_rate_wh_per_m * leg_m + hold_w * holds / 3600.0
-        self._priced_m += length
+        self._priced_m += leg_m + work_m
         self._priced_wh += rate * work_m + self.leg_rate_wh_per_m * leg_m
         active = ActiveGoal(goal, facts, waypoints, planned_s, rate, hold_w, self.time_s,
-                            expected_wh=expected)
+                            expected_wh=expected, speed=speed)
         active.scripted = self.source.scripted(goal_id, len(run.goals) - 1)
         # Seed 001: a strong opposing current with a 20% chance during each goal, for an
-        # uncertain part of it.
-        if self.rng.random() < STRONG_CURRENT_CHANCE and planned_s > 0:
+        # uncertain part of it; a disturbance only the simulating source meets.
+        if self.source.disturbed and self.rng.random() < STRONG_CURRENT_CHANCE \
+                and planned_s > 0:
             begin = self.time_s + self.rng.uniform(0.0, 0.5) * planned_s
             until = begin + self.rng.uniform(0.3, 1.0) * planned_s
             active.strong_current = (begin, until)
@@ -546,6 +557,35 @@ class Simulation:
         queued, self.queued_faults = self.queued_faults, []
         for name in queued:
             self._activate(name)
+
+    def _priced_work(self, goal: Goal, waypoints: list[Waypoint], work_m: float
+                     ) -> tuple[float, float, float]:
+        """(speed, Wh per metre, hold watts) of the goal's own work, from the verifier's cost
+        of the goal (verify/budget.goal_cost): its duration bounds the work's time (holds
+        shortened and the work sped up in proportion when the plan at cruise would take
+        longer), its energy is spread over the work in proportion to time. Without a cost
+        the vehicle's profile prices it (cruise power moving, 40% of it holding)."""
+        vehicle = self.orders.target_vehicle()
+        areas = self.orders.area_index()
+        duration, _ = goal_cost(goal, "duration_s", vehicle, areas)
+        energy, _ = goal_cost(goal, "energy_wh", vehicle, areas)
+        holds = sum(w.hold_s for w in waypoints)
+        cruise_s = work_m / self.speed + holds
+        factor = 1.0
+        if duration is not None and cruise_s > duration:
+            factor = duration / cruise_s  # 0 when the goal is said to take no time
+            for w in waypoints:
+                w.hold_s *= factor
+        speed = self.speed / factor if factor > 1e-9 else math.inf
+        if energy is None:
+            return speed, self.leg_rate_wh_per_m, self.power_w * 0.4
+        work_s = work_m / speed if math.isfinite(speed) else 0.0
+        total_s = work_s + holds * factor
+        if total_s <= 0.0:
+            return speed, 0.0, 0.0  # no work to charge (a station goal with no hold)
+        rate = energy * work_s / total_s / work_m if work_m > 0 else 0.0
+        hold_w = energy * 3600.0 / total_s
+        return speed, rate, hold_w
 
     def _end_goal(self, active: ActiveGoal, outcome: str, reason: str) -> None:
         goal = active.goal
@@ -687,7 +727,8 @@ class Simulation:
         w = active.waypoints[active.index]
         dx, dy = w.x - v.x, w.y - v.y
         distance = math.hypot(dx, dy)
-        step = self.speed * dt  # geodesic metres
+        speed = self.speed if w.kind == "leg" else active.speed
+        step = speed * dt  # geodesic metres
         energy = 0.0
         arrived = distance * w.scale <= step
         if distance > 1e-6:
@@ -700,7 +741,7 @@ class Simulation:
                 v.x += dx / distance * moved
                 v.y += dy / distance * moved
             v.vx, v.vy = dx / distance * moved / dt, dy / distance * moved / dt
-            active.done_s += moved_m / self.speed
+            active.done_s += moved_m / speed
             rate = self.leg_rate_wh_per_m if w.kind == "leg" else active.rate_wh_per_m
             energy += moved_m * rate * self._current_factor()
             self.expected_used_wh += moved_m * rate
@@ -718,9 +759,11 @@ class Simulation:
             if w.kind == "leg" and active.held_s == 0.0:
                 self._leg_flown(active, w)
             if active.held_s < w.hold_s:
-                active.held_s += dt
-                active.done_s += dt
-                hold_energy = active.hold_w * dt / 3600.0
+                # The last second of a hold is charged for the part held, not the whole step.
+                held = min(dt, w.hold_s - active.held_s)
+                active.held_s += held
+                active.done_s += held
+                hold_energy = active.hold_w * held / 3600.0
                 energy += hold_energy * self._current_factor()
                 self.expected_used_wh += hold_energy
             if active.held_s >= w.hold_s:
@@ -920,10 +963,14 @@ class Simulation:
 
     # ------------------------------------------------------------------------------ faults
 
-    def _scheduled_faults(self) -> None:
+    def _scheduled_faults(self, *, after_step: bool = False) -> None:
+        """Faults due now. A fault timed at T takes effect after the step that reaches T
+        (as one injected live between steps at T does, so a recorded `name@T` reproduces
+        the live run); one due earlier, or untimed, at the start of the step."""
         for spec in list(self.pending_faults):
-            due = spec.at_s is not None and self.time_s >= spec.at_s
-            if due or (spec.at_s is None and spec.at_goal is None):
+            due = spec.at_s is not None and (
+                self.time_s >= spec.at_s if after_step else self.time_s > spec.at_s)
+            if due or (not after_step and spec.at_s is None and spec.at_goal is None):
                 self.pending_faults.remove(spec)
                 self._activate(spec.name)
 

@@ -22,6 +22,10 @@ Decision = Literal["end", "wait", "scripted", "continue"]
 
 class OutcomeSource:
     kind: SourceKind = "simulate"
+    # Whether the world's disturbances beyond the nominal case (seed 001's strong current)
+    # happen: only when the simulation decides the outcomes. A replayed, toured or chosen
+    # path is rehearsed nominally, as the verifier's budget figures assume.
+    disturbed: bool = False
 
     def begin_run(self, run_index: int) -> int | None:
         """The path index of the next run, or None: no path (the first run of an unscripted
@@ -38,6 +42,7 @@ class OutcomeSource:
 
 class SimulateSource(OutcomeSource):
     kind = "simulate"
+    disturbed = True
 
 
 class ManualSource(OutcomeSource):

@@ -16,10 +16,10 @@ from ..orders.findings import Finding, error, warning
 from ..orders.model import BUDGET_QUANTITIES, OUTCOMES, Area, Goal, Orders, Vehicle
 from .graph import MissionGraph
 from .legs import MissionLegs, leg_lengths
+from .legs import track_length_m as sweep_length_m
 from .paths import topological_order
 
 UNITS = {"energy_wh": ("Wh", "energy"), "duration_s": ("s", "time")}
-SEARCH_BEHAVIORS = {"area_search", "search", "survey", "patrol"}
 EARTH_RADIUS_M = 6_371_000.0
 
 
@@ -60,19 +60,16 @@ def _local_metres(area: Area) -> list[tuple[float, float]]:
     ]
 
 
-def track_length_m(goal: Goal, area: Area) -> float:
-    """A nominal track: a lawnmower over the area for searches with a sweep width, otherwise
-    once around its boundary."""
+def track_length_m(goal: Goal, area: Area, areas: dict[str, Area] | None = None) -> float:
+    """A nominal track: for searches and transects the sweep the rehearsal flies
+    (verify/legs.py: the lawn-mower at the goal's swath in the mission's frame, or one run),
+    otherwise once around the area's boundary."""
+    track = sweep_length_m(goal, tuple((areas or {area.id: area}).values()), area)
+    if track is not None:
+        return track
     points = _local_metres(area)
     ring = [*points, points[0]]
-    perimeter = sum(math.dist(a, b) for a, b in itertools.pairwise(ring))
-    sweep = goal.params.get("sweep_width_m")
-    if goal.behavior in SEARCH_BEHAVIORS and isinstance(sweep, int | float) and sweep > 0:
-        surface = abs(
-            sum(a[0] * b[1] - b[0] * a[1] for a, b in itertools.pairwise(ring))
-        ) / 2
-        return surface / float(sweep)
-    return perimeter
+    return sum(math.dist(a, b) for a, b in itertools.pairwise(ring))
 
 
 def goal_cost(
@@ -85,7 +82,7 @@ def goal_cost(
     area = areas.get(goal.area) if goal.area else None
     if vehicle is None or vehicle.speed_mps is None or area is None or len(area.polygon) < 2:
         return None, False
-    seconds = track_length_m(goal, area) / vehicle.speed_mps
+    seconds = track_length_m(goal, area, areas) / vehicle.speed_mps
     if quantity == "duration_s":
         return seconds, True
     if quantity == "energy_wh" and vehicle.power_w is not None:

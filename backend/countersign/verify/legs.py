@@ -170,6 +170,36 @@ def place(goal: Goal, shape: Polygon) -> Place:
     return Place(goal.id, behavior, goal.area or "", xy, xy, None, loiter, station)
 
 
+def track_length_m(goal: Goal, areas: Sequence[Area], area: Area) -> float | None:
+    """Geodesic metres of the goal's sweep or run in the area, as `places` lays it out in the
+    mission's frame (the frame of all of `areas`), or None when the goal holds a station.
+    The BUDGET check estimates a goal's cost from it and the rehearsal flies it, so the two
+    price one track."""
+    behavior = (goal.behavior or "").lower()
+    if behavior not in SEARCH_BEHAVIORS and behavior not in TRANSECT_BEHAVIORS:
+        return None
+    frame = frame_for(areas)
+    if frame is None or len(area.polygon) < 3:
+        return None
+    swath = _number(goal, "swath_width_m", "sweep_width_m")
+    return _track_m(frame, behavior, swath, tuple(tuple(p) for p in area.polygon))
+
+
+@lru_cache(maxsize=4096)
+def _track_m(frame: Frame, behavior: str, swath: float | None,
+             polygon: tuple[tuple[float, ...], ...]) -> float | None:
+    shape = frame.polygon([(p[0], p[1]) for p in polygon])
+    if shape is None:
+        return None
+    width = math.inf if behavior in TRANSECT_BEHAVIORS else swath or DEFAULT_SWATH_M
+    track = sweep(shape, width)
+    if track is None:
+        return None
+    xs, ys = zip(*track.coords, strict=True)
+    lats, lons = frame.to_latlon(xs, ys)
+    return float(GEOD.line_length(lons, lats))
+
+
 def places(orders: Orders, frame: Frame) -> dict[str, Place]:
     areas = orders.area_index()
     used = sorted({g.area for g in orders.goals if g.area is not None and g.area in areas})
