@@ -117,9 +117,6 @@ def _health(port: int) -> int:
     raise AssertionError("unreachable")
 
 
-@pytest.mark.xfail(reason="after the merge of the low-priority password hasher (issue 15), a "
-                   "process of the server's tree outlives SIGTERM by more than 10 s; see the "
-                   "stop note", strict=False)
 def test_workers_listen_each_share_connections_and_are_replaced(tmp_path: Path) -> None:
     port = _free_port()
     with _serve(tmp_path, port, 2) as server:

@@ -14,8 +14,10 @@ the whole server (it would fail the same way again).
 
 from __future__ import annotations
 
+import contextlib
 import logging
 import multiprocessing
+import os
 import signal
 import socket
 import sys
@@ -61,6 +63,13 @@ class _Server(uvicorn.Server):
 
 
 def _run_worker(config: uvicorn.Config, serving: EventType) -> None:
+    # A process group of its own, holding everything this process starts (the forkserver and
+    # its hashing and validation processes): the supervisor ends the group once the process
+    # has ended. A process killed outright (SIGKILL, out of memory) leaves its forkserver and
+    # pool processes running, orphaned, and they hold the supervisor's resource-tracker pipe
+    # open, so that the tracker too outlived the server's SIGTERM forever (issue 15).
+    with contextlib.suppress(OSError):
+        os.setpgrp()
     # Bound but not yet listening: uvicorn listens (asyncio's create_server) only after the
     # app has loaded and its startup has run. A replacement process that listened at once was
     # handed its share of new connections while it was still importing and migrating, seconds
@@ -73,6 +82,17 @@ def _run_worker(config: uvicorn.Config, serving: EventType) -> None:
 class _Worker:
     process: BaseProcess
     serving: EventType
+
+
+def _end_group(pid: int | None) -> None:
+    """SIGKILL what is left of the process group of an ended server process `pid`."""
+    if pid is None:
+        return
+    with contextlib.suppress(OSError):  # the group is gone already (or never was its own)
+        if os.getpgid(pid) != pid:  # a zombie's group: only ours if it made it a leader
+            return
+    with contextlib.suppress(OSError):
+        os.killpg(pid, signal.SIGKILL)
 
 
 class Supervisor:
@@ -102,10 +122,12 @@ class Supervisor:
             if worker.process.is_alive():
                 worker.process.kill()
                 worker.process.join()
+            _end_group(worker.process.pid)
 
     def _replace(self, index: int) -> bool:
         """Start a process in place of a dead one; False when the server must stop."""
         dead = self.processes[index]
+        _end_group(dead.process.pid)
         if not dead.serving.is_set():
             logger.error("server process %s failed to start (exit code %s); stopping",
                          dead.process.pid, dead.process.exitcode)
