@@ -9,9 +9,11 @@ from __future__ import annotations
 import concurrent.futures as cf
 import logging
 import multiprocessing
+import os
 import threading
 from collections.abc import Callable
 
+from ..pool_lifetime import end_with
 from ..store import campaigns as store
 from ..store.db import Database
 from .tasks import missing_chunks, run_chunk
@@ -23,8 +25,9 @@ ATTEMPTS = 3
 _process_database: Database | None = None
 
 
-def _process_init(url: str) -> None:
+def _process_init(url: str, owner_pid: int) -> None:
     global _process_database
+    end_with(owner_pid)
     _process_database = Database(url)
 
 
@@ -66,7 +69,7 @@ class InProcessRunner:
             context = multiprocessing.get_context("spawn")
             self._pool = cf.ProcessPoolExecutor(workers, mp_context=context,
                                                 initializer=_process_init,
-                                                initargs=(database.url,))
+                                                initargs=(database.url, os.getpid()))
             self._processes = True
         else:
             self._pool = cf.ThreadPoolExecutor(workers, thread_name_prefix="campaign")

@@ -27,6 +27,7 @@ from typing import Any, Literal
 from argon2 import PasswordHasher
 
 from ..errors import Unavailable
+from ..pool_lifetime import end_with
 
 HASH_SLOTS = max(1, (os.cpu_count() or 1) - 1)
 HASH_NICENESS = 19
@@ -41,7 +42,8 @@ class HashingBusy(Unavailable):
     retry_after_s = 1
 
 
-def _lowest_priority() -> None:
+def _lowest_priority(owner_pid: int) -> None:
+    end_with(owner_pid)
     with contextlib.suppress(OSError):  # not permitted: hash at the server's priority
         os.nice(HASH_NICENESS)
 
@@ -83,7 +85,7 @@ class BoundedHasher(PasswordHasher):
             if self._executor is None:
                 self._executor = ProcessPoolExecutor(
                     processes, mp_context=multiprocessing.get_context("forkserver"),
-                    initializer=_lowest_priority)
+                    initializer=_lowest_priority, initargs=(os.getpid(),))
                 # Start the process now; until it is up, hashes run in threads as before
                 # (a sign-in right after a restart need not wait for a process to start).
                 self._started = self._executor.submit(os.getpid)

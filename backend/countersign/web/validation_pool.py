@@ -33,6 +33,7 @@ from contextvars import ContextVar
 from typing import Any
 
 from ..orders.model import Orders
+from ..pool_lifetime import end_with
 
 NICENESS = 5  # below the web processes: reads first, validations in the gaps
 CHECKS_MODULE = "countersign.verify.report"
@@ -49,7 +50,8 @@ SUBMITTER: ContextVar[str] = ContextVar("countersign_validation_submitter", defa
 TASKS_PER_PROCESS = 20
 
 
-def _lower_priority() -> None:
+def _lower_priority(owner_pid: int) -> None:
+    end_with(owner_pid)
     with contextlib.suppress(OSError):  # not permitted: run at the web processes' priority
         os.nice(NICENESS)
 
@@ -132,7 +134,7 @@ class ValidationPool:
                 context = multiprocessing.get_context("forkserver")
                 self._executor = ProcessPoolExecutor(
                     self.processes, mp_context=context, initializer=_lower_priority,
-                    max_tasks_per_child=TASKS_PER_PROCESS)
+                    initargs=(os.getpid(),), max_tasks_per_child=TASKS_PER_PROCESS)
             return self._executor
 
     def validate(self, orders: Orders, submitter: str | None = None) -> dict[str, Any]:
