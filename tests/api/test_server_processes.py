@@ -72,6 +72,24 @@ def _children(pid: int) -> set[int]:
     return found
 
 
+def _descendants(pid: int) -> set[int]:
+    found, todo = set(), [pid]
+    while todo:
+        for child in _children(todo.pop()):
+            if child not in found:
+                found.add(child)
+                todo.append(child)
+    return found
+
+
+def _gone(pid: int) -> bool:
+    path = Path(f"/proc/{pid}/stat")
+    try:
+        return "Z" in path.read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return True
+
+
 def _wait(condition: object, what: str, seconds: float = 60) -> None:
     deadline = time.monotonic() + seconds
     while not condition():  # type: ignore[operator]
@@ -80,12 +98,13 @@ def _wait(condition: object, what: str, seconds: float = 60) -> None:
 
 
 @contextmanager
-def _serve(tmp_path: Path, port: int, workers: int) -> Iterator[subprocess.Popen[bytes]]:
+def _serve(tmp_path: Path, port: int, workers: int,
+           manager: str = "supervisor") -> Iterator[subprocess.Popen[bytes]]:
     env = {**os.environ, "COUNTERSIGN_DATABASE_URL": ""}
     log = (tmp_path / "server.log").open("wb")
     process = subprocess.Popen(
         [sys.executable, "-m", "countersign.cli", "serve", "--port", str(port), "--data-dir",
-         str(tmp_path / "data"), "--workers", str(workers)],
+         str(tmp_path / "data"), "--workers", str(workers), "--process-manager", manager],
         stdout=log, stderr=subprocess.STDOUT, env=env)
     try:
         yield process
@@ -117,9 +136,14 @@ def _health(port: int) -> int:
     raise AssertionError("unreachable")
 
 
-def test_workers_listen_each_share_connections_and_are_replaced(tmp_path: Path) -> None:
+MANAGERS = pytest.mark.parametrize("manager", ["supervisor", "gunicorn"])
+
+
+@MANAGERS
+def test_workers_listen_each_share_connections_and_are_replaced(tmp_path: Path,
+                                                                manager: str) -> None:
     port = _free_port()
-    with _serve(tmp_path, port, 2) as server:
+    with _serve(tmp_path, port, 2, manager) as server:
         _wait(lambda: len(_tcp_rows(port, "0A")) == 2 or server.poll() is not None,
               "two server processes listen")
         assert server.poll() is None, (tmp_path / "server.log").read_text()[-2000:]
@@ -144,29 +168,31 @@ def test_workers_listen_each_share_connections_and_are_replaced(tmp_path: Path) 
         # A server process that dies is replaced; the port keeps answering meanwhile (once the
         # dead process's socket is closed: connections the kernel had queued on it are reset).
         victim = next(iter(listeners))
+        _wait(lambda: _descendants(victim), "the victim has started its helper processes")
+        orphans = _descendants(victim)  # its forkserver, hashers and validation processes
         os.kill(victim, signal.SIGKILL)
         _wait(lambda: victim not in _owners(_tcp_rows(port, "0A")), "the killed one is closed")
         assert _health(port) == 200
         _wait(lambda: len(_owners(_tcp_rows(port, "0A"))) == 2
               and victim not in _owners(_tcp_rows(port, "0A")), "a new process listens")
         assert all(_health(port) == 200 for _ in range(10))
+        _wait(lambda: all(_gone(pid) for pid in orphans), "the killed one's helpers ended")
 
-        workers = _children(server.pid)
+        workers = _descendants(server.pid)
         server.send_signal(signal.SIGTERM)
         assert server.wait(timeout=40) == 0
     assert not _tcp_rows(port, "0A")
-    for pid in workers:
-        _wait(lambda pid=pid: not Path(f"/proc/{pid}").exists()
-              or "Z" in Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0],
-              f"process {pid} ended", seconds=10)
+    for pid in workers:  # every process of the tree, helpers of the workers included
+        _wait(lambda pid=pid: _gone(pid), f"process {pid} ended", seconds=10)
 
 
-def test_a_taken_port_is_refused_with_its_reason(tmp_path: Path) -> None:
+@MANAGERS
+def test_a_taken_port_is_refused_with_its_reason(tmp_path: Path, manager: str) -> None:
     with socket.socket() as taken:
         taken.bind(("127.0.0.1", 0))
         taken.listen()
         port = taken.getsockname()[1]
-        with _serve(tmp_path, port, 2) as server:
+        with _serve(tmp_path, port, 2, manager) as server:
             assert server.wait(timeout=60) == 1
     log = (tmp_path / "server.log").read_text()
     assert f"cannot listen on 127.0.0.1:{port}" in log and "Traceback" not in log

@@ -85,7 +85,6 @@ def cmd_serve(args: argparse.Namespace) -> int:
     import uvicorn
 
     from ..web.app import create_app
-    from ..web.workers import serve_workers
 
     if args.validation_processes is not None:
         if not 0 <= args.validation_processes <= 64:
@@ -118,6 +117,10 @@ def cmd_serve(args: argparse.Namespace) -> int:
     database.engine.dispose()
     os.environ["COUNTERSIGN_DATA_DIR"] = str(settings.data_dir)
     os.environ["COUNTERSIGN_DATABASE_URL"] = settings.database_url
+    if args.process_manager == "gunicorn":
+        from ..web.gunicorn_server import serve_workers
+    else:
+        from ..web.workers import serve_workers
     return serve_workers("countersign.web.app:app_from_environment", host=args.host,
                          port=args.port, workers=args.workers, log_level="info")
 
@@ -172,6 +175,9 @@ def add_commands(commands: Any) -> None:
         "validation leaves a process for another's edit (default 2, or "
         "COUNTERSIGN_VALIDATION_PROCESSES; 0: validate in the server's own threads)",
     )
+    # Which manager runs --workers processes (issue 17, item 9): hidden, for bench_api.
+    serve_cmd.add_argument("--process-manager", choices=["supervisor", "gunicorn"],
+                           default="supervisor", help=argparse.SUPPRESS)
     serve_cmd.add_argument(
         "--demo", action="store_true",
         help="seed demo users (printing one-time passwords) and the built-in examples",
