@@ -1,11 +1,11 @@
-"""`countersign serve --workers N` as a real process tree: a listening socket per server
-process (connections spread over them), a dead process replaced, a taken port refused, and
-every process gone after SIGTERM."""
+"""`countersign serve --workers N` (gunicorn, uvicorn workers, reuse_port) as a real process
+tree: a listening socket per server process (connections spread over them), a dead process
+replaced and its helper processes ended, a taken port refused, and every process gone after
+SIGTERM."""
 
 from __future__ import annotations
 
 import http.client
-import logging
 import os
 import signal
 import socket
@@ -18,9 +18,8 @@ from contextlib import contextmanager
 from pathlib import Path
 
 import pytest
-import uvicorn
 
-from countersign.web.workers import Supervisor, reuse_port_available
+from countersign.web.gunicorn_server import reuse_port_available
 
 pytestmark = pytest.mark.skipif(
     not (reuse_port_available() and Path("/proc/net/tcp").exists()),
@@ -98,13 +97,12 @@ def _wait(condition: object, what: str, seconds: float = 60) -> None:
 
 
 @contextmanager
-def _serve(tmp_path: Path, port: int, workers: int,
-           manager: str = "supervisor") -> Iterator[subprocess.Popen[bytes]]:
+def _serve(tmp_path: Path, port: int, workers: int) -> Iterator[subprocess.Popen[bytes]]:
     env = {**os.environ, "COUNTERSIGN_DATABASE_URL": ""}
     log = (tmp_path / "server.log").open("wb")
     process = subprocess.Popen(
         [sys.executable, "-m", "countersign.cli", "serve", "--port", str(port), "--data-dir",
-         str(tmp_path / "data"), "--workers", str(workers), "--process-manager", manager],
+         str(tmp_path / "data"), "--workers", str(workers)],
         stdout=log, stderr=subprocess.STDOUT, env=env)
     try:
         yield process
@@ -136,14 +134,9 @@ def _health(port: int) -> int:
     raise AssertionError("unreachable")
 
 
-MANAGERS = pytest.mark.parametrize("manager", ["supervisor", "gunicorn"])
-
-
-@MANAGERS
-def test_workers_listen_each_share_connections_and_are_replaced(tmp_path: Path,
-                                                                manager: str) -> None:
+def test_workers_listen_each_share_connections_and_are_replaced(tmp_path: Path) -> None:
     port = _free_port()
-    with _serve(tmp_path, port, 2, manager) as server:
+    with _serve(tmp_path, port, 2) as server:
         _wait(lambda: len(_tcp_rows(port, "0A")) == 2 or server.poll() is not None,
               "two server processes listen")
         assert server.poll() is None, (tmp_path / "server.log").read_text()[-2000:]
@@ -186,24 +179,24 @@ def test_workers_listen_each_share_connections_and_are_replaced(tmp_path: Path,
         _wait(lambda pid=pid: _gone(pid), f"process {pid} ended", seconds=10)
 
 
-@MANAGERS
-def test_a_taken_port_is_refused_with_its_reason(tmp_path: Path, manager: str) -> None:
+def test_a_taken_port_is_refused_with_its_reason(tmp_path: Path) -> None:
     with socket.socket() as taken:
         taken.bind(("127.0.0.1", 0))
         taken.listen()
         port = taken.getsockname()[1]
-        with _serve(tmp_path, port, 2, manager) as server:
+        with _serve(tmp_path, port, 2) as server:
             assert server.wait(timeout=60) == 1
     log = (tmp_path / "server.log").read_text()
     assert f"cannot listen on 127.0.0.1:{port}" in log and "Traceback" not in log
 
 
-def test_processes_that_cannot_start_stop_the_server(caplog: pytest.LogCaptureFixture) -> None:
+def test_processes_that_cannot_start_stop_the_server() -> None:
     """An app that fails before it serves would fail in every replacement: no restart loop."""
-    config = uvicorn.Config("countersign.no_such_module:app", factory=True, host="127.0.0.1",
-                            port=0, log_level="critical")
+    code = ("import sys\nfrom countersign.web.gunicorn_server import serve_workers\n"
+            "sys.exit(serve_workers('countersign.no_such_module:app', host='127.0.0.1', "
+            "port=0, workers=2, log_level='critical'))")
     started = time.monotonic()
-    with caplog.at_level(logging.ERROR, logger="countersign.workers"):
-        status = Supervisor(config, 2).run()
-    assert status == 1 and time.monotonic() - started < 60
-    assert any("failed to start" in record.getMessage() for record in caplog.records)
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode != 0 and time.monotonic() - started < 60, done.stderr[-2000:]
+    assert "No module named 'countersign.no_such_module'" in done.stderr

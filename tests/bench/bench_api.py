@@ -26,10 +26,13 @@ After both runs the event log is checked: one draft.updated event and one log le
 accepted write.
 
 Run: .venv/bin/python -m tests.bench.bench_api [--clients 50] [--seconds 30] [--workers 2]
-Process managers side by side (issue 17, item 9: web/workers.py's supervisor and gunicorn with
-uvicorn workers and reuse_port, the same worker count and database; "requests per process" is
-each server process's share of the requests, by which process held the connection):
-     .venv/bin/python -m tests.bench.bench_api --compare-managers [--rounds 2] [--only ...]
+Listening sockets side by side (issue 17, item 9): gunicorn with uvicorn workers and a socket
+per worker (reuse_port, what `serve --workers` runs) and the same with the master's one shared
+socket (hidden `serve --shared-socket`), the same worker count and database, in turn; "requests
+per process" is each server process's share of the requests, by the process holding the
+connection. (Commit 1b1115e ran this against the home-made supervisor, web/workers.py, before
+it was replaced, `--compare-managers`: the same throughput and spread.)
+     .venv/bin/python -m tests.bench.bench_api --compare-sockets [--rounds 2] [--only ...]
 PostgreSQL is used when COUNTERSIGN_TEST_POSTGRES_URL is set (scripts/postgres-for-tests).
 The load generator runs in this process (asyncio + httpx) on the same machine as the server.
 """
@@ -113,7 +116,8 @@ def _prepare(url: str) -> str:
     database = Database(url)
     database.migrate()
     with database.session() as db:
-        user = create_user(db, username="bench", role="operator", password="tidal orchid 79 granite")
+        user = create_user(db, username="bench", role="operator",
+                           password="tidal orchid 79 granite")
         token = create_token(db, user=user, name="bench")[1]
     database.engine.dispose()
     return token
@@ -338,23 +342,25 @@ async def _load(base: str, token: str, label: str, clients: int, seconds: float,
 
 
 def _serve(url: str, workers: int, data: str, log_path: Path,
-           manager: str = "supervisor") -> tuple[subprocess.Popen[bytes], str, int]:
+           shared: bool = False) -> tuple[subprocess.Popen[bytes], str, int]:
     port = _free_port()
     env = {**os.environ, "COUNTERSIGN_DATABASE_URL": url}
     with open(log_path, "w") as log:
         server = subprocess.Popen(
             [sys.executable, "-m", "countersign.cli", "serve", "--port", str(port),
-             "--data-dir", data, *(["--workers", str(workers), "--process-manager", manager]
-                                   if workers != 1 else [])],
+             "--data-dir", data, *(["--workers", str(workers)] if workers != 1 else []),
+             *(["--shared-socket"] if shared else [])],
             env=env, stdout=subprocess.DEVNULL, stderr=log)
     base = f"http://127.0.0.1:{port}"
     deadline = time.monotonic() + 60
     while True:
         try:
             # Every process listening before the clients connect: the kernel spreads
-            # connections over the sockets that listen when they arrive.
-            if (httpx.get(f"{base}/api/health").status_code == 200
-                    and _listening(port) >= workers):
+            # connections over the sockets that listen when they arrive (a shared socket:
+            # every worker's app started, by its log line).
+            ready = (log_path.read_text().count("Application startup complete") >= workers
+                     if shared else _listening(port) >= workers)
+            if httpx.get(f"{base}/api/health").status_code == 200 and ready:
                 return server, base, port
         except httpx.HTTPError:
             pass
@@ -365,13 +371,13 @@ def _serve(url: str, workers: int, data: str, log_path: Path,
 
 
 def bench_database(url: str, label: str, args: argparse.Namespace,
-                   manager: str = "supervisor") -> dict[str, Run]:
+                   shared: bool = False) -> dict[str, Run]:
     token = _prepare(url)
     runs: dict[str, Run] = {}
     all_writes = [0]
     with tempfile.TemporaryDirectory() as data:
         log_path = Path(data) / "server.log"
-        server, base, port = _serve(url, args.workers, data, log_path, manager)
+        server, base, port = _serve(url, args.workers, data, log_path, shared)
         try:
             asyncio.run(_seed(base, token))
             if args.think > 0:
@@ -402,8 +408,9 @@ def _cell(run: Run | None, kind: str, q: float) -> str:
 
 def report(results: dict[str, dict[str, Run]], args: argparse.Namespace) -> None:
     labels = list(results)
-    served = (f"one database, each column a process manager: `countersign serve --workers "
-              f"{args.workers} --process-manager M`, in turn" if args.compare_managers
+    served = (f"one database, `countersign serve --workers {args.workers}` (gunicorn, uvicorn "
+              "workers) with a socket per worker (reuse_port) or one shared socket, in turn"
+              if args.compare_sockets
               else f"server `countersign serve --workers {args.workers}`")
     print(f"\n# API benchmark: {args.clients} clients, {args.seconds:.0f} s per run after "
           f"{args.warmup:.0f} s warm-up, {served}, "
@@ -467,26 +474,26 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=2, help="server processes")
     parser.add_argument("--only", choices=["sqlite", "postgresql"], default=None)
     parser.add_argument(
-        "--compare-managers", action="store_true",
-        help="run the --workers processes under web/workers.py's supervisor and under gunicorn "
-        "(uvicorn workers, reuse_port) in turn, on SQLite (or --only postgresql), side by side")
+        "--compare-sockets", action="store_true",
+        help="run the --workers processes with a socket each (reuse_port) and with one shared "
+        "socket in turn, on SQLite (or --only postgresql), side by side")
     parser.add_argument("--rounds", type=int, default=1,
-                        help="with --compare-managers: how many times each, alternating")
+                        help="with --compare-sockets: how many times each, alternating")
     args = parser.parse_args()
     results: dict[str, dict[str, Run]] = {}
-    if args.compare_managers:
+    if args.compare_sockets:
         pg_url = os.environ.get("COUNTERSIGN_TEST_POSTGRES_URL")
         if args.only == "postgresql" and not pg_url:
             sys.exit("--only postgresql needs COUNTERSIGN_TEST_POSTGRES_URL")
         for round_ in range(1, args.rounds + 1):
-            for manager in ("supervisor", "gunicorn"):
-                label = manager if args.rounds == 1 else f"{manager} #{round_}"
+            for name, shared in (("reuse_port", False), ("shared", True)):
+                label = name if args.rounds == 1 else f"{name} #{round_}"
                 if args.only == "postgresql":
-                    results[label] = bench_database(pg_url or "", label, args, manager)
+                    results[label] = bench_database(pg_url or "", label, args, shared)
                 else:
                     with tempfile.TemporaryDirectory() as tmp:
                         results[label] = bench_database(
-                            f"sqlite:///{Path(tmp) / 'bench.db'}", label, args, manager)
+                            f"sqlite:///{Path(tmp) / 'bench.db'}", label, args, shared)
         report(results, args)
         if any(run.errors for runs in results.values() for run in runs.values()):
             sys.exit(1)

@@ -6,7 +6,8 @@ With `reuse_port` (gunicorn 27: `Arbiter.spawn_worker`) each worker binds and li
 socket of its own after the fork, so the kernel spreads new connections over the processes;
 the master holds none. The keep-alive timeout is uvicorn's (5 s), not gunicorn's 2 s.
 
-Two things are added by hooks, as web/workers.py did for its own processes:
+Two things are added (they replace the home-made supervisor, web/workers.py, that did the
+same with uvicorn processes of its own; bench_api measured gunicorn as good, issue 17):
 
 * each worker leads a process group holding what it starts (the forkserver and its hashing and
   validation processes); when the master reaps a worker it SIGKILLs what is left of the group,
@@ -79,12 +80,14 @@ class _Application(BaseApplication):  # type: ignore[misc]
         return factory()
 
 
-def serve_workers(app: str, *, host: str, port: int, workers: int, log_level: str) -> int:
-    """Run `workers` processes of the app factory `app` ("module:function") on host:port."""
+def serve_workers(app: str, *, host: str, port: int, workers: int, log_level: str,
+                  reuse_port: bool = True) -> int:
+    """Run `workers` processes of the app factory `app` ("module:function") on host:port;
+    with reuse_port False they share the master's one listening socket (a baseline only)."""
     if not logging.getLogger().handlers:
         logging.basicConfig(stream=sys.stderr, level=logging.INFO,
                             format="%(levelname)s:     %(message)s")
-    if not reuse_port_available():  # not on this platform: gunicorn's shared socket
+    if not (reuse_port and reuse_port_available()):  # gunicorn's shared socket
         reservation = None
     else:
         try:
