@@ -1,11 +1,11 @@
-"""`countersign serve --workers N` as a real process tree: a listening socket per server
-process (connections spread over them), a dead process replaced, a taken port refused, and
-every process gone after SIGTERM."""
+"""`countersign serve --workers N` (gunicorn, uvicorn workers, reuse_port) as a real process
+tree: a listening socket per server process (connections spread over them), a dead process
+replaced and its helper processes ended, a taken port refused, and every process gone after
+SIGTERM."""
 
 from __future__ import annotations
 
 import http.client
-import logging
 import os
 import signal
 import socket
@@ -18,9 +18,8 @@ from contextlib import contextmanager
 from pathlib import Path
 
 import pytest
-import uvicorn
 
-from countersign.web.workers import Supervisor, reuse_port_available
+from countersign.web.gunicorn_server import reuse_port_available
 
 pytestmark = pytest.mark.skipif(
     not (reuse_port_available() and Path("/proc/net/tcp").exists()),
@@ -70,6 +69,24 @@ def _children(pid: int) -> set[int]:
             if parent == pid:
                 found.add(int(entry.name))
     return found
+
+
+def _descendants(pid: int) -> set[int]:
+    found, todo = set(), [pid]
+    while todo:
+        for child in _children(todo.pop()):
+            if child not in found:
+                found.add(child)
+                todo.append(child)
+    return found
+
+
+def _gone(pid: int) -> bool:
+    path = Path(f"/proc/{pid}/stat")
+    try:
+        return "Z" in path.read_text().rsplit(")", 1)[1].split()[0]
+    except OSError:
+        return True
 
 
 def _wait(condition: object, what: str, seconds: float = 60) -> None:
@@ -144,21 +161,22 @@ def test_workers_listen_each_share_connections_and_are_replaced(tmp_path: Path) 
         # A server process that dies is replaced; the port keeps answering meanwhile (once the
         # dead process's socket is closed: connections the kernel had queued on it are reset).
         victim = next(iter(listeners))
+        _wait(lambda: _descendants(victim), "the victim has started its helper processes")
+        orphans = _descendants(victim)  # its forkserver, hashers and validation processes
         os.kill(victim, signal.SIGKILL)
         _wait(lambda: victim not in _owners(_tcp_rows(port, "0A")), "the killed one is closed")
         assert _health(port) == 200
         _wait(lambda: len(_owners(_tcp_rows(port, "0A"))) == 2
               and victim not in _owners(_tcp_rows(port, "0A")), "a new process listens")
         assert all(_health(port) == 200 for _ in range(10))
+        _wait(lambda: all(_gone(pid) for pid in orphans), "the killed one's helpers ended")
 
-        workers = _children(server.pid)
+        workers = _descendants(server.pid)
         server.send_signal(signal.SIGTERM)
         assert server.wait(timeout=40) == 0
     assert not _tcp_rows(port, "0A")
-    for pid in workers:
-        _wait(lambda pid=pid: not Path(f"/proc/{pid}").exists()
-              or "Z" in Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0],
-              f"process {pid} ended", seconds=10)
+    for pid in workers:  # every process of the tree, helpers of the workers included
+        _wait(lambda pid=pid: _gone(pid), f"process {pid} ended", seconds=10)
 
 
 def test_a_taken_port_is_refused_with_its_reason(tmp_path: Path) -> None:
@@ -172,12 +190,13 @@ def test_a_taken_port_is_refused_with_its_reason(tmp_path: Path) -> None:
     assert f"cannot listen on 127.0.0.1:{port}" in log and "Traceback" not in log
 
 
-def test_processes_that_cannot_start_stop_the_server(caplog: pytest.LogCaptureFixture) -> None:
+def test_processes_that_cannot_start_stop_the_server() -> None:
     """An app that fails before it serves would fail in every replacement: no restart loop."""
-    config = uvicorn.Config("countersign.no_such_module:app", factory=True, host="127.0.0.1",
-                            port=0, log_level="critical")
+    code = ("import sys\nfrom countersign.web.gunicorn_server import serve_workers\n"
+            "sys.exit(serve_workers('countersign.no_such_module:app', host='127.0.0.1', "
+            "port=0, workers=2, log_level='critical'))")
     started = time.monotonic()
-    with caplog.at_level(logging.ERROR, logger="countersign.workers"):
-        status = Supervisor(config, 2).run()
-    assert status == 1 and time.monotonic() - started < 60
-    assert any("failed to start" in record.getMessage() for record in caplog.records)
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode != 0 and time.monotonic() - started < 60, done.stderr[-2000:]
+    assert "No module named 'countersign.no_such_module'" in done.stderr

@@ -26,6 +26,13 @@ After both runs the event log is checked: one draft.updated event and one log le
 accepted write.
 
 Run: .venv/bin/python -m tests.bench.bench_api [--clients 50] [--seconds 30] [--workers 2]
+Listening sockets side by side (issue 17, item 9): gunicorn with uvicorn workers and a socket
+per worker (reuse_port, what `serve --workers` runs) and the same with the master's one shared
+socket (hidden `serve --shared-socket`), the same worker count and database, in turn; "requests
+per process" is each server process's share of the requests, by the process holding the
+connection. (Commit 1b1115e ran this against the home-made supervisor, web/workers.py, before
+it was replaced, `--compare-managers`: the same throughput and spread.)
+     .venv/bin/python -m tests.bench.bench_api --compare-sockets [--rounds 2] [--only ...]
 PostgreSQL is used when COUNTERSIGN_TEST_POSTGRES_URL is set (scripts/postgres-for-tests).
 The load generator runs in this process (asyncio + httpx) on the same machine as the server.
 """
@@ -69,11 +76,24 @@ class Run:
     machine_cpu: float = 0.0  # CPU seconds of the whole machine (database server included)
     database_cpu: float = 0.0  # CPU seconds of PostgreSQL's processes
     busiest_share: float = 0.0  # the busiest server process's share of the server's CPU
+    ports: list[int] = field(default_factory=list)  # each counted request's client port
+    served_by: dict[int, int] = field(default_factory=dict)  # client port -> server process
     load: tuple[float, float] = (0.0, 0.0)  # 1-minute load average before and after
 
     @property
     def throughput(self) -> float:
         return sum(len(v) for v in self.timings.values()) / self.seconds
+
+    def shares(self) -> list[float]:
+        """Each server process's share of the counted requests, largest first (requests on a
+        connection that opened and closed between two looks are left out)."""
+        counts: dict[int, int] = {}
+        for port in self.ports:
+            pid = self.served_by.get(port)
+            if pid is not None:
+                counts[pid] = counts.get(pid, 0) + 1
+        total = sum(counts.values())
+        return sorted((n / total for n in counts.values()), reverse=True) if total else []
 
     @property
     def errors(self) -> int:
@@ -96,7 +116,8 @@ def _prepare(url: str) -> str:
     database = Database(url)
     database.migrate()
     with database.session() as db:
-        user = create_user(db, username="bench", role="operator", password="benchmark password")
+        user = create_user(db, username="bench", role="operator",
+                           password="tidal orchid 79 granite")
         token = create_token(db, user=user, name="bench")[1]
     database.engine.dispose()
     return token
@@ -177,6 +198,31 @@ def _listening(port: int) -> int:
     return count
 
 
+def _connections(port: int, pids: set[int]) -> dict[int, int]:
+    """Established connections to the server's `port`: client port -> the process holding the
+    server's end (the worker serving the connection)."""
+    by_inode: dict[str, int] = {}
+    for table in ("/proc/net/tcp", "/proc/net/tcp6"):
+        try:
+            lines = Path(table).read_text().splitlines()[1:]
+        except OSError:
+            continue
+        for line in lines:
+            fields = line.split()
+            if fields[3] == "01" and int(fields[1].rsplit(":", 1)[1], 16) == port:
+                by_inode[fields[9]] = int(fields[2].rsplit(":", 1)[1], 16)
+    found: dict[int, int] = {}
+    for pid in pids:
+        try:
+            for fd in Path(f"/proc/{pid}/fd").iterdir():
+                target = os.readlink(fd)
+                if target.startswith("socket:[") and target[8:-1] in by_inode:
+                    found[by_inode[target[8:-1]]] = pid
+        except OSError:
+            continue
+    return found
+
+
 def percentile(values: list[float], q: float) -> float:
     """Nearest-rank percentile (q in 0..1) of the values, in their unit."""
     if not values:
@@ -195,6 +241,10 @@ async def _client(client: httpx.AsyncClient, number: int, think: float, start: f
         # Every request sent during the measured window counts, however long it takes.
         if start <= began < until:
             run.timings[kind].append(time.perf_counter() - began)
+            stream = response.extensions.get("network_stream")
+            address = stream.get_extra_info("client_addr") if stream is not None else None
+            if address:
+                run.ports.append(int(address[1]))
             run.statuses[response.status_code] = run.statuses.get(
                 response.status_code, 0) + 1
             if kind == "write" and response.status_code == 200:
@@ -241,7 +291,7 @@ async def _seed(base: str, token: str) -> None:
 
 
 async def _load(base: str, token: str, label: str, clients: int, seconds: float, warmup: float,
-                think: float, all_writes: list[int], server: int) -> Run:
+                think: float, all_writes: list[int], server: int, port: int) -> Run:
     run = Run(label, seconds)
     # Each client has a connection of its own, as each person's browser does (one shared pool
     # hands the few requests in flight to its most recently used connections, all served by
@@ -269,13 +319,21 @@ async def _load(base: str, token: str, label: str, clients: int, seconds: float,
         run.database_cpu = _postgres_cpu() - database
         run.load = (load, os.getloadavg()[0])
 
+    async def watch() -> None:
+        # Which process serves each client connection, looked at every 0.2 s (this process's
+        # own sockets to the port are seen from the server's side only).
+        while time.perf_counter() < until + 1:
+            pids = set(_cpu_by_process(server)) | {server}  # the server and its children
+            run.served_by.update(await asyncio.to_thread(_connections, port, pids))
+            await asyncio.sleep(0.2)
+
     # The load generator's own garbage collection would stop every client at once (a full
     # collection of this process took up to 370 ms) and count as server latency: reference
     # counting frees the responses; cycles wait until the run is over.
     gc.collect()
     gc.disable()
     try:
-        await asyncio.gather(meter(), *(_client(pool[n], n, think, start, until, run,
+        await asyncio.gather(meter(), watch(), *(_client(pool[n], n, think, start, until, run,
                                                 all_writes) for n in range(clients)))
     finally:
         gc.enable()
@@ -283,24 +341,27 @@ async def _load(base: str, token: str, label: str, clients: int, seconds: float,
     return run
 
 
-def _serve(url: str, workers: int, data: str, log_path: Path) -> tuple[subprocess.Popen[bytes],
-                                                                        str]:
+def _serve(url: str, workers: int, data: str, log_path: Path,
+           shared: bool = False) -> tuple[subprocess.Popen[bytes], str, int]:
     port = _free_port()
     env = {**os.environ, "COUNTERSIGN_DATABASE_URL": url}
     with open(log_path, "w") as log:
         server = subprocess.Popen(
             [sys.executable, "-m", "countersign.cli", "serve", "--port", str(port),
-             "--data-dir", data, *(["--workers", str(workers)] if workers != 1 else [])],
+             "--data-dir", data, *(["--workers", str(workers)] if workers != 1 else []),
+             *(["--shared-socket"] if shared else [])],
             env=env, stdout=subprocess.DEVNULL, stderr=log)
     base = f"http://127.0.0.1:{port}"
     deadline = time.monotonic() + 60
     while True:
         try:
             # Every process listening before the clients connect: the kernel spreads
-            # connections over the sockets that listen when they arrive.
-            if (httpx.get(f"{base}/api/health").status_code == 200
-                    and _listening(port) >= workers):
-                return server, base
+            # connections over the sockets that listen when they arrive (a shared socket:
+            # every worker's app started, by its log line).
+            ready = (log_path.read_text().count("Application startup complete") >= workers
+                     if shared else _listening(port) >= workers)
+            if httpx.get(f"{base}/api/health").status_code == 200 and ready:
+                return server, base, port
         except httpx.HTTPError:
             pass
         if time.monotonic() > deadline or server.poll() is not None:
@@ -309,22 +370,23 @@ def _serve(url: str, workers: int, data: str, log_path: Path) -> tuple[subproces
         time.sleep(0.2)
 
 
-def bench_database(url: str, label: str, args: argparse.Namespace) -> dict[str, Run]:
+def bench_database(url: str, label: str, args: argparse.Namespace,
+                   shared: bool = False) -> dict[str, Run]:
     token = _prepare(url)
     runs: dict[str, Run] = {}
     all_writes = [0]
     with tempfile.TemporaryDirectory() as data:
         log_path = Path(data) / "server.log"
-        server, base = _serve(url, args.workers, data, log_path)
+        server, base, port = _serve(url, args.workers, data, log_path, shared)
         try:
             asyncio.run(_seed(base, token))
             if args.think > 0:
                 runs["think"] = asyncio.run(_load(base, token, label, args.clients, args.seconds,
                                                   args.warmup, args.think, all_writes,
-                                                  server.pid))
+                                                  server.pid, port))
             runs["saturate"] = asyncio.run(_load(base, token, label, args.clients,
                                                  args.seconds, args.warmup, 0, all_writes,
-                                                 server.pid))
+                                                 server.pid, port))
         finally:
             server.terminate()
             server.wait(timeout=30)
@@ -346,8 +408,12 @@ def _cell(run: Run | None, kind: str, q: float) -> str:
 
 def report(results: dict[str, dict[str, Run]], args: argparse.Namespace) -> None:
     labels = list(results)
+    served = (f"one database, `countersign serve --workers {args.workers}` (gunicorn, uvicorn "
+              "workers) with a socket per worker (reuse_port) or one shared socket, in turn"
+              if args.compare_sockets
+              else f"server `countersign serve --workers {args.workers}`")
     print(f"\n# API benchmark: {args.clients} clients, {args.seconds:.0f} s per run after "
-          f"{args.warmup:.0f} s warm-up, server `countersign serve --workers {args.workers}`, "
+          f"{args.warmup:.0f} s warm-up, {served}, "
           f"think time exponential mean {args.think:g} s")
     for mode in ("think", "saturate"):
         if not any(mode in runs for runs in results.values()):
@@ -380,6 +446,7 @@ def report(results: dict[str, dict[str, Run]], args: argparse.Namespace) -> None
                 if any(r.timings.values()) else "-")),
             ("server CPU cores", lambda r: f"{r.server_cpu / r.seconds:.2f}"),
             ("busiest process share", lambda r: f"{r.busiest_share:.0%}"),
+            ("requests per process", lambda r: "/".join(f"{x:.0%}" for x in r.shares())),
             ("client CPU cores", lambda r: f"{r.client_cpu / r.seconds:.2f}"),
             ("PostgreSQL CPU cores", lambda r: f"{r.database_cpu / r.seconds:.2f}"),
             ("machine busy cores", lambda r: f"{r.machine_cpu / r.seconds:.2f}"),
@@ -388,7 +455,8 @@ def report(results: dict[str, dict[str, Run]], args: argparse.Namespace) -> None
             cells = [value(results[label][mode]) if mode in results[label] else "-"
                      for label in labels]
             print(f"{name:<22}" + "".join(f"{c:>14}" for c in cells))
-        if len(labels) == 2 and all(mode in results[label] for label in labels):
+        if labels == ["SQLite", "PostgreSQL"] and all(mode in results[label]
+                                                       for label in labels):
             sqlite, postgres = (results[label][mode] for label in labels)
             ratio = (f"{postgres.throughput / sqlite.throughput:.2f}" if sqlite.throughput
                      else "-")
@@ -405,8 +473,31 @@ def main() -> None:
                         help="mean think time in seconds (0: only the saturation run)")
     parser.add_argument("--workers", type=int, default=2, help="server processes")
     parser.add_argument("--only", choices=["sqlite", "postgresql"], default=None)
+    parser.add_argument(
+        "--compare-sockets", action="store_true",
+        help="run the --workers processes with a socket each (reuse_port) and with one shared "
+        "socket in turn, on SQLite (or --only postgresql), side by side")
+    parser.add_argument("--rounds", type=int, default=1,
+                        help="with --compare-sockets: how many times each, alternating")
     args = parser.parse_args()
     results: dict[str, dict[str, Run]] = {}
+    if args.compare_sockets:
+        pg_url = os.environ.get("COUNTERSIGN_TEST_POSTGRES_URL")
+        if args.only == "postgresql" and not pg_url:
+            sys.exit("--only postgresql needs COUNTERSIGN_TEST_POSTGRES_URL")
+        for round_ in range(1, args.rounds + 1):
+            for name, shared in (("reuse_port", False), ("shared", True)):
+                label = name if args.rounds == 1 else f"{name} #{round_}"
+                if args.only == "postgresql":
+                    results[label] = bench_database(pg_url or "", label, args, shared)
+                else:
+                    with tempfile.TemporaryDirectory() as tmp:
+                        results[label] = bench_database(
+                            f"sqlite:///{Path(tmp) / 'bench.db'}", label, args, shared)
+        report(results, args)
+        if any(run.errors for runs in results.values() for run in runs.values()):
+            sys.exit(1)
+        return
     if args.only != "postgresql":
         with tempfile.TemporaryDirectory() as tmp:
             results["SQLite"] = bench_database(f"sqlite:///{Path(tmp) / 'bench.db'}", "SQLite",

@@ -13,7 +13,9 @@ from countersign.cli import common as cli_common
 from countersign.cli import plan as cli_plan
 from countersign.cli import rehearse as cli_rehearse
 
-HEAVY = ("z3", "rdflib", "networkx", "fastapi", "sqlalchemy", "pydantic", "viser", "owlrl")
+HEAVY = ("z3", "rdflib", "networkx", "fastapi", "sqlalchemy", "pydantic", "viser", "owlrl",
+         "numpy", "shapely", "pyproj", "pyoxigraph", "html5rdf", "uvicorn", "starlette",
+         "gunicorn", "http.client", "urllib.request")
 
 
 def _loaded_after(code: str) -> list[str]:
@@ -27,6 +29,14 @@ def _loaded_after(code: str) -> list[str]:
 
 def test_importing_the_command_line_imports_no_heavy_library() -> None:
     assert _loaded_after("import countersign.cli") == []
+
+
+def test_countersign_help_as_run_imports_no_heavy_library() -> None:
+    # `countersign --help` itself, run as `python -m countersign.cli --help` runs it.
+    code = ("import contextlib, io, runpy\nsys.argv = ['countersign', '--help']\n"
+            "with contextlib.suppress(SystemExit), contextlib.redirect_stdout(io.StringIO()):\n"
+            "    runpy.run_module('countersign.cli', run_name='__main__')\n")
+    assert _loaded_after(code) == []
 
 
 def test_building_every_parser_imports_no_heavy_library() -> None:

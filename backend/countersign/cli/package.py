@@ -8,9 +8,6 @@ import argparse
 import json
 import os
 import sys
-import urllib.error
-import urllib.parse
-import urllib.request
 from datetime import UTC, datetime, timedelta
 from pathlib import Path
 from typing import Any
@@ -63,6 +60,11 @@ def add_commands(commands: Any) -> None:
 
 
 def cmd_package(args: argparse.Namespace) -> int:
+    # urllib.request brings http.client, email and ssl: a third of `countersign --help`.
+    import urllib.error
+    import urllib.parse
+    import urllib.request
+
     token = args.token_file.read_text().strip() if args.token_file else \
         os.environ.get("COUNTERSIGN_TOKEN")
     path = (f"/api/missions/{urllib.parse.quote(args.mission, safe='')}/versions/"

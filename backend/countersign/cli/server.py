@@ -85,7 +85,6 @@ def cmd_serve(args: argparse.Namespace) -> int:
     import uvicorn
 
     from ..web.app import create_app
-    from ..web.workers import serve_workers
 
     if args.validation_processes is not None:
         if not 0 <= args.validation_processes <= 64:
@@ -118,8 +117,11 @@ def cmd_serve(args: argparse.Namespace) -> int:
     database.engine.dispose()
     os.environ["COUNTERSIGN_DATA_DIR"] = str(settings.data_dir)
     os.environ["COUNTERSIGN_DATABASE_URL"] = settings.database_url
+    from ..web.gunicorn_server import serve_workers
+
     return serve_workers("countersign.web.app:app_from_environment", host=args.host,
-                         port=args.port, workers=args.workers, log_level="info")
+                         port=args.port, workers=args.workers, log_level="info",
+                         reuse_port=not args.shared_socket)
 
 
 def cmd_users_create(args: argparse.Namespace) -> int:
@@ -161,9 +163,10 @@ def add_commands(commands: Any) -> None:
     serve_cmd.add_argument("--data-dir", type=Path, default=None)
     serve_cmd.add_argument(
         "--workers", type=int, default=1, metavar="N",
-        help="server processes (default 1), each with its own listening socket on the port "
-        "so that connections spread over them; more use more cores: on SQLite they share the "
-        "one writer, on PostgreSQL they scale reads and validation",
+        help="server processes (default 1, more: gunicorn with uvicorn workers), each with its "
+        "own listening socket on the port (reuse_port) so that connections spread over them; "
+        "more use more cores: on SQLite they share the one writer, on PostgreSQL they scale "
+        "reads and validation",
     )
     serve_cmd.add_argument(
         "--validation-processes", type=int, default=None, metavar="N",
@@ -172,6 +175,9 @@ def add_commands(commands: Any) -> None:
         "validation leaves a process for another's edit (default 2, or "
         "COUNTERSIGN_VALIDATION_PROCESSES; 0: validate in the server's own threads)",
     )
+    # One listening socket shared by the --workers processes, as gunicorn does without
+    # reuse_port: hidden, bench_api's baseline (issue 17, item 9).
+    serve_cmd.add_argument("--shared-socket", action="store_true", help=argparse.SUPPRESS)
     serve_cmd.add_argument(
         "--demo", action="store_true",
         help="seed demo users (printing one-time passwords) and the built-in examples",

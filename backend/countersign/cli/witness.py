@@ -13,9 +13,8 @@ import socket
 import sys
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import Any, NamedTuple
 
 from .approvals import ApiError, api_request
 
@@ -29,8 +28,7 @@ class WitnessError(Exception):
     pass
 
 
-@dataclass
-class Round:
+class Round(NamedTuple):  # not a dataclass: `countersign --help` need not import dataclasses
     ok: bool
     lines: list[str]
 

@@ -75,19 +75,20 @@ def _archive() -> Any:
 
 
 def _band(index: int) -> np.ndarray:
+    """The band's bits, still packed eight cells to a byte (unpacking a band is 26 MB)."""
     with _LOCK:
         if index not in _BANDS:
             with _archive() as data:
-                if not _AXES:
-                    _AXES["lat"], _AXES["lon"] = data["lat"], data["lon"]
-                _BANDS[index] = np.unpackbits(data[f"b{index}"], axis=1, count=COLS).astype(bool)
+                _BANDS[index] = data[f"b{index}"]
         return _BANDS[index]
 
 
 def _axes() -> tuple[np.ndarray, np.ndarray]:
-    if not _AXES:
-        _band(0)
-    return _AXES["lat"], _AXES["lon"]
+    with _LOCK:
+        if not _AXES:
+            with _archive() as data:
+                _AXES["lat"], _AXES["lon"] = data["lat"], data["lon"]
+        return _AXES["lat"], _AXES["lon"]
 
 
 def is_land(lats: np.ndarray, lons: np.ndarray) -> np.ndarray:
@@ -103,5 +104,7 @@ def is_land(lats: np.ndarray, lons: np.ndarray) -> np.ndarray:
     band_of = rows // BAND_ROWS
     for band in np.unique(band_of).tolist():
         picked = band_of == band
-        result[picked] = _band(int(band))[rows[picked] - band * BAND_ROWS, cols[picked]]
+        packed = _band(int(band))[rows[picked] - band * BAND_ROWS, cols[picked] >> 3]
+        # np.packbits is big-endian within a byte: cell c is bit 7 - c % 8.
+        result[picked] = (packed >> (7 - (cols[picked] & 7))) & 1 == 1
     return ~result  # the package's grid is True at sea

@@ -1,0 +1,19 @@
+"""The ontology files read by Oxigraph (ontology_files.load_graph, issue 17 item 11) hold the
+statements rdflib's own Turtle parser reads from them, blank nodes and collections included."""
+
+from __future__ import annotations
+
+import pytest
+from rdflib import Graph
+from rdflib.compare import isomorphic
+
+from countersign.ontology_files import MEO, NPS_ALIGNMENT, SHAPES, load_graph, ontology_path
+
+
+@pytest.mark.parametrize("name", [MEO, SHAPES, NPS_ALIGNMENT])
+def test_oxigraph_reads_the_statements_rdflib_reads(name: str) -> None:
+    reference = Graph().parse(ontology_path(name), format="turtle")
+    loaded = load_graph(name)
+    assert len(loaded) == len(reference) > 0
+    assert isomorphic(loaded, reference)
+    assert dict(loaded.namespaces()).get("meo") == dict(reference.namespaces()).get("meo")
