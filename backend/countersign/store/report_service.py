@@ -27,9 +27,9 @@ if TYPE_CHECKING:
     from ..verify.parts import PartKeys, PartsCache
 
 Validator = Callable[["Orders"], dict[str, Any]]
-# (orders, the parts known for them by key, their keys) -> (report, its parts):
+# (orders, the parts known for them by key, their keys, their digest) -> (report, its parts):
 # a validator that computes only the parts not handed to it (the pool's, in another process).
-PartsValidator = Callable[["Orders", dict[str, Any], "PartKeys"],
+PartsValidator = Callable[["Orders", dict[str, Any], "PartKeys", str],
                           tuple[dict[str, Any], dict[str, Any]]]
 PARTS_KEPT = 512  # four per mission version: the last versions of about a hundred missions
 RECENT_REPORTS = 256
@@ -64,8 +64,8 @@ class ReportService:
         self._bodies: OrderedDict[bytes, str] = OrderedDict()
 
     def report(self, key: str, orders: Orders) -> dict[str, Any]:
-        """The report of these orders (digest `key`), validated once even when many requests
-        ask at once."""
+        """The report of these orders (`key` is their digest, orders.canonical.digest, which
+        the report carries), validated once even when many requests ask at once."""
         with self._guard:
             lock = self._in_flight.setdefault(key, threading.Lock())
         with lock:
@@ -115,10 +115,10 @@ class ReportService:
         if validator is None:
             from ..verify.report import validate
 
-            return validate(orders, parts=parts, keys=keys).to_json()
+            return validate(orders, parts=parts, keys=keys, orders_digest=key).to_json()
         if self.parts_validator is None or validator != self._paired:
             return validator(orders)  # a validator of its own (tests): the whole report
-        report, computed = self.parts_validator(orders, parts.items(keys), keys)
+        report, computed = self.parts_validator(orders, parts.items(keys), keys, key)
         parts.update(computed)
         return report
 

@@ -10,8 +10,8 @@
   the goals' costs and outcome probabilities;
 - properties: the path properties, which read what core reads.
 
-A part's key is the SHA-256 of the canonical JSON of the orders with the fields its checks do
-not read left out. A key that left out a field its checks do read would reuse a stale part:
+A part's key is the SHA-256 of the JSON of the orders with the fields its checks do not read
+left out. A key that left out a field its checks do read would reuse a stale part:
 tests/unit/test_incremental.py compares incremental reports with reports from scratch
 over random edits of every field, and fails when a field is wrongly left out.
 """
@@ -19,13 +19,11 @@ over random edits of every field, and fails when a field is wrongly left out.
 from __future__ import annotations
 
 import hashlib
-import json
 import threading
 from collections import OrderedDict
 from dataclasses import dataclass
 from typing import Any
 
-from ..orders.canonical import orders_to_json
 from ..orders.model import Orders
 
 PART_NAMES = ("core", "meo", "logic", "properties")
@@ -50,23 +48,16 @@ class PartKeys:
         return str(getattr(self, name))
 
 
-def _hash(data: Any) -> str:
-    text = json.dumps(data, sort_keys=True, separators=(",", ":"), ensure_ascii=False,
-                      allow_nan=False)
-    return hashlib.sha256(text.encode()).hexdigest()
-
-
 def part_keys(orders: Orders) -> PartKeys:
-    """The key of each part of these orders' report."""
-    data = orders_to_json(orders)
-    goals = data.pop("goals", None)
+    """The key of each part of these orders' report: the SHA-256 of the orders' JSON as
+    written (pydantic's serializer, one call per part) without the fields the part's checks
+    do not read. Keys are compared only within one version of the code, never stored."""
     keys: dict[str, str] = {}
     for name, (top, per_goal) in _NOT_READ.items():
-        projected = {k: v for k, v in data.items() if k not in top}
-        if goals is not None:
-            projected["goals"] = [{k: v for k, v in g.items() if k not in per_goal}
-                                  for g in goals]
-        keys[name] = f"{name}:{_hash(projected)}"
+        exclude: dict[str, Any] = dict.fromkeys(top, True)
+        exclude["goals"] = {"__all__": set(per_goal)}
+        text = orders.model_dump_json(exclude_unset=True, exclude=exclude)
+        keys[name] = f"{name}:{hashlib.sha256(text.encode()).hexdigest()}"
     keys["properties"] = "properties:" + keys["core"].removeprefix("core:")
     return PartKeys(**keys)
 

@@ -63,7 +63,7 @@ def _validate(orders: Orders) -> tuple[int, dict[str, Any]]:
     return os.getpid(), validate(orders).to_json()
 
 
-def _validate_parts(orders: Orders, known: dict[str, Any], keys: PartKeys
+def _validate_parts(orders: Orders, known: dict[str, Any], keys: PartKeys, orders_digest: str
                     ) -> tuple[int, dict[str, Any], dict[str, Any]]:
     """The report, computing only the parts not handed over (and not held in this process
     from an earlier validation), and the parts it consists of, for the caller to keep."""
@@ -71,7 +71,7 @@ def _validate_parts(orders: Orders, known: dict[str, Any], keys: PartKeys
     from ..verify.report import validate
 
     SHARED_PARTS.update(known)
-    report = validate(orders, parts=SHARED_PARTS, keys=keys)
+    report = validate(orders, parts=SHARED_PARTS, keys=keys, orders_digest=orders_digest)
     return os.getpid(), report.to_json(), SHARED_PARTS.items(keys)
 
 
@@ -158,12 +158,12 @@ class ValidationPool:
             report: dict[str, Any] = self._run(orders)
             return report
 
-    def validate_parts(self, orders: Orders, known: dict[str, Any], keys: PartKeys
-                       ) -> tuple[dict[str, Any], dict[str, Any]]:
+    def validate_parts(self, orders: Orders, known: dict[str, Any], keys: PartKeys,
+                       orders_digest: str) -> tuple[dict[str, Any], dict[str, Any]]:
         """As validate, handing over the report parts already known (verify.parts): the
         process computes the others and returns the report with all its parts."""
         with self._turn(SUBMITTER.get()):
-            report, parts = self._run(orders, known, keys)
+            report, parts = self._run(orders, known, keys, orders_digest)
             return report, parts
 
     def _run(self, orders: Orders, *handed: Any) -> Any:
