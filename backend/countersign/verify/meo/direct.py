@@ -128,12 +128,11 @@ def meo_only_findings(orders: Orders) -> list[Finding]:
     features = _first_by_id(performer.features)
     identified: set[str] = set()
     met: set[str] = set()
+    reads = {c.id: set(expression_quantities(c.expr)) for c in constraints
+             if c.expr is not None}
     for feature in features:
         measured = set(feature.measures)
-        for constraint in constraints:
-            if constraint.expr is not None and set(
-                    expression_quantities(constraint.expr)) <= measured:
-                identified.add(constraint.id)
+        identified.update(c for c, read in reads.items() if read <= measured)
         identified.update(feature.tests)
         met.update(feature.fulfills)
     m6 = {iris.element("constraint", c.id) for c in constraints if c.id not in identified}
