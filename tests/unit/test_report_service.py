@@ -6,6 +6,7 @@ from __future__ import annotations
 import threading
 from typing import Any
 
+from countersign.orders.canonical import digest
 from countersign.orders.examples import load_example
 from countersign.orders.model import Orders
 from countersign.store.db import Database
@@ -43,6 +44,6 @@ def test_each_database_has_its_own_service(tmp_path: Any) -> None:
     first.reports.validator = lambda given: {"digest": "from-first"}
     assert first.reports.report("k", orders) == {"digest": "from-first"}
     # The other database's service saw nothing and validates with the real checks.
-    assert second.reports.report("k", orders) == validate_here(orders)
+    assert second.reports.report(digest(orders), orders) == validate_here(orders)
     first.engine.dispose()
     second.engine.dispose()

@@ -24,8 +24,14 @@ from ..verify.reuse import ReportReuse
 
 if TYPE_CHECKING:
     from ..orders.model import Orders
+    from ..verify.parts import PartKeys, PartsCache
 
 Validator = Callable[["Orders"], dict[str, Any]]
+# (orders, the parts known for them by key, their keys, their digest) -> (report, its parts):
+# a validator that computes only the parts not handed to it (the pool's, in another process).
+PartsValidator = Callable[["Orders", dict[str, Any], "PartKeys", str],
+                          tuple[dict[str, Any], dict[str, Any]]]
+PARTS_KEPT = 512  # four per mission version: the last versions of about a hundred missions
 RECENT_REPORTS = 256
 BODY_DIGESTS_KEPT = 1024
 
@@ -45,6 +51,10 @@ class ReportService:
         # None: validate in the calling thread. The web app sets its pool's `validate` for as
         # long as the pool runs (web/app.py lifespan) and puts None back when it stops.
         self.validator = validator
+        # Set with the pool (use_pool): the validator that takes the report parts known here.
+        self.parts_validator: PartsValidator | None = None
+        self._paired: Validator | None = None
+        self._parts: PartsCache | None = None
         self._reuse = reuse if reuse is not None else ReportReuse()
         self._in_flight: dict[str, threading.Lock] = {}
         self._guard = threading.Lock()
@@ -54,8 +64,8 @@ class ReportService:
         self._bodies: OrderedDict[bytes, str] = OrderedDict()
 
     def report(self, key: str, orders: Orders) -> dict[str, Any]:
-        """The report of these orders (digest `key`), validated once even when many requests
-        ask at once."""
+        """The report of these orders (`key` is their digest, orders.canonical.digest, which
+        the report carries), validated once even when many requests ask at once."""
         with self._guard:
             lock = self._in_flight.setdefault(key, threading.Lock())
         with lock:
@@ -63,7 +73,9 @@ class ReportService:
             if done is None:
                 # An edit of descriptions only is answered from the last report of the same
                 # facts.
-                done = self._reuse.report(orders, key, self._full)
+                keys = self._keys(orders)
+                done = self._reuse.report(orders, key, lambda o: self._full(o, key, keys),
+                                          checked=keys.core)
                 with self._guard:
                     self._recent[key] = done
                     while len(self._recent) > RECENT_REPORTS:
@@ -72,9 +84,43 @@ class ReportService:
             self._in_flight.pop(key, None)
         return done
 
-    def _full(self, orders: Orders) -> dict[str, Any]:
+    def use_pool(self, validator: Validator | None,
+                 parts_validator: PartsValidator | None = None) -> None:
+        """Validate with `validator` (None: in the calling thread); `parts_validator`, the
+        same pool's, is used instead while `validator` is the one set here."""
+        self.validator = validator
+        self.parts_validator = parts_validator
+        self._paired = validator
+
+    @staticmethod
+    def _keys(orders: Orders) -> PartKeys:
+        from ..verify.parts import part_keys
+
+        return part_keys(orders)
+
+    def parts(self) -> PartsCache:
+        """The report parts computed for this service, by the digest of what they read."""
+        if self._parts is None:
+            from ..verify.parts import PartsCache
+
+            with self._guard:
+                if self._parts is None:
+                    self._parts = PartsCache(PARTS_KEPT)
+        return self._parts
+
+    def _full(self, orders: Orders, key: str, keys: PartKeys) -> dict[str, Any]:
+        """The report, computing only the parts (verify.parts) no earlier report here has."""
         validator = self.validator
-        return validator(orders) if validator is not None else validate_here(orders)
+        parts = self.parts()
+        if validator is None:
+            from ..verify.report import validate
+
+            return validate(orders, parts=parts, keys=keys, orders_digest=key).to_json()
+        if self.parts_validator is None or validator != self._paired:
+            return validator(orders)  # a validator of its own (tests): the whole report
+        report, computed = self.parts_validator(orders, parts.items(keys), keys, key)
+        parts.update(computed)
+        return report
 
     def body_digest(self, body_sha256: bytes) -> str | None:
         """The orders digest of a request body validated lately, or None."""
@@ -92,3 +138,5 @@ class ReportService:
             self._recent.clear()
             self._bodies.clear()
         self._reuse.clear()
+        if self._parts is not None:
+            self._parts.clear()

@@ -2,6 +2,13 @@
 
 One pure function, so the command line, the API and the tests share a code path: the contingency
 rules' design checks (RULES) run here too, so there is no second entry point to choose.
+
+Incremental (issue 17 item 10, issue 22 item 4): the report is assembled from parts, each filed
+in a `PartsCache` under the digest of exactly what its checks read (`verify.parts`). An edit
+recomputes only the parts whose inputs it changed: a description edit none, a goal's cost the
+structural part, a goal's title the structural, MEO and logic parts (the logic part then
+re-solves only the units the goal touches, through the shared LogicCache). Tests compare
+incremental reports with reports from scratch over random edits.
 """
 
 from __future__ import annotations
@@ -9,6 +16,7 @@ from __future__ import annotations
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 from ..orders.canonical import digest
@@ -21,6 +29,8 @@ from .graph import MissionGraph, build_graph
 from .legs import mission_legs
 from .logic import LogicCache, check_logic
 from .meo import MeoResult, meo_check
+from .meo.direct import CODES, meo_only_findings
+from .parts import SHARED_PARTS, PartKeys, PartsCache, part_keys
 from .paths import PathCounts, count_paths
 from .patterns import check_patterns
 from .probability import Probabilities, declares_probabilities, outcome_probabilities
@@ -31,8 +41,10 @@ from .text import check_text
 from .vehicle import check_vehicle
 
 # The MEO route re-derives the structural verdicts too (tests prove both routes agree); the
-# report takes from it only the rules no other check covers.
-MEO_ONLY_CODES = frozenset({"C1", "C2", "M6", "M7"})
+# report takes from it only the rules no other check covers (MEO_ONLY_CODES), evaluated
+# straight from the orders by `meo.direct` (tests prove it equal to the MEO route's findings).
+# The MEO route itself runs when its explanation is asked for.
+MEO_ONLY_CODES = CODES
 
 # Solver results are pure functions of their inputs, so one bounded cache serves every caller
 # in the process: re-validating after a one-goal edit solves only what that goal touches.
@@ -52,9 +64,14 @@ class Report:
     findings: list[Finding]
     paths: PathCounts | None
     costs: dict[str, WorstPath] | None
-    meo: MeoResult | None = field(default=None, repr=False, compare=False)
+    orders: Orders | None = field(default=None, repr=False, compare=False)
     # Outcome probabilities (issue 20), only for orders that declare some.
     probabilities: Probabilities | None = None
+
+    @cached_property
+    def meo(self) -> MeoResult | None:
+        """The MEO route's result (graph, inference, explanation), run when first asked for."""
+        return meo_check(self.orders) if self.orders is not None else None
 
     @property
     def explanation(self) -> dict[str, Any] | None:
@@ -89,32 +106,91 @@ def validate(
     logic_cache: LogicCache | None = None,
     *,
     solver_budget_s: float = SOLVER_BUDGET_S,
+    parts: PartsCache | None = None,
+    keys: PartKeys | None = None,
+    orders_digest: str | None = None,
 ) -> Report:
-    graph = graph or build_graph(orders)
+    """Every check on the orders. `parts` (default: one cache shared by the process) holds
+    the report parts of earlier validations by the digest of what they read; pass a fresh
+    PartsCache to validate from scratch. `keys` and `orders_digest`, when the caller computed
+    them already, save computing them again."""
     cache = logic_cache if logic_cache is not None else SHARED_LOGIC_CACHE
+    store = parts if parts is not None else SHARED_PARTS
+    keys = keys if keys is not None else part_keys(orders)
+    built: list[MissionGraph] = [graph] if graph is not None else []
+
+    def mission_graph() -> MissionGraph:
+        if not built:
+            built.append(build_graph(orders))
+        return built[0]
+
+    core = store.get("core", keys.core)
+    if core is None:
+        core = _core(orders, mission_graph())
+        store.put("core", keys.core, core)
+    meo = store.get("meo", keys.meo)
+    if meo is None:
+        meo = meo_only_findings(orders)
+        store.put("meo", keys.meo, meo)
+    deadline = time.monotonic() + solver_budget_s
+    logic = store.get("logic", keys.logic)
+    if logic is None:
+        logic = check_logic(orders, cache, timeout_ms=SOLVER_CALL_MS,
+                            total_timeout_s=solver_budget_s)
+        if decided(logic):
+            store.put("logic", keys.logic, logic)
+    # No properties, no findings (check_properties would still parse the logic model).
+    properties = store.get("properties", keys.properties) if orders.properties else []
+    if properties is None:
+        properties = check_properties(orders, mission_graph(), cache,
+                                      timeout_ms=SOLVER_CALL_MS,
+                                      total_timeout_s=max(0.0, deadline - time.monotonic()))
+        if decided(properties):
+            store.put("properties", keys.properties, properties)
+
     findings = list(reader_findings)
     # Warnings an importer recorded in the orders (NPS default handlers) stay in every report;
     # the reader returns them too, so those already given are not repeated.
     given = {(f.code, f.subjects, f.message) for f in findings}
-    findings.extend(f for f in defaulted_findings(orders)
-                    if (f.code, f.subjects, f.message) not in given)
-    findings.extend(check_structure(orders, graph))
+    findings.extend(f for f in core.defaulted if (f.code, f.subjects, f.message) not in given)
+    findings.extend(core.structural)
+    findings.extend(meo)
+    findings.extend(core.descriptive)
+    findings.extend(logic)
+    findings.extend(properties)
+    findings.extend(core.design)
+    return Report(orders.id, orders_digest or digest(orders), findings, core.counts, core.costs,
+                  orders, core.probabilities)
+
+
+@dataclass(frozen=True)
+class CorePart:
+    """The findings and figures of the checks that read the mission's structure and costs."""
+
+    defaulted: list[Finding]
+    structural: list[Finding]  # structure, then budget
+    descriptive: list[Finding]  # vehicle, text, geo
+    design: list[Finding]  # rules' design, patterns
+    counts: PathCounts | None
+    costs: dict[str, WorstPath] | None
+    probabilities: Probabilities | None
+
+
+def _core(orders: Orders, graph: MissionGraph) -> CorePart:
+    structural = list(check_structure(orders, graph))
     counts = count_paths(graph)
     legs = mission_legs(orders)
     costs = worst_paths(orders, graph, legs) if counts is not None else None
-    findings.extend(check_budget(costs))
-    meo = meo_check(orders)
-    findings.extend(f for f in meo.findings if f.code in MEO_ONLY_CODES)
-    findings.extend(check_vehicle(orders))
-    findings.extend(check_text(orders))
-    findings.extend(check_geo(orders, graph, legs))
-    deadline = time.monotonic() + solver_budget_s
-    findings.extend(check_logic(orders, cache, timeout_ms=SOLVER_CALL_MS,
-                                total_timeout_s=solver_budget_s))
-    findings.extend(check_properties(orders, graph, cache, timeout_ms=SOLVER_CALL_MS,
-                                     total_timeout_s=max(0.0, deadline - time.monotonic())))
-    findings.extend(rules_findings(orders))
-    findings.extend(check_patterns(orders, graph))
+    structural.extend(check_budget(costs))
+    descriptive = [*check_vehicle(orders), *check_text(orders), *check_geo(orders, graph, legs)]
+    design = [*rules_findings(orders), *check_patterns(orders, graph)]
     probabilities = (outcome_probabilities(orders, graph)
                      if counts is not None and declares_probabilities(orders) else None)
-    return Report(orders.id, digest(orders), findings, counts, costs, meo, probabilities)
+    return CorePart(defaulted_findings(orders), structural, descriptive, design, counts, costs,
+                    probabilities)
+
+
+def decided(findings: Sequence[Finding]) -> bool:
+    """No finding says the solver left something undecided (within the time budget, which
+    another run may not exhaust): such a result is not kept for reuse."""
+    return not any("undecided" in f.details for f in findings)

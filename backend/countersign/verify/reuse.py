@@ -40,9 +40,12 @@ class ReportReuse:
         self._lock = threading.Lock()
 
     def report(self, orders: Orders, orders_digest: str,
-               validate: Callable[[Orders], dict[str, Any]]) -> dict[str, Any]:
-        """The report of these orders: reused when only descriptions changed, else validated."""
-        key = checked_digest(orders)
+               validate: Callable[[Orders], dict[str, Any]],
+               checked: str | None = None) -> dict[str, Any]:
+        """The report of these orders: reused when only descriptions changed, else validated.
+        `checked` is a digest of the orders without descriptions when the caller has one
+        (verify.parts' core key), else checked_digest is computed."""
+        key = checked if checked is not None else checked_digest(orders)
         with self._lock:
             found = self._reports.get(key)
             if found is not None:

@@ -162,7 +162,7 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
         pool = (ValidationPool(settings.validation_processes)
                 if settings.validation_processes > 0 else None)
         if pool is not None:
-            database.reports.validator = pool.validate
+            database.reports.use_pool(pool.validate, pool.validate_parts)
         app.state.validation_pool = pool
         if database.engine.dialect.name != "postgresql":
             # SQLite: this process runs campaign jobs; pick up those a killed one left.
@@ -179,7 +179,7 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
             if runner is not None:
                 runner.close()
             if pool is not None:
-                database.reports.validator = None
+                database.reports.use_pool(None)
                 pool.shutdown()
 
     app = FastAPI(title="Countersign", version=__version__, docs_url=None,

@@ -30,10 +30,13 @@ from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 from contextvars import ContextVar
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..orders.model import Orders
 from ..pool_lifetime import end_with
+
+if TYPE_CHECKING:
+    from ..verify.parts import PartKeys
 
 NICENESS = 5  # below the web processes: reads first, validations in the gaps
 CHECKS_MODULE = "countersign.verify.report"
@@ -60,6 +63,18 @@ def _validate(orders: Orders) -> tuple[int, dict[str, Any]]:
     from ..verify.report import validate
 
     return os.getpid(), validate(orders).to_json()
+
+
+def _validate_parts(orders: Orders, known: dict[str, Any], keys: PartKeys, orders_digest: str
+                    ) -> tuple[int, dict[str, Any], dict[str, Any]]:
+    """The report, computing only the parts not handed over (and not held in this process
+    from an earlier validation), and the parts it consists of, for the caller to keep."""
+    from ..verify.parts import SHARED_PARTS
+    from ..verify.report import validate
+
+    SHARED_PARTS.update(known)
+    report = validate(orders, parts=SHARED_PARTS, keys=keys, orders_digest=orders_digest)
+    return os.getpid(), report.to_json(), SHARED_PARTS.items(keys)
 
 
 class ValidationPool:
@@ -142,13 +157,26 @@ class ValidationPool:
         the submitter's turn (by default SUBMITTER of the calling context). A pool broken by a
         dead process (killed, out of memory) is replaced once."""
         with self._turn(SUBMITTER.get() if submitter is None else submitter):
-            return self._run(orders)
+            report: dict[str, Any] = self._run(orders)
+            return report
 
-    def _run(self, orders: Orders) -> dict[str, Any]:
+    def validate_parts(self, orders: Orders, known: dict[str, Any], keys: PartKeys,
+                       orders_digest: str) -> tuple[dict[str, Any], dict[str, Any]]:
+        """As validate, handing over the report parts already known (verify.parts): the
+        process computes the others and returns the report with all its parts."""
+        with self._turn(SUBMITTER.get()):
+            report, parts = self._run(orders, known, keys, orders_digest)
+            return report, parts
+
+    def _run(self, orders: Orders, *handed: Any) -> Any:
         for attempt in (1, 2):
             executor = self._current()
             try:
-                pid, report = executor.submit(_validate, orders).result()
+                if handed:
+                    pid, *result = executor.submit(_validate_parts, orders, *handed).result()
+                else:
+                    pid, report = executor.submit(_validate, orders).result()
+                    result = [report]
             except BrokenProcessPool:
                 with self._lock:
                     if self._executor is executor:
@@ -158,7 +186,7 @@ class ValidationPool:
                     raise
                 continue
             self.last_pid = pid
-            return report
+            return result[0] if len(result) == 1 else tuple(result)
         raise AssertionError("unreachable")
 
     def shutdown(self) -> None:

@@ -1,0 +1,154 @@
+"""The four MEO rules no other check covers (C1, C2, M6, M7), read straight from the orders.
+
+The report takes only these codes from the MEO route; building the RDF graph, running owlrl and
+matching the shapes to get them cost 9.6 s at 10,000 goals (issue 17) for what is a linear pass
+over constraints, goals and features. This module evaluates the same rules on the same facts
+the MEO route asserts and infers, without a graph:
+
+- includes (M4, G10): every declared goal, the start(s), and what follows a start;
+- appliesTo after C3: a constraint's named scopes, and the mission's goals when it applies to
+  the mission;
+- canIdentify (V4): a feature of the performing vehicle tests the constraint (it measures every
+  quantity the expression reads, or lists it in `tests`);
+- meetsRequirement (V3): a feature of the performing vehicle fulfils the requirement.
+
+The findings are the very `Finding`s `meo_check` gives for these codes, in the same order
+(tests/unit/test_meo_direct.py compares both routes on generated and example orders; the MEO
+route keeps its own tests proving it equal to owlrl's naive closure).
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from typing import Any
+
+from rdflib import URIRef
+
+from ...orders.expressions import expression_quantities
+from ...orders.findings import Finding, error
+from ...orders.model import Orders
+from ...orders.turtle import MissionIris, _first_by_id, local_id, natural_key
+from . import _labels, _m6, _m7
+from .shapes import shape_info
+
+CODES = frozenset({"C1", "C2", "M6", "M7"})
+
+
+def meo_only_findings(orders: Orders) -> list[Finding]:
+    """`[f for f in meo_check(orders).findings if f.code in CODES]`, without the graph."""
+    iris = MissionIris(orders.id)
+    goals = orders.goal_index()
+    terminals = orders.terminal_index()
+    info = shape_info()
+
+    def node(kind_and_name: tuple[str, str]) -> URIRef:
+        kind, name = kind_and_name
+        return iris.mission if kind == "mission" else iris.element(kind, name)
+
+    def successor(name: str) -> tuple[str, str]:
+        if name in goals:
+            return ("goal", name)
+        if name in terminals:
+            return ("terminal", name)
+        return ("ref", name)
+
+    def scope(name: str) -> tuple[str, str]:
+        if name in goals:
+            return ("goal", name)
+        if name == orders.id:
+            return ("mission", name)
+        return successor(name)
+
+    # includes: the declared goals (asserted), the starts (M4) and what follows them (G10).
+    start = orders.start
+    starts = [] if start is None else [start] if isinstance(start, str) else list(start)
+    start_nodes = [successor(s) for s in starts]
+    reached: set[tuple[str, str]] = set()
+    queue: deque[tuple[str, str]] = deque()
+
+    def visit(source: tuple[str, str]) -> None:
+        if source[0] != "goal":
+            return  # only goals name successors
+        goal = goals[source[1]]
+        for outcome in ("succeed", "fail", "violate"):
+            for target in goal.successors(outcome):
+                found = successor(target)
+                if found not in reached:
+                    reached.add(found)
+                    queue.append(found)
+
+    for begin in start_nodes:
+        visit(begin)
+    while queue:
+        visit(queue.popleft())
+    includes: set[tuple[str, str]] = {("goal", g) for g in goals}
+    if start_nodes:  # the G10 chain needs a startsWith triple
+        includes |= reached
+    includes.update(start_nodes)
+
+    def details(shape: str, **extra: Any) -> dict[str, Any]:
+        return {"rules": list(info[shape].rules), **extra}
+
+    def key(text: str) -> tuple[Any, ...]:
+        return natural_key(text)
+
+    constraints = _first_by_id(orders.constraints)
+    c1: set[tuple[URIRef, URIRef]] = set()
+    c2: set[URIRef] = set()
+    for constraint in constraints:
+        scopes = ([("mission", orders.id)] if constraint.applies_to == "mission"
+                  else [scope(name) for name in constraint.applies_to])
+        to_mission = ("mission", orders.id) in scopes
+        for target in scopes:
+            if target[0] in ("mission", "goal") or (to_mission and target in includes):
+                continue
+            c1.add((iris.element("constraint", constraint.id), node(target)))
+        if not any(t[0] == "goal" for t in scopes) and not (to_mission and goals):
+            c2.add(iris.element("constraint", constraint.id))
+
+    findings: list[Finding] = []
+    for constraint_iri, scope_iri in sorted(c1, key=lambda p: (key(p[0]), key(p[1]))):
+        constraint_id = local_id(constraint_iri)
+        scope_id = orders.id if "#" not in scope_iri else local_id(scope_iri)
+        findings.append(error(
+            "C1", [constraint_id, scope_id],
+            f"Constraint {constraint_id} applies to {scope_id}, which is neither the mission "
+            "nor one of its goals (rule C1).", **details("C1")))
+    for constraint_iri in sorted(c2, key=key):
+        constraint_id = local_id(constraint_iri)
+        findings.append(error(
+            "C2", [constraint_id],
+            f"Constraint {constraint_id} applies to no goal, neither directly nor through the "
+            "mission (rules C2 and C3): it would never be monitored.", **details("C2")))
+
+    vehicle = orders.target_vehicle()
+    performer = next((v for v in _first_by_id(orders.vehicles) if v is vehicle), None)
+    if performer is None:
+        return findings
+    features = _first_by_id(performer.features)
+    identified: set[str] = set()
+    met: set[str] = set()
+    reads = {c.id: set(expression_quantities(c.expr)) for c in constraints
+             if c.expr is not None}
+    for feature in features:
+        measured = set(feature.measures)
+        identified.update(c for c, read in reads.items() if read <= measured)
+        identified.update(feature.tests)
+        met.update(feature.fulfills)
+    m6 = {iris.element("constraint", c.id) for c in constraints if c.id not in identified}
+    for constraint_iri in sorted(m6, key=key):
+        findings.append(_m6(orders, local_id(constraint_iri), vehicle, details("M6")))
+    labels = _labels(orders)
+
+    def say(node_id: str) -> str:
+        label = labels.get(node_id)
+        return f"{node_id} ({label})" if label and label != node_id else node_id
+
+    m7 = {iris.element("goal", g.id) for g in goals.values()
+          if any(r not in met for r in g.requires)}
+    for goal_iri in sorted(m7, key=key):
+        findings.append(_m7(orders, local_id(goal_iri), vehicle, say, details("M7")))
+    return findings
+
+
+__all__ = ["CODES", "meo_only_findings"]

@@ -1,0 +1,112 @@
+"""Report parts, filed by the digest of exactly what their checks read (issue 17 item 10).
+
+`verify.validate` assembles a report from four parts:
+
+- core: structure, paths, costs and budget, vehicle, text, geo, the rules' design checks,
+  patterns and probabilities; they read everything but descriptions;
+- meo: C1, C2, M6 and M7, which read the goals' ids, titles, successors and requirements,
+  the terminals, the constraints and the vehicles (not costs, areas, norms, envelopes, ...);
+- logic: EXPR, CONTRADICTION, NORM and VACUOUS, which read everything but descriptions and
+  the goals' costs and outcome probabilities;
+- properties: the path properties, which read what core reads.
+
+A part's key is the SHA-256 of the JSON of the orders with the fields its checks do not read
+left out. A key that left out a field its checks do read would reuse a stale part:
+tests/unit/test_incremental.py compares incremental reports with reports from scratch
+over random edits of every field, and fails when a field is wrongly left out.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import threading
+from collections import OrderedDict
+from dataclasses import dataclass
+from typing import Any
+
+from ..orders.model import Orders
+
+PART_NAMES = ("core", "meo", "logic", "properties")
+
+# Fields each part's checks do not read, at the top of the orders and in each goal.
+_NOT_READ: dict[str, tuple[frozenset[str], frozenset[str]]] = {
+    "core": (frozenset({"description"}), frozenset({"description"})),
+    "meo": (frozenset({"description", "norms", "areas", "charts", "properties"}),
+            frozenset({"description", "cost", "p", "params", "envelope", "behavior", "area"})),
+    "logic": (frozenset({"description"}), frozenset({"description", "cost", "p"})),
+}
+
+
+@dataclass(frozen=True)
+class PartKeys:
+    core: str
+    meo: str
+    logic: str
+    properties: str
+
+    def of(self, name: str) -> str:
+        return str(getattr(self, name))
+
+
+def part_keys(orders: Orders) -> PartKeys:
+    """The key of each part of these orders' report: the SHA-256 of the orders' JSON as
+    written (pydantic's serializer, one call per part) without the fields the part's checks
+    do not read. Keys are compared only within one version of the code, never stored."""
+    keys: dict[str, str] = {}
+    for name, (top, per_goal) in _NOT_READ.items():
+        exclude: dict[str, Any] = dict.fromkeys(top, True)
+        exclude["goals"] = {"__all__": set(per_goal)}
+        text = orders.model_dump_json(exclude_unset=True, exclude=exclude)
+        keys[name] = f"{name}:{hashlib.sha256(text.encode()).hexdigest()}"
+    keys["properties"] = "properties:" + keys["core"].removeprefix("core:")
+    return PartKeys(**keys)
+
+
+class PartsCache:
+    """Report parts by key, bounded (least recently used first out) and thread-safe. Values
+    are shared between reports: never mutate one."""
+
+    def __init__(self, max_entries: int = 256) -> None:
+        self._data: OrderedDict[str, Any] = OrderedDict()
+        self._lock = threading.Lock()
+        self.max_entries = max_entries
+        self.hits = 0
+        self.misses = 0
+
+    def get(self, name: str, key: str) -> Any:
+        with self._lock:
+            value = self._data.get(key)
+            if value is None:
+                self.misses += 1
+            else:
+                self.hits += 1
+                self._data.move_to_end(key)
+            return value
+
+    def put(self, name: str, key: str, value: Any) -> None:
+        with self._lock:
+            self._data[key] = value
+            self._data.move_to_end(key)
+            while len(self._data) > self.max_entries:
+                self._data.popitem(last=False)
+
+    def items(self, keys: PartKeys) -> dict[str, Any]:
+        """The parts held for these keys, by key (to hand to another process)."""
+        with self._lock:
+            return {k: self._data[k] for k in (keys.of(n) for n in PART_NAMES)
+                    if k in self._data}
+
+    def update(self, parts: dict[str, Any]) -> None:
+        for key, value in parts.items():
+            self.put(key.split(":", 1)[0], key, value)
+
+    def clear(self) -> None:
+        with self._lock:
+            self._data.clear()
+
+
+# One cache per process: in-process callers (command line, tests, the validation processes)
+# reuse the parts of earlier validations of the same mission.
+SHARED_PARTS = PartsCache()
+
+__all__ = ["PART_NAMES", "SHARED_PARTS", "PartKeys", "PartsCache", "part_keys"]
