@@ -17,3 +17,11 @@ def test_oxigraph_reads_the_statements_rdflib_reads(name: str) -> None:
     assert len(loaded) == len(reference) > 0
     assert isomorphic(loaded, reference)
     assert dict(loaded.namespaces()).get("meo") == dict(reference.namespaces()).get("meo")
+
+
+def test_shacl_validation_leaves_the_shared_shapes_graph_as_parsed() -> None:
+    from countersign.verify.meo.shapes import shacl_violations
+
+    before = set(load_graph(SHAPES))
+    shacl_violations(Graph())
+    assert set(load_graph(SHAPES)) == before

@@ -94,12 +94,21 @@ def validation_graph(graph: Graph, inference: Inference) -> Graph:
 # pySHACL
 
 
+@cache
+def _shapes_given_to_pyshacl() -> Graph:
+    # pyshacl adds statements to the shapes graph it is given (owl:Class rdfs:subClassOf
+    # rdfs:Class, ...): it gets a copy of its own, never the shared parsed file.
+    copy = Graph()
+    copy += load_graph(SHAPES)
+    return copy
+
+
 def shacl_violations(data: Graph) -> set[Violation]:
     from pyshacl import validate
 
     shapes = load_graph(SHAPES)
     _conforms, report, _text = validate(
-        data, shacl_graph=shapes, inference="none", advanced=False, allow_warnings=True
+        data, shacl_graph=_shapes_given_to_pyshacl(), inference="none", advanced=False, allow_warnings=True
     )
     assert isinstance(report, Graph)
     parents = {prop: shape for shape, prop in shapes.subject_objects(SH.property)}
