@@ -32,7 +32,12 @@ from rdflib import Graph
 
 from countersign.orders.canonical import digest
 from countersign.orders.model import Orders
-from countersign.orders.turtle import orders_to_graph, read_turtle, write_turtle
+from countersign.orders.turtle import (
+    orders_to_graph,
+    read_turtle,
+    write_turtle,
+    write_turtle_via_graph,
+)
 from countersign.verify.logic import (
     DEFAULT_TIMEOUT_MS,
     Limits,
@@ -170,8 +175,8 @@ def bench_turtle(quick: bool) -> None:
         row(f"export {goals:,} goals", measure(lambda o=orders: write_turtle(o)),  # type: ignore[misc]
             measure(lambda o=orders: orders_to_graph(o).serialize(format="turtle")),  # type: ignore[misc]
             "rdflib")
-        row(f"  of which the graph ({goals:,} goals)",
-            measure(lambda o=orders: orders_to_graph(o)), None, "")  # type: ignore[misc]
+        row(f"  (through rdflib terms, {goals:,} goals)",
+            measure(lambda o=orders: write_turtle_via_graph(o)), None, "")  # type: ignore[misc]
         row(f"import {goals:,} goals", measure(lambda t=text: read_turtle(t.encode())),  # type: ignore[misc]
             measure(lambda t=text: Graph().parse(data=t, format="turtle")),  # type: ignore[misc]
             "rdflib's parser alone")

@@ -96,3 +96,40 @@ def test_turtle_written_with_the_entry_form_for_every_map_still_reads_back() -> 
     # Written by the writer before the compact form (commit d60e3cc) from the example.
     back = read_turtle(LEGACY.read_bytes()).orders
     assert digest(back) == digest(load_example("search-and-sample"))
+
+
+def test_the_text_writer_states_what_the_graph_states() -> None:
+    # write_turtle renders text straight from the orders; its statements must be those of
+    # orders_to_graph (the route verification and the NPS view use), blank nodes aside.
+    from rdflib import Graph
+    from rdflib.compare import isomorphic
+
+    from countersign.orders.examples import example_names, load_example
+    from countersign.orders.turtle import write_turtle_via_graph
+    from tests.bench.bench_logic import logic_orders
+
+    for orders in [*(load_example(n) for n in example_names()),
+                   logic_orders(goals=40, constraints=12, norms=5)]:
+        text = Graph().parse(data=write_turtle(orders), format="turtle")
+        graph = Graph().parse(data=write_turtle_via_graph(orders), format="turtle")
+        assert isomorphic(text, graph), orders.id
+
+
+@pytest.mark.parametrize("seed", [11, 12, 13])
+def test_the_benchmark_mission_round_trips_by_digest(seed: int) -> None:
+    # The richer mission of the Turtle benchmark: envelopes, costs, norms, areas, scoped
+    # constraints and properties.
+
+
+    from tests.bench.bench_logic import logic_orders
+
+    orders = logic_orders(goals=300, constraints=40, norms=10, seed=seed)
+    assert digest(read_turtle(write_turtle(orders).encode()).orders) == digest(orders)
+
+
+def test_a_json_list_of_the_record_that_is_not_scalars_is_a_read_error() -> None:
+    text = write_turtle(random_dag(3, seed=1)).replace(
+        '"[', '"[{\\"x\\": 1}, ', 1)
+    assert '^^rdf:JSON' in text
+    with pytest.raises(OrdersReadError):
+        read_turtle(text.encode())

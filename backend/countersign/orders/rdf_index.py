@@ -10,6 +10,8 @@ has no datatype, a language string has no datatype.
 
 from __future__ import annotations
 
+import contextlib
+import gc
 import re
 from collections.abc import Iterable, Iterator
 from typing import Final
@@ -169,6 +171,9 @@ def _unescape(text: str) -> str:
     return _ESCAPE.sub(one, text)
 
 
+_new_str: Final = str.__new__
+
+
 class _Terms:
     """N-Triples terms to rdflib terms, each distinct term converted once. Literals keep
     rdflib's conventions: a plain string and a language string have no datatype."""
@@ -184,10 +189,13 @@ class _Terms:
 
     def _convert(self, token: str) -> Node:
         first = token[0]
+        # IRIs and blank node labels as Oxigraph wrote them are valid: the str constructor
+        # skips the checks of rdflib's (a third of the conversions' cost; both classes hold
+        # nothing but the text).
         if first == "<":
-            return URIRef(_unescape(token[1:-1]))
+            return _new_str(URIRef, _unescape(token[1:-1]))
         if first == "_":
-            return BNode(token[2:])
+            return _new_str(BNode, token[2:])
         if first != '"':
             raise TurtleSyntaxError(f"unexpected term {token[:40]!r}", None)
         end = token.rindex('"')
@@ -209,6 +217,25 @@ def parse_turtle(data: bytes) -> TripleIndex:
     the statements back as N-Triples, one statement per line in a fixed form: subject and
     predicate hold no space, the object runs to the closing " .". Splitting those lines costs
     a fifth of reading Oxigraph's term objects one attribute at a time."""
+    with paused_collection():
+        return _parse_turtle(data)
+
+
+@contextlib.contextmanager
+def paused_collection() -> Iterator[None]:
+    """The cyclic garbage collector paused while a document's statements are built: the
+    hundreds of thousands of tuples and dictionaries made in one pass, none of them garbage,
+    set off full collections that took as long as the parse itself."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
+
+
+def _parse_turtle(data: bytes) -> TripleIndex:
     try:
         statements = ox.parse(data, format=ox.RdfFormat.TURTLE, base_iri=INPUT_BASE)
         lines = ox.serialize(statements, format=ox.RdfFormat.N_TRIPLES)
@@ -220,18 +247,44 @@ def parse_turtle(data: bytes) -> TripleIndex:
     seen = terms.seen
     convert = terms.node
     index = TripleIndex()
-    add = index.add
-    # Only "\n" ends a statement: str.splitlines() would also split at U+2028 or U+0085,
-    # which N-Triples writes unescaped inside literals.
+    spo = index._spo
+    pso: dict[Node, list[tuple[Node, Node]]] = {}
+    count = 0
+    # The index's add() inline (a call per statement is a third of the loop): most tokens
+    # repeat, so the conversion runs only for a token not seen before. Only "\n" ends a
+    # statement: str.splitlines() would also split at U+2028 or U+0085, which N-Triples
+    # writes unescaped inside literals.
     for statement in (lines or b"").decode("utf-8").split("\n"):
         if not statement:
             continue
         subject, predicate, rest = statement.split(" ", 2)
         obj = rest[:-2]
-        # Most tokens repeat: the dictionary lookup inline, the conversion only when new.
         s = seen.get(subject)
+        if s is None:
+            s = convert(subject)
         p = seen.get(predicate)
+        if p is None:
+            p = convert(predicate)
         o = seen.get(obj)
-        add((convert(subject) if s is None else s, convert(predicate) if p is None else p,
-             convert(obj) if o is None else o))
+        if o is None:
+            o = convert(obj)
+        by_predicate = spo.get(s)
+        if by_predicate is None:
+            spo[s] = {p: {o: None}}
+        else:
+            objects = by_predicate.get(p)
+            if objects is None:
+                by_predicate[p] = {o: None}
+            elif o in objects:
+                continue
+            else:
+                objects[o] = None
+        count += 1
+        pairs = pso.get(p)
+        if pairs is None:
+            pso[p] = [(s, o)]
+        else:
+            pairs.append((s, o))
+    index._pso = pso
+    index._count = count
     return index
