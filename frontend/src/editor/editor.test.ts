@@ -17,7 +17,7 @@ import {
   addConstraint,
 } from "./graph";
 import { canRedo, canUndo, createHistory, push, redo, undo } from "./history";
-import { autoLayout, fastLayout, fromElkGraph, toElkGraph } from "./layout";
+import { autoLayout, layeredLayout } from "./layout";
 
 const base: Orders = {
   format: "countersign.orders/1",
@@ -148,23 +148,7 @@ describe("undo/redo", () => {
   });
 });
 
-describe("layout adapter", () => {
-  it("builds a left-to-right layered graph with ports ordered s, f, c", () => {
-    const graph = toElkGraph(base);
-    expect(graph.layoutOptions?.["elk.direction"]).toBe("RIGHT");
-    const g1 = graph.children?.find((c) => c.id === "G1");
-    expect(g1?.layoutOptions?.["elk.portConstraints"]).toBe("FIXED_ORDER");
-    expect(g1?.ports?.filter((p) => p.layoutOptions?.["elk.port.side"] === "EAST").map((p) => p.id)).toEqual([
-      "G1.succeed",
-      "G1.fail",
-      "G1.violate",
-    ]);
-    // The dangling target is left out of the layout.
-    expect(graph.edges?.map((e) => e.id)).toEqual(["G1:succeed:G2", "G1:fail:ABORT", "G2:succeed:COMPLETE", "G2:fail:ABORT"]);
-  });
-  it("reads positions back", () => {
-    expect(fromElkGraph({ id: "root", children: [{ id: "G1", x: 1.4, y: 2.6 }] })).toEqual({ G1: { x: 1, y: 3 } });
-  });
+describe("auto layout", () => {
   it("lays out left to right with successors in later layers and s above f above c", async () => {
     const orders: Orders = {
       id: "x",
@@ -185,7 +169,7 @@ describe("layout adapter", () => {
   });
 });
 
-describe("fast layout for large orders", () => {
+describe("layered layout", () => {
   it("puts successors in later columns, s above f above c, terminals last, in linear time", () => {
     const orders: Orders = {
       id: "x",
@@ -198,7 +182,7 @@ describe("fast layout for large orders", () => {
         { id: "G9", next: {} },
       ],
     };
-    const layout = fastLayout(orders);
+    const layout = layeredLayout(orders);
     const at = (id: string) => layout[id] ?? { x: NaN, y: NaN };
     expect(at("G2").x).toBeGreaterThan(at("G1").x);
     expect(at("G2").y).toBeLessThan(at("G3").y);
@@ -214,7 +198,7 @@ describe("fast layout for large orders", () => {
       })),
     };
     const t = performance.now();
-    const wide = fastLayout(big);
+    const wide = layeredLayout(big);
     expect(performance.now() - t).toBeLessThan(500);
     expect(wide["G2000"]?.x).toBeGreaterThan(wide["G1"]?.x ?? 0);
   });
