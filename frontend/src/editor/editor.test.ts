@@ -17,7 +17,7 @@ import {
   addConstraint,
 } from "./graph";
 import { canRedo, canUndo, createHistory, push, redo, undo } from "./history";
-import { autoLayout, layeredLayout } from "./layout";
+import { autoLayout, GOAL_SIZE, layeredLayout, TERMINAL_SIZE } from "./layout";
 
 const base: Orders = {
   format: "countersign.orders/1",
@@ -201,5 +201,39 @@ describe("layered layout", () => {
     const wide = layeredLayout(big);
     expect(performance.now() - t).toBeLessThan(500);
     expect(wide["G2000"]?.x).toBeGreaterThan(wide["G1"]?.x ?? 0);
+  });
+});
+
+describe("layered layout wraps long chains", () => {
+  // Shaped like PiratesSeizingMerchantDefense: a long chain, fail edges back to an early goal,
+  // every violate edge into one sink goal that branches to three terminals.
+  const n = 48;
+  const chain: Orders = {
+    id: "pirates-like",
+    start: "G1",
+    goals: [
+      ...Array.from({ length: n }, (_, i) => ({
+        id: `G${i + 1}`,
+        next: { succeed: i + 1 < n ? `G${i + 2}` : "SINK", fail: i % 5 === 4 ? "G4" : i + 1 < n ? `G${i + 2}` : "SINK", violate: "SINK" },
+      })),
+      { id: "SINK", next: { succeed: "COMPLETE", fail: "ABORT", violate: "ABORT" } },
+    ],
+  };
+  it.each([1.6, 2.2])("to about the aspect ratio %s, with no two nodes overlapping", (aspect) => {
+    const layout = layeredLayout(chain, aspect);
+    const boxes = Object.entries(layout).map(([id, p]) => ({ id, ...p, ...(id === "COMPLETE" || id === "ABORT" ? TERMINAL_SIZE : GOAL_SIZE) }));
+    const width = Math.max(...boxes.map((b) => b.x + b.width)) - Math.min(...boxes.map((b) => b.x));
+    const height = Math.max(...boxes.map((b) => b.y + b.height)) - Math.min(...boxes.map((b) => b.y));
+    expect(width / height).toBeGreaterThan(aspect / 2);
+    expect(width / height).toBeLessThan(aspect * 2);
+    // Fits a 700 x 420 px canvas at a zoom of 0.15 or more (the editor's least zoom).
+    expect(Math.min(700 / width, 420 / height)).toBeGreaterThan(0.15);
+    for (let i = 0; i < boxes.length; i++) {
+      for (let j = i + 1; j < boxes.length; j++) {
+        const a = boxes[i]!, b = boxes[j]!;
+        const overlap = a.x < b.x + b.width && b.x < a.x + a.width && a.y < b.y + b.height && b.y < a.y + a.height;
+        expect(overlap, `${a.id} / ${b.id}`).toBe(false);
+      }
+    }
   });
 });
