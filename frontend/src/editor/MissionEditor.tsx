@@ -149,15 +149,25 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
   const highlightPath = useCallback((path: PathLike | null, label = "") => set({ highlight: path ? { path, label } : null }), [set]);
   const selectNext = useRef<string[] | null>(null);
 
-  // Zoom to fit once the nodes carry their new positions (after an auto layout).
+  // Zoom to fit once the nodes carry their new positions (after an auto layout). A large draft
+  // (over LARGE_GOALS) is shown at its start goal at a readable zoom instead, as it opens: a fit
+  // would mount every node at once (about 400 ms without a frame for 500 goals) to show text
+  // too small to read; "Zoom to fit" still shows all of it.
   const fitPending = useRef(false);
+  const showLaidOut = useCallback(() => {
+    if (!large.current) {
+      void flow.fitView(FIT);
+      return;
+    }
+    const { nodes: shown } = store.getState();
+    const start = shown.find((n) => n.data.start) ?? shown[0];
+    if (start) void flow.setCenter(start.position.x + 300, start.position.y + 150, { zoom: 0.6 });
+  }, [flow, store]);
   useEffect(() => {
     if (openView.current && nodes.length > 0) {
       openView.current = false;
-      const start = nodes.find((n) => n.data.start) ?? nodes[0]!;
       window.requestAnimationFrame(() => {
-        if (large.current) void flow.setCenter(start.position.x + 300, start.position.y + 150, { zoom: 0.6 });
-        else void flow.fitView(FIT);
+        showLaidOut();
         setReady(true);
       });
       return;
@@ -165,10 +175,10 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
     if (!fitPending.current) return;
     fitPending.current = false;
     window.requestAnimationFrame(() => {
-      void flow.fitView(FIT);
+      showLaidOut();
       setReady(true);
     });
-  }, [nodes, flow, setReady]);
+  }, [nodes, flow, setReady, showLaidOut]);
 
   // Select what was just added once its node exists (the inspector then shows it).
   useEffect(() => {
@@ -326,7 +336,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
     window.setTimeout(() => {
       if (!fitPending.current) return;
       fitPending.current = false;
-      void flow.fitView(FIT);
+      showLaidOut();
       setReady(true);
     }, 150);
   };
