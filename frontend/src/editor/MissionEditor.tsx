@@ -330,15 +330,17 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
       setReady(true);
       return;
     }
-    fitPending.current = true;
-    edit((d) => ({ ...d, layout }));
-    // A layout equal to the one shown changes no node: fit (and say ready) all the same.
-    window.setTimeout(() => {
-      if (!fitPending.current) return;
-      fitPending.current = false;
+    // A layout equal to the one shown changes no node: fit (and say ready) at once. Otherwise
+    // the fit waits for the nodes to carry the new positions (the effect above); a timer that
+    // fitted after 150 ms came first on a loaded machine and fitted the old positions.
+    const shown = latest().layout;
+    if (Object.entries(layout).every(([id, p]) => shown[id]?.x === p.x && shown[id]?.y === p.y)) {
       showLaidOut();
       setReady(true);
-    }, 150);
+      return;
+    }
+    fitPending.current = true;
+    edit((d) => ({ ...d, layout }));
   };
   // Import: the server reads the file (nothing stored); the draft is replaced by one ordinary
   // edit (undoable), laid out afresh, and saved with If-Match like any other.
