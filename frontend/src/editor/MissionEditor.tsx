@@ -39,6 +39,7 @@ import { ImportMenu, NewFromExample, readOrdersFile } from "./ImportMenu";
 import { PlanDialog } from "./PlanDialog";
 import { Tabs } from "../components/Tabs";
 import { canvasAspect, layoutOffThread } from "./layoutClient";
+import { GOAL_SIZE } from "./layout";
 import { EDGE_TYPES, NODE_TYPES } from "./nodes";
 import { ConflictDialog } from "./ConflictDialog";
 import { createEditorStore, EditorStoreContext, isLaidOut, useEditor, useEditorApi } from "./store";
@@ -49,7 +50,7 @@ import { LARGE_GOALS, useFlowElements } from "./useFlowElements";
 import { ConstraintsPanel, FindingsList, GoalInspector, useScopePickClick } from "./Inspector";
 import { CommitSelect } from "./fields";
 import { ExportMenu, ToolbarMenu } from "./Toolbar";
-import { FIT, freePlace, MIN_ZOOM, SideMinimap, Splitter, useFillWindow, useSideWidth, ZoomDetail } from "./canvas";
+import { FIT, freePlace, GOTO_ZOOM, MIN_ZOOM, trackConnectPointer, SideMinimap, Splitter, useFillWindow, useSideWidth, ZoomDetail } from "./canvas";
 
 const PANELS = [
   { id: "editor-constraints", label: "Constraints" },
@@ -148,15 +149,25 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
   const highlightPath = useCallback((path: PathLike | null, label = "") => set({ highlight: path ? { path, label } : null }), [set]);
   const selectNext = useRef<string[] | null>(null);
 
-  // Zoom to fit once the nodes carry their new positions (after an auto layout).
+  // Zoom to fit once the nodes carry their new positions (after an auto layout). A large draft
+  // (over LARGE_GOALS) is shown at its start goal at a readable zoom instead, as it opens: a fit
+  // would mount every node at once (about 400 ms without a frame for 500 goals) to show text
+  // too small to read; "Zoom to fit" still shows all of it.
   const fitPending = useRef(false);
+  const showLaidOut = useCallback(() => {
+    if (!large.current) {
+      void flow.fitView(FIT);
+      return;
+    }
+    const { nodes: shown } = store.getState();
+    const start = shown.find((n) => n.data.start) ?? shown[0];
+    if (start) void flow.setCenter(start.position.x + 300, start.position.y + 150, { zoom: 0.6 });
+  }, [flow, store]);
   useEffect(() => {
     if (openView.current && nodes.length > 0) {
       openView.current = false;
-      const start = nodes.find((n) => n.data.start) ?? nodes[0]!;
       window.requestAnimationFrame(() => {
-        if (large.current) void flow.setCenter(start.position.x + 300, start.position.y + 150, { zoom: 0.6 });
-        else void flow.fitView(FIT);
+        showLaidOut();
         setReady(true);
       });
       return;
@@ -164,10 +175,10 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
     if (!fitPending.current) return;
     fitPending.current = false;
     window.requestAnimationFrame(() => {
-      void flow.fitView(FIT);
+      showLaidOut();
       setReady(true);
     });
-  }, [nodes, flow, setReady]);
+  }, [nodes, flow, setReady, showLaidOut]);
 
   // Select what was just added once its node exists (the inspector then shows it).
   useEffect(() => {
@@ -181,7 +192,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
   const [gotoText, setGotoText] = useState("");
   const mainRef = useRef<HTMLDivElement>(null);
   const canvasRef = useRef<HTMLDivElement>(null);
-  const canvasHeight = useFillWindow(mainRef);
+  const frame = useFillWindow(mainRef);
   const [sideWidth, setSideWidth] = useSideWidth();
   // The plain orders (as saved): fetched when their tab opens and after each save while open.
   const plainShown = panel === "editor-plain";
@@ -202,7 +213,9 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
       return;
     }
     select([id]);
-    void flow.setCenter(node.position.x + 110, node.position.y + 56, { zoom: Math.max(flow.getZoom(), 0.8) });
+    // At one zoom whatever the zoom was: kept at a new draft's fit (1.2), a 1024 px canvas showed
+    // the node's successor mostly under the inspector, and a wire dragged to it auto-panned.
+    void flow.setCenter(node.position.x + GOAL_SIZE.width / 2, node.position.y + GOAL_SIZE.height / 2, { zoom: GOTO_ZOOM });
   };
 
   const selectedNodes = nodes.filter((n) => n.selected).map((n) => n.id);
@@ -227,16 +240,18 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
       if (state.isValid || !state.fromNode || !state.fromHandle?.id || state.fromHandle.type !== "source") return;
       const point = "changedTouches" in event ? event.changedTouches[0] : event;
       if (!point) return;
-      const hit = document.elementFromPoint(point.clientX, point.clientY)?.closest(".react-flow__node");
+      // The topmost element under the pointer: a node hidden by the inspector or a menu is not hit.
+      const hit = document.elementFromPoint(point.clientX, point.clientY)?.closest(".editor-canvas .react-flow__node");
       const target = hit?.getAttribute("data-id");
       if (!target || target === state.fromNode.id) return;
       onConnect({ source: state.fromNode.id, sourceHandle: state.fromHandle.id, target, targetHandle: "in" });
     },
     [onConnect],
   );
+  const [pointer] = useState(() => trackConnectPointer(() => canvasRef.current));
   const isValidConnection = useCallback(
-    (c: Connection | Edge) => checkConnection(latest().orders, c.source, c.sourceHandle, c.target).ok,
-    [latest],
+    (c: Connection | Edge) => pointer.inside() && checkConnection(latest().orders, c.source, c.sourceHandle, c.target).ok,
+    [latest, pointer],
   );
 
   const onNodeDragStop = useCallback(
@@ -315,15 +330,17 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
       setReady(true);
       return;
     }
+    // A layout equal to the one shown changes no node: fit (and say ready) at once. Otherwise
+    // the fit waits for the nodes to carry the new positions (the effect above); a timer that
+    // fitted after 150 ms came first on a loaded machine and fitted the old positions.
+    const shown = latest().layout;
+    if (Object.entries(layout).every(([id, p]) => shown[id]?.x === p.x && shown[id]?.y === p.y)) {
+      showLaidOut();
+      setReady(true);
+      return;
+    }
     fitPending.current = true;
     edit((d) => ({ ...d, layout }));
-    // A layout equal to the one shown changes no node: fit (and say ready) all the same.
-    window.setTimeout(() => {
-      if (!fitPending.current) return;
-      fitPending.current = false;
-      void flow.fitView(FIT);
-      setReady(true);
-    }, 150);
   };
   // Import: the server reads the file (nothing stored); the draft is replaced by one ordinary
   // edit (undoable), laid out afresh, and saved with If-Match like any other.
@@ -527,7 +544,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
           </button>
         </p>
       )}
-      <div className="editor-main" ref={mainRef} style={{ height: canvasHeight, gridTemplateColumns: `minmax(0, 1fr) 8px ${sideWidth}px` }}>
+      <div className="editor-main" ref={mainRef} style={{ height: frame.height, width: frame.width, marginLeft: frame.marginLeft, gridTemplateColumns: `minmax(0, 1fr) 8px ${sideWidth}px` }}>
         <div
           ref={canvasRef}
           className="editor-canvas"
@@ -546,6 +563,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
             onNodesChange={onNodesChange}
             onEdgesChange={onEdgesChange}
             onConnect={onConnect}
+            onConnectStart={pointer.start}
             onConnectEnd={onConnectEnd}
             isValidConnection={isValidConnection}
             onNodeDragStop={onNodeDragStop}

@@ -16,19 +16,38 @@ export const MIN_ZOOM = 0.15;
 export const FIT = { padding: 0.08, minZoom: MIN_ZOOM, maxZoom: 1.2 };
 const MIN_CANVAS_PX = 420;
 
-/** Keeps the element's height to the bottom of the window (at least MIN_CANVAS_PX). */
-export function useFillWindow(ref: RefObject<HTMLElement | null>): number {
-  const [height, setHeight] = useState(620);
+export interface CanvasFrame {
+  height: number;
+  /** The canvas and inspector span the window's width (the page's margins left out). */
+  marginLeft: number;
+  width: number | undefined;
+}
+
+/** Keeps the element's height to the bottom of the window (at least MIN_CANVAS_PX) and its width
+ * to the window's: the element is pulled left out of the page's margins. */
+export function useFillWindow(ref: RefObject<HTMLElement | null>): CanvasFrame {
+  const [frame, setFrame] = useState<CanvasFrame>({ height: 620, marginLeft: 0, width: undefined });
   useLayoutEffect(() => {
     const measure = () => {
-      const top = ref.current?.getBoundingClientRect().top ?? 0;
-      setHeight(Math.max(MIN_CANVAS_PX, Math.round(window.innerHeight - Math.max(0, top) - 12)));
+      const el = ref.current;
+      const top = el?.getBoundingClientRect().top ?? 0;
+      // The parent's left edge is where the element would start without the pull.
+      const parent = el?.parentElement?.getBoundingClientRect();
+      const style = el?.parentElement ? getComputedStyle(el.parentElement) : null;
+      const left = parent && style ? parent.left + parseFloat(style.paddingLeft) + parseFloat(style.borderLeftWidth) + window.scrollX : 0;
+      const width = document.documentElement.clientWidth;
+      const next = {
+        height: Math.max(MIN_CANVAS_PX, Math.round(window.innerHeight - Math.max(0, top) - 12)),
+        marginLeft: -Math.round(left),
+        width,
+      };
+      setFrame((f) => (f.height === next.height && f.marginLeft === next.marginLeft && f.width === next.width ? f : next));
     };
     measure();
     window.addEventListener("resize", measure);
     return () => window.removeEventListener("resize", measure);
   }, [ref]);
-  return height;
+  return frame;
 }
 
 /** Publishes the zoom as `--zoom` and a level of detail (`data-lod`) on the canvas element. */
@@ -43,6 +62,41 @@ export function ZoomDetail({ canvas }: { canvas: RefObject<HTMLElement | null> }
   return null;
 }
 
+/** "Go to node" shows the node at this zoom: near detail, with its neighbours in the layout (a
+ * successor 300 units to the right) inside even a 1024 px window's canvas. */
+export const GOTO_ZOOM = 0.8;
+
+/**
+ * Where the pointer is while a connection is dragged, and whether it is over the canvas. A
+ * handle that xyflow snaps to (its connection radius) may lie outside the canvas, under the
+ * inspector, after the view auto-panned during the drag: a drop there must not connect.
+ */
+export function trackConnectPointer(canvas: () => HTMLElement | null): { start: () => void; inside: () => boolean } {
+  let point: { x: number; y: number } | null = null;
+  const move = (e: globalThis.PointerEvent | MouseEvent) => {
+    point = { x: e.clientX, y: e.clientY };
+  };
+  const stop = () => {
+    window.removeEventListener("pointermove", move, true);
+    window.removeEventListener("pointerup", stop, true);
+    window.setTimeout(() => {
+      point = null;
+    }, 0);
+  };
+  return {
+    start: () => {
+      point = null;
+      window.addEventListener("pointermove", move, true);
+      window.addEventListener("pointerup", stop, true);
+    },
+    inside: () => {
+      const pane = canvas()?.querySelector(".react-flow")?.getBoundingClientRect();
+      if (!point || !pane) return true;
+      return point.x >= pane.left && point.x <= pane.right && point.y >= pane.top && point.y <= pane.bottom;
+    },
+  };
+}
+
 const SIDE_KEY = "countersign.editor.inspectorWidth";
 const SIDE_MIN = 240;
 const SIDE_MAX = 640;
@@ -51,7 +105,9 @@ const SIDE_MAX = 640;
 export function useSideWidth(): [number, (w: number) => void] {
   const [width, setWidth] = useState(() => {
     const stored = Number(window.localStorage?.getItem(SIDE_KEY));
-    return Number.isFinite(stored) && stored >= SIDE_MIN ? Math.min(stored, SIDE_MAX) : 352;
+    // By default at most 30% of the window, so that a 1024 px window keeps a 700 px canvas.
+    const fallback = Math.round(Math.min(352, Math.max(SIDE_MIN, window.innerWidth * 0.3)));
+    return Number.isFinite(stored) && stored >= SIDE_MIN ? Math.min(stored, SIDE_MAX) : fallback;
   });
   const set = (w: number) => {
     const bounded = Math.round(Math.min(SIDE_MAX, Math.max(SIDE_MIN, w)));

@@ -17,7 +17,7 @@ import {
   addConstraint,
 } from "./graph";
 import { canRedo, canUndo, createHistory, push, redo, undo } from "./history";
-import { autoLayout, fastLayout, fromElkGraph, toElkGraph } from "./layout";
+import { autoLayout, GOAL_SIZE, layeredLayout, TERMINAL_SIZE } from "./layout";
 
 const base: Orders = {
   format: "countersign.orders/1",
@@ -148,23 +148,7 @@ describe("undo/redo", () => {
   });
 });
 
-describe("layout adapter", () => {
-  it("builds a left-to-right layered graph with ports ordered s, f, c", () => {
-    const graph = toElkGraph(base);
-    expect(graph.layoutOptions?.["elk.direction"]).toBe("RIGHT");
-    const g1 = graph.children?.find((c) => c.id === "G1");
-    expect(g1?.layoutOptions?.["elk.portConstraints"]).toBe("FIXED_ORDER");
-    expect(g1?.ports?.filter((p) => p.layoutOptions?.["elk.port.side"] === "EAST").map((p) => p.id)).toEqual([
-      "G1.succeed",
-      "G1.fail",
-      "G1.violate",
-    ]);
-    // The dangling target is left out of the layout.
-    expect(graph.edges?.map((e) => e.id)).toEqual(["G1:succeed:G2", "G1:fail:ABORT", "G2:succeed:COMPLETE", "G2:fail:ABORT"]);
-  });
-  it("reads positions back", () => {
-    expect(fromElkGraph({ id: "root", children: [{ id: "G1", x: 1.4, y: 2.6 }] })).toEqual({ G1: { x: 1, y: 3 } });
-  });
+describe("auto layout", () => {
   it("lays out left to right with successors in later layers and s above f above c", async () => {
     const orders: Orders = {
       id: "x",
@@ -185,7 +169,7 @@ describe("layout adapter", () => {
   });
 });
 
-describe("fast layout for large orders", () => {
+describe("layered layout", () => {
   it("puts successors in later columns, s above f above c, terminals last, in linear time", () => {
     const orders: Orders = {
       id: "x",
@@ -198,7 +182,7 @@ describe("fast layout for large orders", () => {
         { id: "G9", next: {} },
       ],
     };
-    const layout = fastLayout(orders);
+    const layout = layeredLayout(orders);
     const at = (id: string) => layout[id] ?? { x: NaN, y: NaN };
     expect(at("G2").x).toBeGreaterThan(at("G1").x);
     expect(at("G2").y).toBeLessThan(at("G3").y);
@@ -214,8 +198,42 @@ describe("fast layout for large orders", () => {
       })),
     };
     const t = performance.now();
-    const wide = fastLayout(big);
+    const wide = layeredLayout(big);
     expect(performance.now() - t).toBeLessThan(500);
     expect(wide["G2000"]?.x).toBeGreaterThan(wide["G1"]?.x ?? 0);
+  });
+});
+
+describe("layered layout wraps long chains", () => {
+  // Shaped like PiratesSeizingMerchantDefense: a long chain, fail edges back to an early goal,
+  // every violate edge into one sink goal that branches to three terminals.
+  const n = 48;
+  const chain: Orders = {
+    id: "pirates-like",
+    start: "G1",
+    goals: [
+      ...Array.from({ length: n }, (_, i) => ({
+        id: `G${i + 1}`,
+        next: { succeed: i + 1 < n ? `G${i + 2}` : "SINK", fail: i % 5 === 4 ? "G4" : i + 1 < n ? `G${i + 2}` : "SINK", violate: "SINK" },
+      })),
+      { id: "SINK", next: { succeed: "COMPLETE", fail: "ABORT", violate: "ABORT" } },
+    ],
+  };
+  it.each([1.6, 2.2])("to about the aspect ratio %s, with no two nodes overlapping", (aspect) => {
+    const layout = layeredLayout(chain, aspect);
+    const boxes = Object.entries(layout).map(([id, p]) => ({ id, ...p, ...(id === "COMPLETE" || id === "ABORT" ? TERMINAL_SIZE : GOAL_SIZE) }));
+    const width = Math.max(...boxes.map((b) => b.x + b.width)) - Math.min(...boxes.map((b) => b.x));
+    const height = Math.max(...boxes.map((b) => b.y + b.height)) - Math.min(...boxes.map((b) => b.y));
+    expect(width / height).toBeGreaterThan(aspect / 2);
+    expect(width / height).toBeLessThan(aspect * 2);
+    // Fits a 700 x 420 px canvas at a zoom of 0.15 or more (the editor's least zoom).
+    expect(Math.min(700 / width, 420 / height)).toBeGreaterThan(0.15);
+    for (let i = 0; i < boxes.length; i++) {
+      for (let j = i + 1; j < boxes.length; j++) {
+        const a = boxes[i]!, b = boxes[j]!;
+        const overlap = a.x < b.x + b.width && b.x < a.x + a.width && a.y < b.y + b.height && b.y < a.y + a.height;
+        expect(overlap, `${a.id} / ${b.id}`).toBe(false);
+      }
+    }
   });
 });

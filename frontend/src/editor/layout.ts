@@ -1,104 +1,30 @@
 /**
- * Auto-layout adapter: orders -> an ELK graph (layered, left to right, each goal's outcome
- * ports in the fixed order succeed, fail, violate top to bottom, so the three branches of a
- * goal do not cross needlessly) and the ELK result -> the draft's layout.
+ * Auto layout: a layered layout, left to right, goals in columns by their longest distance from
+ * the start, each goal's successors ordered by its outcome ports (succeed, fail, violate top to
+ * bottom, so the three branches of a goal do not cross needlessly), long chains wrapped into
+ * bands at the canvas's aspect ratio. Linear time: it runs on every open and every "Auto
+ * layout" (in a worker, layoutClient.ts).
+ *
+ * ELK (elkjs layered with port constraints) was used for up to 60 goals until issue 18: on this
+ * project's machines it took 0.5-2 s for the 5-goal exemplar and 2-8 s for the 49-goal Pirates
+ * mission, and its wrapped Pirates layout (about 3970 x 3320) could not be fitted to a 1024 px
+ * canvas at a legible zoom; this layout takes about 1 ms for Pirates (3010 x 1780).
  */
-import type { ElkNode } from "elkjs/lib/elk-api";
-
 import { goals, type Layout, type Orders, OUTCOMES, successors, terminals } from "./graph";
 
-export const GOAL_SIZE = { width: 220, height: 96 };
+/** The rendered sizes of nodes (styles.css: .goal-node is 220 x 112, .terminal-node 160 wide). */
+export const GOAL_SIZE = { width: 220, height: 112 };
 export const TERMINAL_SIZE = { width: 160, height: 72 };
 
-export const LAYOUT_OPTIONS: Record<string, string> = {
-  "elk.algorithm": "layered",
-  "elk.direction": "RIGHT",
-  "elk.layered.spacing.nodeNodeBetweenLayers": "90",
-  "elk.spacing.nodeNode": "40",
-  // Edges into one terminal share their route (far fewer dummy nodes on large orders).
-  "elk.layered.mergeEdges": "true",
-};
-
-export function portId(node: string, port: string): string {
-  return `${node}.${port}`;
-}
-
-/** Rendered sizes of nodes (React Flow's measurements), when known: ELK then leaves room for them. */
+/** Rendered sizes of nodes (React Flow's measurements), when known. */
 export type Sizes = Record<string, { width: number; height: number }>;
 
-/** Long chains wrap into rows of about this width : height (ELK's layered wrapping). */
-export function wrapOptions(aspect: number | undefined): Record<string, string> {
-  if (!aspect) return {};
-  return {
-    "elk.layered.wrapping.strategy": "MULTI_EDGE",
-    "elk.aspectRatio": aspect.toFixed(2),
-    "elk.layered.wrapping.additionalEdgeSpacing": "20",
-  };
-}
-
-export function toElkGraph(orders: Orders, sizes: Sizes = {}, aspect?: number): ElkNode {
-  const ids = new Set<string>();
-  const children: ElkNode[] = [];
-  for (const g of goals(orders)) {
-    if (ids.has(g.id)) continue;
-    ids.add(g.id);
-    children.push({
-      id: g.id,
-      ...GOAL_SIZE,
-      ...sizes[g.id],
-      layoutOptions: { "elk.portConstraints": "FIXED_ORDER" },
-      ports: [
-        { id: portId(g.id, "in"), width: 1, height: 1, layoutOptions: { "elk.port.side": "WEST", "elk.port.index": "0" } },
-        ...OUTCOMES.map((o, i) => ({
-          id: portId(g.id, o),
-          width: 1,
-          height: 1,
-          layoutOptions: { "elk.port.side": "EAST", "elk.port.index": String(i) },
-        })),
-      ],
-    });
-  }
-  for (const t of terminals(orders)) {
-    if (ids.has(t.id)) continue;
-    ids.add(t.id);
-    children.push({
-      id: t.id,
-      ...TERMINAL_SIZE,
-      ...sizes[t.id],
-      layoutOptions: { "elk.portConstraints": "FIXED_SIDE" },
-      ports: [{ id: portId(t.id, "in"), width: 1, height: 1, layoutOptions: { "elk.port.side": "WEST" } }],
-    });
-  }
-  const edges: NonNullable<ElkNode["edges"]> = [];
-  for (const g of goals(orders)) {
-    for (const o of OUTCOMES) {
-      for (const target of successors(g, o)) {
-        if (!ids.has(target)) continue; // a dangling target is a finding, not a layout edge
-        edges.push({ id: `${g.id}:${o}:${target}`, sources: [portId(g.id, o)], targets: [portId(target, "in")] });
-      }
-    }
-  }
-  return { id: "root", layoutOptions: { ...LAYOUT_OPTIONS, ...wrapOptions(aspect) }, children, edges };
-}
-
-/** The positions ELK computed, keyed by node id (top-left corners, as React Flow wants). */
-export function fromElkGraph(result: ElkNode): Layout {
-  const layout: Layout = {};
-  for (const child of result.children ?? []) {
-    layout[child.id] = { x: Math.round(child.x ?? 0), y: Math.round(child.y ?? 0) };
-  }
-  return layout;
-}
-
-/** Above this many goals ELK's layered layout takes seconds; a linear-time one is used. */
-export const ELK_MAX_GOALS = 60;
-
 /**
- * A linear-time layered layout for large orders: goals in columns by their longest distance
+ * The layered layout: goals in columns by their longest distance
  * from the start (back edges of loops ignored), terminals in the last column, and inside a
  * column ordered by the mean position of their predecessors' outcome ports (s above f above c).
  */
-export function fastLayout(orders: Orders, aspect?: number): Layout {
+export function layeredLayout(orders: Orders, aspect?: number): Layout {
   const goalIds = [...new Set(goals(orders).map((g) => g.id))];
   const isGoal = new Set(goalIds);
   const out = new Map<string, { target: string; rank: number }[]>();
@@ -181,10 +107,7 @@ export function fastLayout(orders: Orders, aspect?: number): Layout {
   return layout;
 }
 
-/** Lays the orders out: ELK (loaded on first use, a large module) or, for large orders, fastLayout. */
-export async function autoLayout(orders: Orders, sizes: Sizes = {}, aspect?: number): Promise<Layout> {
-  if (goals(orders).length > ELK_MAX_GOALS) return fastLayout(orders, aspect);
-  const { default: ELK } = await import("elkjs/lib/elk.bundled.js");
-  const elk = new ELK();
-  return fromElkGraph(await elk.layout(toElkGraph(orders, sizes, aspect)));
+/** Lays the orders out (asynchronous, as the worker's protocol is; `sizes` is accepted for it). */
+export function autoLayout(orders: Orders, _sizes: Sizes = {}, aspect?: number): Promise<Layout> {
+  return Promise.resolve(layeredLayout(orders, aspect));
 }

@@ -4,9 +4,6 @@ import type { Layout, Orders } from "./graph";
 import { autoLayout, type Sizes } from "./layout";
 import layoutWorkerSrc from "./layout.worker.ts?worker&url";
 
-// Off: in full browser-test runs the worker sometimes did not answer (10 s fallbacks) and a
-// revision was bumped on open; the in-page layout passes every test. Kept for the next step.
-const DISABLED = true;
 let worker: Worker | null = null;
 let nextId = 1;
 const waiting = new Map<number, { resolve: (l: Layout) => void; reject: (e: Error) => void }>();
@@ -33,7 +30,7 @@ function workerUrl(url: URL): string | URL {
 }
 
 function layoutWorker(): Worker | null {
-  if (typeof Worker === "undefined" || DISABLED) return null;
+  if (typeof Worker === "undefined") return null;
   if (!worker) {
     worker = new Worker(workerUrl(new URL(layoutWorkerSrc, window.location.href)), { type: "module" });
     worker.onmessage = (event: MessageEvent<{ id: number; layout?: Layout; error?: string }>) => {

@@ -14,7 +14,7 @@ import type { Conflict } from "./ConflictDialog";
 import type { Layout, Orders, PathLike } from "./graph";
 import { goals, terminals } from "./graph";
 import { createHistory, type History } from "./history";
-import { ELK_MAX_GOALS, fastLayout } from "./layout";
+import { layeredLayout } from "./layout";
 import type { NodeData } from "./nodes";
 
 export interface Draft {
@@ -82,12 +82,17 @@ export interface EditorState {
 
 function openedDraft(mission: MissionDetail): Draft {
   const opened = { orders: mission.orders as Orders, layout: (mission.layout ?? {}) as Layout };
-  // A large draft without positions is laid out at once (the linear-time layout), so that the
-  // canvas never renders it unplaced; smaller ones wait for ELK before they render.
-  if (goals(opened.orders).length > ELK_MAX_GOALS && !isLaidOut(opened)) {
-    opened.layout = { ...fastLayout(opened.orders, Math.max(0.8, (window.innerWidth - 400) / Math.max(300, window.innerHeight - 250))), ...opened.layout };
+  // A draft without positions is laid out at once (the layered layout is linear time), so that
+  // the canvas never renders it unplaced and opening waits for nothing.
+  if (goals(opened.orders).length > 0 && !isLaidOut(opened)) {
+    opened.layout = { ...layeredLayout(opened.orders, openingAspect()), ...opened.layout };
   }
   return opened;
+}
+
+/** The canvas's aspect ratio before it exists: the window less the inspector and the page above. */
+function openingAspect(): number {
+  return Math.min(3, Math.max(0.8, (window.innerWidth - 360) / Math.max(300, window.innerHeight - 400)));
 }
 
 /** Whether every goal and terminal of the draft has a position (an empty draft counts as not). */

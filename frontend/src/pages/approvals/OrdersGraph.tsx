@@ -8,7 +8,7 @@
 import { useEffect, useLayoutEffect, useMemo, useRef, useState } from "react";
 
 import { type Layout, type Orders, ordersToGraph, OUTCOME_LABEL, OUTCOME_LETTER } from "../../editor/graph";
-import { fastLayout, GOAL_SIZE, TERMINAL_SIZE } from "../../editor/layout";
+import { layeredLayout, GOAL_SIZE, TERMINAL_SIZE } from "../../editor/layout";
 import { layoutOffThread } from "../../editor/layoutClient";
 
 const ASPECT = 1.6;
@@ -21,7 +21,7 @@ const COLORS: Record<string, string> = { succeed: "#1a7f37", fail: "#b35900", vi
 
 export function OrdersGraph({ orders, label }: { orders: Record<string, unknown>; label: string }) {
   const o = orders as Orders;
-  const [layout, setLayout] = useState<Layout>(() => fastLayout(o, ASPECT));
+  const [layout, setLayout] = useState<Layout>(() => layeredLayout(o, ASPECT));
   useEffect(() => {
     let current = true;
     layoutOffThread(o, {}, ASPECT).then((l) => current && setLayout(l), () => undefined);
