@@ -108,7 +108,8 @@ def shacl_violations(data: Graph) -> set[Violation]:
 
     shapes = load_graph(SHAPES)
     _conforms, report, _text = validate(
-        data, shacl_graph=_shapes_given_to_pyshacl(), inference="none", advanced=False, allow_warnings=True
+        data, shacl_graph=_shapes_given_to_pyshacl(), inference="none", advanced=False,
+        allow_warnings=True,
     )
     assert isinstance(report, Graph)
     parents = {prop: shape for shape, prop in shapes.subject_objects(SH.property)}
