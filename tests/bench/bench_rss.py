@@ -129,7 +129,7 @@ def main() -> None:
         url = f"sqlite:///{data}/bench.db"
         tokens = _users(url)
         admin_token = _admin(url)
-        server, base = _serve(url, 1, data, Path(data) / "server.log")
+        server, base, _port = _serve(url, 1, data, Path(data) / "server.log")
         try:
             opts = {"base_url": base, "timeout": 300}
             with httpx.Client(**opts, headers={"Authorization": f"Bearer {tokens['heavy']}"}) \
