@@ -76,3 +76,20 @@ def layered_dag(depth: int) -> Orders:
         items.append({"id": f"G{i}", "next": {"succeed": following, "fail": following,
                                                "violate": "ABORT"}})
     return Orders.model_validate({"id": f"chain-{depth}", "start": "G0", "goals": items})
+
+
+TURTLE_HEAD = (b"@prefix cs: <https://countersign.example/ontology/orders#> .\n"
+               b"@prefix meo: <https://countersign.example/ontology/meo#> .\n"
+               b"@prefix rdf: <http://www.w3.org/1999/02/22-rdf-syntax-ns#> .\n"
+               b"<https://countersign.example/mission/m> a meo:Mission ; cs:id \"m\" ;\n")
+
+
+def shared_lists(depth: int) -> bytes:
+    """List k holds list k-1 twice: a few hundred statements that expand to 2^depth values."""
+    lines = [b'_:l0 rdf:first "x" ; rdf:rest rdf:nil .']
+    for k in range(1, depth + 1):
+        lines.append(
+            f"_:l{k} rdf:first _:l{k - 1} ; rdf:rest _:r{k} .\n"
+            f"_:r{k} rdf:first _:l{k - 1} ; rdf:rest rdf:nil .".encode()
+        )
+    return TURTLE_HEAD + f"  cs:params _:l{depth} .\n".encode() + b"\n".join(lines) + b"\n"

@@ -12,23 +12,7 @@ from countersign.orders.examples import load_example
 from countersign.orders.model import Orders
 from countersign.orders.reader import OrdersReadError
 from countersign.orders.turtle import read_turtle, write_turtle
-from tests.bench.generated import random_dag
-
-HEAD = (b"@prefix cs: <https://countersign.example/ontology/orders#> .\n"
-        b"@prefix meo: <https://countersign.example/ontology/meo#> .\n"
-        b"@prefix rdf: <http://www.w3.org/1999/02/22-rdf-syntax-ns#> .\n"
-        b"<https://countersign.example/mission/m> a meo:Mission ; cs:id \"m\" ;\n")
-
-
-def shared_lists(depth: int) -> bytes:
-    """List k holds list k-1 twice: a few hundred statements that expand to 2^depth values."""
-    lines = [b'_:l0 rdf:first "x" ; rdf:rest rdf:nil .']
-    for k in range(1, depth + 1):
-        lines.append(
-            f"_:l{k} rdf:first _:l{k - 1} ; rdf:rest _:r{k} .\n"
-            f"_:r{k} rdf:first _:l{k - 1} ; rdf:rest rdf:nil .".encode()
-        )
-    return HEAD + f"  cs:params _:l{depth} .\n".encode() + b"\n".join(lines) + b"\n"
+from tests.bench.generated import random_dag, shared_lists
 
 
 def test_nested_shared_lists_are_refused_after_linear_work(
