@@ -26,6 +26,10 @@ def test_pirates_imported_in_the_browser_shows_its_sink_warnings(page: Page,
     page.goto(f"/missions/{mission}?tab=editor")
     expect(page.get_by_test_id("node-COMPLETE")).to_be_visible()
     _import(page, PIRATES)
+    # "Saved" holds before the import too (the file is read first): wait for the import to
+    # reach the draft, then for its save.
+    expect(page.get_by_test_id("editor-notice")).to_contain_text(
+        "Imported PiratesSeizingMerchantDefense.xml", timeout=30_000)
     expect(page.get_by_test_id("save-state")).to_have_text("Saved", timeout=30_000)
     expect(page.get_by_test_id("editor-verdict")).to_contain_text("19 warnings",
                                                                   timeout=30_000)
