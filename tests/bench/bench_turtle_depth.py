@@ -13,26 +13,18 @@ Run: .venv/bin/python -m tests.bench.bench_turtle_depth
 from __future__ import annotations
 
 import contextlib
-import time
-from collections.abc import Callable
 from functools import partial
 
 from rdflib import Graph
 
 from countersign.orders.reader import OrdersReadError
 from countersign.orders.turtle import read_turtle
+from tests.bench.bench_export import best_of
 from tests.bench.generated import shared_lists
 
+RUNS = 5
+
 DEPTHS = (8, 12, 14, 16, 18, 24, 32, 64)
-
-
-def best_of(action: Callable[[], object], runs: int = 5) -> float:
-    times = []
-    for _ in range(runs):
-        start = time.perf_counter()
-        action()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def ours(document: bytes) -> None:
@@ -50,8 +42,8 @@ def main() -> None:
     mine: dict[int, float] = {}
     for depth in DEPTHS:
         document = shared_lists(depth)
-        mine[depth] = best_of(partial(ours, document))
-        parse = best_of(partial(rdflib_parse, document))
+        mine[depth] = best_of(RUNS, partial(ours, document))
+        parse = best_of(RUNS, partial(rdflib_parse, document))
         print(f"{depth:>6} {len(document):>7} {2 ** depth:>13.3g} {mine[depth] * 1e3:>9.1f} "
               f"{parse * 1e3:>16.1f}")
     growth = mine[32] / mine[12]
