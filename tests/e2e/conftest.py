@@ -173,6 +173,12 @@ def _wait_healthy(server: Server, process: subprocess.Popen[bytes]) -> None:
 def playwright_instance() -> Iterator[Playwright]:
     from playwright.sync_api import sync_playwright
 
+    from playwright.sync_api import expect
+
+    # Playwright's assertions give up after 5 s; a sign-in (its argon2 hash runs at low priority)
+    # or a validation on a loaded 2-core machine takes longer. A passing check returns as soon as
+    # it holds, so the longer bound only delays a real failure.
+    expect.set_options(timeout=20_000)
     with sync_playwright() as instance:
         yield instance
 

@@ -154,31 +154,32 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
   // would mount every node at once (about 400 ms without a frame for 500 goals) to show text
   // too small to read; "Zoom to fit" still shows all of it.
   const fitPending = useRef(false);
-  const showLaidOut = useCallback(() => {
+  // xyflow queues a fit until its next node update: "ready" waits for the fit's promise (ready
+  // at once read the previous viewport on a loaded machine, a handle outside the canvas).
+  const showLaidOut = useCallback(async (): Promise<void> => {
     if (!large.current) {
-      void flow.fitView(FIT);
+      await flow.fitView(FIT);
       return;
     }
     const { nodes: shown } = store.getState();
     const start = shown.find((n) => n.data.start) ?? shown[0];
-    if (start) void flow.setCenter(start.position.x + 300, start.position.y + 150, { zoom: 0.6 });
+    if (start) await flow.setCenter(start.position.x + 300, start.position.y + 150, { zoom: 0.6 });
   }, [flow, store]);
+  const showLaidOutThenReady = useCallback(() => {
+    // The timer only keeps "ready" from sticking should xyflow never settle the fit.
+    const settled = new Promise<void>((resolve) => window.setTimeout(resolve, 3000));
+    void Promise.race([showLaidOut(), settled]).finally(() => setReady(true));
+  }, [showLaidOut, setReady]);
   useEffect(() => {
     if (openView.current && nodes.length > 0) {
       openView.current = false;
-      window.requestAnimationFrame(() => {
-        showLaidOut();
-        setReady(true);
-      });
+      window.requestAnimationFrame(showLaidOutThenReady);
       return;
     }
     if (!fitPending.current) return;
     fitPending.current = false;
-    window.requestAnimationFrame(() => {
-      showLaidOut();
-      setReady(true);
-    });
-  }, [nodes, flow, setReady, showLaidOut]);
+    window.requestAnimationFrame(showLaidOutThenReady);
+  }, [nodes, showLaidOutThenReady]);
 
   // Select what was just added once its node exists (the inspector then shows it).
   useEffect(() => {
@@ -335,8 +336,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
     // fitted after 150 ms came first on a loaded machine and fitted the old positions.
     const shown = latest().layout;
     if (Object.entries(layout).every(([id, p]) => shown[id]?.x === p.x && shown[id]?.y === p.y)) {
-      showLaidOut();
-      setReady(true);
+      showLaidOutThenReady();
       return;
     }
     fitPending.current = true;
