@@ -77,3 +77,22 @@ def test_plan_view_has_legs_crossings_and_coastline(world: World) -> None:
     crossed = {(c["edge"]["goal"], c["edge"]["outcome"]) for c in view["crossings"]}
     assert crossed == {("G2", "fail"), ("G4", "succeed"), ("G4", "fail"), ("G4", "violate")}
     assert view["coastline"], "Monterey Bay has a coast within the view"
+
+
+def test_plan_view_answer_is_the_whole_plan_view(world: World) -> None:
+    """The route's response model documents the plan view for the front end's types; it must not
+    drop or retype a field (a response model filters what it does not declare, silently)."""
+    from countersign.orders.reader import orders_from_data
+    from countersign.verify.plan_view import plan_view
+
+    assert _import(world, "admin", json.dumps(KEEP_OUT)).status_code == 200  # type: ignore[attr-defined]
+    answer = world.client("operator").post(
+        "/api/plan-view", content=example_bytes("search-and-sample"))
+    assert answer.status_code == 200, answer.text
+    charts = world.client("operator").get("/api/charts").json()
+    orders = json.loads(example_bytes("search-and-sample"))
+    expected = plan_view(orders_from_data({**orders, "charts": charts}))
+    # Compared as text too: a coordinate given as an int stays an int (no ".0" added).
+    assert answer.json() == expected
+    assert answer.text == json.dumps(expected, separators=(",", ":"), ensure_ascii=False)
+    assert answer.json()["places"] and answer.json()["crossings"][0]["element"]

@@ -171,9 +171,7 @@ def _wait_healthy(server: Server, process: subprocess.Popen[bytes]) -> None:
 
 @pytest.fixture(scope="session")
 def playwright_instance() -> Iterator[Playwright]:
-    from playwright.sync_api import sync_playwright
-
-    from playwright.sync_api import expect
+    from playwright.sync_api import expect, sync_playwright
 
     # Playwright's assertions give up after 5 s; a sign-in (its argon2 hash runs at low priority)
     # or a validation on a loaded 2-core machine takes longer. A passing check returns as soon as

@@ -1753,9 +1753,7 @@ export interface components {
             /** Owner */
             owner: string | null;
             /** Results */
-            results: {
-                [key: string]: unknown;
-            } | null;
+            results: components["schemas"]["CampaignResults"] | null;
             /** Simulations */
             simulations: number;
             /** Spec */
@@ -1775,10 +1773,31 @@ export interface components {
             digest: string | null;
             /** Goals */
             goals: {
-                [key: string]: unknown;
+                [key: string]: components["schemas"]["OfferedProbabilities"];
             };
             /** Orders Digest */
             orders_digest: string;
+        };
+        /** CampaignResults */
+        CampaignResults: {
+            any_violation: components["schemas"]["Estimate"];
+            coverage: components["schemas"]["Coverage"];
+            energy_wh: components["schemas"]["EnergySummary"];
+            /** Goals */
+            goals: {
+                [key: string]: components["schemas"]["GoalEstimate"];
+            };
+            /** Kinds */
+            kinds: {
+                [key: string]: components["schemas"]["Estimate"];
+            };
+            no_terminal: components["schemas"]["Estimate"];
+            /** Simulations */
+            simulations: number;
+            /** Terminals */
+            terminals: {
+                [key: string]: components["schemas"]["Estimate"];
+            };
         };
         /**
          * Chart
@@ -2035,6 +2054,22 @@ export interface components {
             /** Terminal */
             terminal: string;
         };
+        /** Coverage */
+        Coverage: {
+            /** Covered */
+            covered: number;
+            /** Paths */
+            paths: components["schemas"]["CoveredPath"][];
+            /** Total Paths */
+            total_paths: number | null;
+        };
+        /** CoveredPath */
+        CoveredPath: {
+            /** Count */
+            count: number;
+            /** Path */
+            path: number;
+        };
         /** DecisionIn */
         DecisionIn: {
             /** Decision */
@@ -2116,6 +2151,16 @@ export interface components {
                 [key: string]: unknown;
             };
         };
+        /** EnergySummary */
+        EnergySummary: {
+            histogram: components["schemas"]["Histogram"];
+            /** Max */
+            max: number | null;
+            /** Mean */
+            mean: number | null;
+            /** Min */
+            min: number | null;
+        };
         /** EnvelopeIn */
         EnvelopeIn: {
             /**
@@ -2128,6 +2173,21 @@ export interface components {
              * @description the signer's password, entered again for this decision: checked by the server (argon2) in this request and counted against the sign-in throttle; without it, or wrong, the decision is refused (403) even when validly signed
              */
             password?: string | null;
+        };
+        /**
+         * Estimate
+         * @description A count among the simulations, its proportion and 95% Wilson interval.
+         */
+        Estimate: {
+            /** Ci */
+            ci: [
+                number,
+                number
+            ];
+            /** Count */
+            count: number;
+            /** P */
+            p: number | null;
         };
         /**
          * Event
@@ -2353,10 +2413,25 @@ export interface components {
         } & {
             [key: string]: unknown;
         };
+        /** GoalEstimate */
+        GoalEstimate: {
+            fail: components["schemas"]["Estimate"];
+            succeed: components["schemas"]["Estimate"];
+            violate: components["schemas"]["Estimate"];
+            /** Visits */
+            visits: number;
+        };
         /** HTTPValidationError */
         HTTPValidationError: {
             /** Detail */
             detail?: components["schemas"]["ValidationError"][];
+        };
+        /** Histogram */
+        Histogram: {
+            /** Counts */
+            counts: number[];
+            /** Edges */
+            edges: (number)[];
         };
         /** InclusionProofOut */
         InclusionProofOut: {
@@ -2580,6 +2655,25 @@ export interface components {
         } & {
             [key: string]: unknown;
         };
+        /**
+         * OfferedProbabilities
+         * @description A goal's outcome probabilities offered from a campaign: point estimates and intervals.
+         */
+        OfferedProbabilities: {
+            /** Interval */
+            interval: {
+                [key: string]: [
+                    number,
+                    number
+                ];
+            };
+            /** Point */
+            point: {
+                [key: string]: number;
+            };
+            /** Visits */
+            visits: number;
+        };
         /** Orders */
         Orders: {
             /** Areas */
@@ -2759,10 +2853,69 @@ export interface components {
              */
             title?: string;
         };
+        /** PlanAreaOut */
+        PlanAreaOut: {
+            /** Contexts */
+            contexts: string[];
+            /** Id */
+            id: string;
+            /** Polygon */
+            polygon: [
+                number,
+                number
+            ][];
+            /** Title */
+            title: string;
+        };
+        /** PlanChartOut */
+        PlanChartOut: {
+            /** Contexts */
+            contexts: string[];
+            /** Id */
+            id: string;
+            /** Kind */
+            kind: string;
+            /** Polygon */
+            polygon: [
+                number,
+                number
+            ][];
+            /** Title */
+            title: string;
+        };
+        /**
+         * PlanCrossingOut
+         * @description A GEO finding as drawn: the edge or goal that crosses and the area it crosses.
+         */
+        PlanCrossingOut: {
+            /** Area */
+            area: string | null;
+            edge: components["schemas"]["PlanEdgeOut"] | null;
+            /** Element */
+            element: string | null;
+            /** Goal */
+            goal: string | null;
+            /** Message */
+            message: string;
+            /** Subjects */
+            subjects: string[];
+        };
+        /** PlanEdgeOut */
+        PlanEdgeOut: {
+            /** Goal */
+            goal: string;
+            /** Outcome */
+            outcome: string;
+            /** To */
+            to: string;
+        };
         /** PlanLegOut */
         PlanLegOut: {
             /** End */
-            end: number[];
+            end: [
+                number,
+                number
+            ];
             /** Goal */
             goal: string;
             /** Length M */
@@ -2770,7 +2923,10 @@ export interface components {
             /** Outcome */
             outcome: string;
             /** Start */
-            start: number[];
+            start: [
+                number,
+                number
+            ];
             /** To */
             to: string;
         };
@@ -2804,6 +2960,28 @@ export interface components {
             reward?: number | null;
             /** Value */
             value?: number | null;
+        };
+        /**
+         * PlanPlaceOut
+         * @description Where a goal runs: its area, its behaviour and the start and end of its sweep.
+         */
+        PlanPlaceOut: {
+            /** Area */
+            area: string | null;
+            /** Behavior */
+            behavior: string | null;
+            /** End */
+            end: [
+                number,
+                number
+            ];
+            /** Goal */
+            goal: string;
+            /** Start */
+            start: [
+                number,
+                number
+            ];
         };
         /** PlanProblem */
         PlanProblem: {
@@ -2856,27 +3034,33 @@ export interface components {
          */
         PlanViewOut: {
             /** Areas */
-            areas: {
-                [key: string]: unknown;
-            }[];
+            areas: components["schemas"]["PlanAreaOut"][];
             /** Box */
-            box: number[] | null;
+            box: [
+                number,
+                number,
+                number,
+                number
+            ] | null;
             /** Charts */
-            charts: {
-                [key: string]: unknown;
-            }[];
+            charts: components["schemas"]["PlanChartOut"][];
             /** Coastline */
-            coastline: number[][][];
+            coastline: [
+                [
+                    number,
+                    number
+                ],
+                [
+                    number,
+                    number
+                ]
+            ][];
             /** Crossings */
-            crossings: {
-                [key: string]: unknown;
-            }[];
+            crossings: components["schemas"]["PlanCrossingOut"][];
             /** Legs */
             legs: components["schemas"]["PlanLegOut"][];
             /** Places */
-            places: {
-                [key: string]: unknown;
-            }[];
+            places: components["schemas"]["PlanPlaceOut"][];
         };
         /** Position */
         Position: {
@@ -5476,9 +5660,7 @@ export interface operations {
         };
         requestBody: {
             content: {
-                "application/json": {
-                    [key: string]: unknown;
-                };
+                "application/json": components["schemas"]["PlanProblem"];
             };
         };
         responses: {
@@ -5511,9 +5693,7 @@ export interface operations {
         };
         requestBody: {
             content: {
-                "application/json": {
-                    [key: string]: unknown;
-                };
+                "application/json": components["schemas"]["Orders"];
             };
         };
         responses: {

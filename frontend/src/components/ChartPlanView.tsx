@@ -6,39 +6,14 @@
  * otherwise none are requested and it works offline. Every name is React text, never markup.
  */
 import { useLoad } from "../useLoad";
-import { api, unwrap } from "../api/client";
+import { api, type Schema, unwrap } from "../api/client";
 import { ErrorMessage, Loading } from "./Status";
 
-type LatLon = [number, number];
-interface PlanLeg {
-  goal: string;
-  outcome: string;
-  to: string;
-  start: LatLon;
-  end: LatLon;
-  length_m: number;
-}
-interface PlanShape {
-  id: string;
-  title: string;
-  kind?: string;
-  contexts: string[];
-  polygon: LatLon[];
-}
-interface PlanCrossing {
-  subjects: string[];
-  message: string;
-  area?: string | null;
-  edge?: { goal: string; outcome: string; to: string } | null;
-}
-export interface PlanData {
-  areas: PlanShape[];
-  charts: PlanShape[];
-  legs: PlanLeg[];
-  crossings: PlanCrossing[];
-  coastline: [LatLon, LatLon][];
-  box: [number, number, number, number] | null;
-}
+/** (latitude, longitude) of an answer: openapi-fetch's `Readable` reads the schema's pairs as
+ * arrays, so a missing coordinate reads as NaN (drawn nowhere) rather than being cast away. */
+type LatLon = readonly number[];
+/** POST /api/plan-view: what the plan view draws. */
+export type PlanData = Schema<"PlanViewOut">;
 
 const OUTCOME_STYLE: Record<"succeed" | "fail" | "violate", { letter: string; colour: string }> = {
   succeed: { letter: "s", colour: "#2e7d32" },
@@ -63,7 +38,7 @@ const MAX_ZOOM = 19;
 const MAX_TILES = 48;
 
 /** Web Mercator in unit coordinates: x east from -180°, y south from 85.05°N, both 0..1. */
-function mercator([lat, lon]: LatLon): [number, number] {
+function mercator([lat = NaN, lon = NaN]: LatLon): [number, number] {
   const sin = Math.sin((Math.max(-85.0511, Math.min(85.0511, lat)) * Math.PI) / 180);
   return [(lon + 180) / 360, 0.5 - Math.log((1 + sin) / (1 - sin)) / (4 * Math.PI)];
 }
@@ -175,7 +150,7 @@ export function PlanSvg({ data, tiles = null }: { data: PlanData; tiles?: string
         </g>
       )}
       <g className="coastline" stroke="#8d6e63" strokeWidth={1}>
-        {data.coastline.map(([a, b], i) => {
+        {data.coastline.map(([a = [], b = []], i) => {
           const [x1, y1] = at(a);
           const [x2, y2] = at(b);
           return <line key={i} x1={x1} y1={y1} x2={x2} y2={y2} />;
@@ -243,12 +218,9 @@ export function PlanSvg({ data, tiles = null }: { data: PlanData; tiles?: string
 }
 
 /** The plan view of given orders (the draft in the editor, the version under review). */
-export function ChartPlanView({ orders }: { orders: unknown }) {
+export function ChartPlanView({ orders }: { orders: Schema<"Orders"> }) {
   const { data, error, loading } = useLoad(
-    async () =>
-      unwrap(
-        await api.POST("/api/plan-view", { body: orders as Record<string, never> }),
-      ) as unknown as PlanData,
+    async () => unwrap(await api.POST("/api/plan-view", { body: orders })),
     [JSON.stringify(orders)],
   );
   // The server's tile setting; without it (or if it cannot be read) no tile is requested.

@@ -16,13 +16,8 @@ import { areas, type LatLon, targetVehicle } from "./model";
 import { PlanView, type PlanOverlay } from "./panels";
 import { centroid, fromMetres, round6 } from "./planview";
 
-interface Problem {
-  start: [number, number];
-  recovery: [number, number];
-  areas: { id: string; title?: string; reward: number; mandatory?: boolean; passes: { entry: [number, number]; exit: [number, number]; survey_wh: number; title?: string }[] }[];
-  vehicle: { transit_wh_per_m: number; battery_wh: number; reserve_wh?: number };
-  [key: string]: unknown;
-}
+/** The countersign.plan/1 problem the server built from the draft (lawn-mower passes). */
+type Problem = Schema<"PlanProblem">;
 /** POST /api/plan: the best plan, or why there is none. */
 type Solution = Schema<"PlanOut">;
 
@@ -70,9 +65,9 @@ export function PlanDialog({ mission, orders, onClose }: { mission: MissionDetai
       };
       const built = unwrap(
         await api.POST("/api/missions/{mission_id}/plan-problem", { params: { path: { mission_id: mission.id } }, body }),
-      ) as unknown as Problem;
+      );
       setProblem(built);
-      const solved = unwrap(await api.POST("/api/plan", { body: built as never }));
+      const solved = unwrap(await api.POST("/api/plan", { body: built }));
       setSolution(solved);
     } catch (e) {
       setError(e);
@@ -86,7 +81,7 @@ export function PlanDialog({ mission, orders, onClose }: { mission: MissionDetai
     const origin: LatLon = [Number(start[0]), Number(start[1])];
     const route: PlanOverlay["route"] = [{ at: fromMetres(origin, problem.start), label: "start" }];
     solution.order.forEach((id, i) => {
-      const area = problem.areas.find((a) => a.id === id);
+      const area = problem.areas?.find((a) => a.id === id);
       const pass = area?.passes[solution.passes?.[id] ?? 0];
       if (!pass) return;
       route.push({ at: fromMetres(origin, pass.entry), label: `${i + 1}. ${id} in` });

@@ -11,11 +11,17 @@ const waiting = new Map<number, { resolve: (l: Layout) => void; reject: (e: Erro
 interface ScriptUrlPolicy {
   createScriptURL: (url: string) => unknown;
 }
+declare global {
+  // Trusted Types (Chromium) are not yet in TypeScript's DOM library.
+  interface Window {
+    trustedTypes?: { createPolicy: (name: string, rules: ScriptUrlPolicy) => ScriptUrlPolicy };
+  }
+}
 let policy: ScriptUrlPolicy | null | undefined;
 /** The page's CSP requires Trusted Types for script URLs and allows one policy,
  * `layout-worker`: it passes only this app's own layout worker script, same origin. */
 function workerUrl(url: URL): string | URL {
-  const tt = (window as unknown as { trustedTypes?: { createPolicy: (name: string, rules: ScriptUrlPolicy) => ScriptUrlPolicy } }).trustedTypes;
+  const tt = window.trustedTypes;
   if (!tt) return url;
   policy ??= tt.createPolicy("layout-worker", {
     createScriptURL: (raw: string) => {

@@ -63,12 +63,15 @@ export function round6(n: number): number {
   return Math.round(n * 1e6) / 1e6;
 }
 
-/** Local metres (centred on `origin`, as countersign.plan/1 problems built from orders) -> lat/lon. */
-export function fromMetres(origin: LatLon, point: [number, number]): LatLon {
+/** Local metres (centred on `origin`, as countersign.plan/1 problems built from orders) -> lat/lon.
+ * `point` is (east, north); an answer's pair reads as an array (openapi-fetch's `Readable`), and a
+ * missing coordinate gives NaN, which draws nothing, rather than a point at the origin. */
+export function fromMetres(origin: LatLon, point: readonly number[]): LatLon {
   const [lat0, lon0] = origin;
+  const [east = NaN, north = NaN] = point;
   const cos = Math.cos((lat0 * Math.PI) / 180);
-  const lat = lat0 + ((point[1] / EARTH_RADIUS_M) * 180) / Math.PI;
-  const lon = lon0 + ((point[0] / (EARTH_RADIUS_M * cos)) * 180) / Math.PI;
+  const lat = lat0 + ((north / EARTH_RADIUS_M) * 180) / Math.PI;
+  const lon = lon0 + ((east / (EARTH_RADIUS_M * cos)) * 180) / Math.PI;
   return [lat, lon];
 }
 

@@ -25,6 +25,7 @@ from ...store import approvals as approvals_service
 from ...store import campaigns as store
 from ...store.missions import get_mission, get_version
 from ..deps import EVERYONE, CurrentPrincipal, Db, TransactionRoute, allow
+from .campaign_schemas import CampaignResultsJson, OfferedProbabilitiesJson
 from .schemas import RequestBody
 
 router = APIRouter(prefix="/api", tags=["campaigns"], route_class=TransactionRoute)
@@ -59,7 +60,7 @@ class CampaignOut(BaseModel):
     ended_at: Any
     digest: str | None
     error: str | None
-    results: dict[str, Any] | None
+    results: CampaignResultsJson | None
 
 
 class AttachCampaignIn(RequestBody):
@@ -140,7 +141,7 @@ class CampaignProbabilitiesOut(BaseModel):
     campaign: str
     digest: str | None
     orders_digest: str
-    goals: dict[str, Any]
+    goals: dict[str, OfferedProbabilitiesJson]
 
 
 @router.get("/campaigns/{campaign_id}/probabilities", operation_id="campaignProbabilities",

@@ -22,7 +22,7 @@ from ...store.events import record
 from ...store.vehicles import with_registry
 from ...verify.plan_view import plan_view
 from ..deps import ADMINS, EVERYONE, CurrentPrincipal, Db, TransactionRoute, allow
-from .schemas import RequestBody
+from .schemas import Number, RequestBody
 
 router = APIRouter(prefix="/api", tags=["charts"], route_class=TransactionRoute)
 
@@ -50,26 +50,72 @@ class ChartsGeoJsonOut(BaseModel):
     features: list[dict[str, Any]]
 
 
+# Numbers as computed: a coordinate given as an int stays one (a float field would add ".0").
+Point = tuple[Number, Number]
+
+
 class PlanLegOut(BaseModel):
     goal: str
     outcome: str
     to: str
-    start: list[float]
-    end: list[float]
-    length_m: float
+    start: Point
+    end: Point
+    length_m: Number
+
+
+class PlanAreaOut(BaseModel):
+    id: str
+    title: str
+    contexts: list[str]
+    polygon: list[Point]
+
+
+class PlanChartOut(BaseModel):
+    id: str
+    title: str
+    kind: str
+    contexts: list[str]
+    polygon: list[Point]
+
+
+class PlanPlaceOut(BaseModel):
+    """Where a goal runs: its area, its behaviour and the start and end of its sweep."""
+
+    goal: str
+    area: str | None
+    behavior: str | None
+    start: Point
+    end: Point
+
+
+class PlanEdgeOut(BaseModel):
+    goal: str
+    outcome: str
+    to: str
+
+
+class PlanCrossingOut(BaseModel):
+    """A GEO finding as drawn: the edge or goal that crosses and the area it crosses."""
+
+    subjects: list[str]
+    message: str
+    area: str | None
+    edge: PlanEdgeOut | None
+    goal: str | None
+    element: str | None
 
 
 class PlanViewOut(BaseModel):
     """What the plan view draws: areas, charts, where each goal runs, each outcome edge's leg,
     the crossings (GEO findings) and a coastline from the land mask, in degrees."""
 
-    areas: list[dict[str, Any]]
-    charts: list[dict[str, Any]]
-    places: list[dict[str, Any]]
+    areas: list[PlanAreaOut]
+    charts: list[PlanChartOut]
+    places: list[PlanPlaceOut]
     legs: list[PlanLegOut]
-    crossings: list[dict[str, Any]]
-    coastline: list[list[list[float]]]
-    box: list[float] | None
+    crossings: list[PlanCrossingOut]
+    coastline: list[tuple[Point, Point]]
+    box: tuple[Number, Number, Number, Number] | None
 
 
 @router.get("/charts/geojson", operation_id="exportCharts", response_model=ChartsGeoJsonOut,
@@ -112,9 +158,9 @@ def remove_chart(chart_id: str, principal: CurrentPrincipal, db: Db) -> None:
 
 
 PLAN_ROUTE = allow(*EVERYONE)
+# The body is read raw (its size bounded first), so its schema is stated here: the orders.
 PLAN_ROUTE["openapi_extra"]["requestBody"] = {"required": True, "content": {
-    "application/json": {"schema": {"type": "object", "additionalProperties": True,
-                                    "title": "Body"}}}}
+    "application/json": {"schema": {"$ref": "#/components/schemas/Orders"}}}}
 
 
 @router.post("/plan-view", operation_id="planView", response_model=PlanViewOut, **PLAN_ROUTE)

@@ -77,7 +77,7 @@ def plan_problem(mission_id: str, body: ProblemFromMission, db: Db) -> dict[str,
 
 @router.post("/plan", operation_id="solvePlan", response_model=PlanOut,
              response_model_exclude_unset=True, **with_limit(allow(*EVERYONE), "plan"))
-def solve_plan(body: dict[str, Any], request: Request,
+def solve_plan(body: PlanProblemJson, request: Request,
                principal: CurrentPrincipal) -> dict[str, Any]:
     """The best plan (reward, then energy) and its draft orders, or a minimal conflict."""
     problem = problem_from_data(body)

@@ -13,16 +13,7 @@ import { useCan, useSession } from "../../session";
 import { useLoad } from "../../useLoad";
 
 type Campaign = Schema<"CampaignOut">;
-type Estimate = { count: number; p: number | null; ci: [number, number] };
-type Results = {
-  simulations: number;
-  terminals: Record<string, Estimate>;
-  any_violation: Estimate;
-  no_terminal: Estimate;
-  goals: Record<string, { visits: number } & Record<"succeed" | "fail" | "violate", Estimate>>;
-  coverage: { total_paths: number | null; covered: number; paths: { path: number; count: number }[] };
-  energy_wh: { mean: number | null; min: number | null; max: number | null; histogram: { edges: number[]; counts: number[] } };
-};
+type Estimate = Schema<"Estimate">;
 
 const FAULTS = ["none", "gps_loss", "nav_drift", "leak", "low_energy", "contact_close"];
 const ACTIVE = new Set(["queued", "running"]);
@@ -197,11 +188,12 @@ function CampaignRow({ campaign: c, onChange, onShow }: { campaign: Campaign; on
 const percent = (x: number | null) => (x === null ? "—" : `${(100 * x).toFixed(1)}%`);
 
 function EstimateCells({ e }: { e: Estimate }) {
+  const [low = NaN, high = NaN] = e.ci; // a pair, read as an array (openapi-fetch's Readable)
   return (
     <>
       <td>{percent(e.p)}</td>
       <td>
-        {percent(e.ci[0])} – {percent(e.ci[1])}
+        {percent(low)} – {percent(high)}
       </td>
       <td>{e.count}</td>
     </>
@@ -210,15 +202,16 @@ function EstimateCells({ e }: { e: Estimate }) {
 
 /** A finished campaign's estimates; `offer` adds the button that offers per-goal probabilities. */
 export function CampaignResults({ campaign, offer: offering = true }: { campaign: Campaign; offer?: boolean }) {
-  const results = campaign.results as unknown as Results;
+  const results = campaign.results;
   const [offered, setOffered] = useState<string | null>(null);
   const offer = async () => {
     const body = unwrap(
       await api.GET("/api/campaigns/{campaign_id}/probabilities", { params: { path: { campaign_id: campaign.id } } }),
-    ) as { goals: Record<string, { point: Record<string, number> }> };
+    );
     const p = Object.fromEntries(Object.entries(body.goals).map(([goal, g]) => [goal, { p: g.point }]));
     setOffered(JSON.stringify(p, null, 2));
   };
+  if (!results) return <p>This campaign has no results yet.</p>;
   const coverage = results.coverage;
   return (
     <section aria-labelledby="campaign-results-title" className="campaign-results">

@@ -1,0 +1,73 @@
+"""The shapes of a campaign's stored results (campaigns/stats.py builds them), for OpenAPI.
+
+Results are stored records handed over untouched (SchemaOf), so these models document the
+answer for the front end's generated types without re-validating what the runner wrote."""
+
+from __future__ import annotations
+
+from typing import Annotated, Any
+
+from pydantic import BaseModel
+
+from .schemas import Number, SchemaOf
+
+
+class Estimate(BaseModel):
+    """A count among the simulations, its proportion and 95% Wilson interval."""
+
+    count: int
+    p: Number | None
+    ci: tuple[Number, Number]
+
+
+class GoalEstimate(BaseModel):
+    visits: int
+    succeed: Estimate
+    fail: Estimate
+    violate: Estimate
+
+
+class CoveredPath(BaseModel):
+    path: int
+    count: int
+
+
+class Coverage(BaseModel):
+    total_paths: int | None
+    covered: int
+    paths: list[CoveredPath]
+
+
+class Histogram(BaseModel):
+    edges: list[Number]
+    counts: list[int]
+
+
+class EnergySummary(BaseModel):
+    mean: Number | None
+    min: Number | None
+    max: Number | None
+    histogram: Histogram
+
+
+class CampaignResults(BaseModel):
+    simulations: int
+    terminals: dict[str, Estimate]
+    kinds: dict[str, Estimate]
+    no_terminal: Estimate
+    any_violation: Estimate
+    goals: dict[str, GoalEstimate]
+    coverage: Coverage
+    energy_wh: EnergySummary
+
+
+class OfferedProbabilities(BaseModel):
+    """A goal's outcome probabilities offered from a campaign: point estimates and intervals."""
+
+    visits: int
+    point: dict[str, Number]
+    interval: dict[str, tuple[Number, Number]]
+
+
+CampaignResultsJson = Annotated[dict[str, Any], SchemaOf(CampaignResults)]
+OfferedProbabilitiesJson = Annotated[dict[str, Any], SchemaOf(OfferedProbabilities)]
