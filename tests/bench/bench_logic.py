@@ -174,7 +174,7 @@ class Naive:
         for tag in TAGS:
             holds = area is not None and tag in area.contexts
             formulas.append(z3.Bool(f"ctx:{tag}") == holds)
-        for c in model.scope[goal_id]:
+        for c in model.in_scope(goal_id):
             formulas.append(self._expr(c.expr))
         return formulas
 

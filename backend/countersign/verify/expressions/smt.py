@@ -66,7 +66,10 @@ class Translator:
             return -1
         code = self.strings.get(value)
         if code is None:
-            code = self.strings[value] = len(self.strings)
+            # The string's own bytes as a number (a leading 1 keeps it injective): the same
+            # string has the same code in every session, so a formula's text, and the model z3
+            # finds for it, do not depend on which strings were translated before.
+            code = self.strings[value] = int.from_bytes(b"\x01" + value.encode(), "big")
         return code
 
     def quantity(self, name: str) -> tuple[str, Kind]:

@@ -20,7 +20,15 @@ warning finding, never a hang. z3 is imported and a context created only when so
 the cache.
 
 One module per job: items and model, the z3 session, the cache, a run, wording, the
-findings and the goal-set API. `findings.BATCH_VACUITY` switches batched vacuity checks.
+findings and the goal-set API. `findings.BATCH_VACUITY` switches batched vacuity checks, and
+`session.DISTINCT_FORMULAS` status checks that assume one indicator per distinct formula (both
+are kept as the references their fast paths are tested against).
+
+A check costs z3 time in proportion to everything asserted, so only what every goal assumes
+(mission-wide constraints, the vehicle, domains, norms) stays asserted between goals; the rest
+is asserted in the goal's own push/pop scope. Witness values are solved again in a context of
+the unit's own, so that they depend on the unit's items only, not on what the session checked
+before (re-validating with a warm cache gives the report a cold run gives).
 """
 
 from __future__ import annotations

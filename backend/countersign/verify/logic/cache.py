@@ -6,6 +6,7 @@ import hashlib
 import threading
 from collections import OrderedDict
 from collections.abc import Iterable
+from operator import attrgetter
 
 from ...orders.model import Orders
 from .constants import VERSION
@@ -65,7 +66,10 @@ class LogicCache:
             self._last = None
 
 
+_DIGEST = attrgetter("digest")
+
+
 def unit_key(kind: str, items: Iterable[Item]) -> str:
     """The digest of a unit's inputs: the digests of its items' sources, in a fixed order."""
-    digests = sorted(item.digest for item in items)
+    digests = sorted(map(_DIGEST, items))
     return hashlib.sha256(f"{VERSION}\x1e{kind}\x1e".encode() + b"".join(digests)).hexdigest()

@@ -101,7 +101,7 @@ def _goal_findings(model: LogicModel, run: LogicRun, mission: MissionResult) -> 
         if result.undecided == "time budget exhausted":
             out_of_time.append(goal.id)
         elif result.undecided:
-            scope = [c.id for c in model.scope.get(goal.id, ())]
+            scope = [c.id for c in model.in_scope(goal.id)]
             yield warning(
                 "CONTRADICTION",
                 [goal.id],

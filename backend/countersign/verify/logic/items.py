@@ -37,7 +37,7 @@ class Item:
     """One statement for the solver, asserted behind its own indicator literal. Its phrase is
     built only when a core reports it."""
 
-    __slots__ = ("_digest", "_phrase", "formula", "key", "kind", "quantities", "shared",
+    __slots__ = ("_phrase", "digest", "formula", "key", "kind", "quantities", "shared",
                  "source", "subject")
 
     def __init__(
@@ -61,13 +61,9 @@ class Item:
         # Asserted once per session (same formula for every goal) rather than per goal scope.
         self.shared = shared
         self.quantities = quantities
-        self._digest: bytes | None = None
-
-    @property
-    def digest(self) -> bytes:
-        if self._digest is None:
-            self._digest = hashlib.sha256(self.source.encode()).digest()
-        return self._digest
+        # Every item ends up in some unit's cache key: an attribute, not a property, so a key
+        # of hundreds of items is read at C speed.
+        self.digest = hashlib.sha256(source.encode()).digest()
 
     @property
     def phrase(self) -> str:

@@ -91,12 +91,16 @@ class LogicModel:
         self._parse_constraints()
         self._parse_norms()
         self.mission_constraints = [c for c in self.constraints if c.mission]
-        self.scope: dict[str, list[ParsedConstraint]] = {gid: [] for gid in self.goals}
+        # Constraints named by goal; the mission-wide ones (in every goal's scope) are kept
+        # once, not copied into thousands of lists.
+        self.scoped: dict[str, list[ParsedConstraint]] = {gid: [] for gid in self.goals}
         for constraint in self.constraints:
-            targets = self.goals if constraint.mission else constraint.goals
-            for gid in targets:
-                if gid in self.scope:
-                    self.scope[gid].append(constraint)
+            for gid in constraint.goals:
+                if gid in self.scoped:
+                    self.scoped[gid].append(constraint)
+        self._mission_reads: Reads | None = None
+        self._mission_block: dict[frozenset[str], tuple[list[ParsedConstraint],
+                                                        list[Item]]] = {}
         self._items: dict[str, Item] = {}
         self.permissions = [n for n in self.norms if n.modality == "permitted"]
         self._breaches: dict[str, Expr] = {}
@@ -224,13 +228,23 @@ class LogicModel:
             return "the vehicle"
         return f"the vehicle {self.vehicle.title or self.vehicle.id}"
 
+    def in_scope(self, goal_id: str) -> list[ParsedConstraint]:
+        """The constraints that apply while a goal runs, in the order of the orders."""
+        scoped = self.scoped.get(goal_id, [])
+        if not scoped:
+            return list(self.mission_constraints)
+        order = {c.key: n for n, c in enumerate(self.constraints)}
+        return sorted([*self.mission_constraints, *scoped], key=lambda c: order[c.key])
+
     def scope_reads(self, goal_id: str) -> Reads:
         """What the constraints in a goal's scope read together (a superset when some are
         quarantined, which only adds harmless facts and bounds)."""
         found = self._scope_reads.get(goal_id)
         if found is None:
+            if self._mission_reads is None:
+                self._mission_reads = _merge_reads(c.reads for c in self.mission_constraints)
             found = self._scope_reads[goal_id] = _merge_reads(
-                c.reads for c in self.scope.get(goal_id, ()))
+                [self._mission_reads, *(c.reads for c in self.scoped.get(goal_id, ()))])
         return found
 
     def facts(self, goal: Goal) -> Facts:
@@ -247,6 +261,9 @@ class LogicModel:
 
     def constraint_item(self, c: ParsedConstraint, suffix: str = "", negate: bool = False) -> Item:
         key = ("neg:" if negate else "") + c.key + suffix
+        found = self._items.get(key)  # every goal in scope asks: no closure for a known item
+        if found is not None:
+            return found
 
         def build() -> Item:
             return Item(
@@ -254,7 +271,11 @@ class LogicModel:
                 lambda: f"{c.id} requires {self.words(c.expr)}",
                 f"{key}|{c.source}|{c.text}|{self.specs(c.reads.quantities)}",
                 _with_suffix(expr_formula(c.expr, negate), suffix),
-                shared=not suffix, quantities=tuple(sorted(c.reads.quantities)),
+                # Only what every goal's checks assume stays in the solver: each check costs
+                # time in proportion to all that is asserted, and a constraint scoped to a few
+                # goals (or a negation, checked once) would tax every later goal's checks.
+                shared=not suffix and c.mission and not negate,
+                quantities=tuple(sorted(c.reads.quantities)),
             )
 
         return self._memo(key, build)
@@ -349,13 +370,19 @@ class LogicModel:
     def scope_items(self, goal_id: str, quarantined: frozenset[str]) -> tuple[
         list[ParsedConstraint], list[Item]
     ]:
-        """The constraints in a goal's scope that are not quarantined, and their items."""
+        """The constraints in a goal's scope that are not quarantined, and their items: the
+        mission-wide ones first (one list for every goal), then the goal's own."""
         key = (goal_id, quarantined)
         found = self._scope_items.get(key)
         if found is None:
-            constraints = [c for c in self.scope.get(goal_id, ()) if c.key not in quarantined]
+            block = self._mission_block.get(quarantined)
+            if block is None:
+                live = [c for c in self.mission_constraints if c.key not in quarantined]
+                block = self._mission_block[quarantined] = (
+                    live, [self.constraint_item(c) for c in live])
+            own = [c for c in self.scoped.get(goal_id, ()) if c.key not in quarantined]
             found = self._scope_items[key] = (
-                constraints, [self.constraint_item(c) for c in constraints])
+                block[0] + own, block[1] + [self.constraint_item(c) for c in own])
         return list(found[0]), list(found[1])
 
     def fact_items(self, goal: Goal, needs: Reads, suffix: str = "") -> list[Item]:

@@ -7,6 +7,7 @@ from collections.abc import Iterable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 from fractions import Fraction
+from operator import attrgetter
 from typing import Any, Literal
 
 from ...orders.model import Quantity
@@ -16,6 +17,13 @@ from ..expressions import (
 )
 from ..z3_adapter import assert_any, check_asts, true_in_model, unsat_core_ids
 from .items import Item
+
+# Checks whose core is not read assume one indicator per distinct formula (False: every item's
+# own indicator, the reference the distinct path is tested against).
+DISTINCT_FORMULAS = True
+
+
+_KEY = attrgetter("key")
 
 
 def _z3() -> Any:
@@ -42,6 +50,9 @@ class CheckResult:
     status: Literal["sat", "unsat", "unknown"]
     core: tuple[Item, ...] = ()
     reason: str = ""
+    # Whether some items were left out of the assumptions because another item of the check
+    # has the same formula: the status is the same, the core need not be the one all give.
+    distinct_only: bool = False
 
 
 class Session:
@@ -64,7 +75,13 @@ class Session:
         # is asserted again for every unit that reads it; its text never changes).
         self._asts: dict[str, Any] = {}
         self._formulas: dict[str, str] = {}
+        # Per item key: a number shared by every item with the same formula text.
+        self._formula_ids: dict[str, int] = {}
+        self._formula_numbers: dict[str, int] = {}
         self._based: set[str] = set()
+        self._scoped: set[str] = set()
+        # Where the current unit's witnesses are solved (see `witness`); a new one per unit.
+        self._unit_context: Any = None
         self._items: dict[str, Item] = {}
         self.in_scope = False
         self._batches = 0
@@ -87,6 +104,8 @@ class Session:
             formula = self._formulas.get(item.key)
             if formula is None:
                 formula = self._formulas[item.key] = item.formula(self.translator)
+                numbers = self._formula_numbers
+                self._formula_ids[item.key] = numbers.setdefault(formula, len(numbers))
             if new:
                 chunks.append(f"(declare-const |{name}| Bool)")
             chunks.append(f"(assert (=> |{name}| {formula}))")
@@ -109,12 +128,16 @@ class Session:
             self._based.update(i.key for i in shared)
         self.solver.push()
         self.in_scope = True
+        scoped = [i for i in items if not i.shared]
+        self._scoped = {i.key for i in scoped}
         try:
-            self._assert(i for i in items if not i.shared)
+            self._assert(scoped)
             yield
         finally:
             self.solver.pop()
             self.in_scope = False
+            self._scoped = set()
+            self._unit_context = None
 
     def _literal(self, item: Item) -> Any:
         name = self._indicators[item.key]
@@ -166,6 +189,29 @@ class Session:
         if reason in {"canceled", "timeout"}:
             reason = f"timeout after {timeout:,} ms"
         return CheckResult("unknown", reason=reason)
+
+    def check_status(self, items: Sequence[Item]) -> CheckResult:
+        """A check for callers that read its status (and model), not its core. Mission-wide
+        constraints are often the same formula many times (in every goal's scope): assuming
+        one indicator per distinct formula asks the same question, since a conjunction does
+        not change when a conjunct repeats, and costs a fraction when hundreds repeat. The
+        model of a sat answer satisfies every item; an unsat core, if read, is a valid core
+        but `distinct_only` says it may not be the one `check` gives."""
+        if not DISTINCT_FORMULAS:
+            return self.check(items)
+        # Hundreds of items a check: set and map operations rather than a Python loop.
+        keys = list(map(_KEY, items))
+        numbers = list(map(self._formula_ids.get, keys))
+        if len(set(numbers)) == len(items):
+            return self.check(items)
+        # An item not asserted now is left to `check`: its formula constrains nothing.
+        if None in numbers or not self._based.union(self._scoped).issuperset(keys):
+            return self.check(items)
+        # The first item of each formula (in a fixed order: by its formula's last place).
+        first = dict(zip(reversed(numbers), reversed(items), strict=True))
+        distinct = list(first.values())[::-1]
+        result = self.check(distinct)
+        return CheckResult(result.status, result.core, result.reason, distinct_only=True)
 
     def satisfiable_groups(self, groups: Sequence[Sequence[Item]]) -> list[bool]:
         """Which groups of items are shown satisfiable (each on its own), with few checks:
@@ -228,16 +274,26 @@ class Session:
             self.solver.pop()
         return shown
 
-    def witness(self, quantities: Iterable[str], suffix: str = "") -> dict[str, str]:
-        """Values of some quantities in the model of the last satisfiable check."""
+    def witness(self, quantities: Iterable[str], suffix: str = "",
+                items: Sequence[Item] = ()) -> dict[str, str]:
+        """Values of some quantities in a model of `items` (those of the last satisfiable
+        check), or of the last check itself when no items are given or no model of them is
+        found in time.
+
+        z3's model depends on the ids its context gave terms before (it orders a disjunction's
+        operands by id), so a model from the shared session changes with what the session
+        checked earlier: re-validating, where the cache spares some units, would name other
+        values. The items are solved again in a context of the current unit's own, which has
+        seen only this unit's witnesses: the same items give the same values."""
         z3 = self.z3
-        model = self.solver.model()
+        found = self._model_of(items) if items else None
+        model, ctx = found if found is not None else (self.solver.model(), self.ctx)
         translator = self.translator.with_suffix(suffix)
         values: dict[str, str] = {}
         for name in quantities:
             symbol, kind = translator.quantity(name)
-            sort = {"boolean": z3.BoolSort(self.ctx), "integer": z3.IntSort(self.ctx)}.get(
-                kind, z3.RealSort(self.ctx)
+            sort = {"boolean": z3.BoolSort(ctx), "integer": z3.IntSort(ctx)}.get(
+                kind, z3.RealSort(ctx)
             )
             value = model.eval(z3.Const(symbol.strip("|"), sort), model_completion=True)
             if kind == "boolean":
@@ -247,6 +303,28 @@ class Session:
             else:
                 values[name] = _decimal(value)
         return values
+
+    def _model_of(self, items: Sequence[Item]) -> tuple[Any, Any] | None:
+        """(a model of the items alone, its context), or None when not found in time."""
+        remaining = self.limits.remaining_ms()
+        if remaining <= 0:
+            return None
+        formulas = list(dict.fromkeys(
+            self._formulas.get(i.key) or i.formula(self.translator) for i in items))
+        text = "".join(formulas)
+        # Only the symbols these formulas use, in a fixed order: each declaration makes a
+        # term, and what the context made before moves the ids of what follows.
+        declarations = "".join(f"(declare-const {symbol} {sort})"
+                               for symbol, sort in sorted(self.translator.symbols.items())
+                               if symbol in text)
+        if self._unit_context is None:
+            self._unit_context = self.z3.Context()
+        ctx = self._unit_context
+        solver = self.z3.SimpleSolver(ctx=ctx)
+        solver.set("timeout", max(1, min(self.limits.per_call_ms, remaining)))
+        solver.from_string(declarations + "".join(f"(assert {f})" for f in formulas))
+        self.calls += 1
+        return (solver.model(), ctx) if solver.check() == self.z3.sat else None
 
     # Minimal cores (seed 001, Algorithm 1) ---------------------------------------------------
 
