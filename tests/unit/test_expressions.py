@@ -24,6 +24,7 @@ from countersign.verify.expressions import (
     Name,
     Not,
     Special,
+    Translator,
     check_condition,
     describe,
     fold,
@@ -250,6 +251,17 @@ def test_z3_translation_of_quantities_and_facts() -> None:
     assert z3.is_true(values[lane])
     solver.add(z3.Not(z3.Bool(lane)))
     assert solver.check() == z3.unsat
+
+
+def test_a_formula_reads_the_same_whatever_was_translated_before() -> None:
+    # Its text is what z3 solves: a code that depended on the strings met earlier would let a
+    # warm session and a cold one solve different formulas for the same orders.
+    expr = parse("behavior == 'sample' and context('shipping_lane')")
+    fresh = Translator(QUANTITIES)
+    used = Translator(QUANTITIES)
+    used.condition(parse("behavior == 'loiter' or context('coastal')"))
+    assert used.condition(expr) == fresh.condition(expr)
+    assert fresh.string_code("sample") != fresh.string_code("loiter")
 
 
 def test_describe_reads_like_orders() -> None:

@@ -120,3 +120,23 @@ def test_a_description_edit_hits_every_part_and_a_cost_edit_only_misses_core() -
     validate(Orders.model_validate(data), parts=parts)
     assert parts.misses == before + 1  # core only: MEO and logic read no costs
     assert part_keys(Orders.model_validate(data)) == first
+
+
+def test_a_warm_cache_names_the_witness_a_cold_run_names() -> None:
+    """Found by the property above: z3's model depends on the terms its context made before,
+    so a witness solved in the shared session after a cache spared some units named depth 11 m
+    where a cold run named 20 m. Witnesses are solved in a context of the unit's own."""
+    data = meo_mission(3, seed=0).model_dump(mode="json", exclude_unset=True)
+    versions = [Orders.model_validate(data)]
+    data = copy.deepcopy(data)
+    next(c for c in data["constraints"] if c["id"] == "health")["expr"] = "depth_m <= 10"
+    versions.append(Orders.model_validate(data))
+    data = copy.deepcopy(data)
+    data["properties"] = [{"id": "P1", "never": "depth_m > 10"}]
+    versions.append(Orders.model_validate(data))
+    parts, logic = PartsCache(), LogicCache()
+    for orders in versions:
+        incremental = validate(orders, logic_cache=logic, parts=parts).to_json()
+        assert incremental == scratch(orders)
+    assert any(f["code"] == "PROPERTY" and "witness" in f["details"]
+               for f in incremental["findings"])
