@@ -22,7 +22,6 @@ from countersign.orders.model import Orders
 from countersign.verify.graph import build_graph
 from countersign.verify.logic import CheckResult, Item, LogicCache, Session, check_logic
 from countersign.verify.logic import run as logic_run
-from countersign.verify.logic import session as logic_session
 from countersign.verify.properties import check_properties
 from countersign.verify.z3_adapter import check_assumptions
 from tests.bench.bench_logic import logic_orders
@@ -88,9 +87,6 @@ def all_findings(orders: Orders, reference: bool) -> tuple[list[dict[str, Any]],
     kind = ReferenceSession if reference else CountingSession
     with pytest.MonkeyPatch.context() as patch:
         patch.setattr(logic_run, "Session", kind)
-        # The same checks in the same order: status checks assume every item as `check` does
-        # (tests/unit/test_logic_distinct.py compares the distinct-formula path).
-        patch.setattr(logic_session, "DISTINCT_FORMULAS", False)
         patch.setattr(kind, "asked", [])
         cache = LogicCache()
         # A generous budget: a run cut short by it reports different undecided warnings.

@@ -409,7 +409,7 @@ def _check_state(model: LogicModel, run: LogicRun, graph: MissionGraph,
 def _solve_state(run: LogicRun, items: list[Item], failing: Item) -> GoalVerdict:
     session = run.session
     with session.scope([*items, failing]):
-        result = session.check_status([*items, failing])
+        result = session.check([*items, failing])
         if result.status == "unknown":
             return GoalVerdict(False, (), result.reason)
         if result.status == "unsat":

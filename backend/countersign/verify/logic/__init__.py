@@ -20,9 +20,7 @@ warning finding, never a hang. z3 is imported and a context created only when so
 the cache.
 
 One module per job: items and model, the z3 session, the cache, a run, wording, the
-findings and the goal-set API. `findings.BATCH_VACUITY` switches batched vacuity checks, and
-`session.DISTINCT_FORMULAS` status checks that assume one indicator per distinct formula (both
-are kept as the references their fast paths are tested against).
+findings and the goal-set API. `findings.BATCH_VACUITY` switches batched vacuity checks.
 
 A check costs z3 time in proportion to everything asserted, so only what every goal assumes
 (mission-wide constraints, the vehicle, domains, norms) stays asserted between goals; the rest

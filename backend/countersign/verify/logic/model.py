@@ -38,6 +38,10 @@ from .constants import _IDENTIFIER, MAX_WORDS
 from .items import Item, _interval_formula, _range_words, _with_suffix, expr_formula
 from .session import Session
 
+# True: every constraint stays asserted once a unit used it (the policy before issue 22, kept
+# as the benchmark's baseline).
+KEEP_EVERY_CONSTRAINT = False
+
 
 @dataclass(frozen=True)
 class ParsedConstraint:
@@ -274,7 +278,7 @@ class LogicModel:
                 # Only what every goal's checks assume stays in the solver: each check costs
                 # time in proportion to all that is asserted, and a constraint scoped to a few
                 # goals (or a negation, checked once) would tax every later goal's checks.
-                shared=not suffix and c.mission and not negate,
+                shared=not suffix and (KEEP_EVERY_CONSTRAINT or (c.mission and not negate)),
                 quantities=tuple(sorted(c.reads.quantities)),
             )
 

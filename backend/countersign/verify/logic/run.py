@@ -54,16 +54,12 @@ class LogicRun:
         return result
 
     def cores(self, items: list[Item], drop: Callable[[list[Item]], list[Item]],
-              limit: int = MAX_CORES_PER_UNIT, known_unsat: bool = False,
-              ) -> tuple[list[Core], list[Item], str | None]:
+              limit: int = MAX_CORES_PER_UNIT) -> tuple[list[Core], list[Item], str | None]:
         """Minimal cores of an item set, dropping items after each so that independent
-        contradictions are all found (up to a limit). Returns (cores, remaining, undecided).
-        Most item sets hold: unless told otherwise, a status check answers first."""
+        contradictions are all found (up to a limit). Returns (cores, remaining, undecided)."""
         session = self.session
         found: list[Core] = []
-        result = session.check(items) if known_unsat else session.check_status(items)
-        if result.distinct_only and result.status == "unsat":
-            result = session.check(items)
+        result = session.check(items)
         while result.status == "unsat" and len(found) < limit:
             core, minimal = session.minimal_core(result.core)
             if not core:
@@ -146,20 +142,19 @@ class LogicRun:
         undecided: str | None = None
         with session.scope(every):
             # Most goals are fine: one check of everything settles both questions.
-            together = session.check_status(items + rules) if rules else None
+            together = session.check(items + rules) if rules else None
             if together is None or together.status != "sat":
                 contradictions, _, undecided = self.cores(items, drop_contradiction)
                 if contradictions or undecided is not None or not rules:
                     return GoalResult(tuple(contradictions), (), (), undecided)
-                refusals, _, undecided = self.cores(
-                    items + rules, drop_norms, limit=len(rules),
-                    known_unsat=together is not None and together.status == "unsat")
+                refusals, _, undecided = self.cores(items + rules, drop_norms,
+                                                    limit=len(rules))
             refused = {i.key for core in refusals for i in core.parts}
             risks: list[Risk] = []
             for rule, breach in residual:
                 if rule.key in refused or undecided is not None:
                     continue
-                result = session.check_status([*items, breach])
+                result = session.check([*items, breach])
                 if result.status == "sat":
                     witness = session.witness(breach.quantities, items=[*items, breach])
                     risks.append(Risk(rule.part, tuple(sorted(witness.items()))))

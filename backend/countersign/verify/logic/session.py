@@ -7,7 +7,6 @@ from collections.abc import Iterable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 from fractions import Fraction
-from operator import attrgetter
 from typing import Any, Literal
 
 from ...orders.model import Quantity
@@ -17,13 +16,6 @@ from ..expressions import (
 )
 from ..z3_adapter import assert_any, check_asts, true_in_model, unsat_core_ids
 from .items import Item
-
-# Checks whose core is not read assume one indicator per distinct formula (False: every item's
-# own indicator, the reference the distinct path is tested against).
-DISTINCT_FORMULAS = True
-
-
-_KEY = attrgetter("key")
 
 
 def _z3() -> Any:
@@ -50,9 +42,6 @@ class CheckResult:
     status: Literal["sat", "unsat", "unknown"]
     core: tuple[Item, ...] = ()
     reason: str = ""
-    # Whether some items were left out of the assumptions because another item of the check
-    # has the same formula: the status is the same, the core need not be the one all give.
-    distinct_only: bool = False
 
 
 class Session:
@@ -75,11 +64,7 @@ class Session:
         # is asserted again for every unit that reads it; its text never changes).
         self._asts: dict[str, Any] = {}
         self._formulas: dict[str, str] = {}
-        # Per item key: a number shared by every item with the same formula text.
-        self._formula_ids: dict[str, int] = {}
-        self._formula_numbers: dict[str, int] = {}
         self._based: set[str] = set()
-        self._scoped: set[str] = set()
         # Where the current unit's witnesses are solved (see `witness`); a new one per unit.
         self._unit_context: Any = None
         self._items: dict[str, Item] = {}
@@ -104,8 +89,6 @@ class Session:
             formula = self._formulas.get(item.key)
             if formula is None:
                 formula = self._formulas[item.key] = item.formula(self.translator)
-                numbers = self._formula_numbers
-                self._formula_ids[item.key] = numbers.setdefault(formula, len(numbers))
             if new:
                 chunks.append(f"(declare-const |{name}| Bool)")
             chunks.append(f"(assert (=> |{name}| {formula}))")
@@ -128,15 +111,12 @@ class Session:
             self._based.update(i.key for i in shared)
         self.solver.push()
         self.in_scope = True
-        scoped = [i for i in items if not i.shared]
-        self._scoped = {i.key for i in scoped}
         try:
-            self._assert(scoped)
+            self._assert(i for i in items if not i.shared)
             yield
         finally:
             self.solver.pop()
             self.in_scope = False
-            self._scoped = set()
             self._unit_context = None
 
     def _literal(self, item: Item) -> Any:
@@ -189,29 +169,6 @@ class Session:
         if reason in {"canceled", "timeout"}:
             reason = f"timeout after {timeout:,} ms"
         return CheckResult("unknown", reason=reason)
-
-    def check_status(self, items: Sequence[Item]) -> CheckResult:
-        """A check for callers that read its status (and model), not its core. Mission-wide
-        constraints are often the same formula many times (in every goal's scope): assuming
-        one indicator per distinct formula asks the same question, since a conjunction does
-        not change when a conjunct repeats, and costs a fraction when hundreds repeat. The
-        model of a sat answer satisfies every item; an unsat core, if read, is a valid core
-        but `distinct_only` says it may not be the one `check` gives."""
-        if not DISTINCT_FORMULAS:
-            return self.check(items)
-        # Hundreds of items a check: set and map operations rather than a Python loop.
-        keys = list(map(_KEY, items))
-        numbers = list(map(self._formula_ids.get, keys))
-        if len(set(numbers)) == len(items):
-            return self.check(items)
-        # An item not asserted now is left to `check`: its formula constrains nothing.
-        if None in numbers or not self._based.union(self._scoped).issuperset(keys):
-            return self.check(items)
-        # The first item of each formula (in a fixed order: by its formula's last place).
-        first = dict(zip(reversed(numbers), reversed(items), strict=True))
-        distinct = list(first.values())[::-1]
-        result = self.check(distinct)
-        return CheckResult(result.status, result.core, result.reason, distinct_only=True)
 
     def satisfiable_groups(self, groups: Sequence[Sequence[Item]]) -> list[bool]:
         """Which groups of items are shown satisfiable (each on its own), with few checks:
