@@ -9,19 +9,20 @@ from sqlalchemy.orm import Session as DbSession
 
 from ...approvals.bundle import BUNDLE_FORMAT
 from ...approvals.signer import LogSigner
-from ..campaigns import attached as attached_campaigns
 from ..log_gaps import LogEntriesMissing, approvals_without_entry, describe, missing_entries
 from ..tables import (
     Approval,
     Campaign,
+    CampaignAttachment,
     Checkpoint,
     LogEntry,
     MissionVersion,
     RehearsalRecord,
     SigningKey,
     Submission,
+    User,
 )
-from .common import _now_text, _username
+from .common import _now_text
 from .listing import Filters, approvals_query
 from .log import _checkpoint_now, _receipts, checkpoint_json, log_tree
 
@@ -47,22 +48,33 @@ def build_bundle(db: DbSession, *, signer: LogSigner,
     covered = latest.tree_size if latest is not None else 0
     rows = list(db.scalars(approvals_query(Filters(mission=mission)).order_by(None)
                            .order_by(Approval.id)))
+    # A few queries per 500 approvals, not several per approval.
     indexes: dict[int, int] = {}
+    submissions: dict[int, Submission] = {}
+    versions: dict[int, MissionVersion] = {}
+    cited_campaigns: set[str] = set()
     for start in range(0, len(rows), 500):
+        chunk = rows[start:start + 500]
         for event_id, index in db.execute(select(LogEntry.event_id, LogEntry.index).where(
-                LogEntry.event_id.in_([a.event_id for a in rows[start:start + 500]]))):
+                LogEntry.event_id.in_([a.event_id for a in chunk]))):
             indexes[event_id] = index
+        submission_ids = sorted({a.submission_id for a in chunk} - set(submissions))
+        submissions.update((s.id, s) for s in db.scalars(
+            select(Submission).where(Submission.id.in_(submission_ids))))
+        cited_campaigns.update(db.scalars(select(CampaignAttachment.digest).where(
+            CampaignAttachment.submission_id.in_(submission_ids))))
+        version_ids = sorted({a.version_id for a in chunk} - set(versions))
+        versions.update((v.id, v) for v in db.scalars(
+            select(MissionVersion).where(MissionVersion.id.in_(version_ids))))
     orders: dict[str, Any] = {}
     approvals = []
     cited: set[str] = set()
-    cited_campaigns: set[str] = set()
     for approval in rows:
         if approval.orders_digest not in orders:
-            orders[approval.orders_digest] = db.get_one(MissionVersion, approval.version_id).orders
-        submission = db.get_one(Submission, approval.submission_id)
+            orders[approval.orders_digest] = versions[approval.version_id].orders
+        submission = submissions[approval.submission_id]
         if submission.rehearsal_digest is not None:
             cited.add(submission.rehearsal_digest)
-        cited_campaigns.update(a.digest for a in attached_campaigns(db, submission.id))
         logged = indexes.get(approval.event_id)
         approvals.append({
             "id": approval.id, "mission": approval.mission_id, "decision": approval.decision,
@@ -71,10 +83,14 @@ def build_bundle(db: DbSession, *, signer: LogSigner,
                           "hashes": [h.hex() for h in tree.inclusion_proof(logged, covered)]
                           if not damaged and logged is not None and logged < covered else []},
         })
-    keys = [{"key_id": k.id, "public_key": k.public_key, "user": _username(db, k.user_id),
+    signing_keys = list(db.scalars(select(SigningKey).order_by(SigningKey.created_at)))
+    users: dict[int, str] = {user_id: name for user_id, name in db.execute(
+        select(User.id, User.username).where(User.id.in_({k.user_id for k in signing_keys})))}
+    keys = [{"key_id": k.id, "public_key": k.public_key,
+             "user": None if k.user_id is None else users.get(k.user_id, f"#{k.user_id}"),
              "created_at": k.created_at.isoformat(),
              "revoked_at": k.revoked_at.isoformat() if k.revoked_at else None}
-            for k in db.scalars(select(SigningKey).order_by(SigningKey.created_at))]
+            for k in signing_keys]
     bundle = {
         "format": BUNDLE_FORMAT,
         "created_at": _now_text(),
