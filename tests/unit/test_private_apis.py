@@ -98,3 +98,25 @@ def test_z3_raw_disjunction_and_model_reading_answer_like_the_wrapper() -> None:
     model = solver.model()
     assert z3_adapter.true_in_model(z3, ctx, model, [a, b, c]) == [
         z3.is_true(model.eval(x, model_completion=True)) for x in (a, b, c)] == [False, True, True]
+
+
+def test_z3_raw_bool_constant_is_the_wrappers_constant() -> None:
+    import gc
+
+    import z3
+
+    ctx = z3.Context()
+    ast, ident = z3_adapter.bool_constant(z3, ctx, "a:0")
+    same = z3.Bool("a:0", ctx)
+    assert ident == same.get_id() == z3.Z3_get_ast_id(ctx.ref(), ast)
+    solver = z3.Solver(ctx=ctx)
+    solver.push()
+    solver.from_string("(declare-const |a:0| Bool)(assert (not |a:0|))")
+    del same
+    solver.pop()
+    gc.collect()
+    # Still alive after the assertion that named it was popped and the wrapper dropped it.
+    assert z3_adapter.check_asts(z3, ctx, solver, [ast]) == "sat"
+    solver.from_string("(assert (not |a:0|))")  # the solver keeps what it declared
+    assert z3_adapter.check_asts(z3, ctx, solver, [ast]) == "unsat"
+    assert z3_adapter.unsat_core_ids(z3, ctx, solver) == {ident}

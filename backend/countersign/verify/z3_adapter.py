@@ -30,6 +30,18 @@ def check_asts(z3: Any, ctx: Any, solver: Any, asts: Sequence[Any]) -> Status:
     return "unknown"
 
 
+def bool_constant(z3: Any, ctx: Any, name: str) -> tuple[Any, int]:
+    """A Boolean constant's raw AST and its id. `z3.Bool` builds a sort, a symbol and a Python
+    expression each time, which costs more than a check when every goal brings new
+    indicators. The AST is held (one reference, never released) for the context's life, which
+    frees it: a pushed assertion that named it may be popped while the session still uses it."""
+    context = ctx.ref()
+    ast = z3.Z3_mk_const(context, z3.Z3_mk_string_symbol(context, name),
+                         z3.Z3_mk_bool_sort(context))
+    z3.Z3_inc_ref(context, ast)
+    return ast, z3.Z3_get_ast_id(context, ast)
+
+
 def unsat_core_ids(z3: Any, ctx: Any, solver: Any) -> set[int]:
     """The AST ids of the last unsatisfiable check's core, without a Python expression per
     literal (`solver.unsat_core()` builds one each)."""

@@ -14,7 +14,7 @@ from ..expressions import (
     Translator,
     number_words,
 )
-from ..z3_adapter import assert_any, check_asts, true_in_model, unsat_core_ids
+from ..z3_adapter import assert_any, bool_constant, check_asts, true_in_model, unsat_core_ids
 from .items import Item
 
 
@@ -131,8 +131,9 @@ class Session:
     def _ast(self, item: Item) -> Any:
         found = self._asts.get(item.key)
         if found is None:
-            self._literal(item)
-            found = self._asts[item.key]
+            found, self._ids[item.key] = bool_constant(
+                self.z3, self.ctx, self._indicators[item.key])
+            self._asts[item.key] = found
         return found
 
     def check(self, items: Sequence[Item]) -> CheckResult:
