@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import argparse
 import functools
-import gc
 import subprocess
 import sys
 import time
@@ -23,18 +22,10 @@ from countersign.verify.structure import check_structure
 
 from .baseline import TimeUp, naive_ndjson, naive_paths
 from .generated import layered_dag, random_dag
+from .timing import best_of
 
 REFERENCE = Path(__file__).resolve().parents[2].parent / "shared/reference/nps-ethical-control"
 
-
-def best_of(runs: int, action) -> float:  # type: ignore[no-untyped-def]
-    times = []
-    for _ in range(runs):
-        gc.collect()
-        start = time.perf_counter()
-        action()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def analyse_file(path: Path) -> None:

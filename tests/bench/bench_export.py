@@ -6,24 +6,11 @@ Run: .venv/bin/python -m tests.bench.bench_export
 
 from __future__ import annotations
 
-import gc
-import time
-from collections.abc import Callable
-
 from countersign.export.vehicle import export_vehicle
 from countersign.verify.structure import check_structure
 
 from .generated import random_dag
-
-
-def best_of(runs: int, action: Callable[[], object]) -> float:
-    times = []
-    for _ in range(runs):
-        gc.collect()
-        start = time.perf_counter()
-        action()
-        times.append(time.perf_counter() - start)
-    return min(times)
+from .timing import best_of
 
 
 def main() -> None:

@@ -11,7 +11,6 @@ API, every norm and property checked separately for every goal, cores shrunk by 
 from __future__ import annotations
 
 import argparse
-import gc
 import random
 import subprocess
 import sys
@@ -27,6 +26,7 @@ from countersign.verify.expressions import Expr, Logic, Not, fold, to_z3
 from countersign.verify.graph import build_graph
 from countersign.verify.logic import DEFAULT_TOTAL_S, LogicCache, LogicModel, check_logic
 from countersign.verify.properties import check_properties
+from tests.bench.timing import best_of
 
 TAGS = ["coastal", "shipping_lane", "marine_protected_area", "harbor_approach", "research_zone",
         "cable_area", "anchorage"]
@@ -233,15 +233,6 @@ def naive_all(orders: Orders) -> int:
 # ---------------------------------------------------------------------------------------------
 
 
-def timed(action: Callable[[], object], runs: int = 1) -> float:
-    best = float("inf")
-    for _ in range(runs):
-        gc.collect()
-        start = time.perf_counter()
-        action()
-        best = min(best, time.perf_counter() - start)
-    return best
-
 
 def verdict(seconds: float, limit: float) -> str:
     return "ok" if seconds < limit else "OVER"
@@ -272,12 +263,12 @@ def bench_exemplar() -> None:
     print("\n## Exemplar (search-and-sample): all logic checks")
     print(f"{'':<44} {'ours ms':>9} {'target':<16} {'naive ms':>10} {'ratio':>9}")
     orders = load_example("search-and-sample")
-    cold = timed(lambda: all_checks(orders, LogicCache()), runs=5)
-    naive = timed(lambda: naive_all(orders), runs=3)
+    cold = best_of(5, lambda: all_checks(orders, LogicCache()))
+    naive = best_of(3, lambda: naive_all(orders))
     row("cold (empty cache)", cold, 0.200, naive)
     cache = LogicCache()
     all_checks(orders, cache)
-    warm = timed(lambda: all_checks(load_example("search-and-sample"), cache), runs=10)
+    warm = best_of(10, lambda: all_checks(load_example("search-and-sample"), cache))
     row("nothing changed (new orders object, warm)", warm, 0.020, naive)
     print(f"(importing z3 in a fresh process: {import_time() * 1000:.0f} ms, once per process; "
           "logic.py imports it only when a check misses the cache)")
@@ -297,7 +288,7 @@ def bench_large(goals: int, constraints: int, norms: int) -> None:
         # The figures below then time a run that stopped early, not the whole check.
         print(f"WARNING: the default time budget ({DEFAULT_TOTAL_S:.0f} s) ran out: "
               f"{cut_short:,} goals undecided; the figures below are of a truncated run")
-    cold = timed(lambda: all_checks(orders, LogicCache()), runs=3)
+    cold = best_of(3, lambda: all_checks(orders, LogicCache()))
     start = time.perf_counter()
     naive_checker = Naive(orders)
     naive_checker.run()
@@ -313,7 +304,7 @@ def bench_large(goals: int, constraints: int, norms: int) -> None:
         times.append(time.perf_counter() - start)
     row("after a one-goal edit (best of 5 edits)", min(times), 0.150, naive)
     print(f"{'   (median of the 5 edits)':<44} {sorted(times)[2] * 1000:9.1f}")
-    warm = timed(lambda: all_checks(versions[-1], cache), runs=5)
+    warm = best_of(5, lambda: all_checks(versions[-1], cache))
     row("nothing changed (warm)", warm, None, naive)
     print(f"findings: {dict(sorted(counts.items()))}; naive baseline made "
           f"{naive_checker.checks:,} solver checks")

@@ -27,6 +27,7 @@ from countersign.verify import validate
 from countersign.verify.meo import meo_check
 from countersign.verify.meo.reasoning import infer, naive_closure
 from countersign.verify.meo.shapes import shacl_violations, validation_graph
+from tests.bench.timing import best_of
 
 REQUIREMENTS = ("transit", "area_search", "sample", "rendezvous")
 
@@ -82,15 +83,6 @@ def checked(orders: Orders) -> Orders:
         raise SystemExit(f"benchmark input {orders.id} is invalid: " + "; ".join(errors[:5]))
     return orders
 
-
-def best_of(runs: int, action: Callable[[], object]) -> float:
-    times = []
-    for _ in range(runs):
-        gc.collect()
-        start = time.perf_counter()
-        action()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def peak_mib(action: Callable[[], object]) -> float:

@@ -54,6 +54,7 @@ from countersign.verify.paths import iter_path_lines, paths_of
 from .baseline import naive_paths
 from .bench_logic import logic_orders
 from .generated import VEHICLE, checked, checked_structure, random_dag
+from .timing import best_of, cpu
 
 NAIVE_DFS_MAX_GOALS = 10_000
 
@@ -228,8 +229,8 @@ def bench_logic(quick: bool) -> None:
     orders = logic_orders(goals=goals, constraints=constraints, norms=20)
     if whole_logic(orders, True) != whole_logic(orders, False):
         raise SystemExit("batched findings differ from one check per constraint")
-    ours = min(timed(lambda: whole_logic(orders, True)) for _ in range(2))
-    naive = min(timed(lambda: whole_logic(orders, False)) for _ in range(2))
+    ours = best_of(2, lambda: whole_logic(orders, True))
+    naive = best_of(2, lambda: whole_logic(orders, False))
     row(f"check_logic, {goals:,} goals / {constraints:,} constraints", (ours, 0.0),
         (naive, 0.0), "one call each")
     goals, constraints = cases[1]
@@ -250,19 +251,6 @@ def bench_logic(quick: bool) -> None:
           flush=True)
 
 
-def cpu(action: Callable[[], object]) -> float:
-    """CPU seconds of one run (on a shared machine wall time also measures the load)."""
-    gc.collect()
-    start = time.process_time()
-    action()
-    return time.process_time() - start
-
-
-def timed(action: Callable[[], object]) -> float:
-    gc.collect()
-    start = time.perf_counter()
-    action()
-    return time.perf_counter() - start
 
 
 def bench_edit(quick: bool) -> None:

@@ -19,8 +19,8 @@ from rdflib import Graph
 
 from countersign.orders.reader import OrdersReadError
 from countersign.orders.turtle import read_turtle
-from tests.bench.bench_export import best_of
 from tests.bench.generated import shared_lists
+from tests.bench.timing import best_of
 
 RUNS = 5
 
