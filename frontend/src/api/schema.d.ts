@@ -1680,9 +1680,7 @@ export interface components {
              * @default {}
              */
             campaigns?: {
-                [key: string]: {
-                    [key: string]: unknown;
-                };
+                [key: string]: components["schemas"]["CampaignRecord"];
             };
             /** Checkpoints */
             checkpoints: components["schemas"]["CheckpointOut"][];
@@ -1703,9 +1701,7 @@ export interface components {
             receipts: (string | null)[];
             /** Rehearsals */
             rehearsals: {
-                [key: string]: {
-                    [key: string]: unknown;
-                };
+                [key: string]: components["schemas"]["RehearsalRecordOut"];
             };
             /** Scope */
             scope: string | null;
@@ -1732,16 +1728,26 @@ export interface components {
             /** Simulations */
             simulations: number;
         };
+        /** CampaignOrders */
+        CampaignOrders: {
+            /** Digest */
+            digest: string;
+            /** Id */
+            id: string;
+        };
         /** CampaignOut */
         CampaignOut: {
-            /** Created At */
-            created_at: unknown;
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
             /** Digest */
             digest: string | null;
             /** Done */
             done: number;
             /** Ended At */
-            ended_at: unknown;
+            ended_at: string | null;
             /** Error */
             error: string | null;
             /** Id */
@@ -1757,9 +1763,7 @@ export interface components {
             /** Simulations */
             simulations: number;
             /** Spec */
-            spec: {
-                [key: string]: unknown;
-            };
+            spec: components["schemas"]["CampaignSpecOut"];
             /** State */
             state: string;
             /** Version */
@@ -1777,6 +1781,21 @@ export interface components {
             };
             /** Orders Digest */
             orders_digest: string;
+        };
+        /**
+         * CampaignRecord
+         * @description A finished campaign's record (jobs/tasks.py, campaign_record): what an approval cites by
+         *     the digest of its RFC 8785 form.
+         */
+        CampaignRecord: {
+            /**
+             * Format
+             * @constant
+             */
+            format: "countersign.campaign/1";
+            orders: components["schemas"]["CampaignOrders"];
+            results: components["schemas"]["CampaignResults"];
+            spec: components["schemas"]["CampaignSpecOut"];
         };
         /** CampaignResults */
         CampaignResults: {
@@ -1798,6 +1817,23 @@ export interface components {
             terminals: {
                 [key: string]: components["schemas"]["Estimate"];
             };
+        };
+        /**
+         * CampaignSpecOut
+         * @description What a campaign simulates (campaigns/spec.py, CampaignSpec.to_json): the sweep is
+         *     faults x goals, and simulation i runs cell i mod cells with seed seed + i div cells.
+         */
+        CampaignSpecOut: {
+            /** Chunk */
+            chunk: number;
+            /** Faults */
+            faults: string[];
+            /** Goals */
+            goals: string[];
+            /** Seed */
+            seed: number;
+            /** Simulations */
+            simulations: number;
         };
         /**
          * Chart
@@ -1901,6 +1937,15 @@ export interface components {
             /** Size */
             size: number;
         };
+        /** Choice */
+        Choice: {
+            /** Goal */
+            goal: string;
+            /** Outcome */
+            outcome: string;
+            /** T */
+            t: number;
+        };
         /** CitedRehearsalOut */
         CitedRehearsalOut: {
             /** Created At */
@@ -1914,9 +1959,7 @@ export interface components {
             /** Owner */
             owner: string | null;
             /** Record */
-            record: {
-                [key: string]: unknown;
-            };
+            record: components["schemas"]["RehearsalRecordOut"];
             /** Replay */
             replay: string;
             /** Replay Digest */
@@ -2069,6 +2112,19 @@ export interface components {
             count: number;
             /** Path */
             path: number;
+        };
+        /** CurrentGoal */
+        CurrentGoal: {
+            /** Area */
+            area: string | null;
+            /** Behavior */
+            behavior: string | null;
+            /** Id */
+            id: string;
+            /** Progress */
+            progress: number;
+            /** Title */
+            title: string;
         };
         /** DecisionIn */
         DecisionIn: {
@@ -2340,6 +2396,21 @@ export interface components {
             /** Fault */
             fault: string;
         };
+        /**
+         * FaultNotice
+         * @description What injecting a fault did: applied at once, or queued while a goal waits.
+         */
+        FaultNotice: {
+            /** Fault */
+            fault: string;
+            /**
+             * State
+             * @enum {string}
+             */
+            state: "queued" | "applied";
+            /** Text */
+            text: string;
+        };
         /** Feature */
         Feature: {
             /** Fulfills */
@@ -2372,6 +2443,19 @@ export interface components {
             severity: string;
             /** Subjects */
             subjects: string[];
+        };
+        /** FlownLeg */
+        FlownLeg: {
+            /** From */
+            from: string;
+            /** Length M */
+            length_m: number;
+            /** Outcome */
+            outcome: string;
+            /** Planned M */
+            planned_m: number;
+            /** To */
+            to: string;
         };
         /** Goal */
         Goal: {
@@ -2420,6 +2504,13 @@ export interface components {
             violate: components["schemas"]["Estimate"];
             /** Visits */
             visits: number;
+        };
+        /** GoalOutcome */
+        GoalOutcome: {
+            /** Goal */
+            goal: string;
+            /** Outcome */
+            outcome: string;
         };
         /** HTTPValidationError */
         HTTPValidationError: {
@@ -3176,8 +3267,11 @@ export interface components {
         };
         /** RecordDetail */
         RecordDetail: {
-            /** Created At */
-            created_at: unknown;
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
             /** Digest */
             digest: string;
             /** Mission */
@@ -3187,9 +3281,7 @@ export interface components {
             /** Owner */
             owner: string | null;
             /** Record */
-            record: {
-                [key: string]: unknown;
-            };
+            record: components["schemas"]["RehearsalRecordOut"];
             /** Replay */
             replay: string;
             /** Replay Digest */
@@ -3198,6 +3290,15 @@ export interface components {
             source: string;
             /** Version */
             version: number | null;
+        };
+        /** RecordEnergy */
+        RecordEnergy: {
+            /** Capacity Wh */
+            capacity_wh: number;
+            /** Remaining Wh */
+            remaining_wh: number;
+            /** Used Wh */
+            used_wh: number;
         };
         /** RecordExecutionsOut */
         RecordExecutionsOut: {
@@ -3211,10 +3312,38 @@ export interface components {
              */
             rehearsal: components["schemas"]["RehearsalRunOut"][] | null;
         };
+        /** RecordInputs */
+        RecordInputs: {
+            /** Choices */
+            choices: components["schemas"]["Choice"][];
+            /** Faults */
+            faults: string[];
+        };
+        /** RecordOptions */
+        RecordOptions: {
+            /** Faults */
+            faults: string[];
+            /** Path Index */
+            path_index: number | null;
+            /** Seed */
+            seed: number;
+            /** Source */
+            source: string;
+        };
+        /** RecordOrders */
+        RecordOrders: {
+            /** Digest */
+            digest: string;
+            /** Id */
+            id: string;
+        };
         /** RecordOut */
         RecordOut: {
-            /** Created At */
-            created_at: unknown;
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
             /** Digest */
             digest: string;
             /** Mission */
@@ -3231,6 +3360,31 @@ export interface components {
             source: string;
             /** Version */
             version: number | null;
+        };
+        /** RecordRun */
+        RecordRun: {
+            /** Goals */
+            goals: string[];
+            /** Outcomes */
+            outcomes: string[];
+            /** Path Index */
+            path_index: number | null;
+            /** Terminal */
+            terminal: string | null;
+            /** Terminal Kind */
+            terminal_kind: string | null;
+        };
+        /** RecordWorld */
+        RecordWorld: {
+            /** Contacts */
+            contacts: number;
+            /** Generated Lane */
+            generated_lane: boolean;
+            /** Recovery */
+            recovery: [
+                number,
+                number
+            ];
         };
         /** RecordedExecutionOut */
         RecordedExecutionOut: {
@@ -3301,13 +3455,66 @@ export interface components {
             /** Source */
             source: string;
             /** Status */
-            status: {
-                [key: string]: unknown;
-            };
+            status: components["schemas"]["RehearsalStatus"];
             /** Version */
             version: number | null;
             /** Viewer */
             viewer: string;
+        };
+        /**
+         * RehearsalRecordOut
+         * @description A rehearsal record: what the rehearsal determined, and nothing that would change its
+         *     digest between two runs of the same orders, seed and inputs.
+         */
+        RehearsalRecordOut: {
+            energy: components["schemas"]["RecordEnergy"];
+            /** Events */
+            events: components["schemas"]["SimEvent"][];
+            /** Events Dropped */
+            events_dropped: number;
+            /**
+             * Format
+             * @constant
+             */
+            format: "countersign.rehearsal/1";
+            /** Goals */
+            goals: string[];
+            inputs: components["schemas"]["RecordInputs"];
+            /**
+             * Legs Flown
+             * @default []
+             */
+            legs_flown?: components["schemas"]["FlownLeg"][];
+            options: components["schemas"]["RecordOptions"];
+            orders: components["schemas"]["RecordOrders"];
+            /** Outcomes */
+            outcomes: string[];
+            /** Rule Firings */
+            rule_firings: {
+                [key: string]: number;
+            };
+            /** Rules */
+            rules: boolean;
+            /** Runs */
+            runs: components["schemas"]["RecordRun"][];
+            /** Seed */
+            seed: number;
+            /** Sim Time S */
+            sim_time_s: number;
+            /**
+             * State
+             * @enum {string}
+             */
+            state: "finished" | "stopped_early";
+            /** Steps */
+            steps: number;
+            /** Terminal */
+            terminal: string | null;
+            /** Terminal Kind */
+            terminal_kind: string | null;
+            /** Unmonitored Constraints */
+            unmonitored_constraints: string[];
+            world: components["schemas"]["RecordWorld"];
         };
         /** RehearsalRunOut */
         RehearsalRunOut: {
@@ -3317,6 +3524,67 @@ export interface components {
              */
             claimed_path: number | null;
             verdict: components["schemas"]["ExecutionOut"];
+        };
+        /** RehearsalStatus */
+        RehearsalStatus: {
+            /** Capacity Wh */
+            capacity_wh: number;
+            current_goal: components["schemas"]["CurrentGoal"] | null;
+            /** Energy Used Wh */
+            energy_used_wh: number;
+            /** Energy Wh */
+            energy_wh: number;
+            /** Events */
+            events: components["schemas"]["SimEvent"][];
+            fault_notice: components["schemas"]["FaultNotice"] | null;
+            /** Faults */
+            faults: string[];
+            /** First Question Frame */
+            first_question_frame: number | null;
+            /** Frames */
+            frames: number;
+            /** Id */
+            id: string;
+            /** Outcomes */
+            outcomes: components["schemas"]["GoalOutcome"][];
+            /**
+             * Pace
+             * @enum {string}
+             */
+            pace: "auto" | "fixed";
+            /** Path Index */
+            path_index: number | null;
+            /** Port */
+            port: number;
+            /** Question */
+            question?: string | null;
+            /** Queued Faults */
+            queued_faults: string[];
+            /** Run */
+            run: number;
+            /** Seed */
+            seed: number;
+            /** Sim Time S */
+            sim_time_s: number;
+            /** Skipping */
+            skipping: boolean;
+            /**
+             * Source
+             * @enum {string}
+             */
+            source: "manual" | "replay" | "tour" | "simulate";
+            /** Speed */
+            speed: number | null;
+            /**
+             * State
+             * @enum {string}
+             */
+            state: "running" | "waiting_for_outcome" | "finished" | "stopped";
+            /** Step */
+            step: number;
+            suggested?: components["schemas"]["Suggestion"] | null;
+            /** Terminal */
+            terminal: string | null;
         };
         /**
          * ReportOut
@@ -3443,6 +3711,24 @@ export interface components {
             csrf_token: string | null;
             user: components["schemas"]["UserOut"];
         };
+        /**
+         * SimEvent
+         * @description One event of the simulation at simulated second `t`; `data` depends on its kind.
+         */
+        SimEvent: {
+            /** Data */
+            data?: {
+                [key: string]: unknown;
+            } | null;
+            /** Goal */
+            goal?: string | null;
+            /** Kind */
+            kind: string;
+            /** T */
+            t: number;
+            /** Text */
+            text: string;
+        };
         /** StandingOut */
         StandingOut: {
             approved: components["schemas"]["countersign__web__routes__standing__DecisionOut"] | null;
@@ -3540,6 +3826,13 @@ export interface components {
              * @description digest of a stored rehearsal record of this exact version, cited by the approval statement
              */
             rehearsal?: string | null;
+        };
+        /** Suggestion */
+        Suggestion: {
+            /** Because */
+            because: string;
+            /** Outcome */
+            outcome: string;
         };
         /** Terminal */
         Terminal: {

@@ -10,6 +10,8 @@ from typing import Annotated, Any
 
 from pydantic import BaseModel, Field
 
+from .campaign_schemas import CampaignRecordJson
+from .rehearsal_schemas import RehearsalRecordJson
 from .schemas import FindingOut, OrdersJson, PathCountsOut, SchemaOf
 
 
@@ -187,7 +189,7 @@ class CitedRehearsalOut(BaseModel):
     created_at: str
     replay_digest: str
     replay: str
-    record: dict[str, Any]
+    record: RehearsalRecordJson
 
 
 class ApprovalDetailOut(ApprovalOut):
@@ -250,5 +252,5 @@ class BundleOut(BaseModel):
     keys: list[BundleKeyOut]
     orders: dict[str, OrdersJson]
     approvals: list[BundleApprovalOut]
-    rehearsals: dict[str, dict[str, Any]]
-    campaigns: dict[str, dict[str, Any]] = {}
+    rehearsals: dict[str, RehearsalRecordJson]
+    campaigns: dict[str, CampaignRecordJson] = {}

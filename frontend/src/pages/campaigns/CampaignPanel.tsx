@@ -151,7 +151,7 @@ function CampaignRow({ campaign: c, onChange, onShow }: { campaign: Campaign; on
       setError(e);
     }
   };
-  const spec = c.spec as { faults?: string[]; goals?: string[]; seed?: number };
+  const spec = c.spec;
   return (
     <tr>
       <td>
@@ -159,7 +159,7 @@ function CampaignRow({ campaign: c, onChange, onShow }: { campaign: Campaign; on
       </td>
       <td>v{c.version}</td>
       <td>
-        {(spec.faults ?? []).join(", ")} at {(spec.goals ?? []).join(", ")}; seeds from {spec.seed ?? 0}
+        {spec.faults.join(", ")} at {spec.goals.join(", ")}; seeds from {spec.seed}
       </td>
       <td>
         <progress max={c.simulations} value={c.done} aria-label={`Campaign ${c.id} progress`} /> {c.done} / {c.simulations}
