@@ -24,6 +24,7 @@ def assert_described(model: type[BaseModel] | Any, value: Any) -> None:
     adapter: TypeAdapter[Any] = TypeAdapter(model)
     again = adapter.dump_python(adapter.validate_python(value), mode="json", by_alias=True,
                                  exclude_unset=True)
-    assert _text(again) == _text(value), f"{getattr(model, '__name__', model)} does not " \
-        f"describe the value exactly:\n  described {_text(again)[:2000]}\n  value     " \
-        f"{_text(value)[:2000]}"
+    name = model.__name__ if isinstance(model, type) else str(model)
+    assert _text(again) == _text(value), (
+        f"{name} does not describe the value exactly:\n  described {_text(again)[:2000]}\n"
+        f"  value     {_text(value)[:2000]}")

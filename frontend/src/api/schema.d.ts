@@ -2199,13 +2199,9 @@ export interface components {
         /** DraftIn */
         DraftIn: {
             /** Layout */
-            layout?: {
-                [key: string]: unknown;
-            } | null;
+            layout?: components["schemas"]["Layout"] | null;
             /** Orders */
-            orders: {
-                [key: string]: unknown;
-            };
+            orders: components["schemas"]["Orders"];
         };
         /** EnergySummary */
         EnergySummary: {
@@ -2585,6 +2581,13 @@ export interface components {
              */
             reason?: string;
         };
+        /**
+         * Layout
+         * @description The graph editor's node positions, by node id: editor data kept beside the orders.
+         */
+        Layout: {
+            [key: string]: components["schemas"]["LayoutPoint"];
+        };
         /** LayoutIn */
         LayoutIn: {
             /** Layout */
@@ -2595,9 +2598,14 @@ export interface components {
         /** LayoutOut */
         LayoutOut: {
             /** Layout */
-            layout: {
-                [key: string]: unknown;
-            };
+            layout: components["schemas"]["Layout"];
+        };
+        /** LayoutPoint */
+        LayoutPoint: {
+            /** X */
+            x: number;
+            /** Y */
+            y: number;
         };
         /** LogEntryOut */
         LogEntryOut: {
@@ -2640,15 +2648,11 @@ export interface components {
              * Import Findings
              * @default []
              */
-            import_findings?: {
-                [key: string]: unknown;
-            }[];
+            import_findings?: components["schemas"]["FindingOut"][];
             /** Latest Version */
             latest_version: number | null;
             /** Layout */
-            layout: {
-                [key: string]: unknown;
-            };
+            layout: components["schemas"]["Layout"];
             /** Ok */
             ok: boolean | null;
             /** Orders */
@@ -3259,9 +3263,7 @@ export interface components {
              * Findings
              * @default []
              */
-            findings?: {
-                [key: string]: unknown;
-            }[];
+            findings?: components["schemas"]["FindingOut"][];
             /** Orders */
             orders: components["schemas"]["Orders"];
         };

@@ -27,7 +27,7 @@ export interface Point {
   y: number;
 }
 /** The draft's `layout`: node id -> position (editor-only, outside the orders). */
-export type Layout = Record<string, Point>;
+export type Layout = Schemas["Layout"];
 
 export const DEFAULT_TERMINALS: TerminalSpec[] = [
   { id: "COMPLETE", kind: "complete", title: "Mission complete" },

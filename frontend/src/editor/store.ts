@@ -81,7 +81,7 @@ export interface EditorState {
 }
 
 function openedDraft(mission: MissionDetail): Draft {
-  const opened = { orders: mission.orders as Orders, layout: (mission.layout ?? {}) as Layout };
+  const opened = { orders: mission.orders as Orders, layout: mission.layout };
   // A draft without positions is laid out at once (the layered layout is linear time), so that
   // the canvas never renders it unplaced and opening waits for nothing.
   if (goals(opened.orders).length > 0 && !isLaidOut(opened)) {
@@ -109,7 +109,7 @@ export function createEditorStore(mission: MissionDetail): StoreApi<EditorState>
     history: createHistory(draft),
     revision: mission.revision,
     base: mission.orders as Orders,
-    savedLayout: (mission.layout ?? {}) as Layout,
+    savedLayout: mission.layout,
     savedRevision: mission.revision,
     saveState: "saved",
     saveError: null,

@@ -62,7 +62,7 @@ export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDeta
   const adoptMerged = useCallback(
     (theirs: MissionDetail, orders: Orders) => {
       const { setHistory, set } = store.getState();
-      setHistory((h) => push(h, { orders, layout: { ...((theirs.layout ?? {}) as Layout), ...h.present.layout } }));
+      setHistory((h) => push(h, { orders, layout: { ...theirs.layout, ...h.present.layout } }));
       set({ revision: theirs.revision, base: theirs.orders as Orders, conflict: null, saveState: "pending" });
       void check(orders);
     },
@@ -147,7 +147,7 @@ export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDeta
     [edit],
   );
 
-  const opened = useRef((mission.layout ?? {}) as Layout);
+  const opened = useRef(mission.layout);
   const saveComputedLayout = useCallback(
     (layout: Layout) => {
       if (inConflict() || Object.keys(layout).every((id) => opened.current[id])) return;
@@ -160,13 +160,13 @@ export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDeta
   const reloadTheirs = useCallback(() => {
     const { conflict, set, setHistory } = store.getState();
     if (!conflict) return;
-    setHistory(reset({ orders: conflict.theirs.orders as Orders, layout: (conflict.theirs.layout ?? {}) as Layout }));
+    setHistory(reset({ orders: conflict.theirs.orders as Orders, layout: conflict.theirs.layout }));
     set({
       revision: conflict.theirs.revision,
       savedRevision: conflict.theirs.revision,
       lastChecked: conflict.theirs.orders as Orders,
       base: conflict.theirs.orders as Orders,
-      savedLayout: (conflict.theirs.layout ?? {}) as Layout,
+      savedLayout: conflict.theirs.layout,
       conflict: null,
       saveState: "saved",
       notice: "Reloaded the draft someone else saved.",

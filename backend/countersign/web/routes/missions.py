@@ -43,6 +43,8 @@ from ..deps import (
 )
 from ..fair import with_limit
 from .schemas import (
+    FindingJson,
+    LayoutJson,
     MissionDetail,
     MissionPage,
     MissionPathOut,
@@ -62,8 +64,8 @@ MAX_PATH_PAGE = 1000
 
 
 class DraftIn(RequestBody):
-    orders: dict[str, Any]
-    layout: dict[str, Any] | None = None
+    orders: OrdersJson
+    layout: LayoutJson | None = None
 
 
 class Position(RequestBody):
@@ -77,7 +79,7 @@ class LayoutIn(RequestBody):
 
 
 class LayoutOut(BaseModel):
-    layout: dict[str, Any]
+    layout: LayoutJson
 
 
 def _orders(data: dict[str, Any]) -> Orders:
@@ -236,7 +238,7 @@ class ReadOrdersOut(BaseModel):
     """Orders read from a file without storing anything, with what reading them found."""
 
     orders: OrdersJson
-    findings: list[dict[str, Any]] = []
+    findings: list[FindingJson] = []
 
 
 @router.post("/read", operation_id="readOrders", response_model=ReadOrdersOut,

@@ -5,7 +5,14 @@ from __future__ import annotations
 from datetime import datetime
 from typing import Annotated, Any
 
-from pydantic import BaseModel, ConfigDict, Field, GetCoreSchemaHandler, GetJsonSchemaHandler
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    GetCoreSchemaHandler,
+    GetJsonSchemaHandler,
+    RootModel,
+)
 from pydantic.json_schema import JsonSchemaValue
 from pydantic_core import CoreSchema
 from pydantic_core import core_schema as cs
@@ -78,6 +85,22 @@ class FindingOut(BaseModel):
     details: dict[str, Any] | None = None
 
 
+# A finding as its check wrote it (orders/findings.py, Finding.to_json): `details` only when set.
+FindingJson = Annotated[dict[str, Any], SchemaOf(FindingOut)]
+
+
+class LayoutPoint(BaseModel):
+    x: Number
+    y: Number
+
+
+class Layout(RootModel[dict[str, LayoutPoint]]):
+    """The graph editor's node positions, by node id: editor data kept beside the orders."""
+
+
+LayoutJson = Annotated[dict[str, Any], SchemaOf(Layout)]
+
+
 class PathCountsOut(BaseModel):
     count: int
     by_terminal: dict[str, int]
@@ -143,9 +166,9 @@ class MissionSummary(BaseModel):
 
 class MissionDetail(MissionSummary):
     orders: OrdersJson
-    layout: dict[str, Any]
+    layout: LayoutJson
     versions: list[VersionOut]
-    import_findings: list[dict[str, Any]] = []
+    import_findings: list[FindingJson] = []
 
 
 class MissionPage(BaseModel):
