@@ -4022,9 +4022,7 @@ export interface components {
             /** Number */
             number: number;
             /** Profile */
-            profile: {
-                [key: string]: unknown;
-            };
+            profile: components["schemas"]["Vehicle"];
             /**
              * Saved At
              * Format: date-time

@@ -54,7 +54,7 @@ export function ApprovalPage({ id }: { id: number }) {
         <StateBadge state={record.decision} />
       </div>
       <IntegrityWarning problems={record.integrity} />
-      <ProfileDrift orders={record.orders as Record<string, unknown>} approved={record.decision === "approved"} />
+      <ProfileDrift orders={record.orders} approved={record.decision === "approved"} />
       <dl className="facts">
         <div>
           <dt>Supervisor</dt>
