@@ -1623,6 +1623,16 @@ export interface components {
             /** Submission */
             submission: number;
         };
+        /**
+         * BoundOut
+         * @description A probability or an expectation as [min, max] (equal when the orders pin it down).
+         */
+        BoundOut: {
+            /** Max */
+            max: number;
+            /** Min */
+            min: number;
+        };
         /** Budget */
         Budget: {
             /** Duration S */
@@ -2366,6 +2376,19 @@ export interface components {
             terminal: string | null;
             /** Usage */
             usage?: components["schemas"]["UsageOut"][];
+        };
+        /** ExpectationOut */
+        ExpectationOut: {
+            /** Max */
+            max: number;
+            /** Min */
+            min: number;
+            /** Quantiles */
+            quantiles: {
+                [key: string]: number;
+            } | null;
+            /** Unknown Cost */
+            unknown_cost: string[];
         };
         /** ExportFileOut */
         ExportFileOut: {
@@ -3194,6 +3217,29 @@ export interface components {
             /** Version */
             version: number;
         };
+        /**
+         * ProbabilitiesOut
+         * @description Outcome probabilities (verify/probability.py, Probabilities.to_json): terminals, some
+         *     violation, expected costs; `unknown` goals have no probabilities, `intervals` goals only
+         *     intervals, and `exact` is neither.
+         */
+        ProbabilitiesOut: {
+            /** Exact */
+            exact: boolean;
+            /** Expected */
+            expected: {
+                [key: string]: components["schemas"]["ExpectationOut"];
+            };
+            /** Intervals */
+            intervals: string[];
+            /** Terminals */
+            terminals: {
+                [key: string]: components["schemas"]["BoundOut"];
+            };
+            /** Unknown */
+            unknown: string[];
+            violation: components["schemas"]["BoundOut"];
+        };
         /** ProblemFromMission */
         ProblemFromMission: {
             /** Areas */
@@ -3606,6 +3652,8 @@ export interface components {
             /** Ok */
             ok: boolean;
             paths: components["schemas"]["PathCountsOut"] | null;
+            /** @description only for orders that declare probabilities */
+            probabilities?: components["schemas"]["ProbabilitiesOut"] | null;
         };
         /**
          * ReviewOut
@@ -3640,9 +3688,7 @@ export interface components {
              * Probabilities
              * @description outcome probabilities (issue 20): terminals, violation, expected energy and time, min/max where probabilities are intervals or missing; absent when the orders declare none
              */
-            probabilities?: {
-                [key: string]: unknown;
-            } | null;
+            probabilities?: components["schemas"]["ProbabilitiesOut"] | null;
             /**
              * Rules
              * @description the contingency rules, one plain-language sentence each (empty when none or unreadable)

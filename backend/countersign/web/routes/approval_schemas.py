@@ -12,7 +12,7 @@ from pydantic import BaseModel, Field
 
 from .campaign_schemas import CampaignRecordJson
 from .rehearsal_schemas import RehearsalRecordJson
-from .schemas import FindingOut, OrdersJson, PathCountsOut, SchemaOf
+from .schemas import FindingOut, OrdersJson, PathCountsOut, ProbabilitiesJson, SchemaOf
 
 
 class KeyOut(BaseModel):
@@ -95,7 +95,7 @@ class ReviewOut(BaseModel):
     ok: bool
     findings: list[FindingOut]
     paths: PathCountsOut | None
-    probabilities: dict[str, Any] | None = Field(
+    probabilities: ProbabilitiesJson | None = Field(
         default=None, description="outcome probabilities (issue 20): terminals, violation, "
         "expected energy and time, min/max where probabilities are intervals or missing; "
         "absent when the orders declare none")

@@ -120,6 +120,34 @@ class WorstCostOut(BaseModel):
     estimated_cost: list[str] = []
 
 
+class BoundOut(BaseModel):
+    """A probability or an expectation as [min, max] (equal when the orders pin it down)."""
+
+    min: Number
+    max: Number
+
+
+class ExpectationOut(BoundOut):
+    quantiles: dict[str, Number] | None
+    unknown_cost: list[str]
+
+
+class ProbabilitiesOut(BaseModel):
+    """Outcome probabilities (verify/probability.py, Probabilities.to_json): terminals, some
+    violation, expected costs; `unknown` goals have no probabilities, `intervals` goals only
+    intervals, and `exact` is neither."""
+
+    exact: bool
+    terminals: dict[str, BoundOut]
+    violation: BoundOut
+    expected: dict[str, ExpectationOut]
+    unknown: list[str]
+    intervals: list[str]
+
+
+ProbabilitiesJson = Annotated[dict[str, Any], SchemaOf(ProbabilitiesOut)]
+
+
 class ReportOut(BaseModel):
     """The validation report: every check that exists (docs/api.md, Reports)."""
 
@@ -129,6 +157,8 @@ class ReportOut(BaseModel):
     findings: list[FindingOut]
     paths: PathCountsOut | None
     costs: dict[str, WorstCostOut] | None = None
+    probabilities: ProbabilitiesOut | None = Field(default=None, description=(
+        "only for orders that declare probabilities"))
 
 
 class MissionPathOut(BaseModel):

@@ -4,7 +4,6 @@
  * signed in this browser with the supervisor's non-extractable key.
  */
 import { ProbabilityTable } from "./Probabilities";
-import type { OutcomeFigures } from "./probabilities";
 import { useEffect, useMemo, useState } from "react";
 
 import { api, unwrap } from "../../api/client";
@@ -112,7 +111,7 @@ export function ReviewPage({ mission, version }: { mission: string; version: num
       <PathSummaryTable paths={review.paths} />
       {review.paths && <ReviewPaths mission={mission} version={version} orders={review.orders} total={review.paths.count} />}
       {/* The report field is an open object in the API; its shape is verify/probability.py. */}
-      <ProbabilityTable figures={review.probabilities as OutcomeFigures | null | undefined} />
+      <ProbabilityTable figures={review.probabilities} />
 
       <CitedEvidence rehearsal={current?.rehearsal} cited={cited} />
 
