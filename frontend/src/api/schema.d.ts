@@ -1876,6 +1876,21 @@ export interface components {
         } & {
             [key: string]: unknown;
         };
+        /**
+         * ChartFeature
+         * @description A chart as a GeoJSON Feature (orders/geo_formats.py, areas_to_geojson).
+         */
+        ChartFeature: {
+            geometry: components["schemas"]["PolygonGeometry"];
+            /** Id */
+            id: string;
+            properties: components["schemas"]["ChartProperties"];
+            /**
+             * Type
+             * @constant
+             */
+            type: "Feature";
+        };
         /** ChartImport */
         ChartImport: {
             /** Content */
@@ -1904,15 +1919,24 @@ export interface components {
         } & {
             [key: string]: unknown;
         };
+        /** ChartProperties */
+        ChartProperties: {
+            /** Contexts */
+            contexts: string[];
+            /** Kind */
+            kind: string;
+            /** Norms */
+            norms: components["schemas"]["ChartNorm"][];
+            /** Title */
+            title: string;
+        };
         /**
          * ChartsGeoJsonOut
          * @description The registry as one GeoJSON FeatureCollection (RFC 7946), a Polygon feature per chart.
          */
         ChartsGeoJsonOut: {
             /** Features */
-            features: {
-                [key: string]: unknown;
-            }[];
+            features: components["schemas"]["ChartFeature"][];
             /**
              * Type
              * @constant
@@ -3179,6 +3203,22 @@ export interface components {
             legs: components["schemas"]["PlanLegOut"][];
             /** Places */
             places: components["schemas"]["PlanPlaceOut"][];
+        };
+        /**
+         * PolygonGeometry
+         * @description A GeoJSON Polygon: rings of [longitude, latitude], each closed (last point = first).
+         */
+        PolygonGeometry: {
+            /** Coordinates */
+            coordinates: [
+                number,
+                number
+            ][][];
+            /**
+             * Type
+             * @constant
+             */
+            type: "Polygon";
         };
         /** Position */
         Position: {
