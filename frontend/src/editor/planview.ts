@@ -3,6 +3,7 @@
  * cos(latitude) so shapes keep their proportions; no map tiles) and back, plus the local metre
  * frame of the planning problem (centred on the start, as the server builds it).
  */
+import { numberPair } from "../api/pair";
 import type { LatLon } from "./model";
 
 export const EARTH_RADIUS_M = 6_371_000;
@@ -64,11 +65,11 @@ export function round6(n: number): number {
 }
 
 /** Local metres (centred on `origin`, as countersign.plan/1 problems built from orders) -> lat/lon.
- * `point` is (east, north); an answer's pair reads as an array (openapi-fetch's `Readable`), and a
- * missing coordinate gives NaN, which draws nothing, rather than a point at the origin. */
+ * `point` is (east, north), as an answer reads it (numberPair: a missing coordinate gives NaN,
+ * which draws nothing, rather than a point at the origin). */
 export function fromMetres(origin: LatLon, point: readonly number[]): LatLon {
   const [lat0, lon0] = origin;
-  const [east = NaN, north = NaN] = point;
+  const [east, north] = numberPair(point);
   const cos = Math.cos((lat0 * Math.PI) / 180);
   const lat = lat0 + ((north / EARTH_RADIUS_M) * 180) / Math.PI;
   const lon = lon0 + ((east / (EARTH_RADIUS_M * cos)) * 180) / Math.PI;

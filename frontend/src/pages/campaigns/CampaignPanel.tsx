@@ -8,6 +8,7 @@
 import { useEffect, useState } from "react";
 
 import { api, type Schema, unwrap } from "../../api/client";
+import { numberPair } from "../../api/pair";
 import { ErrorMessage, Notice } from "../../components/Status";
 import { useCan, useSession } from "../../session";
 import { useLoad } from "../../useLoad";
@@ -185,10 +186,11 @@ function CampaignRow({ campaign: c, onChange, onShow }: { campaign: Campaign; on
   );
 }
 
-const percent = (x: number | null) => (x === null ? "—" : `${(100 * x).toFixed(1)}%`);
+/** A proportion as a percentage; "—" when there is none (no estimate, or a bound missing). */
+export const percent = (x: number | null) => (x === null || !Number.isFinite(x) ? "—" : `${(100 * x).toFixed(1)}%`);
 
 function EstimateCells({ e }: { e: Estimate }) {
-  const [low = NaN, high = NaN] = e.ci; // a pair, read as an array (openapi-fetch's Readable)
+  const [low, high] = numberPair(e.ci);
   return (
     <>
       <td>{percent(e.p)}</td>
