@@ -195,7 +195,7 @@ def list_missions(
 
 @router.post("/missions", operation_id="createMission", status_code=201,
              response_model=MissionDetail, **with_limit(allow(*OPERATORS), None))
-def create_mission(body: dict[str, Any], response: Response, principal: CurrentPrincipal,
+def create_mission(body: OrdersJson, response: Response, principal: CurrentPrincipal,
                    db: Db) -> MissionDetail:
     orders = with_registry(db, _orders(body))
     validated = _validate_first(db, orders)
@@ -353,9 +353,9 @@ def get_report(mission_id: str, db: Db) -> Response:
 
 
 VALIDATE_ROUTE = allow(*EVERYONE)
+# The body is read raw (the same bytes again skip parsing), so its schema is stated here.
 VALIDATE_ROUTE["openapi_extra"]["requestBody"] = {"required": True, "content": {
-    "application/json": {"schema": {"type": "object", "additionalProperties": True,
-                                    "title": "Body"}}}}
+    "application/json": {"schema": {"$ref": "#/components/schemas/Orders"}}}}
 VALIDATE_ROUTE["responses"] = {422: {"description": "Validation Error", "content": {
     "application/json": {"schema": {"$ref": "#/components/schemas/HTTPValidationError"}}}}}
 
