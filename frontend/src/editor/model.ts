@@ -7,25 +7,16 @@
  * a text or number removes the key. Feature `fulfills`/`measures` are the one exception (they
  * are always lists, as the exemplar writes them).
  */
+import type { components } from "../api/schema";
 import { type GoalSpec, goals, type Layout, type Orders, OUTCOMES, type Point, successors, terminals } from "./graph";
 
 export type LatLon = [number, number];
 
-export interface AreaSpec {
-  id: string;
-  title?: string;
-  polygon?: LatLon[];
-  contexts?: string[];
-  [key: string]: unknown;
-}
-export interface QuantitySpec {
-  unit?: string;
-  type?: "real" | "integer" | "boolean";
-  min?: number;
-  max?: number;
-  title?: string;
-  [key: string]: unknown;
-}
+// The orders' parts as the server's model declares them (generated from OpenAPI); features
+// and norms below are as the editor writes them, which the server's types do not quite say.
+type Schemas = components["schemas"];
+export type AreaSpec = Schemas["Area"];
+export type QuantitySpec = Schemas["Quantity"];
 export interface FeatureSpec {
   id: string;
   title?: string;
@@ -116,7 +107,7 @@ export function parseParams(text: string): { params?: Record<string, unknown>; e
 // ---- Areas ----
 
 export function areas(orders: Orders): AreaSpec[] {
-  return (orders.areas as AreaSpec[] | undefined) ?? [];
+  return orders.areas ?? [];
 }
 export function freeId(taken: Iterable<string>, prefix: string): string {
   const used = new Set(taken);
@@ -176,7 +167,7 @@ function centreOf(orders: Orders): LatLon | null {
 // ---- Quantities ----
 
 export function quantities(orders: Orders): Record<string, QuantitySpec> {
-  return (orders.quantities as Record<string, QuantitySpec> | undefined) ?? {};
+  return orders.quantities ?? {};
 }
 export function addQuantity(orders: Orders, name: string): { orders: Orders; error?: string } {
   if (!/^[A-Za-z_][A-Za-z0-9_]*$/.test(name)) return { orders, error: "A quantity name is letters, digits and _, e.g. depth_m." };

@@ -77,12 +77,12 @@ export function MissionPanel({ orders, editOrders }: { orders: Orders; editOrder
       <textarea
         id="mission-description"
         rows={3}
-        value={(orders.description as string | undefined) ?? ""}
+        value={orders.description ?? ""}
         onChange={(e) => editOrders((o) => updateMission(o, { description: e.target.value }), "mission:description")}
       />
       <VehiclePicker
-        value={(orders.vehicle as string | null | undefined) ?? ""}
-        carried={(orders.vehicles as { id: string; title?: string }[] | undefined) ?? []}
+        value={orders.vehicle ?? ""}
+        carried={orders.vehicles ?? []}
         onChange={(vehicle) => editOrders((o) => updateMission(o, { vehicle }))}
       />
     </fieldset>
