@@ -2172,6 +2172,50 @@ export interface components {
              */
             reason?: string;
         };
+        /** DecisionOut */
+        DecisionOut: {
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
+            /** Decision */
+            decision: string;
+            /** Digest */
+            digest: string;
+            /** Id */
+            id: number;
+            /**
+             * Integrity
+             * @description how this row disagrees with its log entry, which is the source of truth
+             */
+            integrity?: string[];
+            /** Key Id */
+            key_id: string;
+            /** Log Index */
+            log_index: number | null;
+            /** Mission */
+            mission: string;
+            /** Operator */
+            operator: string | null;
+            /** Reason */
+            reason: string;
+            /**
+             * Receipt
+             * @description the log signer's signed receipt for the decision's log entry (entry hash, index, time)
+             */
+            receipt: string | null;
+            /** Revokes */
+            revokes: number | null;
+            /** Submission */
+            submission: number;
+            /** Supervisor */
+            supervisor: string | null;
+            /** Vehicle */
+            vehicle: string | null;
+            /** Version */
+            version: number;
+        };
         /**
          * DefaultRule
          * @description A normal default `if : then / then` (seed 004 D_est, D_goal, D_safety).
@@ -3817,10 +3861,23 @@ export interface components {
             /** Text */
             text: string;
         };
+        /**
+         * StandingDecisionOut
+         * @description A decision on the standing (named apart from the approvals' DecisionOut, so that both
+         *     keep plain names in the OpenAPI document and so in the generated types).
+         */
+        StandingDecisionOut: {
+            /** Decision */
+            decision: string;
+            /** Record */
+            record: number;
+            /** Version */
+            version: number;
+        };
         /** StandingOut */
         StandingOut: {
-            approved: components["schemas"]["countersign__web__routes__standing__DecisionOut"] | null;
-            latest: components["schemas"]["countersign__web__routes__standing__DecisionOut"] | null;
+            approved: components["schemas"]["StandingDecisionOut"] | null;
+            latest: components["schemas"]["StandingDecisionOut"] | null;
         };
         /**
          * Statement
@@ -4169,59 +4226,6 @@ export interface components {
             /** Worst */
             worst: number;
         };
-        /** DecisionOut */
-        countersign__web__routes__approval_schemas__DecisionOut: {
-            /**
-             * Created At
-             * Format: date-time
-             */
-            created_at: string;
-            /** Decision */
-            decision: string;
-            /** Digest */
-            digest: string;
-            /** Id */
-            id: number;
-            /**
-             * Integrity
-             * @description how this row disagrees with its log entry, which is the source of truth
-             */
-            integrity?: string[];
-            /** Key Id */
-            key_id: string;
-            /** Log Index */
-            log_index: number | null;
-            /** Mission */
-            mission: string;
-            /** Operator */
-            operator: string | null;
-            /** Reason */
-            reason: string;
-            /**
-             * Receipt
-             * @description the log signer's signed receipt for the decision's log entry (entry hash, index, time)
-             */
-            receipt: string | null;
-            /** Revokes */
-            revokes: number | null;
-            /** Submission */
-            submission: number;
-            /** Supervisor */
-            supervisor: string | null;
-            /** Vehicle */
-            vehicle: string | null;
-            /** Version */
-            version: number;
-        };
-        /** DecisionOut */
-        countersign__web__routes__standing__DecisionOut: {
-            /** Decision */
-            decision: string;
-            /** Record */
-            record: number;
-            /** Version */
-            version: number;
-        };
     };
     responses: never;
     parameters: never;
@@ -4353,7 +4357,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["countersign__web__routes__approval_schemas__DecisionOut"];
+                    "application/json": components["schemas"]["DecisionOut"];
                 };
             };
             /** @description Validation Error */
@@ -6485,7 +6489,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["countersign__web__routes__approval_schemas__DecisionOut"];
+                    "application/json": components["schemas"]["DecisionOut"];
                 };
             };
             /** @description Validation Error */

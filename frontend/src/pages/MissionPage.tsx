@@ -338,10 +338,8 @@ function VersionsTab({ mission, onChange }: { mission: MissionDetail; onChange: 
     setBusy(true);
     setError(null);
     try {
-      const version = unwrap(
-        await api.POST("/api/missions/{mission_id}/versions", missionPath(mission.id)),
-      ) as { number?: number };
-      setCreated(version.number ?? null);
+      const version = unwrap(await api.POST("/api/missions/{mission_id}/versions", missionPath(mission.id)));
+      setCreated(version.number);
       onChange();
     } catch (e) {
       setError(e);

@@ -14,7 +14,7 @@ import { formatDateTime, shortDigest } from "../../format";
 import { missionHref } from "../../router";
 import { useSession } from "../../session";
 import { useLoad } from "../../useLoad";
-import { type ApprovalSummary, approvalHref, loadReview, type Review } from "./api";
+import { approvalHref, loadReview, type RecordedDecision, type Review } from "./api";
 import { describeDiff, diffOrders } from "./diff";
 import { OrdersGraph } from "./OrdersGraph";
 import { ProfileDrift } from "../vehicles/ProfileDrift";
@@ -51,7 +51,7 @@ export function ReviewPage({ mission, version }: { mission: string; version: num
       <h1 id="review-title" tabIndex={-1}>
         Review: {title} v{version}
       </h1>
-      <IntegrityWarning problems={(current as { integrity?: string[] } | undefined)?.integrity} />
+      <IntegrityWarning problems={current?.integrity} />
       <ProfileDrift orders={review.orders} approved={current?.state === "approved"} />
       <dl className="facts">
         <div>
@@ -172,7 +172,7 @@ function DecisionForm({
   const [password, setPassword] = useState("");
   const [busy, setBusy] = useState(false);
   const [error, setError] = useState<unknown>(null);
-  const [result, setResult] = useState<ApprovalSummary | null>(null);
+  const [result, setResult] = useState<RecordedDecision | null>(null);
   const submission = review.submissions[0];
   const selected = keys.usable.find((k) => k.keyId === keyId) ?? keys.usable[0];
 
@@ -289,7 +289,7 @@ function DecisionForm({
             {result.log_index !== null ? `, log entry ${result.log_index}` : ""}).
           </span>{" "}
           <Link href={approvalHref(result.id)}>Open the record</Link>
-          <ReceiptNote receipt={(result as { receipt?: string | null }).receipt} />
+          <ReceiptNote receipt={result.receipt} />
         </Notice>
       )}
     </section>
