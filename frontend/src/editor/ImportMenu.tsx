@@ -5,7 +5,7 @@
  */
 import { type FormEvent, useEffect, useId, useRef, useState } from "react";
 
-import { api, type Finding, unwrap } from "../api/client";
+import { api, type Finding, type Schema, unwrap } from "../api/client";
 import { ErrorMessage } from "../components/Status";
 import { navigate } from "../navigation";
 import { missionHref } from "../router";
@@ -20,7 +20,7 @@ export async function readOrdersFile(file: Blob & { name?: string; type: string 
     headers: { "Content-Type": contentTypeFor(file.name ?? "", file.type) },
   });
   const data = unwrap(result);
-  return { orders: data.orders as Orders, findings: data.findings ?? [] };
+  return { orders: data.orders, findings: data.findings ?? [] };
 }
 
 export function ImportMenu({ onImport, busy }: { onImport: (file: File) => Promise<void>; busy: boolean }) {
@@ -52,12 +52,7 @@ export function ImportMenu({ onImport, busy }: { onImport: (file: File) => Promi
   );
 }
 
-interface Example {
-  name: string;
-  id: string;
-  title: string;
-  goals: number;
-}
+type Example = Schema<"ExampleOut">;
 
 /** "New from example": a built-in example saved as a new mission, opened in the editor. */
 export function NewFromExample() {

@@ -7,16 +7,19 @@
  * a text or number removes the key. Feature `fulfills`/`measures` are the one exception (they
  * are always lists, as the exemplar writes them).
  */
-import type { components } from "../api/schema";
+import type { Schema } from "../api/client";
+import { numberPair } from "../api/pair";
 import { type GoalSpec, goals, type Layout, type Orders, OUTCOMES, type Point, successors, terminals } from "./graph";
 
 export type LatLon = [number, number];
+/** A point as the orders hold it when read from an answer: openapi-fetch's `Readable` types
+ * the schema's pairs as arrays, so readers take it through numberPair (api/pair.ts). */
+export type Coordinates = readonly number[];
 
 // The orders' parts as the server's model declares them (generated from OpenAPI); features
 // and norms below are as the editor writes them, which the server's types do not quite say.
-type Schemas = components["schemas"];
-export type AreaSpec = Schemas["Area"];
-export type QuantitySpec = Schemas["Quantity"];
+export type AreaSpec = Schema<"Area">;
+export type QuantitySpec = Schema<"Quantity">;
 export interface FeatureSpec {
   id: string;
   title?: string;
@@ -150,7 +153,7 @@ export function addVertex(orders: Orders, id: string, at?: LatLon): Orders {
   if (!area) return orders;
   const polygon = area.polygon ?? [];
   const last = polygon[polygon.length - 1];
-  const point: LatLon = at ?? (last ? [last[0], last[1]] : centreOf(orders) ?? [0, 0]);
+  const point: LatLon = at ?? (last ? numberPair(last) : centreOf(orders) ?? [0, 0]);
   return updateArea(orders, id, { polygon: [...polygon, point] });
 }
 export function removeVertex(orders: Orders, id: string, index: number): Orders {
@@ -159,7 +162,7 @@ export function removeVertex(orders: Orders, id: string, index: number): Orders 
   return updateArea(orders, id, { polygon: (area.polygon ?? []).filter((_, i) => i !== index) });
 }
 function centreOf(orders: Orders): LatLon | null {
-  const pts = areas(orders).flatMap((a) => a.polygon ?? []);
+  const pts = areas(orders).flatMap((a) => a.polygon ?? []).map(numberPair);
   if (pts.length === 0) return null;
   return [pts.reduce((s, p) => s + p[0], 0) / pts.length, pts.reduce((s, p) => s + p[1], 0) / pts.length];
 }

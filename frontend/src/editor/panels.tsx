@@ -5,6 +5,7 @@
  */
 import { type PointerEvent as ReactPointerEvent, useMemo, useRef, useState } from "react";
 
+import { numberPair } from "../api/pair";
 import { CommitField, CommitSelect, ExprField } from "./fields";
 import { VehiclePicker } from "./VehiclePicker";
 import { envelopeToText, type Orders, parseEnvelope } from "./graph";
@@ -329,17 +330,15 @@ function AreaEditor({
           </tr>
         </thead>
         <tbody>
-          {polygon.map((p, i) => (
+          {polygon.map(numberPair).map(([lat, lon], i) => (
             <tr key={i}>
               <td>{i + 1}</td>
               {[0, 1].map((k) => (
                 <td key={k}>
                   <VertexInput
                     label={`Vertex ${i + 1} ${k === 0 ? "latitude" : "longitude"}`}
-                    value={p[k]!}
-                    onChange={(n) =>
-                      editOrders((o) => setVertex(o, id, i, (k === 0 ? [n, p[1]] : [p[0], n]) as LatLon), `area:${id}:v${i}:${k}`)
-                    }
+                    value={k === 0 ? lat : lon}
+                    onChange={(n) => editOrders((o) => setVertex(o, id, i, k === 0 ? [n, lon] : [lat, n]), `area:${id}:v${i}:${k}`)}
                   />
                 </td>
               ))}

@@ -4,7 +4,7 @@
  * frame of the planning problem (centred on the start, as the server builds it).
  */
 import { numberPair } from "../api/pair";
-import type { LatLon } from "./model";
+import type { Coordinates, LatLon } from "./model";
 
 export const EARTH_RADIUS_M = 6_371_000;
 
@@ -22,8 +22,8 @@ export interface View {
 }
 
 /** A view that fits every point in a width x height box (with padding). */
-export function fitView(points: LatLon[], width: number, height: number, pad = 24): View {
-  const pts = points.length > 0 ? points : [[0, 0] as LatLon];
+export function fitView(points: readonly Coordinates[], width: number, height: number, pad = 24): View {
+  const pts: LatLon[] = points.length > 0 ? points.map(numberPair) : [[0, 0]];
   const lat0 = pts.reduce((s, p) => s + p[0], 0) / pts.length;
   const cos = Math.cos((lat0 * Math.PI) / 180) || 1;
   const xs = pts.map((p) => p[1] * cos);
@@ -47,9 +47,10 @@ export function fitView(points: LatLon[], width: number, height: number, pad = 2
 }
 
 /** Latitude/longitude -> SVG x, y (north up). */
-export function project(view: View, p: LatLon): [number, number] {
-  const x = view.pad + (p[1] * view.cos - view.minX) * view.scale;
-  const y = view.height - view.pad - (p[0] - view.minY) * view.scale;
+export function project(view: View, point: Coordinates): [number, number] {
+  const [lat, lon] = numberPair(point);
+  const x = view.pad + (lon * view.cos - view.minX) * view.scale;
+  const y = view.height - view.pad - (lat - view.minY) * view.scale;
   return [x, y];
 }
 
@@ -77,12 +78,13 @@ export function fromMetres(origin: LatLon, point: readonly number[]): LatLon {
 }
 
 /** Centroid of a polygon's vertices (for labels). */
-export function centroid(points: LatLon[]): LatLon {
+export function centroid(points: readonly Coordinates[]): LatLon {
   if (points.length === 0) return [0, 0];
-  return [points.reduce((s, p) => s + p[0], 0) / points.length, points.reduce((s, p) => s + p[1], 0) / points.length];
+  const pts = points.map(numberPair);
+  return [pts.reduce((s, p) => s + p[0], 0) / pts.length, pts.reduce((s, p) => s + p[1], 0) / pts.length];
 }
 
 /** SVG polygon `points` attribute. */
-export function svgPoints(view: View, polygon: LatLon[]): string {
+export function svgPoints(view: View, polygon: readonly Coordinates[]): string {
   return polygon.map((p) => project(view, p).map((n) => n.toFixed(1)).join(",")).join(" ");
 }

@@ -296,7 +296,7 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
               // An opaque origin: the viewer cannot reach this app's storage, keys or API.
               sandbox="allow-scripts"
             />
-            <MissionGraph orders={mission.orders as Orders} current={currentGoal} visited={outcomeGoals(live.status)} />
+            <MissionGraph orders={mission.orders} current={currentGoal} visited={outcomeGoals(live.status)} />
           </div>
         </div>
       )}
