@@ -14,7 +14,6 @@ import { useLoad } from "../useLoad";
 
 type JsonBody<R> = R extends { content: { "application/json": infer T } } ? T : never;
 type Started = JsonBody<paths["/api/missions/{mission_id}/rehearsals"]["post"]["responses"][201]>;
-type RecordList = JsonBody<paths["/api/missions/{mission_id}/rehearsal-records"]["get"]["responses"][200]>;
 type StoredRecord = JsonBody<paths["/api/rehearsals/{rehearsal_id}/stop"]["post"]["responses"][200]>;
 type Status = Started["status"];
 type Source = Status["source"];
@@ -63,7 +62,7 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
         await api.GET("/api/missions/{mission_id}/rehearsal-records", {
           params: { path: { mission_id: mission.id } },
         }),
-      ) as RecordList,
+      ),
     [mission.id],
   );
 

@@ -23,7 +23,7 @@ export function CampaignPanel({ mission, versions }: { mission: string; versions
   const canStart = useCan("startCampaign");
   const { data, error, reload } = useLoad(
     async () =>
-      unwrap(await api.GET("/api/missions/{mission_id}/campaigns", { params: { path: { mission_id: mission } } })) as Campaign[],
+      unwrap(await api.GET("/api/missions/{mission_id}/campaigns", { params: { path: { mission_id: mission } } })),
     [mission],
   );
   const campaigns = data ?? [];
