@@ -4,8 +4,11 @@ from __future__ import annotations
 
 from typing import Any
 
+from countersign.web.routes.schemas import ProbabilitiesOut, ReportOut
+
 from .approval_helpers import MISSION, new_version, prepare, register_key, sign_prepared, submit
 from .conftest import PASSWORD, World
+from .described import assert_described
 
 P = {"succeed": 0.8, "fail": 0.15, "violate": 0.05}
 
@@ -31,6 +34,11 @@ def test_review_and_statement_carry_the_probabilities(world: World) -> None:
     assert figures["exact"] is True
     complete = figures["terminals"]["COMPLETE"]
     assert complete["min"] == complete["max"] == 0.8  # every path ends at G5: 0.8 succeeds
+    # The review shows the version's report figures, which the models describe exactly.
+    report = world.client("auditor").get(f"/api/missions/{MISSION}/report").json()
+    assert report["probabilities"] == figures and report["digest"] == review["digest"]
+    assert_described(ProbabilitiesOut, figures)
+    assert_described(ReportOut, report)
     page = world.client("auditor").get(f"/api/missions/{MISSION}/paths",
                                        params={"version": number, "limit": 50}).json()
     assert page["items"] and all(item["probability"] is not None for item in page["items"])

@@ -9,11 +9,13 @@ from __future__ import annotations
 from countersign.approvals.bundle import verify_bundle
 from countersign.orders.reader import orders_from_data
 from countersign.rehearse.manager import Rehearsal, RehearsalOptions
-from countersign.store.rehearsals import save_record
+from countersign.store.rehearsals import get_record, save_record
 from countersign.store.tables import MissionVersion, User
+from countersign.web.routes.rehearsal_schemas import RehearsalRecordOut
 
 from .approval_helpers import MISSION, approve, counts, new_version, register_key, submit
 from .conftest import World
+from .described import assert_described
 
 
 def _stored_record(world: World, number: int) -> str:
@@ -53,6 +55,11 @@ def test_submission_with_record_is_cited_by_the_approval_and_the_bundle(world: W
     bundle = world.client("auditor").get("/api/audit/bundle").json()
     assert bundle["rehearsals"][digest]["orders"]["digest"] == approval["digest"]
     assert verify_bundle(bundle).ok
+    # Both answers are the stored record, which RehearsalRecordOut describes field for field.
+    with world.database.session() as db:
+        stored = get_record(db, digest).record
+    assert detail["rehearsal"]["record"] == stored and bundle["rehearsals"][digest] == stored
+    assert_described(RehearsalRecordOut, stored)
     # Offline, the cited record must be there and hash to the cited digest.
     tampered = dict(bundle, rehearsals={digest: dict(bundle["rehearsals"][digest], seed=99)})
     assert any("does not hash" in p for p in verify_bundle(tampered).problems)

@@ -14,7 +14,14 @@ from sqlalchemy import text
 
 from countersign.approvals import dsse
 from countersign.approvals.bundle import verify_bundle
+from countersign.campaigns.stats import goal_probabilities
 from countersign.store import campaigns as store
+from countersign.web.routes.campaign_schemas import (
+    CampaignRecord,
+    CampaignResults,
+    CampaignSpecOut,
+    OfferedProbabilities,
+)
 
 from .approval_helpers import (
     MISSION,
@@ -25,6 +32,7 @@ from .approval_helpers import (
     submit,
 )
 from .conftest import World
+from .described import assert_described
 
 
 def _wait_finished(client: TestClient, campaign_id: str, timeout_s: float = 600) -> dict[str, Any]:
@@ -68,6 +76,7 @@ def test_a_campaign_runs_reports_and_offers_probabilities(sqlite_world: World) -
     offered = auditor.get(f"/api/campaigns/{campaign['id']}/probabilities")
     assert offered.status_code == 200
     assert set(offered.json()["goals"]["G1"]["point"]) == {"succeed", "fail", "violate"}
+    _assert_whole_answers(world, done, offered.json())
     # Offered, not written: the version's orders carry no p.
     version = operator.get(f"/api/missions/{MISSION}/versions/{number}").json()
     assert all("p" not in g for g in version["orders"]["goals"])
@@ -84,6 +93,20 @@ def test_a_campaign_runs_reports_and_offers_probabilities(sqlite_world: World) -
     assert attached.json()["digest"] == done["digest"]
     assert auditor.get(f"/api/submissions/{submission}/campaigns").json()[0]["campaign"] \
         == campaign["id"]
+
+
+def _assert_whole_answers(world: World, done: dict[str, Any], offered: dict[str, Any]) -> None:
+    """The answers are the stored records, and their response models describe those records
+    field for field (the front end's types come from the models)."""
+    with world.database.session() as db:
+        row = store.get(db, done["id"])
+        spec, record = row.spec, row.record
+    assert record is not None
+    assert done["spec"] == spec and done["results"] == record["results"]
+    assert offered["goals"] == goal_probabilities(record["results"])
+    assert_described(CampaignSpecOut, spec)
+    assert_described(CampaignResults, record["results"])
+    assert_described(dict[str, OfferedProbabilities], offered["goals"])
 
 
 def test_bad_campaigns_are_refused_naming_the_field(world: World) -> None:
@@ -158,6 +181,10 @@ def test_an_attached_campaign_is_signed_exported_and_checked(sqlite_world: World
     assert bundle["campaigns"][done["digest"]]["orders"]["digest"] \
         == operator.get(f"/api/missions/{MISSION}/versions/{number}").json()["digest"]
     assert verify_bundle(bundle).problems == []
+    with world.database.session() as db:
+        stored = store.get(db, campaign["id"]).record
+    assert bundle["campaigns"] == {done["digest"]: stored}
+    assert_described(CampaignRecord, stored)
 
     # A database writer edits the stored campaign record: the bundle's check names it.
     with world.database.engine.begin() as connection:

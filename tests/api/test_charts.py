@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 import json
+from typing import Any
 
 from countersign.orders.examples import example_bytes
 
 from .conftest import World
+from .described import assert_described
 
 # A keep-out box across the exemplar's legs from G4 (and G2 on fail) to G5.
 KEEP_OUT = {"type": "FeatureCollection", "features": [{
@@ -32,9 +34,23 @@ def test_only_admins_write_and_everyone_reads(world: World) -> None:
         assert [c["id"] for c in listed] == ["RANGE"] and listed[0]["kind"] == "keep_out"
     exported = world.client("auditor").get("/api/charts/geojson").json()
     assert exported["features"][0]["id"] == "RANGE"
+    _assert_whole_geojson(world, exported)
     assert world.client("operator").delete("/api/charts/RANGE").status_code == 403
     assert world.client("admin").delete("/api/charts/RANGE").status_code == 204
     assert world.client("admin").get("/api/charts").json() == []
+
+
+def _assert_whole_geojson(world: World, exported: dict[str, Any]) -> None:
+    """The export is what areas_to_geojson makes of the registry, and ChartFeature describes
+    each of its features exactly."""
+    from countersign.orders.geo_formats import areas_to_geojson
+    from countersign.store.charts import all_charts
+    from countersign.web.routes.charts import ChartFeature
+
+    with world.database.session() as db:
+        expected = areas_to_geojson(all_charts(db))
+    assert exported == expected
+    assert_described(list[ChartFeature], expected["features"])
 
 
 def test_bad_chart_files_are_problems_naming_where(world: World) -> None:

@@ -3,8 +3,11 @@ from __future__ import annotations
 import json
 
 from countersign.orders.examples import example_bytes
+from countersign.orders.reader import read_bytes
+from countersign.web.routes.schemas import FindingOut
 
 from .conftest import World, count_rows
+from .described import assert_described
 
 EXAMPLE = "search-and-sample"
 
@@ -80,6 +83,7 @@ def test_import_avcl_and_json_and_export(world: World) -> None:
                            headers={"Content-Type": "application/xml"})
     assert imported.status_code == 201, imported.text
     assert {f["code"] for f in imported.json()["import_findings"]} == {"SINK"}
+    _assert_reader_findings(avcl, imported.json()["import_findings"])
     data = json.loads(example_bytes("harbor-approach-survey"))
     assert client.post("/api/import", content=json.dumps(data)).status_code == 201
     plain = client.get(f"/api/missions/{EXAMPLE}/export", params={"format": "plain"})
@@ -93,6 +97,13 @@ def test_import_avcl_and_json_and_export(world: World) -> None:
     assert "meo:startsWith" in turtle.text or "startsWith" in turtle.text
     avcl = client.get(f"/api/missions/{EXAMPLE}/export", params={"format": "avcl"})
     assert avcl.text.startswith("<?xml") and 'nextOnSuccess="G2"' in avcl.text
+
+
+def _assert_reader_findings(data: bytes, answered: object) -> None:
+    """The answer is what the reader found, which FindingOut describes field for field."""
+    found = [f.to_json() for f in read_bytes(data, "the uploaded file").findings]
+    assert answered == found
+    assert_described(list[FindingOut], found)
 
 
 def test_paths_pages_stream_and_traces(world: World) -> None:
@@ -144,6 +155,7 @@ def test_read_orders_stores_nothing_and_examples_list(world: World) -> None:
     assert read.status_code == 200, read.text
     assert read.json()["orders"]["goals"][0]["id"] == "A"
     assert {f["code"] for f in read.json()["findings"]} == {"SINK"}
+    _assert_reader_findings(avcl, read.json()["findings"])
     data = json.loads(example_bytes("harbor-approach-survey"))
     read = client.post("/api/read", content=json.dumps(data),
                        headers={"Content-Type": "application/json"})

@@ -10,13 +10,18 @@ from typing import Any
 
 import pytest
 from fastapi.testclient import TestClient
+from sqlalchemy import select
 from starlette.testclient import WebSocketDenialResponse
 from starlette.websockets import WebSocketDisconnect
 
+from countersign.store.rehearsals import get_record
+from countersign.store.tables import User
 from countersign.web.rehearsal_hub import RehearsalHub
+from countersign.web.routes.rehearsal_schemas import RehearsalRecordOut, RehearsalStatus
 from countersign.web.viser_proxy import MAX_MALFORMED
 
 from .conftest import World
+from .described import assert_described
 from .viser_client import PROTOCOL, SceneReader, encode
 
 MISSION = "search-and-sample"
@@ -70,6 +75,8 @@ def test_start_steer_stop_and_read_the_record(app_world: World) -> None:
     assert started["viewer"] == f"/rehearsal/{rid}/" and started["mission"] == MISSION
     assert started["version"] is None and started["orders_digest"].startswith("sha256:")
     first = _wait(operator, rid, _waiting)
+    assert_described(RehearsalStatus, first)
+    assert first["question"] and first["current_goal"]
     goal = first["current_goal"]["id"]
     chosen = operator.post(f"/api/rehearsals/{rid}/outcome", json={"outcome": "succeed"})
     assert chosen.status_code == 200, chosen.text
@@ -77,6 +84,8 @@ def test_start_steer_stop_and_read_the_record(app_world: World) -> None:
     assert after["outcomes"][0] == {"goal": goal, "outcome": "succeed"}
     fault = operator.post(f"/api/rehearsals/{rid}/faults", json={"fault": "gps_loss"})
     assert fault.status_code == 200, fault.text
+    assert_described(RehearsalStatus, fault.json()["status"])
+    assert fault.json()["status"]["fault_notice"]
     assert operator.post(f"/api/rehearsals/{rid}/faults",
                          json={"fault": "warp_drive"}).status_code == 409
     assert operator.post(f"/api/rehearsals/{rid}/outcome",
@@ -94,6 +103,7 @@ def test_start_steer_stop_and_read_the_record(app_world: World) -> None:
     body = record.json()
     assert body["record"]["outcomes"][0] == "succeed" and body["owner"] == "operator1"
     assert body["record"]["orders"]["digest"] == started["orders_digest"]
+    _assert_whole_record(app_world, digest, body["record"])
     replay = auditor.get(f"/api/rehearsal-records/{digest}/replay.html")
     assert replay.status_code == 200 and replay.headers["content-type"].startswith("text/html")
     assert "__VISER_EMBED_DATA__" in replay.text
@@ -113,6 +123,15 @@ def test_start_steer_stop_and_read_the_record(app_world: World) -> None:
     assert kinds == ["rehearsal.started", "rehearsal.outcome", "rehearsal.fault",
                      "rehearsal.recorded"]
     assert events[-1]["detail"]["record_digest"] == digest
+
+
+def _assert_whole_record(world: World, digest: str, answered: dict[str, Any]) -> None:
+    """The answer is the stored record, and RehearsalRecordOut describes it field for field."""
+    with world.database.session() as db:
+        stored = get_record(db, digest).record
+    assert answered == stored
+    assert_described(RehearsalRecordOut, stored)
+    assert stored["events"] and stored["runs"]
 
 
 def test_roles_and_other_peoples_rehearsals(app_world: World) -> None:
@@ -340,6 +359,11 @@ def test_faults_while_waiting_skip_and_a_record_listed_at_once(app_world: World)
             client.post(f"/api/rehearsals/{rid}/skip")
         _wait(client, rid, lambda s: s["state"] != "running")
     assert status["state"] == "finished" and status["sim_time_s"] > 0
+    # Finished, the status holds still: the answer is the rehearsal's own status, described.
+    with app_world.database.session() as db:
+        user_id = db.scalars(select(User.id).where(User.username == "operator1")).one()
+    assert status == _hub(app_world).get(rid, user_id=user_id).rehearsal.status()
+    assert_described(RehearsalStatus, status)
     late = client.post(f"/api/rehearsals/{rid}/faults", json={"fault": "leak"})
     assert late.status_code == 409 and "finished" in late.json()["detail"]
     begin = time.perf_counter()
@@ -348,3 +372,5 @@ def test_faults_while_waiting_skip_and_a_record_listed_at_once(app_world: World)
     assert stored.status_code == 200, stored.text
     listed = client.get(f"/api/missions/{MISSION}/rehearsal-records").json()
     assert listed[0]["digest"] == stored.json()["digest"]
+    record = client.get(f"/api/rehearsal-records/{stored.json()['digest']}").json()["record"]
+    _assert_whole_record(app_world, stored.json()["digest"], record)

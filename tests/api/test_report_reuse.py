@@ -10,8 +10,10 @@ import pytest
 from countersign.orders.model import Orders
 from countersign.verify import report as verify_report
 from countersign.verify import validate
+from countersign.web.routes.schemas import ReportOut
 
 from .conftest import World
+from .described import assert_described
 
 EXAMPLE = "search-and-sample"
 
@@ -48,6 +50,7 @@ def test_a_description_edit_reuses_the_report_and_equals_a_full_validation(
     full = validate(Orders.model_validate(orders)).to_json()
     assert report == full
     assert report["digest"] != first["digest"]
+    assert_described(ReportOut, full)  # the OpenAPI document's report is the whole report
 
     # A change that a check reads is validated in full.
     orders["goals"][0]["title"] = "Renamed goal"

@@ -7,8 +7,11 @@ import json
 from typing import Any
 
 from countersign.orders.examples import example_bytes
+from countersign.orders.model import Vehicle
+from countersign.store.vehicles import vehicle_versions
 
 from .conftest import World
+from .described import assert_described
 
 
 def orders_without_profile(mission_id: str) -> tuple[dict[str, Any], dict[str, Any]]:
@@ -61,6 +64,12 @@ def test_each_changed_save_is_a_new_version(world: World) -> None:
     assert listed[0]["profile"]["behaviors"][-1] == "recover"
     assert "recover" not in listed[1]["profile"]["behaviors"]
     assert listed[0]["saved_by"]
+    # The profiles answered are the stored ones, which the Vehicle model describes exactly.
+    with world.database.session() as db:
+        stored = [v.profile for v in vehicle_versions(db, "versioned-auv")]
+    assert [v["profile"] for v in listed] == stored
+    for each in stored:
+        assert_described(Vehicle, each)
     missing = world.client("operator").get("/api/vehicles/no-such-auv/versions")
     assert missing.status_code == 404
 

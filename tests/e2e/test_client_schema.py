@@ -21,3 +21,11 @@ def test_frontend_openapi_document_is_the_backends(tmp_path: Path) -> None:
         "./scripts/export-openapi --generate (regenerates frontend/src/api/schema.d.ts too), "
         "then ./scripts/build-frontend, and fix any type errors it reports"
     )
+
+
+def test_every_schema_keeps_its_plain_name() -> None:
+    """Two models of one name get module-qualified component names (countersign__web__...),
+    which the front end's types would then have to spell: give them distinct names instead."""
+    committed = json.loads((REPO / "frontend" / "openapi.json").read_text(encoding="utf-8"))
+    qualified = [name for name in committed["components"]["schemas"] if "__" in name]
+    assert qualified == [], qualified

@@ -1623,6 +1623,16 @@ export interface components {
             /** Submission */
             submission: number;
         };
+        /**
+         * BoundOut
+         * @description A probability or an expectation as [min, max] (equal when the orders pin it down).
+         */
+        BoundOut: {
+            /** Max */
+            max: number;
+            /** Min */
+            min: number;
+        };
         /** Budget */
         Budget: {
             /** Duration S */
@@ -1680,9 +1690,7 @@ export interface components {
              * @default {}
              */
             campaigns?: {
-                [key: string]: {
-                    [key: string]: unknown;
-                };
+                [key: string]: components["schemas"]["CampaignRecord"];
             };
             /** Checkpoints */
             checkpoints: components["schemas"]["CheckpointOut"][];
@@ -1703,9 +1711,7 @@ export interface components {
             receipts: (string | null)[];
             /** Rehearsals */
             rehearsals: {
-                [key: string]: {
-                    [key: string]: unknown;
-                };
+                [key: string]: components["schemas"]["RehearsalRecordOut"];
             };
             /** Scope */
             scope: string | null;
@@ -1732,16 +1738,26 @@ export interface components {
             /** Simulations */
             simulations: number;
         };
+        /** CampaignOrders */
+        CampaignOrders: {
+            /** Digest */
+            digest: string;
+            /** Id */
+            id: string;
+        };
         /** CampaignOut */
         CampaignOut: {
-            /** Created At */
-            created_at: unknown;
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
             /** Digest */
             digest: string | null;
             /** Done */
             done: number;
             /** Ended At */
-            ended_at: unknown;
+            ended_at: string | null;
             /** Error */
             error: string | null;
             /** Id */
@@ -1757,9 +1773,7 @@ export interface components {
             /** Simulations */
             simulations: number;
             /** Spec */
-            spec: {
-                [key: string]: unknown;
-            };
+            spec: components["schemas"]["CampaignSpecOut"];
             /** State */
             state: string;
             /** Version */
@@ -1777,6 +1791,21 @@ export interface components {
             };
             /** Orders Digest */
             orders_digest: string;
+        };
+        /**
+         * CampaignRecord
+         * @description A finished campaign's record (jobs/tasks.py, campaign_record): what an approval cites by
+         *     the digest of its RFC 8785 form.
+         */
+        CampaignRecord: {
+            /**
+             * Format
+             * @constant
+             */
+            format: "countersign.campaign/1";
+            orders: components["schemas"]["CampaignOrders"];
+            results: components["schemas"]["CampaignResults"];
+            spec: components["schemas"]["CampaignSpecOut"];
         };
         /** CampaignResults */
         CampaignResults: {
@@ -1798,6 +1827,23 @@ export interface components {
             terminals: {
                 [key: string]: components["schemas"]["Estimate"];
             };
+        };
+        /**
+         * CampaignSpecOut
+         * @description What a campaign simulates (campaigns/spec.py, CampaignSpec.to_json): the sweep is
+         *     faults x goals, and simulation i runs cell i mod cells with seed seed + i div cells.
+         */
+        CampaignSpecOut: {
+            /** Chunk */
+            chunk: number;
+            /** Faults */
+            faults: string[];
+            /** Goals */
+            goals: string[];
+            /** Seed */
+            seed: number;
+            /** Simulations */
+            simulations: number;
         };
         /**
          * Chart
@@ -1830,6 +1876,21 @@ export interface components {
         } & {
             [key: string]: unknown;
         };
+        /**
+         * ChartFeature
+         * @description A chart as a GeoJSON Feature (orders/geo_formats.py, areas_to_geojson).
+         */
+        ChartFeature: {
+            geometry: components["schemas"]["PolygonGeometry"];
+            /** Id */
+            id: string;
+            properties: components["schemas"]["ChartProperties"];
+            /**
+             * Type
+             * @constant
+             */
+            type: "Feature";
+        };
         /** ChartImport */
         ChartImport: {
             /** Content */
@@ -1858,15 +1919,24 @@ export interface components {
         } & {
             [key: string]: unknown;
         };
+        /** ChartProperties */
+        ChartProperties: {
+            /** Contexts */
+            contexts: string[];
+            /** Kind */
+            kind: string;
+            /** Norms */
+            norms: components["schemas"]["ChartNorm"][];
+            /** Title */
+            title: string;
+        };
         /**
          * ChartsGeoJsonOut
          * @description The registry as one GeoJSON FeatureCollection (RFC 7946), a Polygon feature per chart.
          */
         ChartsGeoJsonOut: {
             /** Features */
-            features: {
-                [key: string]: unknown;
-            }[];
+            features: components["schemas"]["ChartFeature"][];
             /**
              * Type
              * @constant
@@ -1901,6 +1971,15 @@ export interface components {
             /** Size */
             size: number;
         };
+        /** Choice */
+        Choice: {
+            /** Goal */
+            goal: string;
+            /** Outcome */
+            outcome: string;
+            /** T */
+            t: number;
+        };
         /** CitedRehearsalOut */
         CitedRehearsalOut: {
             /** Created At */
@@ -1914,9 +1993,7 @@ export interface components {
             /** Owner */
             owner: string | null;
             /** Record */
-            record: {
-                [key: string]: unknown;
-            };
+            record: components["schemas"]["RehearsalRecordOut"];
             /** Replay */
             replay: string;
             /** Replay Digest */
@@ -2070,6 +2147,19 @@ export interface components {
             /** Path */
             path: number;
         };
+        /** CurrentGoal */
+        CurrentGoal: {
+            /** Area */
+            area: string | null;
+            /** Behavior */
+            behavior: string | null;
+            /** Id */
+            id: string;
+            /** Progress */
+            progress: number;
+            /** Title */
+            title: string;
+        };
         /** DecisionIn */
         DecisionIn: {
             /** Decision */
@@ -2081,6 +2171,50 @@ export interface components {
              * @default
              */
             reason?: string;
+        };
+        /** DecisionOut */
+        DecisionOut: {
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
+            /** Decision */
+            decision: string;
+            /** Digest */
+            digest: string;
+            /** Id */
+            id: number;
+            /**
+             * Integrity
+             * @description how this row disagrees with its log entry, which is the source of truth
+             */
+            integrity?: string[];
+            /** Key Id */
+            key_id: string;
+            /** Log Index */
+            log_index: number | null;
+            /** Mission */
+            mission: string;
+            /** Operator */
+            operator: string | null;
+            /** Reason */
+            reason: string;
+            /**
+             * Receipt
+             * @description the log signer's signed receipt for the decision's log entry (entry hash, index, time)
+             */
+            receipt: string | null;
+            /** Revokes */
+            revokes: number | null;
+            /** Submission */
+            submission: number;
+            /** Supervisor */
+            supervisor: string | null;
+            /** Vehicle */
+            vehicle: string | null;
+            /** Version */
+            version: number;
         };
         /**
          * DefaultRule
@@ -2143,13 +2277,9 @@ export interface components {
         /** DraftIn */
         DraftIn: {
             /** Layout */
-            layout?: {
-                [key: string]: unknown;
-            } | null;
+            layout?: components["schemas"]["Layout"] | null;
             /** Orders */
-            orders: {
-                [key: string]: unknown;
-            };
+            orders: components["schemas"]["Orders"];
         };
         /** EnergySummary */
         EnergySummary: {
@@ -2315,6 +2445,19 @@ export interface components {
             /** Usage */
             usage?: components["schemas"]["UsageOut"][];
         };
+        /** ExpectationOut */
+        ExpectationOut: {
+            /** Max */
+            max: number;
+            /** Min */
+            min: number;
+            /** Quantiles */
+            quantiles: {
+                [key: string]: number;
+            } | null;
+            /** Unknown Cost */
+            unknown_cost: string[];
+        };
         /** ExportFileOut */
         ExportFileOut: {
             /** Media Type */
@@ -2339,6 +2482,21 @@ export interface components {
         FaultIn: {
             /** Fault */
             fault: string;
+        };
+        /**
+         * FaultNotice
+         * @description What injecting a fault did: applied at once, or queued while a goal waits.
+         */
+        FaultNotice: {
+            /** Fault */
+            fault: string;
+            /**
+             * State
+             * @enum {string}
+             */
+            state: "queued" | "applied";
+            /** Text */
+            text: string;
         };
         /** Feature */
         Feature: {
@@ -2372,6 +2530,19 @@ export interface components {
             severity: string;
             /** Subjects */
             subjects: string[];
+        };
+        /** FlownLeg */
+        FlownLeg: {
+            /** From */
+            from: string;
+            /** Length M */
+            length_m: number;
+            /** Outcome */
+            outcome: string;
+            /** Planned M */
+            planned_m: number;
+            /** To */
+            to: string;
         };
         /** Goal */
         Goal: {
@@ -2420,6 +2591,13 @@ export interface components {
             violate: components["schemas"]["Estimate"];
             /** Visits */
             visits: number;
+        };
+        /** GoalOutcome */
+        GoalOutcome: {
+            /** Goal */
+            goal: string;
+            /** Outcome */
+            outcome: string;
         };
         /** HTTPValidationError */
         HTTPValidationError: {
@@ -2494,6 +2672,13 @@ export interface components {
              */
             reason?: string;
         };
+        /**
+         * Layout
+         * @description The graph editor's node positions, by node id: editor data kept beside the orders.
+         */
+        Layout: {
+            [key: string]: components["schemas"]["LayoutPoint"];
+        };
         /** LayoutIn */
         LayoutIn: {
             /** Layout */
@@ -2504,9 +2689,14 @@ export interface components {
         /** LayoutOut */
         LayoutOut: {
             /** Layout */
-            layout: {
-                [key: string]: unknown;
-            };
+            layout: components["schemas"]["Layout"];
+        };
+        /** LayoutPoint */
+        LayoutPoint: {
+            /** X */
+            x: number;
+            /** Y */
+            y: number;
         };
         /** LogEntryOut */
         LogEntryOut: {
@@ -2549,15 +2739,11 @@ export interface components {
              * Import Findings
              * @default []
              */
-            import_findings?: {
-                [key: string]: unknown;
-            }[];
+            import_findings?: components["schemas"]["FindingOut"][];
             /** Latest Version */
             latest_version: number | null;
             /** Layout */
-            layout: {
-                [key: string]: unknown;
-            };
+            layout: components["schemas"]["Layout"];
             /** Ok */
             ok: boolean | null;
             /** Orders */
@@ -3062,6 +3248,22 @@ export interface components {
             /** Places */
             places: components["schemas"]["PlanPlaceOut"][];
         };
+        /**
+         * PolygonGeometry
+         * @description A GeoJSON Polygon: rings of [longitude, latitude], each closed (last point = first).
+         */
+        PolygonGeometry: {
+            /** Coordinates */
+            coordinates: [
+                number,
+                number
+            ][][];
+            /**
+             * Type
+             * @constant
+             */
+            type: "Polygon";
+        };
         /** Position */
         Position: {
             /** X */
@@ -3098,6 +3300,29 @@ export interface components {
             state: string;
             /** Version */
             version: number;
+        };
+        /**
+         * ProbabilitiesOut
+         * @description Outcome probabilities (verify/probability.py, Probabilities.to_json): terminals, some
+         *     violation, expected costs; `unknown` goals have no probabilities, `intervals` goals only
+         *     intervals, and `exact` is neither.
+         */
+        ProbabilitiesOut: {
+            /** Exact */
+            exact: boolean;
+            /** Expected */
+            expected: {
+                [key: string]: components["schemas"]["ExpectationOut"];
+            };
+            /** Intervals */
+            intervals: string[];
+            /** Terminals */
+            terminals: {
+                [key: string]: components["schemas"]["BoundOut"];
+            };
+            /** Unknown */
+            unknown: string[];
+            violation: components["schemas"]["BoundOut"];
         };
         /** ProblemFromMission */
         ProblemFromMission: {
@@ -3168,16 +3393,17 @@ export interface components {
              * Findings
              * @default []
              */
-            findings?: {
-                [key: string]: unknown;
-            }[];
+            findings?: components["schemas"]["FindingOut"][];
             /** Orders */
             orders: components["schemas"]["Orders"];
         };
         /** RecordDetail */
         RecordDetail: {
-            /** Created At */
-            created_at: unknown;
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
             /** Digest */
             digest: string;
             /** Mission */
@@ -3187,9 +3413,7 @@ export interface components {
             /** Owner */
             owner: string | null;
             /** Record */
-            record: {
-                [key: string]: unknown;
-            };
+            record: components["schemas"]["RehearsalRecordOut"];
             /** Replay */
             replay: string;
             /** Replay Digest */
@@ -3198,6 +3422,15 @@ export interface components {
             source: string;
             /** Version */
             version: number | null;
+        };
+        /** RecordEnergy */
+        RecordEnergy: {
+            /** Capacity Wh */
+            capacity_wh: number;
+            /** Remaining Wh */
+            remaining_wh: number;
+            /** Used Wh */
+            used_wh: number;
         };
         /** RecordExecutionsOut */
         RecordExecutionsOut: {
@@ -3211,10 +3444,38 @@ export interface components {
              */
             rehearsal: components["schemas"]["RehearsalRunOut"][] | null;
         };
+        /** RecordInputs */
+        RecordInputs: {
+            /** Choices */
+            choices: components["schemas"]["Choice"][];
+            /** Faults */
+            faults: string[];
+        };
+        /** RecordOptions */
+        RecordOptions: {
+            /** Faults */
+            faults: string[];
+            /** Path Index */
+            path_index: number | null;
+            /** Seed */
+            seed: number;
+            /** Source */
+            source: string;
+        };
+        /** RecordOrders */
+        RecordOrders: {
+            /** Digest */
+            digest: string;
+            /** Id */
+            id: string;
+        };
         /** RecordOut */
         RecordOut: {
-            /** Created At */
-            created_at: unknown;
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
             /** Digest */
             digest: string;
             /** Mission */
@@ -3231,6 +3492,31 @@ export interface components {
             source: string;
             /** Version */
             version: number | null;
+        };
+        /** RecordRun */
+        RecordRun: {
+            /** Goals */
+            goals: string[];
+            /** Outcomes */
+            outcomes: string[];
+            /** Path Index */
+            path_index: number | null;
+            /** Terminal */
+            terminal: string | null;
+            /** Terminal Kind */
+            terminal_kind: string | null;
+        };
+        /** RecordWorld */
+        RecordWorld: {
+            /** Contacts */
+            contacts: number;
+            /** Generated Lane */
+            generated_lane: boolean;
+            /** Recovery */
+            recovery: [
+                number,
+                number
+            ];
         };
         /** RecordedExecutionOut */
         RecordedExecutionOut: {
@@ -3301,13 +3587,66 @@ export interface components {
             /** Source */
             source: string;
             /** Status */
-            status: {
-                [key: string]: unknown;
-            };
+            status: components["schemas"]["RehearsalStatus"];
             /** Version */
             version: number | null;
             /** Viewer */
             viewer: string;
+        };
+        /**
+         * RehearsalRecordOut
+         * @description A rehearsal record: what the rehearsal determined, and nothing that would change its
+         *     digest between two runs of the same orders, seed and inputs.
+         */
+        RehearsalRecordOut: {
+            energy: components["schemas"]["RecordEnergy"];
+            /** Events */
+            events: components["schemas"]["SimEvent"][];
+            /** Events Dropped */
+            events_dropped: number;
+            /**
+             * Format
+             * @constant
+             */
+            format: "countersign.rehearsal/1";
+            /** Goals */
+            goals: string[];
+            inputs: components["schemas"]["RecordInputs"];
+            /**
+             * Legs Flown
+             * @default []
+             */
+            legs_flown?: components["schemas"]["FlownLeg"][];
+            options: components["schemas"]["RecordOptions"];
+            orders: components["schemas"]["RecordOrders"];
+            /** Outcomes */
+            outcomes: string[];
+            /** Rule Firings */
+            rule_firings: {
+                [key: string]: number;
+            };
+            /** Rules */
+            rules: boolean;
+            /** Runs */
+            runs: components["schemas"]["RecordRun"][];
+            /** Seed */
+            seed: number;
+            /** Sim Time S */
+            sim_time_s: number;
+            /**
+             * State
+             * @enum {string}
+             */
+            state: "finished" | "stopped_early";
+            /** Steps */
+            steps: number;
+            /** Terminal */
+            terminal: string | null;
+            /** Terminal Kind */
+            terminal_kind: string | null;
+            /** Unmonitored Constraints */
+            unmonitored_constraints: string[];
+            world: components["schemas"]["RecordWorld"];
         };
         /** RehearsalRunOut */
         RehearsalRunOut: {
@@ -3317,6 +3656,67 @@ export interface components {
              */
             claimed_path: number | null;
             verdict: components["schemas"]["ExecutionOut"];
+        };
+        /** RehearsalStatus */
+        RehearsalStatus: {
+            /** Capacity Wh */
+            capacity_wh: number;
+            current_goal: components["schemas"]["CurrentGoal"] | null;
+            /** Energy Used Wh */
+            energy_used_wh: number;
+            /** Energy Wh */
+            energy_wh: number;
+            /** Events */
+            events: components["schemas"]["SimEvent"][];
+            fault_notice: components["schemas"]["FaultNotice"] | null;
+            /** Faults */
+            faults: string[];
+            /** First Question Frame */
+            first_question_frame: number | null;
+            /** Frames */
+            frames: number;
+            /** Id */
+            id: string;
+            /** Outcomes */
+            outcomes: components["schemas"]["GoalOutcome"][];
+            /**
+             * Pace
+             * @enum {string}
+             */
+            pace: "auto" | "fixed";
+            /** Path Index */
+            path_index: number | null;
+            /** Port */
+            port: number;
+            /** Question */
+            question?: string | null;
+            /** Queued Faults */
+            queued_faults: string[];
+            /** Run */
+            run: number;
+            /** Seed */
+            seed: number;
+            /** Sim Time S */
+            sim_time_s: number;
+            /** Skipping */
+            skipping: boolean;
+            /**
+             * Source
+             * @enum {string}
+             */
+            source: "manual" | "replay" | "tour" | "simulate";
+            /** Speed */
+            speed: number | null;
+            /**
+             * State
+             * @enum {string}
+             */
+            state: "running" | "waiting_for_outcome" | "finished" | "stopped";
+            /** Step */
+            step: number;
+            suggested?: components["schemas"]["Suggestion"] | null;
+            /** Terminal */
+            terminal: string | null;
         };
         /**
          * ReportOut
@@ -3336,6 +3736,8 @@ export interface components {
             /** Ok */
             ok: boolean;
             paths: components["schemas"]["PathCountsOut"] | null;
+            /** @description only for orders that declare probabilities */
+            probabilities?: components["schemas"]["ProbabilitiesOut"] | null;
         };
         /**
          * ReviewOut
@@ -3370,9 +3772,7 @@ export interface components {
              * Probabilities
              * @description outcome probabilities (issue 20): terminals, violation, expected energy and time, min/max where probabilities are intervals or missing; absent when the orders declare none
              */
-            probabilities?: {
-                [key: string]: unknown;
-            } | null;
+            probabilities?: components["schemas"]["ProbabilitiesOut"] | null;
             /**
              * Rules
              * @description the contingency rules, one plain-language sentence each (empty when none or unreadable)
@@ -3443,10 +3843,41 @@ export interface components {
             csrf_token: string | null;
             user: components["schemas"]["UserOut"];
         };
+        /**
+         * SimEvent
+         * @description One event of the simulation at simulated second `t`; `data` depends on its kind.
+         */
+        SimEvent: {
+            /** Data */
+            data?: {
+                [key: string]: unknown;
+            } | null;
+            /** Goal */
+            goal?: string | null;
+            /** Kind */
+            kind: string;
+            /** T */
+            t: number;
+            /** Text */
+            text: string;
+        };
+        /**
+         * StandingDecisionOut
+         * @description A decision on the standing (named apart from the approvals' DecisionOut, so that both
+         *     keep plain names in the OpenAPI document and so in the generated types).
+         */
+        StandingDecisionOut: {
+            /** Decision */
+            decision: string;
+            /** Record */
+            record: number;
+            /** Version */
+            version: number;
+        };
         /** StandingOut */
         StandingOut: {
-            approved: components["schemas"]["countersign__web__routes__standing__DecisionOut"] | null;
-            latest: components["schemas"]["countersign__web__routes__standing__DecisionOut"] | null;
+            approved: components["schemas"]["StandingDecisionOut"] | null;
+            latest: components["schemas"]["StandingDecisionOut"] | null;
         };
         /**
          * Statement
@@ -3540,6 +3971,13 @@ export interface components {
              * @description digest of a stored rehearsal record of this exact version, cited by the approval statement
              */
             rehearsal?: string | null;
+        };
+        /** Suggestion */
+        Suggestion: {
+            /** Because */
+            because: string;
+            /** Outcome */
+            outcome: string;
         };
         /** Terminal */
         Terminal: {
@@ -3727,9 +4165,7 @@ export interface components {
             /** Number */
             number: number;
             /** Profile */
-            profile: {
-                [key: string]: unknown;
-            };
+            profile: components["schemas"]["Vehicle"];
             /**
              * Saved At
              * Format: date-time
@@ -3789,59 +4225,6 @@ export interface components {
             unknown_cost?: string[];
             /** Worst */
             worst: number;
-        };
-        /** DecisionOut */
-        countersign__web__routes__approval_schemas__DecisionOut: {
-            /**
-             * Created At
-             * Format: date-time
-             */
-            created_at: string;
-            /** Decision */
-            decision: string;
-            /** Digest */
-            digest: string;
-            /** Id */
-            id: number;
-            /**
-             * Integrity
-             * @description how this row disagrees with its log entry, which is the source of truth
-             */
-            integrity?: string[];
-            /** Key Id */
-            key_id: string;
-            /** Log Index */
-            log_index: number | null;
-            /** Mission */
-            mission: string;
-            /** Operator */
-            operator: string | null;
-            /** Reason */
-            reason: string;
-            /**
-             * Receipt
-             * @description the log signer's signed receipt for the decision's log entry (entry hash, index, time)
-             */
-            receipt: string | null;
-            /** Revokes */
-            revokes: number | null;
-            /** Submission */
-            submission: number;
-            /** Supervisor */
-            supervisor: string | null;
-            /** Vehicle */
-            vehicle: string | null;
-            /** Version */
-            version: number;
-        };
-        /** DecisionOut */
-        countersign__web__routes__standing__DecisionOut: {
-            /** Decision */
-            decision: string;
-            /** Record */
-            record: number;
-            /** Version */
-            version: number;
         };
     };
     responses: never;
@@ -3974,7 +4357,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["countersign__web__routes__approval_schemas__DecisionOut"];
+                    "application/json": components["schemas"]["DecisionOut"];
                 };
             };
             /** @description Validation Error */
@@ -4853,9 +5236,7 @@ export interface operations {
         };
         requestBody: {
             content: {
-                "application/json": {
-                    [key: string]: unknown;
-                };
+                "application/json": components["schemas"]["Orders"];
             };
         };
         responses: {
@@ -6108,7 +6489,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["countersign__web__routes__approval_schemas__DecisionOut"];
+                    "application/json": components["schemas"]["DecisionOut"];
                 };
             };
             /** @description Validation Error */
@@ -6402,9 +6783,7 @@ export interface operations {
         };
         requestBody: {
             content: {
-                "application/json": {
-                    [key: string]: unknown;
-                };
+                "application/json": components["schemas"]["Orders"];
             };
         };
         responses: {

@@ -7,10 +7,10 @@
  */
 import { useLoad } from "../useLoad";
 import { api, type Schema, unwrap } from "../api/client";
+import { numberPair, pairOf } from "../api/pair";
 import { ErrorMessage, Loading } from "./Status";
 
-/** (latitude, longitude) of an answer: openapi-fetch's `Readable` reads the schema's pairs as
- * arrays, so a missing coordinate reads as NaN (drawn nowhere) rather than being cast away. */
+/** (latitude, longitude) as an answer reads it (api/pair.ts: a missing coordinate is NaN). */
 type LatLon = readonly number[];
 /** POST /api/plan-view: what the plan view draws. */
 export type PlanData = Schema<"PlanViewOut">;
@@ -38,7 +38,8 @@ const MAX_ZOOM = 19;
 const MAX_TILES = 48;
 
 /** Web Mercator in unit coordinates: x east from -180°, y south from 85.05°N, both 0..1. */
-function mercator([lat = NaN, lon = NaN]: LatLon): [number, number] {
+function mercator(point: LatLon): [number, number] {
+  const [lat, lon] = numberPair(point);
   const sin = Math.sin((Math.max(-85.0511, Math.min(85.0511, lat)) * Math.PI) / 180);
   return [(lon + 180) / 360, 0.5 - Math.log((1 + sin) / (1 - sin)) / (4 * Math.PI)];
 }
@@ -150,7 +151,8 @@ export function PlanSvg({ data, tiles = null }: { data: PlanData; tiles?: string
         </g>
       )}
       <g className="coastline" stroke="#8d6e63" strokeWidth={1}>
-        {data.coastline.map(([a = [], b = []], i) => {
+        {data.coastline.map((segment, i) => {
+          const [a, b] = pairOf<LatLon>(segment, []);
           const [x1, y1] = at(a);
           const [x2, y2] = at(b);
           return <line key={i} x1={x1} y1={y1} x2={x2} y2={y2} />;

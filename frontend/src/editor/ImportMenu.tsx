@@ -5,27 +5,22 @@
  */
 import { type FormEvent, useEffect, useId, useRef, useState } from "react";
 
-import { api, unwrap } from "../api/client";
+import { api, type Finding, type Schema, unwrap } from "../api/client";
 import { ErrorMessage } from "../components/Status";
 import { navigate } from "../navigation";
 import { missionHref } from "../router";
 import { contentTypeFor } from "../upload";
 import type { Orders } from "./graph";
 
-export interface ReadFinding {
-  code?: string;
-  message?: string;
-}
-
 /** Reads a file into orders on the server (POST /api/read), with what reading it found. */
-export async function readOrdersFile(file: Blob & { name?: string; type: string }): Promise<{ orders: Orders; findings: ReadFinding[] }> {
+export async function readOrdersFile(file: Blob & { name?: string; type: string }): Promise<{ orders: Orders; findings: Finding[] }> {
   const result = await api.POST("/api/read", {
     body: file as never,
     bodySerializer: (raw: unknown) => raw as BodyInit,
     headers: { "Content-Type": contentTypeFor(file.name ?? "", file.type) },
   });
   const data = unwrap(result);
-  return { orders: data.orders as Orders, findings: (data.findings ?? []) as ReadFinding[] };
+  return { orders: data.orders, findings: data.findings ?? [] };
 }
 
 export function ImportMenu({ onImport, busy }: { onImport: (file: File) => Promise<void>; busy: boolean }) {
@@ -57,12 +52,7 @@ export function ImportMenu({ onImport, busy }: { onImport: (file: File) => Promi
   );
 }
 
-interface Example {
-  name: string;
-  id: string;
-  title: string;
-  goals: number;
-}
+type Example = Schema<"ExampleOut">;
 
 /** "New from example": a built-in example saved as a new mission, opened in the editor. */
 export function NewFromExample() {

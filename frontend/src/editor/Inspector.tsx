@@ -77,7 +77,7 @@ export const GoalInspector = memo(function GoalInspector({
 }) {
   const id = goal.id;
   const set = (patch: Partial<GoalSpec>, group?: string) => editOrders((o) => updateGoal(o, id, patch), group);
-  const areas = ((orders.areas as { id: string; title?: string }[] | undefined) ?? []);
+  const areas = orders.areas ?? [];
   const successors = useMemo(() => successorChoices(goals(orders), terminals(orders)), [orders]);
   const [requires, setRequires] = useState((goal.requires ?? []).join(", "));
   const [envelope, setEnvelope] = useState(envelopeToText(goal.envelope));
@@ -110,8 +110,8 @@ export const GoalInspector = memo(function GoalInspector({
       </label>
       <BehaviourPicker
         value={goal.behavior ?? ""}
-        vehicle={(orders.vehicle as string | null | undefined) ?? undefined}
-        carried={(orders.vehicles as { id: string; behaviors?: string[] }[] | undefined) ?? []}
+        vehicle={orders.vehicle ?? undefined}
+        carried={orders.vehicles ?? []}
         onChange={(behavior) => set({ behavior })}
       />
       <label htmlFor="goal-area">Area</label>

@@ -117,7 +117,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
   // Small orders open fitted to the canvas; large ones open at the start goal at a readable
   // zoom, so that only the nodes in view are rendered (the toolbar's "Zoom to fit" shows all).
   const laidOut = useRef(false);
-  const large = useRef(goals(mission.orders as Orders).length > LARGE_GOALS);
+  const large = useRef(goals(mission.orders).length > LARGE_GOALS);
   const openView = useRef(false);
   useEffect(() => {
     if (ready) performance.mark("editor:ready");
@@ -349,7 +349,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
     setImporting(true);
     try {
       const { orders: read, findings: found } = await readOrdersFile(file);
-      const next = { ...read, id: mission.id } as Orders;
+      const next: Orders = { ...read, id: mission.id };
       const layout = await layoutOffThread(next, {}, canvasAspect());
       setReady(false);
       fitPending.current = true;

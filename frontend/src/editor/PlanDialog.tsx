@@ -97,7 +97,7 @@ export function PlanDialog({ mission, orders, onClose }: { mission: MissionDetai
     setError(null);
     try {
       const body = { ...solution.orders, id: newId.trim(), title: `Survey plan from ${orders.title || mission.id}` };
-      const created = unwrap(await api.POST("/api/missions", { body: body as never }));
+      const created = unwrap(await api.POST("/api/missions", { body }));
       navigate(missionHref(created.id, "editor"));
       onClose();
     } catch (e) {

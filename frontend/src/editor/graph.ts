@@ -2,6 +2,7 @@
  * Pure graph-editing logic of the mission editor: orders (countersign.orders/1) to nodes and
  * edges and back, connection rules, edits. No React here; everything returns new objects.
  */
+import type { Schema } from "../api/client";
 import type { components } from "../api/schema";
 
 export const OUTCOMES = ["succeed", "fail", "violate"] as const;
@@ -15,19 +16,20 @@ export const OUTCOME_LABEL: Record<Outcome, string> = {
 };
 
 // The orders' types are the server's (generated from its Pydantic model via OpenAPI), so the
-// editor cannot drift from what the API accepts.
+// editor cannot drift from what the API accepts, and as answers read them (openapi-fetch's
+// `Readable`: a pair is an array, read through api/pair.ts), so an answer's orders need no cast.
 type Schemas = components["schemas"];
-export type GoalSpec = Schemas["Goal"];
-export type TerminalSpec = Schemas["Terminal"];
-export type ConstraintSpec = Schemas["Constraint"];
-export type Orders = Schemas["Orders"];
+export type GoalSpec = Schema<"Goal">;
+export type TerminalSpec = Schema<"Terminal">;
+export type ConstraintSpec = Schema<"Constraint">;
+export type Orders = Schema<"Orders">;
 
 export interface Point {
   x: number;
   y: number;
 }
 /** The draft's `layout`: node id -> position (editor-only, outside the orders). */
-export type Layout = Record<string, Point>;
+export type Layout = Schemas["Layout"];
 
 export const DEFAULT_TERMINALS: TerminalSpec[] = [
   { id: "COMPLETE", kind: "complete", title: "Mission complete" },

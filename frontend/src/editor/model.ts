@@ -7,25 +7,19 @@
  * a text or number removes the key. Feature `fulfills`/`measures` are the one exception (they
  * are always lists, as the exemplar writes them).
  */
+import type { Schema } from "../api/client";
+import { numberPair } from "../api/pair";
 import { type GoalSpec, goals, type Layout, type Orders, OUTCOMES, type Point, successors, terminals } from "./graph";
 
 export type LatLon = [number, number];
+/** A point as the orders hold it when read from an answer: openapi-fetch's `Readable` types
+ * the schema's pairs as arrays, so readers take it through numberPair (api/pair.ts). */
+export type Coordinates = readonly number[];
 
-export interface AreaSpec {
-  id: string;
-  title?: string;
-  polygon?: LatLon[];
-  contexts?: string[];
-  [key: string]: unknown;
-}
-export interface QuantitySpec {
-  unit?: string;
-  type?: "real" | "integer" | "boolean";
-  min?: number;
-  max?: number;
-  title?: string;
-  [key: string]: unknown;
-}
+// The orders' parts as the server's model declares them (generated from OpenAPI); features
+// and norms below are as the editor writes them, which the server's types do not quite say.
+export type AreaSpec = Schema<"Area">;
+export type QuantitySpec = Schema<"Quantity">;
 export interface FeatureSpec {
   id: string;
   title?: string;
@@ -116,7 +110,7 @@ export function parseParams(text: string): { params?: Record<string, unknown>; e
 // ---- Areas ----
 
 export function areas(orders: Orders): AreaSpec[] {
-  return (orders.areas as AreaSpec[] | undefined) ?? [];
+  return orders.areas ?? [];
 }
 export function freeId(taken: Iterable<string>, prefix: string): string {
   const used = new Set(taken);
@@ -159,7 +153,7 @@ export function addVertex(orders: Orders, id: string, at?: LatLon): Orders {
   if (!area) return orders;
   const polygon = area.polygon ?? [];
   const last = polygon[polygon.length - 1];
-  const point: LatLon = at ?? (last ? [last[0], last[1]] : centreOf(orders) ?? [0, 0]);
+  const point: LatLon = at ?? (last ? numberPair(last) : centreOf(orders) ?? [0, 0]);
   return updateArea(orders, id, { polygon: [...polygon, point] });
 }
 export function removeVertex(orders: Orders, id: string, index: number): Orders {
@@ -168,7 +162,7 @@ export function removeVertex(orders: Orders, id: string, index: number): Orders 
   return updateArea(orders, id, { polygon: (area.polygon ?? []).filter((_, i) => i !== index) });
 }
 function centreOf(orders: Orders): LatLon | null {
-  const pts = areas(orders).flatMap((a) => a.polygon ?? []);
+  const pts = areas(orders).flatMap((a) => a.polygon ?? []).map(numberPair);
   if (pts.length === 0) return null;
   return [pts.reduce((s, p) => s + p[0], 0) / pts.length, pts.reduce((s, p) => s + p[1], 0) / pts.length];
 }
@@ -176,7 +170,7 @@ function centreOf(orders: Orders): LatLon | null {
 // ---- Quantities ----
 
 export function quantities(orders: Orders): Record<string, QuantitySpec> {
-  return (orders.quantities as Record<string, QuantitySpec> | undefined) ?? {};
+  return orders.quantities ?? {};
 }
 export function addQuantity(orders: Orders, name: string): { orders: Orders; error?: string } {
   if (!/^[A-Za-z_][A-Za-z0-9_]*$/.test(name)) return { orders, error: "A quantity name is letters, digits and _, e.g. depth_m." };

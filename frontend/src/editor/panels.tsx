@@ -5,6 +5,7 @@
  */
 import { type PointerEvent as ReactPointerEvent, useMemo, useRef, useState } from "react";
 
+import { numberPair } from "../api/pair";
 import { CommitField, CommitSelect, ExprField } from "./fields";
 import { VehiclePicker } from "./VehiclePicker";
 import { envelopeToText, type Orders, parseEnvelope } from "./graph";
@@ -77,12 +78,12 @@ export function MissionPanel({ orders, editOrders }: { orders: Orders; editOrder
       <textarea
         id="mission-description"
         rows={3}
-        value={(orders.description as string | undefined) ?? ""}
+        value={orders.description ?? ""}
         onChange={(e) => editOrders((o) => updateMission(o, { description: e.target.value }), "mission:description")}
       />
       <VehiclePicker
-        value={(orders.vehicle as string | null | undefined) ?? ""}
-        carried={(orders.vehicles as { id: string; title?: string }[] | undefined) ?? []}
+        value={orders.vehicle ?? ""}
+        carried={orders.vehicles ?? []}
         onChange={(vehicle) => editOrders((o) => updateMission(o, { vehicle }))}
       />
     </fieldset>
@@ -329,17 +330,15 @@ function AreaEditor({
           </tr>
         </thead>
         <tbody>
-          {polygon.map((p, i) => (
+          {polygon.map(numberPair).map(([lat, lon], i) => (
             <tr key={i}>
               <td>{i + 1}</td>
               {[0, 1].map((k) => (
                 <td key={k}>
                   <VertexInput
                     label={`Vertex ${i + 1} ${k === 0 ? "latitude" : "longitude"}`}
-                    value={p[k]!}
-                    onChange={(n) =>
-                      editOrders((o) => setVertex(o, id, i, (k === 0 ? [n, p[1]] : [p[0], n]) as LatLon), `area:${id}:v${i}:${k}`)
-                    }
+                    value={k === 0 ? lat : lon}
+                    onChange={(n) => editOrders((o) => setVertex(o, id, i, k === 0 ? [n, lon] : [lat, n]), `area:${id}:v${i}:${k}`)}
                   />
                 </td>
               ))}

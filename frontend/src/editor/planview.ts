@@ -3,7 +3,8 @@
  * cos(latitude) so shapes keep their proportions; no map tiles) and back, plus the local metre
  * frame of the planning problem (centred on the start, as the server builds it).
  */
-import type { LatLon } from "./model";
+import { numberPair } from "../api/pair";
+import type { Coordinates, LatLon } from "./model";
 
 export const EARTH_RADIUS_M = 6_371_000;
 
@@ -21,8 +22,8 @@ export interface View {
 }
 
 /** A view that fits every point in a width x height box (with padding). */
-export function fitView(points: LatLon[], width: number, height: number, pad = 24): View {
-  const pts = points.length > 0 ? points : [[0, 0] as LatLon];
+export function fitView(points: readonly Coordinates[], width: number, height: number, pad = 24): View {
+  const pts: LatLon[] = points.length > 0 ? points.map(numberPair) : [[0, 0]];
   const lat0 = pts.reduce((s, p) => s + p[0], 0) / pts.length;
   const cos = Math.cos((lat0 * Math.PI) / 180) || 1;
   const xs = pts.map((p) => p[1] * cos);
@@ -46,9 +47,10 @@ export function fitView(points: LatLon[], width: number, height: number, pad = 2
 }
 
 /** Latitude/longitude -> SVG x, y (north up). */
-export function project(view: View, p: LatLon): [number, number] {
-  const x = view.pad + (p[1] * view.cos - view.minX) * view.scale;
-  const y = view.height - view.pad - (p[0] - view.minY) * view.scale;
+export function project(view: View, point: Coordinates): [number, number] {
+  const [lat, lon] = numberPair(point);
+  const x = view.pad + (lon * view.cos - view.minX) * view.scale;
+  const y = view.height - view.pad - (lat - view.minY) * view.scale;
   return [x, y];
 }
 
@@ -64,11 +66,11 @@ export function round6(n: number): number {
 }
 
 /** Local metres (centred on `origin`, as countersign.plan/1 problems built from orders) -> lat/lon.
- * `point` is (east, north); an answer's pair reads as an array (openapi-fetch's `Readable`), and a
- * missing coordinate gives NaN, which draws nothing, rather than a point at the origin. */
+ * `point` is (east, north), as an answer reads it (numberPair: a missing coordinate gives NaN,
+ * which draws nothing, rather than a point at the origin). */
 export function fromMetres(origin: LatLon, point: readonly number[]): LatLon {
   const [lat0, lon0] = origin;
-  const [east = NaN, north = NaN] = point;
+  const [east, north] = numberPair(point);
   const cos = Math.cos((lat0 * Math.PI) / 180);
   const lat = lat0 + ((north / EARTH_RADIUS_M) * 180) / Math.PI;
   const lon = lon0 + ((east / (EARTH_RADIUS_M * cos)) * 180) / Math.PI;
@@ -76,12 +78,13 @@ export function fromMetres(origin: LatLon, point: readonly number[]): LatLon {
 }
 
 /** Centroid of a polygon's vertices (for labels). */
-export function centroid(points: LatLon[]): LatLon {
+export function centroid(points: readonly Coordinates[]): LatLon {
   if (points.length === 0) return [0, 0];
-  return [points.reduce((s, p) => s + p[0], 0) / points.length, points.reduce((s, p) => s + p[1], 0) / points.length];
+  const pts = points.map(numberPair);
+  return [pts.reduce((s, p) => s + p[0], 0) / pts.length, pts.reduce((s, p) => s + p[1], 0) / pts.length];
 }
 
 /** SVG polygon `points` attribute. */
-export function svgPoints(view: View, polygon: LatLon[]): string {
+export function svgPoints(view: View, polygon: readonly Coordinates[]): string {
   return polygon.map((p) => project(view, p).map((n) => n.toFixed(1)).join(",")).join(" ");
 }

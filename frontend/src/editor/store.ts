@@ -81,7 +81,7 @@ export interface EditorState {
 }
 
 function openedDraft(mission: MissionDetail): Draft {
-  const opened = { orders: mission.orders as Orders, layout: (mission.layout ?? {}) as Layout };
+  const opened = { orders: mission.orders, layout: mission.layout };
   // A draft without positions is laid out at once (the layered layout is linear time), so that
   // the canvas never renders it unplaced and opening waits for nothing.
   if (goals(opened.orders).length > 0 && !isLaidOut(opened)) {
@@ -108,8 +108,8 @@ export function createEditorStore(mission: MissionDetail): StoreApi<EditorState>
     missionId: mission.id,
     history: createHistory(draft),
     revision: mission.revision,
-    base: mission.orders as Orders,
-    savedLayout: (mission.layout ?? {}) as Layout,
+    base: mission.orders,
+    savedLayout: mission.layout,
     savedRevision: mission.revision,
     saveState: "saved",
     saveError: null,
@@ -118,7 +118,7 @@ export function createEditorStore(mission: MissionDetail): StoreApi<EditorState>
     connectMessage: "",
     report: null,
     checkMs: null,
-    lastChecked: mission.orders as Orders,
+    lastChecked: mission.orders,
     editedAt: 0,
     nodes: [],
     edges: [],

@@ -46,9 +46,9 @@ export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDeta
   const mergeTheirs = useCallback(
     (theirs: MissionDetail): boolean => {
       const { base, set } = store.getState();
-      const merge = mergeOrders(base, latest().orders, theirs.orders as Orders);
+      const merge = mergeOrders(base, latest().orders, theirs.orders);
       if (merge.conflicts.length > 0) {
-        const differences = describeDifferences(latest().orders, theirs.orders as Orders);
+        const differences = describeDifferences(latest().orders, theirs.orders);
         set({ conflict: { theirs, differences, merge }, saveState: "conflict" });
         return false;
       }
@@ -62,8 +62,8 @@ export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDeta
   const adoptMerged = useCallback(
     (theirs: MissionDetail, orders: Orders) => {
       const { setHistory, set } = store.getState();
-      setHistory((h) => push(h, { orders, layout: { ...((theirs.layout ?? {}) as Layout), ...h.present.layout } }));
-      set({ revision: theirs.revision, base: theirs.orders as Orders, conflict: null, saveState: "pending" });
+      setHistory((h) => push(h, { orders, layout: { ...theirs.layout, ...h.present.layout } }));
+      set({ revision: theirs.revision, base: theirs.orders, conflict: null, saveState: "pending" });
       void check(orders);
     },
     [store, check],
@@ -147,7 +147,7 @@ export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDeta
     [edit],
   );
 
-  const opened = useRef((mission.layout ?? {}) as Layout);
+  const opened = useRef(mission.layout);
   const saveComputedLayout = useCallback(
     (layout: Layout) => {
       if (inConflict() || Object.keys(layout).every((id) => opened.current[id])) return;
@@ -160,13 +160,13 @@ export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDeta
   const reloadTheirs = useCallback(() => {
     const { conflict, set, setHistory } = store.getState();
     if (!conflict) return;
-    setHistory(reset({ orders: conflict.theirs.orders as Orders, layout: (conflict.theirs.layout ?? {}) as Layout }));
+    setHistory(reset({ orders: conflict.theirs.orders, layout: conflict.theirs.layout }));
     set({
       revision: conflict.theirs.revision,
       savedRevision: conflict.theirs.revision,
-      lastChecked: conflict.theirs.orders as Orders,
-      base: conflict.theirs.orders as Orders,
-      savedLayout: (conflict.theirs.layout ?? {}) as Layout,
+      lastChecked: conflict.theirs.orders,
+      base: conflict.theirs.orders,
+      savedLayout: conflict.theirs.layout,
       conflict: null,
       saveState: "saved",
       notice: "Reloaded the draft someone else saved.",

@@ -2,6 +2,7 @@ import { type FormEvent, useEffect, useRef, useState } from "react";
 
 import { api, unwrap } from "../api/client";
 import { ErrorMessage } from "../components/Status";
+import type { Orders } from "../editor/graph";
 import { navigate } from "../navigation";
 import { missionHref } from "../router";
 import { contentTypeFor } from "../upload";
@@ -60,7 +61,7 @@ export function ImportPage() {
     setError(null);
     try {
       // An empty draft: no goals yet, the default terminals; the graph editor takes it from here.
-      const orders: Record<string, unknown> = {
+      const orders: Orders = {
         format: "countersign.orders/1",
         id,
         title: newTitle.trim(),

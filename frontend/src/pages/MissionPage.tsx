@@ -11,6 +11,7 @@ import {
   unwrap,
 } from "../api/client";
 import { ChartPlanView } from "../components/ChartPlanView";
+import type { Orders } from "../editor/graph";
 import { FindingsTable } from "../components/FindingsTable";
 import { Link } from "../components/Link";
 import { PathCounts } from "../components/PathCounts";
@@ -337,10 +338,8 @@ function VersionsTab({ mission, onChange }: { mission: MissionDetail; onChange: 
     setBusy(true);
     setError(null);
     try {
-      const version = unwrap(
-        await api.POST("/api/missions/{mission_id}/versions", missionPath(mission.id)),
-      ) as { number?: number };
-      setCreated(version.number ?? null);
+      const version = unwrap(await api.POST("/api/missions/{mission_id}/versions", missionPath(mission.id)));
+      setCreated(version.number);
       onChange();
     } catch (e) {
       setError(e);
@@ -426,9 +425,10 @@ function EditTab({ mission, onSaved }: { mission: MissionDetail; onSaved: () => 
     setError(null);
     setSaved(false);
     setConflict(false);
-    let orders: Record<string, unknown>;
+    let orders: Orders;
     try {
-      orders = JSON.parse(text) as Record<string, unknown>;
+      // Whatever the text says: the server reads and checks the orders (422 names the field).
+      orders = JSON.parse(text) as Orders;
     } catch (e) {
       setError(`The orders are not valid JSON: ${(e as Error).message}`);
       return;

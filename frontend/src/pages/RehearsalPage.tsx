@@ -14,9 +14,9 @@ import { useLoad } from "../useLoad";
 
 type JsonBody<R> = R extends { content: { "application/json": infer T } } ? T : never;
 type Started = JsonBody<paths["/api/missions/{mission_id}/rehearsals"]["post"]["responses"][201]>;
-type RecordList = JsonBody<paths["/api/missions/{mission_id}/rehearsal-records"]["get"]["responses"][200]>;
 type StoredRecord = JsonBody<paths["/api/rehearsals/{rehearsal_id}/stop"]["post"]["responses"][200]>;
-type Source = "manual" | "replay" | "tour" | "simulate";
+type Status = Started["status"];
+type Source = Status["source"];
 
 const SOURCES: { value: Source; label: string }[] = [
   { value: "manual", label: "Chosen step by step" },
@@ -31,25 +31,13 @@ const FAULTS: { value: string; label: string }[] = [
   { value: "low_energy", label: "Low energy" },
   { value: "contact_close", label: "Contact closing inside 1,000 m" },
 ];
-const STATE_LABEL: Record<string, string> = {
+const STATE_LABEL: Record<Status["state"], string> = {
   running: "Running",
   waiting_for_outcome: "Waiting for the outcome",
   finished: "Finished",
   stopped: "Stopped (idle); stop it to record it",
 };
 const POLL_MS = 1000;
-
-function str(value: unknown): string | null {
-  return typeof value === "string" ? value : null;
-}
-
-function num(value: unknown): number | null {
-  return typeof value === "number" && Number.isFinite(value) ? value : null;
-}
-
-function strings(value: unknown): string[] {
-  return Array.isArray(value) ? value.filter((v): v is string => typeof v === "string") : [];
-}
 
 const FAULT_LABEL: Record<string, string> = Object.fromEntries(FAULTS.map((f) => [f.value, f.label]));
 
@@ -64,20 +52,6 @@ export function simulatedTime(seconds: number): string {
   return `${rest} s`;
 }
 
-interface CurrentGoal {
-  id: string;
-  title?: string;
-  progress?: number;
-}
-
-function currentGoalOf(status: Record<string, unknown> | undefined): CurrentGoal | null {
-  const goal = status?.current_goal;
-  if (goal && typeof goal === "object" && "id" in goal && typeof goal.id === "string") {
-    return goal as CurrentGoal;
-  }
-  return null;
-}
-
 export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetail; canRehearse: boolean }) {
   const [live, setLive] = useState<Started | null>(null);
   const [error, setError] = useState<unknown>(null);
@@ -88,7 +62,7 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
         await api.GET("/api/missions/{mission_id}/rehearsal-records", {
           params: { path: { mission_id: mission.id } },
         }),
-      ) as RecordList,
+      ),
     [mission.id],
   );
 
@@ -128,20 +102,21 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
     }
   }, []);
 
-  const state = str(live?.status.state);
-  const current = currentGoalOf(live?.status);
+  const status: Status | undefined = live?.status;
+  const state = status?.state ?? null;
+  const current = status?.current_goal ?? null;
   const currentGoal = current?.id ?? null;
   const finished = state === "finished" || state === "stopped";
   const waiting = state === "waiting_for_outcome";
-  const question = str(live?.status.question);
-  const terminal = str(live?.status.terminal);
-  const simTime = num(live?.status.sim_time_s);
-  const energyLeft = num(live?.status.energy_wh);
-  const energyUsed = num(live?.status.energy_used_wh);
-  const capacity = num(live?.status.capacity_wh);
-  const activeFaults = strings(live?.status.faults);
-  const queuedFaults = strings(live?.status.queued_faults);
-  const suggested = live?.status.suggested as { outcome?: string; because?: string } | null | undefined;
+  const question = status?.question ?? null;
+  const terminal = status?.terminal ?? null;
+  const simTime = status?.sim_time_s ?? null;
+  const energyLeft = status?.energy_wh ?? null;
+  const energyUsed = status?.energy_used_wh ?? null;
+  const capacity = status?.capacity_wh ?? null;
+  const activeFaults = status?.faults ?? [];
+  const queuedFaults = status?.queued_faults ?? [];
+  const suggested = status?.suggested;
   const [faultNotice, setFaultNotice] = useState<string | null>(null);
 
   return (
@@ -171,16 +146,16 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
         <div className="rehearsal" data-testid="rehearsal">
           <div className="rehearsal-controls">
             <p role="status" aria-live="polite" data-testid="rehearsal-status">
-              <strong data-testid="rehearsal-state">{STATE_LABEL[state ?? ""] ?? state ?? "Starting"}</strong>
+              <strong data-testid="rehearsal-state">{state ? STATE_LABEL[state] : "Starting"}</strong>
               {current ? (
                 <>
                   {" "}
                   · goal <span data-testid="current-goal">{current.title || current.id}</span>
-                  {typeof current.progress === "number" && ` (${Math.round(current.progress * 100)}%)`}
+                  {` (${Math.round(current.progress * 100)}%)`}
                 </>
               ) : null}
               {terminal ? ` · ended at ${terminal}` : null}
-              {" "}· step <span data-testid="rehearsal-step">{String(live.status.step ?? 0)}</span>
+              {" "}· step <span data-testid="rehearsal-step">{String(live.status.step)}</span>
             </p>
             <dl className="rehearsal-figures" data-testid="rehearsal-figures">
               <dt>Simulated time</dt>
@@ -281,8 +256,7 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
                         }),
                       );
                       setLive(answer);
-                      const notice = answer.status.fault_notice as { text?: string } | null | undefined;
-                      setFaultNotice(notice?.text ?? `${f.label}: sent.`);
+                      setFaultNotice(answer.status.fault_notice?.text ?? `${f.label}: sent.`);
                     })
                   }
                 >
@@ -321,7 +295,7 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
               // An opaque origin: the viewer cannot reach this app's storage, keys or API.
               sandbox="allow-scripts"
             />
-            <MissionGraph orders={mission.orders as Orders} current={currentGoal} visited={outcomeGoals(live.status)} />
+            <MissionGraph orders={mission.orders} current={currentGoal} visited={outcomeGoals(live.status)} />
           </div>
         </div>
       )}
@@ -350,15 +324,8 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
   );
 }
 
-function outcomeGoals(status: Record<string, unknown>): Set<string> {
-  const seen = new Set<string>();
-  const outcomes = status.outcomes;
-  if (Array.isArray(outcomes)) {
-    for (const o of outcomes) {
-      if (o && typeof o === "object" && "goal" in o && typeof o.goal === "string") seen.add(o.goal);
-    }
-  }
-  return seen;
+function outcomeGoals(status: Status): Set<string> {
+  return new Set(status.outcomes.map((o) => o.goal));
 }
 
 type StartBody = {

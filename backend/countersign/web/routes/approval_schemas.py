@@ -10,7 +10,9 @@ from typing import Annotated, Any
 
 from pydantic import BaseModel, Field
 
-from .schemas import FindingOut, OrdersJson, PathCountsOut, SchemaOf
+from .campaign_schemas import CampaignRecordJson
+from .rehearsal_schemas import RehearsalRecordJson
+from .schemas import FindingOut, OrdersJson, PathCountsOut, ProbabilitiesJson, SchemaOf
 
 
 class KeyOut(BaseModel):
@@ -93,7 +95,7 @@ class ReviewOut(BaseModel):
     ok: bool
     findings: list[FindingOut]
     paths: PathCountsOut | None
-    probabilities: dict[str, Any] | None = Field(
+    probabilities: ProbabilitiesJson | None = Field(
         default=None, description="outcome probabilities (issue 20): terminals, violation, "
         "expected energy and time, min/max where probabilities are intervals or missing; "
         "absent when the orders declare none")
@@ -187,7 +189,7 @@ class CitedRehearsalOut(BaseModel):
     created_at: str
     replay_digest: str
     replay: str
-    record: dict[str, Any]
+    record: RehearsalRecordJson
 
 
 class ApprovalDetailOut(ApprovalOut):
@@ -250,5 +252,5 @@ class BundleOut(BaseModel):
     keys: list[BundleKeyOut]
     orders: dict[str, OrdersJson]
     approvals: list[BundleApprovalOut]
-    rehearsals: dict[str, dict[str, Any]]
-    campaigns: dict[str, dict[str, Any]] = {}
+    rehearsals: dict[str, RehearsalRecordJson]
+    campaigns: dict[str, CampaignRecordJson] = {}

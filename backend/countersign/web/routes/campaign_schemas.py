@@ -5,11 +5,22 @@ answer for the front end's generated types without re-validating what the runner
 
 from __future__ import annotations
 
-from typing import Annotated, Any
+from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel
 
 from .schemas import Number, SchemaOf
+
+
+class CampaignSpecOut(BaseModel):
+    """What a campaign simulates (campaigns/spec.py, CampaignSpec.to_json): the sweep is
+    faults x goals, and simulation i runs cell i mod cells with seed seed + i div cells."""
+
+    simulations: int
+    faults: list[str]
+    goals: list[str]
+    seed: int
+    chunk: int
 
 
 class Estimate(BaseModel):
@@ -61,6 +72,21 @@ class CampaignResults(BaseModel):
     energy_wh: EnergySummary
 
 
+class CampaignOrders(BaseModel):
+    id: str
+    digest: str
+
+
+class CampaignRecord(BaseModel):
+    """A finished campaign's record (jobs/tasks.py, campaign_record): what an approval cites by
+    the digest of its RFC 8785 form."""
+
+    format: Literal["countersign.campaign/1"]
+    orders: CampaignOrders
+    spec: CampaignSpecOut
+    results: CampaignResults
+
+
 class OfferedProbabilities(BaseModel):
     """A goal's outcome probabilities offered from a campaign: point estimates and intervals."""
 
@@ -69,5 +95,7 @@ class OfferedProbabilities(BaseModel):
     interval: dict[str, tuple[Number, Number]]
 
 
+CampaignSpecJson = Annotated[dict[str, Any], SchemaOf(CampaignSpecOut)]
 CampaignResultsJson = Annotated[dict[str, Any], SchemaOf(CampaignResults)]
+CampaignRecordJson = Annotated[dict[str, Any], SchemaOf(CampaignRecord)]
 OfferedProbabilitiesJson = Annotated[dict[str, Any], SchemaOf(OfferedProbabilities)]

@@ -11,6 +11,7 @@ starts); on PostgreSQL it queues them for `countersign campaign worker` processe
 from __future__ import annotations
 
 import threading
+from datetime import datetime
 from typing import Annotated, Any
 
 from fastapi import APIRouter, FastAPI, Path, Query, Request
@@ -25,7 +26,7 @@ from ...store import approvals as approvals_service
 from ...store import campaigns as store
 from ...store.missions import get_mission, get_version
 from ..deps import EVERYONE, CurrentPrincipal, Db, TransactionRoute, allow
-from .campaign_schemas import CampaignResultsJson, OfferedProbabilitiesJson
+from .campaign_schemas import CampaignResultsJson, CampaignSpecJson, OfferedProbabilitiesJson
 from .schemas import RequestBody
 
 router = APIRouter(prefix="/api", tags=["campaigns"], route_class=TransactionRoute)
@@ -52,12 +53,12 @@ class CampaignOut(BaseModel):
     version: int | None
     orders_digest: str
     owner: str | None
-    spec: dict[str, Any]
+    spec: CampaignSpecJson
     simulations: int
     done: int
     state: str
-    created_at: Any
-    ended_at: Any
+    created_at: datetime
+    ended_at: datetime | None
     digest: str | None
     error: str | None
     results: CampaignResultsJson | None

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, HTTPException, Request
 from fastapi.concurrency import run_in_threadpool
@@ -15,14 +15,14 @@ from ...orders.geo_formats import (
     charts_from_geojson,
     charts_from_kml,
 )
-from ...orders.model import Chart
+from ...orders.model import Chart, ChartNorm
 from ...orders.reader import read_json
 from ...store.charts import all_charts, delete_chart, save_charts
 from ...store.events import record
 from ...store.vehicles import with_registry
 from ...verify.plan_view import plan_view
 from ..deps import ADMINS, EVERYONE, CurrentPrincipal, Db, TransactionRoute, allow
-from .schemas import Number, RequestBody
+from .schemas import Number, RequestBody, SchemaOf
 
 router = APIRouter(prefix="/api", tags=["charts"], route_class=TransactionRoute)
 
@@ -42,16 +42,39 @@ def list_charts(db: Db) -> list[Chart]:
     return all_charts(db)
 
 
+# Numbers as computed: a coordinate given as an int stays one (a float field would add ".0").
+Point = tuple[Number, Number]
+
+
+class ChartProperties(BaseModel):
+    title: str
+    contexts: list[str]
+    kind: str
+    norms: list[ChartNorm]
+
+
+class PolygonGeometry(BaseModel):
+    """A GeoJSON Polygon: rings of [longitude, latitude], each closed (last point = first)."""
+
+    type: Literal["Polygon"]
+    coordinates: list[list[Point]]
+
+
+class ChartFeature(BaseModel):
+    """A chart as a GeoJSON Feature (orders/geo_formats.py, areas_to_geojson)."""
+
+    type: Literal["Feature"]
+    id: str
+    properties: ChartProperties
+    geometry: PolygonGeometry
+
+
 class ChartsGeoJsonOut(BaseModel):
     """The registry as one GeoJSON FeatureCollection (RFC 7946), a Polygon feature per chart."""
 
     model_config = ConfigDict(extra="allow")
     type: Literal["FeatureCollection"]
-    features: list[dict[str, Any]]
-
-
-# Numbers as computed: a coordinate given as an int stays one (a float field would add ".0").
-Point = tuple[Number, Number]
+    features: list[Annotated[dict[str, Any], SchemaOf(ChartFeature)]]
 
 
 class PlanLegOut(BaseModel):

@@ -43,6 +43,8 @@ from ..deps import (
 )
 from ..fair import with_limit
 from .schemas import (
+    FindingJson,
+    LayoutJson,
     MissionDetail,
     MissionPage,
     MissionPathOut,
@@ -62,8 +64,8 @@ MAX_PATH_PAGE = 1000
 
 
 class DraftIn(RequestBody):
-    orders: dict[str, Any]
-    layout: dict[str, Any] | None = None
+    orders: OrdersJson
+    layout: LayoutJson | None = None
 
 
 class Position(RequestBody):
@@ -77,7 +79,7 @@ class LayoutIn(RequestBody):
 
 
 class LayoutOut(BaseModel):
-    layout: dict[str, Any]
+    layout: LayoutJson
 
 
 def _orders(data: dict[str, Any]) -> Orders:
@@ -193,7 +195,7 @@ def list_missions(
 
 @router.post("/missions", operation_id="createMission", status_code=201,
              response_model=MissionDetail, **with_limit(allow(*OPERATORS), None))
-def create_mission(body: dict[str, Any], response: Response, principal: CurrentPrincipal,
+def create_mission(body: OrdersJson, response: Response, principal: CurrentPrincipal,
                    db: Db) -> MissionDetail:
     orders = with_registry(db, _orders(body))
     validated = _validate_first(db, orders)
@@ -236,7 +238,7 @@ class ReadOrdersOut(BaseModel):
     """Orders read from a file without storing anything, with what reading them found."""
 
     orders: OrdersJson
-    findings: list[dict[str, Any]] = []
+    findings: list[FindingJson] = []
 
 
 @router.post("/read", operation_id="readOrders", response_model=ReadOrdersOut,
@@ -351,9 +353,9 @@ def get_report(mission_id: str, db: Db) -> Response:
 
 
 VALIDATE_ROUTE = allow(*EVERYONE)
+# The body is read raw (the same bytes again skip parsing), so its schema is stated here.
 VALIDATE_ROUTE["openapi_extra"]["requestBody"] = {"required": True, "content": {
-    "application/json": {"schema": {"type": "object", "additionalProperties": True,
-                                    "title": "Body"}}}}
+    "application/json": {"schema": {"$ref": "#/components/schemas/Orders"}}}}
 VALIDATE_ROUTE["responses"] = {422: {"description": "Validation Error", "content": {
     "application/json": {"schema": {"$ref": "#/components/schemas/HTTPValidationError"}}}}}
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 import hmac
 import logging
 from dataclasses import dataclass
+from datetime import datetime
 from typing import Annotated, Any, Literal
 from urllib.parse import urlsplit
 
@@ -40,6 +41,7 @@ from ..viser_proxy import (
     open_upstream,
     relay,
 )
+from .rehearsal_schemas import RehearsalRecordJson, RehearsalStatusJson
 from .schemas import RequestBody
 
 router = APIRouter(prefix="/api", tags=["rehearsals"], route_class=TransactionRoute)
@@ -87,7 +89,7 @@ class RehearsalOut(BaseModel):
     orders_digest: str
     source: str
     viewer: str
-    status: dict[str, Any]
+    status: RehearsalStatusJson
 
 
 class RecordOut(BaseModel):
@@ -97,13 +99,13 @@ class RecordOut(BaseModel):
     orders_digest: str
     source: str
     owner: str | None
-    created_at: Any
+    created_at: datetime
     replay_digest: str
     replay: str
 
 
 class RecordDetail(RecordOut):
-    record: dict[str, Any]
+    record: RehearsalRecordJson
 
 
 def hub_of(request: Request | WebSocket) -> RehearsalHub:

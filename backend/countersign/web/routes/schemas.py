@@ -5,7 +5,14 @@ from __future__ import annotations
 from datetime import datetime
 from typing import Annotated, Any
 
-from pydantic import BaseModel, ConfigDict, Field, GetCoreSchemaHandler, GetJsonSchemaHandler
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    GetCoreSchemaHandler,
+    GetJsonSchemaHandler,
+    RootModel,
+)
 from pydantic.json_schema import JsonSchemaValue
 from pydantic_core import CoreSchema
 from pydantic_core import core_schema as cs
@@ -78,6 +85,22 @@ class FindingOut(BaseModel):
     details: dict[str, Any] | None = None
 
 
+# A finding as its check wrote it (orders/findings.py, Finding.to_json): `details` only when set.
+FindingJson = Annotated[dict[str, Any], SchemaOf(FindingOut)]
+
+
+class LayoutPoint(BaseModel):
+    x: Number
+    y: Number
+
+
+class Layout(RootModel[dict[str, LayoutPoint]]):
+    """The graph editor's node positions, by node id: editor data kept beside the orders."""
+
+
+LayoutJson = Annotated[dict[str, Any], SchemaOf(Layout)]
+
+
 class PathCountsOut(BaseModel):
     count: int
     by_terminal: dict[str, int]
@@ -97,6 +120,34 @@ class WorstCostOut(BaseModel):
     estimated_cost: list[str] = []
 
 
+class BoundOut(BaseModel):
+    """A probability or an expectation as [min, max] (equal when the orders pin it down)."""
+
+    min: Number
+    max: Number
+
+
+class ExpectationOut(BoundOut):
+    quantiles: dict[str, Number] | None
+    unknown_cost: list[str]
+
+
+class ProbabilitiesOut(BaseModel):
+    """Outcome probabilities (verify/probability.py, Probabilities.to_json): terminals, some
+    violation, expected costs; `unknown` goals have no probabilities, `intervals` goals only
+    intervals, and `exact` is neither."""
+
+    exact: bool
+    terminals: dict[str, BoundOut]
+    violation: BoundOut
+    expected: dict[str, ExpectationOut]
+    unknown: list[str]
+    intervals: list[str]
+
+
+ProbabilitiesJson = Annotated[dict[str, Any], SchemaOf(ProbabilitiesOut)]
+
+
 class ReportOut(BaseModel):
     """The validation report: every check that exists (docs/api.md, Reports)."""
 
@@ -106,6 +157,8 @@ class ReportOut(BaseModel):
     findings: list[FindingOut]
     paths: PathCountsOut | None
     costs: dict[str, WorstCostOut] | None = None
+    probabilities: ProbabilitiesOut | None = Field(default=None, description=(
+        "only for orders that declare probabilities"))
 
 
 class MissionPathOut(BaseModel):
@@ -143,9 +196,9 @@ class MissionSummary(BaseModel):
 
 class MissionDetail(MissionSummary):
     orders: OrdersJson
-    layout: dict[str, Any]
+    layout: LayoutJson
     versions: list[VersionOut]
-    import_findings: list[dict[str, Any]] = []
+    import_findings: list[FindingJson] = []
 
 
 class MissionPage(BaseModel):

@@ -4,13 +4,14 @@ for the "needs re-approval" notice on approvals whose profile the registry has s
 from __future__ import annotations
 
 from datetime import datetime
-from typing import Annotated, Any
+from typing import Annotated
 
 from fastapi import APIRouter, HTTPException, Path
 from pydantic import BaseModel
 
 from ...store.vehicles import vehicle_versions
 from ..deps import EVERYONE, Db, TransactionRoute, allow
+from .schemas import VehicleJson
 
 router = APIRouter(prefix="/api", tags=["administration"], route_class=TransactionRoute)
 
@@ -21,7 +22,7 @@ class VehicleVersionOut(BaseModel):
     vehicle_id: str
     number: int
     title: str
-    profile: dict[str, Any]
+    profile: VehicleJson
     saved_by: str | None
     saved_at: datetime
 

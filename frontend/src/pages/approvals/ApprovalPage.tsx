@@ -54,7 +54,7 @@ export function ApprovalPage({ id }: { id: number }) {
         <StateBadge state={record.decision} />
       </div>
       <IntegrityWarning problems={record.integrity} />
-      <ProfileDrift orders={record.orders as Record<string, unknown>} approved={record.decision === "approved"} />
+      <ProfileDrift orders={record.orders} approved={record.decision === "approved"} />
       <dl className="facts">
         <div>
           <dt>Supervisor</dt>
@@ -115,7 +115,7 @@ export function ApprovalPage({ id }: { id: number }) {
       <Revoke record={record} onRevoked={reload} />
 
       <h2>Orders as approved</h2>
-      <OrdersGraph orders={record.orders as Record<string, unknown>} label={`Goal graph of ${record.mission} v${record.version}`} />
+      <OrdersGraph orders={record.orders} label={`Goal graph of ${record.mission} v${record.version}`} />
       <h3>Plain-language orders</h3>
       <pre className="orders-text" data-testid="approval-plain">
         {record.plain}

@@ -19,8 +19,7 @@ const ZOOMS = [0.25, 0.35, 0.5, 0.65, 0.8, 1, 1.25, 1.5, 2];
 const PAD = 20;
 const COLORS: Record<string, string> = { succeed: "#1a7f37", fail: "#b35900", violate: "#b42318" };
 
-export function OrdersGraph({ orders, label }: { orders: Record<string, unknown>; label: string }) {
-  const o = orders as Orders;
+export function OrdersGraph({ orders: o, label }: { orders: Orders; label: string }) {
   const [layout, setLayout] = useState<Layout>(() => layeredLayout(o, ASPECT));
   useEffect(() => {
     let current = true;

@@ -4,7 +4,6 @@
  * signed in this browser with the supervisor's non-extractable key.
  */
 import { ProbabilityTable } from "./Probabilities";
-import type { OutcomeFigures } from "./probabilities";
 import { useEffect, useMemo, useState } from "react";
 
 import { api, unwrap } from "../../api/client";
@@ -15,7 +14,7 @@ import { formatDateTime, shortDigest } from "../../format";
 import { missionHref } from "../../router";
 import { useSession } from "../../session";
 import { useLoad } from "../../useLoad";
-import { type ApprovalSummary, approvalHref, loadReview, type Review } from "./api";
+import { approvalHref, loadReview, type RecordedDecision, type Review } from "./api";
 import { describeDiff, diffOrders } from "./diff";
 import { OrdersGraph } from "./OrdersGraph";
 import { ProfileDrift } from "../vehicles/ProfileDrift";
@@ -52,7 +51,7 @@ export function ReviewPage({ mission, version }: { mission: string; version: num
       <h1 id="review-title" tabIndex={-1}>
         Review: {title} v{version}
       </h1>
-      <IntegrityWarning problems={(current as { integrity?: string[] } | undefined)?.integrity} />
+      <IntegrityWarning problems={current?.integrity} />
       <ProfileDrift orders={review.orders} approved={current?.state === "approved"} />
       <dl className="facts">
         <div>
@@ -112,7 +111,7 @@ export function ReviewPage({ mission, version }: { mission: string; version: num
       <PathSummaryTable paths={review.paths} />
       {review.paths && <ReviewPaths mission={mission} version={version} orders={review.orders} total={review.paths.count} />}
       {/* The report field is an open object in the API; its shape is verify/probability.py. */}
-      <ProbabilityTable figures={review.probabilities as OutcomeFigures | null | undefined} />
+      <ProbabilityTable figures={review.probabilities} />
 
       <CitedEvidence rehearsal={current?.rehearsal} cited={cited} />
 
@@ -173,7 +172,7 @@ function DecisionForm({
   const [password, setPassword] = useState("");
   const [busy, setBusy] = useState(false);
   const [error, setError] = useState<unknown>(null);
-  const [result, setResult] = useState<ApprovalSummary | null>(null);
+  const [result, setResult] = useState<RecordedDecision | null>(null);
   const submission = review.submissions[0];
   const selected = keys.usable.find((k) => k.keyId === keyId) ?? keys.usable[0];
 
@@ -290,7 +289,7 @@ function DecisionForm({
             {result.log_index !== null ? `, log entry ${result.log_index}` : ""}).
           </span>{" "}
           <Link href={approvalHref(result.id)}>Open the record</Link>
-          <ReceiptNote receipt={(result as { receipt?: string | null }).receipt} />
+          <ReceiptNote receipt={result.receipt} />
         </Notice>
       )}
     </section>

@@ -161,7 +161,7 @@ function PathRows({
                 </div>
               );
             }
-            const chance = pathProbability((p as { probability?: unknown }).probability);
+            const chance = pathProbability(p.probability);
             return (
               <PathGridRow
                 key={p.index}

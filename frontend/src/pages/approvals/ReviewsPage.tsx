@@ -14,7 +14,7 @@ export function ReviewsPage() {
     document.title = "Reviews · Countersign";
   }, []);
   const { data, error, loading } = useLoad(
-    async () => unwrap(await api.GET("/api/submissions", { params: { query: { limit: 200 } } })) as Submission[],
+    async () => unwrap(await api.GET("/api/submissions", { params: { query: { limit: 200 } } })),
     [],
   );
   const waiting = data?.filter((s) => s.state === "submitted") ?? [];

@@ -5,6 +5,8 @@ import type { LogEntryRow } from "../../crypto/verify";
 export type Submission = Schema<"SubmissionOut">;
 export type Key = Schema<"KeyOut">;
 export type ApprovalSummary = Schema<"ApprovalOut">;
+/** A decision as recorded, with the log signer's receipt. */
+export type RecordedDecision = Schema<"DecisionOut">;
 export type ApprovalPage = Schema<"ApprovalPage">;
 
 export type PathSummary = Schema<"PathCountsOut">;

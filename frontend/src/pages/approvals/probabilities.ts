@@ -1,18 +1,8 @@
 /** The outcome probabilities of a review (issue 20) as table rows: exact figures or bounds. */
+import type { Schema } from "../../api/client";
 
-export interface Bound {
-  min: number;
-  max: number;
-}
-
-export interface OutcomeFigures {
-  exact: boolean;
-  terminals: Record<string, Bound>;
-  violation: Bound;
-  expected: Record<string, Bound & { quantiles: Record<string, number> | null; unknown_cost: string[] }>;
-  unknown: string[];
-  intervals: string[];
-}
+export type Bound = Schema<"BoundOut">;
+export type OutcomeFigures = Schema<"ProbabilitiesOut">;
 
 const QUANTITY: Record<string, string> = { energy_wh: "Expected energy (Wh)", duration_s: "Expected time (s)" };
 

@@ -8,6 +8,7 @@
 import { useEffect, useState } from "react";
 
 import { api, type Schema, unwrap } from "../../api/client";
+import { numberPair } from "../../api/pair";
 import { ErrorMessage, Notice } from "../../components/Status";
 import { useCan, useSession } from "../../session";
 import { useLoad } from "../../useLoad";
@@ -22,7 +23,7 @@ export function CampaignPanel({ mission, versions }: { mission: string; versions
   const canStart = useCan("startCampaign");
   const { data, error, reload } = useLoad(
     async () =>
-      unwrap(await api.GET("/api/missions/{mission_id}/campaigns", { params: { path: { mission_id: mission } } })) as Campaign[],
+      unwrap(await api.GET("/api/missions/{mission_id}/campaigns", { params: { path: { mission_id: mission } } })),
     [mission],
   );
   const campaigns = data ?? [];
@@ -151,7 +152,7 @@ function CampaignRow({ campaign: c, onChange, onShow }: { campaign: Campaign; on
       setError(e);
     }
   };
-  const spec = c.spec as { faults?: string[]; goals?: string[]; seed?: number };
+  const spec = c.spec;
   return (
     <tr>
       <td>
@@ -159,7 +160,7 @@ function CampaignRow({ campaign: c, onChange, onShow }: { campaign: Campaign; on
       </td>
       <td>v{c.version}</td>
       <td>
-        {(spec.faults ?? []).join(", ")} at {(spec.goals ?? []).join(", ")}; seeds from {spec.seed ?? 0}
+        {spec.faults.join(", ")} at {spec.goals.join(", ")}; seeds from {spec.seed}
       </td>
       <td>
         <progress max={c.simulations} value={c.done} aria-label={`Campaign ${c.id} progress`} /> {c.done} / {c.simulations}
@@ -185,10 +186,11 @@ function CampaignRow({ campaign: c, onChange, onShow }: { campaign: Campaign; on
   );
 }
 
-const percent = (x: number | null) => (x === null ? "—" : `${(100 * x).toFixed(1)}%`);
+/** A proportion as a percentage; "—" when there is none (no estimate, or a bound missing). */
+export const percent = (x: number | null) => (x === null || !Number.isFinite(x) ? "—" : `${(100 * x).toFixed(1)}%`);
 
 function EstimateCells({ e }: { e: Estimate }) {
-  const [low = NaN, high = NaN] = e.ci; // a pair, read as an array (openapi-fetch's Readable)
+  const [low, high] = numberPair(e.ci);
   return (
     <>
       <td>{percent(e.p)}</td>

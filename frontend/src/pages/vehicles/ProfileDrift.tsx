@@ -3,25 +3,26 @@
  * from the profile these orders carry (the one the checks and the signature covered). The
  * signature stays valid for what it covered; the notice says what a new approval would change.
  */
+import type { Schema } from "../../api/client";
 import { useLoad } from "../../useLoad";
-import { registryVersions } from "./api";
+import { type RegistryProfile, registryVersions } from "./api";
 import { ProfileChanges } from "./ProfileChanges";
-import { type Profile, profileDiff } from "./profileDiff";
+import { profileDiff } from "./profileDiff";
 
-function targetProfile(orders: Record<string, unknown>): Profile | undefined {
-  const carried = (orders.vehicles as Profile[] | undefined) ?? [];
-  const id = orders.vehicle as string | undefined;
+function targetProfile(orders: Schema<"Orders">): RegistryProfile | undefined {
+  const carried = orders.vehicles ?? [];
+  const id = orders.vehicle;
   if (id) return carried.find((v) => v.id === id);
   return carried.length === 1 ? carried[0] : undefined;
 }
 
-export function ProfileDrift({ orders, approved }: { orders: Record<string, unknown>; approved: boolean }) {
+export function ProfileDrift({ orders, approved }: { orders: Schema<"Orders">; approved: boolean }) {
   const signed = targetProfile(orders);
-  const id = (signed?.id as string | undefined) ?? "";
+  const id = signed?.id ?? "";
   const { data } = useLoad(() => (id ? registryVersions(id) : Promise.resolve([])), [id]);
   const latest = data?.[0];
   if (!signed || !latest) return null;
-  const changes = profileDiff(signed, latest.profile as Profile);
+  const changes = profileDiff(signed, latest.profile);
   if (changes.length === 0) return null;
   return (
     <section className="message warning" aria-labelledby="profile-drift-title" data-testid="profile-drift">

@@ -157,7 +157,7 @@ function VersionHistory({ id }: { id: string }) {
   const newest = data[0]?.number ?? 1;
   const right = to ?? newest;
   const left = from ?? (data[1]?.number ?? newest);
-  const profileOf = (n: number) => (data.find((v) => v.number === n)?.profile ?? {}) as Record<string, unknown>;
+  const profileOf = (n: number) => data.find((v) => v.number === n)?.profile ?? {};
   return (
     <section aria-labelledby="vehicle-versions-title">
       <h2 id="vehicle-versions-title">Versions of {id}</h2>

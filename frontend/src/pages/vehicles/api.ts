@@ -1,15 +1,11 @@
 /** The vehicle registry's API calls, typed from the OpenAPI document (schema.d.ts). */
-import { api, unwrap, type paths } from "../../api/client";
+import { api, type Schema, unwrap } from "../../api/client";
 
-type JsonBody<R> = R extends { content: { "application/json": infer B } } ? B : never;
-
-export type VehicleVersion = JsonBody<
-  paths["/api/vehicles/{vehicle_id}/versions"]["get"]["responses"][200]
->[number];
-export type RegistryProfile = Record<string, unknown> & { id: string; title?: string; behaviors?: string[] };
+export type VehicleVersion = Schema<"VehicleVersionOut">;
+export type RegistryProfile = Schema<"Vehicle">;
 
 export async function loadVehicles(): Promise<RegistryProfile[]> {
-  return (unwrap(await api.GET("/api/vehicles")) as RegistryProfile[]) ?? [];
+  return unwrap(await api.GET("/api/vehicles")) ?? [];
 }
 
 export async function loadVehicleVersions(id: string): Promise<VehicleVersion[]> {
