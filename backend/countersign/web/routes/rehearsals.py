@@ -248,7 +248,8 @@ def get_rehearsal_record(digest: RecordDigest, db: Db) -> RecordDetail:
 
 
 @router.get("/rehearsal-records/{digest}/replay.html", operation_id="getRehearsalReplay",
-            response_class=Response, **allow(*EVERYONE))
+            response_class=Response, responses={200: {"content": {"text/html": {}}}},
+            **allow(*EVERYONE))
 def get_rehearsal_replay(digest: RecordDigest, db: Db) -> Response:
     """viser's standalone replay of the rehearsal (self-contained HTML; works offline)."""
     row = records.get_record(db, digest, with_replay=True)
