@@ -20,32 +20,16 @@ export type Coordinates = readonly number[];
 // and norms below are as the editor writes them, which the server's types do not quite say.
 export type AreaSpec = Schema<"Area">;
 export type QuantitySpec = Schema<"Quantity">;
-export interface FeatureSpec {
-  id: string;
-  title?: string;
+// A feature's lists are always written (as the exemplar writes them); a norm being written
+// may not have its context yet; the rest is the server's model. (`Omit` would also drop the
+// known keys of a schema that allows others; this keeps them.)
+type Without<T, K extends PropertyKey> = { [P in keyof T as P extends K ? never : P]: T[P] };
+export type FeatureSpec = Without<Schema<"Feature">, "fulfills" | "measures"> & {
   fulfills: string[];
   measures: string[];
-  [key: string]: unknown;
-}
-export interface VehicleSpec {
-  id: string;
-  title?: string;
-  envelope?: Record<string, [number, number]>;
-  behaviors?: string[];
-  speed_mps?: number;
-  power_w?: number;
-  budget?: { energy_wh?: number; duration_s?: number };
-  features?: FeatureSpec[];
-  [key: string]: unknown;
-}
-export interface NormSpec {
-  id: string;
-  context?: string;
-  forbidden?: string;
-  obligated?: string;
-  permitted?: string;
-  text?: string;
-}
+};
+export type VehicleSpec = Without<Schema<"Vehicle">, "features"> & { features?: FeatureSpec[] };
+export type NormSpec = Without<Schema<"Norm">, "context"> & { context?: string };
 export const NORM_KINDS = ["forbidden", "obligated", "permitted"] as const;
 export type NormKind = (typeof NORM_KINDS)[number];
 
@@ -191,7 +175,7 @@ export function deleteQuantity(orders: Orders, name: string): Orders {
 // ---- Norms ----
 
 export function norms(orders: Orders): NormSpec[] {
-  return (orders.norms as NormSpec[] | undefined) ?? [];
+  return orders.norms ?? [];
 }
 /** The orders with these norms. A norm being written may still lack its context (the check
  * reports it), which the server's type does not allow: the one place that says so. */
