@@ -14,6 +14,7 @@
  *   primary := number | 'string' | true | false | name | behavior | area
  *            | context '(' 'string' ')' | '(' implies ')'
  */
+import type { Orders } from "./graph";
 
 export type TokenKind = "number" | "string" | "name" | "op" | "lparen" | "rparen" | "end";
 
@@ -208,17 +209,11 @@ export function parseExpr(text: string): { names: string[]; error?: ExprError } 
 }
 
 /** Every quantity name an expression of these orders may read (mirrors the server's table). */
-export function knownQuantities(orders: {
-  quantities?: unknown;
-  goals?: { envelope?: Record<string, unknown> }[];
-  vehicle?: string | null;
-  vehicles?: unknown;
-}): string[] {
+export function knownQuantities(orders: Partial<Pick<Orders, "quantities" | "goals" | "vehicle" | "vehicles">>): string[] {
   const names = new Set<string>(BUILTIN_QUANTITIES);
-  for (const q of Object.keys((orders.quantities as Record<string, unknown> | undefined) ?? {})) names.add(q);
+  for (const q of Object.keys(orders.quantities ?? {})) names.add(q);
   for (const g of orders.goals ?? []) for (const q of Object.keys(g.envelope ?? {})) names.add(q);
-  const vehicles = (orders.vehicles as { id: string; envelope?: Record<string, unknown>; features?: { measures?: string[] }[] }[] | undefined) ?? [];
-  const v = vehicles.find((x) => x.id === orders.vehicle);
+  const v = (orders.vehicles ?? []).find((x) => x.id === orders.vehicle);
   if (v) {
     for (const q of Object.keys(v.envelope ?? {})) names.add(q);
     for (const f of v.features ?? []) for (const q of f.measures ?? []) names.add(q);

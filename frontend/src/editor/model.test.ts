@@ -56,7 +56,7 @@ describe("expression tokenizer and parser", () => {
     expect(parseExpr("context(x)").error?.message).toMatch(/quoted tag/);
   });
   it("flags unknown quantities against the orders' table", () => {
-    const known = knownQuantities({ quantities: { reef_m: {} }, goals: [{ envelope: { depth_x: [0, 1] } }] });
+    const known = knownQuantities({ quantities: { reef_m: {} }, goals: [{ id: "G1", envelope: { depth_x: [0, 1] } }] });
     expect(known).toContain("reef_m");
     expect(known).toContain("depth_x");
     expect(known).toContain("depth_m");
