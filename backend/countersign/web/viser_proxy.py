@@ -54,6 +54,7 @@ FROM_BROWSER = frozenset({
     "CommandTriggerMessage", "LocalStorageGetItemResponseMessage",
 })
 POLICY_VIOLATION, TOO_BIG, GOING_AWAY, UNAVAILABLE = 1008, 1009, 1001, 1011
+CLOSE_TIMEOUT_S = 2.0  # how long a close frame may take to go out
 
 # viser's client loads one inline loader script that decompresses the bundle, injects it as an
 # inline module script, compiles zstd WebAssembly and starts a blob: worker; its bundle also
@@ -319,5 +320,8 @@ async def _malformed(browser: WebSocket, stats: ProxyStats, why: str) -> bool:
 async def _close(browser: WebSocket, stats: ProxyStats, code: int, reason: str) -> None:
     if stats.close_code is None:
         stats.close_code, stats.close_reason = code, reason
-    with contextlib.suppress(Exception):
+    # Shielded: the other side, failing to send once the close began, cancels the relay's
+    # task group; a close cancelled halfway is marked sent but never reaches the browser,
+    # which then never learns why (a test client waits for it forever).
+    with anyio.move_on_after(CLOSE_TIMEOUT_S, shield=True), contextlib.suppress(Exception):
         await browser.close(code, reason)
