@@ -4,6 +4,7 @@ it (a CI run hung in tests/api/test_rehearsal_sockets.py: at sign-out the watche
 
 from __future__ import annotations
 
+import threading
 from typing import Any
 
 import anyio
@@ -32,5 +33,9 @@ def test_a_close_cancelled_halfway_still_reaches_the_browser() -> None:
             await anyio.sleep(0.01)
             group.cancel_scope.cancel()  # the other side failed: the relay ends
 
-    anyio.run(main)
+    # Its own thread: other tests of the suite leave an event loop running in this one.
+    worker = threading.Thread(target=anyio.run, args=(main,))
+    worker.start()
+    worker.join(timeout=30)
+    assert not worker.is_alive()
     assert browser.closed == (POLICY_VIOLATION, "signed out")
