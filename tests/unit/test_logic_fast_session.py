@@ -48,6 +48,11 @@ class ReferenceSession(Session):
         if chunks:
             self.solver.from_string("".join(chunks))
 
+    def _literal(self, item: Item) -> Any:
+        literal = self.z3.Bool(self._indicators[item.key], self.ctx)
+        self._ids[item.key] = literal.get_id()
+        return literal
+
     def check(self, items: Sequence[Item]) -> CheckResult:
         self.asked.append(tuple(i.key for i in items))
         z3 = self.z3
@@ -60,7 +65,7 @@ class ReferenceSession(Session):
             self.solver.set("timeout", timeout)
             self._timeout = timeout
         self.calls += 1
-        literals = [self._literal(i) for i in items]
+        literals = [self._literal(i) for i in items]  # a Python expression per assumption
         status = check_assumptions(z3, self.ctx, self.solver, literals)
         if status == "sat":
             return CheckResult("sat")

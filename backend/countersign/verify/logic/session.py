@@ -58,7 +58,6 @@ class Session:
         self._timeout: int | None = None
         self._declared_symbols = 0
         self._indicators: dict[str, str] = {}
-        self._literals: dict[str, Any] = {}
         self._ids: dict[str, int] = {}
         # Per item key: the indicator's raw AST, and the formula's SMT text (the same item
         # is asserted again for every unit that reads it; its text never changes).
@@ -118,15 +117,6 @@ class Session:
             self.solver.pop()
             self.in_scope = False
             self._unit_context = None
-
-    def _literal(self, item: Item) -> Any:
-        name = self._indicators[item.key]
-        literal = self._literals.get(name)
-        if literal is None:
-            literal = self._literals[name] = self.z3.Bool(name, self.ctx)
-            self._ids[item.key] = literal.get_id()
-            self._asts[item.key] = literal.as_ast()
-        return literal
 
     def _ast(self, item: Item) -> Any:
         found = self._asts.get(item.key)
