@@ -31,6 +31,19 @@ if TYPE_CHECKING:
 
 REPO = Path(__file__).resolve().parents[2]
 DIST = REPO / "frontend" / "dist"
+
+
+def _avcl() -> Path:
+    """The NPS AVCL reference missions (../shared/reference): beside the checkout, or beside the
+    main checkout for a worktree (/work/wt/NAME), where REPO.parent has no shared/."""
+    for root in (*REPO.parents, Path("/work")):
+        candidate = root / "shared" / "reference" / "nps-ethical-control" / "missions" / "avcl"
+        if candidate.is_dir():
+            return candidate
+    return REPO.parent / "shared" / "reference" / "nps-ethical-control" / "missions" / "avcl"
+
+
+AVCL = _avcl()
 CHROMIUM = Path(os.environ.get("COUNTERSIGN_CHROMIUM", "/usr/bin/chromium"))
 # Debian's Chromium, headless, as root, on a machine whose only network is loopback.
 CHROMIUM_ARGS = [

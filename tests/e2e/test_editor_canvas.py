@@ -10,12 +10,11 @@ import time
 import pytest
 from playwright.sync_api import Browser, Page, expect
 
-from .conftest import REPO, Server, _api_import
+from .conftest import AVCL, Server, _api_import
 from .test_editor import _chain
 from .test_roles import sign_in
 
-PIRATES = (REPO.parent / "shared/reference/nps-ethical-control/missions/avcl"
-           / "PiratesSeizingMerchantDefense.xml")
+PIRATES = AVCL / "PiratesSeizingMerchantDefense.xml"
 WIDTHS = (1024, 1280)
 
 _GEOMETRY = """() => {
@@ -252,6 +251,9 @@ def test_two_browsers_edit_one_draft(page: Page, browser: Browser, server: Serve
 
         # The same goal: the side-by-side dialog shows both; the choice keeps one, and the
         # other is still in the dialog's record (and undo brings it back).
+        # The first also changes G4: that edit merges beside the conflict, and is kept too.
+        _set_title(first, "G4", "First's G4")
+        expect(first.get_by_test_id("save-state")).to_have_text("Saved")
         _set_title(first, "G2", "First wins?")
         expect(first.get_by_test_id("save-state")).to_have_text("Saved")
         _set_title(second, "G2", "Second wins?")
@@ -266,6 +268,14 @@ def test_two_browsers_edit_one_draft(page: Page, browser: Browser, server: Serve
                  ["orders"]["goals"]}
         assert goals["G2"]["title"] == "Second wins?"
         assert goals["G1"]["title"] == "First's title" and goals["G3"]["title"] == "Second's title"
+        assert goals["G4"]["title"] == "First's G4"
+        # Nothing lost: the first browser, on its next edit, merges the second's choice in.
+        _set_title(first, "G1", "First again")
+        expect(first.get_by_test_id("save-state")).to_have_text("Saved")
+        goals = {g["id"]: g for g in page.request.get(f"/api/missions/{mission}").json()
+                 ["orders"]["goals"]}
+        assert goals["G2"]["title"] == "Second wins?" and goals["G4"]["title"] == "First's G4"
+        assert goals["G1"]["title"] == "First again"
     finally:
         first.context.close()
         second.context.close()

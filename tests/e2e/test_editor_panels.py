@@ -21,14 +21,13 @@ from playwright.sync_api import Page, expect
 
 from countersign.orders.examples import example_bytes
 
-from .conftest import REPO, Server, _api_import
+from .conftest import AVCL, Server, _api_import
 from .test_editor import pick, select_node
 from .test_editor_build_exemplar import panel, saved
 from .test_roles import sign_in
 
 WIDTHS = (1024, 1280)
-PIRATES = (REPO.parent / "shared" / "reference" / "nps-ethical-control" / "missions" / "avcl"
-           / "PiratesSeizingMerchantDefense.xml")
+PIRATES = AVCL / "PiratesSeizingMerchantDefense.xml"
 
 
 def _exemplar(server: Server, mission: str) -> str:

@@ -1,8 +1,9 @@
 """Issue 18 item 7 in the browser at 1024 and 1280 px: at the default pace a step-by-step
 rehearsal of the exemplar asks its first question within a bounded number of frames; viser's
 own panel does not cover the scene; one set of controls with the app's outcome names; a fault
-pressed while waiting is queued with a visible message; simulated time and energy are shown;
-the record is listed from the stop's answer, with no wait for a reload."""
+pressed while waiting is queued with a visible message (pressed again, refused with one);
+simulated time and energy are shown; the record is listed from the stop's answer, with no wait
+for a reload."""
 
 from __future__ import annotations
 
@@ -102,6 +103,10 @@ def test_a_step_by_step_rehearsal_in_the_browser(page: Page, server: Server, own
     # A fault pressed while the goal waits: queued, and said so.
     page.get_by_test_id("fault-leak").click()
     expect(page.get_by_test_id("fault-notice")).to_contain_text("Fault queued: leak")
+    expect(page.get_by_test_id("rehearsal-faults")).to_contain_text("queued for the next goal")
+    # The same fault pressed again is refused, and the page says why.
+    page.get_by_test_id("fault-leak").click()
+    expect(page.get_by_role("alert")).to_contain_text("already queued")
     expect(page.get_by_test_id("rehearsal-faults")).to_contain_text("queued for the next goal")
     page.get_by_test_id("outcome-succeed").click()
     expect(page.get_by_test_id("rehearsal-step")).to_have_text("1", timeout=30_000)

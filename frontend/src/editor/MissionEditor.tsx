@@ -50,6 +50,7 @@ import { LARGE_GOALS, useFlowElements } from "./useFlowElements";
 import { ConstraintsPanel, FindingsList, GoalInspector, useScopePickClick } from "./Inspector";
 import { CommitSelect } from "./fields";
 import { ExportMenu, ToolbarMenu } from "./Toolbar";
+import { readyWhenShown, showLaidOut } from "./ready";
 import { FIT, freePlace, GOTO_ZOOM, MIN_ZOOM, trackConnectPointer, SideMinimap, Splitter, useFillWindow, useSideWidth, ZoomDetail } from "./canvas";
 
 const PANELS = [
@@ -154,22 +155,10 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
   // would mount every node at once (about 400 ms without a frame for 500 goals) to show text
   // too small to read; "Zoom to fit" still shows all of it.
   const fitPending = useRef(false);
-  // xyflow queues a fit until its next node update: "ready" waits for the fit's promise (ready
-  // at once read the previous viewport on a loaded machine, a handle outside the canvas).
-  const showLaidOut = useCallback(async (): Promise<void> => {
-    if (!large.current) {
-      await flow.fitView(FIT);
-      return;
-    }
-    const { nodes: shown } = store.getState();
-    const start = shown.find((n) => n.data.start) ?? shown[0];
-    if (start) await flow.setCenter(start.position.x + 300, start.position.y + 150, { zoom: 0.6 });
-  }, [flow, store]);
+  // "ready" waits for the view to show the new positions (ready.ts).
   const showLaidOutThenReady = useCallback(() => {
-    // The timer only keeps "ready" from sticking should xyflow never settle the fit.
-    const settled = new Promise<void>((resolve) => window.setTimeout(resolve, 3000));
-    void Promise.race([showLaidOut(), settled]).finally(() => setReady(true));
-  }, [showLaidOut, setReady]);
+    void readyWhenShown(() => showLaidOut(flow, large.current, store.getState().nodes, FIT), setReady);
+  }, [flow, store, setReady]);
   useEffect(() => {
     if (openView.current && nodes.length > 0) {
       openView.current = false;
