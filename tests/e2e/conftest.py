@@ -35,8 +35,8 @@ DIST = REPO / "frontend" / "dist"
 
 def _avcl() -> Path:
     """The NPS AVCL reference missions (../shared/reference): beside the checkout, or beside the
-    main checkout for a worktree (/work/wt/NAME), where REPO.parent has no shared/."""
-    for root in (*REPO.parents, Path("/work")):
+    main checkout for a worktree (a folder deeper), whose REPO.parent has no shared/."""
+    for root in REPO.parents:
         candidate = root / "shared" / "reference" / "nps-ethical-control" / "missions" / "avcl"
         if candidate.is_dir():
             return candidate
