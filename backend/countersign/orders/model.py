@@ -21,6 +21,8 @@ from pydantic import (
     model_validator,
 )
 
+from .. import strict_json
+
 FORMAT: Final = "countersign.orders/1"
 OUTCOMES: tuple[str, str, str] = ("succeed", "fail", "violate")
 Outcome = Literal["succeed", "fail", "violate"]
@@ -382,6 +384,18 @@ class Orders(_Strict):
     properties: list[PathProperty] = Field(default_factory=list, max_length=1000)
     # Contingency rules for this mission (seed 004), merged with the vehicle profile's.
     rules: RuleSet | None = None
+
+    @model_validator(mode="before")
+    @classmethod
+    def _digestible(cls, data: Any) -> Any:
+        # Free-form values (params, unknown fields) are typed by no field, yet the digest's
+        # RFC 8785 form refuses NaN, infinities and inexact integers: a Turtle "INF"^^xsd:double
+        # or 10**30 reached it and was a 500 (issue 15).
+        try:
+            strict_json.check(data, exact_integers=True)
+        except strict_json.JsonPolicyError as exc:
+            raise ValueError(str(exc)) from None
+        return data
 
     @property
     def effective_terminals(self) -> list[Terminal]:
