@@ -78,3 +78,26 @@ def test_audit_verify_names_the_missing_entries(
     assert f"covers {last + 1} entries but the bundle holds {last}: entries were removed" \
         in out, out
     assert f"approval {approval['id']}: its log entry is missing" in out, out
+
+
+@pytest.mark.parametrize("leaf", ["zz", "ab" * 31])
+def test_a_malformed_leaf_hash_is_a_conflict_not_a_500(
+        approved: tuple[World, dict[str, Any]], leaf: str) -> None:
+    world, approval = approved
+    index = approval["log_index"]
+    with world.database.engine.begin() as connection:
+        if connection.dialect.name == "postgresql":
+            connection.execute(text("ALTER TABLE log_entries DISABLE TRIGGER USER"))
+        else:
+            connection.execute(text("DROP TRIGGER IF EXISTS log_entries_no_update"))
+        connection.execute(text('UPDATE log_entries SET leaf_hash = :h WHERE "index" = :i'),
+                           {"h": leaf, "i": index})
+        if connection.dialect.name == "postgresql":
+            connection.execute(text("ALTER TABLE log_entries ENABLE TRIGGER USER"))
+    # A fresh process: nothing of the log cached.
+    world.database.log_tree_cache.tree = None
+    for route, params in (("/api/audit/bundle", {}),
+                          ("/api/log/inclusion", {"index": index})):
+        answer = world.client("auditor").get(route, params=params)
+        assert answer.status_code == 409, (route, answer.text)
+        assert f"log entry {index} has a malformed leaf hash" in answer.json()["detail"]

@@ -12,7 +12,7 @@ from ...approvals.merkle import Tree
 from ...approvals.note import signature_line
 from ...approvals.signer import LogSigner
 from ...approvals.signer import Refused as SignerRefused
-from ...errors import Unavailable
+from ...errors import Conflict, Unavailable
 from ..db import BEGIN_MODE, LogTreeCache
 from ..missions import NotFound
 from ..tables import (
@@ -68,6 +68,19 @@ def receipt_of(db: DbSession, approval: Approval) -> str | None:
         select(LogReceipt.receipt).where(LogReceipt.index == index))
 
 
+def _leaf(index: int, leaf_hash: str) -> bytes:
+    # The app writes 64 hex digits; anything else came from a writer that is not the app, and
+    # was a 500 (ValueError) on every route that builds the tree.
+    try:
+        leaf = bytes.fromhex(leaf_hash)
+    except ValueError:
+        leaf = b""
+    if len(leaf) != 32:
+        raise Conflict(f"the log was altered outside the app: log entry {index} has a "
+                       "malformed leaf hash")
+    return leaf
+
+
 def _committed_tree(db: DbSession) -> Tree:
     """The committed log as a Merkle tree, cached by the Database object and extended
     incrementally.
@@ -85,8 +98,7 @@ def _committed_tree(db: DbSession) -> Tree:
         rows = connection.execute(select(LogEntry.index, LogEntry.leaf_hash).where(
             LogEntry.index >= since).order_by(LogEntry.index)).all()
         if cached is not None and cached.size:
-            if not rows or rows[0][0] != since or bytes.fromhex(rows[0][1]) != \
-                    cached.levels[0][-1]:
+            if not rows or rows[0][0] != since or _leaf(*rows[0]) != cached.levels[0][-1]:
                 cached, since = None, 0
                 rows = connection.execute(select(LogEntry.index, LogEntry.leaf_hash)
                                           .order_by(LogEntry.index)).all()
@@ -95,8 +107,8 @@ def _committed_tree(db: DbSession) -> Tree:
         if cached is not None and not rows:
             return cached
         tree = cached.copy() if cached is not None else Tree()
-        for _, leaf in rows:
-            tree.append(bytes.fromhex(leaf))
+        for index, leaf in rows:
+            tree.append(_leaf(index, leaf))
     with cache.lock:
         current = cache.tree
         if current is None or current.size <= tree.size:
@@ -108,12 +120,12 @@ def log_tree(db: DbSession, *, pending: bool = False) -> Tree:
     """The log's tree; with `pending`, including entries this transaction appended."""
     tree = _committed_tree(db)
     if pending:
-        rows = list(db.scalars(select(LogEntry.leaf_hash).where(LogEntry.index >= tree.size)
-                               .order_by(LogEntry.index)))
+        rows = db.execute(select(LogEntry.index, LogEntry.leaf_hash)
+                          .where(LogEntry.index >= tree.size).order_by(LogEntry.index)).all()
         if rows:
             tree = tree.copy()
-            for leaf in rows:
-                tree.append(bytes.fromhex(leaf))
+            for index, leaf in rows:
+                tree.append(_leaf(index, leaf))
     return tree
 
 
