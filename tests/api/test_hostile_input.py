@@ -130,17 +130,31 @@ def test_undigestible_free_form_numbers_in_turtle_are_422(world: World, value: s
         response = client.post(route, content=_with_pd(world, value),
                                headers={"content-type": "text/turtle"})
         assert response.status_code == 422, (route, response.text)
-        assert "params.pd" in response.text, response.text
+        assert response.json()["errors"][0]["path"] == "$.goals[0].params", response.text
+        assert response.json()["errors"][0]["message"].startswith("pd: "), response.text
     assert client.get("/api/missions/hostile").status_code == 404
 
 
 def test_inexact_integer_in_json_orders_is_422_with_its_path(world: World) -> None:
-    body = _orders_text(world).replace('"pd": 0.8', '"pd": 123456789012345678901234567890', 1)
+    text = _orders_text(world)
+    body = text.replace('"pd": 0.8', '"pd": 123456789012345678901234567890', 1)
     for route in READERS:
         response = world.client("operator").post(
             route, content=body.encode(), headers={"content-type": "application/json"})
         assert response.status_code == 422, (route, response.text)
-        assert "params.pd" in response.text, response.text
+        assert response.json()["errors"][0]["path"] == "$.goals[0].params", response.text
+        assert response.json()["errors"][0]["message"].startswith("pd: "), response.text
+    unknown = (text[:-1] + ', "x_later": 123456789012345678901234567890}').encode()
+    response = world.client("operator").post(
+        "/api/import", content=unknown, headers={"content-type": "application/json"})
+    assert response.status_code == 422, response.text
+    assert response.json()["errors"][0]["message"].startswith("x_later: "), response.text
+    # A typed number field converts it to a double, as it always did.
+    typed = text.replace('"energy_wh": 180.0', '"energy_wh": 123456789012345678901234567890', 1)
+    assert typed != text
+    response = world.client("operator").post(
+        "/api/validate", content=typed.encode(), headers={"content-type": "application/json"})
+    assert response.status_code == 200, response.text
 
 
 @pytest.mark.parametrize("when", ["9999-12-31T23:59:59-14:00", "0001-01-01T00:00:00+14:00"])
