@@ -101,3 +101,17 @@ def test_a_malformed_leaf_hash_is_a_conflict_not_a_500(
         answer = world.client("auditor").get(route, params=params)
         assert answer.status_code == 409, (route, answer.text)
         assert f"log entry {index} has a malformed leaf hash" in answer.json()["detail"]
+
+
+def test_no_proofs_over_a_log_with_deleted_entries(
+        approved: tuple[World, dict[str, Any]]) -> None:
+    # The remaining leaves would sit at the wrong positions: a 200 "proof" over them matches
+    # no signed checkpoint.
+    world, approval = approved
+    _delete_entries(world, '"index" = 1')
+    auditor = world.client("auditor")
+    for route, params in (("/api/log/inclusion", {"index": approval["log_index"]}),
+                          ("/api/log/consistency", {"first": 1})):
+        answer = auditor.get(route, params=params)
+        assert answer.status_code == 409, (route, answer.text)
+        assert "log entry 1 missing" in answer.json()["detail"], answer.text

@@ -14,6 +14,7 @@ from ...approvals.signer import LogSigner
 from ...approvals.signer import Refused as SignerRefused
 from ...errors import Conflict, Unavailable
 from ..db import BEGIN_MODE, LogTreeCache
+from ..log_gaps import missing_entries
 from ..missions import NotFound
 from ..tables import (
     Approval,
@@ -168,8 +169,20 @@ def legacy_signed_note(row: Checkpoint) -> str:
     return row.note + "\n" + signature_line(origin, public, signature)
 
 
+def _whole_tree(db: DbSession) -> Tree:
+    # With entries deleted behind the app's back the remaining leaves sit at the wrong
+    # positions: a proof over them matches no signed checkpoint, so none is given.
+    gaps = missing_entries(db)
+    if gaps:
+        runs = ", ".join(f"log entry {a}" if a == b else f"log entries {a}..{b}"
+                         for a, b in gaps)
+        raise Conflict(f"the log was altered outside the app: {runs} missing; no proof "
+                       "until it is restored")
+    return _committed_tree(db)
+
+
 def inclusion_proof(db: DbSession, *, index: int, size: int | None = None) -> dict[str, Any]:
-    tree = _committed_tree(db)
+    tree = _whole_tree(db)
     size = tree.size if size is None else size
     if not 0 <= index < size <= tree.size:
         raise NotFound(f"no log entry {index} in a tree of size {size} (the log has "
@@ -180,7 +193,7 @@ def inclusion_proof(db: DbSession, *, index: int, size: int | None = None) -> di
 
 
 def consistency_proof(db: DbSession, *, first: int, second: int | None = None) -> dict[str, Any]:
-    tree = _committed_tree(db)
+    tree = _whole_tree(db)
     second = tree.size if second is None else second
     if not 0 < first <= second <= tree.size:
         raise NotFound(f"no consistency proof from size {first} to {second} (the log has "
