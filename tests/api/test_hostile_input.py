@@ -166,3 +166,11 @@ def test_event_times_beyond_utc_years_are_422(world: World, name: str, when: str
     # Without a zone, still UTC as before.
     ok = world.client("auditor").get("/api/events", params={name: "2020-01-01T00:00:00"})
     assert ok.status_code == 200
+
+
+def test_paths_of_a_version_number_beyond_any_row_is_422(world: World) -> None:
+    # 2**63 overflowed SQLite's INTEGER inside the query: a 500.
+    response = world.client("operator").get("/api/missions/search-and-sample/paths",
+                                            params={"version": str(2**63)})
+    assert response.status_code == 422, response.text
+    assert response.json()["errors"][0]["path"] == "$.version"
