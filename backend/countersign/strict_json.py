@@ -16,6 +16,9 @@ from typing import Any
 # Orders nest about six levels (orders > goals > goal > envelope > quantity > bound); request
 # bodies fewer. 64 leaves room for free-form `params` without letting a body recurse deeply.
 MAX_DEPTH = 64
+# RFC 8785 (the canonical form orders are digested in) refuses integers a double cannot hold
+# exactly; orders are checked for them (`check(..., exact_integers=True)`), request bodies not.
+MAX_EXACT_INTEGER = 2**53 - 1
 
 
 class JsonPolicyError(ValueError):
@@ -54,8 +57,9 @@ def _key_path(path: str, key: str) -> str:
     return f"{path}[{json.dumps(key)}]"
 
 
-def check(value: Any, max_depth: int = MAX_DEPTH) -> None:
-    """Raise `JsonPolicyError` for the first non-finite number or too-deep value, by path.
+def check(value: Any, max_depth: int = MAX_DEPTH, exact_integers: bool = False) -> None:
+    """Raise `JsonPolicyError` for the first non-finite number or too-deep value (and, with
+    `exact_integers`, integer beyond ±(2**53 - 1)), by path.
 
     Iterative, so that its own depth is not limited by the interpreter's recursion limit."""
     stack: list[tuple[Any, str, int]] = [(value, "$", 0)]
@@ -66,6 +70,11 @@ def check(value: Any, max_depth: int = MAX_DEPTH) -> None:
                 raise JsonPolicyError(
                     path, "numbers must be finite (NaN, Infinity and values beyond "
                     "±1.8e308 such as 1e999 are not accepted)")
+        elif (exact_integers and isinstance(item, int) and not isinstance(item, bool)
+              and abs(item) > MAX_EXACT_INTEGER):
+            raise JsonPolicyError(
+                path, f"integers must lie within ±{MAX_EXACT_INTEGER} (write larger values "
+                "as decimals, e.g. 1.5e20)")
         elif isinstance(item, (dict, list)):
             if depth >= max_depth:
                 raise JsonPolicyError(path, f"JSON nested deeper than {max_depth} levels")

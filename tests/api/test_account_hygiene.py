@@ -48,6 +48,19 @@ def test_an_attacked_account_is_slowed_not_locked_out(world: World) -> None:
     assert _login(world, "admin1", PASSWORD) == 200
 
 
+def test_waiting_as_told_lets_the_real_user_in(world: World) -> None:
+    # A refused try must not restart or lengthen the wait: whoever waits Retry-After gets in,
+    # and an attacker retrying every few seconds cannot keep the account shut.
+    for _ in range(login_throttle.FREE_FAILURES):
+        assert _login(world, "admin1", "wrong password") == 401
+    for _ in range(3):
+        refused = world.client().post("/api/auth/login",
+                                      json={"username": "admin1", "password": "wrong again"})
+        assert refused.status_code == 429
+    _age(world, LoginAttempt, int(refused.headers["Retry-After"]) + 0.1)
+    assert _login(world, "admin1", PASSWORD) == 200
+
+
 def test_spraying_many_accounts_from_one_address_is_limited(world: World) -> None:
     statuses = [_login(world, f"nobody{n}", "Winter2026!") for n in
                 range(login_throttle.ADDRESS_MAX_FAILURES + 2)]

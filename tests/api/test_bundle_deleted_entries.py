@@ -78,3 +78,40 @@ def test_audit_verify_names_the_missing_entries(
     assert f"covers {last + 1} entries but the bundle holds {last}: entries were removed" \
         in out, out
     assert f"approval {approval['id']}: its log entry is missing" in out, out
+
+
+@pytest.mark.parametrize("leaf", ["zz", "ab" * 31])
+def test_a_malformed_leaf_hash_is_a_conflict_not_a_500(
+        approved: tuple[World, dict[str, Any]], leaf: str) -> None:
+    world, approval = approved
+    index = approval["log_index"]
+    with world.database.engine.begin() as connection:
+        if connection.dialect.name == "postgresql":
+            connection.execute(text("ALTER TABLE log_entries DISABLE TRIGGER USER"))
+        else:
+            connection.execute(text("DROP TRIGGER IF EXISTS log_entries_no_update"))
+        connection.execute(text('UPDATE log_entries SET leaf_hash = :h WHERE "index" = :i'),
+                           {"h": leaf, "i": index})
+        if connection.dialect.name == "postgresql":
+            connection.execute(text("ALTER TABLE log_entries ENABLE TRIGGER USER"))
+    # A fresh process: nothing of the log cached.
+    world.database.log_tree_cache.tree = None
+    for route, params in (("/api/audit/bundle", {}),
+                          ("/api/log/inclusion", {"index": index})):
+        answer = world.client("auditor").get(route, params=params)
+        assert answer.status_code == 409, (route, answer.text)
+        assert f"log entry {index} has a malformed leaf hash" in answer.json()["detail"]
+
+
+def test_no_proofs_over_a_log_with_deleted_entries(
+        approved: tuple[World, dict[str, Any]]) -> None:
+    # The remaining leaves would sit at the wrong positions: a 200 "proof" over them matches
+    # no signed checkpoint.
+    world, approval = approved
+    _delete_entries(world, '"index" = 1')
+    auditor = world.client("auditor")
+    for route, params in (("/api/log/inclusion", {"index": approval["log_index"]}),
+                          ("/api/log/consistency", {"first": 1})):
+        answer = auditor.get(route, params=params)
+        assert answer.status_code == 409, (route, answer.text)
+        assert "log entry 1 missing" in answer.json()["detail"], answer.text

@@ -21,6 +21,8 @@ from pydantic import (
     model_validator,
 )
 
+from .. import strict_json
+
 FORMAT: Final = "countersign.orders/1"
 OUTCOMES: tuple[str, str, str] = ("succeed", "fail", "violate")
 Outcome = Literal["succeed", "fail", "violate"]
@@ -62,10 +64,31 @@ def _check_envelope(value: dict[str, Interval]) -> dict[str, Interval]:
 Envelope = Annotated[dict[str, Interval], AfterValidator(_check_envelope)]
 
 
+def _digestible(value: Any) -> Any:
+    # Values no field types (params, unknown fields) reach the digest's RFC 8785 form as they
+    # are, and it refuses NaN, infinities and integers a double cannot hold: a Turtle
+    # "INF"^^xsd:double or 10**30 there was a 500 (issue 15). Typed fields convert or refuse.
+    try:
+        strict_json.check(value, exact_integers=True)
+    except strict_json.JsonPolicyError as exc:
+        where = exc.path.removeprefix("$").removeprefix(".")
+        raise ValueError(f"{where}: {exc.message}" if where else exc.message) from None
+    return value
+
+
+FreeForm = Annotated[dict[str, Any], AfterValidator(_digestible)]
+
+
 class _Strict(BaseModel):
     # Unknown fields are kept (they round-trip and are hashed) so newer orders still load.
     model_config = ConfigDict(extra="allow", frozen=True, populate_by_name=True,
                               allow_inf_nan=False)
+
+    @model_validator(mode="after")
+    def _digestible_extra(self) -> Any:
+        if self.__pydantic_extra__:
+            _digestible(self.__pydantic_extra__)
+        return self
 
 
 class Cost(_Strict):
@@ -130,7 +153,7 @@ class Goal(_Strict):
     area: Id | None = None
     requires: list[Id] = Field(default_factory=list, max_length=1000)
     envelope: Envelope = Field(default_factory=dict)
-    params: dict[str, Any] = Field(default_factory=dict)
+    params: FreeForm = Field(default_factory=dict)
     # A list names several successors for one outcome: a G5 finding, possible from Turtle/AVCL.
     next: dict[Outcome, Id | list[Id] | None] = Field(default_factory=dict)
     cost: Cost | None = None

@@ -6,10 +6,10 @@ more than the limit are ever evaluated (the old code read the count first, and 1
 tries made 28 evaluations instead of 10).
 
 An account under attack is slowed, not locked: after FREE_FAILURES failures each further try
-must wait 2^(n - FREE_FAILURES) seconds since the last one, at most MAX_DELAY, so its real user
-waits a minute at worst instead of 15. What stops an attacker is the address limit: more than
-ADDRESS_MAX_FAILURES failures in the window from one address (spraying many accounts counts
-too) and that address waits out the window.
+must wait 2^(n - FREE_FAILURES) seconds since the last one whose password was checked, at most
+MAX_DELAY, so its real user waits a minute at worst instead of 15. What stops an attacker is
+the address limit: more than ADDRESS_MAX_FAILURES failures in the window from one address
+(spraying many accounts counts too) and that address waits out the window.
 """
 
 from __future__ import annotations
@@ -66,10 +66,15 @@ def admit(db: DbSession, username: str, address: str | None) -> int:
             .where(LoginAttempt.username == username[:64], LoginAttempt.at >= since,
                    LoginAttempt.id != attempt_id)
             .order_by(LoginAttempt.at.desc()).limit(64)))
-    # Refused tries stay recorded: they count, so parallel tries cannot slip through.
+    # A try is recorded before the count, so of parallel tries at most one sees the wait over.
     wait = account_delay(len(earlier))
     if earlier and wait and now - earlier[0] < wait:
         left = wait - (now - earlier[0])
+        # A try refused here checked no password: forgetting it keeps the wait measured from
+        # the last try that did, so waiting Retry-After works and retrying early does not
+        # shut the account (recorded, each one restarted a longer wait).
+        with database_of(db).session() as writer:
+            writer.execute(delete(LoginAttempt).where(LoginAttempt.id == attempt_id))
         raise Throttled(f"too many failed sign-ins for {username!r}; try again in "
                         f"{math.ceil(left.total_seconds())} s",
                         math.ceil(left.total_seconds()))

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import itertools
 import math
+import sys
 from dataclasses import dataclass
 
 from ..orders.findings import Finding, error, warning
@@ -145,7 +146,9 @@ def worst_paths(orders: Orders, graph: MissionGraph, legs: MissionLegs | None = 
         budget = getattr(vehicle.budget, quantity, None) if vehicle and vehicle.budget else None
         result[quantity] = WorstPath(
             quantity,
-            best[graph.start],
+            # Finite costs can still sum past the largest double (two of 1e308 Wh): JSON has
+            # no infinity, so such a path reports the largest number there is (issue 15).
+            min(best[graph.start], sys.float_info.max),
             tuple(goals),
             tuple(outcomes),
             graph.node_id(node),

@@ -22,6 +22,7 @@ path length.
 from __future__ import annotations
 
 import functools
+import sys
 from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -179,8 +180,9 @@ def shortest_exceeding_path(
     if len(order) * longest[graph.start] <= MAX_LAYER_WORK:
         found = _shortest_by_length(graph, order, costs, bound, longest[graph.start])
         if found is not None:
-            return found[0], found[1], True
-    return _costliest(graph, worst), worst[graph.start], False
+            return found[0], min(found[1], sys.float_info.max), True
+    # A total past the largest double is reported as that (JSON has no infinity).
+    return _costliest(graph, worst), min(worst[graph.start], sys.float_info.max), False
 
 
 def _shortest_by_length(

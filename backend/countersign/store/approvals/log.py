@@ -12,8 +12,9 @@ from ...approvals.merkle import Tree
 from ...approvals.note import signature_line
 from ...approvals.signer import LogSigner
 from ...approvals.signer import Refused as SignerRefused
-from ...errors import Unavailable
+from ...errors import Conflict, Unavailable
 from ..db import BEGIN_MODE, LogTreeCache
+from ..log_gaps import missing_entries
 from ..missions import NotFound
 from ..tables import (
     Approval,
@@ -68,6 +69,19 @@ def receipt_of(db: DbSession, approval: Approval) -> str | None:
         select(LogReceipt.receipt).where(LogReceipt.index == index))
 
 
+def _leaf(index: int, leaf_hash: str) -> bytes:
+    # The app writes 64 hex digits; anything else came from a writer that is not the app, and
+    # was a 500 (ValueError) on every route that builds the tree.
+    try:
+        leaf = bytes.fromhex(leaf_hash)
+    except ValueError:
+        leaf = b""
+    if len(leaf) != 32:
+        raise Conflict(f"the log was altered outside the app: log entry {index} has a "
+                       "malformed leaf hash")
+    return leaf
+
+
 def _committed_tree(db: DbSession) -> Tree:
     """The committed log as a Merkle tree, cached by the Database object and extended
     incrementally.
@@ -85,8 +99,7 @@ def _committed_tree(db: DbSession) -> Tree:
         rows = connection.execute(select(LogEntry.index, LogEntry.leaf_hash).where(
             LogEntry.index >= since).order_by(LogEntry.index)).all()
         if cached is not None and cached.size:
-            if not rows or rows[0][0] != since or bytes.fromhex(rows[0][1]) != \
-                    cached.levels[0][-1]:
+            if not rows or rows[0][0] != since or _leaf(*rows[0]) != cached.levels[0][-1]:
                 cached, since = None, 0
                 rows = connection.execute(select(LogEntry.index, LogEntry.leaf_hash)
                                           .order_by(LogEntry.index)).all()
@@ -95,8 +108,8 @@ def _committed_tree(db: DbSession) -> Tree:
         if cached is not None and not rows:
             return cached
         tree = cached.copy() if cached is not None else Tree()
-        for _, leaf in rows:
-            tree.append(bytes.fromhex(leaf))
+        for index, leaf in rows:
+            tree.append(_leaf(index, leaf))
     with cache.lock:
         current = cache.tree
         if current is None or current.size <= tree.size:
@@ -108,12 +121,12 @@ def log_tree(db: DbSession, *, pending: bool = False) -> Tree:
     """The log's tree; with `pending`, including entries this transaction appended."""
     tree = _committed_tree(db)
     if pending:
-        rows = list(db.scalars(select(LogEntry.leaf_hash).where(LogEntry.index >= tree.size)
-                               .order_by(LogEntry.index)))
+        rows = db.execute(select(LogEntry.index, LogEntry.leaf_hash)
+                          .where(LogEntry.index >= tree.size).order_by(LogEntry.index)).all()
         if rows:
             tree = tree.copy()
-            for leaf in rows:
-                tree.append(bytes.fromhex(leaf))
+            for index, leaf in rows:
+                tree.append(_leaf(index, leaf))
     return tree
 
 
@@ -156,8 +169,20 @@ def legacy_signed_note(row: Checkpoint) -> str:
     return row.note + "\n" + signature_line(origin, public, signature)
 
 
+def _whole_tree(db: DbSession) -> Tree:
+    # With entries deleted behind the app's back the remaining leaves sit at the wrong
+    # positions: a proof over them matches no signed checkpoint, so none is given.
+    gaps = missing_entries(db)
+    if gaps:
+        runs = ", ".join(f"log entry {a}" if a == b else f"log entries {a}..{b}"
+                         for a, b in gaps)
+        raise Conflict(f"the log was altered outside the app: {runs} missing; no proof "
+                       "until it is restored")
+    return _committed_tree(db)
+
+
 def inclusion_proof(db: DbSession, *, index: int, size: int | None = None) -> dict[str, Any]:
-    tree = _committed_tree(db)
+    tree = _whole_tree(db)
     size = tree.size if size is None else size
     if not 0 <= index < size <= tree.size:
         raise NotFound(f"no log entry {index} in a tree of size {size} (the log has "
@@ -168,7 +193,7 @@ def inclusion_proof(db: DbSession, *, index: int, size: int | None = None) -> di
 
 
 def consistency_proof(db: DbSession, *, first: int, second: int | None = None) -> dict[str, Any]:
-    tree = _committed_tree(db)
+    tree = _whole_tree(db)
     second = tree.size if second is None else second
     if not 0 < first <= second <= tree.size:
         raise NotFound(f"no consistency proof from size {first} to {second} (the log has "

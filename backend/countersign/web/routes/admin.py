@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from datetime import UTC, datetime, timedelta
+from datetime import datetime, timedelta
 from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, HTTPException, Query
@@ -32,6 +32,7 @@ from ..deps import (
     TransactionRoute,
     allow,
 )
+from .instants import UtcInstant
 from .schemas import EventOut, RequestBody, UserOut, VehicleJson
 
 router = APIRouter(prefix="/api", tags=["administration"], route_class=TransactionRoute)
@@ -174,8 +175,8 @@ def list_events(
                                        "'system' for events without one")] = None,
     target: Annotated[str | None, Query(max_length=200, description=(
         "words the event's target contains ('alice', 'mission survey v2'), any case"))] = None,
-    since: Annotated[datetime | None, Query(description="events at or after")] = None,
-    until: Annotated[datetime | None, Query(description="events before")] = None,
+    since: Annotated[UtcInstant | None, Query(description="events at or after")] = None,
+    until: Annotated[UtcInstant | None, Query(description="events before")] = None,
     order: Annotated[Literal["oldest", "newest"], Query()] = "oldest",
     after: Annotated[int, Query(ge=0, le=2**62, description="oldest first: ids above")] = 0,
     before: Annotated[int | None, Query(ge=1, le=2**62,
@@ -205,9 +206,9 @@ def list_events(
         query = query.where(func.lower(Event.target).like(
             "%" + _like_prefix(target.lower()) + "%", escape="\\"))
     if since is not None:
-        query = query.where(Event.at >= _utc(since))
+        query = query.where(Event.at >= since)
     if until is not None:
-        query = query.where(Event.at < _utc(until))
+        query = query.where(Event.at < until)
     names: dict[int, str] = {}
     events = list(db.scalars(query.limit(limit)))
     for event in events:
@@ -224,7 +225,3 @@ def list_events(
 def _like_prefix(text: str) -> str:
     return text.replace("\\", "\\\\").replace("%", "\\%").replace("_", "\\_")
 
-
-def _utc(moment: datetime) -> datetime:
-    # A time without a zone is taken as UTC, the zone every stored time is in (UtcDateTime).
-    return moment.astimezone(UTC) if moment.tzinfo else moment.replace(tzinfo=UTC)

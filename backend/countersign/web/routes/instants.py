@@ -23,3 +23,11 @@ def _utc(value: datetime) -> datetime:
 
 
 Instant = Annotated[datetime, AfterValidator(_utc)]
+
+
+def _utc_unless_zoned(value: datetime) -> datetime:
+    # The event log's filters have always read a time without a zone as UTC.
+    return _utc(value if value.tzinfo else value.replace(tzinfo=UTC))
+
+
+UtcInstant = Annotated[datetime, AfterValidator(_utc_unless_zoned)]
