@@ -61,6 +61,36 @@ def test_waiting_as_told_lets_the_real_user_in(world: World) -> None:
     assert _login(world, "admin1", PASSWORD) == 200
 
 
+def _try(world: World, username: str, password: str, address: str) -> str:
+    """Sign-in's check from a given client address: 'ok', 'wrong' or 'throttled'."""
+    with world.database.session() as db:
+        try:
+            user = accounts.authenticate(db, username=username, password=password,
+                                         address=address)
+        except accounts.TooManyAttempts:
+            return "throttled"
+        return "ok" if user is not None else "wrong"
+
+
+def test_a_slow_attacker_elsewhere_does_not_keep_the_real_user_out(world: World) -> None:
+    # One address guessing once a minute (the longest back-off) stays under the address limit
+    # and has every try evaluated: its own next try is held back, the real user's is not.
+    for _ in range(login_throttle.FREE_FAILURES + 3):
+        assert _try(world, "admin1", "guess", "203.0.113.9") == "wrong"
+        _age(world, LoginAttempt, 61)
+    assert _try(world, "admin1", "guess", "203.0.113.9") == "wrong"
+    assert _try(world, "admin1", "guess", "203.0.113.9") == "throttled"
+    assert _try(world, "admin1", PASSWORD, "198.51.100.7") == "ok"
+
+
+def test_many_addresses_together_meet_the_account_wide_back_off(world: World) -> None:
+    for n in range(login_throttle.ACCOUNT_WIDE_FAILURES):
+        assert _try(world, "admin1", "guess", f"203.0.113.{n}") == "wrong"
+    assert _try(world, "admin1", PASSWORD, "198.51.100.7") == "throttled"
+    _age(world, LoginAttempt, 61)
+    assert _try(world, "admin1", PASSWORD, "198.51.100.7") == "ok"
+
+
 def test_spraying_many_accounts_from_one_address_is_limited(world: World) -> None:
     statuses = [_login(world, f"nobody{n}", "Winter2026!") for n in
                 range(login_throttle.ADDRESS_MAX_FAILURES + 2)]

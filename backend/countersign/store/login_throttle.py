@@ -5,19 +5,25 @@ the window are counted: of N parallel tries, the one committed k-th sees at leas
 more than the limit are ever evaluated (the old code read the count first, and 100 parallel
 tries made 28 evaluations instead of 10).
 
-An account under attack is slowed, not locked: after FREE_FAILURES failures each further try
-must wait 2^(n - FREE_FAILURES) seconds since the last one whose password was checked, at most
-MAX_DELAY, so its real user waits a minute at worst instead of 15. What stops an attacker is
-the address limit: more than ADDRESS_MAX_FAILURES failures in the window from one address
-(spraying many accounts counts too) and that address waits out the window.
+An account under attack is slowed, not locked, and only where the attack comes from: after
+FREE_FAILURES failures from one address each further try from there must wait
+2^(n - FREE_FAILURES) seconds since the last one whose password was checked, at most MAX_DELAY.
+So a slow attacker at one address (one try a minute stays under the address limit) never delays
+the real user signing in from another. Attempts of unknown origin (a wrong password re-entered
+for a decision: reauth.py) count against every address. Across all addresses an account has
+ACCOUNT_WIDE_FAILURES free failures before the same back-off holds for every try, so many
+addresses together still cannot guess faster than that. What stops an attacker is the address
+limit: more than ADDRESS_MAX_FAILURES failures in the window from one address (spraying many
+accounts counts too) and that address waits out the window.
 """
 
 from __future__ import annotations
 
 import math
 from datetime import datetime, timedelta
+from typing import Any
 
-from sqlalchemy import delete, func, select
+from sqlalchemy import delete, func, or_, select
 from sqlalchemy.orm import Session as DbSession
 
 from .db import database_of
@@ -27,6 +33,7 @@ WINDOW = timedelta(minutes=15)
 FREE_FAILURES = 5
 MAX_DELAY = timedelta(seconds=60)
 ADDRESS_MAX_FAILURES = 30
+ACCOUNT_WIDE_FAILURES = 50
 
 
 class Throttled(Exception):
@@ -41,6 +48,30 @@ def account_delay(failures: int) -> timedelta:
         return timedelta(0)
     exponent = min(failures - FREE_FAILURES, 16)
     return min(timedelta(seconds=2 ** exponent), MAX_DELAY)
+
+
+def wait_left(reader: DbSession, username: str, address: str | None, now: datetime,
+              besides: int | None = None) -> timedelta | None:
+    """How long a try for `username` from `address` must still wait, if at all: the back-off
+    of the failures from that address (and of unknown origin), and the account-wide one."""
+    name = username[:64]
+    recent = [LoginAttempt.username == name, LoginAttempt.at >= now - WINDOW]
+    if besides is not None:
+        recent.append(LoginAttempt.id != besides)
+    origin = (or_(LoginAttempt.address == address[:64], LoginAttempt.address.is_(None))
+              if address else LoginAttempt.address.is_(None))
+    here = _latest(reader, [*recent, origin])
+    everywhere = _latest(reader, recent)
+    waits = [(account_delay(len(here)), here), (
+        account_delay(len(everywhere) - (ACCOUNT_WIDE_FAILURES - FREE_FAILURES)), everywhere)]
+    left = max((wait - (now - times[0]) for wait, times in waits if times and wait),
+               default=timedelta(0))
+    return left if left > timedelta(0) else None
+
+
+def _latest(reader: DbSession, where: list[Any]) -> list[datetime]:
+    return list(reader.scalars(select(LoginAttempt.at).where(*where)
+                               .order_by(LoginAttempt.at.desc()).limit(128)))
 
 
 def admit(db: DbSession, username: str, address: str | None) -> int:
@@ -61,15 +92,9 @@ def admit(db: DbSession, username: str, address: str | None) -> int:
             if from_address > ADDRESS_MAX_FAILURES:
                 raise Throttled("too many sign-in attempts from this address; try again later",
                                 int(WINDOW.total_seconds()))
-        earlier: list[datetime] = list(reader.scalars(
-            select(LoginAttempt.at)
-            .where(LoginAttempt.username == username[:64], LoginAttempt.at >= since,
-                   LoginAttempt.id != attempt_id)
-            .order_by(LoginAttempt.at.desc()).limit(64)))
+        left = wait_left(reader, username, address, now, besides=attempt_id)
     # A try is recorded before the count, so of parallel tries at most one sees the wait over.
-    wait = account_delay(len(earlier))
-    if earlier and wait and now - earlier[0] < wait:
-        left = wait - (now - earlier[0])
+    if left:
         # A try refused here checked no password: forgetting it keeps the wait measured from
         # the last try that did, so waiting Retry-After works and retrying early does not
         # shut the account (recorded, each one restarted a longer wait).

@@ -14,13 +14,12 @@ from __future__ import annotations
 import math
 
 from argon2.exceptions import InvalidHashError, VerificationError
-from sqlalchemy import select
 from sqlalchemy.orm import Session as DbSession
 
 from ..errors import Forbidden
 from .accounts import HASHER, TooManyAttempts
 from .db import database_of
-from .login_throttle import WINDOW, account_delay
+from .login_throttle import wait_left
 from .tables import LoginAttempt, utcnow
 
 
@@ -41,15 +40,11 @@ def confirm_password(db: DbSession, *, username: str, password_hash: str,
     now = utcnow()
     # The throttle is read and the hash checked outside the request's write transaction (as at
     # sign-in): argon2 takes tens of milliseconds and SQLite has one writer. The back-off is
-    # sign-in's (store/login_throttle.py): the same failures, the same delay.
+    # sign-in's (store/login_throttle.py) for an attempt of unknown address.
     with database_of(db).session(write=False) as reader:
-        earlier = list(reader.scalars(
-            select(LoginAttempt.at).where(LoginAttempt.username == username[:64],
-                                          LoginAttempt.at >= now - WINDOW)
-            .order_by(LoginAttempt.at.desc()).limit(64)))
-    wait = account_delay(len(earlier))
-    if earlier and wait and now - earlier[0] < wait:
-        left = math.ceil((wait - (now - earlier[0])).total_seconds())
+        wait = wait_left(reader, username, None, now)
+    if wait:
+        left = math.ceil(wait.total_seconds())
         raise TooManyAttempts(f"too many wrong passwords for {username!r}; try again in "
                               f"{left} s", left)
     try:
