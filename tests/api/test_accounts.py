@@ -127,3 +127,17 @@ def test_passwords_are_checked_without_holding_the_write_lock(
     assert client.post("/api/auth/login",
                        json={"username": "operator1", "password": "wrong"}).status_code == 401
     assert writable_meanwhile == [True, True]
+
+
+def test_look_alike_usernames_are_refused(world: World) -> None:
+    # Another account that reads as an existing one ('ADMIN', fullwidth or Cyrillic letters)
+    # would pass as that person in the log and on approvals.
+    admin = world.client("admin")
+    existing = world.usernames["admin"]
+    for look_alike, words in ((existing.upper(), "is taken"),
+                              ("\uff41" + existing[1:], "ASCII letters"),
+                              ("\u0430" + existing[1:], "ASCII letters")):
+        refused = admin.post("/api/users", json={"username": look_alike, "role": "admin",
+                                                 "password": "another long password"})
+        assert refused.status_code == 400, (look_alike, refused.text)
+        assert words in refused.json()["detail"]

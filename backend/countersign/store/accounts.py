@@ -3,12 +3,13 @@
 from __future__ import annotations
 
 import hashlib
+import re
 import secrets
 from dataclasses import dataclass
 from datetime import datetime, timedelta
 
 from argon2.exceptions import InvalidHashError, VerificationError
-from sqlalchemy import delete, select, update
+from sqlalchemy import delete, func, select, update
 from sqlalchemy.orm import Session as DbSession
 
 from ..errors import Invalid, TooMany
@@ -48,6 +49,9 @@ def username_of(db: DbSession, user_id: int, cache: dict[int, str] | None = None
     return name
 
 
+USERNAME = re.compile(r"[A-Za-z0-9._-]{1,64}")
+
+
 def token_hash(token: str) -> str:
     return hashlib.sha256(token.encode()).hexdigest()
 
@@ -69,11 +73,15 @@ def create_user(
 ) -> User:
     if role not in ROLES:
         raise AccountError(f"unknown role {role!r}; choose one of {', '.join(ROLES)}")
-    if not username or len(username) > 64 or not username.replace("-", "").replace(
-        "_", "").replace(".", "").isalnum():
-        raise AccountError("a username has 1-64 letters, digits, '.', '-' or '_'")
-    if db.scalar(select(User).where(User.username == username)) is not None:
-        raise AccountError(f"the username {username!r} is taken")
+    # ASCII only, and unique whatever the case: a look-alike ('ａdmin', 'ADMIN') of another
+    # account would read as that person in the log and on approvals.
+    if not USERNAME.fullmatch(username):
+        raise AccountError("a username has 1-64 ASCII letters, digits, '.', '-' or '_'")
+    taken = db.scalar(select(User.username).where(func.lower(User.username)
+                                                   == username.lower()))
+    if taken is not None:
+        raise AccountError(f"the username {username!r} is taken"
+                           + ("" if taken == username else f" (as {taken!r})"))
     user = User(username=username, role=role, display_name=display_name or username,
                 password_hash=hash_password(password, username=username,
                                             display_name=display_name))
