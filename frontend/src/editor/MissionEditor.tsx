@@ -11,7 +11,8 @@ import "@xyflow/react/dist/style.css";
 import { Background, type Connection, Controls, type Edge, type FinalConnectionState, type Node, ReactFlow, ReactFlowProvider, useReactFlow } from "@xyflow/react";
 import { type KeyboardEvent, useCallback, useEffect, useMemo, useRef, useState } from "react";
 
-import { exportHref, fetchText, type Finding, type MissionDetail } from "../api/client";
+import { exportHref, fetchText, type Finding, type MissionDetail, type Report } from "../api/client";
+import { type ReportPrefetch, reportOf } from "../api/reportPrefetch";
 import { ErrorMessage } from "../components/Status";
 import { plural } from "../format";
 import {
@@ -65,19 +66,23 @@ const PANELS = [
 ];
 const CLIP_KEY = "countersign.editor.clipboard";
 
-/** `onSaved` gets the mission as the save answered it (the page shows it without re-reading). */
-export default function MissionEditor(props: { mission: MissionDetail; onSaved: (saved: MissionDetail) => void }) {
-  const [store] = useState(() => createEditorStore(props.mission));
+/** `onSaved` gets the mission as the save answered it (the page shows it without re-reading).
+ * `report`: the saved draft's report if the page asked for it beside the mission; it is used only
+ * if it is of this draft (its digest), else the editor asks for it. */
+export default function MissionEditor(props: { mission: MissionDetail; report?: ReportPrefetch | null; onSaved: (saved: MissionDetail) => void }) {
+  const { mission, report, onSaved } = props;
+  const [store] = useState(() => createEditorStore(mission, reportOf(report, mission.draft_digest)));
+  const [opening] = useState(() => report?.done.then(() => reportOf(report, mission.draft_digest)) ?? null);
   return (
     <EditorStoreContext.Provider value={store}>
       <ReactFlowProvider>
-        <Editor {...props} />
+        <Editor mission={mission} onSaved={onSaved} opening={opening} />
       </ReactFlowProvider>
     </EditorStoreContext.Provider>
   );
 }
 
-function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved: MissionDetail) => void }) {
+function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved: (saved: MissionDetail) => void; opening: Promise<Report | null> | null }) {
   const flow = useReactFlow();
   const store = useEditorApi();
   const { history, latest, updateHistory } = useDraftHistory();
@@ -110,7 +115,7 @@ function Editor({ mission, onSaved }: { mission: MissionDetail; onSaved: (saved:
     performance.mark("editor:mounted");
   }, []);
 
-  const server = useServerCheck();
+  const server = useServerCheck(opening);
   const { edit, editOrders, changed, saveComputedLayout, reloadTheirs, resolve } = useAutosave(mission, onSaved, server);
   const onScopePickClick = useScopePickClick(editOrders);
 

@@ -101,7 +101,8 @@ export function isLaidOut(draft: Draft): boolean {
   return ids.length > 0 && ids.every((id) => draft.layout[id]);
 }
 
-export function createEditorStore(mission: MissionDetail): StoreApi<EditorState> {
+/** `report`: the saved draft's report when it came beside the mission (api/reportPrefetch.ts). */
+export function createEditorStore(mission: MissionDetail, report: Report | null = null): StoreApi<EditorState> {
   performance.mark("editor:first-render");
   const draft = openedDraft(mission);
   return createStore<EditorState>()((set) => ({
@@ -116,7 +117,7 @@ export function createEditorStore(mission: MissionDetail): StoreApi<EditorState>
     conflict: null,
     notice: "",
     connectMessage: "",
-    report: null,
+    report,
     checkMs: null,
     lastChecked: mission.orders,
     editedAt: 0,

@@ -2,7 +2,7 @@
  * report is cached there by digest) and the newest answer is the report shown (in the store). */
 import { useCallback, useEffect, useRef } from "react";
 
-import { api, unwrap } from "../api/client";
+import { api, type Report, unwrap } from "../api/client";
 import type { Orders } from "./graph";
 import { useEditorApi } from "./store";
 
@@ -13,7 +13,9 @@ export interface ServerCheck {
   check: (orders: Orders) => Promise<boolean>;
 }
 
-export function useServerCheck(): ServerCheck {
+/** `opening`: the saved draft's report as the page asked for it beside the mission (null when it
+ * is not of this draft or failed); without it the report is asked for here. */
+export function useServerCheck(opening: Promise<Report | null> | null = null): ServerCheck {
   const store = useEditorApi();
 
   const refreshChecks = useCallback(async () => {
@@ -22,8 +24,15 @@ export function useServerCheck(): ServerCheck {
   }, [store]);
 
   useEffect(() => {
-    refreshChecks().catch((e: unknown) => store.getState().set({ saveError: e }));
-  }, [refreshChecks, store]);
+    if (store.getState().report) return; // it came with the mission (the store opened with it)
+    const first = opening
+      ? opening.then((report) => {
+          if (!report) return refreshChecks();
+          if (!store.getState().report) store.getState().set({ report }); // unless an edit's check came first
+        })
+      : refreshChecks();
+    first.catch((e: unknown) => store.getState().set({ saveError: e }));
+  }, [refreshChecks, store, opening]);
 
   // Shows the report if the orders are still the newest. Not queued behind a save in
   // progress: an edit is checked at once.

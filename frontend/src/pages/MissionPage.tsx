@@ -10,6 +10,7 @@ import {
   type PathPage,
   unwrap,
 } from "../api/client";
+import { prefetchReport } from "../api/reportPrefetch";
 import { ChartPlanView } from "../components/ChartPlanView";
 import type { Orders } from "../editor/graph";
 import { FindingsTable } from "../components/FindingsTable";
@@ -62,6 +63,8 @@ export function MissionPage({ id, tab }: { id: string; tab: string }) {
     [id],
   );
   const [MissionEditor, setMissionEditor] = useState<EditorComponent | null>(() => loadedEditor);
+  // The editor's findings are asked for beside the mission, not after the editor mounted.
+  const [editorReport] = useState(() => (canEdit && tab === "editor" ? prefetchReport(id) : null));
   const [editorError, setEditorError] = useState<unknown>(null);
   useEffect(() => {
     // Fetch the editor's code while the mission loads, not after (operators only).
@@ -182,7 +185,7 @@ export function MissionPage({ id, tab }: { id: string; tab: string }) {
         {selected === "edit" && canEdit && <EditTab mission={mission} onSaved={reload} />}
         {selected === "editor" && canEdit && (
           MissionEditor ? (
-            <MissionEditor key={mission.id} mission={mission} onSaved={replace} />
+            <MissionEditor key={mission.id} mission={mission} report={editorReport} onSaved={replace} />
           ) : editorError ? (
             <ErrorMessage error={editorError} />
           ) : (
