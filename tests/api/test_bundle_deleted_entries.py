@@ -13,7 +13,7 @@ from sqlalchemy import text
 
 from countersign.cli import main
 
-from .approval_helpers import approve, new_version, register_key, submit
+from .approval_helpers import approve, bypass_triggers, new_version, register_key, submit
 from .conftest import World
 
 
@@ -85,15 +85,8 @@ def test_a_malformed_leaf_hash_is_a_conflict_not_a_500(
         approved: tuple[World, dict[str, Any]], leaf: str) -> None:
     world, approval = approved
     index = approval["log_index"]
-    with world.database.engine.begin() as connection:
-        if connection.dialect.name == "postgresql":
-            connection.execute(text("ALTER TABLE log_entries DISABLE TRIGGER USER"))
-        else:
-            connection.execute(text("DROP TRIGGER IF EXISTS log_entries_no_update"))
-        connection.execute(text('UPDATE log_entries SET leaf_hash = :h WHERE "index" = :i'),
-                           {"h": leaf, "i": index})
-        if connection.dialect.name == "postgresql":
-            connection.execute(text("ALTER TABLE log_entries ENABLE TRIGGER USER"))
+    bypass_triggers(world.database, "log_entries",
+                    'UPDATE log_entries SET leaf_hash = :h WHERE "index" = :i', h=leaf, i=index)
     # A fresh process: nothing of the log cached.
     world.database.log_tree_cache.tree = None
     for route, params in (("/api/audit/bundle", {}),
