@@ -110,8 +110,9 @@ def _committing(endpoint: Callable[..., Any]) -> Callable[..., Any]:
 
 
 # "function" scope commits before the response is sent: a client that sees 200 can rely on it.
-# Row ids in URLs: bounded so that no database is asked for a number it cannot store.
-RowId = Annotated[int, Path(ge=1, le=2**31 - 1)]
+# Row ids and numbers in URLs: bounded so that no database is asked for a number it cannot store.
+MAX_ROW_ID = 2**31 - 1
+RowId = Annotated[int, Path(ge=1, le=MAX_ROW_ID)]
 
 Db = Annotated[DbSession, Depends(get_db, scope="function")]
 

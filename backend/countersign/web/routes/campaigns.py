@@ -25,7 +25,7 @@ from ...orders.reader import orders_from_data
 from ...store import approvals as approvals_service
 from ...store import campaigns as store
 from ...store.missions import get_mission, get_version
-from ..deps import EVERYONE, CurrentPrincipal, Db, TransactionRoute, allow
+from ..deps import EVERYONE, CurrentPrincipal, Db, RowId, TransactionRoute, allow
 from .campaign_schemas import CampaignResultsJson, CampaignSpecJson, OfferedProbabilitiesJson
 from .schemas import RequestBody
 
@@ -93,7 +93,7 @@ def runner_of(request: Request) -> CampaignRunner:
 
 @router.post("/missions/{mission_id}/versions/{number}/campaigns", operation_id="startCampaign",
              status_code=201, response_model=CampaignOut, **allow(*STARTERS))
-def start_campaign(mission_id: str, number: Annotated[int, Path(ge=1, le=2**31 - 1)],
+def start_campaign(mission_id: str, number: RowId,
                    body: CampaignIn, request: Request, principal: CurrentPrincipal,
                    db: Db) -> CampaignOut:
     """Queue N seeded simulations of this version over the sweep faults x goals."""
@@ -160,7 +160,7 @@ def campaign_probabilities(campaign_id: CampaignId, db: Db) -> dict[str, Any]:
 
 @router.post("/submissions/{submission_id}/campaigns", operation_id="attachCampaign",
              status_code=201, response_model=AttachedCampaignOut, **allow("operator"))
-def attach_campaign(submission_id: Annotated[int, Path(ge=1, le=2**31 - 1)],
+def attach_campaign(submission_id: RowId,
                     body: AttachCampaignIn, principal: CurrentPrincipal,
                     db: Db) -> AttachedCampaignOut:
     """Cite a finished campaign of exactly the submitted version (409 otherwise); only the
@@ -176,7 +176,7 @@ def attach_campaign(submission_id: Annotated[int, Path(ge=1, le=2**31 - 1)],
 
 @router.get("/submissions/{submission_id}/campaigns", operation_id="listAttachedCampaigns",
             response_model=list[AttachedCampaignOut], **allow(*EVERYONE))
-def list_attached_campaigns(submission_id: Annotated[int, Path(ge=1, le=2**31 - 1)],
+def list_attached_campaigns(submission_id: RowId,
                             db: Db) -> list[AttachedCampaignOut]:
     approvals_service.get_submission(db, submission_id)
     return [AttachedCampaignOut(submission=a.submission_id, campaign=a.campaign_id,

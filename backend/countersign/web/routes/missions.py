@@ -32,6 +32,7 @@ from ...verify.paths import count_paths, iter_path_lines, iter_paths, trace_text
 from ...verify.probability import declares_probabilities, path_probability_bounds
 from ..deps import (
     EVERYONE,
+    MAX_ROW_ID,
     OPERATORS,
     CurrentPrincipal,
     Db,
@@ -398,7 +399,7 @@ def list_paths(
     limit: Annotated[int, Query(ge=1, le=MAX_PATH_PAGE)] = 100,
     cursor: Annotated[str | None, Query(max_length=2000)] = None,
     format: Annotated[str, Query(pattern="^(json|ndjson|trace)$")] = "json",
-    version: Annotated[int | None, Query(ge=1, le=2**31 - 1, description=(
+    version: Annotated[int | None, Query(ge=1, le=MAX_ROW_ID, description=(
         "list the paths of this stored version instead of the draft"))] = None,
     goal: Annotated[str | None, Query(max_length=200, description=(
         "only the paths through this goal (JSON pages and traces)"))] = None,
