@@ -102,6 +102,13 @@ def leg_cost(metres: float | None, quantity: str, vehicle: Vehicle | None) -> fl
     return 0.0
 
 
+def reportable_total(total: float) -> float:
+    """A path's total as a report can carry it: finite costs can still sum past the largest
+    double (two of 1e308 Wh), and JSON has no infinity, so such a total reads as the largest
+    number there is (issue 15)."""
+    return min(total, sys.float_info.max)
+
+
 def worst_paths(orders: Orders, graph: MissionGraph, legs: MissionLegs | None = None
                 ) -> dict[str, WorstPath] | None:
     """The costliest path per budget quantity, or None when paths cannot be counted."""
@@ -146,9 +153,7 @@ def worst_paths(orders: Orders, graph: MissionGraph, legs: MissionLegs | None = 
         budget = getattr(vehicle.budget, quantity, None) if vehicle and vehicle.budget else None
         result[quantity] = WorstPath(
             quantity,
-            # Finite costs can still sum past the largest double (two of 1e308 Wh): JSON has
-            # no infinity, so such a path reports the largest number there is (issue 15).
-            min(best[graph.start], sys.float_info.max),
+            reportable_total(best[graph.start]),
             tuple(goals),
             tuple(outcomes),
             graph.node_id(node),

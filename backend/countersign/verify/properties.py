@@ -22,7 +22,6 @@ path length.
 from __future__ import annotations
 
 import functools
-import sys
 from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -30,7 +29,7 @@ from typing import Any, Literal
 
 from ..orders.findings import Finding, error, warning
 from ..orders.model import BUDGET_QUANTITIES, OUTCOMES, Orders, PathProperty
-from .budget import UNITS, goal_cost
+from .budget import UNITS, goal_cost, reportable_total
 from .expressions import Expr, fold, number_words, quantity_words, reads, with_unit
 from .graph import MissionGraph, build_graph
 from .logic import (
@@ -180,9 +179,8 @@ def shortest_exceeding_path(
     if len(order) * longest[graph.start] <= MAX_LAYER_WORK:
         found = _shortest_by_length(graph, order, costs, bound, longest[graph.start])
         if found is not None:
-            return found[0], min(found[1], sys.float_info.max), True
-    # A total past the largest double is reported as that (JSON has no infinity).
-    return _costliest(graph, worst), min(worst[graph.start], sys.float_info.max), False
+            return found[0], reportable_total(found[1]), True
+    return _costliest(graph, worst), reportable_total(worst[graph.start]), False
 
 
 def _shortest_by_length(
