@@ -40,30 +40,35 @@ describe("the canvas says ready only once the laid-out view is shown", () => {
     vi.useRealTimers();
   });
 
-  it("waits for the fit's promise, not for a frame or a short timer", async () => {
-    const fit = deferred();
-    const flow = fakeFlow(fit.promise);
+  /** Lays the nodes out with a view move that settles only when `finish` is called, after a
+   * second in which nothing else would have settled it. */
+  async function shownAfterASecond(large: boolean) {
+    const move = deferred();
+    const flow = fakeFlow(move.promise);
     const setReady = vi.fn();
-    const done = readyWhenShown(() => showLaidOut(flow, false, nodes, {}), setReady);
+    const done = readyWhenShown(() => showLaidOut(flow, large, nodes, {}), setReady);
     await vi.advanceTimersByTimeAsync(1000);
+    const finish = async () => {
+      move.resolve();
+      await done;
+    };
+    return { flow, setReady, finish };
+  }
+
+  it("waits for the fit's promise, not for a frame or a short timer", async () => {
+    const { flow, setReady, finish } = await shownAfterASecond(false);
     expect(flow.fits).toBe(1);
     expect(setReady).not.toHaveBeenCalled();
-    fit.resolve();
-    await done;
+    await finish();
     expect(setReady).toHaveBeenCalledExactlyOnceWith(true);
   });
 
   it("a large draft is centred on its start goal, and ready waits for that too", async () => {
-    const moved = deferred();
-    const flow = fakeFlow(moved.promise);
-    const setReady = vi.fn();
-    const done = readyWhenShown(() => showLaidOut(flow, true, nodes, {}), setReady);
-    await vi.advanceTimersByTimeAsync(500);
+    const { flow, setReady, finish } = await shownAfterASecond(true);
     expect(flow.fits).toBe(0);
     expect(flow.centres).toEqual([[700, 250, 0.6]]);
     expect(setReady).not.toHaveBeenCalled();
-    moved.resolve();
-    await done;
+    await finish();
     expect(setReady).toHaveBeenCalledExactlyOnceWith(true);
   });
 
