@@ -12,9 +12,9 @@ from collections import deque
 from pathlib import Path
 
 import pytest
-from rdflib import Graph
+from rdflib import RDF, Graph, URIRef
 
-from countersign.orders.examples import load_example
+from countersign.orders.examples import example_names, load_example
 from countersign.orders.findings import Finding
 from countersign.orders.model import OUTCOMES, Orders
 from countersign.orders.reader import read_file
@@ -170,3 +170,40 @@ def test_nps_view_of_converted_missions_round_trips_the_structure(path: Path) ->
     assert back.start == orders.start
     assert {g.id: g.next for g in back.goals} == {g.id: g.next for g in orders.goals}
     assert nps_graph(orders)  # the view is a non-empty graph
+
+
+MEO30 = NPS / "ontologies" / "MissionExecutionOntology3.0.ttl"
+# The W3C vocabularies a view may use besides MEO 3.0 (types, comments, imports, datatypes).
+W3C_VOCABULARY = ("http://www.w3.org/1999/02/22-rdf-syntax-ns#",
+                  "http://www.w3.org/2000/01/rdf-schema#", "http://www.w3.org/2002/07/owl#",
+                  "http://www.w3.org/2001/XMLSchema#")
+
+
+def meo30_declared() -> set[object]:
+    """Every class, property and individual MissionExecutionOntology3.0.ttl declares."""
+    ontology = Graph().parse(MEO30, format="turtle")
+    return {s for s in ontology.subjects(RDF.type, None) if isinstance(s, URIRef)}
+
+
+def every_written_mission() -> list[Orders]:
+    missions = [load_example(name) for name in example_names()]
+    nps_files = [*sorted(AVCL_DIR.glob("*.xml")), *sorted(TURTLE_DIR.glob("*.ttl"))]
+    return missions + [read_file(path).orders for path in nps_files]
+
+
+def test_nps_view_uses_only_words_meo_3_0_declares() -> None:
+    declared = meo30_declared()
+    undeclared: dict[str, set[str]] = {}
+    used: set[object] = set()
+    for orders in every_written_mission():
+        view = Graph().parse(data=write_nps_turtle(orders), format="turtle")
+        terms = {p for _, p, _ in view} | set(view.objects(None, RDF.type))
+        used |= terms
+        for term in terms:
+            if not str(term).startswith(W3C_VOCABULARY) and term not in declared:
+                undeclared.setdefault(str(term), set()).add(orders.id)
+    assert undeclared == {}
+    # The view still carries successors and phases, in MEO 3.0's own names.
+    meo = "https://savage.nps.edu/EthicalControl/ontologies/MissionExecutionOntology"
+    assert {URIRef(f"{meo}#hasNextGoalOnSuccess"), URIRef(f"{meo}#hasNextGoalOnFailure"),
+            URIRef(f"{meo}#hasNextGoalOnException"), URIRef(f"{meo}/isPartOfPhase")} <= used

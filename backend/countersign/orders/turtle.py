@@ -711,9 +711,10 @@ def _encode_text(value: Any) -> str:
 
 def nps_graph(orders: Orders) -> Graph:
     """The orders in the NPS MEO 3.0 vocabulary: individuals of the NPS classes, successors as
-    both hasNextGoalOn* (declared by MEO 3.0) and hasNextOn* (used by the NPS converted missions
-    and queries), goals described by rdfs:comment "Title: description", terminals as goals
-    without successors (the NPS convention)."""
+    hasNextGoalOn*, goals described by rdfs:comment "Title: description", terminals as goals
+    without successors (the NPS convention). Only names MEO 3.0 declares are written: the ones
+    the NPS converted missions and queries use instead (hasNextOn*, isPartOfPhase with `#`,
+    appliesTo) are read but never written."""
     ours = orders_to_graph(orders, record=False)
     names = _nps_names()
     iris = MissionIris(orders.id)
@@ -764,11 +765,13 @@ def write_nps_turtle(orders: Orders) -> str:
 
 
 def _nps_names() -> dict[Node, list[Node]]:
-    """meo: term -> its equivalents in the NPS MEO 3.0 namespace (alignment file)."""
+    """meo: term -> its equivalents in the NPS MEO 3.0 namespace (alignment file), leaving out
+    the names the alignment marks owl:deprecated (used by NPS files, not declared by MEO 3.0)."""
     names: dict[Node, list[Node]] = {}
     prefix = str(NPS3).rstrip("#")
+    deprecated = set(load_graph(NPS_ALIGNMENT).subjects(OWL.deprecated, Literal(True)))
     for ours, theirs in _equivalences():
-        if str(theirs).startswith(prefix):
+        if str(theirs).startswith(prefix) and theirs not in deprecated:
             names.setdefault(ours, []).append(theirs)
     for values in names.values():
         values.sort(key=str)
