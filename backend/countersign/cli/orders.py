@@ -183,6 +183,14 @@ def cmd_export(args: argparse.Namespace) -> int:
         from .export_vehicle import write_vehicle_export
 
         return write_vehicle_export(loaded.orders, args)
+    if args.format == "avcl":
+        from ..export.avcl import export_avcl
+        from .export_vehicle import print_notes
+
+        export = export_avcl(loaded.orders)
+        sys.stdout.write(export.primary.content.decode("utf-8"))
+        print_notes(export)
+        return EXIT_OK
     sys.stdout.write(write_for_supervisor(loaded.orders, args.format))
     return EXIT_OK
 
@@ -278,10 +286,11 @@ def add_commands(commands: Any) -> None:
         description="Convert orders between formats: the plain-language orders a supervisor "
         "reads (seed 000 Figures 3 and 4; with a \"Contingency rules\" section, one sentence "
         "per rule, when the orders or their vehicle carry rules), orders JSON, a Graphviz DOT "
-        "graph, MEO Turtle (lossless), an NPS MEO 3.0 Turtle view, or AVCL XML; or for a "
-        "vehicle: an IMC PlanSpecification (imc, binary) or MOOS-IvP helm behaviours plus "
-        "uSimMarine lines (moos). What a vehicle format cannot carry is printed to standard "
-        "error as notes (code, path, message).",
+        "graph, MEO Turtle (lossless), an NPS MEO 3.0 Turtle view, or AVCL 3.1 XML (valid "
+        "against the NPS AVCL.3.1.xsd); or for a vehicle: an IMC PlanSpecification (imc, "
+        "binary) or MOOS-IvP helm behaviours plus uSimMarine lines (moos). What AVCL or a "
+        "vehicle format cannot carry is printed to standard error as notes (code, path, "
+        "message).",
     )
     export_cmd.add_argument("file", metavar="FILE", help=FILE_HELP)
     export_cmd.add_argument(

@@ -1,10 +1,13 @@
 """Read NPS AVCL mission XML (AVCL 3.0 and 3.1) as orders.
 
-The NPS tools' own conventions (reference/nps-ethical-control/README.md) apply: the first Goal
-of the GoalList starts the mission; a Goal without nextOnSuccess is a terminal goal; a missing
-nextOnFailure means "same as nextOnSuccess" and a missing nextOnException "same as
-nextOnFailure". Every default applied is reported as a SINK warning, so that nothing the orders
-leave unsaid is hidden from the supervisor.
+Both dialects are read: the NPS files' own (vehicleName on the root element and
+MissionDefinition/AgendaMission, which most of them use though their schema does not allow it)
+and schema-valid AVCL 3.1 as `write_avcl` writes it, with its head metas. The NPS tools' own
+conventions (reference/nps-ethical-control/README.md) apply: the first Goal of the GoalList
+starts the mission; a Goal without nextOnSuccess is a terminal goal; a missing nextOnFailure
+means "same as nextOnSuccess" and a missing nextOnException "same as nextOnFailure". Every
+default applied is reported as a SINK warning, so that nothing the orders leave unsaid is
+hidden from the supervisor.
 
 XML is parsed by defusedxml with DTDs, entity declarations and external references refused:
 an XML bomb is rejected before any expansion.
@@ -29,7 +32,15 @@ from defusedxml import (
 from defusedxml.ElementTree import fromstring
 from pydantic import TypeAdapter, ValidationError
 
-from .avcl_writer import CHART_META
+from .avcl_writer import (
+    BEHAVIOR_META,
+    CHART_META,
+    IDS_META,
+    TERMINAL_DESCRIPTIONS,
+    VEHICLE_NAME_META,
+    VEHICLE_TYPE_META,
+    element_behavior,
+)
 from .defaults import defaulted_findings
 from .findings import Finding
 from .model import MAX_ID_LENGTH, Id, Orders
@@ -93,8 +104,9 @@ def read_avcl(data: bytes, name: str = "<input>") -> ReadResult:
         )
     goal_list, list_path = found
     problems: list[Problem] = []
+    renamed = _renamed_ids(root, problems)
     raw = [
-        _read_goal(element, f"{list_path}/Goal[{index}]", problems)
+        _read_goal(element, f"{list_path}/Goal[{index}]", renamed, problems)
         for index, element in enumerate(_children(goal_list, "Goal"), start=1)
     ]
     if problems:
@@ -116,6 +128,7 @@ def read_avcl(data: bytes, name: str = "<input>") -> ReadResult:
             goals[-1]["defaulted"] = defaulted
     if problems:
         raise OrdersReadError(problems[:MAX_PROBLEMS_SHOWN], total=len(problems))
+    _named_behaviors(root, goals)
 
     meta = _meta(root)
     title = meta.get("title", "").strip()
@@ -136,11 +149,12 @@ def read_avcl(data: bytes, name: str = "<input>") -> ReadResult:
         raise OrdersReadError(problems[:MAX_PROBLEMS_SHOWN], total=len(problems))
     if charts:
         data_out["charts"] = charts
-    vehicle_name = (root.get("vehicleName") or "").strip()
+    vehicle_name = (root.get("vehicleName") or meta.get(VEHICLE_NAME_META) or "").strip()
     if vehicle_name:
         vehicle: dict[str, Any] = {"id": _slug(vehicle_name), "title": vehicle_name}
-        if root.get("vehicleType"):
-            vehicle["vehicle_type"] = root.get("vehicleType")
+        vehicle_type = root.get("vehicleType") or meta.get(VEHICLE_TYPE_META)
+        if vehicle_type:
+            vehicle["vehicle_type"] = vehicle_type
         data_out["vehicle"] = vehicle["id"]
         data_out["vehicles"] = [vehicle]
     try:
@@ -211,8 +225,11 @@ def _check_id(value: str, path: str, problems: list[Problem]) -> None:
         problems.append(Problem(path, f"the AVCL id {value[:40]!r} cannot be used: {reason}"))
 
 
-def _read_goal(element: Element, path: str, problems: list[Problem]) -> _AvclGoal:
+def _read_goal(element: Element, path: str, renamed: dict[str, str],
+               problems: list[Problem]) -> _AvclGoal:
     goal_id = _attr(element, "id")
+    if goal_id is not None:
+        goal_id = renamed.get(goal_id, goal_id)
     if goal_id is None:
         problems.append(Problem(f"{path}/@id", "the Goal has no id"))
         goal_id = ""
@@ -222,6 +239,7 @@ def _read_goal(element: Element, path: str, problems: list[Problem]) -> _AvclGoa
     for attribute in ("nextOnSuccess", "nextOnFailure", "nextOnException"):
         target = _attr(element, attribute)
         if target is not None:
+            target = renamed.get(target, target)
             _check_id(target, f"{path}/@{attribute}", problems)
         targets[attribute] = target
     return _AvclGoal(
@@ -237,16 +255,15 @@ def _read_goal(element: Element, path: str, problems: list[Problem]) -> _AvclGoa
 
 
 def _terminal_kind(goal: _AvclGoal, reached_on_success: bool) -> str:
+    for kind, description in TERMINAL_DESCRIPTIONS.items():
+        if goal.description == description:  # written by write_avcl: no guessing
+            return kind
     words = f"{goal.id} {goal.title} {goal.description}".lower()
     if any(word in words for word in _ABORT_WORDS):
         return "abort"
     if any(word in words for word in _COMPLETE_WORDS):
         return "complete"
     return "complete" if reached_on_success else "abort"
-
-
-def _snake(name: str) -> str:
-    return re.sub(r"(?<=[a-z0-9])(?=[A-Z])|(?<=[A-Z])(?=[A-Z][a-z])", "_", name).lower()
 
 
 def _number(element: Element, attribute: str, path: str, problems: list[Problem]) -> float | None:
@@ -271,7 +288,8 @@ def _goal_data(
         (child for child in element if _local(child.tag) not in NON_BEHAVIOR and _local(child.tag)),
         None,
     )
-    behavior = _snake(_local(behavior_element.tag)) if behavior_element is not None else None
+    behavior = (element_behavior(_local(behavior_element.tag))
+                if behavior_element is not None else None)
     params: dict[str, Any] = {}
     if _attr(element, "phase"):
         params["phase"] = _attr(element, "phase")
@@ -363,19 +381,49 @@ def _meta(root: Element) -> dict[str, str]:
     return meta
 
 
+def _metas(root: Element, name: str) -> list[tuple[int, str]]:
+    """Every head meta of a name, with its position among the head's metas."""
+    return [(index, element.get("content") or "")
+            for head in _children(root, "head")
+            for index, element in enumerate(_children(head, "meta"), start=1)
+            if element.get("name") == name]
+
+
+def _renamed_ids(root: Element, problems: list[Problem]) -> dict[str, str]:
+    """The `countersign:ids` map (XML id -> orders id) of ids that are not XML names."""
+    renamed: dict[str, str] = {}
+    for index, content in _metas(root, IDS_META):
+        try:
+            found = json.loads(content)
+        except ValueError as exc:
+            found = exc
+        if not isinstance(found, dict) or not all(
+                isinstance(k, str) and isinstance(v, str) for k, v in found.items()):
+            problems.append(Problem(f"/AVCL/head/meta[{index}]",
+                                    "the id map is not a JSON object of strings"))
+            continue
+        renamed.update(found)
+    return renamed
+
+
+def _named_behaviors(root: Element, goals: list[dict[str, Any]]) -> None:
+    """Behaviours named by `countersign:behavior` metas win over the goal action element."""
+    named = dict(content.split(" ", 1) for _, content in _metas(root, BEHAVIOR_META)
+                 if " " in content)
+    for goal in goals:
+        if goal["id"] in named:
+            goal["behavior"] = named[goal["id"]]
+
+
 def _charts(root: Element, problems: list[Problem]) -> list[Any]:
     """The charts written by `write_avcl`: each `<meta name="countersign:chart">` holds one
     chart as JSON (checked with the orders' own model afterwards)."""
     charts: list[Any] = []
-    for head in _children(root, "head"):
-        for index, element in enumerate(_children(head, "meta"), start=1):
-            if element.get("name") != CHART_META:
-                continue
-            try:
-                charts.append(json.loads(element.get("content") or ""))
-            except ValueError as exc:
-                problems.append(Problem(f"/AVCL/head/meta[{index}]",
-                                        f"the chart is not JSON: {exc}"))
+    for index, content in _metas(root, CHART_META):
+        try:
+            charts.append(json.loads(content))
+        except ValueError as exc:
+            problems.append(Problem(f"/AVCL/head/meta[{index}]", f"the chart is not JSON: {exc}"))
     return charts
 
 
