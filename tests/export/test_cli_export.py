@@ -1,4 +1,4 @@
-"""`countersign export --format imc|moos`: files out, notes on stderr, refusals exit 1."""
+"""`countersign export --format imc|moos|avcl`: files out, notes on stderr, refusals exit 1."""
 
 from __future__ import annotations
 
@@ -43,3 +43,11 @@ def test_orders_that_cannot_be_a_plan_exit_1(tmp_path: Path,
     assert main(["export", str(source), "--format", "moos"]) == 1
     _, err = capsysbinary.readouterr()
     assert b"cannot export" in err and b"SINK G1" in err
+
+
+def test_avcl_to_stdout_with_notes_on_stderr(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["export", "example:search-and-sample", "--format", "avcl"]) == 0
+    out, err = capsys.readouterr()
+    assert out.startswith('<?xml version="1.0" encoding="UTF-8"?>\n<AVCL version="3.1">')
+    assert "note CONSTRAINT /constraints/0:" in err and "note NORM /norms/0:" in err
+    assert "note" not in out
