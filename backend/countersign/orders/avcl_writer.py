@@ -145,9 +145,11 @@ def avcl_document(orders: Orders) -> AvclDocument:
         for outcome, attribute in HANDLERS:
             targets = goal.successors(outcome)
             if not targets:
+                # The NPS readers fill in a missing handler from the others, and take a goal
+                # with none at all for a terminal goal.
                 gaps.append(Gap("MISSING", f"{where}/next/{outcome}",
                                 f"goal {goal.id} names no {outcome} successor; AVCL readers "
-                                "fill it in by the NPS defaults"))
+                                "apply the NPS defaults (no successor at all: a terminal)"))
                 continue
             if len(targets) > 1:
                 gaps.append(Gap("CHOICE", f"{where}/next/{outcome}",
