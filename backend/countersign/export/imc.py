@@ -38,15 +38,15 @@ CONDITIONS = {"succeed": "ManeuverIsDone", "fail": "ManeuverFailed",
 OUTCOME_OF = {v: k for k, v in CONDITIONS.items()}
 
 
+_PRINTABLE_SAFE = "".join(chr(c) for c in range(0x20, 0x7F) if chr(c) not in "%;=")
+
+
 def _tuple_list(values: dict[str, Any]) -> str:
     """IMC TupleList text (`k=v;k=v`); user text is percent-escaped so it cannot add keys, and
     so is anything outside printable ASCII, which is all an IMC plaintext field may hold."""
     def escape(text: str) -> str:
         return quote(text, safe=_PRINTABLE_SAFE)
     return ";".join(f"{escape(k)}={escape(str(v))}" for k, v in values.items())
-
-
-_PRINTABLE_SAFE = "".join(chr(c) for c in range(0x20, 0x7F) if chr(c) not in "%;=")
 
 
 def _seconds(place: Placement) -> int:
