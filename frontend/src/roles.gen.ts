@@ -18,6 +18,7 @@ export const OPERATION_ROLES = {
   downloadVehicleExport: ["operator", "supervisor", "auditor", "admin"],
   exportBundle: ["supervisor", "auditor", "admin"],
   exportCharts: ["operator", "supervisor", "auditor", "admin"],
+  exportChartsKml: ["operator", "supervisor", "auditor", "admin"],
   exportMission: ["operator", "supervisor", "auditor", "admin"],
   getApproval: ["supervisor", "auditor", "admin"],
   getCampaign: ["operator", "supervisor", "auditor", "admin"],

@@ -20,6 +20,7 @@ REVIEWED_ROLES: dict[str, tuple[str, ...]] = {
     # Chart registry and plan view (issue 21): admins write, every signed-in role reads.
     "listCharts": ("operator", "supervisor", "auditor", "admin"),
     "exportCharts": ("operator", "supervisor", "auditor", "admin"),
+    "exportChartsKml": ("operator", "supervisor", "auditor", "admin"),
     "putChart": ("admin",),
     "importCharts": ("admin",),
     "deleteChart": ("admin",),

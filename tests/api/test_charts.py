@@ -112,3 +112,35 @@ def test_plan_view_answer_is_the_whole_plan_view(world: World) -> None:
     assert answer.json() == expected
     assert answer.text == json.dumps(expected, separators=(",", ":"), ensure_ascii=False)
     assert answer.json()["places"] and answer.json()["crossings"][0]["element"]
+
+
+def test_charts_export_as_counterclockwise_geojson_and_the_same_kml(world: World) -> None:
+    import warnings
+
+    from shapely.geometry import LinearRing
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # fastkml's notice that lxml is absent
+        from fastkml import kml
+
+    clockwise = json.loads(json.dumps(KEEP_OUT))
+    feature = clockwise["features"][0]
+    ring = feature["geometry"]["coordinates"][0]
+    ring[1:-1] = reversed(ring[1:-1])
+    assert not LinearRing(ring).is_ccw
+    feature["properties"]["title"] = "Firing <range> & co"
+    assert _import(world, "admin", json.dumps(clockwise)).status_code == 200  # type: ignore[attr-defined]
+    geojson = world.client("auditor").get("/api/charts/geojson").json()
+    out = geojson["features"][0]["geometry"]["coordinates"][0]
+    assert LinearRing(out).is_ccw and out[0] == ring[0] and out[-1] == out[0]
+    assert world.client().get("/api/charts/kml").status_code == 401
+    for role in ("operator", "supervisor", "auditor", "admin"):
+        response = world.client(role).get("/api/charts/kml")
+        assert response.status_code == 200, response.text
+        assert response.headers["content-type"] == "application/vnd.google-earth.kml+xml"
+        assert response.headers["x-content-type-options"] == "nosniff"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        (mark,) = kml.KML.from_string(response.text, strict=True).features[0].features
+    assert (mark.id, mark.name) == ("RANGE", "Firing <range> & co")
+    assert [list(p) for p in mark.geometry.exterior.coords] == out

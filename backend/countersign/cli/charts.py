@@ -92,13 +92,15 @@ def cmd_import(args: argparse.Namespace) -> int:
 
 
 def cmd_list(args: argparse.Namespace) -> int:
-    from ..orders.geo_formats import areas_to_geojson
+    from ..orders.geo_formats import areas_to_geojson, charts_to_kml
     from ..store.charts import all_charts
 
     def work(db: Any) -> int:
         charts = all_charts(db)
         if args.format == "geojson":
             sys.stdout.write(json.dumps(areas_to_geojson(charts), indent=2) + "\n")
+        elif args.format == "kml":
+            sys.stdout.write(charts_to_kml(charts))
         else:
             _summary(charts)
         return EXIT_OK
@@ -136,7 +138,9 @@ def add_commands(commands: Any) -> None:
     imp.add_argument("--data-dir", type=Path, default=None)
     imp.set_defaults(handler=cmd_import)
     listing = sub.add_parser("list", help="list the registry's charts, or export them")
-    listing.add_argument("--format", choices=["text", "geojson"], default="text")
+    listing.add_argument("--format", choices=["text", "geojson", "kml"], default="text",
+                         help="text: one line per chart; geojson (RFC 7946) or kml: the "
+                         "charts as polygons, exterior rings counterclockwise")
     listing.add_argument("--data-dir", type=Path, default=None)
     listing.set_defaults(handler=cmd_list)
     remove = sub.add_parser("delete", help="remove a chart from the registry")

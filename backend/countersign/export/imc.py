@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import math
 from typing import Any
+from urllib.parse import quote
 
 import imcpy
 
@@ -28,16 +29,32 @@ from .provenance import Provenance
 
 MEDIA_TYPE = "application/vnd.lsts.imc"
 MAX_MESSAGE_BYTES = 65_535
+# Ranges IMC.xml (5.4.x) gives the fields we fill from orders; a strict reader refuses a
+# message with any field outside them.
+MAX_SECONDS = 65_535  # uint16_t durations
+MAX_RADIUS_M = 100_000.0  # Loiter radius and length (both at least 1 m)
 CONDITIONS = {"succeed": "ManeuverIsDone", "fail": "ManeuverFailed",
               "violate": "ConstraintViolated"}
 OUTCOME_OF = {v: k for k, v in CONDITIONS.items()}
 
 
+_PRINTABLE_SAFE = "".join(chr(c) for c in range(0x20, 0x7F) if chr(c) not in "%;=")
+
+
 def _tuple_list(values: dict[str, Any]) -> str:
-    """IMC TupleList text (`k=v;k=v`); user text is percent-escaped so it cannot add keys."""
+    """IMC TupleList text (`k=v;k=v`); user text is percent-escaped so it cannot add keys, and
+    so is anything outside printable ASCII, which is all an IMC plaintext field may hold."""
     def escape(text: str) -> str:
-        return text.replace("%", "%25").replace(";", "%3B").replace("=", "%3D")
+        return quote(text, safe=_PRINTABLE_SAFE)
     return ";".join(f"{escape(k)}={escape(str(v))}" for k, v in values.items())
+
+
+def _seconds(place: Placement) -> int:
+    seconds = duration_s(place.goal)
+    if seconds > MAX_SECONDS:
+        raise ExportError(f"goal {place.goal.id} lasts {seconds:,} s; an IMC maneuver's "
+                          f"duration is at most {MAX_SECONDS:,} s: split the goal")
+    return seconds
 
 
 def _depth(maneuver: Any, depth: float | None) -> None:
@@ -68,13 +85,16 @@ def _maneuver(place: Placement, speed: float) -> Any:
         if place.kind == "loiter":
             maneuver = imcpy.Loiter()
             maneuver.type = int(imcpy.Loiter.LoiterTypeEnum.CIRCULAR)
-            maneuver.radius = max(20.0, min(box.width_m, box.height_m) / 2)
-            maneuver.duration = duration_s(goal)
+            maneuver.radius = min(MAX_RADIUS_M, max(20.0, min(box.width_m, box.height_m) / 2))
+            # A circular loiter ignores the racetrack length, but IMC.xml bounds it to
+            # [1, 100000] m, so the diameter's worth (bounded too) stands in for it.
+            maneuver.length = min(MAX_RADIUS_M, 2 * maneuver.radius)
+            maneuver.duration = _seconds(place)
             maneuver.direction = int(imcpy.Loiter.DirectionEnum.CLOCKW)
         elif place.kind == "station":
             maneuver = imcpy.StationKeeping()
             maneuver.radius = 20.0
-            maneuver.duration = duration_s(goal)
+            maneuver.duration = _seconds(place)
         else:
             maneuver = imcpy.Goto()
         maneuver.lat, maneuver.lon = math.radians(lat), math.radians(lon)

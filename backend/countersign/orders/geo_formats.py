@@ -1,8 +1,10 @@
 """Charted areas from GeoJSON and KML, and areas written back as GeoJSON (or KML).
 
-Polygons in the orders are one ring of (latitude, longitude) without the closing point;
-GeoJSON and KML write (longitude, latitude) rings that repeat the first point. Holes cannot be
-expressed in the orders, so a polygon with holes is refused rather than silently filled.
+Polygons in the orders are one ring of (latitude, longitude) without the closing point, wound
+either way; GeoJSON and KML write (longitude, latitude) rings that repeat the first point and
+run counterclockwise, as RFC 7946 3.1.6 requires of GeoJSON exteriors and OGC KML 2.2 of outer
+boundaries. Holes cannot be expressed in the orders, so a polygon with holes is refused rather
+than silently filled.
 KML is parsed by defusedxml first: a document with a DTD or entities never reaches fastkml.
 """
 
@@ -22,6 +24,7 @@ from geojson_pydantic import Polygon as GeoPolygon
 from geojson_pydantic.geometries import Geometry
 from pydantic import ValidationError
 from pygeoif import geometry as pygeo
+from shapely.geometry import LinearRing
 
 from .model import Area, Chart
 
@@ -31,6 +34,7 @@ with warnings.catch_warnings():
     from fastkml import containers, data, features, kml
 
 MAX_BYTES = 5_000_000
+KML_MEDIA_TYPE = "application/vnd.google-earth.kml+xml"
 MAX_FEATURES = 10_000
 _SAFE_ID = re.compile(r"[^A-Za-z0-9_.:\-]+")
 
@@ -50,6 +54,8 @@ def _ring_to_polygon(ring: Sequence[Sequence[float]], where: str) -> list[tuple[
 
 def _closed_ring(polygon: Sequence[tuple[float, float]]) -> list[tuple[float, float]]:
     ring = [(lon, lat) for lat, lon in polygon]
+    if len(ring) >= 3 and not LinearRing(ring).is_ccw:
+        ring = [ring[0], *reversed(ring[1:])]  # the same first point, the other way round
     return [*ring, ring[0]] if ring else ring
 
 
@@ -256,7 +262,8 @@ def charts_from_kml(text: str | bytes) -> list[Chart]:
 
 
 def charts_to_kml(charts: Iterable[Area]) -> str:
-    """A KML document with one Polygon placemark per area (round-trips with charts_from_kml)."""
+    """A KML document with one Polygon placemark per area, the rings of areas_to_geojson
+    (round-trips with charts_from_kml). Titles and tags are element text, escaped on writing."""
     marks = []
     for area in charts:
         extra = [data.Data(name="contexts", value=",".join(area.contexts))]

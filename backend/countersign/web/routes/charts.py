@@ -4,16 +4,18 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-from fastapi import APIRouter, HTTPException, Request
+from fastapi import APIRouter, HTTPException, Request, Response
 from fastapi.concurrency import run_in_threadpool
 from pydantic import BaseModel, ConfigDict, Field
 
 from ...orders.geo_formats import (
+    KML_MEDIA_TYPE,
     MAX_BYTES,
     GeoFormatError,
     areas_to_geojson,
     charts_from_geojson,
     charts_from_kml,
+    charts_to_kml,
 )
 from ...orders.model import Chart, ChartNorm
 from ...orders.reader import read_json
@@ -145,6 +147,17 @@ class PlanViewOut(BaseModel):
             response_model_exclude_unset=True, **allow(*EVERYONE))
 def export_charts(db: Db) -> dict[str, Any]:
     return areas_to_geojson(all_charts(db))
+
+
+@router.get("/charts/kml", operation_id="exportChartsKml", response_class=Response,
+            responses={200: {"content": {KML_MEDIA_TYPE: {"schema": {"type": "string"}}}}},
+            **allow(*EVERYONE))
+def export_charts_kml(db: Db) -> Response:
+    """The registry as one KML document, a Polygon placemark per chart with the same
+    counterclockwise (longitude, latitude) rings as the GeoJSON export."""
+    return Response(charts_to_kml(all_charts(db)), media_type=KML_MEDIA_TYPE, headers={
+        "Content-Disposition": 'attachment; filename="charts.kml"',
+        "X-Content-Type-Options": "nosniff"})
 
 
 @router.put("/charts/{chart_id}", operation_id="putChart", response_model=Chart,
