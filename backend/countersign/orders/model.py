@@ -362,7 +362,8 @@ ScopeKind = Literal["globally", "before", "after", "between"]
 
 
 class Within(_Strict):
-    """The bound of a bounded response: goals run, seconds or watt-hours from p to s."""
+    """The bound of a bounded response, from the moment p happens (its goal ends) to the moment
+    s happens: goals ended, or seconds or watt-hours of the goals and legs in between."""
 
     steps: int | None = Field(default=None, ge=0)
     duration_s: float | None = Field(default=None, ge=0)

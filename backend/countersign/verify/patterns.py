@@ -9,6 +9,12 @@ path is enumerated. Cost-bounded responses keep the cost since the oldest unansw
 state; of two states that differ only in that cost, the larger dominates (it violates no later)
 and the smaller, reached later, is dropped.
 
+An event happens when its goal ends (a terminal's when the mission ends), so a bound runs from
+the `p` event to the `s` event: the leg out of the `p` goal, every goal after it up to and
+including the `s` goal, and the legs between them. The `p` goal's own cost was spent before `p`
+happened and does not count; a terminal costs nothing. Goals and legs cost what BUDGET charges
+(budget.goal_cost, budget.leg_cost); in steps each goal counts 1 and a leg 0.
+
 Semantics on finite paths (Dwyer's): `before r` and `between q and r` only count a segment that
 `r` closes; `after q` runs from the first `q` to the end; a segment starts at `q` (inclusive)
 and stops before `r`; in `between`, a position with both q and r opens nothing.
@@ -22,8 +28,9 @@ from dataclasses import dataclass
 from ..orders.findings import Finding, error, warning
 from ..orders.model import OUTCOMES, Event, Orders, PathProperty
 from ..orders.pattern_words import pattern_sentence
-from .budget import goal_cost
+from .budget import goal_cost, leg_cost
 from .graph import MissionGraph
+from .legs import MissionLegs, leg_lengths, mission_legs
 from .paths import topological_order
 
 NEEDS = {"absence": ("p",), "existence": ("p",), "universality": ("p",),
@@ -63,7 +70,7 @@ def matches(event: Event | None, at: Position) -> bool:
 @dataclass(frozen=True)
 class Monitor:
     prop: PathProperty
-    # The cost one position adds to a pending bounded response (steps: 1 per goal).
+    # The most a bounded response may cost from its `p` event to its `s` event.
     limit: float | None
 
     def initial(self) -> State:
@@ -78,7 +85,9 @@ class Monitor:
             return bool(flags & 2 or flags & 8)
         return bool(flags & 2)
 
-    def step(self, state: State, at: Position, cost: float) -> State:
+    def step(self, state: State, at: Position, cost: float, leg: float) -> State:
+        """The state after the position `at`: its goal ran for `cost`, then took the leg of
+        its outcome for `leg` (both 0 at a terminal)."""
         phase, flags, elapsed = state
         prop = self.prop
         scope = prop.scope
@@ -93,7 +102,7 @@ class Monitor:
             return (phase, confirmed, 0.0)
         flags = self._observe(flags | confirmed, at)
         if prop.pattern == "bounded_response":
-            flags, elapsed = self._bounded(flags, elapsed, at, cost)
+            flags, elapsed = self._bounded(flags, elapsed, at, cost, leg)
         return (phase, flags | confirmed, elapsed)
 
     def _observe(self, flags: int, at: Position) -> int:
@@ -119,20 +128,25 @@ class Monitor:
                 flags |= 8
         return flags
 
-    def _bounded(self, flags: int, elapsed: float, at: Position, cost: float
+    def _bounded(self, flags: int, elapsed: float, at: Position, cost: float, leg: float
                  ) -> tuple[int, float]:
         assert self.limit is not None
         s = matches(self.prop.s, at)
         if flags & 8:
+            elapsed += cost  # this goal ran after the pending `p` happened
             if s:
-                return flags & ~8, 0.0  # answered in time (checked on every step below)
-            elapsed += cost
+                answered = flags & ~8
+                return (answered | 2 if elapsed > self.limit else answered), 0.0
         elif matches(self.prop.p, at) and not s:
+            # `p` happens as this goal ends: only what comes after it counts.
             flags |= 8
-            elapsed = cost
-        if flags & 8 and elapsed > self.limit:
+            elapsed = 0.0
+        if not flags & 8:
+            return flags, 0.0
+        elapsed += leg
+        if elapsed > self.limit:
             return (flags | 2) & ~8, 0.0
-        return flags, elapsed if flags & 8 else 0.0
+        return flags, elapsed
 
     def finish(self, state: State) -> bool:
         """Whether a path that ends in this state violates the property."""
@@ -162,13 +176,13 @@ class Counterexample:
     terminal: str
 
 
-def check_pattern(orders: Orders, graph: MissionGraph, prop: PathProperty
-                  ) -> Counterexample | str | None:
+def check_pattern(orders: Orders, graph: MissionGraph, prop: PathProperty,
+                  legs: MissionLegs | None = None) -> Counterexample | str | None:
     """A shortest violating path, None when every path satisfies the property, or a reason why
     it cannot be decided."""
     limit, quantity = _limit(prop)
     monitor = Monitor(prop, limit)
-    costs = _position_costs(orders, graph, quantity)
+    costs, leg_costs = _position_costs(orders, graph, quantity, legs)
     start = graph.start
     assert start is not None
     goal_count = graph.goal_count
@@ -183,7 +197,7 @@ def check_pattern(orders: Orders, graph: MissionGraph, prop: PathProperty
     best: dict[tuple[int, int, int], float] = {}
     # Interval pruning: a pending cost that cannot pass the limit on any way to the end
     # behaves like any other such cost, so all of them are one state (cost 0).
-    room = _room(graph, costs) if bounded_by_cost else []
+    room = _room(graph, costs, leg_costs) if bounded_by_cost else []
     slack = 1e-9 * (abs(limit) + 1.0) if limit is not None else 0.0
     layer: list[tuple[int, State]] = [(start, first)]
     while layer:
@@ -191,9 +205,9 @@ def check_pattern(orders: Orders, graph: MissionGraph, prop: PathProperty
         for key in layer:
             node, state = key
             for k, target in enumerate(graph.succ[node]):
-                after = monitor.step(state, positions[node][k], costs[node])
+                after = monitor.step(state, positions[node][k], costs[node], leg_costs[node][k])
                 if target >= goal_count:
-                    final = monitor.step(after, ends[target - goal_count], 0.0)
+                    final = monitor.step(after, ends[target - goal_count], 0.0, 0.0)
                     if monitor.finish(final):
                         return _path(graph, parent, key, k, target)
                     continue
@@ -223,24 +237,33 @@ def check_pattern(orders: Orders, graph: MissionGraph, prop: PathProperty
     return None
 
 
-def _room(graph: MissionGraph, costs: list[float]) -> list[float]:
-    """Per goal, the most cost any way from it to a terminal adds (its own included)."""
+def _room(graph: MissionGraph, costs: list[float], leg_costs: list[list[float]]
+          ) -> list[float]:
+    """Per goal, the most cost any way from it to a terminal adds (its own and its legs
+    included)."""
     order = topological_order(graph)
     assert order is not None
     goal_count = graph.goal_count
     room = [0.0] * goal_count
     for node in order:  # successors first
         room[node] = costs[node] + max(
-            (room[t] for t in graph.succ[node] if t < goal_count), default=0.0)
+            leg_costs[node][k] + (room[t] if t < goal_count else 0.0)
+            for k, t in enumerate(graph.succ[node]))
     return room
 
 
-def _position_costs(orders: Orders, graph: MissionGraph, quantity: str | None) -> list[float]:
+def _position_costs(orders: Orders, graph: MissionGraph, quantity: str | None,
+                    legs: MissionLegs | None) -> tuple[list[float], list[list[float]]]:
+    """Each goal's cost and the cost of the leg of each of its outcomes, as BUDGET charges
+    them (in steps: 1 per goal, legs free)."""
     if quantity is None or quantity == "steps":
-        return [1.0] * graph.goal_count
+        return [1.0] * graph.goal_count, [[0.0] * len(OUTCOMES)] * graph.goal_count
     vehicle = orders.target_vehicle()
     areas = orders.area_index()
-    return [goal_cost(goal, quantity, vehicle, areas)[0] or 0.0 for goal in graph.goals]
+    lengths = leg_lengths(orders, legs) if vehicle is not None and vehicle.speed_mps else {}
+    return ([goal_cost(goal, quantity, vehicle, areas)[0] or 0.0 for goal in graph.goals],
+            [[leg_cost(lengths.get((goal.id, outcome)), quantity, vehicle)
+              for outcome in OUTCOMES] for goal in graph.goals])
 
 
 def _path(graph: MissionGraph, parent: dict[tuple[int, State], tuple[tuple[int, State], int]
@@ -275,12 +298,15 @@ def _problems(prop: PathProperty) -> list[str]:
 
 
 def check_patterns(orders: Orders, graph: MissionGraph,
-                   sentence: Callable[[PathProperty], str] | None = None) -> list[Finding]:
+                   sentence: Callable[[PathProperty], str] | None = None,
+                   legs: MissionLegs | None = None) -> list[Finding]:
     findings: list[Finding] = []
     patterned = [p for p in orders.properties if p.pattern is not None]
     if not patterned:
         return findings
     countable = graph.start is not None and topological_order(graph) is not None
+    if legs is None and any(_limit(p)[1] in ("duration_s", "energy_wh") for p in patterned):
+        legs = mission_legs(orders)  # once for every property that charges legs
     for prop in patterned:
         problems = _problems(prop)
         if problems:
@@ -288,7 +314,7 @@ def check_patterns(orders: Orders, graph: MissionGraph,
             continue
         if not countable:
             continue
-        verdict = check_pattern(orders, graph, prop)
+        verdict = check_pattern(orders, graph, prop, legs)
         words = (sentence or pattern_sentence)(prop)
         if isinstance(verdict, str):
             findings.append(warning("PROPERTY", [prop.id], f"{prop.id} could not be decided: "

@@ -4217,7 +4217,8 @@ export interface components {
         };
         /**
          * Within
-         * @description The bound of a bounded response: goals run, seconds or watt-hours from p to s.
+         * @description The bound of a bounded response, from the moment p happens (its goal ends) to the moment
+         *     s happens: goals ended, or seconds or watt-hours of the goals and legs in between.
          */
         Within: {
             /** Duration S */
