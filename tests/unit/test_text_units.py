@@ -21,6 +21,8 @@ from countersign.verify import validate
 from countersign.verify.text import check_text, disagreements
 from countersign.verify.units import REL_TOL
 
+from .test_cli_startup import _loaded_after
+
 QUANTITIES: dict[str, Quantity] = {
     **MARITIME_QUANTITIES,
     "leg_time_min": Quantity(),  # unit from the name: minutes
@@ -161,3 +163,17 @@ def test_norm_texts_are_read_the_same_way() -> None:
     ((subjects, message),) = _text_findings(data)
     assert subjects == (data["norms"][0]["id"],)
     assert "the text says 1 nm, which is 1,852 m" in message
+
+
+def test_pint_loads_only_when_a_text_may_write_a_unit() -> None:
+    # pint costs about a second to import and set up: orders whose texts write no number
+    # followed by a word, and every command that never validates, must not pay for it.
+    data = _exemplar()
+    for constraint in data["constraints"]:
+        constraint["text"] = "Keep within limits"
+    data["constraints"][0]["text"] = "Navigation error at most 10"
+    probe = ("from countersign.orders.model import Orders\n"
+             "from countersign.verify.text import check_text\n"
+             "check_text(Orders.model_validate_json({!r}))\n")
+    assert "pint" not in _loaded_after(probe.format(json.dumps(data)))
+    assert "pint" in _loaded_after(probe.format(json.dumps(_exemplar())))
