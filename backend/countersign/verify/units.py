@@ -28,8 +28,8 @@ _ALIASES: dict[str, str] = {
     "mps": "m/s", "pct": "percent", "wh": "Wh", "kwh": "kWh", "c": "degC", "°c": "degC",
 }
 
-# English words pint would read as units ("3 in a row" is not three inches).
-_NOT_UNITS = frozenset({"a", "am", "are", "as", "at", "e", "he", "in", "me", "pm", "point",
+# English words (and pi) that pint would read as units ("3 in a row" is not three inches).
+_NOT_UNITS = frozenset({"a", "am", "are", "as", "at", "e", "he", "in", "me", "pi", "pm", "point",
                         "points", "us"})
 
 
