@@ -14,6 +14,7 @@ from .conditions import condition_words
 from .expressions import number_words, quantity_words, with_unit
 from .model import Orders, Quantity, Vehicle
 from .pattern_words import pattern_sentence
+from .profile import lists_behaviors, trusted_behaviors
 
 
 def _one_line(text: str) -> str:
@@ -62,7 +63,9 @@ def plain_vehicle(vehicle: Vehicle | None, quantities: Mapping[str, Quantity]) -
         return ["Vehicle profile", "No profile of the target vehicle was checked."]
     title = _one_line(vehicle.title)
     lines = [f"Profile: {title} ({vehicle.id})" if title else f"Profile: {vehicle.id}"]
-    lines.append(f"Trusted behaviours: {_list([b.replace('_', ' ') for b in vehicle.behaviors])}.")
+    trusted = _list([b.replace("_", " ") for b in trusted_behaviors(vehicle)])
+    derived = "" if lists_behaviors(vehicle) else " (those its features fulfil)"
+    lines.append(f"Trusted behaviours: {trusted}{derived}.")
     for feature in vehicle.features:
         name = f"{feature.id} ({_one_line(feature.title)})" if feature.title else feature.id
         measured = [f"{quantity_words(q, quantities)} (`{q}`)" for q in feature.measures]

@@ -20,6 +20,7 @@ from collections.abc import Iterable
 from typing import TYPE_CHECKING
 
 from ..orders.findings import Finding, error, warning
+from ..orders.profile import trusted_behaviors
 from .syntax import Literal
 from .theory import DO_SAFE, GOAL, NEXT_ACTION, DefaultTheory, Rule
 
@@ -49,14 +50,12 @@ def _observed(theory: DefaultTheory, literal: Literal) -> bool:
 
 
 def _known_actions(theory: DefaultTheory, orders: Orders | None) -> tuple[set[str], str]:
-    """What do_safe may name, and where that list comes from. With orders whose vehicle lists
-    its behaviours, those are the truth (the rules' own `actions` list cannot widen them)."""
+    """What do_safe may name, and where that list comes from. With orders whose vehicle has
+    a profile, its trusted behaviours are the truth (the rules' own `actions` list cannot
+    widen them)."""
     vehicle = orders.target_vehicle() if orders is not None else None
     if vehicle is not None and (vehicle.behaviors or vehicle.features):
-        actions = set(vehicle.behaviors)
-        for feature in vehicle.features:
-            actions.update(feature.fulfills)
-        return actions, f"behaviours of vehicle {vehicle.id}"
+        return set(trusted_behaviors(vehicle)), f"behaviours of vehicle {vehicle.id}"
     return set(theory.actions), "rules.actions"
 
 

@@ -3,8 +3,9 @@
 M6 and M7 decide whether the vehicle can test each constraint and perform each goal; without
 a profile they cannot be decided, and a mission that passes them silently would be signed for
 a vehicle nobody checked. Seed 000 (III.D) also requires every phase of a mission to be one of
-the vehicle's available trusted behaviours: a goal whose behaviour the profile does not list is
-M7 as well.
+the vehicle's available trusted behaviours: a goal whose behaviour the vehicle does not trust is
+M7 as well. What it trusts is `orders.profile.trusted_behaviors` (DESIGN.md's rule: the profile's
+`behaviors` list, or else what its features fulfil).
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ from collections.abc import Callable
 
 from ..orders.findings import Finding, error
 from ..orders.model import Orders, Vehicle
-from ..orders.profile import is_stub, profile_of
+from ..orders.profile import is_stub, lists_behaviors, profile_of, trusted_behaviors
 
 RegistryLookup = Callable[[str], Vehicle | None]
 
@@ -41,11 +42,13 @@ def check_vehicle(orders: Orders) -> list[Finding]:
     vehicle = profile_of(orders)
     if vehicle is None:
         return [_missing(orders)]
-    trusted = set(vehicle.behaviors)
+    trusted = trusted_behaviors(vehicle)
+    listed = ", ".join(trusted) or "none"
+    if not lists_behaviors(vehicle):
+        listed += "; the profile lists no behaviours, so those its features fulfil"
     findings = []
     for goal in orders.goals:
         if goal.behavior and goal.behavior not in trusted:
-            listed = ", ".join(vehicle.behaviors) or "none"
             findings.append(error(
                 "M7", [goal.id, vehicle.id],
                 f"Vehicle {vehicle.id} lacks the capability for goal {goal.id}"

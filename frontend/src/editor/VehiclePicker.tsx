@@ -8,13 +8,13 @@ import { useEffect, useState } from "react";
 
 import { loadVehicles, type RegistryProfile } from "../pages/vehicles/api";
 import { CommitField, Picker } from "./fields";
-import { behaviourChoices, type Choice, idAndTitle } from "./pickers";
+import { type BehaviourProfile, behaviourChoices, type Choice, idAndTitle, trustedBehaviours } from "./pickers";
 
 // Not a valid id (ids have no spaces), so no vehicle can be confused with it.
 const OTHER = " other";
 const FALLBACK_BEHAVIOURS = ["area_search", "sample", "rendezvous", "transit", "recover"];
 
-type Carried = { id: string; title?: string; behaviors?: string[] };
+type Carried = BehaviourProfile & { id: string; title?: string };
 
 // One registry read per page, shared by the picker and the behaviour suggestions.
 let registry: Promise<RegistryProfile[]> | null = null;
@@ -90,7 +90,7 @@ export function VehiclePicker({
 function useTrustedBehaviours(vehicle: string | undefined, carried: Carried[]): string[] | null {
   const known = useRegistry();
   const profile = carried.find((v) => v.id === vehicle) ?? known.find((v) => v.id === vehicle);
-  return profile ? (profile.behaviors ?? []) : null;
+  return profile ? trustedBehaviours(profile) : null;
 }
 
 /**

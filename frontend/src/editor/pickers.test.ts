@@ -1,6 +1,6 @@
 import { describe, expect, it } from "vitest";
 
-import { behaviourChoices, filterChoices, idAndTitle, movesThroughOptions, successorChoices } from "./pickers";
+import { behaviourChoices, filterChoices, idAndTitle, movesThroughOptions, successorChoices, trustedBehaviours } from "./pickers";
 
 const goals = [
   { id: "G1", title: "Transit to the survey box" },
@@ -49,5 +49,22 @@ describe("native drop-downs", () => {
     for (const key of ["ArrowDown", "ArrowUp", "Home", "End", "PageDown", "a", "G"]) expect(movesThroughOptions(key)).toBe(true);
     for (const key of ["Enter", "Tab", "Escape", " "]) expect(movesThroughOptions(key)).toBe(false);
     expect(movesThroughOptions("ArrowDown", { altKey: true })).toBe(false);
+  });
+});
+
+describe("trusted behaviours", () => {
+  const features = [{ fulfills: ["area_search", "transit"] }, { fulfills: ["sample", "transit"] }, {}];
+
+  it("are the profile's own list when it gives one", () => {
+    expect(trustedBehaviours({ behaviors: ["transit"], features })).toEqual(["transit"]);
+  });
+
+  it("are what the features fulfil when the profile lists none (as DESIGN.md writes profiles)", () => {
+    expect(trustedBehaviours({ features })).toEqual(["area_search", "transit", "sample"]);
+    expect(trustedBehaviours({ behaviors: [], features })).toEqual(["area_search", "transit", "sample"]);
+  });
+
+  it("are none when the features fulfil nothing", () => {
+    expect(trustedBehaviours({ features: [{ fulfills: [] }] })).toEqual([]);
   });
 });

@@ -44,6 +44,17 @@ export function successorChoices(goals: readonly Titled[], terminals: readonly (
   ];
 }
 
+/** A profile as far as its trusted behaviours go. */
+export type BehaviourProfile = { behaviors?: readonly string[] | null; features?: readonly { fulfills?: readonly string[] | null }[] | null };
+
+/** A vehicle's trusted behaviours (DESIGN.md, as M7 reads them): its `behaviors` list when it
+ * gives a non-empty one, otherwise the behaviours its features fulfil. */
+export function trustedBehaviours(profile: BehaviourProfile): string[] {
+  const listed = profile.behaviors ?? [];
+  const source = listed.length > 0 ? listed : (profile.features ?? []).flatMap((f) => f.fulfills ?? []);
+  return [...new Set(source)];
+}
+
 /** A behaviour picker's choices: the vehicle's trusted behaviours, the current value marked when
  * it is not one of them. */
 export function behaviourChoices(trusted: readonly string[], current: string | undefined, vehicle: string | undefined): Choice[] {

@@ -6,6 +6,7 @@
 import { type FormEvent, useEffect, useState } from "react";
 
 import { ErrorMessage, Loading, Notice } from "../../components/Status";
+import { trustedBehaviours } from "../../editor/pickers";
 import { formatDateTime } from "../../format";
 import { useLoad } from "../../useLoad";
 import { loadVehicles, loadVehicleVersions, type RegistryProfile, saveVehicle } from "./api";
@@ -104,7 +105,7 @@ export function VehiclesPage() {
                   <code>{v.id}</code>
                 </td>
                 <td>{v.title ?? ""}</td>
-                <td>{(v.behaviors ?? []).join(", ")}</td>
+                <td>{trustedBehaviours(v).join(", ")}</td>
                 <td className="actions">
                   <button type="button" onClick={() => edit(v)}>
                     Edit {v.id}

@@ -1,0 +1,83 @@
+"""Units as people write them in orders ("1 km", "4 knots", "2 nm") and as quantities declare
+them (`unit: "m/s"`, or a name ending `_m`, `_mps`, `_wh`), read and converted by pint.
+
+pint is imported and its registry built on first use only: they cost about a second, which
+`countersign --help` and the other light commands must not pay.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    import pint
+
+# Relative tolerance when a converted number meets the condition's: a limit converted and
+# rounded to three significant figures is within 0.5 % ("2 knots" over `<= 1.03` m/s passes),
+# while a limit given in the wrong unit is far outside ("4 knots" over `<= 2` m/s is 2.9 % off).
+REL_TOL = 0.01
+
+# Spellings pint reads otherwise or not at all. In orders "nm" is the nautical mile, never
+# pint's nanometre; `_mps`/`_pct`/`_wh` are the name suffixes of the built-in quantities.
+_ALIASES: dict[str, str] = {
+    "nm": "nautical_mile", "NM": "nautical_mile", "Nm": "nautical_mile",
+    "nmi": "nautical_mile", "NMI": "nautical_mile",
+    "nautical mile": "nautical_mile", "nautical miles": "nautical_mile",
+    "mps": "m/s", "pct": "percent", "wh": "Wh", "kwh": "kWh", "c": "degC", "°c": "degC",
+}
+
+# English words (and pi) that pint would read as units ("3 in a row" is not three inches).
+_NOT_UNITS = frozenset({"a", "am", "are", "as", "at", "e", "he", "in", "me", "pi", "pm", "point",
+                        "points", "us"})
+
+
+@functools.cache
+def registry() -> pint.UnitRegistry[Any]:
+    import pint
+
+    return pint.UnitRegistry()
+
+
+# Bounded: the words come from user text, and a server reads many orders.
+@functools.lru_cache(maxsize=1024)
+def parse_unit(word: str) -> pint.Unit | None:
+    """The unit a word names, or None when it names none (or reads as an English word)."""
+    import pint
+
+    word = " ".join(word.split())
+    if word.startswith("°"):
+        word = word.replace(" ", "")  # "° C" is "°C"
+    if not word or word.lower() in _NOT_UNITS:
+        return None
+    name = _ALIASES.get(word) or _ALIASES.get(word.lower()) or word
+    try:
+        unit: pint.Unit = registry().parse_units(name)
+    except (pint.errors.PintError, AttributeError, TypeError, ValueError, SyntaxError):
+        return None
+    return unit
+
+
+def unit_of_quantity(name: str, declared: str) -> pint.Unit | None:
+    """A quantity's unit: the one declared (in the orders or the built-in vocabulary), else the
+    one its name ends with (`lane_distance_m`, `transit_time_min`)."""
+    if declared:
+        return parse_unit(declared)
+    head, sep, suffix = name.rpartition("_")
+    return parse_unit(suffix) if sep and head else None
+
+
+def convert(value: float, source: pint.Unit, target: pint.Unit) -> float | None:
+    """`value` in `source` expressed in `target`, or None when they measure different things."""
+    import pint
+
+    try:
+        magnitude = registry().Quantity(value, source).to(target).magnitude
+    except pint.errors.DimensionalityError:
+        return None
+    return float(magnitude)
+
+
+def same_number(a: float, b: float) -> bool:
+    return math.isclose(a, b, rel_tol=REL_TOL, abs_tol=1e-12)
