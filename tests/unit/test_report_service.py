@@ -11,6 +11,7 @@ from countersign.orders.examples import load_example
 from countersign.orders.model import Orders
 from countersign.store.db import Database
 from countersign.store.report_service import ReportService, validate_here
+from countersign.verify.fingerprint import checker_fingerprint
 
 
 def test_many_requests_for_one_digest_validate_once() -> None:
@@ -21,7 +22,7 @@ def test_many_requests_for_one_digest_validate_once() -> None:
     def slow(given: Orders) -> dict[str, Any]:
         calls.append(given.id)
         release.wait(60)
-        return {"digest": "sha256:x", "mission": given.id}
+        return {"digest": "sha256:x", "mission": given.id, "checker": checker_fingerprint()}
 
     service = ReportService(validator=slow)
     answers: list[dict[str, Any]] = []
@@ -41,8 +42,9 @@ def test_each_database_has_its_own_service(tmp_path: Any) -> None:
     second = Database(f"sqlite:///{tmp_path / 'b.db'}")
     assert first.reports is not second.reports
     orders = load_example("search-and-sample")
-    first.reports.validator = lambda given: {"digest": "from-first"}
-    assert first.reports.report("k", orders) == {"digest": "from-first"}
+    fake = {"digest": "from-first", "checker": checker_fingerprint()}
+    first.reports.validator = lambda given: fake
+    assert first.reports.report("k", orders) == fake
     # The other database's service saw nothing and validates with the real checks.
     assert second.reports.report(digest(orders), orders) == validate_here(orders)
     first.engine.dispose()
