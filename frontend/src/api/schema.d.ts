@@ -407,7 +407,8 @@ export interface paths {
         };
         /**
          * Health
-         * @description Liveness: the app answers and knows its version.
+         * @description Liveness: the app answers and knows its version and the fingerprint of its checks
+         *     (`checker`, as in its reports and approval statements).
          */
         get: operations["health"];
         put?: never;
@@ -3723,6 +3724,11 @@ export interface components {
          * @description The validation report: every check that exists (docs/api.md, Reports).
          */
         ReportOut: {
+            /**
+             * Checker
+             * @description the fingerprint of the checks and ontology that made the report (sha256: and 64 hex digits); a stored report made by other checks is never answered, it is recomputed
+             */
+            checker: string;
             /** Costs */
             costs?: {
                 [key: string]: components["schemas"]["WorstCostOut"];
