@@ -79,7 +79,7 @@ class ReportService:
             lock = self._in_flight.setdefault(key, threading.Lock())
         with lock:
             done = self._recent.get(key)
-            if done is None or done.get("checker") != checker:
+            if done is None:
                 # An edit of descriptions only is answered from the last report of the same
                 # facts.
                 keys = self._keys(orders)

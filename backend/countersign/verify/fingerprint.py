@@ -8,7 +8,7 @@ What it covers - everything that decides what a report says:
 - every file of the packages `countersign.orders` (the reader, canonical digest and defaults the
   checks see), `countersign.rules` (the contingency rules and their data) and
   `countersign.verify` (the checks), Python sources and data files alike, except compiled
-  bytecode (`__pycache__`, `*.pyc`, `*.pyo`), which follows from the sources;
+  bytecode (`*.pyc`, `*.pyo`, in `__pycache__`), which follows from the sources;
 - `countersign/ontology_files.py`, which loads the ontology;
 - every `*.ttl` file of the ontology folder in use (`ontology_files.ontology_dir()`).
 
@@ -46,8 +46,7 @@ def checked_files(package_root: Path | None = None,
     found: list[tuple[str, Path]] = []
     for package in PACKAGES:
         for path in (root / package).rglob("*"):
-            if path.is_file() and "__pycache__" not in path.parts \
-                    and path.suffix not in _BYTECODE:
+            if path.is_file() and path.suffix not in _BYTECODE:
                 found.append((f"countersign/{path.relative_to(root).as_posix()}", path))
     found.extend((f"countersign/{name}", root / name) for name in MODULES)
     found.extend((f"ontology/{path.name}", path) for path in folder.glob(ONTOLOGY_PATTERN)
