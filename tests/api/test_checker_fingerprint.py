@@ -96,12 +96,16 @@ def test_a_changed_check_recomputes_the_stored_report(world: World,
 
 
 def test_the_statement_names_the_checker_of_the_report_it_signs(world: World) -> None:
-    submission = submit(world, new_version(world))
+    number = new_version(world)
+    submission = submit(world, number)
     supervisor = world.client("supervisor")
     predicate = prepare(supervisor, submission, register_key(supervisor))["statement"][
         "predicate"]
     assert predicate["checker"] == fingerprint.checker_fingerprint()
     assert predicate["checker"] == _stored_report(world)["checker"]
+    # The review the supervisor reads names it too, so the browser can compare before signing.
+    review = supervisor.get(f"/api/missions/{MISSION}/versions/{number}/review").json()
+    assert review["checker"] == predicate["checker"]
 
 
 def test_a_statement_prepared_before_an_upgrade_is_not_signed(

@@ -3752,6 +3752,11 @@ export interface components {
         ReviewOut: {
             /** Author */
             author: string | null;
+            /**
+             * Checker
+             * @description the fingerprint of the checks that made these findings; a statement to sign names it
+             */
+            checker: string;
             /** Created At */
             created_at: string;
             /** Decide Refusal */
