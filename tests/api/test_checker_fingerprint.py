@@ -8,10 +8,12 @@ import json
 from typing import Any
 
 import pytest
+from alembic import command
 from sqlalchemy import text
 
 from countersign.approvals.bundle import verify_bundle
 from countersign.store.approvals import decisions
+from countersign.store.db import Database, alembic_config
 from countersign.verify import fingerprint
 
 from .approval_helpers import (
@@ -168,3 +170,23 @@ def test_statements_signed_without_a_checker_still_verify(
     report = verify_bundle(auditor.get("/api/audit/bundle").json())
     assert report.ok, report.problems
     assert report.approvals == 1
+
+
+def test_the_upgrade_drops_reports_kept_under_the_package_version(database_url: str) -> None:
+    database = Database(database_url)
+    config = alembic_config(database_url)
+    with database.engine.begin() as connection:
+        config.attributes["connection"] = connection
+        command.upgrade(config, "0010")
+        connection.execute(text(
+            "INSERT INTO validation_reports (digest, checker_version, report, created_at) "
+            "VALUES (:d, '0.1.0', '{}', CURRENT_TIMESTAMP)"), {"d": "sha256:" + "a" * 64})
+    database.migrate()
+    with database.engine.begin() as connection:
+        assert connection.execute(text("SELECT count(*) FROM validation_reports")).scalar() == 0
+        # A fingerprint fits the key (PostgreSQL refused 71 characters in the old column).
+        connection.execute(text(
+            "INSERT INTO validation_reports (digest, checker_version, report, created_at) "
+            "VALUES (:d, :c, '{}', CURRENT_TIMESTAMP)"),
+            {"d": "sha256:" + "a" * 64, "c": fingerprint.checker_fingerprint()})
+    database.engine.dispose()
