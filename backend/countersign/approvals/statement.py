@@ -24,7 +24,7 @@ def build_statement(
     author: str, supervisor: str, key_id: str, time: str, nonce: str,
     rehearsal_digest: str | None = None, revokes: str | None = None,
     probabilities: dict[str, Any] | None = None, exports: dict[str, str] | None = None,
-    campaigns: list[str] | None = None,
+    campaigns: list[str] | None = None, checker: str | None = None,
 ) -> dict[str, Any]:
     if decision not in DECISIONS:
         raise ValueError(f"decision must be one of {', '.join(DECISIONS)}")
@@ -50,6 +50,11 @@ def build_statement(
     # only when some are, for the same reason as above.
     if campaigns:
         predicate["campaigns"] = sorted(campaigns)
+    # The fingerprint of the checks that made the report (verify.fingerprint): the report
+    # digest alone does not say which code judged the orders. Statements signed before it
+    # existed have none and still verify.
+    if checker is not None:
+        predicate["checker"] = checker
     return {
         "_type": STATEMENT_TYPE,
         "subject": [{"name": f"{mission}@v{version}", "digest": {algorithm: hexdigest}}],

@@ -6,14 +6,14 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from sqlalchemy import func, select, update
+from sqlalchemy import delete, func, select, update
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session as DbSession
 
-from .. import __version__
 from ..errors import Conflict, DomainError, NotFound, PreconditionFailed
 from ..orders.canonical import digest, orders_to_json
 from ..orders.model import Orders
+from ..verify import fingerprint
 from .db import database_of, writable
 from .events import record
 from .tables import Mission, MissionVersion, User, ValidationReport, utcnow
@@ -48,7 +48,7 @@ def get_mission_with_report(db: DbSession, mission_id: str) -> Mission:
     found = db.execute(
         select(Mission, ValidationReport)
         .outerjoin(ValidationReport, (ValidationReport.digest == Mission.draft_digest)
-                   & (ValidationReport.checker_version == __version__))
+                   & (ValidationReport.checker_version == fingerprint.checker_fingerprint()))
         .where(Mission.id == mission_id)
     ).first()
     if found is None:
@@ -186,14 +186,17 @@ def _validated(db: DbSession, key: str, orders: Orders) -> dict[str, Any]:
 
 
 def cached_report(db: DbSession, orders_digest: str) -> dict[str, Any] | None:
-    row = db.get(ValidationReport, (orders_digest, __version__))
+    """The stored report of this digest made by the current checks, or None: a report of
+    other checks (before an upgrade) is never answered."""
+    row = db.get(ValidationReport, (orders_digest, fingerprint.checker_fingerprint()))
     return row.report if row is not None else None
 
 
 def report_for(
     db: DbSession, orders: Orders | Callable[[], Orders], orders_digest: str | None = None
 ) -> CachedReport:
-    """The validation report of these orders, computed once per digest and checker version.
+    """The validation report of these orders, computed once per digest and checker
+    fingerprint (verify.fingerprint): a report stored by other checks is computed again.
 
     `orders` may be a loader, called only on a cache miss: with the digest known, a cached
     report costs one lookup and no parsing. A read-only session stores a new report through a
@@ -213,7 +216,7 @@ def lookup_report(
     if orders_digest is None:
         orders = orders() if callable(orders) else orders
         orders_digest = digest(orders)
-    row = db.get(ValidationReport, (orders_digest, __version__))
+    row = db.get(ValidationReport, (orders_digest, fingerprint.checker_fingerprint()))
     if row is not None:
         return CachedReport(row.report, True)
     return CachedReport(_validated(db, orders_digest, orders() if callable(orders) else orders),
@@ -222,11 +225,17 @@ def lookup_report(
 
 def remember_report(db: DbSession, report: dict[str, Any]) -> None:
     """Store a report computed by lookup_report (in a savepoint of a writing session, else in
-    a short write transaction of its own); a concurrent request may have stored it first."""
-    entry = ValidationReport(digest=report["digest"], checker_version=__version__,
-                             report=report)
+    a short write transaction of its own), under the checker fingerprint it carries; the
+    reports of the same orders by other checks go, as nothing reads them again. A concurrent
+    request may have stored it first."""
+    checker = report["checker"]
     try:
         with writable(db) as writer:
-            writer.add(entry)
+            writer.execute(delete(ValidationReport).where(
+                ValidationReport.digest == report["digest"],
+                ValidationReport.checker_version != checker,
+            ).execution_options(synchronize_session=False))
+            writer.add(ValidationReport(digest=report["digest"], checker_version=checker,
+                                        report=report))
     except IntegrityError:
         pass  # a concurrent request stored the same report first

@@ -8,6 +8,11 @@ calling thread and which the web app replaces with its pool of validation proces
 runs. One service belongs to one `Database` (`database.reports`), so two apps in one process,
 as in the test suite, share nothing.
 
+Every report it hands out was made by the checks of this process (verify.fingerprint): its
+caches hold the reports of one checker fingerprint and are emptied when that changes, and a
+report from a validator running other checks (a pool process started from replaced files) is
+made again here.
+
 It lives in the store, not in `verify`, because it is state around the pure check: the store
 consults it on a cache miss of its table of reports, and the pool is injected as a plain
 callable so the store never imports the web layer.
@@ -20,6 +25,7 @@ from collections import OrderedDict
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
+from ..verify import fingerprint
 from ..verify.reuse import ReportReuse
 
 if TYPE_CHECKING:
@@ -62,10 +68,13 @@ class ReportService:
         self._recent: OrderedDict[str, dict[str, Any]] = OrderedDict()
         # The orders digest of recently validated request bodies, by the bodies' SHA-256.
         self._bodies: OrderedDict[bytes, str] = OrderedDict()
+        # The checker fingerprint the caches above hold reports of.
+        self._checker: str | None = None
 
     def report(self, key: str, orders: Orders) -> dict[str, Any]:
         """The report of these orders (`key` is their digest, orders.canonical.digest, which
         the report carries), validated once even when many requests ask at once."""
+        checker = self._current_checker()
         with self._guard:
             lock = self._in_flight.setdefault(key, threading.Lock())
         with lock:
@@ -76,6 +85,8 @@ class ReportService:
                 keys = self._keys(orders)
                 done = self._reuse.report(orders, key, lambda o: self._full(o, key, keys),
                                           checked=keys.core)
+                if done.get("checker") != checker:
+                    done = validate_here(orders)
                 with self._guard:
                     self._recent[key] = done
                     while len(self._recent) > RECENT_REPORTS:
@@ -83,6 +94,15 @@ class ReportService:
         with self._guard:
             self._in_flight.pop(key, None)
         return done
+
+    def _current_checker(self) -> str:
+        """This process's checker fingerprint; what was cached under another is dropped (the
+        orders digests of bodies too: the digest is computed by checked code)."""
+        checker = fingerprint.checker_fingerprint()
+        if checker != self._checker:
+            self.clear()
+            self._checker = checker
+        return checker
 
     def use_pool(self, validator: Validator | None,
                  parts_validator: PartsValidator | None = None) -> None:
@@ -124,6 +144,7 @@ class ReportService:
 
     def body_digest(self, body_sha256: bytes) -> str | None:
         """The orders digest of a request body validated lately, or None."""
+        self._current_checker()
         with self._guard:
             return self._bodies.get(body_sha256)
 

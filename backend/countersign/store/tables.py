@@ -181,11 +181,12 @@ class MissionVersion(Base):
 
 
 class ValidationReport(Base):
-    """Reports are a pure function of the orders, so the digest is the whole cache key."""
+    """Reports are a pure function of the orders and the checks, so the key is the orders
+    digest and the checker fingerprint (verify.fingerprint, `sha256:` and 64 hex digits)."""
 
     __tablename__ = "validation_reports"
     digest: Mapped[str] = mapped_column(String(71), primary_key=True)
-    checker_version: Mapped[str] = mapped_column(String(32), primary_key=True)
+    checker_version: Mapped[str] = mapped_column(String(71), primary_key=True)
     report: Mapped[dict[str, Any]]
     created_at: Mapped[datetime] = mapped_column(default=utcnow)
 

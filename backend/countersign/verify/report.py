@@ -23,6 +23,7 @@ from ..orders.canonical import digest
 from ..orders.defaults import defaulted_findings
 from ..orders.findings import Finding
 from ..orders.model import Orders
+from . import fingerprint
 from .budget import WorstPath, check_budget, worst_paths
 from .geo import check_geo
 from .graph import MissionGraph, build_graph
@@ -91,6 +92,8 @@ class Report:
             "findings": [f.to_json() for f in self.findings],
             "paths": self.paths.to_json() if self.paths else None,
             "costs": {q: w.to_json() for q, w in self.costs.items()} if self.costs else None,
+            # Which checks made it: the store keys reports by it and recomputes any other.
+            "checker": fingerprint.checker_fingerprint(),
         }
         if self.probabilities is not None:
             data["probabilities"] = self.probabilities.to_json()

@@ -15,6 +15,7 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 from .. import __version__
 from ..store.accounts import HASHER
 from ..store.db import REQUEST_THREADS, Database
+from ..verify import fingerprint
 from . import api_docs, openapi_links, problems
 from .fair import PlanSlots, RateLimiter
 from .log_signer import open_log_signer
@@ -197,11 +198,16 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     api_docs.install(app)
     openapi_links.install(app)
 
+    # Taken at start, so that it names the checks this process loaded even if the files are
+    # replaced under a running server (verify.fingerprint).
+    checker = fingerprint.checker_fingerprint()
+
     @app.get("/api/health", operation_id="health", tags=["system"],
              openapi_extra={"x-roles": ["anonymous"]})
     async def health() -> dict[str, str]:  # on the event loop: busy worker threads cannot delay it
-        """Liveness: the app answers and knows its version."""
-        return {"status": "ok", "version": __version__}
+        """Liveness: the app answers and knows its version and the fingerprint of its checks
+        (`checker`, as in its reports and approval statements)."""
+        return {"status": "ok", "version": __version__, "checker": checker}
 
     app.include_router(auth.router)
     app.include_router(client_config.router)

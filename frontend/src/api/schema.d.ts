@@ -428,7 +428,8 @@ export interface paths {
         };
         /**
          * Health
-         * @description Liveness: the app answers and knows its version.
+         * @description Liveness: the app answers and knows its version and the fingerprint of its checks
+         *     (`checker`, as in its reports and approval statements).
          */
         get: operations["health"];
         put?: never;
@@ -3744,6 +3745,11 @@ export interface components {
          * @description The validation report: every check that exists (docs/api.md, Reports).
          */
         ReportOut: {
+            /**
+             * Checker
+             * @description the fingerprint of the checks and ontology that made the report (sha256: and 64 hex digits); a stored report made by other checks is never answered, it is recomputed
+             */
+            checker: string;
             /** Costs */
             costs?: {
                 [key: string]: components["schemas"]["WorstCostOut"];
@@ -3767,6 +3773,11 @@ export interface components {
         ReviewOut: {
             /** Author */
             author: string | null;
+            /**
+             * Checker
+             * @description the fingerprint of the checks that made these findings; a statement to sign names it
+             */
+            checker: string;
             /** Created At */
             created_at: string;
             /** Decide Refusal */

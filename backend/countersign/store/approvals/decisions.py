@@ -23,6 +23,7 @@ from ...approvals.statement import (
 )
 from ...export.package import export_digests
 from ...orders.reader import orders_from_data
+from ...verify import fingerprint
 from ..campaigns import attached as attached_campaigns
 from ..decide_guard import (
     lock_submission,
@@ -70,6 +71,12 @@ def _context(db: DbSession, submission_id: int) -> Context:
 
 def _statement(db: DbSession, ctx: Context, *, decision: str, reason: str, supervisor: User,
                key_id: str, time: str, nonce: str, revokes: str | None = None) -> dict[str, Any]:
+    checker = ctx.report.get("checker")
+    if checker != fingerprint.checker_fingerprint():
+        # report_for recomputes such reports; this guards the one thing that must never
+        # happen: a signature over findings the current checks did not make.
+        raise Stale("the validation report was made by other checks than this server's; "
+                    "reload the review and prepare the statement again")
     orders = ctx.version.orders
     exports = export_digests(orders_from_data(orders), version=ctx.version.number,
                              submission=ctx.submission.id) if decision == "approved" else None
@@ -81,7 +88,8 @@ def _statement(db: DbSession, ctx: Context, *, decision: str, reason: str, super
         supervisor=supervisor.username, key_id=key_id, time=time, nonce=nonce, revokes=revokes,
         rehearsal_digest=ctx.submission.rehearsal_digest,
         probabilities=ctx.report.get("probabilities"), exports=exports,
-        campaigns=[a.digest for a in attached_campaigns(db, ctx.submission.id)])
+        campaigns=[a.digest for a in attached_campaigns(db, ctx.submission.id)],
+        checker=str(checker))
 
 
 @dataclass(frozen=True)

@@ -95,6 +95,8 @@ class ReviewOut(BaseModel):
     ok: bool
     findings: list[FindingOut]
     paths: PathCountsOut | None
+    checker: str = Field(description="the fingerprint of the checks that made these findings; "
+                         "a statement to sign names it")
     probabilities: ProbabilitiesJson | None = Field(
         default=None, description="outcome probabilities (issue 20): terminals, violation, "
         "expected energy and time, min/max where probabilities are intervals or missing; "

@@ -159,6 +159,9 @@ class ReportOut(BaseModel):
     costs: dict[str, WorstCostOut] | None = None
     probabilities: ProbabilitiesOut | None = Field(default=None, description=(
         "only for orders that declare probabilities"))
+    checker: str = Field(description=(
+        "the fingerprint of the checks and ontology that made the report (sha256: and 64 hex "
+        "digits); a stored report made by other checks is never answered, it is recomputed"))
 
 
 class MissionPathOut(BaseModel):

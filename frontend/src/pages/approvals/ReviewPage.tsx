@@ -197,6 +197,7 @@ function DecisionForm({
         submission: submission.id,
         rehearsal: submission.rehearsal ?? null,
         campaigns: cited.campaigns.map((c) => c.digest ?? ""),
+        checker: review.checker,
       });
       const stored = unwrap(
         await api.POST("/api/submissions/{submission_id}/decision", {

@@ -48,6 +48,16 @@ describe("signPrepared", () => {
     );
   });
 
+  it("refuses a statement naming other checks than those of the report shown", async () => {
+    const checker = `sha256:${"e".repeat(64)}`;
+    const signed = await signPrepared(prepared({ ...base, checker }), await key(), { ...shown, checker });
+    expect(JSON.parse(signed).signatures).toHaveLength(1);
+    await expect(signPrepared(prepared({ ...base, checker: OTHER }), await key(), { ...shown, checker })).rejects.toThrow(
+      "other checks",
+    );
+    await expect(signPrepared(prepared(base), await key(), { ...shown, checker })).rejects.toThrow("other checks");
+  });
+
   it("refuses a statement citing another rehearsal record", async () => {
     await expect(
       signPrepared(prepared({ ...base, rehearsal_digest: OTHER }), await key(), { ...shown, rehearsal: null, campaigns: [] }),

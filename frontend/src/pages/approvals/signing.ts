@@ -58,6 +58,8 @@ export async function signPrepared(
     /** What the review showed as cited: the statement must cite exactly these (none: null, []). */
     rehearsal?: string | null;
     campaigns?: string[];
+    /** The fingerprint of the checks whose findings the review showed. */
+    checker?: string;
   },
 ): Promise<string> {
   const payload = fromBase64(prepared.payload, "the payload");
@@ -79,6 +81,9 @@ export async function signPrepared(
   if (predicate.key_id !== key.keyId) throw new Error("The statement names another key; nothing was signed.");
   if (expected.rehearsal !== undefined && (predicate.rehearsal_digest ?? null) !== expected.rehearsal) {
     throw new Error("The statement cites another rehearsal record than the review showed; nothing was signed.");
+  }
+  if (expected.checker !== undefined && predicate.checker !== expected.checker) {
+    throw new Error("The statement signs a report made by other checks than the review showed: reload the review; nothing was signed.");
   }
   if (expected.campaigns !== undefined) {
     const signed = Array.isArray(predicate.campaigns) ? [...(predicate.campaigns as string[])].sort() : [];
