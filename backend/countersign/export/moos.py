@@ -256,7 +256,8 @@ def write_moos(orders: Orders, bhv_name: str, provenance: Provenance) -> str:
         "}", "",
         "ProcessConfig = pMarinePID", "{", "  AppTick = 10", "  CommsTick = 10",
         # Without active_start it leaves the actuators alone until MOOS_MANUAL_OVERRIDE.
-        "  verbose = terse", "  active_start = true", "  depth_control = true", "  yaw_pid_kp = 1.2",
+        "  verbose = terse", "  active_start = true", "  depth_control = true",
+        "  yaw_pid_kp = 1.2",
         "  yaw_pid_kd = 0.0", "  yaw_pid_ki = 0.3", "  yaw_pid_integral_limit = 0.07",
         "  speed_pid_kp = 1.0", "  speed_pid_kd = 0.0", "  speed_pid_ki = 0.0",
         "  speed_pid_integral_limit = 0.07", "  z_to_pitch_pid_kp = 0.12",
