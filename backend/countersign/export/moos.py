@@ -29,6 +29,9 @@ BHV_MEDIA_TYPE = "text/plain; charset=utf-8"
 # One Timer per goal and constraint in its scope: bound the file a request can make.
 MAX_CONSTRAINT_RELAYS = 200_000
 _UNSAFE = re.compile(r"[^A-Za-z0-9_]")
+LOGGED = ("DEPLOY", "MODE", "MISSION_GOAL", "GOAL_OUTCOME", "CONSTRAINT_VIOLATED",
+          "MISSION_RESULT", "NAV_DEPTH", "NAV_ALTITUDE", "NAV_X", "NAV_Y", "DESIRED_DEPTH",
+          "IVPHELM_STATE", "IVPHELM_ALLSTOP", "BHV_ERROR", "BHV_WARNING")
 
 
 def _comment(text: str) -> str:
@@ -205,8 +208,9 @@ def _goal_behaviours(place: Placement, modes: dict[str, str], origin: tuple[floa
         out += _block("BHV_Timer", [
             f"name = {named(name, 'violate_' + _UNSAFE.sub('_', constraint_id))}", when,
             f"condition = {condition}", "perpetual = true",
-            f"runflag = MISSION_GOAL = {target['violate']}",
-            f"runflag = CONSTRAINT_VIOLATED = {_UNSAFE.sub('_', constraint_id)}"])
+            # The outcome before the mode change, so a log names it before the next goal
+            f"runflag = CONSTRAINT_VIOLATED = {_UNSAFE.sub('_', constraint_id)}",
+            f"runflag = MISSION_GOAL = {target['violate']}"])
     return out
 
 
@@ -241,18 +245,21 @@ def write_moos(orders: Orders, bhv_name: str, provenance: Provenance) -> str:
         "  Run = pMarinePID    @ NewConsole = false",
         "  Run = pHelmIvP      @ NewConsole = false",
         "  Run = pLogger       @ NewConsole = false", "}", "",
-        # Every variable, so that `countersign execution check` can read the run's alog.
+        # What `countersign execution check` reads, and the helm's own reports; logging every
+        # variable (WildCardLogging) also works but writes megabytes a minute.
         "ProcessConfig = pLogger", "{", "  AppTick = 10", "  CommsTick = 10",
         f"  File = {_UNSAFE.sub('_', orders.id)}", "  PATH = ./", "  FileTimeStamp = false",
-        "  AsyncLog = true", "  WildCardLogging = true", "}", "",
+        "  AsyncLog = true", *(f"  Log = {var} @ 0" for var in LOGGED), "}", "",
         "ProcessConfig = uSimMarine", "{", "  AppTick = 10", "  CommsTick = 10",
         "  start_pos = x=0, y=0, heading=0, speed=0, depth=0", "  prefix = NAV",
         "  buoyancy_rate = 0.025", "  max_depth_rate = 5", "  max_depth_rate_speed = 2.0", "}",
         "",
         "ProcessConfig = pHelmIvP", "{", "  AppTick = 4", "  CommsTick = 4",
-        # Engaged from the start: the mission itself waits for DEPLOY = true.
+        # Engaged from the start: the mission itself waits for DEPLOY = true. Depth is
+        # optional: goals without an ordered depth decide none (else MissingDecVars).
         f"  behaviors = {bhv_name}", "  start_engaged = true", "  domain = course:0:359:360",
-        f"  domain = speed:0:{speed:g}:21", f"  domain = depth:0:{top[1]:g}:{int(top[1]) + 1}",
+        f"  domain = speed:0:{speed:g}:21",
+        f"  domain = depth:0:{top[1]:g}:{int(top[1]) + 1}:optional",
         "}", "",
         "ProcessConfig = pMarinePID", "{", "  AppTick = 10", "  CommsTick = 10",
         # Without active_start it leaves the actuators alone until MOOS_MANUAL_OVERRIDE.
