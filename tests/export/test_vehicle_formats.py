@@ -4,8 +4,8 @@ and compared with the MEA path for path, for every built-in example and the NPS 
 from __future__ import annotations
 
 import math
-from itertools import pairwise
 import re
+from itertools import pairwise
 
 import pytest
 
