@@ -10,7 +10,7 @@ import signal
 import socket
 import subprocess
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager, suppress
 from dataclasses import dataclass
 from pathlib import Path
@@ -23,6 +23,7 @@ TIME_WARP = 10
 # Generous: every wait polls the alog for a condition and returns as soon as it holds.
 DEADLINE_S = 120.0
 POLL_S = 0.2
+RETRY_S = 20.0
 
 
 def tools_missing() -> str | None:
@@ -85,17 +86,30 @@ class Community:
     def values(self, var: str) -> list[str]:
         return [e.value for e in self.entries() if e.var == var]
 
-    def poke(self, **values: str) -> None:
-        args = [f"{name}={value}" for name, value in values.items()]
-        subprocess.run(["uPokeDB", str(self.moos), *args], env=_env(), cwd=self.folder,
-                       stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=True,
-                       timeout=DEADLINE_S)
+    def poke(self, var: str, value: str, landed: Callable[[], bool]) -> None:
+        """Post var=value with uPokeDB until `landed()` shows the community got it: on a
+        loaded machine uPokeDB now and then exits before its post reaches the MOOSDB. The
+        retry interval is long, so a late first post is not followed by a second."""
+        end = time.monotonic() + DEADLINE_S
+        while time.monotonic() < end:
+            subprocess.run(["uPokeDB", str(self.moos), f"{var}={value}"], env=_env(),
+                           cwd=self.folder, stdout=subprocess.DEVNULL,
+                           stderr=subprocess.DEVNULL, check=True, timeout=DEADLINE_S)
+            retry = time.monotonic() + RETRY_S
+            while time.monotonic() < retry:
+                if landed():
+                    return
+                time.sleep(POLL_S)
+        raise AssertionError(f"{var}={value} never reached the community")
 
-    def wait_for(self, what: str, holds: object) -> None:
+    def poked(self, var: str) -> int:
+        return sum(1 for e in self.entries() if e.var == var and e.source == "uPokeDB")
+
+    def wait_for(self, what: str, holds: Callable[[], object]) -> None:
         """Poll until `holds()` is true; fail naming `what` and the helm's output."""
         end = time.monotonic() + DEADLINE_S
         while time.monotonic() < end:
-            if holds():  # type: ignore[operator]
+            if holds():
                 return
             if self.process.poll() is not None:
                 break

@@ -14,6 +14,7 @@ import time
 from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 
 import pytest
@@ -145,6 +146,28 @@ def _latest(community: Community, var: str) -> str | None:
     return values[-1] if values else None
 
 
+def _warnings(community: Community) -> list[str]:
+    """The helm's warnings once deployed. Before, pHelmIvP 24.8 warns `No waypts given` for
+    every BHV_Waypoint with a plain point list while it builds the behaviours (one point or
+    several, `x,y` or `pts={x,y}`); the run shows the behaviour then steering to its point."""
+    entries = community.entries()
+    deployed = next((e.time for e in entries if e.var == "DEPLOY" and e.value == "true"),
+                    math.inf)
+    return [e.value for e in entries if e.var == "BHV_WARNING" and e.time >= deployed]
+
+
+def _is(community: Community, var: str, value: str) -> bool:
+    return _latest(community, var) == value
+
+
+def _left(community: Community, mode: str) -> bool:
+    return _latest(community, "MODE") not in (None, mode)
+
+
+def _more(community: Community, var: str, before: int) -> bool:
+    return community.poked(var) > before
+
+
 def _near(community: Community, depth: float) -> bool:
     value = _latest(community, "NAV_DEPTH")
     return value is not None and abs(float(value) - depth) <= DEPTH_TOLERANCE_M
@@ -167,21 +190,23 @@ def _fly(drive: Drive, folder: Path) -> Flown:
     with running(moos) as community:
         community.wait_for("the helm's first report", lambda: _latest(
             community, "IVPHELM_STATE") is not None)
-        community.poke(DEPLOY="true")
+        community.poke("DEPLOY", "true", lambda: community.poked("DEPLOY") > 0)
         for step, (goal, outcome) in enumerate(zip(drive.goals, drive.outcomes, strict=True)):
             active = f"ACTIVE:{mode[goal]}"
-            community.wait_for(f"mode {active}", lambda a=active: _latest(  # type: ignore[misc]
-                community, "MODE") == a)
+            community.wait_for(f"mode {active}", partial(_is, community, "MODE", active))
             if goal in depths:
                 community.wait_for(f"depth {depths[goal]:g} m in {goal}",
-                                   lambda d=depths[goal]: _near(community, d))  # type: ignore[misc]
+                                   partial(_near, community, depths[goal]))
                 held[goal] = [depths[goal], float(_latest(community, "NAV_DEPTH") or "nan")]
             if not outcome:
                 break
-            variable, value = drive.breaks.get(step, ("GOAL_OUTCOME", outcome))
-            community.poke(**{variable: value})
-            community.wait_for(f"{goal} left", lambda a=active: _latest(  # type: ignore[misc]
-                community, "MODE") != a)
+            if step in drive.breaks:
+                community.poke(*drive.breaks[step], lambda: bool(community.values(
+                    "CONSTRAINT_VIOLATED")))
+            else:
+                community.poke("GOAL_OUTCOME", outcome, partial(
+                    _more, community, "GOAL_OUTCOME", community.poked("GOAL_OUTCOME")))
+            community.wait_for(f"{goal} left", partial(_left, community, active))
         if drive.terminal is not None:
             kind = kinds[drive.terminal]
             community.wait_for(f"MISSION_RESULT {kind}", lambda: _latest(
@@ -192,7 +217,7 @@ def _fly(drive: Drive, folder: Path) -> Flown:
             modes=[m for i, m in enumerate(modes) if i == 0 or modes[i - 1] != m],
             depths=held,
             errors=sorted(set(CONFIG_ERRORS.findall(output)))
-            + community.values("BHV_ERROR"),
+            + community.values("BHV_ERROR") + _warnings(community),
             states=sorted(set(community.values("IVPHELM_STATE"))),
             results=community.values("MISSION_RESULT"),
             violated=community.values("CONSTRAINT_VIOLATED"),
