@@ -100,7 +100,8 @@ def _maneuver(place: Placement, origin: tuple[float, float], speed: float) -> tu
     if place.kind == "station":
         return "BHV_StationKeep", [f"station_pt = {x:g},{y:g}", "inner_radius = 5",
                                    "outer_radius = 20", *_duration(place)]
-    # The helm reads `points = x,y` (one bare pair) as no points at all.
+    # One point in the helm's standard pts={} form. pHelmIvP 24.8 still prints "No waypts
+    # given" while it builds any plain point list; the behaviour then steers to the point.
     return "BHV_Waypoint", [f"speed = {speed:g}", f"points = pts={{{x:g},{y:g}}}",
                             "capture_radius = 10"]
 
