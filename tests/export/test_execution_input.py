@@ -160,6 +160,35 @@ def test_every_exemplar_path_as_a_moos_alog_gets_its_number() -> None:
     assert check_execution(ORDERS, read_log(deep.ndjson)).deviations[0].code == "CONSTRAINT"
 
 
+# What pLogger writes with WildCardLogging = true (lines as MOOS-IvP 24.8 wrote them): a
+# framed header, any variables, values with no text, and DB_VARSUMMARY, whose value runs over
+# several lines that do not start with a time.
+PLOGGER_HEADER = """%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%
+%% LOG FILE:       ./search_and_sample/search_and_sample.alog
+%% FILE OPENED ON  Thu Jan  1 00:00:00 1970
+%% LOGSTART           17963612569.86093
+%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%%
+-5.18998        USM_FSUMMARY         uSimMarine      ang=0, mag=0, xmag=0, ymag=0 
+-1.30739        DEPLOY               pHelmIvP        false 
+0.10000         MOOS_MANUAL_OVERIDE  pHelmIvP        
+0.32415  DB_VARSUMMARY  MOOSDB_remus_100 AIS_REPORT  23:59:59.000  (write pending)  0.0 Hz ~  
+AIS_REPORT_LOCAL     23:59:59.000         (write pending)      0.0 Hz ~  
+APPCAST_REQ          23:59:59.000         (write pending)      0.0 Hz ~  
+BHV_STATUS           20:45:52.653         pHelmIvP             0.0 Hz S  name=b54_ABORT_stop,pc...
+"""  # noqa: W291
+
+
+def test_what_plogger_writes_is_read_and_the_skipped_lines_are_counted() -> None:
+    path = next(p for p in _paths() if p.index == 17)
+    body = alog_run(path.goals, path.outcomes, path.terminal).split("\n", 2)[2]
+    text = PLOGGER_HEADER + body + "20:45:52.125 MODE pHelmIvP ACTIVE:G1\n"
+    converted = from_alog(ORDERS, text)
+    assert check_execution(ORDERS, read_log(converted.ndjson)).path == 17
+    assert converted.notes == ("4 alog line(s) are no TIME VAR SOURCE VALUE entry (the "
+                               "first: line 10), e.g. the continuation of a multi-line value; "
+                               "skipped",)
+
+
 @pytest.mark.parametrize(("data", "fmt", "words"), [
     (b"\x00\x01garbage", "auto", "none of"),
     (b"\x54\xfe" + b"\x00" * 30, "auto", "no IMC message"),

@@ -4,6 +4,8 @@ and compared with the MEA path for path, for every built-in example and the NPS 
 from __future__ import annotations
 
 import math
+import re
+from itertools import pairwise
 
 import pytest
 
@@ -93,7 +95,8 @@ def test_moos_constraints_become_conditions_or_named_comments() -> None:
     orders = _example("search-and-sample")
     text = export_vehicle(orders, "moos").primary.content.decode()
     assert "condition = ((LANE_DISTANCE_M < 1000) and (DEPTH_M < 20))" in text
-    assert "name = G5_violate_C7" in text and "name = G5_violate_C4" not in text
+    assert re.search(r"name = b\d+_G5_violate_C7\n", text)
+    assert not re.search(r"name = b\d+_G5_violate_C4\n", text)
     data = orders.model_dump(mode="json", exclude_unset=True)
     data["constraints"][0]["expr"] = "nav_error_m + 1 <= 10"
     export = export_vehicle(Orders.model_validate(data), "moos")
@@ -153,3 +156,30 @@ def test_user_text_cannot_start_a_helm_declaration() -> None:
     assert not any(line.startswith(("set MODE = EVIL", "Behavior = BHV_Waypoint{"))
                    for line in text.splitlines())
     _check_against_mea(orders, read_bhv(text), mode_map(text))
+
+
+def _behaviour_names(text: str) -> list[str]:
+    return re.findall(r"^Behavior = \w+\n\{\n  name = (\S+)$", text, re.M)
+
+
+@pytest.mark.parametrize("orders", [
+    *(_example(name) for name in EXAMPLES),
+    *(read_file(str(path)).orders for path in AVCL),
+    # ids chosen so that a mode name plus a role would begin another behaviour's name
+    Orders.model_validate({"id": "tricky", "start": "G1", "constraints": [
+        {"id": "C1", "applies_to": "mission", "expr": "x <= 1"}], "goals": [
+        {"id": i, "next": {o: "COMPLETE" for o in ("succeed", "fail", "violate")}}
+        for i in ("G1", "G1_violate", "G1_run", "G1_violate_C1")]}),
+], ids=[*EXAMPLES, *(p.stem for p in AVCL), "tricky-ids"])
+def test_no_behaviour_name_begins_another(orders: Orders) -> None:
+    # pHelmIvP refuses the whole behaviour set when one name begins another
+    names = sorted(_behaviour_names(export_vehicle(orders, "moos").primary.content.decode()))
+    assert names and len(names) == len(set(names))
+    assert [(a, b) for a, b in pairwise(names) if b.startswith(a)] == []
+
+
+def test_depth_is_held_for_as_long_as_the_mode_lasts() -> None:
+    text = export_vehicle(_example("search-and-sample"), "moos").primary.content.decode()
+    blocks = re.findall(r"^Behavior = BHV_ConstantDepth\n\{\n(.*?)^\}", text, re.M | re.S)
+    assert len(blocks) == 5
+    assert all("  duration = no-time-limit\n" in block for block in blocks)

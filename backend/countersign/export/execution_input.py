@@ -1,13 +1,14 @@
-"""What a vehicle logs, turned into the NDJSON execution log the checker reads (issue 19).
+"""What a vehicle logs, turned into the NDJSON execution log the checker reads.
 
 * IMC: a sequence of IMC messages as imcpy serialises them (e.g. a DUNE log's
   PlanControlState messages). While the plan is EXECUTING, each change of `man_id` ends the
   maneuver before it; `LogBookEntry` texts ManeuverIsDone / ManeuverFailed / ConstraintViolated
   (the export's transition conditions, raised by the vehicle's monitors) name the outcome, and
   EstimatedState gives depth_m and altitude_m samples.
-* MOOS alog (a subset): `TIME VAR SOURCE VALUE` lines. MODE = ACTIVE:<mode> (or MISSION_GOAL)
-  enters a goal's helm mode, GOAL_OUTCOME and CONSTRAINT_VIOLATED name its outcome, NAV_DEPTH
-  and NAV_ALTITUDE are samples.
+* MOOS alog, as pLogger writes it: `TIME VAR SOURCE VALUE` lines of any variables; headers
+  and the continuation lines of multi-line values are skipped and counted in a note.
+  MODE = ACTIVE:<mode> (or MISSION_GOAL) enters a goal's helm mode, GOAL_OUTCOME and
+  CONSTRAINT_VIOLATED name its outcome, NAV_DEPTH and NAV_ALTITUDE are samples.
 Without a named outcome, the outcome is the one whose transition leads to the maneuver that
 ran next; when several do, the first is taken and a note says so. Maneuvers are goals by their
 id (IMC) or helm mode name (MOOS), as the exports name them."""
@@ -219,22 +220,36 @@ def from_imc(orders: Orders, data: bytes) -> Converted:
 # --- MOOS alog -------------------------------------------------------------------------
 
 
+def _alog_entry(line: str) -> tuple[float, str, str] | None:
+    """(time, variable, value) of a `TIME VAR SOURCE [VALUE]` line; None for anything else:
+    headers, blank lines, and the continuation lines of multi-line values (pLogger writes
+    values such as DB_VARSUMMARY as they are), which MOOS's own alog reader also passes over."""
+    parts = line.split(None, 3)
+    if len(parts) < 3:
+        return None
+    try:
+        at = float(parts[0])
+    except ValueError:
+        return None
+    if not math.isfinite(at):
+        return None
+    return at, parts[1], parts[3].strip() if len(parts) == 4 else ""
+
+
 def from_alog(orders: Orders, text: str) -> Converted:
     ids = [g.id for g in orders.goals] + [t.id for t in orders.effective_terminals]
     goal_of = {mode: item for item, mode in mode_names(ids).items()}
     sequencer = _Sequencer(orders, goal_of, absolute=False)
+    skipped, first_skipped = 0, 0
     for number, line in enumerate(text.splitlines(), 1):
         if not line.strip() or line.startswith("%"):
             continue
-        parts = line.split(None, 3)
-        if len(parts) < 4:
-            continue  # alogs wrap long values; a line without four fields is not ours
-        try:
-            at = float(parts[0])
-        except ValueError:
-            raise ExecutionInputError(f"alog line {number}: {parts[0][:20]!r} is not a time"
-                                      ) from None
-        var, value = parts[1], parts[3].strip()
+        entry = _alog_entry(line)
+        if entry is None:
+            skipped += 1
+            first_skipped = first_skipped or number
+            continue
+        at, var, value = entry
         if var == "MODE" and value.startswith("ACTIVE:"):
             sequencer.enter(value.split(":", 1)[1].split(":")[0], at)
         elif var == "MISSION_GOAL":
@@ -250,6 +265,14 @@ def from_alog(orders: Orders, text: str) -> Converted:
                 continue
         elif var == "MISSION_RESULT" and value != "none":
             sequencer.stop(at)
+    if skipped:
+        sequencer.notes.append(f"{skipped:,} alog line(s) are no TIME VAR SOURCE VALUE entry "
+                               f"(the first: line {first_skipped}), e.g. the continuation of "
+                               "a multi-line value; skipped")
+        if not sequencer.lines and sequencer.current is None:
+            raise ExecutionInputError(f"the alog input shows no goal being run; {skipped:,} "
+                                      f"line(s) are no TIME VAR SOURCE VALUE entry (the first: "
+                                      f"line {first_skipped})")
     return sequencer.result("alog")
 
 

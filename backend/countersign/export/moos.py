@@ -29,6 +29,9 @@ BHV_MEDIA_TYPE = "text/plain; charset=utf-8"
 # One Timer per goal and constraint in its scope: bound the file a request can make.
 MAX_CONSTRAINT_RELAYS = 200_000
 _UNSAFE = re.compile(r"[^A-Za-z0-9_]")
+LOGGED = ("DEPLOY", "MODE", "MISSION_GOAL", "GOAL_OUTCOME", "CONSTRAINT_VIOLATED",
+          "MISSION_RESULT", "NAV_DEPTH", "NAV_ALTITUDE", "NAV_X", "NAV_Y", "DESIRED_DEPTH",
+          "IVPHELM_STATE", "IVPHELM_ALLSTOP", "BHV_ERROR", "BHV_WARNING")
 
 
 def _comment(text: str) -> str:
@@ -49,6 +52,20 @@ def mode_names(ids: list[str]) -> dict[str, str]:
         used.add(name)
         names[item] = name
     return names
+
+
+class BehaviourNames:
+    """Behaviour names the helm tells apart. pHelmIvP refuses a name that begins another
+    (`G1_violate` and `G1_violate_C1` are "duplicates"), and ids are the user's, so a mode
+    name plus a role cannot be made safe: each name starts `b<serial>_`, and two different
+    serials end at a digit and an `_`, so no name begins another."""
+
+    def __init__(self) -> None:
+        self._serial = 0
+
+    def __call__(self, mode: str, role: str) -> str:
+        self._serial += 1
+        return f"b{self._serial}_{mode}_{role}"
 
 
 def _origin(orders: Orders) -> tuple[float, float]:
@@ -83,7 +100,10 @@ def _maneuver(place: Placement, origin: tuple[float, float], speed: float) -> tu
     if place.kind == "station":
         return "BHV_StationKeep", [f"station_pt = {x:g},{y:g}", "inner_radius = 5",
                                    "outer_radius = 20", *_duration(place)]
-    return "BHV_Waypoint", [f"speed = {speed:g}", f"points = {x:g},{y:g}", "capture_radius = 10"]
+    # One point in the helm's standard pts={} form. pHelmIvP 24.8 still prints "No waypts
+    # given" while it builds any plain point list; the behaviour then steers to the point.
+    return "BHV_Waypoint", [f"speed = {speed:g}", f"points = pts={{{x:g},{y:g}}}",
+                            "capture_radius = 10"]
 
 
 def _duration(place: Placement) -> list[str]:
@@ -131,12 +151,13 @@ def write_bhv(orders: Orders, provenance: Provenance, notes: list[ExportNote]) -
     if relays > MAX_CONSTRAINT_RELAYS:
         raise ExportError(f"{relays:,} constraint monitors (goals times constraints in scope) "
                           f"exceed the {MAX_CONSTRAINT_RELAYS:,} a helm file may hold")
+    named = BehaviourNames()
     for place in placements(orders, notes):
-        out += _goal_behaviours(place, modes, origin, speed, scope, notes)
+        out += _goal_behaviours(place, modes, origin, speed, scope, named, notes)
     for terminal in terminals:
         name = modes[terminal.id]
         out += _block("BHV_Timer", [
-            f"name = {name}_stop", f"condition = MODE == ACTIVE:{name}",
+            f"name = {named(name, 'stop')}", f"condition = MODE == ACTIVE:{name}",
             f"runflag = MISSION_RESULT = {terminal.kind}", "runflag = DEPLOY = false"])
     out += _unexpressed(orders, notes)
     uncarried(orders, "MOOS-IvP", notes)
@@ -159,7 +180,7 @@ def _constraint_scope(orders: Orders) -> dict[str, list[tuple[int, str, str]]]:
 
 def _goal_behaviours(place: Placement, modes: dict[str, str], origin: tuple[float, float],
                      speed: float, scope: dict[str, list[tuple[int, str, str]]],
-                     notes: list[ExportNote]) -> list[str]:
+                     named: BehaviourNames, notes: list[ExportNote]) -> list[str]:
     goal = place.goal
     name = modes[goal.id]
     target = {o: modes[goal.successors(o)[0]] for o in OUTCOMES}
@@ -170,23 +191,27 @@ def _goal_behaviours(place: Placement, modes: dict[str, str], origin: tuple[floa
                                 "ordered duration: its maneuver never ends by itself, so its "
                                 "succeed must be posted as GOAL_OUTCOME = succeed"))
     out = [f"//---------- goal {goal.id} ({_comment(goal.behavior or 'no behaviour')})"]
-    out += _block(kind, [f"name = {name}_run", "pwt = 100", when, "perpetual = true",
+    out += _block(kind, [f"name = {named(name, 'run')}", "pwt = 100", when, "perpetual = true",
                          f"endflag = MISSION_GOAL = {target['succeed']}",
                          "endflag = GOAL_OUTCOME = none", *lines])
     if place.depth_m is not None:
-        out += _block("BHV_ConstantDepth", [f"name = {name}_depth", "pwt = 100", when,
-                                            f"depth = {place.depth_m:g}"])
+        # Without a duration the helm ends the behaviour at once (and then has no depth
+        # decision); it must hold the depth as long as its mode lasts.
+        out += _block("BHV_ConstantDepth", [f"name = {named(name, 'depth')}", "pwt = 100", when,
+                                            f"depth = {place.depth_m:g}",
+                                            "duration = no-time-limit"])
     for outcome in OUTCOMES:
         out += _block("BHV_Timer", [
-            f"name = {name}_{outcome}", when, f"condition = GOAL_OUTCOME == {outcome}",
+            f"name = {named(name, outcome)}", when, f"condition = GOAL_OUTCOME == {outcome}",
             "perpetual = true", f"runflag = MISSION_GOAL = {target[outcome]}",
             "runflag = GOAL_OUTCOME = none"])
     for _, constraint_id, condition in scope[goal.id]:
         out += _block("BHV_Timer", [
-            f"name = {name}_violate_{_UNSAFE.sub('_', constraint_id)}", when,
+            f"name = {named(name, 'violate_' + _UNSAFE.sub('_', constraint_id))}", when,
             f"condition = {condition}", "perpetual = true",
-            f"runflag = MISSION_GOAL = {target['violate']}",
-            f"runflag = CONSTRAINT_VIOLATED = {_UNSAFE.sub('_', constraint_id)}"])
+            # The outcome before the mode change, so a log names it before the next goal
+            f"runflag = CONSTRAINT_VIOLATED = {_UNSAFE.sub('_', constraint_id)}",
+            f"runflag = MISSION_GOAL = {target['violate']}"])
     return out
 
 
@@ -219,17 +244,28 @@ def write_moos(orders: Orders, bhv_name: str, provenance: Provenance) -> str:
         "  Run = MOOSDB        @ NewConsole = false",
         "  Run = uSimMarine    @ NewConsole = false",
         "  Run = pMarinePID    @ NewConsole = false",
-        "  Run = pHelmIvP      @ NewConsole = false", "}", "",
+        "  Run = pHelmIvP      @ NewConsole = false",
+        "  Run = pLogger       @ NewConsole = false", "}", "",
+        # What `countersign execution check` reads, and the helm's own reports; logging every
+        # variable (WildCardLogging) also works but writes megabytes a minute.
+        "ProcessConfig = pLogger", "{", "  AppTick = 10", "  CommsTick = 10",
+        f"  File = {_UNSAFE.sub('_', orders.id)}", "  PATH = ./", "  FileTimeStamp = false",
+        "  AsyncLog = true", *(f"  Log = {var} @ 0" for var in LOGGED), "}", "",
         "ProcessConfig = uSimMarine", "{", "  AppTick = 10", "  CommsTick = 10",
         "  start_pos = x=0, y=0, heading=0, speed=0, depth=0", "  prefix = NAV",
         "  buoyancy_rate = 0.025", "  max_depth_rate = 5", "  max_depth_rate_speed = 2.0", "}",
         "",
         "ProcessConfig = pHelmIvP", "{", "  AppTick = 4", "  CommsTick = 4",
-        f"  behaviors = {bhv_name}", "  domain = course:0:359:360",
-        f"  domain = speed:0:{speed:g}:21", f"  domain = depth:0:{top[1]:g}:{int(top[1]) + 1}",
+        # Engaged from the start: the mission itself waits for DEPLOY = true. Depth is
+        # optional: goals without an ordered depth decide none (else MissingDecVars).
+        f"  behaviors = {bhv_name}", "  start_engaged = true", "  domain = course:0:359:360",
+        f"  domain = speed:0:{speed:g}:21",
+        f"  domain = depth:0:{top[1]:g}:{int(top[1]) + 1}:optional",
         "}", "",
         "ProcessConfig = pMarinePID", "{", "  AppTick = 10", "  CommsTick = 10",
-        "  verbose = terse", "  depth_control = true", "  yaw_pid_kp = 1.2",
+        # Without active_start it leaves the actuators alone until MOOS_MANUAL_OVERRIDE.
+        "  verbose = terse", "  active_start = true", "  depth_control = true",
+        "  yaw_pid_kp = 1.2",
         "  yaw_pid_kd = 0.0", "  yaw_pid_ki = 0.3", "  yaw_pid_integral_limit = 0.07",
         "  speed_pid_kp = 1.0", "  speed_pid_kd = 0.0", "  speed_pid_ki = 0.0",
         "  speed_pid_integral_limit = 0.07", "  z_to_pitch_pid_kp = 0.12",
