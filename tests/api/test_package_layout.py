@@ -156,10 +156,14 @@ def test_a_good_package_extracts_to_the_signed_bytes_and_nothing_else(
             if n != "manifest.json"} == manifest
     package = tmp_path / "p.tar"
     package.write_bytes(good)
+    def python_extract(into: Path) -> None:
+        with tarfile.open(package) as tar:
+            tar.extractall(into, filter="data")
+
     extractors: dict[str, Callable[[Path], None]] = {
         "gnu tar": lambda into: subprocess.run(["tar", "-xf", str(package), "-C", str(into)],
                                                check=True),
-        "python": lambda into: tarfile.open(package).extractall(into, filter="data"),
+        "python": python_extract,
     }
     for how, extract in extractors.items():
         into = tmp_path / how.replace(" ", "-")
