@@ -3,6 +3,7 @@
 
 For vehicles that cannot install Countersign: one file, the standard library plus
 `cryptography`. Usage: python3 verify_package.py PACKAGE.tar --log-key BASE64 [--max-age-days N]
+[--unpack DIR]
 Exit 0 and "OK ..." when the package verifies; exit 1 and "REFUSED CODE: reason" otherwise.
 It runs the same checks in the same order as `countersign vehicle verify` and names the first
 failure with the same code: FORMAT, LOG-KEY, CHECKPOINT, LOG, PROOF, RECEIPT, EXPIRED,
@@ -24,6 +25,8 @@ import binascii
 import hashlib
 import io
 import json
+import os
+import re
 import struct
 import sys
 import tarfile
@@ -155,18 +158,75 @@ def receipt_time(text: str, *, origin: str, index: int, leaf_hex: str,
     return str(data["time"])
 
 
+FIXED = ("manifest.json", "orders.json", "approval.dsse.json", "log/entries.ndjson",
+         "log/receipt.json", "log/head-receipt.json", "log/inclusion.json", "log/checkpoint")
+MAX_MEMBERS = 64
+NAME = re.compile(r"(?:(?:log|vehicle)/)?[A-Za-z0-9_][A-Za-z0-9_.:\-]{0,199}")
+
+
+def canonical_tar(files: dict[str, bytes]) -> bytes:
+    """The one tar a package is: sorted names, zero times and owners, mode 0644, USTAR."""
+    out = io.BytesIO()
+    with tarfile.open(fileobj=out, mode="w", format=tarfile.USTAR_FORMAT) as tar:
+        for name in sorted(files):
+            info = tarfile.TarInfo(name)
+            info.size, info.mtime, info.mode = len(files[name]), 0, 0o644
+            info.uid = info.gid = 0
+            info.uname = info.gname = ""
+            tar.addfile(info, io.BytesIO(files[name]))
+    return out.getvalue()
+
+
 def read_package(data: bytes) -> dict[str, bytes]:
+    """The package's files, only when the bytes are exactly the canonical tar of them and the
+    members are exactly the manifest's list (tar readers disagree on everything else)."""
     if len(data) > MAX_BYTES:
         raise ValueError("the package is too large")
     files: dict[str, bytes] = {}
+    seen: set[str] = set()
     with tarfile.open(fileobj=io.BytesIO(data), mode="r:") as tar:
-        for member in tar.getmembers():
-            if not member.isfile() or member.name in files:
-                raise ValueError(f"member {member.name[:80]!r} is not one plain file")
+        while (member := tar.next()) is not None:
+            name = member.name
+            if len(files) == MAX_MEMBERS:
+                raise ValueError(f"the package has more than {MAX_MEMBERS} members")
+            if not member.isfile():
+                raise ValueError(f"member {name[:80]!r} is not a regular file")
+            if not NAME.fullmatch(name) or ".." in name:
+                raise ValueError(f"member name {name[:80]!r} is not a package file name")
+            if name.casefold() in seen:
+                raise ValueError(f"the package holds {name[:80]!r} twice")
+            seen.add(name.casefold())
             handle = tar.extractfile(member)
             assert handle is not None
-            files[member.name] = handle.read()
+            files[name] = handle.read()
+    if canonical_tar(files) != data:
+        raise ValueError("the package is not in its canonical tar layout (extra blocks, "
+                         "headers or data besides its members)")
+    listed = json.loads(files["manifest.json"])["files"]
+    if not isinstance(listed, dict):
+        raise ValueError("the manifest lists no files")
+    missing = [n for n in FIXED if n not in files] + sorted(set(listed) - set(files))
+    if missing:
+        raise ValueError(f"the package lacks {missing[0][:80]!r}")
+    for name, content in files.items():
+        if name != "manifest.json" and listed.get(name) != sha(content):
+            raise ValueError(f"member {name!r} is not the file its manifest lists")
     return files
+
+
+def unpack(files: dict[str, bytes], target: str) -> None:
+    """Write a verified package's files into a new directory `target` (never an existing one),
+    each below it: names were checked by read_package, and files are created, never reused."""
+    os.mkdir(target, 0o755)
+    root = os.path.realpath(target)
+    for name in sorted(files):
+        path = os.path.realpath(os.path.join(root, name))
+        if os.path.commonpath([root, path]) != root:
+            raise ValueError(f"{name!r} would leave {target}")
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW, 0o644)
+        with os.fdopen(fd, "wb") as handle:
+            handle.write(files[name])
 
 
 def check(data: bytes, log_key: str, now: datetime, max_age: timedelta,
@@ -317,6 +377,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--trust-manifest", action="store_true",
                         help="for approvals signed before statements carried export digests: "
                         "check the exports against the manifest only")
+    parser.add_argument("--unpack", metavar="DIR", default=None,
+                        help="after the package verifies (and only then), write its files "
+                        "into DIR, a new directory; unpack packages this way, never with tar")
     args = parser.parse_args(argv)
     try:
         with open(args.package, "rb") as handle:
@@ -327,6 +390,13 @@ def main(argv: list[str] | None = None) -> int:
     ok, code, message = verify(data, args.log_key, max_age=timedelta(days=args.max_age_days),
                                trust_manifest=args.trust_manifest)
     print(f"OK {message}" if ok else f"REFUSED {code}: {message}")
+    if ok and args.unpack:
+        try:
+            unpack(read_package(data), args.unpack)
+        except OSError as exc:
+            print(f"not unpacked: {args.unpack}: {exc.strerror}")
+            return 2
+        print(f"unpacked into {args.unpack}")
     return 0 if ok else 1
 
 

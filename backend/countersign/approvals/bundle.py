@@ -108,11 +108,15 @@ def orders_match(orders: Any, signed: str) -> bool:
 def verify_bundle(
     bundle: dict[str, Any], *, trusted_log_key: str | None = None,
     published: list[dict[str, Any]] | None = None, seen: dict[str, Head] | None = None,
+    held_receipts: list[str] | None = None,
 ) -> BundleReport:
     """Check a bundle; `trusted_log_key` pins the server's checkpoint key (otherwise the
     bundle's own is used and a note says so); `published` are checkpoints seen earlier, which
     the bundle's log must extend (no fork, no removed entries); `seen` are the heads an
-    auditor verified before, by origin (its state file), which the log must extend too."""
+    auditor verified before, by origin (its state file), which the log must extend too;
+    `held_receipts` are receipts the verifier holds (a decision's, kept by its signer): the log
+    must hold each one's entry. The server's word that its log signer refuses the log is a
+    problem too."""
     report = BundleReport()
     if not isinstance(bundle, dict) or bundle.get("format") != BUNDLE_FORMAT:
         report.problems.append(f"not an audit bundle (format {BUNDLE_FORMAT} expected)")
@@ -143,6 +147,11 @@ def verify_bundle(
         _check_published(checkpoint, tree, log_key, report)
     if latest is not None and seen and latest.origin in seen:
         check_extends(seen[latest.origin], tree, report.problems)
+    for held in held_receipts or []:
+        _check_held(held, leaves, log_key, report)
+    refused = bundle.get("signer_refused")
+    if refused:
+        report.problems.append(f"the log signer refuses the log: {refused}")
     report.head = latest
     keys = _keys_from_log(events, report)
     _check_bundle_keys(bundle.get("keys", []), keys, report)
@@ -184,6 +193,24 @@ def _check_chain(
         events.append(event if isinstance(event, dict) else {})
         prev = leaf.hex()
     return leaves, events
+
+
+def _check_held(text: str, leaves: list[bytes], key: Ed25519PublicKey,
+                report: BundleReport) -> None:
+    """A receipt the verifier holds names an entry the log must still hold."""
+    try:
+        data = json.loads(text)
+        index, leaf, origin = int(data["index"]), str(data["leaf"]), str(data["origin"])
+        verify_receipt(text, index=index, leaf=leaf, origin=origin, key=key)
+    except (ValueError, KeyError, TypeError, SignatureError) as exc:
+        report.problems.append(f"a receipt given to check is not a receipt of this log: {exc}")
+        return
+    if index >= len(leaves):
+        report.problems.append(f"log entry {index} has a receipt from the log signer, but the "
+                               f"log ends at {len(leaves)} entries: the entry was erased")
+    elif leaves[index].hex() != leaf:
+        report.problems.append(f"log entry {index} has a receipt from the log signer for "
+                               "another entry than the log holds there: it was replaced")
 
 
 def _check_receipts(receipts: list[Any], leaves: list[bytes], events: list[dict[str, Any]],

@@ -7,10 +7,15 @@ the database. It vouches only for what it appended:
   consistency proof from the stored head, and the new root recomputed from the stored right
   frontier and the receipted leaves);
 * its last signed head lives in a state file beside the key, updated under an exclusive file
-  lock, so that several server processes on one host share one history.
+  lock, so that several server processes on one host share one history;
+* it remembers every committed entry beyond that head (index and leaf hash, in a journal beside
+  the state): it refuses to sign or timestamp a head that lacks one of them, and to issue a
+  receipt that would put another entry in its place, so an entry deleted from the database
+  before a checkpoint covered it is named, not forgotten.
 
 Directory layout (mode 0700): `log-key.pem` (0600; refused if group or others may read it),
-`origin` (the log's unique origin line, chosen when the key is made), `state.json`, `lock`.
+`origin` (the log's unique origin line, chosen when the key is made), `state.json`,
+`appended` (the journal of committed entries beyond the last signed head), `lock`.
 
 Upgrades: a deployment whose log key predates this directory (a key file in the data directory
 or a PEM in the environment) has it imported when the directory's key is first made, so the
@@ -27,7 +32,7 @@ import secrets
 import socket
 import stat
 import sys
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
@@ -44,6 +49,7 @@ from .receipt import make_receipt, verify_receipt
 KEY_FILE = "log-key.pem"
 ORIGIN_FILE = "origin"
 STATE_FILE = "state.json"
+APPENDED_FILE = "appended"
 LOCK_FILE = "lock"
 # The origin line of the checkpoints signed before the signer had its own directory.
 LEGACY_ORIGIN = "countersign-log/1"
@@ -169,7 +175,83 @@ class LogSigner:
     # --- receipts ------------------------------------------------------------------------
 
     def receipt(self, index: int, leaf: str, time: str) -> str:
+        """A receipt for the entry about to be appended at `index`; refused when a committed
+        entry the signer remembers at that index would be replaced: the log lost an entry
+        and must be restored, not written over."""
+        with self._locked():
+            state = self._read()
+            remembered = self._remembered(state.size).get(index)
+        if remembered is not None and remembered != leaf:
+            raise Refused(f"log entry {index} was appended and committed as {remembered[:16]}"
+                          f"...; the log no longer holds it, and the signer will not append "
+                          "another entry in its place")
         return make_receipt(self.key, self.origin, index, leaf, time)
+
+    def remember(self, appended: Sequence[tuple[int, str]]) -> None:
+        """Record committed entries (index, leaf hash hex): every head the signer signs or
+        timestamps from now on must hold them. Called after the appending transaction
+        commits, so a rolled-back append is never remembered."""
+        if not appended:
+            return
+        with self._locked():
+            size = self._read().size
+            lines = "".join(f"{index} {leaf}\n" for index, leaf in appended if index >= size)
+            if not lines:
+                return
+            fd = os.open(self.directory / APPENDED_FILE,
+                         os.O_WRONLY | os.O_CREAT | os.O_APPEND, 0o600)
+            with os.fdopen(fd, "a") as out:
+                out.write(lines)
+                out.flush()
+                os.fsync(out.fileno())
+
+    def _remembered(self, size: int) -> dict[int, str]:
+        """The remembered entries at or beyond `size` (the newest record of an index wins)."""
+        try:
+            text = (self.directory / APPENDED_FILE).read_text()
+        except FileNotFoundError:
+            return {}
+        remembered: dict[int, str] = {}
+        for line in text.splitlines():
+            index, _, leaf = line.partition(" ")
+            if index.isdigit() and int(index) >= size and len(leaf) == 64:
+                remembered[int(index)] = leaf
+        return remembered
+
+    def _replaced(self, state: _State, size: int, leaf_at: Callable[[int], bytes]) -> str | None:
+        """Why a head of `size` (leaves from `leaf_at`) holds another entry where a remembered
+        one was committed, or None. Remembered entries beyond `size` are not this head's
+        business: they may have been committed after the head's snapshot was read."""
+        for index, leaf in sorted(self._remembered(state.size).items()):
+            if index < size and leaf_at(index).hex() != leaf:
+                return (f"log entry {index} was appended and committed as {leaf[:16]}..., but "
+                        f"the log now holds {leaf_at(index).hex()[:16]}... there: an entry was "
+                        "replaced")
+        return None
+
+    def _compact(self, size: int) -> None:
+        """Keep in the journal only what lies beyond the newly signed head."""
+        kept = self._remembered(size)
+        path = self.directory / APPENDED_FILE
+        tmp = path.with_suffix(".tmp")
+        fd = os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+        with os.fdopen(fd, "w") as out:
+            out.write("".join(f"{index} {leaf}\n" for index, leaf in sorted(kept.items())))
+            out.flush()
+            os.fsync(out.fileno())
+        os.replace(tmp, path)
+
+    def replaced(self, tree: Tree) -> str | None:
+        """Why the signer refuses this tree for holding another entry where one it appended
+        was committed (None when every remembered entry below its size is in place)."""
+        with self._locked():
+            return self._replaced(self._read(), tree.size, lambda i: tree.levels[0][i])
+
+    def remembered_beyond(self, size: int) -> dict[int, str]:
+        """The committed entries the signer remembers at index `size` or later."""
+        with self._locked():
+            state = self._read()
+            return self._remembered(max(size, state.size))
 
     # --- checkpoints ---------------------------------------------------------------------
 
@@ -247,6 +329,9 @@ class LogSigner:
                     root):
                 raise Refused(f"the new head is not a consistent extension of the last: the "
                               f"signer's last head is {last}, the new head is {new}")
+            replaced = self._replaced(state, size, lambda i: tree.levels[0][i])
+            if replaced is not None:
+                raise Refused(replaced)
             frontier = list(state.frontier)
             for index in range(state.size, size):
                 leaf = tree.levels[0][index]
@@ -265,6 +350,7 @@ class LogSigner:
                 if adopted is not None and state.size == 0:
                     state.adopted = adopted
                 self._write(_State(size, root, frontier, state.adopted))
+                self._compact(size)
         return signed
 
     # --- timestamps ----------------------------------------------------------------------

@@ -11,7 +11,8 @@
 - `audit verify BUNDLE [--log-key B64] [--checkpoint FILE]... [--state FILE]` checks an
   exported bundle offline: exit 0 when everything verifies, 1 with a report of what failed, 2
   when unreadable. Every log entry must carry the log signer's receipt; with --state the log
-  must extend the head verified last time.
+  must extend the head verified last time; with --receipt FILE it must hold the entry of each
+  receipt given; a bundle saying that the server's log signer refuses the log fails.
 """
 
 from __future__ import annotations
@@ -67,6 +68,9 @@ def add_commands(commands: argparse._SubParsersAction) -> None:  # type: ignore[
                         help="keep the last verified tree head of each log in FILE (created on "
                         "first use): the bundle's log must extend it, else the rollback or "
                         "fork is reported naming both heads; updated when the bundle verifies")
+    verify.add_argument("--receipt", type=Path, action="append", default=[], metavar="FILE",
+                        help="a log receipt you hold (e.g. the one returned with your "
+                        "decision, as JSON text): the log must still hold its entry")
     verify.add_argument("--format", choices=["text", "json"], default="text")
     verify.set_defaults(handler=cmd_audit_verify)
 
@@ -201,11 +205,13 @@ def cmd_audit_verify(args: argparse.Namespace) -> int:
         return EXIT_UNREADABLE
     try:
         seen = load_state(args.state) if args.state is not None else {}
+        held = [p.read_text() for p in args.receipt]
     except dsse.SignatureError as exc:
         _err(str(exc))
         return EXIT_UNREADABLE
     bundle, server_said = from_problem(bundle)
-    report = verify_bundle(bundle, trusted_log_key=args.log_key, published=published, seen=seen)
+    report = verify_bundle(bundle, trusted_log_key=args.log_key, published=published, seen=seen,
+                           held_receipts=held)
     if server_said:
         report.problems.insert(0, f"the server refused the bundle: {server_said}")
     if args.state is not None and report.ok and report.head is not None:

@@ -58,6 +58,25 @@ def add_commands(commands: Any) -> None:
     verify.add_argument("--format", choices=["text", "json"], default="text")
     verify.set_defaults(handler=cmd_vehicle_verify)
 
+    unpack = actions.add_parser(
+        "unpack", help="verify an approved package, then write its files into a new directory",
+        description="Run every check of `vehicle verify`; only when the package verifies, "
+        "write its files (orders.json, the vehicle files, the envelope, the log) into DIR, a "
+        "directory that must not exist yet. Only the members of the package's one canonical "
+        "layout are written, each below DIR. Unpack packages with this (or "
+        "tools/verify_package.py --unpack), never with tar: tar tools differ on what a hostile "
+        "archive holds. Exit 0 unpacked, 1 refused (nothing written), 2 unreadable file or "
+        "DIR not creatable.")
+    unpack.add_argument("package", metavar="PACKAGE", type=Path)
+    unpack.add_argument("--into", required=True, type=Path, metavar="DIR",
+                        help="the new directory to create and fill")
+    unpack.add_argument("--log-key", required=True, metavar="B64",
+                        help="the log's Ed25519 public key (base64), pinned from a source "
+                        "you trust")
+    unpack.add_argument("--max-age-days", type=float, default=7.0,
+                        help="as for `vehicle verify` (default 7)")
+    unpack.set_defaults(handler=cmd_vehicle_unpack)
+
 
 def cmd_package(args: argparse.Namespace) -> int:
     # urllib.request brings http.client, email and ssl: a third of `countersign --help`.
@@ -90,14 +109,20 @@ def cmd_package(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def _read_package(path: Path) -> bytes | None:
+    try:
+        with path.open("rb") as handle:
+            return handle.read(MAX_BYTES + 1)
+    except OSError as exc:
+        sys.stderr.write(f"countersign: cannot read {path}: {exc.strerror}\n")
+        return None
+
+
 def cmd_vehicle_verify(args: argparse.Namespace) -> int:
     from ..export.package_verify import verify_package
 
-    try:
-        with args.package.open("rb") as handle:
-            data = handle.read(MAX_BYTES + 1)
-    except OSError as exc:
-        sys.stderr.write(f"countersign: cannot read {args.package}: {exc.strerror}\n")
+    data = _read_package(args.package)
+    if data is None:
         return EXIT_UNREADABLE
     verdict = verify_package(data, log_key=args.log_key, now=datetime.now(UTC),
                              max_age=timedelta(days=args.max_age_days))
@@ -107,3 +132,25 @@ def cmd_vehicle_verify(args: argparse.Namespace) -> int:
         sys.stdout.write(f"OK {verdict.message}\n" if verdict.ok
                          else f"REFUSED {verdict.code}: {verdict.message}\n")
     return EXIT_OK if verdict.ok else EXIT_REFUSED
+
+
+def cmd_vehicle_unpack(args: argparse.Namespace) -> int:
+    from ..export.package_unpack import unpack_package
+
+    data = _read_package(args.package)
+    if data is None:
+        return EXIT_UNREADABLE
+    if args.into.exists() or args.into.is_symlink():
+        sys.stderr.write(f"countersign: {args.into} exists: unpack into a new directory\n")
+        return EXIT_UNREADABLE
+    try:
+        verdict = unpack_package(data, args.into, log_key=args.log_key, now=datetime.now(UTC),
+                                 max_age=timedelta(days=args.max_age_days))
+    except OSError as exc:
+        sys.stderr.write(f"countersign: cannot unpack into {args.into}: {exc.strerror}\n")
+        return EXIT_UNREADABLE
+    if not verdict.ok:
+        sys.stdout.write(f"REFUSED {verdict.code}: {verdict.message} (nothing written)\n")
+        return EXIT_REFUSED
+    sys.stdout.write(f"OK {verdict.message}\nunpacked into {args.into}\n")
+    return EXIT_OK

@@ -7,6 +7,7 @@ from __future__ import annotations
 import hashlib
 import io
 import json
+import re
 import tarfile
 from dataclasses import dataclass
 from typing import Any
@@ -128,16 +129,69 @@ def build_package(parts: PackageParts) -> bytes:
     return write_tar(package_files(parts))
 
 
+# The members every package holds besides its vehicle files; anything else a reader meets is
+# not part of the layout, whatever a tar tool would make of it.
+FIXED_MEMBERS = ("manifest.json", ORDERS_FILE, ENVELOPE_FILE, "log/entries.ndjson",
+                 "log/receipt.json", "log/head-receipt.json", "log/inclusion.json",
+                 "log/checkpoint")
+MAX_MEMBERS = 64
+# One or two plain segments (`orders.json`, `vehicle/x.imc`): no `.`/`..`, no leading `/` or
+# `./`, nothing a file system could read as another place.
+_MEMBER_NAME = re.compile(r"(?:(?:log|vehicle)/)?[A-Za-z0-9_][A-Za-z0-9_.:\-]{0,199}")
+
+
+class LayoutError(ValueError):
+    """The tar is not a package in its one canonical layout."""
+
+
 def read_tar(data: bytes) -> dict[str, bytes]:
-    """Regular files of a package tar (bounded; links and odd members refused)."""
+    """The files of a package tar, refused unless the bytes are exactly the canonical tar of
+    those files (`write_tar`) and the members are exactly the manifest's list. Tar readers
+    disagree on duplicates, `./` prefixes, bad header blocks and trailing data; a package
+    that has none of them reads the same in every one of them."""
     if len(data) > MAX_PACKAGE_BYTES:
-        raise ValueError(f"the package is larger than {MAX_PACKAGE_BYTES:,} bytes")
+        raise LayoutError(f"the package is larger than {MAX_PACKAGE_BYTES:,} bytes")
     files: dict[str, bytes] = {}
+    seen: set[str] = set()
     with tarfile.open(fileobj=io.BytesIO(data), mode="r:") as tar:
-        for member in tar.getmembers():
-            if not member.isfile() or member.name in files:
-                raise ValueError(f"the package member {member.name[:80]!r} is not one plain file")
+        while (member := tar.next()) is not None:
+            name = member.name
+            if len(files) == MAX_MEMBERS:
+                raise LayoutError(f"the package has more than {MAX_MEMBERS} members")
+            if not member.isfile():
+                raise LayoutError(f"the package member {name[:80]!r} is not a regular file")
+            if not _MEMBER_NAME.fullmatch(name) or ".." in name:
+                raise LayoutError(f"the package member name {name[:80]!r} is not a package "
+                                  "file name")
+            if name.casefold() in seen:
+                raise LayoutError(f"the package holds {name[:80]!r} twice")
+            seen.add(name.casefold())
             handle = tar.extractfile(member)
             assert handle is not None
-            files[member.name] = handle.read()
+            files[name] = handle.read()
+    if write_tar(files) != data:
+        raise LayoutError("the package is not in its canonical tar layout (extra blocks, "
+                          "headers or data besides its members)")
+    _check_listed(files)
     return files
+
+
+def _check_listed(files: dict[str, bytes]) -> None:
+    """Every member is a file of the manifest's list with the listed digest, and the list
+    names no file the package lacks."""
+    try:
+        listed = json.loads(files["manifest.json"])["files"]
+        if not isinstance(listed, dict):
+            raise TypeError
+    except (KeyError, TypeError, ValueError):
+        raise LayoutError("the package has no manifest listing its files") from None
+    missing = [n for n in FIXED_MEMBERS if n not in files]
+    if missing:
+        raise LayoutError(f"the package lacks {missing[0]}")
+    for name, content in files.items():
+        if name != "manifest.json" and listed.get(name) != _sha(content):
+            raise LayoutError(f"the package member {name!r} is not the file its manifest "
+                              "lists")
+    unlisted = sorted(set(listed) - set(files))
+    if unlisted:
+        raise LayoutError(f"the manifest lists {unlisted[0][:80]!r}, which the package lacks")

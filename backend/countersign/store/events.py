@@ -6,6 +6,7 @@ RFC 6962 tree, so that a checkpoint signed later covers every event before it.""
 
 from __future__ import annotations
 
+import sys
 from typing import Any
 
 from sqlalchemy import event as sa_event
@@ -13,6 +14,8 @@ from sqlalchemy import inspect, select, text
 from sqlalchemy.orm import Session as DbSession
 
 from ..approvals.log import GENESIS, entry_bytes, entry_leaf, event_data
+from ..approvals.signer import Refused as SignerRefused
+from ..errors import Unavailable
 from .event_words import event_target
 from .tables import Event, LogEntry, LogReceipt, User, utcnow
 
@@ -88,8 +91,45 @@ def _receipt(db: DbSession, entry: LogEntry) -> None:
     signer = getattr(db.info.get("database"), "log_signer", None)
     if signer is None:
         return
-    receipt = signer.receipt(entry.index, entry.leaf_hash,
-                             utcnow().isoformat().replace("+00:00", "Z"))
+    try:
+        receipt = signer.receipt(entry.index, entry.leaf_hash,
+                                 utcnow().isoformat().replace("+00:00", "Z"))
+    except SignerRefused as exc:
+        raise LogErased(f"the log signer refuses to append: {exc}") from None
     db.add(LogReceipt(index=entry.index, receipt=receipt))
     db.flush()
+    if not db.info.get(_REMEMBERING):
+        db.info[_REMEMBERING] = True
+        sa_event.listen(db, "after_commit", _remember_committed)
+        sa_event.listen(db, "after_rollback", _forget_uncommitted)
+    db.info.setdefault(_APPENDED, []).append((entry, entry.index, entry.leaf_hash))
+
+
+_APPENDED = "countersign_appended_entries"
+_REMEMBERING = "countersign_remembering"
+
+
+class LogErased(Unavailable):
+    """The log signer remembers a committed entry where the database now holds another."""
+
+
+def _remember_committed(db: DbSession) -> None:
+    """Tell the signer which entries this transaction committed (those not undone by a
+    rolled-back savepoint), so that it never signs a head without them."""
+    appended = db.info.pop(_APPENDED, None) or []
+    signer = getattr(db.info.get("database"), "log_signer", None)
+    if signer is None:
+        return
+    try:
+        signer.remember([(index, leaf) for entry, index, leaf in appended
+                         if inspect(entry).persistent])
+    except OSError as exc:
+        # The transaction is committed; what is lost is only the signer's memory of it.
+        sys.stderr.write(f"countersign: the log signer could not record committed entries "
+                         f"{[i for _, i, _ in appended]}: {exc}\n")
+
+
+def _forget_uncommitted(db: DbSession) -> None:
+    if not db.in_transaction():
+        db.info.pop(_APPENDED, None)
 

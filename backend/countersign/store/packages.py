@@ -12,7 +12,7 @@ from ..errors import Conflict
 from ..export.package import PackageParts
 from ..orders.reader import orders_from_data
 from . import missions as service
-from .approvals import checkpoint_json, inclusion_proof, latest_checkpoint, log_index_of
+from .approvals import checkpoint_json, inclusion_proof, log_index_of, vouched_checkpoint
 from .tables import Approval, LogEntry, LogReceipt
 
 
@@ -46,7 +46,7 @@ def package_parts(db: DbSession, *, mission_id: str, number: int, signer: LogSig
     index = log_index_of(db, approval.event_id)
     if index is None:
         raise NotApproved("the approval has no log entry")
-    checkpoint = checkpoint_json(latest_checkpoint(db, signer=signer))
+    checkpoint = checkpoint_json(vouched_checkpoint(db, signer=signer))
     size = int(checkpoint["size"])
     if index >= size:
         raise NotApproved("the newest checkpoint does not cover the approval yet; retry")

@@ -27,6 +27,7 @@ from .log import (
     log_index_of,
     log_tree,
     receipt_of,
+    vouched_checkpoint,
 )
 from .revocation import prepare_revocation, revoke
 from .submission import get_submission, submit, withdraw
@@ -69,5 +70,6 @@ __all__ = [
     "revoke_key",
     "submit",
     "submit_refusal",
+    "vouched_checkpoint",
     "withdraw",
 ]

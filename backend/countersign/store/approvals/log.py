@@ -42,6 +42,9 @@ def _checkpoint_now(db: DbSession, signer: LogSigner, *,
     tree = _committed_tree(db)
     latest = db.scalar(select(Checkpoint).where(Checkpoint.tree_size <= tree.size)
                        .order_by(Checkpoint.tree_size.desc()).limit(1))
+    erased = _erased_entry(db, signer, tree)
+    if erased is not None:
+        return latest, erased
     if tree.size == 0 or (latest is not None and latest.tree_size == tree.size):
         return latest, None
     head = signer.head()
@@ -60,6 +63,38 @@ def _checkpoint_now(db: DbSession, signer: LogSigner, *,
     db.add(row)
     db.flush()
     return row, None
+
+
+def _erased_entry(db: DbSession, signer: LogSigner, tree: Tree) -> str | None:
+    """Why the log lacks a committed entry the signer remembers appending (None when it
+    lacks none): one replaced within this tree, or one past its end that a fresh read of
+    the log does not hold either (a snapshot older than a concurrent commit is no loss)."""
+    replaced = signer.replaced(tree)
+    if replaced is not None:
+        return replaced
+    beyond = signer.remembered_beyond(tree.size)
+    if not beyond:
+        return None
+    from ..db import database_of
+
+    with database_of(db).session(write=False) as fresh:
+        held = dict(fresh.execute(select(LogEntry.index, LogEntry.leaf_hash).where(
+            LogEntry.index.in_(list(beyond)))).all())
+    for index, leaf in sorted(beyond.items()):
+        if held.get(index) != leaf:
+            return (f"log entry {index} ({leaf[:16]}...) was appended and committed, but the "
+                    "log no longer holds it: an entry was deleted")
+    return None
+
+
+def vouched_checkpoint(db: DbSession, *, signer: LogSigner) -> Checkpoint:
+    """The checkpoint of the committed log, refused (LogUnvouched) whenever the signer
+    refuses the log as it stands: what is built on it (a package) must not rest on a head
+    the signer no longer vouches for as the log's state."""
+    row, refusal = _checkpoint_now(db, signer)
+    if row is None or refusal is not None:
+        raise LogUnvouched(refusal or "the log has no signed checkpoint yet")
+    return row
 
 
 def receipt_of(db: DbSession, approval: Approval) -> str | None:
