@@ -15,7 +15,7 @@ updates navigation error, moves the surface contacts, then asks in order:
 4. the plan: all waypoints done means `succeed`.
 Which of these may end a goal depends on the outcome source (see `sources.py`).
 
-Energy and time are charged from the verifier's cost model (verify/budget.py), so that the
+Energy and time are charged from the verifier's cost model (verify/costs.py), so that the
 verifier's figure for a path bounds what a nominal rehearsal of that path uses (issue 19):
 - the mission starts where its start goal starts (the verifier charges no launch transit);
 - a leg is charged as `leg_cost` charges it: geodesic metres at the vehicle's power and speed;
@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 from typing import Any, Literal
 
 from ..orders.model import OUTCOMES, Area, Goal, Orders
-from ..verify.budget import goal_cost
+from ..verify.costs import goal_cost
 from ..verify.expressions import identifiers
 from ..verify.legs import GEOD
 from .contingency import Contingency, RuleVerdict
@@ -291,7 +291,7 @@ class Simulation:
         self.trail: list[tuple[float, float, float]] = []
         # The legs flown between goals: from, outcome, to and geodesic metres (issue 21).
         self.flown_legs: list[dict[str, Any]] = []
-        self.leg_rate_wh_per_m = self.power_w / self.speed / 3600.0  # verify/budget's leg cost
+        self.leg_rate_wh_per_m = self.power_w / self.speed / 3600.0  # verify/costs' leg cost
         # Per-metre rates of the goals run so far: the price of the way home (seed 001 plans
         # with the consumption it has learnt, not with a catalogue figure).
         self._priced_m = 0.0
@@ -561,7 +561,7 @@ class Simulation:
     def _priced_work(self, goal: Goal, waypoints: list[Waypoint], work_m: float
                      ) -> tuple[float, float, float]:
         """(speed, Wh per metre, hold watts) of the goal's own work, from the verifier's cost
-        of the goal (verify/budget.goal_cost): its duration bounds the work's time (holds
+        of the goal (verify/costs.goal_cost): its duration bounds the work's time (holds
         shortened and the work sped up in proportion when the plan at cruise would take
         longer), its energy is spread over the work in proportion to time. Without a cost
         the vehicle's profile prices it (cruise power moving, 40% of it holding)."""

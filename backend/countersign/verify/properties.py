@@ -29,7 +29,8 @@ from typing import Any, Literal
 
 from ..orders.findings import Finding, error, warning
 from ..orders.model import BUDGET_QUANTITIES, OUTCOMES, Orders, PathProperty
-from .budget import UNITS, goal_cost, reportable_total
+from .budget import UNITS, reportable_total
+from .costs import goal_cost
 from .expressions import Expr, fold, number_words, quantity_words, reads, with_unit
 from .graph import MissionGraph, build_graph
 from .logic import (
