@@ -14,6 +14,10 @@ from fractions import Fraction
 from ..orders.findings import Finding, error, warning
 from ..orders.model import BUDGET_QUANTITIES, OUTCOMES, Orders
 from .costs import exact_costs, graph_costs, mission_costs
+
+# The prices of one goal and one leg, under the names checks have long imported from here.
+from .costs import goal_cost as goal_cost
+from .costs import leg_cost as leg_cost
 from .graph import MissionGraph
 from .legs import MissionLegs
 from .paths import topological_order
