@@ -7,6 +7,7 @@ from __future__ import annotations
 import itertools
 import json
 import random
+import sys
 from fractions import Fraction
 from pathlib import Path
 
@@ -28,6 +29,7 @@ from countersign.verify.probability import (
     outcome_probabilities,
     path_probability_bounds,
     quantile,
+    summary_lines,
 )
 
 from .prob_oracles import (
@@ -318,3 +320,19 @@ def test_report_and_command_line_show_the_probabilities(tmp_path: Path) -> None:
     assert "P(COMPLETE) = 0.61" in text.stdout, text.stdout + text.stderr
     lines = run_cli("paths", str(path), "--limit", "1").stdout.splitlines()
     assert json.loads(lines[0])["probability"] == pytest.approx(0.0227259648)
+
+
+def test_expectations_past_the_largest_double_read_as_the_largest_double() -> None:
+    """Two goals of 1e308 Wh: every figure is finite in JSON (which has no infinity)."""
+    sure = {"succeed": 1, "fail": 0, "violate": 0}
+    orders = Orders.model_validate({"id": "huge", "start": "G0", "goals": [
+        {"id": "G0", "p": sure, "cost": {"energy_wh": 1e308},
+         "next": dict.fromkeys(("succeed", "fail", "violate"), "G1")},
+        {"id": "G1", "p": sure, "cost": {"energy_wh": 1e308},
+         "next": {"succeed": "COMPLETE", "fail": "ABORT", "violate": "ABORT"}}]})
+    figures = outcome_probabilities(orders, build_graph(orders))
+    assert figures is not None
+    energy = figures.to_json()["expected"]["energy_wh"]  # type: ignore[index]
+    assert energy["min"] == energy["max"] == sys.float_info.max
+    assert set(energy["quantiles"].values()) == {sys.float_info.max}
+    assert any("1.79769e+308" in line for line in summary_lines(figures))

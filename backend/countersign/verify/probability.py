@@ -29,6 +29,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 from ..orders.model import BUDGET_QUANTITIES, Orders, OutcomeProbabilities
+from .budget import reportable_total
 from .costs import Edges, exact_costs, graph_costs, mission_costs
 from .graph import MissionGraph
 from .legs import MissionLegs
@@ -53,7 +54,7 @@ class Bound:
         return self.low if self.low == self.high else None
 
     def to_json(self) -> dict[str, float]:
-        return {"min": float(self.low), "max": float(self.high)}
+        return {"min": reportable_total(self.low), "max": reportable_total(self.high)}
 
 
 @dataclass(frozen=True)
@@ -353,7 +354,7 @@ def cost_quantiles(scaled: _Scaled, costs: Sequence[int], edges: Sequence[Edges]
     distribution = cost_distribution(scaled, costs, edges)
     if distribution is None:
         return None
-    return {level: float(Fraction(quantile(distribution, Fraction(level)), scale))
+    return {level: reportable_total(Fraction(quantile(distribution, Fraction(level)), scale))
             for level in QUANTILES}
 
 
@@ -367,7 +368,7 @@ def path_probability_bounds(
 
 
 def _figure(bound: Bound) -> str:
-    low, high = float(bound.low), float(bound.high)
+    low, high = reportable_total(bound.low), reportable_total(bound.high)
     return f"{low:.6g}" if low == high else f"{low:.6g} to {high:.6g}"
 
 
