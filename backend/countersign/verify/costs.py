@@ -141,6 +141,8 @@ def graph_costs(orders: Orders, graph: MissionGraph, quantity: str,
         elif was_estimated:
             estimated.append(node)
         own[node] = cost or 0.0
+        if not costs.lengths:
+            continue  # no legs laid out: every edge costs nothing
         legs[node] = (costs.leg(goal.id, OUTCOMES[0], quantity),
                       costs.leg(goal.id, OUTCOMES[1], quantity),
                       costs.leg(goal.id, OUTCOMES[2], quantity))
@@ -160,22 +162,12 @@ class ExactCosts:
 
 
 def exact_costs(priced: GraphCosts) -> ExactCosts:
-    seen: dict[float, Fraction] = {}
-
-    def decimal(value: float) -> Fraction:
-        found = seen.get(value)
-        if found is None:
-            found = seen[value] = Fraction(repr(value))
-        return found
-
-    goals = [decimal(c) for c in priced.goal]
-    legs = [[decimal(c) for c in leg] for leg in priced.leg]
+    # Costs repeat (most legs are zero): convert each distinct value once.
+    distinct = {*priced.goal, *itertools.chain(*priced.leg)}
+    decimals = {c: Fraction(repr(c)) for c in distinct}
     scale = 1
-    for value in (*goals, *(c for leg in legs for c in leg)):
+    for value in decimals.values():
         scale = math.lcm(scale, value.denominator)
-
-    def units(value: Fraction) -> int:
-        return value.numerator * (scale // value.denominator)
-
-    return ExactCosts(scale, tuple(units(c) for c in goals),
-                      tuple((units(a), units(b), units(c)) for a, b, c in legs))
+    units = {c: v.numerator * (scale // v.denominator) for c, v in decimals.items()}
+    return ExactCosts(scale, tuple(units[c] for c in priced.goal),
+                      tuple((units[a], units[b], units[c]) for a, b, c in priced.leg))
