@@ -15,7 +15,8 @@ from countersign.orders.examples import load_example
 from countersign.orders.model import BUDGET_QUANTITIES, Orders
 from countersign.rehearse.execution import Step, check_execution, read_log
 from countersign.rehearse.manager import Rehearsal, RehearsalOptions
-from countersign.verify.budget import goal_cost, leg_cost, worst_paths
+from countersign.verify.budget import worst_paths
+from countersign.verify.costs import goal_cost, leg_cost
 from countersign.verify.legs import leg_lengths
 from countersign.verify.paths import MissionPath, iter_paths, paths_of
 

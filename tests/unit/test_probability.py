@@ -1,11 +1,13 @@
 """Issue 20 part 1: exact outcome probabilities, checked against path enumeration, the vertices
-of each goal's polytope (intervals) and Storm on the same Markov chain."""
+of each goal's polytope (intervals) and Storm on the same Markov chain; the expected energy
+and time charge the legs between goals as BUDGET does (one cost model)."""
 
 from __future__ import annotations
 
 import itertools
 import json
 import random
+import sys
 from fractions import Fraction
 from pathlib import Path
 
@@ -15,8 +17,9 @@ from hypothesis import strategies as st
 from pydantic import ValidationError
 
 from countersign.orders.examples import example_bytes
-from countersign.orders.model import Orders
+from countersign.orders.model import BUDGET_QUANTITIES, Orders
 from countersign.orders.reader import read_file
+from countersign.verify.budget import worst_paths
 from countersign.verify.graph import build_graph
 from countersign.verify.paths import count_paths, iter_path_lines, iter_paths
 from countersign.verify.probability import (
@@ -26,11 +29,13 @@ from countersign.verify.probability import (
     outcome_probabilities,
     path_probability_bounds,
     quantile,
+    summary_lines,
 )
 
 from .prob_oracles import (
     Dist,
     enumerate_figures,
+    priced,
     random_orders,
     storm_figures,
     vertices,
@@ -60,24 +65,25 @@ def point_dists(orders: Orders) -> list[Dist]:
     return [(b[0][0], b[1][0], b[2][0]) for b in boxes]
 
 
-def energies(orders: Orders) -> list[Fraction]:
-    return [Fraction(repr(g.cost.energy_wh)) if g.cost and g.cost.energy_wh is not None
-            else Fraction(0) for g in build_graph(orders).goals]
-
-
 def assert_matches_enumeration(orders: Orders) -> None:
+    """Every figure equals the sum over every path, each path charged its goals and its legs;
+    BUDGET's worst path is the costliest of them and no quantile exceeds it."""
     graph = build_graph(orders)
     figures = outcome_probabilities(orders, graph)
-    assert figures is not None and figures.exact
-    oracle = enumerate_figures(graph, point_dists(orders), energies(orders))
-    for terminal, value in oracle["terminals"].items():
-        assert figures.terminals[terminal].exact == value
-    assert figures.violation.exact == oracle["violation"]
-    assert figures.expected["energy_wh"].bound.exact == oracle["expected"]
-    quantiles = figures.expected["energy_wh"].quantiles
-    assert quantiles is not None
-    for level in QUANTILES:
-        assert quantiles[level] == float(quantile(oracle["distribution"], Fraction(level)))
+    worst = worst_paths(orders, graph)
+    assert figures is not None and figures.exact and worst is not None
+    for quantity in BUDGET_QUANTITIES:
+        oracle = enumerate_figures(graph, point_dists(orders), *priced(orders, quantity))
+        for terminal, value in oracle["terminals"].items():
+            assert figures.terminals[terminal].exact == value
+        assert figures.violation.exact == oracle["violation"]
+        assert figures.expected[quantity].bound.exact == oracle["expected"]
+        assert worst[quantity].total == float(oracle["worst"])
+        quantiles = figures.expected[quantity].quantiles
+        assert quantiles is not None
+        for level in QUANTILES:
+            assert quantiles[level] == float(quantile(oracle["distribution"], Fraction(level)))
+            assert quantiles[level] <= worst[quantity].total
 
 
 def assert_matches_storm(orders: Orders) -> None:
@@ -90,6 +96,8 @@ def assert_matches_storm(orders: Orders) -> None:
     assert float(figures.violation.low) == pytest.approx(storm["violated"], abs=1e-9)
     assert float(figures.expected["energy_wh"].bound.low) == pytest.approx(
         storm["energy"], rel=1e-9, abs=1e-9)
+    assert float(figures.expected["duration_s"].bound.low) == pytest.approx(
+        storm["time"], rel=1e-9, abs=1e-9)
 
 
 def test_the_exemplar_matches_storm_and_enumeration() -> None:
@@ -122,6 +130,31 @@ def test_random_graphs_match_storm() -> None:
         assert_matches_storm(random_orders(rng, rng.randint(1, 30), terminals=rng.randint(1, 3)))
 
 
+def test_random_graphs_with_legs_match_storm() -> None:
+    rng = random.Random(21)
+    for _ in range(10):
+        orders = random_orders(rng, rng.randint(2, 12), terminals=rng.randint(1, 3), places=True)
+        assert any(any(leg) for leg in priced(orders)[1])
+        assert_matches_storm(orders)
+
+
+def test_the_exemplars_expected_energy_charges_the_legs() -> None:
+    """The exemplar with probabilities: its worst path is 1,137 Wh with legs, and its
+    expectation and quantiles are figures of the same paths, not of the goals alone (660 Wh
+    for every goal)."""
+    orders = with_probabilities(exemplar(), 1)
+    graph = build_graph(orders)
+    figures = outcome_probabilities(orders, graph)
+    worst = worst_paths(orders, graph)
+    assert figures is not None and worst is not None
+    assert round(worst["energy_wh"].total) == 1137
+    energy = figures.expected["energy_wh"]
+    assert energy.quantiles is not None
+    assert max(energy.quantiles.values()) == worst["energy_wh"].total
+    assert float(energy.bound.low) > 660
+    assert_matches_enumeration(orders)
+
+
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.integers(0, 2**32), st.integers(1, 8))
 def test_point_figures_equal_enumeration(seed: int, goals: int) -> None:
@@ -129,13 +162,20 @@ def test_point_figures_equal_enumeration(seed: int, goals: int) -> None:
                                              terminals=random.Random(seed).randint(1, 3)))
 
 
+@settings(max_examples=30, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.integers(0, 2**32), st.integers(1, 7))
+def test_point_figures_with_legs_equal_enumeration(seed: int, goals: int) -> None:
+    assert_matches_enumeration(random_orders(random.Random(seed), goals, places=True,
+                                             terminals=random.Random(seed).randint(1, 3)))
+
+
 def _extremes_by_vertices(orders: Orders) -> dict[str, tuple[Fraction, Fraction]]:
     graph = build_graph(orders)
     boxes = fraction_boxes(goal_probabilities(orders, graph))
-    costs = energies(orders)
+    costs, legs = priced(orders)
     best: dict[str, tuple[Fraction, Fraction]] = {}
     for choice in itertools.product(*(vertices(b) for b in boxes)):
-        oracle = enumerate_figures(graph, list(choice), costs)
+        oracle = enumerate_figures(graph, list(choice), costs, legs)
         values = {**{f"t_{t}": v for t, v in oracle["terminals"].items()},
                   "violated": oracle["violation"], "energy": oracle["expected"]}
         for name, value in values.items():
@@ -147,7 +187,9 @@ def _extremes_by_vertices(orders: Orders) -> dict[str, tuple[Fraction, Fraction]
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(st.integers(0, 2**32), st.integers(1, 4))
 def test_interval_bounds_equal_brute_force_over_vertices(seed: int, goals: int) -> None:
-    orders = random_orders(random.Random(seed), goals, kinds=("point", "interval", "none"))
+    rng = random.Random(seed)
+    orders = random_orders(rng, goals, kinds=("point", "interval", "none"),
+                           places=rng.random() < 0.5)
     figures = outcome_probabilities(orders, build_graph(orders))
     assert figures is not None
     brute = _extremes_by_vertices(orders)
@@ -278,3 +320,19 @@ def test_report_and_command_line_show_the_probabilities(tmp_path: Path) -> None:
     assert "P(COMPLETE) = 0.61" in text.stdout, text.stdout + text.stderr
     lines = run_cli("paths", str(path), "--limit", "1").stdout.splitlines()
     assert json.loads(lines[0])["probability"] == pytest.approx(0.0227259648)
+
+
+def test_expectations_past_the_largest_double_read_as_the_largest_double() -> None:
+    """Two goals of 1e308 Wh: every figure is finite in JSON (which has no infinity)."""
+    sure = {"succeed": 1, "fail": 0, "violate": 0}
+    orders = Orders.model_validate({"id": "huge", "start": "G0", "goals": [
+        {"id": "G0", "p": sure, "cost": {"energy_wh": 1e308},
+         "next": dict.fromkeys(("succeed", "fail", "violate"), "G1")},
+        {"id": "G1", "p": sure, "cost": {"energy_wh": 1e308},
+         "next": {"succeed": "COMPLETE", "fail": "ABORT", "violate": "ABORT"}}]})
+    figures = outcome_probabilities(orders, build_graph(orders))
+    assert figures is not None
+    energy = figures.to_json()["expected"]["energy_wh"]  # type: ignore[index]
+    assert energy["min"] == energy["max"] == sys.float_info.max
+    assert set(energy["quantiles"].values()) == {sys.float_info.max}
+    assert any("1.79769e+308" in line for line in summary_lines(figures))

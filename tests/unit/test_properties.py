@@ -14,6 +14,7 @@ from hypothesis import strategies as st
 
 from countersign.orders.examples import example_bytes, example_names, load_example
 from countersign.orders.model import OUTCOMES, Orders
+from countersign.verify.costs import mission_costs
 from countersign.verify.graph import build_graph
 from countersign.verify.logic import LogicCache, check_logic
 from countersign.verify.paths import count_paths, iter_paths
@@ -98,10 +99,18 @@ def test_resource_bound_finds_the_shortest_path_over_the_bound() -> None:
     graph = build_graph(orders)
     counts = count_paths(graph)
     assert counts is not None
-    costs = {g.id: g.cost.energy_wh for g in orders.goals if g.cost}
-    over = [p for p in iter_paths(graph, counts)
-            if sum(costs[g] or 0 for g in p.goals) > 2500]
+    # Each path costs its goals and the legs it takes, as BUDGET charges them.
+    costs, goals = mission_costs(orders), orders.goal_index()
+    totals = {p.index: sum(costs.step(goals[g], o, "energy_wh")
+                           for g, o in zip(p.goals, p.outcomes, strict=True))
+              for p in iter_paths(graph, counts)}
+    over = [p for p in iter_paths(graph, counts) if totals[p.index] > 2500]
     assert len(finding.details["path"]["goals"]) == min(len(p.goals) for p in over)
+    shown = next(p for p in over if list(p.goals) == finding.details["path"]["goals"]
+                 and list(p.outcomes) == finding.details["path"]["outcomes"])
+    assert finding.details["total"] == round(totals[shown.index], 6)
+    assert any(sum(goals[g].cost.energy_wh or 0 for g in p.goals  # type: ignore[union-attr]
+                   ) <= 2500 for p in over), "the legs decide some path"
     assert check_properties(with_properties([{"id": "P4", "max": {"energy_wh": 5000}}])) == []
 
 
@@ -156,7 +165,13 @@ def random_mission(draw: st.DrawFn) -> Orders:
         })
     return Orders.model_validate({
         "id": "random", "start": "G0", "goals": goals,
-        "areas": [{"id": "LANE", "contexts": ["shipping_lane"]}, {"id": "OPEN"}],
+        # Places and a vehicle with a speed and a power: the edges between them have legs.
+        "areas": [{"id": "LANE", "contexts": ["shipping_lane"],
+                   "polygon": [[36.75, -121.95], [36.75, -121.94], [36.745, -121.94],
+                               [36.745, -121.95]]},
+                  {"id": "OPEN", "polygon": [[36.70, -121.90], [36.70, -121.89],
+                                             [36.695, -121.89], [36.695, -121.90]]}],
+        "vehicle": "auv", "vehicles": [{"id": "auv", "speed_mps": 1.5, "power_w": 110}],
         "properties": [
             {"id": "P1", "never": "behavior == 'surface' and context('shipping_lane')"},
             {"id": "P2", "always": f"depth_m <= {draw(st.integers(10, 30))}"},
@@ -183,7 +198,12 @@ def test_counterexamples_match_brute_force(orders: Orders) -> None:
         return goals[gid].envelope["depth_m"][1] > bound_p2
 
     bad: dict[str, Callable[[str], bool]] = {"P1": surfaces_in_lane, "P2": too_deep}
-    energy = {g.id: g.cost.energy_wh or 0 for g in orders.goals if g.cost}
+    costs = mission_costs(orders)
+
+    def energy(path: Any) -> float:
+        return sum(costs.step(goals[g], o, "energy_wh")
+                   for g, o in zip(path.goals, path.outcomes, strict=True))
+
     bound_p3 = orders.properties[2].model_extra["max"]["energy_wh"]  # type: ignore[index]
     findings = {f.details["property"]: f for f in check_properties(orders)}
     for pid, fails in bad.items():
@@ -195,12 +215,14 @@ def test_counterexamples_match_brute_force(orders: Orders) -> None:
             assert len(path["goals"]) == min(len(p.goals) for p in failing)
             assert any(list(p.goals) == path["goals"] and list(p.outcomes) == path["outcomes"]
                        for p in failing)
-    over = [p for p in paths if sum(energy[g] for g in p.goals) > bound_p3]
+    over = [p for p in paths if energy(p) > bound_p3]
     assert ("P3" in findings) == bool(over)
     if over:
         path = findings["P3"].details["path"]
         assert len(path["goals"]) == min(len(p.goals) for p in over)
-        assert sum(energy[g] for g in path["goals"]) > bound_p3
+        shown = next(p for p in over if list(p.goals) == path["goals"]
+                     and list(p.outcomes) == path["outcomes"])
+        assert energy(shown) > bound_p3
 
 
 def test_shortest_exceeding_path_falls_back_on_huge_graphs(monkeypatch: pytest.MonkeyPatch

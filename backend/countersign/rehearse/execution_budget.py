@@ -17,8 +17,8 @@ from datetime import datetime
 from typing import Any, Protocol
 
 from ..orders.model import BUDGET_QUANTITIES, Orders
-from ..verify.budget import UNITS, goal_cost, leg_cost
-from ..verify.legs import leg_lengths
+from ..verify.budget import UNITS
+from ..verify.costs import mission_costs
 
 
 class StepLike(Protocol):
@@ -107,16 +107,13 @@ def _from_timestamps(steps: Sequence[StepLike]) -> tuple[list[float], bool] | No
 
 
 def _from_model(orders: Orders, steps: Sequence[StepLike], quantity: str) -> list[float]:
-    vehicle = orders.target_vehicle()
-    goals, areas = orders.goal_index(), orders.area_index()
-    lengths = leg_lengths(orders) if vehicle is not None and vehicle.speed_mps else {}
+    goals = orders.goal_index()
+    costs = mission_costs(orders)
     total, running = 0.0, []
     for step in steps:
         goal = goals.get(step.goal)
         if goal is not None:
-            cost, _ = goal_cost(goal, quantity, vehicle, areas)
-            total += (cost or 0.0) + leg_cost(lengths.get((goal.id, step.outcome)), quantity,
-                                              vehicle)
+            total += costs.step(goal, step.outcome, quantity)
         running.append(total)
     return running
 

@@ -15,14 +15,17 @@ updates navigation error, moves the surface contacts, then asks in order:
 4. the plan: all waypoints done means `succeed`.
 Which of these may end a goal depends on the outcome source (see `sources.py`).
 
-Energy and time are charged from the verifier's cost model (verify/budget.py), so that the
+Energy and time are charged from the verifier's cost model (verify/costs.py), so that the
 verifier's figure for a path bounds what a nominal rehearsal of that path uses (issue 19):
 - the mission starts where its start goal starts (the verifier charges no launch transit);
 - a leg is charged as `leg_cost` charges it: geodesic metres at the vehicle's power and speed;
 - a goal's own work (its sweep, run or holds) is charged exactly its `goal_cost` (given, or
   estimated as the verifier estimates it) when its plan runs to the end, spread over the work
   in proportion to time, and paced so that it takes no longer than its duration cost; a goal
-  cut short is charged for the part it ran.
+  cut short is charged for the part it ran;
+- time is what the metres and holds take: a step's time carries on past a waypoint reached
+  within it, the step ends early when the goal's plan is done, and diving or rising happens
+  while the vehicle moves, never holding the plan up (the verifier charges no time for it).
 - seed 001's strong opposing current (doubling consumption) is a disturbance, outside the
   nominal case that the verifier bounds: only the `simulate` source, whose outcomes the
   simulation decides, meets it. The normal current is the nominal consumption itself.
@@ -37,7 +40,7 @@ from dataclasses import dataclass, field
 from typing import Any, Literal
 
 from ..orders.model import OUTCOMES, Area, Goal, Orders
-from ..verify.budget import goal_cost
+from ..verify.costs import goal_cost
 from ..verify.expressions import identifiers
 from ..verify.legs import GEOD
 from .contingency import Contingency, RuleVerdict
@@ -291,7 +294,7 @@ class Simulation:
         self.trail: list[tuple[float, float, float]] = []
         # The legs flown between goals: from, outcome, to and geodesic metres (issue 21).
         self.flown_legs: list[dict[str, Any]] = []
-        self.leg_rate_wh_per_m = self.power_w / self.speed / 3600.0  # verify/budget's leg cost
+        self.leg_rate_wh_per_m = self.power_w / self.speed / 3600.0  # verify/costs' leg cost
         # Per-metre rates of the goals run so far: the price of the way home (seed 001 plans
         # with the consumption it has learnt, not with a catalogue figure).
         self._priced_m = 0.0
@@ -333,7 +336,13 @@ class Simulation:
         active = self.active
         if active is None:
             return
-        self._move(active, dt)
+        # A step ends early when the goal's plan is done within it: the goal then ends when
+        # its work does, and the next goal starts there (a goal takes its plan's time, not
+        # that time rounded up to the step).
+        unused = self._move(active, dt)
+        if unused > 0.0:
+            self.time_s -= unused
+            dt -= unused
         self._navigate(dt)
         self._judge(active)
         self._scheduled_faults(after_step=True)
@@ -561,7 +570,7 @@ class Simulation:
     def _priced_work(self, goal: Goal, waypoints: list[Waypoint], work_m: float
                      ) -> tuple[float, float, float]:
         """(speed, Wh per metre, hold watts) of the goal's own work, from the verifier's cost
-        of the goal (verify/budget.goal_cost): its duration bounds the work's time (holds
+        of the goal (verify/costs.goal_cost): its duration bounds the work's time (holds
         shortened and the work sped up in proportion when the plan at cruise would take
         longer), its energy is spread over the work in proportion to time. Without a cost
         the vehicle's profile prices it (cruise power moving, 40% of it holding)."""
@@ -713,7 +722,11 @@ class Simulation:
     def _current_mps(self) -> float:
         return STRONG_CURRENT_MPS if self._current_factor() > 1.0 else NORMAL_CURRENT_MPS
 
-    def _move(self, active: ActiveGoal, dt: float) -> None:
+    def _move(self, active: ActiveGoal, dt: float) -> float:
+        """One step of the plan. The step's time is spent waypoint after waypoint: time left
+        when a waypoint is reached carries on to the next one (or its hold), so that a plan
+        takes the time its metres and holds take, not a step more per waypoint. Returns the
+        part of the step left over when the plan was done within it."""
         v = self.vehicle
         strong = self._current_factor() > 1.0
         if strong != self._strong_current:
@@ -723,57 +736,68 @@ class Simulation:
                        {"strong": strong})
         if active.finished_plan:
             v.vx = v.vy = v.vz = 0.0
-            return
-        w = active.waypoints[active.index]
-        dx, dy = w.x - v.x, w.y - v.y
-        distance = math.hypot(dx, dy)
-        speed = self.speed if w.kind == "leg" else active.speed
-        step = speed * dt  # geodesic metres
-        energy = 0.0
-        arrived = distance * w.scale <= step
-        if distance > 1e-6:
-            moved_m = min(step, distance * w.scale)
-            moved = moved_m / w.scale
-            v.heading = math.atan2(dy, dx)
-            if arrived:
-                v.x, v.y = w.x, w.y
-            else:
-                v.x += dx / distance * moved
-                v.y += dy / distance * moved
-            v.vx, v.vy = dx / distance * moved / dt, dy / distance * moved / dt
-            active.done_s += moved_m / speed
-            rate = self.leg_rate_wh_per_m if w.kind == "leg" else active.rate_wh_per_m
-            energy += moved_m * rate * self._current_factor()
-            self.expected_used_wh += moved_m * rate
-            if w.kind == "leg":
-                active.leg_m += moved_m
-        else:
-            v.vx = v.vy = 0.0
-        target = 0.0 if v.forced_surface else w.depth
+            return 0.0
+        factor = self._current_factor()
+        target = 0.0 if v.forced_surface else active.waypoints[active.index].depth
         v.target_depth = target
         dz = target - v.depth
         rise = max(-DIVE_RATE_MPS * dt, min(DIVE_RATE_MPS * dt, dz))
         v.depth = max(0.0, v.depth + rise)
         v.vz = rise / dt
-        if arrived and abs(target - v.depth) < 0.5:
+        x0, y0 = v.x, v.y
+        energy = 0.0
+        left = dt
+        while left > 1e-9 and not active.finished_plan:
+            w = active.waypoints[active.index]
+            dx, dy = w.x - v.x, w.y - v.y
+            distance = math.hypot(dx, dy)
+            speed = self.speed if w.kind == "leg" else active.speed
+            if distance > 1e-6:
+                to_go_m = distance * w.scale  # geodesic metres
+                moved_m = min(speed * left, to_go_m)
+                arrived = moved_m >= to_go_m
+                v.heading = math.atan2(dy, dx)
+                if arrived:
+                    v.x, v.y = w.x, w.y
+                else:
+                    moved = moved_m / w.scale
+                    v.x += dx / distance * moved
+                    v.y += dy / distance * moved
+                left -= moved_m / speed if math.isfinite(speed) else 0.0
+                active.done_s += moved_m / speed
+                rate = self.leg_rate_wh_per_m if w.kind == "leg" else active.rate_wh_per_m
+                energy += moved_m * rate * factor
+                self.expected_used_wh += moved_m * rate
+                if w.kind == "leg":
+                    active.leg_m += moved_m
+                if not arrived:
+                    break
+            # Depth changes while the vehicle moves and holds, and never holds the plan up:
+            # the verifier's costs charge metres and holds, no time for diving.
             if w.kind == "leg" and active.held_s == 0.0:
                 self._leg_flown(active, w)
             if active.held_s < w.hold_s:
-                # The last second of a hold is charged for the part held, not the whole step.
-                held = min(dt, w.hold_s - active.held_s)
+                # A hold is charged for the part held, not the whole step.
+                held = min(left, w.hold_s - active.held_s)
                 active.held_s += held
                 active.done_s += held
+                left -= held
                 hold_energy = active.hold_w * held / 3600.0
-                energy += hold_energy * self._current_factor()
+                energy += hold_energy * factor
                 self.expected_used_wh += hold_energy
-            if active.held_s >= w.hold_s:
-                active.index += 1
-                active.held_s = 0.0
+            if active.held_s < w.hold_s:
+                break
+            active.index += 1
+            active.held_s = 0.0
+        unused = left if active.finished_plan and left > 1e-9 else 0.0
+        spent = dt - unused
+        v.vx, v.vy = ((v.x - x0) / spent, (v.y - y0) / spent) if spent > 1e-9 else (0.0, 0.0)
         active.used_wh += energy
         self.energy_used_wh += energy
         if not self.trail or math.dist(self.trail[-1][:2], v.xy) >= 25.0 \
                 or abs(self.trail[-1][2] - v.depth) >= 2.0:
             self.trail.append((v.x, v.y, v.depth))
+        return unused
 
     def _leg_flown(self, active: ActiveGoal, w: Waypoint) -> None:
         run = self.run

@@ -1,27 +1,28 @@
 """Energy and time over every path (seed 001: verification against resource bounds).
 
-Each goal has a cost per quantity, given in the orders or estimated from its area's geometry
-and the vehicle's speed and power. The worst path per quantity comes from one pass over the
-DAG (longest path), never from enumeration; BUDGET reports it when it exceeds the vehicle's
-budget.
+Each step of a path costs its goal and the leg of the edge it takes, as verify/costs.py
+prices them. The worst path per quantity comes from one pass over the DAG (longest path), never
+from enumeration; BUDGET reports it when it exceeds the vehicle's budget.
 """
 
 from __future__ import annotations
 
-import itertools
-import math
 import sys
 from dataclasses import dataclass
+from fractions import Fraction
 
 from ..orders.findings import Finding, error, warning
-from ..orders.model import BUDGET_QUANTITIES, OUTCOMES, Area, Goal, Orders, Vehicle
+from ..orders.model import BUDGET_QUANTITIES, OUTCOMES, Orders
+from .costs import exact_costs, graph_costs, mission_costs
+
+# The prices of one goal and one leg, under the names checks have long imported from here.
+from .costs import goal_cost as goal_cost
+from .costs import leg_cost as leg_cost
 from .graph import MissionGraph
-from .legs import MissionLegs, leg_lengths
-from .legs import track_length_m as sweep_length_m
+from .legs import MissionLegs
 from .paths import topological_order
 
 UNITS = {"energy_wh": ("Wh", "energy"), "duration_s": ("s", "time")}
-EARTH_RADIUS_M = 6_371_000.0
 
 
 @dataclass(frozen=True)
@@ -50,63 +51,11 @@ class WorstPath:
         }
 
 
-def _local_metres(area: Area) -> list[tuple[float, float]]:
-    lat0 = math.radians(sum(p[0] for p in area.polygon) / len(area.polygon))
-    return [
-        (
-            math.radians(lon) * EARTH_RADIUS_M * math.cos(lat0),
-            math.radians(lat) * EARTH_RADIUS_M,
-        )
-        for lat, lon in area.polygon
-    ]
-
-
-def track_length_m(goal: Goal, area: Area, areas: dict[str, Area] | None = None) -> float:
-    """A nominal track: for searches and transects the sweep the rehearsal flies
-    (verify/legs.py: the lawn-mower at the goal's swath in the mission's frame, or one run),
-    otherwise once around the area's boundary."""
-    track = sweep_length_m(goal, tuple((areas or {area.id: area}).values()), area)
-    if track is not None:
-        return track
-    points = _local_metres(area)
-    ring = [*points, points[0]]
-    return sum(math.dist(a, b) for a, b in itertools.pairwise(ring))
-
-
-def goal_cost(
-    goal: Goal, quantity: str, vehicle: Vehicle | None, areas: dict[str, Area]
-) -> tuple[float | None, bool]:
-    """(cost, estimated) of one goal for one quantity; None when neither given nor estimable."""
-    given = getattr(goal.cost, quantity, None) if goal.cost else None
-    if given is not None:
-        return float(given), False
-    area = areas.get(goal.area) if goal.area else None
-    if vehicle is None or vehicle.speed_mps is None or area is None or len(area.polygon) < 2:
-        return None, False
-    seconds = track_length_m(goal, area, areas) / vehicle.speed_mps
-    if quantity == "duration_s":
-        return seconds, True
-    if quantity == "energy_wh" and vehicle.power_w is not None:
-        return vehicle.power_w * seconds / 3600.0, True
-    return None, False
-
-
-def leg_cost(metres: float | None, quantity: str, vehicle: Vehicle | None) -> float:
-    if metres is None or vehicle is None or not vehicle.speed_mps:
-        return 0.0
-    seconds = metres / vehicle.speed_mps
-    if quantity == "duration_s":
-        return seconds
-    if quantity == "energy_wh" and vehicle.power_w is not None:
-        return vehicle.power_w * seconds / 3600.0
-    return 0.0
-
-
-def reportable_total(total: float) -> float:
+def reportable_total(total: float | Fraction) -> float:
     """A path's total as a report can carry it: finite costs can still sum past the largest
     double (two of 1e308 Wh), and JSON has no infinity, so such a total reads as the largest
-    number there is (issue 15)."""
-    return min(total, sys.float_info.max)
+    number there is."""
+    return float(min(total, Fraction(sys.float_info.max)))
 
 
 def worst_paths(orders: Orders, graph: MissionGraph, legs: MissionLegs | None = None
@@ -116,33 +65,21 @@ def worst_paths(orders: Orders, graph: MissionGraph, legs: MissionLegs | None = 
     if order is None or graph.start is None:
         return None
     vehicle = orders.target_vehicle()
-    areas = orders.area_index()
-    # The transit between goals costs too: the geodesic leg of each outcome edge (issue 21).
-    lengths = leg_lengths(orders, legs) if vehicle is not None and vehicle.speed_mps else {}
+    costs = mission_costs(orders, legs)
     result: dict[str, WorstPath] = {}
     for quantity in BUDGET_QUANTITIES:
-        costs: dict[int, float] = {}
-        unknown: list[int] = []
-        estimated: list[int] = []
-        for node in order:
-            cost, was_estimated = goal_cost(graph.goals[node], quantity, vehicle, areas)
-            if cost is None:
-                unknown.append(node)
-            elif was_estimated:
-                estimated.append(node)
-            costs[node] = cost or 0.0
-        best: dict[int, float] = {}
+        priced = graph_costs(orders, graph, quantity, costs, order)
+        exact = exact_costs(priced)
+        best: dict[int, int] = {}
         choice: dict[int, int] = {}
         for node in order:  # successors come first
-            goal = graph.goals[node]
             options = [
-                (best.get(target, 0.0) if target < graph.goal_count else 0.0)
-                + leg_cost(lengths.get((goal.id, OUTCOMES[k])), quantity, vehicle)
+                (best.get(target, 0) if target < graph.goal_count else 0) + exact.leg[node][k]
                 for k, target in enumerate(graph.succ[node])
             ]
             k = max(range(3), key=lambda i: (options[i], -i))
             choice[node] = k
-            best[node] = costs[node] + options[k]
+            best[node] = exact.goal[node] + options[k]
         goals: list[str] = []
         outcomes: list[str] = []
         node = graph.start
@@ -153,13 +90,13 @@ def worst_paths(orders: Orders, graph: MissionGraph, legs: MissionLegs | None = 
         budget = getattr(vehicle.budget, quantity, None) if vehicle and vehicle.budget else None
         result[quantity] = WorstPath(
             quantity,
-            reportable_total(best[graph.start]),
+            reportable_total(Fraction(best[graph.start], exact.scale)),
             tuple(goals),
             tuple(outcomes),
             graph.node_id(node),
             budget,
-            tuple(graph.goal_ids[n] for n in sorted(unknown)),
-            tuple(graph.goal_ids[n] for n in sorted(estimated)),
+            tuple(graph.goal_ids[n] for n in priced.unknown),
+            tuple(graph.goal_ids[n] for n in priced.estimated),
         )
     return result
 

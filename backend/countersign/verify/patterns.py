@@ -28,7 +28,7 @@ from dataclasses import dataclass
 from ..orders.findings import Finding, error, warning
 from ..orders.model import OUTCOMES, Event, Orders, PathProperty
 from ..orders.pattern_words import pattern_sentence
-from .budget import goal_cost, leg_cost
+from .costs import goal_cost, leg_cost
 from .graph import MissionGraph
 from .legs import MissionLegs, leg_lengths, mission_legs
 from .paths import topological_order

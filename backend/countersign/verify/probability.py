@@ -3,7 +3,9 @@
 Each goal's outcomes carry probabilities (on the goal, or on the vehicle's profile for its
 behaviour); the mission is then a discrete-time Markov chain whose states are the goals and
 whose absorbing states are the terminals. Every figure comes from one pass over the DAG in
-reverse topological order, never from enumerating paths.
+reverse topological order, never from enumerating paths. The expected energy and time (and
+their quantiles) charge what BUDGET charges (verify/costs.py): each goal's own cost as a state
+reward and the leg of each outcome edge as a transition reward.
 
 Exactness without slow fractions: every probability is a multiple of 1/Q for one integer Q (the
 least common denominator of the decimals the author wrote), so a node's value is an integer
@@ -27,8 +29,10 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 from ..orders.model import BUDGET_QUANTITIES, Orders, OutcomeProbabilities
-from .budget import goal_cost
+from .budget import reportable_total
+from .costs import Edges, exact_costs, graph_costs, mission_costs
 from .graph import MissionGraph
+from .legs import MissionLegs
 from .paths import topological_order
 
 # Bounds (lo, hi) per outcome in units of 1/Q.
@@ -50,7 +54,7 @@ class Bound:
         return self.low if self.low == self.high else None
 
     def to_json(self) -> dict[str, float]:
-        return {"min": float(self.low), "max": float(self.high)}
+        return {"min": reportable_total(self.low), "max": reportable_total(self.high)}
 
 
 @dataclass(frozen=True)
@@ -179,9 +183,11 @@ class _Scaled:
         return powers[exponent]
 
     def run(self, leaf: Callable[[int], int], maximise: bool,
-            extra: Sequence[int] | None = None, zero_violate: bool = False) -> Fraction:
-        """The extreme (max or min) value at the start of X(v) = extra(v) + sum_k p_k X(s_k),
-        with X(terminal) = leaf(terminal); `zero_violate` counts the violate successor as 0."""
+            extra: Sequence[int] | None = None, zero_violate: bool = False,
+            edges: Sequence[Edges] | None = None) -> Fraction:
+        """The extreme (max or min) value at the start of
+        X(v) = extra(v) + sum_k p_k (edges(v)_k + X(s_k)), with X(terminal) = leaf(terminal);
+        `zero_violate` counts the violate successor as 0."""
         graph = self.graph
         goal_count = graph.goal_count
         height = self.height
@@ -195,11 +201,16 @@ class _Scaled:
         for node in self.order:
             top = height[node] - 1
             point = coefficients[node]
+            edge = edges[node] if edges is not None else None
             if point is not None:
                 total = 0
                 for k, target, coefficient in point:
                     if not (k == 2 and zero_violate):
                         total += coefficient * value[target]
+                if edge is not None and any(edge):
+                    bounds = box[node]
+                    assert bounds is not None
+                    total += sum(bounds[k][0] * edge[k] for k in range(3)) * power(top)
             else:
                 weights = [0, 0, 0]
                 for k, target in enumerate(succ[node]):
@@ -208,6 +219,8 @@ class _Scaled:
                     x = value[target]
                     if x:
                         weights[k] = x * power(top - height[target])
+                    if edge is not None and edge[k]:
+                        weights[k] += edge[k] * power(top)
                 bounds = box[node]
                 assert bounds is not None
                 total = _extreme(weights, bounds, q, maximise)
@@ -241,7 +254,8 @@ def _extreme(weights: list[int], bounds: Box, q: int, maximise: bool) -> int:
     return amounts[0] * weights[0] + amounts[1] * weights[1] + amounts[2] * weights[2]
 
 
-def outcome_probabilities(orders: Orders, graph: MissionGraph) -> Probabilities | None:
+def outcome_probabilities(orders: Orders, graph: MissionGraph, legs: MissionLegs | None = None
+                          ) -> Probabilities | None:
     """Every figure, or None when paths cannot be counted (no start, a loop, a dangling or
     missing successor reachable from the start)."""
     order = topological_order(graph)
@@ -253,9 +267,9 @@ def outcome_probabilities(orders: Orders, graph: MissionGraph) -> Probabilities 
     goal_count = graph.goal_count
 
     def both(leaf: Callable[[int], int], extra: Sequence[int] | None = None,
-             zero_violate: bool = False) -> Bound:
-        low = scaled.run(leaf, False, extra, zero_violate)
-        high = scaled.run(leaf, True, extra, zero_violate) if not exact else low
+             zero_violate: bool = False, edges: Sequence[Edges] | None = None) -> Bound:
+        low = scaled.run(leaf, False, extra, zero_violate, edges)
+        high = scaled.run(leaf, True, extra, zero_violate, edges) if not exact else low
         return Bound(low, high)
 
     reachable = sorted(order)
@@ -270,32 +284,25 @@ def outcome_probabilities(orders: Orders, graph: MissionGraph) -> Probabilities 
     clean = both(lambda t: 1, zero_violate=True)
     violation = Bound(1 - clean.high, 1 - clean.low)
 
-    vehicle = orders.target_vehicle()
-    areas = orders.area_index()
+    mission = mission_costs(orders, legs)
     expected: dict[str, Expectation] = {}
     for quantity in BUDGET_QUANTITIES:
-        costs = [Fraction(0)] * goal_count
-        missing: list[int] = []
-        for node in order:
-            cost, _ = goal_cost(graph.goals[node], quantity, vehicle, areas)
-            if cost is None:
-                missing.append(node)
-            else:
-                costs[node] = Fraction(repr(float(cost)))
-        scale = _common_denominator(costs)
-        ints = [_units(c, scale) for c in costs]
-        bound = both(lambda t: 0, extra=ints)
+        priced = graph_costs(orders, graph, quantity, mission, order)
+        exact_units = exact_costs(priced)  # BUDGET's costs, as BUDGET sums them
+        scale, ints, edges = exact_units.scale, exact_units.goal, exact_units.leg
+        bound = both(lambda t: 0, extra=ints, edges=edges)
         bound = Bound(bound.low / scale, bound.high / scale)
-        quantiles = cost_quantiles(scaled, ints, scale) if exact else None
+        quantiles = cost_quantiles(scaled, ints, edges, scale) if exact else None
         expected[quantity] = Expectation(
-            bound, quantiles, tuple(graph.goal_ids[n] for n in sorted(missing)))
+            bound, quantiles, tuple(graph.goal_ids[n] for n in priced.unknown))
     return Probabilities(terminals, violation, expected, unknown, intervals)
 
 
-def cost_distribution(scaled: _Scaled, costs: Sequence[int]) -> dict[int, Fraction] | None:
-    """{total cost: probability} from the start (point probabilities only), or None when it
-    would take more than MAX_DISTRIBUTION_WORK updates. Weights are integers over Q^height as
-    in `_Scaled.run`."""
+def cost_distribution(scaled: _Scaled, costs: Sequence[int], edges: Sequence[Edges]
+                      ) -> dict[int, Fraction] | None:
+    """{total cost: probability} from the start (point probabilities only), where a path's
+    total is its goals' `costs` and the `edges` it takes, or None when it would take more than
+    MAX_DISTRIBUTION_WORK updates. Weights are integers over Q^height as in `_Scaled.run`."""
     graph = scaled.graph
     goal_count = graph.goal_count
     height = scaled.height
@@ -318,8 +325,9 @@ def cost_distribution(scaled: _Scaled, costs: Sequence[int]) -> dict[int, Fracti
             if work > MAX_DISTRIBUTION_WORK:
                 return None
             factor = p * power(top - height[target])
+            leg = edges[node][k]
             for total, weight in tail.items():
-                merged[total] = merged.get(total, 0) + factor * weight
+                merged[total + leg] = merged.get(total + leg, 0) + factor * weight
         own = costs[node]
         dist[node] = {own + total: weight for total, weight in merged.items()}
     start = graph.start
@@ -341,11 +349,12 @@ def quantile(distribution: dict[int, Fraction], level: Fraction) -> int:
     return totals[-1]
 
 
-def cost_quantiles(scaled: _Scaled, costs: Sequence[int], scale: int) -> dict[str, float] | None:
-    distribution = cost_distribution(scaled, costs)
+def cost_quantiles(scaled: _Scaled, costs: Sequence[int], edges: Sequence[Edges], scale: int
+                   ) -> dict[str, float] | None:
+    distribution = cost_distribution(scaled, costs, edges)
     if distribution is None:
         return None
-    return {level: float(Fraction(quantile(distribution, Fraction(level)), scale))
+    return {level: reportable_total(Fraction(quantile(distribution, Fraction(level)), scale))
             for level in QUANTILES}
 
 
@@ -359,7 +368,7 @@ def path_probability_bounds(
 
 
 def _figure(bound: Bound) -> str:
-    low, high = float(bound.low), float(bound.high)
+    low, high = reportable_total(bound.low), reportable_total(bound.high)
     return f"{low:.6g}" if low == high else f"{low:.6g} to {high:.6g}"
 
 

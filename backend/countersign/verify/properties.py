@@ -14,7 +14,8 @@ otherwise) and the counterexample is the shortest path from the start through a 
 a terminal (breadth-first distances both ways).
 
 `max` bounds a resource over every path (seed 001, Lemma 2: the vehicle does not run out of
-battery). Costs are the goals' given or estimated costs (as for BUDGET); the counterexample is
+battery). A path costs its goals and the legs of the edges it takes, as BUDGET charges them
+(verify/costs.py); the counterexample is
 the shortest path whose total exceeds the bound, found by dynamic programming over the DAG by
 path length.
 """
@@ -29,7 +30,8 @@ from typing import Any, Literal
 
 from ..orders.findings import Finding, error, warning
 from ..orders.model import BUDGET_QUANTITIES, OUTCOMES, Orders, PathProperty
-from .budget import UNITS, goal_cost, reportable_total
+from .budget import UNITS, reportable_total
+from .costs import graph_costs
 from .expressions import Expr, fold, number_words, quantity_words, reads, with_unit
 from .graph import MissionGraph, build_graph
 from .logic import (
@@ -155,21 +157,26 @@ def shortest_through_any(graph: MissionGraph, nodes: Sequence[int]) -> tuple[int
     return best, path_through(graph, best, to_terminal)
 
 
+Legs = Sequence[tuple[float, float, float]]
+
+
 def shortest_exceeding_path(
-    graph: MissionGraph, costs: Sequence[float], bound: float
+    graph: MissionGraph, costs: Sequence[float], bound: float, legs: Legs | None = None
 ) -> tuple[CounterPath, float, bool] | None:
     """The shortest complete path whose total cost exceeds a bound: (path, its total, whether it
     is proven shortest), or None when no path exceeds the bound or paths cannot be counted.
-    Costs are per goal node and must be non-negative."""
+    Costs are per goal node, `legs` per outcome edge (the leg each outcome takes), all
+    non-negative."""
     order = topological_order(graph)
     if order is None or graph.start is None:
         return None
     n = graph.goal_count
     succ = graph.succ
+    edge = legs if legs is not None else [(0.0, 0.0, 0.0)] * n
     worst = [0.0] * n
     for node in order:  # successors first
         worst[node] = costs[node] + max(
-            0.0 if t >= n else worst[t] for t in succ[node]
+            edge[node][k] + (0.0 if t >= n else worst[t]) for k, t in enumerate(succ[node])
         )
     if worst[graph.start] <= bound:
         return None
@@ -177,23 +184,33 @@ def shortest_exceeding_path(
     for node in order:
         longest[node] = 1 + max(0 if t >= n else longest[t] for t in succ[node])
     if len(order) * longest[graph.start] <= MAX_LAYER_WORK:
-        found = _shortest_by_length(graph, order, costs, bound, longest[graph.start])
+        found = _shortest_by_length(graph, order, costs, edge, bound, longest[graph.start])
         if found is not None:
             return found[0], reportable_total(found[1]), True
-    return _costliest(graph, worst), reportable_total(worst[graph.start]), False
+    return _costliest(graph, worst, edge), reportable_total(worst[graph.start]), False
 
 
 def _shortest_by_length(
-    graph: MissionGraph, order: list[int], costs: Sequence[float], bound: float, limit: int
+    graph: MissionGraph, order: list[int], costs: Sequence[float], legs: Legs, bound: float,
+    limit: int
 ) -> tuple[CounterPath, float] | None:
     n = graph.goal_count
     succ = graph.succ
     minus = float("-inf")
+
+    def onward(node: int, previous: list[float] | None) -> list[float]:
+        """Per outcome, the leg and the most the rest of a path of the layer's length adds
+        (-inf where no such path goes on): into a terminal for the first layer."""
+        return [legs[node][k] + (0.0 if t >= n else minus) if previous is None else
+                (legs[node][k] + previous[t] if 0 <= t < n and previous[t] > minus else minus)
+                for k, t in enumerate(succ[node])]
+
     # layers[k][node]: the largest cost of a path of exactly k+1 goals from node to a terminal.
     first = [minus] * n
     for node in order:
-        if any(t >= n for t in succ[node]):
-            first[node] = costs[node]
+        best = max(onward(node, None))
+        if best > minus:
+            first[node] = costs[node] + best
     layers = [first]
     start = graph.start
     assert start is not None
@@ -201,7 +218,7 @@ def _shortest_by_length(
         previous = layers[-1]
         layer = [minus] * n
         for node in order:
-            best = max((previous[t] for t in succ[node] if 0 <= t < n), default=minus)
+            best = max(onward(node, previous))
             if best > minus:
                 layer[node] = costs[node] + best
         layers.append(layer)
@@ -213,26 +230,25 @@ def _shortest_by_length(
     node = start
     for k in range(len(layers) - 1, -1, -1):
         goals.append(graph.goal_ids[node])
-        if k == 0:
-            j = next(j for j, t in enumerate(succ[node]) if t >= n)
-            outcomes.append(OUTCOMES[j])
-            return CounterPath(tuple(goals), tuple(outcomes), graph.node_id(succ[node][j])), total
-        want = layers[k][node] - costs[node]
-        j = next(j for j, t in enumerate(succ[node])
-                 if 0 <= t < n and layers[k - 1][t] == want)
+        # The outcome the layer's best came through: the same sums, so equal exactly.
+        options = onward(node, layers[k - 1] if k else None)
+        j = options.index(max(options))
         outcomes.append(OUTCOMES[j])
+        if k == 0:
+            return CounterPath(tuple(goals), tuple(outcomes), graph.node_id(succ[node][j])), total
         node = succ[node][j]
     raise AssertionError("unreachable")  # pragma: no cover
 
 
-def _costliest(graph: MissionGraph, worst: list[float]) -> CounterPath:
+def _costliest(graph: MissionGraph, worst: list[float], legs: Legs) -> CounterPath:
     n = graph.goal_count
     node = graph.start
     assert node is not None
     goals: list[str] = []
     outcomes: list[str] = []
     while node < n:
-        options = [0.0 if t >= n else worst[t] for t in graph.succ[node]]
+        options = [legs[node][k] + (0.0 if t >= n else worst[t])
+                   for k, t in enumerate(graph.succ[node])]
         k = max(range(3), key=lambda i: (options[i], -i))
         goals.append(graph.goal_ids[node])
         outcomes.append(OUTCOMES[k])
@@ -420,16 +436,10 @@ def _solve_state(run: LogicRun, items: list[Item], failing: Item) -> GoalVerdict
 
 def _check_bound(orders: Orders, graph: MissionGraph, prop: PathProperty, quantity: str,
                  bound: float) -> list[Finding]:
-    vehicle = orders.target_vehicle()
-    areas = orders.area_index()
-    costs: list[float] = []
-    unknown: list[str] = []
-    for goal in graph.goals:
-        cost, _ = goal_cost(goal, quantity, vehicle, areas)
-        if cost is None:
-            unknown.append(goal.id)
-        costs.append(cost or 0.0)
-    found = shortest_exceeding_path(graph, costs, bound)
+    # A path costs what BUDGET charges it: its goals and the legs of the edges it takes.
+    priced = graph_costs(orders, graph, quantity)
+    unknown = [graph.goal_ids[n] for n in priced.unknown]
+    found = shortest_exceeding_path(graph, priced.goal, bound, priced.leg)
     unit, noun = UNITS[quantity]
     findings: list[Finding] = []
     if found is not None:

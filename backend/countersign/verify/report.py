@@ -187,7 +187,7 @@ def _core(orders: Orders, graph: MissionGraph) -> CorePart:
     structural.extend(check_budget(costs))
     descriptive = [*check_vehicle(orders), *check_text(orders), *check_geo(orders, graph, legs)]
     design = [*rules_findings(orders), *check_patterns(orders, graph, legs=legs)]
-    probabilities = (outcome_probabilities(orders, graph)
+    probabilities = (outcome_probabilities(orders, graph, legs)
                      if counts is not None and declares_probabilities(orders) else None)
     return CorePart(defaulted_findings(orders), structural, descriptive, design, counts, costs,
                     probabilities)
