@@ -213,6 +213,25 @@ def test_a_permission_is_an_exception_to_a_prohibition() -> None:
     assert check_logic(variant(permitted)) == []
 
 
+@pytest.mark.parametrize("permit_context", ["research_zone", "depth_m > 1000"])
+def test_a_permission_excuses_nothing_where_its_own_context_does_not_hold(
+    permit_context: str,
+) -> None:
+    """The permit holds in Area B (or at a depth no goal is ordered to): sampling in the
+    protected Area A stays forbidden, so the permission's context must be part of the
+    exception and not only its permitted behaviour."""
+    def permitted_elsewhere(data: dict[str, Any]) -> None:
+        protected(data)
+        next(a for a in data["areas"] if a["id"] == "B")["contexts"].append("research_zone")
+        data["norms"].append({"id": "N2", "context": permit_context,
+                              "permitted": "behavior == 'sample'", "text": "Research permit"})
+
+    [finding] = check_logic(variant(permitted_elsewhere))
+    assert finding.code == "NORM" and finding.severity == "error"
+    assert finding.subjects == ("G2", "N1", "marine_protected_area")
+    assert "(unless N2 permits the behavior 'sample'" in finding.message
+
+
 def test_obligation_forced_by_the_envelope_is_refused_and_one_merely_allowed_is_a_warning() -> None:
     def lane(data: dict[str, Any], low: int) -> None:
         next(a for a in data["areas"] if a["id"] == "C")["contexts"].append("shipping_lane")

@@ -347,3 +347,21 @@ def test_expression_quantities() -> None:
     assert expression_quantities('not ok implies speed < 2e3 and "depth_m" != area') == [
         "ok", "speed"]
     assert expression_quantities(None) == []
+
+
+def test_a_terminal_without_telling_words_takes_its_kind_from_the_outcome_reaching_it() -> None:
+    """NPS Turtle has no terminal kind: a terminal whose id and title carry no abort or
+    complete word is complete when a goal's success reaches it and an abort otherwise."""
+    data = orders_to_json(load_example("search-and-sample"))
+    data["terminals"] = [{"id": "PIER", "kind": "complete", "title": "Surface at the pier"},
+                         {"id": "HOLD", "kind": "abort", "title": "Surface in place"}]
+    rename = {"COMPLETE": "PIER", "ABORT": "HOLD"}
+    for goal in data["goals"]:
+        goal["next"] = {k: rename.get(v, v) for k, v in goal["next"].items()}
+    # HOLD is reached on both other outcomes, so the property that decides matters for both.
+    g3 = next(g for g in data["goals"] if g["id"] == "G3")
+    g3["next"] = {"succeed": "G4", "fail": "G4", "violate": "HOLD"}
+    orders = Orders.model_validate(data)
+    back = read_turtle(write_nps_turtle(orders).encode()).orders
+    assert {t.id: t.kind for t in back.effective_terminals} == {"PIER": "complete",
+                                                                 "HOLD": "abort"}
