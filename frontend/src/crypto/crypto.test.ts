@@ -113,51 +113,7 @@ describe("verifying an approval in the browser", () => {
   });
 
   it("passes a record built like the server's and fails a changed envelope naming its entry", async () => {
-    const pair = (await crypto.subtle.generateKey({ name: "Ed25519" }, false, ["sign", "verify"])) as CryptoKeyPair;
-    const raw = new Uint8Array(await crypto.subtle.exportKey("raw", pair.publicKey));
-    const kid = await keyId(raw);
-    const publicKey = toBase64(raw);
-    const orders = { id: "m", goals: [{ id: "G1" }] };
-    const digest = await jsonDigest(orders);
-    const statement = {
-      subject: [{ name: "m@v1", digest: { sha256: digest.slice(7) } }],
-      predicate: { mission: "m", version: 1, decision: "approved", supervisor: "sup" },
-    };
-    const envelope = await signEnvelope("application/vnd.in-toto+json", utf8(JSON.stringify(statement)), pair.privateKey, kid);
-    const envelopeDigest = `sha256:${toHex(new Uint8Array(await crypto.subtle.digest("SHA-256", utf8(envelope))))}`;
-    const events = [
-      { kind: "key.registered", detail: { key_id: kid, public_key: publicKey } },
-      { kind: "submission.created", detail: {} },
-      { kind: "approval.approved", detail: { envelope_digest: envelopeDigest, orders_digest: digest } },
-    ];
-    const rows: LogEntryRow[] = [];
-    let prev = "0".repeat(64);
-    for (const [index, event] of events.entries()) {
-      const entry = canonicalJson({ index, prev, event });
-      prev = toHex(await leafHash(utf8(entry)));
-      rows.push({ index, entry, leaf_hash: prev });
-    }
-    const logKey = (await crypto.subtle.generateKey({ name: "Ed25519" }, false, ["sign", "verify"])) as CryptoKeyPair;
-    const logRaw = new Uint8Array(await crypto.subtle.exportKey("raw", logKey.publicKey));
-    const root = await rootOf(await Promise.all(rows.map((r) => leafHash(utf8(r.entry)))));
-    const note = `countersign-log/1\n3\n${toBase64(root)}\n`;
-    const signature = new Uint8Array(await crypto.subtle.sign({ name: "Ed25519" }, logKey.privateKey, utf8(note)));
-    for (const row of rows) row.receipt = await receiptFor(logKey.privateKey, "countersign-log/1", row.index, row.leaf_hash);
-    const leaves = await Promise.all(rows.map((r) => leafHash(utf8(r.entry))));
-    const record: ApprovalRecord = {
-      id: 1,
-      mission: "m",
-      version: 1,
-      decision: "approved",
-      digest,
-      log_index: 2,
-      envelope,
-      orders,
-      key: { key_id: kid, public_key: publicKey, user: "sup" },
-      checkpoint: { size: 3, root: toHex(root), note, key_id: await keyId(logRaw), public_key: toBase64(logRaw), signature: toBase64(signature) },
-      // RFC 6962 path of leaf 2 in a tree of 3: its sibling is the hash of leaves 0 and 1.
-      inclusion: { index: 2, size: 3, hashes: [toHex(await rootOf(leaves.slice(0, 2)))] },
-    };
+    const { record, rows, orders, envelope } = await serverLikeRecord();
     const good = await verifyApproval(record, rows);
     expect(good.filter((c) => !c.ok)).toEqual([]);
 
@@ -186,6 +142,17 @@ describe("verifying an approval in the browser", () => {
         "log entry 2 (approval.approved) has a receipt not signed by the log key",
     );
   });
+
+  it("refuses a statement signed for another version or mission of the same orders", async () => {
+    // Versions 1 and 2 of a mission can hold the same orders (same digest): only the signed
+    // statement's version and mission tell which one the supervisor approved.
+    const { record, rows } = await serverLikeRecord();
+    for (const other of [{ version: 2 }, { mission: "n" }]) {
+      const checks = await verifyApproval({ ...record, ...other }, rows);
+      const failed = checks.filter((c) => !c.ok).map((c) => [c.id, c.detail]);
+      expect(failed).toEqual([["statement", "it names another mission or version"]]);
+    }
+  });
 });
 
 async function receiptFor(key: CryptoKey, origin: string, index: number, leaf: string): Promise<string> {
@@ -193,4 +160,54 @@ async function receiptFor(key: CryptoKey, origin: string, index: number, leaf: s
   const message = `countersign-receipt/v1\n${origin}\n${index}\n${leaf}\n${time}\n`;
   const signature = new Uint8Array(await crypto.subtle.sign({ name: "Ed25519" }, key, utf8(message)));
   return JSON.stringify({ format: "countersign-receipt/v1", origin, index, leaf, time, signature: toBase64(signature) });
+}
+
+/** An approval record and its log as the server builds them, signed by fresh keys. */
+async function serverLikeRecord(): Promise<{ record: ApprovalRecord; rows: LogEntryRow[]; orders: { id: string; goals: { id: string }[] }; envelope: string }> {
+  const pair = (await crypto.subtle.generateKey({ name: "Ed25519" }, false, ["sign", "verify"])) as CryptoKeyPair;
+  const raw = new Uint8Array(await crypto.subtle.exportKey("raw", pair.publicKey));
+  const kid = await keyId(raw);
+  const publicKey = toBase64(raw);
+  const orders = { id: "m", goals: [{ id: "G1" }] };
+  const digest = await jsonDigest(orders);
+  const statement = {
+    subject: [{ name: "m@v1", digest: { sha256: digest.slice(7) } }],
+    predicate: { mission: "m", version: 1, decision: "approved", supervisor: "sup" },
+  };
+  const envelope = await signEnvelope("application/vnd.in-toto+json", utf8(JSON.stringify(statement)), pair.privateKey, kid);
+  const envelopeDigest = `sha256:${toHex(new Uint8Array(await crypto.subtle.digest("SHA-256", utf8(envelope))))}`;
+  const events = [
+    { kind: "key.registered", detail: { key_id: kid, public_key: publicKey } },
+    { kind: "submission.created", detail: {} },
+    { kind: "approval.approved", detail: { envelope_digest: envelopeDigest, orders_digest: digest } },
+  ];
+  const rows: LogEntryRow[] = [];
+  let prev = "0".repeat(64);
+  for (const [index, event] of events.entries()) {
+    const entry = canonicalJson({ index, prev, event });
+    prev = toHex(await leafHash(utf8(entry)));
+    rows.push({ index, entry, leaf_hash: prev });
+  }
+  const logKey = (await crypto.subtle.generateKey({ name: "Ed25519" }, false, ["sign", "verify"])) as CryptoKeyPair;
+  const logRaw = new Uint8Array(await crypto.subtle.exportKey("raw", logKey.publicKey));
+  const root = await rootOf(await Promise.all(rows.map((r) => leafHash(utf8(r.entry)))));
+  const note = `countersign-log/1\n3\n${toBase64(root)}\n`;
+  const signature = new Uint8Array(await crypto.subtle.sign({ name: "Ed25519" }, logKey.privateKey, utf8(note)));
+  for (const row of rows) row.receipt = await receiptFor(logKey.privateKey, "countersign-log/1", row.index, row.leaf_hash);
+  const leaves = await Promise.all(rows.map((r) => leafHash(utf8(r.entry))));
+  const record: ApprovalRecord = {
+    id: 1,
+    mission: "m",
+    version: 1,
+    decision: "approved",
+    digest,
+    log_index: 2,
+    envelope,
+    orders,
+    key: { key_id: kid, public_key: publicKey, user: "sup" },
+    checkpoint: { size: 3, root: toHex(root), note, key_id: await keyId(logRaw), public_key: toBase64(logRaw), signature: toBase64(signature) },
+    // RFC 6962 path of leaf 2 in a tree of 3: its sibling is the hash of leaves 0 and 1.
+    inclusion: { index: 2, size: 3, hashes: [toHex(await rootOf(leaves.slice(0, 2)))] },
+  };
+  return { record, rows, orders, envelope };
 }
