@@ -13,6 +13,7 @@ import pytest
 
 from countersign.orders.avcl import read_avcl
 from countersign.orders.canonical import canonical_bytes, digest, orders_to_json
+from countersign.orders.examples import example_names, load_example
 from countersign.orders.model import Orders
 
 from .test_avcl import avcl
@@ -70,3 +71,10 @@ def test_an_importers_defaulted_handlers_stay_inside_the_digest() -> None:
     assert goal["next"] == {"succeed": "DONE", "fail": "DONE", "violate": "DONE"}
     assert goal["defaulted"] == {"fail": "succeed", "violate": "succeed"}
     assert b'"defaulted":{"fail":"succeed","violate":"succeed"}' in canonical_bytes(result.orders)
+
+
+@pytest.mark.parametrize("name", example_names())
+def test_orders_as_json_are_plain_json_data(name: str) -> None:
+    """What is stored and served is JSON: envelopes are lists, not the model's tuples."""
+    data = orders_to_json(load_example(name))
+    assert json.loads(json.dumps(data)) == data
