@@ -10,7 +10,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from rdflib import Graph, Literal, URIRef
-from rdflib.namespace import RDF
+from rdflib.namespace import RDF, RDFS
 
 from countersign.orders.canonical import digest, orders_to_json
 from countersign.orders.examples import example_names, load_example
@@ -349,19 +349,47 @@ def test_expression_quantities() -> None:
     assert expression_quantities(None) == []
 
 
+def nps_terminal_kinds(pier: dict[str, str], hold: dict[str, str]) -> dict[str, str]:
+    """The exemplar with terminals PIER (reached only on success) and HOLD (reached only on
+    failure and violation), through the NPS view (which has no terminal kind) and back."""
+    data = orders_to_json(load_example("search-and-sample"))
+    data["terminals"] = [{"kind": "complete", **pier}, {"kind": "abort", **hold}]
+    rename = {"COMPLETE": pier["id"], "ABORT": hold["id"]}
+    for goal in data["goals"]:
+        goal["next"] = {k: rename.get(v, v) for k, v in goal["next"].items()}
+    graph = nps_graph(Orders.model_validate(data))
+    # The NPS view writes a terminal's title only; NPS puts a description in the comment.
+    for terminal in (pier, hold):
+        if "description" in terminal:
+            node = next(n for n in set(graph.subjects()) if str(n).endswith("#" + terminal["id"]))
+            graph.set((node, RDFS.comment,
+                       Literal(f"{terminal['title']}: {terminal['description']}")))
+    back = read_turtle(graph.serialize(format="turtle").encode()).orders
+    return {t.id: t.kind for t in back.effective_terminals}
+
+
 def test_a_terminal_without_telling_words_takes_its_kind_from_the_outcome_reaching_it() -> None:
     """NPS Turtle has no terminal kind: a terminal whose id and title carry no abort or
     complete word is complete when a goal's success reaches it and an abort otherwise."""
-    data = orders_to_json(load_example("search-and-sample"))
-    data["terminals"] = [{"id": "PIER", "kind": "complete", "title": "Surface at the pier"},
-                         {"id": "HOLD", "kind": "abort", "title": "Surface in place"}]
-    rename = {"COMPLETE": "PIER", "ABORT": "HOLD"}
-    for goal in data["goals"]:
-        goal["next"] = {k: rename.get(v, v) for k, v in goal["next"].items()}
-    # HOLD is reached on both other outcomes, so the property that decides matters for both.
-    g3 = next(g for g in data["goals"] if g["id"] == "G3")
-    g3["next"] = {"succeed": "G4", "fail": "G4", "violate": "HOLD"}
-    orders = Orders.model_validate(data)
-    back = read_turtle(write_nps_turtle(orders).encode()).orders
-    assert {t.id: t.kind for t in back.effective_terminals} == {"PIER": "complete",
-                                                                 "HOLD": "abort"}
+    kinds = nps_terminal_kinds({"id": "PIER", "title": "Surface at the pier"},
+                               {"id": "HOLD", "title": "Surface in place"})
+    assert kinds == {"PIER": "complete", "HOLD": "abort"}
+
+
+@pytest.mark.parametrize(("field", "text"), [
+    ("title", "Mission FAILED"), ("title", "Abort at the pier"), ("description", "An exception"),
+    ("description", "Transmit a Beacon"), ("id", "AWAIT_PICKUP"),
+])
+def test_abort_words_win_over_a_success_reaching_the_terminal(field: str, text: str) -> None:
+    pier = {"id": "PIER", "title": "Surface at the pier", field: text}
+    kinds = nps_terminal_kinds(pier, {"id": "HOLD", "title": "Surface in place"})
+    assert kinds == {pier["id"]: "abort", "HOLD": "abort"}
+
+
+@pytest.mark.parametrize(("field", "text"), [
+    ("title", "SUCCESS at sea"), ("description", "Mission complete"),
+])
+def test_complete_words_win_over_a_failure_reaching_the_terminal(field: str, text: str) -> None:
+    hold = {"id": "HOLD", "title": "Surface in place", field: text}
+    kinds = nps_terminal_kinds({"id": "PIER", "title": "Surface at the pier"}, hold)
+    assert kinds == {"PIER": "complete", "HOLD": "complete"}
