@@ -393,3 +393,27 @@ def test_complete_words_win_over_a_failure_reaching_the_terminal(field: str, tex
     hold = {"id": "HOLD", "title": "Surface in place", field: text}
     kinds = nps_terminal_kinds({"id": "PIER", "title": "Surface at the pier"}, hold)
     assert kinds == {"PIER": "complete", "HOLD": "complete"}
+
+
+def test_a_goals_phase_is_read_from_the_meaning_and_keeps_its_other_params() -> None:
+    orders = Orders.model_validate({
+        **orders_to_json(load_example("search-and-sample")),
+        "goals": [{**g, "params": {"pd": 0.8, "phase": "search"}} if g["id"] == "G1" else g
+                  for g in orders_to_json(load_example("search-and-sample"))["goals"]],
+    })
+    assert round_trip(orders).goal_index()["G1"].params == {"pd": 0.8, "phase": "search"}
+
+    def rephase(value: str) -> Any:
+        def change(graph: Graph, iris: MissionIris) -> None:
+            graph.set((iris.element("goal", "G1"), MEO.isPartOfPhase, Literal(value)))
+        return change
+
+    moved = edited(orders, rephase("transit"))
+    assert moved.goal_index()["G1"].params == {"pd": 0.8, "phase": "transit"}
+    # NPS writes 'undefined' for a goal of no phase: it changes nothing.
+    assert edited(orders, rephase("'undefined'")).goal_index()["G1"].params == {
+        "pd": 0.8, "phase": "search"}
+    # A goal without params gains the phase the meaning gives it.
+    g3 = edited(orders, lambda graph, iris: graph.set(
+        (iris.element("goal", "G3"), MEO.isPartOfPhase, Literal("survey")))).goal_index()["G3"]
+    assert g3.params.get("phase") == "survey"
