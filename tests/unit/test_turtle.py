@@ -417,3 +417,13 @@ def test_a_goals_phase_is_read_from_the_meaning_and_keeps_its_other_params() -> 
     g3 = edited(orders, lambda graph, iris: graph.set(
         (iris.element("goal", "G3"), MEO.isPartOfPhase, Literal("survey")))).goal_index()["G3"]
     assert g3.params.get("phase") == "survey"
+
+
+def test_an_outcome_whose_successors_were_all_removed_is_read_without_one() -> None:
+    """The record still names G1's failure successor, the meaning names none: the meaning
+    wins and the outcome is left without a successor (a SINK finding later)."""
+    def unlink(graph: Graph, iris: MissionIris) -> None:
+        graph.remove((iris.element("goal", "G1"), MEO.isNextOnFail, None))
+
+    back = edited(load_example("search-and-sample"), unlink)
+    assert back.goal_index()["G1"].next == {"succeed": "G2", "violate": "G4"}
