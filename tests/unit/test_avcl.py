@@ -2,9 +2,13 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import pytest
 
 from countersign.orders.avcl import read_avcl
+from countersign.orders.defaults import defaulted_findings
+from countersign.orders.model import Orders
 from countersign.orders.reader import OrdersReadError, ReadResult, read_bytes
 from countersign.verify.structure import check_structure
 
@@ -83,6 +87,37 @@ def test_missing_failure_defaults_to_success_with_warnings() -> None:
     assert "A2" in messages[("B", "violate")]
     # The defaults leave nothing missing, so the structure check has no SINK error.
     assert not [f for f in check_structure(result.orders) if f.code == "SINK"]
+
+
+def test_a_defaulted_record_warns_only_while_the_outcome_still_follows_its_model() -> None:
+    """The record travels in JSON orders too, so it is judged against the successors as they
+    are now: an outcome the author re-routed, a record naming no NPS default, or outcomes
+    with no successor give no warning (and no crash); the others keep theirs."""
+    def goal(goal_id: str, next_: dict[str, str], defaulted: dict[str, str]) -> dict[str, Any]:
+        return {"id": goal_id, "title": f"Goal {goal_id}", "next": next_, "defaulted": defaulted}
+
+    both = {"fail": "succeed", "violate": "fail"}
+    orders = Orders.model_validate({"id": "m", "vehicle": "v", "start": "A", "goals": [
+        goal("A", {"succeed": "B", "fail": "B", "violate": "B"}, both),
+        goal("B", {"succeed": "COMPLETE", "fail": "ABORT", "violate": "ABORT"}, both),
+        goal("C", {"succeed": "COMPLETE", "fail": "COMPLETE", "violate": "COMPLETE"},
+             {"fail": "violate", "violate": "abort"}),
+        goal("D", {"violate": "ABORT"}, {"fail": "succeed"}),
+        goal("E", {"succeed": "NOWHERE", "fail": "NOWHERE", "violate": "ABORT"},
+             {"fail": "succeed"}),
+    ]})
+    found = {(f.subjects[0], f.details["outcome"]): f for f in defaulted_findings(orders)}
+    assert sorted(found) == [("A", "fail"), ("A", "violate"), ("B", "violate"), ("E", "fail")]
+    assert found[("A", "fail")].message == (
+        "Goal Goal A does not say what comes next when it fails: the AVCL orders give no "
+        "nextOnFailure. Following the NPS convention, a failure is handled like a success, so "
+        "the mission continues with Goal B. Confirm that this is intended, or add the handler "
+        "explicitly."
+    )
+    assert found[("B", "violate")].details["defaulted_to"] == "ABORT"
+    assert "continues with Mission abort." in found[("B", "violate")].message
+    # A target that is neither a goal nor a terminal (G3) is named by its id.
+    assert "continues with NOWHERE." in found[("E", "fail")].message
 
 
 def test_goal_with_only_failure_handler_stays_a_goal_with_a_sink() -> None:

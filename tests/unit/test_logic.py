@@ -213,6 +213,83 @@ def test_a_permission_is_an_exception_to_a_prohibition() -> None:
     assert check_logic(variant(permitted)) == []
 
 
+@pytest.mark.parametrize("permit_context", ["research_zone", "depth_m > 1000"])
+def test_a_permission_excuses_nothing_where_its_own_context_does_not_hold(
+    permit_context: str,
+) -> None:
+    """The permit holds in Area B (or at a depth no goal is ordered to): sampling in the
+    protected Area A stays forbidden, so the permission's context must be part of the
+    exception and not only its permitted behaviour."""
+    def permitted_elsewhere(data: dict[str, Any]) -> None:
+        protected(data)
+        next(a for a in data["areas"] if a["id"] == "B")["contexts"].append("research_zone")
+        data["norms"].append({"id": "N2", "context": permit_context,
+                              "permitted": "behavior == 'sample'", "text": "Research permit"})
+
+    [finding] = check_logic(variant(permitted_elsewhere))
+    assert finding.code == "NORM" and finding.severity == "error"
+    assert finding.subjects == ("G2", "N1", "marine_protected_area")
+    assert "(unless N2 permits the behavior 'sample'" in finding.message
+
+
+def test_a_refusal_names_the_prohibition_and_every_permission_that_could_excuse_it() -> None:
+    def two_permits(data: dict[str, Any]) -> None:
+        protected(data)
+        next(a for a in data["areas"] if a["id"] == "B")["contexts"].append("research_zone")
+        data["norms"] += [
+            {"id": "N2", "context": "research_zone", "permitted": "behavior == 'sample'"},
+            {"id": "N3", "context": "depth_m > 1000", "permitted": "area == 'A'"},
+        ]
+
+    [finding] = check_logic(variant(two_permits))
+    assert finding.subjects == ("G2", "N1", "marine_protected_area")
+    assert (
+        "N1 forbids the behavior 'sample' in a marine protected area (unless N2 permits the "
+        "behavior 'sample' in a research zone or N3 permits area is 'A' when depth > 1,000 m)"
+    ) in finding.message
+
+
+def test_an_edited_permission_is_rechecked_through_the_cache() -> None:
+    """A permission is part of every prohibition it may excuse: the cached result of a goal
+    must not outlive an edit of a permission's context (here one that reads the same
+    quantity, so the goal's facts stay the same and only N1's exception differs)."""
+    def permit(context: str) -> Callable[[dict[str, Any]], None]:
+        def change(data: dict[str, Any]) -> None:
+            protected(data)
+            data["norms"].append({"id": "N2", "context": context,
+                                  "permitted": "behavior == 'sample'"})
+        return change
+
+    cache = LogicCache()
+    assert check_logic(variant(permit("depth_m >= 0")), cache) == []
+    [finding] = check_logic(variant(permit("depth_m > 1000")), cache)
+    assert finding.subjects == ("G2", "N1", "marine_protected_area")
+
+
+def test_every_norm_is_judged_on_its_own_breach() -> None:
+    """A refusal, two obligations whose breach depends on depth (each with its own witness)
+    and a permission that concerns none of them: nothing of one norm leaks into another."""
+    def many(data: dict[str, Any]) -> None:
+        protected(data)
+        next(a for a in data["areas"] if a["id"] == "C")["contexts"].append("shipping_lane")
+        goal(data, "G4")["envelope"] = {"depth_m": [20, 40]}
+        data["norms"] += [
+            {"id": "N2", "context": "shipping_lane", "obligated": "depth_m >= 30"},
+            {"id": "N3", "context": "shipping_lane", "obligated": "depth_m <= 35"},
+            {"id": "N4", "context": "research_zone", "permitted": "behavior == 'sample'"},
+        ]
+
+    findings = {f.subjects[:2]: f for f in check_logic(variant(many))}
+    assert sorted(findings) == [("G2", "N1"), ("G4", "N2"), ("G4", "N3")]
+    assert findings[("G2", "N1")].severity == "error"
+    low, high = findings[("G4", "N2")], findings[("G4", "N3")]
+    assert low.severity == high.severity == "warning"
+    assert float(low.details["witness"]["depth_m"]) < 30
+    assert float(high.details["witness"]["depth_m"]) > 35
+    # An obligation has no exception: a permission is no part of its wording.
+    assert "unless" not in low.message and "unless" not in high.message
+
+
 def test_obligation_forced_by_the_envelope_is_refused_and_one_merely_allowed_is_a_warning() -> None:
     def lane(data: dict[str, Any], low: int) -> None:
         next(a for a in data["areas"] if a["id"] == "C")["contexts"].append("shipping_lane")

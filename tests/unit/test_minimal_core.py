@@ -58,3 +58,24 @@ def test_every_placement_of_the_contradiction_in_the_halves_is_minimal() -> None
                 order.insert(min(index, len(order)), core_item)
             found, _ = session.minimal_core(order)
             assert len(found) == 3, ([i.key for i in order], [i.key for i in found])
+
+
+# Two contradictions that cross the halves: {x > 5, x < 3} and {y > 5, y < 3}. Minimising the
+# second half against the whole first half (instead of its minimised part) can keep a
+# statement of the other contradiction and return a set that is not even a core.
+CROSSING = [_item("a1", "x > 5"), _item("b1", "y > 5"), _item("a2", "x < 3"),
+            _item("b2", "y < 3")]
+
+
+@pytest.mark.parametrize("order", list(itertools.permutations(range(4))))
+def test_a_second_half_is_minimised_against_the_minimised_first_half(
+    order: tuple[int, ...],
+) -> None:
+    items = [CROSSING[i] for i in order]
+    session = _session()
+    with session.scope(items):
+        found, proven = session.minimal_core(items)
+        assert proven
+        keys = {i.key for i in found}
+        assert keys in ({"a1", "a2"}, {"b1", "b2"}), [i.key for i in items]
+        assert session.check(found).status == "unsat"

@@ -11,7 +11,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from rdflib import Graph, Literal, URIRef
-from rdflib.namespace import RDF
+from rdflib.namespace import RDF, RDFS
 
 from countersign.ontology_files import NPS_ALIGNMENT, load_graph
 from countersign.orders.canonical import digest, orders_to_json
@@ -356,3 +356,83 @@ def test_expression_quantities() -> None:
     assert expression_quantities('not ok implies speed < 2e3 and "depth_m" != area') == [
         "ok", "speed"]
     assert expression_quantities(None) == []
+
+
+def nps_terminal_kinds(pier: dict[str, str], hold: dict[str, str]) -> dict[str, str]:
+    """The exemplar with terminals PIER (reached only on success) and HOLD (reached only on
+    failure and violation), through the NPS view (which has no terminal kind) and back."""
+    data = orders_to_json(load_example("search-and-sample"))
+    data["terminals"] = [{"kind": "complete", **pier}, {"kind": "abort", **hold}]
+    rename = {"COMPLETE": pier["id"], "ABORT": hold["id"]}
+    for goal in data["goals"]:
+        goal["next"] = {k: rename.get(v, v) for k, v in goal["next"].items()}
+    graph = nps_graph(Orders.model_validate(data))
+    # The NPS view writes a terminal's title only; NPS puts a description in the comment.
+    for terminal in (pier, hold):
+        if "description" in terminal:
+            node = next(n for n in set(graph.subjects()) if str(n).endswith("#" + terminal["id"]))
+            graph.set((node, RDFS.comment,
+                       Literal(f"{terminal['title']}: {terminal['description']}")))
+    back = read_turtle(graph.serialize(format="turtle").encode()).orders
+    return {t.id: t.kind for t in back.effective_terminals}
+
+
+def test_a_terminal_without_telling_words_takes_its_kind_from_the_outcome_reaching_it() -> None:
+    """NPS Turtle has no terminal kind: a terminal whose id and title carry no abort or
+    complete word is complete when a goal's success reaches it and an abort otherwise."""
+    kinds = nps_terminal_kinds({"id": "PIER", "title": "Surface at the pier"},
+                               {"id": "HOLD", "title": "Surface in place"})
+    assert kinds == {"PIER": "complete", "HOLD": "abort"}
+
+
+@pytest.mark.parametrize(("field", "text"), [
+    ("title", "Mission FAILED"), ("title", "Abort at the pier"), ("description", "An exception"),
+    ("description", "Transmit a Beacon"), ("id", "AWAIT_PICKUP"),
+])
+def test_abort_words_win_over_a_success_reaching_the_terminal(field: str, text: str) -> None:
+    pier = {"id": "PIER", "title": "Surface at the pier", field: text}
+    kinds = nps_terminal_kinds(pier, {"id": "HOLD", "title": "Surface in place"})
+    assert kinds == {pier["id"]: "abort", "HOLD": "abort"}
+
+
+@pytest.mark.parametrize(("field", "text"), [
+    ("title", "SUCCESS at sea"), ("description", "Mission complete"),
+])
+def test_complete_words_win_over_a_failure_reaching_the_terminal(field: str, text: str) -> None:
+    hold = {"id": "HOLD", "title": "Surface in place", field: text}
+    kinds = nps_terminal_kinds({"id": "PIER", "title": "Surface at the pier"}, hold)
+    assert kinds == {"PIER": "complete", "HOLD": "complete"}
+
+
+def test_a_goals_phase_is_read_from_the_meaning_and_keeps_its_other_params() -> None:
+    orders = Orders.model_validate({
+        **orders_to_json(load_example("search-and-sample")),
+        "goals": [{**g, "params": {"pd": 0.8, "phase": "search"}} if g["id"] == "G1" else g
+                  for g in orders_to_json(load_example("search-and-sample"))["goals"]],
+    })
+    assert round_trip(orders).goal_index()["G1"].params == {"pd": 0.8, "phase": "search"}
+
+    def rephase(value: str) -> Any:
+        def change(graph: Graph, iris: MissionIris) -> None:
+            graph.set((iris.element("goal", "G1"), MEO.isPartOfPhase, Literal(value)))
+        return change
+
+    moved = edited(orders, rephase("transit"))
+    assert moved.goal_index()["G1"].params == {"pd": 0.8, "phase": "transit"}
+    # NPS writes 'undefined' for a goal of no phase: it changes nothing.
+    assert edited(orders, rephase("'undefined'")).goal_index()["G1"].params == {
+        "pd": 0.8, "phase": "search"}
+    # A goal without params gains the phase the meaning gives it.
+    g3 = edited(orders, lambda graph, iris: graph.set(
+        (iris.element("goal", "G3"), MEO.isPartOfPhase, Literal("survey")))).goal_index()["G3"]
+    assert g3.params.get("phase") == "survey"
+
+
+def test_an_outcome_whose_successors_were_all_removed_is_read_without_one() -> None:
+    """The record still names G1's failure successor, the meaning names none: the meaning
+    wins and the outcome is left without a successor (a SINK finding later)."""
+    def unlink(graph: Graph, iris: MissionIris) -> None:
+        graph.remove((iris.element("goal", "G1"), MEO.isNextOnFail, None))
+
+    back = edited(load_example("search-and-sample"), unlink)
+    assert back.goal_index()["G1"].next == {"succeed": "G2", "violate": "G4"}

@@ -8,7 +8,7 @@ import vectors from "./__fixtures__/vectors.json";
 import { fromBase64, fromHex, toBase64, toHex, utf8 } from "./bytes";
 import { canonicalJson, jsonDigest } from "./canonical";
 import { importPublicKey, keyId, pae, parseEnvelope, signEnvelope, verifyEnvelope } from "./dsse";
-import { leafHash, rootOf, verifyInclusion } from "./merkle";
+import { leafHash, nodeHash, rootOf, verifyInclusion } from "./merkle";
 import { type ApprovalRecord, checkChain, type LogEntryRow, verifyApproval, verifyCheckpoint } from "./verify";
 
 describe("DSSE PAE", () => {
@@ -18,6 +18,7 @@ describe("DSSE PAE", () => {
 
   it("counts bytes, not characters", () => {
     expect(new TextDecoder().decode(pae("t", utf8("é")))).toBe("DSSEv1 1 t 2 é");
+    expect(new TextDecoder().decode(pae("é", utf8("t")))).toBe("DSSEv1 2 é 1 t");
   });
 
   it("verifies an envelope the Python code signed, and refuses one byte changed", async () => {
@@ -74,6 +75,12 @@ describe("RFC 6962 Merkle tree", () => {
       expect(await verifyInclusion(leaf, size, size, proof, root)).toBe(false);
     }
   });
+
+  it("refuses a proof that stops at a subtree root", async () => {
+    // Leaf 0 of 4 with only its sibling: the path ends at the root of leaves 0-1, not of 0-3.
+    const [l0, l1] = [fromHex(leaves[0]!), fromHex(leaves[1]!)];
+    expect(await verifyInclusion(l0, 0, 4, [l1], await nodeHash(l0, l1))).toBe(false);
+  });
 });
 
 describe("RFC 8785 canonical JSON", () => {
@@ -86,6 +93,12 @@ describe("RFC 8785 canonical JSON", () => {
     expect(canonicalJson({ b: 1, a: [1e21, 0.1, 100], "\ud83d\ude00": true, "\u20ac": null })).toBe(
       '{"a":[1e+21,0.1,100],"b":1,"\u20ac":null,"\ud83d\ude00":true}',
     );
+  });
+
+  it("refuses NaN and the infinities, which JSON cannot hold", () => {
+    for (const value of [NaN, Infinity, -Infinity]) {
+      expect(() => canonicalJson({ a: [value] })).toThrow("JSON has no NaN or Infinity");
+    }
   });
 });
 
@@ -112,52 +125,22 @@ describe("verifying an approval in the browser", () => {
     expect(problems.some((p) => p.startsWith("log entry 4 does not chain to entry 3"))).toBe(true);
   });
 
+  it("checks the link of the first entry after the genesis one", async () => {
+    const rows: LogEntryRow[] = vectors.merkle.entries.map((entry, index) => ({
+      index,
+      entry,
+      leaf_hash: vectors.merkle.leaves[index]!,
+    }));
+    const data = JSON.parse(rows[1]!.entry) as { prev: string };
+    data.prev = "1".repeat(64);
+    rows[1]!.entry = canonicalJson(data);
+    rows[1]!.leaf_hash = toHex(await leafHash(utf8(rows[1]!.entry)));
+    const { problems } = await checkChain(rows);
+    expect(problems.some((p) => p.startsWith("log entry 1 does not chain to entry 0"))).toBe(true);
+  });
+
   it("passes a record built like the server's and fails a changed envelope naming its entry", async () => {
-    const pair = (await crypto.subtle.generateKey({ name: "Ed25519" }, false, ["sign", "verify"])) as CryptoKeyPair;
-    const raw = new Uint8Array(await crypto.subtle.exportKey("raw", pair.publicKey));
-    const kid = await keyId(raw);
-    const publicKey = toBase64(raw);
-    const orders = { id: "m", goals: [{ id: "G1" }] };
-    const digest = await jsonDigest(orders);
-    const statement = {
-      subject: [{ name: "m@v1", digest: { sha256: digest.slice(7) } }],
-      predicate: { mission: "m", version: 1, decision: "approved", supervisor: "sup" },
-    };
-    const envelope = await signEnvelope("application/vnd.in-toto+json", utf8(JSON.stringify(statement)), pair.privateKey, kid);
-    const envelopeDigest = `sha256:${toHex(new Uint8Array(await crypto.subtle.digest("SHA-256", utf8(envelope))))}`;
-    const events = [
-      { kind: "key.registered", detail: { key_id: kid, public_key: publicKey } },
-      { kind: "submission.created", detail: {} },
-      { kind: "approval.approved", detail: { envelope_digest: envelopeDigest, orders_digest: digest } },
-    ];
-    const rows: LogEntryRow[] = [];
-    let prev = "0".repeat(64);
-    for (const [index, event] of events.entries()) {
-      const entry = canonicalJson({ index, prev, event });
-      prev = toHex(await leafHash(utf8(entry)));
-      rows.push({ index, entry, leaf_hash: prev });
-    }
-    const logKey = (await crypto.subtle.generateKey({ name: "Ed25519" }, false, ["sign", "verify"])) as CryptoKeyPair;
-    const logRaw = new Uint8Array(await crypto.subtle.exportKey("raw", logKey.publicKey));
-    const root = await rootOf(await Promise.all(rows.map((r) => leafHash(utf8(r.entry)))));
-    const note = `countersign-log/1\n3\n${toBase64(root)}\n`;
-    const signature = new Uint8Array(await crypto.subtle.sign({ name: "Ed25519" }, logKey.privateKey, utf8(note)));
-    for (const row of rows) row.receipt = await receiptFor(logKey.privateKey, "countersign-log/1", row.index, row.leaf_hash);
-    const leaves = await Promise.all(rows.map((r) => leafHash(utf8(r.entry))));
-    const record: ApprovalRecord = {
-      id: 1,
-      mission: "m",
-      version: 1,
-      decision: "approved",
-      digest,
-      log_index: 2,
-      envelope,
-      orders,
-      key: { key_id: kid, public_key: publicKey, user: "sup" },
-      checkpoint: { size: 3, root: toHex(root), note, key_id: await keyId(logRaw), public_key: toBase64(logRaw), signature: toBase64(signature) },
-      // RFC 6962 path of leaf 2 in a tree of 3: its sibling is the hash of leaves 0 and 1.
-      inclusion: { index: 2, size: 3, hashes: [toHex(await rootOf(leaves.slice(0, 2)))] },
-    };
+    const { record, rows, orders, envelope } = await serverLikeRecord();
     const good = await verifyApproval(record, rows);
     expect(good.filter((c) => !c.ok)).toEqual([]);
 
@@ -186,6 +169,57 @@ describe("verifying an approval in the browser", () => {
         "log entry 2 (approval.approved) has a receipt not signed by the log key",
     );
   });
+
+  it("refuses a statement signed for another version or mission of the same orders", async () => {
+    // Versions 1 and 2 of a mission can hold the same orders (same digest): only the signed
+    // statement's version and mission tell which one the supervisor approved.
+    const { record, rows } = await serverLikeRecord();
+    for (const other of [{ version: 2 }, { mission: "n" }]) {
+      const checks = await verifyApproval({ ...record, ...other }, rows);
+      const failed = checks.filter((c) => !c.ok).map((c) => [c.id, c.detail]);
+      expect(failed).toEqual([["statement", "it names another mission or version"]]);
+    }
+  });
+
+  it("refuses a statement whose digest, decision or supervisor is not the record's", async () => {
+    const other = await jsonDigest({ id: "other" });
+    const cases: [RecordOptions, string][] = [
+      [{ signedDigest: other }, `it signs ${other}, not `],
+      [{ predicate: { decision: "rejected" } }, "it signs the decision rejected, not approved"],
+      [{ predicate: { supervisor: "mallory" } }, "signed with sup's key but names mallory"],
+    ];
+    for (const [options, words] of cases) {
+      const { record, rows } = await serverLikeRecord(options);
+      const failed = (await verifyApproval(record, rows)).filter((c) => !c.ok);
+      expect(failed.map((c) => c.id)).toEqual(["statement"]);
+      expect(failed[0]!.detail).toContain(words);
+    }
+  });
+
+  it("refuses orders digests the log did not record", async () => {
+    const { record, rows } = await serverLikeRecord({ loggedDigest: await jsonDigest({ id: "other" }) });
+    const failed = (await verifyApproval(record, rows)).filter((c) => !c.ok);
+    expect(failed.map((c) => [c.id, c.detail])).toEqual([
+      ["logged", "the orders digest differs from the one logged in log entry 2"],
+    ]);
+  });
+
+  it("judges the signing key at the time of signing", async () => {
+    // Revoked after it signed: the approval stands.
+    const revokedLater = await serverLikeRecord({ later: (kid) => [{ kind: "key.revoked", detail: { key_id: kid } }] });
+    expect((await verifyApproval(revokedLater.record, revokedLater.rows)).filter((c) => !c.ok)).toEqual([]);
+    // Registered only after it signed: the key was not valid then.
+    const { record, rows } = await serverLikeRecord({ registeredAfter: true });
+    const key = (await verifyApproval(record, rows)).find((c) => c.id === "key")!;
+    expect(key.ok).toBe(false);
+    expect(key.detail).toContain("was not registered in the log before log entry 1");
+  });
+
+  it("refuses an inclusion proof made for another tree size", async () => {
+    const { record, rows } = await serverLikeRecord();
+    const checks = await verifyApproval({ ...record, inclusion: { ...record.inclusion!, size: 4 } }, rows);
+    expect(checks.filter((c) => !c.ok).map((c) => c.id)).toEqual(["inclusion"]);
+  });
 });
 
 async function receiptFor(key: CryptoKey, origin: string, index: number, leaf: string): Promise<string> {
@@ -193,4 +227,84 @@ async function receiptFor(key: CryptoKey, origin: string, index: number, leaf: s
   const message = `countersign-receipt/v1\n${origin}\n${index}\n${leaf}\n${time}\n`;
   const signature = new Uint8Array(await crypto.subtle.sign({ name: "Ed25519" }, key, utf8(message)));
   return JSON.stringify({ format: "countersign-receipt/v1", origin, index, leaf, time, signature: toBase64(signature) });
+}
+
+interface RecordOptions {
+  /** Overrides of the signed statement's predicate. */
+  predicate?: Record<string, unknown>;
+  /** The digest the statement signs (default: the orders'). */
+  signedDigest?: string;
+  /** The orders digest the log records for the approval (default: the orders'). */
+  loggedDigest?: string;
+  /** The key's registration is logged before the approval (default) or after it. */
+  registeredAfter?: boolean;
+  /** Events logged after the approval, given the signing key's id. */
+  later?: (kid: string) => { kind: string; detail: Record<string, unknown> }[];
+}
+
+/** RFC 6962 audit path of leaf `index` (section 2.1.1 PATH). */
+async function inclusionPath(leaves: Uint8Array[], index: number): Promise<Uint8Array[]> {
+  if (leaves.length <= 1) return [];
+  let k = 1;
+  while (k * 2 < leaves.length) k *= 2;
+  return index < k
+    ? [...(await inclusionPath(leaves.slice(0, k), index)), await rootOf(leaves.slice(k))]
+    : [...(await inclusionPath(leaves.slice(k), index - k)), await rootOf(leaves.slice(0, k))];
+}
+
+/** An approval record and its log as the server builds them, signed by fresh keys. */
+async function serverLikeRecord(options: RecordOptions = {}): Promise<{ record: ApprovalRecord; rows: LogEntryRow[]; orders: { id: string; goals: { id: string }[] }; envelope: string }> {
+  const pair = (await crypto.subtle.generateKey({ name: "Ed25519" }, false, ["sign", "verify"])) as CryptoKeyPair;
+  const raw = new Uint8Array(await crypto.subtle.exportKey("raw", pair.publicKey));
+  const kid = await keyId(raw);
+  const publicKey = toBase64(raw);
+  const orders = { id: "m", goals: [{ id: "G1" }] };
+  const digest = await jsonDigest(orders);
+  const statement = {
+    subject: [{ name: "m@v1", digest: { sha256: (options.signedDigest ?? digest).slice(7) } }],
+    predicate: { mission: "m", version: 1, decision: "approved", supervisor: "sup", ...options.predicate },
+  };
+  const envelope = await signEnvelope("application/vnd.in-toto+json", utf8(JSON.stringify(statement)), pair.privateKey, kid);
+  const envelopeDigest = `sha256:${toHex(new Uint8Array(await crypto.subtle.digest("SHA-256", utf8(envelope))))}`;
+  const registration = { kind: "key.registered", detail: { key_id: kid, public_key: publicKey } };
+  const approval = {
+    kind: "approval.approved",
+    detail: { envelope_digest: envelopeDigest, orders_digest: options.loggedDigest ?? digest },
+  };
+  const events = [
+    ...(options.registeredAfter ? [] : [registration]),
+    { kind: "submission.created", detail: {} },
+    approval,
+    ...(options.registeredAfter ? [registration] : []),
+    ...(options.later?.(kid) ?? []),
+  ];
+  const logIndex = events.indexOf(approval);
+  const rows: LogEntryRow[] = [];
+  let prev = "0".repeat(64);
+  for (const [index, event] of events.entries()) {
+    const entry = canonicalJson({ index, prev, event });
+    prev = toHex(await leafHash(utf8(entry)));
+    rows.push({ index, entry, leaf_hash: prev });
+  }
+  const logKey = (await crypto.subtle.generateKey({ name: "Ed25519" }, false, ["sign", "verify"])) as CryptoKeyPair;
+  const logRaw = new Uint8Array(await crypto.subtle.exportKey("raw", logKey.publicKey));
+  const leaves = await Promise.all(rows.map((r) => leafHash(utf8(r.entry))));
+  const root = await rootOf(leaves);
+  const note = `countersign-log/1\n${rows.length}\n${toBase64(root)}\n`;
+  const signature = new Uint8Array(await crypto.subtle.sign({ name: "Ed25519" }, logKey.privateKey, utf8(note)));
+  for (const row of rows) row.receipt = await receiptFor(logKey.privateKey, "countersign-log/1", row.index, row.leaf_hash);
+  const record: ApprovalRecord = {
+    id: 1,
+    mission: "m",
+    version: 1,
+    decision: "approved",
+    digest,
+    log_index: logIndex,
+    envelope,
+    orders,
+    key: { key_id: kid, public_key: publicKey, user: "sup" },
+    checkpoint: { size: rows.length, root: toHex(root), note, key_id: await keyId(logRaw), public_key: toBase64(logRaw), signature: toBase64(signature) },
+    inclusion: { index: logIndex, size: rows.length, hashes: (await inclusionPath(leaves, logIndex)).map((h) => toHex(h)) },
+  };
+  return { record, rows, orders, envelope };
 }
