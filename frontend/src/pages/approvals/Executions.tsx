@@ -1,8 +1,9 @@
 /**
  * What a record (approval) page shows of what vehicles did (issue 19): each recorded execution
  * of the version, stated as "approved, executed as path 17, no deviation" or naming the
- * deviations, and the cited rehearsal's runs checked by the same execution checker. All text
- * from the server is rendered as text.
+ * deviations, or "unverified" naming the times and readings it lacked; who uploaded each and
+ * what it evidenced; and the cited rehearsal's runs checked by the same execution checker. All
+ * text from the server is rendered as text.
  */
 import { api, type Schema, unwrap } from "../../api/client";
 import { ErrorMessage, Loading } from "../../components/Status";
@@ -11,6 +12,17 @@ import { useLoad } from "../../useLoad";
 
 export type RecordExecutions = Schema<"RecordExecutionsOut">;
 type Verdict = Schema<"ExecutionOut">;
+type Evidence = Schema<"EvidenceOut">;
+
+/** What a log evidenced and what it did not, in one line. */
+export function evidenceText(evidence: Evidence | null | undefined): string {
+  if (!evidence) return "evidence not checked (recorded before times and readings were required)";
+  const shown = [evidence.timed ? "start and end times of every goal run" : null,
+    evidence.constraints_read.length ? `readings for ${evidence.constraints_read.join(", ")}` : null]
+    .filter((part): part is string => part !== null);
+  const evidenced = `evidenced: ${shown.length ? shown.join("; ") : "nothing"}`;
+  return evidence.gaps.length ? `${evidenced}; not evidenced: ${evidence.gaps.join("; ")}` : evidenced;
+}
 
 export async function loadRecordExecutions(id: number): Promise<RecordExecutions> {
   const result = await api.GET("/api/approvals/{approval_id}/executions", { params: { path: { approval_id: id } } });
@@ -46,9 +58,12 @@ export function ExecutionsSection({ approvalId }: { approvalId: number }) {
               <span data-testid="execution-statement">{e.statement}</span>{" "}
               <span className="hint">
                 (log entry {e.log_index}
-                {e.actor ? `, by ${e.actor}` : ""}
+                {e.actor ? `, uploaded by ${e.actor}` : ""}
                 {e.at ? `, ${formatDateTime(e.at)}` : ""})
               </span>
+              <div className="hint" data-testid="execution-evidence">
+                {evidenceText(e.evidence)}
+              </div>
             </li>
           ))}
         </ol>
