@@ -90,7 +90,7 @@ def test_a_step_without_its_start_is_unverified() -> None:
 ])
 def test_absurd_times_are_errors_naming_the_step(
         times: list[tuple[str | None, str | None]], message: str) -> None:
-    with pytest.raises(ExecutionLogError, match="step [0-9]") as raised:
+    with pytest.raises(ExecutionLogError, match=r"step [0-9]") as raised:
         check_execution(ORDERS, read_log(_with_times(times)), WINDOW)
     assert message in str(raised.value)
 
