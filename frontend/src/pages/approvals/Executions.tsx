@@ -9,21 +9,10 @@ import { api, type Schema, unwrap } from "../../api/client";
 import { ErrorMessage, Loading } from "../../components/Status";
 import { formatDateTime } from "../../format";
 import { useLoad } from "../../useLoad";
+import { evidenceText } from "./evidence";
 
 export type RecordExecutions = Schema<"RecordExecutionsOut">;
 type Verdict = Schema<"ExecutionOut">;
-type Evidence = Schema<"EvidenceOut">;
-
-/** What a log evidenced and what it did not, in one line. */
-export function evidenceText(evidence: Evidence | null | undefined): string {
-  if (!evidence) return "evidence not checked (recorded before times and readings were required)";
-  const shown = [evidence.timed ? "start and end times of every goal run" : null,
-    evidence.constraints_read.length ? `readings for ${evidence.constraints_read.join(", ")}` : null]
-    .filter((part): part is string => part !== null);
-  const evidenced = `evidenced: ${shown.length ? shown.join("; ") : "nothing"}`;
-  return evidence.gaps.length ? `${evidenced}; not evidenced: ${evidence.gaps.join("; ")}` : evidenced;
-}
-
 export async function loadRecordExecutions(id: number): Promise<RecordExecutions> {
   const result = await api.GET("/api/approvals/{approval_id}/executions", { params: { path: { approval_id: id } } });
   return unwrap(result);
