@@ -15,7 +15,7 @@ DEEP = "[" * 1000 + "]" * 1000
 
 
 def test_a_geojson_chart_nested_too_deep_is_not_json() -> None:
-    with pytest.raises(GeoFormatError, match="not JSON: .*nested"):
+    with pytest.raises(GeoFormatError, match=r"not JSON: .*nested"):
         charts_from_geojson('{"type": "FeatureCollection", "features": ' + DEEP + "}")
 
 

@@ -8,7 +8,7 @@ evaluated. A log without them is not a deviation but "unverified", and says what
 Times that cannot be real are errors, not evidence: text that is no time, an ISO 8601 time
 without a zone, an end before its start or a goal starting before the one before it ended,
 an absolute time after the present (plus clock skew) or before the approval, and relative
-seconds (a MOOS alog's, a simulation's) that are negative or span more than the window."""
+seconds (a MOOS alog's, a simulation's) that span more than the window."""
 
 from __future__ import annotations
 
@@ -149,8 +149,8 @@ def check_times(steps: Sequence[TimedStep], window: TimeWindow | None) -> tuple[
 def _within(seconds: float, absolute: bool, window: TimeWindow | None, where: str,
             first: float | None) -> None:
     if not absolute:
-        if seconds < 0:
-            raise ExecutionLogError(f"{where}: {seconds:g} s is negative")
+        # Relative seconds have their own origin (a MOOS alog's is when pLogger started, so
+        # the first entries can be negative): only their span can be bounded.
         span = seconds - (first if first is not None else seconds)
         if window is not None and window.not_before is not None and \
                 span > window.not_after - window.not_before:
