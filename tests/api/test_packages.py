@@ -23,6 +23,7 @@ from countersign.export.package import build_package, read_tar, write_tar
 from countersign.export.package_verify import verify_package
 from countersign.store.packages import package_parts
 
+from ..export.execution_logs import evidenced_log
 from .approval_helpers import (
     MISSION,
     PASSWORD,
@@ -196,7 +197,7 @@ def test_executions_are_checked_and_recorded_in_the_log(world: World) -> None:
     number = new_version(world)
     base = f"/api/missions/{MISSION}/versions/{number}/executions"
     steps = [("G1", "violate"), ("G4", "succeed"), ("G5", "succeed")]
-    log = "".join(json.dumps({"goal": g, "outcome": o}) + "\n" for g, o in steps)
+    log = evidenced_log(steps)  # times and readings: the evidence "no deviation" needs
     operator = world.client("operator")
     assert operator.post(base, json={"log": log}).status_code == 409  # not approved yet
     approve(world, supervisor, signer, submit(world, number))
@@ -205,8 +206,9 @@ def test_executions_are_checked_and_recorded_in_the_log(world: World) -> None:
     body = response.json()
     assert body["ok"] and body["terminal"] == "COMPLETE"
     assert body["summary"] == f"executed as path {body['path']} to COMPLETE, no deviation"
-    bad = log.replace('"G5", "outcome": "succeed"}', '"G5", "outcome": "succeed", '
-                      '"readings": {"depth_m": 12}}')
+    last = json.loads(log.splitlines()[-1])
+    last["readings"]["depth_m"] = 12
+    bad = "".join(line + "\n" for line in [*log.splitlines()[:-1], json.dumps(last)])
     deviated = supervisor.post(base, json={"log": bad}).json()
     assert deviated["deviations"][0]["code"] == "CONSTRAINT"
     entries = world.client("auditor").get("/api/log/entries").json()

@@ -8,6 +8,7 @@ import json
 
 from playwright.sync_api import Page, expect
 
+from ..export.execution_logs import evidenced_log
 from .conftest import Server, _api_import
 from .test_roles import sign_in
 from .test_vehicle_registry import approve, client, exemplar
@@ -23,8 +24,7 @@ def test_the_record_page_shows_executions(page: Page, server: Server) -> None:
         assert submitted.status_code == 201, submitted.text
         record = approve(server, submitted.json()["id"])
         base = f"/api/missions/{mission}/versions/{number}/executions"
-        good = "".join(json.dumps({"goal": g, "outcome": o}) + "\n"
-                       for g, o in (("G1", "violate"), ("G4", "succeed"), ("G5", "succeed")))
+        good = evidenced_log((("G1", "violate"), ("G4", "succeed"), ("G5", "succeed")))
         path = operator.post(base, json={"log": good}).json()["path"]
         planted = good.replace('"G4"', '"<b>G9</b>"')
         assert operator.post(base, json={"log": planted}).status_code == 201
@@ -37,3 +37,7 @@ def test_the_record_page_shows_executions(page: Page, server: Server) -> None:
     expect(statements.nth(1)).to_contain_text(
         "UNKNOWN-GOAL at step 2: <b>G9</b> is not a goal of the orders")
     expect(page.locator("[data-testid=executions] b")).to_have_count(0)
+    expect(page.get_by_test_id("execution-evidence").nth(0)).to_have_text(
+        "evidenced: start and end times of every goal run; readings for C1, C2, C3, C4, C5, "
+        "C6, C7")
+    expect(page.get_by_test_id("execution").nth(0)).to_contain_text("uploaded by ")

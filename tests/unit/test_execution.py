@@ -22,9 +22,10 @@ ORDERS = read_bytes(example_bytes("search-and-sample"), "exemplar").orders
 
 
 def _log(*steps: tuple[str, str] | tuple[str, str, dict[str, float]]) -> str:
-    return "".join(json.dumps({"goal": s[0], "outcome": s[1], "time": f"T{i}",
+    """A log without times (paths and deviations, not evidence, are under test)."""
+    return "".join(json.dumps({"goal": s[0], "outcome": s[1],
                                "readings": s[2] if len(s) > 2 else {}}) + "\n"
-                   for i, s in enumerate(steps))
+                   for s in steps)
 
 
 def test_every_path_of_the_exemplar_is_recognised_with_its_number() -> None:
@@ -34,7 +35,7 @@ def test_every_path_of_the_exemplar_is_recognised_with_its_number() -> None:
     for path in iter_paths(graph, counts):
         log = _log(*zip(path.goals, path.outcomes, strict=True))
         verdict = check_execution(ORDERS, read_log(log))
-        assert verdict.ok, verdict.deviations
+        assert not verdict.deviations and verdict.status == "unverified"
         assert (verdict.path, verdict.terminal) == (path.index, path.terminal)
         seen += 1
     assert seen == 75
@@ -61,7 +62,7 @@ def test_a_depth_reading_below_a_constraint_is_named() -> None:
         ("G1", "violate", {"depth_m": 30}), ("G4", "succeed"),
         ("G5", "succeed", {"depth_m": 15.5}))))
     assert [(d.code, d.step) for d in verdict.deviations] == [("CONSTRAINT", 3)]
-    assert "depth_m=15.5 break C7 (depth_m >= 20) during G5 at T2" in \
+    assert "depth_m=15.5 break C7 (depth_m >= 20) during G5" in \
         verdict.deviations[0].message
 
 
@@ -87,7 +88,7 @@ def test_the_command_line_names_the_path_or_the_deviation(
 
     log = Path(str(tmp_path)) / "run.ndjson"
     log.write_text(_log(("G1", "violate"), ("G4", "succeed"), ("G5", "succeed")))
-    assert main(["execution", "check", "example:search-and-sample", str(log)]) == 0
+    assert main(["execution", "check", "example:search-and-sample", str(log)]) == 3
     graph, counts = paths_of(ORDERS)
     assert counts is not None
     number = next(p.index for p in iter_paths(graph, counts)
@@ -127,7 +128,7 @@ def test_time_over_the_budget_from_the_logs_timestamps_is_named() -> None:
     times = ("2026-12-02T01:00:00Z", "2026-12-02T01:30:00Z", "2026-12-02T01:50:00Z")
     steps = [(g, o, t) for (g, o), t in zip(RUN, times, strict=True)]
     within = check_execution(orders, read_log(_timed(*steps)))
-    assert within.ok, within.deviations  # 50 min from the first report: a lower bound
+    assert not within.deviations  # 50 min from the first report: a lower bound
     over = check_execution(orders, read_log(_timed(*steps, start="2026-12-02T00:30:00Z")))
     assert [(d.code, d.step) for d in over.deviations] == [("BUDGET", 3)]
     assert "4,800.0 s of time (from its timestamps), more than the budget of 3,600.0 s" in \
@@ -139,9 +140,9 @@ def test_time_over_the_budget_from_the_logs_timestamps_is_named() -> None:
 
 def test_energy_over_the_budget_from_readings_is_named() -> None:
     orders = _with_budget(duration_s=43200, energy_wh=500)
-    steps = [(g, o, f"T{i}") for i, (g, o) in enumerate(RUN)]
+    steps = [(g, o, f"{60 * i}") for i, (g, o) in enumerate(RUN)]
     fine = check_execution(orders, read_log(_timed(*steps, readings={1: {"energy_wh": 420}})))
-    assert fine.ok, fine.deviations
+    assert not fine.deviations
     over = check_execution(orders, read_log(_timed(
         *steps, readings={1: {"energy_wh": 420}, 2: {"energy_wh": 515.5}})))
     assert [(d.code, d.step) for d in over.deviations] == [("BUDGET", 3)]

@@ -24,6 +24,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from .. import strict_json
+
 EXIT_OK, EXIT_FAILED, EXIT_UNREADABLE = 0, 1, 2
 
 
@@ -195,8 +197,9 @@ def cmd_audit_verify(args: argparse.Namespace) -> int:
     from ..approvals.bundle import from_problem, verify_bundle
 
     try:
-        bundle = json.loads(args.bundle.read_bytes())
-        published = [json.loads(p.read_bytes()) for p in args.checkpoint]
+        # JsonPolicyError is a ValueError: nesting too deep is "not JSON" too, not a crash.
+        bundle = strict_json.loads(args.bundle.read_bytes())
+        published = [strict_json.loads(p.read_bytes()) for p in args.checkpoint]
     except OSError as exc:
         _err(f"cannot read {exc.filename}: {exc.strerror}")
         return EXIT_UNREADABLE

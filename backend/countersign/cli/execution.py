@@ -6,12 +6,13 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
 from .common import load_orders
 
-EXIT_OK, EXIT_DEVIATION, EXIT_UNREADABLE = 0, 1, 2
+EXIT_OK, EXIT_DEVIATION, EXIT_UNREADABLE, EXIT_UNVERIFIED = 0, 1, 2, 3
 MAX_LOG_BYTES = 16 * 1024 * 1024
 
 
@@ -27,8 +28,13 @@ def add_commands(commands: Any) -> None:
         "paths` numbers them, or name every deviation: SKIPPED-GOAL, WRONG-TRANSITION, "
         "UNKNOWN-GOAL, CONSTRAINT (a reading breaks a constraint in scope), BUDGET (time or "
         "energy over the vehicle's budget: from energy_wh/duration_s readings, the log's ISO "
-        "8601 times, or else verify's cost model), INCOMPLETE, AFTER-END. Exit 0 no "
-        "deviation, 1 deviations, 2 unreadable input.")
+        "8601 times, or else verify's cost model), INCOMPLETE, AFTER-END. \"No deviation\" "
+        "needs evidence: every goal run with start and end times, and readings for every "
+        "constraint in scope; without them the run is unverified, naming what is missing. "
+        "Times that cannot be real (not a time, no zone, backwards, in the future beyond "
+        "clock skew) make the log unreadable. Exit 0 no deviation, 1 deviations, 2 "
+        "unreadable input, 3 unverified (no deviation found, but times or readings "
+        "missing).")
     check.add_argument("orders", metavar="ORDERS", help="orders file (or example:NAME)")
     check.add_argument("log", metavar="LOG", type=Path,
                        help="execution log: NDJSON, IMC messages (PlanControlState, "
@@ -42,6 +48,8 @@ def add_commands(commands: Any) -> None:
 def cmd_execution_check(args: argparse.Namespace) -> int:
     from ..export.execution_input import ExecutionInputError, to_execution_log
     from ..rehearse.execution import ExecutionLogError, check_execution, read_log
+    from ..rehearse.execution_evidence import TimeWindow
+    from ..store.approvals import CLOCK_SKEW
 
     orders = load_orders(args.orders).orders
     try:
@@ -50,7 +58,9 @@ def cmd_execution_check(args: argparse.Namespace) -> int:
         if len(data) > MAX_LOG_BYTES:
             raise ExecutionLogError(f"the log is larger than {MAX_LOG_BYTES:,} bytes")
         converted = to_execution_log(orders, data, args.input_format)
-        verdict = check_execution(orders, read_log(converted.ndjson))
+        # Without the approval at hand, only the future is out of bounds.
+        window = TimeWindow.of(now=datetime.now(UTC), skew_s=CLOCK_SKEW.total_seconds())
+        verdict = check_execution(orders, read_log(converted.ndjson), window)
     except OSError as exc:
         sys.stderr.write(f"countersign: cannot read {args.log}: {exc}\n")
         return EXIT_UNREADABLE
@@ -66,8 +76,13 @@ def cmd_execution_check(args: argparse.Namespace) -> int:
         for deviation in verdict.deviations:
             sys.stdout.write(f"  step {deviation.step}  {deviation.code:<16} "
                              f"{deviation.message}\n")
+        evidence = verdict.evidence
+        if evidence.read:
+            sys.stdout.write(f"  readings for: {', '.join(evidence.read)}\n")
         for usage in verdict.usage:
             budget = "no budget" if usage.budget is None else f"budget {usage.budget:g}"
             sys.stdout.write(f"  {usage.quantity}: {'>=' if usage.lower_bound else ''}"
                              f"{usage.used:.1f} used ({usage.source}), {budget}\n")
-    return EXIT_OK if verdict.ok else EXIT_DEVIATION
+    if verdict.deviations:
+        return EXIT_DEVIATION
+    return EXIT_OK if verdict.ok else EXIT_UNVERIFIED

@@ -15,7 +15,6 @@ an XML bomb is rejected before any expansion.
 
 from __future__ import annotations
 
-import json
 import math
 import re
 from dataclasses import dataclass
@@ -32,6 +31,7 @@ from defusedxml import (
 from defusedxml.ElementTree import fromstring
 from pydantic import TypeAdapter, ValidationError
 
+from .. import strict_json
 from .avcl_writer import (
     BEHAVIOR_META,
     CHART_META,
@@ -394,7 +394,7 @@ def _renamed_ids(root: Element, problems: list[Problem]) -> dict[str, str]:
     renamed: dict[str, str] = {}
     for index, content in _metas(root, IDS_META):
         try:
-            found = json.loads(content)
+            found = strict_json.loads(content)
         except ValueError as exc:
             found = exc
         if not isinstance(found, dict) or not all(
@@ -421,7 +421,7 @@ def _charts(root: Element, problems: list[Problem]) -> list[Any]:
     charts: list[Any] = []
     for index, content in _metas(root, CHART_META):
         try:
-            charts.append(json.loads(content))
+            charts.append(strict_json.loads(content))
         except ValueError as exc:
             problems.append(Problem(f"/AVCL/head/meta[{index}]", f"the chart is not JSON: {exc}"))
     return charts

@@ -26,6 +26,7 @@ from pydantic import ValidationError
 from pygeoif import geometry as pygeo
 from shapely.geometry import LinearRing
 
+from .. import strict_json
 from .model import Area, Chart
 
 with warnings.catch_warnings():
@@ -88,8 +89,8 @@ def _chart(raw_id: Any, props: dict[str, Any], polygon: list[tuple[float, float]
     norms = props.get("norms") or []
     if isinstance(norms, str):  # KML ExtendedData holds text only
         try:
-            norms = json.loads(norms)
-        except json.JSONDecodeError:
+            norms = strict_json.loads(norms)
+        except strict_json.JsonPolicyError:
             raise GeoFormatError(f"{where}: 'norms' is not a JSON list") from None
     if not isinstance(norms, list):
         raise GeoFormatError(f"{where}: 'norms' must be a list")
@@ -147,10 +148,9 @@ def charts_from_geojson(text: str | bytes) -> list[Chart]:
     """Charts from a GeoJSON FeatureCollection (or one Feature) of polygons."""
     source = _bounded(text)
     try:
-        raw = json.loads(source)
-    except json.JSONDecodeError as exc:
-        raise GeoFormatError(f"not JSON: {exc.msg} at line {exc.lineno} column {exc.colno}"
-                             ) from None
+        raw = strict_json.loads(source)
+    except strict_json.JsonPolicyError as exc:
+        raise GeoFormatError(f"not JSON: {exc.message} (at {exc.path})") from None
     if isinstance(raw, dict) and raw.get("type") == "Feature":
         raw = {"type": "FeatureCollection", "features": [raw]}
     if not isinstance(raw, dict) or raw.get("type") != "FeatureCollection":

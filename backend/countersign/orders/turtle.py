@@ -55,6 +55,7 @@ from rdflib.collection import Collection
 from rdflib.namespace import OWL, RDF, RDFS, XSD
 from rdflib.term import Node
 
+from .. import strict_json
 from ..ontology_files import MEO as MEO_FILE
 from ..ontology_files import NPS_ALIGNMENT, load_graph
 from .canonical import orders_to_json
@@ -862,7 +863,7 @@ _RDF_JSON: Final = RDF.JSON
 
 def _json_list(text: str, name: str) -> list[Any]:
     try:
-        value = json.loads(text)
+        value = strict_json.loads(text)
     except ValueError:
         value = None
     if not isinstance(value, list) or not all(_json_scalar(item) for item in value):

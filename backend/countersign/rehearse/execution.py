@@ -7,26 +7,30 @@ outcome succeed, fail or violate, time when the outcome came (start when the goa
 readings the measured values of constrained quantities (readings named energy_wh or
 duration_s are the mission's cumulative use). Time and energy are checked against the
 vehicle's budget (execution_budget.py). A rehearsal's record is an execution in simulation and
-goes through the same check."""
+goes through the same check.
+
+"No deviation" is only said of a run that evidences it (execution_evidence.py): every goal run
+with start and end times, and readings for every constraint in scope of it; a run that follows
+the orders without them is "unverified", naming what is missing. Times that cannot be real
+(unparseable, running backwards, after the present, before the approval) make the log
+unreadable rather than a run."""
 
 from __future__ import annotations
 
-import json
 from dataclasses import dataclass, field
 from typing import Any
 
+from .. import strict_json
 from ..orders.model import OUTCOMES, Orders
 from ..verify.paths import paths_of
 from .execution_budget import Usage, budget_usage
+from .execution_evidence import Evidence, TimeWindow, check_times
+from .execution_evidence import ExecutionLogError as ExecutionLogError
 from .monitor import facts_of, monitors_of
 
 MAX_STEPS = 100_000
 MAX_LINE = 64 * 1024
 MAX_SAMPLES = 256
-
-
-class ExecutionLogError(ValueError):
-    """A log that cannot be read at all (the message names the line)."""
 
 
 @dataclass(frozen=True)
@@ -58,22 +62,35 @@ class ExecutionVerdict:
     terminal: str | None
     deviations: tuple[Deviation, ...]
     usage: tuple[Usage, ...] = ()
+    evidence: Evidence = field(default_factory=Evidence)
 
     @property
     def ok(self) -> bool:
-        return not self.deviations
+        """No deviation, and the evidence to say so."""
+        return not self.deviations and self.evidence.complete
+
+    @property
+    def status(self) -> str:
+        if self.deviations:
+            return "deviation"
+        return "no-deviation" if self.evidence.complete else "unverified"
 
     def summary(self) -> str:
         if self.ok:
             return f"executed as path {self.path} to {self.terminal}, no deviation"
+        if not self.deviations:
+            followed = (f"executed as path {self.path} to {self.terminal}"
+                        if self.path is not None else "executed")
+            return f"{followed}, unverified: {'; '.join(self.evidence.gaps())}"
         first = self.deviations[0]
         more = f" (and {len(self.deviations) - 1} more)" if len(self.deviations) > 1 else ""
         return f"deviation at step {first.step}: {first.message}{more}"
 
     def to_json(self) -> dict[str, Any]:
-        return {"ok": self.ok, "path": self.path, "terminal": self.terminal,
-                "summary": self.summary(), "deviations": [d.to_json() for d in self.deviations],
-                "usage": [u.to_json() for u in self.usage]}
+        return {"ok": self.ok, "status": self.status, "path": self.path,
+                "terminal": self.terminal, "summary": self.summary(),
+                "deviations": [d.to_json() for d in self.deviations],
+                "usage": [u.to_json() for u in self.usage], "evidence": self.evidence.to_json()}
 
 
 def _values(data: Any, what: str) -> dict[str, float | bool | str]:
@@ -91,7 +108,8 @@ def read_log(text: str) -> list[Step]:
         if len(line) > MAX_LINE or len(steps) >= MAX_STEPS:
             raise ExecutionLogError(f"line {number}: the log is too large")
         try:
-            data = json.loads(line)
+            # The one JSON policy (depth bound, no duplicate keys or NaN) names the path.
+            data = strict_json.loads(line)
             goal, outcome = str(data["goal"]), str(data["outcome"])
             readings = _values(data.get("readings") or {}, "readings")
             samples = data.get("samples") or []
@@ -107,12 +125,21 @@ def read_log(text: str) -> list[Step]:
             raise ExecutionLogError(f"line {number}: outcome {outcome[:40]!r} is not succeed, "
                                     "fail or violate")
         time, start = data.get("time"), data.get("start")
+        for name, value in (("time", time), ("start", start)):
+            if value is not None and (isinstance(value, bool)
+                                      or not isinstance(value, str | int | float)):
+                raise ExecutionLogError(f"line {number}: {name} must be an ISO 8601 time or "
+                                        "a number of seconds")
         steps.append(Step(goal, outcome, None if time is None else str(time), readings,
                           None if start is None else str(start), sampled))
     return steps
 
 
-def check_execution(orders: Orders, steps: list[Step]) -> ExecutionVerdict:
+def check_execution(orders: Orders, steps: list[Step],
+                    window: TimeWindow | None = None) -> ExecutionVerdict:
+    """The run's path, deviations and evidence. `window` bounds its absolute times (without
+    one, as for a rehearsal's simulated seconds, times are only checked to run forwards)."""
+    untimed = check_times(steps, window)
     graph, counts = paths_of(orders)
     if counts is None or graph.start is None:
         raise ExecutionLogError("the orders have no countable paths (fix their structure)")
@@ -120,6 +147,8 @@ def check_execution(orders: Orders, steps: list[Step]) -> ExecutionVerdict:
     goals = orders.goal_index()
     monitors, _ = monitors_of(orders)
     deviations: list[Deviation] = []
+    unread: list[tuple[str, int]] = []
+    in_scope: set[str] = set()
     node: int | None = graph.start
     rank = 0
     for number, step in enumerate(steps, 1):
@@ -146,6 +175,9 @@ def check_execution(orders: Orders, steps: list[Step]) -> ExecutionVerdict:
         for monitor in monitors:
             if not monitor.applies(step.goal):
                 continue
+            in_scope.add(monitor.constraint_id)
+            if all(monitor.holds(r, facts) is None for r in (step.readings, *step.samples)):
+                unread.append((monitor.constraint_id, number))
             broken = next((r for r in (step.readings, *step.samples)
                            if r and monitor.holds(r, facts) is False), None)
             if broken is not None:
@@ -168,4 +200,7 @@ def check_execution(orders: Orders, steps: list[Step]) -> ExecutionVerdict:
     deviations.sort(key=lambda d: d.step)
     terminal = graph.node_id(node) if node is not None and graph.is_terminal(node) else None
     ok = not deviations and rank >= 0
-    return ExecutionVerdict(rank + 1 if ok else None, terminal, tuple(deviations), usage)
+    read = sorted(in_scope - {constraint for constraint, _ in unread})
+    evidence = Evidence(untimed, tuple(unread), tuple(read))
+    return ExecutionVerdict(rank + 1 if ok else None, terminal, tuple(deviations), usage,
+                            evidence)

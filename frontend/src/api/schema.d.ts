@@ -2405,6 +2405,30 @@ export interface components {
              */
             target?: string | null;
         };
+        /** EvidenceOut */
+        EvidenceOut: {
+            /** Complete */
+            complete: boolean;
+            /**
+             * Constraints Read
+             * @description constraints in scope read at every goal run they apply to
+             */
+            constraints_read: string[];
+            /** Constraints Unread */
+            constraints_unread: string[];
+            /**
+             * Gaps
+             * @description what is missing, e.g. "no readings for C1, C4"
+             */
+            gaps: string[];
+            /**
+             * Timed
+             * @description every goal run has start and end times
+             */
+            timed: boolean;
+            /** Untimed Steps */
+            untimed_steps: number[];
+        };
         /** ExampleOut */
         ExampleOut: {
             /** Goals */
@@ -2440,6 +2464,7 @@ export interface components {
         ExecutionOut: {
             /** Deviations */
             deviations: components["schemas"]["DeviationOut"][];
+            evidence: components["schemas"]["EvidenceOut"];
             /**
              * Format
              * @description the format the log was read as
@@ -2456,10 +2481,19 @@ export interface components {
              * @description what converting a vehicle log had to assume
              */
             notes?: string[];
-            /** Ok */
+            /**
+             * Ok
+             * @description no deviation, and the evidence to say so
+             */
             ok: boolean;
             /** Path */
             path: number | null;
+            /**
+             * Status
+             * @description no-deviation (followed the orders, with times and readings for every constraint in scope), deviation, or unverified (no deviation found, but evidence missing: see evidence.gaps)
+             * @enum {string}
+             */
+            status: "no-deviation" | "deviation" | "unverified";
             /** Summary */
             summary: string;
             /** Terminal */
@@ -3542,12 +3576,17 @@ export interface components {
         };
         /** RecordedExecutionOut */
         RecordedExecutionOut: {
-            /** Actor */
+            /**
+             * Actor
+             * @description who uploaded the log
+             */
             actor: string | null;
             /** At */
             at: string | null;
             /** Deviations */
             deviations: components["schemas"]["DeviationOut"][];
+            /** @description what the log evidenced (null: recorded before evidence was checked) */
+            evidence: components["schemas"]["EvidenceOut"] | null;
             /** Log Index */
             log_index: number;
             /** Ok */
@@ -3559,6 +3598,12 @@ export interface components {
              * @description e.g. "approved, executed as path 17, no deviation"
              */
             statement: string;
+            /**
+             * Status
+             * @description no-deviation (followed the orders, with times and readings for every constraint in scope), deviation, or unverified (no deviation found, but evidence missing: see evidence.gaps)
+             * @enum {string}
+             */
+            status: "no-deviation" | "deviation" | "unverified";
             /** Summary */
             summary: string;
             /** Terminal */

@@ -5,18 +5,21 @@ from __future__ import annotations
 
 import base64
 import binascii
+from datetime import UTC, datetime
 from typing import Any, Literal
 
-from fastapi import APIRouter, HTTPException
+from fastapi import APIRouter, HTTPException, Request
 from pydantic import BaseModel, Field, model_validator
 
 from ...export.execution_input import ExecutionInputError, to_execution_log
 from ...export.rehearsal_log import rehearsal_runs
-from ...orders.model import Orders
 from ...orders.reader import orders_from_data
 from ...rehearse.execution import ExecutionLogError, ExecutionVerdict, check_execution, read_log
+from ...rehearse.execution_evidence import TimeWindow
 from ...store import approvals as approvals_service
-from ...store.executions import record_execution, recorded_executions
+from ...store.approvals import CLOCK_SKEW
+from ...store.db import Database
+from ...store.executions import approved_orders, record_execution, recorded_executions
 from ...store.rehearsals import get_record
 from ...store.tables import MissionVersion, Submission
 from ..deps import LOG_READERS, CurrentPrincipal, Db, RowId, TransactionRoute, allow
@@ -59,8 +62,26 @@ class UsageOut(BaseModel):
     lower_bound: bool
 
 
+Status = Literal["no-deviation", "deviation", "unverified"]
+STATUS_HELP = ("no-deviation (followed the orders, with times and readings for every "
+               "constraint in scope), deviation, or unverified (no deviation found, but "
+               "evidence missing: see evidence.gaps)")
+
+
+class EvidenceOut(BaseModel):
+    complete: bool
+    timed: bool = Field(description="every goal run has start and end times")
+    untimed_steps: list[int]
+    constraints_read: list[str] = Field(
+        description="constraints in scope read at every goal run they apply to")
+    constraints_unread: list[str]
+    gaps: list[str] = Field(description='what is missing, e.g. "no readings for C1, C4"')
+
+
 class ExecutionOut(BaseModel):
-    ok: bool
+    ok: bool = Field(description="no deviation, and the evidence to say so")
+    status: Status = Field(description=STATUS_HELP)
+    evidence: EvidenceOut
     path: int | None
     terminal: str | None
     summary: str
@@ -75,8 +96,11 @@ class ExecutionOut(BaseModel):
 class RecordedExecutionOut(BaseModel):
     log_index: int
     at: str | None
-    actor: str | None
+    actor: str | None = Field(description="who uploaded the log")
     ok: bool
+    status: Status = Field(description=STATUS_HELP)
+    evidence: EvidenceOut | None = Field(
+        description="what the log evidenced (null: recorded before evidence was checked)")
     path: int | None
     terminal: str | None
     summary: str
@@ -106,8 +130,9 @@ def _input_bytes(body: ExecutionIn) -> bytes:
 
 
 def _out(verdict: ExecutionVerdict, **extra: Any) -> ExecutionOut:
-    return ExecutionOut(ok=verdict.ok, path=verdict.path, terminal=verdict.terminal,
-                        summary=verdict.summary(),
+    return ExecutionOut(ok=verdict.ok, status=verdict.status,
+                        evidence=EvidenceOut(**verdict.evidence.to_json()),
+                        path=verdict.path, terminal=verdict.terminal, summary=verdict.summary(),
                         deviations=[DeviationOut(**d.to_json()) for d in verdict.deviations],
                         usage=[UsageOut(**u.to_json()) for u in verdict.usage], **extra)
 
@@ -115,32 +140,48 @@ def _out(verdict: ExecutionVerdict, **extra: Any) -> ExecutionOut:
 @router.post("/missions/{mission_id}/versions/{number}/executions",
              operation_id="recordExecution", response_model=ExecutionOut, status_code=201,
              **allow(*EXECUTION_ROLES))
-def post_execution(mission_id: str, number: RowId, body: ExecutionIn,
+def post_execution(mission_id: str, number: RowId, body: ExecutionIn, request: Request,
                    principal: CurrentPrincipal, db: Db) -> ExecutionOut:
     """Check an execution log (NDJSON, IMC PlanControlState messages or a MOOS alog) against
     the version's approved orders and append the verdict to the log (execution.recorded)."""
     data = _input_bytes(body)
-    converted: dict[str, Any] = {}
-
-    def check(orders: Orders, log: str) -> ExecutionVerdict:
-        result = to_execution_log(orders, data, body.format)
-        converted.update(format=result.fmt, notes=list(result.notes))
-        return check_execution(orders, read_log(result.ndjson))
-
+    # Reading and checking happen before the write transaction begins (`db` is not touched
+    # until the verdict is recorded): a slow check must not hold the write lock.
+    database: Database = request.app.state.database
+    with database.session(write=False) as reader:
+        checked = approved_orders(reader, mission_id=mission_id, number=number)
+    window = TimeWindow.of(now=datetime.now(UTC), skew_s=CLOCK_SKEW.total_seconds(),
+                           not_before=checked.approved_at)
     try:
-        verdict, index = record_execution(
-            db, mission_id=mission_id, number=number, log=data, actor=principal.user,
-            check=check, source=converted)
+        result = to_execution_log(checked.orders, data, body.format)
+        verdict = check_execution(checked.orders, read_log(result.ndjson), window)
     except (ExecutionLogError, ExecutionInputError) as exc:
         raise HTTPException(422, str(exc)) from None
-    return _out(verdict, log_index=index, format=converted.get("format", "ndjson"),
-                notes=converted.get("notes", []))
+    index = record_execution(
+        db, mission_id=mission_id, number=number, log=data, actor=principal.user,
+        checked=checked, verdict=verdict,
+        source={"format": result.fmt, "notes": list(result.notes)})
+    return _out(verdict, log_index=index, format=result.fmt, notes=list(result.notes))
+
+
+def _status(verdict: dict[str, Any]) -> str:
+    # Entries recorded before evidence was checked say only ok; they claimed no deviation
+    # without the evidence now required, so they are not shown as one.
+    if "status" in verdict:
+        return str(verdict["status"])
+    return "deviation" if verdict.get("deviations") or not verdict.get("ok") else "unverified"
 
 
 def statement_of(decision: str, verdict: dict[str, Any]) -> str:
     """What the record page says of one execution."""
-    if verdict.get("ok"):
+    status = _status(verdict)
+    if status == "no-deviation":
         return f"{decision}, executed as path {verdict.get('path')}, no deviation"
+    if status == "unverified":
+        gaps = (verdict.get("evidence") or {}).get("gaps") or [
+            "recorded before times and readings were required"]
+        return (f"{decision}, executed as path {verdict.get('path')}, unverified: "
+                f"{'; '.join(str(g) for g in gaps)}")
     deviations = verdict.get("deviations") or []
     named = "; ".join(f"{d.get('code')} at step {d.get('step')}: {d.get('message')}"
                       for d in deviations[:5])
@@ -158,7 +199,9 @@ def get_record_executions(approval_id: RowId, db: Db) -> RecordExecutionsOut:
     executions = [
         RecordedExecutionOut(
             log_index=e["log_index"], at=e.get("at"), actor=e.get("actor"),
-            ok=bool(e.get("ok")), path=e.get("path"), terminal=e.get("terminal"),
+            ok=_status(e) == "no-deviation", status=_status(e),
+            evidence=EvidenceOut(**e["evidence"]) if e.get("evidence") else None,
+            path=e.get("path"), terminal=e.get("terminal"),
             summary=str(e.get("summary", "")),
             deviations=[DeviationOut(**d) for d in e.get("deviations") or []],
             statement=statement_of(approval.decision, e))
@@ -173,7 +216,10 @@ def get_record_executions(approval_id: RowId, db: Db) -> RecordExecutionsOut:
                 verdict = _out(check_execution(orders, read_log(run.ndjson)), log_index=None,
                                format="rehearsal")
             except ExecutionLogError as exc:
-                verdict = ExecutionOut(ok=False, path=None, terminal=None, summary=str(exc),
+                verdict = ExecutionOut(ok=False, status="unverified", evidence=EvidenceOut(
+                    complete=False, timed=False, untimed_steps=[], constraints_read=[],
+                    constraints_unread=[], gaps=[str(exc)]),
+                                       path=None, terminal=None, summary=str(exc),
                                        deviations=[], log_index=None, format="rehearsal")
             rehearsal.append(RehearsalRunOut(claimed_path=run.claimed_path, verdict=verdict))
     return RecordExecutionsOut(decision=approval.decision, executions=executions,

@@ -1,17 +1,18 @@
 /**
  * What a record (approval) page shows of what vehicles did (issue 19): each recorded execution
  * of the version, stated as "approved, executed as path 17, no deviation" or naming the
- * deviations, and the cited rehearsal's runs checked by the same execution checker. All text
- * from the server is rendered as text.
+ * deviations, or "unverified" naming the times and readings it lacked; who uploaded each and
+ * what it evidenced; and the cited rehearsal's runs checked by the same execution checker. All
+ * text from the server is rendered as text.
  */
 import { api, type Schema, unwrap } from "../../api/client";
 import { ErrorMessage, Loading } from "../../components/Status";
 import { formatDateTime } from "../../format";
 import { useLoad } from "../../useLoad";
+import { evidenceText } from "./evidence";
 
 export type RecordExecutions = Schema<"RecordExecutionsOut">;
 type Verdict = Schema<"ExecutionOut">;
-
 export async function loadRecordExecutions(id: number): Promise<RecordExecutions> {
   const result = await api.GET("/api/approvals/{approval_id}/executions", { params: { path: { approval_id: id } } });
   return unwrap(result);
@@ -46,9 +47,12 @@ export function ExecutionsSection({ approvalId }: { approvalId: number }) {
               <span data-testid="execution-statement">{e.statement}</span>{" "}
               <span className="hint">
                 (log entry {e.log_index}
-                {e.actor ? `, by ${e.actor}` : ""}
+                {e.actor ? `, uploaded by ${e.actor}` : ""}
                 {e.at ? `, ${formatDateTime(e.at)}` : ""})
               </span>
+              <div className="hint" data-testid="execution-evidence">
+                {evidenceText(e.evidence)}
+              </div>
             </li>
           ))}
         </ol>
