@@ -111,6 +111,7 @@ def test_admin_resets_a_password(browser: Browser, server: Server) -> None:
         admin.get_by_role("button", name=f"Reset password of {username}").click()
         form = admin.get_by_role("form", name=f"Reset password of {username}")
         form.get_by_label(f"New password for {username}").fill(username + "12")
+        form.get_by_label("Your password").fill(PASSWORD["admin"])
         form.get_by_role("button", name="Set password").click()
         expect(form.get_by_role("alert")).to_contain_text("may not contain the username")
         form.get_by_label(f"New password for {username}").fill(RESET)

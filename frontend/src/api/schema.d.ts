@@ -4037,12 +4037,13 @@ export interface components {
             expires_in_days?: number;
             /** Name */
             name: string;
+            /** Password */
+            password?: string | null;
             /**
              * Scopes
              * @default [
              *       "read",
-             *       "write",
-             *       "decide"
+             *       "write"
              *     ]
              */
             scopes?: ("read" | "write" | "decide")[];
@@ -4085,6 +4086,8 @@ export interface components {
         };
         /** UserIn */
         UserIn: {
+            /** Admin Password */
+            admin_password?: string | null;
             /**
              * Display Name
              * @default
