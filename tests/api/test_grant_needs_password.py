@@ -6,6 +6,7 @@ nothing and log nothing."""
 from __future__ import annotations
 
 from fastapi.testclient import TestClient
+from httpx import Response
 
 from .conftest import PASSWORD, World, count_rows
 
@@ -30,9 +31,9 @@ def _admins(world: World) -> dict[str, TestClient]:
     return {"session": browser, "write token": token}
 
 
-def _refused(response: object, words: str) -> None:
-    assert getattr(response, "status_code") == 403, getattr(response, "text")
-    detail = getattr(response, "json")()["detail"]
+def _refused(response: Response, words: str) -> None:
+    assert response.status_code == 403, response.text
+    detail = response.json()["detail"]
     assert words in detail, detail
 
 
