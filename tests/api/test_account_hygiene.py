@@ -190,7 +190,8 @@ def test_admin_reset_revokes_that_users_sessions_and_tokens(world: World) -> Non
     token = world.client("auditor")
     admin = world.client("admin")
     users = {u["username"]: u["id"] for u in admin.get("/api/users").json()}
-    reset = admin.patch(f"/api/users/{users['auditor1']}", json={"password": NEW_PASSWORD})
+    reset = admin.patch(f"/api/users/{users['auditor1']}", json={"password": NEW_PASSWORD,
+                                                                "admin_password": PASSWORD})
     assert reset.status_code == 200, reset.text
     assert victim.get("/api/auth/me").status_code == 401
     assert token.get("/api/approvals").status_code == 401

@@ -82,7 +82,8 @@ def test_api_tokens_are_shown_once_and_can_be_revoked(world: World) -> None:
 def test_admin_manages_users_and_every_change_is_logged(world: World) -> None:
     admin = world.client("admin")
     made = admin.post("/api/users", json={"username": "carol", "role": "supervisor",
-                                          "password": "another long password"})
+                                          "password": "another long password",
+                                          "admin_password": PASSWORD})
     assert made.status_code == 201
     weak = admin.post("/api/users", json={"username": "dave", "role": "operator",
                                           "password": "short"})
@@ -138,6 +139,7 @@ def test_look_alike_usernames_are_refused(world: World) -> None:
                               ("\uff41" + existing[1:], "ASCII letters"),
                               ("\u0430" + existing[1:], "ASCII letters")):
         refused = admin.post("/api/users", json={"username": look_alike, "role": "admin",
-                                                 "password": "another long password"})
+                                                 "password": "another long password",
+                                                 "admin_password": PASSWORD})
         assert refused.status_code == 400, (look_alike, refused.text)
         assert words in refused.json()["detail"]

@@ -87,7 +87,8 @@ def test_someone_elses_key(setup: tuple[World, Any, Signer, int]) -> None:
     world, _, signer, submission = setup
     admin = world.client("admin")
     assert admin.post("/api/users", json={"username": "supervisor2", "role": "supervisor",
-                                          "password": PASSWORD}).status_code == 201
+                                          "password": PASSWORD,
+                                          "admin_password": PASSWORD}).status_code == 201
     other, _ = world.browser("supervisor")  # any signed-in client works for the token below
     token = _token_for(world, "supervisor2")
     other.headers["Authorization"] = f"Bearer {token}"

@@ -277,6 +277,7 @@ def make_user(server: Server, role: str) -> tuple[str, str]:
         login.raise_for_status()
         made = client.post("/api/users", headers={"X-CSRF-Token": login.json()["csrf_token"]},
                            json={"username": username, "role": role, "password": password,
+                                 "admin_password": PASSWORD["admin"],
                                  "display_name": f"E2E {role.title()} {username[-8:]}"})
         assert made.status_code == 201, made.text
     return username, password

@@ -205,6 +205,7 @@ def make_hostile_world(server: Server) -> Made:
         assert "username" in refused.text
         admin.call("POST", "/api/users", 201, json={
             "username": DECIDER, "role": "supervisor", "password": DECIDER_PASSWORD,
+            "admin_password": PASSWORD["admin"],
             "display_name": f"Decider {PAYLOADS[1]}"})
 
         # A chart (issue 21) whose title and kind the plan view and the 3D scene show.

@@ -164,6 +164,17 @@ def test_admin_manages_users_and_a_disabled_user_cannot_sign_in(page: Page) -> N
     page.get_by_role("button", name="Create user").click()
     expect(page.get_by_role("status").filter(has_text="Created auditor e2e-new-auditor.")
            ).to_be_visible()
+    # A supervisor can decide: the form asks for the admin's own password, a wrong one refused.
+    page.get_by_label("Username").fill("e2e-new-supervisor")
+    page.get_by_label("Role", exact=True).select_option("supervisor")
+    page.get_by_label("Initial password").fill("a-long-enough-password-1")
+    page.get_by_label("Your password (to create a supervisor)").fill("not the admin's password")
+    page.get_by_role("button", name="Create user").click()
+    expect(page.get_by_role("alert")).to_contain_text("no user was created")
+    page.get_by_label("Your password (to create a supervisor)").fill(PASSWORD["admin"])
+    page.get_by_role("button", name="Create user").click()
+    expect(page.get_by_role("status").filter(
+        has_text="Created supervisor e2e-new-supervisor.")).to_be_visible()
     page.get_by_role("button", name="Disable e2e-new-auditor").click()
     expect(page.get_by_role("status").filter(has_text="e2e-new-auditor disabled.")).to_be_visible()
 

@@ -4082,12 +4082,13 @@ export interface components {
             expires_in_days?: number;
             /** Name */
             name: string;
+            /** Password */
+            password?: string | null;
             /**
              * Scopes
              * @default [
              *       "read",
-             *       "write",
-             *       "decide"
+             *       "write"
              *     ]
              */
             scopes?: ("read" | "write" | "decide")[];
@@ -4130,6 +4131,8 @@ export interface components {
         };
         /** UserIn */
         UserIn: {
+            /** Admin Password */
+            admin_password?: string | null;
             /**
              * Display Name
              * @default

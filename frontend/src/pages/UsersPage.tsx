@@ -137,7 +137,13 @@ export function UsersPage() {
 }
 
 function CreateUser({ onCreated }: { onCreated: (user: User) => void }) {
-  const empty = { username: "", display_name: "", role: "operator" as Role, password: "" };
+  const empty = {
+    username: "",
+    display_name: "",
+    role: "operator" as Role,
+    password: "",
+    admin_password: "",
+  };
   const [form, setForm] = useState(empty);
   const [error, setError] = useState<unknown>(null);
   const [busy, setBusy] = useState(false);
@@ -147,7 +153,10 @@ function CreateUser({ onCreated }: { onCreated: (user: User) => void }) {
     setBusy(true);
     setError(null);
     try {
-      const user = unwrap(await api.POST("/api/users", { body: form }));
+      // A new supervisor or admin needs the admin's own password; other roles send none.
+      const granting = form.role === "supervisor" || form.role === "admin";
+      const body = { ...form, admin_password: granting ? form.admin_password : null };
+      const user = unwrap(await api.POST("/api/users", { body }));
       setForm(empty);
       onCreated(user);
     } catch (e) {
@@ -197,6 +206,19 @@ function CreateUser({ onCreated }: { onCreated: (user: User) => void }) {
           value={form.password}
           onChange={(e) => setForm({ ...form, password: e.target.value })}
         />
+        {(form.role === "supervisor" || form.role === "admin") && (
+          <>
+            <label htmlFor="new-admin-password">Your password (to create a {form.role})</label>
+            <input
+              id="new-admin-password"
+              type="password"
+              required
+              autoComplete="current-password"
+              value={form.admin_password}
+              onChange={(e) => setForm({ ...form, admin_password: e.target.value })}
+            />
+          </>
+        )}
       </div>
       <ErrorMessage error={error} />
       <button type="submit" className="primary" disabled={busy}>

@@ -19,7 +19,7 @@ from ...store.accounts import (
 )
 from ...store.events import record
 from ...store.integrity import event_integrity, log_indexes
-from ...store.role_change import confirm_role_change
+from ...store.role_change import GRANTING_ROLES, confirm_grant, confirm_role_change
 from ...store.tables import ApiToken, Event, User, VehicleProfile
 from ...store.vehicles import save_vehicle
 from ..deps import (
@@ -43,6 +43,8 @@ class UserIn(RequestBody):
     display_name: str = Field(default="", max_length=200)
     role: str = Field(max_length=16)
     password: str = Field(min_length=1, max_length=1024)
+    # A new supervisor or admin is confirmed with the acting admin's password, entered again.
+    admin_password: str | None = Field(default=None, max_length=1024)
 
 
 class UserPatch(RequestBody):
@@ -50,15 +52,18 @@ class UserPatch(RequestBody):
     disabled: bool | None = None
     password: str | None = Field(default=None, max_length=1024)
     display_name: str | None = Field(default=None, max_length=200)
-    # A role change is confirmed with the admin's own password, entered again (issue 16).
+    # A role change or a password reset is confirmed with the admin's own password, entered
+    # again: either can hand someone a supervisor's power.
     admin_password: str | None = Field(default=None, max_length=1024)
 
 
 class TokenIn(RequestBody):
     name: str = Field(min_length=1, max_length=100)
     scopes: list[Literal["read", "write", "decide"]] = Field(
-        default=["read", "write", "decide"], min_length=1, max_length=3)
+        default=["read", "write"], min_length=1, max_length=3)
     expires_in_days: int = Field(default=90, ge=1, le=366)
+    # Your own password, entered again: needed for a token with the `decide` scope.
+    password: str | None = Field(default=None, max_length=1024)
 
 
 class TokenOut(BaseModel):
@@ -78,6 +83,9 @@ def list_users(db: Db) -> list[UserOut]:
 @router.post("/users", operation_id="createUser", status_code=201, response_model=UserOut,
              **allow(*ADMINS))
 def add_user(body: UserIn, principal: CurrentPrincipal, db: Db) -> UserOut:
+    if body.role in GRANTING_ROLES:
+        confirm_grant(db, principal.user, body.admin_password, action=f"creating a {body.role}",
+                      undone="no user was created")
     user = create_user(db, username=body.username, role=body.role, password=body.password,
                        display_name=body.display_name, actor=principal.user)
     return UserOut.of(user)
@@ -90,8 +98,14 @@ def change_user(user_id: RowId, body: UserPatch, principal: CurrentPrincipal, db
     if user is None:
         raise HTTPException(404, f"no user {user_id}")
     changes: dict[str, Any] = {}
-    if body.role is not None and body.role != user.role:
+    role_changes = body.role is not None and body.role != user.role
+    # One check for both (argon2 is slow); the reset's words when both are asked.
+    if body.password is not None:
+        confirm_grant(db, principal.user, body.admin_password, action="a password reset",
+                      undone="no password was reset")
+    elif role_changes:
         confirm_role_change(db, principal.user, body.admin_password)
+    if role_changes:
         changes["previous_role"] = user.role
     if body.role is not None:
         from ...store.tables import ROLES
@@ -129,6 +143,10 @@ def list_tokens(principal: CurrentPrincipal, db: Db) -> list[TokenOut]:
 @router.post("/tokens", operation_id="createToken", status_code=201, response_model=TokenOut,
              **allow(*EVERYONE))
 def add_token(body: TokenIn, principal: CurrentPrincipal, db: Db) -> TokenOut:
+    if "decide" in body.scopes:
+        confirm_grant(db, principal.user, body.password,
+                      action="a token with the 'decide' scope", undone="no token was created",
+                      field="password")
     token, secret = create_token(db, user=principal.user, name=body.name,
                                  scopes=tuple(body.scopes),
                                  lifetime=timedelta(days=body.expires_in_days))

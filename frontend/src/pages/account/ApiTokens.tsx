@@ -14,6 +14,7 @@ export function ApiTokens({ version }: { version: number }) {
   const [name, setName] = useState("");
   const [scopes, setScopes] = useState<Scope[]>(["read"]);
   const [days, setDays] = useState(30);
+  const [password, setPassword] = useState("");
   const [secret, setSecret] = useState<string | null>(null);
   const [error, setError] = useState<unknown>(null);
   const [notice, setNotice] = useState<string | null>(null);
@@ -23,11 +24,17 @@ export function ApiTokens({ version }: { version: number }) {
     setError(null);
     setNotice(null);
     try {
-      const made = unwrap(
-        await api.POST("/api/tokens", { body: { name, scopes, expires_in_days: days } }),
-      );
+      // A token that can decide needs your password, entered again.
+      const body = {
+        name,
+        scopes,
+        expires_in_days: days,
+        password: scopes.includes("decide") ? password : null,
+      };
+      const made = unwrap(await api.POST("/api/tokens", { body }));
       setSecret(made.token ?? null);
       setName("");
+      setPassword("");
       tokens.reload();
     } catch (e) {
       setError(e);
@@ -128,6 +135,19 @@ export function ApiTokens({ version }: { version: number }) {
             </label>
           ))}
         </fieldset>
+        {scopes.includes("decide") && (
+          <div className="grid">
+            <label htmlFor="token-password">Your password (for the decide scope)</label>
+            <input
+              id="token-password"
+              type="password"
+              required
+              autoComplete="current-password"
+              value={password}
+              onChange={(e) => setPassword(e.target.value)}
+            />
+          </div>
+        )}
         <button type="submit" disabled={scopes.length === 0}>
           Create token
         </button>

@@ -3,11 +3,12 @@ import { type FormEvent, useId, useState } from "react";
 import { api, ApiError, type User } from "../../api/client";
 import { ErrorMessage } from "../../components/Status";
 
-/** An admin's reset of another user's password: the server applies the password policy and
- * ends every session and API token of that user. */
+/** An admin's reset of another user's password, confirmed with the admin's own password: the
+ * server applies the password policy and ends every session and API token of that user. */
 export function ResetPassword({ user, onDone }: { user: User; onDone: (notice: string) => void }) {
   const [open, setOpen] = useState(false);
   const [password, setPassword] = useState("");
+  const [adminPassword, setAdminPassword] = useState("");
   const [error, setError] = useState<unknown>(null);
   const [busy, setBusy] = useState(false);
   const id = useId();
@@ -27,10 +28,11 @@ export function ResetPassword({ user, onDone }: { user: User; onDone: (notice: s
     try {
       const result = await api.PATCH("/api/users/{user_id}", {
         params: { path: { user_id: user.id } },
-        body: { password },
+        body: { password, admin_password: adminPassword },
       });
       if (!result.response.ok) throw new ApiError(result.response.status, result.error);
       setPassword("");
+      setAdminPassword("");
       setOpen(false);
       onDone(`Password of ${user.username} reset; their sessions and API tokens have ended.`);
     } catch (e) {
@@ -50,6 +52,15 @@ export function ResetPassword({ user, onDone }: { user: User; onDone: (notice: s
         autoComplete="new-password"
         value={password}
         onChange={(e) => setPassword(e.target.value)}
+      />
+      <label htmlFor={`${id}-admin-password`}>Your password</label>
+      <input
+        id={`${id}-admin-password`}
+        type="password"
+        required
+        autoComplete="current-password"
+        value={adminPassword}
+        onChange={(e) => setAdminPassword(e.target.value)}
       />
       <button type="submit" disabled={busy}>
         {busy ? "Resetting…" : "Set password"}
