@@ -8,7 +8,6 @@ and `vehicle unpack`) to nothing but the signed bytes."""
 from __future__ import annotations
 
 import hashlib
-import importlib.util
 import io
 import json
 import shutil
@@ -17,7 +16,6 @@ import sys
 import tarfile
 from collections.abc import Callable, Iterator
 from pathlib import Path
-from types import ModuleType
 
 import pytest
 
@@ -27,17 +25,9 @@ from countersign.export.package_verify import verify_package
 
 from .approval_helpers import MISSION, approve, new_version, register_key, submit
 from .conftest import World
+from .test_packages import TOOL, _standalone
 
-TOOL = Path(__file__).resolve().parents[2] / "tools" / "verify_package.py"
 pytestmark = pytest.mark.parametrize("database_url", ["sqlite"], indirect=True)
-
-
-def _standalone() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("verify_package_layout", TOOL)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 @pytest.fixture
