@@ -26,6 +26,7 @@ from pydantic import ValidationError
 from pygeoif import geometry as pygeo
 from shapely.geometry import LinearRing
 
+from .. import strict_json
 from .model import Area, Chart
 
 with warnings.catch_warnings():
@@ -147,10 +148,11 @@ def charts_from_geojson(text: str | bytes) -> list[Chart]:
     """Charts from a GeoJSON FeatureCollection (or one Feature) of polygons."""
     source = _bounded(text)
     try:
-        raw = json.loads(source)
-    except json.JSONDecodeError as exc:
-        raise GeoFormatError(f"not JSON: {exc.msg} at line {exc.lineno} column {exc.colno}"
-                             ) from None
+        # The shared policy bounds nesting: the plain parser turns 2,000 nested lists into a
+        # RecursionError (a 500) instead of a refusal.
+        raw = strict_json.loads(source)
+    except strict_json.JsonPolicyError as exc:
+        raise GeoFormatError(f"not JSON: {exc}") from None
     if isinstance(raw, dict) and raw.get("type") == "Feature":
         raw = {"type": "FeatureCollection", "features": [raw]}
     if not isinstance(raw, dict) or raw.get("type") != "FeatureCollection":
