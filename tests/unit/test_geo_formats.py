@@ -157,3 +157,11 @@ def test_geojson_nested_two_thousand_deep_is_refused_by_name() -> None:
     deep = '{"type": "FeatureCollection", "features": ' + "[" * 2000 + "]" * 2000 + "}"
     with pytest.raises(GeoFormatError, match="nested"):
         charts_from_geojson(deep)
+
+
+def test_multipolygon_of_many_parts_is_refused_not_split_into_charts() -> None:
+    square = [[[0.0, 0.0], [0.001, 0.0], [0.001, 0.001], [0.0, 0.0]]]
+    feature = {"type": "Feature", "id": "MANY", "properties": {"kind": "keep_out"},
+               "geometry": {"type": "MultiPolygon", "coordinates": [square] * 1001}}
+    with pytest.raises(GeoFormatError, match="polygons"):
+        charts_from_geojson(json.dumps(feature))
