@@ -144,3 +144,10 @@ def test_charts_export_as_counterclockwise_geojson_and_the_same_kml(world: World
         (mark,) = kml.KML.from_string(response.text, strict=True).features[0].features
     assert (mark.id, mark.name) == ("RANGE", "Firing <range> & co")
     assert [list(p) for p in mark.geometry.exterior.coords] == out
+
+
+def test_geojson_nested_two_thousand_deep_is_a_422_naming_nesting(world: World) -> None:
+    deep = '{"type": "FeatureCollection", "features": ' + "[" * 2000 + "]" * 2000 + "}"
+    response = _import(world, "admin", deep)
+    assert response.status_code == 422, response.text  # type: ignore[attr-defined]
+    assert "nested" in response.text  # type: ignore[attr-defined]

@@ -317,6 +317,36 @@ def test_the_witness_cosigns_and_the_server_publishes(world: World, tmp_path: Pa
     assert published["signed_note"].endswith(published["cosignatures"][0])
 
 
+def test_cosignatures_only_move_forward_and_not_beyond_the_clock(world: World) -> None:
+    import time
+
+    from countersign.approvals.note import cosign
+    supervisor = world.client("supervisor")
+    approve(world, supervisor, register_key(supervisor), submit(world, new_version(world)))
+    key = dsse.generate_key()
+    directory = world.app.state.database.log_signer.directory
+    (directory / "witnesses").write_text(
+        verifier_key("witness.test", dsse.raw_public(key.public_key()), COSIGNATURE) + "\n")
+    client = world.client("auditor")
+    body = client.get("/api/log/checkpoint").json()["note"]
+    now = int(time.time())
+
+    def post(timestamp: int) -> Any:
+        return client.post("/api/log/cosignatures", json={
+            "checkpoint": body, "cosignature": cosign(body, "witness.test", key, timestamp)})
+
+    future = post(now + 75 * 365 * 86400)  # dated about 2100
+    assert future.status_code == 400 and "later than" in future.json()["detail"], future.text
+    assert post(now - 60).status_code < 300
+    newer = cosign(body, "witness.test", key, now)
+    assert client.post("/api/log/cosignatures", json={
+        "checkpoint": body, "cosignature": newer}).status_code < 300
+    replayed = post(now - 60)  # the older, still valid cosignature sent again
+    assert replayed.status_code == 400 and "already cosigned" in replayed.json()["detail"]
+    published = client.get("/api/log/cosigned").json()["cosignatures"]
+    assert [line.rstrip("\n") for line in published] == [newer.rstrip("\n")]
+
+
 def test_the_server_refuses_a_log_key_readable_by_others(tmp_path: Path) -> None:
     settings = Settings(data_dir=tmp_path, database_url=f"sqlite:///{tmp_path / 'x.db'}")
     create_app(settings, Database(settings.database_url))

@@ -150,3 +150,18 @@ def test_an_avcl_chart_that_is_not_json_is_named() -> None:
     assert text != written
     with pytest.raises(OrdersReadError, match="chart is not JSON"):
         read_avcl(text.encode())
+
+
+def test_geojson_nested_two_thousand_deep_is_refused_by_name() -> None:
+    # The plain parser recursed into a RecursionError (a 500 over the API).
+    deep = '{"type": "FeatureCollection", "features": ' + "[" * 2000 + "]" * 2000 + "}"
+    with pytest.raises(GeoFormatError, match="nested"):
+        charts_from_geojson(deep)
+
+
+def test_multipolygon_of_many_parts_is_refused_not_split_into_charts() -> None:
+    square = [[[0.0, 0.0], [0.001, 0.0], [0.001, 0.001], [0.0, 0.0]]]
+    feature = {"type": "Feature", "id": "MANY", "properties": {"kind": "keep_out"},
+               "geometry": {"type": "MultiPolygon", "coordinates": [square] * 1001}}
+    with pytest.raises(GeoFormatError, match="polygons"):
+        charts_from_geojson(json.dumps(feature))

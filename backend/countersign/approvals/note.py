@@ -129,6 +129,13 @@ def cosign(body: str, name: str, key: Ed25519PrivateKey, timestamp: int) -> str:
                           struct.pack(">Q", timestamp) + signature, COSIGNATURE)
 
 
+def cosignature_time(line: str, body: str) -> int:
+    """The time a stored (already verified) cosignature line claims, without checking it."""
+    _, lines = split_note(body + "\n" + line)
+    (_, blob), = lines
+    return int(struct.unpack(">Q", blob[4:12])[0])
+
+
 def verify_cosignature(line: str, body: str, name: str, public: bytes) -> int:
     """The time of a valid cosignature line by this witness key over this body."""
     _, lines = split_note(body + "\n" + line)

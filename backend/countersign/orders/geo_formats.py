@@ -37,6 +37,9 @@ with warnings.catch_warnings():
 MAX_BYTES = 5_000_000
 KML_MEDIA_TYPE = "application/vnd.google-earth.kml+xml"
 MAX_FEATURES = 10_000
+# Every part becomes a chart copied into nearby drafts: bound what one import can add.
+MAX_PARTS = 1_000
+MAX_VERTICES = 100_000
 _SAFE_ID = re.compile(r"[^A-Za-z0-9_.:\-]+")
 
 
@@ -171,7 +174,15 @@ def charts_from_geojson(text: str | bytes) -> list[Chart]:
         base = _chart(feature.id if feature.id is not None else props.get("id"), props,
                       polygons[0], where)
         charts.extend(_split(base, polygons))
+        _check_size(charts)
     return _unique(charts)
+
+
+def _check_size(charts: list[Chart]) -> None:
+    if len(charts) > MAX_PARTS:
+        raise GeoFormatError(f"more than {MAX_PARTS:,} polygons (parts) in one import")
+    if sum(len(chart.polygon) for chart in charts) > MAX_VERTICES:
+        raise GeoFormatError(f"more than {MAX_VERTICES:,} vertices in one import")
 
 
 def _unique(charts: list[Chart]) -> list[Chart]:

@@ -330,13 +330,17 @@ class RuleSet(_Strict):
     defaults: list[DefaultRule] = Field(default_factory=list, max_length=MAX_LIST_LENGTH)
 
 
+MAX_SPEED_MPS = 1000.0
+
+
 class Vehicle(_Strict):
     id: Id
     title: Text = ""
     envelope: Envelope = Field(default_factory=dict)
     features: list[Feature] = Field(default_factory=list, max_length=1000)
     behaviors: list[str] = Field(default_factory=list, max_length=1000)
-    speed_mps: float | None = Field(default=None, gt=0)
+    # Bounded to what flies or sails (about Mach 3): 1e308 overflowed the rehearsal's clock.
+    speed_mps: float | None = Field(default=None, gt=0, le=MAX_SPEED_MPS)
     power_w: float | None = Field(default=None, ge=0)
     budget: Budget | None = None
     # Contingency rules of the vehicle itself (absent: no field, so digests are unchanged).

@@ -5,14 +5,22 @@ checkpoint."""
 
 from __future__ import annotations
 
+from datetime import UTC, datetime
 from pathlib import Path
 
 from sqlalchemy import select
 from sqlalchemy.orm import Session as DbSession
 
 from ..approvals.dsse import SignatureError
-from ..approvals.note import COSIGNATURE, parse_body, parse_verifier_key, verify_cosignature
+from ..approvals.note import (
+    COSIGNATURE,
+    cosignature_time,
+    parse_body,
+    parse_verifier_key,
+    verify_cosignature,
+)
 from ..errors import Invalid
+from .approvals.common import CLOCK_SKEW
 from .missions import NotFound
 from .tables import Checkpoint, Cosignature
 
@@ -54,13 +62,29 @@ def add_cosignature(db: DbSession, *, directory: Path, body: str, line: str) -> 
     if not any(r.note.startswith(body + "\n") or r.note == body for r in rows):
         raise NotFound(f"the log signed no checkpoint with this body (size {head.size})")
     try:
-        verify_cosignature(line, body, name, keys[name])
+        signed_at = verify_cosignature(line, body, name, keys[name])
     except (SignatureError, ValueError) as exc:
         raise BadCosignature(f"cosignature: {exc}") from None
+    _check_time(db, body=body, witness=name, signed_at=signed_at)
     row = Cosignature(tree_size=head.size, body=body, witness=name, line=line)
     db.add(row)
     db.flush()
     return row
+
+
+def _check_time(db: DbSession, *, body: str, witness: str, signed_at: int) -> None:
+    # A witness's clock only moves forward: a replayed older (still valid) cosignature must not
+    # replace the newer one that is published, and a time beyond our clock is not yet a claim.
+    latest = (datetime.now(UTC) + CLOCK_SKEW).timestamp()
+    if signed_at > latest:
+        raise BadCosignature(f"cosignature: witness {witness} dated it {signed_at}, later than "
+                             f"this server's clock allows (now + {CLOCK_SKEW})")
+    for stored in db.scalars(select(Cosignature.line).where(
+            Cosignature.body == body, Cosignature.witness == witness)):
+        if cosignature_time(stored, body) >= signed_at:
+            raise BadCosignature(f"cosignature: witness {witness} already cosigned this "
+                                 f"checkpoint at {cosignature_time(stored, body)}; only a "
+                                 "later cosignature replaces it")
 
 
 def cosignature_lines(db: DbSession, body: str) -> list[str]:
