@@ -150,6 +150,9 @@ class Goal(_Strict):
     title: Text = ""
     description: Text = ""
     behavior: str | None = None
+    # A team's meeting (verify/team.py): every member whose orders name it waits there for
+    # the others, and all leave with one shared outcome. Absent outside teams.
+    meet: Id | None = None
     area: Id | None = None
     requires: list[Id] = Field(default_factory=list, max_length=1000)
     envelope: Envelope = Field(default_factory=dict)
@@ -331,6 +334,8 @@ class RuleSet(_Strict):
 
 
 MAX_SPEED_MPS = 1000.0
+# The team check explores the product of the members' MEAs: keep the factors few.
+MAX_TEAM_MEMBERS = 8
 
 
 class Vehicle(_Strict):
@@ -410,6 +415,15 @@ class Orders(_Strict):
     properties: list[PathProperty] = Field(default_factory=list, max_length=1000)
     # Contingency rules for this mission (seed 004), merged with the vehicle profile's.
     rules: RuleSet | None = None
+    # One MEA per vehicle instead of goals here (orders/team.py); absent: one vehicle.
+    team: list[TeamMember] | None = Field(default=None, min_length=2,
+                                          max_length=MAX_TEAM_MEMBERS)
+
+    @model_validator(mode="after")
+    def _team_alone(self) -> Orders:
+        if self.team is not None:
+            check_team(self)
+        return self
 
     @property
     def effective_terminals(self) -> list[Terminal]:
@@ -439,3 +453,34 @@ class Orders(_Strict):
         for area in self.areas:
             index.setdefault(area.id, area)
         return index
+
+
+class TeamMember(_Strict):
+    """One vehicle of a team with its own orders (its goals, profile, budget and norms)."""
+
+    vehicle: Id
+    orders: Orders
+
+    @model_validator(mode="before")
+    @classmethod
+    def _orders_name_vehicle(cls, data: Any) -> Any:
+        # A member's orders target the member's vehicle: filled in when absent, so that the
+        # member's own checks (M7, BUDGET, NORM) read its profile.
+        if isinstance(data, dict) and isinstance(data.get("orders"), dict) \
+                and "vehicle" not in data["orders"] and "team" not in data["orders"] \
+                and isinstance(data.get("vehicle"), str):
+            data = {**data, "orders": {**data["orders"], "vehicle": data["vehicle"]}}
+        return data
+
+
+def check_team(orders: Orders) -> None:
+    """Read errors for a team that cannot be a team (what can be checked is a finding)."""
+    # Late import: orders/team.py reads the model.
+    from .team import team_read_problems
+
+    problem = team_read_problems(orders)
+    if problem is not None:
+        raise ValueError(problem)
+
+
+Orders.model_rebuild()

@@ -38,6 +38,7 @@ from .probability import Probabilities, declares_probabilities, outcome_probabil
 from .properties import check_properties
 from .rules_design import rules_findings
 from .structure import check_structure
+from .team_report import TeamSummary
 from .text import check_text
 from .vehicle import check_vehicle
 
@@ -68,6 +69,8 @@ class Report:
     orders: Orders | None = field(default=None, repr=False, compare=False)
     # Outcome probabilities (issue 20), only for orders that declare some.
     probabilities: Probabilities | None = None
+    # Orders with a team: each member's figures and the joint counts (verify/team_report.py).
+    team: TeamSummary | None = None
 
     @cached_property
     def meo(self) -> MeoResult | None:
@@ -97,6 +100,8 @@ class Report:
         }
         if self.probabilities is not None:
             data["probabilities"] = self.probabilities.to_json()
+        if self.team is not None:
+            data["team"] = self.team.to_json()
         if explain:
             data["explanation"] = self.explanation
         return data
@@ -117,6 +122,12 @@ def validate(
     the report parts of earlier validations by the digest of what they read; pass a fresh
     PartsCache to validate from scratch. `keys` and `orders_digest`, when the caller computed
     them already, save computing them again."""
+    if orders.team is not None:
+        from .team_report import validate_team
+
+        return validate_team(orders, reader_findings, logic_cache,
+                             solver_budget_s=solver_budget_s, parts=parts,
+                             orders_digest=orders_digest)
     cache = logic_cache if logic_cache is not None else SHARED_LOGIC_CACHE
     store = parts if parts is not None else SHARED_PARTS
     keys = keys if keys is not None else part_keys(orders)

@@ -1,0 +1,101 @@
+"""The validation report of orders with a team: every member's own report, scoped by member,
+then TEAM (verify/team.py) and the joint counts.
+
+Each member's orders are checked exactly as orders of one vehicle (structure, paths, budget
+and norms against its own profile), so a member's findings are those it would have alone;
+their subjects read `auv-1/G3` and their messages start `auv-1: `.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
+
+from ..orders.canonical import digest
+from ..orders.findings import Finding, warning
+from ..orders.model import Orders
+from .graph import build_graph
+from .paths import PathCounts
+from .team import JointCounts, TeamMemberGraph, check_team
+
+if TYPE_CHECKING:
+    from .logic import LogicCache
+    from .parts import PartsCache
+    from .report import Report
+
+
+@dataclass(frozen=True)
+class MemberReport:
+    vehicle: str
+    report: Report
+
+    def to_json(self) -> dict[str, Any]:
+        data = self.report.to_json()
+        return {"vehicle": self.vehicle, "mission": data["mission"], "digest": data["digest"],
+                "ok": data["ok"], "paths": data["paths"], "costs": data["costs"],
+                **({"probabilities": data["probabilities"]} if "probabilities" in data else {})}
+
+
+@dataclass(frozen=True)
+class TeamSummary:
+    members: tuple[MemberReport, ...]
+    meetings: dict[str, tuple[str, ...]]
+    joint: JointCounts | None
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "members": [m.to_json() for m in self.members],
+            "meetings": {m: list(v) for m, v in self.meetings.items()},
+            "joint": self.joint.to_json() if self.joint is not None else None,
+        }
+
+
+def scoped(vehicle: str, finding: Finding) -> Finding:
+    """A member's finding as the team reports it."""
+    return Finding(finding.code, finding.severity,
+                   tuple(f"{vehicle}/{s}" for s in finding.subjects),
+                   f"{vehicle}: {finding.message}", finding.details)
+
+
+def validate_team(
+    orders: Orders,
+    reader_findings: Sequence[Finding] = (),
+    logic_cache: LogicCache | None = None,
+    *,
+    solver_budget_s: float,
+    parts: PartsCache | None = None,
+    orders_digest: str | None = None,
+) -> Report:
+    from .report import Report, validate
+
+    assert orders.team is not None
+    # The whole validation keeps the one solver budget: members share it.
+    share = solver_budget_s / len(orders.team)
+    findings = list(reader_findings)
+    members: list[MemberReport] = []
+    graphs: list[TeamMemberGraph] = []
+    blocked: list[str] = []
+    for member in orders.team:
+        graph = build_graph(member.orders)
+        report = validate(member.orders, graph=graph, logic_cache=logic_cache,
+                          solver_budget_s=share, parts=parts)
+        members.append(MemberReport(member.vehicle, report))
+        findings.extend(scoped(member.vehicle, f) for f in report.findings)
+        graphs.append(TeamMemberGraph(member.vehicle, graph))
+        if report.paths is None:
+            blocked.append(member.vehicle)
+    joint: JointCounts | None = None
+    meetings: dict[str, tuple[str, ...]] = {}
+    if blocked:
+        findings.append(warning(
+            "TEAM", blocked,
+            f"The team's meetings cannot be checked until the paths of {', '.join(blocked)} "
+            "can be counted (see the errors above)."))
+    else:
+        checked = check_team(graphs)
+        findings.extend(checked.findings)
+        joint, meetings = checked.counts, checked.meetings
+    paths = (PathCounts(joint.total, joint.by_key(), ()) if joint is not None else None)
+    return Report(orders.id, orders_digest or digest(orders), findings, paths, None, orders,
+                  None, TeamSummary(tuple(members), meetings, joint))
