@@ -25,6 +25,7 @@ def build_statement(
     rehearsal_digest: str | None = None, revokes: str | None = None,
     probabilities: dict[str, Any] | None = None, exports: dict[str, str] | None = None,
     campaigns: list[str] | None = None, checker: str | None = None,
+    team: dict[str, str] | None = None,
 ) -> dict[str, Any]:
     if decision not in DECISIONS:
         raise ValueError(f"decision must be one of {', '.join(DECISIONS)}")
@@ -55,6 +56,11 @@ def build_statement(
     # existed have none and still verify.
     if checker is not None:
         predicate["checker"] = checker
+    # A team's orders (orders/team.py): every member's orders digest by vehicle, so one
+    # signature covers each vehicle's orders by the digest that vehicle loads. Only on teams,
+    # so the statements of single-vehicle orders stay byte for byte as before.
+    if team is not None:
+        predicate["team"] = dict(team)
     return {
         "_type": STATEMENT_TYPE,
         "subject": [{"name": f"{mission}@v{version}", "digest": {algorithm: hexdigest}}],

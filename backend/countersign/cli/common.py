@@ -29,8 +29,20 @@ class UsageError(Exception):
     """Bad input the user can fix; printed without a trace, exit code 2."""
 
 
-def load_orders(source: str) -> ReadResult:
-    """Orders from a path, `-` for standard input, or `example:NAME` for a built-in."""
+def load_orders(source: str, *, teams: bool = False) -> ReadResult:
+    """Orders from a path, `-` for standard input, or `example:NAME` for a built-in. Orders
+    with a team are refused (exit 2) unless `teams`: most commands read one vehicle's MEA."""
+    loaded = _read_orders(source)
+    if loaded.orders.team is not None and not teams:
+        raise UsageError(
+            f"{source} holds a team's orders (one MEA per vehicle) and this command reads one "
+            "vehicle's orders: 'countersign validate' checks the team, 'countersign export "
+            "--format plain' (or json) writes it; a member's own orders are its "
+            "team[i].orders")
+    return loaded
+
+
+def _read_orders(source: str) -> ReadResult:
     from ..orders.examples import example_bytes
     from ..orders.reader import MAX_INPUT_BYTES, read_bytes, read_file
 

@@ -42,7 +42,11 @@ def _print_report_text(report: Report, out: TextIO) -> None:
         subjects = ", ".join(finding.subjects)
         out.write(f"  {finding.severity:<7} {finding.code:<13} [{subjects}]\n")
         out.write(f"          {finding.message}\n")
-    if report.paths is None:
+    if report.team is not None:
+        from ..verify.team_report import summary_lines as team_lines
+
+        out.write("".join(f"{line}\n" for line in team_lines(report.team)))
+    elif report.paths is None:
         out.write("Paths: not countable until the errors above are fixed.\n")
     else:
         parts = ", ".join(f"{n} to {t}" for t, n in report.paths.by_terminal.items())
@@ -74,7 +78,10 @@ def _print_explanation(report: Report, out: TextIO) -> None:
 def cmd_validate(args: argparse.Namespace) -> int:
     from ..verify.report import validate
 
-    loaded = load_orders(args.file)
+    loaded = load_orders(args.file, teams=True)
+    if args.explain and loaded.orders.team is not None:
+        raise UsageError("--explain shows the ontology's facts about one vehicle's orders; "
+                         "give a member's orders (team[i].orders)")
     report = validate(loaded.orders, loaded.findings, solver_budget_s=args.solver_budget)
     if args.format == "json":
         json.dump(report.to_json(explain=args.explain), sys.stdout, indent=2)
@@ -178,7 +185,7 @@ def cmd_run(args: argparse.Namespace) -> int:
 def cmd_export(args: argparse.Namespace) -> int:
     from ..rehearse.plain import write_for_supervisor
 
-    loaded = load_orders(args.file)
+    loaded = load_orders(args.file, teams=args.format in ("plain", "json"))
     if args.format in ("imc", "moos"):
         from .export_vehicle import write_vehicle_export
 

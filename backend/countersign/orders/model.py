@@ -17,6 +17,7 @@ from pydantic import (
     BaseModel,
     ConfigDict,
     Field,
+    WithJsonSchema,
     field_validator,
     model_validator,
 )
@@ -459,7 +460,11 @@ class TeamMember(_Strict):
     """One vehicle of a team with its own orders (its goals, profile, budget and norms)."""
 
     vehicle: Id
-    orders: Orders
+    # Documented as an object, not as Orders again: a recursive JSON schema splits Orders
+    # into input and output schemas that the OpenAPI document's references do not name.
+    orders: Annotated[Orders, WithJsonSchema({
+        "type": "object", "title": "Orders",
+        "description": "the member vehicle's own countersign.orders/1 orders (no team)"})]
 
     @model_validator(mode="before")
     @classmethod

@@ -8,6 +8,7 @@ call this one module, so the supervisor reads the same sentences everywhere.
 from __future__ import annotations
 
 from ..orders.model import Orders
+from ..orders.team import plain_team
 from ..orders.writers import write
 from ..rules import TheoryError, plain_rules, theory_for
 
@@ -39,5 +40,8 @@ def plain_orders_with_rules(orders: Orders, sentences: list[str] | None = None) 
 
 
 def write_for_supervisor(orders: Orders, fmt: str) -> str:
-    """`orders.writers.write`, with the contingency rules appended to the plain format."""
+    """`orders.writers.write`, with the contingency rules appended to the plain format; a
+    team's plain orders are each vehicle's, after the meeting points side by side."""
+    if fmt == "plain" and orders.team is not None:
+        return plain_team(orders, plain_orders_with_rules)
     return plain_orders_with_rules(orders) if fmt == "plain" else write(orders, fmt)

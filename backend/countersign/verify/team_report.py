@@ -99,3 +99,38 @@ def validate_team(
     paths = (PathCounts(joint.total, joint.by_key(), ()) if joint is not None else None)
     return Report(orders.id, orders_digest or digest(orders), findings, paths, None, orders,
                   None, TeamSummary(tuple(members), meetings, joint))
+
+
+def summary_lines(team: TeamSummary) -> list[str]:
+    """The team's figures for `countersign validate`: each member's paths and worst costs,
+    the meetings, and the joint executions by where each member ends."""
+    lines = [f"Team of {len(team.members)}: {', '.join(m.vehicle for m in team.members)}"]
+    for member in team.members:
+        report = member.report
+        if report.paths is None:
+            paths = "paths not countable until its errors are fixed"
+        else:
+            parts = ", ".join(f"{n} to {t}" for t, n in report.paths.by_terminal.items())
+            paths = f"{report.paths.total} paths ({parts})"
+        costs = "".join(
+            f"; worst {q} {w.total:g}" + (f" of budget {w.budget:g}" if w.budget is not None
+                                          else "")
+            for q, w in (report.costs or {}).items())
+        lines.append(f"  {member.vehicle} ({report.mission}, {report.digest}): {paths}{costs}")
+    if team.meetings:
+        lines.append("Meetings: " + "; ".join(f"{m} ({', '.join(v)})"
+                                              for m, v in team.meetings.items()))
+    else:
+        lines.append("Meetings: none (no goal names a meet)")
+    joint = team.joint
+    if joint is None:
+        lines.append("Joint executions: not counted (see TEAM above).")
+        return lines
+    lines.append(f"Joint executions: {joint.total} ({joint.deadlocked} deadlocked)")
+    width = len(str(max((n for _, _, n in joint.by_ends), default=0)))
+    for ends, waiting, n in joint.by_ends:
+        where = ", ".join(
+            f"{v} {end}" if meet is None else f"{v} waits at {meet} ({end})"
+            for v, end, meet in zip(joint.vehicles, ends, waiting, strict=True))
+        lines.append(f"  {n:>{width}}  {where}")
+    return lines

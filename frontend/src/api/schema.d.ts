@@ -2621,6 +2621,8 @@ export interface components {
             };
             /** Id */
             id: string;
+            /** Meet */
+            meet?: string | null;
             /** Next */
             next?: {
                 [key: string]: string | string[] | null;
@@ -2679,6 +2681,32 @@ export interface components {
             root: string;
             /** Size */
             size: number;
+        };
+        /** JointCountsOut */
+        JointCountsOut: {
+            /** By Ends */
+            by_ends: components["schemas"]["JointEndsOut"][];
+            /** Count */
+            count: number;
+            /** Deadlocked */
+            deadlocked: number;
+        };
+        /**
+         * JointEndsOut
+         * @description How many joint executions end with each member where `ends` says (a terminal, or
+         *     for a deadlock the goal a member waits at, its meeting in `waiting`).
+         */
+        JointEndsOut: {
+            /** Count */
+            count: number;
+            /** Ends */
+            ends: {
+                [key: string]: string;
+            };
+            /** Waiting */
+            waiting?: {
+                [key: string]: string;
+            } | null;
         };
         /** KeyIn */
         KeyIn: {
@@ -2950,6 +2978,8 @@ export interface components {
             rules?: components["schemas"]["RuleSet"] | null;
             /** Start */
             start?: string | string[] | null;
+            /** Team */
+            team?: components["schemas"]["TeamMember"][] | null;
             /** Terminals */
             terminals?: components["schemas"]["Terminal"][] | null;
             /**
@@ -3810,6 +3840,8 @@ export interface components {
             paths: components["schemas"]["PathCountsOut"] | null;
             /** @description only for orders that declare probabilities */
             probabilities?: components["schemas"]["ProbabilitiesOut"] | null;
+            /** @description only for orders with a team; `paths` then counts joint executions */
+            team?: components["schemas"]["TeamOut"] | null;
         };
         /**
          * ReviewOut
@@ -4055,6 +4087,54 @@ export interface components {
             because: string;
             /** Outcome */
             outcome: string;
+        };
+        /**
+         * TeamMember
+         * @description One vehicle of a team with its own orders (its goals, profile, budget and norms).
+         */
+        TeamMember: {
+            /**
+             * Orders
+             * @description the member vehicle's own countersign.orders/1 orders (no team)
+             */
+            orders: Record<string, never>;
+            /** Vehicle */
+            vehicle: string;
+        } & {
+            [key: string]: unknown;
+        };
+        /**
+         * TeamMemberOut
+         * @description One member of a team: its own orders' figures (verify/team_report.py).
+         */
+        TeamMemberOut: {
+            /** Costs */
+            costs: {
+                [key: string]: components["schemas"]["WorstCostOut"];
+            } | null;
+            /** Digest */
+            digest: string;
+            /** Mission */
+            mission: string;
+            /** Ok */
+            ok: boolean;
+            paths: components["schemas"]["PathCountsOut"] | null;
+            probabilities?: components["schemas"]["ProbabilitiesOut"] | null;
+            /** Vehicle */
+            vehicle: string;
+        };
+        /**
+         * TeamOut
+         * @description Orders with a team (verify/team.py): members, meetings and joint executions.
+         */
+        TeamOut: {
+            joint: components["schemas"]["JointCountsOut"] | null;
+            /** Meetings */
+            meetings: {
+                [key: string]: string[];
+            };
+            /** Members */
+            members: components["schemas"]["TeamMemberOut"][];
         };
         /** Terminal */
         Terminal: {

@@ -23,6 +23,7 @@ from ...approvals.statement import (
 )
 from ...export.package import export_digests
 from ...orders.reader import orders_from_data
+from ...orders.team import member_digests
 from ...verify import fingerprint
 from ..campaigns import attached as attached_campaigns
 from ..decide_guard import (
@@ -78,7 +79,8 @@ def _statement(db: DbSession, ctx: Context, *, decision: str, reason: str, super
         raise Stale("the validation report was made by other checks than this server's; "
                     "reload the review and prepare the statement again")
     orders = ctx.version.orders
-    exports = export_digests(orders_from_data(orders), version=ctx.version.number,
+    model = orders_from_data(orders)
+    exports = export_digests(model, version=ctx.version.number,
                              submission=ctx.submission.id) if decision == "approved" else None
     return build_statement(
         mission=ctx.mission.id, version=ctx.version.number, orders_digest=ctx.version.digest,
@@ -89,7 +91,8 @@ def _statement(db: DbSession, ctx: Context, *, decision: str, reason: str, super
         rehearsal_digest=ctx.submission.rehearsal_digest,
         probabilities=ctx.report.get("probabilities"), exports=exports,
         campaigns=[a.digest for a in attached_campaigns(db, ctx.submission.id)],
-        checker=str(checker))
+        checker=str(checker),
+        team=member_digests(model) if model.team is not None else None)
 
 
 @dataclass(frozen=True)

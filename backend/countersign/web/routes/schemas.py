@@ -148,6 +148,41 @@ class ProbabilitiesOut(BaseModel):
 ProbabilitiesJson = Annotated[dict[str, Any], SchemaOf(ProbabilitiesOut)]
 
 
+class TeamMemberOut(BaseModel):
+    """One member of a team: its own orders' figures (verify/team_report.py)."""
+
+    vehicle: str
+    mission: str
+    digest: str
+    ok: bool
+    paths: PathCountsOut | None
+    costs: dict[str, WorstCostOut] | None
+    probabilities: ProbabilitiesOut | None = None
+
+
+class JointEndsOut(BaseModel):
+    """How many joint executions end with each member where `ends` says (a terminal, or
+    for a deadlock the goal a member waits at, its meeting in `waiting`)."""
+
+    ends: dict[str, str]
+    waiting: dict[str, str] | None = None
+    count: int
+
+
+class JointCountsOut(BaseModel):
+    count: int
+    deadlocked: int
+    by_ends: list[JointEndsOut]
+
+
+class TeamOut(BaseModel):
+    """Orders with a team (verify/team.py): members, meetings and joint executions."""
+
+    members: list[TeamMemberOut]
+    meetings: dict[str, list[str]]
+    joint: JointCountsOut | None
+
+
 class ReportOut(BaseModel):
     """The validation report: every check that exists (docs/api.md, Reports)."""
 
@@ -159,6 +194,8 @@ class ReportOut(BaseModel):
     costs: dict[str, WorstCostOut] | None = None
     probabilities: ProbabilitiesOut | None = Field(default=None, description=(
         "only for orders that declare probabilities"))
+    team: TeamOut | None = Field(default=None, description=(
+        "only for orders with a team; `paths` then counts joint executions"))
     checker: str = Field(description=(
         "the fingerprint of the checks and ontology that made the report (sha256: and 64 hex "
         "digits); a stored report made by other checks is never answered, it is recomputed"))
