@@ -293,3 +293,18 @@ def test_the_offline_verifier_holds_the_signed_member_digests_to_the_orders() ->
     assert _team_problems("approval 1", other, member_digests(orders))
     assert _team_problems("approval 1", orders_to_json(load_example("search-and-sample")),
                           member_digests(orders))
+
+
+def test_budget_and_norms_are_each_vehicles_own() -> None:
+    data = _team_data()
+    v2 = data["team"][1]["orders"]
+    v2["vehicles"][0]["budget"]["energy_wh"] = 300
+    v2["norms"] = [{"id": "N1", "context": "coastal", "forbidden": "behavior == 'area_search'",
+                    "text": "No searching in coastal waters"}]
+    report = validate(orders_from_data(data))
+    budget = [f for f in report.findings if f.code == "BUDGET" and f.severity == "error"]
+    norms = [f for f in report.findings if f.code == "NORM" and f.severity == "error"]
+    # Vehicle 2's 300 Wh is its own bound (remus-100 keeps 1500 Wh and needs 1137).
+    assert budget and all(s.startswith("vehicle-2/") for f in budget for s in f.subjects)
+    assert norms and all(s.startswith("vehicle-2/") for f in norms for s in f.subjects)
+    assert report.team is not None and report.team.members[0].report.ok

@@ -220,10 +220,13 @@ def cmd_explain(args: argparse.Namespace) -> int:
 
 
 def cmd_examples(args: argparse.Namespace) -> int:
-    from ..orders.examples import example_bytes, example_names
+    from ..orders.examples import example_bytes, example_names, team_example_names
 
     if args.name is None:
         for name in example_names():
+            sys.stdout.write(f"{name}\n")
+        # One name a line, so scripts can loop over them; team orders are named *-team.
+        for name in team_example_names():
             sys.stdout.write(f"{name}\n")
         return EXIT_OK
     try:
@@ -243,7 +246,13 @@ def add_commands(commands: Any) -> None:
         "profile of their target vehicle, or VEHICLE is reported (an error). When goals (or "
         "the vehicle, per behaviour) carry outcome probabilities `p`, it also prints the exact "
         "probability of each terminal and of any violation, the expected energy and time "
-        "with quantiles, and min/max where probabilities are intervals or missing.",
+        "with quantiles, and min/max where probabilities are intervals or missing. "
+        "Orders with a `team` (one member's orders per vehicle; goals with the same `meet` "
+        "id are one meeting) are checked member by member, findings scoped `VEHICLE/ID`, "
+        "then TEAM: a meeting where a member can wait for a partner that ended or went past "
+        "it, named with the shortest joint path (`v1/G1 violate, v2/G1 violate -> (v1/G4, "
+        "v2/ABORT)`); it prints each member's paths and costs and the joint executions by "
+        "where each member ends (example:search-and-sample-team).",
     )
     validate_cmd.add_argument("file", metavar="FILE", help=FILE_HELP)
     validate_cmd.add_argument("--format", choices=["text", "json"], default="text")
