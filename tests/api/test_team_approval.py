@@ -66,3 +66,34 @@ def test_single_vehicle_statements_sign_no_team(world: World) -> None:
     signer = register_key(supervisor)
     prepared = prepare(supervisor, submit(world, new_version(world)), signer)
     assert "team" not in prepared["statement"]["predicate"]
+
+
+def test_team_orders_are_never_a_500(world: World) -> None:
+    operator = world.client("operator")
+    team = _clean_team()
+    validated = operator.post("/api/validate", json=team)
+    assert validated.status_code == 200, validated.text
+    assert validated.json()["team"]["joint"]["count"] == validated.json()["paths"]["count"]
+    mission = operator.get(f"/api/missions/{MISSION}")
+    saved = operator.put(f"/api/missions/{MISSION}/draft", json={"orders": team},
+                         headers={"If-Match": mission.headers["ETag"]})
+    assert saved.status_code == 200, saved.text
+    number = new_version(world)
+    supervisor = world.client("supervisor")
+    for path in (f"/api/missions/{MISSION}/versions/{number}/review",
+                 f"/api/missions/{MISSION}/paths",
+                 f"/api/missions/{MISSION}/standing"):
+        response = supervisor.get(path)
+        assert response.status_code < 500, (path, response.status_code, response.text)
+    # What reads one vehicle's MEA (vehicle files, simulations) refuses a team, never a 500.
+    for path in (f"/api/missions/{MISSION}/versions/{number}/vehicle/imc",
+                 f"/api/missions/{MISSION}/versions/{number}/vehicle/moos"):
+        response = operator.get(path)
+        assert 400 <= response.status_code < 500, (path, response.status_code, response.text)
+    for path, body in ((f"/api/missions/{MISSION}/versions/{number}/campaigns",
+                        {"simulations": 4}),
+                       (f"/api/missions/{MISSION}/rehearsals", {"version": number})):
+        response = operator.post(path, json=body)
+        assert 400 <= response.status_code < 500, (path, response.status_code, response.text)
+    paths = supervisor.get(f"/api/missions/{MISSION}/paths")
+    assert paths.status_code == 409 and "team" in paths.json()["detail"]

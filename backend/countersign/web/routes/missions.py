@@ -413,6 +413,10 @@ def list_paths(
         orders = _orders(service.get_version(db, mission_id, version).orders)
     else:
         orders = _orders(service.get_mission(db, mission_id).draft)
+    if orders.team is not None:
+        # A team has one path list per member; its joint executions are counted in the report.
+        raise HTTPException(409, "these orders are a team's: each member has its own paths, "
+                                 "and the report counts the joint executions")
     graph = build_graph(orders)
     counts = count_paths(graph)
     bounds = (path_probability_bounds(orders, graph)
