@@ -6,7 +6,9 @@ Teams of 2 and 3 members, each member a chain of "layers" of three goals (every 
 layer's goals leads to the next layer, so paths grow as 3^goals) with a meeting every few
 layers. Prints, per size, the joint executions counted, the joint positions the check
 explored (over meetings and terminals only) and their ratio, and how the check's time grows
-relative to the smallest size (ratios, not seconds to compare with another machine).
+relative to the smallest size (ratios, not seconds to compare with another machine). Then two
+independent pairs (a product that grows as the square of the meetings) up to the bound on
+joint positions, where TEAM becomes a warning.
 """
 
 from __future__ import annotations
@@ -62,9 +64,8 @@ def run(members: int, layers: int, every: int) -> tuple[float, int, int, int, in
 def _positions(graphs: list[TeamMemberGraph]) -> int:
     product = team_module._Product(graphs)
     begin = tuple(g.graph.start or 0 for g in graphs)
-    for position, _, _ in product.spread(begin, list(enumerate(begin))):
-        product.solve(position)
-    return len(product.memo)
+    firsts = [p for p, _, _ in product.spread(begin, list(enumerate(begin)))]
+    return len(product.explore(firsts))
 
 
 def main() -> None:
@@ -77,6 +78,31 @@ def main() -> None:
             base = base or elapsed
             print(f"  {layers:>4} {goals:>5} {magnitude(total):>8} {positions:>6} "
                   f"{magnitude(total // positions):>8} {findings:>3} {elapsed / base:8.1f}x")
+    print("two independent pairs: meetings each, joint positions, time vs smallest")
+    first: float | None = None
+    for meetings in (10, 30, 100, 320):
+        elapsed, positions = pairs(meetings)
+        first = first or elapsed
+        shown = positions if positions is not None else "over the bound: TEAM warning"
+        print(f"  {meetings:>4} {shown!s:>6} {elapsed / first:8.1f}x")
+
+
+def pairs(meetings: int) -> tuple[float, int | None]:
+    """Two independent pairs, each meeting `meetings` times; one of each pair may abort."""
+    def chain(prefix: str, skip: bool) -> TeamMemberGraph:
+        goals = []
+        for i in range(meetings):
+            after = f"X{i + 1}" if i + 1 < meetings else "COMPLETE"
+            goals.append({"id": f"X{i}", "behavior": "rendezvous", "meet": f"{prefix}{i}",
+                          "next": {"succeed": after, "fail": after,
+                                   "violate": "ABORT" if skip else after}})
+        orders = Orders.model_validate({"id": "m", "start": "X0", "goals": goals})
+        return TeamMemberGraph(f"{prefix}{int(skip)}", build_graph(orders))
+
+    graphs = [chain("R", False), chain("R", True), chain("S", False), chain("S", True)]
+    started = time.perf_counter()
+    result = check_team(graphs)
+    return time.perf_counter() - started, (_positions(graphs) if result.counts else None)
 
 
 if __name__ == "__main__":

@@ -21,7 +21,8 @@ def test_validate_prints_team_findings_and_joint_counts() -> None:
     assert "remus-100 (search-and-sample-v1, sha256:" in out and "75 paths" in out
     assert "Meetings: R1 (remus-100, vehicle-2)" in out
     assert "Joint executions: 449 (14 deadlocked)" in out
-    assert "8  remus-100 waits at R1 (G4), vehicle-2 ABORT" in out
+    assert "8  remus-100 left waiting, vehicle-2 ABORT" in out
+    assert "remus-100 waits at R1 for ever in 8" in out
 
 
 def test_validate_json_of_a_clean_team_exits_0(tmp_path: Path) -> None:

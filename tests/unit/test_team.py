@@ -234,14 +234,16 @@ def _brute_force(graphs: list[MissionGraph]) -> tuple[Counter[Any], dict[Any, in
     counts: Counter[Any] = Counter()
     shortest: dict[Any, int] = {}
     for done, position in runs:
-        ends = tuple(g.node_id(n) for g, n in zip(graphs, position, strict=True))
         waiting = tuple(meet_of[i].get(n) for i, n in enumerate(position))
-        counts[(ends, waiting)] += 1
+        ends = tuple(None if meet else g.node_id(n)
+                     for g, n, meet in zip(graphs, position, waiting, strict=True))
+        counts[ends] += 1
         meetings_fired = _meetings_in(done, meet_of)
         length = sum(len(d) for d in done) - meetings_fired
         for i, meet in enumerate(waiting):
             if meet is not None:
                 key = (meet, i)
+                counts[key] += 1
                 shortest[key] = min(shortest.get(key, length), length)
     return counts, shortest
 
@@ -272,12 +274,14 @@ def test_joint_counts_and_shortest_deadlocks_match_brute_force(
     result = check_team(graphs)
     assert result.counts is not None
     expected, shortest = _brute_force([g.graph for g in graphs])
-    got = Counter({(ends, waiting): n for ends, waiting, n in result.counts.by_ends})
+    vehicles = [v for v, _ in members]
+    got = Counter(dict(result.counts.by_ends))
+    got.update({(m, vehicles.index(v)): n for m, v, n in result.counts.waiting})
     assert got == expected
-    assert result.counts.total == sum(expected.values())
+    assert result.counts.total == sum(n for key, n in expected.items()
+                                      if isinstance(key[1], str | None))
     deadlocks = {(f.details["meeting"], f.details["waiting"][0]): len(f.details["joint_path"])
                  for f in result.findings if "joint_path" in f.details}
-    vehicles = [v for v, _ in members]
     assert {(m, vehicles.index(v)): n for (m, v), n in deadlocks.items()} == shortest
 
 
@@ -308,3 +312,37 @@ def test_budget_and_norms_are_each_vehicles_own() -> None:
     assert budget and all(s.startswith("vehicle-2/") for f in budget for s in f.subjects)
     assert norms and all(s.startswith("vehicle-2/") for f in norms for s in f.subjects)
     assert report.team is not None and report.team.members[0].report.ok
+
+
+def test_deadlock_findings_are_bounded(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(team_module, "MAX_DEADLOCK_FINDINGS", 1)
+    result = check_team(_graphs([(m["vehicle"], m["orders"]) for m in _team_data()["team"]]))
+    paths = [f for f in result.findings if "joint_path" in f.details]
+    assert len(paths) == 1
+    assert "1 more meetings can leave a member waiting" in result.findings[-1].message
+
+
+def test_a_meeting_is_one_step_of_the_joint_path() -> None:
+    # v1 can reach W (meeting R3, which v2 names at a goal it never reaches) either through
+    # meetings R1 and R2 (three steps) or by two moves of its own: the shortest is the latter,
+    # so a meeting must count as one step.
+    one = {"id": "one", "start": "S", "goals": [
+        {"id": "S", "behavior": "transit", "next": {"succeed": "A", "fail": "T",
+                                                     "violate": "T"}},
+        {"id": "T", "behavior": "transit", "next": dict.fromkeys(OUTCOMES, "W")},
+        {"id": "A", "behavior": "rendezvous", "meet": "R1", "next": dict.fromkeys(OUTCOMES, "B")},
+        {"id": "B", "behavior": "rendezvous", "meet": "R2", "next": dict.fromkeys(OUTCOMES, "W")},
+        {"id": "W", "behavior": "rendezvous", "meet": "R3",
+         "next": dict.fromkeys(OUTCOMES, "COMPLETE")}]}
+    two = {"id": "two", "start": "A2", "goals": [
+        {"id": "A2", "behavior": "rendezvous", "meet": "R1",
+         "next": dict.fromkeys(OUTCOMES, "B2")},
+        {"id": "B2", "behavior": "rendezvous", "meet": "R2",
+         "next": dict.fromkeys(OUTCOMES, "W2")},
+        {"id": "W2", "behavior": "rendezvous", "meet": "R3",
+         "next": {"succeed": "COMPLETE", "fail": "COMPLETE", "violate": "COMPLETE"}}]}
+    two["goals"][1]["next"] = dict.fromkeys(OUTCOMES, "COMPLETE")  # v2 never reaches R3
+    result = check_team(_graphs([("v1", one), ("v2", two)]))
+    (finding,) = [f for f in result.findings
+                  if f.details.get("meeting") == "R3" and f.details["waiting"] == ["v1"]]
+    assert finding.subjects[1] == "v1/S fail, v1/T succeed -> (v1/W, v2/A2)"

@@ -40,7 +40,8 @@ from .paths import topological_order
 # warning that says the meetings were not checked, never a hang.
 MAX_JOINT_POSITIONS = 100_000
 MAX_JOINT_MOVES = 1_000_000
-MAX_LOCAL_ENTRIES = 2_000_000
+MAX_DEADLOCK_FINDINGS = 50  # each carries its joint path
+MAX_LOCAL_ENTRIES = 500_000  # (node, next stop) pairs over all members: about 75 MB
 
 # A member's way from a node to one stop: (number of ways, shortest length, first outcome).
 Way = tuple[int, int, int]
@@ -60,33 +61,30 @@ class TeamMemberGraph:
 
 @dataclass(frozen=True)
 class JointCounts:
-    """Joint executions (traces) by where each member ends; `waiting` only on deadlocks."""
+    """Joint executions (traces) by where each member ends (a terminal, or None for a member
+    left waiting), and the deadlocked ones by meeting and waiting member."""
 
     total: int
     deadlocked: int
-    by_ends: tuple[tuple[tuple[str, ...], tuple[str | None, ...], int], ...]
+    by_ends: tuple[tuple[tuple[str | None, ...], int], ...]
+    # (meeting, vehicle waiting there, executions): one execution may leave several waiting.
+    waiting: tuple[tuple[str, str, int], ...]
     vehicles: tuple[str, ...]
 
-    def key(self, ends: Sequence[str], waiting: Sequence[str | None]) -> str:
-        parts = []
-        for vehicle, end, meet in zip(self.vehicles, ends, waiting, strict=True):
-            parts.append(f"{vehicle}:{end}" + (f" (waits at {meet})" if meet else ""))
-        return " + ".join(parts)
+    def key(self, ends: Sequence[str | None]) -> str:
+        return " + ".join(f"{vehicle}:{end or 'waiting'}"
+                          for vehicle, end in zip(self.vehicles, ends, strict=True))
 
     def by_key(self) -> dict[str, int]:
-        return {self.key(ends, waiting): n for ends, waiting, n in self.by_ends}
+        return {self.key(ends): n for ends, n in self.by_ends}
 
     def to_json(self) -> dict[str, Any]:
         return {
             "count": self.total,
             "deadlocked": self.deadlocked,
-            "by_ends": [
-                {"ends": dict(zip(self.vehicles, ends, strict=True)),
-                 **({"waiting": {v: m for v, m in zip(self.vehicles, waiting, strict=True)
-                                 if m is not None}} if any(waiting) else {}),
-                 "count": n}
-                for ends, waiting, n in self.by_ends
-            ],
+            "by_ends": [{"ends": dict(zip(self.vehicles, ends, strict=True)), "count": n}
+                        for ends, n in self.by_ends],
+            "waiting": [{"meeting": m, "vehicle": v, "count": n} for m, v, n in self.waiting],
         }
 
 
@@ -95,16 +93,6 @@ class TeamCheck:
     findings: list[Finding]
     counts: JointCounts | None
     meetings: dict[str, tuple[str, ...]] = field(default_factory=dict)
-
-
-@dataclass
-class _Node:
-    """What is known of one joint position once its successors are done."""
-
-    counts: Counter[tuple[Position, Position]]  # (final position, waiting flags) -> ways
-    # (meeting, member) -> (shortest length to a deadlock where that member waits at that
-    # meeting, next move or None)
-    best: dict[Waiter, tuple[int, tuple[int, Position] | None]]
 
 
 class _Product:
@@ -120,9 +108,9 @@ class _Product:
             for meet in sorted(set(meets.values())):
                 self.participants[meet] = (*self.participants.get(meet, ()), index)
         self.order = sorted(self.participants)
+        self.entries = 0
         self.ways = [self._ways(m.graph, meets) for m, meets in zip(members, self.meet_of,
                                                                      strict=True)]
-        self.memo: dict[Position, _Node] = {}
         self.moves = 0
 
     def _ways(self, graph: MissionGraph, meets: dict[int, str]) -> dict[int, dict[int, Way]]:
@@ -133,7 +121,6 @@ class _Product:
             graph.goal_count + t: {graph.goal_count + t: (1, 0, -1)}
             for t in range(len(graph.terminals))
         }
-        entries = 0
         for node in order:  # successors first
             if node in meets:
                 ways[node] = {node: (1, 0, -1)}
@@ -148,15 +135,18 @@ class _Product:
                         better = length + 1 < old[1]
                         table[stop] = (old[0] + count, length + 1 if better else old[1],
                                        k if better else old[2])
-            entries += len(table)
-            if entries > MAX_LOCAL_ENTRIES:
+            self.entries += len(table)
+            if self.entries > MAX_LOCAL_ENTRIES:
                 raise TooLarge(f"more than {MAX_LOCAL_ENTRIES:,} (goal, next meeting) pairs")
             ways[node] = table
         return ways
 
     def enabled(self, position: Position) -> str | None:
         """The meeting that fires next here (the smallest id among those assembled)."""
-        for meet in self.order:
+        # Only a meeting some member stands at can be assembled: look at those, not at all.
+        here = sorted({meet for i, node in enumerate(position)
+                       if (meet := self.meet_of[i].get(node)) is not None})
+        for meet in here:
             if all(self.meet_of[i].get(position[i]) == meet for i in self.participants[meet]):
                 return meet
         return None
@@ -173,95 +163,140 @@ class _Product:
                 new[i] = stop
                 ways *= count
                 length += steps
-            self.moves += 1
-            if self.moves > MAX_JOINT_MOVES:
-                raise TooLarge(f"more than {MAX_JOINT_MOVES:,} joint moves")
             yield tuple(new), ways, length
 
     def after(self, position: Position, meet: str, k: int) -> list[tuple[int, int]]:
         return [(i, self.members[i].graph.succ[position[i]][k])
                 for i in self.participants[meet]]
 
-    def solve(self, start: Position) -> _Node:
-        """Counts and shortest deadlocks from `start`, memoised, without recursion."""
-        stack: list[Position] = [start]
-        while stack:
-            position = stack[-1]
-            if position in self.memo:
-                stack.pop()
-                continue
-            meet = self.enabled(position)
-            if meet is None:
-                self.memo[position] = self._final(position)
-                stack.pop()
-                continue
-            pending = [nxt for k in range(3)
-                       for nxt, _, _ in self.spread(position, self.after(position, meet, k))
-                       if nxt not in self.memo]
-            if pending:
-                stack.extend(pending)
-                if len(self.memo) + len(stack) > MAX_JOINT_POSITIONS * 4:
-                    raise TooLarge(f"more than {MAX_JOINT_POSITIONS:,} joint positions")
-                continue
-            self.memo[position] = self._combine(position, meet)
-            if len(self.memo) > MAX_JOINT_POSITIONS:
-                raise TooLarge(f"more than {MAX_JOINT_POSITIONS:,} joint positions")
-            stack.pop()
-        return self.memo[start]
-
-    def _final(self, position: Position) -> _Node:
-        waiting = tuple(1 if position[i] in self.meet_of[i] else 0
-                        for i in range(len(position)))
-        best: dict[Waiter, tuple[int, tuple[int, Position] | None]] = {
-            (self.meet_of[i][position[i]], i): (0, None)
-            for i in range(len(position)) if waiting[i]}
-        return _Node(Counter({(position, waiting): 1}), best)
-
-    def _combine(self, position: Position, meet: str) -> _Node:
-        counts: Counter[tuple[Position, Position]] = Counter()
-        best: dict[Waiter, tuple[int, tuple[int, Position] | None]] = {}
+    def moves_from(self, position: Position) -> Iterator[tuple[int, Position, int, int]]:
+        """The scheduled meeting's moves: (outcome index, next position, ways, length)."""
+        meet = self.enabled(position)
+        if meet is None:
+            return
         for k in range(3):
             for nxt, ways, length in self.spread(position, self.after(position, meet, k)):
-                node = self.memo[nxt]
-                for key, n in node.counts.items():
-                    counts[key] += ways * n
-                for m, (rest, _) in node.best.items():
-                    total = 1 + length + rest
-                    if m not in best or total < best[m][0]:
-                        best[m] = (total, (k, nxt))
-        return _Node(counts, best)
+                yield k, nxt, ways, length
+
+    def explore(self, starts: Sequence[Position]) -> list[Position]:
+        """Every joint position reachable from `starts`, parents before children."""
+        done: dict[Position, None] = {}  # in post-order: children before parents
+        stack: list[Position] = list(starts)
+        while stack:
+            position = stack[-1]
+            if position in done:
+                stack.pop()
+                continue
+            pending = []
+            for _, nxt, _, _ in self.moves_from(position):
+                self.moves += 1
+                if self.moves > MAX_JOINT_MOVES:
+                    raise TooLarge(f"more than {MAX_JOINT_MOVES:,} joint moves")
+                if nxt not in done:
+                    pending.append(nxt)
+            if pending:
+                stack.extend(pending)
+                continue
+            done[position] = None
+            if len(done) > MAX_JOINT_POSITIONS:
+                raise TooLarge(f"more than {MAX_JOINT_POSITIONS:,} joint positions")
+            stack.pop()
+        return list(reversed(done))
+
+
+@dataclass
+class _Forward:
+    """Ways to reach each joint position from the start, the shortest length there and the
+    move that reached it that way (None: reached by the members' first own moves)."""
+
+    ways: dict[Position, int] = field(default_factory=dict)
+    length: dict[Position, int] = field(default_factory=dict)
+    parent: dict[Position, tuple[Position, int] | None] = field(default_factory=dict)
+
+    def reach(self, position: Position, ways: int, length: int,
+              parent: tuple[Position, int] | None) -> None:
+        self.ways[position] = self.ways.get(position, 0) + ways
+        if position not in self.length or length < self.length[position]:
+            self.length[position] = length
+            self.parent[position] = parent
 
 
 def check_team(members: Sequence[TeamMemberGraph]) -> TeamCheck:
     """TEAM findings and joint counts of a team whose members' MEAs are all countable."""
-    product = _Product(members) if members else None
-    assert product is not None
-    findings = _lonely_meetings(product)
     starts = [m.graph.start for m in members]
-    assert all(s is not None for s in starts)
+    assert members and all(s is not None for s in starts)
     begin = tuple(s for s in starts if s is not None)
-    movers = list(enumerate(begin))
-    total: Counter[tuple[Position, Position]] = Counter()
-    best: dict[Waiter, tuple[int, Position]] = {}
     try:
-        for position, ways, length in product.spread(begin, movers):
-            node = product.solve(position)
-            for key, n in node.counts.items():
-                total[key] += ways * n
-            for waiter, (rest, _) in node.best.items():
-                if waiter not in best or length + rest < best[waiter][0]:
-                    best[waiter] = (length + rest, position)
+        product = _Product(members)
+        firsts = list(product.spread(begin, list(enumerate(begin))))
+        if len(firsts) > MAX_JOINT_POSITIONS:
+            raise TooLarge(f"more than {MAX_JOINT_POSITIONS:,} joint positions")
+        order = product.explore([p for p, _, _ in firsts])
     except TooLarge as exc:
-        findings.append(warning(
+        return TeamCheck([warning(
             "TEAM", [m.vehicle for m in members],
             f"The team's meetings were not checked: the joint executions have {exc} "
-            "(a deadlock cannot be ruled out).", undecided=True))
-        return TeamCheck(findings, None, {m: _names(product, m) for m in product.order})
-    # One finding per meeting and member left waiting there, in meeting then team order.
-    for waiter in sorted(best):
-        findings.append(_deadlock(product, waiter, begin, best[waiter][1]))
-    return TeamCheck(findings, _joint_counts(product, total),
-                     {m: _names(product, m) for m in product.order})
+            "(a deadlock cannot be ruled out).", undecided=True)], None)
+    findings = _lonely_meetings(product)
+    # Forward over the positions in topological order: ways multiply along each move and add
+    # up where moves join, so every joint execution is counted once, as one path here.
+    forward = _Forward()
+    for position, ways, length in firsts:
+        forward.reach(position, ways, length, None)
+    finals: list[Position] = []
+    for position in order:
+        here_ways, here_length = forward.ways[position], forward.length[position]
+        moved = False
+        for k, nxt, ways, length in product.moves_from(position):
+            moved = True
+            forward.reach(nxt, here_ways * ways, here_length + 1 + length, (position, k))
+        if not moved:
+            finals.append(position)
+    counts, best = _tally(product, forward, finals)
+    # One finding per meeting and member left waiting there, in meeting then team order; a
+    # path each, so their number is bounded and the rest are named in one more finding.
+    waiters = sorted(best)
+    for waiter in waiters[:MAX_DEADLOCK_FINDINGS]:
+        findings.append(_deadlock(product, forward, waiter, begin, best[waiter]))
+    if len(waiters) > MAX_DEADLOCK_FINDINGS:
+        rest = waiters[MAX_DEADLOCK_FINDINGS:]
+        findings.append(error(
+            "TEAM", sorted({m for m, _ in rest}),
+            f"{len(rest)} more meetings can leave a member waiting for ever: "
+            + ", ".join(f"{m} ({members[i].vehicle})" for m, i in rest[:50])
+            + (", ..." if len(rest) > 50 else "") + "."))
+    return TeamCheck(findings, counts, {m: _names(product, m) for m in product.order})
+
+
+def _tally(product: _Product, forward: _Forward, finals: list[Position],
+           ) -> tuple[JointCounts, dict[Waiter, Position]]:
+    """Joint executions by ends and by waiting member; the nearest deadlock of each waiter."""
+    by_ends: Counter[tuple[str | None, ...]] = Counter()
+    waiting: Counter[Waiter] = Counter()
+    best: dict[Waiter, Position] = {}
+    deadlocked = 0
+    for position in finals:  # in topological order: ties go to the first
+        ways = forward.ways[position]
+        ends = tuple(None if position[i] in product.meet_of[i] else _node_id(product, i, node)
+                     for i, node in enumerate(position))
+        by_ends[ends] += ways
+        if any(end is None for end in ends):
+            deadlocked += ways
+        for i, node in enumerate(position):
+            if ends[i] is None:
+                waiter = (product.meet_of[i][node], i)
+                waiting[waiter] += ways
+                if waiter not in best or forward.length[position] < forward.length[
+                        best[waiter]]:
+                    best[waiter] = position
+    vehicles = tuple(m.vehicle for m in product.members)
+    rows = tuple(sorted(by_ends.items(), key=lambda row: (
+        any(e is None for e in row[0]), [e or "" for e in row[0]])))
+    counts = JointCounts(
+        total=sum(by_ends.values()), deadlocked=deadlocked, by_ends=rows,
+        waiting=tuple((m, vehicles[i], n) for (m, i), n in sorted(waiting.items())),
+        vehicles=vehicles)
+    return counts, best
 
 
 def _names(product: _Product, meet: str) -> tuple[str, ...]:
@@ -319,27 +354,27 @@ def joint_path_text(steps: Sequence[dict[str, Any]], ends: Sequence[str]) -> str
     return f"{', '.join(words) or 'start'} -> ({', '.join(ends)})"
 
 
-def _deadlock(product: _Product, waiter: Waiter, begin: Position, first: Position) -> Finding:
+def _deadlock(product: _Product, forward: _Forward, waiter: Waiter, begin: Position,
+              position: Position) -> Finding:
     meet = waiter[0]
+    moves: list[tuple[Position, int, Position]] = []  # (from, outcome index, to)
+    first = position
+    while (parent := forward.parent[first]) is not None:
+        moves.append((parent[0], parent[1], first))
+        first = parent[0]
     steps: list[dict[str, Any]] = []
     for i, node in enumerate(begin):
         steps.extend(_local_steps(product, i, node, first[i]))
-    position = first
     last_meeting: dict[int, int] = {}
-    while True:
-        _, move = product.memo[position].best[waiter]
-        if move is None:
-            break
-        k, nxt = move
-        fired = product.enabled(position)
+    for here, k, nxt in reversed(moves):
+        fired = product.enabled(here)
         assert fired is not None
         steps.append({"meet": fired, "outcome": OUTCOMES[k],
-                      "goals": {product.members[i].vehicle: _node_id(product, i, position[i])
+                      "goals": {product.members[i].vehicle: _node_id(product, i, here[i])
                                 for i in product.participants[fired]}})
-        for i, node in product.after(position, fired, k):
+        for i, node in product.after(here, fired, k):
             last_meeting[i] = len(steps) - 1
             steps.extend(_local_steps(product, i, node, nxt[i]))
-        position = nxt
     ends = [f"{m.vehicle}/{_node_id(product, i, position[i])}"
             for i, m in enumerate(product.members)]
     text = joint_path_text(steps, ends)
@@ -379,20 +414,3 @@ def _deadlock(product: _Product, waiter: Waiter, begin: Position, first: Positio
         meeting=meet, joint_path=steps,
         waiting=[product.members[i].vehicle for i in waiters],
         absent=[product.members[j].vehicle for j in absent])
-
-
-def _joint_counts(product: _Product, total: Counter[tuple[Position, Position]]) -> JointCounts:
-    grouped: Counter[tuple[tuple[str, ...], tuple[str | None, ...]]] = Counter()
-    for (position, waiting), n in total.items():
-        ends = tuple(_node_id(product, i, node) for i, node in enumerate(position))
-        meets = tuple(product.meet_of[i][node] if waiting[i] else None
-                      for i, node in enumerate(position))
-        grouped[(ends, meets)] += n
-    rows = tuple(sorted(((ends, meets, n) for (ends, meets), n in grouped.items()),
-                        key=lambda row: (any(row[1]), row[0], [m or "" for m in row[1]])))
-    return JointCounts(
-        total=sum(grouped.values()),
-        deadlocked=sum(n for _, meets, n in rows if any(meets)),
-        by_ends=rows,
-        vehicles=tuple(m.vehicle for m in product.members),
-    )

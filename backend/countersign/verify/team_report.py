@@ -127,10 +127,11 @@ def summary_lines(team: TeamSummary) -> list[str]:
         lines.append("Joint executions: not counted (see TEAM above).")
         return lines
     lines.append(f"Joint executions: {joint.total} ({joint.deadlocked} deadlocked)")
-    width = len(str(max((n for _, _, n in joint.by_ends), default=0)))
-    for ends, waiting, n in joint.by_ends:
-        where = ", ".join(
-            f"{v} {end}" if meet is None else f"{v} waits at {meet} ({end})"
-            for v, end, meet in zip(joint.vehicles, ends, waiting, strict=True))
+    width = len(str(max((n for _, n in joint.by_ends), default=0)))
+    for ends, n in joint.by_ends:
+        where = ", ".join(f"{v} {end or 'left waiting'}"
+                          for v, end in zip(joint.vehicles, ends, strict=True))
         lines.append(f"  {n:>{width}}  {where}")
+    for meet, vehicle, n in joint.waiting:
+        lines.append(f"  {vehicle} waits at {meet} for ever in {n}")
     return lines

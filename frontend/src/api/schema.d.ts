@@ -2690,23 +2690,33 @@ export interface components {
             count: number;
             /** Deadlocked */
             deadlocked: number;
+            /** Waiting */
+            waiting: components["schemas"]["JointWaitingOut"][];
         };
         /**
          * JointEndsOut
-         * @description How many joint executions end with each member where `ends` says (a terminal, or
-         *     for a deadlock the goal a member waits at, its meeting in `waiting`).
+         * @description How many joint executions end with each member at the terminal `ends` names (null:
+         *     left waiting at a meeting).
          */
         JointEndsOut: {
             /** Count */
             count: number;
             /** Ends */
             ends: {
-                [key: string]: string;
+                [key: string]: string | null;
             };
-            /** Waiting */
-            waiting?: {
-                [key: string]: string;
-            } | null;
+        };
+        /**
+         * JointWaitingOut
+         * @description How many joint executions leave `vehicle` waiting at `meeting` for ever.
+         */
+        JointWaitingOut: {
+            /** Count */
+            count: number;
+            /** Meeting */
+            meeting: string;
+            /** Vehicle */
+            vehicle: string;
         };
         /** KeyIn */
         KeyIn: {

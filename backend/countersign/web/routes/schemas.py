@@ -161,11 +161,18 @@ class TeamMemberOut(BaseModel):
 
 
 class JointEndsOut(BaseModel):
-    """How many joint executions end with each member where `ends` says (a terminal, or
-    for a deadlock the goal a member waits at, its meeting in `waiting`)."""
+    """How many joint executions end with each member at the terminal `ends` names (null:
+    left waiting at a meeting)."""
 
-    ends: dict[str, str]
-    waiting: dict[str, str] | None = None
+    ends: dict[str, str | None]
+    count: int
+
+
+class JointWaitingOut(BaseModel):
+    """How many joint executions leave `vehicle` waiting at `meeting` for ever."""
+
+    meeting: str
+    vehicle: str
     count: int
 
 
@@ -173,6 +180,7 @@ class JointCountsOut(BaseModel):
     count: int
     deadlocked: int
     by_ends: list[JointEndsOut]
+    waiting: list[JointWaitingOut]
 
 
 class TeamOut(BaseModel):
