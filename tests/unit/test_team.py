@@ -266,7 +266,7 @@ def _meetings_in(done: tuple[tuple[Any, ...], ...], meet_of: list[dict[int, str]
     return extra
 
 
-@settings(max_examples=80, deadline=None)
+@settings(max_examples=150, deadline=None)
 @given(small_teams())
 def test_joint_counts_and_shortest_deadlocks_match_brute_force(
         members: list[tuple[str, dict[str, Any]]]) -> None:

@@ -12,8 +12,10 @@ enumerates interleavings:
   shortest way (dynamic programming over its DAG);
 - the product is explored over stops only, firing at each joint position the enabled meeting
   with the smallest id. An enabled meeting stays enabled until it fires (its members can do
-  nothing else), so this one schedule meets every joint execution exactly once, and counts
-  over it (memoised per joint position, in reverse topological order) count joint executions.
+  nothing else), so this one schedule meets every joint execution exactly once: the number of
+  ways to reach each joint position, carried forward in topological order (multiplied by the
+  members' own ways along each move), counts joint executions where the schedule stops, and
+  the shortest length to each position gives the shortest joint path (a meeting is one step).
 
 A joint position in which nothing can move while some member has not ended is a deadlock:
 that member waits at a meeting a partner can no longer reach (the partner ended, went past
