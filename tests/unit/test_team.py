@@ -150,9 +150,12 @@ def test_orders_that_cannot_be_a_team_are_read_errors_naming_where(change: Any,
     assert where in str(raised.value)
 
 
+# The exemplar team has 6 joint positions after the first moves and 10 in all: 3 stops at
+# the first moves, 6 in the exploration.
+@pytest.mark.parametrize("bound", [3, 6])
 def test_a_product_beyond_its_bound_is_a_warning_not_a_hang(
-        monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(team_module, "MAX_JOINT_POSITIONS", 3)
+        monkeypatch: pytest.MonkeyPatch, bound: int) -> None:
+    monkeypatch.setattr(team_module, "MAX_JOINT_POSITIONS", bound)
     result = check_team(_graphs([(m["vehicle"], m["orders"]) for m in _team_data()["team"]]))
     assert result.counts is None
     assert [f.severity for f in result.findings] == ["warning"]
@@ -346,3 +349,12 @@ def test_a_meeting_is_one_step_of_the_joint_path() -> None:
     (finding,) = [f for f in result.findings
                   if f.details.get("meeting") == "R3" and f.details["waiting"] == ["v1"]]
     assert finding.subjects[1] == "v1/S fail, v1/T succeed -> (v1/W, v2/A2)"
+
+
+@pytest.mark.parametrize(("name", "bound"), [("MAX_JOINT_MOVES", 1),
+                                             ("MAX_LOCAL_ENTRIES", 3)])
+def test_moves_and_local_tables_are_bounded_too(monkeypatch: pytest.MonkeyPatch, name: str,
+                                                 bound: int) -> None:
+    monkeypatch.setattr(team_module, name, bound)
+    result = check_team(_graphs([(m["vehicle"], m["orders"]) for m in _team_data()["team"]]))
+    assert result.counts is None and result.findings[0].details["undecided"] is True
