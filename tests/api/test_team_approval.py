@@ -59,6 +59,12 @@ def test_one_approval_signs_every_members_digest(world: World) -> None:
     assert response.status_code == 201, response.text
     bundle = world.client("auditor").get("/api/audit/bundle").json()
     assert verify_bundle(bundle).ok
+    # The printable approval document holds the team's plain orders, meetings side by side.
+    document = world.client("auditor").get(
+        f"/api/missions/{MISSION}/versions/{number}/document.txt")
+    assert document.status_code == 200, document.text
+    assert "Meeting points" in document.text and "Vehicle 2 of 2: vehicle-2" in document.text
+    assert f"Member vehicle-2: orders digest {expected['vehicle-2']}" in document.text
 
 
 def test_single_vehicle_statements_sign_no_team(world: World) -> None:

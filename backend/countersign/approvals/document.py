@@ -13,6 +13,7 @@ from datetime import UTC, datetime
 from typing import Any
 
 from ..orders.model import Orders
+from ..orders.team import member_digests, plain_team
 from ..orders.writers import write
 
 # A document is for reading: very long finding lists are cut with a note saying how many.
@@ -123,10 +124,17 @@ def approval_document(
 ) -> list[Section]:
     """The document's sections, in reading order."""
     decided, signer = _decision(decision, pending)
+    version_text = (f"Mission {mission}, version {version}: “{orders.title}”\n"
+                    f"Orders digest (what a signature covers): {digest}")
+    plain = write(orders, "plain")
+    if orders.team is not None:
+        # A team's approval also signs each member's digest (orders/team.py).
+        version_text += "".join(f"\nMember {vehicle}: orders digest {member}"
+                                for vehicle, member in member_digests(orders).items())
+        plain = plain_team(orders)
     return [
-        Section("Version", f"Mission {mission}, version {version}: “{orders.title}”\n"
-                f"Orders digest (what a signature covers): {digest}"),
-        Section("Plain-language orders", write(orders, "plain")),
+        Section("Version", version_text),
+        Section("Plain-language orders", plain),
         Section("Findings", _findings(findings)),
         Section("Paths by terminal", _paths(orders, paths)),
         Section("Rehearsal", _rehearsal(rehearsal)),
