@@ -103,3 +103,24 @@ def test_team_orders_are_never_a_500(world: World) -> None:
         assert 400 <= response.status_code < 500, (path, response.status_code, response.text)
     paths = supervisor.get(f"/api/missions/{MISSION}/paths")
     assert paths.status_code == 409 and "team" in paths.json()["detail"]
+
+
+def test_the_registry_profile_of_each_member_is_copied_in(world: World) -> None:
+    team = _clean_team()
+    profile = team["team"][1]["orders"].pop("vehicles")[0]
+    operator = world.client("operator")
+    mission = operator.get(f"/api/missions/{MISSION}")
+    before = operator.put(f"/api/missions/{MISSION}/draft", json={"orders": team},
+                          headers={"If-Match": mission.headers["ETag"]})
+    assert before.status_code == 200, before.text
+    report = operator.get(f"/api/missions/{MISSION}/report").json()
+    assert "vehicle-2/vehicle-2" in {s for f in report["findings"] if f["code"] == "VEHICLE"
+                                     for s in f["subjects"]}
+    assert world.client("admin").put("/api/vehicles/vehicle-2", json=profile).status_code == 200
+    mission = operator.get(f"/api/missions/{MISSION}")
+    saved = operator.put(f"/api/missions/{MISSION}/draft", json={"orders": team},
+                         headers={"If-Match": mission.headers["ETag"]})
+    assert saved.status_code == 200, saved.text
+    draft = operator.get(f"/api/missions/{MISSION}").json()["orders"]
+    assert draft["team"][1]["orders"]["vehicles"][0]["id"] == "vehicle-2"
+    assert operator.get(f"/api/missions/{MISSION}/report").json()["ok"]

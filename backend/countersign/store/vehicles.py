@@ -35,8 +35,22 @@ def with_registry(db: Session, orders: Orders) -> Orders:
     """The registry's vehicle profile and the charts in use (store/charts.py) copied in."""
     from .charts import with_registry_charts
 
+    if orders.team is not None:
+        return _team_with_registry(db, orders)
     profiled = with_registry_profile(orders, lambda vehicle_id: registry_profile(db, vehicle_id))
     return with_registry_charts(db, profiled)
+
+
+def _team_with_registry(db: Session, orders: Orders) -> Orders:
+    """Each member's orders with the registry's profile of its vehicle and its charts."""
+    assert orders.team is not None
+    members = [with_registry(db, member.orders) for member in orders.team]
+    if all(new is member.orders for new, member in zip(members, orders.team, strict=True)):
+        return orders  # nothing copied: the orders (and their digest) stay as written
+    data = orders.model_dump(mode="json", exclude_unset=True)
+    for entry, new in zip(data["team"], members, strict=True):
+        entry["orders"] = new.model_dump(mode="json", exclude_unset=True)
+    return Orders.model_validate(data)
 
 
 def registry_stamp(db: Session) -> bytes:
