@@ -17,9 +17,8 @@ import time
 from typing import Any
 
 from countersign.orders.model import OUTCOMES, Orders
-from countersign.verify import team as team_module
 from countersign.verify.graph import build_graph
-from countersign.verify.team import TeamMemberGraph, check_team
+from countersign.verify.team import TeamMemberGraph, check_team, joint_positions
 
 
 def member(layers: int, every: int, skip: bool) -> dict[str, Any]:
@@ -56,16 +55,9 @@ def run(members: int, layers: int, every: int) -> tuple[float, int, int, int, in
     result = check_team(graphs)
     elapsed = time.perf_counter() - started
     assert result.counts is not None
-    positions = _positions(graphs)
+    positions = joint_positions(graphs)
     return (elapsed, result.counts.total, positions, len(result.findings),
             graphs[0].graph.goal_count)
-
-
-def _positions(graphs: list[TeamMemberGraph]) -> int:
-    product = team_module._Product(graphs)
-    begin = tuple(g.graph.start or 0 for g in graphs)
-    firsts = [p for p, _, _ in product.spread(begin, list(enumerate(begin)))]
-    return len(product.explore(firsts))
 
 
 def main() -> None:
@@ -102,7 +94,7 @@ def pairs(meetings: int) -> tuple[float, int | None]:
     graphs = [chain("R", False), chain("R", True), chain("S", False), chain("S", True)]
     started = time.perf_counter()
     result = check_team(graphs)
-    return time.perf_counter() - started, (_positions(graphs) if result.counts else None)
+    return time.perf_counter() - started, (joint_positions(graphs) if result.counts else None)
 
 
 if __name__ == "__main__":

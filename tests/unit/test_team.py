@@ -289,16 +289,16 @@ def test_joint_counts_and_shortest_deadlocks_match_brute_force(
 
 
 def test_the_offline_verifier_holds_the_signed_member_digests_to_the_orders() -> None:
-    from countersign.approvals.bundle import _team_problems
+    from countersign.approvals.bundle import team_problems
     from countersign.orders.team import member_digests
 
     orders = load_example(EXEMPLAR)
     data = orders_to_json(orders)
-    assert _team_problems("approval 1", data, member_digests(orders)) == []
+    assert team_problems("approval 1", data, member_digests(orders)) == []
     other = copy.deepcopy(data)
     other["team"][1]["orders"]["goals"][0]["next"]["violate"] = "G2"
-    assert _team_problems("approval 1", other, member_digests(orders))
-    assert _team_problems("approval 1", orders_to_json(load_example("search-and-sample")),
+    assert team_problems("approval 1", other, member_digests(orders))
+    assert team_problems("approval 1", orders_to_json(load_example("search-and-sample")),
                           member_digests(orders))
 
 

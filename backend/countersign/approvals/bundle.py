@@ -396,7 +396,7 @@ def _check_approval(approval: dict[str, Any], events: list[dict[str, Any]], leav
             report.problems.append(f"{name}: the stored orders of {statement['subject'][0]['name']}"
                                    f" do not hash to the signed digest {signed}")
         elif "team" in statement["predicate"]:
-            report.problems.extend(_team_problems(name, covered, statement["predicate"]["team"]))
+            report.problems.extend(team_problems(name, covered, statement["predicate"]["team"]))
     _check_cited(name, "rehearsal", statement["predicate"].get("rehearsal_digest"), signed,
                  rehearsals or {}, report)
     cited_campaigns = statement["predicate"].get("campaigns") or []
@@ -415,7 +415,7 @@ def _check_approval(approval: dict[str, Any], events: list[dict[str, Any]], leav
                                    "verify against the signed checkpoint")
 
 
-def _team_problems(name: str, orders: Any, signed: Any) -> list[str]:
+def team_problems(name: str, orders: Any, signed: Any) -> list[str]:
     """A team approval signs each member's orders digest (the member's orders alone, as
     `countersign.orders/1`): they must be those of the team the signed orders hold."""
     members = orders.get("team") if isinstance(orders, dict) else None

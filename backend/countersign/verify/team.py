@@ -270,6 +270,14 @@ def check_team(members: Sequence[TeamMemberGraph]) -> TeamCheck:
     return TeamCheck(findings, counts, {m: _names(product, m) for m in product.order})
 
 
+def joint_positions(members: Sequence[TeamMemberGraph]) -> int:
+    """How many joint positions (over meetings and terminals) the check explores: the size
+    of the product it works on (tests/bench/bench_team.py prints it)."""
+    product = _Product(members)
+    begin = tuple(m.graph.start or 0 for m in members)
+    return len(product.explore([p for p, _, _ in product.spread(begin, list(enumerate(begin)))]))
+
+
 def _tally(product: _Product, forward: _Forward, finals: list[Position],
            ) -> tuple[JointCounts, dict[Waiter, Position]]:
     """Joint executions by ends and by waiting member; the nearest deadlock of each waiter."""
