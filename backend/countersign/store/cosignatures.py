@@ -81,9 +81,10 @@ def _check_time(db: DbSession, *, body: str, witness: str, signed_at: int) -> No
                              f"this server's clock allows (now + {CLOCK_SKEW})")
     for stored in db.scalars(select(Cosignature.line).where(
             Cosignature.body == body, Cosignature.witness == witness)):
-        if cosignature_time(stored, body) >= signed_at:
+        stored_at = cosignature_time(stored, body)
+        if stored_at >= signed_at:
             raise BadCosignature(f"cosignature: witness {witness} already cosigned this "
-                                 f"checkpoint at {cosignature_time(stored, body)}; only a "
+                                 f"checkpoint at {stored_at}; only a "
                                  "later cosignature replaces it")
 
 
