@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from countersign.orders.canonical import orders_to_json
@@ -269,8 +269,28 @@ def _meetings_in(done: tuple[tuple[Any, ...], ...], meet_of: list[dict[int, str]
     return extra
 
 
+# CI found it: after a three-member meeting, the second member's next goal was read as the
+# meeting step when wording the deadlock.
+_AFTER_A_THREE_WAY_MEETING = [
+    ("v0", {"id": "m0", "start": "G0", "goals": [
+        {"id": "G0", "behavior": "rendezvous", "meet": "R1",
+         "next": {"succeed": "G1", "fail": "G1", "violate": "G1"}},
+        {"id": "G1", "behavior": "transit",
+         "next": {"succeed": "COMPLETE", "fail": "COMPLETE", "violate": "COMPLETE"}}]}),
+    ("v1", {"id": "m1", "start": "G0", "goals": [
+        {"id": "G0", "behavior": "rendezvous", "meet": "R1",
+         "next": {"succeed": "COMPLETE", "fail": "COMPLETE", "violate": "COMPLETE"}}]}),
+    ("v2", {"id": "m2", "start": "G0", "goals": [
+        {"id": "G0", "behavior": "rendezvous", "meet": "R1",
+         "next": {"succeed": "G1", "fail": "G1", "violate": "G1"}},
+        {"id": "G1", "behavior": "rendezvous", "meet": "R1",
+         "next": {"succeed": "COMPLETE", "fail": "COMPLETE", "violate": "COMPLETE"}}]}),
+]
+
+
 @settings(max_examples=150, deadline=None)
 @given(small_teams())
+@example(_AFTER_A_THREE_WAY_MEETING)
 def test_joint_counts_and_shortest_deadlocks_match_brute_force(
         members: list[tuple[str, dict[str, Any]]]) -> None:
     graphs = _graphs(members)

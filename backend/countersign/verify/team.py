@@ -382,8 +382,9 @@ def _deadlock(product: _Product, forward: _Forward, waiter: Waiter, begin: Posit
         steps.append({"meet": fired, "outcome": OUTCOMES[k],
                       "goals": {product.members[i].vehicle: _node_id(product, i, here[i])
                                 for i in product.participants[fired]}})
+        meeting_step = len(steps) - 1
         for i, node in product.after(here, fired, k):
-            last_meeting[i] = len(steps) - 1
+            last_meeting[i] = meeting_step
             steps.extend(_local_steps(product, i, node, nxt[i]))
     ends = [f"{m.vehicle}/{_node_id(product, i, position[i])}"
             for i, m in enumerate(product.members)]
