@@ -1,4 +1,6 @@
-"""Benchmarks of issue 2. Run: ./scripts/bench  (or .venv/bin/python -m tests.bench)
+"""Benchmarks of issue 2 (the core: structure, path counts, streaming, bad input).
+
+Run: .venv/bin/python -m tests.bench.bench_core
 
 Each figure is printed with a ratio against a baseline measured in this same process.
 """
