@@ -3,10 +3,8 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 from alembic import command
-from sqlalchemy import text
+from sqlalchemy import inspect, text
 
 from countersign.store.db import Database, alembic_config
 from countersign.verify import fingerprint
@@ -78,10 +76,9 @@ def test_a_changed_count_changes_the_list_and_nothing_that_is_signed(world: Worl
     assert any(f["severity"] == "error" for f in report["findings"])
 
 
-def test_the_revision_fills_the_columns_of_reports_stored_before_it(tmp_path: Path) -> None:
-    url = f"sqlite:///{tmp_path / 'db.sqlite'}"
-    database = Database(url)
-    config = alembic_config(url)
+def test_the_revision_fills_the_columns_of_reports_stored_before_it(database_url: str) -> None:
+    database = Database(database_url)
+    config = alembic_config(database_url)
     stored = ('{"ok": false, "findings": [{"severity": "error"}, {"severity": "warning"},'
               ' {"severity": "error"}]}')
     with database.engine.begin() as connection:
@@ -89,12 +86,12 @@ def test_the_revision_fills_the_columns_of_reports_stored_before_it(tmp_path: Pa
         command.upgrade(config, "0011")
         connection.execute(text(
             "INSERT INTO validation_reports (digest, checker_version, report, created_at) "
-            "VALUES (:d, :c, :r, CURRENT_TIMESTAMP)"),
-            {"d": "sha256:" + "a" * 64, "c": "sha256:" + "b" * 64, "r": stored})
+            f"VALUES (:d, :c, '{stored}', CURRENT_TIMESTAMP)"),
+            {"d": "sha256:" + "a" * 64, "c": "sha256:" + "b" * 64})
     database.migrate()
     with database.engine.connect() as connection:
         row = connection.execute(text("SELECT ok, errors, warnings FROM validation_reports")).one()
-        indexes = {r[1] for r in connection.execute(text("PRAGMA index_list('missions')"))}
+        indexes = {index["name"] for index in inspect(connection).get_indexes("missions")}
     assert (bool(row.ok), row.errors, row.warnings) == (False, 2, 1)
     assert {"ix_missions_status_id", "ix_missions_vehicle_id"} <= indexes
     database.engine.dispose()
