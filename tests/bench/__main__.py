@@ -6,7 +6,7 @@ Run: ./scripts/bench [NAME ...] [--full] [--timeout S]
 Every module prints its figures beside their goals and a baseline measured in the same run; this
 runner only starts them one after another, so that one slow or failing module neither hides
 the others nor shares their memory, and prints a last table: module, exit status, seconds.
-By default each runs at the smaller sizes below (the whole set in about a quarter of an hour on
+By default each runs at the smaller sizes of QUICK in this file (the whole set in about 20 min on
 the shared 2-core machine); `--full` runs each at its own defaults, the sizes its issue names
 (hours: `bench_api` alone runs two 35 s rounds per database). A module that exits non-zero,
 or runs past --timeout, makes the runner exit 1.
