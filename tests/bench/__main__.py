@@ -6,7 +6,7 @@ Run: ./scripts/bench [NAME ...] [--full] [--timeout S]
 Every module prints its figures beside their goals and a baseline measured in the same run; this
 runner only starts them one after another, so that one slow or failing module neither hides
 the others nor shares their memory, and prints a last table: module, exit status, seconds.
-By default each runs at the smaller sizes of QUICK in this file (the whole set in about 20 min on
+By default each runs at the smaller sizes of QUICK in this file (the whole set in 17 to 24 min on
 the shared 2-core machine); `--full` runs each at its own defaults, the sizes its issue names
 (hours: `bench_api` alone runs two 35 s rounds per database). A module that exits non-zero,
 or runs past --timeout, makes the runner exit 1.
@@ -40,7 +40,7 @@ QUICK: dict[str, list[str]] = {
     "geo": ["--goals", "200", "--charts", "100"],
     "plan": ["--cap", "2", "--limit", "5"],
     "meo": ["--runs", "2", "--naive-max", "50"],
-    "audit": ["--events", "1000", "--approvals", "100", "--rounds", "5"],
+    "audit": ["--events", "1000", "--approvals", "20", "--rounds", "5"],
     "decisions": ["--rounds", "10"],
     "api": ["--clients", "20", "--seconds", "5", "--warmup", "2"],
     "fair": ["--seconds", "8"],
