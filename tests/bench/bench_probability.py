@@ -95,14 +95,36 @@ def enumeration(orders: Orders, graph: MissionGraph) -> float:
 
 
 def bench_probabilities() -> None:
-    print("Outcome probabilities (exact: terminals, any violation, expected energy and time)")
-    for size in (1_000, 10_000):
+    print("Outcome probabilities (every figure: terminals, any violation, expected energy and "
+          "time with quantiles), CPU seconds of the best of 3")
+    ours: dict[int, float] = {}
+    for size in (1_000, 10_000, 20_000):
         orders = checked(with_p(random_dag(size)))
         graph = build_graph(orders)
-        exact = best_of(3, lambda o=orders, g=graph: outcome_probabilities(o, g), "exact")
-        floats = best_of(3, lambda o=orders, g=graph: float_dp(o, g))
-        print(f"  {size:>6} goals: exact {exact * 1000:8.1f} ms (CPU {CPU['exact'] * 1000:.1f} "
-              f"ms)   float DP of one terminal {floats * 1000:6.1f} ms (x{exact / floats:.0f})")
+        fast = outcome_probabilities(orders, graph)
+        exact = outcome_probabilities(orders, graph, fast=False)
+        assert fast is not None and exact is not None and fast.to_json() == exact.to_json()
+        best_of(3, lambda o=orders, g=graph: outcome_probabilities(o, g), "ours")
+        ours[size] = CPU["ours"]
+        best_of(1, lambda o=orders, g=graph: outcome_probabilities(o, g, fast=False), "exact")
+        best_of(3, lambda o=orders, g=graph: float_dp(o, g), "float")
+        print(f"  {size:>6,} goals: ours {ours[size] * 1000:8.1f} ms   exact pass alone (before "
+              f"issue 36) {CPU['exact'] * 1000:8.1f} ms (x{CPU['exact'] / ours[size]:.1f})   "
+              f"float DP of one terminal {CPU['float'] * 1000:6.1f} ms")
+        if size == 10_000:
+            try:
+                from tests.unit.prob_oracles import storm_figures
+            except ImportError:
+                print("  stormpy is not installed: no Storm baseline")
+                continue
+            best_of(1, lambda o=orders: storm_figures(o), "storm")
+            ratio = ours[size] / CPU["storm"]
+            print(f"  {size:>6,} goals: Storm (stormpy: the same chain built and its four "
+                  f"figures checked) {CPU['storm'] * 1000:.1f} ms; ours / Storm {ratio:.2f} "
+                  f"goal < 2: {'PASS' if ratio < 2 else 'MISS'}")
+    growth = ours[20_000] / ours[10_000]
+    print(f"  20,000 / 10,000 goals: x{growth:.2f}  goal < 2.2: "
+          f"{'PASS' if growth < 2.2 else 'MISS'}")
     small = with_p(random_dag(1_000))
     graph = build_graph(small)
     ours = best_of(3, lambda: outcome_probabilities(small, graph))

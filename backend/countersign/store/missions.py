@@ -223,6 +223,13 @@ def lookup_report(
                         False)
 
 
+def report_summary(report: dict[str, Any]) -> dict[str, Any]:
+    """The columns stored beside a report for the mission list: ok, errors, warnings."""
+    findings = report["findings"]
+    errors = sum(finding["severity"] == "error" for finding in findings)
+    return {"ok": bool(report["ok"]), "errors": errors, "warnings": len(findings) - errors}
+
+
 def remember_report(db: DbSession, report: dict[str, Any]) -> None:
     """Store a report computed by lookup_report (in a savepoint of a writing session, else in
     a short write transaction of its own), under the checker fingerprint it carries; the
@@ -236,6 +243,6 @@ def remember_report(db: DbSession, report: dict[str, Any]) -> None:
                 ValidationReport.checker_version != checker,
             ).execution_options(synchronize_session=False))
             writer.add(ValidationReport(digest=report["digest"], checker_version=checker,
-                                        report=report))
+                                        report=report, **report_summary(report)))
     except IntegrityError:
         pass  # a concurrent request stored the same report first

@@ -166,6 +166,9 @@ class Mission(Base):
     created_at: Mapped[datetime] = mapped_column(default=utcnow)
     updated_by: Mapped[int] = mapped_column(ForeignKey("users.id"))
     updated_at: Mapped[datetime] = mapped_column(default=utcnow, index=True)
+    # The list filters by status or vehicle and pages by id: one index range per page.
+    __table_args__ = (Index("ix_missions_status_id", "status", "id"),
+                      Index("ix_missions_vehicle_id", "vehicle", "id"))
 
 
 class MissionVersion(Base):
@@ -188,6 +191,12 @@ class ValidationReport(Base):
     digest: Mapped[str] = mapped_column(String(71), primary_key=True)
     checker_version: Mapped[str] = mapped_column(String(71), primary_key=True)
     report: Mapped[dict[str, Any]]
+    # What the mission list shows, written with the report so that a list never decodes
+    # reports (issue 36). Display only: submitting, reviewing and signing read `report`, so a
+    # database writer who changes a count changes a number on a list and nothing else.
+    ok: Mapped[bool | None] = mapped_column(Boolean, default=None)
+    errors: Mapped[int | None] = mapped_column(Integer, default=None)
+    warnings: Mapped[int | None] = mapped_column(Integer, default=None)
     created_at: Mapped[datetime] = mapped_column(default=utcnow)
 
 

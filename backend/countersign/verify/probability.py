@@ -13,6 +13,14 @@ over Q^L, where L is the node's height (the most goals from it to a terminal). B
 and small-integer products stay linear in the number of digits; a fraction with a gcd on every
 addition would be quadratic and take seconds at 10,000 goals.
 
+That exact pass is quadratic on deep DAGs (a chain of n goals: n numbers of up to n digits),
+so every figure is first computed in fixed point, an integer over 2^FIXED_BITS per node with
+each division by Q rounded down: every node's value is then at most its height units of
+2^-FIXED_BITS below the exact one (each floor loses less than a unit, and a node's error is a
+convex combination of its successors' plus one). When both ends of that enclosure round to the
+same reported double, the double is the exact figure's; only otherwise (a figure within about
+2^-100 of a rounding boundary) is the exact pass run. Reports stay byte-identical.
+
 Where a goal's probabilities are intervals or missing (any distribution), the minimum and the
 maximum of each figure follow from the same pass: the choices at different goals are
 independent and every figure is a nonnegative combination of the successors' values, so each
@@ -42,16 +50,24 @@ QUANTILES: tuple[str, ...] = ("0.5", "0.9", "0.95", "0.99")
 # many (total, probability) updates over the whole mission the quantiles are not computed (the
 # expectation still is, exactly): the number of distinct totals can grow with the paths.
 MAX_DISTRIBUTION_WORK = 50_000
+# Fixed-point precision of the fast pass: its error (at most the mission's height in units of
+# 2^-FIXED_BITS) must be far below a double's spacing for the enclosure to decide the double.
+FIXED_BITS = 160
 
 
 @dataclass(frozen=True)
 class Bound:
+    """The least and the greatest value of a figure, each a fraction whose double is that of
+    the exact value (the report's precision; see _Scaled.figure)."""
+
     low: Fraction
     high: Fraction
 
     @property
-    def exact(self) -> Fraction | None:
-        return self.low if self.low == self.high else None
+    def exact(self) -> float | None:
+        """The figure's double when it has one value (point probabilities), else None."""
+        low, high = reportable_total(self.low), reportable_total(self.high)
+        return low if low == high else None
 
     def to_json(self) -> dict[str, float]:
         return {"min": reportable_total(self.low), "max": reportable_total(self.high)}
@@ -146,8 +162,10 @@ class _Scaled:
     """The DAG with integer probabilities over Q and each node's height."""
 
     def __init__(self, graph: MissionGraph, order: list[int],
-                 boxes: Sequence[tuple[tuple[Fraction, Fraction], ...]]) -> None:
+                 boxes: Sequence[tuple[tuple[Fraction, Fraction], ...]],
+                 fast: bool = True) -> None:
         self.graph = graph
+        self.fast = fast
         self.order = order
         goal_count = graph.goal_count
         self.q = _common_denominator([f for n in order for b in boxes[n] for f in b])
@@ -162,19 +180,84 @@ class _Scaled:
             height[node] = 1 + max(height[t] for t in graph.succ[node])
         self.height = height
         self._powers = [1]
-        # Per goal with point probabilities, (successor, a_k * Q^(gap)) for each outcome:
-        # then a node's value is a sum of small-integer multiples of its successors' values,
-        # with no per-node choice (the coefficients are shared by every figure's pass).
-        self.coefficients: list[tuple[tuple[int, int, int], ...] | None] = [None] * goal_count
-        for node in order:
-            bounds = self.box[node]
+        self._coefficients: list[tuple[tuple[int, int, int], ...] | None] | None = None
+
+    @property
+    def coefficients(self) -> list[tuple[tuple[int, int, int], ...] | None]:
+        """Per goal with point probabilities, (successor, a_k * Q^(gap)) for each outcome:
+        then a node's value is a sum of small-integer multiples of its successors' values,
+        with no per-node choice (shared by every exact pass; built on the first one only, as
+        the powers of Q are the quadratic part)."""
+        if self._coefficients is None:
+            height = self.height
+            coefficients: list[tuple[tuple[int, int, int], ...] | None] = (
+                [None] * self.graph.goal_count)
+            for node in self.order:
+                bounds = self.box[node]
+                assert bounds is not None
+                if any(lo != hi for lo, hi in bounds):
+                    continue
+                top = height[node] - 1
+                coefficients[node] = tuple(
+                    (k, target, bounds[k][0] * self.power(top - height[target]))
+                    for k, target in enumerate(self.graph.succ[node]) if bounds[k][0])
+            self._coefficients = coefficients
+        return self._coefficients
+
+    def figure(self, leaf: Callable[[int], int], maximise: bool,
+               extra: Sequence[int] | None = None, zero_violate: bool = False,
+               edges: Sequence[Edges] | None = None,
+               reported: Callable[[Fraction], Fraction] = lambda x: x) -> Fraction:
+        """`reported(run(...))` for a monotone `reported`, to the precision a report carries:
+        a fraction whose double (reportable_total) is that of the exact figure, from the
+        fixed-point pass when its enclosure decides the double, else from the exact pass."""
+        if self.fast:
+            value, slack = self.fixed(leaf, maximise, extra, zero_violate, edges)
+            unit = 1 << FIXED_BITS
+            low = reported(Fraction(value, unit))
+            high = reported(Fraction(value + slack, unit))
+            if reportable_total(low) == reportable_total(high):
+                return low
+        return reported(self.run(leaf, maximise, extra, zero_violate, edges))
+
+    def fixed(self, leaf: Callable[[int], int], maximise: bool,
+              extra: Sequence[int] | None = None, zero_violate: bool = False,
+              edges: Sequence[Edges] | None = None) -> tuple[int, int]:
+        """The recurrence of `run` in units of 2^-FIXED_BITS, each node's sum divided by Q
+        rounded down: (V, slack) with the exact start value in [V, V + slack] units."""
+        graph = self.graph
+        goal_count = graph.goal_count
+        bits = FIXED_BITS
+        value: list[int] = [0] * goal_count
+        value.extend(leaf(t) << bits
+                     for t in range(goal_count, goal_count + len(graph.terminals)))
+        succ = graph.succ
+        box = self.box
+        q = self.q
+        for node in self.order:
+            bounds = box[node]
             assert bounds is not None
-            if any(lo != hi for lo, hi in bounds):
-                continue
-            top = height[node] - 1
-            self.coefficients[node] = tuple(
-                (k, target, bounds[k][0] * self.power(top - height[target]))
-                for k, target in enumerate(graph.succ[node]) if bounds[k][0])
+            a, b, c = succ[node]
+            wa, wb = value[a], value[b]
+            wc = 0 if zero_violate else value[c]
+            if edges is not None:
+                ea, eb, ec = edges[node]
+                wa += ea << bits
+                wb += eb << bits
+                if not zero_violate:
+                    wc += ec << bits
+            (la, ha), (lb, hb), (lc, hc) = bounds
+            if la == ha and lb == hb and lc == hc:
+                total = la * wa + lb * wb + lc * wc
+            else:
+                total = _extreme([wa, wb, wc], bounds, q, maximise)
+            total //= q
+            if extra is not None and extra[node]:
+                total += extra[node] << bits
+            value[node] = total
+        start = graph.start
+        assert start is not None
+        return value[start], self.height[start]
 
     def power(self, exponent: int) -> int:
         powers = self._powers
@@ -232,6 +315,10 @@ class _Scaled:
         return Fraction(value[start], power(height[start]))
 
 
+def _divided(value: Fraction, scale: int) -> Fraction:
+    return value / scale
+
+
 def _indicator(node: int, t: int) -> int:
     return 1 if t == node else 0
 
@@ -254,22 +341,25 @@ def _extreme(weights: list[int], bounds: Box, q: int, maximise: bool) -> int:
     return amounts[0] * weights[0] + amounts[1] * weights[1] + amounts[2] * weights[2]
 
 
-def outcome_probabilities(orders: Orders, graph: MissionGraph, legs: MissionLegs | None = None
-                          ) -> Probabilities | None:
+def outcome_probabilities(orders: Orders, graph: MissionGraph, legs: MissionLegs | None = None,
+                          *, fast: bool = True) -> Probabilities | None:
     """Every figure, or None when paths cannot be counted (no start, a loop, a dangling or
-    missing successor reachable from the start)."""
+    missing successor reachable from the start). `fast=False` runs only the exact pass (the
+    reference the tests compare the fixed-point pass with)."""
     order = topological_order(graph)
     if order is None or graph.start is None:
         return None
     given = goal_probabilities(orders, graph)
     boxes = fraction_boxes(given)
-    scaled = _Scaled(graph, order, boxes)
+    scaled = _Scaled(graph, order, boxes, fast)
     goal_count = graph.goal_count
 
     def both(leaf: Callable[[int], int], extra: Sequence[int] | None = None,
-             zero_violate: bool = False, edges: Sequence[Edges] | None = None) -> Bound:
-        low = scaled.run(leaf, False, extra, zero_violate, edges)
-        high = scaled.run(leaf, True, extra, zero_violate, edges) if not exact else low
+             zero_violate: bool = False, edges: Sequence[Edges] | None = None,
+             reported: Callable[[Fraction], Fraction] = lambda x: x) -> Bound:
+        low = scaled.figure(leaf, False, extra, zero_violate, edges, reported)
+        high = (scaled.figure(leaf, True, extra, zero_violate, edges, reported)
+                if not exact else low)
         return Bound(low, high)
 
     reachable = sorted(order)
@@ -281,8 +371,9 @@ def outcome_probabilities(orders: Orders, graph: MissionGraph, legs: MissionLegs
     terminals: dict[str, Bound] = {}
     for index, terminal in enumerate(graph.terminals):
         terminals[terminal.id] = both(functools.partial(_indicator, goal_count + index))
-    clean = both(lambda t: 1, zero_violate=True)
-    violation = Bound(1 - clean.high, 1 - clean.low)
+    # 1 - P(no violation): the enclosure is checked on the figure reported, not on P.
+    clean = both(lambda t: 1, zero_violate=True, reported=lambda x: 1 - x)
+    violation = Bound(clean.high, clean.low)
 
     mission = mission_costs(orders, legs)
     expected: dict[str, Expectation] = {}
@@ -290,8 +381,8 @@ def outcome_probabilities(orders: Orders, graph: MissionGraph, legs: MissionLegs
         priced = graph_costs(orders, graph, quantity, mission, order)
         exact_units = exact_costs(priced)  # BUDGET's costs, as BUDGET sums them
         scale, ints, edges = exact_units.scale, exact_units.goal, exact_units.leg
-        bound = both(lambda t: 0, extra=ints, edges=edges)
-        bound = Bound(bound.low / scale, bound.high / scale)
+        bound = both(lambda t: 0, extra=ints, edges=edges,
+                     reported=functools.partial(_divided, scale=scale))
         quantiles = cost_quantiles(scaled, ints, edges, scale) if exact else None
         expected[quantity] = Expectation(
             bound, quantiles, tuple(graph.goal_ids[n] for n in priced.unknown))

@@ -14,6 +14,7 @@ from fastapi.responses import JSONResponse, PlainTextResponse, StreamingResponse
 from pydantic import BaseModel, Field
 from sqlalchemy import func, or_, select
 from sqlalchemy.orm import Session as DbSession
+from sqlalchemy.orm import defer
 
 from ...orders.canonical import digest, orders_to_json
 from ...orders.examples import example_bytes, example_names
@@ -24,8 +25,9 @@ from ...rehearse.plain import write_for_supervisor
 from ...store import missions as service
 from ...store.accounts import username_of
 from ...store.db import database_of
-from ...store.tables import Mission, MissionVersion
+from ...store.tables import Mission, MissionVersion, ValidationReport
 from ...store.vehicles import registry_stamp, with_registry
+from ...verify import fingerprint
 from ...verify.graph import build_graph
 from ...verify.path_search import UnknownNode, count_matching, iter_matching, path_query
 from ...verify.paths import count_paths, iter_path_lines, iter_paths, trace_text
@@ -55,6 +57,7 @@ from .schemas import (
     ReportOut,
     RequestBody,
     VersionOut,
+    counted_summary_fields,
     summary_fields,
     version_out,
 )
@@ -176,7 +179,19 @@ def list_missions(
     limit: Annotated[int, Query(ge=1, le=MAX_PAGE)] = 50,
     cursor: Annotated[str | None, Query(max_length=400)] = None,
 ) -> MissionPage:
-    query = select(Mission).order_by(Mission.id).limit(limit + 1)
+    # One query: each mission's row without its orders or layout, its draft report's summary
+    # columns (never the report itself) and its latest version number (issue 36).
+    latest = (select(func.max(MissionVersion.number))
+              .where(MissionVersion.mission_id == Mission.id).scalar_subquery())
+    query = (
+        select(Mission, ValidationReport.ok, ValidationReport.errors, ValidationReport.warnings,
+               latest)
+        .options(defer(Mission.draft), defer(Mission.layout))
+        .outerjoin(ValidationReport,
+                   (ValidationReport.digest == Mission.draft_digest)
+                   & (ValidationReport.checker_version == fingerprint.checker_fingerprint()))
+        .order_by(Mission.id).limit(limit + 1)
+    )
     if q:
         pattern = "%" + q.replace("\\", "\\\\").replace("%", "\\%").replace("_", "\\_") + "%"
         query = query.where(or_(Mission.id.ilike(pattern, escape="\\"),
@@ -187,10 +202,17 @@ def list_missions(
         query = query.where(Mission.vehicle == vehicle)
     if cursor:
         query = query.where(Mission.id > _decode_cursor(cursor))
-    rows = list(db.scalars(query))
+    rows = db.execute(query).all()
     names: dict[int, str] = {}
-    items = [MissionSummary(**_summary(db, m, names)) for m in rows[:limit]]
-    following = _encode_cursor(rows[limit - 1].id) if len(rows) > limit else None
+    items = []
+    for mission, ok, errors, warnings, number in rows[:limit]:
+        if errors is None or warnings is None:  # no current report yet: as the detail does
+            fields = _summary(db, mission, names, number)
+        else:
+            fields = counted_summary_fields(mission, ok, errors, warnings, number,
+                                            username_of(db, mission.updated_by, names))
+        items.append(MissionSummary(**fields))
+    following = _encode_cursor(rows[limit - 1][0].id) if len(rows) > limit else None
     return MissionPage(items=items, next_cursor=following)
 
 

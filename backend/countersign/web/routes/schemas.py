@@ -290,11 +290,19 @@ def summary_fields(mission: Mission, report: dict[str, Any] | None, latest: int 
                    updated_by: str) -> dict[str, Any]:
     findings = report["findings"] if report else None
     errors = sum(f["severity"] == "error" for f in findings) if findings is not None else None
+    return counted_summary_fields(
+        mission, report["ok"] if report else None, errors,
+        (len(findings) - (errors or 0)) if findings is not None else None, latest, updated_by)
+
+
+def counted_summary_fields(mission: Mission, ok: bool | None, errors: int | None,
+                           warnings: int | None, latest: int | None,
+                           updated_by: str) -> dict[str, Any]:
+    """A mission's summary from counts already made (the report's summary columns)."""
     return {
         "id": mission.id, "title": mission.title, "vehicle": mission.vehicle,
         "status": mission.status, "draft_digest": mission.draft_digest,
         "revision": mission.revision, "latest_version": latest,
-        "ok": report["ok"] if report else None, "errors": errors,
-        "warnings": (len(findings) - (errors or 0)) if findings is not None else None,
+        "ok": ok, "errors": errors, "warnings": warnings,
         "updated_at": mission.updated_at, "updated_by": updated_by,
     }
