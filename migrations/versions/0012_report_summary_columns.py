@@ -1,7 +1,7 @@
 """validation reports carry the mission list's summary (ok, errors, warnings) in columns, and
 missions get (status, id) and (vehicle, id) indexes for the list's filters (issue 36)
 
-Revision ID: report_summary_columns
+Revision ID: 0012
 Revises: 0011
 Create Date: 2026-12-04 10:10:00.000000
 """
@@ -14,7 +14,7 @@ from typing import Any
 import sqlalchemy as sa
 from alembic import op
 
-revision = 'report_summary_columns'
+revision = '0012'
 down_revision = '0011'
 branch_labels = None
 depends_on = None
