@@ -100,11 +100,12 @@ def _refuse_structural_errors(loaded: ReadResult, why: str) -> int | None:
 
 
 def cmd_paths(args: argparse.Namespace) -> int:
-    from ..verify.graph import build_graph
     from ..verify.paths import count_paths, iter_path_lines, iter_paths, trace_text
+    from ..verify.refine import checked_form
 
     loaded = load_orders(args.file)
-    graph = build_graph(loaded.orders)
+    # Refined goals run as their refinements: the paths are those of the flat mission.
+    orders, graph = checked_form(loaded.orders)
     counts = count_paths(graph)
     if counts is None:
         refused = _refuse_structural_errors(
@@ -114,8 +115,8 @@ def cmd_paths(args: argparse.Namespace) -> int:
     from ..verify.probability import declares_probabilities, path_probability_bounds
 
     # Each path's probability (or its bounds) when the orders declare outcome probabilities.
-    bounds = (path_probability_bounds(loaded.orders, graph)
-              if declares_probabilities(loaded.orders) else None)
+    bounds = (path_probability_bounds(orders, graph)
+              if declares_probabilities(orders) else None)
     if args.format == "trace":
         for path in iter_paths(graph, counts, args.offset, args.limit):
             out.write(trace_text(graph, path) + "\n")
@@ -151,26 +152,42 @@ def _ask(prompt_echo: bool) -> str | None:
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    from ..verify.graph import build_graph
-    from ..verify.paths import END_LINE, commence_line
+    from ..verify.paths import END_LINE, commence_line, nested_answer, nested_commence
+    from ..verify.refine import checked_form
 
     loaded = load_orders(args.file)
     refused = _refuse_structural_errors(loaded, "these orders cannot be executed until fixed")
     if refused is not None:
         return refused
-    graph = build_graph(loaded.orders)
-    assert graph.start is not None
+    _, graph = checked_form(loaded.orders)
+    if graph.start is None:
+        sys.stderr.write("countersign: these orders cannot be executed until their "
+                         "refinements are fixed (countersign validate says how)\n")
+        return EXIT_FINDINGS
     echo = not sys.stdin.isatty()
     sys.stdout.write("?- execute_mission.\n")
     node = graph.start
+    inside: list[str] = []  # refined goals begun and not ended (issue 37)
     while not graph.is_terminal(node):
         goal = graph.goals[node]
-        sys.stdout.write(commence_line(goal.label) + "\n")
+        if graph.nesting is None:
+            sys.stdout.write(commence_line(goal.label) + "\n")
+        else:
+            lines = nested_commence(graph.nesting, inside, goal.id, goal.label)
+            sys.stdout.write("".join(line + "\n" for line in lines))
         answer = _ask(echo)
         if answer is None:
             sys.stdout.write(f"Mission execution stopped: no outcome given for {goal.id}.\n")
             return EXIT_FINDINGS
-        node = graph.succ[node][("succeed", "fail", "violate").index(answer)]
+        if graph.nesting is not None:
+            # The refinements this outcome ends answer for their refined goals.
+            lines = nested_answer(graph.nesting, inside, goal.id, answer)[1:]
+            sys.stdout.write("".join(line + "\n" for line in lines))
+        k = ("succeed", "fail", "violate").index(answer)
+        if graph.succ[node][k] < 0:
+            sys.stderr.write(f"countersign: {goal.id} has no way on after {answer}\n")
+            return EXIT_FINDINGS
+        node = graph.succ[node][k]
     sys.stdout.write(END_LINE[graph.terminal(node).kind] + "\n")
     return EXIT_OK
 
