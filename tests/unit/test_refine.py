@@ -6,10 +6,11 @@ from __future__ import annotations
 import copy
 import json
 import math
+from fractions import Fraction
 from typing import Any
 
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 from countersign.orders.examples import example_bytes, load_example
@@ -212,7 +213,93 @@ def refined_orders(draw: Any) -> Orders:
                     "goals": goals})
 
 
-@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=60, deadline=None,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
 @given(refined_orders())
 def test_random_refinements_equal_brute_force(orders: Orders) -> None:
+    # Nested time-outs multiply paths: the brute force enumerates, so keep it small.
+    counts = count_paths(checked_form(orders)[1])
+    assert counts is not None
+    assume(counts.total <= 3_000)
     _assert_equal_to_brute_force(orders)
+
+
+# --- what else reads the refined mission ------------------------------------------------------
+
+def _with_probabilities() -> Orders:
+    data = json.loads(example_bytes(REFINED))
+    for position, goal in enumerate(data["goals"]):
+        goal["p"] = {"succeed": 0.7, "fail": 0.2, "violate": 0.1}
+        for inner in goal.get("refines", {}).get("goals", []):
+            inner["p"] = {"succeed": 0.5 - 0.1 * position, "fail": 0.4, "violate": 0.1}
+    return _orders(data)
+
+
+def test_probabilities_equal_brute_force() -> None:
+    orders = _with_probabilities()
+    report = validate(orders)
+    assert report.probabilities is not None and report.probabilities.exact
+    expected: dict[str, Fraction] = {}
+    for run in runs(orders):
+        weight = Fraction(1)
+        for goal, outcome in zip(run.steps, run.outcomes, strict=True):
+            assert goal.p is not None
+            weight *= Fraction(repr(getattr(goal.p, outcome)))
+        expected[run.terminal] = expected.get(run.terminal, Fraction(0)) + weight
+    assert sum(expected.values()) == 1
+    for terminal, bound in report.probabilities.terminals.items():
+        assert bound.exact == expected[terminal]
+
+
+def _response_holds(run_goals: tuple[str, ...], run: Any, steps: int) -> bool:
+    # Every transit goal that fails is followed by G3 within `steps` goals that end.
+    for i, (goal, outcome) in enumerate(zip(run.steps, run.outcomes, strict=True)):
+        window = range(i + 1, min(len(run_goals), i + 1 + steps))
+        if goal.behavior == "transit" and outcome == "fail" \
+                and not any(run_goals[j] == "G3" for j in window):
+            return False
+    return True
+
+
+@pytest.mark.parametrize("steps", [1, 2, 4, 8])
+def test_temporal_pattern_over_the_unrolling_equals_brute_force(steps: int) -> None:
+    data = json.loads(example_bytes(REFINED))
+    data["properties"] = [{"id": "P1", "pattern": "bounded_response",
+                           "p": {"behavior": "transit", "outcome": "fail"},
+                           "s": {"goal": "G3"}, "within": {"steps": steps}}]
+    orders = _orders(data)
+    holds = all(_response_holds(r.goals, r, steps) for r in runs(orders))
+    failed = [f for f in validate(orders).findings if f.code == "PROPERTY"]
+    assert (not failed) == holds, failed
+
+
+def test_property_naming_a_refined_goal_is_refine() -> None:
+    data = json.loads(example_bytes(REFINED))
+    data["properties"] = [{"id": "P1", "pattern": "existence", "p": {"goal": "G1"}}]
+    findings = validate(_orders(data)).findings
+    assert any(f.code == "REFINE" and f.subjects == ("P1", "G1") for f in findings)
+
+
+def test_geo_sees_legs_out_of_a_refinement() -> None:
+    data = json.loads(example_bytes(REFINED))
+    # A keep-out band between Area A and Area C: every leg from A to C crosses it.
+    data["areas"].append({"id": "X", "title": "Range X", "contexts": ["keep_out"],
+                          "polygon": [[36.708, -121.95], [36.708, -121.80],
+                                      [36.703, -121.80], [36.703, -121.95]]})
+    geo = [f for f in validate(_orders(data)).findings if f.code == "GEO"]
+    subjects = {s for f in geo for s in f.subjects}
+    assert {"G1/G1.1", "G1/G1.2", "G1/G1.3"} <= subjects
+    assert not any("#" in s for s in subjects)  # once per goal, not per unrolled copy
+
+
+def test_plain_orders_say_how_goal_1_is_carried_out() -> None:
+    from countersign.orders.plain import plain_orders
+
+    text = plain_orders(load_example(REFINED))
+    assert ("Goal 1 is carried out as: 1.1 Move to the next unvisited cell of Area A, 1.2 Scan "
+            "the cell for targets, and 1.3 Backtrack to the previous cell; it starts with "
+            "Goal 1.1. Time-out: once 6 goals have commenced inside it, no further goal "
+            "commences and Goal 1 fails.") in text
+    assert ("Goal 1.2: Scan the cell for targets (behaviour: area search, in Area A). Next, if "
+            "the goal succeeds, Goal 1 ends in success (Target found). If it fails, execute "
+            "Goal 1.1.") in text
