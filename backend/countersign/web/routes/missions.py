@@ -26,10 +26,10 @@ from ...store.accounts import username_of
 from ...store.db import database_of
 from ...store.tables import Mission, MissionVersion
 from ...store.vehicles import registry_stamp, with_registry
-from ...verify.graph import build_graph
 from ...verify.path_search import UnknownNode, count_matching, iter_matching, path_query
 from ...verify.paths import count_paths, iter_path_lines, iter_paths, trace_text
 from ...verify.probability import declares_probabilities, path_probability_bounds
+from ...verify.refine import checked_form
 from ..deps import (
     EVERYONE,
     MAX_ROW_ID,
@@ -413,7 +413,8 @@ def list_paths(
         orders = _orders(service.get_version(db, mission_id, version).orders)
     else:
         orders = _orders(service.get_mission(db, mission_id).draft)
-    graph = build_graph(orders)
+    # Refined goals run as their refinements: the paths are those of the flat mission.
+    orders, graph = checked_form(orders)
     counts = count_paths(graph)
     bounds = (path_probability_bounds(orders, graph)
               if declares_probabilities(orders) else None)
