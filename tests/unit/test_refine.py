@@ -303,3 +303,43 @@ def test_plain_orders_say_how_goal_1_is_carried_out() -> None:
     assert ("Goal 1.2: Scan the cell for targets (behaviour: area search, in Area A). Next, if "
             "the goal succeeds, Goal 1 ends in success (Target found). If it fails, execute "
             "Goal 1.1.") in text
+
+
+def _cli(argv: list[str], stdin: str = "") -> tuple[int, str]:
+    import contextlib
+    import io
+    import sys
+
+    from countersign.cli import main
+
+    out = io.StringIO()
+    old_stdin = sys.stdin
+    sys.stdin = io.StringIO(stdin)
+    try:
+        with contextlib.redirect_stdout(out):
+            code = main(argv)
+    finally:
+        sys.stdin = old_stdin
+    return code, out.getvalue()
+
+
+def test_cli_paths_name_the_unrolled_goals() -> None:
+    code, out = _cli(["paths", f"example:{REFINED}", "--offset", "100", "--limit", "1"])
+    assert code == 0
+    path = json.loads(out)
+    assert path["goals"][:3] == ["G1/G1.1#1", "G1/G1.2#2", "G1/G1.1#3"]
+    assert path["index"] == 101
+
+
+def test_cli_run_nests_the_refinement_and_times_out() -> None:
+    # s, f, s, f, s, f: the 6th goal fails and the loop's time-out ends Goal 1 with fail.
+    answers = "s\nf\ns\nf\ns\nf\ns\ns\ns\ns\n"
+    code, out = _cli(["run", f"example:{REFINED}"], answers)
+    assert code == 0
+    lines = out.splitlines()
+    assert lines[1] == "Commence: Search Area A."
+    assert lines[2] == "  Commence: Move to the next unvisited cell of Area A."
+    at = lines.index("  Time-out: Search Area A.")
+    assert lines[at + 1] == "Did goal Succeed (s), Fail (f), or end with a Constraint (c)? fail."
+    assert lines[at + 2] == "Commence: Search Area B."
+    assert lines[-1] == "Mission Complete!"

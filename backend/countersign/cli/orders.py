@@ -253,7 +253,12 @@ def add_commands(commands: Any) -> None:
         "profile of their target vehicle, or VEHICLE is reported (an error). When goals (or "
         "the vehicle, per behaviour) carry outcome probabilities `p`, it also prints the exact "
         "probability of each terminal and of any violation, the expected energy and time "
-        "with quantiles, and min/max where probabilities are intervals or missing.",
+        "with quantiles, and min/max where probabilities are intervals or missing. A goal "
+        "with `refines` (sub-orders whose terminals each `return` succeed, fail or violate) "
+        "is carried out by them: each refinement is checked as orders, REFINE reports a "
+        "terminal that returns no outcome or one the parent does not use and a loop without "
+        "a time-out (`within` steps or duration_s, `on_timeout` fail or violate), and paths, "
+        "budgets and probabilities are those of the flat, bounded unrolling.",
     )
     validate_cmd.add_argument("file", metavar="FILE", help=FILE_HELP)
     validate_cmd.add_argument("--format", choices=["text", "json"], default="text")
@@ -274,7 +279,11 @@ def add_commands(commands: Any) -> None:
         description="Enumerate the paths from the start goal to a terminal, depth first in "
         "the order succeed, fail, violate. 'json' writes one JSON object per line (NDJSON): "
         '{"index", "goals", "outcomes", "terminal"} plus "probability" (a number, or [min, max]) '
-        "when the orders carry outcome probabilities; 'trace' writes Figure 6 traces.",
+        "when the orders carry outcome probabilities; 'trace' writes Figure 6 traces. The goals "
+        "inside a refined goal read G1/G1.1 (G1/G1.1#k: the k-th goal commenced inside a "
+        "refinement with a steps time-out; @Ts: after T seconds inside one with duration_s); "
+        "a trace indents each refinement's lines under its goal's Commence line and then "
+        "answers for that goal with the outcome its refinement returned.",
     )
     paths_cmd.add_argument("file", metavar="FILE", help=FILE_HELP)
     paths_cmd.add_argument("--limit", type=non_negative, default=None, help="at most N paths")
@@ -291,7 +300,9 @@ def add_commands(commands: Any) -> None:
         "run",
         help="execute the orders interactively (the MEE of seed 000 Figure 6)",
         description="Commence each goal and ask whether it succeeded (s), failed (f) or ended "
-        "with an imminent constraint violation (c), until the mission completes or aborts.",
+        "with an imminent constraint violation (c), until the mission completes or aborts. "
+        "A refined goal commences its refinement's goals (indented); its own outcome is the "
+        "one its refinement returns.",
     )
     run_cmd.add_argument("file", metavar="FILE", help=FILE_HELP)
     run_cmd.set_defaults(handler=cmd_run)
