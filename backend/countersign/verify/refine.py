@@ -48,7 +48,7 @@ from .structure import check_structure
 
 SEP = "/"
 MAX_DEPTH = 8  # refinements inside refinements
-MAX_FLAT_GOALS = 20_000  # goals of the unrolled mission: bounds memory and every later check
+MAX_FLAT_GOALS = 10_000  # goals of the unrolled mission: bounds memory and every later check
 _MARK = re.compile(r"[#@][^/]*")
 
 State = int | Fraction | None
