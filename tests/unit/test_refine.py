@@ -343,3 +343,40 @@ def test_cli_run_nests_the_refinement_and_times_out() -> None:
     assert lines[at + 1] == "Did goal Succeed (s), Fail (f), or end with a Constraint (c)? fail."
     assert lines[at + 2] == "Commence: Search Area B."
     assert lines[-1] == "Mission Complete!"
+
+
+def _nested(depth: int) -> dict[str, Any]:
+    """Orders whose G1 is refined `depth` levels deep, one goal per level."""
+    inner: dict[str, Any] = {"id": "L", "title": f"Level {depth}",
+                             "next": {o: "T" for o in OUTCOMES}}
+    for level in range(depth, 0, -1):
+        inner = {"id": "L", "title": f"Level {level - 1}", "next": {o: "T" for o in OUTCOMES},
+                 "refines": {"start": "L", "goals": [inner],
+                             "terminals": [{"id": "T", "kind": "complete",
+                                            "returns": "succeed"}]}}
+    inner["id"] = "G1"
+    inner["next"] = {"succeed": "COMPLETE", "fail": "ABORT", "violate": "ABORT"}
+    return {"format": "countersign.orders/1", "id": "nested", "start": "G1", "goals": [inner]}
+
+
+def test_nested_refinements_nest_their_traces() -> None:
+    orders = _orders(_nested(2))
+    _, graph = checked_form(orders)
+    counts = count_paths(graph)
+    assert counts is not None and counts.by_terminal == {"COMPLETE": 3, "ABORT": 0}
+    path = next(iter_paths(graph, counts))
+    assert path.goals == ("G1/L/L",)
+    assert trace_text(graph, path).splitlines()[2:7] == [
+        "Commence: Level 0.", "  Commence: Level 1.", "    Commence: Level 2.",
+        "    Did goal Succeed (s), Fail (f), or end with a Constraint (c)? succeed.",
+        "  Did goal Succeed (s), Fail (f), or end with a Constraint (c)? succeed."]
+    assert _assert_equal_to_brute_force(orders) == 3
+
+
+def test_refinements_nest_at_most_eight_deep() -> None:
+    deepest = validate(_orders(_nested(8)))
+    assert not [f for f in deepest.findings if f.code == "REFINE"]
+    assert deepest.paths is not None and deepest.paths.total == 3
+    report = validate(_orders(_nested(9)))
+    assert any(f.code == "REFINE" and "at most 8 deep" in f.message for f in report.findings)
+    assert report.paths is None
