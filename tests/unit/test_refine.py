@@ -331,14 +331,28 @@ def test_cli_paths_name_the_unrolled_goals() -> None:
     assert path["index"] == 101
 
 
+def _index_of(answers: str) -> int:
+    """The 0-based index of the path the answers take (the trace to compare the run with)."""
+    outcomes = [{"s": "succeed", "f": "fail", "c": "violate"}[a] for a in answers.split()]
+    _, graph = checked_form(load_example(REFINED))
+    counts = count_paths(graph)
+    assert counts is not None
+    return next(p.index - 1 for p in iter_paths(graph, counts)
+                if list(p.outcomes) == outcomes[:len(p.outcomes)])
+
+
 def test_cli_run_nests_the_refinement_and_times_out() -> None:
     # s, f, s, f, s, f: the 6th goal fails and the loop's time-out ends Goal 1 with fail.
-    answers = "s\nf\ns\nf\ns\nf\ns\ns\ns\ns\n"
+    answers = "s\nf\ns\nf\ns\nf\ns\ns\ns\n"
     code, out = _cli(["run", f"example:{REFINED}"], answers)
     assert code == 0
     lines = out.splitlines()
     assert lines[1] == "Commence: Search Area A."
     assert lines[2] == "  Commence: Move to the next unvisited cell of Area A."
+    assert lines[3] == "  Did goal Succeed (s), Fail (f), or end with a Constraint (c)? succeed."
+    # The run prints what a trace of the same path prints.
+    assert lines[:-1] == _cli(["paths", f"example:{REFINED}", "--format", "trace", "--offset",
+                               str(_index_of(answers)), "--limit", "1"])[1].splitlines()[1:-1]
     at = lines.index("  Time-out: Search Area A.")
     assert lines[at + 1] == "Did goal Succeed (s), Fail (f), or end with a Constraint (c)? fail."
     assert lines[at + 2] == "Commence: Search Area B."

@@ -127,12 +127,13 @@ def cmd_paths(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _ask(prompt_echo: bool) -> str | None:
-    """One answer from the operator: the outcome, or None at end of input."""
+def _ask(prompt_echo: bool, indent: str = "") -> str | None:
+    """One answer from the operator: the outcome, or None at end of input. `indent`: the
+    goal's depth inside refinements, as its Commence line has it."""
     from ..verify.paths import ANSWER, QUESTION
 
     while True:
-        sys.stdout.write(f"{QUESTION} ")
+        sys.stdout.write(f"{indent}{QUESTION} ")
         sys.stdout.flush()
         line = sys.stdin.readline()
         if not line:
@@ -152,7 +153,13 @@ def _ask(prompt_echo: bool) -> str | None:
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    from ..verify.paths import END_LINE, commence_line, nested_answer, nested_commence
+    from ..verify.paths import (
+        END_LINE,
+        INDENT,
+        commence_line,
+        nested_answer,
+        nested_commence,
+    )
     from ..verify.refine import checked_form
 
     loaded = load_orders(args.file)
@@ -175,7 +182,8 @@ def cmd_run(args: argparse.Namespace) -> int:
         else:
             lines = nested_commence(graph.nesting, inside, goal.id, goal.label)
             sys.stdout.write("".join(line + "\n" for line in lines))
-        answer = _ask(echo)
+        depth = len(graph.nesting.parents.get(goal.id, ())) if graph.nesting else 0
+        answer = _ask(echo, INDENT * depth)
         if answer is None:
             sys.stdout.write(f"Mission execution stopped: no outcome given for {goal.id}.\n")
             return EXIT_FINDINGS
