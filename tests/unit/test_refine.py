@@ -394,3 +394,14 @@ def test_refinements_nest_at_most_eight_deep() -> None:
     report = validate(_orders(_nested(9)))
     assert any(f.code == "REFINE" and "at most 8 deep" in f.message for f in report.findings)
     assert report.paths is None
+
+
+def test_vehicle_exports_are_flat_and_refuse_a_broken_refinement() -> None:
+    from countersign.export.notes import ExportError
+    from countersign.export.vehicle import export_vehicle
+
+    export = export_vehicle(load_example(REFINED), "moos", version=1)
+    assert any(n.code == "REFINE" for n in export.notes)
+    assert b"G1_G1_1_1" in export.primary.content
+    with pytest.raises(ExportError, match=r"REFINE G1/G1\.1"):
+        export_vehicle(_orders(_search_loop(None)), "imc", version=1)
