@@ -29,7 +29,7 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
 
-from ..orders.findings import Finding, error
+from ..orders.findings import Finding, error, warning
 from ..orders.model import (
     OUTCOMES,
     Area,
@@ -397,6 +397,13 @@ def _check_refinement(path: str, parent: Goal, refinement: Refinement,
             findings.append(error("REFINE", [where, path], f"Terminal {where} returns "
                                   f"{terminal.returns}, but {path} names no successor for "
                                   f"{terminal.returns}."))
+    returned = {t.returns for t in refinement.terminals} | {refinement.on_timeout}
+    for outcome in OUTCOMES:
+        if outcome in used and outcome not in returned:
+            # Not an error: a search may never fail. But the successor is then reached
+            # from elsewhere or not at all, which the author should know.
+            findings.append(warning("REFINE", [path], f"{path} names a successor for "
+                                    f"{outcome}, but its refinement never returns {outcome}."))
     if bounded and refinement.on_timeout is None:
         findings.append(error("REFINE", [path], f"The time-out of {path}'s refinement says "
                               "no outcome: add \"on_timeout\": fail or violate."))
