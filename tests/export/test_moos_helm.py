@@ -28,6 +28,7 @@ from countersign.orders.examples import example_bytes, example_names
 from countersign.orders.model import Orders
 from countersign.orders.reader import read_bytes, read_file
 from countersign.verify.paths import iter_paths, paths_of
+from countersign.verify.refine import checked_form
 
 from .moos_community import SHARED, Community, running, tools_missing
 from .readers import AVCL
@@ -107,7 +108,8 @@ def _paths(orders: Orders) -> list[tuple[tuple[str, ...], tuple[str, ...], str |
 def _drives() -> list[Drive]:
     out: list[Drive] = []
     for name in example_names():
-        orders = read_bytes(example_bytes(name), name).orders
+        # A refined mission is exported and flown as its flat automaton.
+        orders = checked_form(read_bytes(example_bytes(name), name).orders)[0]
         goals, outcomes, terminal, index = _paths(orders)[0]
         out.append(Drive(name, orders, f"example:{name}", goals, outcomes, terminal, index))
     exemplar = read_bytes(example_bytes("search-and-sample"), "search-and-sample").orders

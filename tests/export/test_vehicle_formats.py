@@ -15,6 +15,7 @@ from countersign.orders.examples import example_bytes, example_names
 from countersign.orders.model import Orders
 from countersign.orders.reader import read_bytes, read_file
 from countersign.verify.paths import iter_paths, paths_of
+from countersign.verify.refine import checked_form
 
 from .readers import AVCL, NPS, Graph, description, graph_paths, mode_map, read_bhv, read_imc
 
@@ -38,6 +39,7 @@ def _edges(orders: Orders) -> dict[str, dict[str, str]]:
 
 def _check_against_mea(orders: Orders, graph: Graph, rename: dict[str, str] | None = None) -> None:
     name = (lambda n: rename[n]) if rename else (lambda n: n)
+    orders = checked_form(orders)[0]  # a refined mission is exported as its flat automaton
     edges = {name(s): {o: name(t) for o, t in out.items()} for s, out in graph.edges.items()}
     assert name(graph.start) == orders.start
     assert edges == _edges(orders)

@@ -107,11 +107,12 @@ def _refuse_structural_errors(loaded: ReadResult, why: str) -> int | None:
 
 
 def cmd_paths(args: argparse.Namespace) -> int:
-    from ..verify.graph import build_graph
     from ..verify.paths import count_paths, iter_path_lines, iter_paths, trace_text
+    from ..verify.refine import checked_form
 
     loaded = load_orders(args.file)
-    graph = build_graph(loaded.orders)
+    # Refined goals run as their refinements: the paths are those of the flat mission.
+    orders, graph = checked_form(loaded.orders)
     counts = count_paths(graph)
     if counts is None:
         refused = _refuse_structural_errors(
@@ -121,8 +122,8 @@ def cmd_paths(args: argparse.Namespace) -> int:
     from ..verify.probability import declares_probabilities, path_probability_bounds
 
     # Each path's probability (or its bounds) when the orders declare outcome probabilities.
-    bounds = (path_probability_bounds(loaded.orders, graph)
-              if declares_probabilities(loaded.orders) else None)
+    bounds = (path_probability_bounds(orders, graph)
+              if declares_probabilities(orders) else None)
     if args.format == "trace":
         for path in iter_paths(graph, counts, args.offset, args.limit):
             out.write(trace_text(graph, path) + "\n")
@@ -133,12 +134,13 @@ def cmd_paths(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
-def _ask(prompt_echo: bool) -> str | None:
-    """One answer from the operator: the outcome, or None at end of input."""
+def _ask(prompt_echo: bool, indent: str = "") -> str | None:
+    """One answer from the operator: the outcome, or None at end of input. `indent`: the
+    goal's depth inside refinements, as its Commence line has it."""
     from ..verify.paths import ANSWER, QUESTION
 
     while True:
-        sys.stdout.write(f"{QUESTION} ")
+        sys.stdout.write(f"{indent}{QUESTION} ")
         sys.stdout.flush()
         line = sys.stdin.readline()
         if not line:
@@ -158,26 +160,49 @@ def _ask(prompt_echo: bool) -> str | None:
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    from ..verify.graph import build_graph
-    from ..verify.paths import END_LINE, commence_line
+    from ..verify.paths import (
+        END_LINE,
+        INDENT,
+        commence_line,
+        nested_answer,
+        nested_commence,
+    )
+    from ..verify.refine import checked_form
 
     loaded = load_orders(args.file)
     refused = _refuse_structural_errors(loaded, "these orders cannot be executed until fixed")
     if refused is not None:
         return refused
-    graph = build_graph(loaded.orders)
-    assert graph.start is not None
+    _, graph = checked_form(loaded.orders)
+    if graph.start is None:
+        sys.stderr.write("countersign: these orders cannot be executed until their "
+                         "refinements are fixed (countersign validate says how)\n")
+        return EXIT_FINDINGS
     echo = not sys.stdin.isatty()
     sys.stdout.write("?- execute_mission.\n")
     node = graph.start
+    inside: list[str] = []  # refined goals begun and not ended (issue 37)
     while not graph.is_terminal(node):
         goal = graph.goals[node]
-        sys.stdout.write(commence_line(goal.label) + "\n")
-        answer = _ask(echo)
+        if graph.nesting is None:
+            sys.stdout.write(commence_line(goal.label) + "\n")
+        else:
+            lines = nested_commence(graph.nesting, inside, goal.id, goal.label)
+            sys.stdout.write("".join(line + "\n" for line in lines))
+        depth = len(graph.nesting.parents.get(goal.id, ())) if graph.nesting else 0
+        answer = _ask(echo, INDENT * depth)
         if answer is None:
             sys.stdout.write(f"Mission execution stopped: no outcome given for {goal.id}.\n")
             return EXIT_FINDINGS
-        node = graph.succ[node][("succeed", "fail", "violate").index(answer)]
+        if graph.nesting is not None:
+            # The refinements this outcome ends answer for their refined goals.
+            lines = nested_answer(graph.nesting, inside, goal.id, answer)[1:]
+            sys.stdout.write("".join(line + "\n" for line in lines))
+        k = ("succeed", "fail", "violate").index(answer)
+        if graph.succ[node][k] < 0:
+            sys.stderr.write(f"countersign: {goal.id} has no way on after {answer}\n")
+            return EXIT_FINDINGS
+        node = graph.succ[node][k]
     sys.stdout.write(END_LINE[graph.terminal(node).kind] + "\n")
     return EXIT_OK
 
@@ -252,7 +277,13 @@ def add_commands(commands: Any) -> None:
         "then TEAM: a meeting where a member can wait for a partner that ended or went past "
         "it, named with the shortest joint path (`v1/G1 violate, v2/G1 violate -> (v1/G4, "
         "v2/ABORT)`); it prints each member's paths and costs and the joint executions by "
-        "where each member ends (example:search-and-sample-team).",
+        "where each member ends (example:search-and-sample-team). "
+        "A goal "
+        "with `refines` (sub-orders whose terminals each `return` succeed, fail or violate) "
+        "is carried out by them: each refinement is checked as orders, REFINE reports a "
+        "terminal that returns no outcome or one the parent does not use and a loop without "
+        "a time-out (`within` steps or duration_s, `on_timeout` fail or violate), and paths, "
+        "budgets and probabilities are those of the flat, bounded unrolling.",
     )
     validate_cmd.add_argument("file", metavar="FILE", help=FILE_HELP)
     validate_cmd.add_argument("--format", choices=["text", "json"], default="text")
@@ -273,7 +304,11 @@ def add_commands(commands: Any) -> None:
         description="Enumerate the paths from the start goal to a terminal, depth first in "
         "the order succeed, fail, violate. 'json' writes one JSON object per line (NDJSON): "
         '{"index", "goals", "outcomes", "terminal"} plus "probability" (a number, or [min, max]) '
-        "when the orders carry outcome probabilities; 'trace' writes Figure 6 traces.",
+        "when the orders carry outcome probabilities; 'trace' writes Figure 6 traces. The goals "
+        "inside a refined goal read G1/G1.1 (G1/G1.1#k: the k-th goal commenced inside a "
+        "refinement with a steps time-out; @Ts: after T seconds inside one with duration_s); "
+        "a trace indents each refinement's lines under its goal's Commence line and then "
+        "answers for that goal with the outcome its refinement returned.",
     )
     paths_cmd.add_argument("file", metavar="FILE", help=FILE_HELP)
     paths_cmd.add_argument("--limit", type=non_negative, default=None, help="at most N paths")
@@ -290,7 +325,9 @@ def add_commands(commands: Any) -> None:
         "run",
         help="execute the orders interactively (the MEE of seed 000 Figure 6)",
         description="Commence each goal and ask whether it succeeded (s), failed (f) or ended "
-        "with an imminent constraint violation (c), until the mission completes or aborts.",
+        "with an imminent constraint violation (c), until the mission completes or aborts. "
+        "A refined goal commences its refinement's goals (indented); its own outcome is the "
+        "one its refinement returns.",
     )
     run_cmd.add_argument("file", metavar="FILE", help=FILE_HELP)
     run_cmd.set_defaults(handler=cmd_run)

@@ -22,6 +22,9 @@ def export_avcl(orders: Orders) -> VehicleExport:
     notes = [ExportNote(gap.code, gap.path, gap.message) for gap in document.gaps]
     for index, goal in enumerate(orders.goals):
         where = f"/goals/{index}"
+        if goal.refines is not None:
+            notes.append(ExportNote("REFINE", f"{where}/refines", f"goal {goal.id}: its "
+                                    "refinement has no AVCL form; not written"))
         if goal.requires:
             notes.append(ExportNote("REQUIRES", f"{where}/requires", f"goal {goal.id}: "
                                     "requirements have no AVCL form; not written"))

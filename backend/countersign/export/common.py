@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 from ..orders.model import Goal, Orders
+from ..verify.refine import flatten, has_refinements, refine_findings
 from ..verify.structure import check_structure
 from .geometry import Box, bounding_box
 from .notes import ExportError, ExportNote
@@ -47,6 +48,26 @@ def require_sound(orders: Orders, notes: list[ExportNote]) -> None:
     for finding in errors:
         notes.append(ExportNote(f"STRUCTURE-{finding.code}", "/goals",
                                 f"exported despite a structural error: {finding.message}"))
+
+
+def flat_for_vehicle(orders: Orders, notes: list[ExportNote]) -> Orders:
+    """A vehicle runs a refined mission as its flat automaton (issue 37): each goal inside a
+    refinement becomes a maneuver or mode of its own, named by its flat id (`G1/G1.2`; `#k`
+    for the k-th goal commenced inside a time-out's unrolling), so the plan is exactly the
+    automaton whose paths were counted and signed. A broken refinement is refused."""
+    if not has_refinements(orders):
+        return orders
+    broken = [f for f in refine_findings(orders) if f.severity == "error"]
+    flat = flatten(orders)
+    broken += flat.findings
+    if broken:
+        named = "; ".join(f"{f.code} {', '.join(f.subjects)}" for f in broken[:5])
+        raise ExportError(f"the refinements cannot become a vehicle plan ({named}); "
+                          "fix them first")
+    notes.append(ExportNote("REFINE", "/goals", "refined goals are exported flat: their "
+                            "refinements' goals are named G1/G1.1 (#k: the k-th goal commenced "
+                            "inside a time-out's unrolling); /goals/N below counts flat goals"))
+    return flat.orders
 
 
 def placements(orders: Orders, notes: list[ExportNote]) -> list[Placement]:

@@ -23,6 +23,7 @@ from datetime import UTC, datetime
 from typing import Any
 
 from ..orders.model import OUTCOMES, Orders
+from ..verify.refine import checked_form
 from .moos import mode_names
 
 FORMATS = ("auto", "ndjson", "imc", "alog")
@@ -293,6 +294,8 @@ def detect(data: bytes) -> str:
 
 def to_execution_log(orders: Orders, data: bytes, fmt: str = "auto") -> Converted:
     """The NDJSON execution log of `data` in format `fmt` (auto: detected)."""
+    # A refined mission runs as its flat automaton: the vehicle's logs name its flat goals.
+    orders = checked_form(orders)[0]
     if fmt not in FORMATS:
         raise ExecutionInputError(f"unknown execution format {fmt!r}; one of "
                                   f"{', '.join(FORMATS)}")

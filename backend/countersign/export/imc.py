@@ -18,6 +18,7 @@ from ..orders.model import OUTCOMES, Orders
 from .common import (
     Placement,
     duration_s,
+    flat_for_vehicle,
     lane_width,
     placements,
     require_sound,
@@ -136,6 +137,7 @@ def _constraints(orders: Orders, plan: Any, notes: list[ExportNote]) -> None:
 
 def build_plan(orders: Orders, provenance: Provenance) -> tuple[Any, list[ExportNote]]:
     notes: list[ExportNote] = []
+    orders = flat_for_vehicle(orders, notes)
     require_sound(orders, notes)
     speed = speed_of(orders, notes)
     plan = imcpy.PlanSpecification()

@@ -14,6 +14,7 @@ from ..orders.model import OUTCOMES, Orders
 from .common import (
     Placement,
     duration_s,
+    flat_for_vehicle,
     lane_width,
     placements,
     require_sound,
@@ -278,6 +279,7 @@ def write_moos(orders: Orders, bhv_name: str, provenance: Provenance) -> str:
 
 def export_moos(orders: Orders, provenance: Provenance) -> VehicleExport:
     notes: list[ExportNote] = []
+    orders = flat_for_vehicle(orders, notes)
     require_sound(orders, notes)
     bhv_name = f"{orders.id}.bhv"
     bhv = write_bhv(orders, provenance, notes)

@@ -164,6 +164,9 @@ class Goal(_Strict):
     # Outcome probabilities (absent: taken from the vehicle's profile for the behaviour, else
     # unknown, so only bounds follow).
     p: OutcomeProbabilities | None = None
+    # Progressive refinement (seed 000 III.D): sub-orders that carry the goal out (absent: none,
+    # so orders without it keep their canonical JSON and digest).
+    refines: Refinement | None = None
 
     @property
     def label(self) -> str:
@@ -187,6 +190,45 @@ class Terminal(_Strict):
     @property
     def label(self) -> str:
         return self.title or ("Mission complete" if self.kind == "complete" else "Mission abort")
+
+
+class RefinementTerminal(Terminal):
+    """The end of a refinement: `returns` names the parent goal's outcome. Typed loosely so that
+    a missing or unknown outcome is a REFINE finding (verify.refine), not a read error."""
+
+    returns: Annotated[str, Field(max_length=MAX_ID_LENGTH)] | None = None
+
+
+MAX_REFINEMENT_STEPS = 10_000
+
+
+class RefinementBound(_Strict):
+    """The time-out of a refinement with a loop (verify.refine defines the unrolling): a goal
+    inside commences only while fewer than `steps` goals have commenced, or while the goals
+    that ended inside took less than `duration_s` seconds."""
+
+    steps: int | None = Field(default=None, ge=1, le=MAX_REFINEMENT_STEPS)
+    duration_s: float | None = Field(default=None, gt=0)
+
+    @model_validator(mode="after")
+    def _one_bound(self) -> RefinementBound:
+        if (self.steps is None) == (self.duration_s is None):
+            raise ValueError("a time-out gives exactly one of steps or duration_s")
+        return self
+
+
+class Refinement(_Strict):
+    """Sub-orders that carry out a goal: ids inside are local (outside they read G1/G1.1)."""
+
+    start: Id | list[Id] | None = None
+    goals: list[Goal] = Field(default_factory=list, max_length=MAX_LIST_LENGTH)
+    terminals: list[RefinementTerminal] = Field(default_factory=list,
+                                                max_length=MAX_LIST_LENGTH)
+    within: RefinementBound | None = None
+    on_timeout: Literal["fail", "violate"] | None = None
+
+
+Goal.model_rebuild()
 
 
 DEFAULT_TERMINALS: tuple[Terminal, ...] = (

@@ -220,6 +220,8 @@ def _header(orders: Orders, names: Names) -> list[str]:
 
 def plain_orders(orders: Orders) -> str:
     """The whole plain-language document: header, goals, constraints and norms."""
+    from .plain_refine import refinement_paragraphs  # it builds on this module's Names
+
     names = Names(orders)
     quantities = quantities_of(orders)
     blocks = ["\n".join(_header(orders, names))]
@@ -228,10 +230,10 @@ def plain_orders(orders: Orders) -> str:
     blocks.append("Goals")
     if not orders.goals:
         blocks.append("The orders include no goal.")
-    blocks.extend(
-        plain_goal_paragraph(goal, number, names)
-        for number, goal in enumerate(orders.goals, start=1)
-    )
+    for number, goal in enumerate(orders.goals, start=1):
+        blocks.append(plain_goal_paragraph(goal, number, names))
+        # A refined goal is followed by how it is carried out (issue 37).
+        blocks.extend(refinement_paragraphs(goal, str(number), names))
     if orders.constraints:
         blocks.append("Constraints")
         blocks.extend(

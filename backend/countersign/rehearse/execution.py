@@ -23,6 +23,7 @@ from typing import Any
 from .. import strict_json
 from ..orders.model import OUTCOMES, Orders
 from ..verify.paths import paths_of
+from ..verify.refine import checked_form
 from .execution_budget import Usage, budget_usage
 from .execution_evidence import Evidence, TimeWindow, check_times
 from .execution_evidence import ExecutionLogError as ExecutionLogError
@@ -140,6 +141,8 @@ def check_execution(orders: Orders, steps: list[Step],
     """The run's path, deviations and evidence. `window` bounds its absolute times (without
     one, as for a rehearsal's simulated seconds, times are only checked to run forwards)."""
     untimed = check_times(steps, window)
+    # A refined mission runs as its flat automaton: logs name its goals (G1/G1.1#1).
+    orders = checked_form(orders)[0]
     graph, counts = paths_of(orders)
     if counts is None or graph.start is None:
         raise ExecutionLogError("the orders have no countable paths (fix their structure)")

@@ -11,6 +11,7 @@ from dataclasses import dataclass
 from functools import cached_property
 
 from ..orders.model import OUTCOMES, Goal, Orders, Terminal
+from .nesting import Nesting
 
 MISSING = -1  # the goal names no successor for this outcome (SINK)
 UNKNOWN = -2  # the goal names something that is neither a goal nor a terminal (G3)
@@ -26,6 +27,8 @@ class MissionGraph:
     # Every target named per outcome, for the rare G5 case of several (Turtle/AVCL input).
     extra_targets: dict[int, tuple[int, ...]]
     start: int | None
+    # The hierarchy of a refined mission's flat graph (verify.refine), for traces and runs.
+    nesting: Nesting | None = None
 
     @property
     def goal_count(self) -> int:

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 from ..orders.model import OUTCOMES, Orders
 from .graph import MissionGraph, build_graph
+from .nesting import Nesting
 
 ANSWER = {"succeed": "succeed", "fail": "fail", "violate": "constraint"}
 
@@ -261,9 +262,16 @@ def trace_text(orders_graph: MissionGraph, path: MissionPath) -> str:
     """The path as an ethical mission execution trace, exactly as seed 000 Figure 6 prints it."""
     labels = _labels(orders_graph)
     lines = [f"Ethical Mission Execution Trace #{path.index}:", "?- execute_mission."]
-    for goal_id, outcome in zip(path.goals, path.outcomes, strict=True):
-        lines.append(commence_line(labels[goal_id]))
-        lines.append(f"{QUESTION} {ANSWER[outcome]}.")
+    nesting = orders_graph.nesting
+    if nesting is None:
+        for goal_id, outcome in zip(path.goals, path.outcomes, strict=True):
+            lines.append(commence_line(labels[goal_id]))
+            lines.append(f"{QUESTION} {ANSWER[outcome]}.")
+    else:
+        inside: list[str] = []
+        for goal_id, outcome in zip(path.goals, path.outcomes, strict=True):
+            lines.extend(nested_commence(nesting, inside, goal_id, labels[goal_id]))
+            lines.extend(nested_answer(nesting, inside, goal_id, outcome))
     terminal = next(t for t in orders_graph.terminals if t.id == path.terminal)
     lines.append(END_LINE[terminal.kind])
     return "\n".join(lines)
@@ -285,6 +293,41 @@ END_LINE = {"complete": "Mission Complete!", "abort": "Mission Abort!"}
 
 def commence_line(label: str) -> str:
     return f"Commence: {label.rstrip('.')}."
+
+
+INDENT = "  "  # per level of refinement
+
+
+def nested_commence(nesting: Nesting, inside: list[str], goal_id: str, label: str
+                    ) -> list[str]:
+    """The Commence lines of a flat goal of a refined mission: first those of the refined
+    goals it runs inside that have not begun yet, each indented by its depth. `inside` holds
+    the refined goals begun and not ended; it is updated."""
+    lines: list[str] = []
+    chain = nesting.parents.get(goal_id, ())
+    for depth in range(len(inside), len(chain)):
+        parent, parent_label = chain[depth]
+        lines.append(INDENT * depth + commence_line(parent_label))
+        inside.append(parent)
+    lines.append(INDENT * len(chain) + commence_line(label))
+    return lines
+
+
+def nested_answer(nesting: Nesting, inside: list[str], goal_id: str, outcome: str
+                  ) -> list[str]:
+    """The answer for a flat goal, then for each refinement its outcome leaves the outcome
+    that refinement returns (after `Time-out: ...` when its time-out ended it)."""
+    depth = len(nesting.parents.get(goal_id, ()))
+    lines = [f"{INDENT * depth}{QUESTION} {ANSWER[outcome]}."]
+    labels = dict(nesting.parents.get(goal_id, ()))
+    for leaving in nesting.exits.get((goal_id, outcome), ()):
+        depth = len(inside)
+        if leaving.timed_out:
+            lines.append(f"{INDENT * depth}Time-out: {labels.get(leaving.parent, '')}.")
+        if inside:
+            inside.pop()
+        lines.append(f"{INDENT * (depth - 1)}{QUESTION} {ANSWER[leaving.returns]}.")
+    return lines
 
 
 def paths_of(orders: Orders) -> tuple[MissionGraph, PathCounts | None]:

@@ -36,6 +36,7 @@ from .paths import PathCounts, count_paths
 from .patterns import check_patterns
 from .probability import Probabilities, declares_probabilities, outcome_probabilities
 from .properties import check_properties
+from .refine import Flat, dedupe_copies, flat_graph, flatten, has_refinements, refine_findings
 from .rules_design import rules_findings
 from .structure import check_structure
 from .team_report import TeamSummary
@@ -131,32 +132,37 @@ def validate(
     cache = logic_cache if logic_cache is not None else SHARED_LOGIC_CACHE
     store = parts if parts is not None else SHARED_PARTS
     keys = keys if keys is not None else part_keys(orders)
-    built: list[MissionGraph] = [graph] if graph is not None else []
+    # Refined orders (issue 37) are checked in their flat form: paths, costs and properties
+    # on the unrolled mission, the per-goal checks once per goal of the orders.
+    flat = flatten(orders) if has_refinements(orders) else None
+    checked = flat.orders if flat is not None else orders
+    per_goal = flat.representative if flat is not None else orders
+    built: list[MissionGraph] = [graph] if graph is not None and flat is None else []
 
     def mission_graph() -> MissionGraph:
         if not built:
-            built.append(build_graph(orders))
+            built.append(build_graph(orders) if flat is None else flat_graph(flat))
         return built[0]
 
     core = store.get("core", keys.core)
     if core is None:
-        core = _core(orders, mission_graph())
+        core = _core(orders, mission_graph(), flat)
         store.put("core", keys.core, core)
     meo = store.get("meo", keys.meo)
     if meo is None:
-        meo = meo_only_findings(orders)
+        meo = meo_only_findings(per_goal)
         store.put("meo", keys.meo, meo)
     deadline = time.monotonic() + solver_budget_s
     logic = store.get("logic", keys.logic)
     if logic is None:
-        logic = check_logic(orders, cache, timeout_ms=SOLVER_CALL_MS,
+        logic = check_logic(per_goal, cache, timeout_ms=SOLVER_CALL_MS,
                             total_timeout_s=solver_budget_s)
         if decided(logic):
             store.put("logic", keys.logic, logic)
     # No properties, no findings (check_properties would still parse the logic model).
     properties = store.get("properties", keys.properties) if orders.properties else []
     if properties is None:
-        properties = check_properties(orders, mission_graph(), cache,
+        properties = check_properties(checked, mission_graph(), cache,
                                       timeout_ms=SOLVER_CALL_MS,
                                       total_timeout_s=max(0.0, deadline - time.monotonic()))
         if decided(properties):
@@ -190,16 +196,25 @@ class CorePart:
     probabilities: Probabilities | None
 
 
-def _core(orders: Orders, graph: MissionGraph) -> CorePart:
-    structural = list(check_structure(orders, graph))
+def _core(orders: Orders, graph: MissionGraph, flat: Flat | None = None) -> CorePart:
+    if flat is None:
+        structural = list(check_structure(orders, graph))
+        checked = per_goal = orders
+    else:
+        # The top level as orders, each refinement as orders, and REFINE.
+        structural = [*check_structure(orders), *refine_findings(orders), *flat.findings]
+        checked, per_goal = flat.orders, flat.representative
     counts = count_paths(graph)
-    legs = mission_legs(orders)
-    costs = worst_paths(orders, graph, legs) if counts is not None else None
+    legs = mission_legs(checked)
+    costs = worst_paths(checked, graph, legs) if counts is not None else None
     structural.extend(check_budget(costs))
-    descriptive = [*check_vehicle(orders), *check_text(orders), *check_geo(orders, graph, legs)]
-    design = [*rules_findings(orders), *check_patterns(orders, graph, legs=legs)]
-    probabilities = (outcome_probabilities(orders, graph, legs)
-                     if counts is not None and declares_probabilities(orders) else None)
+    descriptive = [*check_vehicle(per_goal), *check_text(per_goal),
+                   *check_geo(checked, graph, legs)]
+    if flat is not None:
+        descriptive = dedupe_copies(descriptive)
+    design = [*rules_findings(orders), *check_patterns(checked, graph, legs=legs)]
+    probabilities = (outcome_probabilities(checked, graph, legs)
+                     if counts is not None and declares_probabilities(checked) else None)
     return CorePart(defaulted_findings(orders), structural, descriptive, design, counts, costs,
                     probabilities)
 

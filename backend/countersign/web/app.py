@@ -183,8 +183,12 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
                 database.reports.use_pool(None)
                 pool.shutdown()
 
+    # One schema per model: recursive orders (a goal's refinement holds goals, issue 37)
+    # would otherwise split into Orders-Input and Orders-Output, which the routes' own
+    # `#/components/schemas/Orders` references do not name.
     app = FastAPI(title="Countersign", version=__version__, docs_url=None,
-                  openapi_url="/api/openapi.json", redoc_url=None, lifespan=lifespan)
+                  openapi_url="/api/openapi.json", redoc_url=None, lifespan=lifespan,
+                  separate_input_output_schemas=False)
     app.state.settings = settings
     app.state.database = database
     app.state.rehearsals = hub

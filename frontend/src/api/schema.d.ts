@@ -2632,6 +2632,7 @@ export interface components {
             params?: {
                 [key: string]: unknown;
             };
+            refines?: components["schemas"]["Refinement"] | null;
             /** Requires */
             requires?: string[];
             /**
@@ -3648,6 +3649,60 @@ export interface components {
             summary: string;
             /** Terminal */
             terminal: string | null;
+        };
+        /**
+         * Refinement
+         * @description Sub-orders that carry out a goal: ids inside are local (outside they read G1/G1.1).
+         */
+        Refinement: {
+            /** Goals */
+            goals?: components["schemas"]["Goal"][];
+            /** On Timeout */
+            on_timeout?: ("fail" | "violate") | null;
+            /** Start */
+            start?: string | string[] | null;
+            /** Terminals */
+            terminals?: components["schemas"]["RefinementTerminal"][];
+            within?: components["schemas"]["RefinementBound"] | null;
+        } & {
+            [key: string]: unknown;
+        };
+        /**
+         * RefinementBound
+         * @description The time-out of a refinement with a loop (verify.refine defines the unrolling): a goal
+         *     inside commences only while fewer than `steps` goals have commenced, or while the goals
+         *     that ended inside took less than `duration_s` seconds.
+         */
+        RefinementBound: {
+            /** Duration S */
+            duration_s?: number | null;
+            /** Steps */
+            steps?: number | null;
+        } & {
+            [key: string]: unknown;
+        };
+        /**
+         * RefinementTerminal
+         * @description The end of a refinement: `returns` names the parent goal's outcome. Typed loosely so that
+         *     a missing or unknown outcome is a REFINE finding (verify.refine), not a read error.
+         */
+        RefinementTerminal: {
+            /** Id */
+            id: string;
+            /**
+             * Kind
+             * @enum {string}
+             */
+            kind: "complete" | "abort";
+            /** Returns */
+            returns?: string | null;
+            /**
+             * Title
+             * @default
+             */
+            title?: string;
+        } & {
+            [key: string]: unknown;
         };
         /** RehearsalIn */
         RehearsalIn: {

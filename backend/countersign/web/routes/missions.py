@@ -28,10 +28,10 @@ from ...store.db import database_of
 from ...store.tables import Mission, MissionVersion, ValidationReport
 from ...store.vehicles import registry_stamp, with_registry
 from ...verify import fingerprint
-from ...verify.graph import build_graph
 from ...verify.path_search import UnknownNode, count_matching, iter_matching, path_query
 from ...verify.paths import count_paths, iter_path_lines, iter_paths, trace_text
 from ...verify.probability import declares_probabilities, path_probability_bounds
+from ...verify.refine import checked_form
 from ..deps import (
     EVERYONE,
     MAX_ROW_ID,
@@ -439,7 +439,8 @@ def list_paths(
         # A team has one path list per member; its joint executions are counted in the report.
         raise HTTPException(409, "these orders are a team's: each member has its own paths, "
                                  "and the report counts the joint executions")
-    graph = build_graph(orders)
+    # Refined goals run as their refinements: the paths are those of the flat mission.
+    orders, graph = checked_form(orders)
     counts = count_paths(graph)
     bounds = (path_probability_bounds(orders, graph)
               if declares_probabilities(orders) else None)
