@@ -24,6 +24,7 @@ from ...rehearse.plain import write_for_supervisor
 from ...store import missions as service
 from ...store.accounts import username_of
 from ...store.db import database_of
+from ...store.mission_status import mission_status
 from ...store.tables import Mission, MissionVersion
 from ...store.vehicles import registry_stamp, with_registry
 from ...verify.graph import build_graph
@@ -132,7 +133,8 @@ def _summary(db: DbSession, mission: Mission, names: dict[int, str],
     if latest is False:
         latest = db.scalar(select(func.max(MissionVersion.number))
                            .where(MissionVersion.mission_id == mission.id))
-    return summary_fields(mission, report, latest, username_of(db, mission.updated_by, names))
+    return summary_fields(mission, report, latest, username_of(db, mission.updated_by, names),
+                          mission_status(db, mission))
 
 
 def _detail(db: DbSession, mission: Mission, response: Response | None,
