@@ -17,14 +17,17 @@ import pytest
 from sqlalchemy import text
 
 from countersign import cli
+from countersign.approvals import dsse
 from countersign.approvals.bundle import verify_bundle
 from countersign.approvals.log_rules import check_log
 from countersign.approvals.role_rules import check_roles
 from countersign.store.accounts import create_token, create_user
-from countersign.store.approvals import duties
+from countersign.store.approvals import duties, keys
+from countersign.store.tables import User
 
 from .approval_helpers import (
     MISSION,
+    Signer,
     approve,
     new_version,
     prepare,
@@ -52,6 +55,14 @@ def _events(bundle: dict[str, Any]) -> list[dict[str, Any]]:
     return [json.loads(entry)["event"] for entry in bundle["entries"]]
 
 
+def _key_anyway(client: Any, monkeypatch: pytest.MonkeyPatch) -> Signer:
+    """A key registered with the log's role check switched off there (as before this issue)."""
+    monkeypatch.setattr(keys, "decision_refusal_from_log", lambda db, user: None)
+    signer = register_key(client)
+    monkeypatch.undo()
+    return signer
+
+
 def _promoted_in_the_table(world: World) -> tuple[Any, int]:
     """An operator the log created (mallory), promoted by an UPDATE of the users table."""
     with world.database.session() as db:
@@ -71,11 +82,15 @@ def _promoted_in_the_table(world: World) -> tuple[Any, int]:
 def test_an_operator_promoted_in_the_table_may_not_decide(
         world: World, monkeypatch: pytest.MonkeyPatch) -> None:
     client, created = _promoted_in_the_table(world)
-    signer = register_key(client)  # the route trusts the row's role; a decision must not
-    number = new_version(world)
-    submission = submit(world, number)
     named = (f"the users table says mallory is supervisor, but the log made mallory operator "
              f"in log entry {created}")
+    refused_key = client.post("/api/keys", json={
+        "public_key": dsse.public_text(dsse.generate_key()), "name": "x", "password": PASSWORD})
+    assert refused_key.status_code == 403 and named in refused_key.json()["detail"], \
+        refused_key.text
+    signer = _key_anyway(client, monkeypatch)
+    number = new_version(world)
+    submission = submit(world, number)
     statement = client.post(f"/api/submissions/{submission}/statement",
                             json={"decision": "approved", "key_id": signer.key_id})
     assert statement.status_code == 403 and named in statement.json()["detail"], statement.text
@@ -95,7 +110,7 @@ def test_the_cli_and_the_offline_verifier_name_the_promotion(
         world: World, monkeypatch: pytest.MonkeyPatch, tmp_path: Path,
         capsys: pytest.CaptureFixture[str]) -> None:
     client, created = _promoted_in_the_table(world)
-    signer = register_key(client)
+    signer = _key_anyway(client, monkeypatch)
     submission = submit(world, new_version(world))
     # A server that trusted the row (before this issue) accepts the decision...
     monkeypatch.setattr(duties, "decision_refusal_from_log", lambda db, user: None)
@@ -160,3 +175,33 @@ def test_a_demotion_whose_receipt_is_deleted_fails_closed(world: World) -> None:
     assert refused.status_code == 403, refused.text
     assert (f"roles cannot be read from the log: log entry {index} (user.updated) carries no "
             "receipt") in refused.json()["detail"]
+
+
+def test_a_supervisor_created_by_an_admin_promoted_in_the_table_may_not_decide(
+        world: World) -> None:
+    """mallory is made admin by an UPDATE and creates a supervisor through the API (the route
+    trusts the row): the log shows a non-admin creating the account, which gives no role."""
+    with world.database.session() as db:
+        mallory = create_user(db, username="mallory", role="operator", password=PASSWORD)
+        token = create_token(db, user=mallory, name="tests")[1]
+    with world.database.engine.begin() as connection:
+        connection.execute(text("UPDATE users SET role = 'admin' WHERE username = 'mallory'"))
+    admin = world.client()
+    admin.headers["Authorization"] = f"Bearer {token}"
+    created = admin.post("/api/users", json={
+        "username": "sock", "role": "supervisor", "password": PASSWORD,
+        "admin_password": PASSWORD})
+    assert created.status_code == 201, created.text
+    with world.database.session() as db:
+        sock_token = create_token(db, user=db.get_one(User, created.json()["id"]),
+                                  name="tests")[1]
+    sock = world.client()
+    sock.headers["Authorization"] = f"Bearer {sock_token}"
+    refused = sock.post("/api/keys", json={
+        "public_key": dsse.public_text(dsse.generate_key()), "name": "x", "password": PASSWORD})
+    assert refused.status_code == 403, refused.text
+    assert "but the log gave sock no role (log entry" in refused.json()["detail"]
+    bundle = world.client("auditor").get("/api/audit/bundle").json()
+    report = verify_bundle(bundle, trusted_log_key=bundle["log_key"]["public_key"])
+    assert any("(user.created) by mallory changes the account of sock, but the log made "
+               "mallory operator" in p for p in report.problems), report.problems

@@ -45,6 +45,8 @@ class RoleBook:
     """The roles the log has given so far; `apply` each entry in log order."""
 
     roles: dict[str, LoggedRole] = field(default_factory=dict)
+    # Accounts whose only creation entry was made by someone who was not an admin.
+    ungranted: dict[str, int] = field(default_factory=dict)
 
     def role_of(self, user: str) -> LoggedRole | None:
         return self.roles.get(user)
@@ -52,6 +54,9 @@ class RoleBook:
     def decision_problem(self, user: str) -> str | None:
         """Why the log does not let `user` decide now (None when it does)."""
         logged = self.roles.get(user)
+        if logged is None and user in self.ungranted:
+            return (f"the log gave {user} no role (log entry {self.ungranted[user]} was not "
+                    "made by an admin)")
         if logged is None:
             return f"the log never created {user} or gave them a role"
         if logged.role != DECIDER:
@@ -88,6 +93,7 @@ class RoleBook:
             return None  # one's own password: no power granted
         why = self._grant_problem(actor)
         if why is not None:
+            self.ungranted.setdefault(user, index)
             return (f"log entry {index} ({kind}) by {actor} changes the account of {user}, but "
                     f"{why}: only an admin changes accounts, so it gives no role")
         before = self.roles.get(user)

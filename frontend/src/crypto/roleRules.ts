@@ -22,8 +22,10 @@ interface LoggedRole {
 const DECIDING_KINDS = new Set(["approval.approved", "approval.rejected", "approval.revoked"]);
 const ACCOUNT_KINDS = new Set(["user.created", "user.updated", "user.password_changed"]);
 
-function decisionProblem(roles: Map<string, LoggedRole>, user: string): string | null {
+function decisionProblem(roles: Map<string, LoggedRole>, ungranted: Map<string, number>, user: string): string | null {
   const logged = roles.get(user);
+  const entry = ungranted.get(user);
+  if (!logged && entry !== undefined) return `the log gave ${user} no role (log entry ${entry} was not made by an admin)`;
   if (!logged) return `the log never created ${user} or gave them a role`;
   if (logged.role !== "supervisor") return `the log made ${user} ${logged.role} in log entry ${logged.at}`;
   if (logged.disabledAt !== null) return `the log disabled ${user} in log entry ${logged.disabledAt}`;
@@ -44,12 +46,13 @@ function grantProblem(roles: Map<string, LoggedRole>, actor: unknown): string | 
 export function checkRoles(events: RoleEvent[]): string[] {
   const problems: string[] = [];
   const roles = new Map<string, LoggedRole>();
+  const ungranted = new Map<string, number>(); // accounts created only by a non-admin
   events.forEach((event, index) => {
     const kind = String(event.kind ?? "");
     const { actor } = event;
     const detail = event.detail ?? {};
     if (DECIDING_KINDS.has(kind) && actor !== null && actor !== undefined) {
-      const why = decisionProblem(roles, String(actor));
+      const why = decisionProblem(roles, ungranted, String(actor));
       if (why !== null) problems.push(`log entry ${index} (${kind}) by ${String(actor)}, but ${why}: only an enabled supervisor decides`);
       return;
     }
@@ -58,6 +61,7 @@ export function checkRoles(events: RoleEvent[]): string[] {
     if (kind === "user.password_changed" && detail.by === "self" && actor === user) return;
     const why = grantProblem(roles, actor);
     if (why !== null) {
+      if (!ungranted.has(user)) ungranted.set(user, index);
       problems.push(`log entry ${index} (${kind}) by ${String(actor)} changes the account of ${user}, but ${why}: only an admin changes accounts, so it gives no role`);
       return;
     }
