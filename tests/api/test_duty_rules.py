@@ -19,6 +19,7 @@ from countersign import cli
 from countersign.approvals.bundle import verify_bundle
 from countersign.approvals.duty_rules import check_duties
 from countersign.approvals.log_rules import check_log
+from countersign.approvals.role_rules import check_roles
 from countersign.store.accounts import create_token, create_user
 from countersign.store.approvals import decisions
 
@@ -36,7 +37,9 @@ def test_shared_duty_vectors(case: dict[str, Any]) -> None:
 
 
 def test_check_log_carries_the_duty_rule() -> None:
-    assert check_log(CASES[0]["events"]) == CASES[0]["problems"]
+    # The vector's log creates no accounts, so the roles rule (role_rules.py) names its own.
+    assert check_log(CASES[0]["events"]) == CASES[0]["problems"] + check_roles(
+        CASES[0]["events"])
 
 
 def test_an_editor_promoted_to_supervisor_who_approves_is_named(

@@ -4,10 +4,10 @@ The log is the source of truth. Whatever the tables say, the sequence of logged 
 describe a legal history: one decision per submission, one active submission per version, a
 revocation only of an approved submission, no signature by a key after the log revoked it, and
 an envelope (in the bundle) for every logged decision, and no decision by its mission's editor
-or submitter (duty_rules.py). `countersign audit verify`
-(approvals/bundle.py) calls `check_log`; the browser has the same rules in
-frontend/src/crypto/logRules.ts. `row_problems` compares one table row with its log entry, for
-the API's `integrity` lists."""
+or submitter (duty_rules.py) or by anyone the log did not make a supervisor (role_rules.py).
+`countersign audit verify` (approvals/bundle.py) calls `check_log`; the browser has the same
+rules in frontend/src/crypto/logRules.ts. `row_problems` compares one table row with its log
+entry, for the API's `integrity` lists."""
 
 from __future__ import annotations
 
@@ -15,6 +15,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from typing import Any
 
 from .duty_rules import check_duties
+from .role_rules import check_roles
 
 DECISIONS = ("approval.approved", "approval.rejected")
 
@@ -98,7 +99,7 @@ def check_log(events: Sequence[Mapping[str, Any]], *, enveloped: Iterable[int] |
                 problems.append(f"log entry {index} records a signed decision ({kind}) but "
                                 "the bundle holds no envelope for it (its approvals row was "
                                 "removed?)")
-    return problems + check_duties(events)
+    return problems + check_duties(events) + check_roles(events)
 
 
 def submission_state(events: Iterable[Mapping[str, Any]], submission: int) -> str | None:

@@ -44,9 +44,10 @@ def approval_integrity(db: DbSession, approval: Approval) -> list[str]:
     return problems
 
 
-def submission_integrity(db: DbSession, submission: Submission) -> list[str]:
-    """The submission's state as the log tells it (RFC 8785 entries: `"submission":N` is
-    followed by `,` or `}`), against its row."""
+def submission_checked(db: DbSession, submission: Submission) -> tuple[str, list[str]]:
+    """The submission's state as the log tells it (the row's when the log never created it),
+    and how its row disagrees (RFC 8785 entries: `"submission":N` is followed by `,` or
+    `}`). The log's state is what the API shows: a forged row is named, not shown."""
     sid = submission.id
     texts = db.scalars(select(LogEntry.entry).where(or_(
         LogEntry.entry.like(f'%"submission":{sid},%'),
@@ -54,10 +55,11 @@ def submission_integrity(db: DbSession, submission: Submission) -> list[str]:
     events = [e for e in (_event(t) for t in texts) if e is not None]
     logged = submission_state(events, sid)
     if logged is None:
-        return [f"submission {sid} has no log entry"]
+        return submission.state, [f"submission {sid} has no log entry"]
     if logged != submission.state:
-        return [f"submission {sid}: the table says {submission.state}, the log says {logged}"]
-    return []
+        return logged, [f"submission {sid}: the table says {submission.state}, the log says "
+                        f"{logged}"]
+    return logged, []
 
 
 def event_integrity(db: DbSession, events: list[Event], actors: dict[int, str]

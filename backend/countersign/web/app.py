@@ -17,6 +17,7 @@ from ..store.accounts import HASHER
 from ..store.db import REQUEST_THREADS, Database
 from ..verify import fingerprint
 from . import api_docs, openapi_links, problems
+from .access_log import hide_tickets
 from .fair import PlanSlots, RateLimiter
 from .log_signer import open_log_signer
 from .map_tiles import tile_origin
@@ -142,6 +143,7 @@ class SecurityHeaders:
 
 def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     settings.prepare()
+    hide_tickets()  # before the server logs its first request
     database = database or Database(settings.database_url)
     database.migrate()
     if database.log_signer is None:

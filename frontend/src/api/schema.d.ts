@@ -2835,6 +2835,11 @@ export interface components {
              * @default []
              */
             import_findings?: components["schemas"]["FindingOut"][];
+            /**
+             * Integrity
+             * @description how the tables disagree with the log about this mission's status (a row changed behind the app's back); empty when they agree
+             */
+            integrity?: string[];
             /** Latest Version */
             latest_version: number | null;
             /** Layout */
@@ -2845,7 +2850,10 @@ export interface components {
             orders: components["schemas"]["Orders"];
             /** Revision */
             revision: number;
-            /** Status */
+            /**
+             * Status
+             * @description the status the log gives the mission (draft, submitted, withdrawn, approved, rejected, revoked), not the table's copy
+             */
             status: string;
             /** Title */
             title: string;
@@ -2894,13 +2902,21 @@ export interface components {
             errors: number | null;
             /** Id */
             id: string;
+            /**
+             * Integrity
+             * @description how the tables disagree with the log about this mission's status (a row changed behind the app's back); empty when they agree
+             */
+            integrity?: string[];
             /** Latest Version */
             latest_version: number | null;
             /** Ok */
             ok: boolean | null;
             /** Revision */
             revision: number;
-            /** Status */
+            /**
+             * Status
+             * @description the status the log gives the mission (draft, submitted, withdrawn, approved, rejected, revoked), not the table's copy
+             */
             status: string;
             /** Title */
             title: string;

@@ -4,9 +4,11 @@
  * submission, one active submission per version, a revocation only of an approved submission,
  * no signature by a key after the log revoked it, and (when the caller knows which entries it
  * holds envelopes for) an envelope for every logged decision; and no decision by its mission's
- * editor or submitter (dutyRules.ts). Pure: events in, problems out.
+ * editor or submitter (dutyRules.ts) or by anyone the log did not make a supervisor
+ * (roleRules.ts). Pure: events in, problems out.
  */
 import { checkDuties } from "./dutyRules";
+import { checkRoles } from "./roleRules";
 
 export interface RuleEvent {
   kind?: string;
@@ -87,5 +89,5 @@ export function checkLog(events: RuleEvent[], enveloped?: Iterable<number>, scop
       }
     }
   });
-  return [...problems, ...checkDuties(events)];
+  return [...problems, ...checkDuties(events), ...checkRoles(events)];
 }

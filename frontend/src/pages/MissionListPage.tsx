@@ -127,6 +127,11 @@ export function MissionListPage({ search }: { search: string }) {
                   </td>
                   <td>
                     <span className={`status status-${m.status}`}>{statusLabel(m.status)}</span>
+                    {m.integrity && m.integrity.length > 0 ? (
+                      <div className="sub warning" role="alert" data-testid="status-integrity">
+                        {m.integrity.join("; ")}
+                      </div>
+                    ) : null}
                   </td>
                   <td>
                     <CheckBadge ok={m.ok} errors={m.errors} warnings={m.warnings} />

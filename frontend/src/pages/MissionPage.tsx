@@ -34,6 +34,7 @@ import { useCan, useSession } from "../session";
 import { outcomeLetters, traceText } from "../trace";
 import { useLoad } from "../useLoad";
 import { SubmissionPanel } from "./approvals";
+import { IntegrityWarning } from "./approvals/parts";
 import { CampaignPanel } from "./campaigns/CampaignPanel";
 import { RehearsalPanel } from "./RehearsalPage";
 
@@ -117,6 +118,8 @@ export function MissionPage({ id, tab }: { id: string; tab: string }) {
         </h1>
         <CheckBadge ok={mission.ok} errors={mission.errors} warnings={mission.warnings} />
       </div>
+      {/* The status shown is the log's; a table that says otherwise is named (issue 34). */}
+      <IntegrityWarning problems={mission.integrity} />
       <dl className="facts">
         <div>
           <dt>Status</dt>

@@ -10,6 +10,7 @@ from sqlalchemy.orm import Session as DbSession
 from ..decide_guard import (
     editors_up_to,
 )
+from ..logged_roles import decision_refusal_from_log
 from ..missions import MissionError
 from ..tables import (
     Approval,
@@ -29,6 +30,10 @@ def _check_duties(db: DbSession, supervisor: User, version: MissionVersion,
                   submission: Submission) -> None:
     if supervisor.role != "supervisor":
         raise Refused(f"the {supervisor.role} role may not sign decisions")
+    # The row's role is not evidence (a database writer can set it): the log's is.
+    mismatch = decision_refusal_from_log(db, supervisor)
+    if mismatch is not None:
+        raise Refused(mismatch)
     if supervisor.id in _editors(db, version) | {submission.submitted_by}:
         raise Refused("separation of duties: you authored, edited or submitted this version, "
                       "so another supervisor must decide on it")

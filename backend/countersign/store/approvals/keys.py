@@ -12,6 +12,7 @@ from ..decide_guard import (
     logged_key_revocation,
 )
 from ..events import record
+from ..logged_roles import decision_refusal_from_log
 from ..missions import Conflict, MissionError, NotFound
 from ..tables import (
     SigningKey,
@@ -32,6 +33,10 @@ def register_key(db: DbSession, *, user: User, public_key: str, name: str,
                  password: str) -> SigningKey:
     if user.role != "supervisor":
         raise Refused("only supervisors register signing keys")
+    # The row's role is not evidence (a database writer can set it): the log's is.
+    mismatch = decision_refusal_from_log(db, user)
+    if mismatch is not None:
+        raise Refused(mismatch)
     _confirm_password(user, password)
     try:
         kid = dsse.key_id(public_key)

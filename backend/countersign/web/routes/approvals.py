@@ -16,7 +16,7 @@ from ...orders.reader import orders_from_data
 from ...orders.writers import write
 from ...rehearse.plain import rules_sentences
 from ...store import approvals as service
-from ...store.integrity import submission_integrity
+from ...store.integrity import submission_checked
 from ...store.log_gaps import LogEntriesMissing
 from ...store.missions import get_version, report_for
 from ...store.rehearsals import attach, get_record, record_summary
@@ -125,14 +125,15 @@ def _submission_out(db: Db, submission_id: int) -> SubmissionOut:
         user = db.get(User, user_id) if user_id is not None else None
         return user.username if user else None
 
+    state, integrity = submission_checked(db, submission)
     return SubmissionOut(id=submission.id, mission=version.mission_id, version=version.number,
-                         digest=version.digest, state=submission.state,
+                         digest=version.digest, state=state,
                          submitted_by=name(submission.submitted_by),
                          submitted_at=submission.submitted_at,
                          decided_by=name(submission.decided_by),
                          decided_at=submission.decided_at, reason=submission.reason,
                          rehearsal=submission.rehearsal_digest,
-                         integrity=submission_integrity(db, submission))
+                         integrity=integrity)
 
 
 # --- keys -----------------------------------------------------------------------------------

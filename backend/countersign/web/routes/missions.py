@@ -25,6 +25,7 @@ from ...rehearse.plain import write_for_supervisor
 from ...store import missions as service
 from ...store.accounts import username_of
 from ...store.db import database_of
+from ...store.mission_status import mission_status, mission_statuses
 from ...store.tables import Mission, MissionVersion, ValidationReport
 from ...store.vehicles import registry_stamp, with_registry
 from ...verify import fingerprint
@@ -125,7 +126,8 @@ def _validate_first(db: DbSession, orders: Orders, mission_id: str | None = None
 
 
 def _summary(db: DbSession, mission: Mission, names: dict[int, str],
-             latest: int | Literal[False] | None = False) -> dict[str, Any]:
+             latest: int | Literal[False] | None = False,
+             status: tuple[str, list[str]] | None = None) -> dict[str, Any]:
     # A writing request holds the write lock until it answers: it reports only what is cached
     # (ok/errors stay null otherwise) and leaves validation to the next read or /validate.
     if db.info.get("write", True):
@@ -135,7 +137,8 @@ def _summary(db: DbSession, mission: Mission, names: dict[int, str],
     if latest is False:
         latest = db.scalar(select(func.max(MissionVersion.number))
                            .where(MissionVersion.mission_id == mission.id))
-    return summary_fields(mission, report, latest, username_of(db, mission.updated_by, names))
+    return summary_fields(mission, report, latest, username_of(db, mission.updated_by, names),
+                          status or mission_status(db, mission))
 
 
 def _detail(db: DbSession, mission: Mission, response: Response | None,
@@ -205,12 +208,14 @@ def list_missions(
     rows = db.execute(query).all()
     names: dict[int, str] = {}
     items = []
+    statuses = mission_statuses(db, [row[0] for row in rows[:limit]])
     for mission, ok, errors, warnings, number in rows[:limit]:
+        shown = statuses[mission.id]
         if errors is None or warnings is None:  # no current report yet: as the detail does
-            fields = _summary(db, mission, names, number)
+            fields = _summary(db, mission, names, number, shown)
         else:
             fields = counted_summary_fields(mission, ok, errors, warnings, number,
-                                            username_of(db, mission.updated_by, names))
+                                            username_of(db, mission.updated_by, names), shown)
         items.append(MissionSummary(**fields))
     following = _encode_cursor(rows[limit - 1][0].id) if len(rows) > limit else None
     return MissionPage(items=items, next_cursor=following)

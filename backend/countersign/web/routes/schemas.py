@@ -231,7 +231,8 @@ class MissionSummary(BaseModel):
     id: str
     title: str
     vehicle: str | None
-    status: str
+    status: str = Field(description="the status the log gives the mission (draft, submitted, "
+                        "withdrawn, approved, rejected, revoked), not the table's copy")
     draft_digest: str
     revision: int
     latest_version: int | None
@@ -240,6 +241,9 @@ class MissionSummary(BaseModel):
     warnings: int | None
     updated_at: datetime
     updated_by: str
+    integrity: list[str] = Field(default_factory=list, description=(
+        "how the tables disagree with the log about this mission's status (a row changed "
+        "behind the app's back); empty when they agree"))
 
 
 class MissionDetail(MissionSummary):
@@ -287,21 +291,22 @@ def version_out(version: MissionVersion, author: str, with_orders: bool) -> Vers
 
 
 def summary_fields(mission: Mission, report: dict[str, Any] | None, latest: int | None,
-                   updated_by: str) -> dict[str, Any]:
+                   updated_by: str, status: tuple[str, list[str]]) -> dict[str, Any]:
     findings = report["findings"] if report else None
     errors = sum(f["severity"] == "error" for f in findings) if findings is not None else None
     return counted_summary_fields(
         mission, report["ok"] if report else None, errors,
-        (len(findings) - (errors or 0)) if findings is not None else None, latest, updated_by)
+        (len(findings) - (errors or 0)) if findings is not None else None, latest, updated_by,
+        status)
 
 
 def counted_summary_fields(mission: Mission, ok: bool | None, errors: int | None,
                            warnings: int | None, latest: int | None,
-                           updated_by: str) -> dict[str, Any]:
+                           updated_by: str, status: tuple[str, list[str]]) -> dict[str, Any]:
     """A mission's summary from counts already made (the report's summary columns)."""
     return {
         "id": mission.id, "title": mission.title, "vehicle": mission.vehicle,
-        "status": mission.status, "draft_digest": mission.draft_digest,
+        "status": status[0], "integrity": status[1], "draft_digest": mission.draft_digest,
         "revision": mission.revision, "latest_version": latest,
         "ok": ok, "errors": errors, "warnings": warnings,
         "updated_at": mission.updated_at, "updated_by": updated_by,

@@ -12,7 +12,7 @@ import { formatDateTime } from "../../format";
 import { useSession } from "../../session";
 import { useLoad } from "../../useLoad";
 import { documentHref, loadReview, reviewHref } from "./api";
-import { StateBadge } from "./parts";
+import { IntegrityWarning, StateBadge } from "./parts";
 
 export function SubmissionPanel({
   mission,
@@ -97,6 +97,8 @@ export function SubmissionPanel({
               </>
             )}
           </p>
+          {/* The state above is the log's; a submissions row that says otherwise is named. */}
+          <IntegrityWarning problems={current?.integrity} />
           <div className="actions">
             {isOperator && (
               <button
