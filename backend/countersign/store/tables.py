@@ -253,7 +253,9 @@ class Campaign(Base):
     created_at: Mapped[datetime] = mapped_column(default=utcnow)
     ended_at: Mapped[datetime | None] = mapped_column(default=None)
     record: Mapped[dict[str, Any] | None] = mapped_column(default=None)
-    digest: Mapped[str | None] = mapped_column(String(71), default=None, unique=True)
+    # Not unique: the record is a pure function of the orders and the spec, so two people's
+    # campaigns of the same spec seal the same record under the same digest (issue 34).
+    digest: Mapped[str | None] = mapped_column(String(71), default=None, index=True)
 
 
 class CampaignRun(Base):
