@@ -5,9 +5,9 @@ unfinished campaign's missing chunks, so a process killed mid-run loses nothing 
 stored and counts nothing twice when started again.
 
 Jobs wait in one queue per campaign owner, taken in turn (issue 34: one FIFO let one person's
-two 10,000-simulation campaigns keep everyone else's small one queued for minutes), and one
-owner runs at most `workers - 1` jobs at once when there are two workers or more, so that a
-newcomer's first job starts as soon as any job ends, as validation's per-user queues do."""
+two 10,000-simulation campaigns keep everyone else's small one queued for minutes). While
+others wait, one owner runs at most `workers - 1` jobs at once (with two workers or more), as
+validation's per-user queues do; alone, an owner uses every worker."""
 
 from __future__ import annotations
 
@@ -100,8 +100,11 @@ class InProcessRunner:
         Called with the lock held."""
         share = max(1, self.workers - 1)
         while not self._closed and sum(self._running.values()) < self.workers:
-            owner = next((o for o, queue in self._queues.items()
-                          if queue and self._running.get(o, 0) < share), None)
+            waiting = [o for o, queue in self._queues.items() if queue]
+            # Within its share first; past it only when nobody else waits (a lone campaign,
+            # the command line's, uses every worker).
+            owner = next((o for o in waiting if self._running.get(o, 0) < share),
+                         waiting[0] if waiting else None)
             if owner is None:
                 return
             queue = self._queues.pop(owner)
