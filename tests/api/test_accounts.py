@@ -4,7 +4,7 @@ import sqlite3
 
 import pytest
 
-from countersign.store import accounts
+from countersign.store.hashing import HASHER
 from countersign.store.login_throttle import FREE_FAILURES
 
 from .conftest import PASSWORD, World, count_rows
@@ -103,25 +103,21 @@ def test_passwords_are_checked_without_holding_the_write_lock(
     path = world.database.engine.url.database
     assert path
     writable_meanwhile: list[bool] = []
-    original = accounts.HASHER
+    original = HASHER.verify
 
-    class Probe:
-        def verify(self, stored: str, password: str) -> bool:
-            other = sqlite3.connect(path, timeout=0, isolation_level=None)
-            try:
-                other.execute("BEGIN IMMEDIATE")
-                other.execute("ROLLBACK")
-                writable_meanwhile.append(True)
-            except sqlite3.OperationalError:
-                writable_meanwhile.append(False)
-            finally:
-                other.close()
-            return original.verify(stored, password)
+    def probe(stored: str, password: str) -> bool:
+        other = sqlite3.connect(path, timeout=0, isolation_level=None)
+        try:
+            other.execute("BEGIN IMMEDIATE")
+            other.execute("ROLLBACK")
+            writable_meanwhile.append(True)
+        except sqlite3.OperationalError:
+            writable_meanwhile.append(False)
+        finally:
+            other.close()
+        return original(stored, password)
 
-        def __getattr__(self, name: str) -> object:
-            return getattr(original, name)
-
-    monkeypatch.setattr(accounts, "HASHER", Probe())
+    monkeypatch.setattr(HASHER, "verify", probe)
     client = world.client()
     assert client.post("/api/auth/login",
                        json={"username": "operator1", "password": PASSWORD}).status_code == 200

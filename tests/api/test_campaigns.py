@@ -202,3 +202,40 @@ def test_an_attached_campaign_is_signed_exported_and_checked(sqlite_world: World
     tampered["campaigns"] = {}
     assert any(f"lacks the campaign record {done['digest']}" in p
                for p in verify_bundle(tampered).problems)
+
+
+def test_another_users_small_campaign_finishes_while_one_users_big_ones_wait(
+        sqlite_world: World) -> None:
+    """Issue 34 item 8: the runner takes its owners' queues in turn, so one person's two big
+    campaigns (the most one may have) do not hold back another person's small one."""
+    world = sqlite_world
+    number = new_version(world)
+    operator, supervisor = world.client("operator"), world.client("supervisor")
+    big = [_start(operator, number, simulations=2000, seed=n).json()["id"] for n in (1, 2)]
+    small = _start(supervisor, number, simulations=10)
+    assert small.status_code == 201, small.text
+    try:
+        assert _wait_finished(supervisor, small.json()["id"])["state"] == "finished"
+        states = [operator.get(f"/api/campaigns/{c}").json() for c in big]
+        assert [s["state"] for s in states] == ["running", "queued"] or all(
+            s["state"] in ("queued", "running") for s in states), states
+        assert sum(s["done"] for s in states) < 2 * 2000
+    finally:
+        for campaign in big:
+            operator.post(f"/api/campaigns/{campaign}/cancel")
+
+
+def test_two_users_running_the_same_spec_both_finish(sqlite_world: World) -> None:
+    """Issue 34 item 8: the second campaign of the same orders and spec seals the same record
+    under the same digest instead of failing on a UNIQUE digest after all its runs."""
+    world = sqlite_world
+    number = new_version(world)
+    done = []
+    for role in ("operator", "supervisor"):
+        client = world.client(role)
+        started = _start(client, number, faults=["none", "leak"])
+        assert started.status_code == 201, started.text
+        done.append(_wait_finished(client, started.json()["id"]))
+    assert [d["state"] for d in done] == ["finished", "finished"], done
+    assert done[0]["digest"] == done[1]["digest"] and done[0]["id"] != done[1]["id"]
+    assert done[0]["results"] == done[1]["results"]

@@ -45,7 +45,8 @@ def test_a_validly_signed_decision_without_the_password_is_refused(world: World)
         assert words in response.json()["detail"]
         assert counts(world.database) == before, "a refused decision recorded something"
     # The wrong password counted against the sign-in throttle, as a failed sign-in does.
-    assert count_rows(world.database, "SELECT count(*) FROM login_attempts") == 1
+    assert count_rows(world.database,
+                      "SELECT count(*) FROM login_attempts WHERE outcome = 'failed'") == 1
     response = _post_decision(supervisor, submission, envelope, password=PASSWORD)
     assert response.status_code == 201, response.text
 

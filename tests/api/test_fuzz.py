@@ -13,7 +13,8 @@ so a failing one replays the same) take their path ids from the seeds: generated
 ever reach a 404, and a 500 planted in getVersion went unnoticed.
 
 Each operation is called with an API token of a role that may call it (the reviewed table,
-roles_reviewed.py), so generated requests reach the handlers instead of stopping at a 403."""
+roles_reviewed.py), so generated requests reach the handlers instead of stopping at a 403; and
+then, with fewer examples, with every role's token and with none (issue 34)."""
 
 from __future__ import annotations
 
@@ -160,6 +161,21 @@ def test_api_has_no_server_errors(case: schemathesis.Case) -> None:
     _with_seeded_ids(case)
     case.call_and_validate(checks=[not_a_server_error, response_schema_conformance],
                            timeout=REQUEST_TIMEOUT_S)
+
+
+@schema.exclude(operation_id=list(ENDS_CREDENTIALS)).parametrize()
+@settings(max_examples=1, deadline=None,
+          suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+def test_no_role_meets_a_server_error(case: schemathesis.Case) -> None:
+    """Issue 34: every operation with every role's token and with none, a few examples each,
+    so that refusals too (403s, 401s, the checks before a role check) are never a 5xx. Bounded
+    for CI: each generated request is sent five times, once per role and once anonymous."""
+    _with_seeded_ids(case)
+    plain = {k: v for k, v in (case.headers or {}).items() if k.lower() != "authorization"}
+    for role in (*ROLES, "anonymous"):
+        case.headers = {**plain, **({"Authorization": f"Bearer {TOKENS[role]}"}
+                                    if role != "anonymous" else {})}
+        case.call_and_validate(checks=[not_a_server_error], timeout=REQUEST_TIMEOUT_S)
 
 
 class Scenarios(schema.exclude(operation_id=list(ENDS_CREDENTIALS)).as_state_machine()):  # type: ignore[misc]

@@ -165,3 +165,20 @@ def test_multipolygon_of_many_parts_is_refused_not_split_into_charts() -> None:
                "geometry": {"type": "MultiPolygon", "coordinates": [square] * 1001}}
     with pytest.raises(GeoFormatError, match="polygons"):
         charts_from_geojson(json.dumps(feature))
+
+
+def _kml_placemarks(count: int, ring: str = "0,0 0.001,0 0.001,0.001 0,0") -> str:
+    marks = "".join(f'<Placemark id="p{n}"><Polygon><outerBoundaryIs><LinearRing><coordinates>'
+                    f"{ring}</coordinates></LinearRing></outerBoundaryIs></Polygon></Placemark>"
+                    for n in range(count))
+    return f'<kml xmlns="http://www.opengis.net/kml/2.2"><Document>{marks}</Document></kml>'
+
+
+def test_kml_placemarks_are_bounded_like_geojson_parts() -> None:
+    # Issue 34: a KML import's placemarks had only the 10,000-feature bound.
+    assert len(charts_from_kml(_kml_placemarks(3))) == 3
+    with pytest.raises(GeoFormatError, match="1,000 polygons"):
+        charts_from_kml(_kml_placemarks(1001))
+    many_vertices = " ".join(f"{i / 1e6},0" for i in range(100_001)) + " 0,0.001 0,0"
+    with pytest.raises(GeoFormatError, match="100,000 vertices"):
+        charts_from_kml(_kml_placemarks(1, many_vertices))

@@ -2,15 +2,22 @@
 procrastinate workers, on a small pool in this process (threads) or beside it (processes,
 for simulations in parallel). Its queue is the database itself: `resume()` reschedules every
 unfinished campaign's missing chunks, so a process killed mid-run loses nothing that was
-stored and counts nothing twice when started again."""
+stored and counts nothing twice when started again.
+
+Jobs wait in one queue per campaign owner, taken in turn (issue 34: one FIFO let one person's
+two 10,000-simulation campaigns keep everyone else's small one queued for minutes). While
+others wait, one owner runs at most `workers - 1` jobs at once (with two workers or more), as
+validation's per-user queues do; alone, an owner uses every worker."""
 
 from __future__ import annotations
 
 import concurrent.futures as cf
+import functools
 import logging
 import multiprocessing
 import os
 import threading
+from collections import OrderedDict, deque
 from collections.abc import Callable
 
 from ..pool_lifetime import end_with
@@ -60,8 +67,13 @@ class InProcessRunner:
             raise ValueError(f"workers must be from 1 to {MAX_WORKERS}")
         self.database = database
         self.on_stored = on_stored
-        self._lock = threading.Lock()
+        self.workers = workers
+        self._lock = threading.Condition()
         self._futures: list[cf.Future[int]] = []
+        # Owner (user id, None for the command line) -> their waiting jobs, in turn order.
+        self._queues: OrderedDict[int | None, deque[tuple[str, int, int]]] = OrderedDict()
+        self._running: dict[int | None, int] = {}
+        self._closed = False
         self._pool: cf.Executor
         if processes:
             # Not fork: the caller may run threads (the web server), which fork would copy
@@ -76,15 +88,51 @@ class InProcessRunner:
             self._processes = False
 
     def enqueue(self, campaign_id: str, chunks: list[tuple[int, int]]) -> None:
+        with self.database.session(write=False) as db:
+            owner = store.get(db, campaign_id).owner_id
         with self._lock:
-            for start, stop in chunks:
-                if self._processes:
-                    future = self._pool.submit(_process_chunk, campaign_id, start, stop)
-                else:
-                    future = self._pool.submit(_attempts, self.database, campaign_id, start,
-                                               stop, self.on_stored)
-                future.add_done_callback(self._report)
-                self._futures.append(future)
+            queue = self._queues.setdefault(owner, deque())
+            queue.extend((campaign_id, start, stop) for start, stop in chunks)
+            self._dispatch()
+
+    def _dispatch(self) -> None:
+        """Start waiting jobs while workers are free: owners in turn, each within its share.
+        Called with the lock held."""
+        share = max(1, self.workers - 1)
+        while not self._closed and sum(self._running.values()) < self.workers:
+            waiting = [o for o, queue in self._queues.items() if queue]
+            # Within its share first; past it only when nobody else waits (a lone campaign,
+            # the command line's, uses every worker).
+            owner = next((o for o in waiting if self._running.get(o, 0) < share),
+                         waiting[0] if waiting else None)
+            if owner is None:
+                return
+            queue = self._queues.pop(owner)
+            campaign_id, start, stop = queue.popleft()
+            if queue:
+                self._queues[owner] = queue  # to the back of the turn order
+            self._running[owner] = self._running.get(owner, 0) + 1
+            if self._processes:
+                future = self._pool.submit(_process_chunk, campaign_id, start, stop)
+            else:
+                future = self._pool.submit(_attempts, self.database, campaign_id, start,
+                                           stop, self.on_stored)
+            self._futures.append(future)
+            future.add_done_callback(functools.partial(self._finished, owner))
+
+    def _finished(self, owner: int | None, future: cf.Future[int]) -> None:
+        with self._lock:
+            self._running[owner] -= 1
+            if not self._running[owner]:
+                del self._running[owner]
+            self._dispatch()
+            self._lock.notify_all()
+        self._report(future)
+
+    def waiting(self) -> int:
+        """Jobs queued and not started."""
+        with self._lock:
+            return sum(len(queue) for queue in self._queues.values())
 
     def resume(self) -> list[str]:
         """Schedule what every unfinished campaign still lacks; their ids."""
@@ -99,11 +147,16 @@ class InProcessRunner:
         return ids
 
     def wait(self, timeout: float | None = None) -> None:
+        """Until every job enqueued so far has run (or `timeout` seconds)."""
         with self._lock:
-            futures = list(self._futures)
-        cf.wait(futures, timeout=timeout)
+            self._lock.wait_for(lambda: self._closed or (not self._running and not any(
+                self._queues.values())), timeout=timeout)
 
     def close(self) -> None:
+        with self._lock:
+            self._closed = True
+            self._queues.clear()
+            self._lock.notify_all()
         self._pool.shutdown(wait=False, cancel_futures=True)
 
     @staticmethod

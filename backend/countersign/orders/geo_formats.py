@@ -17,17 +17,17 @@ from collections.abc import Iterable, Sequence
 from typing import Any
 
 import defusedxml.ElementTree as SafeET
+import shapely
 from defusedxml import DefusedXmlException
 from geojson_pydantic import Feature, FeatureCollection
 from geojson_pydantic import MultiPolygon as GeoMultiPolygon
 from geojson_pydantic import Polygon as GeoPolygon
 from geojson_pydantic.geometries import Geometry
-from pydantic import ValidationError
+from pydantic import TypeAdapter, ValidationError
 from pygeoif import geometry as pygeo
-from shapely.geometry import LinearRing
 
 from .. import strict_json
-from .model import Area, Chart
+from .model import Area, Chart, ChartNorm
 
 with warnings.catch_warnings():
     # fastkml warns at import that lxml is absent; the standard library parser is what we want.
@@ -57,10 +57,25 @@ def _ring_to_polygon(ring: Sequence[Sequence[float]], where: str) -> list[tuple[
 
 
 def _closed_ring(polygon: Sequence[tuple[float, float]]) -> list[tuple[float, float]]:
-    ring = [(lon, lat) for lat, lon in polygon]
-    if len(ring) >= 3 and not LinearRing(ring).is_ccw:
-        ring = [ring[0], *reversed(ring[1:])]  # the same first point, the other way round
-    return [*ring, ring[0]] if ring else ring
+    return _closed_rings([polygon])[0]
+
+
+def _closed_rings(polygons: Sequence[Sequence[tuple[float, float]]]
+                  ) -> list[list[tuple[float, float]]]:
+    """Each polygon as a closed counterclockwise (longitude, latitude) ring. The orientation
+    of all of them is one vectorised shapely call: one LinearRing object per chart made a
+    10,000-chart export take seconds (issue 34)."""
+    rings = [[(lon, lat) for lat, lon in polygon] for polygon in polygons]
+    testable = [n for n, ring in enumerate(rings) if len(ring) >= 3]
+    if testable:
+        coordinates = [point for n in testable for point in rings[n]]
+        owners = [k for k, n in enumerate(testable) for _ in rings[n]]
+        counterclockwise = shapely.is_ccw(shapely.linearrings(coordinates, indices=owners))
+        for n, ccw in zip(testable, counterclockwise.tolist(), strict=True):
+            if not ccw:
+                ring = rings[n]
+                rings[n] = [ring[0], *reversed(ring[1:])]  # same first point, other way round
+    return [[*ring, ring[0]] if ring else ring for ring in rings]
 
 
 def _words(value: Any, where: str, name: str) -> list[str]:
@@ -194,21 +209,28 @@ def _unique(charts: list[Chart]) -> list[Chart]:
     return charts
 
 
+_NORMS = TypeAdapter(list[list[ChartNorm]])
+
+
 def areas_to_geojson(areas: Iterable[Area]) -> dict[str, Any]:
-    """A FeatureCollection with one Polygon feature per area (charts keep kind and norms)."""
+    """A FeatureCollection with one Polygon feature per area (charts keep kind and norms).
+    Plain dicts, not geojson-pydantic models: what it writes is checked by geojson-validator
+    in tests/unit/test_geo_formats_out.py, and models cost seconds at 10,000 charts."""
+    areas = list(areas)
+    rings = _closed_rings([area.polygon for area in areas])
+    # Every chart's norms in one pydantic call: one call per chart cost more than the rest.
+    norms = iter(_NORMS.dump_python([a.norms for a in areas if isinstance(a, Chart)],
+                                    mode="json"))
     feats = []
-    for area in areas:
+    for area, ring in zip(areas, rings, strict=True):
         props: dict[str, Any] = {"title": area.title, "contexts": list(area.contexts)}
         if isinstance(area, Chart):
             props["kind"] = area.kind
-            props["norms"] = [n.model_dump(mode="json") for n in area.norms]
-        feats.append(Feature[GeoPolygon, dict[str, Any]](
-            type="Feature", id=area.id, properties=props,
-            geometry=GeoPolygon(type="Polygon", coordinates=[_closed_ring(area.polygon)]),
-        ))
-    collection = FeatureCollection[Feature[GeoPolygon, dict[str, Any]]](
-        type="FeatureCollection", features=feats)
-    return collection.model_dump(mode="json", exclude_none=True)
+            props["norms"] = next(norms)
+        feats.append({"type": "Feature", "id": area.id, "properties": props,
+                      "geometry": {"type": "Polygon",
+                                   "coordinates": [[list(point) for point in ring]]}})
+    return {"type": "FeatureCollection", "features": feats}
 
 
 # KML ---------------------------------------------------------------------------------------
@@ -243,11 +265,12 @@ def charts_from_kml(text: str | bytes) -> list[Chart]:
     and `forbids` (comma lists) carry what KML has no element for."""
     source = _bounded(text)
     try:
-        SafeET.fromstring(source)  # refuses DTDs and entities before anything expands them
+        tree = SafeET.fromstring(source)  # refuses DTDs and entities before they expand
     except DefusedXmlException as exc:
         raise GeoFormatError(f"KML refused: {type(exc).__name__} (no DTD or entities)") from None
     except SafeET.ParseError as exc:
         raise GeoFormatError(f"not XML: {exc}") from None
+    _check_kml_size(tree)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
@@ -270,6 +293,23 @@ def charts_from_kml(text: str | bytes) -> list[Chart]:
             polygons = _kml_polygons(placemark.geometry, where)
             charts.extend(_split(_chart(placemark.id, props, polygons[0], where), polygons))
     return _unique(charts)
+
+
+def _check_kml_size(tree: Any) -> None:
+    """GeoJSON's bounds (MAX_PARTS polygons, MAX_VERTICES vertices), counted on the plain XML
+    tree before fastkml builds an object per placemark (issue 34: 10,000 placemarks became
+    10,000 charts copied into every nearby draft)."""
+    polygons = vertices = 0
+    for element in tree.iter():
+        name = element.tag.rsplit("}", 1)[-1] if isinstance(element.tag, str) else ""
+        if name == "Polygon":
+            polygons += 1
+            if polygons > MAX_PARTS:
+                raise GeoFormatError(f"more than {MAX_PARTS:,} polygons (parts) in one import")
+        elif name == "coordinates":
+            vertices += len((element.text or "").split())
+            if vertices > MAX_VERTICES:
+                raise GeoFormatError(f"more than {MAX_VERTICES:,} vertices in one import")
 
 
 def charts_to_kml(charts: Iterable[Area]) -> str:

@@ -20,6 +20,7 @@ for `idle_timeout_s` (no API call, no browser connected) stops itself.
 
 from __future__ import annotations
 
+import logging
 import secrets
 import threading
 import time
@@ -38,6 +39,7 @@ from .scene import Scene
 from .sim import FAULTS, QUESTION, FaultSpec, Limits, Simulation
 from .sources import SOURCES, make_source
 
+log = logging.getLogger("countersign.rehearse")
 FRAME_S = 0.05
 GOAL_FRAMES = 60  # auto pace: a goal's plan in about 3 s at 20 frames a second
 MIN_AUTO_FRAME_S = 1.0  # ... but never slower than 20x real time
@@ -308,6 +310,9 @@ class Rehearsal:
                 try:
                     if self._serializer is not None:
                         self._html = self._serializer.as_html().encode("utf-8")
+                except Exception as exc:  # the replay is extra: never lose the record to it
+                    log.warning("rehearsal %s: no replay: %r", self.id, exc)
+                    self._html = None
                 finally:
                     self._serializer = None
                     if self._server is not None:

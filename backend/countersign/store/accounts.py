@@ -8,7 +8,6 @@ import secrets
 from dataclasses import dataclass
 from datetime import datetime, timedelta
 
-from argon2.exceptions import InvalidHashError, VerificationError
 from sqlalchemy import delete, func, select, update
 from sqlalchemy.orm import Session as DbSession
 
@@ -16,11 +15,10 @@ from ..errors import Invalid, TooMany
 from . import login_throttle
 from .db import database_of, writable
 from .events import record
-from .hashing import BoundedHasher, HashingBusy
+from .hashing import HASHER, HashingBusy  # noqa: F401  (HashingBusy: raised by sign-in)
 from .password_policy import password_problem
 from .tables import ROLES, ApiToken, Session, User, utcnow
 
-HASHER = BoundedHasher()
 SESSION_LIFETIME = timedelta(hours=12)
 SESSION_IDLE = timedelta(minutes=30)
 # Verifying against a dummy hash makes unknown usernames cost as much as wrong passwords.
@@ -95,31 +93,24 @@ def authenticate(db: DbSession, *, username: str, password: str,
                  address: str | None = None) -> User | None:
     """The user for these credentials, or None; raises TooManyAttempts when throttled.
 
-    The attempt is recorded and counted before the password is checked (login_throttle); the
-    hash (argon2: tens of milliseconds of CPU by design) is checked outside any write
-    transaction: on SQLite a writing session holds the one write lock from its first query.
-    A full hashing queue refuses first (HashingBusy), before the attempt is counted."""
-    if not HASHER.has_room():
-        raise HashingBusy("the server is busy checking passwords; retry in a moment")
-    try:
-        login_throttle.admit(db, username, address)
-    except login_throttle.Throttled as exc:
-        raise TooManyAttempts(str(exc), exc.retry_after_s) from None
+    The check goes through the one password throttle (login_throttle.check_password): the
+    attempt is recorded and counted before the hash (argon2: tens of milliseconds of CPU by
+    design) is checked, outside any write transaction. A full hashing queue refuses first
+    (HashingBusy), before the attempt is counted."""
     with database_of(db).session(write=False) as reader:
         found = reader.scalar(select(User).where(User.username == username))
         stored_hash = found.password_hash if found else _DUMMY_HASH
         user_id = found.id if found is not None and not found.disabled else None
     try:
-        HASHER.verify(stored_hash, password)
-        valid = user_id is not None
-    except (VerificationError, InvalidHashError):
-        valid = False
+        valid = login_throttle.check_password(db, username=username, stored_hash=stored_hash,
+                                              password=password, address=address)
+    except login_throttle.Throttled as exc:
+        raise TooManyAttempts(str(exc), exc.retry_after_s) from None
     user = db.get(User, user_id) if valid and user_id is not None else None
     if user is None or user.password_hash != stored_hash or user.disabled:
         return None
     if HASHER.check_needs_rehash(user.password_hash):
         user.password_hash = HASHER.hash(password)
-    login_throttle.succeeded(db, username)
     return user
 
 
@@ -231,10 +222,9 @@ def revoke_credentials(db: DbSession, user: User, *, keep_session: str | None = 
 def change_password(db: DbSession, user: User, *, current: str, new: str,
                     keep_session: str | None = None) -> None:
     """The user's own change: the current password is checked first."""
-    try:
-        HASHER.verify(user.password_hash, current)
-    except (VerificationError, InvalidHashError):
-        raise AccountError("the current password is wrong") from None
+    if not login_throttle.check_password(db, username=user.username,
+                                         stored_hash=user.password_hash, password=current):
+        raise AccountError("the current password is wrong")
     set_password(db, user, new, actor=user, keep_session=keep_session)
 
 

@@ -65,6 +65,20 @@ def create(db: DbSession, *, orders: dict[str, Any], orders_digest: str, spec: d
     return row
 
 
+def owner_backlog(db: DbSession, campaign_id: str) -> int:
+    """Simulations the campaign's owner still has waiting in their other active campaigns:
+    how far back in the shared queue this one's jobs belong (jobs/pg.py)."""
+    row = get(db, campaign_id)
+    others = select(Campaign.id).where(Campaign.owner_id == row.owner_id,
+                                       Campaign.state.in_(ACTIVE_STATES),
+                                       Campaign.id != campaign_id)
+    total = db.scalar(select(func.coalesce(func.sum(Campaign.simulations), 0))
+                      .where(Campaign.id.in_(others))) or 0
+    done = db.scalar(select(func.count()).select_from(CampaignRun)
+                     .where(CampaignRun.campaign_id.in_(others))) or 0
+    return max(0, int(total) - int(done))
+
+
 def get(db: DbSession, campaign_id: str) -> Campaign:
     row = db.get(Campaign, campaign_id) if isinstance(campaign_id, str) else None
     if row is None:

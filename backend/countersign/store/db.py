@@ -169,7 +169,8 @@ class Database:
         on SQLite: the write lock) and that may be committed early; committed on success if
         still open, rolled back on error."""
         factory = self.write_sessions if write else self.sessions
-        with factory(info={"database": self, "write": write}) as session:
+        # "may_end": what it has begun may be ended early (login_throttle.check_password).
+        with factory(info={"database": self, "write": write, "may_end": True}) as session:
             if not write:
                 event.listen(session, "before_flush", _refuse_writes)
             try:

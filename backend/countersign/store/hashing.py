@@ -161,3 +161,7 @@ class BoundedHasher(PasswordHasher):
             with self._lock:
                 self._executor = None  # the next hash runs here; a restart brings processes
             raise HashingBusy("password checking restarted; retry in a moment") from None
+
+
+# The one hasher of the process: every password check goes through it (login_throttle.py).
+HASHER = BoundedHasher()

@@ -1,44 +1,109 @@
-"""Sign-in throttling per account and per client address (issue 15).
+"""The one throttle for every password check: sign-in, decisions, revocations, signing keys,
+password changes, role changes and grants (issues 15 and 34).
 
-Each attempt is recorded and committed *before* its password is hashed, then the attempts in
-the window are counted: of N parallel tries, the one committed k-th sees at least k, so no
-more than the limit are ever evaluated (the old code read the count first, and 100 parallel
-tries made 28 evaluations instead of 10).
+`check_password` records the attempt and commits it *before* the hash is checked, then counts
+the attempts in the window: of N parallel tries, the one committed k-th sees at least k, so no
+more than a limit are ever evaluated, whatever the route (issue 34 found the decision route
+reading the back-off first and recording only failures: 3.5 times sign-in's guessing rate).
+A try refused here checked no hash and is forgotten at once, so refusals never count as the
+account's failures (issue 34: refusals of the address limit did, and one address flooding
+wrong sign-ins kept the real user out everywhere).
 
-An account under attack is slowed, not locked, and only where the attack comes from: after
-FREE_FAILURES failures from one address each further try from there must wait
-2^(n - FREE_FAILURES) seconds since the last one whose password was checked, at most MAX_DELAY.
-So a slow attacker at one address (one try a minute stays under the address limit) never delays
-the real user signing in from another. Attempts of unknown origin (a wrong password re-entered
-for a decision: reauth.py) count against every address. Across all addresses an account has
-ACCOUNT_WIDE_FAILURES free failures before the same back-off holds for every try, so many
-addresses together still cannot guess faster than that. What stops an attacker is the address
-limit: more than ADDRESS_MAX_FAILURES failures in the window from one address (spraying many
-accounts counts too) and that address waits out the window.
+Limits, all read from the database so that they hold across server processes and replicas:
+- At most ACCOUNT_HASHES_PER_MINUTE hashes per account per minute, and at most
+  ADDRESS_HASHES_PER_MINUTE wrong ones from one address, so one address can never use up
+  what the real user at another address needs to sign in.
+- An account under attack is slowed, not locked, and only where the attack comes from: after
+  FREE_FAILURES failures from one address each further try from there waits
+  2^(n - FREE_FAILURES) seconds since the last one, at most MAX_DELAY. Attempts of unknown
+  origin (the command line) count against every address. Across all addresses an account has
+  ACCOUNT_WIDE_FAILURES free failures before the same back-off holds for every try.
+- More than ADDRESS_MAX_FAILURES failures from one address in the window (spraying many
+  accounts counts too) and that address waits out the window.
 """
 
 from __future__ import annotations
 
+import ipaddress
 import math
+from contextvars import ContextVar
 from datetime import datetime, timedelta
 
-from sqlalchemy import delete, func, select
+from argon2.exceptions import InvalidHashError, VerificationError
+from sqlalchemy import delete, func, select, update
 from sqlalchemy.orm import Session as DbSession
 
-from .db import database_of
+from ..errors import TooMany
+from .db import Database, database_of
+from .hashing import HASHER, HashingBusy
 from .tables import LoginAttempt, utcnow
 
 WINDOW = timedelta(minutes=15)
+MINUTE = timedelta(minutes=1)
 FREE_FAILURES = 5
 MAX_DELAY = timedelta(seconds=60)
 ADDRESS_MAX_FAILURES = 30
 ACCOUNT_WIDE_FAILURES = 50
+ACCOUNT_HASHES_PER_MINUTE = 10
+# Half the account's minute: an attacker at one address leaves the other half to the others.
+ADDRESS_HASHES_PER_MINUTE = 5
+
+FAILED, OK, FORGIVEN = "failed", "ok", "forgiven"
+
+# The client address of the request being served, set by the web app for each request
+# (web/client_address.py) so that every route's password check counts where it came from,
+# not only sign-in's. None (the command line) is an attempt of unknown origin.
+CLIENT_ADDRESS: ContextVar[str | None] = ContextVar("countersign_client_address",
+                                                     default=None)
 
 
-class Throttled(Exception):
+class Throttled(TooMany):
     def __init__(self, message: str, retry_after_s: int) -> None:
         super().__init__(message)
         self.retry_after_s = max(1, retry_after_s)
+
+
+def counted_address(address: str | None) -> str | None:
+    """The address attempts are counted under: an IPv6 client by its /64, since one host is
+    usually given a whole /64 and could otherwise try from 2^64 addresses."""
+    if not address:
+        return None
+    try:
+        parsed = ipaddress.ip_address(address)
+    except ValueError:
+        return address[:64]
+    if isinstance(parsed, ipaddress.IPv6Address):
+        if parsed.ipv4_mapped is not None:
+            return str(parsed.ipv4_mapped)
+        return str(ipaddress.IPv6Network((parsed, 64), strict=False))
+    return str(parsed)
+
+
+def check_password(db: DbSession, *, username: str, stored_hash: str, password: str,
+                   address: str | None = None) -> bool:
+    """Whether `password` matches `stored_hash`, checked under the throttle; raises `Throttled`
+    (nothing hashed) or HashingBusy. Call it before the request's transaction writes anything:
+    what it has begun is rolled back, so that the attempt can be committed beside it (on SQLite
+    a second writer would wait for the lock this thread holds) and no lock is held while
+    hashing. `address` defaults to the current request's (CLIENT_ADDRESS)."""
+    if db.new or db.dirty or db.deleted:
+        raise RuntimeError("check passwords before the transaction writes anything")
+    if db.info.get("may_end"):  # a request's session (Database.open): its lock is released
+        db.rollback()
+    database = database_of(db)
+    if not HASHER.has_room():  # before counting: a busy server costs the account nothing
+        raise HashingBusy("the server is busy checking passwords; retry in a moment")
+    origin = counted_address(address if address is not None else CLIENT_ADDRESS.get())
+    attempt_id = admit(database, username, origin)
+    try:
+        HASHER.verify(stored_hash, password)
+    except (VerificationError, InvalidHashError):
+        return False  # the row stays: a failure, counted from the moment it was recorded
+    except BaseException:
+        _forget(database, attempt_id)  # no hash was checked (a full or broken hashing queue)
+        raise
+    _succeeded(database, username, attempt_id)
+    return True
 
 
 def account_delay(failures: int) -> timedelta:
@@ -49,58 +114,89 @@ def account_delay(failures: int) -> timedelta:
     return min(timedelta(seconds=2 ** exponent), MAX_DELAY)
 
 
-def wait_left(reader: DbSession, username: str, address: str | None, now: datetime,
-              besides: int | None = None) -> timedelta | None:
-    """How long a try for `username` from `address` must still wait, if at all: the back-off
-    of the failures from that address (and of unknown origin), and the account-wide one."""
-    recent = [LoginAttempt.username == username[:64], LoginAttempt.at >= now - WINDOW]
-    if besides is not None:
-        recent.append(LoginAttempt.id != besides)
-    # One read for both: past about twenty failures every delay is already MAX_DELAY.
-    everywhere = reader.execute(select(LoginAttempt.at, LoginAttempt.address).where(*recent)
-                                .order_by(LoginAttempt.at.desc()).limit(128)).all()
-    origin = address[:64] if address else None
-    here = [at for at, where in everywhere if where is None or where == origin]
-    waits = [(account_delay(len(here)), here), (
-        account_delay(len(everywhere) - (ACCOUNT_WIDE_FAILURES - FREE_FAILURES)),
-        [at for at, _ in everywhere])]
-    left = max((wait - (now - times[0]) for wait, times in waits if times and wait),
-               default=timedelta(0))
-    return left if left > timedelta(0) else None
-
-
-def admit(db: DbSession, username: str, address: str | None) -> int:
-    """Record an attempt (committed at once) and return its id, or raise `Throttled`."""
+def admit(database: Database, username: str, origin: str | None) -> int:
+    """Record an attempt (committed at once) and return its id, or forget it and raise
+    `Throttled`."""
+    name = username[:64]
     now = utcnow()
-    since = now - WINDOW
-    with database_of(db).session() as writer:
-        attempt = LoginAttempt(username=username[:64], address=(address or "")[:64] or None,
-                               at=now)
+    with database.session() as writer:
+        attempt = LoginAttempt(username=name, address=origin, at=now, outcome=FAILED)
         writer.add(attempt)
         writer.flush()
         attempt_id = attempt.id
-    with database_of(db).session(write=False) as reader:
-        if address:
-            from_address = reader.scalar(
-                select(func.count()).select_from(LoginAttempt)
-                .where(LoginAttempt.address == address[:64], LoginAttempt.at >= since)) or 0
-            if from_address > ADDRESS_MAX_FAILURES:
-                raise Throttled("too many sign-in attempts from this address; try again later",
-                                int(WINDOW.total_seconds()))
-        left = wait_left(reader, username, address, now, besides=attempt_id)
-    # A try is recorded before the count, so of parallel tries at most one sees the wait over.
-    if left:
-        # A try refused here checked no password: forgetting it keeps the wait measured from
-        # the last try that did, so waiting Retry-After works and retrying early does not
-        # shut the account (recorded, each one restarted a longer wait).
-        with database_of(db).session() as writer:
-            writer.execute(delete(LoginAttempt).where(LoginAttempt.id == attempt_id))
-        raise Throttled(f"too many failed sign-ins for {username!r}; try again in "
-                        f"{math.ceil(left.total_seconds())} s",
-                        math.ceil(left.total_seconds()))
+        # Rows past the window decide nothing: cleared here, no background job needed.
+        writer.execute(delete(LoginAttempt).where(LoginAttempt.at < now - WINDOW))
+    with database.session(write=False) as reader:
+        refusal = _refusal(reader, name, origin, now, attempt_id)
+    if refusal is not None:
+        _forget(database, attempt_id)
+        raise refusal
     return attempt_id
 
 
-def succeeded(db: DbSession, username: str) -> None:
-    """A correct password: the account's failures are forgotten (its address's are not)."""
-    db.execute(delete(LoginAttempt).where(LoginAttempt.username == username[:64]))
+def _refusal(reader: DbSession, name: str, origin: str | None, now: datetime,
+             attempt_id: int) -> Throttled | None:
+    if origin is not None:
+        from_address = reader.scalar(
+            select(func.count()).select_from(LoginAttempt)
+            .where(LoginAttempt.address == origin, LoginAttempt.at >= now - WINDOW,
+                   LoginAttempt.outcome != OK, LoginAttempt.id != attempt_id)) or 0
+        if from_address >= ADDRESS_MAX_FAILURES:
+            return Throttled("too many wrong passwords from this address; try again later",
+                             int(WINDOW.total_seconds()))
+    # One read for every account limit: past about twenty failures each delay is MAX_DELAY,
+    # and the minute's limits need at most ACCOUNT_HASHES_PER_MINUTE rows.
+    rows = reader.execute(
+        select(LoginAttempt.at, LoginAttempt.address, LoginAttempt.outcome)
+        .where(LoginAttempt.username == name, LoginAttempt.at >= now - WINDOW,
+               LoginAttempt.id != attempt_id)
+        .order_by(LoginAttempt.at.desc()).limit(128)).all()
+    minute = [(at, where, outcome) for at, where, outcome in rows if at > now - MINUTE]
+    # An address's share counts its wrong (and pending) passwords only: the real user signing
+    # in and then deciding uses the account's minute, not an attacker's share of it.
+    mine = [at for at, where, outcome in minute if where == origin and outcome != OK]
+    for limit, times in ((ADDRESS_HASHES_PER_MINUTE, mine),
+                         (ACCOUNT_HASHES_PER_MINUTE, [at for at, _, _ in minute])):
+        if len(times) >= limit:
+            # Free again when the oldest of the last `limit` leaves the minute.
+            left = times[limit - 1] + MINUTE - now
+            return Throttled(f"too many password checks for {name!r}; try again in "
+                             f"{_seconds(left)} s", _seconds(left))
+    failures = [(at, where) for at, where, outcome in rows if outcome == FAILED]
+    here = [at for at, where in failures if where is None or where == origin]
+    everywhere = [at for at, _ in failures]
+    waits = [(account_delay(len(here)), here),
+             (account_delay(len(everywhere) - (ACCOUNT_WIDE_FAILURES - FREE_FAILURES)),
+              everywhere)]
+    # Measured from the newest other attempt, recorded or in flight: of parallel tries at
+    # most one sees the wait over.
+    left = max((wait - (now - times[0]) for wait, times in waits if times and wait),
+               default=timedelta(0))
+    if left > timedelta(0):
+        return Throttled(f"too many wrong passwords for {name!r}; try again in "
+                         f"{_seconds(left)} s", _seconds(left))
+    return None
+
+
+def _seconds(left: timedelta) -> int:
+    return max(1, math.ceil(left.total_seconds()))
+
+
+def _forget(database: Database, attempt_id: int) -> None:
+    # A try refused before its hash checked nothing: forgetting it keeps every wait measured
+    # from the last try that did, so waiting Retry-After works and retrying early (or from
+    # an address past its limit) does not shut the account for anyone else.
+    with database.session() as writer:
+        writer.execute(delete(LoginAttempt).where(LoginAttempt.id == attempt_id))
+
+
+def _succeeded(database: Database, username: str, attempt_id: int) -> None:
+    """A right password: the account's failures are forgiven (its back-off ends), but they
+    still count against their addresses, and every row still counts as a hash checked."""
+    with database.session() as writer:
+        writer.execute(update(LoginAttempt).where(LoginAttempt.id == attempt_id)
+                       .values(outcome=OK))
+        writer.execute(update(LoginAttempt)
+                       .where(LoginAttempt.username == username[:64],
+                              LoginAttempt.outcome == FAILED, LoginAttempt.id < attempt_id)
+                       .values(outcome=FORGIVEN))

@@ -104,7 +104,8 @@ class ApiToken(Base):
 
 
 class LoginAttempt(Base):
-    """Failed logins, kept in the database so that rate limiting holds across app replicas."""
+    """Password checks (every route's), kept in the database so that rate limiting holds
+    across server processes and replicas."""
 
     __tablename__ = "login_attempts"
     id: Mapped[int] = mapped_column(Integer, primary_key=True)
@@ -112,6 +113,9 @@ class LoginAttempt(Base):
     at: Mapped[datetime] = mapped_column(default=utcnow, index=True)
     # The client address, so that spraying one password over many accounts is limited too.
     address: Mapped[str | None] = mapped_column(String(64), default=None, index=True)
+    # 'failed' from the moment it is recorded (before its hash is checked), 'ok' for a right
+    # password, 'forgiven' for failures a later success ended: every row is one hash checked.
+    outcome: Mapped[str] = mapped_column(String(8), default="failed", server_default="failed")
 
 
 class VehicleProfile(Base):
@@ -258,7 +262,9 @@ class Campaign(Base):
     created_at: Mapped[datetime] = mapped_column(default=utcnow)
     ended_at: Mapped[datetime | None] = mapped_column(default=None)
     record: Mapped[dict[str, Any] | None] = mapped_column(default=None)
-    digest: Mapped[str | None] = mapped_column(String(71), default=None, unique=True)
+    # Not unique: the record is a pure function of the orders and the spec, so two people's
+    # campaigns of the same spec seal the same record under the same digest (issue 34).
+    digest: Mapped[str | None] = mapped_column(String(71), default=None, index=True)
 
 
 class CampaignRun(Base):

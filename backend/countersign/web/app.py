@@ -13,11 +13,12 @@ from fastapi.responses import FileResponse, JSONResponse, Response
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from .. import __version__
-from ..store.accounts import HASHER
 from ..store.db import REQUEST_THREADS, Database
+from ..store.hashing import HASHER
 from ..verify import fingerprint
 from . import api_docs, openapi_links, problems
 from .access_log import hide_tickets
+from .client_address import ClientAddress
 from .fair import PlanSlots, RateLimiter
 from .log_signer import open_log_signer
 from .map_tiles import tile_origin
@@ -233,6 +234,7 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     app.include_router(campaign_routes.router)
     _serve_frontend(app, settings.frontend_dist)
     app.add_middleware(BodyLimit, limit=settings.max_body_bytes)
+    app.add_middleware(ClientAddress)  # every route's password check counts its address
     return app
 
 

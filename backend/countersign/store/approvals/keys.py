@@ -2,17 +2,16 @@
 
 from __future__ import annotations
 
-from argon2.exceptions import InvalidHashError, VerificationError
 from sqlalchemy.orm import Session as DbSession
 
 from ...approvals import dsse
 from ...approvals.dsse import SignatureError
-from ..accounts import HASHER
 from ..decide_guard import (
     logged_key_revocation,
 )
 from ..events import record
 from ..logged_roles import decision_refusal_from_log
+from ..login_throttle import check_password
 from ..missions import Conflict, MissionError, NotFound
 from ..tables import (
     SigningKey,
@@ -22,11 +21,12 @@ from ..tables import (
 from .common import MAX_REASON, Refused, Stale
 
 
-def _confirm_password(user: User, password: str) -> None:
-    try:
-        HASHER.verify(user.password_hash, password)
-    except (VerificationError, InvalidHashError):
-        raise Refused("the password confirmation is wrong") from None
+def _confirm_password(db: DbSession, user: User, password: str) -> None:
+    # The one password throttle (login_throttle): called before anything is read or written
+    # here, since it ends the transaction the request had begun.
+    if not check_password(db, username=user.username, stored_hash=user.password_hash,
+                          password=password):
+        raise Refused("the password confirmation is wrong")
 
 
 def register_key(db: DbSession, *, user: User, public_key: str, name: str,
@@ -37,7 +37,7 @@ def register_key(db: DbSession, *, user: User, public_key: str, name: str,
     mismatch = decision_refusal_from_log(db, user)
     if mismatch is not None:
         raise Refused(mismatch)
-    _confirm_password(user, password)
+    _confirm_password(db, user, password)
     try:
         kid = dsse.key_id(public_key)
     except SignatureError as exc:
@@ -54,12 +54,12 @@ def register_key(db: DbSession, *, user: User, public_key: str, name: str,
 
 def revoke_key(db: DbSession, *, user: User, key_id: str, password: str,
                reason: str) -> SigningKey:
+    _confirm_password(db, user, password)
     key = db.get(SigningKey, key_id)
     if key is None:
         raise NotFound(f"no signing key {key_id!r}")
     if key.user_id != user.id and user.role != "admin":
         raise Refused("only the key's owner or an admin can revoke it")
-    _confirm_password(user, password)
     if key.revoked_at is not None:
         raise Stale(f"the key {key_id} is revoked already")
     key.revoked_at, key.revoke_reason = utcnow(), reason[:MAX_REASON]
