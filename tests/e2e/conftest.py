@@ -319,8 +319,9 @@ def axe_violations(page: Page, *, include: str | None = None,
     if not page.evaluate("() => typeof window.axe === 'object'"):
         page.evaluate(AXE.read_text(encoding="utf-8") + "\n;void 0")
     result: dict[str, Any] = page.evaluate(
-        """async (include) => await window.axe.run(include ? document.querySelector(include) : document,
-                                  { iframes: false, resultTypes: ["violations"] })""",
+        """async (include) => await window.axe.run(
+               include ? document.querySelector(include) : document,
+               { iframes: false, resultTypes: ["violations"] })""",
         include)
     return [v for v in result["violations"] if v.get("impact") in impacts]
 

@@ -7,6 +7,7 @@ critical violation on these pages. Screenshots go to the artefact folder."""
 
 from __future__ import annotations
 
+import itertools
 import json
 import re
 import secrets
@@ -151,7 +152,7 @@ def test_review_shows_every_step_terminal_and_probability(
         for k in range(steps.count()):
             expect(steps.nth(k)).to_have_text(re.compile(r"^G\d[sfc]$"))
             cells.append(box(steps.nth(k).locator(".outcome-letter")))
-        for a, b in zip(cells, cells[1:], strict=False):
+        for a, b in itertools.pairwise(cells):
             assert a["x"] + a["width"] <= b["x"] + 0.5, ("cells overlap", a, b)
         assert font_px(steps.first) >= 12 and font_px(terminal) >= 12
     # Rows differ where the paths differ (issue: rows #1-#6 looked identical).
