@@ -117,6 +117,19 @@ def test_operator_attaches_the_campaign_from_the_versions_tab(page: Page,
     citation.get_by_role("button", name=f"Attach campaign {submitted['campaign']}").click()
     expect(citation.get_by_test_id("cited-campaigns")).to_contain_text(submitted["campaign"])
     expect(citation.get_by_role("button", name=re.compile("^Attach campaign"))).to_have_count(0)
+    # Item 6: the results say which paths the campaign did not reach, and offer per-goal
+    # probabilities only when its runs took more than one path.
+    page.get_by_role("button", name="Results").first.click()
+    covered = page.get_by_test_id("campaign-covered")
+    found = re.search(r"Paths covered: (\d+) of 75", covered.inner_text())
+    assert found, covered.inner_text()
+    expect(page.get_by_test_id("campaign-not-reached")).to_contain_text("Not reached: #")
+    offer = page.get_by_role("button", name="Offer per-goal probabilities")
+    if int(found.group(1)) <= 1:
+        expect(offer).to_have_count(0)
+        expect(page.get_by_test_id("no-offer")).to_contain_text("every run took the same path")
+    else:
+        expect(offer).to_be_visible()
     expect_accessible(page, "the Versions tab with a submission")
 
 
