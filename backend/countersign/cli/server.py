@@ -189,7 +189,8 @@ def add_commands(commands: Any) -> None:
     serve_cmd.add_argument("--shared-socket", action="store_true", help=argparse.SUPPRESS)
     serve_cmd.add_argument(
         "--demo", action="store_true",
-        help="seed demo users (printing one-time passwords) and the built-in examples",
+        help="seed demo users (printing one-time passwords), the built-in examples and their "
+             "vehicles in the vehicle registry",
     )
     serve_cmd.set_defaults(handler=cmd_serve)
 
