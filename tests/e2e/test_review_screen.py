@@ -193,6 +193,9 @@ def test_review_shows_every_step_terminal_and_probability(
     rehearsal.scroll_into_view_if_needed()
     page.screenshot(path=str(shots / f"review-rehearsal-{width}.png"))
     expect_accessible(page, f"the review at {width} px")
+    page.goto("/reviews")
+    expect(page.get_by_role("heading", level=1)).to_be_visible()
+    expect_accessible(page, f"the list of reviews at {width} px")
 
 
 def test_record_shows_the_rehearsal_as_a_table_and_links_the_document(
@@ -219,3 +222,10 @@ def test_record_shows_the_rehearsal_as_a_table_and_links_the_document(
     table.scroll_into_view_if_needed()
     page.screenshot(path=str(shots / f"record-rehearsal-{width}.png"))
     expect_accessible(page, f"the record at {width} px")
+    document.click()
+    expect(page.get_by_role("heading", level=1)).to_be_visible()
+    no_page_scroll_sideways(page)
+    expect_accessible(page, f"the printable approval document at {width} px")
+    page.goto("/audit")
+    expect(page.get_by_role("heading", level=1)).to_be_visible()
+    expect_accessible(page, f"the audit history at {width} px")
