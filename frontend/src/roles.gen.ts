@@ -20,6 +20,7 @@ export const OPERATION_ROLES = {
   exportCharts: ["operator", "supervisor", "auditor", "admin"],
   exportChartsKml: ["operator", "supervisor", "auditor", "admin"],
   exportMission: ["operator", "supervisor", "auditor", "admin"],
+  faultReach: ["operator", "supervisor", "auditor", "admin"],
   getApproval: ["supervisor", "auditor", "admin"],
   getCampaign: ["operator", "supervisor", "auditor", "admin"],
   getCheckpoint: ["operator", "supervisor", "auditor", "admin"],

@@ -239,3 +239,23 @@ def test_two_users_running_the_same_spec_both_finish(sqlite_world: World) -> Non
     assert [d["state"] for d in done] == ["finished", "finished"], done
     assert done[0]["digest"] == done[1]["digest"] and done[0]["id"] != done[1]["id"]
     assert done[0]["results"] == done[1]["results"]
+
+
+def test_fault_reach_names_a_fault_nothing_reacts_to(world: World) -> None:
+    # Issue 32 item 6: before a campaign, which faults can change an outcome of the version.
+    number = new_version(world)
+    reader = world.client("auditor")
+    url = f"/api/missions/{MISSION}/versions/{number}/fault-reach"
+    answer = reader.get(url, params=[("fault", "leak"), ("fault", "none"),
+                                     ("fault", "contact_close")])
+    assert answer.status_code == 200, answer.text
+    by_fault = {r["fault"]: r for r in answer.json()}
+    assert set(by_fault) == {"leak", "contact_close"}  # "none" is no fault
+    # The seeded mission's constraints read what both change (C2, C3; C6).
+    assert by_fault["leak"]["reacts"] and by_fault["contact_close"]["reacts"]
+    # Bad input is a 4xx naming what is wrong, never a 500.
+    assert reader.get(url, params={"fault": "<b>"}).status_code == 422
+    assert reader.get(url).status_code == 422
+    assert reader.get(url, params=[("fault", "leak")] * 17).status_code == 422
+    assert reader.get(f"/api/missions/{MISSION}/versions/999/fault-reach",
+                      params={"fault": "leak"}).status_code == 404

@@ -88,3 +88,33 @@ def test_a_body_validated_again_after_a_registry_change_sees_the_change(world: W
     assert admin.put(f"/api/vehicles/{profile['id']}", json=profile).status_code == 200
     after = operator.post("/api/validate", content=body, headers=headers)
     assert "VEHICLE" not in codes(after.json()), after.json()
+
+
+def test_a_registry_change_brings_the_drafts_that_use_it_up_to_date(world: World) -> None:
+    # Issue 32 item 7: a draft created before its vehicle was registered said VEHICLE until
+    # someone edited it; a draft holding the registry's copy kept the old profile.
+    data, profile = orders_without_profile("waits-for-profile")
+    profile["id"] = data["vehicle"] = "late-auv"
+    operator = world.client("operator")
+    assert operator.post("/api/missions", json=data).status_code == 201
+    edited, _ = orders_without_profile("own-copy")
+    edited["vehicle"] = "late-auv"
+    edited["vehicles"] = [{**profile, "title": "the operator's own copy"}]
+    assert operator.post("/api/missions", json=edited).status_code == 201
+    assert "VEHICLE" in codes(operator.get("/api/missions/waits-for-profile/report").json())
+    revision = operator.get("/api/missions/waits-for-profile").json()["revision"]
+
+    admin = world.client("admin")
+    assert admin.put("/api/vehicles/late-auv", json=profile).status_code == 200
+    waiting = operator.get("/api/missions/waits-for-profile").json()
+    assert waiting["revision"] == revision + 1
+    assert waiting["orders"]["vehicles"] == [profile]
+    assert "VEHICLE" not in codes(operator.get("/api/missions/waits-for-profile/report").json())
+
+    # The next registry change reaches the draft holding its copy, not the operator's own.
+    slower = {**profile, "speed_mps": 1.0}
+    assert admin.put("/api/vehicles/late-auv", json=slower).status_code == 200
+    assert operator.get("/api/missions/waits-for-profile").json()["orders"]["vehicles"] == [
+        slower]
+    own = operator.get("/api/missions/own-copy").json()["orders"]["vehicles"]
+    assert own[0]["title"] == "the operator's own copy" and own[0].get("speed_mps") != 1.0

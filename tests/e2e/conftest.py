@@ -299,3 +299,45 @@ def _api_import(server: Server, body: bytes, content_type: str) -> str:
         assert answer.status_code == 201, answer.text
         mission_id: str = answer.json()["id"]
         return mission_id
+
+
+# axe-core (npm, frontend/node_modules) checks a page as a screen-reader user and the WCAG rules
+# see it; issue 32 item 9 asks every page the browser suite visits to be free of serious and
+# critical violations.
+AXE = REPO / "frontend" / "node_modules" / "axe-core" / "axe.min.js"
+AXE_FAILS = ("serious", "critical")
+
+
+def axe_violations(page: Page, *, include: str | None = None,
+                   impacts: tuple[str, ...] = AXE_FAILS) -> list[dict[str, Any]]:
+    """axe-core's violations of the page as shown now (or of the element `include` selects),
+    of the given impacts. Injected through the DevTools protocol, which the app's CSP
+    (`script-src 'self'`) does not govern; frames are not entered (viser's is sandboxed in an
+    opaque origin and is viser's own page)."""
+    if not AXE.is_file():
+        pytest.fail(f"{AXE} is missing: run `npm ci` in frontend/ (axe-core is a dev dependency)")
+    if not page.evaluate("() => typeof window.axe === 'object'"):
+        page.evaluate(AXE.read_text(encoding="utf-8") + "\n;void 0")
+    result: dict[str, Any] = page.evaluate(
+        """async (include) => await window.axe.run(
+               include ? document.querySelector(include) : document,
+               { iframes: false, resultTypes: ["violations"] })""",
+        include)
+    return [v for v in result["violations"] if v.get("impact") in impacts]
+
+
+def describe_violations(violations: list[dict[str, Any]]) -> str:
+    lines = []
+    for v in violations:
+        targets = [" ".join(map(str, node.get("target", []))) for node in v.get("nodes", [])]
+        lines.append(f"{v['impact']} {v['id']}: {v['help']} ({len(targets)} nodes: "
+                     f"{', '.join(targets[:5])}{' ...' if len(targets) > 5 else ''})")
+    return "\n".join(lines)
+
+
+def expect_accessible(page: Page, where: str, *, include: str | None = None) -> None:
+    """Fails, naming each rule and the elements that break it, when axe-core finds a serious or
+    critical violation on the page (or in `include`). Call it once per page state worth
+    checking: `expect_accessible(page, "review of v1")`."""
+    found = axe_violations(page, include=include)
+    assert not found, f"axe-core on {where}:\n{describe_violations(found)}"

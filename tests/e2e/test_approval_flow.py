@@ -203,6 +203,10 @@ def test_submit_sign_verify_export_and_detect_tampering(
     expect(supervisor.get_by_test_id("submission-state")).to_have_text("Approved")
     expect(supervisor.get_by_role("button", name="Sign approval")).to_be_disabled()
     expect(supervisor.get_by_test_id("decision-refusal")).to_contain_text("is approved")
+    # In the order things happened (issue 32 item 4): the decision, then what follows from it.
+    done, refused = (supervisor.get_by_test_id(t).bounding_box()
+                     for t in ("decision-verdict", "decision-refusal"))
+    assert done and refused and done["y"] + done["height"] <= refused["y"], (done, refused)
 
     # The operator changes a goal and submits version 2; the supervisor sees the diff.
     operator.get_by_role("tab", name="Edit orders").click()

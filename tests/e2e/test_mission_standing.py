@@ -4,10 +4,11 @@ v2 rejected", not only "Rejected"."""
 from __future__ import annotations
 
 import json
+import re
 
 from playwright.sync_api import Page, expect
 
-from .conftest import Server, _api_import
+from .conftest import Server, _api_import, expect_accessible
 from .test_roles import sign_in
 from .test_vehicle_registry import approve, client, exemplar
 
@@ -31,3 +32,17 @@ def test_status_shows_the_approved_version_and_the_latest_decision(page: Page,
     sign_in(page, "operator")
     page.goto(f"/missions/{mission}")
     expect(page.get_by_test_id("mission-standing")).to_have_text("v1 approved; v2 rejected")
+    # Issue 32 item 9: the status itself does not say only "Rejected" while v1 stands approved,
+    # and the package is offered for the approved version only (v2's would be a 409).
+    expect(page.get_by_test_id("mission-status")).to_have_text("v1 approved; v2 rejected")
+    page.get_by_role("tab", name=re.compile("^Versions")).click()
+    rows = page.locator("table.versions tbody tr")
+    expect(rows).to_have_count(2)
+    newest, oldest = rows.nth(0), rows.nth(1)
+    expect(oldest.get_by_test_id("approved-package")).to_be_visible()
+    expect(newest.get_by_test_id("no-package")).to_have_text("no package: v2 is not approved")
+    expect(newest.get_by_role("link", name="Approved package")).to_have_count(0)
+    package = page.request.get(oldest.get_by_test_id("approved-package").get_attribute("href")
+                               or "")
+    assert package.status == 200, package.text()[:200]
+    expect_accessible(page, "the mission's Versions tab")

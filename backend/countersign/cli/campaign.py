@@ -65,7 +65,8 @@ def add_commands(commands: Any) -> None:
     run.add_argument("-n", "--simulations", type=int, default=100,
                      help=f"how many simulations (1 to {MAX_SIMULATIONS}; default 100)")
     run.add_argument("--fault", action="append", default=[], metavar="FAULT",
-                     help="a fault of the sweep, or 'none' (repeatable; default none)")
+                     help="a fault of the sweep, or 'none' (repeatable; default none); a fault "
+                          "no constraint, rule or vehicle reaction reads is named first")
     run.add_argument("--goal", action="append", default=[], metavar="GOAL",
                      help="inject the faults when this goal starts, or 'start' (repeatable)")
     run.add_argument("--seed", type=int, default=0, help="first seed (default 0)")
@@ -209,6 +210,11 @@ def _create(database: Database, args: argparse.Namespace) -> tuple[str, list[tup
                                   chunk=args.chunk, orders=orders)
     except DomainError as exc:
         raise UsageError(str(exc)) from None
+    from ..rehearse.fault_reach import fault_reach
+
+    # Said before the run: a fault nothing reacts to only repeats the runs without it.
+    for idle in (r for r in fault_reach(orders, spec.faults) if not r.reacts):
+        sys.stderr.write(f"warning: {idle.because}\n")
     with database.session() as db:
         row = store.create(db, orders=data, orders_digest=orders_digest(orders),
                            spec=spec.to_json(), simulations=spec.simulations, owner=None,

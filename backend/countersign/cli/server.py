@@ -48,6 +48,7 @@ def _seed_demo(database: Database) -> None:
     from ..store.accounts import create_user
     from ..store.missions import create_mission
     from ..store.tables import Mission, User
+    from ..store.vehicles import seed_registry
 
     with database.session() as db:
         created = []
@@ -60,10 +61,18 @@ def _seed_demo(database: Database) -> None:
                 created.append((name, role, password))
         operator = db.scalar(select(User).where(User.username == "demo-operator"))
         assert operator is not None
-        for name in example_names():
+        admin = db.scalar(select(User).where(User.username == "demo-admin"))
+        assert admin is not None
+        examples = {name: read_bytes(example_bytes(name), name).orders for name in example_names()}
+        # The examples' vehicles into the registry first, so that a mission created in the
+        # browser can pick one and is checked against its profile (issue 32 item 7).
+        seeded = seed_registry(
+            db, [v for orders in examples.values() for v in orders.vehicles or []], admin)
+        for name, orders in examples.items():
             if db.get(Mission, name) is None:
-                orders = read_bytes(example_bytes(name), name).orders
                 create_mission(db, orders=orders, author=operator)
+    if seeded:
+        sys.stderr.write(f"Vehicle registry: added {', '.join(seeded)} from the examples.\n")
     if created:
         sys.stderr.write("Demo users (one-time passwords, shown only now):\n")
         for name, role, password in created:
@@ -180,7 +189,8 @@ def add_commands(commands: Any) -> None:
     serve_cmd.add_argument("--shared-socket", action="store_true", help=argparse.SUPPRESS)
     serve_cmd.add_argument(
         "--demo", action="store_true",
-        help="seed demo users (printing one-time passwords) and the built-in examples",
+        help="seed demo users (printing one-time passwords), the built-in examples and their "
+             "vehicles in the vehicle registry",
     )
     serve_cmd.set_defaults(handler=cmd_serve)
 

@@ -22,6 +22,7 @@ import viser
 
 from . import viser_adapter
 from .geo import Point
+from .label_layout import LabelSpacer, offset
 from .sim import FAULTS, QUESTION, Event, Simulation
 from .world import World
 
@@ -100,6 +101,8 @@ class Scene:
         self._run_index = 0
         self._current_area: str | None = None
         self._area_lines: dict[str, Any] = {}
+        # Labels kept apart (label_layout.py); a run's markers are forgotten with the run.
+        self._labels = LabelSpacer()
         x0, y0, x1, y1 = sim.world.extent
         self._centre = ((x0 + x1) / 2, (y0 + y1) / 2)
         self._h = SCENE_SPAN / max(x1 - x0, y1 - y0, 1.0)
@@ -110,6 +113,7 @@ class Scene:
         # and add nothing to a chart of the sea.
         server.scene.configure_default_lights(cast_shadow=False)
         self._static(sim.world)
+        self._static_labels = self._labels.mark()
         self.vehicle = server.scene.add_box(
             "/vehicle", color=(250, 200, 30), dimensions=(0.4, 0.12, 0.12),
             position=self.to_scene(*sim.vehicle.xy, sim.vehicle.depth),
@@ -176,12 +180,16 @@ class Scene:
         scene.add_icosphere("/world/recovery", radius=0.1, color=RECOVERY_COLOUR,
                             position=self.to_scene(*world.recovery))
         if not any(area.centre == world.recovery for area in world.areas.values()):
+            anchor = self.to_scene(*world.recovery)
+            at = self._labels.place((anchor[0], anchor[1], anchor[2] + 0.2), "recovery point")
             scene.add_label("/world/recovery/label", "recovery point",
-                            position=(0.0, 0.0, 0.2))
+                            position=offset(at, anchor))
 
     def _draw_legs(self, world: World) -> None:
         """Each outcome edge's leg (verify/legs.py), coloured and lettered by its outcome, a
-        little below the surface: the route the vehicle will fly between goals."""
+        little below the surface: the route the vehicle will fly between goals. Legs that share
+        their middle (the outcomes between the same two goals) get one label of their letters."""
+        letters: dict[tuple[float, float, float], list[str]] = {}
         for k, leg in enumerate(world.legs[:MAX_LEGS_DRAWN]):
             (ax, ay), (bx, by) = leg.line.coords[0], leg.line.coords[-1]
             a, b = self.to_scene(ax, ay, 0.2), self.to_scene(bx, by, 0.2)
@@ -189,10 +197,15 @@ class Scene:
             node = f"/legs/{k}"
             self.server.scene.add_line_segments(node, np.array([[a, b]], dtype=np.float32),
                                                 colour, thickness=0.015)
-            middle = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2)
+            middle = (round((a[0] + b[0]) / 2, 3), round((a[1] + b[1]) / 2, 3),
+                      round((a[2] + b[2]) / 2, 3))
             # The letter only: legs between the same areas overlap, and so would long labels.
-            self.server.scene.add_label(f"{node}/label", OUTCOME_LETTERS[leg.outcome],
-                                        position=middle)
+            shared = letters.setdefault(middle, [])
+            if OUTCOME_LETTERS[leg.outcome] not in shared:
+                shared.append(OUTCOME_LETTERS[leg.outcome])
+        for k, (middle, shared) in enumerate(letters.items()):
+            self.server.scene.add_label(f"/leg_labels/{k}", " ".join(shared),
+                                        position=self._labels.place(middle, " ".join(shared)))
 
     def _draw_area(self, area_id: str, title: str, polygon: tuple[Point, ...], centre: Point,
                    colour: tuple[int, int, int], root: str = "/areas") -> None:
@@ -211,7 +224,8 @@ class Scene:
                              dtype=np.uint32)
             scene.add_mesh_simple(f"{node}/fill", vertices, faces, color=colour, opacity=0.25,
                                   side="double", cast_shadow=False, receive_shadow=False)
-        scene.add_label(f"{node}/label", title, position=self.to_scene(*centre, -0.25 / self._v))
+        scene.add_label(f"{node}/label", title,
+                        position=self._labels.place(self.to_scene(*centre, -0.25 / self._v), title))
 
     def _draw_contacts(self) -> None:
         for contact in self.sim.world.contacts:
@@ -304,6 +318,7 @@ class Scene:
         for handle in self._marker_handles:
             handle.remove()
         self._marker_handles.clear()
+        self._labels.rewind(self._static_labels)
 
     def _draw_trail(self) -> None:
         """The trail is split in nodes of TRAIL_CHUNK points: only the open node is re-sent
@@ -330,23 +345,26 @@ class Scene:
             x, y, depth = event.data.get("position", [0.0, 0.0, 0.0])
             colour = OUTCOME_COLOURS.get(outcome, (200, 200, 200))
             node = f"/outcomes/{self._markers}"
+            anchor = self.to_scene(x, y, depth)
             self._marker_handles.append(self.server.scene.add_icosphere(
-                node, radius=0.1, color=colour, position=self.to_scene(x, y, depth)))
-            self.server.scene.add_label(f"{node}/label",
-                                        f"{event.goal}: {OUTCOME_WORDS.get(outcome, outcome)}",
-                                        position=(0.0, 0.0, 0.2))
+                node, radius=0.1, color=colour, position=anchor))
+            text = f"{event.goal}: {OUTCOME_WORDS.get(outcome, outcome)}"
+            at = self._labels.place((anchor[0], anchor[1], anchor[2] + 0.2), text)
+            self.server.scene.add_label(f"{node}/label", text, position=offset(at, anchor))
             self._markers += 1
         elif event.kind == "fault":
             v = self.sim.vehicle
             node = f"/outcomes/fault{self._markers}"
             self._marker_handles.append(self.server.scene.add_label(
-                node, event.text, position=self.to_scene(v.x, v.y, v.depth)))
+                node, event.text,
+                position=self._labels.place(self.to_scene(v.x, v.y, v.depth), event.text)))
             self._markers += 1
         elif event.kind == "terminal":
             v = self.sim.vehicle
             self._marker_handles.append(self.server.scene.add_label(
                 f"/outcomes/terminal{self._run_index}", event.text,
-                position=self.to_scene(v.x, v.y, -0.6 / self._v)))
+                position=self._labels.place(self.to_scene(v.x, v.y, -0.6 / self._v),
+                                            event.text)))
 
     def _highlight_goal(self) -> None:
         active = self.sim.active

@@ -8,6 +8,7 @@ cannot change what an approval covered.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from typing import Any
 
 import rfc8785
@@ -79,6 +80,67 @@ def save_vehicle(db: Session, vehicle: Vehicle, actor: User) -> tuple[dict[str, 
     db.add(VehicleVersion(vehicle_id=vehicle.id, number=number, title=vehicle.title,
                           profile=profile, saved_by=actor.username))
     return profile, number
+
+
+def seed_registry(db: Session, vehicles: Iterable[Vehicle], actor: User) -> list[str]:
+    """Saves each profile the registry does not hold yet (the first one of an id wins) and logs
+    it as the admin's save would; profiles already registered are left as the admin keeps them.
+    For `serve --demo`, so that a new mission's vehicle has a profile from the first run."""
+    from .events import record
+
+    seeded: list[str] = []
+    for vehicle in vehicles:
+        if vehicle.id in seeded or db.get(VehicleProfile, vehicle.id) is not None:
+            continue
+        _, number = save_vehicle(db, vehicle, actor)
+        db.flush()
+        record(db, kind="vehicle.saved", actor=actor,
+               detail={"vehicle": vehicle.id, "version": number})
+        seeded.append(vehicle.id)
+    return seeded
+
+
+# Drafts brought up to a changed profile in one save; the rest follow at their next edit (the
+# save answers in bounded time however many missions name the vehicle).
+MAX_DRAFTS_REFRESHED = 200
+
+
+def refresh_drafts(db: Session, vehicle_id: str, previous: dict[str, Any] | None,
+                   actor: User) -> list[str]:
+    """After a registry save: the drafts that name the vehicle and carry no profile of it, or
+    the registry's previous profile as it was copied in, get the current one (a new revision,
+    logged as a draft update by the admin), so their next report is checked against it instead
+    of keeping a VEHICLE error or an outdated profile until someone edits them (issue 32 item 7).
+    A draft whose operator changed the copied profile is left alone. Versions never change."""
+    from ..orders.canonical import orders_to_json
+    from ..orders.reader import OrdersReadError, orders_from_data
+    from .missions import update_draft
+    from .tables import Mission
+
+    current = registry_profile(db, vehicle_id)
+    if current is None:
+        return []
+    stale = None if previous is None else rfc8785.dumps(previous)
+    refreshed: list[str] = []
+    for mission in db.scalars(select(Mission).where(Mission.vehicle == vehicle_id)
+                              .order_by(Mission.id).limit(MAX_DRAFTS_REFRESHED)):
+        try:
+            orders = orders_from_data(mission.draft)
+        except OrdersReadError:  # a draft that no longer reads is not ours to fix
+            continue
+        carried = [v for v in orders.vehicles if v.id == vehicle_id]
+        if carried:
+            copied = carried[0].model_dump(mode="json", exclude_unset=True)
+            if stale is None or rfc8785.dumps(copied) != stale:
+                continue
+        updated = orders.model_copy(update={
+            "vehicles": [*(v for v in orders.vehicles if v.id != vehicle_id), current]})
+        if orders_to_json(updated) == mission.draft:
+            continue
+        update_draft(db, mission_id=mission.id, orders=updated, layout=None,
+                     expected_revision=mission.revision, author=actor)
+        refreshed.append(mission.id)
+    return refreshed
 
 
 def vehicle_versions(db: Session, vehicle_id: str) -> list[VehicleVersion]:

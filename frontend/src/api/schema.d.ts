@@ -940,6 +940,28 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/missions/{mission_id}/versions/{number}/fault-reach": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Get Fault Reach
+         * @description Whether each simulated fault can change an outcome of this version (a constraint or
+         *     contingency rule reads what it changes, or the vehicle reacts to it): said before a campaign
+         *     runs, so a sweep of a fault nothing reacts to is not read as evidence (issue 32 item 6).
+         */
+        get: operations["faultReach"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/missions/{mission_id}/versions/{number}/package": {
         parameters: {
             query?: never;
@@ -2553,6 +2575,15 @@ export interface components {
             state: "queued" | "applied";
             /** Text */
             text: string;
+        };
+        /** FaultReachOut */
+        FaultReachOut: {
+            /** Because */
+            because: string;
+            /** Fault */
+            fault: string;
+            /** Reacts */
+            reacts: boolean;
         };
         /** Feature */
         Feature: {
@@ -6114,6 +6145,40 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["ExecutionOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    faultReach: {
+        parameters: {
+            query: {
+                fault: string[];
+            };
+            header?: never;
+            path: {
+                mission_id: string;
+                number: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["FaultReachOut"][];
                 };
             };
             /** @description Validation Error */

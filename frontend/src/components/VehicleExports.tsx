@@ -7,7 +7,9 @@ import { useState } from "react";
 
 import { api, unwrap } from "../api/client";
 import type { components } from "../api/schema";
+import { useLoad } from "../useLoad";
 import { ErrorMessage } from "./Status";
+import "./vehicleExports.css";
 
 type VehicleExport = components["schemas"]["VehicleExportOut"];
 type VehicleFormat = VehicleExport["format"];
@@ -32,6 +34,17 @@ export function packageHref(mission: string, version: number): string {
 export function VehicleExports({ mission, version }: { mission: string; version: number }) {
   const [notes, setNotes] = useState<VehicleExport[] | null>(null);
   const [error, setError] = useState<unknown>(null);
+  // The package exists only for a version with a standing approval (the route answers 409
+  // otherwise): ask the export listing, which says so, before offering the link (issue 32 item 9).
+  const standing = useLoad(
+    async () =>
+      unwrap(
+        await api.GET("/api/missions/{mission_id}/versions/{number}/vehicle/{format}", {
+          params: { path: { mission_id: mission, number: version, format: "imc" } },
+        }),
+      ).approved,
+    [mission, version],
+  );
 
   async function loadNotes() {
     setError(null);
@@ -57,10 +70,14 @@ export function VehicleExports({ mission, version }: { mission: string; version:
           {f.label}
         </a>
       ))}{" "}
-      <a href={packageHref(mission, version)} download
-         title="approved package: orders, vehicle files, envelope, receipt, proof, checkpoint">
-        Approved package
-      </a>{" "}
+      {standing.data === true ? (
+        <a href={packageHref(mission, version)} download data-testid="approved-package"
+           title="approved package: orders, vehicle files, envelope, receipt, proof, checkpoint">
+          Approved package
+        </a>
+      ) : standing.data === false ? (
+        <span className="hint" data-testid="no-package">no package: v{version} is not approved</span>
+      ) : null}{" "}
       {notes === null ? (
         <button type="button" className="link" onClick={() => void loadNotes()}>
           What they cannot carry

@@ -6,6 +6,7 @@ import type { Orders } from "../editor/graph";
 import { navigate } from "../navigation";
 import { missionHref } from "../router";
 import { contentTypeFor } from "../upload";
+import { NewMissionVehicle } from "./NewMissionVehicle";
 
 export function ImportPage() {
   const [file, setFile] = useState<File | null>(null);
@@ -14,7 +15,7 @@ export function ImportPage() {
   const [busy, setBusy] = useState(false);
   const [newId, setNewId] = useState("");
   const [newTitle, setNewTitle] = useState("");
-  const [newVehicle, setNewVehicle] = useState("remus-100");
+  const [newVehicle, setNewVehicle] = useState("");
   const fileRef = useRef<HTMLInputElement>(null);
 
   useEffect(() => {
@@ -107,8 +108,7 @@ export function ImportPage() {
         <input id="new-id" value={newId} onChange={(e) => setNewId(e.target.value)} />
         <label htmlFor="new-mission-title">Title</label>
         <input id="new-mission-title" value={newTitle} onChange={(e) => setNewTitle(e.target.value)} />
-        <label htmlFor="new-vehicle">Vehicle</label>
-        <input id="new-vehicle" value={newVehicle} onChange={(e) => setNewVehicle(e.target.value)} />
+        <NewMissionVehicle value={newVehicle} onChange={setNewVehicle} />
         <button type="submit" className="primary" disabled={busy}>
           Create empty mission
         </button>

@@ -26,8 +26,8 @@ import {
 import { CheckBadge, ErrorMessage, Loading, Notice } from "../components/Status";
 import { Tabs } from "../components/Tabs";
 import { VehicleExports } from "../components/VehicleExports";
-import { MissionStanding } from "./MissionStanding";
-import { formatDateTime, formatNumber, plural, shortDigest, statusLabel } from "../format";
+import { MissionStanding, MissionStatus } from "./MissionStanding";
+import { formatDateTime, formatNumber, plural, shortDigest } from "../format";
 import { navigate } from "../navigation";
 import { missionHref } from "../router";
 import { useCan, useSession } from "../session";
@@ -124,7 +124,7 @@ export function MissionPage({ id, tab }: { id: string; tab: string }) {
         <div>
           <dt>Status</dt>
           <dd>
-            <span className={`status status-${mission.status}`}>{statusLabel(mission.status)}</span>
+            <MissionStatus id={mission.id} status={mission.status} />
           </dd>
         </div>
         <div>

@@ -7,12 +7,27 @@ import { api, unwrap } from "../api/client";
 import { Link } from "../components/Link";
 import { approvalHref } from "./approvals/api";
 import { useLoad } from "../useLoad";
+import { statusWords } from "./missionStatus";
 
-export function MissionStanding({ id, status }: { id: string; status: string }) {
-  const { data } = useLoad(
+function useStanding(id: string, status: string) {
+  return useLoad(
     async () => unwrap(await api.GET("/api/missions/{mission_id}/standing", { params: { path: { mission_id: id } } })),
     [id, status],
+  ).data;
+}
+
+/** The status cell: the status in words with what stands approved (missionStatus.ts). */
+export function MissionStatus({ id, status }: { id: string; status: string }) {
+  const data = useStanding(id, status);
+  return (
+    <span className={`status status-${status}`} data-testid="mission-status">
+      {statusWords(status, data?.approved, data?.latest)}
+    </span>
   );
+}
+
+export function MissionStanding({ id, status }: { id: string; status: string }) {
+  const data = useStanding(id, status);
   if (!data) return null;
   const { approved, latest } = data;
   if (!approved && !latest) return <span data-testid="mission-standing">No version decided yet</span>;

@@ -4,13 +4,15 @@
  * the mission graph with the current goal highlighted, choose outcomes, inject faults, stop it
  * into a stored record, and open the records' standalone replays.
  */
-import { useCallback, useEffect, useState } from "react";
+import { useCallback, useEffect, useRef, useState } from "react";
 
 import { api, ApiError, type MissionDetail, type paths, unwrap } from "../api/client";
 import { ErrorMessage, Loading, Notice } from "../components/Status";
-import { goals, OUTCOME_LABEL, OUTCOMES, type Orders, type Outcome, startIds, successors, terminals } from "../editor/graph";
+import { goals, OUTCOME_LABEL, OUTCOMES, type Orders, type Outcome, successors, terminals } from "../editor/graph";
 import { formatDateTime, shortDigest } from "../format";
 import { useLoad } from "../useLoad";
+import { outcomeKey, pathOrder } from "./rehearsalOrder";
+import "./rehearsal.css";
 
 type JsonBody<R> = R extends { content: { "application/json": infer T } } ? T : never;
 type Started = JsonBody<paths["/api/missions/{mission_id}/rehearsals"]["post"]["responses"][201]>;
@@ -38,6 +40,7 @@ const STATE_LABEL: Record<Status["state"], string> = {
   stopped: "Stopped (idle); stop it to record it",
 };
 const POLL_MS = 1000;
+const KEY_OF: Record<Outcome, string> = { succeed: "s", fail: "f", violate: "c" };
 
 const FAULT_LABEL: Record<string, string> = Object.fromEntries(FAULTS.map((f) => [f.value, f.label]));
 
@@ -118,6 +121,52 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
   const queuedFaults = status?.queued_faults ?? [];
   const suggested = status?.suggested;
   const [faultNotice, setFaultNotice] = useState<string | null>(null);
+  // A notice about a fault ("Fault queued for the next goal") means nothing once the mission has
+  // ended: clear it then, instead of leaving it beside "Finished".
+  const ended = finished || terminal !== null;
+  useEffect(() => {
+    if (ended) setFaultNotice(null);
+  }, [ended]);
+
+  const choose = useCallback(
+    (outcome: Outcome) => {
+      if (!live) return;
+      void act(async () => {
+        setLive(
+          unwrap(
+            await api.POST("/api/rehearsals/{rehearsal_id}/outcome", {
+              params: { path: { rehearsal_id: live.id } },
+              body: { outcome },
+            }),
+          ),
+        );
+      });
+    },
+    [live, act],
+  );
+  // The prompt's answers from the keyboard: s, f, c (Figure 6), unless the key is typed into a
+  // field or carries a modifier (Ctrl+F stays the browser's find).
+  const answering = live?.source === "manual" && waiting && !busy;
+  useEffect(() => {
+    if (!answering) return;
+    const onKey = (event: KeyboardEvent) => {
+      if (event.ctrlKey || event.metaKey || event.altKey || event.repeat) return;
+      const target = event.target as HTMLElement | null;
+      if (target && (target.isContentEditable || ["INPUT", "TEXTAREA", "SELECT"].includes(target.tagName))) return;
+      const outcome = outcomeKey(event.key);
+      if (outcome === null) return;
+      event.preventDefault();
+      choose(outcome);
+    };
+    document.addEventListener("keydown", onKey);
+    return () => document.removeEventListener("keydown", onKey);
+  }, [answering, choose]);
+
+  // Bring the 3D view and its controls into view together when a rehearsal starts.
+  const view = useRef<HTMLDivElement>(null);
+  useEffect(() => {
+    if (liveId) view.current?.scrollIntoView({ block: "start" });
+  }, [liveId]);
 
   return (
     <>
@@ -143,7 +192,7 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
       )}
       {!live && !canRehearse && <Notice>Your role may read rehearsal records but not rehearse.</Notice>}
       {live && (
-        <div className="rehearsal" data-testid="rehearsal">
+        <div className="rehearsal rehearsal-layout" data-testid="rehearsal" ref={view}>
           <div className="rehearsal-controls">
             <p role="status" aria-live="polite" data-testid="rehearsal-status">
               <strong data-testid="rehearsal-state">{state ? STATE_LABEL[state] : "Starting"}</strong>
@@ -169,7 +218,7 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
               <dt>Faults</dt>
               <dd data-testid="rehearsal-faults">
                 {activeFaults.length ? activeFaults.map((f) => FAULT_LABEL[f] ?? f).join(", ") : "none"}
-                {queuedFaults.length
+                {queuedFaults.length && !ended
                   ? ` · queued for the next goal: ${queuedFaults.map((f) => FAULT_LABEL[f] ?? f).join(", ")}`
                   : ""}
               </dd>
@@ -201,20 +250,10 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
                     type="button"
                     disabled={busy || !waiting}
                     data-testid={`outcome-${o}`}
-                    onClick={() =>
-                      void act(async () => {
-                        setLive(
-                          unwrap(
-                            await api.POST("/api/rehearsals/{rehearsal_id}/outcome", {
-                              params: { path: { rehearsal_id: live.id } },
-                              body: { outcome: o },
-                            }),
-                          ),
-                        );
-                      })
-                    }
+                    aria-keyshortcuts={KEY_OF[o]}
+                    onClick={() => choose(o)}
                   >
-                    {OUTCOME_LABEL[o]}
+                    {OUTCOME_LABEL[o]} <kbd>{KEY_OF[o]}</kbd>
                   </button>
                 ))}
               </div>
@@ -285,18 +324,16 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
               Stop and record
             </button>
           </div>
-          <div className="rehearsal-views">
-            <iframe
-              title="3D rehearsal (viser)"
-              src={live.viewer}
-              className="viser-frame"
-              data-testid="viser-frame"
-              allow="fullscreen"
-              // An opaque origin: the viewer cannot reach this app's storage, keys or API.
-              sandbox="allow-scripts"
-            />
-            <MissionGraph orders={mission.orders} current={currentGoal} visited={outcomeGoals(live.status)} />
-          </div>
+          <iframe
+            title="3D rehearsal (viser)"
+            src={live.viewer}
+            className="viser-frame"
+            data-testid="viser-frame"
+            allow="fullscreen"
+            // An opaque origin: the viewer cannot reach this app's storage, keys or API.
+            sandbox="allow-scripts"
+          />
+          <MissionGraph orders={mission.orders} current={currentGoal} visited={outcomeGoals(live.status)} />
         </div>
       )}
       <h3>Records</h3>
@@ -436,20 +473,11 @@ function StartForm({
   );
 }
 
-/** The mission graph as goal cards in order of first reach, the current goal highlighted. */
+/** The mission graph as goal cards in the order it is flown (rehearsalOrder.ts), the current
+ * goal highlighted. */
 function MissionGraph({ orders, current, visited }: { orders: Orders; current: string | null; visited: Set<string> }) {
   const all = goals(orders);
-  const ids = new Set(all.map((g) => g.id));
-  const order: string[] = [];
-  const queue = [...startIds(orders)];
-  while (queue.length) {
-    const id = queue.shift()!;
-    if (!ids.has(id) || order.includes(id)) continue;
-    order.push(id);
-    const goal = all.find((g) => g.id === id);
-    if (goal) for (const o of OUTCOMES) queue.push(...successors(goal, o));
-  }
-  for (const g of all) if (!order.includes(g.id)) order.push(g.id);
+  const order = pathOrder(orders);
   const ends = new Map(terminals(orders).map((t) => [t.id, t]));
   return (
     <ol className="rehearsal-graph" aria-label="Mission graph" data-testid="rehearsal-graph">

@@ -21,7 +21,7 @@ from ...store.events import record
 from ...store.integrity import event_integrity, log_indexes
 from ...store.role_change import GRANTING_ROLES, confirm_grant, confirm_role_change
 from ...store.tables import ApiToken, Event, User, VehicleProfile
-from ...store.vehicles import save_vehicle
+from ...store.vehicles import refresh_drafts, save_vehicle
 from ..deps import (
     ADMINS,
     EVERYONE,
@@ -176,9 +176,14 @@ def put_vehicle(vehicle_id: str, body: Vehicle, principal: CurrentPrincipal,
                 db: Db) -> dict[str, Any]:
     if body.id != vehicle_id:
         raise HTTPException(400, f"the profile's id {body.id!r} differs from {vehicle_id!r}")
+    before = db.get(VehicleProfile, vehicle_id)
+    previous = dict(before.profile) if before is not None else None
     profile, number = save_vehicle(db, body, principal.user)
+    db.flush()
     record(db, kind="vehicle.saved", actor=principal.user,
            detail={"vehicle": vehicle_id, "version": number})
+    # Drafts that use the vehicle are checked against the new profile from their next read.
+    refresh_drafts(db, vehicle_id, previous, principal.user)
     return profile
 
 

@@ -22,6 +22,7 @@ from ...campaigns.stats import goal_probabilities
 from ...errors import Forbidden, NotFound
 from ...jobs import CampaignRunner, runner_for
 from ...orders.reader import orders_from_data
+from ...rehearse.fault_reach import fault_reach
 from ...store import approvals as approvals_service
 from ...store import campaigns as store
 from ...store.missions import get_mission, get_version
@@ -111,6 +112,24 @@ def start_campaign(mission_id: str, number: RowId,
     db.commit()  # the jobs read the campaign from their own sessions
     runner_of(request).enqueue(row.id, spec.chunks())
     return out
+
+
+class FaultReachOut(BaseModel):
+    fault: str
+    reacts: bool
+    because: str
+
+
+@router.get("/missions/{mission_id}/versions/{number}/fault-reach", operation_id="faultReach",
+            response_model=list[FaultReachOut], **allow(*EVERYONE))
+def get_fault_reach(mission_id: str, number: RowId, db: Db,
+                    fault: Annotated[list[SweepName], Query(max_length=16)]) -> list[FaultReachOut]:
+    """Whether each simulated fault can change an outcome of this version (a constraint or
+    contingency rule reads what it changes, or the vehicle reacts to it): said before a campaign
+    runs, so a sweep of a fault nothing reacts to is not read as evidence (issue 32 item 6)."""
+    orders = orders_from_data(get_version(db, mission_id, number).orders)
+    return [FaultReachOut(fault=r.fault, reacts=r.reacts, because=r.because)
+            for r in fault_reach(orders, fault)]
 
 
 @router.get("/missions/{mission_id}/campaigns", operation_id="listCampaigns",

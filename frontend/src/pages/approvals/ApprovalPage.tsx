@@ -15,7 +15,9 @@ import { type Check, verifyApproval } from "../../crypto/verify";
 import { formatDateTime, shortDigest } from "../../format";
 import { useSession } from "../../session";
 import { useLoad } from "../../useLoad";
-import { type ApprovalDetail, approvalHref, bundleHref, loadApproval, loadEntries, loadMissionApprovals, reviewHref } from "./api";
+import { titlesOf } from "../../pathGrid";
+import { RehearsalSummary } from "./RehearsalSummary";
+import { type ApprovalDetail, approvalHref, bundleHref, documentHref, loadApproval, loadEntries, loadMissionApprovals, reviewHref } from "./api";
 import { LogKeyPanel, useLogKeyPin } from "./LogKeyPin";
 import { OrdersGraph } from "./OrdersGraph";
 import { FindingsTable, IntegrityWarning, PathSummaryTable, RulesSection, StateBadge } from "./parts";
@@ -110,6 +112,7 @@ export function ApprovalPage({ id }: { id: number }) {
           Export bundle
         </a>
         <Link href={reviewHref(record.mission, record.version)}>Review page of v{record.version}</Link>
+        <Link href={documentHref(record.mission, record.version)}>Printable approval document</Link>
       </p>
       <Verification record={record} />
       <Revoke record={record} onRevoked={reload} />
@@ -130,7 +133,13 @@ export function ApprovalPage({ id }: { id: number }) {
       <h2>Path summary</h2>
       <PathSummaryTable paths={record.paths} />
       <h2>Rehearsal record</h2>
-      <p data-testid="rehearsal">{record.rehearsal ? <code>{JSON.stringify(record.rehearsal)}</code> : "None."}</p>
+      <div data-testid="rehearsal">
+        {record.rehearsal ? (
+          <RehearsalSummary detail={record.rehearsal} titles={titlesOf(record.orders as Parameters<typeof titlesOf>[0])} />
+        ) : (
+          <p>None.</p>
+        )}
+      </div>
       <ExecutionsSection approvalId={record.id} />
       <details>
         <summary>Signed statement (in-toto) and envelope (DSSE)</summary>

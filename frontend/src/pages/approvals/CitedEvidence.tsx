@@ -8,6 +8,7 @@ import { ErrorMessage } from "../../components/Status";
 import { shortDigest } from "../../format";
 import { useLoad } from "../../useLoad";
 import { CampaignResults } from "../campaigns/CampaignPanel";
+import { CitedRehearsal } from "./RehearsalSummary";
 
 type Campaign = Schema<"CampaignOut">;
 
@@ -33,20 +34,21 @@ export function useCitedCampaigns(submission: number | undefined): CitedCampaign
   return { campaigns: data ?? [], error, loading };
 }
 
-export function CitedEvidence({ rehearsal, cited }: { rehearsal: string | null | undefined; cited: CitedCampaigns }) {
+export function CitedEvidence({
+  rehearsal,
+  cited,
+  titles,
+}: {
+  rehearsal: string | null | undefined;
+  cited: CitedCampaigns;
+  titles: ReadonlyMap<string, string>;
+}) {
   return (
     <section aria-labelledby="cited-evidence-title" data-testid="cited-evidence">
       <h2 id="cited-evidence-title">Rehearsals your signature cites</h2>
-      <p data-testid="review-rehearsal">
-        Rehearsal record:{" "}
-        {rehearsal ? (
-          <a href={`/api/rehearsal-records/${rehearsal}/replay.html`} target="_blank" rel="noreferrer">
-            <code title={rehearsal}>{shortDigest(rehearsal, 16)}</code>
-          </a>
-        ) : (
-          "none attached."
-        )}
-      </p>
+      <div data-testid="review-rehearsal">
+        {rehearsal ? <CitedRehearsal digest={rehearsal} titles={titles} /> : <p>Rehearsal record: none attached.</p>}
+      </div>
       {cited.error ? <ErrorMessage error={cited.error} /> : null}
       {cited.campaigns.length === 0 ? (
         <p data-testid="review-campaigns">{cited.loading ? "Loading the attached campaigns…" : "Rehearsal campaigns: none attached."}</p>

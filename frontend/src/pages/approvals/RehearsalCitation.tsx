@@ -108,7 +108,8 @@ export function RehearsalCitation({
                       <button
                         type="button"
                         disabled={busy || cited}
-                        aria-label={`Attach record ${shortDigest(r.digest, 12)} (${what})`}
+                        // The visible word starts the name (WCAG 2.5.3, axe label-content-name-mismatch).
+                        aria-label={`${cited ? "Attached" : "Attach"} record ${shortDigest(r.digest, 12)} (${what})`}
                         title={same ? undefined : `The record rehearsed other orders than v${version}; the server will refuse it.`}
                         onClick={() => void attach(r.digest)}
                       >

@@ -11,6 +11,7 @@ import { Link } from "../../components/Link";
 import { ErrorMessage, Loading, Notice } from "../../components/Status";
 import { fingerprint } from "../../crypto/keystore";
 import { formatDateTime, shortDigest } from "../../format";
+import { titlesOf } from "../../pathGrid";
 import { missionHref } from "../../router";
 import { useSession } from "../../session";
 import { useLoad } from "../../useLoad";
@@ -113,7 +114,7 @@ export function ReviewPage({ mission, version }: { mission: string; version: num
       {/* The report field is an open object in the API; its shape is verify/probability.py. */}
       <ProbabilityTable figures={review.probabilities} />
 
-      <CitedEvidence rehearsal={current?.rehearsal} cited={cited} />
+      <CitedEvidence rehearsal={current?.rehearsal} cited={cited} titles={titlesOf(review.orders as Parameters<typeof titlesOf>[0])} />
 
       <Decision review={review} cited={cited} onDecided={reload} />
     </section>
@@ -268,17 +269,6 @@ function DecisionForm({
             </button>
             {busy && <span role="status">Signing in this browser…</span>}
           </div>
-          {refusal && (
-            <p id="decision-refusal" className="hint" data-testid="decision-refusal">
-              You cannot decide: {refusal}.
-              {keys.usable.length === 0 && !review.decide_refusal && (
-                <>
-                  {" "}
-                  <Link href="/keys">Create and register a key</Link>.
-                </>
-              )}
-            </p>
-          )}
         </>
       )}
       <ErrorMessage error={error ?? keys.error} />
@@ -292,6 +282,23 @@ function DecisionForm({
           <Link href={approvalHref(result.id)}>Open the record</Link>
           <ReceiptNote receipt={result.receipt} />
         </Notice>
+      )}
+      {/* After a decision the refusal ("submission 1 is approved") is its consequence, so it
+          comes below the decision's own message, in the order things happened. */}
+      {!keys.loading && (
+        <>
+          {refusal && (
+            <p id="decision-refusal" className="hint" data-testid="decision-refusal">
+              You cannot decide: {refusal}.
+              {keys.usable.length === 0 && !review.decide_refusal && (
+                <>
+                  {" "}
+                  <Link href="/keys">Create and register a key</Link>.
+                </>
+              )}
+            </p>
+          )}
+        </>
       )}
     </section>
   );

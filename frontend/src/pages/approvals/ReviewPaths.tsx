@@ -2,19 +2,19 @@
  * The review's paths: every path of the version under review in a virtualised list (only the
  * rows in view are in the page), fetched from the paths API a page at a time (its cursor) as
  * the supervisor scrolls, searchable by a goal the path passes and by the terminal it ends at
- * (the server pages over the matches only). Rows align each step in a column.
+ * (the server pages over the matches only). Rows align each step in a column (ReviewPathRow).
  */
 import { useVirtualizer } from "@tanstack/react-virtual";
 import { useEffect, useMemo, useRef, useState } from "react";
 
 import { api, type MissionPath, type PathPage, unwrap } from "../../api/client";
-import { PathGridHead, PathGridRow } from "../../components/PathGrid";
 import { ErrorMessage } from "../../components/Status";
 import { CommitSelect, Picker } from "../../editor/fields";
 import { type Choice, idAndTitle } from "../../editor/pickers";
 import { formatNumber, plural } from "../../format";
-import { gridWidth, titlesOf } from "../../pathGrid";
+import { titlesOf } from "../../pathGrid";
 import { pathProbability } from "./probabilities";
+import { ReviewPathHead, ReviewPathRow, rowWidth, stepWidth } from "./ReviewPathRow";
 
 const PAGE = 200;
 const ROW = 27;
@@ -124,6 +124,8 @@ function PathRows({
   const known = matching ?? (search.goal || search.terminal ? 0 : total);
   const count = Math.min(known, MAX_ROWS);
   const steps = useMemo(() => items.reduce((n, p) => Math.max(n, p.goals.length), 1), [items]);
+  // Sized by the goals' ids only (terminals have a column of their own).
+  const step = useMemo(() => stepWidth(items.reduce((n, p) => Math.max(n, ...p.goals.map((g) => g.length)), 2)), [items]);
   const rows = useVirtualizer({ count, getScrollElement: () => box.current, estimateSize: () => ROW, overscan: 10 });
   const visible = rows.getVirtualItems();
   const lastShown = visible.length > 0 ? visible[visible.length - 1]!.index : 0;
@@ -148,30 +150,29 @@ function PathRows({
         f fail, c constraint violated.
       </p>
       <ErrorMessage error={error} />
-      <div ref={box} className="path-grid-scroll" style={{ height: HEIGHT }} role="list" aria-label="Paths of this version" data-testid="review-paths" tabIndex={0}>
-        <PathGridHead steps={steps} />
-        <div style={{ height: rows.getTotalSize(), width: gridWidth(steps), position: "relative" }}>
+      <div
+        ref={box}
+        className="review-paths-scroll"
+        style={{ height: HEIGHT }}
+        role="list"
+        aria-label="Paths of this version"
+        data-testid="review-paths"
+        tabIndex={0}
+      >
+        <ReviewPathHead steps={steps} step={step} />
+        <div style={{ height: rows.getTotalSize(), width: rowWidth(steps, step), position: "relative" }}>
           {visible.map((row) => {
             const p = items[row.index];
-            const style = { position: "absolute" as const, top: row.start, height: ROW, left: 0, width: gridWidth(steps) };
+            const style = { position: "absolute" as const, top: row.start, height: ROW, left: 0 };
             if (!p) {
               return (
-                <div key={`wait-${row.index}`} className="path-grid-row" style={style} role="listitem">
-                  <span className="path-cell hint">Loading…</span>
+                <div key={`wait-${row.index}`} className="review-path-row" style={{ ...style, width: rowWidth(steps, step) }} role="listitem">
+                  <span className="rp-cell hint">Loading…</span>
                 </div>
               );
             }
-            const chance = pathProbability(p.probability);
             return (
-              <PathGridRow
-                key={p.index}
-                role="listitem"
-                path={p}
-                titles={titles}
-                steps={steps}
-                style={style}
-                note={chance !== null ? `(p = ${chance})` : null}
-              />
+              <ReviewPathRow key={p.index} path={p} titles={titles} steps={steps} step={step} style={style} chance={pathProbability(p.probability)} />
             );
           })}
         </div>

@@ -6,6 +6,7 @@ import { useEffect, useState } from "react";
 
 import { api, unwrap } from "../../api/client";
 import { RehearsalCitation } from "./RehearsalCitation";
+import { CampaignCitation } from "../campaigns/CampaignCitation";
 import { Link } from "../../components/Link";
 import { ErrorMessage, Loading, Notice } from "../../components/Status";
 import { formatDateTime } from "../../format";
@@ -119,6 +120,18 @@ export function SubmissionPanel({
             <Link href={reviewHref(mission, chosen)}>Open the review of v{chosen}</Link>
             <Link href={documentHref(mission, chosen)}>Printable approval document of v{chosen}</Link>
           </div>
+          {current && (
+            <CampaignCitation
+              mission={mission}
+              version={chosen}
+              submission={current}
+              mayAttach={mayWithdraw}
+              onAttached={(message) => {
+                setDone(message);
+                reload();
+              }}
+            />
+          )}
           {current && (
             <RehearsalCitation
               mission={mission}

@@ -3,7 +3,7 @@ import { renderToStaticMarkup } from "react-dom/server";
 import { describe, expect, it } from "vitest";
 
 import type { Schema } from "../../api/client";
-import { CampaignResults, percent } from "./CampaignPanel";
+import { CampaignResults, notReached, percent } from "./CampaignPanel";
 
 type Campaign = Schema<"CampaignOut">;
 type Estimate = Schema<"Estimate">;
@@ -70,5 +70,14 @@ describe("percent", () => {
     expect(percent(null)).toBe("—");
     expect(percent(Number.NaN)).toBe("—");
     expect(percent(0.125)).toBe("12.5%");
+  });
+});
+
+describe("paths a campaign did not reach", () => {
+  it("lists the first ones by number and counts the rest", () => {
+    expect(notReached([1, 3], 5)).toEqual({ first: [2, 4, 5], more: 0 });
+    expect(notReached([2], 100, 3)).toEqual({ first: [1, 3, 4], more: 96 });
+    expect(notReached([1], null)).toBeNull();
+    expect(notReached([1, 2], 2)).toEqual({ first: [], more: 0 });
   });
 });

@@ -100,6 +100,20 @@ function StartForm({ mission, versions, onStarted }: { mission: string; versions
   };
   const toggle = (fault: string) =>
     setFaults((f) => (f.includes(fault) ? f.filter((x) => x !== fault) : [...f, fault]));
+  // Before the run: which chosen faults nothing in the version reacts to (issue 32 item 6).
+  const chosen = faults.filter((f) => f !== "none");
+  const reach = useLoad(
+    async () =>
+      chosen.length === 0
+        ? []
+        : unwrap(
+            await api.GET("/api/missions/{mission_id}/versions/{number}/fault-reach", {
+              params: { path: { mission_id: mission, number: version }, query: { fault: chosen } },
+            }),
+          ),
+    [mission, version, chosen.join(",")],
+  );
+  const idle = (reach.data ?? []).filter((r) => !r.reacts);
   return (
     <fieldset className="campaign-form">
       <legend>New campaign</legend>
@@ -131,6 +145,15 @@ function StartForm({ mission, versions, onStarted }: { mission: string; versions
         Inject at (goals, comma separated; start = from the start){" "}
         <input value={goals} maxLength={400} onChange={(e) => setGoals(e.target.value)} />
       </label>{" "}
+      {idle.length > 0 && (
+        <ul className="fault-reach" data-testid="idle-faults">
+          {idle.map((r) => (
+            <li key={r.fault}>
+              {r.because}: a campaign of it only repeats the runs without it.
+            </li>
+          ))}
+        </ul>
+      )}
       <button type="button" className="primary" onClick={start} disabled={busy || faults.length === 0}>
         {busy ? "Starting…" : "Start campaign"}
       </button>
@@ -243,17 +266,25 @@ export function CampaignResults({ campaign, offer: offering = true }: { campaign
           </tr>
         </tbody>
       </table>
-      <p>
+      <p data-testid="campaign-covered">
         Paths covered: {coverage.covered} of {coverage.total_paths ?? "?"}
         {coverage.paths.length > 0 && ": "}
         {coverage.paths.map((p) => `#${p.path} (${p.count})`).join(", ")}
       </p>
+      <NotReached covered={coverage.paths.map((p) => p.path)} total={coverage.total_paths ?? null} />
       <EnergyHistogram edges={results.energy_wh.histogram.edges} counts={results.energy_wh.histogram.counts} />
-      {offering && (
-        <button type="button" onClick={offer}>
-          Offer per-goal probabilities
-        </button>
-      )}
+      {offering &&
+        (coverage.covered > 1 ? (
+          <button type="button" onClick={offer}>
+            Offer per-goal probabilities
+          </button>
+        ) : (
+          <p className="hint" data-testid="no-offer">
+            No per-goal probabilities are offered: every run took the same path, so each goal it reached shows one
+            outcome with certainty, which says nothing about the others. Add faults that something reacts to, or more
+            injection goals.
+          </p>
+        ))}
       {offered && (
         <>
           <Notice>
@@ -264,6 +295,29 @@ export function CampaignResults({ campaign, offer: offering = true }: { campaign
         </>
       )}
     </section>
+  );
+}
+
+/** The paths no simulation took, by number as in Paths: the first 40, then how many more. */
+export function notReached(covered: number[], total: number | null, shown = 40): { first: number[]; more: number } | null {
+  if (total === null || !Number.isSafeInteger(total) || total <= 0) return null;
+  const taken = new Set(covered);
+  const first: number[] = [];
+  let missing = total - taken.size;
+  for (let n = 1; n <= total && first.length < shown; n++) if (!taken.has(n)) first.push(n);
+  missing = Math.max(0, missing - first.length);
+  return { first, more: missing };
+}
+
+function NotReached({ covered, total }: { covered: number[]; total: number | null }) {
+  const missing = notReached(covered, total);
+  if (!missing || missing.first.length === 0) return null;
+  return (
+    <p data-testid="campaign-not-reached">
+      Not reached: {missing.first.map((n) => `#${n}`).join(", ")}
+      {missing.more > 0 && `, and ${missing.more.toLocaleString("en-US")} more`}. The campaign says nothing about
+      these paths.
+    </p>
   );
 }
 

@@ -3,7 +3,7 @@
  * without carrying its profile. Each save that changes a profile is a new version; any two
  * versions can be compared field by field.
  */
-import { type FormEvent, useEffect, useState } from "react";
+import { type FormEvent, useEffect, useMemo, useState } from "react";
 
 import { ErrorMessage, Loading, Notice } from "../../components/Status";
 import { trustedBehaviours } from "../../editor/pickers";
@@ -11,6 +11,7 @@ import { formatDateTime } from "../../format";
 import { useLoad } from "../../useLoad";
 import { loadVehicles, loadVehicleVersions, type RegistryProfile, saveVehicle } from "./api";
 import { ProfileChanges } from "./ProfileChanges";
+import { ProfileForm } from "./ProfileForm";
 import { profileDiff } from "./profileDiff";
 
 const TEMPLATE = {
@@ -40,6 +41,16 @@ export function VehiclesPage() {
     setSaveError(null);
     setNotice(null);
   };
+
+  // The form and the JSON box edit one profile: the text is the source, the form its reading.
+  const formProfile = useMemo(() => {
+    try {
+      const parsed: unknown = JSON.parse(text);
+      return typeof parsed === "object" && parsed !== null && !Array.isArray(parsed) ? (parsed as RegistryProfile & Record<string, unknown>) : null;
+    } catch {
+      return null;
+    }
+  }, [text]);
 
   const save = async (event: FormEvent) => {
     event.preventDefault();
@@ -127,6 +138,11 @@ export function VehiclesPage() {
       {editing !== null && (
         <form onSubmit={(e) => void save(e)} className="panel-box">
           <h2>{editing ? `Edit ${editing}` : "New vehicle"}</h2>
+          {formProfile !== null ? (
+            <ProfileForm profile={formProfile} fixedId={editing !== ""} onChange={(p) => setText(JSON.stringify(p, null, 2))} />
+          ) : (
+            <p className="hint">The JSON below does not read as a profile: the form shows it again once it does.</p>
+          )}
           <label htmlFor="vehicle-profile-json">Vehicle profile (JSON)</label>
           <textarea
             id="vehicle-profile-json"

@@ -1,0 +1,122 @@
+/**
+ * A rehearsal record as a short table (issue 32 item 4): how it ended, the path it took step by
+ * step (goal id and outcome letter, titles in the tooltip), simulated time, energy, by whom, and
+ * links to the standalone replay and the record itself. The review loads the record the
+ * submission cites by its digest; the record page passes the one the approval carries. Every
+ * value is rendered as text.
+ */
+import { api, type Schema, unwrap } from "../../api/client";
+import { ErrorMessage, Loading } from "../../components/Status";
+import { formatDateTime, shortDigest } from "../../format";
+import { OUTCOME_LETTERS, OUTCOME_WORDS } from "../../pathGrid";
+import { useLoad } from "../../useLoad";
+import { duration } from "./probabilities";
+import "./review.css";
+
+/** What the summary reads: a stored record (RecordDetail) or the one an approval cites. */
+type RecordDetail = Pick<Schema<"RecordDetail">, "digest" | "version" | "source" | "owner" | "created_at" | "replay" | "record">;
+type Run = Schema<"RecordRun">;
+
+const SOURCE: Record<string, string> = {
+  manual: "outcomes chosen step by step",
+  replay: "a traversal path replayed",
+  tour: "a tour of the paths",
+  simulate: "outcomes decided by the simulation",
+};
+
+export function recordHref(digest: string): string {
+  return `/api/rehearsal-records/${encodeURIComponent(digest)}`;
+}
+
+/** The cited record, fetched by digest (the review: the submission names only the digest). */
+export function CitedRehearsal({ digest, titles }: { digest: string; titles: ReadonlyMap<string, string> }) {
+  const { data, error, loading } = useLoad(
+    async () => unwrap(await api.GET("/api/rehearsal-records/{digest}", { params: { path: { digest } } })),
+    [digest],
+  );
+  if (loading && !data) return <Loading what="the cited rehearsal" />;
+  if (!data) return <ErrorMessage error={error ?? "The cited rehearsal record could not be loaded."} />;
+  return <RehearsalSummary detail={data} titles={titles} />;
+}
+
+function Steps({ run, titles }: { run: Run; titles: ReadonlyMap<string, string> }) {
+  return (
+    <ol className="rehearsal-steps" data-testid="rehearsal-steps">
+      {run.goals.map((goal, i) => {
+        const outcome = run.outcomes[i] ?? "";
+        const title = titles.get(goal);
+        return (
+          <li key={i} title={`${goal}${title ? `: ${title}` : ""} — ${OUTCOME_WORDS[outcome] ?? (outcome || "not decided")}`}>
+            <code>{goal}</code>{" "}
+            <span className={`outcome-letter outcome-${outcome}`}>{OUTCOME_LETTERS[outcome] ?? "–"}</span>
+          </li>
+        );
+      })}
+      <li>
+        → <strong>{run.terminal ?? "not finished"}</strong>
+      </li>
+    </ol>
+  );
+}
+
+export function RehearsalSummary({ detail, titles }: { detail: RecordDetail; titles: ReadonlyMap<string, string> }) {
+  const record = detail.record;
+  const runs = record.runs.length > 0 ? record.runs : [{ path_index: null, goals: record.goals, outcomes: record.outcomes, terminal: record.terminal, terminal_kind: record.terminal_kind }];
+  const ended = record.terminal
+    ? `${record.terminal}${record.terminal_kind ? ` (${record.terminal_kind})` : ""}`
+    : "did not reach a terminal";
+  return (
+    <table className="rehearsal-summary" data-testid="rehearsal-summary">
+      <caption className="visually-hidden">Rehearsal record {shortDigest(detail.digest, 12)}</caption>
+      <tbody>
+        <tr>
+          <th scope="row">Outcome</th>
+          <td data-testid="rehearsal-outcome">
+            {record.state === "stopped_early" ? `Stopped early; ${ended}` : `Ended at ${ended}`}
+          </td>
+        </tr>
+        {runs.map((run, i) => (
+          <tr key={i}>
+            <th scope="row">
+              {runs.length > 1 ? `Run ${i + 1}` : "Path"}
+              {run.path_index ? ` #${run.path_index}` : ""}
+            </th>
+            <td>
+              <Steps run={run} titles={titles} />
+            </td>
+          </tr>
+        ))}
+        <tr>
+          <th scope="row">Rehearsed</th>
+          <td>
+            {detail.version !== null ? `v${detail.version}` : "the draft"}, {SOURCE[detail.source] ?? detail.source}, seed {record.seed}
+            {record.options.faults.length > 0 && `, faults: ${record.options.faults.join(", ")}`}
+          </td>
+        </tr>
+        <tr>
+          <th scope="row">Simulated</th>
+          <td>
+            {duration(record.sim_time_s)}, {record.energy.used_wh.toLocaleString("en-US", { maximumFractionDigits: 1 })} Wh of{" "}
+            {record.energy.capacity_wh.toLocaleString("en-US", { maximumFractionDigits: 0 })} Wh used
+          </td>
+        </tr>
+        <tr>
+          <th scope="row">By, when</th>
+          <td>
+            {detail.owner ?? "?"}, <time dateTime={String(detail.created_at)}>{formatDateTime(String(detail.created_at))}</time>
+          </td>
+        </tr>
+        <tr>
+          <th scope="row">Record</th>
+          <td>
+            <code title={detail.digest}>{shortDigest(detail.digest, 16)}</code> ·{" "}
+            <a href={detail.replay} target="_blank" rel="noreferrer" data-testid="rehearsal-replay">
+              Replay in 3D
+            </a>{" "}
+            · <a href={recordHref(detail.digest)}>Record (JSON)</a>
+          </td>
+        </tr>
+      </tbody>
+    </table>
+  );
+}

@@ -1,0 +1,94 @@
+/**
+ * The campaigns a submission cites (issue 32 item 4), on the Versions tab beside its rehearsal
+ * record: what is attached, and for the submitting operator while it awaits a decision, the
+ * finished campaigns of exactly this version with an Attach button. Campaigns of other versions
+ * or not yet finished are not offered (the server refuses them too: 409).
+ */
+import { useState } from "react";
+
+import { api, type Schema, unwrap } from "../../api/client";
+import { ErrorMessage } from "../../components/Status";
+import { shortDigest } from "../../format";
+import { useLoad } from "../../useLoad";
+
+type Submission = Schema<"SubmissionOut">;
+
+export function CampaignCitation({
+  mission,
+  version,
+  submission,
+  mayAttach,
+  onAttached,
+}: {
+  mission: string;
+  version: number;
+  submission: Submission;
+  mayAttach: boolean;
+  onAttached: (message: string) => void;
+}) {
+  const [busy, setBusy] = useState(false);
+  const [error, setError] = useState<unknown>(null);
+  const { data, error: loadError, reload } = useLoad(async () => {
+    const attached = unwrap(
+      await api.GET("/api/submissions/{submission_id}/campaigns", { params: { path: { submission_id: submission.id } } }),
+    );
+    const campaigns = mayAttach
+      ? unwrap(await api.GET("/api/missions/{mission_id}/campaigns", { params: { path: { mission_id: mission } } }))
+      : [];
+    return { attached, campaigns };
+  }, [mission, submission.id, mayAttach]);
+  const attached = new Set((data?.attached ?? []).map((a) => a.campaign));
+  const offered = (data?.campaigns ?? []).filter((c) => c.version === version && c.state === "finished" && !attached.has(c.id));
+  const attach = async (campaign: string) => {
+    setBusy(true);
+    setError(null);
+    try {
+      unwrap(
+        await api.POST("/api/submissions/{submission_id}/campaigns", {
+          params: { path: { submission_id: submission.id } },
+          body: { campaign },
+        }),
+      );
+      reload();
+      onAttached(`Campaign ${campaign} attached to submission ${submission.id}.`);
+    } catch (e) {
+      setError(e);
+    } finally {
+      setBusy(false);
+    }
+  };
+  return (
+    <div className="campaign-citation" data-testid="campaign-citation">
+      <p data-testid="cited-campaigns">
+        Rehearsal campaigns:{" "}
+        {data && data.attached.length > 0
+          ? data.attached.map((a, i) => (
+              <span key={a.campaign}>
+                {i > 0 && ", "}
+                <code>{a.campaign}</code> (record <code title={a.digest}>{shortDigest(a.digest, 8)}</code>)
+              </span>
+            ))
+          : "none attached"}
+      </p>
+      {mayAttach && data && (
+        offered.length === 0 ? (
+          <p className="hint">
+            No other finished campaign of v{version} to attach: start one under Rehearsal campaigns below, then attach it here.
+          </p>
+        ) : (
+          <ul className="campaign-offers">
+            {offered.map((c) => (
+              <li key={c.id}>
+                <code>{c.id}</code>: {c.simulations} simulations, {c.spec.faults.join(", ")} at {c.spec.goals.join(", ")}{" "}
+                <button type="button" disabled={busy} onClick={() => void attach(c.id)} aria-label={`Attach campaign ${c.id}`}>
+                  Attach
+                </button>
+              </li>
+            ))}
+          </ul>
+        )
+      )}
+      <ErrorMessage error={error ?? loadError} />
+    </div>
+  );
+}

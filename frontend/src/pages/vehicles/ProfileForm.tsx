@@ -1,0 +1,174 @@
+/**
+ * A vehicle profile edited as a form (issue 32 item 7): trusted behaviours, speed, budget, the
+ * envelope (one row per quantity: min and max) and the features (id, what each fulfils and
+ * measures). The form edits the same profile the JSON box below it shows, so fields it has no
+ * input for (contingency rules, consumption) are kept as they are. The server checks the saved
+ * profile and names a refused field (the inputs carry no min/max of their own, so the browser
+ * never blocks a save the server would explain).
+ */
+import type { ReactNode } from "react";
+
+import type { RegistryProfile } from "./api";
+import "./vehicles.css";
+
+type Profile = RegistryProfile & Record<string, unknown>;
+type Feature = { id: string; fulfills?: string[]; measures?: string[] } & Record<string, unknown>;
+
+const words = (text: string) => text.split(",").map((w) => w.trim()).filter(Boolean);
+const number = (text: string): number | undefined => (text.trim() === "" || !Number.isFinite(Number(text)) ? undefined : Number(text));
+
+/** The profile with `key` set, or removed when the value is empty (the server stores no defaults). */
+function withField(profile: Profile, key: string, value: unknown): Profile {
+  const next: Profile = { ...profile };
+  const empty = value === undefined || (Array.isArray(value) && value.length === 0) || (typeof value === "object" && value !== null && !Array.isArray(value) && Object.keys(value).length === 0);
+  if (empty) delete next[key];
+  else next[key] = value;
+  return next;
+}
+
+function Row({ children }: { children: ReactNode }) {
+  return <div className="profile-row">{children}</div>;
+}
+
+export function ProfileForm({ profile, onChange, fixedId }: { profile: Profile; onChange: (p: Profile) => void; fixedId: boolean }) {
+  const envelope = (profile.envelope ?? {}) as Record<string, [number, number]>;
+  const budget = (profile.budget ?? {}) as { energy_wh?: number; duration_s?: number };
+  const features = ((profile.features ?? []) as Feature[]).filter((f) => typeof f === "object" && f !== null);
+  const setEnvelope = (next: Record<string, [number, number]>) => onChange(withField(profile, "envelope", next));
+  const setFeatures = (next: Feature[]) => onChange(withField(profile, "features", next));
+  const setFeature = (i: number, changes: Partial<Feature>) => setFeatures(features.map((f, k) => (k === i ? { ...f, ...changes } : f)));
+  return (
+    <fieldset className="profile-form" data-testid="profile-form">
+      <legend>Profile</legend>
+      <Row>
+        <label htmlFor="vehicle-id">Vehicle id</label>
+        <input id="vehicle-id" value={profile.id ?? ""} readOnly={fixedId} maxLength={100} onChange={(e) => onChange({ ...profile, id: e.target.value })} />
+        <label htmlFor="vehicle-title">Title</label>
+        <input id="vehicle-title" value={(profile.title as string | undefined) ?? ""} maxLength={200} onChange={(e) => onChange(withField(profile, "title", e.target.value || undefined))} />
+      </Row>
+      <Row>
+        <label htmlFor="vehicle-behaviors">Trusted behaviours (comma-separated)</label>
+        <input
+          id="vehicle-behaviors"
+          value={((profile.behaviors as string[] | undefined) ?? []).join(", ")}
+          onChange={(e) => onChange(withField(profile, "behaviors", words(e.target.value)))}
+        />
+      </Row>
+      <Row>
+        <label htmlFor="vehicle-speed">Speed (m/s)</label>
+        <input id="vehicle-speed" type="number" step="any" value={(profile.speed_mps as number | undefined) ?? ""} onChange={(e) => onChange(withField(profile, "speed_mps", number(e.target.value)))} />
+        <label htmlFor="vehicle-energy">Energy budget (Wh)</label>
+        <input
+          id="vehicle-energy"
+          type="number"
+          step="any"
+         
+          value={budget.energy_wh ?? ""}
+          onChange={(e) => onChange(withField(profile, "budget", { ...budget, energy_wh: number(e.target.value) }))}
+        />
+        <label htmlFor="vehicle-duration">Time budget (s)</label>
+        <input
+          id="vehicle-duration"
+          type="number"
+          step="any"
+         
+          value={budget.duration_s ?? ""}
+          onChange={(e) => onChange(withField(profile, "budget", { ...budget, duration_s: number(e.target.value) }))}
+        />
+      </Row>
+      <h3>Envelope</h3>
+      <table className="profile-table">
+        <thead>
+          <tr>
+            <th scope="col">Quantity</th>
+            <th scope="col">Min</th>
+            <th scope="col">Max</th>
+            <th scope="col">
+              <span className="visually-hidden">Remove</span>
+            </th>
+          </tr>
+        </thead>
+        <tbody>
+          {Object.entries(envelope).map(([quantity, range]) => (
+            <tr key={quantity}>
+              <th scope="row">
+                <code>{quantity}</code>
+              </th>
+              {[0, 1].map((end) => (
+                <td key={end}>
+                  <input
+                    type="number"
+                    step="any"
+                    aria-label={`${quantity} ${end === 0 ? "min" : "max"}`}
+                    value={Array.isArray(range) ? (range[end] ?? "") : ""}
+                    onChange={(e) => {
+                      const next: [number, number] = [Array.isArray(range) ? range[0] : 0, Array.isArray(range) ? range[1] : 0];
+                      next[end] = number(e.target.value) ?? 0;
+                      setEnvelope({ ...envelope, [quantity]: next });
+                    }}
+                  />
+                </td>
+              ))}
+              <td>
+                <button type="button" onClick={() => setEnvelope(Object.fromEntries(Object.entries(envelope).filter(([q]) => q !== quantity)))}>
+                  Remove {quantity}
+                </button>
+              </td>
+            </tr>
+          ))}
+        </tbody>
+      </table>
+      <Row>
+        <label htmlFor="vehicle-new-limit">New limit (quantity name)</label>
+        <input
+          id="vehicle-new-limit"
+          placeholder="depth_m"
+          maxLength={100}
+          onKeyDown={(e) => {
+            const name = e.currentTarget.value.trim();
+            if (e.key !== "Enter" || !name) return;
+            e.preventDefault();
+            if (!(name in envelope)) setEnvelope({ ...envelope, [name]: [0, 0] });
+            e.currentTarget.value = "";
+          }}
+        />
+      </Row>
+      <h3>Features</h3>
+      <table className="profile-table">
+        <thead>
+          <tr>
+            <th scope="col">Feature</th>
+            <th scope="col">Fulfils (comma-separated)</th>
+            <th scope="col">Measures (comma-separated)</th>
+            <th scope="col">
+              <span className="visually-hidden">Remove</span>
+            </th>
+          </tr>
+        </thead>
+        <tbody>
+          {features.map((f, i) => (
+            <tr key={i}>
+              <td>
+                <input aria-label={`Feature ${i + 1} id`} value={f.id ?? ""} maxLength={100} onChange={(e) => setFeature(i, { id: e.target.value })} />
+              </td>
+              <td>
+                <input aria-label={`${f.id || `Feature ${i + 1}`} fulfils`} value={(f.fulfills ?? []).join(", ")} onChange={(e) => setFeature(i, { fulfills: words(e.target.value) })} />
+              </td>
+              <td>
+                <input aria-label={`${f.id || `Feature ${i + 1}`} measures`} value={(f.measures ?? []).join(", ")} onChange={(e) => setFeature(i, { measures: words(e.target.value) })} />
+              </td>
+              <td>
+                <button type="button" onClick={() => setFeatures(features.filter((_, k) => k !== i))}>
+                  Remove {f.id || `feature ${i + 1}`}
+                </button>
+              </td>
+            </tr>
+          ))}
+        </tbody>
+      </table>
+      <button type="button" onClick={() => setFeatures([...features, { id: `feature-${features.length + 1}`, fulfills: [], measures: [] }])}>
+        Add feature
+      </button>
+    </fieldset>
+  );
+}

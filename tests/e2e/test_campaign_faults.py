@@ -1,0 +1,36 @@
+"""Issue 32 item 6 in the browser: before a campaign runs, a fault nothing in the version reacts
+to is named ("leak: no rule or constraint reacts to it"), one a constraint reads is not; axe-core
+finds no serious or critical violation on the campaign form."""
+
+from __future__ import annotations
+
+import json
+import secrets
+
+from playwright.sync_api import Page, expect
+
+from .conftest import Server, _api_import, expect_accessible
+from .test_roles import sign_in
+from .test_vehicle_registry import client
+
+
+def test_a_fault_nothing_reacts_to_is_named_before_the_run(page: Page, server: Server) -> None:
+    from countersign.orders.examples import example_bytes
+
+    data = json.loads(example_bytes("harbor-approach-survey"))
+    data["id"] = f"e2e-faults-{secrets.token_hex(3)}"
+    mission = _api_import(server, json.dumps(data).encode(), "application/json")
+    with client(server, "operator") as operator:
+        assert operator.post(f"/api/missions/{mission}/versions").status_code == 201
+    sign_in(page, "operator")
+    page.goto(f"/missions/{mission}?tab=versions")
+    sweep = page.get_by_role("group", name="Faults of the sweep")
+    sweep.get_by_label("leak").check()
+    sweep.get_by_label("contact_close").check()
+    idle = page.get_by_test_id("idle-faults")
+    expect(idle).to_contain_text("leak: no rule or constraint reacts to it")
+    expect(idle.get_by_role("listitem")).to_have_count(1)
+    expect(idle).not_to_contain_text("contact_close")
+    sweep.get_by_label("leak").uncheck()
+    expect(idle).to_have_count(0)
+    expect_accessible(page, "the campaign form")
