@@ -45,6 +45,7 @@ import {
   updateVehicle,
 } from "./model";
 import { centroid, fitView, project, svgPoints, unproject } from "./planview";
+import { AreaChart } from "../map/AreaChart";
 
 export type EditOrders = (change: (o: Orders) => Orders, group?: string) => void;
 export type Markers = Map<string, { codes: string[]; severity: "error" | "warning" }>;
@@ -251,9 +252,9 @@ export function AreasPanel({ orders, editOrders, markers }: { orders: Orders; ed
   return (
     <section aria-labelledby="areas-title" className="areas-panel">
       <h3 id="areas-title">Areas</h3>
-      <PlanView
+      <AreaChart
         orders={orders}
-        selected={current?.id}
+        selected={current?.id ?? null}
         onSelect={setSelected}
         onMoveVertex={(area, index, at) => editOrders((o) => setVertex(o, area, index, at), `area:${area}:drag:${index}`)}
         onAddVertex={(area, at) => editOrders((o) => addVertex(o, area, at))}
