@@ -79,6 +79,19 @@ def _point_in(x: float, y: float, box: Box) -> bool:
     return box["x"] <= x <= box["x"] + box["width"] and box["y"] <= y <= box["y"] + box["height"]
 
 
+def _outline_near(page: Page, x: float, y: float, reach: int = 4) -> bool:
+    """Whether the pixels around (x, y) include the selected area's dark-blue outline."""
+    from io import BytesIO
+
+    from PIL import Image
+
+    png = page.screenshot(clip={"x": x - reach, "y": y - reach,
+                                "width": 2 * reach + 1, "height": 2 * reach + 1})
+    image = Image.open(BytesIO(png)).convert("RGB")
+    pixels = [image.getpixel((i, j)) for i in range(image.width) for j in range(image.height)]
+    return any(isinstance(p, tuple) and p[2] - p[0] > 80 and p[0] < 120 for p in pixels)
+
+
 def _map_holds(page: Page, chart: Locator, size: tuple[int, int]) -> Box:
     """The map is drawn, inside the viewport (no horizontal scroll) and inside the page's card."""
     expect(chart).to_have_attribute("data-ready", "true")
@@ -198,6 +211,19 @@ def test_areas_chart_adds_vertices_where_clicked_and_draws_typed_ones_at_once(
                  return r && r.x >= b.x && r.y >= b.y && r.right <= b.x + b.width
                    && r.bottom <= b.y + b.height; }""",
             arg=['[data-testid="vertex-A-7"]', box])
+        # The polygon itself is redrawn through the typed vertex: its outline (the selected
+        # area's, dark blue) crosses the middle of the new edge 6-7 on the canvas.
+        mid = [(a + b) / 2 for a, b in zip(_centre(chart.locator('[data-testid="vertex-A-6"]')),
+                                          _centre(far), strict=True)]
+        assert _outline_near(page, mid[0], mid[1]), mid
+
+        # A title is text on the map, never markup.
+        title = '<img src=x onerror="window.pwned=1">Zone <b>A</b>'
+        panel.get_by_label("Area title").fill(title)
+        label = chart.locator('[data-testid="plan-area-A"]')
+        expect(label).to_contain_text(title)
+        expect(label.locator("img, b")).to_have_count(0)
+        assert page.evaluate("window.pwned === undefined")
 
         _artefact(page, tmp_path_factory.getbasetemp(), f"chart-areas-{size[0]}x{size[1]}.png")
         _axe(page, ".areas-panel")

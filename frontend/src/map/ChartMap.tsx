@@ -255,22 +255,26 @@ export default function ChartMap(props: ChartMapProps) {
     // eslint-disable-next-line react-hooks/exhaustive-deps -- the map lives as long as the component
   }, []);
 
-  const areaData = useMemo(() => areaCollection(areas), [areas]);
-  const legData = useMemo(() => legCollection(legs), [legs]);
+  // Keyed by content: a save that hands back equal orders redraws nothing.
+  const areaKey = JSON.stringify(areas);
+  const legKey = JSON.stringify(legs);
+  const routeKey = JSON.stringify(route);
+  // eslint-disable-next-line react-hooks/exhaustive-deps -- areaKey stands for areas
+  const areaData = useMemo(() => areaCollection(areas), [areaKey]);
+  // eslint-disable-next-line react-hooks/exhaustive-deps -- legKey stands for legs
+  const legData = useMemo(() => legCollection(legs), [legKey]);
   const coastData = useMemo(() => lineCollection(coastline), [coastline]);
-  const routeData = useMemo(() => lineCollection([route.map((r) => r.at)]), [route]);
+  // eslint-disable-next-line react-hooks/exhaustive-deps -- routeKey stands for route
+  const routeData = useMemo(() => lineCollection([route.map((r) => r.at)]), [routeKey]);
   const grid = useMemo(() => (view ? graticule(view) : null), [view]);
 
-  useEffect(() => {
-    const m = map.current;
-    if (!m || !ready) return;
-    const set = (id: string, data: unknown) => (m.getSource(id) as GeoJSONSource | undefined)?.setData(data as never);
-    set("areas", areaData);
-    set("legs", legData);
-    set("coastline", coastData);
-    set("route", routeData);
-    set("graticule", grid?.lines ?? EMPTY);
-  }, [ready, areaData, legData, coastData, routeData, grid]);
+  // Each source is replaced only when its own data changed: a software-rendered map redraws
+  // (and re-tiles in its worker) on every setData.
+  useSourceData(map, ready, "areas", areaData);
+  useSourceData(map, ready, "legs", legData);
+  useSourceData(map, ready, "coastline", coastData);
+  useSourceData(map, ready, "route", routeData);
+  useSourceData(map, ready, "graticule", grid?.lines ?? EMPTY);
 
   // A vertex typed (or pasted) outside the view would be drawn where nobody sees it: then the
   // view moves to show every area again.
@@ -303,7 +307,7 @@ export default function ChartMap(props: ChartMapProps) {
 
   // Labels: areas and charts (id, title, tags), legs (goal and outcome letter), route steps,
   // graticule values at the map's edges.
-  const contentKey = JSON.stringify([areas, legs, route]);
+  const contentKey = `${areaKey}|${legKey}|${routeKey}`;
   const labels = useMemo(() => {
     const out: (Label & { priority: number })[] = [];
     for (const a of areas) {
@@ -496,6 +500,12 @@ export default function ChartMap(props: ChartMapProps) {
       {tiles && <p className="chart-attribution">Map tiles: {tiles.attribution || hostOf(tiles.template)}</p>}
     </div>
   );
+}
+
+function useSourceData(map: { current: MapLibre | null }, ready: boolean, id: string, data: unknown) {
+  useEffect(() => {
+    if (ready) (map.current?.getSource(id) as GeoJSONSource | undefined)?.setData(data as never);
+  }, [map, ready, id, data]);
 }
 
 function MapSearch({ areas, onFound }: { areas: ChartMapProps["areas"]; onFound: (b: Bounds, id?: string) => void }) {
