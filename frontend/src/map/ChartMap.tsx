@@ -476,7 +476,9 @@ export default function ChartMap(props: ChartMapProps) {
           (Object.keys(OUTCOME) as (keyof typeof OUTCOME)[]).map((o) => (
             <li key={o}>
               <span className={`swatch swatch-leg${o === "succeed" ? "" : " dashed"}`} style={{ borderColor: OUTCOME[o].colour }} />
-              <span style={{ color: OUTCOME[o].colour }}>{OUTCOME[o].letter}</span> leg on {OUTCOME[o].name}
+              <span style={{ color: OUTCOME[o].colour }}>
+                {OUTCOME[o].letter} leg on {OUTCOME[o].name}
+              </span>
             </li>
           ))}
         {legs.some((l) => l.crossed) && (
