@@ -177,8 +177,9 @@ def test_operator_builds_the_exemplar_by_mouse_and_keyboard(own_page: Page) -> N
             page.get_by_role("button", name="Add vertex").click()
             page.get_by_label(f"Vertex {n} latitude").fill(fmt(lat))
             page.get_by_label(f"Vertex {n} longitude").fill(fmt(lon))
-        expect(page.get_by_test_id(f"plan-area-{area['id']}").locator("polygon")).to_have_count(1)
-    expect(page.get_by_test_id("plan-view")).to_contain_text("shipping_lane")
+        expect(page.get_by_test_id(f"plan-area-{area['id']}")).to_have_attribute(
+            "data-vertices", str(len(area["polygon"])))
+    expect(page.get_by_test_id("area-chart")).to_contain_text("shipping_lane")
     saved(page)
 
     # ---- Goals: add, then fill the inspector ----

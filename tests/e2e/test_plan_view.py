@@ -1,6 +1,6 @@
 """The plan view (issue 21) shows each outcome edge's leg and highlights the GEO crossings of a
-registry chart, drawn offline as SVG. Its own server: the chart would change what the shared
-server's other tests see of the exemplar."""
+registry chart, drawn offline on the chart (MapLibre over bundled Natural Earth land). Its own
+server: the chart would change what the shared server's other tests see of the exemplar."""
 
 from __future__ import annotations
 
@@ -53,14 +53,18 @@ def test_plan_view_highlights_the_legs_that_cross_a_keep_out_chart(
         page.get_by_role("button", name="Sign in").click()
         expect(page.get_by_test_id("current-role")).to_have_text("Supervisor")
         page.goto(f"/missions/{mission}?tab=plan")
-        plan = page.get_by_role("img", name="Plan view: areas, charts and legs")
-        expect(plan).to_be_visible()
-        expect(plan.locator("g.leg")).to_have_count(12)
-        crossing = plan.locator("g.leg-crossing")
+        plan = page.get_by_role("region", name="Plan view: areas, charts and legs")
+        expect(plan).to_have_attribute("data-ready", "true")
+        expect(plan.locator("[data-leg]")).to_have_count(12)
+        crossing = plan.locator("[data-leg].leg-crossing")
         expect(crossing).to_have_count(4)
-        expect(plan.locator('g.leg-crossing[data-leg="G4 succeed"]')).to_have_count(1)
-        expect(plan.locator('polygon[data-chart="RANGE"][data-crossed="true"]')).to_have_count(1)
-        expect(plan.locator("g.coastline line").first).to_be_attached()
+        expect(plan.locator('.leg-crossing[data-leg="G4 succeed"]')).to_have_count(1)
+        expect(plan.locator('[data-testid="chart-RANGE"][data-crossed="true"]')).to_have_count(1)
+        expect(plan.locator('[data-testid="chart-RANGE"]')).to_have_attribute(
+            "data-style", "keep_out")
+        # The server's land-mask coastline is drawn beside the bundled Natural Earth land.
+        assert int(plan.get_attribute("data-coastline-segments") or "0") > 0
+        expect(plan).to_have_attribute("data-land", "natural-earth-50m")
         crossings = page.get_by_role("list", name="Crossings")
         expect(crossings.get_by_role("listitem")).to_have_count(4)
         expect(crossings).to_contain_text("chart RANGE (Firing range)")

@@ -61,10 +61,13 @@ def _csp_and_config(tmp_path: Path, tiles: str | None) -> tuple[str, object]:
     return csp, client.get("/api/client-config").status_code
 
 
-def test_the_csp_allows_images_from_the_tile_origin_only(tmp_path: Path) -> None:
+def test_the_csp_allows_images_and_fetches_from_the_tile_origin_only(tmp_path: Path) -> None:
     csp, _ = _csp_and_config(tmp_path / "tiles", GOOD)
     assert tile_origin(GOOD) == "https://tiles.example.org"
     assert "img-src 'self' data: https://tiles.example.org;" in csp
+    # MapLibre fetches tiles (fetch, then an ImageBitmap): the origin is allowed to connect too.
+    assert "connect-src 'self' https://tiles.example.org;" in csp
     offline, status = _csp_and_config(tmp_path / "offline", None)
     assert "img-src 'self' data:;" in offline
+    assert "connect-src" not in offline  # default-src 'self': the app's own origin only
     assert status == 401  # the setting is for signed-in users, as every other API route

@@ -165,7 +165,9 @@ def add_commands(commands: Any) -> None:
         help="run the web app",
         description="Run the Countersign web app. Data lives in --data-dir (default: the "
         "per-user data directory, e.g. ~/.local/share/countersign) unless COUNTERSIGN_DATABASE_URL "
-        "names a database.",
+        "names a database. The chart (areas and plan view) draws a coastline bundled with the "
+        "app and requests no map tile unless COUNTERSIGN_MAP_TILES holds a "
+        "https://.../{z}/{x}/{y}.png template (COUNTERSIGN_MAP_TILES_ATTRIBUTION: its credit).",
     )
     serve_cmd.add_argument("--host", default="127.0.0.1")
     serve_cmd.add_argument("--port", type=int, default=8000)

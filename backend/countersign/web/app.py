@@ -87,18 +87,22 @@ class _TooLarge(Exception):
 # `layout-worker`, which passes nothing but the app's own layout worker script (same origin,
 # frontend/src/editor/layoutClient.ts) to `new Worker`.
 # Frames: the rehearsal viewer only, which runs sandboxed in an opaque origin (viser_proxy.py).
-# Images: the app's own and data: URLs, plus the configured map tiles' origin (map_tiles.py).
+# The second policy, `map-worker`, passes only MapLibre's own worker module (same origin,
+# frontend/src/map/trusted.ts) and creates no HTML, so the map cannot turn a string into markup.
+# Images: the app's own and data: URLs, plus the configured map tiles' origin (map_tiles.py);
+# MapLibre fetches tiles with fetch(), so that origin is also the one extra connect-src.
 APP_CSP = ("default-src 'self'; script-src 'self'; object-src 'none'; base-uri 'none'; "
            "form-action 'self'; img-src 'self' data:; style-src 'self' 'unsafe-inline'; "
            "frame-src 'self'; frame-ancestors 'none'; "
-           "require-trusted-types-for 'script'; trusted-types layout-worker")
+           "require-trusted-types-for 'script'; trusted-types layout-worker map-worker")
 
 
 def app_csp(map_tiles: str | None) -> str:
     if map_tiles is None:
         return APP_CSP
+    origin = tile_origin(map_tiles)
     return APP_CSP.replace("img-src 'self' data:;",
-                           f"img-src 'self' data: {tile_origin(map_tiles)};")
+                           f"img-src 'self' data: {origin}; connect-src 'self' {origin};")
 SECURITY_HEADERS = {
     "X-Content-Type-Options": "nosniff",
     "X-Frame-Options": "DENY",

@@ -13,7 +13,8 @@ import { navigate } from "../navigation";
 import { missionHref } from "../router";
 import type { Orders } from "./graph";
 import { areas, type LatLon, targetVehicle } from "./model";
-import { PlanView, type PlanOverlay } from "./panels";
+import type { PlanOverlay } from "./panels";
+import { SurveyMap } from "../map/SurveyMap";
 import { centroid, fromMetres, round6 } from "./planview";
 
 /** The countersign.plan/1 problem the server built from the draft (lawn-mower passes). */
@@ -235,7 +236,7 @@ export function PlanDialog({ mission, orders, onClose }: { mission: MissionDetai
             )}
           </div>
         )}
-        <PlanView orders={orders} overlay={overlay} title="Plan view with the chosen survey order" />
+        <SurveyMap orders={orders} overlay={overlay} title="Plan view with the chosen survey order" />
         {solution?.feasible && solution.orders && (
           <form
             className="inline"

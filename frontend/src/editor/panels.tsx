@@ -3,7 +3,7 @@
  * (with a plan view), quantities, the vehicle profile and norms. Every control is a labelled
  * input; ids, lists and multi-line specs commit on Enter or when focus leaves them.
  */
-import { type PointerEvent as ReactPointerEvent, useMemo, useRef, useState } from "react";
+import { useMemo, useRef, useState } from "react";
 
 import { numberPair } from "../api/pair";
 import { CommitField, CommitSelect, ExprField } from "./fields";
@@ -44,7 +44,7 @@ import {
   updateQuantity,
   updateVehicle,
 } from "./model";
-import { centroid, fitView, project, svgPoints, unproject } from "./planview";
+import { AreaChart } from "../map/AreaChart";
 
 export type EditOrders = (change: (o: Orders) => Orders, group?: string) => void;
 export type Markers = Map<string, { codes: string[]; severity: "error" | "warning" }>;
@@ -92,156 +92,11 @@ export function MissionPanel({ orders, editOrders }: { orders: Orders; editOrder
 
 // ---------------------------------------------------------------------------------------------
 
-const PLAN_W = 520;
-const PLAN_H = 340;
-
 export interface PlanOverlay {
   /** Route through the plan: lat/lon points, labelled. */
   route: { at: LatLon; label: string }[];
   /** Area ids chosen by the plan, in order. */
   chosen: string[];
-}
-
-/**
- * The plan view: every area's polygon in a north-up local projection (no tiles), labelled with
- * its id and context tags. The selected area's vertices can be dragged with the mouse; with
- * "Add vertices by clicking" on, a click adds a vertex to it. An optional overlay draws a plan.
- */
-export function PlanView({
-  orders,
-  selected,
-  onSelect,
-  onMoveVertex,
-  onAddVertex,
-  overlay,
-  title = "Plan view of the areas",
-}: {
-  orders: Orders;
-  selected?: string | null;
-  onSelect?: (id: string) => void;
-  onMoveVertex?: (area: string, index: number, at: LatLon) => void;
-  onAddVertex?: (area: string, at: LatLon) => void;
-  overlay?: PlanOverlay | null;
-  title?: string;
-}) {
-  const list = areas(orders);
-  const points = [...list.flatMap((a) => a.polygon ?? []), ...(overlay?.route.map((r) => r.at) ?? [])];
-  // The view is fitted when the set of areas changes, not at every vertex drag.
-  const frozen = useRef<{ key: string; view: ReturnType<typeof fitView> } | null>(null);
-  const key = `${list.map((a) => a.id).join(",")}|${overlay ? overlay.route.length : 0}`;
-  const [dragging, setDragging] = useState<{ area: string; index: number } | null>(null);
-  if (!frozen.current || (frozen.current.key !== key && !dragging) || (points.length > 0 && !dragging && frozen.current.key === "")) {
-    frozen.current = { key, view: fitView(points, PLAN_W, PLAN_H) };
-  }
-  const view = frozen.current.view;
-  const svg = useRef<SVGSVGElement>(null);
-  const toSvg = (e: { clientX: number; clientY: number }): [number, number] => {
-    const box = svg.current!.getBoundingClientRect();
-    return [((e.clientX - box.left) / box.width) * PLAN_W, ((e.clientY - box.top) / box.height) * PLAN_H];
-  };
-  const [adding, setAdding] = useState(false);
-  const onPointerMove = (e: ReactPointerEvent<SVGSVGElement>) => {
-    if (!dragging || !onMoveVertex) return;
-    const [x, y] = toSvg(e);
-    onMoveVertex(dragging.area, dragging.index, unproject(view, x, y));
-  };
-  return (
-    <div className="plan-view">
-      {onAddVertex && selected && (
-        <button type="button" aria-pressed={adding} onClick={() => setAdding((a) => !a)}>
-          {adding ? `Stop adding vertices to ${selected}` : `Add vertices to ${selected} by clicking`}
-        </button>
-      )}
-      <svg
-        ref={svg}
-        viewBox={`0 0 ${PLAN_W} ${PLAN_H}`}
-        role="img"
-        aria-label={title}
-        data-testid="plan-view"
-        className={adding ? "adding" : undefined}
-        onPointerMove={onPointerMove}
-        onPointerUp={() => setDragging(null)}
-        onPointerLeave={() => setDragging(null)}
-        onClick={(e) => {
-          if (!adding || !selected || !onAddVertex) return;
-          const [x, y] = toSvg(e);
-          onAddVertex(selected, unproject(view, x, y));
-        }}
-      >
-        <title>{title}</title>
-        <rect x={0} y={0} width={PLAN_W} height={PLAN_H} className="plan-water" />
-        {list.map((a) => {
-          const poly = a.polygon ?? [];
-          const [cx, cy] = project(view, centroid(poly));
-          const isSel = a.id === selected;
-          const chosen = overlay?.chosen.includes(a.id);
-          return (
-            <g key={a.id} className={`plan-area${isSel ? " selected" : ""}${chosen ? " chosen" : ""}`} data-testid={`plan-area-${a.id}`}>
-              {poly.length >= 2 && (
-                <polygon
-                  points={svgPoints(view, poly)}
-                  onClick={(e) => {
-                    if (adding) return;
-                    e.stopPropagation();
-                    onSelect?.(a.id);
-                  }}
-                >
-                  <title>{`${a.id}${a.title ? `: ${a.title}` : ""}${a.contexts?.length ? ` (${a.contexts.join(", ")})` : ""}`}</title>
-                </polygon>
-              )}
-              {poly.length > 0 && (
-                <text x={cx} y={cy} textAnchor="middle" className="plan-label">
-                  {a.id}
-                  {a.contexts && a.contexts.length > 0 && (
-                    <tspan x={cx} dy="1.1em" className="plan-context">
-                      {a.contexts.join(", ")}
-                    </tspan>
-                  )}
-                </text>
-              )}
-              {isSel &&
-                poly.map((p, i) => {
-                  const [x, y] = project(view, p);
-                  return (
-                    <circle
-                      key={i}
-                      cx={x}
-                      cy={y}
-                      r={6}
-                      className="plan-vertex"
-                      data-testid={`vertex-${a.id}-${i + 1}`}
-                      onPointerDown={(e) => {
-                        e.stopPropagation();
-                        (e.target as Element).setPointerCapture?.(e.pointerId);
-                        setDragging({ area: a.id, index: i });
-                      }}
-                    >
-                      <title>{`Vertex ${i + 1} of ${a.id}: drag to move`}</title>
-                    </circle>
-                  );
-                })}
-            </g>
-          );
-        })}
-        {overlay && overlay.route.length > 1 && (
-          <g className="plan-route" data-testid="plan-route">
-            <polyline points={overlay.route.map((r) => project(view, r.at).join(",")).join(" ")} />
-            {overlay.route.map((r, i) => {
-              const [x, y] = project(view, r.at);
-              return (
-                <g key={i}>
-                  <circle cx={x} cy={y} r={4} />
-                  <text x={x + 6} y={y - 6} className="plan-step">
-                    {r.label}
-                  </text>
-                </g>
-              );
-            })}
-          </g>
-        )}
-      </svg>
-    </div>
-  );
 }
 
 export function AreasPanel({ orders, editOrders, markers }: { orders: Orders; editOrders: EditOrders; markers: Markers }) {
@@ -251,9 +106,9 @@ export function AreasPanel({ orders, editOrders, markers }: { orders: Orders; ed
   return (
     <section aria-labelledby="areas-title" className="areas-panel">
       <h3 id="areas-title">Areas</h3>
-      <PlanView
+      <AreaChart
         orders={orders}
-        selected={current?.id}
+        selected={current?.id ?? null}
         onSelect={setSelected}
         onMoveVertex={(area, index, at) => editOrders((o) => setVertex(o, area, index, at), `area:${area}:drag:${index}`)}
         onAddVertex={(area, at) => editOrders((o) => addVertex(o, area, at))}

@@ -1,0 +1,44 @@
+/** The "Plan survey" dialog's map: the draft's areas, those the plan chose highlighted, and the
+ * planned route (start, each area's entry and exit, recovery) labelled step by step. */
+import { useMemo } from "react";
+
+import type { Orders } from "../editor/graph";
+import { areas } from "../editor/model";
+import type { PlanOverlay } from "../editor/panels";
+import { areaStyle, type MapArea } from "./features";
+import { ChartMap } from "./LazyChartMap";
+
+export function SurveyMap({ orders, overlay, title }: { orders: Orders; overlay: PlanOverlay | null; title: string }) {
+  const source = orders.areas;
+  const list = useMemo(
+    (): MapArea[] =>
+      areas(orders).map((a) => ({
+        id: a.id,
+        title: a.title ?? null,
+        source: "area",
+        style: areaStyle(a.contexts ?? []),
+        polygon: a.polygon ?? [],
+        tags: a.contexts ?? [],
+        chosen: overlay?.chosen.includes(a.id) ?? false,
+      })),
+    // eslint-disable-next-line react-hooks/exhaustive-deps -- only the areas and the plan matter
+    [source, overlay],
+  );
+  const route = useMemo(() => overlay?.route ?? [], [overlay]);
+  return (
+    <div className="survey-map">
+      {overlay && overlay.route.length > 1 && (
+        <p className="hint" data-testid="plan-route">
+          Route: {overlay.route.map((r) => r.label).join(" → ")}
+        </p>
+      )}
+      <ChartMap
+        label={title}
+        testId="survey-map"
+        areas={list}
+        route={route}
+        fitKey={`${list.map((a) => a.id).join(",")}|${route.length}`}
+      />
+    </div>
+  );
+}
