@@ -166,6 +166,9 @@ class Mission(Base):
     created_at: Mapped[datetime] = mapped_column(default=utcnow)
     updated_by: Mapped[int] = mapped_column(ForeignKey("users.id"))
     updated_at: Mapped[datetime] = mapped_column(default=utcnow, index=True)
+    # The open editing burst, logged as one event when it ends (store/draft_bursts.py).
+    burst: Mapped[dict[str, Any] | None] = mapped_column(default=None)
+    burst_at: Mapped[datetime | None] = mapped_column(default=None, index=True)
 
 
 class MissionVersion(Base):
