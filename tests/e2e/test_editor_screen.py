@@ -36,9 +36,9 @@ GEOMETRY = """() => {
             parseFloat(getComputedStyle(t).fontSize) * zoom)));
         for (const t of shown) {
             // Clipped: its box (overflow hidden) holds less than its text.
+            const r = t.getBoundingClientRect(), box = n.getBoundingClientRect();
             const clipped = getComputedStyle(t.closest('.graph-node')).overflow === 'hidden'
-                && t.getBoundingClientRect().right > n.getBoundingClientRect().right + 1;
-            const r = t.getBoundingClientRect();
+                && (r.right > box.right + 1 || r.bottom > box.bottom + 1);
             labels.push({id: n.dataset.id, clipped, x: r.left, y: r.top, w: r.width, h: r.height});
         }
     }
