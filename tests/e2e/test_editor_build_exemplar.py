@@ -268,9 +268,12 @@ def test_operator_builds_the_exemplar_by_mouse_and_keyboard(own_page: Page) -> N
     expect(page.get_by_test_id("markers-G4")).to_contain_text("G10")
     expect(page.get_by_test_id("markers-G2")).to_contain_text("G7")  # G1 -> G2 -> G3 -> G1
     expect(page.get_by_test_id("markers-G5")).to_have_count(0)
-    expect(page.locator('.react-flow__edge[data-id="G3:succeed:G1"]')).to_have_class(re.compile("edge-marked"))
-    expect(page.locator('.react-flow__edge[data-id="G3:succeed:G1"]')).to_contain_text("G7")
-    expect(page.locator('.react-flow__edge[data-id="G1:violate:G5"]')).not_to_have_class(re.compile("edge-marked"))
+    # A loop is drawn once, as a halo under its edges, not as a "G7" label on each (issue 32).
+    loop_edge = page.locator('.react-flow__edge[data-id="G3:succeed:G1"]')
+    expect(loop_edge).to_have_class(re.compile("edge-loop"))
+    expect(loop_edge.locator(".loop-halo")).to_have_count(1)
+    expect(loop_edge).not_to_contain_text("G7")
+    expect(page.locator('.react-flow__edge[data-id="G1:violate:G5"]')).not_to_have_class(re.compile("edge-loop"))
     expect(page.get_by_test_id("editor-verdict")).to_contain_text("Not valid")
     # The inspector field of the loop carries the finding; a finding selects its subject.
     select_node(page, "G3")

@@ -100,6 +100,20 @@ def _scopes(scopes: Any) -> str:
     return ", ".join(map(str, names))
 
 
+def _draft_burst(detail: Mapping[str, Any]) -> str:
+    """One editing burst (store/draft_bursts.py): its revisions and what changed."""
+    revision, first = detail.get("revision"), detail.get("from_revision")
+    saves = detail.get("saves")
+    if first is None or saves is None:  # logged per save before issue 32
+        return f"draft saved as revision {revision}"
+    changed = [str(c) for c in detail.get("changed") or []]
+    more = int(detail.get("more") or 0)
+    what = ", ".join(changed[:8]) + (f" and {len(changed) - 8 + more} more" if len(changed) > 8
+                                     or more else "")
+    span = f"revision {revision}" if first == revision else f"revisions {first}-{revision}"
+    return f"draft edited ({saves} saves, {span}){': ' + what if what else ''}"
+
+
 def _submission(detail: Mapping[str, Any]) -> str:
     return f"submission {detail.get('submission')}"
 
@@ -107,7 +121,7 @@ def _submission(detail: Mapping[str, Any]) -> str:
 _CHANGES: dict[str, Callable[[str | None, Mapping[str, Any]], str]] = {
     "mission.created": lambda m, d: "mission created",
     "mission.deleted": lambda m, d: "draft mission deleted",
-    "draft.updated": lambda m, d: f"draft saved as revision {d.get('revision')}",
+    "draft.updated": lambda m, d: _draft_burst(d),
     "version.created": lambda m, d: f"version {d.get('number')} created from the draft",
     "submission.created": lambda m, d: f"{_submission(d)} created for review",
     "submission.withdrawn": lambda m, d: f"{_submission(d)} withdrawn",

@@ -14,6 +14,7 @@ from ..errors import Conflict, DomainError, NotFound, PreconditionFailed
 from ..orders.canonical import digest, orders_to_json
 from ..orders.model import Orders
 from ..verify import fingerprint
+from . import draft_bursts
 from .db import database_of, writable
 from .events import record
 from .tables import Mission, MissionVersion, User, ValidationReport, utcnow
@@ -86,7 +87,8 @@ def update_draft(
     db: DbSession, *, mission_id: str, orders: Orders, layout: dict[str, Any] | None,
     expected_revision: int, author: User, orders_digest: str | None = None,
 ) -> Mission:
-    """Compare-and-set on the revision: a concurrent edit fails with 412, nothing is lost."""
+    """Compare-and-set on the revision: a concurrent edit fails with 412, nothing is lost.
+    The save joins its author's editing burst, logged once when it ends (draft_bursts.py)."""
     mission = get_mission(db, mission_id)
     if orders.id != mission_id:
         raise MissionError(
@@ -95,10 +97,16 @@ def update_draft(
         )
     before = mission.draft_digest
     value = orders_digest or digest(orders)
+    draft = orders_to_json(orders)
+    now = utcnow()
+    if mission.burst is not None and not draft_bursts.joins(mission, author, now):
+        draft_bursts.flush(db, mission)  # someone else's burst, or one that went quiet
+    burst = draft_bursts.extended(mission, author, draft=draft, before=before,
+                                  revision=expected_revision + 1, now=now)
     changes: dict[str, Any] = {
-        "draft": orders_to_json(orders), "draft_digest": value, "title": orders.title,
+        "draft": draft, "draft_digest": value, "title": orders.title,
         "vehicle": orders.vehicle, "revision": Mission.revision + 1,
-        "updated_by": author.id, "updated_at": utcnow(),
+        "updated_by": author.id, "updated_at": now, "burst": burst, "burst_at": now,
     }
     if layout is not None:
         changes["layout"] = _check_layout(layout)
@@ -115,8 +123,6 @@ def update_draft(
             "reload it and apply your edit again",
             mission.revision,
         )
-    record(db, kind="draft.updated", actor=author, mission_id=mission_id, before=before,
-           after=value, detail={"revision": expected_revision + 1}, log_at_commit=True)
     db.refresh(mission)
     return mission
 
@@ -143,6 +149,7 @@ def delete_mission(db: DbSession, *, mission_id: str, actor: User) -> None:
         raise Conflict(
             f"mission {mission_id!r} has {versions} version(s); only drafts can be deleted"
         )
+    draft_bursts.flush(db, mission)
     record(db, kind="mission.deleted", actor=actor, mission_id=mission_id,
            before=mission.draft_digest, log_at_commit=True)
     db.delete(mission)
@@ -150,6 +157,8 @@ def delete_mission(db: DbSession, *, mission_id: str, actor: User) -> None:
 
 def create_version(db: DbSession, *, mission_id: str, author: User) -> MissionVersion:
     mission = get_mission(db, mission_id)
+    # The edits that led to this version are in the log before it (separation of duties).
+    draft_bursts.flush(db, mission)
     latest = db.scalar(
         select(func.max(MissionVersion.number)).where(MissionVersion.mission_id == mission_id)
     ) or 0

@@ -170,6 +170,9 @@ class Mission(Base):
     created_at: Mapped[datetime] = mapped_column(default=utcnow)
     updated_by: Mapped[int] = mapped_column(ForeignKey("users.id"))
     updated_at: Mapped[datetime] = mapped_column(default=utcnow, index=True)
+    # The open editing burst, logged as one event when it ends (store/draft_bursts.py).
+    burst: Mapped[dict[str, Any] | None] = mapped_column(default=None)
+    burst_at: Mapped[datetime | None] = mapped_column(default=None, index=True)
     # The list filters by status or vehicle and pages by id: one index range per page.
     __table_args__ = (Index("ix_missions_status_id", "status", "id"),
                       Index("ix_missions_vehicle_id", "vehicle", "id"))

@@ -28,32 +28,72 @@ import { paramsToText, parseParams } from "./model";
 import { idAndTitle, successorChoices } from "./pickers";
 import { useEditor, useEditorApi } from "./store";
 import { BehaviourPicker } from "./VehiclePicker";
+import { groupFindings, SUBJECTS_SHOWN } from "./findingGroups";
+import { RefusedNote } from "./RefusedNote";
 
 export type EditOrders = (change: (o: Orders) => Orders, group?: string) => void;
 
-/** Findings listed before "Show all": a long list (one per unreachable goal) renders late. */
+/** Items listed before "Show all": a long list (one per unreachable goal) renders late. */
 const FINDINGS_SHOWN = 50;
 
-/** The editor's findings, each a button that selects its subjects; memoised, so that the
- * renders that follow an edit (nodes, selection) do not rebuild a long list. */
-export const FindingsList = memo(function FindingsList({ findings, onPick }: { findings: Finding[]; onPick: (f: Finding) => void }) {
+/** The editor's findings, grouped (findingGroups.ts: errors first, each loop once, long subject
+ * lists folded), each item a button that selects its subjects; a save the server refused heads
+ * the list. Memoised, so that the renders that follow an edit do not rebuild a long list. */
+export const FindingsList = memo(function FindingsList({
+  findings,
+  onPick,
+  refused,
+}: {
+  findings: Finding[];
+  onPick: (f: Finding, subjects: string[]) => void;
+  refused?: string | null;
+}) {
   const [all, setAll] = useState(false);
-  const shown = all ? findings : findings.slice(0, FINDINGS_SHOWN);
+  const groups = useMemo(() => groupFindings(findings), [findings]);
+  let budget = all ? Infinity : FINDINGS_SHOWN;
+  const total = groups.reduce((n, g) => n + g.items.length, 0);
   return (
     <>
-      <ul className="editor-findings" data-testid="editor-findings">
-        {shown.map((f, i) => (
-          <li key={`${f.code}-${i}`}>
-            <button type="button" className={`finding finding-${f.severity}`} onClick={() => onPick(f)}>
-              <code>{f.code}</code> {f.severity}: {f.message}
-              {f.subjects.length > 0 && <span className="hint"> ({f.subjects.join(", ")})</span>}
-            </button>
-          </li>
-        ))}
-      </ul>
-      {shown.length < findings.length && (
+      {refused && (
+        <p className="refused" role="alert" data-testid="findings-refused">
+          Not saved: {refused}
+        </p>
+      )}
+      <div className="editor-findings" data-testid="editor-findings">
+        {groups.map((g) => {
+          if (budget <= 0) return null;
+          const items = g.items.slice(0, budget);
+          budget -= items.length;
+          return (
+            <section key={g.key} className="finding-group" aria-label={`${g.code} ${g.severity}s`}>
+              <h4>
+                <code>{g.code}</code> {g.severity === "error" ? "errors" : "warnings"} ({g.items.length})
+              </h4>
+              <ul>
+                {items.map((item) => (
+                  <li key={item.key}>
+                    <button type="button" className={`finding finding-${item.severity}`} onClick={() => onPick(item.findings[0]!, item.subjects)}>
+                      <code>{item.code}</code> {item.severity}: {item.message}
+                      {item.subjects.length > 0 && item.subjects.length <= SUBJECTS_SHOWN && <span className="hint"> ({item.subjects.join(", ")})</span>}
+                    </button>
+                    {item.subjects.length > SUBJECTS_SHOWN && (
+                      <details className="finding-subjects">
+                        <summary>
+                          {item.subjects.slice(0, SUBJECTS_SHOWN).join(", ")} and {item.subjects.length - SUBJECTS_SHOWN} more
+                        </summary>
+                        <p className="subject-list">{item.subjects.join(", ")}</p>
+                      </details>
+                    )}
+                  </li>
+                ))}
+              </ul>
+            </section>
+          );
+        })}
+      </div>
+      {!all && total > FINDINGS_SHOWN && (
         <button type="button" onClick={() => setAll(true)} data-testid="findings-show-all">
-          Show all {findings.length} findings
+          Show all {total} findings
         </button>
       )}
     </>
@@ -100,6 +140,7 @@ export const GoalInspector = memo(function GoalInspector({
       )}
       <label htmlFor="goal-title">Title</label>
       <input id="goal-title" ref={titleRef} value={goal.title ?? ""} onChange={(e) => set({ title: e.target.value }, `g:${id}:title`)} />
+      <RefusedNote fieldId="goal-title" />
       <label className="check">
         <input
           type="checkbox"
@@ -261,6 +302,7 @@ export function ConstraintsPanel({
             </legend>
             <label htmlFor={`c-${c.id}-text`}>{`${c.id} text`}</label>
             <input id={`c-${c.id}-text`} value={c.text ?? ""} onChange={(e) => editOrders((o) => updateConstraint(o, c.id, { text: e.target.value }), `c:${c.id}:text`)} />
+            <RefusedNote fieldId={`c-${c.id}-text`} />
             <ExprField
               id={`c-${c.id}-expr`}
               label={`${c.id} expression`}
@@ -268,6 +310,7 @@ export function ConstraintsPanel({
               known={known}
               onChange={(text) => editOrders((o) => updateConstraint(o, c.id, { expr: text }), `c:${c.id}:expr`)}
             />
+            <RefusedNote fieldId={`c-${c.id}-expr`} />
             <FieldFindings findings={findings} subject={c.id} codes={null} />
             <div role="group" aria-label={`Scope of ${c.id}`} className="scope">
               <label className="check">

@@ -7,6 +7,7 @@
  * are fetched only while their tab is open.
  */
 import "@xyflow/react/dist/style.css";
+import "./editor.css";
 
 import { Background, type Connection, Controls, type Edge, type FinalConnectionState, type Node, ReactFlow, ReactFlowProvider, useReactFlow } from "@xyflow/react";
 import { type KeyboardEvent, useCallback, useEffect, useMemo, useRef, useState } from "react";
@@ -52,7 +53,9 @@ import { ConstraintsPanel, FindingsList, GoalInspector, useScopePickClick } from
 import { CommitSelect } from "./fields";
 import { ExportMenu, ToolbarMenu } from "./Toolbar";
 import { readyWhenShown, showLaidOut } from "./ready";
-import { FIT, freePlace, GOTO_ZOOM, MIN_ZOOM, trackConnectPointer, SideMinimap, Splitter, useFillWindow, useSideWidth, ZoomDetail } from "./canvas";
+import { FIT, freePlace, GOTO_ZOOM, MIN_ZOOM, trackConnectPointer, SideMinimap, Splitter, useEditorFrame, useSideWidth, ZoomDetail } from "./canvas";
+import { ShortcutsDialog } from "./Shortcuts";
+import { RefusedNote } from "./RefusedNote";
 
 const PANELS = [
   { id: "editor-constraints", label: "Constraints" },
@@ -106,6 +109,9 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
   const onNodesChange = useEditor((s) => s.onNodesChange);
   const onEdgesChange = useEditor((s) => s.onEdgesChange);
   const select = useEditor((s) => s.select);
+  const refusal = useEditor((s) => s.refusal);
+  const focus = useEditor((s) => s.focus);
+  const [shortcutsOpen, setShortcutsOpen] = useState(false);
   const setConnectMessage = useCallback((connectMessage: string) => set({ connectMessage }), [set]);
   const setReady = useCallback((ready: boolean) => set({ ready }), [set]);
   const setPanel = useCallback((panel: string) => set({ panel }), [set]);
@@ -185,9 +191,10 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
   }, [nodes, select]);
 
   const [gotoText, setGotoText] = useState("");
+  const editorRef = useRef<HTMLDivElement>(null);
   const mainRef = useRef<HTMLDivElement>(null);
   const canvasRef = useRef<HTMLDivElement>(null);
-  const frame = useFillWindow(mainRef);
+  const frameHeight = useEditorFrame(editorRef, mainRef);
   const [sideWidth, setSideWidth] = useSideWidth();
   // The plain orders (as saved): fetched when their tab opens and after each save while open.
   const plainShown = panel === "editor-plain";
@@ -365,6 +372,26 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
     changed();
   };
 
+  // "Focus this goal": its predecessors and successors in view, the rest faded (useFlowElements).
+  const focusOn = (id: string | null) => {
+    set({ focus: id });
+    if (!id) {
+      void flow.fitView(FIT);
+      return;
+    }
+    const near = new Set([id]);
+    for (const e of edges) {
+      if (e.source === id) near.add(e.target);
+      if (e.target === id) near.add(e.source);
+    }
+    void flow.fitView({ nodes: [...near].map((n) => ({ id: n })), padding: 0.25, maxZoom: 1, minZoom: MIN_ZOOM });
+  };
+  // A refused change of a goal's or terminal's field: select it, so that its inspector shows
+  // the field with the refusal beside it.
+  useEffect(() => {
+    if (refusal?.select) select([refusal.select]);
+  }, [refusal, select]);
+
   // Shortcuts act only while focus is in the canvas (not in the inspector's fields).
   const onCanvasKey = (event: KeyboardEvent<HTMLDivElement>) => {
     const target = event.target as HTMLElement;
@@ -379,6 +406,9 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
     else if (mod && key === "d") duplicateSelected();
     else if (!mod && key === "g" && !event.altKey) addGoalNode();
     else if (!mod && key === "l" && !event.altKey) void relayout();
+    else if (!mod && key === "f" && !event.altKey && selectedId) focusOn(selectedId);
+    else if (event.key === "Escape" && focus) focusOn(null);
+    else if (event.key === "?") setShortcutsOpen(true);
     else return;
     event.preventDefault();
   };
@@ -429,9 +459,9 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
   const nodeIds = useRef(new Set<string>());
   nodeIds.current = new Set(graph.nodes.map((n) => n.id));
   const pickFinding = useCallback(
-    (f: Finding) => {
-      select(f.subjects);
-      const shown = f.subjects.filter((id) => nodeIds.current.has(id));
+    (f: Finding, subjects: string[] = f.subjects) => {
+      select(subjects);
+      const shown = subjects.filter((id) => nodeIds.current.has(id));
       if (shown.length > 0) void flow.fitView({ nodes: shown.map((id) => ({ id })), padding: 0.5, maxZoom: 1 });
       const path = findingPath(f);
       highlightPath(path, path ? `${f.code} counterexample` : "");
@@ -452,8 +482,8 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
   const selectedTerminal = terminals(orders).find((t) => t.id === selectedId);
   const errors = findings.filter((f) => f.severity === "error").length;
   return (
-    <div className="editor">
-      <div className="editor-toolbar" role="toolbar" aria-label="Graph editing">
+    <div className="editor" ref={editorRef}>
+      <div className="editor-toolbar" role="toolbar" aria-label="Graph editing" data-testid="editor-toolbar">
         {/* One row at 1280 px: the less frequent actions sit in menus (details/summary: Tab
             reaches each summary, Enter or Space opens it, Escape closes it). */}
         <button type="button" onClick={addGoalNode}>
@@ -513,6 +543,9 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
           <ExportMenu missionId={mission.id} saved={saveState === "saved"} />
           <NewFromExample />
         </ToolbarMenu>
+        <button type="button" onClick={() => setShortcutsOpen(true)} aria-haspopup="dialog" data-testid="shortcuts-button" title="Keyboard shortcuts (?)">
+          ?<span className="visually-hidden"> Keyboard shortcuts</span>
+        </button>
         <span className={`save-state save-${saveState}`} role="status" data-testid="save-state">
           {saveState === "saved" ? "Saved" : saveState === "pending" || saveState === "saving" ? "Saving…" : saveState === "conflict" ? "Conflict" : "Not saved"}
         </span>
@@ -538,13 +571,13 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
           </button>
         </p>
       )}
-      <div className="editor-main" ref={mainRef} style={{ height: frame.height, width: frame.width, marginLeft: frame.marginLeft, gridTemplateColumns: `minmax(0, 1fr) 8px ${sideWidth}px` }}>
+      <div className="editor-main" ref={mainRef} style={{ height: frameHeight, gridTemplateColumns: `minmax(0, 1fr) 8px ${sideWidth}px` }}>
         <div
           ref={canvasRef}
           className="editor-canvas"
           tabIndex={0}
           role="group"
-          aria-label="Mission graph. Shortcuts: G add goal, Delete remove selection, Ctrl+C copy, Ctrl+V paste, Ctrl+D duplicate, Ctrl+Z undo, Ctrl+Shift+Z or Ctrl+Y redo, L auto layout; Tab moves between nodes, Enter selects, arrows move."
+          aria-label="Mission graph (Tab moves between nodes; press ? for the keyboard shortcuts)"
           onKeyDown={onCanvasKey}
           data-testid="editor-canvas"
           data-ready={ready ? "true" : "false"}
@@ -563,6 +596,7 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
             onNodeDragStop={onNodeDragStop}
             onNodeClick={onScopePickClick}
             deleteKeyCode={null}
+            edgesFocusable={false}
             minZoom={MIN_ZOOM}
             fitView={!large.current}
             fitViewOptions={FIT}
@@ -575,9 +609,23 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
           </ReactFlow>
         </div>
         <Splitter width={sideWidth} onWidth={setSideWidth} />
-        <aside className="editor-side" aria-label="Inspector">
-          <SideMinimap width={sideWidth - 24} />
-          <h3>Inspector</h3>
+        <aside className="editor-side" aria-label="Inspector and findings">
+          <SideMinimap width={sideWidth - 8} height={Math.round(Math.min(140, Math.max(80, frameHeight * 0.16)))} />
+          <section className="editor-inspector" aria-labelledby="editor-inspector-title" tabIndex={0} data-testid="editor-inspector">
+          <h3 id="editor-inspector-title">Inspector</h3>
+          {selectedGoal && (
+            <p className="focus-row">
+              {focus === selectedGoal.id ? (
+                <button type="button" onClick={() => focusOn(null)} data-testid="unfocus-goal">
+                  Show the whole graph
+                </button>
+              ) : (
+                <button type="button" onClick={() => focusOn(selectedGoal.id)} data-testid="focus-goal">
+                  Focus this goal (F)
+                </button>
+              )}
+            </p>
+          )}
           {selectedGoal ? (
             <GoalInspector
               key={selectedGoal.id}
@@ -597,6 +645,7 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
                 value={selectedTerminal.title ?? ""}
                 onChange={(e) => editOrders((o) => updateTerminal(o, selectedTerminal.id, { title: e.target.value }), `t:${selectedTerminal.id}:title`)}
               />
+              <RefusedNote fieldId="terminal-title" />
               <label htmlFor="terminal-kind">Kind</label>
               <CommitSelect
                 id="terminal-kind"
@@ -613,16 +662,18 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
               red) handle to the next goal or terminal.
             </p>
           )}
-          <section aria-labelledby="editor-findings-title">
+          </section>
+          <section className="editor-findings-panel" aria-labelledby="editor-findings-title" tabIndex={0} data-testid="editor-findings-panel">
             <h3 id="editor-findings-title">Findings</h3>
             {report && (
               <p className={report.ok ? "verdict ok" : "verdict bad"} data-testid="editor-verdict">
+                {refusal ? "As last saved: " : ""}
                 {report.ok ? "Valid" : "Not valid"}: {plural(errors, "error")}, {plural(findings.length - errors, "warning")}.
                 {report.paths ? ` ${plural(report.paths.count, "path")}.` : ""}
                 {checkMs !== null && <span className="hint" data-testid="check-time"> Checked {checkMs} ms after the edit.</span>}
               </p>
             )}
-            <FindingsList findings={findings} onPick={pickFinding} />
+            <FindingsList findings={findings} onPick={pickFinding} refused={refusal?.message ?? null} />
           </section>
         </aside>
       </div>
@@ -651,6 +702,7 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
         </Tabs>
       </div>
       {planOpen && <PlanDialog mission={mission} orders={orders} onClose={() => setPlanOpen(false)} />}
+      {shortcutsOpen && <ShortcutsDialog onClose={() => setShortcutsOpen(false)} />}
       {conflict && <ConflictDialog conflict={conflict} onReload={reloadTheirs} onResolve={resolve} />}
     </div>
   );

@@ -14,40 +14,44 @@ import { GOAL_SIZE } from "./layout";
  * drawn large enough to stay legible (styles.css, `--zoom`). */
 export const MIN_ZOOM = 0.15;
 export const FIT = { padding: 0.08, minZoom: MIN_ZOOM, maxZoom: 1.2 };
-const MIN_CANVAS_PX = 420;
+const MIN_CANVAS_PX = 360;
 
-export interface CanvasFrame {
-  height: number;
-  /** The canvas and inspector span the window's width (the page's margins left out). */
-  marginLeft: number;
-  width: number | undefined;
-}
-
-/** Keeps the element's height to the bottom of the window (at least MIN_CANVAS_PX) and its width
- * to the window's: the element is pulled left out of the page's margins. */
-export function useFillWindow(ref: RefObject<HTMLElement | null>): CanvasFrame {
-  const [frame, setFrame] = useState<CanvasFrame>({ height: 620, marginLeft: 0, width: undefined });
+/**
+ * The height of the canvas and the side column (issue 32): the window's height less what stands
+ * above them in the editor (toolbar, notices), so that, with the editor at the top of the
+ * window, canvas, inspector and findings all fit in it; never below MIN_CANVAS_PX. The width is
+ * the page's card's (no pull out of it: issue 32 found the canvas at x = 0, outside the card).
+ * On open the editor scrolls to the top of the window once, if it does not fit where it is.
+ */
+export function useEditorFrame(editor: RefObject<HTMLElement | null>, main: RefObject<HTMLElement | null>): number {
+  const [height, setHeight] = useState(620);
   useLayoutEffect(() => {
     const measure = () => {
-      const el = ref.current;
-      const top = el?.getBoundingClientRect().top ?? 0;
-      // The parent's left edge is where the element would start without the pull.
-      const parent = el?.parentElement?.getBoundingClientRect();
-      const style = el?.parentElement ? getComputedStyle(el.parentElement) : null;
-      const left = parent && style ? parent.left + parseFloat(style.paddingLeft) + parseFloat(style.borderLeftWidth) + window.scrollX : 0;
-      const width = document.documentElement.clientWidth;
-      const next = {
-        height: Math.max(MIN_CANVAS_PX, Math.round(window.innerHeight - Math.max(0, top) - 12)),
-        marginLeft: -Math.round(left),
-        width,
-      };
-      setFrame((f) => (f.height === next.height && f.marginLeft === next.marginLeft && f.width === next.width ? f : next));
+      const top = editor.current?.getBoundingClientRect().top ?? 0;
+      const mainTop = main.current?.getBoundingClientRect().top ?? 0;
+      const above = Math.max(0, mainTop - top);
+      // 28 px below: the card's padding and border, so that its bottom edge shows too.
+      const next = Math.max(MIN_CANVAS_PX, Math.round(window.innerHeight - above - 28));
+      setHeight((h) => (h === next ? h : next));
     };
     measure();
+    const observer = typeof ResizeObserver === "undefined" ? null : new ResizeObserver(measure);
+    if (observer && editor.current) observer.observe(editor.current.firstElementChild ?? editor.current);
     window.addEventListener("resize", measure);
-    return () => window.removeEventListener("resize", measure);
-  }, [ref]);
-  return frame;
+    return () => {
+      observer?.disconnect();
+      window.removeEventListener("resize", measure);
+    };
+  }, [editor, main]);
+  useEffect(() => {
+    const el = editor.current;
+    if (!el) return;
+    const box = el.getBoundingClientRect();
+    if (box.top < 0 || box.top + (main.current?.offsetHeight ?? 0) > window.innerHeight) {
+      window.scrollTo({ top: window.scrollY + box.top - 4, behavior: "instant" as ScrollBehavior });
+    }
+  }, [editor, main]);
+  return height;
 }
 
 /** Publishes the zoom as `--zoom` and a level of detail (`data-lod`) on the canvas element. */
@@ -158,15 +162,40 @@ export function Splitter({ width, onWidth }: { width: number; onWidth: (w: numbe
   );
 }
 
-/** The minimap, outside the graph's area (at the top of the inspector), shown or hidden. */
-export function SideMinimap({ width }: { width: number }) {
+/** Minimap colours: goals by their findings, terminals by kind (a grey box told nothing). */
+function minimapColour(node: { type?: string; data: Record<string, unknown> }): string {
+  if (node.data.severity === "error") return "#c9202c";
+  if (node.data.severity === "warning") return "#d69e2e";
+  if (node.type === "terminal") return node.data.terminalKind === "abort" ? "#8a2a2a" : "#1a7f37";
+  return "#59606b";
+}
+
+/** The minimap, outside the graph's area (at the top of the side column), shown or hidden. Its
+ * mask and background are given: xyflow's defaults come from CSS variables, and without them
+ * (issue 32) the minimap drew as a black box. */
+export function SideMinimap({ width, height = 110 }: { width: number; height?: number }) {
   const [shown, setShown] = useState(true);
   return (
     <div className="side-minimap">
       <button type="button" className="link-button" onClick={() => setShown(!shown)} aria-expanded={shown}>
         {shown ? "Hide minimap" : "Show minimap"}
       </button>
-      {shown && <MiniMap pannable zoomable ariaLabel="Minimap of the mission graph" nodeColor="#c8ccd2" style={{ width, height: 120, position: "static", margin: 0 }} />}
+      {shown && (
+        <MiniMap
+          pannable
+          zoomable
+          ariaLabel="Minimap of the mission graph"
+          nodeColor={minimapColour}
+          nodeStrokeColor="#1b1f24"
+          nodeStrokeWidth={2}
+          nodeBorderRadius={6}
+          bgColor="#fbfbfc"
+          maskColor="rgba(31, 95, 191, 0.12)"
+          maskStrokeColor="#1f5fbf"
+          maskStrokeWidth={2}
+          style={{ width, height, position: "static", margin: 0 }}
+        />
+      )}
     </div>
   );
 }

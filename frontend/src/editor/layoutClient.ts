@@ -1,7 +1,7 @@
 /** Runs the auto layout in a Web Worker (layout.worker.ts), one worker per page, falling back
  * to the page's thread where workers are not available (tests under Node). */
 import type { Layout, Orders } from "./graph";
-import { autoLayout, type Sizes } from "./layout";
+import { autoLayout, layeredLayout, type Sizes } from "./layout";
 import layoutWorkerSrc from "./layout.worker.ts?worker&url";
 
 let worker: Worker | null = null;
@@ -60,7 +60,7 @@ export function canvasAspect(): number | undefined {
   return pane && pane.height > 0 ? Math.min(3, Math.max(0.8, pane.width / pane.height)) : undefined;
 }
 
-/** A worker that has not answered in this long is dropped and the layout done on the page. */
+/** A worker that has not answered in this long is dropped and the linear layout done on the page. */
 const WORKER_PATIENCE_MS = 10_000;
 
 export function layoutOffThread(orders: Orders, sizes: Sizes = {}, aspect?: number): Promise<Layout> {
@@ -72,7 +72,7 @@ export function layoutOffThread(orders: Orders, sizes: Sizes = {}, aspect?: numb
       waiting.delete(id);
       w.terminate();
       if (worker === w) worker = null;
-      autoLayout(orders, sizes, aspect).then(resolve, reject);
+      resolve(layeredLayout(orders, aspect)); // linear: never ELK on the page's thread
     }, WORKER_PATIENCE_MS);
     waiting.set(id, {
       resolve: (l) => {
@@ -81,7 +81,11 @@ export function layoutOffThread(orders: Orders, sizes: Sizes = {}, aspect?: numb
       },
       reject: (e) => {
         window.clearTimeout(timer);
-        autoLayout(orders, sizes, aspect).then(resolve, () => reject(e));
+        try {
+          resolve(layeredLayout(orders, aspect));
+        } catch {
+          reject(e);
+        }
       },
     });
     w.postMessage({ id, orders, sizes, aspect });

@@ -171,9 +171,11 @@ describe("orders edits beside the graph", () => {
     orders = updateQuantity(orders, "depth_m", { unit: "m", min: 0, max: undefined });
     expect(orders.quantities).toEqual({ depth_m: { unit: "m", min: 0 } });
     orders = addNorm(orders).orders;
+    expect(orders.norms).toEqual([{ id: "N1", context: "marine_protected_area", permitted: "true" }]);
+    orders = setNormKind(orders, "N1", "forbidden");
     orders = updateNorm(orders, "N1", { forbidden: "behavior == 'sample'" });
     orders = setNormKind(orders, "N1", "obligated");
-    expect(orders.norms).toEqual([{ id: "N1", obligated: "behavior == 'sample'" }]);
+    expect(orders.norms).toEqual([{ id: "N1", context: "marine_protected_area", obligated: "behavior == 'sample'" }]);
   });
   it("reads goal parameters as numbers, booleans or text", () => {
     expect(parseParams("pd 0.8\npartner vehicle-2\nloud true")).toEqual({ params: { pd: 0.8, partner: "vehicle-2", loud: true } });

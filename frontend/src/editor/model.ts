@@ -182,9 +182,13 @@ export function norms(orders: Orders): NormSpec[] {
 function withNorms(orders: Orders, list: NormSpec[]): Orders {
   return { ...orders, norms: list as Orders["norms"] };
 }
+/** A new norm is valid as created (the server refuses a norm without a context or without
+ * exactly one modality): the first context the areas name (else a protected area), permitting
+ * `true`, which constrains nothing until the operator writes the norm. */
 export function addNorm(orders: Orders): { orders: Orders; id: string } {
   const id = freeId(norms(orders).map((n) => n.id), "N");
-  return { orders: withNorms(orders, [...norms(orders), { id }]), id };
+  const context = areas(orders).flatMap((a) => a.contexts ?? [])[0] ?? "marine_protected_area";
+  return { orders: withNorms(orders, [...norms(orders), { id, context, permitted: "true" }]), id };
 }
 export function updateNorm(orders: Orders, id: string, changes: Record<string, unknown>): Orders {
   return withNorms(orders, norms(orders).map((n) => (n.id === id ? patch(n, changes) : n)));
@@ -196,8 +200,9 @@ export function normKind(norm: NormSpec): NormKind {
 export function setNormKind(orders: Orders, id: string, kind: NormKind): Orders {
   const norm = norms(orders).find((n) => n.id === id);
   if (!norm) return orders;
+  // The expression moves along; an empty one becomes `true`, so that the norm keeps a modality.
   const expr = norm[normKind(norm)] ?? "";
-  return updateNorm(orders, id, { forbidden: undefined, obligated: undefined, permitted: undefined, [kind]: expr || undefined });
+  return updateNorm(orders, id, { forbidden: undefined, obligated: undefined, permitted: undefined, [kind]: expr || "true" });
 }
 export function deleteNorm(orders: Orders, id: string): Orders {
   return patch(orders, { norms: norms(orders).filter((n) => n.id !== id) });

@@ -27,13 +27,32 @@ function Markers({ id, data }: { id: string; data: NodeData }) {
   );
 }
 
+/** An id with break opportunities where a word meets a number or a separator ("PSMD" "14.0"), so
+ * that far out, drawn large, a long id wraps inside its node instead of running into the next. */
+function BreakableId({ id }: { id: string }) {
+  const parts = id.split(/(?<=[A-Za-z])(?=\d)|(?=[._/-])/);
+  return (
+    <div className="node-id">
+      {parts.map((part, i) => (
+        <span key={i}>
+          {i > 0 && <wbr />}
+          {part}
+        </span>
+      ))}
+    </div>
+  );
+}
+
 export const GoalNode = memo(function GoalNode({ id, data, selected }: NodeProps<GoalNodeType>) {
   return (
     <div
       className={`graph-node goal-node${selected ? " selected" : ""}${data.severity ? ` marked-${data.severity}` : ""}`}
       data-testid={`node-${id}`}
     >
-      <Handle type="target" position={Position.Left} id="in" className="handle handle-in" data-testid={`handle-${id}-in`} aria-label={`Into ${id}`} />
+      {/* Handles carry a title, not an aria-label: a div without a role may not have one
+          (axe: aria-prohibited-attr); the node's own label names the goal and its findings. */}
+      <Handle type="target" position={Position.Left} id="in" className="handle handle-in" data-testid={`handle-${id}-in`} title={`Into ${id}`} />
+      <BreakableId id={id} />
       <div className="node-head">
         <code>{id}</code>
         {data.start && <span className="node-start">start</span>}
@@ -49,8 +68,7 @@ export const GoalNode = memo(function GoalNode({ id, data, selected }: NodeProps
           className={`handle handle-${o}`}
           style={{ top: `${25 + i * 25}%` }}
           data-testid={`handle-${id}-${o}`}
-          aria-label={`${id} ${OUTCOME_LABEL[o]} outcome`}
-          title={`${OUTCOME_LABEL[o]}: drag to the next goal or terminal`}
+          title={`${id} ${OUTCOME_LABEL[o]}: drag to the next goal or terminal`}
         >
           {OUTCOME_LETTER[o]}
         </Handle>
@@ -65,7 +83,8 @@ export const TerminalNode = memo(function TerminalNode({ id, data, selected }: N
       className={`graph-node terminal-node terminal-${data.terminalKind ?? "complete"}${selected ? " selected" : ""}${data.severity ? ` marked-${data.severity}` : ""}`}
       data-testid={`node-${id}`}
     >
-      <Handle type="target" position={Position.Left} id="in" className="handle handle-in" data-testid={`handle-${id}-in`} aria-label={`Into ${id}`} />
+      <Handle type="target" position={Position.Left} id="in" className="handle handle-in" data-testid={`handle-${id}-in`} title={`Into ${id}`} />
+      <BreakableId id={id} />
       <div className="node-head">
         <code>{id}</code>
         <span className="node-kind">{data.terminalKind === "abort" ? "abort" : "complete"}</span>
@@ -95,10 +114,12 @@ export const OutcomeEdge = memo(function OutcomeEdge({
   markerEnd,
   label,
   labelStyle,
+  data,
 }: EdgeProps) {
   const [path, labelX, labelY] = getBezierPath({ sourceX, sourceY, targetX, targetY, sourcePosition, targetPosition });
   return (
     <>
+      {data?.loop ? <path d={path} className="loop-halo" strokeWidth={16} /> : null}
       <BaseEdge id={id} path={path} style={style} markerEnd={markerEnd} />
       {label ? (
         <text x={labelX} y={labelY} dy="0.3em" textAnchor="middle" className="outcome-edge-label" style={labelStyle}>

@@ -8,6 +8,7 @@ import { useMemo, useRef, useState } from "react";
 import { numberPair } from "../api/pair";
 import { CommitField, CommitSelect, ExprField } from "./fields";
 import { VehiclePicker } from "./VehiclePicker";
+import { RefusedNote } from "./RefusedNote";
 import { envelopeToText, type Orders, parseEnvelope } from "./graph";
 import {
   addArea,
@@ -496,6 +497,7 @@ export function NormsPanel({ orders, editOrders, markers, known }: { orders: Ord
               value={n.context ?? ""}
               onChange={(e) => editOrders((o) => updateNorm(o, n.id, { context: e.target.value }), `n:${n.id}:context`)}
             />
+            <RefusedNote fieldId={`norm-${n.id}-context`} />
             <label htmlFor={`norm-${n.id}-kind`}>{`Norm ${n.id} kind`}</label>
             <CommitSelect id={`norm-${n.id}-kind`} value={kind} onCommit={(v) => editOrders((o) => setNormKind(o, n.id, v as NormKind))}>
               {NORM_KINDS.map((k) => (
@@ -511,12 +513,14 @@ export function NormsPanel({ orders, editOrders, markers, known }: { orders: Ord
               known={known}
               onChange={(text) => editOrders((o) => updateNorm(o, n.id, { [kind]: text }), `n:${n.id}:expr`)}
             />
+            <RefusedNote fieldId={`norm-${n.id}-expr`} />
             <label htmlFor={`norm-${n.id}-text`}>{`Norm ${n.id} text`}</label>
             <input
               id={`norm-${n.id}-text`}
               value={n.text ?? ""}
               onChange={(e) => editOrders((o) => updateNorm(o, n.id, { text: e.target.value }), `n:${n.id}:text`)}
             />
+            <RefusedNote fieldId={`norm-${n.id}-text`} />
             <button type="button" className="danger" onClick={() => editOrders((o) => deleteNorm(o, n.id))}>
               Delete norm {n.id}
             </button>

@@ -16,6 +16,7 @@ import { goals, terminals } from "./graph";
 import { createHistory, type History } from "./history";
 import { layeredLayout } from "./layout";
 import type { NodeData } from "./nodes";
+import type { Refusal } from "./refusal";
 
 export interface Draft {
   orders: Orders;
@@ -70,6 +71,10 @@ export interface EditorState {
   panel: string;
   /** The constraint whose scope clicks on goals now toggle ("Pick scope on the graph"), or null. */
   scopePick: string | null;
+  /** The last change the server refused (shown beside its field and in Findings), or null. */
+  refusal: Refusal | null;
+  /** The goal whose neighbourhood is in focus (the rest fades), or null. */
+  focus: string | null;
 
   setHistory: (update: Update<History<Draft>>) => void;
   setNodes: (update: Update<Node<NodeData>[]>) => void;
@@ -90,9 +95,10 @@ function openedDraft(mission: MissionDetail): Draft {
   return opened;
 }
 
-/** The canvas's aspect ratio before it exists: the window less the inspector and the page above. */
+/** The canvas's aspect ratio before it exists (canvas.tsx): the window's width less the page's
+ * margins and the side column (30%), its height less the toolbar. */
 function openingAspect(): number {
-  return Math.min(3, Math.max(0.8, (window.innerWidth - 360) / Math.max(300, window.innerHeight - 400)));
+  return Math.min(3, Math.max(0.8, (window.innerWidth * 0.7 - 100) / Math.max(300, window.innerHeight - 120)));
 }
 
 /** Whether every goal and terminal of the draft has a position (an empty draft counts as not). */
@@ -128,6 +134,8 @@ export function createEditorStore(mission: MissionDetail, report: Report | null 
     placed: isLaidOut(draft),
     panel: "editor-constraints",
     scopePick: null,
+    refusal: null,
+    focus: null,
 
     setHistory: (update) => set((s) => ({ history: apply(update, s.history) })),
     setNodes: (update) => set((s) => ({ nodes: apply(update, s.nodes) })),

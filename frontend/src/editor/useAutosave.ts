@@ -9,6 +9,7 @@ import { api, type MissionDetail, unwrap } from "../api/client";
 import { describeDifferences, type Layout, type Orders } from "./graph";
 import { push, reset } from "./history";
 import { mergeOrders, resolveMerge, type Side } from "./merge";
+import { refusalOf } from "./refusal";
 import { type Draft, useEditorApi } from "./store";
 import type { ServerCheck } from "./useServerCheck";
 
@@ -104,9 +105,12 @@ export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDeta
         await api.PUT("/api/missions/{mission_id}/layout", { params: { path: { mission_id: mission.id } }, body: { layout: sent.layout } }).then(unwrap);
         set({ savedLayout: sent.layout });
       }
-      set({ saveError: null, saveState: latest() === sent ? "saved" : "pending" });
+      set({ saveError: null, refusal: null, saveState: latest() === sent ? "saved" : "pending" });
     } catch (e) {
-      set({ saveError: e, saveState: "error" });
+      // A refused change is shown beside its field, on the panel (or goal) that holds it.
+      const refusal = refusalOf(e, sent.orders);
+      set({ saveError: e, saveState: "error", refusal });
+      if (refusal?.panel) set({ panel: refusal.panel });
     } finally {
       saving.current = false;
       if (again.current) {

@@ -19,6 +19,7 @@ import {
   OUTCOMES,
   pathElements,
 } from "./graph";
+import { loopsOf } from "./findingGroups";
 import type { NodeData } from "./nodes";
 import { useEditor, useEditorApi } from "./store";
 
@@ -64,6 +65,7 @@ export function useFlowElements(large: boolean): FlowElements {
   const placed = useEditor((s) => s.placed);
   const scopePick = useEditor((s) => s.scopePick);
   const inScope = useMemo(() => scopeOf(draft.orders, scopePick), [draft.orders, scopePick]);
+  const focus = useEditor((s) => s.focus);
 
   const findings = useMemo(() => report?.findings ?? [], [report]);
   useEffect(() => {
@@ -73,6 +75,26 @@ export function useFlowElements(large: boolean): FlowElements {
   const graph = useMemo(() => ordersToGraph(draft.orders, draft.layout), [draft.orders, draft.layout]);
   const edgeMarks = useMemo(() => edgeMarkers(findings, graph.edges), [findings, graph.edges]);
   const onPath = useMemo(() => (highlight ? pathElements(highlight.path) : null), [highlight]);
+  // Loops are drawn once, as a highlighted cycle (a halo under the edges inside one loop), not
+  // as a "✖ G7" label on every edge (issue 32).
+  const loopEdges = useMemo(() => {
+    const inLoop = new Set<string>();
+    for (const loop of loopsOf(findings)) {
+      const goals = new Set(loop.goals);
+      for (const e of graph.edges) if (goals.has(e.source) && goals.has(e.target)) inLoop.add(e.id);
+    }
+    return inLoop;
+  }, [findings, graph.edges]);
+  // "Focus this goal": the goal, its predecessors and successors stay; the rest fades.
+  const near = useMemo(() => {
+    if (!focus) return null;
+    const nodes = new Set([focus]);
+    for (const e of graph.edges) {
+      if (e.source === focus) nodes.add(e.target);
+      if (e.target === focus) nodes.add(e.source);
+    }
+    return nodes;
+  }, [focus, graph.edges]);
 
   // Before the browser paints: markers show in the same frame as the findings list.
   useLayoutEffect(() => {
@@ -94,7 +116,7 @@ export function useFlowElements(large: boolean): FlowElements {
         const ariaLabel = `${n.kind === "goal" ? "Goal" : "Terminal"} ${n.id}: ${n.label}${n.start ? " (start)" : ""}${
           mark ? `; findings ${mark.codes.join(", ")}` : ""
         }${lit ? "; on the highlighted path" : ""}`;
-        const className = `${lit ? "on-path" : ""}${inScope.has(n.id) ? " in-scope" : ""}`.trim();
+        const className = `${lit ? "on-path" : ""}${inScope.has(n.id) ? " in-scope" : ""}${near && !near.has(n.id) ? " dimmed" : ""}`.trim();
         if (
           old &&
           old.type === n.kind &&
@@ -129,14 +151,19 @@ export function useFlowElements(large: boolean): FlowElements {
         .filter((e) => !e.dangling)
         .map((e): Edge => {
           const old = before.get(e.id);
-          const mark = edgeMarks.get(e.id);
+          const loop = loopEdges.has(e.id);
+          // A loop's edges carry its halo instead of the G7 code; other codes stay on the label.
+          const marked = edgeMarks.get(e.id);
+          const codes = (marked?.codes ?? []).filter((c) => c !== "G7");
+          const mark = marked && codes.length > 0 ? { ...marked, codes } : undefined;
           const lit = onPath?.edges.has(e.id) ?? false;
           const colour = COLOURS[e.outcome];
+          const faded = near !== null && e.source !== focus && e.target !== focus;
           const label = `${OUTCOME_LETTER[e.outcome]}${mark ? ` ${mark.severity === "error" ? "✖" : "⚠"} ${mark.codes.join(" ")}` : ""}${lit ? " ●" : ""}`;
-          const className = `edge-${e.outcome}${mark ? ` edge-marked edge-marked-${mark.severity}` : ""}${lit ? " edge-on-path" : ""}`;
+          const className = `edge-${e.outcome}${mark ? ` edge-marked edge-marked-${mark.severity}` : ""}${lit ? " edge-on-path" : ""}${loop ? " edge-loop" : ""}${faded ? " dimmed" : ""}`;
           const ariaLabel = `${e.source} ${OUTCOME_LABEL[e.outcome]} to ${e.target}${mark ? `; findings ${mark.codes.join(", ")}` : ""}${
-            lit ? "; on the highlighted path" : ""
-          }`;
+            loop ? "; in a loop (G7)" : ""
+          }${lit ? "; on the highlighted path" : ""}`;
           // Unchanged edges keep their object (the id names source, outcome and target; the
           // style follows from the label and class).
           if (old && old.label === label && old.className === className && old.ariaLabel === ariaLabel) return old;
@@ -149,7 +176,11 @@ export function useFlowElements(large: boolean): FlowElements {
             targetHandle: "in",
             label,
             className,
-            style: { stroke: colour, strokeWidth: lit ? 5 : mark ? 3 : 2, strokeDasharray: mark ? "6 4" : undefined },
+            data: { loop },
+            // Tab reaches the nodes, not the edges (issue 32: it walked every edge first); an
+            // edge is changed in its goal's inspector (the outcome's next goal).
+            focusable: false,
+            style: { stroke: colour, strokeWidth: lit ? 5 : mark || loop ? 3 : 2, strokeDasharray: mark ? "6 4" : undefined },
             labelStyle: { fill: colour, fontWeight: 700 },
             markerEnd: { type: MarkerType.ArrowClosed, color: colour },
             ariaLabel,
@@ -157,7 +188,7 @@ export function useFlowElements(large: boolean): FlowElements {
           };
         });
     });
-  }, [store, graph, markers, edgeMarks, onPath, placed, large]);
+  }, [store, graph, markers, edgeMarks, onPath, placed, large, loopEdges, near, focus, inScope]);
 
   return { graph, findings, markers };
 }

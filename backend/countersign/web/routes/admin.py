@@ -10,6 +10,7 @@ from pydantic import BaseModel, Field
 from sqlalchemy import func, select
 
 from ...orders.model import Vehicle
+from ...store import draft_bursts
 from ...store.accounts import (
     AccountError,
     create_token,
@@ -208,6 +209,7 @@ def list_events(
 ) -> list[EventOut]:
     """The event log, filtered and paged by the server (at most `limit` rows a call). Each
     event carries `index`, its entry's index in the transparency log: the number to show."""
+    draft_bursts.flush_quiet_before_reading(db)  # editing bursts that ended are listed
     query = select(Event)
     if order == "newest":
         query = query.order_by(Event.id.desc())
