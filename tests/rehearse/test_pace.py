@@ -166,9 +166,12 @@ def test_the_scene_draws_the_verifiers_legs_and_charts(
         nodes = client.scene_nodes()
         legs = [n for n in nodes if n.startswith("/legs/") and not n.endswith("/label")]
         assert len(legs) == len(world.legs) > 0
-        first = world.legs[0]
-        assert nodes["/legs/0/label"]["props"]["text"] == {"succeed": "s", "fail": "f",
-                                                          "violate": "c"}[first.outcome]
+        # One label of letters per leg pair (legs sharing their middle), the first leg's first.
+        letter = {"succeed": "s", "fail": "f", "violate": "c"}
+        labels = [nodes[n]["props"]["text"] for n in nodes if n.startswith("/leg_labels/")]
+        assert 0 < len(labels) <= len(world.legs)
+        assert all(set(text.split()) <= set(letter.values()) for text in labels), labels
+        assert letter[world.legs[0].outcome] in nodes["/leg_labels/0"]["props"]["text"].split()
         assert world.legs == mission_legs(exemplar)[2]  # the verifier's legs, drawn
         # A chart's title is text in a label (never markup), drawn in the verifier's frame.
         assert nodes["/charts/chart_KO1/label"]["props"]["text"] == "<b>Keep out</b>"
