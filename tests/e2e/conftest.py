@@ -27,6 +27,7 @@ from typing import TYPE_CHECKING, Any
 import pytest
 
 if TYPE_CHECKING:
+    import httpx
     from playwright.sync_api import Browser, Page, Playwright
 
 REPO = Path(__file__).resolve().parents[2]
@@ -264,6 +265,45 @@ def own_exemplar(server: Server) -> str:
     return _api_import(server, json.dumps(orders).encode(), "application/json")
 
 
+# The server checks at most ten passwords a minute per account, sign-ins included
+# (store/login_throttle.py), and the suite signs the shared accounts in more often than that;
+# a sign-in the throttle refuses is tried again once the wait it names is over.
+THROTTLE_PATIENCE_S = 150
+THROTTLED = re.compile(r"Too many requests: .*try again in (\d+) s")
+
+
+def api_login(client: httpx.Client, username: str, password: str) -> httpx.Response:
+    """POST /api/auth/login, waiting out the password throttle (429 with Retry-After)."""
+    deadline = time.monotonic() + THROTTLE_PATIENCE_S
+    while True:
+        answer = client.post("/api/auth/login",
+                             json={"username": username, "password": password})
+        if answer.status_code != 429 or time.monotonic() > deadline:
+            return answer
+        time.sleep(int(answer.headers.get("Retry-After", "1")) + 0.2)
+
+
+def submit_sign_in(page: Page, username: str, password: str) -> None:
+    """Fill in and submit the sign-in form, submitting again after waiting out a throttle
+    refusal; returns when the app shows a signed-in user or any other sign-in error."""
+    from playwright.sync_api import expect
+
+    deadline = time.monotonic() + THROTTLE_PATIENCE_S
+    while True:
+        page.get_by_label("Username").fill(username)
+        page.get_by_label("Password").fill(password)
+        page.get_by_role("button", name="Sign in").click()
+        signed_in = page.get_by_test_id("current-user")
+        alert = page.locator("form.login").get_by_role("alert")
+        expect(signed_in.or_(alert)).to_be_visible()
+        if signed_in.count() or not alert.count():
+            return
+        throttled = THROTTLED.search(alert.inner_text())
+        if throttled is None or time.monotonic() > deadline:
+            return
+        time.sleep(int(throttled.group(1)) + 0.2)
+
+
 def make_user(server: Server, role: str) -> tuple[str, str]:
     """A new account of `role` created by the admin through the API: (username, password), for a
     test whose assertions depend on that user's own state (keys, sessions) on the shared server."""
@@ -272,8 +312,7 @@ def make_user(server: Server, role: str) -> tuple[str, str]:
     username = f"{role}-{secrets.token_hex(4)}"
     password = f"Xy7-{secrets.token_hex(6)}-e2e-Qw9"
     with httpx.Client(base_url=server.url, timeout=60) as client:
-        login = client.post("/api/auth/login",
-                            json={"username": "admin", "password": PASSWORD["admin"]})
+        login = api_login(client, "admin", PASSWORD["admin"])
         login.raise_for_status()
         made = client.post("/api/users", headers={"X-CSRF-Token": login.json()["csrf_token"]},
                            json={"username": username, "role": role, "password": password,
@@ -287,8 +326,7 @@ def _api_import(server: Server, body: bytes, content_type: str) -> str:
     import httpx
 
     with httpx.Client(base_url=server.url, timeout=30) as client:
-        login = client.post("/api/auth/login",
-                            json={"username": "operator", "password": PASSWORD["operator"]})
+        login = api_login(client, "operator", PASSWORD["operator"])
         login.raise_for_status()
         token = login.json()["csrf_token"]
         answer = client.post("/api/import", content=body,

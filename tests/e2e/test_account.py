@@ -12,7 +12,7 @@ from collections.abc import Iterator
 import httpx
 from playwright.sync_api import Browser, BrowserContext, Page, expect
 
-from .conftest import PASSWORD, Server
+from .conftest import PASSWORD, Server, api_login
 
 FIRST = "Kq8-first-Zt4-pass"
 SECOND = "Wm3-second-Hx7-pass"
@@ -21,8 +21,7 @@ RESET = "Pv5-reset-Nc2-pass"
 
 def _create_user(server: Server, username: str) -> None:
     with httpx.Client(base_url=server.url, timeout=30) as client:
-        login = client.post("/api/auth/login",
-                            json={"username": "admin", "password": PASSWORD["admin"]})
+        login = api_login(client, "admin", PASSWORD["admin"])
         login.raise_for_status()
         made = client.post("/api/users", json={"username": username, "role": "operator",
                                                 "display_name": "", "password": FIRST},

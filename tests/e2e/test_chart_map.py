@@ -18,7 +18,7 @@ from typing import Any
 import pytest
 from playwright.sync_api import Browser, Locator, Page, expect
 
-from .conftest import PASSWORD, REPO, Server, _api_import
+from .conftest import PASSWORD, REPO, Server, _api_import, submit_sign_in
 
 SIZES = [(1024, 768), (1280, 800)]
 AXE = REPO / "frontend" / "node_modules" / "axe-core" / "axe.min.js"
@@ -43,9 +43,7 @@ def _page(browser: Browser, server: Server, size: tuple[int, int]) -> tuple[Page
     problems: list[str] = []
     page.on("pageerror", lambda error: problems.append(str(error)))
     page.goto("/")
-    page.get_by_label("Username").fill("operator")
-    page.get_by_label("Password").fill(PASSWORD["operator"])
-    page.get_by_role("button", name="Sign in").click()
+    submit_sign_in(page, "operator", PASSWORD["operator"])
     expect(page.get_by_test_id("current-role")).to_have_text("Operator")
     return page, problems
 

@@ -17,7 +17,7 @@ from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 import pytest
 from playwright.sync_api import Browser, expect
 
-from .conftest import PASSWORD, Server, _api_import, running_server
+from .conftest import PASSWORD, Server, _api_import, running_server, submit_sign_in
 
 PLAN = "Plan view: areas, charts and legs"
 
@@ -89,9 +89,7 @@ def _plan_requests(browser: Browser, server: Server) -> tuple[list[str], str | N
     page.on("request", lambda request: asked.append(request.url))
     try:
         page.goto("/")
-        page.get_by_label("Username").fill("operator")
-        page.get_by_label("Password").fill(PASSWORD["operator"])
-        page.get_by_role("button", name="Sign in").click()
+        submit_sign_in(page, "operator", PASSWORD["operator"])
         expect(page.get_by_test_id("current-role")).to_have_text("Operator")
         page.goto(f"/missions/{mission}?tab=plan")
         plan = page.get_by_role("region", name=PLAN)

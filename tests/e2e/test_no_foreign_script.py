@@ -36,7 +36,7 @@ from playwright.sync_api import Browser, BrowserContext, Frame, Page, expect
 
 from countersign.approvals import dsse
 
-from .conftest import PASSWORD, ROLES, Server, running_server
+from .conftest import PASSWORD, ROLES, Server, api_login, running_server
 from .test_roles import sign_in
 
 MISSION = "xss-mission"
@@ -129,8 +129,7 @@ class Api:
 
     def __init__(self, server: Server, username: str, password: str) -> None:
         self.client = httpx.Client(base_url=server.url, timeout=60)
-        login = self.client.post("/api/auth/login",
-                                 json={"username": username, "password": password})
+        login = api_login(self.client, username, password)
         assert login.status_code == 200, login.text
         self.client.headers["X-CSRF-Token"] = login.json()["csrf_token"]
 

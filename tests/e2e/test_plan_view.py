@@ -12,7 +12,15 @@ from pathlib import Path
 import pytest
 from playwright.sync_api import Browser, expect
 
-from .conftest import PASSWORD, Server, _api_import, _cli, _server_env, running_server
+from .conftest import (
+    PASSWORD,
+    Server,
+    _api_import,
+    _cli,
+    _server_env,
+    running_server,
+    submit_sign_in,
+)
 
 KEEP_OUT = {"type": "FeatureCollection", "features": [{
     "type": "Feature", "id": "RANGE",
@@ -48,9 +56,7 @@ def test_plan_view_highlights_the_legs_that_cross_a_keep_out_chart(
     page.on("pageerror", lambda error: problems.append(str(error)))
     try:
         page.goto("/")
-        page.get_by_label("Username").fill("supervisor")
-        page.get_by_label("Password").fill(PASSWORD["supervisor"])
-        page.get_by_role("button", name="Sign in").click()
+        submit_sign_in(page, "supervisor", PASSWORD["supervisor"])
         expect(page.get_by_test_id("current-role")).to_have_text("Supervisor")
         page.goto(f"/missions/{mission}?tab=plan")
         plan = page.get_by_role("region", name="Plan view: areas, charts and legs")

@@ -6,7 +6,7 @@ from __future__ import annotations
 import httpx
 from playwright.sync_api import Page, expect
 
-from .conftest import PASSWORD, Server, _api_import
+from .conftest import PASSWORD, Server, _api_import, api_login
 from .test_roles import sign_in
 
 SENTENCE = ("S_leak_surface (safety rule): If 'safety sensor failure (leak)' is true, then "
@@ -18,8 +18,7 @@ def test_review_page_shows_the_rules_in_plain_language(page: Page, server: Serve
 
     mission = _api_import(server, example_bytes("search-and-sample-rules"), "application/json")
     with httpx.Client(base_url=server.url, timeout=30) as client:
-        login = client.post("/api/auth/login",
-                            json={"username": "operator", "password": PASSWORD["operator"]})
+        login = api_login(client, "operator", PASSWORD["operator"])
         login.raise_for_status()
         created = client.post(f"/api/missions/{mission}/versions",
                               headers={"X-CSRF-Token": login.json()["csrf_token"]})

@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 from playwright.sync_api import Page, expect
 
-from .conftest import PASSWORD, ROLES, Server
+from .conftest import PASSWORD, ROLES, Server, submit_sign_in
 
 NAV_LINKS = {
     "operator": ["Missions", "Import"],
@@ -35,9 +35,7 @@ def sign_in(page: Page, role: str, password: str | None = None,
     """Sign in as the shared account of `role`, or as `username` (an account of that role);
     with a wrong `password` and no username, the sign-in is expected to fail."""
     page.goto("/")
-    page.get_by_label("Username").fill(username or role)
-    page.get_by_label("Password").fill(password or PASSWORD[role])
-    page.get_by_role("button", name="Sign in").click()
+    submit_sign_in(page, username or role, password or PASSWORD[role])
     if password is None or username is not None:
         expect(page.get_by_test_id("current-role")).to_have_text(role.title())
 

@@ -9,7 +9,7 @@ import json
 import httpx
 from playwright.sync_api import Page, expect
 
-from .conftest import PASSWORD, Server, _api_import
+from .conftest import PASSWORD, Server, _api_import, api_login
 from .test_roles import sign_in
 
 TWENTY = "Checked as: depth at least 20 m (`depth_m >= 20`)."
@@ -18,8 +18,7 @@ HALF = "Checked as: depth at least 0.5 m (`depth_m >= 0.5`)."
 
 def _version(server: Server, mission: str) -> int:
     with httpx.Client(base_url=server.url, timeout=30) as client:
-        login = client.post("/api/auth/login",
-                            json={"username": "operator", "password": PASSWORD["operator"]})
+        login = api_login(client, "operator", PASSWORD["operator"])
         login.raise_for_status()
         created = client.post(f"/api/missions/{mission}/versions",
                               headers={"X-CSRF-Token": login.json()["csrf_token"]})

@@ -17,7 +17,7 @@ from playwright.sync_api import Page, expect
 
 from countersign.approvals import dsse
 
-from .conftest import PASSWORD, Server, _api_import
+from .conftest import PASSWORD, Server, _api_import, api_login
 from .test_editor_build_exemplar import panel, saved
 from .test_roles import sign_in
 
@@ -32,8 +32,7 @@ def exemplar() -> dict[str, Any]:
 @contextlib.contextmanager
 def client(server: Server, role: str) -> Iterator[httpx.Client]:
     with httpx.Client(base_url=server.url, timeout=60) as session:
-        login = session.post("/api/auth/login",
-                             json={"username": role, "password": PASSWORD[role]})
+        login = api_login(session, role, PASSWORD[role])
         login.raise_for_status()
         session.headers["X-CSRF-Token"] = login.json()["csrf_token"]
         yield session
