@@ -75,7 +75,8 @@ def test_a_step_by_step_rehearsal_in_the_browser(page: Page, server: Server, own
     # One set of controls, named as everywhere else in the app; none in viser's panel.
     labels = [page.get_by_test_id(f"outcome-{o}").inner_text()
               for o in ("succeed", "fail", "violate")]
-    assert labels == ["Succeed", "Fail", "Violate (constraint)"]
+    # Each button also shows the key that answers the prompt (s/f/c).
+    assert labels == ["Succeed s", "Fail f", "Violate (constraint) c"]
     expect(viewer.get_by_role("button", name="Succeed")).to_have_count(0)
     expect(viewer.get_by_role("button", name="Leak")).to_have_count(0)
 
