@@ -20,11 +20,11 @@ export interface Refusal {
 
 const EXPRESSIONS = new Set(["forbidden", "obligated", "permitted"]);
 
-type Listed = { id?: unknown }[] | undefined;
-
-function idAt(list: Listed, index: number): string | null {
-  const item = list?.[index];
-  return item && typeof item.id === "string" ? item.id : null;
+/** The id of the index-th item of a list of the orders, when it is a list of items with ids. */
+function idAt(list: unknown, index: number): string | null {
+  const item: unknown = Array.isArray(list) ? list[index] : undefined;
+  if (typeof item !== "object" || item === null || !("id" in item)) return null;
+  return typeof item.id === "string" ? item.id : null;
 }
 
 /** Where the path `$.list[i].field...` points in the editor (null: nowhere in particular). */
@@ -34,7 +34,7 @@ export function fieldOf(orders: Orders, path: string): Omit<Refusal, "message"> 
   if (!m) return none;
   const [, list, at, field] = m;
   const index = Number(at);
-  const lists = orders as unknown as Record<string, Listed>;
+  const lists: Record<string, unknown> = orders;
   const id = idAt(lists[list!], index);
   if (!id) return none;
   switch (list) {
