@@ -11,6 +11,7 @@ import argparse
 import json
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TextIO
 
@@ -167,7 +168,7 @@ def cmd_run(args: argparse.Namespace) -> int:
             from ..jobs.tasks import finish_if_complete
 
             finish_if_complete(database, campaign_id)
-        return _watch(database, campaign_id, args.format, sys.stdout)
+        return _watch(database, campaign_id, args.format, sys.stdout, runner.idle)
     except KeyboardInterrupt:
         sys.stderr.write(f"\nstopped; resume with `countersign campaign run --resume "
                          f"{campaign_id}`\n")
@@ -223,7 +224,10 @@ def _create(database: Database, args: argparse.Namespace) -> tuple[str, list[tup
     return campaign_id, spec.chunks()
 
 
-def _watch(database: Database, campaign_id: str, fmt: str, out: TextIO) -> int:
+def _watch(database: Database, campaign_id: str, fmt: str, out: TextIO,
+           idle: Callable[[], bool] | None = None) -> int:
+    """Progress until the campaign ends; with `idle` (this process runs the jobs), also
+    when the jobs have all ended and the campaign is still active, rather than wait forever."""
     from tqdm import tqdm
 
     from ..store import campaigns as store
@@ -233,6 +237,8 @@ def _watch(database: Database, campaign_id: str, fmt: str, out: TextIO) -> int:
     with tqdm(total=total, unit="sim", file=sys.stderr, dynamic_ncols=True,
               desc=f"campaign {campaign_id}") as bar:
         while True:
+            # Read before the campaign's state: a job that finishes it ends after sealing it.
+            ended = idle is not None and idle()
             with database.session(write=False) as db:
                 row = store.get(db, campaign_id)
                 state = row.state
@@ -240,6 +246,11 @@ def _watch(database: Database, campaign_id: str, fmt: str, out: TextIO) -> int:
             bar.update(done - bar.n)
             if state not in store.ACTIVE_STATES:
                 break
+            if ended:
+                sys.stderr.write(f"\ncampaign {campaign_id}: its jobs ended with {done} of "
+                                 f"{total} simulations stored (see the errors above); resume "
+                                 f"with `countersign campaign run --resume {campaign_id}`\n")
+                return EXIT_NOT_FINISHED
             time.sleep(0.5)
     return _print_status(database, campaign_id, fmt, out)
 

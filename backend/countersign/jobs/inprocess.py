@@ -101,11 +101,17 @@ class InProcessRunner:
         share = max(1, self.workers - 1)
         while not self._closed and sum(self._running.values()) < self.workers:
             waiting = [o for o, queue in self._queues.items() if queue]
+            if not waiting:
+                return
             # Within its share first; past it only when nobody else waits (a lone campaign,
-            # the command line's, uses every worker).
-            owner = next((o for o in waiting if self._running.get(o, 0) < share),
-                         waiting[0] if waiting else None)
-            if owner is None:
+            # the command line's, uses every worker). The command line's owner is None, so
+            # None cannot mean "nobody".
+            within = [o for o in waiting if self._running.get(o, 0) < share]
+            if within:
+                owner = within[0]
+            elif len(waiting) == 1:
+                owner = waiting[0]
+            else:
                 return
             queue = self._queues.pop(owner)
             campaign_id, start, stop = queue.popleft()
@@ -128,6 +134,12 @@ class InProcessRunner:
             self._dispatch()
             self._lock.notify_all()
         self._report(future)
+
+    def idle(self) -> bool:
+        """Nothing running and nothing waiting: what was enqueued has ended, one way or
+        another (a job that failed every attempt, or a pool whose processes died)."""
+        with self._lock:
+            return not self._running and not any(self._queues.values())
 
     def waiting(self) -> int:
         """Jobs queued and not started."""
