@@ -1,10 +1,19 @@
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
+from hypothesis import settings
 
 REPO = Path(__file__).resolve().parents[1]
+
+# Property tests: a developer's run draws new cases every time ("explore"); CI's run
+# (.ci/run sets COUNTERSIGN_HYPOTHESIS_PROFILE=ci) draws the same ones for the same code, so a
+# landing does not hang on a case no one has seen yet. Cases a run finds become @example's.
+settings.register_profile("explore", print_blob=True)
+settings.register_profile("ci", derandomize=True, print_blob=True)
+settings.load_profile(os.environ.get("COUNTERSIGN_HYPOTHESIS_PROFILE", "explore"))
 
 
 @pytest.fixture(scope="session")
