@@ -19,7 +19,7 @@ from sqlalchemy import func, select
 from countersign.orders.examples import example_bytes
 from countersign.orders.model import Orders
 from countersign.plan.examples import gravitas_data
-from countersign.store import accounts
+from countersign.store import accounts, login_throttle
 from countersign.store.accounts import HASHER, create_token, create_user
 from countersign.store.db import Database
 from countersign.store.hashing import HASH_NICENESS, HASH_SLOTS, BoundedHasher
@@ -178,6 +178,7 @@ def test_a_login_beyond_the_hash_queue_is_refused_at_once_and_not_counted(
         world: World, monkeypatch: pytest.MonkeyPatch) -> None:
     hasher = BoundedHasher(time_cost=1, memory_cost=8, parallelism=1)
     monkeypatch.setattr(accounts, "HASHER", hasher)
+    monkeypatch.setattr(login_throttle, "HASHER", hasher)  # every password check's (issue 34)
     hasher.use_processes(waiting=0)  # as if a flood held every place in the queue
     assert hasher.probe() is not None  # the hashing process is up
     try:
