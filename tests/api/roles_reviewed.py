@@ -17,6 +17,8 @@ REVIEWED_ROLES: dict[str, tuple[str, ...]] = {
     "campaignProbabilities": ("operator", "supervisor", "auditor", "admin"),
     "attachCampaign": ("operator",),
     "listAttachedCampaigns": ("operator", "supervisor", "auditor", "admin"),
+    # Whether a fault can change an outcome of a version (issue 32): read as the version is.
+    "faultReach": ("operator", "supervisor", "auditor", "admin"),
     # Chart registry and plan view (issue 21): admins write, every signed-in role reads.
     "listCharts": ("operator", "supervisor", "auditor", "admin"),
     "exportCharts": ("operator", "supervisor", "auditor", "admin"),
