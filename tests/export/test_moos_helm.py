@@ -38,6 +38,7 @@ pytestmark = pytest.mark.skipif(tools_missing() is not None,
                                 reason=f"{tools_missing()} ({SHARED} absent)")
 
 DEPTH_TOLERANCE_M = 2.0
+TWICE = Path(__file__).with_name("refined_twice.json")
 # Communities at once: each takes about half a core at the test's time warp.
 PARALLEL = 4
 CONFIG_ERRORS = re.compile(r"Duplicate behavior name|all_builds_ok: false|MALCONFIG|"
@@ -122,6 +123,13 @@ def _drives() -> list[Drive]:
         out.append(Drive(name, orders, f"example:{name}", goals, outcomes, terminal, index,
                          refined=written if refined else None,
                          nesting=graph.nesting if refined else None))
+    # Refinements two deep (G1.2 carried out by two half-cell scans): MODE reads
+    # ACTIVE:G1:G1_2_k2:G1_2_1 inside the scan; a path that enters it and leaves both levels.
+    written = read_file(str(TWICE)).orders
+    orders, graph = checked_form(written)
+    path = next(p for p in _paths(orders) if "G1/G1.2#2/G1.2.2" in p[0])
+    out.append(Drive("refined-twice", orders, str(TWICE), *path, refined=written,
+                     nesting=graph.nesting))
     exemplar = read_bytes(example_bytes("search-and-sample"), "search-and-sample").orders
     paths = _paths(exemplar)
     path17 = paths[16]

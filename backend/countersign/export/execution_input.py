@@ -254,7 +254,7 @@ def from_alog(orders: Orders, text: str, nesting: Nesting | None = None) -> Conv
             continue
         at, var, value = entry
         if var == "MODE" and value.startswith("ACTIVE:"):
-            # the innermost mode: ACTIVE:G1:G1_1_1 runs goal G1/G1.1#1 inside G1
+            # the innermost mode: ACTIVE:G1:G1_1_k1 runs goal G1/G1.1#1 inside G1
             sequencer.enter(value.rsplit(":", 1)[1], at)
         elif var == "MISSION_GOAL":
             sequencer.enter(value, at)

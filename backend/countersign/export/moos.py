@@ -2,7 +2,7 @@
 
 One hierarchical helm mode per goal (`ACTIVE:<goal>`), selected by MISSION_GOAL. A refined goal
 (issue 37) is a mode of its own holding the modes of the goals inside it: the helm's mode reads
-`ACTIVE:G1:G1_1_1` while goal G1/G1.1#1 runs; the parent mode is selected whenever
+`ACTIVE:G1:G1_1_k1` while goal G1/G1.1#1 runs; the parent mode is selected whenever
 MISSION_GOAL names a goal inside it, so the transitions stay those of the flat automaton. A goal's
 maneuver posts its succeed successor as an end flag; Timer behaviours relay an outcome posted
 in GOAL_OUTCOME (by the vehicle's monitors) or a broken constraint to the successor of that
@@ -83,7 +83,7 @@ class Group:
 @dataclass(frozen=True)
 class HelmModes:
     """Where each goal and terminal runs in the helm's mode tree: `name` is what MISSION_GOAL
-    posts (unique in the file), `path` the helm's MODE value (`ACTIVE:G1:G1_1_1`)."""
+    posts (unique in the file), `path` the helm's MODE value (`ACTIVE:G1:G1_1_k1`)."""
 
     name: dict[str, str]
     path: dict[str, str]
@@ -92,8 +92,8 @@ class HelmModes:
 
     def condition(self, item: str) -> str:
         """What a behaviour's `MODE ==` condition names for goal or terminal `item`. pHelmIvP
-        24.8 matches `ACTIVE:G1`, `G1`, `G1:G1_1_1` and `G1_1_1` against the mode
-        ACTIVE:G1:G1_1_1 (whole parts, not `1_1_1`), but not the whole three-part string; so a
+        24.8 matched `ACTIVE:G1`, `G1`, `G1:G1_1_k1` and `G1_1_k1` against the mode
+        ACTIVE:G1:G1_1_k1 (whole parts: not `1_k1`), but not the whole three-part string; so a
         goal inside a refinement is named by its own mode name, unique in the file."""
         return self.path[item] if item not in self.within else self.name[item]
 
@@ -120,8 +120,9 @@ def helm_modes(orders: Orders, nesting: Nesting | None = None) -> HelmModes:
     if not parents:
         names = mode_names(ids)
         return HelmModes(names, {i: f"ACTIVE:{n}" for i, n in names.items()}, (), {})
-    # A mode is named by the last part of its flat id: G1/G1.1#1 is G1_1_1 inside G1.
-    named = _unique([(item, item.rsplit("/", 1)[-1]) for item in [*parents, *ids]])
+    # A mode is named by the last part of its flat id, an unrolled copy's mark spelt out
+    # (#k as _k<k>, @Ts as _t<T>s): G1/G1.1#1 is G1_1_k1 inside G1.
+    named = _unique([(item, _spelt(item)) for item in [*parents, *ids]])
     path: dict[str, str] = {}
     inside: dict[str, list[str]] = {p: [] for p in parents}
     for item in ids:
@@ -135,6 +136,10 @@ def helm_modes(orders: Orders, nesting: Nesting | None = None) -> HelmModes:
         for flat_id, (label, outer) in parents.items())
     within = {item: tuple(p for p, _ in chain) for item, chain in chains.items() if chain}
     return HelmModes({i: named[i] for i in ids}, path, groups, within)
+
+
+def _spelt(flat_id: str) -> str:
+    return flat_id.rsplit("/", 1)[-1].replace("#", "_k").replace("@", "_t")
 
 
 def _any_of(var: str, values: tuple[str, ...]) -> str:
@@ -276,7 +281,7 @@ def _group_declarations(helm: HelmModes) -> list[str]:
                           f"(goals times depth), over the {MAX_NESTED_SELECTORS:,} a helm file "
                           "may hold: refine less deeply or lower a time-out")
     return ["// A refined goal is a mode holding the modes of the goals inside it: it is",
-            "// selected while MISSION_GOAL names one of them, so MODE reads ACTIVE:G1:G1_1.",
+            "// selected while MISSION_GOAL names one of them, so MODE reads ACTIVE:G1:G1_1_k1.",
             ""]
 
 
