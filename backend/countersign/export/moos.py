@@ -408,6 +408,11 @@ def export_moos(orders: Orders, provenance: Provenance) -> VehicleExport:
     notes: list[ExportNote] = []
     orders, nesting = flat_with_nesting(orders, notes)
     require_sound(orders, notes)
+    if nesting is not None:
+        notes.append(ExportNote("NESTED", "/goals", "a refined goal is a helm mode holding the "
+                                "modes of the goals inside it: MODE reads ACTIVE:G1:G1_1_k1 "
+                                "(#k spelt _k<k>, @Ts _t<T>s); MISSION_GOAL names the goal's "
+                                "own mode"))
     bhv_name = f"{orders.id}.bhv"
     bhv = write_bhv(orders, provenance, notes, nesting)
     moos = write_moos(orders, bhv_name, provenance)
