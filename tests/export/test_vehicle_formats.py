@@ -170,12 +170,13 @@ def _behaviour_names(text: str) -> list[str]:
 @pytest.mark.parametrize("orders", [
     *(_example(name) for name in EXAMPLES),
     *(read_file(str(path)).orders for path in AVCL),
+    read_file(str(Path(__file__).with_name("refined_twice.json"))).orders,
     # ids chosen so that a mode name plus a role would begin another behaviour's name
     Orders.model_validate({"id": "tricky", "start": "G1", "constraints": [
         {"id": "C1", "applies_to": "mission", "expr": "x <= 1"}], "goals": [
         {"id": i, "next": {o: "COMPLETE" for o in ("succeed", "fail", "violate")}}
         for i in ("G1", "G1_violate", "G1_run", "G1_violate_C1")]}),
-], ids=[*EXAMPLES, *(p.stem for p in AVCL), "tricky-ids"])
+], ids=[*EXAMPLES, *(p.stem for p in AVCL), "refined-twice", "tricky-ids"])
 def test_no_behaviour_name_begins_another(orders: Orders) -> None:
     # pHelmIvP refuses the whole behaviour set when one name begins another
     names = sorted(_behaviour_names(export_vehicle(orders, "moos").primary.content.decode()))
@@ -268,3 +269,12 @@ def test_imc_maneuver_ids_carry_the_hierarchy(name: str) -> None:
         else:
             assert "inside" not in custom
     _check_against_mea(orders, read)
+
+
+def test_nested_mode_conditions_are_bounded(monkeypatch: pytest.MonkeyPatch) -> None:
+    # 12 goals inside G1, and 2 inside each of the 3 copies of G1.2: 18 names in all
+    monkeypatch.setattr("countersign.export.moos.MAX_NESTED_SELECTORS", 17)
+    with pytest.raises(ExportError, match=r"name 18 goals inside them .* over the 17"):
+        export_vehicle(_refined("refined-twice"), "moos")
+    monkeypatch.setattr("countersign.export.moos.MAX_NESTED_SELECTORS", 18)
+    assert export_vehicle(_refined("refined-twice"), "moos").primary.content
