@@ -86,7 +86,7 @@ def read_bhv(text: str) -> Graph:
     mode_of_goal: dict[str, str] = {}  # MISSION_GOAL value -> mode name
     for m in _SET.finditer(text):
         pairs = dict(_pairs(m.group(2)))
-        if pairs.get("mode") == "ACTIVE":
+        if pairs.get("mode", "").split(":")[0] == "ACTIVE" and "mission_goal" in pairs:
             mode_of_goal[pairs["mission_goal"]] = m.group(1)
     edges: dict[str, dict[str, str]] = {}
     terminals: dict[str, str] = {}

@@ -18,11 +18,12 @@ from countersign.export.execution_input import (
     from_imc,
     to_execution_log,
 )
-from countersign.export.moos import mode_names
+from countersign.export.moos import helm_modes, mode_names
 from countersign.orders.examples import example_bytes
-from countersign.orders.reader import orders_from_data, read_bytes
+from countersign.orders.reader import orders_from_data, read_bytes, read_file
 from countersign.rehearse.execution import check_execution, read_log
 from countersign.verify.paths import iter_paths, paths_of
+from countersign.verify.refine import checked_form
 
 ORDERS = read_bytes(example_bytes("search-and-sample"), "exemplar").orders
 CONDITION = {"succeed": "ManeuverIsDone", "fail": "ManeuverFailed",
@@ -230,3 +231,26 @@ def test_messages_across_chunk_boundaries_are_all_read() -> None:
     data = b"".join(parts)
     assert len(data) > 5 * IMC_CHUNK
     assert sum(1 for _ in _imc_messages(data)) == len(parts)
+
+
+def test_an_alog_of_nested_helm_modes_reads_as_the_flat_goals_run() -> None:
+    """A refined mission's helm reports the innermost mode last (ACTIVE:G1:G1_2_k2:G1_2_1,
+    as pHelmIvP 24.8 writes it); the run is the flat goal's, not its refined goal's."""
+    written = read_file(str(Path(__file__).with_name("refined_twice.json"))).orders
+    flat, graph = checked_form(written)
+    helm = helm_modes(flat, graph.nesting)
+    counted = paths_of(flat)
+    assert counted[1] is not None
+    path = next(p for p in iter_paths(*counted) if "G1/G1.2#2/G1.2.2" in p.goals)
+    lines, at = ["%% LOGSTART 1796000000.0"], 10.0
+    for goal, outcome in zip(path.goals, path.outcomes, strict=True):
+        lines.append(f"{at:.3f} MODE pHelmIvP {helm.path[goal]}")
+        at += 300
+        lines.append(f"{at - 1:.3f} GOAL_OUTCOME pMonitor {outcome}")
+    lines.append(f"{at:.3f} MODE pHelmIvP {helm.path[str(path.terminal)]}")
+    lines.append(f"{at + 1:.3f} MISSION_RESULT pHelmIvP {path.terminal}")
+    assert "ACTIVE:G1:G1_2_k2:G1_2_1" in lines[2 * path.goals.index("G1/G1.2#2/G1.2.1") + 1]
+    converted = to_execution_log(written, ("\n".join(lines) + "\n").encode(), "alog")
+    runs = [json.loads(line) for line in converted.ndjson.splitlines()]
+    assert [(r["goal"], r["outcome"]) for r in runs] == list(zip(path.goals, path.outcomes,
+                                                                 strict=True))

@@ -20,7 +20,9 @@ from countersign.orders.reader import read_bytes, read_file
 from .readers import AVCL, read_imc
 from .strict_imc import StrictReader, imc_xml_or_skip
 
-SOURCES = [f"example:{name}" for name in example_names()] + [str(p) for p in AVCL]
+# refined_twice.json: refinements two deep, maneuver ids such as G1/G1.2#2/G1.2.1
+SOURCES = [f"example:{name}" for name in example_names()] + [str(p) for p in AVCL] + \
+    [str(Path(__file__).with_name("refined_twice.json"))]
 
 
 @pytest.fixture(scope="module")

@@ -22,13 +22,14 @@ import pytest
 from countersign.cli import main
 from countersign.export.common import placements
 from countersign.export.execution_input import to_execution_log
-from countersign.export.moos import mode_names
+from countersign.export.moos import helm_modes
 from countersign.export.vehicle import export_vehicle
 from countersign.orders.examples import example_bytes, example_names
 from countersign.orders.model import Orders
 from countersign.orders.reader import read_bytes, read_file
+from countersign.verify.nesting import Nesting
 from countersign.verify.paths import iter_paths, paths_of
-from countersign.verify.refine import checked_form
+from countersign.verify.refine import checked_form, has_refinements
 
 from .moos_community import SHARED, Community, running, tools_missing
 from .readers import AVCL
@@ -37,6 +38,7 @@ pytestmark = pytest.mark.skipif(tools_missing() is not None,
                                 reason=f"{tools_missing()} ({SHARED} absent)")
 
 DEPTH_TOLERANCE_M = 2.0
+TWICE = Path(__file__).with_name("refined_twice.json")
 # Communities at once: each takes about half a core at the test's time warp.
 PARALLEL = 4
 CONFIG_ERRORS = re.compile(r"Duplicate behavior name|all_builds_ok: false|MALCONFIG|"
@@ -62,6 +64,10 @@ class Drive:
     # step -> (variable, value) posted instead of GOAL_OUTCOME: a constraint the helm watches
     breaks: dict[int, tuple[str, str]] = field(default_factory=dict)
     wildcard: bool = False
+    # A refined mission: the orders as written (what is exported, as nested modes) and where
+    # its flat goals sit; `orders` is then its flat automaton (what the paths are of).
+    refined: Orders | None = None
+    nesting: Nesting | None = None
 
 
 @dataclass
@@ -108,10 +114,22 @@ def _paths(orders: Orders) -> list[tuple[tuple[str, ...], tuple[str, ...], str |
 def _drives() -> list[Drive]:
     out: list[Drive] = []
     for name in example_names():
-        # A refined mission is exported and flown as its flat automaton.
-        orders = checked_form(read_bytes(example_bytes(name), name).orders)[0]
+        # A refined mission is flown as its flat automaton, its refined goals as helm modes
+        # holding the modes of the goals inside them.
+        written = read_bytes(example_bytes(name), name).orders
+        orders, graph = checked_form(written)
         goals, outcomes, terminal, index = _paths(orders)[0]
-        out.append(Drive(name, orders, f"example:{name}", goals, outcomes, terminal, index))
+        refined = has_refinements(written)
+        out.append(Drive(name, orders, f"example:{name}", goals, outcomes, terminal, index,
+                         refined=written if refined else None,
+                         nesting=graph.nesting if refined else None))
+    # Refinements two deep (G1.2 carried out by two half-cell scans): MODE reads
+    # ACTIVE:G1:G1_2_k2:G1_2_1 inside the scan; a path that enters it and leaves both levels.
+    written = read_file(str(TWICE)).orders
+    orders, graph = checked_form(written)
+    path = next(p for p in _paths(orders) if "G1/G1.2#2/G1.2.2" in p[0])
+    out.append(Drive("refined-twice", orders, str(TWICE), *path, refined=written,
+                     nesting=graph.nesting))
     exemplar = read_bytes(example_bytes("search-and-sample"), "search-and-sample").orders
     paths = _paths(exemplar)
     path17 = paths[16]
@@ -135,8 +153,10 @@ def _drives() -> list[Drive]:
 DRIVES = _drives() if tools_missing() is None else []
 
 
-def _mode_of(orders: Orders) -> dict[str, str]:
-    return mode_names([g.id for g in orders.goals] + [t.id for t in orders.effective_terminals])
+def _mode_of(drive: Drive) -> dict[str, str]:
+    """Goal or terminal id -> the helm's MODE value while it runs (`ACTIVE:G1:G1_1_1` for a
+    goal inside refined goal G1)."""
+    return helm_modes(drive.orders, drive.nesting).path
 
 
 def _depths(orders: Orders) -> dict[str, float]:
@@ -178,7 +198,7 @@ def _near(community: Community, depth: float) -> bool:
 def _fly(drive: Drive, folder: Path) -> Flown:
     folder.mkdir(parents=True)
     began = time.monotonic()
-    export = export_vehicle(drive.orders, "moos")
+    export = export_vehicle(drive.refined or drive.orders, "moos")
     for item in export.files:
         (folder / item.name).write_bytes(item.content)
     moos = folder / f"{drive.orders.id}.moos"
@@ -186,7 +206,7 @@ def _fly(drive: Drive, folder: Path) -> Flown:
         text = re.sub(r"(?m)^  Log = .*\n", "", moos.read_text())
         moos.write_text(text.replace("  AsyncLog = true\n",
                                      "  AsyncLog = true\n  WildCardLogging = true\n"))
-    mode, depths = _mode_of(drive.orders), _depths(drive.orders)
+    mode, depths = _mode_of(drive), _depths(drive.orders)
     kinds = {t.id: t.kind for t in drive.orders.effective_terminals}
     held: dict[str, list[float]] = {}
     with running(moos) as community:
@@ -194,7 +214,7 @@ def _fly(drive: Drive, folder: Path) -> Flown:
             community, "IVPHELM_STATE") is not None)
         community.poke("DEPLOY", "true", lambda: community.poked("DEPLOY") > 0)
         for step, (goal, outcome) in enumerate(zip(drive.goals, drive.outcomes, strict=True)):
-            active = f"ACTIVE:{mode[goal]}"
+            active = mode[goal]
             community.wait_for(f"mode {active}", partial(_is, community, "MODE", active))
             if goal in depths:
                 community.wait_for(f"depth {depths[goal]:g} m in {goal}",
@@ -214,7 +234,7 @@ def _fly(drive: Drive, folder: Path) -> Flown:
             community.wait_for(f"MISSION_RESULT {kind}", lambda: _latest(
                 community, "MISSION_RESULT") == kind)
         output = community.output.read_text(errors="replace")
-        modes = [v.split(":", 1)[1] for v in community.values("MODE") if v.startswith("ACTIVE:")]
+        modes = [v for v in community.values("MODE") if v.startswith("ACTIVE:")]
         return Flown(
             modes=[m for i, m in enumerate(modes) if i == 0 or modes[i - 1] != m],
             depths=held,
@@ -247,7 +267,7 @@ def test_the_real_helm_flies_the_export(drive: Drive, flown: dict[str, Flown],
     assert run.failure is None, run.failure
     assert run.errors == []
     assert "MALCONFIG" not in run.states and "DRIVE" in run.states  # engaged, never refused
-    mode = _mode_of(drive.orders)
+    mode = _mode_of(drive)
     ends = (drive.terminal,) if drive.terminal else ()
     assert run.modes == [mode[g] for g in (*drive.goals, *ends)]
     for goal, (ordered, reached) in run.depths.items():
@@ -256,9 +276,10 @@ def test_the_real_helm_flies_the_export(drive: Drive, flown: dict[str, Flown],
     if drive.breaks:
         assert run.violated == ["C7"]
     # The alog converts to the goals and outcomes driven (orders with loops have no numbered
-    # paths for `execution check` to name, so this is all that can be asked of them).
+    # paths for `execution check` to name, so this is all that can be asked of them). A
+    # refined mission's log is read against the orders as written, as the CLI reads it.
     runs = [json.loads(line) for line in to_execution_log(
-        drive.orders, run.alog.read_bytes(), "alog").ndjson.splitlines()]
+        drive.refined or drive.orders, run.alog.read_bytes(), "alog").ndjson.splitlines()]
     assert [(r["goal"], r["outcome"]) for r in runs] == \
         [(g, o or "succeed") for g, o in zip(drive.goals, drive.outcomes, strict=True)]
     if drive.index is None:

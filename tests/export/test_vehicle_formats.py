@@ -6,9 +6,12 @@ from __future__ import annotations
 import math
 import re
 from itertools import pairwise
+from pathlib import Path
+from urllib.parse import unquote
 
 import pytest
 
+from countersign.export.moos import helm_modes
 from countersign.export.notes import ExportError
 from countersign.export.vehicle import export_vehicle
 from countersign.orders.examples import example_bytes, example_names
@@ -167,12 +170,13 @@ def _behaviour_names(text: str) -> list[str]:
 @pytest.mark.parametrize("orders", [
     *(_example(name) for name in EXAMPLES),
     *(read_file(str(path)).orders for path in AVCL),
+    read_file(str(Path(__file__).with_name("refined_twice.json"))).orders,
     # ids chosen so that a mode name plus a role would begin another behaviour's name
     Orders.model_validate({"id": "tricky", "start": "G1", "constraints": [
         {"id": "C1", "applies_to": "mission", "expr": "x <= 1"}], "goals": [
         {"id": i, "next": {o: "COMPLETE" for o in ("succeed", "fail", "violate")}}
         for i in ("G1", "G1_violate", "G1_run", "G1_violate_C1")]}),
-], ids=[*EXAMPLES, *(p.stem for p in AVCL), "tricky-ids"])
+], ids=[*EXAMPLES, *(p.stem for p in AVCL), "refined-twice", "tricky-ids"])
 def test_no_behaviour_name_begins_another(orders: Orders) -> None:
     # pHelmIvP refuses the whole behaviour set when one name begins another
     names = sorted(_behaviour_names(export_vehicle(orders, "moos").primary.content.decode()))
@@ -185,3 +189,92 @@ def test_depth_is_held_for_as_long_as_the_mode_lasts() -> None:
     blocks = re.findall(r"^Behavior = BHV_ConstantDepth\n\{\n(.*?)^\}", text, re.M | re.S)
     assert len(blocks) == 5
     assert all("  duration = no-time-limit\n" in block for block in blocks)
+
+
+# --- refined missions (issue 37): nested helm modes, the hierarchy in IMC maneuver ids -------
+TWICE = Path(__file__).with_name("refined_twice.json")
+REFINED = ["search-and-sample-refined", "refined-twice"]
+_DECLARED = re.compile(r"^set MODE = (\w+) \{\n  MODE = (\S+)\n  (.+)\n\}", re.M)
+
+
+def _refined(name: str) -> Orders:
+    return read_file(str(TWICE)).orders if name == "refined-twice" else _example(name)
+
+
+@pytest.mark.parametrize("name", REFINED)
+def test_a_refined_goal_is_a_helm_mode_holding_the_modes_of_its_goals(name: str) -> None:
+    orders = _refined(name)
+    flat, graph = checked_form(orders)
+    assert graph.nesting is not None
+    text = export_vehicle(orders, "moos").primary.content.decode()
+    # Independently of the exporter: each declaration's parent, its condition, its place.
+    declared = {m.group(1): (m.group(2), m.group(3), i)
+                for i, m in enumerate(_DECLARED.finditer(text))}
+    groups = {m.group(2): m.group(1) for m in re.finditer(
+        r"^// mode (\w+) = refined goal (\S+): ", text, re.M)}
+    goal_mode = {goal: mode for mode, goal in mode_map(text).items()}
+
+    chains = graph.nesting.parents
+    assert set(groups) == {p for chain in chains.values() for p, _ in chain}
+    for goal in flat.goals:
+        mode = goal_mode[goal.id]
+        parent, condition, at = declared[mode]
+        chain = [groups[p] for p, _ in chains.get(goal.id, ())]
+        assert parent == ":".join(["ACTIVE", *chain]), goal.id
+        assert condition == f"MISSION_GOAL = {mode}"
+        for depth, group in enumerate(chain):
+            above, selector, before = declared[group]
+            assert above == ":".join(["ACTIVE", *chain[:depth]])
+            assert before < at  # the helm builds the mode string parent first
+            assert f"(MISSION_GOAL = {mode})" in selector
+        # Its behaviours run in that mode and no other.
+        runs = re.findall(rf"name = b\d+_{mode}_run\n  pwt = 100\n  condition = MODE == (\S+)",
+                          text)
+        assert runs == [mode if chain else f"ACTIVE:{mode}"]
+    for flat_id, group in groups.items():
+        inside = {goal_mode[g.id] for g in flat.goals if flat_id in dict(chains.get(g.id, ()))}
+        named = set(re.findall(r"MISSION_GOAL = (\w+)", declared[group][1]))
+        assert named == inside, flat_id
+    # The transitions are still exactly the flat automaton's.
+    _check_against_mea(orders, read_bhv(text), mode_map(text))
+
+
+def test_refined_modes_are_named_by_their_own_ids_and_unrolled_copies_spelt_out() -> None:
+    orders = _refined("refined-twice")
+    flat, graph = checked_form(orders)
+    helm = helm_modes(flat, graph.nesting)
+    assert helm.path["G1/G1.1#1"] == "ACTIVE:G1:G1_1_k1"
+    assert helm.path["G1/G1.2#2/G1.2.1"] == "ACTIVE:G1:G1_2_k2:G1_2_1"
+    assert helm.path["G2"] == "ACTIVE:G2" and helm.path["COMPLETE"] == "ACTIVE:COMPLETE"
+    names = list(helm.name.values()) + [g.name for g in helm.groups]
+    assert len(names) == len(set(names))  # MISSION_GOAL and MODE == name one mode each
+    assert helm.goal_of("ACTIVE:G1:G1_2_k2:G1_2_1") == "G1/G1.2#2/G1.2.1"
+
+
+@pytest.mark.parametrize("name", REFINED)
+def test_imc_maneuver_ids_carry_the_hierarchy(name: str) -> None:
+    orders = _refined(name)
+    graph = checked_form(orders)[1]
+    plan, read = read_imc(export_vehicle(orders, "imc").primary.content)
+    assert graph.nesting is not None
+    for maneuver in plan.maneuvers:
+        custom = dict(kv.split("=", 1) for kv in maneuver.data.custom.split(";") if kv)
+        chain = graph.nesting.parents.get(maneuver.maneuver_id, ())
+        # The id is the refined goals' ids, outermost first, and the goal's own, by '/'.
+        assert maneuver.maneuver_id.split("/")[:-1] == \
+            [p.rsplit("/", 1)[-1] for p, _ in chain]
+        if chain:
+            assert unquote(custom["inside"]) == "/".join(p for p, _ in chain)
+            assert unquote(custom["inside.title"]) == " / ".join(t for _, t in chain)
+        else:
+            assert "inside" not in custom
+    _check_against_mea(orders, read)
+
+
+def test_nested_mode_conditions_are_bounded(monkeypatch: pytest.MonkeyPatch) -> None:
+    # 12 goals inside G1, and 2 inside each of the 3 copies of G1.2: 18 names in all
+    monkeypatch.setattr("countersign.export.moos.MAX_NESTED_SELECTORS", 17)
+    with pytest.raises(ExportError, match=r"name 18 goals inside them .* over the 17"):
+        export_vehicle(_refined("refined-twice"), "moos")
+    monkeypatch.setattr("countersign.export.moos.MAX_NESTED_SELECTORS", 18)
+    assert export_vehicle(_refined("refined-twice"), "moos").primary.content

@@ -406,6 +406,9 @@ def test_vehicle_exports_are_flat_and_refuse_a_broken_refinement() -> None:
 
     export = export_vehicle(load_example(REFINED), "moos", version=1)
     assert any(n.code == "REFINE" for n in export.notes)
-    assert b"G1_G1_1_1" in export.primary.content
+    assert any(n.code == "NESTED" for n in export.notes)
+    # The refined goal is a helm mode holding its goals' modes (ACTIVE:G1:G1_1_k1).
+    assert b"set MODE = G1 {\n  MODE = ACTIVE\n" in export.primary.content
+    assert b"set MODE = G1_1_k1 {\n  MODE = ACTIVE:G1\n" in export.primary.content
     with pytest.raises(ExportError, match=r"REFINE G1/G1\.1"):
         export_vehicle(_orders(_search_loop(None)), "imc", version=1)

@@ -341,7 +341,9 @@ def add_commands(commands: Any) -> None:
         "per rule, when the orders or their vehicle carry rules), orders JSON, a Graphviz DOT "
         "graph, MEO Turtle (lossless), an NPS MEO 3.0 Turtle view, or AVCL 3.1 XML (valid "
         "against the NPS AVCL.3.1.xsd); or for a vehicle: an IMC PlanSpecification (imc, "
-        "binary) or MOOS-IvP helm behaviours plus uSimMarine lines (moos). What AVCL or a "
+        "binary) or MOOS-IvP helm behaviours plus uSimMarine lines (moos); a refined goal "
+        "becomes the maneuvers of its goals, ids carrying the hierarchy (imc: G1/G1.2#2), or "
+        "a helm mode holding its goals' modes (moos: ACTIVE:G1:G1_2_k2). What AVCL or a "
         "vehicle format cannot carry is printed to standard error as notes (code, path, "
         "message).",
     )

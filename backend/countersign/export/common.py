@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 from ..orders.model import Goal, Orders
+from ..verify.nesting import Nesting
 from ..verify.refine import flatten, has_refinements, refine_findings
 from ..verify.structure import check_structure
 from .geometry import Box, bounding_box
@@ -51,12 +52,18 @@ def require_sound(orders: Orders, notes: list[ExportNote]) -> None:
 
 
 def flat_for_vehicle(orders: Orders, notes: list[ExportNote]) -> Orders:
+    """The flat automaton a vehicle runs (see `flat_with_nesting`)."""
+    return flat_with_nesting(orders, notes)[0]
+
+
+def flat_with_nesting(orders: Orders, notes: list[ExportNote]) -> tuple[Orders, Nesting | None]:
     """A vehicle runs a refined mission as its flat automaton (issue 37): each goal inside a
     refinement becomes a maneuver or mode of its own, named by its flat id (`G1/G1.2`; `#k`
     for the k-th goal commenced inside a time-out's unrolling), so the plan is exactly the
-    automaton whose paths were counted and signed. A broken refinement is refused."""
+    automaton whose paths were counted and signed, and the hierarchy (the refined goals each
+    flat goal runs inside) for the formats that can show it. A broken refinement is refused."""
     if not has_refinements(orders):
-        return orders
+        return orders, None
     broken = [f for f in refine_findings(orders) if f.severity == "error"]
     flat = flatten(orders)
     broken += flat.findings
@@ -67,7 +74,7 @@ def flat_for_vehicle(orders: Orders, notes: list[ExportNote]) -> Orders:
     notes.append(ExportNote("REFINE", "/goals", "refined goals are exported flat: their "
                             "refinements' goals are named G1/G1.1 (#k: the k-th goal commenced "
                             "inside a time-out's unrolling); /goals/N below counts flat goals"))
-    return flat.orders
+    return flat.orders, flat.nesting
 
 
 def placements(orders: Orders, notes: list[ExportNote]) -> list[Placement]:

@@ -7,7 +7,8 @@
   EstimatedState gives depth_m and altitude_m samples.
 * MOOS alog, as pLogger writes it: `TIME VAR SOURCE VALUE` lines of any variables; headers
   and the continuation lines of multi-line values are skipped and counted in a note.
-  MODE = ACTIVE:<mode> (or MISSION_GOAL) enters a goal's helm mode, GOAL_OUTCOME and
+  MODE = ACTIVE:<mode> (or MISSION_GOAL) enters a goal's helm mode (the innermost of
+  ACTIVE:<refined goal>:<mode> for a goal inside a refinement), GOAL_OUTCOME and
   CONSTRAINT_VIOLATED name its outcome, NAV_DEPTH and NAV_ALTITUDE are samples.
 Without a named outcome, the outcome is the one whose transition leads to the maneuver that
 ran next; when several do, the first is taken and a note says so. Maneuvers are goals by their
@@ -23,8 +24,9 @@ from datetime import UTC, datetime
 from typing import Any
 
 from ..orders.model import OUTCOMES, Orders
+from ..verify.nesting import Nesting
 from ..verify.refine import checked_form
-from .moos import mode_names
+from .moos import helm_modes
 
 FORMATS = ("auto", "ndjson", "imc", "alog")
 IMC_SYNC = b"\x54\xfe"  # 0xFE54, little endian: the first bytes of an IMC message
@@ -237,9 +239,9 @@ def _alog_entry(line: str) -> tuple[float, str, str] | None:
     return at, parts[1], parts[3].strip() if len(parts) == 4 else ""
 
 
-def from_alog(orders: Orders, text: str) -> Converted:
-    ids = [g.id for g in orders.goals] + [t.id for t in orders.effective_terminals]
-    goal_of = {mode: item for item, mode in mode_names(ids).items()}
+def from_alog(orders: Orders, text: str, nesting: Nesting | None = None) -> Converted:
+    helm = helm_modes(orders, nesting)
+    goal_of = {mode: item for item, mode in helm.name.items()}
     sequencer = _Sequencer(orders, goal_of, absolute=False)
     skipped, first_skipped = 0, 0
     for number, line in enumerate(text.splitlines(), 1):
@@ -252,7 +254,8 @@ def from_alog(orders: Orders, text: str) -> Converted:
             continue
         at, var, value = entry
         if var == "MODE" and value.startswith("ACTIVE:"):
-            sequencer.enter(value.split(":", 1)[1].split(":")[0], at)
+            # the innermost mode: ACTIVE:G1:G1_1_k1 runs goal G1/G1.1#1 inside G1
+            sequencer.enter(value.rsplit(":", 1)[1], at)
         elif var == "MISSION_GOAL":
             sequencer.enter(value, at)
         elif var == "GOAL_OUTCOME" and value in MOOS_OUTCOMES:
@@ -295,14 +298,14 @@ def detect(data: bytes) -> str:
 def to_execution_log(orders: Orders, data: bytes, fmt: str = "auto") -> Converted:
     """The NDJSON execution log of `data` in format `fmt` (auto: detected)."""
     # A refined mission runs as its flat automaton: the vehicle's logs name its flat goals.
-    orders = checked_form(orders)[0]
+    orders, graph = checked_form(orders)
     if fmt not in FORMATS:
         raise ExecutionInputError(f"unknown execution format {fmt!r}; one of "
                                   f"{', '.join(FORMATS)}")
     chosen = detect(data) if fmt == "auto" else fmt
     readers: dict[str, Callable[[], Converted]] = {
         "imc": lambda: from_imc(orders, data),
-        "alog": lambda: from_alog(orders, _text(data)),
+        "alog": lambda: from_alog(orders, _text(data), graph.nesting),
         "ndjson": lambda: Converted("ndjson", _text(data), ()),
     }
     return readers[chosen]()

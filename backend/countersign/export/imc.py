@@ -1,6 +1,8 @@
 """IMC (LSTS Neptus/DUNE) plan written from orders: one PlanSpecification, serialised by imcpy.
 
-Goals become maneuvers named by goal id, terminals become surface station-keeping maneuvers
+Goals become maneuvers named by goal id (a goal inside a refinement by its flat id, which
+carries the hierarchy: G1/G1.2#2/G1.2.1 runs in G1.2's 2nd copy inside G1; its custom field
+names the refined goals and their titles), terminals become surface station-keeping maneuvers
 with no way out, and each goal has one transition per outcome. DUNE's plan engine fires
 `ManeuverIsDone` by itself; the fail and violate conditions name events the vehicle's own
 monitors must raise, which a note says."""
@@ -18,7 +20,7 @@ from ..orders.model import OUTCOMES, Orders
 from .common import (
     Placement,
     duration_s,
-    flat_for_vehicle,
+    flat_with_nesting,
     lane_width,
     placements,
     require_sound,
@@ -63,7 +65,8 @@ def _depth(maneuver: Any, depth: float | None) -> None:
     maneuver.z_units = imcpy.ZUnits.DEPTH
 
 
-def _maneuver(place: Placement, speed: float) -> Any:
+def _maneuver(place: Placement, speed: float,
+              inside: tuple[tuple[str, str], ...] = ()) -> Any:
     goal, box = place.goal, place.box
     if place.kind == "here" or box is None:
         elevator = imcpy.Elevator()
@@ -104,6 +107,11 @@ def _maneuver(place: Placement, speed: float) -> Any:
         maneuver.speed, maneuver.speed_units = speed, imcpy.SpeedUnits.METERS_PS
     custom: dict[str, Any] = {"goal": goal.id, "behavior": goal.behavior or "",
                               "title": goal.title}
+    if inside:
+        # A goal inside refinements: the refined goals it runs in (flat ids, outermost first)
+        # and their titles, which its id (G1/G1.2#2/G1.2.1) names only by id.
+        custom["inside"] = "/".join(flat_id for flat_id, _ in inside)
+        custom["inside.title"] = " / ".join(label for _, label in inside)
     custom.update({f"param.{k}": json.dumps(v) for k, v in sorted(goal.params.items())})
     maneuver.custom = _tuple_list(custom)
     return maneuver
@@ -137,8 +145,9 @@ def _constraints(orders: Orders, plan: Any, notes: list[ExportNote]) -> None:
 
 def build_plan(orders: Orders, provenance: Provenance) -> tuple[Any, list[ExportNote]]:
     notes: list[ExportNote] = []
-    orders = flat_for_vehicle(orders, notes)
+    orders, nesting = flat_with_nesting(orders, notes)
     require_sound(orders, notes)
+    parents = nesting.parents if nesting is not None else {}
     speed = speed_of(orders, notes)
     plan = imcpy.PlanSpecification()
     plan.plan_id = provenance.plan_id
@@ -147,7 +156,7 @@ def build_plan(orders: Orders, provenance: Provenance) -> tuple[Any, list[Export
     for place in placements(orders, notes):
         step = imcpy.PlanManeuver()
         step.maneuver_id = place.goal.id
-        step.data = _maneuver(place, speed)
+        step.data = _maneuver(place, speed, parents.get(place.goal.id, ()))
         plan.maneuvers.append(step)
     for terminal in orders.effective_terminals:
         step = imcpy.PlanManeuver()

@@ -1,6 +1,9 @@
 """MOOS-IvP helm behaviours (.bhv) and a uSimMarine community (.moos) written from orders.
 
-One hierarchical helm mode per goal (`ACTIVE:<goal>`), selected by MISSION_GOAL. A goal's
+One hierarchical helm mode per goal (`ACTIVE:<goal>`), selected by MISSION_GOAL. A refined goal
+(issue 37) is a mode of its own holding the modes of the goals inside it: the helm's mode reads
+`ACTIVE:G1:G1_1_k1` while goal G1/G1.1#1 runs; the parent mode is selected whenever
+MISSION_GOAL names a goal inside it, so the transitions stay those of the flat automaton. A goal's
 maneuver posts its succeed successor as an end flag; Timer behaviours relay an outcome posted
 in GOAL_OUTCOME (by the vehicle's monitors) or a broken constraint to the successor of that
 outcome. Terminal modes post MISSION_RESULT and DEPLOY = false, which parks the helm."""
@@ -9,12 +12,15 @@ from __future__ import annotations
 
 import json
 import re
+from dataclasses import dataclass
+from functools import cached_property
 
 from ..orders.model import OUTCOMES, Orders
+from ..verify.nesting import Nesting
 from .common import (
     Placement,
     duration_s,
-    flat_for_vehicle,
+    flat_with_nesting,
     lane_width,
     placements,
     require_sound,
@@ -29,6 +35,8 @@ from .provenance import Provenance
 BHV_MEDIA_TYPE = "text/plain; charset=utf-8"
 # One Timer per goal and constraint in its scope: bound the file a request can make.
 MAX_CONSTRAINT_RELAYS = 200_000
+# Parent-mode conditions name every goal inside (times the depth): bounded the same way.
+MAX_NESTED_SELECTORS = 200_000
 _UNSAFE = re.compile(r"[^A-Za-z0-9_]")
 LOGGED = ("DEPLOY", "MODE", "MISSION_GOAL", "GOAL_OUTCOME", "CONSTRAINT_VIOLATED",
           "MISSION_RESULT", "NAV_DEPTH", "NAV_ALTITUDE", "NAV_X", "NAV_Y", "DESIRED_DEPTH",
@@ -42,17 +50,105 @@ def _comment(text: str) -> str:
 
 def mode_names(ids: list[str]) -> dict[str, str]:
     """Helm mode name per goal or terminal id: MOOS names take letters, digits and _."""
+    return _unique([(item, item) for item in ids])
+
+
+def _unique(items: list[tuple[str, str]]) -> dict[str, str]:
+    """key -> a name made of `text`, no two alike and none the helm's own ACTIVE/INACTIVE."""
     names: dict[str, str] = {}
     used: set[str] = set()
-    for item in ids:
-        base = _UNSAFE.sub("_", item) or "_"
+    for key, text in items:
+        base = _UNSAFE.sub("_", text) or "_"
         name, n = base, 1
         while name in used or name in {"ACTIVE", "INACTIVE"}:
             n += 1
             name = f"{base}_{n}"
         used.add(name)
-        names[item] = name
+        names[key] = name
     return names
+
+
+@dataclass(frozen=True)
+class Group:
+    """A refined goal as a helm mode: its flat id, mode name, the mode it sits in (`ACTIVE`,
+    `ACTIVE:G1`), its label, and the MISSION_GOAL values (goal modes) inside it."""
+
+    flat_id: str
+    name: str
+    parent: str
+    label: str
+    inside: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class HelmModes:
+    """Where each goal and terminal runs in the helm's mode tree: `name` is what MISSION_GOAL
+    posts (unique in the file), `path` the helm's MODE value (`ACTIVE:G1:G1_1_k1`)."""
+
+    name: dict[str, str]
+    path: dict[str, str]
+    groups: tuple[Group, ...]
+    within: dict[str, tuple[str, ...]]  # goal id -> flat ids of its groups, outermost first
+
+    def condition(self, item: str) -> str:
+        """What a behaviour's `MODE ==` condition names for goal or terminal `item`. pHelmIvP
+        24.8 matched `ACTIVE:G1`, `G1`, `G1:G1_1_k1` and `G1_1_k1` against the mode
+        ACTIVE:G1:G1_1_k1 (whole parts: not `1_k1`), but not the whole three-part string; so a
+        goal inside a refinement is named by its own mode name, unique in the file."""
+        return self.path[item] if item not in self.within else self.name[item]
+
+    def goal_of(self, mode: str) -> str | None:
+        """The goal or terminal a MODE value (`ACTIVE:...`) or MISSION_GOAL value names."""
+        leaf = mode.rsplit(":", 1)[-1]
+        return self._by_name.get(leaf)
+
+    @cached_property
+    def _by_name(self) -> dict[str, str]:
+        return {name: item for item, name in self.name.items()}
+
+
+def helm_modes(orders: Orders, nesting: Nesting | None = None) -> HelmModes:
+    """Mode names and paths for the (flat) orders; `nesting` places the goals of refinements
+    inside modes of their refined goals. Without refinements every mode sits in ACTIVE and is
+    named by `mode_names`, as it always was."""
+    ids = [g.id for g in orders.goals] + [t.id for t in orders.effective_terminals]
+    chains = {g.id: (nesting.parents.get(g.id, ()) if nesting else ()) for g in orders.goals}
+    parents: dict[str, tuple[str, tuple[str, ...]]] = {}  # flat id -> label, outer ids
+    for chain in chains.values():
+        for depth, (flat_id, label) in enumerate(chain):
+            parents.setdefault(flat_id, (label, tuple(p for p, _ in chain[:depth])))
+    if not parents:
+        names = mode_names(ids)
+        return HelmModes(names, {i: f"ACTIVE:{n}" for i, n in names.items()}, (), {})
+    # A mode is named by the last part of its flat id, an unrolled copy's mark spelt out
+    # (#k as _k<k>, @Ts as _t<T>s): G1/G1.1#1 is G1_1_k1 inside G1.
+    named = _unique([(item, _spelt(item)) for item in [*parents, *ids]])
+    path: dict[str, str] = {}
+    inside: dict[str, list[str]] = {p: [] for p in parents}
+    for item in ids:
+        chain = chains.get(item, ())
+        path[item] = ":".join(["ACTIVE", *(named[p] for p, _ in chain), named[item]])
+        for flat_id, _ in chain:
+            inside[flat_id].append(named[item])
+    groups = tuple(
+        Group(flat_id, named[flat_id], ":".join(["ACTIVE", *(named[o] for o in outer)]),
+              label, tuple(inside[flat_id]))
+        for flat_id, (label, outer) in parents.items())
+    within = {item: tuple(p for p, _ in chain) for item, chain in chains.items() if chain}
+    return HelmModes({i: named[i] for i in ids}, path, groups, within)
+
+
+def _spelt(flat_id: str) -> str:
+    return flat_id.rsplit("/", 1)[-1].replace("#", "_k").replace("@", "_t")
+
+
+def _any_of(var: str, values: tuple[str, ...]) -> str:
+    """`var` equals one of `values`, as a helm logic condition: `or` nested in halves, so the
+    parser's depth grows with the logarithm of the goals inside, not their number."""
+    if len(values) == 1:
+        return f"({var} = {values[0]})"
+    half = len(values) // 2
+    return f"({_any_of(var, values[:half])} or {_any_of(var, values[half:])})"
 
 
 class BehaviourNames:
@@ -112,11 +208,13 @@ def _duration(place: Placement) -> list[str]:
     return [f"duration = {seconds}", "duration_idle_decay = false"] if seconds else []
 
 
-def write_bhv(orders: Orders, provenance: Provenance, notes: list[ExportNote]) -> str:
+def write_bhv(orders: Orders, provenance: Provenance, notes: list[ExportNote],
+              nesting: Nesting | None = None) -> str:
     speed = speed_of(orders, notes)
     origin = _origin(orders)
     terminals = orders.effective_terminals
-    modes = mode_names([g.id for g in orders.goals] + [t.id for t in terminals])
+    helm = helm_modes(orders, nesting)
+    modes, paths = helm.name, helm.path
     start = modes[str(orders.start)]
     out = [
         f"// MOOS-IvP helm behaviours for mission {orders.id}, written by Countersign.",
@@ -138,9 +236,17 @@ def write_bhv(orders: Orders, provenance: Provenance, notes: list[ExportNote]) -
         "} INACTIVE",
         "",
     ]
+    out += _group_declarations(helm)
+    groups = {group.flat_id: group for group in helm.groups}
+    declared: set[str] = set()
     for goal in orders.goals:
+        for flat_id in helm.within.get(goal.id, ()):
+            if flat_id not in declared:
+                declared.add(flat_id)
+                out += _group_mode(groups[flat_id])
+        parent = paths[goal.id].rsplit(":", 1)[0]
         out += [f"// mode {modes[goal.id]} = goal {goal.id}: {_comment(goal.label)}",
-                f"set MODE = {modes[goal.id]} {{", "  MODE = ACTIVE",
+                f"set MODE = {modes[goal.id]} {{", f"  MODE = {parent}",
                 f"  MISSION_GOAL = {modes[goal.id]}", "}", ""]
     for terminal in terminals:
         out += [f"// mode {modes[terminal.id]} = terminal {terminal.id} ({terminal.kind}): "
@@ -154,15 +260,35 @@ def write_bhv(orders: Orders, provenance: Provenance, notes: list[ExportNote]) -
                           f"exceed the {MAX_CONSTRAINT_RELAYS:,} a helm file may hold")
     named = BehaviourNames()
     for place in placements(orders, notes):
-        out += _goal_behaviours(place, modes, origin, speed, scope, named, notes)
+        out += _goal_behaviours(place, modes, helm, origin, speed, scope, named, notes)
     for terminal in terminals:
         name = modes[terminal.id]
         out += _block("BHV_Timer", [
-            f"name = {named(name, 'stop')}", f"condition = MODE == ACTIVE:{name}",
+            f"name = {named(name, 'stop')}", f"condition = MODE == {helm.condition(terminal.id)}",
             f"runflag = MISSION_RESULT = {terminal.kind}", "runflag = DEPLOY = false"])
     out += _unexpressed(orders, notes)
     uncarried(orders, "MOOS-IvP", notes)
     return "\n".join(out).rstrip("\n") + "\n"
+
+
+def _group_declarations(helm: HelmModes) -> list[str]:
+    """What the nested modes add before the goals' own (nothing without refinements)."""
+    if not helm.groups:
+        return []
+    selectors = sum(len(group.inside) for group in helm.groups)
+    if selectors > MAX_NESTED_SELECTORS:
+        raise ExportError(f"the refined goals' modes name {selectors:,} goals inside them "
+                          f"(goals times depth), over the {MAX_NESTED_SELECTORS:,} a helm file "
+                          "may hold: refine less deeply or lower a time-out")
+    return ["// A refined goal is a mode holding the modes of the goals inside it: it is",
+            "// selected while MISSION_GOAL names one of them, so MODE reads ACTIVE:G1:G1_1_k1.",
+            ""]
+
+
+def _group_mode(group: Group) -> list[str]:
+    return [f"// mode {group.name} = refined goal {group.flat_id}: {_comment(group.label)}",
+            f"set MODE = {group.name} {{", f"  MODE = {group.parent}",
+            f"  {_any_of('MISSION_GOAL', group.inside)}", "}", ""]
 
 
 def _constraint_scope(orders: Orders) -> dict[str, list[tuple[int, str, str]]]:
@@ -179,13 +305,14 @@ def _constraint_scope(orders: Orders) -> dict[str, list[tuple[int, str, str]]]:
     return scope
 
 
-def _goal_behaviours(place: Placement, modes: dict[str, str], origin: tuple[float, float],
-                     speed: float, scope: dict[str, list[tuple[int, str, str]]],
-                     named: BehaviourNames, notes: list[ExportNote]) -> list[str]:
+def _goal_behaviours(place: Placement, modes: dict[str, str], helm: HelmModes,
+                     origin: tuple[float, float], speed: float,
+                     scope: dict[str, list[tuple[int, str, str]]], named: BehaviourNames,
+                     notes: list[ExportNote]) -> list[str]:
     goal = place.goal
     name = modes[goal.id]
     target = {o: modes[goal.successors(o)[0]] for o in OUTCOMES}
-    when = f"condition = MODE == ACTIVE:{name}"
+    when = f"condition = MODE == {helm.condition(goal.id)}"
     kind, lines = _maneuver(place, origin, speed)
     if kind != "BHV_Waypoint" and not duration_s(goal):
         notes.append(ExportNote("SUCCEED", f"/goals/{place.index}", f"goal {goal.id} has no "
@@ -279,10 +406,15 @@ def write_moos(orders: Orders, bhv_name: str, provenance: Provenance) -> str:
 
 def export_moos(orders: Orders, provenance: Provenance) -> VehicleExport:
     notes: list[ExportNote] = []
-    orders = flat_for_vehicle(orders, notes)
+    orders, nesting = flat_with_nesting(orders, notes)
     require_sound(orders, notes)
+    if nesting is not None:
+        notes.append(ExportNote("NESTED", "/goals", "a refined goal is a helm mode holding the "
+                                "modes of the goals inside it: MODE reads ACTIVE:G1:G1_1_k1 "
+                                "(#k spelt _k<k>, @Ts _t<T>s); MISSION_GOAL names the goal's "
+                                "own mode"))
     bhv_name = f"{orders.id}.bhv"
-    bhv = write_bhv(orders, provenance, notes)
+    bhv = write_bhv(orders, provenance, notes, nesting)
     moos = write_moos(orders, bhv_name, provenance)
     files = (ExportFile(bhv_name, BHV_MEDIA_TYPE, bhv.encode()),
              ExportFile(f"{orders.id}.moos", BHV_MEDIA_TYPE, moos.encode()))
