@@ -24,6 +24,8 @@ TIME_WARP = 10
 DEADLINE_S = 120.0
 POLL_S = 0.2
 RETRY_S = 20.0
+# One uPokeDB run: it normally exits within a second; one stuck connecting is tried again.
+POKE_S = 30.0
 
 
 def tools_missing() -> str | None:
@@ -92,9 +94,12 @@ class Community:
         retry interval is long, so a late first post is not followed by a second."""
         end = time.monotonic() + DEADLINE_S
         while time.monotonic() < end:
-            subprocess.run(["uPokeDB", str(self.moos), f"{var}={value}"], env=_env(),
-                           cwd=self.folder, stdout=subprocess.DEVNULL,
-                           stderr=subprocess.DEVNULL, check=True, timeout=DEADLINE_S)
+            # A uPokeDB that never reached the MOOSDB (a loaded machine) is killed by run();
+            # what it may have posted is checked below, then it is tried again.
+            with suppress(subprocess.TimeoutExpired):
+                subprocess.run(["uPokeDB", str(self.moos), f"{var}={value}"], env=_env(),
+                               cwd=self.folder, stdout=subprocess.DEVNULL,
+                               stderr=subprocess.DEVNULL, check=True, timeout=POKE_S)
             retry = time.monotonic() + RETRY_S
             while time.monotonic() < retry:
                 if landed():

@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 import math
 import re
+import subprocess
 import time
 from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor
@@ -253,8 +254,10 @@ def flown(tmp_path_factory: pytest.TempPathFactory) -> Iterator[dict[str, Flown]
     def one(drive: Drive) -> tuple[str, Flown]:
         try:
             return drive.key, _fly(drive, root / drive.key)
-        except AssertionError as exc:
-            return drive.key, Flown([], {}, [], [], [], [], Path(), failure=str(exc))
+        except (AssertionError, subprocess.SubprocessError, OSError) as exc:
+            # One community's trouble is that run's failure, not every run's error.
+            return drive.key, Flown([], {}, [], [], [], [], Path(),
+                                    failure=f"{type(exc).__name__}: {exc}")
 
     with ThreadPoolExecutor(PARALLEL) as pool:
         yield dict(pool.map(one, DRIVES))
