@@ -76,6 +76,8 @@ def test_editor_opens_edits_and_adds_refinements(
     shape = open_editor(page, mission)
     check_screen(shape, f"refined mission at {width}x{height}")
     expect(page.get_by_test_id("refined-G1")).to_have_text("refined ▸")
+    # The error inside the refinement marks the refined goal as an error.
+    expect(page.get_by_test_id("markers-G1")).to_have_text("✖ REFINE")
     _shot(page, tmp_path_factory, f"refine-mission-{width}x{height}")
 
     # Open G1's refinement (double-click): its own canvas, breadcrumbs back to the mission.

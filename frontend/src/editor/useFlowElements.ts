@@ -73,7 +73,12 @@ export function useFlowElements(large: boolean): FlowElements {
   const focus = useEditor((s) => s.focus);
 
   const findings = useMemo(() => findingsAt(report?.findings ?? [], draft.prefix, draft.team), [report, draft.prefix, draft.team]);
-  const local = useMemo(() => (draft.prefix === "" ? findings : localFindings(findings, draft.prefix)), [findings, draft.prefix]);
+  // A finding inside a refinement (`G1/G1.1`) marks the refined goal that holds it (G1).
+  const nested = useMemo(() => (draft.orders.goals ?? []).some((g) => g.refines), [draft.orders]);
+  const local = useMemo(
+    () => (draft.prefix === "" && !nested ? findings : localFindings(findings, draft.prefix)),
+    [findings, draft.prefix, nested],
+  );
   // What a node shows beyond its title: a refined goal, a meeting, what a terminal returns.
   const extras = useMemo(() => {
     const out = new Map<string, { refined: boolean; meet: string | null; returns: string | null }>();
