@@ -134,6 +134,15 @@ def test_editor_opens_edits_and_adds_refinements(
     expect_accessible(page, f"G2's new refinement at {width}x{height}")
     _shot(page, tmp_path_factory, f"refine-added-{width}x{height}")
 
+    # U goes back up from the keyboard; O opens the selected goal's refinement again.
+    page.get_by_test_id("node-G2.1").click()
+    page.keyboard.press("u")
+    expect(page.get_by_test_id("breadcrumbs")).to_have_count(0)
+    _shape(page)
+    select_node(page, "G1")
+    page.keyboard.press("o")
+    expect(page.get_by_test_id("crumb-current")).to_have_text("G1 Search Area A")
+
 
 @pytest.mark.parametrize(("width", "height"), SCREENS)
 def test_editor_shows_each_team_member_and_the_meetings(

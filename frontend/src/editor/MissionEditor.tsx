@@ -456,6 +456,8 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
     else if (!mod && key === "g" && !event.altKey) addGoalNode();
     else if (!mod && key === "l" && !event.altKey) void relayout();
     else if (!mod && key === "f" && !event.altKey && selectedId) focusOn(selectedId);
+    else if (!mod && key === "o" && !event.altKey && selectedGoal?.refines) openRefinement(selectedGoal.id);
+    else if (!mod && key === "u" && !event.altKey && scope.path.length > 0) openScope({ member: scope.member, path: scope.path.slice(0, -1) });
     else if (event.key === "Escape" && focus) focusOn(null);
     else if (event.key === "?") setShortcutsOpen(true);
     else return;
