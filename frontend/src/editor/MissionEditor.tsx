@@ -682,7 +682,8 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
             onConnectEnd={onConnectEnd}
             isValidConnection={isValidConnection}
             onNodeDragStop={onNodeDragStop}
-            onNodeClick={onScopePickClick}
+            // A constraint's scope names the goals of the mission (or member), not of a refinement.
+            onNodeClick={view.refinement ? undefined : onScopePickClick}
             onNodeDoubleClick={(_e, node) => {
               if (goals(latest().orders).find((g) => g.id === node.id)?.refines) openRefinement(node.id);
             }}
