@@ -179,6 +179,9 @@ def test_editor_shows_each_team_member_and_the_meetings(
 
     # An edit on member 2's canvas is saved in member 2's orders.
     select_node(page, partner["id"])
+    expect(page.get_by_test_id("goal-meet")).to_have_value(partner["meet"])
+    expect(page.get_by_test_id("meet-partners")).to_have_text(
+        f"Meets {members[0]} at {meeting['id']} ({meeting['title']}).")
     page.get_by_label("Title", exact=True).fill("Meet vehicle 1 in Area C")
     saved(page)
     draft = _draft(page, mission)

@@ -72,6 +72,14 @@ const PANELS = [
 ];
 const CLIP_KEY = "countersign.editor.clipboard";
 
+/** Who else meets at a meeting: "Meets vehicle-2 at G2 (Rendezvous ...)", or that nobody does. */
+function partnersText(team: { vehicle: string; orders: Orders }[], member: number | null, meet: string): string {
+  const others = team.flatMap((m, i) =>
+    i === member ? [] : goals(m.orders).filter((g) => g.meet === meet).map((g) => `${m.vehicle} at ${g.id}${g.title ? ` (${g.title})` : ""}`),
+  );
+  return others.length > 0 ? `Meets ${others.join(" and ")}.` : `No other vehicle names meeting ${meet}: nobody will come (TEAM).`;
+}
+
 /** `onSaved` gets the mission as the save answered it (the page shows it without re-reading).
  * `report`: the saved draft's report if the page asked for it beside the mission; it is used only
  * if it is of this draft (its digest), else the editor asks for it. */
@@ -745,6 +753,11 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
                 onChange={(e) => editOrders((o) => ({ ...o, goals: goals(o).map((g) => (g.id === selectedGoal.id ? patch(g, { meet: e.target.value.trim() }) : g)) }), `g:${selectedGoal.id}:meet`)}
                 data-testid="goal-meet"
               />
+              {team && selectedGoal.meet && scope.path.length === 0 && (
+                <span className="hint" data-testid="meet-partners">
+                  {partnersText(team, scope.member, selectedGoal.meet)}
+                </span>
+              )}
             </p>
           )}
           {selectedGoal ? (
