@@ -25,17 +25,16 @@ export interface Scope {
 export const TOP: Scope = { member: null, path: [] };
 export const SEP = "/";
 
-export interface MemberSpec {
-  vehicle: string;
-  orders: Orders;
-}
+/** A team member as the server's model declares it, its orders read as orders (the model
+ * types them as an open object). */
+export type MemberSpec = { [P in keyof Schema<"TeamMember"> as P extends "orders" ? never : P]: Schema<"TeamMember">[P] } & { orders: Orders };
 
 /** The team's members (each with its own orders), or null for one vehicle's orders. */
 export function teamOf(orders: Orders): MemberSpec[] | null {
   const team = orders.team;
   if (!Array.isArray(team) || team.length === 0) return null;
   // The server types a member's orders loosely (an object); they are countersign.orders/1.
-  return team.map((m) => ({ vehicle: m.vehicle, orders: m.orders as unknown as Orders }));
+  return team.map((m) => ({ ...m, orders: m.orders as unknown as Orders }));
 }
 
 /** The scope a draft opens at: its first member for a team, else the mission. */
