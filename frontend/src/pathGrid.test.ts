@@ -29,3 +29,15 @@ describe("path rows", () => {
     expect(gridColumns(0)).toBe(gridColumns(1));
   });
 });
+
+describe("titles of refined goals (issue 37)", () => {
+  it("names nested steps and their unrolled copies by the goal they copy", () => {
+    const titles = titlesOf({
+      goals: [{ id: "G1", title: "Search", refines: { goals: [{ id: "G1.1", title: "Next cell" }], terminals: [{ id: "T", title: "Found" }] } }],
+    });
+    expect(titles.get("G1/G1.1")).toBe("Next cell");
+    expect(titles.get("G1/T")).toBe("Found");
+    const steps = pathSteps({ index: 1, goals: ["G1/G1.1#2", "G1/G1.1@600s"], outcomes: ["fail", "succeed"], terminal: "C" }, titles);
+    expect(steps.map((s) => s.title)).toEqual(["Next cell", "Next cell"]);
+  });
+});

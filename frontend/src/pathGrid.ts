@@ -15,19 +15,29 @@ export interface PathStep {
   letter: string;
 }
 
-type Titled = { id: string; title?: string | null };
+type Titled = { id: string; title?: string | null; refines?: unknown };
+type Titles = { goals?: Titled[] | null; terminals?: Titled[] | null };
 
-/** Titles of the goals and terminals by id (empty when untitled). */
-export function titlesOf(orders: { goals?: Titled[] | null; terminals?: Titled[] | null }): Map<string, string> {
-  const titles = new Map<string, string>();
-  for (const n of [...(orders.goals ?? []), ...(orders.terminals ?? [])]) titles.set(n.id, n.title ?? "");
+/** Titles of the goals and terminals by id (empty when untitled), with the goals inside
+ * refinements under their full ids (`G1/G1.1`, issue 37). */
+export function titlesOf(orders: Titles, prefix = "", titles = new Map<string, string>()): Map<string, string> {
+  for (const n of [...(orders.goals ?? []), ...(orders.terminals ?? [])]) titles.set(`${prefix}${n.id}`, n.title ?? "");
+  for (const g of orders.goals ?? []) {
+    if (g.refines && typeof g.refines === "object") titlesOf(g.refines as Titles, `${prefix}${g.id}/`, titles);
+  }
   return titles;
+}
+
+/** A step's title: a copy of a goal in a bounded refinement's unrolling (`G1/G1.2#3`,
+ * `G1/G1.2@600s`) has the title of the goal it copies. */
+function titleOf(titles: ReadonlyMap<string, string>, goal: string): string {
+  return titles.get(goal) ?? titles.get(goal.replace(/[#@][^/]*/g, "")) ?? "";
 }
 
 export function pathSteps(path: PathLike, titles: ReadonlyMap<string, string>): PathStep[] {
   return path.goals.map((goal, i) => {
     const outcome = path.outcomes[i] ?? "";
-    return { goal, title: titles.get(goal) ?? "", outcome, letter: OUTCOME_LETTERS[outcome] ?? "?" };
+    return { goal, title: titleOf(titles, goal), outcome, letter: OUTCOME_LETTERS[outcome] ?? "?" };
   });
 }
 

@@ -34,7 +34,7 @@ import {
 } from "./graph";
 import { knownQuantities } from "./expr";
 import { canRedo, canUndo, redo, reset, undo } from "./history";
-import { copyGoals, pasteGoals, readClip } from "./model";
+import { copyGoals, pasteGoals, patch, readClip } from "./model";
 import { AreasPanel, MissionPanel, NormsPanel, QuantitiesPanel, VehiclePanel } from "./panels";
 import { PathsPanel } from "./PathsPanel";
 import { ImportMenu, NewFromExample, readOrdersFile } from "./ImportMenu";
@@ -56,6 +56,9 @@ import { readyWhenShown, showLaidOut } from "./ready";
 import { FIT, freePlace, GOTO_ZOOM, MIN_ZOOM, trackConnectPointer, SideMinimap, Splitter, useEditorFrame, useSideWidth, ZoomDetail } from "./canvas";
 import { ShortcutsDialog } from "./Shortcuts";
 import { RefusedNote } from "./RefusedNote";
+import { addRefinement, crumbsOf, defaultReturn, isOutcome, openingScope, ordersAt, removeRefinement, type Scope, setReturns, teamOf, TOP } from "./scope";
+import { applyAtMember, applyScoped, scopedDraft, useScopedDraft } from "./useScopedDraft";
+import type { Draft } from "./store";
 
 const PANELS = [
   { id: "editor-constraints", label: "Constraints" },
@@ -68,6 +71,14 @@ const PANELS = [
   { id: "editor-plain", label: "Plain orders" },
 ];
 const CLIP_KEY = "countersign.editor.clipboard";
+
+/** Who else meets at a meeting: "Meets vehicle-2 at G2 (Rendezvous ...)", or that nobody does. */
+function partnersText(team: { vehicle: string; orders: Orders }[], member: number | null, meet: string): string {
+  const others = team.flatMap((m, i) =>
+    i === member ? [] : goals(m.orders).filter((g) => g.meet === meet).map((g) => `${m.vehicle} at ${g.id}${g.title ? ` (${g.title})` : ""}`),
+  );
+  return others.length > 0 ? `Meets ${others.join(" and ")}.` : `No other vehicle names meeting ${meet}: nobody will come (TEAM).`;
+}
 
 /** `onSaved` gets the mission as the save answered it (the page shows it without re-reading).
  * `report`: the saved draft's report if the page asked for it beside the mission; it is used only
@@ -88,9 +99,13 @@ export default function MissionEditor(props: { mission: MissionDetail; report?: 
 function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved: (saved: MissionDetail) => void; opening: Promise<Report | null> | null }) {
   const flow = useReactFlow();
   const store = useEditorApi();
-  const { history, latest, updateHistory } = useDraftHistory();
+  const { history, latest: latestWhole, updateHistory } = useDraftHistory();
   const draft = history.present;
-  const orders = draft.orders;
+  // The canvas shows the part of the orders in scope (a team member, a refinement: scope.ts).
+  const scope = useEditor((s) => s.scope);
+  const view = useScopedDraft();
+  const orders = view.orders;
+  const latest = useCallback(() => scopedDraft(latestWhole(), store.getState().scope), [latestWhole, store]);
   const set = useEditor((s) => s.set);
   const savedRevision = useEditor((s) => s.savedRevision);
   const revision = useEditor((s) => s.revision);
@@ -122,8 +137,25 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
   }, []);
 
   const server = useServerCheck(opening);
-  const { edit, editOrders, changed, saveComputedLayout, reloadTheirs, resolve } = useAutosave(mission, onSaved, server);
-  const onScopePickClick = useScopePickClick(editOrders);
+  const autosave = useAutosave(mission, onSaved, server);
+  const { changed, saveComputedLayout, reloadTheirs, resolve } = autosave;
+  const editWhole = autosave.edit;
+  // Edits of the canvas apply to the part in scope; the whole draft is saved.
+  const edit = useCallback(
+    (change: (d: Draft) => Draft, group?: string) => editWhole((d) => applyScoped(d, store.getState().scope, change), group),
+    [editWhole, store],
+  );
+  const editOrders = useCallback(
+    (change: (o: Orders) => Orders, group?: string) => edit((d) => ({ ...d, orders: change(d.orders) }), group),
+    [edit],
+  );
+  // The panels (constraints, areas, vehicle...) edit the orders of the mission or team member.
+  const panelOrders = useMemo(() => ordersAt(draft.orders, { member: scope.member, path: [] }) ?? draft.orders, [draft.orders, scope.member]);
+  const editPanelOrders = useCallback(
+    (change: (o: Orders) => Orders, group?: string) => autosave.editOrders((o) => applyAtMember(o, store.getState().scope, change), group),
+    [autosave, store],
+  );
+  const onScopePickClick = useScopePickClick(editPanelOrders);
 
   // Lay out a draft that has no positions yet (new or imported), without an undo step.
   // Small orders open fitted to the canvas; large ones open at the start goal at a readable
@@ -157,7 +189,7 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
   }, [orders, draft, updateHistory, saveComputedLayout, set]);
 
   // ---- React Flow nodes and edges, synchronised with the draft ----
-  const { graph, findings, markers } = useFlowElements(large.current);
+  const { graph, findings, local, markers } = useFlowElements(large.current);
   const highlightPath = useCallback((path: PathLike | null, label = "") => set({ highlight: path ? { path, label } : null }), [set]);
   const selectNext = useRef<string[] | null>(null);
 
@@ -194,7 +226,9 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
   const editorRef = useRef<HTMLDivElement>(null);
   const mainRef = useRef<HTMLDivElement>(null);
   const canvasRef = useRef<HTMLDivElement>(null);
-  const frameHeight = useEditorFrame(editorRef, mainRef);
+  // The scope bar (team members, breadcrumbs) shows above the canvas for teams and refinements.
+  const scopeBar = teamOf(draft.orders) !== null || scope.path.length > 0;
+  const frameHeight = useEditorFrame(editorRef, mainRef, scopeBar);
   const [sideWidth, setSideWidth] = useSideWidth();
   // The plain orders (as saved): fetched when their tab opens and after each save while open.
   const plainShown = panel === "editor-plain";
@@ -207,7 +241,7 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
     };
   }, [plainShown, savedRevision, mission.id, set]);
   const [planOpen, setPlanOpen] = useState(false);
-  const known = useMemo(() => knownQuantities(orders), [orders]);
+  const known = useMemo(() => knownQuantities(panelOrders), [panelOrders]);
   const goTo = (id: string) => {
     const node = graph.nodes.find((n) => n.id === id);
     if (!node) {
@@ -301,7 +335,10 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
   };
   const addTerminalNode = (kind: "complete" | "abort") => {
     const at = placeNew();
-    const { orders: next, id } = addTerminal(latest().orders, kind);
+    const added = addTerminal(latest().orders, kind);
+    const id = added.id;
+    // A refinement's terminal returns one of the parent goal's outcomes.
+    const next = view.refinement ? setReturns(added.orders, id, defaultReturn(kind)) : added.orders;
     selectNext.current = [id];
     edit((d) => ({ orders: next, layout: { ...d.layout, [id]: at } }));
   };
@@ -354,7 +391,8 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
       const layout = await layoutOffThread(next, {}, canvasAspect());
       setReady(false);
       fitPending.current = true;
-      edit(() => ({ orders: next, layout }));
+      set({ scope: openingScope(next) });
+      editWhole(() => ({ orders: next, layout }));
       const codes = [...new Set(found.map((f) => f.code).filter(Boolean))];
       set({
         notice: `Imported ${file.name}: ${plural(goals(next).length, "goal")}${codes.length > 0 ? `; reading it found ${codes.join(", ")}` : ""}. Undo brings the previous draft back.`,
@@ -386,6 +424,25 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
     }
     void flow.fitView({ nodes: [...near].map((n) => ({ id: n })), padding: 0.25, maxZoom: 1, minZoom: MIN_ZOOM });
   };
+  // ---- Scope: a team member's canvas, a refinement's canvas (scope.ts) ----
+  const team = teamOf(draft.orders);
+  const crumbs = crumbsOf(draft.orders, scope);
+  const openScope = (next: Scope) => {
+    if (next.member === scope.member && next.path.join("/") === scope.path.join("/")) return;
+    setReady(false);
+    set({ scope: next, highlight: null, focus: null });
+    setConnectMessage(next.path.length > 0 ? `Showing the refinement of ${next.path[next.path.length - 1]}.` : "Showing the mission.");
+    // Fitted once the canvas carries the nodes of the new scope.
+    window.requestAnimationFrame(() => window.requestAnimationFrame(showLaidOutThenReady));
+  };
+  const openRefinement = (id: string) => openScope({ member: scope.member, path: [...scope.path, id] });
+  // A scope that an edit (undo, someone else's save) removed falls back to the member or mission.
+  useEffect(() => {
+    if (ordersAt(draft.orders, scope)) return;
+    const member = { member: scope.member, path: [] };
+    set({ scope: ordersAt(draft.orders, member) && scope.member !== null ? member : team ? openingScope(draft.orders) : TOP });
+  }, [draft.orders, scope, set, team]);
+
   // A refused change of a goal's or terminal's field: select it, so that its inspector shows
   // the field with the refusal beside it.
   useEffect(() => {
@@ -407,6 +464,8 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
     else if (!mod && key === "g" && !event.altKey) addGoalNode();
     else if (!mod && key === "l" && !event.altKey) void relayout();
     else if (!mod && key === "f" && !event.altKey && selectedId) focusOn(selectedId);
+    else if (!mod && key === "o" && !event.altKey && selectedGoal?.refines) openRefinement(selectedGoal.id);
+    else if (!mod && key === "u" && !event.altKey && scope.path.length > 0) openScope({ member: scope.member, path: scope.path.slice(0, -1) });
     else if (event.key === "Escape" && focus) focusOn(null);
     else if (event.key === "?") setShortcutsOpen(true);
     else return;
@@ -459,14 +518,16 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
   const nodeIds = useRef(new Set<string>());
   nodeIds.current = new Set(graph.nodes.map((n) => n.id));
   const pickFinding = useCallback(
-    (f: Finding, subjects: string[] = f.subjects) => {
+    (f: Finding, given: string[] = f.subjects) => {
+      const prefix = scopedDraft(latestWhole(), store.getState().scope).prefix;
+      const subjects = prefix === "" ? given : given.filter((s) => s.startsWith(prefix)).map((s) => s.slice(prefix.length).split("/")[0]!);
       select(subjects);
       const shown = subjects.filter((id) => nodeIds.current.has(id));
       if (shown.length > 0) void flow.fitView({ nodes: shown.map((id) => ({ id })), padding: 0.5, maxZoom: 1 });
       const path = findingPath(f);
       highlightPath(path, path ? `${f.code} counterexample` : "");
     },
-    [select, flow, highlightPath],
+    [select, flow, highlightPath, latestWhole, store],
   );
   const nodeOptions = useMemo(
     () =>
@@ -571,6 +632,41 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
           </button>
         </p>
       )}
+      {scopeBar && (
+        <div className="editor-scope" data-testid="editor-scope">
+          {team && (
+            <div className="members" role="group" aria-label="Team member shown on the canvas">
+              <span>Vehicle:</span>
+              {team.map((m, i) => (
+                <button type="button" key={`${i}-${m.vehicle}`} aria-pressed={scope.member === i} onClick={() => openScope({ member: i, path: [] })} data-testid={`member-${m.vehicle}`}>
+                  {m.vehicle}
+                </button>
+              ))}
+            </div>
+          )}
+          {scope.path.length > 0 && (
+            <nav aria-label="Refinement breadcrumbs" data-testid="breadcrumbs">
+              <ol>
+                {crumbs.map((c, i) =>
+                  i === crumbs.length - 1 ? (
+                    <li key={i}>
+                      <span aria-current="location" data-testid="crumb-current">
+                        {c.label}
+                      </span>
+                    </li>
+                  ) : (
+                    <li key={i}>
+                      <button type="button" className="link-button" onClick={() => openScope(c.scope)} data-testid={`crumb-${i}`}>
+                        {c.label}
+                      </button>
+                    </li>
+                  ),
+                )}
+              </ol>
+            </nav>
+          )}
+        </div>
+      )}
       <div className="editor-main" ref={mainRef} style={{ height: frameHeight, gridTemplateColumns: `minmax(0, 1fr) 8px ${sideWidth}px` }}>
         <div
           ref={canvasRef}
@@ -594,7 +690,11 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
             onConnectEnd={onConnectEnd}
             isValidConnection={isValidConnection}
             onNodeDragStop={onNodeDragStop}
-            onNodeClick={onScopePickClick}
+            // A constraint's scope names the goals of the mission (or member), not of a refinement.
+            onNodeClick={view.refinement ? undefined : onScopePickClick}
+            onNodeDoubleClick={(_e, node) => {
+              if (goals(latest().orders).find((g) => g.id === node.id)?.refines) openRefinement(node.id);
+            }}
             deleteKeyCode={null}
             edgesFocusable={false}
             minZoom={MIN_ZOOM}
@@ -626,6 +726,40 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
               )}
             </p>
           )}
+          {selectedGoal && (
+            <p className="focus-row" data-testid="refinement-row">
+              {selectedGoal.refines ? (
+                <>
+                  <button type="button" onClick={() => openRefinement(selectedGoal.id)} data-testid="open-refinement">
+                    Open refinement
+                  </button>{" "}
+                  <button type="button" onClick={() => editOrders((o) => removeRefinement(o, selectedGoal.id))} data-testid="remove-refinement">
+                    Remove refinement
+                  </button>
+                </>
+              ) : (
+                <button type="button" onClick={() => editOrders((o) => addRefinement(o, selectedGoal.id))} data-testid="add-refinement">
+                  Add refinement
+                </button>
+              )}
+            </p>
+          )}
+          {selectedGoal && (team || selectedGoal.meet || selectedGoal.behavior === "rendezvous") && (
+            <p className="inspector-meet">
+              <label htmlFor="goal-meet">Meeting id (rendezvous with the team)</label>
+              <input
+                id="goal-meet"
+                value={selectedGoal.meet ?? ""}
+                onChange={(e) => editOrders((o) => ({ ...o, goals: goals(o).map((g) => (g.id === selectedGoal.id ? patch(g, { meet: e.target.value.trim() }) : g)) }), `g:${selectedGoal.id}:meet`)}
+                data-testid="goal-meet"
+              />
+              {team && selectedGoal.meet && scope.path.length === 0 && (
+                <span className="hint" data-testid="meet-partners">
+                  {partnersText(team, scope.member, selectedGoal.meet)}
+                </span>
+              )}
+            </p>
+          )}
           {selectedGoal ? (
             <GoalInspector
               key={selectedGoal.id}
@@ -634,7 +768,7 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
               editOrders={editOrders}
               titleRef={titleRef}
               markers={markers}
-              findings={findings}
+              findings={local}
             />
           ) : selectedTerminal ? (
             <fieldset className="inspector" key={selectedTerminal.id}>
@@ -655,6 +789,23 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
                 <option value="complete">complete</option>
                 <option value="abort">abort</option>
               </CommitSelect>
+              {view.refinement && (
+                <>
+                  <label htmlFor="terminal-returns">Returns (the outcome of {scope.path[scope.path.length - 1]})</label>
+                  <CommitSelect
+                    id="terminal-returns"
+                    value={isOutcome((selectedTerminal as { returns?: unknown }).returns) ? String((selectedTerminal as { returns?: unknown }).returns) : ""}
+                    onCommit={(returns) => isOutcome(returns) && editOrders((o) => setReturns(o, selectedTerminal.id, returns))}
+                  >
+                    <option value="" disabled>
+                      nothing (REFINE)
+                    </option>
+                    <option value="succeed">succeed</option>
+                    <option value="fail">fail</option>
+                    <option value="violate">violate</option>
+                  </CommitSelect>
+                </>
+              )}
             </fieldset>
           ) : (
             <p className="hint">
@@ -679,14 +830,14 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
       </div>
       <div className="editor-lower">
         <Tabs label="Orders beside the graph" tabs={PANELS.map((p) => ({ id: p.id, label: p.label }))} selected={panel} onSelect={setPanel}>
-          {panel === "editor-constraints" && <ConstraintsPanel orders={orders} editOrders={editOrders} markers={markers} findings={findings} />}
-          {panel === "editor-norms" && <NormsPanel orders={orders} editOrders={editOrders} markers={markers} known={known} />}
-          {panel === "editor-areas" && <AreasPanel orders={orders} editOrders={editOrders} markers={markers} />}
-          {panel === "editor-quantities" && <QuantitiesPanel orders={orders} editOrders={editOrders} />}
-          {panel === "editor-vehicle" && <VehiclePanel orders={orders} editOrders={editOrders} markers={markers} />}
-          {panel === "editor-mission" && <MissionPanel orders={orders} editOrders={editOrders} />}
+          {panel === "editor-constraints" && <ConstraintsPanel orders={panelOrders} editOrders={editPanelOrders} markers={markers} findings={findings} />}
+          {panel === "editor-norms" && <NormsPanel orders={panelOrders} editOrders={editPanelOrders} markers={markers} known={known} />}
+          {panel === "editor-areas" && <AreasPanel orders={panelOrders} editOrders={editPanelOrders} markers={markers} />}
+          {panel === "editor-quantities" && <QuantitiesPanel orders={panelOrders} editOrders={editPanelOrders} />}
+          {panel === "editor-vehicle" && <VehiclePanel orders={panelOrders} editOrders={editPanelOrders} markers={markers} />}
+          {panel === "editor-mission" && <MissionPanel orders={panelOrders} editOrders={editPanelOrders} />}
           {panel === "editor-paths" && (
-            <PathsPanel missionId={mission.id} orders={orders} report={report} revision={saveState === "saved" ? revision : null} onHighlight={highlightPath} />
+            <PathsPanel missionId={mission.id} orders={panelOrders} report={report} revision={saveState === "saved" ? revision : null} onHighlight={highlightPath} />
           )}
           {panel === "editor-plain" && (
             <section aria-labelledby="editor-plain-title" className="printable">
@@ -701,7 +852,7 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
           )}
         </Tabs>
       </div>
-      {planOpen && <PlanDialog mission={mission} orders={orders} onClose={() => setPlanOpen(false)} />}
+      {planOpen && <PlanDialog mission={mission} orders={panelOrders} onClose={() => setPlanOpen(false)} />}
       {shortcutsOpen && <ShortcutsDialog onClose={() => setShortcutsOpen(false)} />}
       {conflict && <ConflictDialog conflict={conflict} onReload={reloadTheirs} onResolve={resolve} />}
     </div>

@@ -10,6 +10,8 @@ export const SHORTCUTS: [string, string][] = [
   ["F", "Focus the selected goal: show it with its predecessors and successors"],
   ["Escape", "Show the whole graph again after F"],
   ["L", "Auto layout"],
+  ["O / double-click", "Open the selected goal's refinement on its own canvas"],
+  ["U", "Up: back from a refinement to the canvas it belongs to"],
   ["Delete / Backspace", "Delete the selection"],
   ["Ctrl+C / Ctrl+V", "Copy / paste goals"],
   ["Ctrl+D", "Duplicate the selected goals"],

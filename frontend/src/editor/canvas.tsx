@@ -23,7 +23,8 @@ const MIN_CANVAS_PX = 360;
  * the page's card's (no pull out of it: issue 32 found the canvas at x = 0, outside the card).
  * On open the editor scrolls to the top of the window once, if it does not fit where it is.
  */
-export function useEditorFrame(editor: RefObject<HTMLElement | null>, main: RefObject<HTMLElement | null>): number {
+/** `shape`: anything above the canvas that changes its height (the scope bar, issue 37). */
+export function useEditorFrame(editor: RefObject<HTMLElement | null>, main: RefObject<HTMLElement | null>, shape: unknown = null): number {
   const [height, setHeight] = useState(620);
   useLayoutEffect(() => {
     const measure = () => {
@@ -42,7 +43,7 @@ export function useEditorFrame(editor: RefObject<HTMLElement | null>, main: RefO
       observer?.disconnect();
       window.removeEventListener("resize", measure);
     };
-  }, [editor, main]);
+  }, [editor, main, shape]);
   useEffect(() => {
     const el = editor.current;
     if (!el) return;
@@ -50,7 +51,7 @@ export function useEditorFrame(editor: RefObject<HTMLElement | null>, main: RefO
     if (box.top < 0 || box.top + (main.current?.offsetHeight ?? 0) > window.innerHeight) {
       window.scrollTo({ top: window.scrollY + box.top - 4, behavior: "instant" as ScrollBehavior });
     }
-  }, [editor, main]);
+  }, [editor, main, shape]);
   return height;
 }
 

@@ -9,6 +9,12 @@ export interface NodeData extends Record<string, unknown> {
   codes: string[];
   severity: "error" | "warning" | null;
   terminalKind?: "complete" | "abort";
+  /** A goal carried out by its refinement (issue 37). */
+  refined?: boolean;
+  /** The meeting a team's rendezvous goal names. */
+  meet?: string | null;
+  /** The parent's outcome a refinement terminal returns ("nothing" when it names none). */
+  returns?: string | null;
 }
 export type GoalNodeType = Node<NodeData, "goal">;
 export type TerminalNodeType = Node<NodeData, "terminal">;
@@ -59,6 +65,20 @@ export const GoalNode = memo(function GoalNode({ id, data, selected }: NodeProps
         <Markers id={id} data={data} />
       </div>
       <div className="node-title">{data.label}</div>
+      {(data.refined || data.meet) && (
+        <div className="node-tags">
+          {data.refined && (
+            <span className="node-tag node-refined" data-testid={`refined-${id}`}>
+              refined ▸
+            </span>
+          )}
+          {data.meet && (
+            <span className="node-tag node-meet" data-testid={`meet-${id}`}>
+              meet {data.meet}
+            </span>
+          )}
+        </div>
+      )}
       {OUTCOMES.map((o, i) => (
         <Handle
           key={o}
@@ -87,7 +107,13 @@ export const TerminalNode = memo(function TerminalNode({ id, data, selected }: N
       <BreakableId id={id} />
       <div className="node-head">
         <code>{id}</code>
-        <span className="node-kind">{data.terminalKind === "abort" ? "abort" : "complete"}</span>
+        {data.returns ? (
+          <span className="node-kind node-returns" data-testid={`returns-${id}`}>
+            returns {data.returns}
+          </span>
+        ) : (
+          <span className="node-kind">{data.terminalKind === "abort" ? "abort" : "complete"}</span>
+        )}
         <Markers id={id} data={data} />
       </div>
       <div className="node-title">{data.label}</div>

@@ -17,6 +17,7 @@ import { createHistory, type History } from "./history";
 import { layeredLayout } from "./layout";
 import type { NodeData } from "./nodes";
 import type { Refusal } from "./refusal";
+import { openingScope, type Scope } from "./scope";
 
 export interface Draft {
   orders: Orders;
@@ -75,6 +76,8 @@ export interface EditorState {
   refusal: Refusal | null;
   /** The goal whose neighbourhood is in focus (the rest fades), or null. */
   focus: string | null;
+  /** The part of the orders the canvas shows: a team member, a refinement (scope.ts). */
+  scope: Scope;
 
   setHistory: (update: Update<History<Draft>>) => void;
   setNodes: (update: Update<Node<NodeData>[]>) => void;
@@ -136,6 +139,7 @@ export function createEditorStore(mission: MissionDetail, report: Report | null 
     scopePick: null,
     refusal: null,
     focus: null,
+    scope: openingScope(mission.orders),
 
     setHistory: (update) => set((s) => ({ history: apply(update, s.history) })),
     setNodes: (update) => set((s) => ({ nodes: apply(update, s.nodes) })),

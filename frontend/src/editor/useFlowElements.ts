@@ -21,7 +21,9 @@ import {
 } from "./graph";
 import { loopsOf } from "./findingGroups";
 import type { NodeData } from "./nodes";
+import { findingsAt, isOutcome, localFindings } from "./scope";
 import { useEditor, useEditorApi } from "./store";
+import { useScopedDraft } from "./useScopedDraft";
 
 /** Above this many goals the canvas renders only what is in view and opens at the start goal. */
 export const LARGE_GOALS = 200;
@@ -47,7 +49,10 @@ export type Markers = ReturnType<typeof markersBySubject>;
 
 export interface FlowElements {
   graph: { nodes: GraphNode[]; edges: GraphEdge[] };
+  /** The findings that concern the scope shown (all of them at the mission). */
   findings: Finding[];
+  /** Those findings with subjects as the canvas at this scope names them. */
+  local: Finding[];
   markers: Markers;
 }
 
@@ -59,7 +64,7 @@ function scopeOf(orders: { constraints?: { id: string; applies_to?: unknown }[] 
 
 export function useFlowElements(large: boolean): FlowElements {
   const store = useEditorApi();
-  const draft = useEditor((s) => s.history.present);
+  const draft = useScopedDraft();
   const report = useEditor((s) => s.report);
   const highlight = useEditor((s) => s.highlight);
   const placed = useEditor((s) => s.placed);
@@ -67,24 +72,40 @@ export function useFlowElements(large: boolean): FlowElements {
   const inScope = useMemo(() => scopeOf(draft.orders, scopePick), [draft.orders, scopePick]);
   const focus = useEditor((s) => s.focus);
 
-  const findings = useMemo(() => report?.findings ?? [], [report]);
+  const findings = useMemo(() => findingsAt(report?.findings ?? [], draft.prefix, draft.team), [report, draft.prefix, draft.team]);
+  // A finding inside a refinement (`G1/G1.1`) marks the refined goal that holds it (G1).
+  const nested = useMemo(() => (draft.orders.goals ?? []).some((g) => g.refines), [draft.orders]);
+  const local = useMemo(
+    () => (draft.prefix === "" && !nested ? findings : localFindings(findings, draft.prefix)),
+    [findings, draft.prefix, nested],
+  );
+  // What a node shows beyond its title: a refined goal, a meeting, what a terminal returns.
+  const extras = useMemo(() => {
+    const out = new Map<string, { refined: boolean; meet: string | null; returns: string | null }>();
+    for (const g of draft.orders.goals ?? []) out.set(g.id, { refined: Boolean(g.refines), meet: g.meet ?? null, returns: null });
+    for (const t of draft.orders.terminals ?? []) {
+      const returns = (t as { returns?: unknown }).returns;
+      out.set(t.id, { refined: false, meet: null, returns: draft.refinement ? (isOutcome(returns) ? returns : "nothing") : null });
+    }
+    return out;
+  }, [draft.orders, draft.refinement]);
   useEffect(() => {
     if (report) performance.mark("editor:findings-rendered");
   }, [report]);
-  const markers = useMemo(() => markersBySubject(findings), [findings]);
+  const markers = useMemo(() => markersBySubject(local), [local]);
   const graph = useMemo(() => ordersToGraph(draft.orders, draft.layout), [draft.orders, draft.layout]);
-  const edgeMarks = useMemo(() => edgeMarkers(findings, graph.edges), [findings, graph.edges]);
+  const edgeMarks = useMemo(() => edgeMarkers(local, graph.edges), [local, graph.edges]);
   const onPath = useMemo(() => (highlight ? pathElements(highlight.path) : null), [highlight]);
   // Loops are drawn once, as a highlighted cycle (a halo under the edges inside one loop), not
   // as a "✖ G7" label on every edge (issue 32).
   const loopEdges = useMemo(() => {
     const inLoop = new Set<string>();
-    for (const loop of loopsOf(findings)) {
+    for (const loop of loopsOf(local)) {
       const goals = new Set(loop.goals);
       for (const e of graph.edges) if (goals.has(e.source) && goals.has(e.target)) inLoop.add(e.id);
     }
     return inLoop;
-  }, [findings, graph.edges]);
+  }, [local, graph.edges]);
   // "Focus this goal": the goal, its predecessors and successors stay; the rest fades.
   const near = useMemo(() => {
     if (!focus) return null;
@@ -105,7 +126,11 @@ export function useFlowElements(large: boolean): FlowElements {
       return graph.nodes.map((n) => {
         const old = before.get(n.id);
         const mark = markers.get(n.id);
+        const extra = extras.get(n.id);
         const data: NodeData = {
+          refined: extra?.refined ?? false,
+          meet: extra?.meet ?? null,
+          returns: extra?.returns ?? null,
           label: n.label,
           start: n.start,
           codes: mark?.codes ?? [],
@@ -113,7 +138,9 @@ export function useFlowElements(large: boolean): FlowElements {
           terminalKind: n.terminalKind,
         };
         const lit = onPath?.nodes.has(n.id) ?? false;
-        const ariaLabel = `${n.kind === "goal" ? "Goal" : "Terminal"} ${n.id}: ${n.label}${n.start ? " (start)" : ""}${
+        const ariaLabel = `${n.kind === "goal" ? "Goal" : "Terminal"} ${n.id}: ${n.label}${n.start ? " (start)" : ""}${extra?.refined ? "; refined (double-click to open)" : ""}${
+          extra?.meet ? `; meeting ${extra.meet}` : ""
+        }${extra?.returns ? `; returns ${extra.returns}` : ""}${
           mark ? `; findings ${mark.codes.join(", ")}` : ""
         }${lit ? "; on the highlighted path" : ""}`;
         const className = `${lit ? "on-path" : ""}${inScope.has(n.id) ? " in-scope" : ""}${near && !near.has(n.id) ? " dimmed" : ""}`.trim();
@@ -126,6 +153,9 @@ export function useFlowElements(large: boolean): FlowElements {
           (old.className ?? "") === className &&
           old.data.severity === data.severity &&
           old.data.terminalKind === data.terminalKind &&
+          old.data.refined === data.refined &&
+          old.data.meet === data.meet &&
+          old.data.returns === data.returns &&
           old.data.codes.join() === data.codes.join()
         ) {
           return old;
@@ -188,9 +218,9 @@ export function useFlowElements(large: boolean): FlowElements {
           };
         });
     });
-  }, [store, graph, markers, edgeMarks, onPath, placed, large, loopEdges, near, focus, inScope]);
+  }, [store, graph, markers, edgeMarks, onPath, placed, large, loopEdges, near, focus, inScope, extras]);
 
-  return { graph, findings, markers };
+  return { graph, findings, local, markers };
 }
 
 /** The node type of the canvas's nodes. */

@@ -11,7 +11,7 @@ import { ErrorMessage, Loading, Notice } from "../components/Status";
 import { goals, OUTCOME_LABEL, OUTCOMES, type Orders, type Outcome, successors, terminals } from "../editor/graph";
 import { formatDateTime, shortDigest } from "../format";
 import { useLoad } from "../useLoad";
-import { outcomeKey, pathOrder } from "./rehearsalOrder";
+import { outcomeKey, pathOrder, stepPlace } from "./rehearsalOrder";
 import "./rehearsal.css";
 
 type JsonBody<R> = R extends { content: { "application/json": infer T } } ? T : never;
@@ -479,19 +479,43 @@ function MissionGraph({ orders, current, visited }: { orders: Orders; current: s
   const all = goals(orders);
   const order = pathOrder(orders);
   const ends = new Map(terminals(orders).map((t) => [t.id, t]));
+  // A refined mission runs as its flat form: the current goal may be a step inside a
+  // refinement (`G1/G1.2#3`, issue 37); its refined goal is current on the mission's level.
+  const place = current ? stepPlace(current) : null;
+  const visitedTop = new Set([...visited].map((v) => stepPlace(v).top));
+  const visitedInner = new Set([...visited].map((v) => stepPlace(v).full));
   return (
     <ol className="rehearsal-graph" aria-label="Mission graph" data-testid="rehearsal-graph">
       {order.map((id) => {
         const goal = all.find((g) => g.id === id)!;
-        const isCurrent = id === current;
+        const isCurrent = id === place?.top;
+        const inner = goal.refines?.goals ?? [];
         return (
           <li
             key={id}
-            className={isCurrent ? "goal current" : visited.has(id) ? "goal visited" : "goal"}
-            aria-current={isCurrent ? "step" : undefined}
+            className={isCurrent ? "goal current" : visitedTop.has(id) ? "goal visited" : "goal"}
+            aria-current={isCurrent && inner.length === 0 ? "step" : undefined}
             data-testid={isCurrent ? "graph-current" : undefined}
           >
             <strong>{goal.title || id}</strong> <code>{id}</code>
+            {inner.length > 0 && (
+              <ol className="rehearsal-refinement" aria-label={`Refinement of ${id}`} data-testid={`rehearsal-refinement-${id}`}>
+                {inner.map((g) => {
+                  const full = `${id}/${g.id}`;
+                  const here = place !== null && (place.full === full || place.full.startsWith(`${full}/`));
+                  return (
+                    <li
+                      key={g.id}
+                      className={here ? "step current" : visitedInner.has(full) ? "step visited" : "step"}
+                      aria-current={here ? "step" : undefined}
+                      data-testid={here ? "graph-current-step" : undefined}
+                    >
+                      <code>{full}</code> {g.title || ""}
+                    </li>
+                  );
+                })}
+              </ol>
+            )}
             <ul>
               {OUTCOMES.map((o: Outcome) => {
                 const targets = successors(goal, o);

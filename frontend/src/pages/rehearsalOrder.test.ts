@@ -1,7 +1,7 @@
 import { describe, expect, it } from "vitest";
 
 import type { Orders } from "../editor/graph";
-import { outcomeKey, pathOrder } from "./rehearsalOrder";
+import { outcomeKey, pathOrder, stepPlace } from "./rehearsalOrder";
 
 const goal = (id: string, s: string, f: string, c: string) => ({ id, next: { succeed: s, fail: f, violate: c } });
 
@@ -43,5 +43,13 @@ describe("rehearsal goal cards", () => {
     expect(outcomeKey("F")).toBe("fail");
     expect(outcomeKey("c")).toBe("violate");
     expect(outcomeKey("x")).toBeNull();
+  });
+});
+
+describe("stepPlace (issue 37)", () => {
+  it("finds a refined step's top-level goal, its unrolling marks dropped", () => {
+    expect(stepPlace("G1/G1.2#3")).toEqual({ top: "G1", full: "G1/G1.2" });
+    expect(stepPlace("G1/G1.2@600s/G1.2.1#1")).toEqual({ top: "G1", full: "G1/G1.2/G1.2.1" });
+    expect(stepPlace("G4")).toEqual({ top: "G4", full: "G4" });
   });
 });

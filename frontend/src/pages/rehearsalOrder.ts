@@ -72,3 +72,10 @@ export function outcomeKey(key: string): "succeed" | "fail" | "violate" | null {
       return null;
   }
 }
+
+/** A flat goal id's place: its top-level goal and its id without unrolling marks
+ * (`G1/G1.2#3` -> G1, G1/G1.2). */
+export function stepPlace(id: string): { top: string; full: string } {
+  const full = id.replace(/[#@][^/]*/g, "");
+  return { top: full.split("/")[0] ?? full, full };
+}

@@ -5,7 +5,7 @@
  * the editor (ELK layered in a worker, long chains wrapped), opened fitted to its frame, with
  * zoom buttons; each edge carries its outcome letter.
  */
-import { useEffect, useLayoutEffect, useMemo, useRef, useState } from "react";
+import { useEffect, useId, useLayoutEffect, useMemo, useRef, useState } from "react";
 
 import { type Layout, type Orders, ordersToGraph, OUTCOME_LABEL, OUTCOME_LETTER } from "../../editor/graph";
 import { layeredLayout, GOAL_SIZE, TERMINAL_SIZE } from "../../editor/layout";
@@ -17,10 +17,17 @@ const MIN_FIT = 0.55;
 const ZOOMS = [0.25, 0.35, 0.5, 0.65, 0.8, 1, 1.25, 1.5, 2];
 
 const PAD = 20;
+
+/** A label cut to what its box holds (a goal 220 px, a terminal 160 px, 13 px text). */
+function shorten(label: string, max: number): string {
+  return label.length > max ? `${label.slice(0, max - 1)}…` : label;
+}
 const COLORS: Record<string, string> = { succeed: "#1a7f37", fail: "#b35900", violate: "#b42318" };
 
 export function OrdersGraph({ orders: o, label }: { orders: Orders; label: string }) {
   const [layout, setLayout] = useState<Layout>(() => layeredLayout(o, ASPECT));
+  // One page may draw several graphs (a team's members, refinements): ids stay unique.
+  const arrow = `arrow${useId().replace(/[^A-Za-z0-9]/g, "")}`;
   useEffect(() => {
     let current = true;
     layoutOffThread(o, {}, ASPECT).then((l) => current && setLayout(l), () => undefined);
@@ -29,6 +36,9 @@ export function OrdersGraph({ orders: o, label }: { orders: Orders; label: strin
     };
   }, [o]);
   const graph = useMemo(() => ordersToGraph(o, layout), [o, layout]);
+  // A team's rendezvous goals name their meeting; a refined goal's steps are drawn below.
+  const meets = useMemo(() => new Map((o.goals ?? []).filter((g) => g.meet).map((g) => [g.id, g.meet!])), [o]);
+  const refined = useMemo(() => new Set((o.goals ?? []).filter((g) => g.refines).map((g) => g.id)), [o]);
   const frame = useRef<HTMLDivElement>(null);
   const [zoom, setZoom] = useState<number | null>(null);
   const [fit, setFit] = useState(1);
@@ -69,7 +79,7 @@ export function OrdersGraph({ orders: o, label }: { orders: Orders; label: strin
           data-testid="orders-graph"
         >
           <defs>
-            <marker id="arrow" viewBox="0 0 10 10" refX="10" refY="5" markerWidth="7" markerHeight="7" orient="auto-start-reverse">
+            <marker id={arrow} viewBox="0 0 10 10" refX="10" refY="5" markerWidth="7" markerHeight="7" orient="auto-start-reverse">
               <path d="M 0 0 L 10 5 L 0 10 z" fill="#555" />
             </marker>
           </defs>
@@ -89,7 +99,7 @@ export function OrdersGraph({ orders: o, label }: { orders: Orders; label: strin
             const ly = y1 - 4;
             return (
               <g key={e.id} data-testid={`orders-edge-${e.id}`}>
-                <path d={d} fill="none" stroke={COLORS[e.outcome]} strokeWidth={1.5} markerEnd="url(#arrow)" opacity={0.8} />
+                <path d={d} fill="none" stroke={COLORS[e.outcome]} strokeWidth={1.5} markerEnd={`url(#${arrow})`} opacity={0.8} />
                 <text x={lx} y={ly} fontSize={12} fontWeight={700} fill={COLORS[e.outcome]} className="orders-edge-letter">
                   {OUTCOME_LETTER[e.outcome]}
                 </text>
@@ -100,6 +110,7 @@ export function OrdersGraph({ orders: o, label }: { orders: Orders; label: strin
             const s = size(n.kind);
             return (
               <g key={n.id} transform={`translate(${n.position.x} ${n.position.y})`}>
+                <title>{`${n.id}: ${n.label}`}</title>
                 <rect
                   width={s.width}
                   height={s.height}
@@ -113,8 +124,18 @@ export function OrdersGraph({ orders: o, label }: { orders: Orders; label: strin
                   {n.start ? " · start" : ""}
                 </text>
                 <text x={10} y={40} fontSize={13} fill="#111">
-                  {n.label.length > 28 ? `${n.label.slice(0, 27)}…` : n.label}
+                  {shorten(n.label, n.kind === "goal" ? 28 : 19)}
                 </text>
+                {meets.get(n.id) && (
+                  <text x={10} y={62} fontSize={12} fontWeight={700} fill="#6b3fa0" data-testid={`orders-meet-${n.id}`}>
+                    meet {meets.get(n.id)}
+                  </text>
+                )}
+                {refined.has(n.id) && (
+                  <text x={10} y={meets.get(n.id) ? 82 : 62} fontSize={12} fontWeight={700} fill="#1f4f99">
+                    refined: steps below
+                  </text>
+                )}
               </g>
             );
           })}

@@ -17,7 +17,7 @@ import { useSession } from "../../session";
 import { useLoad } from "../../useLoad";
 import { approvalHref, loadReview, type RecordedDecision, type Review } from "./api";
 import { describeDiff, diffOrders } from "./diff";
-import { OrdersGraph } from "./OrdersGraph";
+import { MissionGraphs } from "./MissionGraphs";
 import { ProfileDrift } from "../vehicles/ProfileDrift";
 import { DiffView, FindingsTable, IntegrityWarning, PathSummaryTable, RulesSection, StateBadge } from "./parts";
 import { ReviewPaths } from "./ReviewPaths";
@@ -93,7 +93,7 @@ export function ReviewPage({ mission, version }: { mission: string; version: num
       <Changes review={review} />
 
       <h2>Goal graph</h2>
-      <OrdersGraph orders={review.orders} label={`Goal graph of ${mission} v${version}`} />
+      <MissionGraphs orders={review.orders} label={`Goal graph of ${mission} v${version}`} findings={review.findings} />
 
       <h2>Plain-language orders</h2>
       <pre className="orders-text" data-testid="review-plain">

@@ -1,0 +1,190 @@
+"""Issue 37 in the editor, at 1024x768 and 1280x800: a refined goal opens on its own canvas
+(sub-goals, terminals that return the parent's outcomes) with breadcrumbs back up and the
+findings of the refinement (REFINE); a refinement is added to a goal and edited, and every
+edit round-trips through the draft's save (`refines` in the orders). A team's orders show one
+canvas per vehicle (a member switcher), the meeting id on rendezvous goals and the TEAM
+findings. Each screen: parts inside the window and the card, nodes readable and apart,
+axe-core clean; screenshots in the artifacts folder."""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import pytest
+from playwright.sync_api import Page, expect
+
+from countersign.orders.examples import example_bytes
+
+from .conftest import expect_accessible
+from .test_editor import select_node
+from .test_editor_build_exemplar import saved
+from .test_editor_screen import GEOMETRY, SCREENS, _create, check_screen, open_editor
+from .test_roles import sign_in
+
+
+def _shot(page: Page, tmp_path_factory: pytest.TempPathFactory, name: str) -> None:
+    shots = tmp_path_factory.getbasetemp() / "artifacts"
+    shots.mkdir(exist_ok=True)
+    path = shots / f"{name}.png"
+    page.screenshot(path=str(path))
+    print(f"screenshot: {path}")
+
+
+def _shape(page: Page) -> dict[str, Any]:
+    expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true",
+                                                                    timeout=30_000)
+    shape: dict[str, Any] = page.evaluate(GEOMETRY)
+    return shape
+
+
+def _scope_bar_fits(page: Page, what: str) -> None:
+    bar = page.get_by_test_id("editor-scope").bounding_box()
+    card = page.locator(".tabpanel").first.bounding_box()
+    canvas = page.get_by_test_id("editor-canvas").bounding_box()
+    size = page.viewport_size
+    assert bar and card and canvas and size, what
+    right = bar["x"] + bar["width"]
+    assert bar["x"] >= card["x"] - 1 and right <= card["x"] + card["width"] + 1, what
+    assert right <= size["width"] and bar["y"] >= 0, what
+    assert bar["y"] + bar["height"] <= canvas["y"] + 1, (what, "scope bar over the canvas")
+
+
+def _draft(page: Page, mission: str) -> dict[str, Any]:
+    answer = page.request.get(f"/api/missions/{mission}")
+    assert answer.ok, answer.text()
+    orders: dict[str, Any] = answer.json()["orders"]
+    return orders
+
+
+def _goal(orders: dict[str, Any], goal: str) -> dict[str, Any]:
+    found: dict[str, Any] = next(g for g in orders["goals"] if g["id"] == goal)
+    return found
+
+
+@pytest.mark.parametrize(("width", "height"), SCREENS)
+def test_editor_opens_edits_and_adds_refinements(
+        page: Page, width: int, height: int, tmp_path_factory: pytest.TempPathFactory) -> None:
+    page.set_viewport_size({"width": width, "height": height})
+    sign_in(page, "operator")
+    orders = json.loads(example_bytes("search-and-sample-refined"))
+    orders["id"] = f"refined-editor-{width}"
+    # One terminal of G1's refinement returns nothing: REFINE, shown inside the refinement.
+    del _goal(orders, "G1")["refines"]["terminals"][0]["returns"]
+    mission = _create(page, orders)
+
+    shape = open_editor(page, mission)
+    check_screen(shape, f"refined mission at {width}x{height}")
+    expect(page.get_by_test_id("refined-G1")).to_have_text("refined ▸")
+    # The error inside the refinement marks the refined goal as an error.
+    expect(page.get_by_test_id("markers-G1")).to_have_text("✖ REFINE")
+    _shot(page, tmp_path_factory, f"refine-mission-{width}x{height}")
+
+    # Open G1's refinement (double-click): its own canvas, breadcrumbs back to the mission.
+    page.get_by_test_id("node-G1").locator(".node-title").dblclick()
+    expect(page.get_by_test_id("crumb-current")).to_have_text("G1 Search Area A")
+    expect(page.get_by_test_id("crumb-0")).to_have_text("Mission")
+    shape = _shape(page)
+    assert shape["nodes"] == 6, shape["nodes"]
+    check_screen(shape, f"G1's refinement at {width}x{height}")
+    _scope_bar_fits(page, "breadcrumbs")
+    expect(page.get_by_test_id("returns-HALT")).to_have_text("returns violate")
+    expect(page.get_by_test_id("returns-FOUND")).to_have_text("returns nothing")
+    findings = page.get_by_test_id("editor-findings-panel")
+    expect(findings).to_contain_text("REFINE")
+    expect(page.get_by_test_id("markers-FOUND")).to_contain_text("REFINE")
+    expect_accessible(page, f"G1's refinement at {width}x{height}")
+    _shot(page, tmp_path_factory, f"refine-open-{width}x{height}")
+
+    # The terminal returns succeed again: saved inside `refines`, REFINE gone.
+    select_node(page, "FOUND")
+    returns = page.get_by_label("Returns (the outcome of G1)")
+    returns.select_option("succeed")
+    returns.blur()
+    saved(page)
+    expect(page.get_by_test_id("returns-FOUND")).to_have_text("returns succeed")
+    expect(page.get_by_test_id("markers-FOUND")).to_have_count(0, timeout=30_000)
+    terminal = _goal(_draft(page, mission), "G1")["refines"]["terminals"][0]
+    assert terminal == {**terminal, "id": "FOUND", "returns": "succeed"}, terminal
+
+    # A goal added inside the refinement is saved inside it, not among the mission's goals.
+    page.get_by_role("button", name="Add goal", exact=True).click()
+    saved(page)
+    draft = _draft(page, mission)
+    inner = [g["id"] for g in _goal(draft, "G1")["refines"]["goals"]]
+    assert len(inner) == 4, inner
+    assert len(draft["goals"]) == len(orders["goals"]), [g["id"] for g in draft["goals"]]
+
+    # Back up by the breadcrumbs; add a refinement to G2 and open it.
+    page.get_by_test_id("crumb-0").click()
+    expect(page.get_by_test_id("breadcrumbs")).to_have_count(0)
+    _shape(page)
+    select_node(page, "G2")
+    page.get_by_test_id("add-refinement").click()
+    saved(page)
+    refines = _goal(_draft(page, mission), "G2")["refines"]
+    assert refines["start"] == "G2.1", refines
+    assert [t["returns"] for t in refines["terminals"]] == ["succeed", "fail", "violate"], refines
+    expect(page.get_by_test_id("refined-G2")).to_be_visible()
+    page.get_by_test_id("open-refinement").click()
+    expect(page.get_by_test_id("crumb-current")).to_contain_text("G2 ")
+    shape = _shape(page)
+    assert shape["nodes"] == 4, shape["nodes"]
+    check_screen(shape, f"G2's new refinement at {width}x{height}")
+    expect_accessible(page, f"G2's new refinement at {width}x{height}")
+    _shot(page, tmp_path_factory, f"refine-added-{width}x{height}")
+
+    # U goes back up from the keyboard; O opens the selected goal's refinement again.
+    page.get_by_test_id("node-G2.1").click()
+    page.keyboard.press("u")
+    expect(page.get_by_test_id("breadcrumbs")).to_have_count(0)
+    _shape(page)
+    select_node(page, "G1")
+    page.keyboard.press("o")
+    expect(page.get_by_test_id("crumb-current")).to_have_text("G1 Search Area A")
+
+
+@pytest.mark.parametrize(("width", "height"), SCREENS)
+def test_editor_shows_each_team_member_and_the_meetings(
+        page: Page, width: int, height: int, tmp_path_factory: pytest.TempPathFactory) -> None:
+    page.set_viewport_size({"width": width, "height": height})
+    sign_in(page, "operator")
+    orders = json.loads(example_bytes("search-and-sample-team"))
+    orders["id"] = f"team-editor-{width}"
+    members = [m["vehicle"] for m in orders["team"]]
+    mission = _create(page, orders)
+
+    shape = open_editor(page, mission)
+    check_screen(shape, f"team member 1 at {width}x{height}")
+    _scope_bar_fits(page, "member switcher")
+    first, second = (page.get_by_test_id(f"member-{m}") for m in members)
+    expect(first).to_have_attribute("aria-pressed", "true")
+    meeting = next(g for g in orders["team"][0]["orders"]["goals"] if g.get("meet"))
+    expect(page.get_by_test_id(f"meet-{meeting['id']}")).to_have_text(f"meet {meeting['meet']}")
+    expect(page.get_by_test_id("editor-findings-panel")).to_contain_text("TEAM")
+    expect_accessible(page, f"team member 1 at {width}x{height}")
+    _shot(page, tmp_path_factory, f"team-member1-{width}x{height}")
+
+    second.click()
+    expect(second).to_have_attribute("aria-pressed", "true")
+    shape = _shape(page)
+    assert shape["nodes"] == len(orders["team"][1]["orders"]["goals"]) + len(
+        orders["team"][1]["orders"]["terminals"]), shape["nodes"]
+    check_screen(shape, f"team member 2 at {width}x{height}")
+    partner = next(g for g in orders["team"][1]["orders"]["goals"] if g.get("meet"))
+    expect(page.get_by_test_id(f"meet-{partner['id']}")).to_have_text(f"meet {partner['meet']}")
+    expect(page.get_by_test_id("editor-findings-panel")).to_contain_text("TEAM")
+    expect_accessible(page, f"team member 2 at {width}x{height}")
+    _shot(page, tmp_path_factory, f"team-member2-{width}x{height}")
+
+    # An edit on member 2's canvas is saved in member 2's orders.
+    select_node(page, partner["id"])
+    expect(page.get_by_test_id("goal-meet")).to_have_value(partner["meet"])
+    expect(page.get_by_test_id("meet-partners")).to_have_text(
+        f"Meets {members[0]} at {meeting['id']} ({meeting['title']}).")
+    page.get_by_label("Title", exact=True).fill("Meet vehicle 1 in Area C")
+    saved(page)
+    draft = _draft(page, mission)
+    saved_goal = _goal(draft["team"][1]["orders"], partner["id"])
+    assert saved_goal["title"] == "Meet vehicle 1 in Area C", saved_goal
+    assert saved_goal["meet"] == partner["meet"], saved_goal
