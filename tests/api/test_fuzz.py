@@ -49,8 +49,8 @@ ROLES = ("operator", "supervisor", "auditor", "admin")
 # A loaded two-core machine: the first validation starts the pool's processes (not a hang).
 REQUEST_TIMEOUT_S = 120
 ENDS_CREDENTIALS = ("changePassword", "logout", "updateUser", "revokeToken")
-# Examples per operation and scenario, times this: CI runs 1; the long run (over ten
-# minutes on this two-core machine) is `COUNTERSIGN_FUZZ_SCALE=4 pytest tests/api/test_fuzz.py`.
+# Examples per operation and scenario, times this: CI runs 1; a longer run is e.g.
+# `COUNTERSIGN_FUZZ_SCALE=4 pytest tests/api/test_fuzz.py`.
 SCALE = max(1, int(os.environ.get("COUNTERSIGN_FUZZ_SCALE", "1")))
 
 
