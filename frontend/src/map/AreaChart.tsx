@@ -6,8 +6,8 @@
 import { useMemo, useState } from "react";
 
 import type { Orders } from "../editor/graph";
-import { areas } from "../editor/model";
-import { areaStyle, type LatLon, type MapArea } from "./features";
+import { type LatLon, type MapArea } from "./features";
+import { orderMapAreas } from "./orderAreas";
 import { ChartMap } from "./LazyChartMap";
 
 export function AreaChart({
@@ -27,15 +27,7 @@ export function AreaChart({
   const source = orders.areas;
   const list = useMemo(
     (): MapArea[] =>
-      areas(orders).map((a) => ({
-        id: a.id,
-        title: a.title ?? null,
-        source: "area",
-        style: areaStyle(a.contexts ?? []),
-        polygon: a.polygon ?? [],
-        tags: a.contexts ?? [],
-        selected: a.id === selected,
-      })),
+      orderMapAreas(orders, (id) => ({ selected: id === selected })),
     // eslint-disable-next-line react-hooks/exhaustive-deps -- only the areas matter here
     [source, selected],
   );

@@ -3,24 +3,16 @@
 import { useMemo } from "react";
 
 import type { Orders } from "../editor/graph";
-import { areas } from "../editor/model";
 import type { PlanOverlay } from "../editor/panels";
-import { areaStyle, type MapArea } from "./features";
+import { type MapArea } from "./features";
+import { orderMapAreas } from "./orderAreas";
 import { ChartMap } from "./LazyChartMap";
 
 export function SurveyMap({ orders, overlay, title }: { orders: Orders; overlay: PlanOverlay | null; title: string }) {
   const source = orders.areas;
   const list = useMemo(
     (): MapArea[] =>
-      areas(orders).map((a) => ({
-        id: a.id,
-        title: a.title ?? null,
-        source: "area",
-        style: areaStyle(a.contexts ?? []),
-        polygon: a.polygon ?? [],
-        tags: a.contexts ?? [],
-        chosen: overlay?.chosen.includes(a.id) ?? false,
-      })),
+      orderMapAreas(orders, (id) => ({ chosen: overlay?.chosen.includes(id) ?? false })),
     // eslint-disable-next-line react-hooks/exhaustive-deps -- only the areas and the plan matter
     [source, overlay],
   );
