@@ -36,6 +36,11 @@ export function SubmissionPanel({
     async () => (chosen === null ? null : loadReview(mission, chosen)),
     [mission, chosen],
   );
+  // A campaign or rehearsal attached: say so and read the review again.
+  const attached = (message: string) => {
+    setDone(message);
+    reload();
+  };
   if (newest === null || chosen === null) {
     return (
       <section aria-labelledby="submission-title" className="card">
@@ -126,10 +131,7 @@ export function SubmissionPanel({
               version={chosen}
               submission={current}
               mayAttach={mayWithdraw}
-              onAttached={(message) => {
-                setDone(message);
-                reload();
-              }}
+              onAttached={attached}
             />
           )}
           {current && (
@@ -138,10 +140,7 @@ export function SubmissionPanel({
               version={chosen}
               submission={current}
               mayAttach={mayWithdraw}
-              onAttached={(message) => {
-                setDone(message);
-                reload();
-              }}
+              onAttached={attached}
             />
           )}
           {isOperator && review.submit_refusal && (
