@@ -17,7 +17,6 @@ from pydantic import (
     BaseModel,
     ConfigDict,
     Field,
-    WithJsonSchema,
     field_validator,
     model_validator,
 )
@@ -502,11 +501,8 @@ class TeamMember(_Strict):
     """One vehicle of a team with its own orders (its goals, profile, budget and norms)."""
 
     vehicle: Id
-    # Documented as an object, not as Orders again: a recursive JSON schema splits Orders
-    # into input and output schemas that the OpenAPI document's references do not name.
-    orders: Annotated[Orders, WithJsonSchema({
-        "type": "object", "title": "Orders",
-        "description": "the member vehicle's own countersign.orders/1 orders (no team)"})]
+    orders: Orders = Field(description="the member vehicle's own countersign.orders/1 orders "
+                                       "(no team)")
 
     @model_validator(mode="before")
     @classmethod

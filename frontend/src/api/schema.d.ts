@@ -4205,11 +4205,8 @@ export interface components {
          * @description One vehicle of a team with its own orders (its goals, profile, budget and norms).
          */
         TeamMember: {
-            /**
-             * Orders
-             * @description the member vehicle's own countersign.orders/1 orders (no team)
-             */
-            orders: Record<string, never>;
+            /** @description the member vehicle's own countersign.orders/1 orders (no team) */
+            orders: components["schemas"]["Orders"];
             /** Vehicle */
             vehicle: string;
         } & {

@@ -25,16 +25,14 @@ export interface Scope {
 export const TOP: Scope = { member: null, path: [] };
 export const SEP = "/";
 
-/** A team member as the server's model declares it, its orders read as orders (the model
- * types them as an open object). */
-export type MemberSpec = { [P in keyof Schema<"TeamMember"> as P extends "orders" ? never : P]: Schema<"TeamMember">[P] } & { orders: Orders };
+/** A team member as the server's model declares it: a vehicle and its own orders. */
+export type MemberSpec = Schema<"TeamMember">;
 
 /** The team's members (each with its own orders), or null for one vehicle's orders. */
 export function teamOf(orders: Orders): MemberSpec[] | null {
   const team = orders.team;
   if (!Array.isArray(team) || team.length === 0) return null;
-  // The server types a member's orders loosely (an object); they are countersign.orders/1.
-  return team.map((m) => ({ ...m, orders: m.orders as unknown as Orders }));
+  return team;
 }
 
 /** The scope a draft opens at: its first member for a team, else the mission. */
@@ -49,12 +47,20 @@ function memberOrders(orders: Orders, member: number | null): Orders | null {
 
 function withMemberOrders(orders: Orders, member: number | null, sub: Orders): Orders {
   if (member === null || !Array.isArray(orders.team)) return sub;
-  return { ...orders, team: orders.team.map((m, i) => (i === member ? { ...m, orders: sub as unknown as typeof m.orders } : m)) };
+  return { ...orders, team: orders.team.map((m, i) => (i === member ? { ...m, orders: sub } : m)) };
 }
 
-/** A refinement read as orders (its goals, start and terminals; the rest stays as written). */
-function refinementAsOrders(goal: GoalSpec): Orders | null {
-  return goal.refines ? (goal.refines as unknown as Orders) : null;
+/** A refinement read as orders (its goals, start and terminals; the rest stays as written),
+ * the refined goal's id standing for the orders' id. */
+export function refinementAsOrders(goal: GoalSpec): Orders | null {
+  return goal.refines ? { ...goal.refines, id: goal.id } : null;
+}
+
+/** Orders edited at a refinement's scope written back as the refinement (without the id that
+ * `refinementAsOrders` lent it). */
+function ordersAsRefinement(sub: Orders): RefinementSpec {
+  const { id: _lent, terminals, ...rest } = sub;
+  return terminals ? { ...rest, terminals } : rest;
 }
 
 /** The orders at the scope's member (its own orders, with vehicle, constraints and areas). */
@@ -79,8 +85,8 @@ function withPath(orders: Orders, path: string[], sub: Orders): Orders {
     ...orders,
     goals: goals(orders).map((g) => {
       if (g.id !== id) return g;
-      const inner = refinementAsOrders(g) ?? ({} as Orders);
-      return { ...g, refines: withPath(inner, rest, sub) as unknown as RefinementSpec };
+      const inner = refinementAsOrders(g) ?? { id: g.id };
+      return { ...g, refines: ordersAsRefinement(withPath(inner, rest, sub)) };
     }),
   };
 }

@@ -22,9 +22,9 @@ export function refinementsOf(orders: Orders, prefix = ""): Refined[] {
     // A terminal's drawn title says which outcome of the parent it returns.
     // (Its own title is in the plain-language orders; a terminal's box holds about 19 characters.)
     const terminals = (r.terminals ?? []).map((t) => ({ ...t, title: `returns ${t.returns ?? "nothing"}` }));
-    const inner = { ...(r as unknown as Orders), terminals } as Orders;
+    const inner: Orders = { ...r, id: g.id, terminals };
     out.push({ id: g.id, title: g.title ?? "", full, orders: inner, within });
-    out.push(...refinementsOf(r as unknown as Orders, `${full}/`));
+    out.push(...refinementsOf({ ...r, id: g.id }, `${full}/`));
   }
   return out;
 }
