@@ -16,11 +16,17 @@ repository root, with the NPS reference material in ../shared so that its entrie
     PYTHONPATH=$PWD/backend .venv/bin/python -m tests.unit.behaviour_outputs --write
 
 and say in the commit which entries changed and why (`--diff` prints the entries that differ
-from the fixture without writing it).
+from the fixture without writing it). To write it from another commit's code (as it was written
+from aea7afb), extract that commit's code and ontology and point PYTHONPATH there; the committed
+documents (`file ...` entries) are read from this checkout:
+
+    git archive COMMIT backend ontology | tar -x -C /tmp/base
+    PYTHONPATH=/tmp/base/backend .venv/bin/python -m tests.unit.behaviour_outputs --write
 """
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import sys
@@ -89,8 +95,14 @@ def _without_checker(data: Any) -> Any:
 
 
 def run_digest(argv: list[str]) -> str:
-    """SHA-256 of a CLI run: exit code, standard output and standard error."""
-    code, stdout, stderr = _run(argv)
+    """SHA-256 of a CLI run: exit code, standard output and standard error. NPS missions are
+    named relative to NPS_MISSIONS, run from there, so that messages naming the file do not
+    depend on where the clone is."""
+    if argv[-1].startswith(NPS_PREFIX):
+        with contextlib.chdir(NPS_MISSIONS):
+            code, stdout, stderr = _run([*argv[:-1], argv[-1].removeprefix(NPS_PREFIX)])
+    else:
+        code, stdout, stderr = _run(argv)
     if "--format" in argv and argv[argv.index("--format") + 1] == "json" and stdout.strip():
         try:
             data = json.loads(stdout)
@@ -128,7 +140,7 @@ def cli_runs(*, nps: bool = True) -> Iterator[tuple[str, list[str]]]:
     for path in nps_files() if nps else []:
         relative = path.relative_to(NPS_MISSIONS).as_posix()
         for command, argv in ORDERS_COMMANDS.items():
-            yield f"{NPS_PREFIX}{relative} {command}", [*argv, str(path)]
+            yield f"{NPS_PREFIX}{relative} {command}", [*argv, f"{NPS_PREFIX}{relative}"]
 
 
 # --- the signed bytes of the approval fixtures ---------------------------------------------

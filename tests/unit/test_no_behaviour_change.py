@@ -26,6 +26,7 @@ REGENERATE = ("if the change is meant, regenerate the fixture as tests/unit/beha
 
 
 def _differences(keys_and_argv: list[tuple[str, list[str]]]) -> list[str]:
+    # An NPS mission's argument reads nps:avcl/NAME.xml, run from NPS_MISSIONS.
     return [f"{key}: countersign {' '.join(argv)}" for key, argv in keys_and_argv
             if BEFORE.get(key) != run_digest(argv)]
 
