@@ -49,6 +49,7 @@ from .tree import (
     Text,
     Truth,
 )
+from .visit import ExprVisitor, children
 from .vocabulary import MARITIME_QUANTITIES, quantity_table
 from .words import (
     describe,
@@ -63,9 +64,9 @@ from .words import (
 
 __all__ = [
     "MARITIME_QUANTITIES", "MAX_DEPTH", "MAX_DIGITS", "MAX_EXPONENT", "MAX_LENGTH", "MAX_TERMS",
-    "MAX_TOKENS", "RESERVED", "Compare", "Context", "Expr", "ExprError", "Implies", "Logic",
-    "Name", "Neg", "Not", "Num", "Product", "Reads", "Special", "Sum", "Text", "Token", "Truth",
-    "describe", "expression_quantities", "first_col", "identifiers", "in_tag", "number_words",
-    "parse", "quantity_table", "quantity_words", "reads", "tag_state", "tag_words", "tokenize",
-    "walk", "with_article", "with_unit",
+    "MAX_TOKENS", "RESERVED", "Compare", "Context", "Expr", "ExprError", "ExprVisitor", "Implies",
+    "Logic", "Name", "Neg", "Not", "Num", "Product", "Reads", "Special", "Sum", "Text", "Token",
+    "Truth", "children", "describe", "expression_quantities", "first_col", "identifiers",
+    "in_tag", "number_words", "parse", "quantity_table", "quantity_words", "reads", "tag_state",
+    "tag_words", "tokenize", "walk", "with_article", "with_unit",
 ]
