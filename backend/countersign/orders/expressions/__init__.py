@@ -17,6 +17,10 @@ anything: the text length, the nesting depth, the number of terms and the size o
 are limited, and the tree is flat for long chains of `and`, `or`, `+` and `*`, so that no
 later recursion goes deeper than the nesting the author wrote.
 
+Every interpreter of the tree (words, reads, and in `verify`, `rehearse` and `export` the type
+checker, partial evaluation, SMT, monitors, helm conditions) is an `ExprVisitor` (visit.py), so
+mypy rejects a node kind that one of them leaves out.
+
 The syntax lives under `orders` so that the orders' own readers and writers (Turtle, plain
 text) read expressions with the one parser; it imports nothing outside `orders`.
 """
