@@ -29,10 +29,10 @@ from countersign.orders.examples import load_example
 from countersign.orders.model import OUTCOMES, Orders
 from countersign.orders.turtle import orders_to_graph
 from countersign.verify import validate
-from countersign.verify.meo import meo_check
 from countersign.verify.meo.reasoning import infer
-from countersign.verify.meo.shapes import shacl_violations, validation_graph
 from tests.bench.timing import best_of
+from tests.oracles.meo_route import meo_check
+from tests.oracles.meo_shapes import shacl_violations, validation_graph
 
 REQUIREMENTS = ("transit", "area_search", "sample", "rendezvous")
 
