@@ -162,7 +162,7 @@ def _native(data: Graph, inference: Inference) -> Iterator[Violation]:
                     yield Violation(f"G3-{outcome}", goal, target)
 
     # G7: follows(g, g) after G8 and G9 (the graph stage found the cycles).
-    on_cycle = inference.reachability.on_cycle
+    on_cycle = {node for component in inference.reachability.cycles for node in component}
     for goal in goals:
         if goal in on_cycle:
             yield Violation("G7", goal)

@@ -79,10 +79,6 @@ class Reachability:
     # G8, G9).
     cycles: list[list[Node]]
 
-    @property
-    def on_cycle(self) -> set[Node]:
-        return {node for component in self.cycles for node in component}
-
 
 @dataclass
 class Inference:
