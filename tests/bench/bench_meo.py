@@ -110,7 +110,8 @@ def hermit_seconds(orders: Orders | None) -> float:
     import owlready2
     from rdflib import Graph
 
-    from countersign.ontology_files import MEO, load_graph
+    from countersign.ontology_files import MEO
+    from countersign.orders.ontology import load_graph
 
     graph = Graph()
     for triple in load_graph(MEO):

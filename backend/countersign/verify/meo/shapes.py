@@ -27,7 +27,8 @@ from rdflib import Graph, Namespace, URIRef
 from rdflib.namespace import RDF
 from rdflib.term import Node
 
-from ...ontology_files import SHAPES, load_graph
+from ...ontology_files import SHAPES
+from ...orders.ontology import load_graph
 from ...orders.turtle import MEO, OUTCOME_PROPERTY
 from .reasoning import Inference
 
