@@ -71,6 +71,13 @@ __all__ = ["FAULTS", "QUESTION", "Event", "FaultSpec", "Limits", "Run", "Simulat
 
 
 class Simulation:
+    """One rehearsal's state, its public controls (`advance`, `step`, `choose`, `inject`) and
+    its runs and goals (start, end, successors, faults, events). The rest of each step is done
+    by the modules beside it, which read and update this state: `sim_plans` (a goal's
+    waypoints and priced work), `sim_motion` (moving, charging energy, navigating),
+    `sim_judge` (rules, monitors, energy and the plan proposing an outcome), `sim_energy`
+    (the way home) and `sim_sensing` (the values monitors and rules read)."""
+
     def __init__(
         self,
         orders: Orders,

@@ -53,7 +53,7 @@ def check(sim: Simulation, active: ActiveGoal) -> bool:
             sim.rule_firings[rule] = sim.rule_firings.get(rule, 0) + 1
         if verdict.fired_new:
             sim._emit("rules", "Rules fired: " + ", ".join(verdict.fired_new) + ".",
-                       goal_id, {"fired": list(verdict.fired_new)})
+                      goal_id, {"fired": list(verdict.fired_new)})
         if verdict.refused and obey(sim, active, action, verdict):
             return True
     # 2. Constraint monitors, now and a little ahead.
@@ -66,8 +66,8 @@ def check(sim: Simulation, active: ActiveGoal) -> bool:
                 monitor.holds(ahead, active.facts) is False:
             reason = f"{monitor.constraint_id} would be violated: {monitor.expr}"
             if propose(sim, active, "violate", reason,
-                             {"constraint": monitor.constraint_id,
-                              "values": _read_values(monitor, now)}):
+                       {"constraint": monitor.constraint_id,
+                        "values": _read_values(monitor, now)}):
                 return True
             break
     # 3. Energy (seed 001): give up a goal that can no longer be finished with the reserve
@@ -93,7 +93,7 @@ def obey(sim: Simulation, active: ActiveGoal, action: str, verdict: RuleVerdict)
         if safe == "surface" and not v.forced_surface:
             v.forced_surface = True
             sim._emit("safe_action", f"Safety action: surface ({verdict.reason})",
-                       active.goal.id, {"action": safe, "rules": list(verdict.because)})
+                      active.goal.id, {"action": safe, "rules": list(verdict.because)})
         return False
     if safe in ("surface", "shutdown", "shut_down"):
         v.forced_surface = True
@@ -105,7 +105,7 @@ def obey(sim: Simulation, active: ActiveGoal, action: str, verdict: RuleVerdict)
 
 
 def propose(sim: Simulation, active: ActiveGoal, outcome: str, reason: str, data: dict[str, Any],
-             *, plan_done: bool = False) -> bool:
+            *, plan_done: bool = False) -> bool:
     """The simulation's view of how the goal ends; the source decides. True when the goal
     ended or now waits."""
     decision = sim.source.decide(outcome, plan_done=plan_done, scripted=active.scripted)
@@ -120,7 +120,7 @@ def propose(sim: Simulation, active: ActiveGoal, outcome: str, reason: str, data
         sim.state = "waiting_for_outcome"
         suggestion = active.suggestion or (outcome, reason)
         sim._emit("waiting", QUESTION,
-                   active.goal.id, {"suggested": suggestion[0], "because": suggestion[1]})
+                  active.goal.id, {"suggested": suggestion[0], "because": suggestion[1]})
         return True
     if active.suggestion is None and not plan_done:
         # Manual and scripted sources keep going; remember what the simulation saw.

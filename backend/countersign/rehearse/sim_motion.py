@@ -48,8 +48,8 @@ def move(sim: Simulation, active: ActiveGoal, dt: float) -> float:
     if strong != sim._strong_current:
         sim._strong_current = strong
         sim._emit("current", "Strong opposing current: consumption doubled (seed 001)."
-                   if strong else "The strong current has passed.", active.goal.id,
-                   {"strong": strong})
+                  if strong else "The strong current has passed.", active.goal.id,
+                  {"strong": strong})
     if active.finished_plan:
         v.vx = v.vy = v.vz = 0.0
         return 0.0
@@ -121,8 +121,8 @@ def leg_flown(sim: Simulation, active: ActiveGoal, w: Waypoint) -> None:
     if len(run.goals) < 2 or len(sim.flown_legs) >= sim.limits.max_events:
         return  # the launch is no leg between goals
     sim.flown_legs.append({"from": run.goals[-2], "outcome": run.outcomes[-1],
-                            "to": active.goal.id, "length_m": round(active.leg_m, 6),
-                            "planned_m": round(w.geo_m, 6)})
+                           "to": active.goal.id, "length_m": round(active.leg_m, 6),
+                           "planned_m": round(w.geo_m, 6)})
 
 
 def navigate(sim: Simulation, dt: float) -> None:

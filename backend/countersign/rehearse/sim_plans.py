@@ -92,7 +92,7 @@ def measured(sim: Simulation, points: list[Waypoint]) -> list[Waypoint]:
 
 
 def priced_work(sim: Simulation, goal: Goal, waypoints: list[Waypoint], work_m: float
-                 ) -> tuple[float, float, float]:
+                ) -> tuple[float, float, float]:
     """(speed, Wh per metre, hold watts) of the goal's own work, from the verifier's cost
     of the goal (verify/costs.goal_cost): its duration bounds the work's time (holds
     shortened and the work sped up in proportion when the plan at cruise would take
