@@ -102,15 +102,6 @@ def problems_from_validation(exc: ValidationError) -> OrdersReadError:
     return OrdersReadError(problems[:MAX_PROBLEMS_SHOWN], total=len(problems))
 
 
-def reject_duplicate_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
-    result: dict[str, Any] = {}
-    for key, value in pairs:
-        if key in result:
-            raise ValueError(f"the key {key!r} appears twice in one object")
-        result[key] = value
-    return result
-
-
 def orders_from_data(data: Any) -> Orders:
     if not isinstance(data, dict):
         kind = "an array" if isinstance(data, list) else f"a {type(data).__name__}"

@@ -21,7 +21,7 @@ from ...orders.examples import example_bytes, example_names
 from ...orders.model import Orders
 from ...orders.reader import orders_from_data, read_bytes, read_json
 from ...orders.writers import WRITERS
-from ...rehearse.plain import write_for_supervisor
+from ...rules.plain_orders import write_for_supervisor
 from ...store import missions as service
 from ...store.accounts import username_of
 from ...store.db import database_of
