@@ -26,7 +26,7 @@ REASON = "Length:"
 LONG_FUNCTIONS: dict[str, str] = {
     "countersign/cli/orders.py:add_commands":
         "a declarative argparse table of the orders commands, one block per command",
-    "countersign/export/package_verify.py:_verify":
+    "countersign/approved_package/verify.py:_verify":
         "the offline verifier's checklist in the order DESIGN.md states it; each step "
         "records a finding and carries on",
     "countersign/rehearse/monitor.py:compile_expr":
