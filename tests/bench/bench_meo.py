@@ -24,9 +24,9 @@ import owlrl
 from rdflib import Graph
 
 from countersign.ontology_files import MEO as MEO_FILE
-from countersign.ontology_files import load_graph
 from countersign.orders.examples import load_example
 from countersign.orders.model import OUTCOMES, Orders
+from countersign.orders.ontology import load_graph
 from countersign.orders.turtle import orders_to_graph
 from countersign.verify import validate
 from countersign.verify.meo.reasoning import infer
@@ -130,7 +130,7 @@ def hermit_seconds(orders: Orders | None) -> float:
     import owlready2
     from rdflib import Graph
 
-    from countersign.ontology_files import MEO, load_graph
+    from countersign.ontology_files import MEO
 
     graph = Graph()
     for triple in load_graph(MEO):

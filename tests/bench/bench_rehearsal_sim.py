@@ -19,7 +19,7 @@ from typing import Any
 
 from countersign.orders.examples import load_example
 from countersign.orders.model import Orders
-from countersign.rehearse import sim as sim_module
+from countersign.rehearse import sim_judge, sim_model
 from countersign.rehearse.manager import Rehearsal, RehearsalOptions
 from countersign.rehearse.sim import Simulation
 from countersign.rehearse.sources import make_source
@@ -37,12 +37,12 @@ class _NoCache(dict):  # type: ignore[type-arg]
 
 @contextlib.contextmanager
 def naive() -> Iterator[None]:
-    saved = sim_module.CHECK_PERIOD_S
-    sim_module.CHECK_PERIOD_S = 0.0
+    saved = sim_judge.CHECK_PERIOD_S
+    sim_judge.CHECK_PERIOD_S = 0.0
     try:
         yield
     finally:
-        sim_module.CHECK_PERIOD_S = saved
+        sim_judge.CHECK_PERIOD_S = saved
 
 
 def run(orders: Orders, seed: int, faults: tuple[str, ...] = (), *, baseline: bool = False
@@ -50,7 +50,7 @@ def run(orders: Orders, seed: int, faults: tuple[str, ...] = (), *, baseline: bo
     """(simulated seconds, wall seconds) of one headless simulate-source rehearsal."""
     sim = Simulation(orders, seed=seed, source=make_source("simulate", orders), faults=faults)
     if baseline:
-        sim.needed = sim_module.ALL_QUANTITIES | frozenset(sim.values())
+        sim.needed = sim_model.ALL_QUANTITIES | frozenset(sim.values())
         sim.contingency._cache = _NoCache()
     gc.collect()
     start = time.perf_counter()

@@ -36,7 +36,6 @@ from countersign.orders.turtle import (
     orders_to_graph,
     read_turtle,
     write_turtle,
-    write_turtle_via_graph,
 )
 from countersign.verify.logic import (
     DEFAULT_TIMEOUT_MS,
@@ -50,6 +49,7 @@ from countersign.verify.logic import (
 from countersign.verify.logic import findings as logic
 from countersign.verify.logic import model as logic_model
 from countersign.verify.paths import iter_path_lines, paths_of
+from tests.turtle_via_graph import write_turtle_via_graph
 
 from .baseline import naive_paths
 from .bench_logic import logic_orders

@@ -38,8 +38,6 @@ WHITELIST: dict[tuple[str, str], str] = {
     # The size of the joint product the team check explores, printed by tests/bench/bench_team.py;
     # it reads the check's private product, so it stays beside it.
     ("verify/team.py", "joint_positions"): "tests/bench/bench_team.py",
-    # Only tests use it; orders/turtle.py is being split by job (issue 35), which moves it.
-    ("orders/turtle.py", "write_turtle_via_graph"): "tests/unit/test_turtle_scale.py",
 }
 
 

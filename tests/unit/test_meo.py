@@ -17,10 +17,11 @@ from hypothesis import strategies as st
 from rdflib import Graph
 from rdflib.namespace import OWL, RDF, RDFS
 
-from countersign.ontology_files import MEO, NPS_ALIGNMENT, SHAPES, load_graph
+from countersign.ontology_files import MEO, NPS_ALIGNMENT, SHAPES
 from countersign.orders.examples import example_bytes, example_names, load_example
 from countersign.orders.findings import Finding
 from countersign.orders.model import Orders
+from countersign.orders.ontology import load_graph
 from countersign.orders.turtle import MEO as M
 from countersign.orders.turtle import MissionIris, orders_to_graph, read_turtle
 from countersign.verify.meo.reasoning import FACT_PROPERTIES, infer

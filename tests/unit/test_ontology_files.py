@@ -1,4 +1,4 @@
-"""The ontology files read by Oxigraph (ontology_files.load_graph, issue 17 item 11) hold the
+"""The ontology files read by Oxigraph (orders.ontology.load_graph, issue 17 item 11) hold the
 statements rdflib's own Turtle parser reads from them, blank nodes and collections included."""
 
 from __future__ import annotations
@@ -7,7 +7,8 @@ import pytest
 from rdflib import Graph
 from rdflib.compare import isomorphic
 
-from countersign.ontology_files import MEO, NPS_ALIGNMENT, SHAPES, load_graph, ontology_path
+from countersign.ontology_files import MEO, NPS_ALIGNMENT, SHAPES, ontology_path
+from countersign.orders.ontology import load_graph
 
 
 @pytest.mark.parametrize("name", [MEO, SHAPES, NPS_ALIGNMENT])

@@ -13,11 +13,12 @@ from hypothesis import strategies as st
 from rdflib import Graph, Literal, URIRef
 from rdflib.namespace import RDF, RDFS
 
-from countersign.ontology_files import NPS_ALIGNMENT, load_graph
+from countersign.ontology_files import NPS_ALIGNMENT
 from countersign.orders.canonical import digest, orders_to_json
 from countersign.orders.examples import example_names, load_example
 from countersign.orders.expressions import expression_quantities
 from countersign.orders.model import Orders
+from countersign.orders.ontology import load_graph
 from countersign.orders.reader import OrdersReadError, read_bytes, sniff_format
 from countersign.orders.turtle import (
     MEO,

@@ -6,12 +6,12 @@ from pathlib import Path
 
 import pytest
 
-from countersign.orders import turtle
 from countersign.orders.canonical import digest
 from countersign.orders.examples import load_example
 from countersign.orders.model import Orders
 from countersign.orders.reader import OrdersReadError
 from countersign.orders.turtle import read_turtle, write_turtle
+from countersign.orders.turtle import reader as turtle
 from tests.bench.generated import random_dag, shared_lists
 
 
@@ -89,8 +89,8 @@ def test_the_text_writer_states_what_the_graph_states() -> None:
     from rdflib.compare import isomorphic
 
     from countersign.orders.examples import example_names, load_example
-    from countersign.orders.turtle import write_turtle_via_graph
     from tests.bench.bench_logic import logic_orders
+    from tests.turtle_via_graph import write_turtle_via_graph
 
     for orders in [*(load_example(n) for n in example_names()),
                    logic_orders(goals=40, constraints=12, norms=5)]:

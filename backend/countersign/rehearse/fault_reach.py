@@ -1,5 +1,5 @@
 """Which simulated faults can change an outcome of these orders, said before a run (issue 32
-item 6). A fault changes what the vehicle measures and observes (sim.py: `quantities` and
+item 6). A fault changes what the vehicle measures and observes (sim_sensing.py: `values` and
 `observations`); it can turn a goal into another outcome only through a constraint that reads a
 changed quantity (the monitor ends the goal with violate), a contingency rule that reads a
 changed observation (a safety action), or a reaction built into the vehicle (the energy check).
@@ -24,8 +24,8 @@ class Effect:
     builtin: str | None = None  # the vehicle's own reaction, when it has one
 
 
-# What each fault of sim.py changes; kept beside sim.py's quantities() and observations(), which
-# tests/unit/test_fault_reach.py reads to hold the two together.
+# What each fault of sim.py changes; kept beside sim_sensing.py's values() and observations(),
+# which tests/rehearse/test_fault_reach.py reads to hold the two together.
 EFFECTS: dict[str, Effect] = {
     "gps_loss": Effect(frozenset({"gps_fix", "nav_error_m"}),
                        frozenset({"gps_captured", "gps_was_captured",

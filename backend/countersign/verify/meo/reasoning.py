@@ -42,7 +42,7 @@ from rdflib.namespace import OWL, RDF, RDFS
 from rdflib.term import Node
 
 from ...ontology_files import MEO as MEO_FILE
-from ...ontology_files import load_graph
+from ...orders.ontology import load_graph
 from ...orders.turtle import MEO, NEXT_PROPERTIES
 from .owlrl_adapter import RoleSemantics
 

@@ -13,7 +13,8 @@ from functools import cache
 
 from rdflib import Namespace
 
-from ...ontology_files import SHAPES, load_graph
+from ...ontology_files import SHAPES
+from ...orders.ontology import load_graph
 
 MSH = Namespace("https://countersign.example/ontology/meo-shapes#")
 SH = Namespace("http://www.w3.org/ns/shacl#")
