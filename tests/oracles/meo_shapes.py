@@ -29,7 +29,8 @@ from rdflib import Graph, URIRef
 from rdflib.namespace import RDF
 from rdflib.term import Node
 
-from countersign.ontology_files import SHAPES, load_graph
+from countersign.ontology_files import SHAPES
+from countersign.orders.ontology import load_graph
 from countersign.orders.turtle import MEO, OUTCOME_PROPERTY
 from countersign.verify.meo.reasoning import Inference
 from countersign.verify.meo.shapes import MSH, SH, ShapeInfo, shape_info
