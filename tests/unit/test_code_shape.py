@@ -29,8 +29,6 @@ LONG_FUNCTIONS: dict[str, str] = {
     "countersign/approved_package/verify.py:_verify":
         "the offline verifier's checklist in the order DESIGN.md states it; each step "
         "records a finding and carries on",
-    "countersign/rehearse/monitor.py:compile_expr":
-        "an expression interpreter's match over the tree (one visitor is issue 35 item 4)",
     "countersign/rules/engine.py:compute":
         "one pass of the prioritised-extension algorithm over local arrays shared with its "
         "closure; split, the hot loop pays for attribute lookups",
@@ -39,14 +37,10 @@ LONG_FUNCTIONS: dict[str, str] = {
         "issue 35 item 1)",
     "countersign/verify/logic/goal_set.py:explain_goal_set":
         "the explanation's cases in the order the report prints them",
-    "countersign/verify/meo/__init__.py:findings_from":
-        "the MEO rules one after another (one rule set, issue 35 item 4)",
     "countersign/verify/meo/__init__.py:explain":
         "the MEO rules' explanations one after another (one rule set, issue 35 item 4)",
     "countersign/verify/meo/direct.py:meo_only_findings":
         "the MEO rules one after another (one rule set, issue 35 item 4)",
-    "countersign/verify/meo/shapes.py:_native":
-        "the SHACL shapes evaluated natively, one block per shape",
     "countersign/web/app.py:create_app":
         "the application's middleware, routes and handlers in the order they apply "
         "(services, issue 35 item 1)",
