@@ -8,11 +8,12 @@ copies the folder and sets the variable. Parsed graphs are cached per process.
 
 from __future__ import annotations
 
-import os
 from functools import cache
 from pathlib import Path
 
 from rdflib import Graph
+
+from .settings import InstallationEnvironment, read
 
 MEO = "meo.ttl"
 SHAPES = "shapes.ttl"
@@ -25,9 +26,9 @@ class OntologyNotFound(RuntimeError):
 
 def ontology_dir() -> Path:
     candidates: list[Path] = []
-    configured = os.environ.get("COUNTERSIGN_ONTOLOGY_DIR")
-    if configured:
-        candidates.append(Path(configured))
+    configured = read(InstallationEnvironment).ontology_dir
+    if configured is not None:
+        candidates.append(configured)
     candidates.append(Path(__file__).resolve().parents[2] / "ontology")
     candidates.append(Path.cwd() / "ontology")
     for folder in candidates:

@@ -12,7 +12,9 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[2] / "backend" / "countersign"
 
-LEAVES = {"", "strict_json", "ontology_files", "pool_lifetime"}
+# settings (every COUNTERSIGN_* variable) and limits serve every layer, the command line too.
+LEAVES = {"", "strict_json", "ontology_files", "pool_lifetime", "limits", "settings",
+          "map_tiles"}
 # What each inner package may import besides itself and the leaves.
 ALLOWED: dict[str, set[str]] = {
     "orders": set(),

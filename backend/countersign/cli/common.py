@@ -8,6 +8,7 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
@@ -27,6 +28,25 @@ FILE_HELP = (
 
 class UsageError(Exception):
     """Bad input the user can fix; printed without a trace, exit code 2."""
+
+
+def server_url(given: str | None) -> str:
+    """--server, else COUNTERSIGN_SERVER, else this machine's default server."""
+    if given is not None:
+        return given
+    from ..settings import ClientEnvironment, read  # pydantic: not for `--help`
+
+    return read(ClientEnvironment).server
+
+
+def api_token(token_file: Path | None) -> str | None:
+    """The API token of a client command: --token-file's content, else COUNTERSIGN_TOKEN."""
+    if token_file is not None:
+        return token_file.read_text().strip()
+    from ..settings import ClientEnvironment, read
+
+    token = read(ClientEnvironment).token
+    return None if token is None else token.get_secret_value()
 
 
 def load_orders(source: str, *, teams: bool = False) -> ReadResult:
