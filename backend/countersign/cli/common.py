@@ -63,8 +63,9 @@ def load_orders(source: str, *, teams: bool = False) -> ReadResult:
 
 
 def _read_orders(source: str) -> ReadResult:
+    from ..limits import MAX_INPUT_BYTES
     from ..orders.examples import example_bytes
-    from ..orders.reader import MAX_INPUT_BYTES, read_bytes, read_file
+    from ..orders.reader import read_bytes, read_file
 
     if source.startswith("example:"):
         try:

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from ..approvals.dsse import SignatureError, parse_envelope, unb64
+from ..limits import MAX_PACKAGE_BYTES
 from ..orders.canonical import canonical_bytes
 from ..orders.model import Orders
 from .notes import ExportError
@@ -21,7 +22,6 @@ from .vehicle import FORMATS, export_vehicle
 PACKAGE_FORMAT = "countersign.package/1"
 ORDERS_FILE = "orders.json"
 ENVELOPE_FILE = "approval.dsse.json"
-MAX_PACKAGE_BYTES = 64 * 1024 * 1024
 
 
 @dataclass(frozen=True)

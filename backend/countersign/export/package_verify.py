@@ -40,6 +40,7 @@ from ..approvals.note import (
 )
 from ..approvals.receipt import verify_receipt
 from ..approvals.statement import parse_statement, subject_digest
+from ..limits import CLOCK_SKEW
 from ..orders.reader import orders_from_data
 from .package import (
     ENVELOPE_FILE,
@@ -53,7 +54,6 @@ from .package import (
 )
 
 DEFAULT_MAX_AGE = timedelta(days=7)
-CLOCK_SKEW = timedelta(minutes=5)
 
 
 @dataclass(frozen=True)

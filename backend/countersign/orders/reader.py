@@ -15,10 +15,10 @@ from typing import Any
 from pydantic import ValidationError
 
 from .. import strict_json
+from ..limits import MAX_INPUT_BYTES, MIB
 from .findings import Finding
 from .model import Orders
 
-MAX_INPUT_BYTES = 8 * 1024 * 1024
 MAX_PROBLEMS_SHOWN = 20
 
 
@@ -158,7 +158,7 @@ def sniff_format(data: bytes) -> str:
 def read_bytes(data: bytes, name: str = "<input>") -> ReadResult:
     """Read orders from raw bytes, detecting JSON, AVCL XML or MEO Turtle by content."""
     if len(data) > MAX_INPUT_BYTES:
-        limit_mib = MAX_INPUT_BYTES // (1024 * 1024)
+        limit_mib = MAX_INPUT_BYTES // MIB
         raise OrdersReadError([Problem("$", f"{name} is larger than the {limit_mib} MiB limit")])
     if not data.strip():
         raise OrdersReadError([Problem("$", f"{name} is empty")])

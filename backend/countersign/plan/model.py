@@ -19,9 +19,9 @@ from typing import Annotated, Any, Final, Literal
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from .. import strict_json
+from ..limits import MAX_INPUT_BYTES, MIB
 from ..orders.model import Id, Text
 from ..orders.reader import (
-    MAX_INPUT_BYTES,
     OrdersReadError,
     Problem,
     location_path,
@@ -173,7 +173,7 @@ def problem_from_data(data: Any) -> PlanProblem:
 def json_from_bytes(data: bytes, name: str = "<input>") -> Any:
     """Parsed JSON, or a `PlanReadError` that says what is wrong and where."""
     if len(data) > MAX_INPUT_BYTES:
-        limit_mib = MAX_INPUT_BYTES // (1024 * 1024)
+        limit_mib = MAX_INPUT_BYTES // MIB
         raise PlanReadError([Problem("$", f"{name} is larger than the {limit_mib} MiB limit")])
     if not data.strip():
         raise PlanReadError([Problem("$", f"{name} is empty")])

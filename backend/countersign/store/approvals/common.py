@@ -16,12 +16,6 @@ from ..tables import (
 STATEMENT_MAX_AGE = timedelta(hours=1)
 
 
-CLOCK_SKEW = timedelta(minutes=5)
-
-
-MAX_REASON = 2000
-
-
 class Refused(Forbidden):
     """The caller may not do this (wrong role, own work, someone else's key)."""
 

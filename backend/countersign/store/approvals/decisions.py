@@ -22,6 +22,7 @@ from ...approvals.statement import (
     subject_digest,
 )
 from ...export.package import export_digests
+from ...limits import CLOCK_SKEW, MAX_REASON
 from ...orders.reader import orders_from_data
 from ...orders.team import member_digests
 from ...verify import fingerprint
@@ -42,8 +43,6 @@ from ..tables import (
     utcnow,
 )
 from .common import (
-    CLOCK_SKEW,
-    MAX_REASON,
     STATEMENT_MAX_AGE,
     BadSignature,
     Stale,

@@ -6,6 +6,7 @@ from sqlalchemy.orm import Session as DbSession
 
 from ...approvals import dsse
 from ...approvals.dsse import SignatureError
+from ...limits import MAX_REASON
 from ..decide_guard import (
     logged_key_revocation,
 )
@@ -18,7 +19,7 @@ from ..tables import (
     User,
     utcnow,
 )
-from .common import MAX_REASON, Refused, Stale
+from .common import Refused, Stale
 
 
 def _confirm_password(db: DbSession, user: User, password: str) -> None:

@@ -13,11 +13,11 @@ from pydantic import BaseModel, Field, model_validator
 
 from ...export.execution_input import ExecutionInputError, to_execution_log
 from ...export.rehearsal_log import rehearsal_runs
+from ...limits import CLOCK_SKEW
 from ...orders.reader import orders_from_data
 from ...rehearse.execution import ExecutionLogError, ExecutionVerdict, check_execution, read_log
 from ...rehearse.execution_evidence import TimeWindow
 from ...store import approvals as approvals_service
-from ...store.approvals import CLOCK_SKEW
 from ...store.db import Database
 from ...store.executions import approved_orders, record_execution, recorded_executions
 from ...store.rehearsals import get_record
