@@ -28,6 +28,14 @@ class BadSignature(Invalid):
     pass
 
 
+class BadDecision(Invalid):
+    """A decision or revocation asked for wrongly (no such decision, a missing or long reason)."""
+
+
+class BadKey(Invalid):
+    """A signing key that cannot be registered as sent (not an Ed25519 public key)."""
+
+
 def _now_text() -> str:
     return utcnow().isoformat().replace("+00:00", "Z")
 

@@ -13,13 +13,13 @@ from ..decide_guard import (
 from ..events import record
 from ..logged_roles import decision_refusal_from_log
 from ..login_throttle import check_password
-from ..missions import Conflict, MissionError, NotFound
+from ..missions import Conflict, NotFound
 from ..tables import (
     SigningKey,
     User,
     utcnow,
 )
-from .common import Refused, Stale
+from .common import BadKey, Refused, Stale
 
 
 def _confirm_password(db: DbSession, user: User, password: str) -> None:
@@ -42,7 +42,7 @@ def register_key(db: DbSession, *, user: User, public_key: str, name: str,
     try:
         kid = dsse.key_id(public_key)
     except SignatureError as exc:
-        raise MissionError(str(exc)) from None
+        raise BadKey(str(exc)) from None
     if db.get(SigningKey, kid) is not None:
         raise Conflict(f"the key {kid} is registered already")
     key = SigningKey(id=kid, user_id=user.id, name=name[:100], public_key=public_key)
