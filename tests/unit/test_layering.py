@@ -1,6 +1,7 @@
 """Dependencies point inward (DESIGN.md, Layout): read every import under backend/countersign and
-check no package reaches outward. Leaf modules that import nothing of ours (strict_json,
-ontology_files, the package's __version__) may be used by any layer."""
+check no package reaches outward. Leaf modules that import nothing of ours but other leaves
+(strict_json, ontology_files, settings, limits, the package's __version__) may be used by any
+layer."""
 
 from __future__ import annotations
 

@@ -138,6 +138,13 @@ def test_the_checks_see_a_read_elsewhere(tmp_path: Path) -> None:
         "probe.py:2 reads COUNTERSIGN_DATA_DIR", "probe.py:4 reads COUNTERSIGN_TOKEN"]
 
 
+def test_settings_import_only_leaves() -> None:
+    """The command line and every layer take their settings from here: no web, no store."""
+    ours = {f"{node.module}" for node in ast.walk(ast.parse(SETTINGS.read_text()))
+            if isinstance(node, ast.ImportFrom) and node.level}
+    assert ours <= {"limits", "map_tiles"}
+
+
 def test_the_variables_keep_their_names_and_are_documented() -> None:
     names = {str(field.validation_alias) for group in GROUPS
              for field in group.model_fields.values()}
