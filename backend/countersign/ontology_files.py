@@ -4,13 +4,14 @@ The files live once, at the repository top (DESIGN.md layout), and are read wher
 `COUNTERSIGN_ONTOLOGY_DIR` if set, else `ontology/` beside the package's source tree (an
 editable install or a checkout), else `ontology/` in the working directory. The Docker image
 copies the folder and sets the variable. The files are parsed by `orders.ontology.load_graph`
-(this module is a leaf: it imports nothing of ours).
+(this module imports only the settings).
 """
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
+
+from .settings import InstallationEnvironment, read
 
 MEO = "meo.ttl"
 SHAPES = "shapes.ttl"
@@ -23,9 +24,9 @@ class OntologyNotFound(RuntimeError):
 
 def ontology_dir() -> Path:
     candidates: list[Path] = []
-    configured = os.environ.get("COUNTERSIGN_ONTOLOGY_DIR")
-    if configured:
-        candidates.append(Path(configured))
+    configured = read(InstallationEnvironment).ontology_dir
+    if configured is not None:
+        candidates.append(configured)
     candidates.append(Path(__file__).resolve().parents[2] / "ontology")
     candidates.append(Path.cwd() / "ontology")
     for folder in candidates:

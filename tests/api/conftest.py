@@ -18,11 +18,11 @@ from fastapi.testclient import TestClient
 from sqlalchemy import text
 
 from countersign.orders.examples import load_example
+from countersign.settings import Settings
 from countersign.store.accounts import create_token, create_user
 from countersign.store.db import Database, make_engine
 from countersign.store.missions import create_mission
 from countersign.web.app import create_app
-from countersign.web.settings import Settings
 
 ROLES = ("operator", "supervisor", "auditor", "admin")
 PASSWORD = "correct horse battery staple"

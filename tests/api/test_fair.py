@@ -19,6 +19,7 @@ from sqlalchemy import func, select
 from countersign.orders.examples import example_bytes
 from countersign.orders.model import Orders
 from countersign.plan.examples import gravitas_data
+from countersign.settings import Settings
 from countersign.store import accounts, login_throttle
 from countersign.store.accounts import HASHER, create_token, create_user
 from countersign.store.db import Database
@@ -27,7 +28,6 @@ from countersign.store.tables import LoginAttempt, User
 from countersign.verify import validate
 from countersign.web.app import create_app
 from countersign.web.fair import PlanSlots, Rate, RateLimiter
-from countersign.web.settings import Settings
 from countersign.web.validation_pool import SUBMITTER
 
 from ..heavy_orders import heavy_orders

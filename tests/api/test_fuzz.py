@@ -33,11 +33,11 @@ from schemathesis.checks import not_a_server_error, response_schema_conformance
 
 from countersign.approvals import dsse
 from countersign.orders.examples import load_example
+from countersign.settings import Settings
 from countersign.store.accounts import create_token, create_user
 from countersign.store.db import Database
 from countersign.store.missions import create_mission
 from countersign.web.app import create_app
-from countersign.web.settings import Settings
 
 from .approval_helpers import Signer as _Signer
 from .approval_helpers import sign_prepared

@@ -26,13 +26,13 @@ from countersign.approvals.note import COSIGNATURE, verifier_key
 from countersign.approvals.signer import SignerError
 from countersign.cli import main
 from countersign.cli.witness import witness_round
+from countersign.settings import Settings
 from countersign.store import approvals as service
 from countersign.store.approvals import decisions
 from countersign.store.db import Database
 from countersign.store.events import record
 from countersign.store.tables import SigningKey, User
 from countersign.web.app import create_app
-from countersign.web.settings import Settings
 
 from .approval_helpers import approve, bypass_triggers, new_version, register_key, submit
 from .conftest import World

@@ -193,7 +193,8 @@ def test_a_taken_port_is_refused_with_its_reason(tmp_path: Path) -> None:
 def test_processes_that_cannot_start_stop_the_server() -> None:
     """An app that fails before it serves would fail in every replacement: no restart loop."""
     code = ("import sys\nfrom countersign.web.gunicorn_server import serve_workers\n"
-            "sys.exit(serve_workers('countersign.no_such_module:app', host='127.0.0.1', "
+            "def app():\n    import countersign.no_such_module\n"
+            "sys.exit(serve_workers(app, host='127.0.0.1', "
             "port=0, workers=2, log_level='critical'))")
     started = time.monotonic()
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,

@@ -16,12 +16,12 @@ from fastapi.testclient import TestClient
 from countersign.orders.canonical import orders_to_json
 from countersign.orders.examples import example_bytes, load_example
 from countersign.orders.reader import orders_from_data
+from countersign.settings import Settings
 from countersign.store.accounts import create_token, create_user
 from countersign.store.db import Database
 from countersign.verify import validate
 from countersign.web import validation_pool
 from countersign.web.app import create_app
-from countersign.web.settings import Settings
 from countersign.web.validation_pool import NICENESS
 
 from .conftest import World

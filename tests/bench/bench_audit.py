@@ -236,10 +236,10 @@ def bench_witness_and_decisions(rounds: int, events: int) -> None:
 
     from countersign.cli.witness import witness_round
     from countersign.orders.examples import load_example
+    from countersign.settings import Settings
     from countersign.store.accounts import create_token, create_user
     from countersign.store.missions import create_mission
     from countersign.web.app import create_app
-    from countersign.web.settings import Settings
 
     print(f"\n## Witness round and decision latency with receipt (SQLite, {events:,} events)")
     with tempfile.TemporaryDirectory() as folder:

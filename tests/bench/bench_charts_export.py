@@ -22,12 +22,12 @@ from shapely.geometry import LinearRing
 
 from countersign.orders.geo_formats import areas_to_geojson
 from countersign.orders.model import Chart
+from countersign.settings import Settings
 from countersign.store.accounts import create_token, create_user
 from countersign.store.charts import all_charts
 from countersign.store.db import Database
 from countersign.store.tables import ChartRecord
 from countersign.web.app import create_app
-from countersign.web.settings import Settings
 
 
 def _fill(database: Database, count: int) -> None:

@@ -20,12 +20,12 @@ from pathlib import Path
 from fastapi.testclient import TestClient
 
 from countersign.orders.examples import load_example
+from countersign.settings import Settings
 from countersign.store.accounts import create_token, create_user
 from countersign.store.db import Database
 from countersign.store.hashing import HASHER
 from countersign.store.missions import create_mission
 from countersign.web.app import create_app
-from countersign.web.settings import Settings
 from tests.api.approval_helpers import Signer, prepare, register_key, sign_prepared
 
 PASSWORD = "correct horse battery staple"

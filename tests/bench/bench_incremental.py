@@ -151,10 +151,10 @@ def bench_edit(quick: bool) -> None:
 def bench_api(quick: bool, pool: bool) -> None:
     from fastapi.testclient import TestClient
 
+    from countersign.settings import Settings
     from countersign.store.accounts import create_token, create_user
     from countersign.store.db import Database
     from countersign.web.app import create_app
-    from countersign.web.settings import Settings
 
     goals = 300 if quick else 1_000
     where = "the app's validation processes" if pool else "the server's threads"

@@ -87,8 +87,8 @@ def _cpu_per_list(url: str, data: str, token: str, rounds: int = 20) -> float:
     load does not move, unlike the latencies over HTTP)."""
     from fastapi.testclient import TestClient
 
+    from countersign.settings import Settings
     from countersign.web.app import create_app
-    from countersign.web.settings import Settings
 
     database = Database(url)
     app = create_app(Settings(data_dir=Path(data), database_url=url), database)

@@ -21,6 +21,7 @@ from pathlib import Path
 
 from sqlalchemy import select
 
+from countersign.settings import Settings
 from countersign.store.accounts import create_user
 from countersign.store.db import Database
 from countersign.store.decide_guard import logged_key_revocation
@@ -28,7 +29,6 @@ from countersign.store.events import record
 from countersign.store.logged_roles import decision_refusal_from_log
 from countersign.store.tables import User
 from countersign.web.app import create_app
-from countersign.web.settings import Settings
 
 PASSWORD = "correct horse battery staple"
 

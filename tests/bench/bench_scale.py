@@ -256,10 +256,10 @@ def bench_logic(quick: bool) -> None:
 def bench_edit(quick: bool) -> None:
     from fastapi.testclient import TestClient
 
+    from countersign.settings import Settings
     from countersign.store.accounts import create_token, create_user
     from countersign.store.db import Database
     from countersign.web.app import create_app
-    from countersign.web.settings import Settings
 
     print("## Description edit of a 1,000-goal mission through the API: reused vs validated")
     goals = 300 if quick else 1_000

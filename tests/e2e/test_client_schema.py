@@ -6,8 +6,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+from countersign.settings import Settings
 from countersign.web.app import create_app
-from countersign.web.settings import Settings
 
 REPO = Path(__file__).resolve().parents[2]
 

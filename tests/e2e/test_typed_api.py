@@ -8,9 +8,9 @@ from typing import Any
 
 import pytest
 
+from countersign.settings import Settings
 from countersign.web.app import create_app
 from countersign.web.roles_ts import operation_roles, roles_typescript
-from countersign.web.settings import Settings
 
 REPO = Path(__file__).resolve().parents[2]
 # Answers that are not one JSON document of a model: a map of names (health).

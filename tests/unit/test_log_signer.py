@@ -22,7 +22,7 @@ from countersign.approvals.note import (
     verify_cosignature,
     verify_note,
 )
-from countersign.approvals.signer import LogSigner, Refused, SignerError
+from countersign.approvals.signer import LogSigner, SignerError, SignerRefused
 
 
 def _tree(items: list[bytes]) -> Tree:
@@ -59,15 +59,15 @@ def test_signs_consistent_extensions_only(tmp_path: Path) -> None:
     assert signer.sign_head(longer, {**receipts, **_receipts(signer, longer, 5)})["size"] == 7
 
     forked = _tree([*items[:3], b"X", *items[4:]])
-    with pytest.raises(Refused, match="not a consistent extension of the last: the signer's "
+    with pytest.raises(SignerRefused, match="not a consistent extension of the last: the signer's "
                        f"last head is size 7, root {longer.root().hex()}, the new head is "
                        f"size 7, root {forked.root().hex()}|the log forks"):
         signer.sign_head(forked, _receipts(signer, forked))
-    with pytest.raises(Refused, match=f"the log would roll back: the signer's last head is "
+    with pytest.raises(SignerRefused, match=f"the log would roll back: the signer's last head is "
                        f"size 7, root {longer.root().hex()}, the new head is {'size 5'}"):
         signer.sign_head(tree, receipts)
     rewritten = _tree([*items[:3], b"X", *items[4:], b"8"])
-    with pytest.raises(Refused, match="not a consistent extension"):
+    with pytest.raises(SignerRefused, match="not a consistent extension"):
         signer.sign_head(rewritten, _receipts(signer, rewritten))
     assert last  # the heads named are size and root
 
@@ -77,10 +77,10 @@ def test_refuses_entries_it_did_not_receipt(tmp_path: Path) -> None:
     tree = _tree([b"a", b"b", b"c"])
     receipts = _receipts(signer, tree)
     del receipts[1]
-    with pytest.raises(Refused, match="log entry 1 carries no receipt from the log signer"):
+    with pytest.raises(SignerRefused, match="log entry 1 carries no receipt from the log signer"):
         signer.sign_head(tree, receipts)
     receipts[1] = _receipts(other, tree)[1]
-    with pytest.raises(Refused, match="log entry 1 has a receipt for another entry"):
+    with pytest.raises(SignerRefused, match="log entry 1 has a receipt for another entry"):
         signer.sign_head(tree, receipts)
     assert signer.head().size == 0  # nothing was signed
 
@@ -90,7 +90,7 @@ def test_two_processes_share_one_history(tmp_path: Path) -> None:
     tree = _tree([b"a", b"b", b"c"])
     one.sign_head(tree, _receipts(one, tree))
     other = _tree([b"a", b"b", b"X"])
-    with pytest.raises(Refused, match="the log forks"):
+    with pytest.raises(SignerRefused, match="the log forks"):
         two.sign_head(other, _receipts(two, other))
     longer = _tree([b"a", b"b", b"c", b"d"])
     assert two.sign_head(longer, _receipts(two, longer, 3))["size"] == 4

@@ -8,9 +8,9 @@ from pathlib import Path
 import pytest
 from fastapi.testclient import TestClient
 
+from countersign.map_tiles import checked_template, tile_origin
+from countersign.settings import Settings
 from countersign.web.app import create_app
-from countersign.web.map_tiles import checked_template, tile_origin
-from countersign.web.settings import Settings
 
 GOOD = "https://tiles.example.org/osm/{z}/{x}/{y}.png"
 

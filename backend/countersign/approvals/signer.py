@@ -59,8 +59,9 @@ class SignerError(RuntimeError):
     """The signer will not sign this (unusable key file, or a head it must not vouch for)."""
 
 
-class Refused(SignerError):
-    pass
+class SignerRefused(SignerError):
+    """A head or an entry the signer must not vouch for (a fork, a roll-back, an entry it did
+    not receipt): not the caller's refusal (store.approvals.Refused), the log's."""
 
 
 def _frontier_append(frontier: list[bytes], size: int, leaf: bytes) -> None:
@@ -182,9 +183,10 @@ class LogSigner:
             state = self._read()
             remembered = self._remembered(state.size).get(index)
         if remembered is not None and remembered != leaf:
-            raise Refused(f"log entry {index} was appended and committed as {remembered[:16]}"
-                          f"...; the log no longer holds it, and the signer will not append "
-                          "another entry in its place")
+            raise SignerRefused(
+                f"log entry {index} was appended and committed as {remembered[:16]}"
+                f"...; the log no longer holds it, and the signer will not append "
+                "another entry in its place")
         return make_receipt(self.key, self.origin, index, leaf, time)
 
     def remember(self, appended: Sequence[tuple[int, str]]) -> None:
@@ -308,7 +310,7 @@ class LogSigner:
     def sign_head(self, tree: Tree, receipts: Mapping[int, str],
                   adopted: int | None = None) -> dict[str, Any]:
         """Sign the head of this tree, given the receipts of the entries since the signer's
-        last head; refuse (Refused, naming both heads or the entry) a head that is not a
+        last head; refuse (SignerRefused, naming both heads or the entry) a head that is not a
         consistent extension of the last one or covers an entry without a valid receipt.
         The new head becomes the signer's last. `adopted` (the first head only) records in
         the state how many entries were adopted at upgrade."""
@@ -318,20 +320,23 @@ class LogSigner:
             last = Head(self.origin, state.size, state.root)
             new = Head(self.origin, size, root)
             if size < state.size:
-                raise Refused(f"the log would roll back: the signer's last head is {last}, "
-                              f"the new head is {new}")
+                raise SignerRefused(
+                    f"the log would roll back: the signer's last head is {last}, "
+                    f"the new head is {new}")
             if size == state.size:
                 if root != state.root:
-                    raise Refused(f"the log forks: the signer's last head is {last}, the new "
-                                  f"head is {new}")
+                    raise SignerRefused(
+                        f"the log forks: the signer's last head is {last}, the new "
+                        f"head is {new}")
             elif state.size and not verify_consistency(
                     state.size, size, tree.consistency_proof(state.size, size), state.root,
                     root):
-                raise Refused(f"the new head is not a consistent extension of the last: the "
-                              f"signer's last head is {last}, the new head is {new}")
+                raise SignerRefused(
+                    f"the new head is not a consistent extension of the last: the "
+                    f"signer's last head is {last}, the new head is {new}")
             replaced = self._replaced(state, size, lambda i: tree.levels[0][i])
             if replaced is not None:
-                raise Refused(replaced)
+                raise SignerRefused(replaced)
             frontier = list(state.frontier)
             for index in range(state.size, size):
                 leaf = tree.levels[0][index]
@@ -339,12 +344,14 @@ class LogSigner:
                     verify_receipt(receipts.get(index), index=index, leaf=leaf.hex(),
                                    origin=self.origin, key=self.public)
                 except dsse.SignatureError as exc:
-                    raise Refused(f"log entry {index} {exc}: the signer did not append it and "
-                                  "will not vouch for it") from None
+                    raise SignerRefused(
+                        f"log entry {index} {exc}: the signer did not append it and "
+                        "will not vouch for it") from None
                 _frontier_append(frontier, index, leaf)
             if _frontier_root(frontier) != root:
-                raise Refused(f"the receipted entries do not hash to the new head {new} (from "
-                              f"the signer's last head {last})")
+                raise SignerRefused(
+                    f"the receipted entries do not hash to the new head {new} (from "
+                    f"the signer's last head {last})")
             signed = sign_checkpoint(self.key, size, root, origin=self.origin)
             if size > state.size:
                 if adopted is not None and state.size == 0:

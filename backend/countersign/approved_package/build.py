@@ -18,13 +18,13 @@ from typing import Any
 
 from ..approvals.dsse import SignatureError, parse_envelope, unb64
 from ..export.package import SIGNED_EXPORTS, export_provenance, signed_provenance, vehicle_files
+from ..limits import MAX_PACKAGE_BYTES
 from ..orders.canonical import canonical_bytes
 from ..orders.model import Orders
 
 PACKAGE_FORMAT = "countersign.package/1"
 ORDERS_FILE = "orders.json"
 ENVELOPE_FILE = "approval.dsse.json"
-MAX_PACKAGE_BYTES = 64 * 1024 * 1024
 
 
 def _sha(data: bytes) -> str:

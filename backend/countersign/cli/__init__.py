@@ -1,7 +1,8 @@
 """The `countersign` command line (DESIGN.md, Command line): one module per command group.
 
 Exit codes: 0 no errors, 1 error findings (or a mission that cannot run), 2 unreadable input
-or bad usage, 3 an internal error (reported in one line; COUNTERSIGN_DEBUG=1 shows the trace).
+or bad usage (a bad COUNTERSIGN_* variable too), 3 an internal error (reported in one line;
+COUNTERSIGN_DEBUG=1 shows the trace).
 """
 
 from __future__ import annotations
@@ -67,15 +68,19 @@ def main(argv: Sequence[str] | None = None) -> int:
         sys.stderr.write("\ncountersign: interrupted\n")
         return 130
     except Exception as exc:
-        # The reader is imported by the commands that read orders, not before.
+        # The reader and the settings are imported by the commands that use them, not before.
         from ..orders.reader import OrdersReadError
+        from ..settings import ClientEnvironment, SettingsError, read
 
+        if isinstance(exc, SettingsError):  # a variable's value, named with what is wrong
+            sys.stderr.write(f"countersign: {exc}\n")
+            return EXIT_UNREADABLE
         if isinstance(exc, OrdersReadError):
             sys.stderr.write(f"countersign: cannot read {getattr(args, 'file', 'input')}:\n")
             for line in exc.summary().splitlines():
                 sys.stderr.write(f"  {line}\n")
             return EXIT_UNREADABLE
-        if os.environ.get("COUNTERSIGN_DEBUG"):
+        if read(ClientEnvironment).debug:
             raise
         sys.stderr.write(
             f"countersign: internal error ({type(exc).__name__}: {exc}); "

@@ -19,12 +19,12 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import sys
 from pathlib import Path
 from typing import Any
 
 from .. import strict_json
+from .common import api_token, server_url
 
 EXIT_OK, EXIT_FAILED, EXIT_UNREADABLE = 0, 1, 2
 
@@ -40,8 +40,7 @@ def add_commands(commands: argparse._SubParsersAction) -> None:  # type: ignore[
         "sign", help="sign a decision on a submission (or revoke an approval) with a key file",
         description="The server builds the statement; this command signs its DSSE PAE with "
         "the key file and sends the envelope. Token: COUNTERSIGN_TOKEN or --token-file.")
-    sign.add_argument("--server", default=os.environ.get("COUNTERSIGN_SERVER",
-                                                         "http://127.0.0.1:8000"))
+    sign.add_argument("--server", default=None)  # None: COUNTERSIGN_SERVER (server_url)
     sign.add_argument("--token-file", type=Path, default=None)
     sign.add_argument("--key", type=Path, required=True, help="private key file from keygen")
     target = sign.add_mutually_exclusive_group(required=True)
@@ -130,18 +129,12 @@ def api_request(server: str, token: str | None, path: str,
         raise ApiError(f"cannot reach {server}: {exc.reason}") from None
 
 
-def _token(args: argparse.Namespace) -> str | None:
-    if args.token_file is not None:
-        return str(args.token_file.read_text().strip())
-    return os.environ.get("COUNTERSIGN_TOKEN")
-
-
 def cmd_sign(args: argparse.Namespace) -> int:
     import getpass
 
     from ..approvals import dsse
 
-    token = _token(args)
+    token = api_token(args.token_file)
     if not token:
         _err("set COUNTERSIGN_TOKEN or pass --token-file with an API token")
         return EXIT_UNREADABLE
@@ -177,11 +170,11 @@ def cmd_sign(args: argparse.Namespace) -> int:
         prepare = {"reason": args.reason, "key_id": kid}
         finish = f"{base}/revoke"
     try:
-        prepared = api_request(args.server, token, f"{base}/statement", prepare)
+        prepared = api_request(server_url(args.server), token, f"{base}/statement", prepare)
         payload = dsse.unb64(prepared["payload"], "the payload")
         envelope = dsse.sign_envelope(payload, key, prepared["payloadType"])
-        stored = api_request(args.server, token, finish, {"envelope": json.dumps(envelope),
-                                                     "password": password})
+        stored = api_request(server_url(args.server), token, finish,
+                             {"envelope": json.dumps(envelope), "password": password})
     except (ApiError, dsse.SignatureError, KeyError) as exc:
         _err(f"refused: {exc}")
         return EXIT_FAILED

@@ -111,8 +111,8 @@ def _common(cmd: argparse.ArgumentParser) -> None:
 
 
 def _database(args: argparse.Namespace) -> Database:
+    from ..settings import Settings
     from ..store.db import Database, DatabaseTooNew
-    from ..web.settings import Settings
 
     settings = Settings.from_environment(data_dir=args.data_dir)
     settings.prepare()

@@ -8,6 +8,7 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
@@ -29,6 +30,25 @@ class UsageError(Exception):
     """Bad input the user can fix; printed without a trace, exit code 2."""
 
 
+def server_url(given: str | None) -> str:
+    """--server, else COUNTERSIGN_SERVER, else this machine's default server."""
+    if given is not None:
+        return given
+    from ..settings import ClientEnvironment, read  # pydantic: not for `--help`
+
+    return read(ClientEnvironment).server
+
+
+def api_token(token_file: Path | None) -> str | None:
+    """The API token of a client command: --token-file's content, else COUNTERSIGN_TOKEN."""
+    if token_file is not None:
+        return token_file.read_text().strip()
+    from ..settings import ClientEnvironment, read
+
+    token = read(ClientEnvironment).token
+    return None if token is None else token.get_secret_value()
+
+
 def load_orders(source: str, *, teams: bool = False) -> ReadResult:
     """Orders from a path, `-` for standard input, or `example:NAME` for a built-in. Orders
     with a team are refused (exit 2) unless `teams`: most commands read one vehicle's MEA."""
@@ -43,8 +63,9 @@ def load_orders(source: str, *, teams: bool = False) -> ReadResult:
 
 
 def _read_orders(source: str) -> ReadResult:
+    from ..limits import MAX_INPUT_BYTES
     from ..orders.examples import example_bytes
-    from ..orders.reader import MAX_INPUT_BYTES, read_bytes, read_file
+    from ..orders.reader import read_bytes, read_file
 
     if source.startswith("example:"):
         try:

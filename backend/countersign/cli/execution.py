@@ -47,9 +47,9 @@ def add_commands(commands: Any) -> None:
 
 def cmd_execution_check(args: argparse.Namespace) -> int:
     from ..export.execution_input import ExecutionInputError, to_execution_log
+    from ..limits import CLOCK_SKEW
     from ..rehearse.execution import ExecutionLogError, check_execution, read_log
     from ..rehearse.execution_evidence import TimeWindow
-    from ..store.approvals import CLOCK_SKEW
 
     orders = load_orders(args.orders).orders
     try:

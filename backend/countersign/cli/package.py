@@ -6,14 +6,15 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import sys
 from datetime import UTC, datetime, timedelta
 from pathlib import Path
 from typing import Any
 
+from ..limits import MAX_PACKAGE_BYTES
+from .common import api_token, server_url
+
 EXIT_OK, EXIT_REFUSED, EXIT_UNREADABLE = 0, 1, 2
-MAX_BYTES = 64 * 1024 * 1024
 
 
 def add_commands(commands: Any) -> None:
@@ -26,8 +27,7 @@ def add_commands(commands: Any) -> None:
         "has no standing approval.")
     package.add_argument("mission", metavar="MISSION")
     package.add_argument("version", metavar="VERSION", type=int)
-    package.add_argument("--server", default=os.environ.get("COUNTERSIGN_SERVER",
-                                                            "http://127.0.0.1:8000"))
+    package.add_argument("--server", default=None)  # None: COUNTERSIGN_SERVER (server_url)
     package.add_argument("--token-file", type=Path, default=None)
     package.add_argument("--output", "-o", type=Path, default=None, metavar="FILE",
                          help="where to write it (default MISSION-vVERSION.package.tar)")
@@ -84,15 +84,14 @@ def cmd_package(args: argparse.Namespace) -> int:
     import urllib.parse
     import urllib.request
 
-    token = args.token_file.read_text().strip() if args.token_file else \
-        os.environ.get("COUNTERSIGN_TOKEN")
+    token, server = api_token(args.token_file), server_url(args.server)
     path = (f"/api/missions/{urllib.parse.quote(args.mission, safe='')}/versions/"
             f"{args.version}/package")
-    request = urllib.request.Request(args.server.rstrip("/") + path, headers=(
+    request = urllib.request.Request(server.rstrip("/") + path, headers=(
         {"Authorization": f"Bearer {token}"} if token else {}))
     try:
         with urllib.request.urlopen(request, timeout=120) as response:
-            data = response.read(MAX_BYTES + 1)
+            data = response.read(MAX_PACKAGE_BYTES + 1)
     except urllib.error.HTTPError as exc:
         try:
             detail = json.loads(exc.read()).get("detail", "")
@@ -101,7 +100,7 @@ def cmd_package(args: argparse.Namespace) -> int:
         sys.stderr.write(f"countersign: {path}: {exc.code} {detail}\n")
         return EXIT_REFUSED if exc.code in (409, 422) else EXIT_UNREADABLE
     except urllib.error.URLError as exc:
-        sys.stderr.write(f"countersign: cannot reach {args.server}: {exc.reason}\n")
+        sys.stderr.write(f"countersign: cannot reach {server}: {exc.reason}\n")
         return EXIT_UNREADABLE
     target = args.output or Path(f"{args.mission}-v{args.version}.package.tar")
     target.write_bytes(data)
@@ -112,7 +111,7 @@ def cmd_package(args: argparse.Namespace) -> int:
 def _read_package(path: Path) -> bytes | None:
     try:
         with path.open("rb") as handle:
-            return handle.read(MAX_BYTES + 1)
+            return handle.read(MAX_PACKAGE_BYTES + 1)
     except OSError as exc:
         sys.stderr.write(f"countersign: cannot read {path}: {exc.strerror}\n")
         return None

@@ -79,7 +79,7 @@ def _source_bytes(source: str) -> tuple[bytes, str]:
     from ..plan.model import read_path_bytes
 
     if source == "-":
-        from ..orders.reader import MAX_INPUT_BYTES
+        from ..limits import MAX_INPUT_BYTES
 
         return sys.stdin.buffer.read(MAX_INPUT_BYTES + 1), "standard input"
     return read_path_bytes(source), source

@@ -86,8 +86,9 @@ def add_commands(commands: Any) -> None:
 
 
 def _load(source: str) -> Orders:
+    from ..limits import MAX_INPUT_BYTES
     from ..orders.examples import example_bytes
-    from ..orders.reader import MAX_INPUT_BYTES, read_bytes
+    from ..orders.reader import read_bytes
 
     if source.startswith("example:"):
         try:

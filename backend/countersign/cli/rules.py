@@ -50,7 +50,7 @@ def _usage_error(message: str) -> Exception:
 
 
 def _read_source(source: str) -> tuple[bytes, str]:
-    from ..orders.reader import MAX_INPUT_BYTES
+    from ..limits import MAX_INPUT_BYTES
 
     if source == "-":
         return sys.stdin.buffer.read(MAX_INPUT_BYTES + 1), "standard input"
@@ -63,8 +63,9 @@ def _read_source(source: str) -> tuple[bytes, str]:
 
 def load_rules(source: str) -> tuple[DefaultTheory, list[Finding], str]:
     """The theory named by `source`, its design findings and a label for output."""
+    from ..limits import MAX_INPUT_BYTES, MIB
     from ..orders.examples import example_bytes
-    from ..orders.reader import MAX_INPUT_BYTES, read_bytes
+    from ..orders.reader import read_bytes
     from ..rules import design_findings, load_theory, parse_theory, theory_for
 
     if source.startswith("theory:"):
@@ -81,7 +82,7 @@ def load_rules(source: str) -> tuple[DefaultTheory, list[Finding], str]:
     else:
         data, name = _read_source(source)
     if len(data) > MAX_INPUT_BYTES:
-        raise _usage_error(f"{name} is larger than the {MAX_INPUT_BYTES // 2**20} MiB limit")
+        raise _usage_error(f"{name} is larger than the {MAX_INPUT_BYTES // MIB} MiB limit")
     parsed: Any = None
     if data.lstrip()[:1] == b"{":
         try:

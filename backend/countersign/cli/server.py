@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import argparse
-import os
 import sys
+from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -12,15 +12,17 @@ from .. import __version__
 from .common import EXIT_OK, UsageError
 
 if TYPE_CHECKING:
+    from ..settings import Settings
     from ..store.db import Database
-    from ..web.settings import Settings
 
 
-def _database(args: argparse.Namespace) -> tuple[Settings, Database]:
+def _database(args: argparse.Namespace,
+              validation_processes: int | None = None) -> tuple[Settings, Database]:
+    from ..settings import Settings
     from ..store.db import Database, DatabaseTooNew
-    from ..web.settings import Settings
 
-    settings = Settings.from_environment(data_dir=args.data_dir)
+    settings = Settings.from_environment(data_dir=args.data_dir,
+                                         validation_processes=validation_processes)
     settings.prepare()
     database = Database(settings.database_url)
     try:
@@ -93,14 +95,13 @@ def _has_users(database: Database) -> bool:
 def cmd_serve(args: argparse.Namespace) -> int:
     import uvicorn
 
+    from ..settings import MAX_VALIDATION_PROCESSES
     from ..web.app import create_app
 
-    if args.validation_processes is not None:
-        if not 0 <= args.validation_processes <= 64:
-            raise UsageError("--validation-processes must be from 0 to 64")
-        # Read by Settings here and in every server process.
-        os.environ["COUNTERSIGN_VALIDATION_PROCESSES"] = str(args.validation_processes)
-    settings, database = _database(args)
+    if args.validation_processes is not None and not (
+            0 <= args.validation_processes <= MAX_VALIDATION_PROCESSES):
+        raise UsageError(f"--validation-processes must be from 0 to {MAX_VALIDATION_PROCESSES}")
+    settings, database = _database(args, args.validation_processes)
     if args.demo:
         _seed_demo(database)
     elif not _has_users(database):
@@ -118,17 +119,15 @@ def cmd_serve(args: argparse.Namespace) -> int:
         uvicorn.run(create_app(settings, database), host=args.host, port=args.port,
                     log_level="info")
         return EXIT_OK
-    # Several server processes: each builds its app from the environment (the database is
-    # migrated above, once, before any of them starts). The app keeps no state that another
-    # process could contradict: sessions, tokens, rate limiting, reports and the log live in
-    # the database; the in-process caches (reports, solver results, the log's Merkle tree) are
-    # pure or checked against the database on use.
+    # Several server processes: each builds its app from these settings after gunicorn forks
+    # it (the database is migrated above, once, before any of them starts). The app keeps no
+    # state that another process could contradict: sessions, tokens, rate limiting, reports
+    # and the log live in the database; the in-process caches (reports, solver results, the
+    # log's Merkle tree) are pure or checked against the database on use.
     database.engine.dispose()
-    os.environ["COUNTERSIGN_DATA_DIR"] = str(settings.data_dir)
-    os.environ["COUNTERSIGN_DATABASE_URL"] = settings.database_url
     from ..web.gunicorn_server import serve_workers
 
-    return serve_workers("countersign.web.app:app_from_environment", host=args.host,
+    return serve_workers(partial(create_app, settings), host=args.host,
                          port=args.port, workers=args.workers, log_level="info",
                          reuse_port=not args.shared_socket)
 

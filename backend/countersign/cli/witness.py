@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any, NamedTuple
 
 from .approvals import ApiError, api_request
+from .common import api_token
 
 EXIT_OK, EXIT_FAILED, EXIT_UNREADABLE = 0, 1, 2
 
@@ -106,8 +107,6 @@ def _http(url: str, token: str | None) -> tuple[Get, Post]:
 
 
 def cmd_witness(args: argparse.Namespace) -> int:
-    import os
-
     from ..approvals import dsse
     from ..approvals.note import COSIGNATURE, verifier_key
 
@@ -122,8 +121,7 @@ def cmd_witness(args: argparse.Namespace) -> int:
             sys.stdout.write(verifier_key(args.name, dsse.raw_public(key.public_key()),
                                           COSIGNATURE) + "\n")
             return EXIT_OK
-    token = (args.token_file.read_text().strip() if args.token_file is not None
-             else os.environ.get("COUNTERSIGN_TOKEN"))
+    token = api_token(args.token_file)
     get, post = _http(args.url, token)
     try:
         result = witness_round(get, post, log_key=args.log_key, state=args.state, key=key,

@@ -17,10 +17,10 @@ from pydantic import BaseModel, ValidationError
 from pydantic_core import ErrorDetails
 
 from .. import strict_json
+from ..limits import MAX_INPUT_BYTES, MIB
 from .findings import Finding
 from .model import Orders
 
-MAX_INPUT_BYTES = 8 * 1024 * 1024
 MAX_PROBLEMS_SHOWN = 20
 
 
@@ -128,7 +128,7 @@ def validated(model: type[Model], data: Any, *, what: str, error: type[ReadError
 def refuse_size(data: bytes, name: str, error: type[OrdersReadError]) -> None:
     """Refuse input over the size limit, or empty."""
     if len(data) > MAX_INPUT_BYTES:
-        limit_mib = MAX_INPUT_BYTES // (1024 * 1024)
+        limit_mib = MAX_INPUT_BYTES // MIB
         raise error([Problem("$", f"{name} is larger than the {limit_mib} MiB limit")])
     if not data.strip():
         raise error([Problem("$", f"{name} is empty")])

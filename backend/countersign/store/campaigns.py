@@ -36,7 +36,7 @@ ACTIVE_STATES = ("queued", "running")
 MAX_ACTIVE_PER_USER = 2
 
 
-class NotThisVersion(Conflict):
+class CampaignNotThisVersion(Conflict):
     """The campaign simulated other orders than the submitted version."""
 
 
@@ -189,7 +189,7 @@ def attach(db: DbSession, *, submission: Submission, campaign_id: str, actor: Us
                        "attached")
     version = db.get_one(MissionVersion, submission.version_id)
     if row.orders_digest != version.digest:
-        raise NotThisVersion(
+        raise CampaignNotThisVersion(
             f"campaign {row.id} simulated orders {row.orders_digest}, but version "
             f"{version.number} of {version.mission_id} is {version.digest}")
     exists = db.scalar(select(CampaignAttachment.id).where(

@@ -20,7 +20,7 @@ from ..approvals.note import (
     verify_cosignature,
 )
 from ..errors import Invalid
-from .approvals.common import CLOCK_SKEW
+from ..limits import CLOCK_SKEW
 from .missions import NotFound
 from .tables import Checkpoint, Cosignature
 

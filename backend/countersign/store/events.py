@@ -14,7 +14,7 @@ from sqlalchemy import inspect, select, text
 from sqlalchemy.orm import Session as DbSession
 
 from ..approvals.log import GENESIS, entry_bytes, entry_leaf, event_data
-from ..approvals.signer import Refused as SignerRefused
+from ..approvals.signer import SignerRefused
 from ..errors import Unavailable
 from .event_words import event_target
 from .tables import Event, LogEntry, LogReceipt, User, utcnow

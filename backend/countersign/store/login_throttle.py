@@ -26,7 +26,6 @@ from __future__ import annotations
 
 import ipaddress
 import math
-import os
 from contextvars import ContextVar
 from datetime import datetime, timedelta
 
@@ -35,6 +34,7 @@ from sqlalchemy import delete, func, select, update
 from sqlalchemy.orm import Session as DbSession
 
 from ..errors import TooMany
+from ..settings import password_checks_per_minute
 from .db import Database, database_of
 from .hashing import HASHER, HashingBusy
 from .tables import LoginAttempt, utcnow
@@ -45,22 +45,9 @@ FREE_FAILURES = 5
 MAX_DELAY = timedelta(seconds=60)
 ADDRESS_MAX_FAILURES = 30
 ACCOUNT_WIDE_FAILURES = 50
-PER_MINUTE_VARIABLE = "COUNTERSIGN_PASSWORD_CHECKS_PER_MINUTE"
-MAX_PER_MINUTE = 1000
-
-
-def account_hashes_per_minute(text: str | None) -> int:
-    """The per-account limit: 10, unless the deployment sets PER_MINUTE_VARIABLE (the browser
-    suite does: it signs its few shared accounts in more often than a person would)."""
-    if text is None or not text.strip():
-        return 10
-    if not text.strip().isdigit() or not 1 <= int(text) <= MAX_PER_MINUTE:
-        raise ValueError(f"{PER_MINUTE_VARIABLE} must be a whole number from 1 to "
-                         f"{MAX_PER_MINUTE}, not {text!r}")
-    return int(text)
-
-
-ACCOUNT_HASHES_PER_MINUTE = account_hashes_per_minute(os.environ.get(PER_MINUTE_VARIABLE))
+# The per-account limit: 10, unless the deployment sets COUNTERSIGN_PASSWORD_CHECKS_PER_MINUTE
+# (the browser suite does: it signs its few shared accounts in more often than a person would).
+ACCOUNT_HASHES_PER_MINUTE = password_checks_per_minute()
 # Half the account's minute: an attacker at one address leaves the other half to the others.
 ADDRESS_HASHES_PER_MINUTE = max(1, ACCOUNT_HASHES_PER_MINUTE // 2)
 

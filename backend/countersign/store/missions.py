@@ -10,7 +10,7 @@ from sqlalchemy import delete, func, select, update
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session as DbSession
 
-from ..errors import Conflict, DomainError, NotFound, PreconditionFailed
+from ..errors import Conflict, Invalid, NotFound, PreconditionFailed
 from ..orders.canonical import digest, orders_to_json
 from ..orders.model import Orders
 from ..verify import fingerprint
@@ -23,13 +23,16 @@ MAX_LAYOUT_NODES = 50_000
 
 
 # The domain's errors (countersign.errors), under the names the store has always used.
-MissionError = DomainError
-__all__ = ["Conflict", "MissionError", "NotFound", "PreconditionFailed"]
+__all__ = ["BadDraft", "Conflict", "NotFound", "PreconditionFailed"]
+
+
+class BadDraft(Invalid):
+    """A draft that cannot be saved as sent (an id that changes, a layout too large)."""
 
 
 def _check_layout(layout: dict[str, Any]) -> dict[str, Any]:
     if len(layout) > MAX_LAYOUT_NODES:
-        raise MissionError(f"the layout may hold at most {MAX_LAYOUT_NODES} entries")
+        raise BadDraft(f"the layout may hold at most {MAX_LAYOUT_NODES} entries")
     return layout
 
 
@@ -91,7 +94,7 @@ def update_draft(
     The save joins its author's editing burst, logged once when it ends (draft_bursts.py)."""
     mission = get_mission(db, mission_id)
     if orders.id != mission_id:
-        raise MissionError(
+        raise BadDraft(
             f"the orders' id {orders.id!r} differs from the mission {mission_id!r}; "
             "ids cannot change"
         )

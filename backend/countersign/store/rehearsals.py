@@ -19,7 +19,7 @@ from .missions import Conflict, NotFound
 from .tables import MissionVersion, RehearsalRecord, Submission, User
 
 
-class NotThisVersion(Conflict):
+class RecordNotThisVersion(Conflict):
     """The record rehearsed other orders than the submitted version."""
 
 
@@ -70,7 +70,7 @@ def attach(db: DbSession, *, submission: Submission, digest: str, actor: User) -
     row = get_record(db, digest)
     version = db.get_one(MissionVersion, submission.version_id)
     if row.orders_digest != version.digest:
-        raise NotThisVersion(
+        raise RecordNotThisVersion(
             f"the record {digest} rehearsed orders {row.orders_digest}, but version "
             f"{version.number} of {version.mission_id} is {version.digest}: rehearse that "
             "version and attach its record")

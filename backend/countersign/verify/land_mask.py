@@ -19,6 +19,8 @@ from typing import Any
 import numpy as np
 import platformdirs
 
+from ..settings import InstallationEnvironment, read
+
 ROWS, COLS = 21_600, 43_200
 BAND_ROWS = 600  # 5 degrees of latitude
 CACHE_NAME = "land-mask-v1.npz"
@@ -35,9 +37,9 @@ def _package_file() -> Path:
 
 
 def cache_path() -> Path:
-    given = os.environ.get("COUNTERSIGN_LAND_MASK_CACHE")
-    if given:
-        return Path(given)
+    given = read(InstallationEnvironment).land_mask_cache
+    if given is not None:
+        return given
     return Path(platformdirs.user_cache_dir("countersign")) / CACHE_NAME
 
 

@@ -13,6 +13,8 @@ from fastapi.responses import FileResponse, JSONResponse, Response
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from .. import __version__
+from ..map_tiles import tile_origin
+from ..settings import Settings
 from ..store.db import REQUEST_THREADS, Database
 from ..store.hashing import HASHER
 from ..verify import fingerprint
@@ -21,7 +23,6 @@ from .access_log import hide_tickets
 from .client_address import ClientAddress
 from .fair import PlanSlots, RateLimiter
 from .log_signer import open_log_signer
-from .map_tiles import tile_origin
 from .rehearsal_hub import RehearsalHub
 from .routes import (
     admin,
@@ -40,7 +41,6 @@ from .routes import (
 from .routes import campaigns as campaign_routes  # issue 20
 from .routes import executions as execution_routes  # issue 19
 from .routes import exports as export_routes  # issue 19
-from .settings import Settings
 from .validation_pool import ValidationPool
 
 
@@ -240,12 +240,6 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     app.add_middleware(BodyLimit, limit=settings.max_body_bytes)
     app.add_middleware(ClientAddress)  # every route's password check counts its address
     return app
-
-
-def app_from_environment() -> FastAPI:
-    """The app of one server process of `countersign serve --workers N` (settings from the
-    environment: COUNTERSIGN_DATA_DIR, COUNTERSIGN_DATABASE_URL)."""
-    return create_app(Settings.from_environment())
 
 
 def _serve_frontend(app: FastAPI, dist: Path) -> None:

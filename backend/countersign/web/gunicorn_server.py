@@ -15,6 +15,10 @@ same with uvicorn processes of its own; bench_api measured gunicorn as good, iss
 * the master keeps a bound, non-listening SO_REUSEPORT socket on the port for as long as it
   runs: a taken port is refused before any worker starts (with its reason), port 0 is resolved
   once for all workers, and no other process can take the port meanwhile.
+
+The app comes from a factory the caller hands over (the command line's settings in a closure):
+the master holds it and each worker, forked from the master, calls it after the fork. Nothing
+travels through environment variables.
 """
 
 from __future__ import annotations
@@ -25,6 +29,7 @@ import os
 import signal
 import socket
 import sys
+from collections.abc import Callable
 from typing import Any
 
 from gunicorn.app.base import BaseApplication
@@ -64,8 +69,8 @@ def _child_exit(server: Any, worker: Any) -> None:
 
 
 class _Application(BaseApplication):  # type: ignore[misc]
-    def __init__(self, app: str, options: dict[str, Any]) -> None:
-        self.app_path = app
+    def __init__(self, factory: Callable[[], Any], options: dict[str, Any]) -> None:
+        self.factory = factory
         self.options = options
         super().__init__()
 
@@ -74,16 +79,15 @@ class _Application(BaseApplication):  # type: ignore[misc]
             self.cfg.set(key, value)
 
     def load(self) -> Any:
-        # In each worker, after the fork: the app factory builds the app from the environment.
-        module, _, name = self.app_path.partition(":")
-        factory = getattr(__import__(module, fromlist=[name]), name)
-        return factory()
+        # In each worker, after the fork (gunicorn does not preload the app here).
+        return self.factory()
 
 
-def serve_workers(app: str, *, host: str, port: int, workers: int, log_level: str,
-                  reuse_port: bool = True) -> int:
-    """Run `workers` processes of the app factory `app` ("module:function") on host:port;
-    with reuse_port False they share the master's one listening socket (a baseline only)."""
+def serve_workers(app: Callable[[], Any], *, host: str, port: int, workers: int,
+                  log_level: str, reuse_port: bool = True) -> int:
+    """Run `workers` processes of the app that `app()` builds, called in each of them, on
+    host:port; with reuse_port False they share the master's one listening socket (a
+    baseline only)."""
     if not logging.getLogger().handlers:
         logging.basicConfig(stream=sys.stderr, level=logging.INFO,
                             format="%(levelname)s:     %(message)s")

@@ -2,32 +2,33 @@
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 from ..approvals.signer import LegacyKey, LogSigner
+from ..settings import LEGACY_LOG_KEY_VARIABLE as LEGACY_KEY_ENV
+from ..settings import LOG_KEY_DIR_VARIABLE as LOG_KEY_DIR_ENV
+from ..settings import LogKeyEnvironment, Settings, read
 from ..store.db import Database
 from ..store.log_adoption import adopt_pre_receipt_log
-from .settings import Settings
 
-LOG_KEY_DIR_ENV = "COUNTERSIGN_LOG_KEY_DIR"
-# Where the log key lived before the signer had its own directory (imported on upgrade).
-LEGACY_KEY_ENV = "COUNTERSIGN_LOG_KEY"
+__all__ = ["LEGACY_KEY_ENV", "LEGACY_KEY_FILE", "LOG_KEY_DIR_ENV", "legacy_key",
+           "open_log_signer", "signer_directory"]
+# The key file of an older deployment in the data directory (imported on upgrade).
 LEGACY_KEY_FILE = "log-signing-key.pem"
 
 
 def signer_directory(settings: Settings) -> Path:
     """COUNTERSIGN_LOG_KEY_DIR, or `log-signer/` in the data directory."""
-    chosen = os.environ.get(LOG_KEY_DIR_ENV)
-    return Path(chosen) if chosen else settings.data_dir / "log-signer"
+    chosen = read(LogKeyEnvironment).log_key_dir
+    return chosen if chosen is not None else settings.data_dir / "log-signer"
 
 
 def legacy_key(settings: Settings) -> LegacyKey | None:
     """The log key of an older deployment: the PEM in COUNTERSIGN_LOG_KEY, or the key file
     it made in the data directory."""
-    pem = os.environ.get(LEGACY_KEY_ENV)
-    if pem:
-        return LegacyKey(pem.encode(), LEGACY_KEY_ENV)
+    pem = read(LogKeyEnvironment).legacy_log_key
+    if pem is not None:
+        return LegacyKey(pem.get_secret_value().encode(), LEGACY_KEY_ENV)
     path = settings.data_dir / LEGACY_KEY_FILE
     try:
         return LegacyKey(path.read_bytes(), str(path), path)

@@ -10,7 +10,7 @@ this package re-exports their public names, which is what routes and tests impor
 from __future__ import annotations
 
 from .bundle import build_bundle
-from .common import CLOCK_SKEW, MAX_REASON, STATEMENT_MAX_AGE, BadSignature, Refused, Stale
+from .common import STATEMENT_MAX_AGE, BadDecision, BadKey, BadSignature, Refused, Stale
 from .decisions import Context, Prepared, decide, get_approval, prepare_decision
 from .duties import ACTIVE_STATES, decision_refusal, previous_approval, submit_refusal
 from .keys import key_status, register_key, revoke_key
@@ -34,9 +34,9 @@ from .submission import get_submission, submit, withdraw
 
 __all__ = [
     "ACTIVE_STATES",
-    "CLOCK_SKEW",
-    "MAX_REASON",
     "STATEMENT_MAX_AGE",
+    "BadDecision",
+    "BadKey",
     "BadSignature",
     "Context",
     "Filters",

@@ -16,12 +16,6 @@ from ..tables import (
 STATEMENT_MAX_AGE = timedelta(hours=1)
 
 
-CLOCK_SKEW = timedelta(minutes=5)
-
-
-MAX_REASON = 2000
-
-
 class Refused(Forbidden):
     """The caller may not do this (wrong role, own work, someone else's key)."""
 
@@ -32,6 +26,14 @@ class Stale(Conflict):
 
 class BadSignature(Invalid):
     pass
+
+
+class BadDecision(Invalid):
+    """A decision or revocation asked for wrongly (no such decision, a missing or long reason)."""
+
+
+class BadKey(Invalid):
+    """A signing key that cannot be registered as sent (not an Ed25519 public key)."""
 
 
 def _now_text() -> str:

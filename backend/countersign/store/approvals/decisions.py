@@ -22,6 +22,7 @@ from ...approvals.statement import (
     subject_digest,
 )
 from ...export.package import export_digests
+from ...limits import CLOCK_SKEW, MAX_REASON
 from ...orders.reader import orders_from_data
 from ...orders.team import member_digests
 from ...verify import fingerprint
@@ -30,7 +31,7 @@ from ..decide_guard import (
     lock_submission,
 )
 from ..events import record
-from ..missions import MissionError, NotFound, get_mission
+from ..missions import NotFound, get_mission
 from ..reauth import confirm_password
 from ..tables import (
     Approval,
@@ -42,9 +43,8 @@ from ..tables import (
     utcnow,
 )
 from .common import (
-    CLOCK_SKEW,
-    MAX_REASON,
     STATEMENT_MAX_AGE,
+    BadDecision,
     BadSignature,
     Stale,
     _now_text,
@@ -109,10 +109,10 @@ class Prepared:
 def _reason(decision: str, reason: str) -> str:
     reason = reason.strip()
     if decision in ("rejected", "revoked") and not reason:
-        raise MissionError(f"a {decision.removesuffix('ed')}ion needs a reason"
+        raise BadDecision(f"a {decision.removesuffix('ed')}ion needs a reason"
                            if decision == "rejected" else "a revocation needs a reason")
     if len(reason) > MAX_REASON:
-        raise MissionError(f"a reason has at most {MAX_REASON} characters")
+        raise BadDecision(f"a reason has at most {MAX_REASON} characters")
     return reason
 
 
@@ -120,7 +120,7 @@ def prepare_decision(db: DbSession, *, submission_id: int, supervisor: User, dec
                      reason: str, key_id: str) -> Prepared:
     """The exact statement the supervisor signs (the client signs its DSSE PAE)."""
     if decision not in ("approved", "rejected"):
-        raise MissionError("decision is 'approved' or 'rejected'")
+        raise BadDecision("decision is 'approved' or 'rejected'")
     ctx = _context(db, submission_id)
     _check_open(ctx)
     _check_duties(db, supervisor, ctx.version, ctx.submission)

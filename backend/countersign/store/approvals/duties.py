@@ -7,11 +7,11 @@ from typing import Any
 from sqlalchemy import select
 from sqlalchemy.orm import Session as DbSession
 
+from ...errors import DomainError
 from ..decide_guard import (
     editors_up_to,
 )
 from ..logged_roles import decision_refusal_from_log
-from ..missions import MissionError
 from ..tables import (
     Approval,
     MissionVersion,
@@ -44,7 +44,7 @@ ACTIVE_STATES = ("submitted", "approved")
 
 
 def submit_refusal(*, user: User, number: int, report: dict[str, Any],
-                   active: Submission | None, detailed: bool = False) -> MissionError | None:
+                   active: Submission | None, detailed: bool = False) -> Refused | Stale | None:
     """Why this user may not submit version `number` (None when they may), given its report
     and its active submission: what the review page shows beside a disabled button, and what
     submitting raises. `detailed` names the finding codes and the submission."""
@@ -75,7 +75,7 @@ def decision_refusal(db: DbSession, *, user: User, version: MissionVersion,
         if submission.state != "submitted":
             raise Stale(f"submission {submission.id} is {submission.state}; there is nothing "
                         "to decide")
-    except MissionError as exc:
+    except DomainError as exc:  # Refused or Stale above, or what reading the log raises
         return str(exc)
     return None
 

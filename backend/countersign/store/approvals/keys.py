@@ -6,19 +6,20 @@ from sqlalchemy.orm import Session as DbSession
 
 from ...approvals import dsse
 from ...approvals.dsse import SignatureError
+from ...limits import MAX_REASON
 from ..decide_guard import (
     logged_key_revocation,
 )
 from ..events import record
 from ..logged_roles import decision_refusal_from_log
 from ..login_throttle import check_password
-from ..missions import Conflict, MissionError, NotFound
+from ..missions import Conflict, NotFound
 from ..tables import (
     SigningKey,
     User,
     utcnow,
 )
-from .common import MAX_REASON, Refused, Stale
+from .common import BadKey, Refused, Stale
 
 
 def _confirm_password(db: DbSession, user: User, password: str) -> None:
@@ -41,7 +42,7 @@ def register_key(db: DbSession, *, user: User, public_key: str, name: str,
     try:
         kid = dsse.key_id(public_key)
     except SignatureError as exc:
-        raise MissionError(str(exc)) from None
+        raise BadKey(str(exc)) from None
     if db.get(SigningKey, kid) is not None:
         raise Conflict(f"the key {kid} is registered already")
     key = SigningKey(id=kid, user_id=user.id, name=name[:100], public_key=public_key)

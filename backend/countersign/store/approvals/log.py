@@ -10,8 +10,7 @@ from sqlalchemy.orm import Session as DbSession
 from ...approvals import dsse
 from ...approvals.merkle import Tree
 from ...approvals.note import signature_line
-from ...approvals.signer import LogSigner
-from ...approvals.signer import Refused as SignerRefused
+from ...approvals.signer import LogSigner, SignerRefused
 from ...errors import Conflict, Unavailable
 from ..db import BEGIN_MODE, LogTreeCache
 from ..log_gaps import missing_entries

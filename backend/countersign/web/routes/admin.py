@@ -5,10 +5,11 @@ from __future__ import annotations
 from datetime import datetime, timedelta
 from typing import Annotated, Any, Literal
 
-from fastapi import APIRouter, HTTPException, Query
+from fastapi import APIRouter, Query
 from pydantic import BaseModel, Field
 from sqlalchemy import func, select
 
+from ...errors import Invalid, NotFound
 from ...orders.model import Vehicle
 from ...store import draft_bursts
 from ...store.accounts import (
@@ -97,7 +98,7 @@ def add_user(body: UserIn, principal: CurrentPrincipal, db: Db) -> UserOut:
 def change_user(user_id: RowId, body: UserPatch, principal: CurrentPrincipal, db: Db) -> UserOut:
     user = db.get(User, user_id)
     if user is None:
-        raise HTTPException(404, f"no user {user_id}")
+        raise NotFound(f"no user {user_id}")
     changes: dict[str, Any] = {}
     role_changes = body.role is not None and body.role != user.role
     # One check for both (argon2 is slow); the reset's words when both are asked.
@@ -160,7 +161,7 @@ def add_token(body: TokenIn, principal: CurrentPrincipal, db: Db) -> TokenOut:
 def revoke_token(token_id: RowId, principal: CurrentPrincipal, db: Db) -> None:
     token = db.get(ApiToken, token_id)
     if token is None or token.user_id != principal.user.id:
-        raise HTTPException(404, f"you have no token {token_id}")
+        raise NotFound(f"you have no token {token_id}")
     token.revoked = True
     record(db, kind="token.revoked", actor=principal.user, detail={"token": token_id})
 
@@ -176,7 +177,7 @@ def list_vehicles(db: Db) -> list[dict[str, Any]]:
 def put_vehicle(vehicle_id: str, body: Vehicle, principal: CurrentPrincipal,
                 db: Db) -> dict[str, Any]:
     if body.id != vehicle_id:
-        raise HTTPException(400, f"the profile's id {body.id!r} differs from {vehicle_id!r}")
+        raise Invalid(f"the profile's id {body.id!r} differs from {vehicle_id!r}")
     before = db.get(VehicleProfile, vehicle_id)
     previous = dict(before.profile) if before is not None else None
     profile, number = save_vehicle(db, body, principal.user)

@@ -12,6 +12,7 @@ from sqlalchemy import select
 
 from ...approvals import dsse
 from ...approvals.signer import LogSigner
+from ...limits import MAX_REASON
 from ...orders.reader import orders_from_data
 from ...orders.writers import write
 from ...rules.plain_orders import rules_sentences
@@ -76,17 +77,17 @@ class KeyIn(RequestBody):
 
 class KeyRevokeIn(RequestBody):
     password: str = Field(min_length=1, max_length=1024)
-    reason: str = Field(default="", max_length=2000)
+    reason: str = Field(default="", max_length=MAX_REASON)
 
 
 class DecisionIn(RequestBody):
     decision: str = Field(pattern="^(approved|rejected)$")
-    reason: str = Field(default="", max_length=2000)
+    reason: str = Field(default="", max_length=MAX_REASON)
     key_id: str = Field(min_length=1, max_length=64)
 
 
 class RevocationIn(RequestBody):
-    reason: str = Field(min_length=1, max_length=2000)
+    reason: str = Field(min_length=1, max_length=MAX_REASON)
     key_id: str = Field(min_length=1, max_length=64)
 
 

@@ -14,12 +14,12 @@ import threading
 from datetime import datetime
 from typing import Annotated, Any
 
-from fastapi import APIRouter, FastAPI, HTTPException, Path, Query, Request
+from fastapi import APIRouter, FastAPI, Path, Query, Request
 from pydantic import BaseModel, Field
 
 from ...campaigns.spec import AT_START, MAX_SEED, MAX_SIMULATIONS, NO_FAULT, CampaignSpec
 from ...campaigns.stats import goal_probabilities
-from ...errors import Forbidden, NotFound
+from ...errors import Conflict, Forbidden, NotFound
 from ...jobs import CampaignRunner, runner_for
 from ...orders.reader import orders_from_data
 from ...rehearse.fault_reach import fault_reach
@@ -101,8 +101,8 @@ def start_campaign(mission_id: str, number: RowId,
     stored = get_version(db, mission_id, number)
     orders = orders_from_data(stored.orders)
     if orders.team is not None:
-        raise HTTPException(409, "these orders are a team's: a campaign simulates one "
-                                 "vehicle's orders")
+        raise Conflict("these orders are a team's: a campaign simulates one "
+                       "vehicle's orders")
     spec = CampaignSpec.build(simulations=body.simulations, faults=body.faults,
                               goals=body.goals, seed=body.seed, orders=orders)
     row = store.create(db, orders=stored.orders, orders_digest=stored.digest,

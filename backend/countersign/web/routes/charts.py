@@ -9,6 +9,7 @@ from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import JSONResponse
 from pydantic import BaseModel, ConfigDict, Field
 
+from ...errors import Invalid, NotFound, Unprocessable
 from ...orders.geo_formats import (
     KML_MEDIA_TYPE,
     MAX_BYTES,
@@ -168,9 +169,9 @@ def export_charts_kml(db: Db) -> Response:
             **allow(*ADMINS))
 def put_chart(chart_id: str, body: Chart, principal: CurrentPrincipal, db: Db) -> Chart:
     if body.id != chart_id:
-        raise HTTPException(400, f"the chart's id {body.id!r} differs from {chart_id!r}")
+        raise Invalid(f"the chart's id {body.id!r} differs from {chart_id!r}")
     if len(body.polygon) < 3:
-        raise HTTPException(422, f"chart {chart_id}: a polygon needs at least three points")
+        raise Unprocessable(f"chart {chart_id}: a polygon needs at least three points")
     save_charts(db, [body])
     record(db, kind="chart.saved", actor=principal.user, detail={"charts": [chart_id]})
     return body
@@ -183,7 +184,7 @@ def import_charts(body: ChartImport, principal: CurrentPrincipal, db: Db) -> Cha
         reader = charts_from_kml if body.format == "kml" else charts_from_geojson
         charts = reader(body.content)
     except GeoFormatError as exc:
-        raise HTTPException(422, f"{body.format} charts: {exc}") from None
+        raise Unprocessable(f"{body.format} charts: {exc}") from None
     saved = save_charts(db, charts)
     record(db, kind="chart.saved", actor=principal.user, detail={"charts": saved[:1000]})
     return ChartsSaved(saved=saved)
@@ -193,7 +194,7 @@ def import_charts(body: ChartImport, principal: CurrentPrincipal, db: Db) -> Cha
                **allow(*ADMINS))
 def remove_chart(chart_id: str, principal: CurrentPrincipal, db: Db) -> None:
     if not delete_chart(db, chart_id):
-        raise HTTPException(404, f"there is no chart {chart_id!r}")
+        raise NotFound(f"there is no chart {chart_id!r}")
     record(db, kind="chart.deleted", actor=principal.user, detail={"charts": [chart_id]})
 
 

@@ -8,16 +8,17 @@ import binascii
 from datetime import UTC, datetime
 from typing import Any, Literal
 
-from fastapi import APIRouter, HTTPException, Request
+from fastapi import APIRouter, Request
 from pydantic import BaseModel, Field, model_validator
 
+from ...errors import Unprocessable
 from ...export.execution_input import ExecutionInputError, to_execution_log
 from ...export.rehearsal_log import rehearsal_runs
+from ...limits import CLOCK_SKEW
 from ...orders.reader import orders_from_data
 from ...rehearse.execution import ExecutionLogError, ExecutionVerdict, check_execution, read_log
 from ...rehearse.execution_evidence import TimeWindow
 from ...store import approvals as approvals_service
-from ...store.approvals import CLOCK_SKEW
 from ...store.db import Database
 from ...store.executions import approved_orders, record_execution, recorded_executions
 from ...store.rehearsals import get_record
@@ -126,7 +127,7 @@ def _input_bytes(body: ExecutionIn) -> bytes:
     try:
         return base64.b64decode(body.data_base64 or "", validate=True)
     except (binascii.Error, ValueError):
-        raise HTTPException(422, "data_base64 is not base64") from None
+        raise Unprocessable("data_base64 is not base64") from None
 
 
 def _out(verdict: ExecutionVerdict, **extra: Any) -> ExecutionOut:
@@ -156,7 +157,7 @@ def post_execution(mission_id: str, number: RowId, body: ExecutionIn, request: R
         result = to_execution_log(checked.orders, data, body.format)
         verdict = check_execution(checked.orders, read_log(result.ndjson), window)
     except (ExecutionLogError, ExecutionInputError) as exc:
-        raise HTTPException(422, str(exc)) from None
+        raise Unprocessable(str(exc)) from None
     index = record_execution(
         db, mission_id=mission_id, number=number, log=data, actor=principal.user,
         checked=checked, verdict=verdict,

@@ -5,13 +5,14 @@ from __future__ import annotations
 import hashlib
 from typing import Annotated, Any, Literal
 
-from fastapi import APIRouter, HTTPException, Path
+from fastapi import APIRouter, Path
 from fastapi.responses import Response
 from pydantic import BaseModel
 from sqlalchemy import select
 from sqlalchemy.orm import Session as DbSession
 
 from ...approved_package.build import build_package
+from ...errors import NotFound, Unprocessable
 from ...export.notes import ExportError, VehicleExport
 from ...export.package import export_provenance
 from ...export.vehicle import export_vehicle
@@ -70,7 +71,7 @@ def _export(db: DbSession, mission_id: str, number: int, fmt: str
         export = export_vehicle(orders_from_data(version.orders), fmt, version=version.number,
                                 approval=approval)
     except ExportError as exc:
-        raise HTTPException(422, str(exc)) from None
+        raise Unprocessable(str(exc)) from None
     return version, export, approval is not None
 
 
@@ -99,7 +100,7 @@ def download_vehicle_export(mission_id: str, number: RowId, format: VehicleForma
     item = export.file(name)
     if item is None:
         names = ", ".join(f.name for f in export.files)
-        raise HTTPException(404, f"this export has no file {name!r} (it has {names})")
+        raise NotFound(f"this export has no file {name!r} (it has {names})")
     return Response(item.content, media_type=item.media_type, headers={
         "Content-Disposition": f'attachment; filename="{item.name}"',
         "X-Content-Type-Options": "nosniff"})
@@ -115,7 +116,7 @@ def download_package(mission_id: str, number: RowId, db: Db, signer: Signer) -> 
         data = build_package(package_parts(db, mission_id=mission_id, number=number,
                                            signer=signer))
     except ExportError as exc:
-        raise HTTPException(422, str(exc)) from None
+        raise Unprocessable(str(exc)) from None
     return Response(data, media_type="application/x-tar", headers={
         "Content-Disposition": f'attachment; filename="{mission_id}-v{number}.package.tar"',
         "X-Content-Type-Options": "nosniff"})

@@ -16,6 +16,7 @@ from sqlalchemy import func, or_, select
 from sqlalchemy.orm import Session as DbSession
 from sqlalchemy.orm import defer
 
+from ...errors import Conflict, Invalid, NotFound
 from ...orders.canonical import digest, orders_to_json
 from ...orders.examples import example_bytes, example_names
 from ...orders.model import Orders
@@ -169,7 +170,7 @@ def _decode_cursor(cursor: str) -> str:
     try:
         return base64.b64decode(cursor.encode(), altchars=b"-_", validate=True).decode()
     except (ValueError, UnicodeDecodeError):
-        raise HTTPException(400, "the cursor is not valid; start again without one") from None
+        raise Invalid("the cursor is not valid; start again without one") from None
 
 
 @router.get("/missions", operation_id="listMissions", response_model=MissionPage,
@@ -302,7 +303,7 @@ def list_examples() -> list[ExampleOut]:
             **allow(*EVERYONE))
 def get_example(name: Annotated[str, Path(max_length=100)]) -> dict[str, Any]:
     if name not in example_names():
-        raise HTTPException(404, f"no built-in example named {name!r}")
+        raise NotFound(f"no built-in example named {name!r}")
     return orders_to_json(read_bytes(example_bytes(name), name).orders)
 
 
@@ -442,21 +443,21 @@ def list_paths(
         orders = _orders(service.get_mission(db, mission_id).draft)
     if orders.team is not None:
         # A team has one path list per member; its joint executions are counted in the report.
-        raise HTTPException(409, "these orders are a team's: each member has its own paths, "
-                                 "and the report counts the joint executions")
+        raise Conflict("these orders are a team's: each member has its own paths, "
+                       "and the report counts the joint executions")
     # Refined goals run as their refinements: the paths are those of the flat mission.
     orders, graph = checked_form(orders)
     counts = count_paths(graph)
     bounds = (path_probability_bounds(orders, graph)
               if declares_probabilities(orders) else None)
     if counts is None:
-        raise HTTPException(409, "the paths cannot be counted until the structural errors "
-                                 "in the report are fixed")
+        raise Conflict("the paths cannot be counted until the structural errors "
+                       "in the report are fixed")
     searching = bool(goal or terminal)
     try:
         query = path_query(graph, goal, terminal)
     except UnknownNode as e:
-        raise HTTPException(400, f"{e}: search by one of its goal or terminal ids") from None
+        raise Invalid(f"{e}: search by one of its goal or terminal ids") from None
     matching = count_matching(graph, query) if searching else counts.total
     assert matching is not None  # counted above
     offset = 0
@@ -464,13 +465,13 @@ def list_paths(
         try:
             offset = int(_decode_cursor(cursor))
         except ValueError:
-            raise HTTPException(400, "the cursor is not valid") from None
+            raise Invalid("the cursor is not valid") from None
         if not 0 <= offset <= matching:  # e.g. "LTE=", which decodes to -1
-            raise HTTPException(400, "the cursor is not valid")
+            raise Invalid("the cursor is not valid")
     if format == "ndjson" or "application/x-ndjson" in request.headers.get("accept", ""):
         if searching:
-            raise HTTPException(400, "goal and terminal apply to JSON pages and traces; "
-                                     "stream every path without them")
+            raise Invalid("goal and terminal apply to JSON pages and traces; "
+                          "stream every path without them")
         def lines() -> Iterator[str]:
             for line in iter_path_lines(graph, counts, offset, probabilities=bounds):
                 yield line + "\n"

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from typing import Annotated, Any
 
-from fastapi import APIRouter, HTTPException, Request
+from fastapi import APIRouter, Request
 from pydantic import BaseModel, Field
 
+from ...errors import Unprocessable
 from ...orders.canonical import orders_to_json
 from ...orders.reader import orders_from_data
 from ...plan.draft import orders_from_plan
@@ -71,7 +72,7 @@ def plan_problem(mission_id: str, body: ProblemFromMission, db: Db) -> dict[str,
             reserve_wh=body.reserve_wh, areas=body.areas, rewards=body.rewards,
             mandatory=body.mandatory, swath_m=body.swath_m, level=body.level)
     except CannotBuildProblem as exc:
-        raise HTTPException(422, str(exc)) from None
+        raise Unprocessable(str(exc)) from None
     return problem.model_dump(mode="json", exclude_none=True)
 
 
@@ -86,10 +87,10 @@ def solve_plan(body: PlanProblemJson, request: Request,
         with slots.hold(user_key(principal)):
             plan = solve(problem, timeout_s=PLAN_TIMEOUT_S)
     except PlanTooLarge as exc:
-        raise HTTPException(422, str(exc)) from None
+        raise Unprocessable(str(exc)) from None
     except PlanTimeout:
-        raise HTTPException(422, f"no answer within {PLAN_TIMEOUT_S:g} s; use the command "
-                                 "line (countersign plan --timeout) for large problems") from None
+        raise Unprocessable(f"no answer within {PLAN_TIMEOUT_S:g} s; use the command "
+                            "line (countersign plan --timeout) for large problems") from None
     answer = plan.to_json()
     if plan.feasible:
         answer["orders"] = orders_to_json(orders_from_plan(problem, plan))

@@ -21,13 +21,13 @@ from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import RedirectResponse, Response
 from pydantic import BaseModel, Field
 
-from ...errors import Unprocessable
+from ...errors import DomainError, Unprocessable
 from ...orders.reader import orders_from_data
 from ...store import rehearsals as records
 from ...store.accounts import session_user, token_user
 from ...store.db import Database
 from ...store.events import record
-from ...store.missions import Conflict, MissionError, NotFound, get_mission, get_version
+from ...store.missions import Conflict, NotFound, get_mission, get_version
 from ...store.tables import User
 from .. import problems
 from ..deps import EVERYONE, SESSION_COOKIE, CurrentPrincipal, Db, TransactionRoute, allow
@@ -299,7 +299,7 @@ def _authorize(database: Database, hub: RehearsalHub, rehearsal_id: str, cookie:
         return 403, f"the {user.role} role may not watch live rehearsals"
     try:
         return hub.get(rehearsal_id, user_id=user.id)
-    except MissionError as exc:
+    except DomainError as exc:
         return problems.status_of(exc), str(exc)
 
 

@@ -6,9 +6,10 @@ from __future__ import annotations
 from datetime import datetime
 from typing import Annotated
 
-from fastapi import APIRouter, HTTPException, Path
+from fastapi import APIRouter, Path
 from pydantic import BaseModel
 
+from ...errors import NotFound
 from ...store.vehicles import vehicle_versions
 from ..deps import EVERYONE, Db, TransactionRoute, allow
 from .schemas import VehicleJson
@@ -32,7 +33,7 @@ class VehicleVersionOut(BaseModel):
 def list_vehicle_versions(vehicle_id: VehicleId, db: Db) -> list[VehicleVersionOut]:
     versions = vehicle_versions(db, vehicle_id)
     if not versions:
-        raise HTTPException(404, f"the registry has no vehicle {vehicle_id!r}")
+        raise NotFound(f"the registry has no vehicle {vehicle_id!r}")
     return [VehicleVersionOut(vehicle_id=v.vehicle_id, number=v.number, title=v.title,
                               profile=v.profile, saved_by=v.saved_by, saved_at=v.saved_at)
             for v in versions]
