@@ -28,7 +28,6 @@ WHITELIST: dict[tuple[str, str], str] = {
     ("store/tables.py", "process_result_value"): "SQLAlchemy",
     # gunicorn's BaseApplication calls load_config; the workers import the factory by name.
     ("web/gunicorn_server.py", "load_config"): "gunicorn",
-    ("web/app.py", "app_from_environment"): "gunicorn, as countersign.web.app:app_from_environment",
     # PEP 562 module attribute hook (lazy imports).
     ("verify/__init__.py", "__getattr__"): "Python's import system",
     # Read by scripts/export-openapi to write frontend/src/roles.gen.ts.
