@@ -69,7 +69,8 @@ def test_the_check_sees_a_repeated_limit(tmp_path: Path) -> None:
 
 
 def test_the_values_and_their_users() -> None:
-    from countersign.export import package, package_verify
+    from countersign.approved_package import build as package
+    from countersign.approved_package import verify as package_verify
     from countersign.orders import reader
     from countersign.store.approvals import decisions
 
