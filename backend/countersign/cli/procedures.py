@@ -1,0 +1,167 @@
+"""`countersign procedures check|reference FILE` and the `--procedures` library option.
+
+A procedure library on the command line is a procedure file (`countersign.procedure/1`) or a
+directory of them (`*.json`, not recursive). `validate`, `paths` and `run` copy the body of
+each reference the orders make from it (verify/procedures.py) before checking, exactly as the
+server copies them from its library.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from .common import EXIT_FINDINGS, EXIT_OK, UsageError
+
+if TYPE_CHECKING:
+    from ..orders.procedure import Procedure
+    from ..orders.reader import ReadResult
+
+MAX_LIBRARY_FILES = 1000
+LIBRARY_HELP = ("a procedure file (countersign.procedure/1) or a directory of them (*.json): "
+                "references to procedures in the orders are filled in from it")
+
+
+def add_library_argument(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--procedures", type=Path, action="append", default=[],
+                        metavar="PATH", help=LIBRARY_HELP + " (may be repeated)")
+
+
+def _files(path: Path) -> list[Path]:
+    if path.is_dir():
+        files = sorted(p for p in path.glob("*.json") if p.is_file())
+        if len(files) > MAX_LIBRARY_FILES:
+            raise UsageError(f"{path} holds {len(files)} procedure files; a library on the "
+                             f"command line has at most {MAX_LIBRARY_FILES}")
+        return files
+    return [path]
+
+
+def _read(path: Path) -> Procedure:
+    from ..orders.procedure import MAX_PROCEDURE_BYTES, read_procedure
+    from ..orders.reader import OrdersReadError
+
+    try:
+        with path.open("rb") as handle:
+            data = handle.read(MAX_PROCEDURE_BYTES + 1)
+    except OSError as exc:
+        raise UsageError(f"cannot read procedure file {path}: {exc.strerror}") from None
+    try:
+        return read_procedure(data)
+    except OrdersReadError as exc:
+        raise UsageError(f"{path} is not a procedure:\n  "
+                         + exc.summary().replace("\n", "\n  ")) from None
+
+
+def load_library(paths: list[Path]) -> dict[tuple[str, int], Procedure]:
+    library: dict[tuple[str, int], Procedure] = {}
+    origin: dict[tuple[str, int], Path] = {}
+    for root in paths:
+        for file in _files(root):
+            if len(origin) >= MAX_LIBRARY_FILES:
+                raise UsageError(f"a library on the command line has at most "
+                                 f"{MAX_LIBRARY_FILES} procedure files")
+            procedure = _read(file)
+            key = (procedure.name, procedure.version)
+            if key in library and library[key].digest != procedure.digest:
+                raise UsageError(f"{origin[key]} and {file} both hold procedure {key[0]} "
+                                 f"version {key[1]}, with different goals; a version never "
+                                 "changes: give one of them a new version")
+            library[key] = procedure
+            origin[key] = file
+    return library
+
+
+def with_library(loaded: ReadResult, paths: list[Path]) -> ReadResult:
+    """The orders with the library's procedures copied in (unchanged without --procedures)."""
+    from dataclasses import replace
+
+    from ..verify.procedures import expand
+
+    if not paths:
+        return loaded
+    library = load_library(paths)
+    return replace(loaded, orders=expand(loaded.orders,
+                                         lambda name, version: library.get((name, version))))
+
+
+def _wrapper(procedure: Procedure) -> Any:
+    """Orders with one goal carried out by the procedure, every outcome used, no vehicle: what
+    `procedures check` validates (vehicle checks belong to the orders that use it)."""
+    from ..orders.model import Orders
+
+    return Orders.model_validate({
+        "id": procedure.name, "start": procedure.name,
+        "goals": [{"id": procedure.name, "title": procedure.name,
+                   "refines": procedure.to_json()["refines"],
+                   "next": {"succeed": "COMPLETE", "fail": "ABORT", "violate": "ABORT"}}]})
+
+
+# Findings about the vehicle are decided where a mission names one.
+VEHICLE_CODES = frozenset({"VEHICLE", "M6", "M7", "BUDGET"})
+
+
+def check_procedure(procedure: Procedure) -> tuple[list[Any], Any]:
+    """The findings (structure, REFINE, expressions, ...) of a procedure checked as the one
+    refinement of a goal, and its path counts by the outcome it returns."""
+    from ..verify.report import validate
+
+    report = validate(_wrapper(procedure))
+    return [f for f in report.findings if f.code not in VEHICLE_CODES], report.paths
+
+
+def cmd_check(args: argparse.Namespace) -> int:
+    procedure = _read(args.file)
+    findings, paths = check_procedure(procedure)
+    ok = not any(f.severity == "error" for f in findings)
+    if args.format == "json":
+        json.dump({"procedure": procedure.name, "version": procedure.version,
+                   "digest": procedure.digest, "reference": procedure.reference(), "ok": ok,
+                   "findings": [f.to_json() for f in findings],
+                   "paths": paths.to_json() if paths is not None else None},
+                  sys.stdout, indent=2)
+        sys.stdout.write("\n")
+    else:
+        out = sys.stdout
+        out.write(f"Procedure {procedure.name} version {procedure.version}  "
+                  f"{procedure.digest}\n")
+        for finding in findings:
+            out.write(f"  {finding.severity:<7} {finding.code:<13} "
+                      f"[{', '.join(finding.subjects)}]\n          {finding.message}\n")
+        if paths is not None:
+            returns = {"COMPLETE": "succeed", "ABORT": "fail or violate"}
+            parts = ", ".join(f"{n} returning {returns.get(t, t)}"
+                              for t, n in paths.by_terminal.items())
+            out.write(f"Paths: {paths.total} ({parts})\n")
+        out.write(f"Use it as: \"refines\": {json.dumps(procedure.reference())}\n")
+        out.write(f"{'OK' if ok else 'NOT OK'}\n")
+    return EXIT_OK if ok else EXIT_FINDINGS
+
+
+def cmd_reference(args: argparse.Namespace) -> int:
+    procedure = _read(args.file)
+    sys.stdout.write(json.dumps(procedure.reference()) + "\n")
+    return EXIT_OK
+
+
+def add_commands(commands: Any) -> None:
+    group = commands.add_parser(
+        "procedures", help="check a procedure file and print the reference that uses it",
+        description="A procedure (countersign.procedure/1: name, integer version, refines) is a "
+        "refinement saved once and used by reference: a goal's \"refines\": {\"procedure\": "
+        "NAME, \"version\": N, \"digest\": \"sha256:...\"}. validate, paths and run take "
+        "--procedures PATH to fill references in offline. Exit codes: 0 ok, 1 error "
+        "findings, 2 unreadable input.")
+    sub = group.add_subparsers(dest="procedures_command", required=True, metavar="SUBCOMMAND")
+    check = sub.add_parser("check", help="check a procedure like a refinement; print its "
+                           "digest and the reference to use")
+    check.add_argument("file", metavar="FILE", type=Path, help="a procedure JSON file")
+    check.add_argument("--format", choices=["text", "json"], default="text")
+    check.set_defaults(handler=cmd_check)
+    reference = sub.add_parser("reference", help="print the reference JSON that uses a "
+                               "procedure file (name, version, digest)")
+    reference.add_argument("file", metavar="FILE", type=Path, help="a procedure JSON file")
+    reference.set_defaults(handler=cmd_reference)
