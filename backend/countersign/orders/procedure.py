@@ -73,7 +73,7 @@ def body_json(refinement: Refinement) -> dict[str, Any]:
 
 
 def procedure_digest(name: str, version: int, refinement: Refinement) -> str:
-    document = {"format": PROCEDURE_FORMAT, "name": name, "version": version,
+    document: dict[str, Any] = {"format": PROCEDURE_FORMAT, "name": name, "version": version,
                 "refines": body_json(refinement)}
     return "sha256:" + hashlib.sha256(bytes(rfc8785.dumps(document))).hexdigest()
 
