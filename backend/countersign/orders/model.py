@@ -17,6 +17,7 @@ from pydantic import (
     BaseModel,
     ConfigDict,
     Field,
+    StrictInt,
     field_validator,
     model_validator,
 )
@@ -228,7 +229,7 @@ class Refinement(_Strict):
     and a body that does not have the pinned digest is a PROCEDURE finding."""
 
     procedure: Id | None = None
-    version: int | None = Field(default=None, ge=1, le=MAX_PROCEDURE_VERSION)
+    version: StrictInt | None = Field(default=None, ge=1, le=MAX_PROCEDURE_VERSION)
     digest: Annotated[str, Field(pattern=DIGEST_PATTERN)] | None = None
     start: Id | list[Id] | None = None
     goals: list[Goal] = Field(default_factory=list, max_length=MAX_LIST_LENGTH)

@@ -19,7 +19,7 @@ import hashlib
 from typing import Any, Final, Literal
 
 import rfc8785
-from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import BaseModel, ConfigDict, Field, StrictInt, ValidationError, model_validator
 
 from .. import strict_json
 from .model import MAX_PROCEDURE_VERSION, Id, Refinement
@@ -36,7 +36,7 @@ class Procedure(BaseModel):
 
     format: Literal["countersign.procedure/1"] = PROCEDURE_FORMAT
     name: Id
-    version: int = Field(ge=1, le=MAX_PROCEDURE_VERSION)
+    version: StrictInt = Field(ge=1, le=MAX_PROCEDURE_VERSION)
     refines: Refinement
 
     @model_validator(mode="after")
