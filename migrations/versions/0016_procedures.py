@@ -61,6 +61,7 @@ def upgrade() -> None:
         sa.PrimaryKeyConstraint('id', name=op.f('pk_procedure_approvals')),
         sa.UniqueConstraint('event_id', name=op.f('uq_procedure_approvals_event_id')),
         sa.UniqueConstraint('payload_digest', name=op.f('uq_procedure_approvals_payload_digest')),
+        sa.UniqueConstraint('name', 'version', name='uq_procedure_approvals_name_version'),
     )
     with op.batch_alter_table('procedure_approvals', schema=None) as batch_op:
         batch_op.create_index(batch_op.f('ix_procedure_approvals_name'), ['name'], unique=False)

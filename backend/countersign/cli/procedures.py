@@ -88,32 +88,9 @@ def with_library(loaded: ReadResult, paths: list[Path]) -> ReadResult:
                                          lambda name, version: library.get((name, version))))
 
 
-def _wrapper(procedure: Procedure) -> Any:
-    """Orders with one goal carried out by the procedure, every outcome used, no vehicle: what
-    `procedures check` validates (vehicle checks belong to the orders that use it)."""
-    from ..orders.model import Orders
-
-    return Orders.model_validate({
-        "id": procedure.name, "start": procedure.name,
-        "goals": [{"id": procedure.name, "title": procedure.name,
-                   "refines": procedure.to_json()["refines"],
-                   "next": {"succeed": "COMPLETE", "fail": "ABORT", "violate": "ABORT"}}]})
-
-
-# Findings about the vehicle are decided where a mission names one.
-VEHICLE_CODES = frozenset({"VEHICLE", "M6", "M7", "BUDGET"})
-
-
-def check_procedure(procedure: Procedure) -> tuple[list[Any], Any]:
-    """The findings (structure, REFINE, expressions, ...) of a procedure checked as the one
-    refinement of a goal, and its path counts by the outcome it returns."""
-    from ..verify.report import validate
-
-    report = validate(_wrapper(procedure))
-    return [f for f in report.findings if f.code not in VEHICLE_CODES], report.paths
-
-
 def cmd_check(args: argparse.Namespace) -> int:
+    from ..verify.procedures import check_procedure
+
     procedure = _read(args.file)
     findings, paths = check_procedure(procedure)
     ok = not any(f.severity == "error" for f in findings)

@@ -27,6 +27,7 @@ from .reader import OrdersReadError, Problem, problems_from_validation
 
 PROCEDURE_FORMAT: Final = "countersign.procedure/1"
 MAX_PROCEDURE_BYTES = 2 * 1024 * 1024
+MAX_PROCEDURE_GOALS = 2000
 REFERENCE_FIELDS: Final = frozenset({"procedure", "version", "digest"})
 BODY_FIELDS: Final = frozenset({"start", "goals", "terminals", "within", "on_timeout"})
 
@@ -46,6 +47,9 @@ class Procedure(BaseModel):
                              "terminals), not a reference to another procedure")
         if not self.refines.goals:
             raise ValueError("a procedure's refinement has no goals")
+        if _goal_count(self.refines) > MAX_PROCEDURE_GOALS:
+            raise ValueError(f"a procedure has at most {MAX_PROCEDURE_GOALS} goals at all its "
+                             "levels together")
         return self
 
     @property
@@ -58,6 +62,13 @@ class Procedure(BaseModel):
     def to_json(self) -> dict[str, Any]:
         return {"format": PROCEDURE_FORMAT, "name": self.name, "version": self.version,
                 "refines": body_json(self.refines)}
+
+
+def _goal_count(refinement: Refinement, depth: int = 0) -> int:
+    if depth > 64:  # deeper than any refinement REFINE accepts: count it as too large
+        return MAX_PROCEDURE_GOALS + 1
+    return sum(1 + (_goal_count(g.refines, depth + 1) if g.refines is not None else 0)
+               for g in refinement.goals)
 
 
 def has_body(refinement: Refinement) -> bool:

@@ -9,7 +9,7 @@ from __future__ import annotations
 from datetime import datetime
 from typing import Any
 
-from sqlalchemy import ForeignKey, Integer, String, Text
+from sqlalchemy import ForeignKey, Integer, String, Text, UniqueConstraint
 from sqlalchemy.orm import Mapped, mapped_column
 
 from .tables import Base, utcnow
@@ -46,3 +46,6 @@ class ProcedureApproval(Base):
     payload_digest: Mapped[str] = mapped_column(String(71), unique=True)
     event_id: Mapped[int] = mapped_column(ForeignKey("events.id"), unique=True)
     created_at: Mapped[datetime] = mapped_column(default=utcnow)
+    # One decision per version: a parallel second one fails at the insert.
+    __table_args__ = (UniqueConstraint("name", "version",
+                                       name="uq_procedure_approvals_name_version"),)

@@ -17,6 +17,7 @@ from typing import Any
 from ..orders.findings import Finding, error
 from ..orders.model import Goal, Orders, Refinement
 from ..orders.procedure import Procedure, body_json, has_body, procedure_digest
+from .paths import PathCounts
 from .refine import MAX_DEPTH
 
 Lookup = Callable[[str, int], Procedure | None]
@@ -109,3 +110,27 @@ def procedure_findings(orders: Orders) -> list[Finding]:
                 "orders named.", procedure=ref.procedure, version=ref.version,
                 pinned=ref.digest, actual=actual))
     return findings
+
+
+# Findings about the vehicle are decided in the orders that use a procedure, for their vehicle.
+VEHICLE_CODES = frozenset({"VEHICLE", "M6", "M7", "BUDGET"})
+PROCEDURE_SOLVER_BUDGET_S = 2.0
+
+
+def _wrapper(procedure: Procedure) -> Orders:
+    """Orders with one goal carried out by the procedure, every outcome used, no vehicle."""
+    return Orders.model_validate({
+        "id": procedure.name, "start": procedure.name,
+        "goals": [{"id": procedure.name, "title": procedure.name,
+                   "refines": procedure.to_json()["refines"],
+                   "next": {"succeed": "COMPLETE", "fail": "ABORT", "violate": "ABORT"}}]})
+
+
+def check_procedure(procedure: Procedure) -> tuple[list[Finding], PathCounts | None]:
+    """The procedure checked as the one refinement of a goal (structure, REFINE, expressions,
+    nested references): its findings, and its path counts by terminal (COMPLETE: it returned
+    succeed; ABORT: fail or violate). Vehicle checks belong to the orders that use it."""
+    from .report import validate
+
+    report = validate(_wrapper(procedure), solver_budget_s=PROCEDURE_SOLVER_BUDGET_S)
+    return [f for f in report.findings if f.code not in VEHICLE_CODES], report.paths
