@@ -262,3 +262,15 @@ def test_team_members_references_are_expanded_and_checked() -> None:
     assert expanded.team is not None
     assert all(procedure_findings(m.orders) == [] for m in expanded.team)
     assert all(procedure_findings(m.orders) for m in orders.team or [])
+
+
+def test_plain_orders_name_the_procedure_and_its_goals(
+        capsys: pytest.CaptureFixture[str]) -> None:
+    orders = str(EXAMPLES / "search-and-sample-procedure.json")
+    code, out, _ = _run(capsys, "export", orders, "--format", "plain", "--procedures",
+                        str(LIBRARY))
+    assert code == 0
+    assert (f"Goal 1 is carried out by procedure cell-search version 1 ({_procedure().digest}):"
+            " 1.1 Move to the next unvisited cell of Area A") in out
+    code, out, _ = _run(capsys, "export", orders, "--format", "plain")
+    assert "no goal copied in from the library" in out

@@ -211,7 +211,8 @@ def cmd_run(args: argparse.Namespace) -> int:
 def cmd_export(args: argparse.Namespace) -> int:
     from ..rehearse.plain import write_for_supervisor
 
-    loaded = load_orders(args.file, teams=args.format in ("plain", "json"))
+    loaded = with_library(load_orders(args.file, teams=args.format in ("plain", "json")),
+                          args.procedures)
     if args.format in ("imc", "moos"):
         from .export_vehicle import write_vehicle_export
 
@@ -358,6 +359,7 @@ def add_commands(commands: Any) -> None:
         default="plain",
     )
     add_export_arguments(export_cmd)
+    add_library_argument(export_cmd)
     export_cmd.set_defaults(handler=cmd_export)
 
     explain_cmd = commands.add_parser(
