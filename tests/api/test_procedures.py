@@ -260,3 +260,16 @@ def test_a_decision_changed_in_the_database_is_reported_and_not_an_approval(
     assert got["approved_by"] is None
     problems = got["decisions"][0]["integrity"]
     assert any("decision" in p for p in problems), problems
+
+
+def test_the_review_lists_a_bounded_number_of_procedures(world: World) -> None:
+    from countersign.orders.model import Orders
+    from countersign.store.procedures import MAX_USES, procedure_uses
+
+    goals = [{"id": f"G{i}", "refines": {"procedure": f"p{i}", "version": 1},
+              "next": {"succeed": "COMPLETE", "fail": "ABORT", "violate": "ABORT"}}
+             for i in range(MAX_USES + 1)]
+    orders = Orders.model_validate({"id": "many", "start": "G0", "goals": goals})
+    with world.database.session() as db:
+        listed, truncated = procedure_uses(db, orders)
+    assert len(listed) == MAX_USES and truncated

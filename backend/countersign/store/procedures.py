@@ -52,7 +52,8 @@ from .procedure_tables import ProcedureApproval, ProcedureRecord
 from .reauth import confirm_password
 from .tables import SigningKey, User, utcnow
 
-MAX_LISTED = 1000
+MAX_LISTED = 200  # versions listed, decisions per version (each is checked against the log)
+MAX_USES = 200  # procedure versions one mission's review lists
 MAX_FINDINGS_SHOWN = 10
 
 
@@ -116,7 +117,15 @@ def trusted_procedure(db: DbSession, name: str, version: int) -> Procedure | Non
 
 
 def library_lookup(db: DbSession) -> Callable[[str, int], Procedure | None]:
-    return lambda name, version: trusted_procedure(db, name, version)
+    """The trusted library, each version looked up once however often the orders name it."""
+    found: dict[tuple[str, int], Procedure | None] = {}
+
+    def lookup(name: str, version: int) -> Procedure | None:
+        if (name, version) not in found:
+            found[(name, version)] = trusted_procedure(db, name, version)
+        return found[(name, version)]
+
+    return lookup
 
 
 def with_library(db: DbSession, orders: Orders) -> Orders:
@@ -190,11 +199,13 @@ class ProcedureUse:
     approved_by: str | None
 
 
-def procedure_uses(db: DbSession, orders: Orders) -> list[ProcedureUse]:
-    """Each procedure version the orders name, and whether a supervisor approved it."""
+def procedure_uses(db: DbSession, orders: Orders) -> tuple[list[ProcedureUse], bool]:
+    """Each procedure version the orders name (the first MAX_USES), whether a supervisor
+    approved it, and whether more were left out."""
+    named = uses(orders)
     return [ProcedureUse(name, version, digest, trusted_procedure(db, name, version) is not None,
                          approved_by(db, name, version, digest))
-            for name, version, digest in uses(orders)]
+            for name, version, digest in named[:MAX_USES]], len(named) > MAX_USES
 
 
 # --- saving ----------------------------------------------------------------------------------

@@ -1127,7 +1127,7 @@ export interface paths {
         };
         /**
          * List Procedures
-         * @description Every saved procedure version (newest version of each name first), at most 1000.
+         * @description Saved procedure versions by name, newest version first: at most 200.
          */
         get: operations["listProcedures"];
         put?: never;
@@ -3743,6 +3743,11 @@ export interface components {
             all_approved: boolean;
             /** Procedures */
             procedures: components["schemas"]["ProcedureUseOut"][];
+            /**
+             * Truncated
+             * @description the orders name more procedure versions than are listed (200); all_approved is then false
+             */
+            truncated: boolean;
         };
         /** Quantity */
         Quantity: {

@@ -76,6 +76,8 @@ class ProcedureUsesOut(BaseModel):
     all_approved: bool = Field(description="true when every procedure the orders name is a "
                                "library version a supervisor approved at the pinned digest "
                                "(also when they name none)")
+    truncated: bool = Field(description="the orders name more procedure versions than are "
+                            "listed (200); all_approved is then false")
 
 
 def _summary(db: Db, row: ProcedureRecord) -> dict[str, Any]:
@@ -100,7 +102,7 @@ def _decision(db: Db, approval: ProcedureApproval) -> ProcedureDecisionOut:
             response_model=list[ProcedureSummaryOut], **allow(*EVERYONE))
 def list_procedures(db: Db, name: Annotated[str | None, Query(max_length=100)] = None
                     ) -> list[dict[str, Any]]:
-    """Every saved procedure version (newest version of each name first), at most 1000."""
+    """Saved procedure versions by name, newest version first: at most 200."""
     return [_summary(db, row) for row in service.list_procedures(db, name)]
 
 
@@ -154,9 +156,10 @@ def version_procedures(mission_id: Annotated[str, Path(max_length=100)], number:
                        db: Db) -> ProcedureUsesOut:
     """The procedure versions this mission version uses, and whether each is approved."""
     version = get_version(db, mission_id, number)
-    uses = service.procedure_uses(db, orders_from_data(version.orders))
+    uses, truncated = service.procedure_uses(db, orders_from_data(version.orders))
     return ProcedureUsesOut(
         procedures=[ProcedureUseOut(name=u.name, version=u.version, digest=u.digest,
                                     in_library=u.in_library, approved_by=u.approved_by)
                     for u in uses],
-        all_approved=all(u.approved_by is not None for u in uses))
+        all_approved=not truncated and all(u.approved_by is not None for u in uses),
+        truncated=truncated)
