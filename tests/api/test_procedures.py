@@ -273,3 +273,19 @@ def test_the_review_lists_a_bounded_number_of_procedures(world: World) -> None:
     with world.database.session() as db:
         listed, truncated = procedure_uses(db, orders)
     assert len(listed) == MAX_USES and truncated
+
+
+def test_the_author_of_a_version_may_not_decide_on_it(world: World) -> None:
+    _save(world)
+    admin = world.client("admin")
+    users = admin.get("/api/users").json()
+    author = next(u for u in users if u["username"] == world.usernames["operator"])
+    promoted = admin.patch(f"/api/users/{author['id']}",
+                           json={"role": "supervisor", "admin_password": PASSWORD})
+    assert promoted.status_code == 200, promoted.text
+    client, csrf = world.browser("operator")  # the author, now a supervisor
+    client.headers[CSRF_HEADER] = csrf
+    signer = register_key(client)
+    refused = client.post(f"{BASE}/statement", json={
+        "decision": "approved", "reason": "", "key_id": signer.key_id})
+    assert refused.status_code == 403 and "separation of duties" in refused.json()["detail"]
