@@ -274,3 +274,24 @@ def test_plain_orders_name_the_procedure_and_its_goals(
             " 1.1 Move to the next unvisited cell of Area A") in out
     code, out, _ = _run(capsys, "export", orders, "--format", "plain")
     assert "no goal copied in from the library" in out
+
+
+def test_a_procedure_naming_a_procedure_is_checked_with_its_goals_copied_in(
+        tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    outer = {"format": "countersign.procedure/1", "name": "search-twice", "version": 1,
+             "refines": {"start": "S1", "goals": [
+                 {"id": "S1", "title": "Search", "refines": _procedure().reference(),
+                  "next": {"succeed": "DONE", "fail": "GAVE_UP", "violate": "HALT"}}],
+                 "terminals": [
+                     {"id": "DONE", "kind": "complete", "returns": "succeed"},
+                     {"id": "GAVE_UP", "kind": "abort", "returns": "fail"},
+                     {"id": "HALT", "kind": "abort", "returns": "violate"}]}}
+    file = tmp_path / "outer.json"
+    file.write_text(json.dumps(outer))
+    code, out, _ = _run(capsys, "procedures", "check", str(file), "--format", "json")
+    assert code == 1 and "PROCEDURE" in out
+    code, out, _ = _run(capsys, "procedures", "check", str(file), "--format", "json",
+                        "--procedures", str(LIBRARY))
+    checked = json.loads(out)
+    assert code == 0 and checked["ok"], checked["findings"]
+    assert checked["digest"] != procedure_from_data(outer).digest  # the goals are in it now

@@ -89,9 +89,13 @@ def with_library(loaded: ReadResult, paths: list[Path]) -> ReadResult:
 
 
 def cmd_check(args: argparse.Namespace) -> int:
-    from ..verify.procedures import check_procedure
+    from ..verify.procedures import check_procedure, expand_procedure
 
     procedure = _read(args.file)
+    if args.procedures:
+        library = load_library(args.procedures)
+        procedure = expand_procedure(
+            procedure, lambda name, version: library.get((name, version)))
     findings, paths = check_procedure(procedure)
     ok = not any(f.severity == "error" for f in findings)
     if args.format == "json":
@@ -137,6 +141,7 @@ def add_commands(commands: Any) -> None:
                            "digest and the reference to use")
     check.add_argument("file", metavar="FILE", type=Path, help="a procedure JSON file")
     check.add_argument("--format", choices=["text", "json"], default="text")
+    add_library_argument(check)
     check.set_defaults(handler=cmd_check)
     reference = sub.add_parser("reference", help="print the reference JSON that uses a "
                                "procedure file (name, version, digest)")

@@ -32,7 +32,7 @@ from ..orders.model import Orders
 from ..orders.procedure import Procedure, procedure_from_data
 from ..orders.reader import OrdersReadError
 from ..verify import fingerprint
-from ..verify.procedures import check_procedure, expand, uses
+from ..verify.procedures import check_procedure, expand, expand_procedure, uses
 from .approvals.common import (
     CLOCK_SKEW,
     MAX_REASON,
@@ -221,7 +221,7 @@ def save_procedure(db: DbSession, *, procedure: Procedure, author: User) -> Proc
                        .where(ProcedureRecord.name == name)) or 0
     if version != latest + 1:
         raise Conflict(f"the next version of procedure {name!r} is {latest + 1}, not {version}")
-    procedure = _with_nested(db, procedure)
+    procedure = expand_procedure(procedure, library_lookup(db))
     findings, _paths = check_procedure(procedure)
     errors = [f for f in findings if f.severity == "error"]
     if errors:
@@ -243,18 +243,6 @@ def save_procedure(db: DbSession, *, procedure: Procedure, author: User) -> Proc
         raise Conflict(f"procedure {name!r} version {version} was saved by another request "
                        "just now") from None
     return row
-
-
-def _with_nested(db: DbSession, procedure: Procedure) -> Procedure:
-    """The procedure with the bodies of the procedures it refers to copied in."""
-    wrapper = Orders.model_validate({"id": "p", "goals": [
-        {"id": "p", "refines": procedure.to_json()["refines"]}]})
-    expanded = with_library(db, wrapper)
-    if expanded is wrapper:
-        return procedure
-    body = expanded.goals[0].refines
-    assert body is not None
-    return procedure.model_copy(update={"refines": body})
 
 
 # --- signed decisions --------------------------------------------------------------------------

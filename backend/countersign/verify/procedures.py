@@ -86,6 +86,18 @@ def _expand_goals(goals: list[dict[str, Any]], lookup: Lookup, depth: int) -> bo
     return changed
 
 
+def expand_procedure(procedure: Procedure, lookup: Lookup) -> Procedure:
+    """The procedure with the goals of the procedures it names itself copied in."""
+    wrapper = Orders.model_validate({"id": "p", "goals": [
+        {"id": "p", "refines": procedure.to_json()["refines"]}]})
+    expanded = expand(wrapper, lookup)
+    if expanded is wrapper:
+        return procedure
+    body = expanded.goals[0].refines
+    assert body is not None
+    return procedure.model_copy(update={"refines": body})
+
+
 def procedure_findings(orders: Orders) -> list[Finding]:
     findings: list[Finding] = []
     for path, ref in references(orders.goals):
