@@ -6,8 +6,10 @@ from __future__ import annotations
 import copy
 import json
 from importlib import resources
+from pathlib import Path
 from typing import Any
 
+import pytest
 from fastapi.testclient import TestClient
 from sqlalchemy import text
 
@@ -289,3 +291,31 @@ def test_the_author_of_a_version_may_not_decide_on_it(world: World) -> None:
     refused = client.post(f"{BASE}/statement", json={
         "decision": "approved", "reason": "", "key_id": signer.key_id})
     assert refused.status_code == 403 and "separation of duties" in refused.json()["detail"]
+
+
+def test_cli_signs_a_procedure_decision_with_a_key_file(
+        world: World, server: str, tmp_path: Path, capsys: pytest.CaptureFixture[str],
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    from countersign.cli import main
+
+    _save(world)
+    key_file = tmp_path / "supervisor.pem"
+    assert main(["keygen", "--out", str(key_file)]) == 0
+    public = capsys.readouterr().out.split("public key:")[1].split()[0]
+    registered = world.client("supervisor").post("/api/keys", json={
+        "public_key": public, "password": PASSWORD})
+    assert registered.status_code == 201, registered.text
+    password_file = tmp_path / "password"
+    password_file.write_text(PASSWORD + "\n")
+    monkeypatch.setenv("COUNTERSIGN_TOKEN", world.tokens["supervisor"])
+    argv = ["procedures", "sign", "--server", server, "--key", str(key_file), "--name", NAME,
+            "--version", "1", "--decision", "approved"]
+    monkeypatch.setattr("getpass.getpass", lambda prompt="": "not the password")
+    assert main(argv) == 1 and "password" in capsys.readouterr().err
+    assert main([*argv, "--password-file", str(password_file)]) == 0
+    assert capsys.readouterr().out.startswith(f"approved: procedure {NAME} version 1 (sha256:")
+    assert world.client("auditor").get(BASE).json()["approved_by"] == \
+        world.usernames["supervisor"]
+    assert main([*argv, "--password-file", str(password_file)]) == 1
+    assert "decision already" in capsys.readouterr().err
+    assert main([*argv[:-2], "--decision", "approved", "--key", str(tmp_path / "none")]) == 2

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -128,9 +129,49 @@ def cmd_reference(args: argparse.Namespace) -> int:
     return EXIT_OK
 
 
+def cmd_sign(args: argparse.Namespace) -> int:
+    """Ask the server for the statement about a procedure version, sign its DSSE PAE with the
+    key file here and send the envelope with the password (as `countersign sign` does)."""
+    import getpass
+
+    from ..approvals import dsse
+    from .approvals import ApiError, _token, api_request
+
+    token = _token(args)
+    if not token:
+        raise UsageError("set COUNTERSIGN_TOKEN or pass --token-file with an API token")
+    try:
+        key = dsse.load_private_pem(args.key.read_bytes())
+        password = (args.password_file.read_text().splitlines() or [""])[0] \
+            if args.password_file is not None else getpass.getpass("countersign password: ")
+    except OSError as exc:
+        raise UsageError(f"cannot read {exc.filename}: {exc.strerror}") from None
+    except dsse.SignatureError as exc:
+        raise UsageError(f"{args.key}: {exc}") from None
+    except EOFError:
+        password = ""
+    if not password:
+        raise UsageError("a decision needs your password (--password-file or typed when asked)")
+    base = f"/api/procedures/{args.name}/versions/{args.version}"
+    try:
+        prepared = api_request(args.server, token, f"{base}/statement", {
+            "decision": args.decision, "reason": args.reason,
+            "key_id": dsse.key_id(key.public_key())})
+        payload = dsse.unb64(prepared["payload"], "the payload")
+        envelope = dsse.sign_envelope(payload, key, prepared["payloadType"])
+        stored = api_request(args.server, token, f"{base}/decision",
+                             {"envelope": json.dumps(envelope), "password": password})
+    except (ApiError, dsse.SignatureError, KeyError) as exc:
+        sys.stderr.write(f"countersign: refused: {exc}\n")
+        return EXIT_FINDINGS
+    sys.stdout.write(f"{stored['decision']}: procedure {args.name} version {args.version} "
+                     f"({stored['procedure_digest']}), log entry {stored['log_index']}\n")
+    return EXIT_OK
+
+
 def add_commands(commands: Any) -> None:
     group = commands.add_parser(
-        "procedures", help="check a procedure file and print the reference that uses it",
+        "procedures", help="check a procedure, print its reference, sign a decision on it",
         description="A procedure (countersign.procedure/1: name, integer version, refines) is a "
         "refinement saved once and used by reference: a goal's \"refines\": {\"procedure\": "
         "NAME, \"version\": N, \"digest\": \"sha256:...\"}. validate, paths and run take "
@@ -147,3 +188,21 @@ def add_commands(commands: Any) -> None:
                                "procedure file (name, version, digest)")
     reference.add_argument("file", metavar="FILE", type=Path, help="a procedure JSON file")
     reference.set_defaults(handler=cmd_reference)
+    sign = sub.add_parser(
+        "sign", help="sign a decision on a library procedure version with a key file",
+        description="The server builds the statement (subject: the procedure's digest); this "
+        "command signs its DSSE PAE with the key file and sends the envelope with your "
+        "password. Token: COUNTERSIGN_TOKEN or --token-file. Exit 0 stored, 1 refused, 2 "
+        "bad usage.")
+    sign.add_argument("--server", default=os.environ.get("COUNTERSIGN_SERVER",
+                                                         "http://127.0.0.1:8000"))
+    sign.add_argument("--token-file", type=Path, default=None)
+    sign.add_argument("--key", type=Path, required=True, help="private key file from keygen")
+    sign.add_argument("--name", required=True, help="the procedure's name")
+    sign.add_argument("--version", type=int, required=True, help="its version number")
+    sign.add_argument("--decision", choices=["approved", "rejected"], required=True)
+    sign.add_argument("--reason", default="")
+    sign.add_argument("--password-file", type=Path, default=None,
+                      help="file holding your account password (first line); without it the "
+                      "password is asked for")
+    sign.set_defaults(handler=cmd_sign)
