@@ -8,6 +8,14 @@ declaration). Roles: operator, supervisor, auditor, admin, or anonymous (no sign
 from __future__ import annotations
 
 REVIEWED_ROLES: dict[str, tuple[str, ...]] = {
+    # The procedure library (issue 37): operators save versions, supervisors sign decisions
+    # on them, every role reads (auditors included).
+    "listProcedures": ("operator", "supervisor", "auditor", "admin"),
+    "getProcedure": ("operator", "supervisor", "auditor", "admin"),
+    "saveProcedure": ("operator",),
+    "prepareProcedureDecision": ("supervisor",),
+    "signProcedureDecision": ("supervisor",),
+    "getVersionProcedures": ("operator", "supervisor", "auditor", "admin"),
     # Rehearsal campaigns (issue 20): operators and supervisors start and cancel their own;
     # every role reads; only the submitting operator attaches one to a submission.
     "startCampaign": ("operator", "supervisor"),

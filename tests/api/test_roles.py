@@ -16,7 +16,7 @@ PATH_VALUES = {"mission_id": "search-and-sample", "number": "1", "user_id": "999
                "rehearsal_id": "no-such-rehearsal", "digest": "sha256:" + "0" * 64,
                "campaign_id": "0" * 16,
                "name": "search-and-sample", "format": "imc",
-               "chart_id": "no-such-chart"}
+               "chart_id": "no-such-chart", "version": "1"}
 
 
 def _routes(world: World) -> list[tuple[str, str, list[str]]]:

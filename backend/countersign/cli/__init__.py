@@ -21,6 +21,7 @@ from . import (
     orders,
     package,
     plan,
+    procedures,
     rehearse,
     rules,
     server,
@@ -44,8 +45,8 @@ def build_parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     # The order of the groups is the order of `countersign --help`.
-    for group in (orders, server, plan, rules, rehearse, campaign, approvals, witness, package,
-                  execution, charts):
+    for group in (orders, procedures, server, plan, rules, rehearse, campaign, approvals,
+                  witness, package, execution, charts):
         group.add_commands(commands)
     return parser
 

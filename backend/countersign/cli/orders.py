@@ -22,6 +22,7 @@ from .common import (
     non_negative,
 )
 from .export_vehicle import add_export_arguments
+from .procedures import add_library_argument, with_library
 
 if TYPE_CHECKING:
     from ..orders.reader import ReadResult
@@ -78,7 +79,7 @@ def _print_explanation(report: Report, out: TextIO) -> None:
 def cmd_validate(args: argparse.Namespace) -> int:
     from ..verify.report import validate
 
-    loaded = load_orders(args.file, teams=True)
+    loaded = with_library(load_orders(args.file, teams=True), args.procedures)
     if args.explain and loaded.orders.team is not None:
         raise UsageError("--explain shows the ontology's facts about one vehicle's orders; "
                          "give a member's orders (team[i].orders)")
@@ -110,7 +111,7 @@ def cmd_paths(args: argparse.Namespace) -> int:
     from ..verify.paths import count_paths, iter_path_lines, iter_paths, trace_text
     from ..verify.refine import checked_form
 
-    loaded = load_orders(args.file)
+    loaded = with_library(load_orders(args.file), args.procedures)
     # Refined goals run as their refinements: the paths are those of the flat mission.
     orders, graph = checked_form(loaded.orders)
     counts = count_paths(graph)
@@ -169,7 +170,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     )
     from ..verify.refine import checked_form
 
-    loaded = load_orders(args.file)
+    loaded = with_library(load_orders(args.file), args.procedures)
     refused = _refuse_structural_errors(loaded, "these orders cannot be executed until fixed")
     if refused is not None:
         return refused
@@ -210,7 +211,8 @@ def cmd_run(args: argparse.Namespace) -> int:
 def cmd_export(args: argparse.Namespace) -> int:
     from ..rules.plain_orders import write_for_supervisor
 
-    loaded = load_orders(args.file, teams=args.format in ("plain", "json"))
+    loaded = with_library(load_orders(args.file, teams=args.format in ("plain", "json")),
+                          args.procedures)
     if args.format in ("imc", "moos"):
         from .export_vehicle import write_vehicle_export
 
@@ -296,6 +298,7 @@ def add_commands(commands: Any) -> None:
         "--solver-budget", type=budget_seconds, default=SOLVER_BUDGET_S, metavar="SECONDS",
         help=f"solver time for the whole validation (default {SOLVER_BUDGET_S:g}, as the "
         "server allows); what it leaves undecided is reported as a warning")
+    add_library_argument(validate_cmd)
     validate_cmd.set_defaults(handler=cmd_validate)
 
     paths_cmd = commands.add_parser(
@@ -319,6 +322,7 @@ def add_commands(commands: Any) -> None:
         "--format", choices=["json", "ndjson", "trace"], default="json",
         help="json/ndjson: one path per line; trace: execution traces",
     )
+    add_library_argument(paths_cmd)
     paths_cmd.set_defaults(handler=cmd_paths)
 
     run_cmd = commands.add_parser(
@@ -330,6 +334,7 @@ def add_commands(commands: Any) -> None:
         "one its refinement returns.",
     )
     run_cmd.add_argument("file", metavar="FILE", help=FILE_HELP)
+    add_library_argument(run_cmd)
     run_cmd.set_defaults(handler=cmd_run)
 
     export_cmd = commands.add_parser(
@@ -354,6 +359,7 @@ def add_commands(commands: Any) -> None:
         default="plain",
     )
     add_export_arguments(export_cmd)
+    add_library_argument(export_cmd)
     export_cmd.set_defaults(handler=cmd_export)
 
     explain_cmd = commands.add_parser(

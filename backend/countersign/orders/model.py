@@ -17,6 +17,7 @@ from pydantic import (
     BaseModel,
     ConfigDict,
     Field,
+    StrictInt,
     field_validator,
     model_validator,
 )
@@ -216,15 +217,35 @@ class RefinementBound(_Strict):
         return self
 
 
-class Refinement(_Strict):
-    """Sub-orders that carry out a goal: ids inside are local (outside they read G1/G1.1)."""
+DIGEST_PATTERN = r"^sha256:[0-9a-f]{64}$"
+MAX_PROCEDURE_VERSION = 1_000_000
 
+
+class Refinement(_Strict):
+    """Sub-orders that carry out a goal: ids inside are local (outside they read G1/G1.1).
+
+    A refinement may instead name a procedure of the library (verify/procedures.py): name,
+    version and the digest it pins; the body is copied in from the library before checking,
+    and a body that does not have the pinned digest is a PROCEDURE finding."""
+
+    procedure: Id | None = None
+    version: StrictInt | None = Field(default=None, ge=1, le=MAX_PROCEDURE_VERSION)
+    digest: Annotated[str, Field(pattern=DIGEST_PATTERN)] | None = None
     start: Id | list[Id] | None = None
     goals: list[Goal] = Field(default_factory=list, max_length=MAX_LIST_LENGTH)
     terminals: list[RefinementTerminal] = Field(default_factory=list,
                                                 max_length=MAX_LIST_LENGTH)
     within: RefinementBound | None = None
     on_timeout: Literal["fail", "violate"] | None = None
+
+    @model_validator(mode="after")
+    def _reference(self) -> Refinement:
+        if self.procedure is None and (self.version is not None or self.digest is not None):
+            raise ValueError("version and digest belong to a procedure reference: "
+                             "name the procedure too")
+        if self.procedure is not None and self.version is None:
+            raise ValueError(f"the reference to procedure {self.procedure!r} names no version")
+        return self
 
 
 Goal.model_rebuild()

@@ -67,6 +67,10 @@ def refinement_paragraphs(goal: Goal, number: str, outer: Names) -> Iterator[str
     listed = [f"{number}.{position} {_one_line(g.title).rstrip('.') or g.id}"
               for position, g in enumerate(refinement.goals, start=1)]
     intro = f"{parent} is carried out as: {join_english(listed) or 'no goal'}"
+    if refinement.procedure is not None:  # a library procedure, by name, version and digest
+        intro = (f"{parent} is carried out by procedure {refinement.procedure} version "
+                 f"{refinement.version} ({refinement.digest or 'no digest pinned'}): "
+                 f"{join_english(listed) or 'no goal copied in from the library'}")
     start = refinement.start
     if isinstance(start, str):
         intro += f"; it starts with {names.goal(start)}."

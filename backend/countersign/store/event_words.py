@@ -41,6 +41,8 @@ def event_target(kind: str, mission: str | None, detail: Mapping[str, Any]) -> s
         target = f"key {_short(detail.get('key_id'))}"
     elif family == "vehicle":
         target = f"vehicle {detail.get('vehicle')}"
+    elif family == "procedure":
+        target = f"procedure {detail.get('procedure')} v{detail.get('version')}"
     elif family == "chart":
         charts = detail.get("charts") or []
         target = "chart " + ", ".join(str(c) for c in charts[:5]) + (" …" if len(charts) > 5

@@ -411,3 +411,7 @@ APPEND_ONLY_TABLES = ("events", "mission_versions", "approvals", "log_entries", 
 APPEND_ONLY_TABLES_0003 = ("rehearsal_records",)
 # Made append-only by revision 0004.
 APPEND_ONLY_TABLES_0004 = ("log_receipts", "log_cosignatures")
+
+
+# The procedure library's tables live in their own module on this metadata (issue 37).
+from . import procedure_tables as procedure_tables  # noqa: E402

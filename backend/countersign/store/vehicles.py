@@ -33,11 +33,14 @@ def registry_profile(db: Session, vehicle_id: str) -> Vehicle | None:
 
 
 def with_registry(db: Session, orders: Orders) -> Orders:
-    """The registry's vehicle profile and the charts in use (store/charts.py) copied in."""
+    """The registry's vehicle profile, the charts in use (store/charts.py) and the procedures
+    named (store/procedures.py) copied in."""
     from .charts import with_registry_charts
+    from .procedures import with_library
 
     if orders.team is not None:
         return _team_with_registry(db, orders)
+    orders = with_library(db, orders)  # the bodies of the procedures named (issue 37)
     profiled = with_registry_profile(orders, lambda vehicle_id: registry_profile(db, vehicle_id))
     return with_registry_charts(db, profiled)
 
@@ -58,8 +61,10 @@ def registry_stamp(db: Session) -> bytes:
     """What with_registry reads, in a few bytes: the row count and latest change of the vehicle
     profiles and of the charts. Caches of results computed with the registry copied in key on
     it, so a saved or deleted profile or chart is never answered from before the change."""
+    from .procedure_tables import ProcedureRecord
+
     stamps = [db.execute(select(func.count(), func.max(table.updated_at))).one()
-              for table in (VehicleProfile, ChartRecord)]
+              for table in (VehicleProfile, ChartRecord, ProcedureRecord)]
     return repr(stamps).encode()
 
 

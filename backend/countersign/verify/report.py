@@ -35,6 +35,7 @@ from .parts import SHARED_PARTS, PartKeys, PartsCache, part_keys
 from .paths import PathCounts, count_paths
 from .patterns import check_patterns
 from .probability import Probabilities, declares_probabilities, outcome_probabilities
+from .procedures import procedure_findings
 from .properties import check_properties
 from .refine import Flat, dedupe_copies, flat_graph, flatten, has_refinements, refine_findings
 from .rules_design import rules_findings
@@ -169,6 +170,7 @@ def validate(
             store.put("properties", keys.properties, properties)
 
     findings = list(reader_findings)
+    findings.extend(procedure_findings(orders))  # PROCEDURE: references not as pinned
     # Warnings an importer recorded in the orders (NPS default handlers) stay in every report;
     # the reader returns them too, so those already given are not repeated.
     given = {(f.code, f.subjects, f.message) for f in findings}

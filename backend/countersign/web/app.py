@@ -34,6 +34,7 @@ from .routes import (
     log_witness,
     missions,
     planning,
+    procedures,
     rehearsals,
     standing,
     vehicles,
@@ -225,6 +226,7 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     app.include_router(missions.router)
     app.include_router(admin.router)
     app.include_router(vehicles.router)
+    app.include_router(procedures.router)
     app.include_router(standing.router)
     app.include_router(charts.router)
     app.include_router(planning.router)

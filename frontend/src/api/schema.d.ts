@@ -983,6 +983,26 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/api/missions/{mission_id}/versions/{number}/procedures": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * Version Procedures
+         * @description The procedure versions this mission version uses, and whether each is approved.
+         */
+        get: operations["getVersionProcedures"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/api/missions/{mission_id}/versions/{number}/review": {
         parameters: {
             query?: never;
@@ -1092,6 +1112,90 @@ export interface paths {
          * @description The plan view of orders (with the registry's charts in use copied in, as validation).
          */
         post: operations["planView"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/procedures": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /**
+         * List Procedures
+         * @description Saved procedure versions by name, newest version first: at most 200.
+         */
+        get: operations["listProcedures"];
+        put?: never;
+        /**
+         * Save Procedure
+         * @description Save a procedure version: its name's next version number, checked like a refinement
+         *     (errors refuse it, 422). A saved version never changes (409 for the same number).
+         */
+        post: operations["saveProcedure"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/procedures/{name}/versions/{version}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        /** Get Procedure */
+        get: operations["getProcedure"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/procedures/{name}/versions/{version}/decision": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Sign Decision
+         * @description Verify and store a signed decision on the version (your password, entered again, is
+         *     required); a version has at most one decision.
+         */
+        post: operations["signProcedureDecision"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/api/procedures/{name}/versions/{version}/statement": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Prepare Decision
+         * @description The exact statement to sign about this procedure version: sign the DSSE PAE (`pae`)
+         *     with your registered key, then POST the envelope to `/decision`. Nothing is stored.
+         */
+        post: operations["prepareProcedureDecision"];
         delete?: never;
         options?: never;
         head?: never;
@@ -3503,6 +3607,148 @@ export interface components {
             /** Swath M */
             swath_m?: number | null;
         };
+        /** Procedure */
+        Procedure: {
+            /**
+             * Format
+             * @default countersign.procedure/1
+             * @constant
+             */
+            format?: "countersign.procedure/1";
+            /** Name */
+            name: string;
+            refines: components["schemas"]["Refinement"];
+            /** Version */
+            version: number;
+        };
+        /** ProcedureDecisionOut */
+        ProcedureDecisionOut: {
+            /**
+             * Created At
+             * Format: date-time
+             */
+            created_at: string;
+            /** Decision */
+            decision: string;
+            /**
+             * Envelope
+             * @description the DSSE envelope as signed, verbatim
+             */
+            envelope: string;
+            /** Id */
+            id: number;
+            /**
+             * Integrity
+             * @description how the row disagrees with its log entry or its own envelope; empty when it agrees
+             */
+            integrity: string[];
+            /** Key Id */
+            key_id: string;
+            /** Log Index */
+            log_index: number | null;
+            /** Procedure Digest */
+            procedure_digest: string;
+            /** Reason */
+            reason: string;
+            /** Supervisor */
+            supervisor: string | null;
+        };
+        /** ProcedureOut */
+        ProcedureOut: {
+            /**
+             * Approved By
+             * @description the supervisor whose signed approval of this version holds, or null
+             */
+            approved_by: string | null;
+            /** Author */
+            author: string | null;
+            /** Decisions */
+            decisions: components["schemas"]["ProcedureDecisionOut"][];
+            /** Digest */
+            digest: string;
+            /** Document */
+            document: components["schemas"]["Procedure"];
+            /** Integrity */
+            integrity: string[];
+            /** Log Index */
+            log_index: number | null;
+            /** Name */
+            name: string;
+            /**
+             * Reference
+             * @description what a goal's refines names to use it
+             */
+            reference: {
+                [key: string]: unknown;
+            };
+            /**
+             * Saved At
+             * Format: date-time
+             */
+            saved_at: string;
+            /** Version */
+            version: number;
+        };
+        /** ProcedureSummaryOut */
+        ProcedureSummaryOut: {
+            /**
+             * Approved By
+             * @description the supervisor whose signed approval of this version holds, or null
+             */
+            approved_by: string | null;
+            /** Author */
+            author: string | null;
+            /** Digest */
+            digest: string;
+            /** Integrity */
+            integrity: string[];
+            /** Log Index */
+            log_index: number | null;
+            /** Name */
+            name: string;
+            /**
+             * Reference
+             * @description what a goal's refines names to use it
+             */
+            reference: {
+                [key: string]: unknown;
+            };
+            /**
+             * Saved At
+             * Format: date-time
+             */
+            saved_at: string;
+            /** Version */
+            version: number;
+        };
+        /** ProcedureUseOut */
+        ProcedureUseOut: {
+            /** Approved By */
+            approved_by: string | null;
+            /** Digest */
+            digest: string | null;
+            /** In Library */
+            in_library: boolean;
+            /** Name */
+            name: string;
+            /** Version */
+            version: number;
+        };
+        /** ProcedureUsesOut */
+        ProcedureUsesOut: {
+            /**
+             * All Approved
+             * @description true when every procedure the orders name is a library version a supervisor approved at the pinned digest (also when they name none)
+             */
+            all_approved: boolean;
+            /** Procedures */
+            procedures: components["schemas"]["ProcedureUseOut"][];
+            /**
+             * Truncated
+             * @description the orders name more procedure versions than are listed (200); all_approved is then false
+             */
+            truncated: boolean;
+        };
         /** Quantity */
         Quantity: {
             /** Max */
@@ -3700,16 +3946,26 @@ export interface components {
         /**
          * Refinement
          * @description Sub-orders that carry out a goal: ids inside are local (outside they read G1/G1.1).
+         *
+         *     A refinement may instead name a procedure of the library (verify/procedures.py): name,
+         *     version and the digest it pins; the body is copied in from the library before checking,
+         *     and a body that does not have the pinned digest is a PROCEDURE finding.
          */
         Refinement: {
+            /** Digest */
+            digest?: string | null;
             /** Goals */
             goals?: components["schemas"]["Goal"][];
             /** On Timeout */
             on_timeout?: ("fail" | "violate") | null;
+            /** Procedure */
+            procedure?: string | null;
             /** Start */
             start?: string | string[] | null;
             /** Terminals */
             terminals?: components["schemas"]["RefinementTerminal"][];
+            /** Version */
+            version?: number | null;
             within?: components["schemas"]["RefinementBound"] | null;
         } & {
             [key: string]: unknown;
@@ -6221,6 +6477,38 @@ export interface operations {
             };
         };
     };
+    getVersionProcedures: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                mission_id: string;
+                number: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ProcedureUsesOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
     reviewVersion: {
         parameters: {
             query?: never;
@@ -6409,6 +6697,174 @@ export interface operations {
                 };
                 content: {
                     "application/json": components["schemas"]["PlanViewOut"];
+                };
+            };
+        };
+    };
+    listProcedures: {
+        parameters: {
+            query?: {
+                name?: string | null;
+            };
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ProcedureSummaryOut"][];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    saveProcedure: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["Procedure"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            201: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ProcedureOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    getProcedure: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                name: string;
+                version: number;
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ProcedureOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    signProcedureDecision: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                name: string;
+                version: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["EnvelopeIn"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            201: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ProcedureDecisionOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
+                };
+            };
+        };
+    };
+    prepareProcedureDecision: {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                name: string;
+                version: number;
+            };
+            cookie?: never;
+        };
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["DecisionIn"];
+            };
+        };
+        responses: {
+            /** @description Successful Response */
+            200: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["PreparedOut"];
+                };
+            };
+            /** @description Validation Error */
+            422: {
+                headers: {
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["HTTPValidationError"];
                 };
             };
         };

@@ -21,6 +21,7 @@ import { MissionGraphs } from "./MissionGraphs";
 import { ProfileDrift } from "../vehicles/ProfileDrift";
 import { DiffView, FindingsTable, IntegrityWarning, PathSummaryTable, RulesSection, StateBadge } from "./parts";
 import { ReviewPaths } from "./ReviewPaths";
+import { ProcedureUsesSection } from "./ProcedureUses";
 import { signPrepared, useSigningKeys } from "./signing";
 import { ReceiptNote } from "./Receipt";
 import { type CitedCampaigns, CitedEvidence, useCitedCampaigns } from "./CitedEvidence";
@@ -99,6 +100,8 @@ export function ReviewPage({ mission, version }: { mission: string; version: num
       <pre className="orders-text" data-testid="review-plain">
         {review.plain}
       </pre>
+
+      <ProcedureUsesSection mission={mission} version={version} />
 
       <RulesSection rules={review.rules ?? []} />
 
