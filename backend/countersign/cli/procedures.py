@@ -135,9 +135,10 @@ def cmd_sign(args: argparse.Namespace) -> int:
     import getpass
 
     from ..approvals import dsse
-    from .approvals import ApiError, _token, api_request
+    from .approvals import ApiError, api_request
+    from .common import api_token
 
-    token = _token(args)
+    token = api_token(args.token_file)
     if not token:
         raise UsageError("set COUNTERSIGN_TOKEN or pass --token-file with an API token")
     try:

@@ -28,14 +28,13 @@ from ..approvals.procedure_statement import (
 )
 from ..approvals.statement import json_digest, statement_bytes, subject_digest
 from ..errors import Conflict, NotFound, Unprocessable
+from ..limits import CLOCK_SKEW, MAX_REASON
 from ..orders.model import Orders
 from ..orders.procedure import Procedure, procedure_from_data
 from ..orders.reader import OrdersReadError
 from ..verify import fingerprint
 from ..verify.procedures import check_procedure, expand, expand_procedure, uses
 from .approvals.common import (
-    CLOCK_SKEW,
-    MAX_REASON,
     STATEMENT_MAX_AGE,
     BadSignature,
     Refused,
