@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -136,7 +135,7 @@ def cmd_sign(args: argparse.Namespace) -> int:
 
     from ..approvals import dsse
     from .approvals import ApiError, api_request
-    from .common import api_token
+    from .common import api_token, server_url
 
     token = api_token(args.token_file)
     if not token:
@@ -155,12 +154,12 @@ def cmd_sign(args: argparse.Namespace) -> int:
         raise UsageError("a decision needs your password (--password-file or typed when asked)")
     base = f"/api/procedures/{args.name}/versions/{args.version}"
     try:
-        prepared = api_request(args.server, token, f"{base}/statement", {
+        prepared = api_request(server_url(args.server), token, f"{base}/statement", {
             "decision": args.decision, "reason": args.reason,
             "key_id": dsse.key_id(key.public_key())})
         payload = dsse.unb64(prepared["payload"], "the payload")
         envelope = dsse.sign_envelope(payload, key, prepared["payloadType"])
-        stored = api_request(args.server, token, f"{base}/decision",
+        stored = api_request(server_url(args.server), token, f"{base}/decision",
                              {"envelope": json.dumps(envelope), "password": password})
     except (ApiError, dsse.SignatureError, KeyError) as exc:
         sys.stderr.write(f"countersign: refused: {exc}\n")
@@ -195,8 +194,7 @@ def add_commands(commands: Any) -> None:
         "command signs its DSSE PAE with the key file and sends the envelope with your "
         "password. Token: COUNTERSIGN_TOKEN or --token-file. Exit 0 stored, 1 refused, 2 "
         "bad usage.")
-    sign.add_argument("--server", default=os.environ.get("COUNTERSIGN_SERVER",
-                                                         "http://127.0.0.1:8000"))
+    sign.add_argument("--server", default=None)  # None: COUNTERSIGN_SERVER (server_url)
     sign.add_argument("--token-file", type=Path, default=None)
     sign.add_argument("--key", type=Path, required=True, help="private key file from keygen")
     sign.add_argument("--name", required=True, help="the procedure's name")
