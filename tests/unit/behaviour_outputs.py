@@ -8,7 +8,8 @@ from main at aea7afb (before the refactors of issue 35).
 
 Only what changes by design or is a measurement is normalised: the planner's time taken, the
 checker fingerprint (`checker`, a digest of the checking code itself) in validation reports
-and statements, and the blank-node names of the NPS Turtle view (compared as canonical graphs, as tests/unit/cli_outputs.py does).
+and statements, and the blank-node names of the NPS Turtle view (compared as canonical graphs,
+as tests/unit/cli_outputs.py does).
 
 To regenerate the fixture deliberately (a change of behaviour that was meant), run from the
 repository root, with the NPS reference material in ../shared so that its entries are written:
