@@ -67,8 +67,7 @@ def _forge_approval(world: World, submission: int) -> None:
         # The attacker writes rows with the app's code but skips its password check.
         with mock.patch.object(decisions, "confirm_password", lambda *a, **k: None):
             service.decide(db, submission_id=submission, supervisor=supervisor,
-                           envelope=envelope, password=None,
-                           signer=None)  # type: ignore[arg-type]  # the attacker has none
+                           envelope=envelope, password=None)
     attacker.engine.dispose()
 
 

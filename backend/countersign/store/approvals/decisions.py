@@ -13,7 +13,6 @@ from sqlalchemy.orm import Session as DbSession
 
 from ...approvals import dsse
 from ...approvals.dsse import SignatureError
-from ...approvals.signer import LogSigner
 from ...approvals.statement import (
     build_statement,
     json_digest,
@@ -188,8 +187,7 @@ def _check_fresh(db: DbSession, ctx: Context, statement: dict[str, Any], supervi
 
 
 def _store(db: DbSession, ctx: Context, *, envelope_text: str, statement: dict[str, Any],
-           key: SigningKey, supervisor: User, revokes: Approval | None,
-           signer: LogSigner) -> Approval:
+           key: SigningKey, supervisor: User, revokes: Approval | None) -> Approval:
     predicate = statement["predicate"]
     decision = str(predicate["decision"])
     detail = {"decision": decision, "envelope_digest": dsse.envelope_digest(envelope_text),
@@ -223,7 +221,7 @@ def _store(db: DbSession, ctx: Context, *, envelope_text: str, statement: dict[s
 
 
 def decide(db: DbSession, *, submission_id: int, supervisor: User, envelope: str,
-           signer: LogSigner, password: str | None) -> Approval:
+           password: str | None) -> Approval:
     """Verify a signed decision and store its envelope verbatim, or refuse with nothing kept.
     `password` is the supervisor's, entered again for this decision (store/reauth.py)."""
     # issue 14 (decisions): user verification first, then the row locks (store/decide_guard.py).
@@ -241,7 +239,7 @@ def decide(db: DbSession, *, submission_id: int, supervisor: User, envelope: str
     _check_open(ctx)
     _check_fresh(db, ctx, statement, supervisor, key)
     return _store(db, ctx, envelope_text=envelope, statement=statement, key=key,
-                  supervisor=supervisor, revokes=None, signer=signer)
+                  supervisor=supervisor, revokes=None)
 
 
 def get_approval(db: DbSession, approval_id: int) -> Approval:

@@ -6,7 +6,6 @@ import secrets
 
 from sqlalchemy.orm import Session as DbSession
 
-from ...approvals.signer import LogSigner
 from ...approvals.statement import (
     statement_bytes,
 )
@@ -57,7 +56,7 @@ def prepare_revocation(db: DbSession, *, approval_id: int, supervisor: User, rea
 
 
 def revoke(db: DbSession, *, approval_id: int, supervisor: User, envelope: str,
-           signer: LogSigner, password: str | None) -> Approval:
+           password: str | None) -> Approval:
     # issue 14 (decisions): user verification first, then the row locks (store/decide_guard.py).
     confirm_password(db, username=supervisor.username, password_hash=supervisor.password_hash,
                      password=password)
@@ -69,4 +68,4 @@ def revoke(db: DbSession, *, approval_id: int, supervisor: User, envelope: str,
         raise BadSignature("a revocation statement has decision 'revoked'")
     _check_fresh(db, ctx, statement, supervisor, key, revokes=approval.envelope_digest)
     return _store(db, ctx, envelope_text=envelope, statement=statement, key=key,
-                  supervisor=supervisor, revokes=approval, signer=signer)
+                  supervisor=supervisor, revokes=approval)

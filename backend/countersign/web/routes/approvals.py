@@ -273,10 +273,10 @@ def prepare_decision(submission_id: RowId, body: DecisionIn, principal: CurrentP
 
 @router.post("/submissions/{submission_id}/decision", operation_id="signDecision",
              status_code=201, response_model=DecisionOut, **allow(*SUPERVISORS))
-def sign_decision(submission_id: RowId, body: EnvelopeIn, principal: CurrentPrincipal, db: Db,
-                  signer: Signer) -> DecisionOut:
+def sign_decision(submission_id: RowId, body: EnvelopeIn, principal: CurrentPrincipal,
+                  db: Db) -> DecisionOut:
     approval = service.decide(db, submission_id=submission_id, supervisor=principal.user,
-                              envelope=body.envelope, signer=signer, password=body.password)
+                              envelope=body.envelope, password=body.password)
     return DecisionOut(**service.approval_summary(db, approval),
                        receipt=service.receipt_of(db, approval))
 
@@ -291,10 +291,10 @@ def prepare_revocation(approval_id: RowId, body: RevocationIn, principal: Curren
 
 @router.post("/approvals/{approval_id}/revoke", operation_id="revokeApproval",
              status_code=201, response_model=DecisionOut, **allow(*SUPERVISORS))
-def revoke_approval(approval_id: RowId, body: EnvelopeIn, principal: CurrentPrincipal, db: Db,
-                    signer: Signer) -> DecisionOut:
+def revoke_approval(approval_id: RowId, body: EnvelopeIn, principal: CurrentPrincipal,
+                    db: Db) -> DecisionOut:
     approval = service.revoke(db, approval_id=approval_id, supervisor=principal.user,
-                              envelope=body.envelope, signer=signer, password=body.password)
+                              envelope=body.envelope, password=body.password)
     return DecisionOut(**service.approval_summary(db, approval),
                        receipt=service.receipt_of(db, approval))
 
