@@ -31,6 +31,7 @@ from ..decide_guard import (
 from ..events import record
 from ..missions import MissionError, NotFound, get_mission
 from ..reauth import confirm_password
+from ..report_service import ReportService
 from ..tables import (
     Approval,
     Mission,
@@ -62,11 +63,11 @@ class Context:
     report: dict[str, Any]
 
 
-def _context(db: DbSession, submission_id: int) -> Context:
+def _context(db: DbSession, submission_id: int, reports: ReportService) -> Context:
     submission = get_submission(db, submission_id)
     version = db.get_one(MissionVersion, submission.version_id)
     mission = get_mission(db, version.mission_id)
-    return Context(submission, version, mission, _report(db, version))
+    return Context(submission, version, mission, _report(db, version, reports))
 
 
 def _statement(db: DbSession, ctx: Context, *, decision: str, reason: str, supervisor: User,
@@ -116,11 +117,11 @@ def _reason(decision: str, reason: str) -> str:
 
 
 def prepare_decision(db: DbSession, *, submission_id: int, supervisor: User, decision: str,
-                     reason: str, key_id: str) -> Prepared:
+                     reason: str, key_id: str, reports: ReportService) -> Prepared:
     """The exact statement the supervisor signs (the client signs its DSSE PAE)."""
     if decision not in ("approved", "rejected"):
         raise MissionError("decision is 'approved' or 'rejected'")
-    ctx = _context(db, submission_id)
+    ctx = _context(db, submission_id, reports)
     _check_open(ctx)
     _check_duties(db, supervisor, ctx.version, ctx.submission)
     _usable_key(db, key_id, supervisor)
@@ -221,14 +222,14 @@ def _store(db: DbSession, ctx: Context, *, envelope_text: str, statement: dict[s
 
 
 def decide(db: DbSession, *, submission_id: int, supervisor: User, envelope: str,
-           password: str | None) -> Approval:
+           password: str | None, reports: ReportService) -> Approval:
     """Verify a signed decision and store its envelope verbatim, or refuse with nothing kept.
     `password` is the supervisor's, entered again for this decision (store/reauth.py)."""
     # issue 14 (decisions): user verification first, then the row locks (store/decide_guard.py).
     confirm_password(db, username=supervisor.username, password_hash=supervisor.password_hash,
                      password=password)
     lock_submission(db, submission_id)
-    ctx = _context(db, submission_id)
+    ctx = _context(db, submission_id, reports)
     _check_duties(db, supervisor, ctx.version, ctx.submission)
     _, statement, key, _ = _verified(db, envelope, supervisor)
     if statement["predicate"].get("submission") != submission_id:

@@ -13,7 +13,7 @@ from ...approvals.note import signature_line
 from ...approvals.signer import LogSigner
 from ...approvals.signer import Refused as SignerRefused
 from ...errors import Conflict, Unavailable
-from ..db import BEGIN_MODE, LogTreeCache
+from ..db import BEGIN_MODE, LogTreeCache, writes
 from ..log_gaps import missing_entries
 from ..missions import NotFound
 from ..tables import (
@@ -34,7 +34,7 @@ def _checkpoint_now(db: DbSession, signer: LogSigner, *,
     why the signer refused to sign a newer one (None when it did not refuse). Only committed
     entries are signed, so a signed head is never rolled back with a failed transaction.
     A read-only session signs through a short write session."""
-    if not db.info.get("write", True):
+    if not writes(db):
         from ..db import database_of
 
         with database_of(db).session() as writer:
