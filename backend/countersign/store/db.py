@@ -213,8 +213,26 @@ def _refuse_writes(session: Session, _context: Any, _instances: Any) -> None:
 
 
 def database_of(session: Session) -> Database:
+    """The database that opened the session, to open a short session of its own beside it."""
     database: Database = session.info["database"]
     return database
+
+
+# The store reaches the app's services through a session at two places only, both below
+# what a route calls: the event log's receipts (events.py, logged_roles.py) and the log's
+# Merkle tree cache (approvals/log.py). Routes and domain services get them from AppServices
+# (services/app.py) instead; tests/unit/test_no_info_services.py holds both rules.
+def log_signer_of(session: Session) -> LogSigner | None:
+    """The log signer that receipts what this session appends (None for a session of a
+    database without one, e.g. a tool run without the log key)."""
+    database: Database | None = session.info.get("database")
+    return database.log_signer if database is not None else None
+
+
+def log_trees_of(session: Session) -> LogTreeCache | None:
+    """The cached Merkle tree of the log of the session's database (None: no database)."""
+    database: Database | None = session.info.get("database")
+    return database.log_tree_cache if database is not None else None
 
 
 @contextmanager

@@ -13,7 +13,7 @@ from ...approvals.note import signature_line
 from ...approvals.signer import LogSigner
 from ...approvals.signer import Refused as SignerRefused
 from ...errors import Conflict, Unavailable
-from ..db import BEGIN_MODE, LogTreeCache, writes
+from ..db import BEGIN_MODE, LogTreeCache, log_trees_of, writes
 from ..log_gaps import missing_entries
 from ..missions import NotFound
 from ..tables import (
@@ -124,8 +124,7 @@ def _committed_tree(db: DbSession) -> Tree:
     matches the database; otherwise it is rebuilt) and any newer leaves. Cached trees are never
     mutated, only replaced, so concurrent readers may share them."""
     engine = db.get_bind().engine
-    owner = db.info.get("database")
-    cache: LogTreeCache = owner.log_tree_cache if owner is not None else LogTreeCache()
+    cache = log_trees_of(db) or LogTreeCache()
     cached = cache.tree
     with engine.connect() as opened:
         # A reader of committed rows: never ask for SQLite's write lock (this request may hold it).
