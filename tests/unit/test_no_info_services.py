@@ -63,12 +63,13 @@ def info_lookups(source: str) -> Iterator[tuple[int, str]]:
     tree = ast.parse(source)
     constants = _constants(tree)
     for node in ast.walk(tree):
-        key = None
         if isinstance(node, ast.Subscript) and _is_info(node.value):
             key = _key(node.slice, constants)
         elif (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)
               and _is_info(node.func.value) and node.args):
             key = _key(node.args[0], constants)
+        else:
+            continue
         if key in SERVICE_KEYS:
             yield node.lineno, key
 
