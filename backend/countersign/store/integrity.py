@@ -44,13 +44,6 @@ def approval_integrity(db: DbSession, approval: Approval) -> list[str]:
     return problems
 
 
-def submission_checked(db: DbSession, submission: Submission) -> tuple[str, list[str]]:
-    """The submission's state as the log tells it (the row's when the log never created it),
-    and how its row disagrees. The log's state is what the API shows: a forged row is named,
-    not shown."""
-    return submissions_checked(db, [submission])[submission.id]
-
-
 # Submissions whose log entries one query reads: two LIKE patterns each, well below SQLite's
 # limit on the depth of an expression (1000).
 _CHECKED_PER_QUERY = 100
@@ -63,8 +56,10 @@ def _mentions(sid: int) -> tuple[str, str]:
 
 def submissions_checked(db: DbSession, submissions: list[Submission]
                         ) -> dict[int, tuple[str, list[str]]]:
-    """submission_checked for each of these submissions, reading the log entries that mention
-    them in one query per hundred submissions (not one per submission)."""
+    """Each submission's state as the log tells it (the row's when the log never created it),
+    and how its row disagrees. The log's state is what the API shows: a forged row is named,
+    not shown. The log entries that mention the submissions are read in one query per hundred
+    submissions (not one per submission)."""
     # What LIKE matches, here in Python: SQLite's LIKE ignores the case of ASCII letters.
     fold = str.lower if db.get_bind().dialect.name == "sqlite" else str
     checked: dict[int, tuple[str, list[str]]] = {}
