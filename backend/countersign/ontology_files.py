@@ -11,8 +11,11 @@ from __future__ import annotations
 import os
 from functools import cache
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from rdflib import Graph
+if TYPE_CHECKING:
+    # rdflib costs ~40 ms to import; `validate` needs only the folder (for the fingerprint).
+    from rdflib import Graph
 
 MEO = "meo.ttl"
 SHAPES = "shapes.ttl"
@@ -51,6 +54,8 @@ def load_graph(name: str) -> Graph:
     Oxigraph parses the Turtle (orders/rdf_index.py), about ten times faster than rdflib's
     parser: a quarter of the MEO check of `countersign validate` went to reading these files.
     The graph holds the same statements (tests/unit/test_ontology_files.py)."""
+    from rdflib import Graph
+
     from .orders.rdf_index import parse_turtle
 
     path = ontology_path(name)

@@ -19,9 +19,9 @@ from pathlib import Path
 
 import pytest
 
+from countersign.approved_package.build import read_tar, write_tar
+from countersign.approved_package.verify import verify_package
 from countersign.cli import main
-from countersign.export.package import read_tar, write_tar
-from countersign.export.package_verify import verify_package
 
 from .approval_helpers import MISSION, approve, new_version, register_key, submit
 from .conftest import World

@@ -18,9 +18,9 @@ from types import ModuleType
 import pytest
 
 from countersign.approvals import dsse
+from countersign.approved_package.build import build_package, read_tar, write_tar
+from countersign.approved_package.verify import verify_package
 from countersign.cli import main
-from countersign.export.package import build_package, read_tar, write_tar
-from countersign.export.package_verify import verify_package
 from countersign.store.packages import package_parts
 
 from ..export.execution_logs import evidenced_log

@@ -9,7 +9,7 @@ from typing import Any
 from fastapi.testclient import TestClient
 
 from countersign.orders.examples import example_bytes, load_example
-from countersign.rehearse.plain import SECTION, rules_sentences
+from countersign.rules.plain_orders import SECTION, rules_sentences
 
 from .approval_helpers import MISSION, approve, register_key
 from .conftest import World

@@ -33,10 +33,10 @@ from typing import Any
 from countersign.orders.model import Orders
 from countersign.verify import report as report_module
 from countersign.verify.logic import LogicCache
-from countersign.verify.meo import meo_check
 from countersign.verify.parts import PartsCache, part_keys
 from countersign.verify.report import validate
 
+from ..oracles.meo_route import meo_check
 from .bench_meo import meo_mission
 
 PIRATES = Path(__file__).resolve().parents[2] / "../shared/reference/nps-ethical-control"

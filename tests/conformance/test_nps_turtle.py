@@ -19,9 +19,10 @@ from countersign.orders.findings import Finding
 from countersign.orders.model import OUTCOMES, Orders
 from countersign.orders.reader import read_file
 from countersign.orders.turtle import nps_graph, read_turtle, write_nps_turtle
-from countersign.verify.meo import meo_check
 from countersign.verify.paths import paths_of
 from countersign.verify.structure import check_structure
+
+from ..oracles.meo_route import meo_check
 
 NPS = Path(__file__).resolve().parents[2].parent / "shared" / "reference" / "nps-ethical-control"
 TURTLE_DIR = NPS / "missions" / "turtle"

@@ -13,7 +13,7 @@ import sys
 from countersign.approvals.statement import build_statement, statement_bytes
 from countersign.orders.canonical import canonical_bytes, digest
 from countersign.orders.examples import example_names, load_example
-from countersign.rehearse.plain import write_for_supervisor
+from countersign.rules.plain_orders import write_for_supervisor
 from countersign.verify.graph import build_graph
 from countersign.verify.paths import count_paths, iter_path_lines, iter_paths, trace_text
 from countersign.verify.report import validate

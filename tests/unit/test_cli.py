@@ -91,7 +91,7 @@ def test_examples_and_export() -> None:
 
 def test_export_plain_appends_the_contingency_rules() -> None:
     from countersign.orders.examples import load_example
-    from countersign.rehearse.plain import rules_sentences
+    from countersign.rules.plain_orders import rules_sentences
 
     exported = run_cli("export", "example:search-and-sample-rules", "--format", "plain")
     assert exported.returncode == 0, exported.stderr

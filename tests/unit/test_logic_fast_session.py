@@ -23,7 +23,7 @@ from countersign.verify.graph import build_graph
 from countersign.verify.logic import CheckResult, Item, LogicCache, Session, check_logic
 from countersign.verify.logic import run as logic_run
 from countersign.verify.properties import check_properties
-from countersign.verify.z3_adapter import check_assumptions
+from countersign.verify.z3_adapter import check_asts
 from tests.bench.bench_logic import logic_orders
 
 
@@ -66,7 +66,7 @@ class ReferenceSession(Session):
             self._timeout = timeout
         self.calls += 1
         literals = [self._literal(i) for i in items]  # a Python expression per assumption
-        status = check_assumptions(z3, self.ctx, self.solver, literals)
+        status = check_asts(z3, self.ctx, self.solver, [literal.as_ast() for literal in literals])
         if status == "sat":
             return CheckResult("sat")
         if status == "unsat":

@@ -23,17 +23,13 @@ from countersign.orders.findings import Finding
 from countersign.orders.model import Orders
 from countersign.orders.turtle import MEO as M
 from countersign.orders.turtle import MissionIris, orders_to_graph, read_turtle
-from countersign.verify.meo import meo_check
-from countersign.verify.meo.reasoning import FACT_PROPERTIES, infer, naive_closure
-from countersign.verify.meo.shapes import (
-    native_violations,
-    shacl_violations,
-    shape_info,
-    validation_graph,
-)
+from countersign.verify.meo.reasoning import FACT_PROPERTIES, infer
+from countersign.verify.meo.shapes import shape_info
 from countersign.verify.structure import check_structure
 
-from ..bench.bench_meo import hermit_available, hermit_seconds, meo_mission
+from ..bench.bench_meo import hermit_available, hermit_seconds, meo_mission, naive_closure
+from ..oracles.meo_route import meo_check
+from ..oracles.meo_shapes import native_violations, shacl_violations, validation_graph
 
 TABLE_2 = {
     *(f"M{i}" for i in range(1, 8)),

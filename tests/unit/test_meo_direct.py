@@ -6,6 +6,7 @@ not goals, features listing tests, vehicles not targeted)."""
 from __future__ import annotations
 
 import copy
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -14,9 +15,9 @@ from hypothesis import strategies as st
 
 from countersign.orders.examples import example_names, load_example
 from countersign.orders.model import Orders
-from countersign.verify.meo import meo_check
 from countersign.verify.meo.direct import CODES, meo_only_findings
 
+from ..oracles.meo_route import meo_check
 from .test_meo import PLANTED, defective_orders, exemplar_data
 
 
@@ -84,3 +85,16 @@ def test_terminals_beside_the_mission_scope(scope: list[str]) -> None:
     assert_same(Orders.model_validate(data))
     data["start"] = "COMPLETE"
     assert_same(Orders.model_validate(data))
+
+
+def test_the_product_has_one_route_to_these_findings() -> None:
+    """The shapes route lives under tests/oracles; the product checks C1, C2, M6 and M7 only in
+    verify/meo/direct.py (and never runs pySHACL)."""
+    import countersign
+    import countersign.verify.meo as meo
+    import countersign.verify.meo.shapes as shapes
+
+    assert not {"meo_check", "findings_from"} & set(dir(meo))
+    assert not {"native_violations", "shacl_violations", "validation_graph"} & set(dir(shapes))
+    backend = Path(countersign.__file__).parent
+    assert [p.name for p in backend.rglob("*.py") if "pyshacl" in p.read_text()] == []

@@ -78,8 +78,8 @@ def test_z3_raw_check_assumptions_answers_like_the_wrapper() -> None:
     solver = z3.Solver(ctx=ctx)
     a, b = z3.Bool("a", ctx), z3.Bool("b", ctx)
     solver.add(z3.Implies(a, z3.Not(b)))
-    assert z3_adapter.check_assumptions(z3, ctx, solver, [a]) == "sat"
-    assert z3_adapter.check_assumptions(z3, ctx, solver, [a, b]) == "unsat"
+    assert z3_adapter.check_asts(z3, ctx, solver, [a.as_ast()]) == "sat"
+    assert z3_adapter.check_asts(z3, ctx, solver, [a.as_ast(), b.as_ast()]) == "unsat"
     assert {str(x) for x in solver.unsat_core()} == {"a", "b"}
     assert z3_adapter.unsat_core_ids(z3, ctx, solver) == {x.get_id() for x in solver.unsat_core()}
     assert z3_adapter.check_asts(z3, ctx, solver, [a.as_ast()]) == "sat"

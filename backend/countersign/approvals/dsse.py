@@ -134,15 +134,3 @@ def write_private_key(path: Path, key: Ed25519PrivateKey) -> None:
     descriptor = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
     with os.fdopen(descriptor, "wb") as handle:
         handle.write(private_pem(key))
-
-
-def load_or_create_private_key(path: Path) -> Ed25519PrivateKey:
-    try:
-        return load_private_pem(path.read_bytes())
-    except FileNotFoundError:
-        key = generate_key()
-        try:
-            write_private_key(path, key)
-        except FileExistsError:  # another process created it first
-            return load_private_pem(path.read_bytes())
-        return key

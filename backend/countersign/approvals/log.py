@@ -42,12 +42,6 @@ def sign_checkpoint(key: Ed25519PrivateKey, size: int, root: bytes, *,
             "public_key": public_text(key), "signature": b64(key.sign(body.encode()))}
 
 
-def verify_checkpoint(checkpoint: dict[str, Any], key: Ed25519PublicKey) -> tuple[int, bytes]:
-    """(size, root) of a checkpoint whose signature and note are valid under this key."""
-    head = verify_checkpoint_head(checkpoint, key)
-    return head.size, head.root
-
-
 def verify_checkpoint_head(checkpoint: dict[str, Any], key: Ed25519PublicKey) -> Head:
     """The head of a checkpoint: `note` is its C2SP tlog-checkpoint body, `signature` the log
     key's Ed25519 signature over it, `signed_note` (when present) the signed note."""

@@ -48,9 +48,6 @@ class RoleBook:
     # Accounts whose only creation entry was made by someone who was not an admin.
     ungranted: dict[str, int] = field(default_factory=dict)
 
-    def role_of(self, user: str) -> LoggedRole | None:
-        return self.roles.get(user)
-
     def decision_problem(self, user: str) -> str | None:
         """Why the log does not let `user` decide now (None when it does)."""
         logged = self.roles.get(user)

@@ -208,7 +208,7 @@ def cmd_run(args: argparse.Namespace) -> int:
 
 
 def cmd_export(args: argparse.Namespace) -> int:
-    from ..rehearse.plain import write_for_supervisor
+    from ..rules.plain_orders import write_for_supervisor
 
     loaded = load_orders(args.file, teams=args.format in ("plain", "json"))
     if args.format in ("imc", "moos"):

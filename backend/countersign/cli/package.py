@@ -119,7 +119,7 @@ def _read_package(path: Path) -> bytes | None:
 
 
 def cmd_vehicle_verify(args: argparse.Namespace) -> int:
-    from ..export.package_verify import verify_package
+    from ..approved_package.verify import verify_package
 
     data = _read_package(args.package)
     if data is None:
@@ -135,7 +135,7 @@ def cmd_vehicle_verify(args: argparse.Namespace) -> int:
 
 
 def cmd_vehicle_unpack(args: argparse.Namespace) -> int:
-    from ..export.package_unpack import unpack_package
+    from ..approved_package.unpack import unpack_package
 
     data = _read_package(args.package)
     if data is None:

@@ -51,11 +51,6 @@ def require_sound(orders: Orders, notes: list[ExportNote]) -> None:
                                 f"exported despite a structural error: {finding.message}"))
 
 
-def flat_for_vehicle(orders: Orders, notes: list[ExportNote]) -> Orders:
-    """The flat automaton a vehicle runs (see `flat_with_nesting`)."""
-    return flat_with_nesting(orders, notes)[0]
-
-
 def flat_with_nesting(orders: Orders, notes: list[ExportNote]) -> tuple[Orders, Nesting | None]:
     """A vehicle runs a refined mission as its flat automaton (issue 37): each goal inside a
     refinement becomes a maneuver or mode of its own, named by its flat id (`G1/G1.2`; `#k`

@@ -10,13 +10,19 @@ from fractions import Fraction
 
 from ..verify.expressions import (
     Compare,
+    Context,
     Expr,
     ExprError,
+    ExprVisitor,
     Implies,
     Logic,
     Name,
+    Neg,
     Not,
     Num,
+    Product,
+    Special,
+    Sum,
     Text,
     Truth,
     parse,
@@ -58,24 +64,65 @@ def _join(op: str, parts: list[str | None]) -> str | None:
 
 def helm_condition(expr: Expr, holds: bool = True) -> str | None:
     """The condition true exactly when `expr` holds (or, with holds=False, is broken)."""
-    if isinstance(expr, Name):
-        return f"({variable(expr.name)} = {'true' if holds else 'false'})"
-    if isinstance(expr, Not):
-        return helm_condition(expr.operand, not holds)
-    if isinstance(expr, Compare):
-        parts = [_comparison(expr.operands[i], op, expr.operands[i + 1], holds)
-                 for i, op in enumerate(expr.ops)]
+    return _Helm(holds).visit(expr)
+
+
+class _Helm(ExprVisitor[str | None]):
+    """A helm condition, or None for the kinds the helm cannot express on their own."""
+
+    __slots__ = ("holds",)
+
+    def __init__(self, holds: bool) -> None:
+        self.holds = holds
+
+    def visit_num(self, node: Num) -> str | None:
+        return None
+
+    def visit_text(self, node: Text) -> str | None:
+        return None
+
+    def visit_truth(self, node: Truth) -> str | None:
+        return None
+
+    def visit_name(self, node: Name) -> str | None:
+        return f"({variable(node.name)} = {'true' if self.holds else 'false'})"
+
+    def visit_special(self, node: Special) -> str | None:
+        return None
+
+    def visit_context(self, node: Context) -> str | None:
+        return None
+
+    def visit_neg(self, node: Neg) -> str | None:
+        return None
+
+    def visit_not(self, node: Not) -> str | None:
+        return helm_condition(node.operand, not self.holds)
+
+    def visit_sum(self, node: Sum) -> str | None:
+        return None
+
+    def visit_product(self, node: Product) -> str | None:
+        return None
+
+    def visit_compare(self, node: Compare) -> str | None:
+        holds = self.holds
+        parts = [_comparison(node.operands[i], op, node.operands[i + 1], holds)
+                 for i, op in enumerate(node.ops)]
         return _join("and" if holds else "or", parts)
-    if isinstance(expr, Logic):
-        op = expr.op if holds else ("or" if expr.op == "and" else "and")
-        return _join(op, [helm_condition(e, holds) for e in expr.operands])
-    if isinstance(expr, Implies):
+
+    def visit_logic(self, node: Logic) -> str | None:
+        holds = self.holds
+        op = node.op if holds else ("or" if node.op == "and" else "and")
+        return _join(op, [helm_condition(e, holds) for e in node.operands])
+
+    def visit_implies(self, node: Implies) -> str | None:
         # a implies (b implies c): not a or (not b or c)
-        *premises, conclusion = expr.operands
+        holds = self.holds
+        *premises, conclusion = node.operands
         parts = [helm_condition(p, not holds) for p in premises]
         parts.append(helm_condition(conclusion, holds))
         return _join("or" if holds else "and", parts)
-    return None
 
 
 def violation(source: str | None) -> str | None:

@@ -11,11 +11,21 @@ from collections.abc import Mapping
 
 from .expressions import (
     Compare,
+    Context,
     Expr,
     ExprError,
+    ExprVisitor,
     Implies,
     Logic,
+    Name,
+    Neg,
     Not,
+    Num,
+    Product,
+    Special,
+    Sum,
+    Text,
+    Truth,
     describe,
     parse,
     quantity_table,
@@ -39,22 +49,63 @@ def _unit_of(expr: Compare, quantities: Mapping[str, Quantity]) -> str:
 
 def expr_words(expr: Expr, quantities: Mapping[str, Quantity]) -> str:
     """The condition in words: comparisons as 'at least', 'at most', connectives spelled out."""
-    if isinstance(expr, Compare):
-        unit = _unit_of(expr, quantities)
-        words = describe(expr.operands[0], quantities, unit)
-        for op, operand in zip(expr.ops, expr.operands[1:], strict=True):
+    return _ConditionWords(quantities).visit(expr)
+
+
+class _ConditionWords(ExprVisitor[str]):
+    """Comparisons and connectives are said here; every other kind as `describe` says it."""
+
+    __slots__ = ("quantities",)
+
+    def __init__(self, quantities: Mapping[str, Quantity]) -> None:
+        self.quantities = quantities
+
+    def visit_num(self, node: Num) -> str:
+        return describe(node, self.quantities)
+
+    def visit_text(self, node: Text) -> str:
+        return describe(node, self.quantities)
+
+    def visit_truth(self, node: Truth) -> str:
+        return describe(node, self.quantities)
+
+    def visit_name(self, node: Name) -> str:
+        return describe(node, self.quantities)
+
+    def visit_special(self, node: Special) -> str:
+        return describe(node, self.quantities)
+
+    def visit_context(self, node: Context) -> str:
+        return describe(node, self.quantities)
+
+    def visit_neg(self, node: Neg) -> str:
+        return describe(node, self.quantities)
+
+    def visit_sum(self, node: Sum) -> str:
+        return describe(node, self.quantities)
+
+    def visit_product(self, node: Product) -> str:
+        return describe(node, self.quantities)
+
+    def visit_compare(self, node: Compare) -> str:
+        quantities = self.quantities
+        unit = _unit_of(node, quantities)
+        words = describe(node.operands[0], quantities, unit)
+        for op, operand in zip(node.ops, node.operands[1:], strict=True):
             words += f" {_OPS.get(op, op)} {describe(operand, quantities, unit)}"
         return words
-    if isinstance(expr, Logic):
-        parts = [_grouped(o, quantities) for o in expr.operands]
-        return f" {expr.op} ".join(parts)
-    if isinstance(expr, Implies):
-        first, *rest = expr.operands
-        then = " implies ".join(_grouped(o, quantities) for o in rest)
-        return f"if {_grouped(first, quantities)} then {then}"
-    if isinstance(expr, Not):
-        return f"not {_grouped(expr.operand, quantities)}"
-    return describe(expr, quantities)
+
+    def visit_logic(self, node: Logic) -> str:
+        parts = [_grouped(o, self.quantities) for o in node.operands]
+        return f" {node.op} ".join(parts)
+
+    def visit_implies(self, node: Implies) -> str:
+        first, *rest = node.operands
+        then = " implies ".join(_grouped(o, self.quantities) for o in rest)
+        return f"if {_grouped(first, self.quantities)} then {then}"
+
+    def visit_not(self, node: Not) -> str:
+        return f"not {_grouped(node.operand, self.quantities)}"
 
 
 def _grouped(expr: Expr, quantities: Mapping[str, Quantity]) -> str:

@@ -2,7 +2,7 @@
 
 Every constraint and norm shows its text and the condition that is checked, in words and in
 symbols; every terminal is named by its own title; path properties and the vehicle profile
-that was checked follow (the contingency rules are appended by `rehearse.plain`), so nothing
+that was checked follow (the contingency rules are appended by `rules.plain_orders`), so nothing
 the signature covers is left unread.
 
 Goals and constraints are numbered by their position in the orders; successors are named by

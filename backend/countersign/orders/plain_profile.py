@@ -3,7 +3,7 @@ and the vehicle profile that the checks ran against (M6, M7, BUDGET).
 
 All of it is inside the signed digests (the orders', and the profile copied into the version),
 so all of it is shown to the supervisor who signs. The contingency rules follow in words from
-`rehearse.plain` (the section the plain export appends).
+`rules.plain_orders` (the section the plain export appends).
 """
 
 from __future__ import annotations

@@ -8,11 +8,13 @@ from __future__ import annotations
 
 import json
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, TypeVar
 
-from pydantic import ValidationError
+from pydantic import BaseModel, ValidationError
+from pydantic_core import ErrorDetails
 
 from .. import strict_json
 from .findings import Finding
@@ -86,49 +88,91 @@ def _model_path(loc: tuple[int | str, ...]) -> tuple[int | str, ...]:
     )
 
 
-def problems_from_validation(exc: ValidationError) -> OrdersReadError:
+# The reader core, shared by every JSON input read into a pydantic model (orders, and the
+# planning problem in plan/model.py): the error class and the wording of a few errors differ.
+ReadError = TypeVar("ReadError", bound=OrdersReadError)
+Model = TypeVar("Model", bound=BaseModel)
+# (pydantic's error, its JSON path, its message) -> the (path, message) an author reads.
+Reword = Callable[[ErrorDetails, str, str], tuple[str, str]]
+
+
+def validation_problems(exc: ValidationError, error: type[ReadError],
+                        reword: Reword) -> ReadError:
+    """One problem per distinct (path, message) of a validation error, the first
+    MAX_PROBLEMS_SHOWN of them shown."""
     problems: list[Problem] = []
     seen: set[tuple[str, str]] = set()
-    errors = exc.errors(include_url=False)
-    for err in errors:
+    for err in exc.errors(include_url=False):
         path = location_path(tuple(err["loc"]))
         message = str(err["msg"]).removeprefix("Value error, ")
-        if err["type"] == "literal_error" and path == "$.format":
-            message = "format must be 'countersign.orders/1'"
+        path, message = reword(err, path, message)
         if (path, message) in seen:
             continue
         seen.add((path, message))
         problems.append(Problem(path, message))
-    return OrdersReadError(problems[:MAX_PROBLEMS_SHOWN], total=len(problems))
+    return error(problems[:MAX_PROBLEMS_SHOWN], total=len(problems))
 
 
-def reject_duplicate_keys(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
-    result: dict[str, Any] = {}
-    for key, value in pairs:
-        if key in result:
-            raise ValueError(f"the key {key!r} appears twice in one object")
-        result[key] = value
-    return result
-
-
-def orders_from_data(data: Any) -> Orders:
+def validated(model: type[Model], data: Any, *, what: str, error: type[ReadError],
+              reword: Reword) -> Model:
+    """`data` (parsed JSON) as `model`, or `error` saying what is wrong and where."""
     if not isinstance(data, dict):
         kind = "an array" if isinstance(data, list) else f"a {type(data).__name__}"
-        raise OrdersReadError([Problem("$", f"orders must be a JSON object, not {kind}")])
+        raise error([Problem("$", f"{what} must be a JSON object, not {kind}")])
     try:
-        return Orders.model_validate(data)
+        return model.model_validate(data)
     except ValidationError as exc:
-        raise problems_from_validation(exc) from None
+        raise validation_problems(exc, error, reword) from None
 
 
-def read_json(data: bytes) -> Orders:
+def refuse_size(data: bytes, name: str, error: type[OrdersReadError]) -> None:
+    """Refuse input over the size limit, or empty."""
+    if len(data) > MAX_INPUT_BYTES:
+        limit_mib = MAX_INPUT_BYTES // (1024 * 1024)
+        raise error([Problem("$", f"{name} is larger than the {limit_mib} MiB limit")])
+    if not data.strip():
+        raise error([Problem("$", f"{name} is empty")])
+
+
+def json_data(data: bytes, error: type[OrdersReadError]) -> Any:
     # One JSON policy everywhere (strict_json): no duplicate keys, no NaN/Infinity/1e999,
     # bounded depth; each refusal names its JSON path.
     try:
-        parsed = strict_json.loads(data)
+        return strict_json.loads(data)
     except strict_json.JsonPolicyError as exc:
-        raise OrdersReadError([Problem(exc.path, exc.message)]) from None
-    return orders_from_data(parsed)
+        raise error([Problem(exc.path, exc.message)]) from None
+
+
+def read_limited(path: str | Path, error: type[OrdersReadError]) -> bytes:
+    """A file's bytes, never more than one byte over the size limit."""
+    file_path = Path(path)
+    try:
+        with file_path.open("rb") as handle:
+            return handle.read(MAX_INPUT_BYTES + 1)
+    except FileNotFoundError:
+        raise error([Problem("$", f"{file_path} does not exist")]) from None
+    except IsADirectoryError:
+        raise error([Problem("$", f"{file_path} is a directory")]) from None
+    except OSError as exc:
+        raise error([Problem("$", f"cannot read {file_path}: {exc.strerror}")]) from None
+
+
+def _reword_orders(err: ErrorDetails, path: str, message: str) -> tuple[str, str]:
+    if err["type"] == "literal_error" and path == "$.format":
+        message = "format must be 'countersign.orders/1'"
+    return path, message
+
+
+def problems_from_validation(exc: ValidationError) -> OrdersReadError:
+    return validation_problems(exc, OrdersReadError, _reword_orders)
+
+
+def orders_from_data(data: Any) -> Orders:
+    return validated(Orders, data, what="orders", error=OrdersReadError, reword=_reword_orders)
+
+
+def read_json(data: bytes) -> Orders:
+    return orders_from_data(json_data(data, OrdersReadError))
 
 
 # Turtle that opens with a triple: an IRI with a scheme, fragment or nothing in it (not an XML
@@ -157,11 +201,7 @@ def sniff_format(data: bytes) -> str:
 
 def read_bytes(data: bytes, name: str = "<input>") -> ReadResult:
     """Read orders from raw bytes, detecting JSON, AVCL XML or MEO Turtle by content."""
-    if len(data) > MAX_INPUT_BYTES:
-        limit_mib = MAX_INPUT_BYTES // (1024 * 1024)
-        raise OrdersReadError([Problem("$", f"{name} is larger than the {limit_mib} MiB limit")])
-    if not data.strip():
-        raise OrdersReadError([Problem("$", f"{name} is empty")])
+    refuse_size(data, name, OrdersReadError)
     kind = sniff_format(data)
     if kind == "avcl":
         from .avcl import read_avcl
@@ -176,14 +216,4 @@ def read_bytes(data: bytes, name: str = "<input>") -> ReadResult:
 
 def read_file(path: str | Path) -> ReadResult:
     """Read orders from a file, never reading more than the size limit."""
-    file_path = Path(path)
-    try:
-        with file_path.open("rb") as handle:
-            data = handle.read(MAX_INPUT_BYTES + 1)
-    except FileNotFoundError:
-        raise OrdersReadError([Problem("$", f"{file_path} does not exist")]) from None
-    except IsADirectoryError:
-        raise OrdersReadError([Problem("$", f"{file_path} is a directory")]) from None
-    except OSError as exc:
-        raise OrdersReadError([Problem("$", f"cannot read {file_path}: {exc.strerror}")]) from None
-    return read_bytes(data, str(file_path))
+    return read_bytes(read_limited(path, OrdersReadError), str(Path(path)))

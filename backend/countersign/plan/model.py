@@ -16,22 +16,23 @@ import math
 from pathlib import Path
 from typing import Annotated, Any, Final, Literal
 
-from pydantic import AfterValidator, BaseModel, ConfigDict, Field, ValidationError, model_validator
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, model_validator
+from pydantic_core import ErrorDetails
 
-from .. import strict_json
 from ..orders.model import Id, Text
 from ..orders.reader import (
-    MAX_INPUT_BYTES,
     OrdersReadError,
-    Problem,
+    json_data,
     location_path,
+    read_limited,
+    refuse_size,
+    validated,
 )
 
 FORMAT: Final = "countersign.plan/1"
 MAX_AREAS: Final = 64  # the model's bound; the exact solver has its own, smaller, state bound
 MAX_PASSES: Final = 16
 MAX_COORDINATE_M: Final = 1e8
-MAX_PROBLEMS_SHOWN = 20
 
 
 def _finite(value: float) -> float:
@@ -137,50 +138,30 @@ class PlanReadError(OrdersReadError):
     """Input that cannot be read as a planning problem (or a plan); `problems` say where."""
 
 
-def problems_from_validation(exc: ValidationError) -> PlanReadError:
-    problems: list[Problem] = []
-    seen: set[tuple[str, str]] = set()
-    for err in exc.errors(include_url=False):
-        path = location_path(tuple(err["loc"]))
-        message = str(err["msg"]).removeprefix("Value error, ")
-        if err["type"] == "literal_error" and path == "$.format":
-            message = f"format must be {FORMAT!r}"
-        elif err["type"] == "literal_error" and path == "$.level":
-            message = "level must be 1 (order only) or 2 (order and passes)"
-        elif err["type"] == "missing" and isinstance(err["loc"][-1], int):
-            path = location_path(tuple(err["loc"])[:-1])
-            message = "a point is two numbers [x, y] in metres"
-        elif err["type"] == "too_long" and path.endswith(("start", "recovery", "entry", "exit")):
-            message = "a point is two numbers [x, y] in metres"
-        elif err["type"] == "extra_forbidden":
-            message = "unknown field (check its spelling)"
-        if (path, message) not in seen:
-            seen.add((path, message))
-            problems.append(Problem(path, message))
-    return PlanReadError(problems[:MAX_PROBLEMS_SHOWN], total=len(problems))
+def _reword(err: ErrorDetails, path: str, message: str) -> tuple[str, str]:
+    if err["type"] == "literal_error" and path == "$.format":
+        message = f"format must be {FORMAT!r}"
+    elif err["type"] == "literal_error" and path == "$.level":
+        message = "level must be 1 (order only) or 2 (order and passes)"
+    elif err["type"] == "missing" and isinstance(err["loc"][-1], int):
+        path = location_path(tuple(err["loc"])[:-1])
+        message = "a point is two numbers [x, y] in metres"
+    elif err["type"] == "too_long" and path.endswith(("start", "recovery", "entry", "exit")):
+        message = "a point is two numbers [x, y] in metres"
+    elif err["type"] == "extra_forbidden":
+        message = "unknown field (check its spelling)"
+    return path, message
 
 
 def problem_from_data(data: Any) -> PlanProblem:
-    if not isinstance(data, dict):
-        kind = "an array" if isinstance(data, list) else f"a {type(data).__name__}"
-        raise PlanReadError([Problem("$", f"a planning problem must be a JSON object, not {kind}")])
-    try:
-        return PlanProblem.model_validate(data)
-    except ValidationError as exc:
-        raise problems_from_validation(exc) from None
+    return validated(PlanProblem, data, what="a planning problem", error=PlanReadError,
+                     reword=_reword)
 
 
 def json_from_bytes(data: bytes, name: str = "<input>") -> Any:
     """Parsed JSON, or a `PlanReadError` that says what is wrong and where."""
-    if len(data) > MAX_INPUT_BYTES:
-        limit_mib = MAX_INPUT_BYTES // (1024 * 1024)
-        raise PlanReadError([Problem("$", f"{name} is larger than the {limit_mib} MiB limit")])
-    if not data.strip():
-        raise PlanReadError([Problem("$", f"{name} is empty")])
-    try:
-        return strict_json.loads(data)
-    except strict_json.JsonPolicyError as exc:
-        raise PlanReadError([Problem(exc.path, exc.message)]) from None
+    refuse_size(data, name, PlanReadError)
+    return json_data(data, PlanReadError)
 
 
 def read_bytes(data: bytes, name: str = "<input>") -> PlanProblem:
@@ -188,16 +169,7 @@ def read_bytes(data: bytes, name: str = "<input>") -> PlanProblem:
 
 
 def read_path_bytes(path: str | Path) -> bytes:
-    file_path = Path(path)
-    try:
-        with file_path.open("rb") as handle:
-            return handle.read(MAX_INPUT_BYTES + 1)
-    except FileNotFoundError:
-        raise PlanReadError([Problem("$", f"{file_path} does not exist")]) from None
-    except IsADirectoryError:
-        raise PlanReadError([Problem("$", f"{file_path} is a directory")]) from None
-    except OSError as exc:
-        raise PlanReadError([Problem("$", f"cannot read {file_path}: {exc.strerror}")]) from None
+    return read_limited(path, PlanReadError)
 
 
 def read_file(path: str | Path) -> PlanProblem:

@@ -76,7 +76,3 @@ def bounds(points: Sequence[Point]) -> tuple[float, float, float, float]:
     xs = [p[0] for p in points] or [0.0]
     ys = [p[1] for p in points] or [0.0]
     return (min(xs), min(ys), max(xs), max(ys))
-
-
-def path_length(points: Sequence[Point]) -> float:
-    return sum(math.dist(points[i], points[i + 1]) for i in range(len(points) - 1))

@@ -3,7 +3,7 @@
 step.
 
 Compiling matters because the monitors run every simulated second for every constraint in
-scope; walking the tree with isinstance checks each time would dominate the simulation's cost.
+scope; visiting the tree each time would dominate the simulation's cost.
 A quantity the simulation does not produce is unknown: a comparison on it is unknown, and an
 unknown verdict never ends a goal (the record lists the constraint as unmonitored instead).
 """
@@ -19,6 +19,7 @@ from ..verify.expressions import (
     Context,
     Expr,
     ExprError,
+    ExprVisitor,
     Implies,
     Logic,
     Name,
@@ -71,41 +72,55 @@ def _compare(op: str, a: Value, b: Value) -> bool | None:
 
 
 def compile_expr(expr: Expr) -> Compiled:
-    if isinstance(expr, Num):
-        return _const(float(expr.value))
-    if isinstance(expr, Text):
-        return _const(expr.value)
-    if isinstance(expr, Truth):
-        return _const(expr.value)
-    if isinstance(expr, Name):
-        name = expr.name
+    return _COMPILE.visit(expr)
+
+
+class _Compile(ExprVisitor[Compiled]):
+    __slots__ = ()
+
+    def visit_num(self, node: Num) -> Compiled:
+        return _const(float(node.value))
+
+    def visit_text(self, node: Text) -> Compiled:
+        return _const(node.value)
+
+    def visit_truth(self, node: Truth) -> Compiled:
+        return _const(node.value)
+
+    def visit_name(self, node: Name) -> Compiled:
+        name = node.name
         return lambda values, facts: values.get(name)
-    if isinstance(expr, Special):
-        if expr.name == "behavior":
+
+    def visit_special(self, node: Special) -> Compiled:
+        if node.name == "behavior":
             return lambda values, facts: facts.behavior or ""
         return lambda values, facts: facts.area or ""
-    if isinstance(expr, Context):
-        tag = expr.tag
+
+    def visit_context(self, node: Context) -> Compiled:
+        tag = node.tag
         return lambda values, facts: tag in facts.tags
-    if isinstance(expr, Not):
-        inner = compile_expr(expr.operand)
+
+    def visit_not(self, node: Not) -> Compiled:
+        inner = self.visit(node.operand)
 
         def negate(values: Values, facts: GoalFacts) -> Value:
             v = inner(values, facts)
             return None if v is None else not v
 
         return negate
-    if isinstance(expr, Neg):
-        inner_n = compile_expr(expr.operand)
+
+    def visit_neg(self, node: Neg) -> Compiled:
+        inner = self.visit(node.operand)
 
         def minus(values: Values, facts: GoalFacts) -> Value:
-            v = inner_n(values, facts)
+            v = inner(values, facts)
             return None if v is None or isinstance(v, str) else -float(v)
 
         return minus
-    if isinstance(expr, Logic):
-        parts = [compile_expr(o) for o in expr.operands]
-        decisive = expr.op == "or"
+
+    def visit_logic(self, node: Logic) -> Compiled:
+        parts = [self.visit(o) for o in node.operands]
+        decisive = node.op == "or"
 
         def logic(values: Values, facts: GoalFacts) -> Value:
             unknown = False
@@ -118,8 +133,9 @@ def compile_expr(expr: Expr) -> Compiled:
             return None if unknown else not decisive
 
         return logic
-    if isinstance(expr, Implies):
-        chain = [compile_expr(o) for o in expr.operands]
+
+    def visit_implies(self, node: Implies) -> Compiled:
+        chain = [self.visit(o) for o in node.operands]
 
         def implies(values: Values, facts: GoalFacts) -> Value:
             result: Value = chain[-1](values, facts)
@@ -132,9 +148,10 @@ def compile_expr(expr: Expr) -> Compiled:
             return result
 
         return implies
-    if isinstance(expr, Compare):
-        operands = [compile_expr(o) for o in expr.operands]
-        ops = expr.ops
+
+    def visit_compare(self, node: Compare) -> Compiled:
+        operands = [self.visit(o) for o in node.operands]
+        ops = node.ops
 
         def compare(values: Values, facts: GoalFacts) -> Value:
             unknown = False
@@ -150,8 +167,9 @@ def compile_expr(expr: Expr) -> Compiled:
             return None if unknown else True
 
         return compare
-    if isinstance(expr, Sum):
-        terms = [(op, compile_expr(t)) for op, t in expr.terms]
+
+    def visit_sum(self, node: Sum) -> Compiled:
+        terms = [(op, self.visit(t)) for op, t in node.terms]
 
         def total(values: Values, facts: GoalFacts) -> Value:
             acc = 0.0
@@ -163,24 +181,28 @@ def compile_expr(expr: Expr) -> Compiled:
             return acc
 
         return total
-    product: Product = expr
-    factors = [(op, compile_expr(f)) for op, f in product.factors]
 
-    def multiply(values: Values, facts: GoalFacts) -> Value:
-        acc = 1.0
-        for op, factor in factors:
-            v = factor(values, facts)
-            if v is None or isinstance(v, str):
-                return None
-            if op == "/":
-                if float(v) == 0:
+    def visit_product(self, node: Product) -> Compiled:
+        factors = [(op, self.visit(f)) for op, f in node.factors]
+
+        def multiply(values: Values, facts: GoalFacts) -> Value:
+            acc = 1.0
+            for op, factor in factors:
+                v = factor(values, facts)
+                if v is None or isinstance(v, str):
                     return None
-                acc /= float(v)
-            else:
-                acc *= float(v)
-        return acc
+                if op == "/":
+                    if float(v) == 0:
+                        return None
+                    acc /= float(v)
+                else:
+                    acc *= float(v)
+            return acc
 
-    return multiply
+        return multiply
+
+
+_COMPILE = _Compile()
 
 
 @dataclass(frozen=True)

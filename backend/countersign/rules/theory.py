@@ -17,7 +17,7 @@ misspelt "default" silently ignored would drop a safety rule.
 from __future__ import annotations
 
 import re
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Final
 
@@ -107,12 +107,6 @@ class DefaultTheory:
             if rule.id == rule_id:
                 return rule
         raise KeyError(rule_id)
-
-    def with_defaults(self, extra: Sequence[Rule]) -> DefaultTheory:
-        return DefaultTheory(
-            self.facts, self.strict, (*self.defaults, *extra), self.observables, self.actions,
-            self.sources,
-        )
 
     def merged(self, other: DefaultTheory) -> DefaultTheory:
         mine = {rule.id for rule in self.rules}

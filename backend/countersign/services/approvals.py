@@ -13,7 +13,7 @@ from sqlalchemy.orm import defer
 
 from ..orders.reader import orders_from_data
 from ..orders.writers import write
-from ..rehearse.plain import rules_sentences
+from ..rules.plain_orders import rules_sentences
 from ..store import approvals as store
 from ..store.integrity import submissions_checked
 from ..store.missions import get_version, report_for

@@ -48,10 +48,6 @@ def _lowest_priority(owner_pid: int) -> None:
         os.nice(HASH_NICENESS)
 
 
-def _pid_and_niceness() -> tuple[int, int]:
-    return os.getpid(), os.nice(0)
-
-
 def _hash(parameters: dict[str, Any], password: str | bytes) -> str:
     return PasswordHasher(**parameters).hash(password)
 
@@ -99,15 +95,6 @@ class BoundedHasher(PasswordHasher):
                 self._executor = self._started = None
         if executor is not None:
             executor.shutdown(wait=True, cancel_futures=True)
-
-    def probe(self) -> tuple[int, int] | None:
-        """The pid and niceness of a hashing process, None when hashes run in threads."""
-        with self._lock:
-            executor, started = self._executor, self._started
-        if executor is None or started is None:
-            return None
-        started.result()
-        return executor.submit(_pid_and_niceness).result()
 
     def has_room(self) -> bool:
         """Whether a hash asked for now would be queued (callers check before they count an

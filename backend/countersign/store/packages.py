@@ -1,4 +1,4 @@
-"""Collects an approved package's parts from the database and the log (export/package.py)."""
+"""Collects an approved package's parts from the database and the log (approved_package/)."""
 
 from __future__ import annotations
 
@@ -8,8 +8,8 @@ from sqlalchemy import select
 from sqlalchemy.orm import Session as DbSession
 
 from ..approvals.signer import LogSigner
+from ..approved_package.build import PackageParts
 from ..errors import Conflict
-from ..export.package import PackageParts
 from ..orders.reader import orders_from_data
 from . import missions as service
 from .approvals import checkpoint_json, inclusion_proof, log_index_of, vouched_checkpoint

@@ -29,7 +29,7 @@ from .geo import check_geo
 from .graph import MissionGraph, build_graph
 from .legs import mission_legs
 from .logic import LogicCache, check_logic
-from .meo import MeoResult, meo_check
+from .meo import MeoResult, meo_reasoning
 from .meo.direct import CODES, meo_only_findings
 from .parts import SHARED_PARTS, PartKeys, PartsCache, part_keys
 from .paths import PathCounts, count_paths
@@ -75,8 +75,8 @@ class Report:
 
     @cached_property
     def meo(self) -> MeoResult | None:
-        """The MEO route's result (graph, inference, explanation), run when first asked for."""
-        return meo_check(self.orders) if self.orders is not None else None
+        """The MEO reasoning (graph, inference, explanation), run when first asked for."""
+        return meo_reasoning(self.orders) if self.orders is not None else None
 
     @property
     def explanation(self) -> dict[str, Any] | None:

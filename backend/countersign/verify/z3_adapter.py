@@ -12,15 +12,10 @@ from typing import Any, Literal
 Status = Literal["sat", "unsat", "unknown"]
 
 
-def check_assumptions(z3: Any, ctx: Any, solver: Any, literals: Sequence[Any]) -> Status:
-    """`solver.check(*literals)` without the wrapper's per-assumption checks (z3.Z3Exception
-    propagates)."""
-    return check_asts(z3, ctx, solver, [literal.as_ast() for literal in literals])
-
-
 def check_asts(z3: Any, ctx: Any, solver: Any, asts: Sequence[Any]) -> Status:
-    """`check_assumptions` given the literals' raw ASTs (a caller that checks the same
-    literals many times keeps them, rather than asking each literal again)."""
+    """`solver.check(*literals)` given the literals' raw ASTs (`literal.as_ast()`), without
+    the wrapper's per-assumption checks (z3.Z3Exception propagates); a caller that checks the
+    same literals many times keeps their ASTs rather than asking each literal again."""
     assumptions = (z3.Ast * len(asts))(*asts)
     code = z3.Z3_solver_check_assumptions(ctx.ref(), solver.solver, len(asts), assumptions)
     if code == z3.Z3_L_TRUE:

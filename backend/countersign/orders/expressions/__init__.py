@@ -17,6 +17,10 @@ anything: the text length, the nesting depth, the number of terms and the size o
 are limited, and the tree is flat for long chains of `and`, `or`, `+` and `*`, so that no
 later recursion goes deeper than the nesting the author wrote.
 
+Every interpreter of the tree (words, reads, and in `verify`, `rehearse` and `export` the type
+checker, partial evaluation, SMT, monitors, helm conditions) is an `ExprVisitor` (visit.py), so
+mypy rejects a node kind that one of them leaves out.
+
 The syntax lives under `orders` so that the orders' own readers and writers (Turtle, plain
 text) read expressions with the one parser; it imports nothing outside `orders`.
 """
@@ -49,6 +53,7 @@ from .tree import (
     Text,
     Truth,
 )
+from .visit import ExprVisitor, children
 from .vocabulary import MARITIME_QUANTITIES, quantity_table
 from .words import (
     describe,
@@ -63,9 +68,9 @@ from .words import (
 
 __all__ = [
     "MARITIME_QUANTITIES", "MAX_DEPTH", "MAX_DIGITS", "MAX_EXPONENT", "MAX_LENGTH", "MAX_TERMS",
-    "MAX_TOKENS", "RESERVED", "Compare", "Context", "Expr", "ExprError", "Implies", "Logic",
-    "Name", "Neg", "Not", "Num", "Product", "Reads", "Special", "Sum", "Text", "Token", "Truth",
-    "describe", "expression_quantities", "first_col", "identifiers", "in_tag", "number_words",
-    "parse", "quantity_table", "quantity_words", "reads", "tag_state", "tag_words", "tokenize",
-    "walk", "with_article", "with_unit",
+    "MAX_TOKENS", "RESERVED", "Compare", "Context", "Expr", "ExprError", "ExprVisitor", "Implies",
+    "Logic", "Name", "Neg", "Not", "Num", "Product", "Reads", "Special", "Sum", "Text", "Token",
+    "Truth", "children", "describe", "expression_quantities", "first_col", "identifiers",
+    "in_tag", "number_words", "parse", "quantity_table", "quantity_words", "reads", "tag_state",
+    "tag_words", "tokenize", "walk", "with_article", "with_unit",
 ]

@@ -7,7 +7,8 @@ from dataclasses import dataclass
 
 from .errors import ExprError
 from .parser import parse
-from .tree import Compare, Context, Expr, Implies, Logic, Name, Neg, Not, Product, Special, Sum
+from .tree import Context, Expr, Name, Special
+from .visit import children
 
 
 @dataclass(frozen=True)
@@ -24,29 +25,22 @@ def walk(expr: Expr) -> Iterator[Expr]:
     while stack:
         node = stack.pop()
         yield node
-        if isinstance(node, Neg | Not):
-            stack.append(node.operand)
-        elif isinstance(node, Sum):
-            stack.extend(term for _, term in reversed(node.terms))
-        elif isinstance(node, Product):
-            stack.extend(factor for _, factor in reversed(node.factors))
-        elif isinstance(node, Compare | Logic | Implies):
-            stack.extend(reversed(node.operands))
+        stack.extend(reversed(children(node)))
 
 
 def reads(expr: Expr) -> Reads:
     quantities: set[str] = set()
     tags: set[str] = set()
     behavior = area = False
-    for node in walk(expr):
-        if isinstance(node, Name):
-            quantities.add(node.name)
-        elif isinstance(node, Context):
-            tags.add(node.tag)
-        elif isinstance(node, Special):
-            if node.name == "behavior":
+    for node in walk(expr):  # a filter over every node: the kinds that read nothing are skipped
+        match node:
+            case Name(name=name):
+                quantities.add(name)
+            case Context(tag=tag):
+                tags.add(tag)
+            case Special(name="behavior"):
                 behavior = True
-            else:
+            case Special():
                 area = True
     return Reads(frozenset(quantities), frozenset(tags), behavior, area)
 

@@ -25,6 +25,7 @@ from .tree import (
     Text,
     Truth,
 )
+from .visit import ExprVisitor
 
 _WORD_OPS = {"==": "is", "!=": "is not"}
 
@@ -91,42 +92,70 @@ def in_tag(tag: str) -> str:
 
 def describe(expr: Expr, quantities: Mapping[str, Quantity], unit: str = "") -> str:
     """The expression in words a supervisor reads, e.g. 'depth >= 20 m'."""
-    if isinstance(expr, Num):
-        return with_unit(number_words(expr.value), unit)
-    if isinstance(expr, Text):
-        return repr(expr.value)
-    if isinstance(expr, Truth):
-        return "true" if expr.value else "false"
-    if isinstance(expr, Name):
-        return quantity_words(expr.name, quantities)
-    if isinstance(expr, Special):
-        return expr.name
-    if isinstance(expr, Context):
-        return in_tag(expr.tag)
-    if isinstance(expr, Not):
-        return f"not {_grouped(expr.operand, quantities, 'not')}"
-    if isinstance(expr, Neg):
-        return f"-{_grouped(expr.operand, quantities, 'arith', unit)}"
-    if isinstance(expr, Logic):
-        return f" {expr.op} ".join(_grouped(o, quantities, expr.op) for o in expr.operands)
-    if isinstance(expr, Implies):
-        return " implies ".join(_grouped(o, quantities, "implies") for o in expr.operands)
-    if isinstance(expr, Compare):
-        unit = _unit_of(expr.operands, quantities)
-        words = describe(expr.operands[0], quantities, unit)
-        for op, operand in zip(expr.ops, expr.operands[1:], strict=True):
+    return _Words(quantities, unit).visit(expr)
+
+
+class _Words(ExprVisitor[str]):
+    """`unit` is the unit of the comparison or sum a number stands in, given to its numbers."""
+
+    __slots__ = ("quantities", "unit")
+
+    def __init__(self, quantities: Mapping[str, Quantity], unit: str) -> None:
+        self.quantities = quantities
+        self.unit = unit
+
+    def visit_num(self, node: Num) -> str:
+        return with_unit(number_words(node.value), self.unit)
+
+    def visit_text(self, node: Text) -> str:
+        return repr(node.value)
+
+    def visit_truth(self, node: Truth) -> str:
+        return "true" if node.value else "false"
+
+    def visit_name(self, node: Name) -> str:
+        return quantity_words(node.name, self.quantities)
+
+    def visit_special(self, node: Special) -> str:
+        return node.name
+
+    def visit_context(self, node: Context) -> str:
+        return in_tag(node.tag)
+
+    def visit_not(self, node: Not) -> str:
+        return f"not {_grouped(node.operand, self.quantities, 'not')}"
+
+    def visit_neg(self, node: Neg) -> str:
+        return f"-{_grouped(node.operand, self.quantities, 'arith', self.unit)}"
+
+    def visit_logic(self, node: Logic) -> str:
+        return f" {node.op} ".join(_grouped(o, self.quantities, node.op) for o in node.operands)
+
+    def visit_implies(self, node: Implies) -> str:
+        return " implies ".join(_grouped(o, self.quantities, "implies") for o in node.operands)
+
+    def visit_compare(self, node: Compare) -> str:
+        quantities = self.quantities
+        unit = _unit_of(node.operands, quantities)
+        words = describe(node.operands[0], quantities, unit)
+        for op, operand in zip(node.ops, node.operands[1:], strict=True):
             words += f" {_WORD_OPS.get(op, op)} {_grouped(operand, quantities, 'compare', unit)}"
         return words
-    if isinstance(expr, Sum):
-        unit = unit or _unit_of([t for _, t in expr.terms], quantities)
-        words = _grouped(expr.terms[0][1], quantities, "sum", unit)
-        for op, term in expr.terms[1:]:
+
+    def visit_sum(self, node: Sum) -> str:
+        quantities = self.quantities
+        unit = self.unit or _unit_of([t for _, t in node.terms], quantities)
+        words = _grouped(node.terms[0][1], quantities, "sum", unit)
+        for op, term in node.terms[1:]:
             words += f" {op} {_grouped(term, quantities, 'sum', unit)}"
         return words
-    words = _grouped(expr.factors[0][1], quantities, "product")
-    for op, factor in expr.factors[1:]:
-        words += f" {op} {_grouped(factor, quantities, 'product')}"
-    return words
+
+    def visit_product(self, node: Product) -> str:
+        quantities = self.quantities
+        words = _grouped(node.factors[0][1], quantities, "product")
+        for op, factor in node.factors[1:]:
+            words += f" {op} {_grouped(factor, quantities, 'product')}"
+        return words
 
 
 # Which children need parentheses inside which parents.

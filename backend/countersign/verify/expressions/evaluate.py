@@ -17,11 +17,13 @@ from ...orders.expressions.tree import (
     Neg,
     Not,
     Num,
+    Product,
     Special,
     Sum,
     Text,
     Truth,
 )
+from ...orders.expressions.visit import ExprVisitor
 
 
 @dataclass(frozen=True)
@@ -54,44 +56,60 @@ _CMP: dict[str, Callable[[object, object], bool]] = {
 def fold(expr: Expr, facts: Facts) -> bool | None:
     """True or False when the goal's facts alone decide a (type-checked) condition, None
     when the answer depends on quantities."""
-    value = _evaluate(expr, facts)
+    value = _Evaluate(facts).visit(expr)
     return value if isinstance(value, bool) else None
 
 
-def _evaluate(expr: Expr, facts: Facts) -> object:
-    if isinstance(expr, Num):
-        return expr.value
-    if isinstance(expr, Text):
-        return expr.value
-    if isinstance(expr, Truth):
-        return expr.value
-    if isinstance(expr, Name):
+class _Evaluate(ExprVisitor[object]):
+    """The value of a node (a Fraction, text, a bool, _NO_STRING) or UNKNOWN."""
+
+    __slots__ = ("facts",)
+
+    def __init__(self, facts: Facts) -> None:
+        self.facts = facts
+
+    def visit_num(self, node: Num) -> object:
+        return node.value
+
+    def visit_text(self, node: Text) -> object:
+        return node.value
+
+    def visit_truth(self, node: Truth) -> object:
+        return node.value
+
+    def visit_name(self, node: Name) -> object:
         return UNKNOWN
-    if isinstance(expr, Special):
-        named = facts.behavior if expr.name == "behavior" else facts.area
+
+    def visit_special(self, node: Special) -> object:
+        named = self.facts.behavior if node.name == "behavior" else self.facts.area
         return _NO_STRING if named is None else named
-    if isinstance(expr, Context):
-        return expr.tag in facts.tags
-    if isinstance(expr, Not):
-        inner = _evaluate(expr.operand, facts)
+
+    def visit_context(self, node: Context) -> object:
+        return node.tag in self.facts.tags
+
+    def visit_not(self, node: Not) -> object:
+        inner = self.visit(node.operand)
         return UNKNOWN if inner is UNKNOWN else not inner
-    if isinstance(expr, Neg):
-        inner = _evaluate(expr.operand, facts)
+
+    def visit_neg(self, node: Neg) -> object:
+        inner = self.visit(node.operand)
         return UNKNOWN if inner is UNKNOWN else -inner  # type: ignore[operator]
-    if isinstance(expr, Logic):
-        decisive = expr.op == "or"
+
+    def visit_logic(self, node: Logic) -> object:
+        decisive = node.op == "or"
         unknown = False
-        for operand in expr.operands:
-            value = _evaluate(operand, facts)
+        for operand in node.operands:
+            value = self.visit(operand)
             if value is UNKNOWN:
                 unknown = True
             elif value is decisive:
                 return decisive
         return UNKNOWN if unknown else not decisive
-    if isinstance(expr, Implies):
-        result: object = _evaluate(expr.operands[-1], facts)
-        for operand in reversed(expr.operands[:-1]):
-            premise = _evaluate(operand, facts)
+
+    def visit_implies(self, node: Implies) -> object:
+        result: object = self.visit(node.operands[-1])
+        for operand in reversed(node.operands[:-1]):
+            premise = self.visit(operand)
             if premise is False or result is True:
                 result = True
             elif premise is True:
@@ -99,10 +117,11 @@ def _evaluate(expr: Expr, facts: Facts) -> object:
             else:
                 result = UNKNOWN
         return result
-    if isinstance(expr, Compare):
-        values = [_evaluate(operand, facts) for operand in expr.operands]
+
+    def visit_compare(self, node: Compare) -> object:
+        values = [self.visit(operand) for operand in node.operands]
         unknown = False
-        for index, op in enumerate(expr.ops):
+        for index, op in enumerate(node.ops):
             left, right = values[index], values[index + 1]
             if left is UNKNOWN or right is UNKNOWN:
                 unknown = True
@@ -110,23 +129,26 @@ def _evaluate(expr: Expr, facts: Facts) -> object:
             if not _CMP[op](left, right):
                 return False
         return UNKNOWN if unknown else True
-    if isinstance(expr, Sum):
+
+    def visit_sum(self, node: Sum) -> object:
         total: Fraction = Fraction(0)
-        for op, term in expr.terms:
-            value = _evaluate(term, facts)
+        for op, term in node.terms:
+            value = self.visit(term)
             if value is UNKNOWN:
                 return UNKNOWN
             total = total + value if op == "+" else total - value  # type: ignore[operator]
         return total
-    product: Fraction = Fraction(1)
-    for op, factor in expr.factors:
-        value = _evaluate(factor, facts)
-        if value is UNKNOWN:
-            return UNKNOWN
-        if op == "/":
-            if value == 0:
+
+    def visit_product(self, node: Product) -> object:
+        product: Fraction = Fraction(1)
+        for op, factor in node.factors:
+            value = self.visit(factor)
+            if value is UNKNOWN:
                 return UNKNOWN
-            product = product / value  # type: ignore[operator]
-        else:
-            product = product * value  # type: ignore[operator]
-    return product
+            if op == "/":
+                if value == 0:
+                    return UNKNOWN
+                product = product / value  # type: ignore[operator]
+            else:
+                product = product * value  # type: ignore[operator]
+        return product

@@ -15,11 +15,13 @@ from ...orders.expressions.tree import (
     Neg,
     Not,
     Num,
+    Product,
     Special,
     Sum,
     Text,
     Truth,
 )
+from ...orders.expressions.visit import ExprVisitor
 from ...orders.model import Quantity
 from .types import Kind
 
@@ -37,7 +39,7 @@ def smt_int(value: int) -> str:
     return f"(- {-value})" if value < 0 else str(value)
 
 
-class Translator:
+class Translator(ExprVisitor[tuple[str, Kind]]):
     """Translates type-checked expressions to SMT-LIB terms.
 
     Quantities become constants `|q:name|` (Real, Int or Bool by their declared type),
@@ -108,45 +110,60 @@ class Translator:
         return text
 
     def term(self, expr: Expr) -> tuple[str, Kind]:
-        if isinstance(expr, Num):
-            if expr.integral:
-                return smt_int(int(expr.value)), "integer"
-            return smt_real(expr.value), "real"
-        if isinstance(expr, Text):
-            return smt_int(self.string_code(expr.value)), "string"
-        if isinstance(expr, Truth):
-            return ("true" if expr.value else "false"), "boolean"
-        if isinstance(expr, Name):
-            return self.quantity(expr.name)
-        if isinstance(expr, Special):
-            return self.special(expr.name), "string"
-        if isinstance(expr, Context):
-            return self.context(expr.tag), "boolean"
-        if isinstance(expr, Not):
-            return f"(not {self.condition(expr.operand)})", "boolean"
-        if isinstance(expr, Neg):
-            inner, inner_kind = self.term(expr.operand)
-            return f"(- {inner})", inner_kind
-        if isinstance(expr, Logic):
-            parts = " ".join(self.condition(o) for o in expr.operands)
-            return f"({expr.op} {parts})", "boolean"
-        if isinstance(expr, Implies):
-            text = self.condition(expr.operands[-1])
-            for operand in reversed(expr.operands[:-1]):
-                text = f"(=> {self.condition(operand)} {text})"
-            return text, "boolean"
-        if isinstance(expr, Compare):
-            return self._compare(expr), "boolean"
-        if isinstance(expr, Sum):
-            items = [(op, *self.term(t)) for op, t in expr.terms]
-            kind: Kind = "integer" if all(k == "integer" for _, _, k in items) else "real"
-            text = self._coerce(items[0][1], items[0][2], kind)
-            for op, term, term_kind in items[1:]:
-                text = f"({op} {text} {self._coerce(term, term_kind, kind)})"
-            return text, kind
-        factors = [(op, *self.term(f)) for op, f in expr.factors]
+        return self.visit(expr)
+
+    def visit_num(self, node: Num) -> tuple[str, Kind]:
+        if node.integral:
+            return smt_int(int(node.value)), "integer"
+        return smt_real(node.value), "real"
+
+    def visit_text(self, node: Text) -> tuple[str, Kind]:
+        return smt_int(self.string_code(node.value)), "string"
+
+    def visit_truth(self, node: Truth) -> tuple[str, Kind]:
+        return ("true" if node.value else "false"), "boolean"
+
+    def visit_name(self, node: Name) -> tuple[str, Kind]:
+        return self.quantity(node.name)
+
+    def visit_special(self, node: Special) -> tuple[str, Kind]:
+        return self.special(node.name), "string"
+
+    def visit_context(self, node: Context) -> tuple[str, Kind]:
+        return self.context(node.tag), "boolean"
+
+    def visit_not(self, node: Not) -> tuple[str, Kind]:
+        return f"(not {self.condition(node.operand)})", "boolean"
+
+    def visit_neg(self, node: Neg) -> tuple[str, Kind]:
+        inner, inner_kind = self.term(node.operand)
+        return f"(- {inner})", inner_kind
+
+    def visit_logic(self, node: Logic) -> tuple[str, Kind]:
+        parts = " ".join(self.condition(o) for o in node.operands)
+        return f"({node.op} {parts})", "boolean"
+
+    def visit_implies(self, node: Implies) -> tuple[str, Kind]:
+        text = self.condition(node.operands[-1])
+        for operand in reversed(node.operands[:-1]):
+            text = f"(=> {self.condition(operand)} {text})"
+        return text, "boolean"
+
+    def visit_compare(self, node: Compare) -> tuple[str, Kind]:
+        return self._compare(node), "boolean"
+
+    def visit_sum(self, node: Sum) -> tuple[str, Kind]:
+        items = [(op, *self.term(t)) for op, t in node.terms]
+        kind: Kind = "integer" if all(k == "integer" for _, _, k in items) else "real"
+        text = self._coerce(items[0][1], items[0][2], kind)
+        for op, term, term_kind in items[1:]:
+            text = f"({op} {text} {self._coerce(term, term_kind, kind)})"
+        return text, kind
+
+    def visit_product(self, node: Product) -> tuple[str, Kind]:
+        factors = [(op, *self.term(f)) for op, f in node.factors]
         divides = any(op == "/" for op, _, _ in factors)
-        kind = "integer" if all(k == "integer" for _, _, k in factors) and not divides \
+        kind: Kind = "integer" if all(k == "integer" for _, _, k in factors) and not divides \
             else "real"
         text = self._coerce(factors[0][1], factors[0][2], kind)
         for op, factor, factor_kind in factors[1:]:

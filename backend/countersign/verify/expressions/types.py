@@ -14,6 +14,7 @@ from ...orders.expressions.tree import (
     Compare,
     Context,
     Expr,
+    Implies,
     Logic,
     Name,
     Neg,
@@ -25,6 +26,7 @@ from ...orders.expressions.tree import (
     Text,
     Truth,
 )
+from ...orders.expressions.visit import ExprVisitor
 from ...orders.model import Quantity
 
 Kind = Literal["boolean", "integer", "real", "string"]
@@ -55,7 +57,7 @@ def _join_units(units: list[tuple[str | None, int]], verb: str) -> str | None:
     return first
 
 
-class TypeChecker:
+class TypeChecker(ExprVisitor[Typed]):
     """Checks an expression against a quantity table. Unknown names and type or unit errors
     raise ExprError with the column of the offending part."""
 
@@ -72,33 +74,49 @@ class TypeChecker:
             )
 
     def check(self, expr: Expr) -> Typed:
-        if isinstance(expr, Num):
-            return Typed("integer" if expr.integral else "real", None)
-        if isinstance(expr, Text):
-            return Typed("string", None)
-        if isinstance(expr, Truth | Context):
-            return Typed("boolean", None)
-        if isinstance(expr, Special):
-            return Typed("string", None)
-        if isinstance(expr, Name):
-            return self._name(expr)
-        if isinstance(expr, Neg):
-            inner = self._require_number(expr.operand, "'-'")
-            return inner
-        if isinstance(expr, Not):
-            self._require_condition(expr.operand, "not")
-            return Typed("boolean", None)
-        if isinstance(expr, Sum):
-            return self._sum(expr)
-        if isinstance(expr, Product):
-            return self._product(expr)
-        if isinstance(expr, Compare):
-            return self._compare(expr)
-        if isinstance(expr, Logic):
-            for operand in expr.operands:
-                self._require_condition(operand, expr.op)
-            return Typed("boolean", None)
-        for operand in expr.operands:
+        return self.visit(expr)
+
+    def visit_num(self, node: Num) -> Typed:
+        return Typed("integer" if node.integral else "real", None)
+
+    def visit_text(self, node: Text) -> Typed:
+        return Typed("string", None)
+
+    def visit_truth(self, node: Truth) -> Typed:
+        return Typed("boolean", None)
+
+    def visit_context(self, node: Context) -> Typed:
+        return Typed("boolean", None)
+
+    def visit_special(self, node: Special) -> Typed:
+        return Typed("string", None)
+
+    def visit_name(self, node: Name) -> Typed:
+        return self._name(node)
+
+    def visit_neg(self, node: Neg) -> Typed:
+        return self._require_number(node.operand, "'-'")
+
+    def visit_not(self, node: Not) -> Typed:
+        self._require_condition(node.operand, "not")
+        return Typed("boolean", None)
+
+    def visit_sum(self, node: Sum) -> Typed:
+        return self._sum(node)
+
+    def visit_product(self, node: Product) -> Typed:
+        return self._product(node)
+
+    def visit_compare(self, node: Compare) -> Typed:
+        return self._compare(node)
+
+    def visit_logic(self, node: Logic) -> Typed:
+        for operand in node.operands:
+            self._require_condition(operand, node.op)
+        return Typed("boolean", None)
+
+    def visit_implies(self, node: Implies) -> Typed:
+        for operand in node.operands:
             self._require_condition(operand, "implies")
         return Typed("boolean", None)
 

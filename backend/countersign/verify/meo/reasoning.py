@@ -23,8 +23,9 @@ owlrl reasons over one representative per class of such goals and the results ar
 to every member. The reasoning graph then grows with the mission's distinct kinds of goals, not
 with its length.
 
-`naive_closure` is the textbook route (owlrl over all of meo.ttl and every triple); tests prove
-that both routes give the same facts, and the benchmark compares their cost.
+The textbook route (owlrl over all of meo.ttl and every triple, `naive_closure` in
+tests/bench/bench_meo.py) is the oracle: tests prove that both routes give the same facts, and
+the benchmark compares their cost.
 """
 
 from __future__ import annotations
@@ -77,10 +78,6 @@ class Reachability:
     # Strongly connected components with a cycle: their members follow themselves (G7 after
     # G8, G9).
     cycles: list[list[Node]]
-
-    @property
-    def on_cycle(self) -> set[Node]:
-        return {node for component in self.cycles for node in component}
 
 
 @dataclass
@@ -331,17 +328,3 @@ def _interchangeable(abox: Graph, goals: Iterable[Node]) -> dict[Node, list[Node
         group.sort(key=str)
         result[group[0]] = group
     return result
-
-
-def naive_closure(graph: Graph) -> Graph:
-    """The textbook route: owlrl's OWL 2 RL closure of all of meo.ttl and every triple.
-    Quadratic or worse in goals; for tests on small orders and as the benchmark baseline."""
-    closed = Graph()
-    for triple in load_graph(MEO_FILE):
-        closed.add(triple)
-    for triple in graph:
-        closed.add(triple)
-    owlrl.DeductiveClosure(
-        owlrl.OWLRL_Semantics, axiomatic_triples=False, datatype_axioms=False
-    ).expand(closed)
-    return closed

@@ -14,7 +14,7 @@ from ...approvals import dsse
 from ...approvals.signer import LogSigner
 from ...orders.reader import orders_from_data
 from ...orders.writers import write
-from ...rehearse.plain import rules_sentences
+from ...rules.plain_orders import rules_sentences
 from ...services import approvals
 from ...store import approvals as service
 from ...store.log_gaps import LogEntriesMissing

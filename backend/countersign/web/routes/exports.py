@@ -11,8 +11,9 @@ from pydantic import BaseModel
 from sqlalchemy import select
 from sqlalchemy.orm import Session as DbSession
 
+from ...approved_package.build import build_package
 from ...export.notes import ExportError, VehicleExport
-from ...export.package import build_package, export_provenance
+from ...export.package import export_provenance
 from ...export.vehicle import export_vehicle
 from ...orders.reader import orders_from_data
 from ...store import missions as service

@@ -15,7 +15,7 @@ from ...orders.examples import example_bytes, example_names
 from ...orders.model import Orders
 from ...orders.reader import orders_from_data, read_bytes
 from ...orders.writers import WRITERS
-from ...rehearse.plain import write_for_supervisor
+from ...rules.plain_orders import write_for_supervisor
 from ...services import missions
 from ...services.app import AppServices
 from ...store import missions as service

@@ -1,6 +1,6 @@
 """Plain-language orders with their contingency rules, for the supervisor (issue 8 item 2).
 
-`orders` must not import `rehearse` (dependencies point inward), so the rules join the orders'
+`orders` must not import `rules` (dependencies point inward), so the rules join the orders'
 plain writer here; the CLI `export --format plain`, the export route and the review route all
 call this one module, so the supervisor reads the same sentences everywhere.
 """
@@ -10,7 +10,8 @@ from __future__ import annotations
 from ..orders.model import Orders
 from ..orders.team import plain_team
 from ..orders.writers import write
-from ..rules import TheoryError, plain_rules, theory_for
+from .plain import plain_rules
+from .theory import TheoryError, theory_for
 
 SECTION = "Contingency rules"
 

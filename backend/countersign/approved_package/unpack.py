@@ -9,8 +9,8 @@ import os
 from datetime import datetime, timedelta
 from pathlib import Path
 
-from .package import read_tar
-from .package_verify import DEFAULT_MAX_AGE, Verdict, verify_package
+from .build import read_tar
+from .verify import DEFAULT_MAX_AGE, Verdict, verify_package
 
 
 def unpack_package(data: bytes, target: Path, *, log_key: str, now: datetime | None = None,

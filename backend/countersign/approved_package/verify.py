@@ -40,17 +40,9 @@ from ..approvals.note import (
 )
 from ..approvals.receipt import verify_receipt
 from ..approvals.statement import parse_statement, subject_digest
+from ..export.package import SIGNED_EXPORTS, export_provenance, signed_provenance, vehicle_files
 from ..orders.reader import orders_from_data
-from .package import (
-    ENVELOPE_FILE,
-    ORDERS_FILE,
-    PACKAGE_FORMAT,
-    SIGNED_EXPORTS,
-    export_provenance,
-    read_tar,
-    signed_provenance,
-    vehicle_files,
-)
+from .build import ENVELOPE_FILE, ORDERS_FILE, PACKAGE_FORMAT, read_tar
 
 DEFAULT_MAX_AGE = timedelta(days=7)
 CLOCK_SKEW = timedelta(minutes=5)
