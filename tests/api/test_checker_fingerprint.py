@@ -140,7 +140,8 @@ def test_a_report_of_other_checks_is_never_signed(world: World,
     signer = register_key(supervisor)
     real = decisions._report
     monkeypatch.setattr(decisions, "_report",
-                        lambda db, version: {**real(db, version), "checker": OTHER})
+                        lambda db, version, reports: {**real(db, version, reports),
+                                                      "checker": OTHER})
     response = supervisor.post(f"/api/submissions/{submission}/statement",
                                json={"decision": "approved", "reason": "",
                                      "key_id": signer.key_id})

@@ -62,13 +62,13 @@ def _forge_approval(world: World, submission: int) -> None:
             "key_id": kid, "public_key": dsse.public_text(key), "user": supervisor.username,
             "name": "forged"})
         prepared = service.prepare_decision(db, submission_id=submission, supervisor=supervisor,
-                                            decision="approved", reason="", key_id=kid)
+                                            decision="approved", reason="", key_id=kid,
+                                            reports=attacker.reports)
         envelope = json.dumps(dsse.sign_envelope(prepared.payload, key))
         # The attacker writes rows with the app's code but skips its password check.
         with mock.patch.object(decisions, "confirm_password", lambda *a, **k: None):
             service.decide(db, submission_id=submission, supervisor=supervisor,
-                           envelope=envelope, password=None,
-                           signer=None)  # type: ignore[arg-type]  # the attacker has none
+                           envelope=envelope, password=None, reports=attacker.reports)
     attacker.engine.dispose()
 
 

@@ -52,7 +52,8 @@ def _populate(url: str, missions: int, goals: int) -> str:
         orders = Orders.model_validate({**base, "id": f"large-{index:02d}"})
         with database.session() as db:
             mission = create_mission(db, orders=orders, author=operator)
-            report_for(db, orders, mission.draft_digest)  # stored with the mission
+            # Stored with the mission.
+            report_for(db, orders, mission.draft_digest, reports=database.reports)
     database.engine.dispose()
     return token
 

@@ -7,7 +7,8 @@ another); `store`, `web` and `cli` are the outer ring. Packages DESIGN.md does n
 where their imports put them (README, Development): `campaigns` (many seeded rehearsals) and
 `approved_package` (vehicle files from `export` beside the evidence from `approvals`) each join
 packages of the ring below, so they sit right above it; `jobs` runs campaigns and stores their
-results, so it sits between `store` and `web`. Inside the outer ring the web app reads the
+results, so it sits between `store` and `web`; so do the domain services (`services`), which
+the routes call and which read the store. Inside the outer ring the web app reads the
 store, and the command line starts the web app (only `serve`, in cli/server.py, reaches into
 `web`).
 
@@ -34,6 +35,7 @@ RINGS: list[set[str]] = [
     {"campaigns", "approved_package"},
     # The outer ring, in its own order.
     {"store"},
+    {"services"},
     {"jobs"},
     {"web"},
     {"cli"},

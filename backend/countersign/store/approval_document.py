@@ -13,6 +13,7 @@ from ..orders.reader import orders_from_data
 from .approvals.log import log_index_of
 from .missions import get_version, report_for
 from .rehearsals import get_record, record_summary
+from .report_service import ReportService
 from .tables import Approval, MissionVersion, SigningKey, Submission, User
 
 
@@ -45,11 +46,11 @@ def _rehearsal(db: DbSession, submission: Submission | None) -> dict[str, Any] |
             "record": row.record}
 
 
-def version_document(db: DbSession, mission_id: str, number: int
+def version_document(db: DbSession, mission_id: str, number: int, *, reports: ReportService
                      ) -> tuple[MissionVersion, list[Section]]:
     version = get_version(db, mission_id, number)
     orders = orders_from_data(version.orders)
-    report = report_for(db, orders, version.digest).report
+    report = report_for(db, orders, version.digest, reports=reports).report
     decision, submission = _decision(db, version)
     pending = None
     if decision is None and submission is not None:

@@ -145,6 +145,21 @@ class LogTreeCache:
             self.tree = None
 
 
+class ReadSession(Session):
+    """A read-only session: it never takes the write lock, and refuses to flush a change."""
+
+
+class WriteSession(Session):
+    """A session that writes: its transaction takes the write lock when it begins (SQLite's
+    BEGIN IMMEDIATE)."""
+
+
+def writes(session: Session) -> bool:
+    """Whether the session may write (holds, or will take, the write lock): any session but a
+    ReadSession (a plain Session, as some tools and tests open, writes)."""
+    return not isinstance(session, ReadSession)
+
+
 class Database:
     def __init__(self, url: str) -> None:
         self.url = url
@@ -155,9 +170,10 @@ class Database:
         # whoever holds the log key (the server, the CLI's demo seeding).
         self.log_signer: LogSigner | None = None
         self.log_tree_cache = LogTreeCache()
-        self.sessions = sessionmaker(self.engine, expire_on_commit=False)
+        self.sessions = sessionmaker(self.engine, class_=ReadSession, expire_on_commit=False)
         self.write_sessions = sessionmaker(
-            self.engine.execution_options(**{BEGIN_MODE: "IMMEDIATE"}), expire_on_commit=False
+            self.engine.execution_options(**{BEGIN_MODE: "IMMEDIATE"}), class_=WriteSession,
+            expire_on_commit=False
         )
 
     def migrate(self) -> None:
@@ -170,7 +186,7 @@ class Database:
         still open, rolled back on error."""
         factory = self.write_sessions if write else self.sessions
         # "may_end": what it has begun may be ended early (login_throttle.check_password).
-        with factory(info={"database": self, "write": write, "may_end": True}) as session:
+        with factory(info={"database": self, "may_end": True}) as session:
             if not write:
                 event.listen(session, "before_flush", _refuse_writes)
             try:
@@ -185,7 +201,7 @@ class Database:
         """A transaction, committed on success. Pass write=False for read-only work: on SQLite
         readers then never wait for the write lock."""
         factory = self.write_sessions if write else self.sessions
-        with factory(info={"database": self, "write": write}) as session, session.begin():
+        with factory(info={"database": self}) as session, session.begin():
             if not write:
                 event.listen(session, "before_flush", _refuse_writes)
             yield session
@@ -197,8 +213,26 @@ def _refuse_writes(session: Session, _context: Any, _instances: Any) -> None:
 
 
 def database_of(session: Session) -> Database:
+    """The database that opened the session, to open a short session of its own beside it."""
     database: Database = session.info["database"]
     return database
+
+
+# The store reaches the app's services through a session at two places only, both below
+# what a route calls: the event log's receipts (events.py, logged_roles.py) and the log's
+# Merkle tree cache (approvals/log.py). Routes and domain services get them from AppServices
+# (services/app.py) instead; tests/unit/test_no_info_services.py holds both rules.
+def log_signer_of(session: Session) -> LogSigner | None:
+    """The log signer that receipts what this session appends (None for a session of a
+    database without one, e.g. a tool run without the log key)."""
+    database: Database | None = session.info.get("database")
+    return database.log_signer if database is not None else None
+
+
+def log_trees_of(session: Session) -> LogTreeCache | None:
+    """The cached Merkle tree of the log of the session's database (None: no database)."""
+    database: Database | None = session.info.get("database")
+    return database.log_tree_cache if database is not None else None
 
 
 @contextmanager
@@ -206,7 +240,7 @@ def writable(session: Session) -> Iterator[Session]:
     """A session to write through: this one (in a savepoint) when it may write, else a short
     write transaction of its own. Never a second writer beside a writing session: on SQLite
     that would wait for a lock its own thread holds."""
-    if session.info.get("write", True):
+    if writes(session):
         with session.begin_nested():
             yield session
     else:

@@ -13,7 +13,7 @@ from typing import Any
 from sqlalchemy import select
 from sqlalchemy.orm import Session as DbSession
 
-from .db import writable
+from .db import writable, writes
 from .events import record
 from .tables import Mission, User, utcnow
 
@@ -98,5 +98,5 @@ def flush_quiet_before_reading(db: DbSession) -> None:
         return
     with writable(db) as writer:
         flush_quiet(writer)
-    if not db.info.get("write", True):
+    if not writes(db):
         db.commit()

@@ -16,6 +16,7 @@ from sqlalchemy.orm import Session as DbSession
 from ..approvals.log import GENESIS, entry_bytes, entry_leaf, event_data
 from ..approvals.signer import SignerRefused
 from ..errors import Unavailable
+from .db import log_signer_of
 from .event_words import event_target
 from .tables import Event, LogEntry, LogReceipt, User, utcnow
 
@@ -88,7 +89,7 @@ def _receipt(db: DbSession, entry: LogEntry) -> None:
     """The log signer's receipt for this entry (kept beside it, shown to the caller): the
     signer later vouches only for entries that carry one. A database without a signer (a
     tool run without the log key) appends entries the signer will refuse to cover."""
-    signer = getattr(db.info.get("database"), "log_signer", None)
+    signer = log_signer_of(db)
     if signer is None:
         return
     try:
@@ -117,7 +118,7 @@ def _remember_committed(db: DbSession) -> None:
     """Tell the signer which entries this transaction committed (those not undone by a
     rolled-back savepoint), so that it never signs a head without them."""
     appended = db.info.pop(_APPENDED, None) or []
-    signer = getattr(db.info.get("database"), "log_signer", None)
+    signer = log_signer_of(db)
     if signer is None:
         return
     try:

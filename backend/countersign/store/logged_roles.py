@@ -20,6 +20,7 @@ from ..approvals.dsse import SignatureError, public_key
 from ..approvals.log import entry_leaf
 from ..approvals.receipt import verify_receipt
 from ..approvals.role_rules import RoleBook, replay
+from .db import log_signer_of
 from .tables import LogEntry, LogReceipt, User
 
 # RFC 8785 entries: an account event's kind is written exactly so (a quote inside a string
@@ -30,7 +31,7 @@ _ACCOUNT_LIKE = '%"kind":"user.%'
 def _account_entries(db: DbSession) -> tuple[list[tuple[int, dict[str, Any]]], str | None]:
     """The log's account events in log order, and why they cannot be trusted (None when
     every one carries the log signer's receipt, or when no signer is attached)."""
-    signer = getattr(db.info.get("database"), "log_signer", None)
+    signer = log_signer_of(db)
     rows = db.execute(select(LogEntry.index, LogEntry.entry, LogEntry.leaf_hash,
                              LogReceipt.receipt)
                       .outerjoin(LogReceipt, LogReceipt.index == LogEntry.index)

@@ -15,8 +15,9 @@ from ..orders.canonical import digest, orders_to_json
 from ..orders.model import Orders
 from ..verify import fingerprint
 from . import draft_bursts
-from .db import database_of, writable
+from .db import writable
 from .events import record
+from .report_service import ReportService
 from .tables import Mission, MissionVersion, User, ValidationReport, utcnow
 
 MAX_LAYOUT_NODES = 50_000
@@ -191,12 +192,6 @@ class CachedReport:
     cached: bool
 
 
-def _validated(db: DbSession, key: str, orders: Orders) -> dict[str, Any]:
-    """Validated by the database's report service (once per digest in this process, with the
-    web app's pool of validation processes while it runs)."""
-    return database_of(db).reports.report(key, orders)
-
-
 def cached_report(db: DbSession, orders_digest: str) -> dict[str, Any] | None:
     """The stored report of this digest made by the current checks, or None: a report of
     other checks (before an upgrade) is never answered."""
@@ -205,7 +200,8 @@ def cached_report(db: DbSession, orders_digest: str) -> dict[str, Any] | None:
 
 
 def report_for(
-    db: DbSession, orders: Orders | Callable[[], Orders], orders_digest: str | None = None
+    db: DbSession, orders: Orders | Callable[[], Orders], orders_digest: str | None = None,
+    *, reports: ReportService,
 ) -> CachedReport:
     """The validation report of these orders, computed once per digest and checker
     fingerprint (verify.fingerprint): a report stored by other checks is computed again.
@@ -213,15 +209,17 @@ def report_for(
     `orders` may be a loader, called only on a cache miss: with the digest known, a cached
     report costs one lookup and no parsing. A read-only session stores a new report through a
     short transaction of its own, so that readers never hold (or wait for) a write lock while
-    validating."""
-    found = lookup_report(db, orders, orders_digest)
+    validating. A report not stored is computed by `reports` (once per digest in this process,
+    with the web app's pool of validation processes while it runs)."""
+    found = lookup_report(db, orders, orders_digest, reports=reports)
     if not found.cached:
         remember_report(db, found.report)
     return found
 
 
 def lookup_report(
-    db: DbSession, orders: Orders | Callable[[], Orders], orders_digest: str | None = None
+    db: DbSession, orders: Orders | Callable[[], Orders], orders_digest: str | None = None,
+    *, reports: ReportService,
 ) -> CachedReport:
     """The stored report of these orders, or a new one computed but not stored (its `cached`
     is False: store it with remember_report, e.g. in the write transaction that follows)."""
@@ -231,7 +229,7 @@ def lookup_report(
     row = db.get(ValidationReport, (orders_digest, fingerprint.checker_fingerprint()))
     if row is not None:
         return CachedReport(row.report, True)
-    return CachedReport(_validated(db, orders_digest, orders() if callable(orders) else orders),
+    return CachedReport(reports.report(orders_digest, orders() if callable(orders) else orders),
                         False)
 
 

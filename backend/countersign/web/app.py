@@ -14,6 +14,7 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 
 from .. import __version__
 from ..map_tiles import tile_origin
+from ..services.app import AppServices
 from ..settings import Settings
 from ..store.db import REQUEST_THREADS, Database
 from ..store.hashing import HASHER
@@ -152,9 +153,11 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
     hide_tickets()  # before the server logs its first request
     database = database or Database(settings.database_url)
     database.migrate()
-    if database.log_signer is None:
+    signer = database.log_signer
+    if signer is None:
         # Refuses to start on an unusable key file (readable by others, say).
-        database.log_signer = open_log_signer(settings, database)
+        signer = database.log_signer = open_log_signer(settings, database)
+    services = AppServices.of(database, signer)
     hub = RehearsalHub()
 
     @asynccontextmanager
@@ -171,7 +174,7 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
         pool = (ValidationPool(settings.validation_processes)
                 if settings.validation_processes > 0 else None)
         if pool is not None:
-            database.reports.use_pool(pool.validate, pool.validate_parts)
+            services.reports.use_pool(pool.validate, pool.validate_parts)
         app.state.validation_pool = pool
         if database.engine.dialect.name != "postgresql":
             # SQLite: this process runs campaign jobs; pick up those a killed one left.
@@ -188,7 +191,7 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
             if runner is not None:
                 runner.close()
             if pool is not None:
-                database.reports.use_pool(None)
+                services.reports.use_pool(None)
                 pool.shutdown()
 
     # One schema per model: recursive orders (a goal's refinement holds goals, issue 37)
@@ -199,6 +202,7 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
                   separate_input_output_schemas=False)
     app.state.settings = settings
     app.state.database = database
+    app.state.services = services  # routes: web/deps.py, Services
     app.state.rehearsals = hub
     app.state.rehearsal_proxies = []
     app.state.rate_limiter = RateLimiter()

@@ -1,4 +1,5 @@
-"""Request dependencies: database session, the signed-in principal, role guards, CSRF."""
+"""Request dependencies: database session, the app's services, the signed-in principal, role
+guards, CSRF."""
 
 from __future__ import annotations
 
@@ -13,8 +14,9 @@ from fastapi import Depends, HTTPException, Path, Request, Response
 from fastapi.routing import APIRoute
 from sqlalchemy.orm import Session as DbSession
 
+from ..services.app import AppServices
 from ..store.accounts import session_user, token_lookup
-from ..store.db import Database
+from ..store.db import Database, writes
 from ..store.tables import User
 from .strict_body import strict_handler
 from .token_scopes import token_refusal
@@ -117,6 +119,15 @@ RowId = Annotated[int, Path(ge=1, le=MAX_ROW_ID)]
 Db = Annotated[DbSession, Depends(get_db, scope="function")]
 
 
+def get_services(request: Request) -> AppServices:
+    """The app's services (services/app.py), built once by the app factory."""
+    services: AppServices = request.app.state.services
+    return services
+
+
+Services = Annotated[AppServices, Depends(get_services)]
+
+
 @dataclass(frozen=True)
 class Principal:
     user: User
@@ -125,7 +136,7 @@ class Principal:
 
 
 def current_principal(request: Request, db: Db) -> Principal:
-    if db.info.get("write", True):
+    if writes(db):
         # Who is asking is read in a short transaction of its own, so that a writing request
         # takes its write lock only when its route starts writing (see TransactionRoute).
         database: Database = request.app.state.database

@@ -9,6 +9,7 @@ from sqlalchemy.orm import Session as DbSession
 
 from ...approvals.bundle import BUNDLE_FORMAT
 from ...approvals.signer import LogSigner
+from ..db import writes
 from ..log_gaps import LogEntriesMissing, approvals_without_entry, describe, missing_entries
 from ..tables import (
     Approval,
@@ -31,7 +32,7 @@ def build_bundle(db: DbSession, *, signer: LogSigner,
                  mission: str | None = None) -> dict[str, Any]:
     """Everything an auditor needs to verify offline: the whole log, its checkpoints, the
     log key, the supervisors' keys, the envelopes with inclusion proofs and their orders."""
-    if not db.info.get("write", True):
+    if not writes(db):
         # One transaction sees the log, signs its checkpoint and reads what it covers.
         from ..db import database_of
 

@@ -13,7 +13,6 @@ from sqlalchemy.orm import Session as DbSession
 
 from ...approvals import dsse
 from ...approvals.dsse import SignatureError
-from ...approvals.signer import LogSigner
 from ...approvals.statement import (
     build_statement,
     json_digest,
@@ -33,6 +32,7 @@ from ..decide_guard import (
 from ..events import record
 from ..missions import NotFound, get_mission
 from ..reauth import confirm_password
+from ..report_service import ReportService
 from ..tables import (
     Approval,
     Mission,
@@ -63,11 +63,11 @@ class Context:
     report: dict[str, Any]
 
 
-def _context(db: DbSession, submission_id: int) -> Context:
+def _context(db: DbSession, submission_id: int, reports: ReportService) -> Context:
     submission = get_submission(db, submission_id)
     version = db.get_one(MissionVersion, submission.version_id)
     mission = get_mission(db, version.mission_id)
-    return Context(submission, version, mission, _report(db, version))
+    return Context(submission, version, mission, _report(db, version, reports))
 
 
 def _statement(db: DbSession, ctx: Context, *, decision: str, reason: str, supervisor: User,
@@ -117,11 +117,11 @@ def _reason(decision: str, reason: str) -> str:
 
 
 def prepare_decision(db: DbSession, *, submission_id: int, supervisor: User, decision: str,
-                     reason: str, key_id: str) -> Prepared:
+                     reason: str, key_id: str, reports: ReportService) -> Prepared:
     """The exact statement the supervisor signs (the client signs its DSSE PAE)."""
     if decision not in ("approved", "rejected"):
         raise BadDecision("decision is 'approved' or 'rejected'")
-    ctx = _context(db, submission_id)
+    ctx = _context(db, submission_id, reports)
     _check_open(ctx)
     _check_duties(db, supervisor, ctx.version, ctx.submission)
     _usable_key(db, key_id, supervisor)
@@ -188,8 +188,7 @@ def _check_fresh(db: DbSession, ctx: Context, statement: dict[str, Any], supervi
 
 
 def _store(db: DbSession, ctx: Context, *, envelope_text: str, statement: dict[str, Any],
-           key: SigningKey, supervisor: User, revokes: Approval | None,
-           signer: LogSigner) -> Approval:
+           key: SigningKey, supervisor: User, revokes: Approval | None) -> Approval:
     predicate = statement["predicate"]
     decision = str(predicate["decision"])
     detail = {"decision": decision, "envelope_digest": dsse.envelope_digest(envelope_text),
@@ -223,14 +222,14 @@ def _store(db: DbSession, ctx: Context, *, envelope_text: str, statement: dict[s
 
 
 def decide(db: DbSession, *, submission_id: int, supervisor: User, envelope: str,
-           signer: LogSigner, password: str | None) -> Approval:
+           password: str | None, reports: ReportService) -> Approval:
     """Verify a signed decision and store its envelope verbatim, or refuse with nothing kept.
     `password` is the supervisor's, entered again for this decision (store/reauth.py)."""
     # issue 14 (decisions): user verification first, then the row locks (store/decide_guard.py).
     confirm_password(db, username=supervisor.username, password_hash=supervisor.password_hash,
                      password=password)
     lock_submission(db, submission_id)
-    ctx = _context(db, submission_id)
+    ctx = _context(db, submission_id, reports)
     _check_duties(db, supervisor, ctx.version, ctx.submission)
     _, statement, key, _ = _verified(db, envelope, supervisor)
     if statement["predicate"].get("submission") != submission_id:
@@ -241,7 +240,7 @@ def decide(db: DbSession, *, submission_id: int, supervisor: User, envelope: str
     _check_open(ctx)
     _check_fresh(db, ctx, statement, supervisor, key)
     return _store(db, ctx, envelope_text=envelope, statement=statement, key=key,
-                  supervisor=supervisor, revokes=None, signer=signer)
+                  supervisor=supervisor, revokes=None)
 
 
 def get_approval(db: DbSession, approval_id: int) -> Approval:

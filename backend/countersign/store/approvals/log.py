@@ -12,7 +12,7 @@ from ...approvals.merkle import Tree
 from ...approvals.note import signature_line
 from ...approvals.signer import LogSigner, SignerRefused
 from ...errors import Conflict, Unavailable
-from ..db import BEGIN_MODE, LogTreeCache
+from ..db import BEGIN_MODE, LogTreeCache, log_trees_of, writes
 from ..log_gaps import missing_entries
 from ..missions import NotFound
 from ..tables import (
@@ -33,7 +33,7 @@ def _checkpoint_now(db: DbSession, signer: LogSigner, *,
     why the signer refused to sign a newer one (None when it did not refuse). Only committed
     entries are signed, so a signed head is never rolled back with a failed transaction.
     A read-only session signs through a short write session."""
-    if not db.info.get("write", True):
+    if not writes(db):
         from ..db import database_of
 
         with database_of(db).session() as writer:
@@ -123,8 +123,7 @@ def _committed_tree(db: DbSession) -> Tree:
     matches the database; otherwise it is rebuilt) and any newer leaves. Cached trees are never
     mutated, only replaced, so concurrent readers may share them."""
     engine = db.get_bind().engine
-    owner = db.info.get("database")
-    cache: LogTreeCache = owner.log_tree_cache if owner is not None else LogTreeCache()
+    cache = log_trees_of(db) or LogTreeCache()
     cached = cache.tree
     with engine.connect() as opened:
         # A reader of committed rows: never ask for SQLite's write lock (this request may hold it).

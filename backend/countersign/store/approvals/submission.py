@@ -13,6 +13,7 @@ from ..decide_guard import lock_version
 from ..events import record
 from ..missions import NotFound, get_mission, get_version, report_for
 from ..rehearsals import attach as attach_rehearsal
+from ..report_service import ReportService
 from ..tables import (
     MissionVersion,
     Submission,
@@ -23,16 +24,17 @@ from .common import Refused, Stale
 from .duties import ACTIVE_STATES, submit_refusal
 
 
-def _report(db: DbSession, version: MissionVersion) -> dict[str, Any]:
-    return report_for(db, orders_from_data(version.orders), version.digest).report
+def _report(db: DbSession, version: MissionVersion, reports: ReportService) -> dict[str, Any]:
+    return report_for(db, orders_from_data(version.orders), version.digest,
+                      reports=reports).report
 
 
 def submit(db: DbSession, *, mission_id: str, number: int, operator: User,
-           rehearsal: str | None = None) -> Submission:
+           reports: ReportService, rehearsal: str | None = None) -> Submission:
     mission = get_mission(db, mission_id)
     version = get_version(db, mission_id, number)
     lock_version(db, version.id)  # issue 14 item 6: parallel submits of one version queue here
-    report = _report(db, version)
+    report = _report(db, version, reports)
     active = db.scalar(select(Submission).where(
         Submission.version_id == version.id, Submission.state.in_(ACTIVE_STATES)))
     refused = submit_refusal(user=operator, number=number, report=report, active=active,

@@ -16,10 +16,10 @@ from ...limits import MAX_REASON
 from ...orders.reader import orders_from_data
 from ...orders.writers import write
 from ...rules.plain_orders import rules_sentences
+from ...services import approvals
 from ...store import approvals as service
-from ...store.integrity import submission_checked
 from ...store.log_gaps import LogEntriesMissing
-from ...store.missions import get_version, report_for
+from ...store.missions import report_for
 from ...store.rehearsals import attach, get_record, record_summary
 from ...store.tables import Approval, MissionVersion, SigningKey, Submission, User
 from ..deps import (
@@ -29,6 +29,7 @@ from ..deps import (
     CurrentPrincipal,
     Db,
     RowId,
+    Services,
     TransactionRoute,
     allow,
 )
@@ -58,11 +59,10 @@ KEY_READERS = ("supervisor", "auditor", "admin")
 AS_BUILT: dict[str, Any] = {"response_model_exclude_unset": True}
 
 
-def get_signer(request: Request) -> LogSigner:
+def get_signer(services: Services) -> LogSigner:
     """The log signer the app opened at start (web/log_signer.py): its key is a file of its
     own, outside the database."""
-    signer: LogSigner = request.app.state.database.log_signer
-    return signer
+    return services.signer
 
 
 Signer = Annotated[LogSigner, Depends(get_signer)]
@@ -119,22 +119,7 @@ def _key_out(db: Db, key: SigningKey) -> KeyOut:
 
 
 def _submission_out(db: Db, submission_id: int) -> SubmissionOut:
-    submission = service.get_submission(db, submission_id)
-    version = db.get_one(MissionVersion, submission.version_id)
-
-    def name(user_id: int | None) -> str | None:
-        user = db.get(User, user_id) if user_id is not None else None
-        return user.username if user else None
-
-    state, integrity = submission_checked(db, submission)
-    return SubmissionOut(id=submission.id, mission=version.mission_id, version=version.number,
-                         digest=version.digest, state=state,
-                         submitted_by=name(submission.submitted_by),
-                         submitted_at=submission.submitted_at,
-                         decided_by=name(submission.decided_by),
-                         decided_at=submission.decided_at, reason=submission.reason,
-                         rehearsal=submission.rehearsal_digest,
-                         integrity=integrity)
+    return SubmissionOut(**approvals.submission_fields(db, submission_id))
 
 
 # --- keys -----------------------------------------------------------------------------------
@@ -167,9 +152,9 @@ def revoke_key(key_id: Annotated[str, Path(max_length=64)], body: KeyRevokeIn,
 @router.post("/missions/{mission_id}/versions/{number}/submit", operation_id="submitVersion",
              status_code=201, response_model=SubmissionOut, **allow(*OPERATORS))
 def submit_version(mission_id: str, number: RowId, principal: CurrentPrincipal,
-                   db: Db, body: SubmitIn | None = None) -> SubmissionOut:
+                   db: Db, services: Services, body: SubmitIn | None = None) -> SubmissionOut:
     submission = service.submit(db, mission_id=mission_id, number=number,
-                                operator=principal.user,
+                                operator=principal.user, reports=services.reports,
                                 rehearsal=body.rehearsal if body else None)
     return _submission_out(db, submission.id)
 
@@ -195,13 +180,8 @@ def list_submissions(
     mission: Annotated[str | None, Query(max_length=100)] = None,
     limit: Annotated[int, Query(ge=1, le=500)] = 100,
 ) -> list[SubmissionOut]:
-    query = select(Submission.id).order_by(Submission.id.desc()).limit(limit)
-    if state:
-        query = query.where(Submission.state == state)
-    if mission:
-        query = query.join(MissionVersion, MissionVersion.id == Submission.version_id).where(
-            MissionVersion.mission_id == mission)
-    return [_submission_out(db, i) for i in db.scalars(query)]
+    return [SubmissionOut(**fields) for fields in approvals.list_submissions(
+        db, state=state, mission=mission, limit=limit)]
 
 
 @router.get("/submissions/{submission_id}", operation_id="getSubmission",
@@ -221,63 +201,36 @@ def withdraw_submission(submission_id: RowId, principal: CurrentPrincipal,
 @router.get("/missions/{mission_id}/versions/{number}/review", operation_id="reviewVersion",
             response_model=ReviewOut, **AS_BUILT, **allow(*EVERYONE))
 def review_version(mission_id: str, number: RowId, principal: CurrentPrincipal,
-                   db: Db) -> dict[str, Any]:
+                   db: Db, services: Services) -> dict[str, Any]:
     """What a review shows of one version: its orders, plain-language orders, contingency
     `rules` (one sentence each; empty when none or unreadable), findings, path summary (the
     paths themselves page from `GET /missions/{id}/paths?version=`), its submissions, the
     previously approved version's orders (for the diff), and whether the caller may submit it
     or sign a decision on it (and why not)."""
-    version = get_version(db, mission_id, number)
-    orders = orders_from_data(version.orders)
-    report = report_for(db, orders, version.digest).report
-    submissions = list(db.scalars(select(Submission).where(Submission.version_id == version.id)
-                                  .order_by(Submission.id.desc())))
-    current = submissions[0] if submissions else None
-    refused = service.submit_refusal(user=principal.user, number=number, report=report,
-                                     active=current)
-    submit_refusal = str(refused) if refused is not None else None
-    decide_refusal = service.decision_refusal(db, user=principal.user, version=version,
-                                              submission=current)
-    previous = service.previous_approval(db, version)
-    previous_out = None
-    if previous is not None:
-        before = db.get_one(MissionVersion, previous.version_id)
-        state = db.get_one(Submission, previous.submission_id).state
-        previous_out = {"version": before.number, "digest": before.digest,
-                        "approval": previous.id, "state": state, "orders": before.orders}
-    author = db.get(User, version.author_id)
-    return {
-        "mission": mission_id, "version": number, "digest": version.digest,
-        "author": author.username if author else None,
-        "created_at": version.created_at.isoformat(), "orders": version.orders,
-        "plain": write(orders, "plain"), "rules": rules_sentences(orders),
-        "ok": report["ok"], "findings": report["findings"],
-        "paths": report.get("paths"), "checker": report["checker"],
-        "probabilities": report.get("probabilities"),
-        "submissions": [_submission_out(db, s.id).model_dump(mode="json") for s in submissions],
-        "previous": previous_out,
-        "may_submit": submit_refusal is None, "submit_refusal": submit_refusal,
-        "may_decide": decide_refusal is None, "decide_refusal": decide_refusal,
-    }
+    review = approvals.review(db, reports=services.reports, user=principal.user,
+                              mission_id=mission_id, number=number)
+    return {**review, "submissions": [SubmissionOut(**fields).model_dump(mode="json")
+                                      for fields in review["submissions"]]}
 
 
 @router.post("/submissions/{submission_id}/statement", operation_id="prepareDecision",
              response_model=PreparedOut, **allow(*SUPERVISORS))
 def prepare_decision(submission_id: RowId, body: DecisionIn, principal: CurrentPrincipal,
-                     db: Db) -> dict[str, Any]:
+                     db: Db, services: Services) -> dict[str, Any]:
     """The exact in-toto statement to sign: sign the DSSE PAE bytes (`pae`, base64) with the
     registered key, then POST the envelope to `/decision`. Nothing is stored."""
     return service.prepare_decision(db, submission_id=submission_id, supervisor=principal.user,
                                     decision=body.decision, reason=body.reason,
-                                    key_id=body.key_id).to_json()
+                                    key_id=body.key_id, reports=services.reports).to_json()
 
 
 @router.post("/submissions/{submission_id}/decision", operation_id="signDecision",
              status_code=201, response_model=DecisionOut, **allow(*SUPERVISORS))
-def sign_decision(submission_id: RowId, body: EnvelopeIn, principal: CurrentPrincipal, db: Db,
-                  signer: Signer) -> DecisionOut:
+def sign_decision(submission_id: RowId, body: EnvelopeIn, principal: CurrentPrincipal,
+                  db: Db, services: Services) -> DecisionOut:
     approval = service.decide(db, submission_id=submission_id, supervisor=principal.user,
-                              envelope=body.envelope, signer=signer, password=body.password)
+                              envelope=body.envelope, password=body.password,
+                              reports=services.reports)
     return DecisionOut(**service.approval_summary(db, approval),
                        receipt=service.receipt_of(db, approval))
 
@@ -285,17 +238,19 @@ def sign_decision(submission_id: RowId, body: EnvelopeIn, principal: CurrentPrin
 @router.post("/approvals/{approval_id}/statement", operation_id="prepareRevocation",
              response_model=PreparedOut, **allow(*SUPERVISORS))
 def prepare_revocation(approval_id: RowId, body: RevocationIn, principal: CurrentPrincipal,
-                       db: Db) -> dict[str, Any]:
+                       db: Db, services: Services) -> dict[str, Any]:
     return service.prepare_revocation(db, approval_id=approval_id, supervisor=principal.user,
-                                      reason=body.reason, key_id=body.key_id).to_json()
+                                      reason=body.reason, key_id=body.key_id,
+                                      reports=services.reports).to_json()
 
 
 @router.post("/approvals/{approval_id}/revoke", operation_id="revokeApproval",
              status_code=201, response_model=DecisionOut, **allow(*SUPERVISORS))
-def revoke_approval(approval_id: RowId, body: EnvelopeIn, principal: CurrentPrincipal, db: Db,
-                    signer: Signer) -> DecisionOut:
+def revoke_approval(approval_id: RowId, body: EnvelopeIn, principal: CurrentPrincipal,
+                    db: Db, services: Services) -> DecisionOut:
     approval = service.revoke(db, approval_id=approval_id, supervisor=principal.user,
-                              envelope=body.envelope, signer=signer, password=body.password)
+                              envelope=body.envelope, password=body.password,
+                              reports=services.reports)
     return DecisionOut(**service.approval_summary(db, approval),
                        receipt=service.receipt_of(db, approval))
 
@@ -329,16 +284,16 @@ def list_approvals(
 
 @router.get("/approvals/{approval_id}", operation_id="getApproval",
             response_model=ApprovalDetailOut, **AS_BUILT, **allow(*LOG_READERS))
-def get_approval(approval_id: RowId, db: Db, signer: Signer) -> dict[str, Any]:
+def get_approval(approval_id: RowId, db: Db, services: Services) -> dict[str, Any]:
     """An approval as signed: envelope, statement, the orders as approved, plain-language
     orders and contingency rules, findings, path summary, the key, and an inclusion proof
     against a checkpoint."""
     approval = service.get_approval(db, approval_id)
     version = db.get_one(MissionVersion, approval.version_id)
     orders = orders_from_data(version.orders)
-    report = report_for(db, orders, version.digest).report
+    report = report_for(db, orders, version.digest, reports=services.reports).report
     key = db.get_one(SigningKey, approval.key_id)
-    checkpoint = service.latest_checkpoint(db, signer=signer)
+    checkpoint = service.latest_checkpoint(db, signer=services.signer)
     summary = service.approval_summary(db, approval)
     envelope = dsse.parse_envelope(approval.envelope)
     payload = dsse.unb64(envelope["payload"], "the payload")

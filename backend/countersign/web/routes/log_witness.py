@@ -10,7 +10,7 @@ from pydantic import Field
 
 from ...store import approvals as service
 from ...store.cosignatures import add_cosignature, cosignature_lines
-from ..deps import EVERYONE, LOG_READERS, Db, TransactionRoute, allow
+from ..deps import EVERYONE, LOG_READERS, Db, Services, TransactionRoute, allow
 from ..log_signer import signer_directory
 from .approval_schemas import CosignatureOut, CosignedCheckpointOut
 from .schemas import RequestBody
@@ -36,9 +36,9 @@ def post_cosignature(body: CosignatureIn, db: Db, request: Request) -> dict[str,
 
 @router.get("/log/cosigned", operation_id="getCosignedCheckpoint",
             response_model=CosignedCheckpointOut, **allow(*EVERYONE))
-def get_cosigned(db: Db, request: Request) -> dict[str, Any]:
+def get_cosigned(db: Db, services: Services) -> dict[str, Any]:
     """The latest checkpoint with the witnesses' cosignature lines appended to its note."""
-    row = service.latest_checkpoint(db, signer=request.app.state.database.log_signer)
+    row = service.latest_checkpoint(db, signer=services.signer)
     plain = service.checkpoint_json(row)
     lines = cosignature_lines(db, plain["note"])
     return {**service.checkpoint_json(row, lines), "cosignatures": lines}

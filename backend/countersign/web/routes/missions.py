@@ -2,38 +2,27 @@
 
 from __future__ import annotations
 
-import base64
-import hashlib
-from collections.abc import Iterator
-from dataclasses import dataclass
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any
 
 from fastapi import APIRouter, Header, HTTPException, Path, Query, Request, Response
 from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import JSONResponse, PlainTextResponse, StreamingResponse
 from pydantic import BaseModel, Field
-from sqlalchemy import func, or_, select
 from sqlalchemy.orm import Session as DbSession
-from sqlalchemy.orm import defer
 
-from ...errors import Conflict, Invalid, NotFound
-from ...orders.canonical import digest, orders_to_json
+from ...errors import Invalid, NotFound
+from ...orders.canonical import orders_to_json
 from ...orders.examples import example_bytes, example_names
 from ...orders.model import Orders
-from ...orders.reader import orders_from_data, read_bytes, read_json
+from ...orders.reader import orders_from_data, read_bytes
 from ...orders.writers import WRITERS
 from ...rules.plain_orders import write_for_supervisor
+from ...services import missions
+from ...services.app import AppServices
 from ...store import missions as service
 from ...store.accounts import username_of
-from ...store.db import database_of
-from ...store.mission_status import mission_status, mission_statuses
-from ...store.tables import Mission, MissionVersion, ValidationReport
-from ...store.vehicles import registry_stamp, with_registry
-from ...verify import fingerprint
-from ...verify.path_search import UnknownNode, count_matching, iter_matching, path_query
-from ...verify.paths import count_paths, iter_path_lines, iter_paths, trace_text
-from ...verify.probability import declares_probabilities, path_probability_bounds
-from ...verify.refine import checked_form
+from ...store.tables import Mission
+from ...verify.paths import trace_text
 from ..deps import (
     EVERYONE,
     MAX_ROW_ID,
@@ -41,6 +30,7 @@ from ..deps import (
     CurrentPrincipal,
     Db,
     RowId,
+    Services,
     TransactionRoute,
     allow,
     computing,
@@ -59,8 +49,6 @@ from .schemas import (
     ReportOut,
     RequestBody,
     VersionOut,
-    counted_summary_fields,
-    summary_fields,
     version_out,
 )
 
@@ -92,146 +80,39 @@ def _orders(data: dict[str, Any]) -> Orders:
     return orders_from_data(data)
 
 
-@dataclass(frozen=True)
-class Validated:
-    """Orders about to be written: their digest, and their report if it is new (stored by
-    `keep` in the write transaction that follows)."""
-
-    digest: str
-    new_report: dict[str, Any] | None
-
-    def keep(self, db: DbSession) -> None:
-        if self.new_report is not None:
-            service.remember_report(db, self.new_report)
-
-
-def _validate_first(db: DbSession, orders: Orders, mission_id: str | None = None,
-                    expected_revision: int | None = None) -> Validated:
-    """Validate orders about to be written before the write transaction begins. A writing
-    request holds the write lock from its first query to its commit, so validating here (in
-    a read transaction, without any lock) keeps that stretch short; the new report is then
-    stored in the write transaction itself, so that neither this answer nor the next read
-    validates again. An edit whose revision is already stale fails with 412 before paying
-    for validation."""
-    value = digest(orders)
-    with database_of(db).session(write=False) as reader:
-        if mission_id is not None and expected_revision is not None:
-            current = reader.get(Mission, mission_id)
-            if current is not None and current.revision != expected_revision:
-                raise service.PreconditionFailed(
-                    f"the draft changed since revision {expected_revision} (now "
-                    f"{current.revision}); reload it and apply your edit again",
-                    current.revision)
-        found = service.lookup_report(reader, orders, value)
-    return Validated(value, None if found.cached else found.report)
-
-
-def _summary(db: DbSession, mission: Mission, names: dict[int, str],
-             latest: int | Literal[False] | None = False,
-             status: tuple[str, list[str]] | None = None) -> dict[str, Any]:
-    # A writing request holds the write lock until it answers: it reports only what is cached
-    # (ok/errors stay null otherwise) and leaves validation to the next read or /validate.
-    if db.info.get("write", True):
-        report = service.cached_report(db, mission.draft_digest)
-    else:
-        report = service.report_for(db, lambda: _orders(mission.draft), mission.draft_digest).report
-    if latest is False:
-        latest = db.scalar(select(func.max(MissionVersion.number))
-                           .where(MissionVersion.mission_id == mission.id))
-    return summary_fields(mission, report, latest, username_of(db, mission.updated_by, names),
-                          status or mission_status(db, mission))
-
-
-def _detail(db: DbSession, mission: Mission, response: Response | None,
+def _detail(db: DbSession, services: AppServices, mission: Mission, response: Response | None,
             import_findings: list[dict[str, Any]] | None = None) -> MissionDetail:
-    names: dict[int, str] = {}
-    # The list needs no version's orders: select the four columns it shows.
-    rows = db.execute(
-        select(MissionVersion.number, MissionVersion.digest, MissionVersion.author_id,
-               MissionVersion.created_at)
-        .where(MissionVersion.mission_id == mission.id).order_by(MissionVersion.number)
-    ).all()
-    versions = [VersionOut(number=number, digest=value, author=username_of(db, author, names),
-                           created_at=created_at)
-                for number, value, author, created_at in rows]
+    fields = missions.detail(db, mission, reports=services.reports,
+                             import_findings=import_findings)
     if response is not None:
         response.headers["ETag"] = f'"{mission.revision}"'
-    latest = versions[-1].number if versions else None
-    return MissionDetail(**_summary(db, mission, names, latest), orders=mission.draft,
-                         layout=mission.layout, versions=versions,
-                         import_findings=import_findings or [])
-
-
-def _encode_cursor(value: str | int) -> str:
-    return base64.urlsafe_b64encode(str(value).encode()).decode()
-
-
-def _decode_cursor(cursor: str) -> str:
-    try:
-        return base64.b64decode(cursor.encode(), altchars=b"-_", validate=True).decode()
-    except (ValueError, UnicodeDecodeError):
-        raise Invalid("the cursor is not valid; start again without one") from None
+    return MissionDetail(**fields)
 
 
 @router.get("/missions", operation_id="listMissions", response_model=MissionPage,
             **allow(*EVERYONE))
 def list_missions(
     db: Db,
+    services: Services,
     q: Annotated[str | None, Query(max_length=200)] = None,
     status: Annotated[str | None, Query(max_length=16)] = None,
     vehicle: Annotated[str | None, Query(max_length=100)] = None,
     limit: Annotated[int, Query(ge=1, le=MAX_PAGE)] = 50,
     cursor: Annotated[str | None, Query(max_length=400)] = None,
 ) -> MissionPage:
-    # One query: each mission's row without its orders or layout, its draft report's summary
-    # columns (never the report itself) and its latest version number (issue 36).
-    latest = (select(func.max(MissionVersion.number))
-              .where(MissionVersion.mission_id == Mission.id).scalar_subquery())
-    query = (
-        select(Mission, ValidationReport.ok, ValidationReport.errors, ValidationReport.warnings,
-               latest)
-        .options(defer(Mission.draft), defer(Mission.layout))
-        .outerjoin(ValidationReport,
-                   (ValidationReport.digest == Mission.draft_digest)
-                   & (ValidationReport.checker_version == fingerprint.checker_fingerprint()))
-        .order_by(Mission.id).limit(limit + 1)
-    )
-    if q:
-        pattern = "%" + q.replace("\\", "\\\\").replace("%", "\\%").replace("_", "\\_") + "%"
-        query = query.where(or_(Mission.id.ilike(pattern, escape="\\"),
-                                Mission.title.ilike(pattern, escape="\\")))
-    if status:
-        query = query.where(Mission.status == status)
-    if vehicle:
-        query = query.where(Mission.vehicle == vehicle)
-    if cursor:
-        query = query.where(Mission.id > _decode_cursor(cursor))
-    rows = db.execute(query).all()
-    names: dict[int, str] = {}
-    items = []
-    statuses = mission_statuses(db, [row[0] for row in rows[:limit]])
-    for mission, ok, errors, warnings, number in rows[:limit]:
-        shown = statuses[mission.id]
-        if errors is None or warnings is None:  # no current report yet: as the detail does
-            fields = _summary(db, mission, names, number, shown)
-        else:
-            fields = counted_summary_fields(mission, ok, errors, warnings, number,
-                                            username_of(db, mission.updated_by, names), shown)
-        items.append(MissionSummary(**fields))
-    following = _encode_cursor(rows[limit - 1][0].id) if len(rows) > limit else None
-    return MissionPage(items=items, next_cursor=following)
+    found = missions.list_missions(db, reports=services.reports, q=q, status=status,
+                                   vehicle=vehicle, limit=limit, cursor=cursor)
+    return MissionPage(items=[MissionSummary(**fields) for fields in found.items],
+                       next_cursor=found.next_cursor)
 
 
 @router.post("/missions", operation_id="createMission", status_code=201,
              response_model=MissionDetail, **with_limit(allow(*OPERATORS), None))
 def create_mission(body: OrdersJson, response: Response, principal: CurrentPrincipal,
-                   db: Db) -> MissionDetail:
-    orders = with_registry(db, _orders(body))
-    validated = _validate_first(db, orders)
-    mission = service.create_mission(db, orders=orders, author=principal.user,
-                                     orders_digest=validated.digest)
-    validated.keep(db)
-    return _detail(db, mission, response)
+                   db: Db, services: Services) -> MissionDetail:
+    mission = missions.create_mission(db, _orders(body), author=principal.user,
+                                      database=services.database, reports=services.reports)
+    return _detail(db, services, mission, response)
 
 
 IMPORT_ROUTE = allow(*OPERATORS)
@@ -244,23 +125,20 @@ IMPORT_ROUTE["openapi_extra"]["requestBody"] = {"required": True, "content": {
 @router.post("/import", operation_id="importMission", status_code=201,
              response_model=MissionDetail, **with_limit(IMPORT_ROUTE, "import"))
 async def import_mission(request: Request, response: Response, principal: CurrentPrincipal,
-                         db: Db) -> MissionDetail:
+                         db: Db, services: Services) -> MissionDetail:
     data = await request.body()
     # Parsing, validation and the write run in a worker thread, committed there (the event
     # loop must never wait for a database lock).
-    return await run_in_threadpool(in_one_transaction, db, _import, db, data, response,
-                                   principal)
+    return await run_in_threadpool(in_one_transaction, db, _import, db, services, data,
+                                   response, principal)
 
 
-def _import(db: DbSession, data: bytes, response: Response,
+def _import(db: DbSession, services: AppServices, data: bytes, response: Response,
             principal: CurrentPrincipal) -> MissionDetail:
     loaded = read_bytes(data, "the uploaded file")
-    orders = with_registry(db, loaded.orders)
-    validated = _validate_first(db, orders)
-    mission = service.create_mission(db, orders=orders, author=principal.user,
-                                     orders_digest=validated.digest)
-    validated.keep(db)
-    return _detail(db, mission, response, [f.to_json() for f in loaded.findings])
+    mission = missions.create_mission(db, loaded.orders, author=principal.user,
+                                      database=services.database, reports=services.reports)
+    return _detail(db, services, mission, response, [f.to_json() for f in loaded.findings])
 
 
 class ReadOrdersOut(BaseModel):
@@ -309,8 +187,9 @@ def get_example(name: Annotated[str, Path(max_length=100)]) -> dict[str, Any]:
 
 @router.get("/missions/{mission_id}", operation_id="getMission", response_model=MissionDetail,
             **with_limit(allow(*EVERYONE), None))
-def get_mission(mission_id: str, response: Response, db: Db) -> MissionDetail:
-    return _detail(db, service.get_mission_with_report(db, mission_id), response)
+def get_mission(mission_id: str, response: Response, db: Db,
+                services: Services) -> MissionDetail:
+    return _detail(db, services, service.get_mission_with_report(db, mission_id), response)
 
 
 def _revision(if_match: str | None) -> int:
@@ -325,15 +204,13 @@ def _revision(if_match: str | None) -> int:
 @router.put("/missions/{mission_id}/draft", operation_id="updateDraft",
             response_model=MissionDetail, **with_limit(allow(*OPERATORS), None))
 def update_draft(mission_id: str, body: DraftIn, response: Response,
-                 principal: CurrentPrincipal, db: Db,
+                 principal: CurrentPrincipal, db: Db, services: Services,
                  if_match: Annotated[str | None, Header()] = None) -> MissionDetail:
-    orders, expected = with_registry(db, _orders(body.orders)), _revision(if_match)
-    validated = _validate_first(db, orders, mission_id, expected)
-    mission = service.update_draft(
-        db, mission_id=mission_id, orders=orders, layout=body.layout,
-        expected_revision=expected, author=principal.user, orders_digest=validated.digest)
-    validated.keep(db)
-    return _detail(db, mission, response)
+    orders, expected = _orders(body.orders), _revision(if_match)
+    mission = missions.update_draft(
+        db, orders, mission_id=mission_id, layout=body.layout, expected_revision=expected,
+        author=principal.user, database=services.database, reports=services.reports)
+    return _detail(db, services, mission, response)
 
 
 @router.put("/missions/{mission_id}/layout", operation_id="saveLayout",
@@ -374,11 +251,10 @@ REPORT_ROUTE: dict[str, Any] = {"response_model": ReportOut,
 
 @router.get("/missions/{mission_id}/report", operation_id="getReport", **REPORT_ROUTE,
             **with_limit(allow(*EVERYONE), None))
-def get_report(mission_id: str, db: Db) -> Response:
-    mission = service.get_mission(db, mission_id)
+def get_report(mission_id: str, db: Db, services: Services) -> Response:
     # A report is answered as stored (it was made by this server): no model round trip.
-    return JSONResponse(service.report_for(db, lambda: _orders(mission.draft),
-                                           mission.draft_digest).report)
+    return JSONResponse(missions.draft_report(db, reports=services.reports,
+                                              mission_id=mission_id))
 
 
 VALIDATE_ROUTE = allow(*EVERYONE)
@@ -391,26 +267,14 @@ VALIDATE_ROUTE["responses"] = {422: {"description": "Validation Error", "content
 
 @router.post("/validate", operation_id="validateOrders", **REPORT_ROUTE,
              **computing(with_limit(VALIDATE_ROUTE, "validate")))
-async def validate_orders(request: Request, db: Db) -> Response:
+async def validate_orders(request: Request, db: Db, services: Services) -> Response:
     data = await request.body()
-    return await run_in_threadpool(in_one_transaction, db, _validate_body, db, data)
+    return await run_in_threadpool(in_one_transaction, db, _validate_body, db, services, data)
 
 
-def _validate_body(db: DbSession, data: bytes) -> Response:
-    # The same body sent again (an editor re-checking, a CI job) skips parsing and
-    # canonicalising: the report service remembers the orders digest of recent bodies. The
-    # registry's profiles and charts are copied into the orders, so they are part of the key.
-    reports = database_of(db).reports
-    key = hashlib.sha256(registry_stamp(db) + b"\0" + data).digest()
-    known = reports.body_digest(key)
-    if known is not None:
-        stored = service.cached_report(db, known)
-        if stored is not None:
-            return JSONResponse(stored)
-    # The importer's JSON reader: duplicate keys, bad UTF-8 and bad JSON are 422 problems.
-    report = service.report_for(db, with_registry(db, read_json(data))).report
-    reports.remember_body(key, report["digest"])
-    return JSONResponse(report)
+def _validate_body(db: DbSession, services: AppServices, data: bytes) -> Response:
+    # Read errors (duplicate keys, bad UTF-8, bad JSON) are 422 problems.
+    return JSONResponse(missions.validate_body(db, reports=services.reports, data=data))
 
 
 PATHS_ROUTE = allow(*EVERYONE)
@@ -437,59 +301,23 @@ def list_paths(
     """The paths in the order of Figure 6, a page at a time (`next_cursor`). With `goal` or
     `terminal`, only the matching paths (`matching` counts them), each keeping its index in the
     full list; the cursor then counts matches."""
-    if version is not None:
-        orders = _orders(service.get_version(db, mission_id, version).orders)
-    else:
-        orders = _orders(service.get_mission(db, mission_id).draft)
-    if orders.team is not None:
-        # A team has one path list per member; its joint executions are counted in the report.
-        raise Conflict("these orders are a team's: each member has its own paths, "
-                       "and the report counts the joint executions")
-    # Refined goals run as their refinements: the paths are those of the flat mission.
-    orders, graph = checked_form(orders)
-    counts = count_paths(graph)
-    bounds = (path_probability_bounds(orders, graph)
-              if declares_probabilities(orders) else None)
-    if counts is None:
-        raise Conflict("the paths cannot be counted until the structural errors "
-                       "in the report are fixed")
-    searching = bool(goal or terminal)
-    try:
-        query = path_query(graph, goal, terminal)
-    except UnknownNode as e:
-        raise Invalid(f"{e}: search by one of its goal or terminal ids") from None
-    matching = count_matching(graph, query) if searching else counts.total
-    assert matching is not None  # counted above
-    offset = 0
-    if cursor:
-        try:
-            offset = int(_decode_cursor(cursor))
-        except ValueError:
-            raise Invalid("the cursor is not valid") from None
-        if not 0 <= offset <= matching:  # e.g. "LTE=", which decodes to -1
-            raise Invalid("the cursor is not valid")
+    listing = missions.path_listing(db, mission_id=mission_id, version=version, goal=goal,
+                                    terminal=terminal, cursor=cursor)
     if format == "ndjson" or "application/x-ndjson" in request.headers.get("accept", ""):
-        if searching:
+        if listing.searching:
             raise Invalid("goal and terminal apply to JSON pages and traces; "
                           "stream every path without them")
-        def lines() -> Iterator[str]:
-            for line in iter_path_lines(graph, counts, offset, probabilities=bounds):
-                yield line + "\n"
-        return StreamingResponse(lines(), media_type="application/x-ndjson")
-    if searching:
-        page = list(iter_matching(graph, counts, query, offset, limit, probabilities=bounds))
-    else:
-        page = list(iter_paths(graph, counts, offset, limit, probabilities=bounds))
+        return StreamingResponse(listing.lines(), media_type="application/x-ndjson")
+    page = listing.page(limit)
     if format == "trace":
-        return PlainTextResponse("\n".join(trace_text(graph, p) for p in page) + "\n")
-    following = offset + len(page)
-    return PathPage(count=counts.total, by_terminal=counts.by_terminal,
-                    matching=matching if searching else None,
+        return PlainTextResponse("\n".join(trace_text(listing.graph, p) for p in page) + "\n")
+    return PathPage(count=listing.counts.total, by_terminal=listing.counts.by_terminal,
+                    matching=listing.matching if listing.searching else None,
                     items=[MissionPathOut(index=p.index, goals=list(p.goals),
                                           outcomes=list(p.outcomes), terminal=p.terminal,
                                           probability=p.probability)
                            for p in page],
-                    next_cursor=_encode_cursor(following) if following < matching else None)
+                    next_cursor=listing.next_cursor(len(page)))
 
 
 @router.get("/missions/{mission_id}/export", operation_id="exportMission",

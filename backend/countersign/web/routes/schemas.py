@@ -20,7 +20,7 @@ from pydantic_core import core_schema as cs
 from ...orders.model import Orders, Vehicle
 from ...plan.model import PlanProblem
 from ...store.event_words import event_change
-from ...store.tables import Event, Mission, MissionVersion, User
+from ...store.tables import Event, MissionVersion, User
 
 
 class SchemaOf:
@@ -288,26 +288,3 @@ def version_out(version: MissionVersion, author: str, with_orders: bool) -> Vers
     return VersionOut(number=version.number, digest=version.digest, author=author,
                       created_at=version.created_at,
                       orders=version.orders if with_orders else None)
-
-
-def summary_fields(mission: Mission, report: dict[str, Any] | None, latest: int | None,
-                   updated_by: str, status: tuple[str, list[str]]) -> dict[str, Any]:
-    findings = report["findings"] if report else None
-    errors = sum(f["severity"] == "error" for f in findings) if findings is not None else None
-    return counted_summary_fields(
-        mission, report["ok"] if report else None, errors,
-        (len(findings) - (errors or 0)) if findings is not None else None, latest, updated_by,
-        status)
-
-
-def counted_summary_fields(mission: Mission, ok: bool | None, errors: int | None,
-                           warnings: int | None, latest: int | None,
-                           updated_by: str, status: tuple[str, list[str]]) -> dict[str, Any]:
-    """A mission's summary from counts already made (the report's summary columns)."""
-    return {
-        "id": mission.id, "title": mission.title, "vehicle": mission.vehicle,
-        "status": status[0], "integrity": status[1], "draft_digest": mission.draft_digest,
-        "revision": mission.revision, "latest_version": latest,
-        "ok": ok, "errors": errors, "warnings": warnings,
-        "updated_at": mission.updated_at, "updated_by": updated_by,
-    }
