@@ -149,7 +149,16 @@ _CHANGES: dict[str, Callable[[str | None, Mapping[str, Any]], str]] = {
     "campaign.cancelled": lambda m, d: (
         f"{_campaign(d)} cancelled after {d.get('done')} simulations"),
     "log.adopted": lambda m, d: f"{d.get('entries')} earlier log entries adopted",
+    "procedure.saved": lambda m, d: f"procedure saved as {_short(d.get('digest'))}",
+    "procedure.approved": lambda m, d: _procedure_decision("approved", d),
+    "procedure.rejected": lambda m, d: _procedure_decision("rejected", d),
 }
+
+
+def _procedure_decision(decision: str, detail: Mapping[str, Any]) -> str:
+    said = f"procedure {decision} with key {_short(detail.get('key_id'))}"
+    reason = detail.get("reason")
+    return said + (f": “{_text(reason)}”" if reason else "")
 
 
 def event_change(kind: str, mission: str | None, detail: Mapping[str, Any]) -> str:
