@@ -1,10 +1,12 @@
 """The suite's own speed-ups (issue 35 item 8) keep their promises: cheap Argon2 only under test
 and never for the tests that count or inspect the real hasher; each world starts from the
-session's migrated template, which is as empty as a freshly migrated database."""
+session's migrated template, which is as empty as a freshly migrated database; the quick loop's
+markers follow folders and fixtures."""
 
 from __future__ import annotations
 
 import re
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import pytest
@@ -16,6 +18,7 @@ from countersign.store import accounts, login_throttle
 from countersign.store.db import Database
 from countersign.store.hashing import BoundedHasher
 
+from .. import markers
 from ..cheap_hashing import PRODUCTION_HASHER
 from ..db_template import STAMP, STAMP_COMMENT, PostgresTemplate, postgres_stamp, sqlite_stamp
 from .conftest import World, count_rows
@@ -98,3 +101,36 @@ def test_a_template_database_holds_what_migration_leaves(world: World, tmp_path:
                                     password="a long password 1")
         assert user.id == 1
     database.engine.dispose()
+
+
+@dataclass
+class _Item:
+    """What tests/markers.py reads of a collected test."""
+
+    path: Path
+    fixturenames: tuple[str, ...] = ()
+    callspec: object = None
+    markers: list[str] = field(default_factory=list)
+
+    def add_marker(self, marker: pytest.MarkDecorator) -> None:
+        self.markers.append(marker.name)
+
+
+@dataclass
+class _Callspec:
+    params: dict[str, object]
+
+
+def test_markers_follow_folders_and_fixtures(request: pytest.FixtureRequest) -> None:
+    items = [_Item(TESTS / "e2e" / "test_editor.py"),
+             _Item(TESTS / "api" / "test_roles.py", ("database_url",),
+                   _Callspec({"database_url": "postgresql"})),
+             _Item(TESTS / "api" / "test_roles.py", ("database_url",),
+                   _Callspec({"database_url": "sqlite"})),
+             _Item(TESTS / "campaigns" / "test_campaign_kill.py", ("postgres",)),
+             _Item(TESTS / "api" / "test_fuzz.py")]
+    markers.mark_items(items)  # type: ignore[arg-type]
+    assert [item.markers for item in items] == [
+        ["browser"], ["postgres"], [], ["slow", "postgres"], ["slow"]]
+    registered = {line.split(":", 1)[0] for line in request.config.getini("markers")}
+    assert {"browser", "postgres", "slow", "production_hashing"} <= registered
