@@ -35,6 +35,8 @@ def _stored_memory_costs(world: World) -> set[int]:
 def test_the_world_hashes_with_cheap_parameters(world: World) -> None:
     assert _stored_memory_costs(world) == {CHEAPEST.memory_cost}
     assert login_throttle.HASHER is accounts.HASHER is not PRODUCTION_HASHER
+    # An unknown username costs what a wrong password does, as in production.
+    assert extract_parameters(accounts._DUMMY_HASH).memory_cost == CHEAPEST.memory_cost
     # Production's hasher is untouched: argon2-cffi's defaults, as `countersign serve` has them.
     assert PRODUCTION_HASHER.memory_cost == BoundedHasher().memory_cost > CHEAPEST.memory_cost
 
