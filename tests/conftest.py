@@ -6,6 +6,9 @@ from pathlib import Path
 import pytest
 from hypothesis import settings
 
+from .cheap_hashing import _cheap_password_hashing  # noqa: F401
+from .markers import mark_items
+
 REPO = Path(__file__).resolve().parents[1]
 
 # Property tests: a developer's run draws new cases every time ("explore"); CI's run
@@ -19,6 +22,12 @@ settings.load_profile(os.environ.get("COUNTERSIGN_HYPOTHESIS_PROFILE", "explore"
 @pytest.fixture(scope="session")
 def repo() -> Path:
     return REPO
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """The markers postgres, browser and slow (pyproject.toml), added by where a test lives and
+    what it uses (tests/markers.py)."""
+    mark_items(items)
 
 
 def pytest_terminal_summary(terminalreporter: pytest.TerminalReporter) -> None:

@@ -1,5 +1,11 @@
 """API fixtures: a real database (SQLite always; PostgreSQL when COUNTERSIGN_TEST_POSTGRES_URL
-is set, as .ci/run does) migrated by the app itself, users of every role, signed-in clients."""
+is set, as .ci/run does), users of every role, signed-in clients.
+
+A test that uses the `world` starts from a database migrated once per session (issue 35 item 8:
+Alembic per test was most of a short test's cost): on SQLite a copy of a migrated template
+file, on PostgreSQL the one migrated schema with every table emptied (tests/db_template.py).
+The app still upgrades to head on start and finds head applied. A test that uses
+`database_url` without the world gets an empty database, as before, to migrate as it likes."""
 
 from __future__ import annotations
 
@@ -24,6 +30,8 @@ from countersign.store.db import Database, make_engine
 from countersign.store.missions import create_mission
 from countersign.web.app import create_app
 
+from ..db_template import PostgresTemplate, SqliteTemplate
+
 ROLES = ("operator", "supervisor", "auditor", "admin")
 PASSWORD = "correct horse battery staple"
 POSTGRES_URL = os.environ.get("COUNTERSIGN_TEST_POSTGRES_URL")
@@ -37,13 +45,37 @@ def _reset_postgres(url: str) -> None:
     engine.dispose()
 
 
+# Fixtures whose tests start from the migrated template rather than an empty database.
+MIGRATED_FOR = ("world",)
+
+
+@pytest.fixture(scope="session")
+def sqlite_template(tmp_path_factory: pytest.TempPathFactory) -> SqliteTemplate:
+    return SqliteTemplate.migrate(tmp_path_factory.mktemp("template") / "countersign.db")
+
+
+@pytest.fixture(scope="session")
+def postgres_template() -> Iterator[PostgresTemplate]:
+    assert POSTGRES_URL
+    template = PostgresTemplate(POSTGRES_URL)
+    yield template
+    template.close()
+
+
 @pytest.fixture(params=["sqlite", "postgresql"])
 def database_url(request: pytest.FixtureRequest, tmp_path: Path) -> str:
+    migrated = any(name in request.fixturenames for name in MIGRATED_FOR)
     if request.param == "sqlite":
-        return f"sqlite:///{tmp_path / 'countersign.db'}"
+        path = tmp_path / "countersign.db"
+        if migrated:
+            request.getfixturevalue("sqlite_template").copy_to(path)
+        return f"sqlite:///{path}"
     if not POSTGRES_URL:
         pytest.skip("PostgreSQL tests need COUNTERSIGN_TEST_POSTGRES_URL (.ci/run sets it)")
-    _reset_postgres(POSTGRES_URL)
+    if migrated:
+        request.getfixturevalue("postgres_template").reset()
+    else:
+        _reset_postgres(POSTGRES_URL)
     return POSTGRES_URL
 
 

@@ -100,6 +100,7 @@ def test_spraying_many_accounts_from_one_address_is_limited(world: World) -> Non
     assert statuses[0] == 401 and statuses[-1] == 429
 
 
+@pytest.mark.production_hashing  # counts at the one hasher sign-in uses
 def test_parallel_tries_are_counted_before_the_hash(world: World,
                                                     monkeypatch: pytest.MonkeyPatch) -> None:
     evaluations = 0

@@ -22,6 +22,7 @@ def test_login_sets_a_hardened_cookie_and_returns_csrf(world: World) -> None:
     assert client.get("/api/auth/me").json()["user"]["username"] == "operator1"
 
 
+@pytest.mark.production_hashing  # the stored hashes are production's
 def test_passwords_are_stored_as_argon2_hashes(world: World) -> None:
     with world.database.engine.connect() as connection:
         from sqlalchemy import text
@@ -94,6 +95,7 @@ def test_admin_manages_users_and_every_change_is_logged(world: World) -> None:
                       "SELECT count(*) FROM events WHERE kind LIKE 'user.%'") >= 6
 
 
+@pytest.mark.production_hashing  # patches the one hasher sign-in uses
 def test_passwords_are_checked_without_holding_the_write_lock(
         world: World, monkeypatch: pytest.MonkeyPatch) -> None:
     """argon2 takes tens of milliseconds by design: on SQLite, checking a password while

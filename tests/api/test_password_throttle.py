@@ -27,6 +27,8 @@ from countersign.store.tables import LoginAttempt
 from .approval_helpers import new_version, prepare, register_key, sign_prepared, submit
 from .conftest import PASSWORD, World
 
+# Hashes are counted at the production hasher (tests/cheap_hashing.py swaps in a cheap one).
+pytestmark = pytest.mark.production_hashing
 FLOOD_SECONDS = float(os.environ.get("COUNTERSIGN_TEST_FLOOD_SECONDS", "6"))
 ATTACKER, REAL_USER, OTHER = "203.0.113.66", "198.51.100.7", "192.0.2.12"
 

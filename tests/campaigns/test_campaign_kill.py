@@ -1,10 +1,11 @@
-"""What must hold (issue 20, item 3): a campaign of 1,000 simulations of the exemplar survives a
+"""What must hold (issue 20, item 3): a campaign of simulations of the exemplar survives a
 worker killed mid-run (its jobs retried, no simulation counted twice) and reports coverage of
 the 75 paths. On SQLite with the in-process runner (the `campaign run` process killed with
 SIGKILL and resumed) and on PostgreSQL with procrastinate (one of two real worker processes
 killed with SIGKILL; the survivor requeues its job).
 
-COUNTERSIGN_TEST_CAMPAIGN_N makes the campaign smaller for a quick look (default 1000)."""
+COUNTERSIGN_TEST_CAMPAIGN_N sets the size (default 120; issue 20 asked for 1,000, which is
+`COUNTERSIGN_TEST_CAMPAIGN_N=1000`)."""
 
 from __future__ import annotations
 
@@ -22,7 +23,16 @@ from sqlalchemy import create_engine, text
 
 from countersign.store.db import Database
 
-N = int(os.environ.get("COUNTERSIGN_TEST_CAMPAIGN_N", "1000"))
+# 120 simulations in jobs of CHUNK = 10 (`campaign run --chunk`) prove what 1,000 did, in
+# a ninth of the time (issue 35 item 8): the property is about jobs, not statistics. The kill
+# comes once N // 5 = 24 results are stored, so at the kill some jobs are done (their results
+# must stay as they were), both workers are inside a job (the one killed must be retried, on
+# PostgreSQL counted in procrastinate's attempts) and about 9 of the 12 jobs are still to run
+# (the resumed run or the survivor must run exactly those). Every index 0..N-1 stored exactly
+# once, with N > 10 jobs' worth, is what a lost or a duplicated job would break at any size;
+# the 96 simulations left at the kill are many seconds of work beside the test's 0.5 s poll.
+N = int(os.environ.get("COUNTERSIGN_TEST_CAMPAIGN_N", "120"))
+CHUNK = 10
 SWEEP = ["--fault", "none", "--fault", "nav_drift", "--fault", "leak", "--fault", "low_energy",
          "--goal", "start", "--goal", "G2", "--goal", "G4"]
 POSTGRES_URL = os.environ.get("COUNTERSIGN_TEST_POSTGRES_URL")
@@ -83,7 +93,7 @@ def test_sqlite_campaign_survives_its_process_killed(tmp_path: Path) -> None:
     url = f"sqlite:///{tmp_path / 'countersign.db'}"
     first = subprocess.Popen(
         [*CLI, "campaign", "run", "example:search-and-sample", "-n", str(N), *SWEEP,
-         "--workers", "2"], env=env, start_new_session=True,
+         "--chunk", str(CHUNK), "--workers", "2"], env=env, start_new_session=True,
         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         _wait_for(url, max(1, N // 5), first)
@@ -119,7 +129,7 @@ def test_postgres_campaign_survives_a_worker_killed(postgres: str, tmp_path: Pat
            "COUNTERSIGN_DATABASE_URL": postgres}
     queued = subprocess.run(
         [*CLI, "campaign", "run", "example:search-and-sample", "-n", str(N), *SWEEP,
-         "--detach"], env=env, capture_output=True, timeout=300, check=True)
+         "--chunk", str(CHUNK), "--detach"], env=env, capture_output=True, timeout=300, check=True)
     campaign_id = queued.stdout.decode().strip()
 
     def worker(name: str) -> subprocess.Popen[bytes]:
