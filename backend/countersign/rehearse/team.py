@@ -301,9 +301,8 @@ class TeamSimulation:
             held_at = member.at_meeting()
             if sim.state != "finished":
                 sim.advance(target - sim.time_s)
-            if held_at is not None and sim.active is not None:
-                # Loitering: the hold goes on at the goal's hold power.
-                sim.energy_used_wh += sim.active.hold_w * max(0.0, sim.time_s - before) / 3600
+            if held_at is not None:
+                self._loiter(member, sim.time_s - before)
             if sim.state == "finished":
                 member.state = "finished"
         self.time_s = target
@@ -383,6 +382,12 @@ class TeamSimulation:
 
     def _fire(self, meet: str) -> None:
         members = [self.member(v) for v in self.participants[meet]]
+        # One moment for all: a member's clock may lag the latest by part of a step, which
+        # it spends holding there.
+        t = max(m.sim.time_s for m in members)
+        for member in members:
+            self._loiter(member, t - member.sim.time_s)
+            member.sim.time_s = t
         outcome, reason = self._shared_outcome(members)
         goals = {m.vehicle: m.sim.current_goal or "" for m in members}
         self.meetings.append(Meeting(meet, tuple(goals), self.time_s, outcome, reason, goals))
@@ -396,6 +401,13 @@ class TeamSimulation:
             member.sim.end_goal(outcome, f"meeting {meet} with {others}: {reason}")
             if member.sim.state == "finished":
                 member.state = "finished"
+
+    @staticmethod
+    def _loiter(member: Member, seconds: float) -> None:
+        """Holding at a meeting goes on at the goal's hold power."""
+        active = member.sim.active
+        if active is not None and seconds > 0:
+            member.sim.energy_used_wh += active.hold_w * seconds / 3600.0
 
     def _shared_outcome(self, members: list[Member]) -> tuple[str, str]:
         for member in members:
