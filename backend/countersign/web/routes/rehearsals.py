@@ -132,10 +132,8 @@ def start_rehearsal(mission_id: str, body: RehearsalIn, request: Request,
     else:
         data, digest = mission.draft, mission.draft_digest
     orders = orders_from_data(data)
-    if orders.team is not None:
-        # One scene per team is not built yet: a rehearsal runs one vehicle's MEA.
-        raise Unprocessable("the rehearsal cannot start: these orders are a team's, and a "
-                            "rehearsal runs one vehicle's orders")
+    # A team's orders rehearse every member in one scene (rehearse/team_rehearsal.py), with
+    # outcomes from each member's simulation: other sources are refused below (422).
     from ...rehearse.manager import RehearsalOptions
     from ...store.charts import charts_in
     from ...verify.charts import mission_box
