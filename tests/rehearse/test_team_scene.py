@@ -71,7 +71,7 @@ def test_one_scene_shows_every_vehicle_their_paths_and_the_meeting(
         assert client.wait_for(lambda c: any("met at R1" in str(n["props"].get("text"))
                                              for n in c.scene_nodes().values()))
         nodes = client.scene_nodes()
-        for vehicle, node in vehicles.items():
+        for node in vehicles.values():
             trail = f"/trails/{node.rsplit('/', 1)[1]}/0"
             assert trail in nodes, trail
         met = [n["props"]["text"] for n in nodes.values()
@@ -98,4 +98,4 @@ def _position(client: ViserTestClient, name: str) -> tuple[float, float, float]:
 
 
 def _near(a: tuple[float, float, float], b: tuple[float, float, float]) -> bool:
-    return sum((x - y) ** 2 for x, y in zip(a, b, strict=True)) ** 0.5 < 1.0
+    return bool(sum((x - y) ** 2 for x, y in zip(a, b, strict=True)) ** 0.5 < 1.0)

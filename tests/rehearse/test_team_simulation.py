@@ -54,8 +54,9 @@ def test_both_vehicles_meet_at_c_with_one_outcome_and_go_on(team: Orders) -> Non
         assert data["outcome"] == "succeed"
         assert "meeting R1" in str(data["reason"])
         member = sim.member(vehicle)
-        x, y, _ = data["position"]  # type: ignore[misc]
-        assert contains(member.sim.world.areas["C"].polygon, (x, y))
+        position = data["position"]
+        assert isinstance(position, list)
+        assert contains(member.sim.world.areas["C"].polygon, (position[0], position[1]))
         times.add(next(e.event.t for e in sim.events if e.vehicle == vehicle
                        and e.event.kind == "meeting"))
     assert len(times) == 1

@@ -215,8 +215,8 @@ def _rehearse_team(args: argparse.Namespace, orders: Orders, out: TextIO) -> int
                                       headless=not serve, gated=False)
     except ValueError as exc:
         sys.stderr.write(f"countersign rehearse: cannot rehearse {args.file}: {exc}\n")
-        return EXIT_UNREADABLE if any(w in str(exc) for w in ("paths name", "fault", "path index")) \
-            else EXIT_CANNOT_RUN
+        usage = ("paths name", "fault", "path index")
+        return EXIT_UNREADABLE if any(w in str(exc) for w in usage) else EXIT_CANNOT_RUN
     try:
         if args.headless:
             rehearsal.run_headless()

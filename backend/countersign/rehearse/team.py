@@ -351,30 +351,30 @@ class TeamSimulation:
                     self._fire(meet)
                     fired = any_fired = True
         for member in self.members:
-            meet = member.at_meeting()
-            if meet is None:
+            held = member.at_meeting()
+            if held is None:
                 continue
             if member.state == "running":
                 member.state, member.waiting_since = "waiting", member.sim.time_s
-                others = [v for v in self.participants[meet] if v != member.vehicle]
+                names = [v for v in self.participants[held] if v != member.vehicle]
                 self._emit(member, "holding",
-                           f"Holds at meeting {meet} and waits for "
-                           f"{', '.join(others) or 'a partner'}.", {"meet": meet})
-            why = self._cannot_come(member, meet)
+                           f"Holds at meeting {held} and waits for "
+                           f"{', '.join(names) or 'a partner'}.", {"meet": held})
+            why = self._cannot_come(member, held)
             if why is not None:
-                self._deadlock(member, meet, why)
+                self._deadlock(member, held, why)
         # Nothing moves and nothing met: every member left holds for another that holds
         # elsewhere first (a circular wait).
         left = [m for m in self.members if m.state not in ("finished", "deadlocked")]
         if left and not any_fired and all(m.at_meeting() is not None for m in left):
             for member in left:
-                meet = member.at_meeting()
-                assert meet is not None
-                others = [self.member(v) for v in self.participants[meet]
-                          if v != member.vehicle]
-                why = " and ".join(self._where(p, meet) for p in others
-                                   if p.at_meeting() != meet) or "no partner comes"
-                self._deadlock(member, meet, why)
+                stuck = member.at_meeting()
+                assert stuck is not None
+                partners = [self.member(v) for v in self.participants[stuck]
+                            if v != member.vehicle]
+                why = " and ".join(self._where(p, stuck) for p in partners
+                                   if p.at_meeting() != stuck) or "no partner comes"
+                self._deadlock(member, stuck, why)
 
     def _assembled(self, meet: str) -> bool:
         names = self.participants[meet]

@@ -15,6 +15,7 @@ import secrets
 import threading
 import time
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import replace
 from typing import Any
 
 import viser
@@ -24,6 +25,7 @@ from ..orders.model import Chart, Orders
 from . import viser_gate
 from .manager import (
     FRAME_S,
+    MAX_FAULTS,
     MAX_FRAME_STEPS,
     MIN_AUTO_FRAME_S,
     SKIP_FRAME_S,
@@ -57,7 +59,11 @@ class TeamRehearsal(Rehearsal):
     ) -> None:
         self.id = secrets.token_urlsafe(24)
         self.owner = owner
-        self.options = options.validated()
+        # Faults may name a member (`vehicle-2:leak`): TeamSimulation reads them.
+        replace(options, faults=()).validated()
+        if len(options.faults) > MAX_FAULTS:
+            raise ValueError(f"at most {MAX_FAULTS} faults")
+        self.options = options
         if self.options.path_index is not None:
             raise ValueError("a team replays one path per member: give paths by vehicle")
         self.orders_digest = orders_digest(orders)

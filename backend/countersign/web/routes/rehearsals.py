@@ -52,9 +52,12 @@ REHEARSERS = ("operator", "supervisor")
 RehearsalId = Annotated[str, Path(min_length=1, max_length=64, pattern=r"^[A-Za-z0-9_-]+$")]
 TicketText = Annotated[str, Path(min_length=20, max_length=100, pattern=r"^[A-Za-z0-9_-]+$")]
 RecordDigest = Annotated[str, Path(pattern=r"^sha256:[0-9a-f]{64}$")]
-FaultName = Annotated[str, Field(min_length=1, max_length=40, pattern=r"^[a-z][a-z0-9_]*$")]
-FaultSpecText = Annotated[str, Field(min_length=1, max_length=140,
-                                     pattern=r"^[a-z][a-z0-9_]*(@[A-Za-z0-9_.:-]{1,100})?$")]
+# `VEHICLE:` before a fault names one member of a team (without it: every member).
+FaultName = Annotated[str, Field(min_length=1, max_length=110,
+                                 pattern=r"^([A-Za-z0-9_.-]{1,64}:)?[a-z][a-z0-9_]*$")]
+FaultSpecText = Annotated[str, Field(
+    min_length=1, max_length=210,
+    pattern=r"^([A-Za-z0-9_.-]{1,64}:)?[a-z][a-z0-9_]*(@[A-Za-z0-9_.:-]{1,100})?$")]
 
 
 
