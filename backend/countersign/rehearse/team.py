@@ -7,8 +7,8 @@ API only; this module advances them together, TICK_S simulated seconds at a time
 the meetings joint, as `verify/team.py` defines a joint execution:
 
 - a member at a meeting goal flies there and holds as its plan says, then keeps holding
-  (loitering, charged at the goal's hold power) until every member whose orders name the
-  meeting stands at it with its plan done;
+  (loitering, charged at 40% of cruise power, as the simulation holds) until every member
+  whose orders name the meeting stands at it with its plan done;
 - the meeting then has one shared outcome, and every member leaves with it, each to its own
   successor for that outcome: the outcome a replayed member's path prescribes (the first such
   member in team order), else the worst outcome any member's simulation saw while it held
@@ -36,6 +36,7 @@ from .sources import Decision, OutcomeSource, make_source
 
 TICK_S = 10.0  # team clock step: meetings are assembled and judged this often
 WORST_FIRST = ("violate", "fail", "succeed")
+LOITER_POWER_FRACTION = 0.4  # sim.py holds at 40% of cruise power when no cost prices it
 MemberState = Literal["running", "waiting", "finished", "deadlocked"]
 TEAM_SOURCES = ("simulate", "replay")
 
@@ -404,10 +405,12 @@ class TeamSimulation:
 
     @staticmethod
     def _loiter(member: Member, seconds: float) -> None:
-        """Holding at a meeting goes on at the goal's hold power."""
-        active = member.sim.active
-        if active is not None and seconds > 0:
-            member.sim.energy_used_wh += active.hold_w * seconds / 3600.0
+        """Holding at a meeting for partners is charged at the simulation's holding power
+        (40% of cruise power), never beyond what the battery holds."""
+        sim = member.sim
+        if seconds > 0:
+            sim.energy_used_wh += min(sim.energy_remaining_wh,
+                                      LOITER_POWER_FRACTION * sim.power_w * seconds / 3600.0)
 
     def _shared_outcome(self, members: list[Member]) -> tuple[str, str]:
         for member in members:

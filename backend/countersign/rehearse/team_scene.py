@@ -53,6 +53,7 @@ class TeamScene:
         self._labels = LabelSpacer()
         self._events_seen = 0
         self._markers = 0
+        self._met: set[tuple[str, float]] = set()
         self._trails: dict[str, tuple[int, int, int]] = {}  # vehicle -> (nodes, start, drawn)
         self._trail_xy: dict[str, list[tuple[float, float, float]]] = {}
         self._converted: dict[str, int] = {}
@@ -243,10 +244,24 @@ class TeamScene:
             x, y = self._xy(member, [(px, py)])[0]
             anchor = self.to_scene(x, y, depth)
             colour = OUTCOME_COLOURS.get(outcome, (200, 200, 200))
-            text = f"{vehicle} {goal}: {OUTCOME_WORDS.get(outcome, outcome)}"
+            # Two vehicles' outcome labels crowd the scene: a marker each, and the words are
+            # the page's (its event list); meetings, deadlocks and ends keep their labels.
+            self.server.scene.add_icosphere(f"/events/{self._markers}", radius=0.06,
+                                            color=colour, position=anchor)
+            self._markers += 1
+            return
         elif kind == "meeting":
-            text = f"{vehicle} met at {data.get('meet')}: {data.get('outcome')}"
+            met = (str(data.get("meet")), round(float(self.team.time_s), 1))
             colour = MEETING_COLOUR
+            if met in self._met:
+                self.server.scene.add_icosphere(f"/events/{self._markers}", radius=0.08,
+                                                color=colour, position=anchor)
+                self._markers += 1
+                return
+            self._met.add(met)
+            together = ", ".join([vehicle, *(str(v) for v in data.get("with", []))])
+            text = f"{together} met at {data.get('meet')}: " \
+                f"{OUTCOME_WORDS.get(str(data.get('outcome')), str(data.get('outcome')))}"
         elif kind == "deadlock":
             text = f"{vehicle} left waiting at {data.get('meet')}"
             colour = OUTCOME_COLOURS["violate"]
