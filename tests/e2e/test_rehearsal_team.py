@@ -93,7 +93,7 @@ def test_team_rehearses_every_vehicle_with_a_switcher(
     shots = tmp_path_factory.getbasetemp() / "artifacts"
     shots.mkdir(exist_ok=True)
     page.get_by_test_id("rehearsal").scroll_into_view_if_needed()
-    page.screenshot(path=str(shots / f"rehearsal-team-{width}x{height}.png"))
+    page.screenshot(path=str(shots / f"rehearsal-team-{width}x{height}.png"), timeout=120_000)
     expect_accessible(page, f"the rehearsal of a team at {width} px",
                       include="[data-testid='rehearsal']")
 
@@ -108,7 +108,8 @@ def test_team_rehearses_every_vehicle_with_a_switcher(
     for a, b in itertools.pairwise(boxes):
         assert a["x"] + a["width"] <= b["x"] + 0.5 or a["y"] + a["height"] <= b["y"] + 0.5
     graph.scroll_into_view_if_needed()
-    page.screenshot(path=str(shots / f"rehearsal-team-vehicle-2-{width}x{height}.png"))
+    page.screenshot(path=str(shots / f"rehearsal-team-vehicle-2-{width}x{height}.png"),
+                    timeout=120_000)
 
     page.get_by_test_id("stop-rehearsal").click()
     expect(page.get_by_test_id("viser-frame")).to_have_count(0, timeout=30_000)

@@ -178,7 +178,10 @@ class TeamScene:
             node, color=self.colour(member.vehicle), dimensions=(0.4, 0.12, 0.12),
             position=self.to_scene(x, y, v.depth))
         # The vehicle id is the orders author's text: a scene label shows it as text.
-        self.server.scene.add_label(f"{node}/label", member.vehicle, position=(0.0, 0.0, 0.2))
+        # Stacked by team order, so two vehicles at one place (the meeting, the base) keep
+        # their labels apart.
+        self.server.scene.add_label(f"{node}/label", member.vehicle,
+                                    position=(0.0, 0.0, 0.2 + 0.2 * k))
         self._trails[member.vehicle] = (0, 0, 0)
         self._trail_xy[member.vehicle] = []
         self._converted[member.vehicle] = 0
