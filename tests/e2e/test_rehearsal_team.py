@@ -66,7 +66,7 @@ def test_team_rehearses_every_vehicle_with_a_switcher(
 
     # Geometry: the team panel inside the window and the controls column, beside the scene;
     # its rows apart and readable.
-    view = {"x": 0, "y": 0, "width": width, "height": height}
+    page_column = {"x": 0.0, "y": -1e6, "width": float(width), "height": 2e6}
     panel = page.get_by_test_id("team-rehearsal")
     panel.scroll_into_view_if_needed()
     controls = box(page.locator(".rehearsal-controls"))
@@ -87,7 +87,7 @@ def test_team_rehearses_every_vehicle_with_a_switcher(
         assert a["y"] + a["height"] <= b["y"] + 0.5, ("team rows overlap", a, b)
     for locator in (rows.nth(0), page.get_by_test_id("team-meetings"), events.nth(0)):
         assert font_px(locator) >= 12
-    inside(box(page.get_by_test_id("team-member")), view | {"height": 10 ** 6}, "switcher")
+    inside(box(page.get_by_test_id("team-member")), page_column, "switcher within the width")
     no_page_scroll_sideways(page)
 
     shots = tmp_path_factory.getbasetemp() / "artifacts"
