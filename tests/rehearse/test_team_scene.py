@@ -100,3 +100,22 @@ def _position(client: ViserTestClient, name: str) -> tuple[float, float, float]:
 
 def _near(a: tuple[float, float, float], b: tuple[float, float, float]) -> bool:
     return bool(sum((x - y) ** 2 for x, y in zip(a, b, strict=True)) ** 0.5 < 1.0)
+
+
+def test_the_live_loop_runs_until_every_vehicle_has_ended() -> None:
+    # remus-100 (first in the team) aborts on Return to Base while vehicle-2 still flies home:
+    # the rehearsal's thread must go on by the team's state, not by its first member's.
+    rehearsal = TeamRehearsal(orders_from_data(json.loads(example_bytes(
+        "search-and-sample-team"))), owner="alice", headless=True,
+        options=RehearsalOptions(source="replay", speed=100_000),
+        paths={"remus-100": 2, "vehicle-2": 1})
+    rehearsal.start()
+    try:
+        assert _wait(lambda: rehearsal.status()["state"] == "finished"), rehearsal.status()
+        team = rehearsal.status()["team"]
+        assert team["joint_end"] == "remus-100:ABORT + vehicle-2:COMPLETE"
+        ends = {m["vehicle"]: m["sim_time_s"] for m in team["members"]}
+        assert ends["remus-100"] < ends["vehicle-2"]
+    finally:
+        record = rehearsal.stop()
+    assert record.to_json()["team"]["paths"] == {"remus-100": 2, "vehicle-2": 1}

@@ -74,8 +74,8 @@ class TeamRehearsal(Rehearsal):
                                    paths=paths, faults=self.options.faults,
                                    limits=self._limits, charts=charts)
         self.paths = dict(sorted((paths or {}).items()))
-        # The base class's Simulation slot holds the first member (never stepped by it):
-        # every method that would step or read it is overridden here.
+        # The base class's Simulation slot holds the first member (never stepped through it):
+        # every method that would step or judge by it (_loop, status, ...) is overridden.
         self._sim = self.team.members[0].sim
         self._lock = threading.RLock()
         self._wake = threading.Event()
@@ -190,6 +190,15 @@ class TeamRehearsal(Rehearsal):
         self._wake.set()
         return text
 
+    def skip(self) -> None:
+        """Run to the next meeting (or the end) as fast as frames allow."""
+        self.touch()
+        with self._lock:
+            if self._stopped or self.team.state != "running":
+                raise ValueError(f"nothing to skip: the rehearsal is {self.state}")
+            self._skipping = True
+        self._wake.set()
+
     # ------------------------------------------------------------------------------ thread
 
     def _run(self) -> None:
@@ -200,6 +209,30 @@ class TeamRehearsal(Rehearsal):
             with self._lock:
                 self.team._emit_all("error", f"Simulation error: {type(exc).__name__}: {exc}")
                 self.team.state = "finished"
+
+    def _loop(self) -> None:
+        """The base loop's pace and idling, judged by the team's state (not a member's)."""
+        next_frame = time.perf_counter()
+        while not self._stop_event.is_set():
+            with self._lock:
+                if self.team.state == "running":
+                    self._advance_frame()
+                    self._dirty = True
+                if self._dirty:
+                    self._push_frame()
+                    self._dirty = False
+                state = self.team.state
+            next_frame += FRAME_S
+            delay = max(0.0, next_frame - time.perf_counter())
+            if delay == 0.0:
+                next_frame = time.perf_counter()
+            if state != "running":
+                delay = 0.5  # finished: nothing to compute
+                if self.idle_for() > self.idle_timeout_s:
+                    self._stop_idle()
+                    return
+            self._wake.wait(delay)
+            self._wake.clear()
 
     def _frame_seconds(self) -> float:
         if self._skipping:
