@@ -48,6 +48,15 @@ examples:
       --record-out rec.json --html-out replay.html
   countersign rehearse example:search-and-sample --source manual      (open the printed URL)
 
+team orders (a `team`, e.g. example:search-and-sample-team) rehearse every vehicle in one
+world clock and one scene: a vehicle at a meeting holds there until every member naming it
+has come, then all leave with one shared outcome; a wait for a partner that ended or went
+past ends as the TEAM finding says (a deadlock, in words). Sources simulate or replay;
+--member-path VEHICLE=N replays one member's path N; --fault VEHICLE:FAULT targets one
+member (FAULT alone: every member). Headless, the joint events print one a line, each
+naming its vehicle:
+  countersign rehearse example:search-and-sample-team --headless --member-path vehicle-2=19
+
 exit codes: 0 rehearsed, 1 the orders cannot be rehearsed (e.g. no start goal, or paths that
 cannot be counted for replay/tour), 2 unreadable input or bad usage."""
 
@@ -81,6 +90,10 @@ def add_commands(commands: Any) -> None:
     cmd.add_argument("--exit-when-done", action="store_true",
                      help="with a viser server: exit when the rehearsal ends (default: keep "
                           "serving until Ctrl-C)")
+    cmd.add_argument("--member-path", action="append", default=[], metavar="VEHICLE=N",
+                     help="team orders: this member replays path N of its own orders "
+                          "(repeatable); the others follow --source (simulate or replay "
+                          "path 1)")
     cmd.add_argument("--format", choices=("text", "json"), default="text")
     cmd.set_defaults(handler=cmd_rehearse)
 
@@ -119,7 +132,7 @@ def _rehearse(args: argparse.Namespace, out: TextIO) -> int:
 
     for fault in args.fault:
         try:
-            FaultSpec.parse(fault)
+            FaultSpec.parse(fault.partition(":")[2] if ":" in fault else fault)
         except ValueError as exc:
             raise RehearseUsageError(str(exc)) from None
     if args.source == "manual" and args.headless:
@@ -127,6 +140,14 @@ def _rehearse(args: argparse.Namespace, out: TextIO) -> int:
     if args.path is not None and args.source != "replay":
         raise RehearseUsageError("--path goes with --source replay")
     orders = _load(args.file)
+    if orders.team is not None:
+        return _rehearse_team(args, orders, out)
+    if args.member_path:
+        raise RehearseUsageError("--member-path goes with a team's orders; these are one "
+                                 "vehicle's (use --source replay --path N)")
+    if any(":" in fault for fault in args.fault):
+        raise RehearseUsageError("VEHICLE:FAULT names a team member; these orders are one "
+                                 "vehicle's (give the fault alone)")
     options = RehearsalOptions(source=args.source, seed=args.seed, path_index=args.path,
                                faults=tuple(args.fault), speed=args.speed)
     # Headless needs no server, unless a replay page is wanted: the scene is then drawn on a
@@ -158,6 +179,71 @@ def _rehearse(args: argparse.Namespace, out: TextIO) -> int:
         out.write(json.dumps({"digest": record.digest, "record": data}, indent=1) + "\n")
     else:
         _summary(data, record.digest, out)
+    return EXIT_OK
+
+
+def _member_paths(texts: list[str]) -> dict[str, int]:
+    paths: dict[str, int] = {}
+    for text in texts:
+        vehicle, sep, number = text.partition("=")
+        if not sep or not vehicle or not number.isdigit() or int(number) < 1:
+            raise RehearseUsageError(f"--member-path {text!r}: write VEHICLE=N with N a path "
+                                     "number from 1 (as `countersign paths` of that member)")
+        if vehicle in paths:
+            raise RehearseUsageError(f"--member-path names {vehicle!r} twice")
+        paths[vehicle] = int(number)
+    return paths
+
+
+def _rehearse_team(args: argparse.Namespace, orders: Orders, out: TextIO) -> int:
+    """Every member's simulation in one clock; the joint events, each naming its vehicle."""
+    from ..rehearse.manager import RehearsalOptions
+    from ..rehearse.team_rehearsal import TeamRehearsal
+
+    if args.source not in ("simulate", "replay"):
+        raise RehearseUsageError(f"--source {args.source}: a team is rehearsed with --source "
+                                 "simulate or replay (--member-path VEHICLE=N for one member)")
+    if args.path is not None:
+        raise RehearseUsageError("--path N replays one vehicle's orders; for a team give "
+                                 "--member-path VEHICLE=N per member")
+    paths = _member_paths(args.member_path)
+    options = RehearsalOptions(source=args.source, seed=args.seed, faults=tuple(args.fault),
+                               speed=args.speed)
+    serve = not args.headless or args.html_out is not None
+    try:
+        with contextlib.redirect_stdout(sys.stderr):
+            rehearsal = TeamRehearsal(orders, owner="cli", options=options, paths=paths,
+                                      headless=not serve, gated=False)
+    except ValueError as exc:
+        sys.stderr.write(f"countersign rehearse: cannot rehearse {args.file}: {exc}\n")
+        usage = ("paths name", "fault", "path index")
+        return EXIT_UNREADABLE if any(w in str(exc) for w in usage) else EXIT_CANNOT_RUN
+    try:
+        if args.headless:
+            rehearsal.run_headless()
+        else:
+            _watch(rehearsal, args, out)
+    finally:
+        with contextlib.redirect_stdout(sys.stderr):
+            record = rehearsal.stop()
+    data = record.to_json()
+    if args.record_out is not None:
+        args.record_out.write_text(json.dumps({**data, "digest": record.digest}, indent=1) + "\n")
+    if args.html_out is not None and record.has_replay:
+        args.html_out.write_bytes(record.replay_html())
+    if args.format == "json":
+        out.write(json.dumps({"digest": record.digest, "record": data}, indent=1) + "\n")
+        return EXIT_OK
+    team = data["team"]
+    out.write(f"Team of {len(team['vehicles'])}: {', '.join(team['vehicles'])}\n")
+    for line in rehearsal.team.lines():
+        out.write(f"  {line}\n")
+    for member in team["members"]:
+        energy = member["energy"]
+        out.write(f"{member['vehicle']}: {member['state']}; energy used "
+                  f"{energy['used_wh']:g} Wh of {energy['capacity_wh']:g} Wh\n")
+    out.write(f"Joint end: {team['joint_end']}\n")
+    out.write(f"Record {record.digest}\n")
     return EXIT_OK
 
 

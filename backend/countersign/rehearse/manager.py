@@ -495,9 +495,18 @@ class RehearsalManager:
             placeholder = secrets.token_urlsafe(8)
             self._active[placeholder] = None  # type: ignore[assignment]
         try:
-            rehearsal = Rehearsal(orders, owner=owner, options=options, charts=charts,
-                                  controls=controls, idle_timeout_s=self.idle_timeout_s,
-                                  on_stopped=self._forget)
+            rehearsal: Rehearsal
+            if orders.team is not None:
+                # A team: every member's simulation in one clock and one scene (issue 37).
+                from .team_rehearsal import TeamRehearsal
+
+                rehearsal = TeamRehearsal(orders, owner=owner, options=options, charts=charts,
+                                          idle_timeout_s=self.idle_timeout_s,
+                                          on_stopped=self._forget)
+            else:
+                rehearsal = Rehearsal(orders, owner=owner, options=options, charts=charts,
+                                      controls=controls, idle_timeout_s=self.idle_timeout_s,
+                                      on_stopped=self._forget)
         except BaseException:
             with self._lock:
                 self._active.pop(placeholder, None)

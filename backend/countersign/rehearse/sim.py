@@ -203,6 +203,17 @@ class Simulation:
                              "outcome": outcome})
         self._end_goal(self.active, outcome, "chosen by the person rehearsing")
 
+    def end_goal(self, outcome: str, reason: str) -> None:
+        """End the current goal with an outcome decided outside this vehicle's simulation
+        (a team's shared meeting outcome, rehearse/team.py); not a person's input, so not
+        among `choices`. ValueError when no goal runs."""
+        if outcome not in OUTCOMES:
+            raise ValueError(f"outcome must be one of {', '.join(OUTCOMES)}, not {outcome!r}")
+        if self.state == "finished" or self.active is None:
+            raise ValueError(f"no goal is running (the rehearsal is {self.state})")
+        self.state = "running"
+        self._end_goal(self.active, outcome, reason)
+
     def inject(self, fault: str | FaultSpec) -> str:
         """Apply, queue or schedule the fault; the text says which. Refused (ValueError) when
         the rehearsal has finished or the fault is already active or queued."""

@@ -4105,6 +4105,7 @@ export interface components {
             state: "finished" | "stopped_early";
             /** Steps */
             steps: number;
+            team?: components["schemas"]["TeamRecord"] | null;
             /** Terminal */
             terminal: string | null;
             /** Terminal Kind */
@@ -4180,6 +4181,7 @@ export interface components {
             /** Step */
             step: number;
             suggested?: components["schemas"]["Suggestion"] | null;
+            team?: components["schemas"]["TeamStatus"] | null;
             /** Terminal */
             terminal: string | null;
         };
@@ -4337,6 +4339,8 @@ export interface components {
             t: number;
             /** Text */
             text: string;
+            /** Vehicle */
+            vehicle?: string | null;
         };
         /**
          * StandingDecisionOut
@@ -4457,6 +4461,24 @@ export interface components {
             outcome: string;
         };
         /**
+         * TeamMeeting
+         * @description A meeting that happened: its one shared outcome, and each vehicle's goal there.
+         */
+        TeamMeeting: {
+            /** Goals */
+            goals: {
+                [key: string]: string;
+            };
+            /** Meet */
+            meet: string;
+            /** Outcome */
+            outcome: string;
+            /** Reason */
+            reason: string;
+            /** T */
+            t: number;
+        };
+        /**
          * TeamMember
          * @description One vehicle of a team with its own orders (its goals, profile, budget and norms).
          */
@@ -4489,6 +4511,33 @@ export interface components {
             vehicle: string;
         };
         /**
+         * TeamMemberStatus
+         * @description One vehicle of a team's rehearsal: `waiting` holds at a meeting for its partners,
+         *     `deadlocked` was left waiting for a partner that can no longer come (TEAM).
+         */
+        TeamMemberStatus: {
+            /** Capacity Wh */
+            capacity_wh: number;
+            current_goal: components["schemas"]["CurrentGoal"] | null;
+            /** Energy Used Wh */
+            energy_used_wh: number;
+            /** Energy Wh */
+            energy_wh: number;
+            /** Outcomes */
+            outcomes: components["schemas"]["GoalOutcome"][];
+            /** Sim Time S */
+            sim_time_s: number;
+            /**
+             * State
+             * @enum {string}
+             */
+            state: "running" | "waiting" | "finished" | "deadlocked";
+            /** Terminal */
+            terminal: string | null;
+            /** Vehicle */
+            vehicle: string;
+        };
+        /**
          * TeamOut
          * @description Orders with a team (verify/team.py): members, meetings and joint executions.
          */
@@ -4500,6 +4549,66 @@ export interface components {
             };
             /** Members */
             members: components["schemas"]["TeamMemberOut"][];
+        };
+        /**
+         * TeamRecord
+         * @description A team's rehearsal: each vehicle's own figures, the meetings, the joint end and the
+         *     paths replayed by vehicle (the top-level figures are the team's together).
+         */
+        TeamRecord: {
+            /** Joint End */
+            joint_end: string;
+            /** Meetings */
+            meetings: components["schemas"]["TeamMeeting"][];
+            /** Members */
+            members: components["schemas"]["TeamRecordMember"][];
+            /** Paths */
+            paths: {
+                [key: string]: number;
+            };
+            /** Vehicles */
+            vehicles: string[];
+        };
+        /** TeamRecordEnergy */
+        TeamRecordEnergy: {
+            /** Capacity Wh */
+            capacity_wh: number;
+            /** Used Wh */
+            used_wh: number;
+        };
+        /** TeamRecordInputs */
+        TeamRecordInputs: {
+            /** Faults */
+            faults: string[];
+        };
+        /** TeamRecordMember */
+        TeamRecordMember: {
+            energy: components["schemas"]["TeamRecordEnergy"];
+            inputs: components["schemas"]["TeamRecordInputs"];
+            /** Rule Firings */
+            rule_firings: {
+                [key: string]: number;
+            };
+            /** Runs */
+            runs: components["schemas"]["RecordRun"][];
+            /** Sim Time S */
+            sim_time_s: number;
+            /**
+             * State
+             * @enum {string}
+             */
+            state: "running" | "waiting" | "finished" | "deadlocked";
+            /** Vehicle */
+            vehicle: string;
+        };
+        /** TeamStatus */
+        TeamStatus: {
+            /** Joint End */
+            joint_end: string | null;
+            /** Meetings */
+            meetings: components["schemas"]["TeamMeeting"][];
+            /** Members */
+            members: components["schemas"]["TeamMemberStatus"][];
         };
         /** Terminal */
         Terminal: {

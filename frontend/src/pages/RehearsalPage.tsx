@@ -9,6 +9,7 @@ import { useCallback, useEffect, useRef, useState } from "react";
 import { api, ApiError, type MissionDetail, type paths, unwrap } from "../api/client";
 import { ErrorMessage, Loading, Notice } from "../components/Status";
 import { goals, OUTCOME_LABEL, OUTCOMES, type Orders, type Outcome, successors, terminals } from "../editor/graph";
+import { type MemberSpec, teamOf } from "../editor/scope";
 import { formatDateTime, shortDigest } from "../format";
 import { useLoad } from "../useLoad";
 import { outcomeKey, pathOrder, stepPlace } from "./rehearsalOrder";
@@ -19,6 +20,8 @@ type Started = JsonBody<paths["/api/missions/{mission_id}/rehearsals"]["post"]["
 type StoredRecord = JsonBody<paths["/api/rehearsals/{rehearsal_id}/stop"]["post"]["responses"][200]>;
 type Status = Started["status"];
 type Source = Status["source"];
+type TeamStatus = NonNullable<Status["team"]>;
+type MemberStatus = TeamStatus["members"][number];
 
 const SOURCES: { value: Source; label: string }[] = [
   { value: "manual", label: "Chosen step by step" },
@@ -43,6 +46,21 @@ const POLL_MS = 1000;
 const KEY_OF: Record<Outcome, string> = { succeed: "s", fail: "f", violate: "c" };
 
 const FAULT_LABEL: Record<string, string> = Object.fromEntries(FAULTS.map((f) => [f.value, f.label]));
+// The team scene's vehicle colours (rehearse/team_scene.py VEHICLE_COLOURS), in team order.
+const VEHICLE_COLOURS = ["#fac81e", "#28c8e6", "#e65ac8", "#ff8c3c", "#966efa", "#78e678", "#fafafa", "#3c6efa"];
+const MEMBER_STATE: Record<MemberStatus["state"], string> = {
+  running: "running",
+  waiting: "holding at a meeting",
+  finished: "ended",
+  deadlocked: "left waiting (deadlock)",
+};
+/** A fault as the team's status names it (`vehicle-2:leak`) in words. */
+function faultWords(fault: string): string {
+  const at = fault.indexOf(":");
+  if (at < 0) return FAULT_LABEL[fault] ?? fault;
+  const name = fault.slice(at + 1);
+  return `${fault.slice(0, at)}: ${FAULT_LABEL[name] ?? name}`;
+}
 
 /** Simulated time as "5 h 04 min 19 s" (never a bare 0h00m for a rehearsal that ran). */
 export function simulatedTime(seconds: number): string {
@@ -59,6 +77,11 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
   const [live, setLive] = useState<Started | null>(null);
   const [error, setError] = useState<unknown>(null);
   const [busy, setBusy] = useState(false);
+  // A team's orders (issue 37): every vehicle in one scene; the switcher picks the vehicle whose
+  // goal cards are shown and into which the fault buttons inject.
+  const team = teamOf(mission.orders);
+  const [memberIndex, setMemberIndex] = useState(0);
+  const member: MemberSpec | null = team ? (team[Math.min(memberIndex, team.length - 1)] ?? null) : null;
   const records = useLoad(
     async () =>
       unwrap(
@@ -107,7 +130,9 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
 
   const status: Status | undefined = live?.status;
   const state = status?.state ?? null;
-  const current = status?.current_goal ?? null;
+  const teamStatus = status?.team ?? null;
+  const memberStatus = member && teamStatus ? (teamStatus.members.find((m) => m.vehicle === member.vehicle) ?? null) : null;
+  const current = (teamStatus ? memberStatus?.current_goal : status?.current_goal) ?? null;
   const currentGoal = current?.id ?? null;
   const finished = state === "finished" || state === "stopped";
   const waiting = state === "waiting_for_outcome";
@@ -175,6 +200,7 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
       {!live && canRehearse && (
         <StartForm
           mission={mission}
+          team={team !== null}
           busy={busy}
           onStart={(body) =>
             act(async () => {
@@ -217,12 +243,21 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
               </dd>
               <dt>Faults</dt>
               <dd data-testid="rehearsal-faults">
-                {activeFaults.length ? activeFaults.map((f) => FAULT_LABEL[f] ?? f).join(", ") : "none"}
+                {activeFaults.length ? activeFaults.map(faultWords).join(", ") : "none"}
                 {queuedFaults.length && !ended
                   ? ` · queued for the next goal: ${queuedFaults.map((f) => FAULT_LABEL[f] ?? f).join(", ")}`
                   : ""}
               </dd>
             </dl>
+            {team && teamStatus && (
+              <TeamPanel
+                team={team}
+                status={teamStatus}
+                events={live.status.events}
+                selected={member?.vehicle ?? null}
+                onSelect={(vehicle) => setMemberIndex(Math.max(0, team.findIndex((m) => m.vehicle === vehicle)))}
+              />
+            )}
             {faultNotice && (
               <p className="notice" role="status" data-testid="fault-notice">
                 {faultNotice}
@@ -277,7 +312,11 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
             >
               Skip to the next decision
             </button>
-            <div className="button-row" role="group" aria-label="Inject a fault">
+            <div
+              className="button-row"
+              role="group"
+              aria-label={member ? `Inject a fault into ${member.vehicle}` : "Inject a fault"}
+            >
               {FAULTS.map((f) => (
                 <button
                   key={f.value}
@@ -291,7 +330,7 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
                       const answer = unwrap(
                         await api.POST("/api/rehearsals/{rehearsal_id}/faults", {
                           params: { path: { rehearsal_id: live.id } },
-                          body: { fault: f.value },
+                          body: { fault: member ? `${member.vehicle}:${f.value}` : f.value },
                         }),
                       );
                       setLive(answer);
@@ -333,7 +372,12 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
             // An opaque origin: the viewer cannot reach this app's storage, keys or API.
             sandbox="allow-scripts"
           />
-          <MissionGraph orders={mission.orders} current={currentGoal} visited={outcomeGoals(live.status)} />
+          <MissionGraph
+            orders={member ? member.orders : mission.orders}
+            current={currentGoal}
+            visited={memberStatus ? new Set(memberStatus.outcomes.map((o) => o.goal)) : outcomeGoals(live.status)}
+            label={member ? `Mission graph of ${member.vehicle}` : "Mission graph"}
+          />
         </div>
       )}
       <h3>Records</h3>
@@ -376,14 +420,17 @@ type StartBody = {
 
 function StartForm({
   mission,
+  team,
   busy,
   onStart,
 }: {
   mission: MissionDetail;
+  team: boolean;
   busy: boolean;
   onStart: (body: StartBody) => void;
 }) {
-  const [source, setSource] = useState<Source>("manual");
+  // A team's vehicles take their outcomes from their simulations; meetings are joint.
+  const [source, setSource] = useState<Source>(team ? "simulate" : "manual");
   const [seed, setSeed] = useState(0);
   // Empty: the auto pace (each goal's plan in about three seconds).
   const [speed, setSpeed] = useState("");
@@ -416,10 +463,17 @@ function StartForm({
           ))}
         </select>
       </label>
+      {team && (
+        <p className="hint" data-testid="team-rehearsal-note">
+          A team rehearses every vehicle in one scene and one clock: each vehicle&apos;s outcomes come from its
+          simulation, and a vehicle at a meeting holds there until its partners come; the meeting then ends for
+          all with one shared outcome.
+        </p>
+      )}
       <label>
         Outcomes
         <select value={source} onChange={(e) => setSource(e.target.value as Source)} data-testid="rehearsal-source">
-          {SOURCES.map((s) => (
+          {SOURCES.filter((s) => !team || s.value === "simulate").map((s) => (
             <option key={s.value} value={s.value}>
               {s.label}
             </option>
@@ -451,7 +505,7 @@ function StartForm({
       </label>
       {source === "simulate" && (
         <fieldset>
-          <legend>Faults from the start</legend>
+          <legend>{team ? "Faults from the start (every vehicle)" : "Faults from the start"}</legend>
           {FAULTS.map((f) => (
             <label key={f.value} className="inline">
               <input
@@ -473,9 +527,83 @@ function StartForm({
   );
 }
 
+/** A team's rehearsal: the vehicle switcher, each vehicle (its scene colour, state, goal and
+ * energy), the meetings that happened, the joint end, and the latest events naming their
+ * vehicle. Every name is the orders' text, shown as text. */
+function TeamPanel({
+  team,
+  status,
+  events,
+  selected,
+  onSelect,
+}: {
+  team: MemberSpec[];
+  status: TeamStatus;
+  events: Status["events"];
+  selected: string | null;
+  onSelect: (vehicle: string) => void;
+}) {
+  const latest = events.slice(-6);
+  return (
+    <section className="team-rehearsal" aria-label="Team" data-testid="team-rehearsal">
+      <label className="team-switcher">
+        Vehicle:{" "}
+        <select value={selected ?? ""} onChange={(e) => onSelect(e.target.value)} data-testid="team-member">
+          {team.map((m) => (
+            <option key={m.vehicle} value={m.vehicle}>
+              {m.vehicle}
+            </option>
+          ))}
+        </select>
+      </label>
+      <ul className="team-members" data-testid="team-members">
+        {status.members.map((m, i) => (
+          <li key={m.vehicle} className={m.vehicle === selected ? "selected" : undefined} data-testid="team-member-row">
+            <span className="swatch" style={{ background: VEHICLE_COLOURS[i % VEHICLE_COLOURS.length] }} aria-hidden="true" />
+            <strong>{m.vehicle}</strong> {MEMBER_STATE[m.state]}
+            {m.current_goal ? ` · ${m.current_goal.id}` : m.terminal ? ` · ${m.terminal}` : ""} ·{" "}
+            {`${m.energy_wh.toFixed(0)} Wh left`}
+          </li>
+        ))}
+      </ul>
+      <p data-testid="team-meetings">
+        {status.meetings.length
+          ? status.meetings
+              .map(
+                (m) =>
+                  `Meeting ${m.meet}: ${OUTCOME_LABEL[m.outcome as Outcome] ?? m.outcome} at ${simulatedTime(m.t)} (${Object.entries(m.goals)
+                    .map(([v, g]) => `${v} ${g}`)
+                    .join(", ")})`,
+              )
+              .join("; ")
+          : "No meeting yet."}
+      </p>
+      {status.joint_end && <p data-testid="team-joint-end">Joint end: {status.joint_end}</p>}
+      <ol className="team-events" aria-label="Latest events" data-testid="team-events">
+        {latest.map((e, i) => (
+          <li key={`${e.t}-${i}`} className={e.kind === "deadlock" ? "deadlock" : undefined}>
+            <strong>{e.vehicle ?? ""}</strong>
+            {e.goal ? ` ${e.goal}` : ""}: {e.text}
+          </li>
+        ))}
+      </ol>
+    </section>
+  );
+}
+
 /** The mission graph as goal cards in the order it is flown (rehearsalOrder.ts), the current
  * goal highlighted. */
-function MissionGraph({ orders, current, visited }: { orders: Orders; current: string | null; visited: Set<string> }) {
+function MissionGraph({
+  orders,
+  current,
+  visited,
+  label = "Mission graph",
+}: {
+  orders: Orders;
+  current: string | null;
+  visited: Set<string>;
+  label?: string;
+}) {
   const all = goals(orders);
   const order = pathOrder(orders);
   const ends = new Map(terminals(orders).map((t) => [t.id, t]));
@@ -485,7 +613,7 @@ function MissionGraph({ orders, current, visited }: { orders: Orders; current: s
   const visitedTop = new Set([...visited].map((v) => stepPlace(v).top));
   const visitedInner = new Set([...visited].map((v) => stepPlace(v).full));
   return (
-    <ol className="rehearsal-graph" aria-label="Mission graph" data-testid="rehearsal-graph">
+    <ol className="rehearsal-graph" aria-label={label} data-testid="rehearsal-graph">
       {order.map((id) => {
         const goal = all.find((g) => g.id === id)!;
         const isCurrent = id === place?.top;

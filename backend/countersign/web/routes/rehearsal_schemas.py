@@ -22,6 +22,8 @@ class SimEvent(BaseModel):
     text: str
     goal: str | None = None
     data: dict[str, Any] | None = None
+    # A team's rehearsal (rehearse/team.py): the vehicle whose event it is.
+    vehicle: str | None = None
 
 
 class CurrentGoal(BaseModel):
@@ -48,6 +50,39 @@ class FaultNotice(BaseModel):
 class Suggestion(BaseModel):
     outcome: str
     because: str
+
+
+class TeamMemberStatus(BaseModel):
+    """One vehicle of a team's rehearsal: `waiting` holds at a meeting for its partners,
+    `deadlocked` was left waiting for a partner that can no longer come (TEAM)."""
+
+    vehicle: str
+    state: Literal["running", "waiting", "finished", "deadlocked"]
+    current_goal: CurrentGoal | None
+    outcomes: list[GoalOutcome]
+    terminal: str | None
+    energy_wh: Number
+    energy_used_wh: Number
+    capacity_wh: Number
+    sim_time_s: Number
+
+
+class TeamMeeting(BaseModel):
+    """A meeting that happened: its one shared outcome, and each vehicle's goal there."""
+
+    meet: str
+    t: Number
+    outcome: str
+    reason: str
+    goals: dict[str, str]
+
+
+class TeamStatus(BaseModel):
+    members: list[TeamMemberStatus]
+    meetings: list[TeamMeeting]
+    # Where each member ended once the team's rehearsal has finished
+    # (`remus-100:waiting + vehicle-2:ABORT`, as the TEAM joint counts name it).
+    joint_end: str | None
 
 
 class RehearsalStatus(BaseModel):
@@ -78,6 +113,8 @@ class RehearsalStatus(BaseModel):
     # Only while a goal waits for its outcome.
     question: str | None = None
     suggested: Suggestion | None = None
+    # Only for a team's orders: every vehicle, the meetings and the joint end.
+    team: TeamStatus | None = None
 
 
 class RecordOrders(BaseModel):
@@ -131,6 +168,36 @@ class RecordWorld(BaseModel):
     contacts: int
 
 
+class TeamRecordEnergy(BaseModel):
+    capacity_wh: Number
+    used_wh: Number
+
+
+class TeamRecordInputs(BaseModel):
+    faults: list[str]
+
+
+class TeamRecordMember(BaseModel):
+    vehicle: str
+    state: Literal["running", "waiting", "finished", "deadlocked"]
+    runs: list[RecordRun]
+    energy: TeamRecordEnergy
+    sim_time_s: Number
+    inputs: TeamRecordInputs
+    rule_firings: dict[str, int]
+
+
+class TeamRecord(BaseModel):
+    """A team's rehearsal: each vehicle's own figures, the meetings, the joint end and the
+    paths replayed by vehicle (the top-level figures are the team's together)."""
+
+    vehicles: list[str]
+    joint_end: str
+    meetings: list[TeamMeeting]
+    members: list[TeamRecordMember]
+    paths: dict[str, int]
+
+
 class RehearsalRecordOut(BaseModel):
     """A rehearsal record: what the rehearsal determined, and nothing that would change its
     digest between two runs of the same orders, seed and inputs."""
@@ -157,6 +224,8 @@ class RehearsalRecordOut(BaseModel):
     # Records made before the legs were recorded (2026-12-02) lack it.
     legs_flown: list[FlownLeg] = []
     world: RecordWorld
+    # Only for a team's orders (issue 37).
+    team: TeamRecord | None = None
 
 
 RehearsalStatusJson = Annotated[dict[str, Any], SchemaOf(RehearsalStatus)]

@@ -52,9 +52,12 @@ REHEARSERS = ("operator", "supervisor")
 RehearsalId = Annotated[str, Path(min_length=1, max_length=64, pattern=r"^[A-Za-z0-9_-]+$")]
 TicketText = Annotated[str, Path(min_length=20, max_length=100, pattern=r"^[A-Za-z0-9_-]+$")]
 RecordDigest = Annotated[str, Path(pattern=r"^sha256:[0-9a-f]{64}$")]
-FaultName = Annotated[str, Field(min_length=1, max_length=40, pattern=r"^[a-z][a-z0-9_]*$")]
-FaultSpecText = Annotated[str, Field(min_length=1, max_length=140,
-                                     pattern=r"^[a-z][a-z0-9_]*(@[A-Za-z0-9_.:-]{1,100})?$")]
+# `VEHICLE:` before a fault names one member of a team (without it: every member).
+FaultName = Annotated[str, Field(min_length=1, max_length=110,
+                                 pattern=r"^([A-Za-z0-9_.-]{1,64}:)?[a-z][a-z0-9_]*$")]
+FaultSpecText = Annotated[str, Field(
+    min_length=1, max_length=210,
+    pattern=r"^([A-Za-z0-9_.-]{1,64}:)?[a-z][a-z0-9_]*(@[A-Za-z0-9_.:-]{1,100})?$")]
 
 
 
@@ -132,10 +135,8 @@ def start_rehearsal(mission_id: str, body: RehearsalIn, request: Request,
     else:
         data, digest = mission.draft, mission.draft_digest
     orders = orders_from_data(data)
-    if orders.team is not None:
-        # One scene per team is not built yet: a rehearsal runs one vehicle's MEA.
-        raise Unprocessable("the rehearsal cannot start: these orders are a team's, and a "
-                            "rehearsal runs one vehicle's orders")
+    # A team's orders rehearse every member in one scene (rehearse/team_rehearsal.py), with
+    # outcomes from each member's simulation: other sources are refused below (422).
     from ...rehearse.manager import RehearsalOptions
     from ...store.charts import charts_in
     from ...verify.charts import mission_box
