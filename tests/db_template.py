@@ -4,8 +4,9 @@ SQLite: the migrated file is copied (a file copy, no Alembic). PostgreSQL: the t
 schema `public` is migrated once; each test then finds every table emptied with TRUNCATE ...
 RESTART IDENTITY (ids start at 1 again), which needs neither a second database nor Alembic.
 A test that changed the schema itself (migration tests drop it, campaign workers add
-procrastinate's tables) is noticed by the schema's fingerprint (its relations' oids, the
-Alembic revision and the template's stamp) and the schema is rebuilt and migrated again.
+procrastinate's tables, tamper tests disable or drop triggers) is noticed by the schema's
+fingerprint (its relations' oids, its triggers and whether they are enabled, the Alembic
+revision and the template's stamp) and the schema is rebuilt and migrated again.
 
 Each template carries a stamp of the session (SQLite `PRAGMA user_version`, a comment on the
 PostgreSQL schema) so that a test can tell a template database from a fresh one
@@ -131,10 +132,16 @@ def _fingerprint(connection: Connection) -> tuple[object, ...]:
     routines = connection.execute(text(
         "SELECT count(*) FROM pg_proc p JOIN pg_namespace n ON n.oid = p.pronamespace "
         "WHERE n.nspname = 'public'")).scalar_one()
+    # Tamper tests disable or drop the append-only triggers to play a database writer; a
+    # template reset must not hand the next test a table that no longer refuses updates.
+    triggers = tuple(connection.execute(text(
+        "SELECT t.tgrelid::bigint, t.tgname, t.tgenabled FROM pg_trigger t "
+        "JOIN pg_class c ON c.oid = t.tgrelid JOIN pg_namespace n ON n.oid = c.relnamespace "
+        "WHERE n.nspname = 'public' AND NOT t.tgisinternal ORDER BY t.tgrelid, t.tgname")).all())
     try:
         with connection.begin_nested():
             revision = tuple(connection.execute(text(
                 "SELECT version_num FROM alembic_version ORDER BY version_num")).scalars())
     except DBAPIError:
         revision = ()
-    return relations, routines, revision, postgres_stamp(connection)
+    return relations, routines, triggers, revision, postgres_stamp(connection)

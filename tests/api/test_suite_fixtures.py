@@ -112,6 +112,26 @@ def test_a_template_database_holds_what_migration_leaves(world: World, tmp_path:
     database.engine.dispose()
 
 
+def test_a_disabled_trigger_is_restored_by_the_next_reset(world: World,
+                                                         request: pytest.FixtureRequest) -> None:
+    """Tamper tests switch the append-only triggers off to play a database writer; the next
+    test must again find a log that refuses updates (the reset migrates afresh)."""
+    if world.database.engine.dialect.name == "sqlite":
+        pytest.skip("SQLite worlds are fresh copies of the template file")
+    world.database.engine.dispose()
+    postgres: PostgresTemplate = request.getfixturevalue("postgres_template")
+    with postgres.engine.begin() as connection:
+        connection.execute(text("ALTER TABLE log_entries DISABLE TRIGGER USER"))
+    rebuilds = postgres.rebuilds
+    postgres.reset()
+    assert postgres.rebuilds == rebuilds + 1
+    with postgres.engine.connect() as connection:
+        enabled = connection.execute(text(
+            "SELECT bool_and(tgenabled <> 'D') FROM pg_trigger "
+            "WHERE tgrelid = 'log_entries'::regclass AND NOT tgisinternal")).scalar_one()
+    assert enabled
+
+
 @dataclass
 class _Item:
     """What tests/markers.py reads of a collected test."""
