@@ -48,6 +48,10 @@ ROLES = ("operator", "supervisor", "auditor", "admin")
 # run only (whose tokens they cannot reach: wrong password, another role), never by scenarios.
 # A loaded two-core machine: the first validation starts the pool's processes (not a hang).
 REQUEST_TIMEOUT_S = 120
+# pytest-timeout guards against hangs. One generated test of this module sends each of its
+# examples once per role (planning and campaign operations validate and plan): ~50 s on a quiet
+# machine, over the suite's 300 s when the machine is loaded ten times over. A hang still ends.
+pytestmark = pytest.mark.timeout(1800)
 ENDS_CREDENTIALS = ("changePassword", "logout", "updateUser", "revokeToken")
 # Examples per operation and scenario, times this: CI runs 1; a longer run is e.g.
 # `COUNTERSIGN_FUZZ_SCALE=4 pytest tests/api/test_fuzz.py`.
