@@ -27,7 +27,7 @@ import time
 from collections import OrderedDict
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Any, Literal, Protocol
 
 import viser
 
@@ -48,6 +48,23 @@ NOTABLE_EVENTS = frozenset({"fault", "fault_queued", "observed", "safe_action", 
 MAX_FRAME_STEPS = 5_000  # simulated seconds per frame at most (bounded work per frame)
 SKIP_FRAME_S = 20_000.0  # skipping: simulated seconds per frame until the next decision
 RECORD_SPEED = 200.0  # the HTML replay plays 200 simulated seconds per second
+
+
+class Clock(Protocol):
+    """What a rehearsal drives and records: one vehicle's simulation, or a team's."""
+
+    time_s: float
+
+    @property
+    def state(self) -> str: ...
+
+    def advance(self, seconds: float) -> None: ...
+
+
+class Frames(Protocol):
+    """The 3D scene a rehearsal sends a frame to."""
+
+    def frame(self) -> None: ...
 MIN_SPEED, MAX_SPEED = 0.1, 1_000_000.0
 MAX_FAULTS = 20
 STATUS_EVENTS = 20
@@ -410,25 +427,35 @@ class Rehearsal:
             self._slow_frames = SLOW_FRAMES
         self._events_paced = len(events)
 
+    def _clock(self) -> Clock:
+        """What advances and is recorded (a team rehearsal drives the team)."""
+        return self._sim
+
+    def _frames(self) -> Frames | None:
+        """The scene frames go to, if there is one (a team rehearsal draws the team's)."""
+        return self._scene
+
     def _push_frame(self) -> None:
-        if self._scene is None:
+        scene, clock = self._frames(), self._clock()
+        if scene is None:
             return
         if self._serializer is not None:
-            elapsed = self._sim.time_s - self._recorded_sim_s
+            elapsed = clock.time_s - self._recorded_sim_s
             if elapsed > 0:
                 self._serializer.insert_sleep(elapsed / RECORD_SPEED)
-                self._recorded_sim_s = self._sim.time_s
-        self._scene.frame()
+                self._recorded_sim_s = clock.time_s
+        scene.frame()
 
     def run_headless(self, max_wall_s: float | None = None) -> None:
         """Run to the end on the calling thread (CLI, tests); manual sources stop waiting."""
         started = time.perf_counter()
+        clock = self._clock()
         # With a scene, frames every simulated minute make the recorded replay move smoothly;
         # without one, large chunks keep the loop overhead negligible.
-        chunk = 60.0 if self._scene is not None else 3_600.0
+        chunk = 60.0 if self._frames() is not None else 3_600.0
         with self._lock:
-            while self._sim.state == "running":
-                self._sim.advance(chunk)
+            while clock.state == "running":
+                clock.advance(chunk)
                 self._push_frame()
                 if max_wall_s is not None and time.perf_counter() - started > max_wall_s:
                     break

@@ -30,6 +30,8 @@ from .manager import (
     MIN_AUTO_FRAME_S,
     SKIP_FRAME_S,
     STATUS_EVENTS,
+    Clock,
+    Frames,
     Rehearsal,
     RehearsalOptions,
     RehearsalState,
@@ -249,25 +251,11 @@ class TeamRehearsal(Rehearsal):
         if self._skipping and (team.state != "running" or len(team.meetings) != meetings):
             self._skipping = False
 
-    def _push_frame(self) -> None:
-        if self._team_scene is None:
-            return
-        if self._serializer is not None:
-            elapsed = self.team.time_s - self._recorded_sim_s
-            if elapsed > 0:
-                self._serializer.insert_sleep(elapsed / 200.0)
-                self._recorded_sim_s = self.team.time_s
-        self._team_scene.frame()
+    def _clock(self) -> Clock:
+        return self.team
 
-    def run_headless(self, max_wall_s: float | None = None) -> None:
-        started = time.perf_counter()
-        chunk = 60.0 if self._team_scene is not None else 3_600.0
-        with self._lock:
-            while self.team.state == "running":
-                self.team.advance(chunk)
-                self._push_frame()
-                if max_wall_s is not None and time.perf_counter() - started > max_wall_s:
-                    break
+    def _frames(self) -> Frames | None:
+        return self._team_scene
 
     # ------------------------------------------------------------------------------ record
 
