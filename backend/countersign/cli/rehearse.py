@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any, TextIO
 if TYPE_CHECKING:
     from ..orders.model import Orders
     from ..rehearse.manager import Rehearsal
+    from ..rehearse.record import RehearsalRecord
 
 # rehearse.sim.FAULTS and rehearse.sources.SOURCES, named here so that help does not import
 # the simulation and viser (tests/unit/test_cli_startup.py holds them equal).
@@ -162,6 +163,19 @@ def _rehearse(args: argparse.Namespace, out: TextIO) -> int:
     except ValueError as exc:
         sys.stderr.write(f"countersign rehearse: cannot rehearse {args.file}: {exc}\n")
         return EXIT_CANNOT_RUN
+    record = _run_and_record(rehearsal, args, out)
+    data = record.to_json()
+    if args.format == "json":
+        out.write(json.dumps({"digest": record.digest, "record": data}, indent=1) + "\n")
+    else:
+        _summary(data, record.digest, out)
+    return EXIT_OK
+
+
+def _run_and_record(rehearsal: Rehearsal, args: argparse.Namespace,
+                    out: TextIO) -> RehearsalRecord:
+    """Run the rehearsal (headless or watched), stop it, and write the record and replay files
+    the options ask for."""
     try:
         if args.headless:
             rehearsal.run_headless()
@@ -170,16 +184,12 @@ def _rehearse(args: argparse.Namespace, out: TextIO) -> int:
     finally:
         with contextlib.redirect_stdout(sys.stderr):
             record = rehearsal.stop()
-    data = record.to_json()
     if args.record_out is not None:
-        args.record_out.write_text(json.dumps({**data, "digest": record.digest}, indent=1) + "\n")
+        args.record_out.write_text(
+            json.dumps({**record.to_json(), "digest": record.digest}, indent=1) + "\n")
     if args.html_out is not None and record.has_replay:
         args.html_out.write_bytes(record.replay_html())
-    if args.format == "json":
-        out.write(json.dumps({"digest": record.digest, "record": data}, indent=1) + "\n")
-    else:
-        _summary(data, record.digest, out)
-    return EXIT_OK
+    return record
 
 
 def _member_paths(texts: list[str]) -> dict[str, int]:
@@ -218,19 +228,8 @@ def _rehearse_team(args: argparse.Namespace, orders: Orders, out: TextIO) -> int
         sys.stderr.write(f"countersign rehearse: cannot rehearse {args.file}: {exc}\n")
         usage = ("paths name", "fault", "path index")
         return EXIT_UNREADABLE if any(w in str(exc) for w in usage) else EXIT_CANNOT_RUN
-    try:
-        if args.headless:
-            rehearsal.run_headless()
-        else:
-            _watch(rehearsal, args, out)
-    finally:
-        with contextlib.redirect_stdout(sys.stderr):
-            record = rehearsal.stop()
+    record = _run_and_record(rehearsal, args, out)
     data = record.to_json()
-    if args.record_out is not None:
-        args.record_out.write_text(json.dumps({**data, "digest": record.digest}, indent=1) + "\n")
-    if args.html_out is not None and record.has_replay:
-        args.html_out.write_bytes(record.replay_html())
     if args.format == "json":
         out.write(json.dumps({"digest": record.digest, "record": data}, indent=1) + "\n")
         return EXIT_OK
