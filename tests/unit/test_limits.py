@@ -72,7 +72,7 @@ def test_the_values_and_their_users() -> None:
     from countersign.approved_package import build as package
     from countersign.approved_package import verify as package_verify
     from countersign.orders import reader
-    from countersign.store.approvals import decisions
+    from countersign.store.approvals import common as decisions  # check_signed_time
 
     assert limits.MAX_INPUT_BYTES == 8 * 1024 * 1024
     assert limits.MAX_BODY_BYTES == 9 * 1024 * 1024

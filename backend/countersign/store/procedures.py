@@ -13,7 +13,6 @@ from __future__ import annotations
 import secrets
 from collections.abc import Callable
 from dataclasses import dataclass
-from datetime import datetime
 from typing import Any
 
 from sqlalchemy import func, select
@@ -28,19 +27,19 @@ from ..approvals.procedure_statement import (
 )
 from ..approvals.statement import json_digest, statement_bytes, subject_digest
 from ..errors import Conflict, NotFound, Unprocessable
-from ..limits import CLOCK_SKEW, MAX_REASON
+from ..limits import MAX_REASON
 from ..orders.model import Orders
 from ..orders.procedure import Procedure, procedure_from_data
 from ..orders.reader import OrdersReadError
 from ..verify import fingerprint
 from ..verify.procedures import check_procedure, expand, expand_procedure, uses
 from .approvals.common import (
-    STATEMENT_MAX_AGE,
     BadSignature,
     Refused,
     Stale,
     _now_text,
     _username,
+    check_signed_time,
 )
 from .approvals.decisions import Prepared
 from .approvals.keys import _usable_key
@@ -329,7 +328,7 @@ def decide_procedure(db: DbSession, *, name: str, version: int, supervisor: User
             ProcedureApproval.payload_digest == payload_digest)) is not None:
         raise Stale("this signed statement was used already; replay refused")
     predicate = statement["predicate"]
-    _check_time(predicate.get("time"))
+    check_signed_time(predicate.get("time"))
     decision = predicate.get("decision")
     if decision not in ("approved", "rejected"):
         raise BadSignature("the statement's decision is not approved or rejected")
@@ -362,14 +361,4 @@ def decide_procedure(db: DbSession, *, name: str, version: int, supervisor: User
     return approval
 
 
-def _check_time(value: Any) -> None:
-    try:
-        signed_at = datetime.fromisoformat(str(value).replace("Z", "+00:00"))
-        if signed_at.tzinfo is None:
-            raise ValueError
-    except ValueError:
-        raise BadSignature("the statement's time is not an ISO 8601 UTC timestamp") from None
-    now = utcnow()
-    if not now - STATEMENT_MAX_AGE <= signed_at <= now + CLOCK_SKEW:
-        raise Stale("the statement was prepared too long ago or in the future; prepare it again")
 

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import secrets
 from dataclasses import dataclass
-from datetime import datetime
 from typing import Any
 
 from sqlalchemy import select
@@ -21,7 +20,7 @@ from ...approvals.statement import (
     subject_digest,
 )
 from ...export.package import export_digests
-from ...limits import CLOCK_SKEW, MAX_REASON
+from ...limits import MAX_REASON
 from ...orders.reader import orders_from_data
 from ...orders.team import member_digests
 from ...verify import fingerprint
@@ -43,12 +42,12 @@ from ..tables import (
     utcnow,
 )
 from .common import (
-    STATEMENT_MAX_AGE,
     BadDecision,
     BadSignature,
     Stale,
     _now_text,
     _username,
+    check_signed_time,
 )
 from .duties import _check_duties
 from .keys import _usable_key
@@ -161,15 +160,7 @@ def _verified(db: DbSession, envelope_text: str, supervisor: User
 def _check_fresh(db: DbSession, ctx: Context, statement: dict[str, Any], supervisor: User,
                  key: SigningKey, revokes: str | None = None) -> None:
     predicate = statement["predicate"]
-    try:
-        signed_at = datetime.fromisoformat(str(predicate.get("time")).replace("Z", "+00:00"))
-        if signed_at.tzinfo is None:
-            raise ValueError
-    except ValueError:
-        raise BadSignature("the statement's time is not an ISO 8601 UTC timestamp") from None
-    now = utcnow()
-    if not now - STATEMENT_MAX_AGE <= signed_at <= now + CLOCK_SKEW:
-        raise Stale("the statement was prepared too long ago or in the future; prepare it again")
+    check_signed_time(predicate.get("time"))
     decision = predicate.get("decision")
     if decision not in ("approved", "rejected", "revoked"):
         raise BadSignature("the statement's decision is not approved, rejected or revoked")
