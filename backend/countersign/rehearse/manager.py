@@ -133,12 +133,21 @@ class Rehearsal:
                              max_tour_paths=self._limits.max_tour_paths)
         self._sim = Simulation(orders, seed=options.seed, source=source,
                                faults=options.faults, limits=self._limits, charts=charts)
+        self._controls = controls
+        self._setup(headless=headless, gated=gated, idle_timeout_s=idle_timeout_s,
+                    on_stopped=on_stopped, thread_prefix="rehearsal")
+
+    def _setup(self, *, headless: bool, gated: bool, idle_timeout_s: float,
+               on_stopped: Callable[[Rehearsal], None] | None, thread_prefix: str) -> None:
+        """The state every rehearsal keeps, and its viser server unless headless (the scene
+        itself is `_open_scene`'s)."""
         self._lock = threading.RLock()
         self._wake = threading.Event()
         self._stop_event = threading.Event()
         self._stopped = False
         self._sealed = threading.Event()  # set once stop() has sealed the record
-        self._speed: float | None = None if options.speed is None else float(options.speed)
+        speed = self.options.speed
+        self._speed: float | None = None if speed is None else float(speed)
         self.frames = 0  # frames simulated: the unit of the pace
         self.first_question_frame: int | None = None
         self._skipping = False
@@ -166,21 +175,26 @@ class Rehearsal:
                 if gated:
                     viser_gate.install(self._server, self.viewer_secret)
                 self.port = self._server.get_port()
-                self._scene = Scene(
-                    self._server, self._sim, title=self.orders_title,
-                    on_choose=self.choose, on_inject=self.inject, on_speed=self.set_speed,
-                    on_skip=self.skip, speed=self._speed, manual=options.source == "manual",
-                    controls=controls,
-                )
-                self._scene.frame()
+                self._open_scene(self._server)
+                frames = self._frames()
+                if frames is not None:
+                    frames.frame()
                 # Record from here on: the serializer snapshots the scene so far, then
                 # collects every later scene message; frames insert the simulated time.
                 self._serializer = self._server.get_scene_serializer()
             except BaseException:
                 self._server.stop()
                 raise
-        self._thread = threading.Thread(target=self._run, name=f"rehearsal-{self.id[:8]}",
-                                        daemon=True)
+        self._thread = threading.Thread(target=self._run,
+                                        name=f"{thread_prefix}-{self.id[:8]}", daemon=True)
+
+    def _open_scene(self, server: viser.ViserServer) -> None:
+        self._scene = Scene(
+            server, self._sim, title=self.orders_title,
+            on_choose=self.choose, on_inject=self.inject, on_speed=self.set_speed,
+            on_skip=self.skip, speed=self._speed, manual=self.options.source == "manual",
+            controls=self._controls,
+        )
 
     # ------------------------------------------------------------------------------ API
 

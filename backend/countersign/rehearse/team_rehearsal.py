@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import logging
 import secrets
-import threading
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
@@ -22,7 +21,6 @@ import viser
 
 from ..orders.canonical import digest as orders_digest
 from ..orders.model import Chart, Orders
-from . import viser_gate
 from .manager import (
     FRAME_S,
     MAX_FAULTS,
@@ -79,46 +77,12 @@ class TeamRehearsal(Rehearsal):
         # The base class's Simulation slot holds the first member (never stepped through it):
         # every method that would step or judge by it (_loop, status, ...) is overridden.
         self._sim = self.team.members[0].sim
-        self._lock = threading.RLock()
-        self._wake = threading.Event()
-        self._stop_event = threading.Event()
-        self._stopped = False
-        self._sealed = threading.Event()
-        self._speed = None if options.speed is None else float(options.speed)
-        self.frames = 0
-        self.first_question_frame = None
-        self._skipping = False
-        self._slow_frames = 0
-        self._events_paced = 0
-        self._dirty = True
-        self._notice = None
-        self._on_stopped = on_stopped
-        self.idle_timeout_s = idle_timeout_s
-        self._record = None
-        self._html = None
-        self._recorded_sim_s = 0.0
-        self.last_activity = time.monotonic()
-        self._server = None
         self._team_scene: TeamScene | None = None
-        self._scene = None
-        self._serializer = None
-        self.port = 0
-        self.viewer_secret = secrets.token_urlsafe(32)
-        if not headless:
-            self._server = viser.ViserServer(host="127.0.0.1", port=0,
-                                             label=self.orders_title[:80], verbose=False)
-            try:
-                if gated:
-                    viser_gate.install(self._server, self.viewer_secret)
-                self.port = self._server.get_port()
-                self._team_scene = TeamScene(self._server, self.team, title=self.orders_title)
-                self._team_scene.frame()
-                self._serializer = self._server.get_scene_serializer()
-            except BaseException:
-                self._server.stop()
-                raise
-        self._thread = threading.Thread(target=self._run, name=f"team-{self.id[:8]}",
-                                        daemon=True)
+        self._setup(headless=headless, gated=gated, idle_timeout_s=idle_timeout_s,
+                    on_stopped=on_stopped, thread_prefix="team")
+
+    def _open_scene(self, server: viser.ViserServer) -> None:
+        self._team_scene = TeamScene(server, self.team, title=self.orders_title)
 
     # ------------------------------------------------------------------------------ API
 
