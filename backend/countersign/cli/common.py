@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
+    from ..orders.model import Orders
     from ..orders.reader import ReadResult
 
 EXIT_OK, EXIT_FINDINGS, EXIT_UNREADABLE, EXIT_INTERNAL = 0, 1, 2, 3
@@ -60,6 +61,22 @@ def load_orders(source: str, *, teams: bool = False) -> ReadResult:
             "--format plain' (or json) writes it; a member's own orders are its "
             "team[i].orders")
     return loaded
+
+
+def member_orders(orders: Orders, member: str | None, *, what: str) -> Orders:
+    """The orders of team member `member` (--member), or `orders` themselves when they are one
+    vehicle's and no member is named; a team without --member, an unknown member, or a member
+    of one vehicle's orders is exit 2 naming --member. `what`: the command, for the message."""
+    from ..export.team import MemberNeeded, UnknownMember, select_member
+
+    try:
+        chosen = select_member(orders, member)
+    except MemberNeeded as exc:
+        raise UsageError(f"{what} of a team's orders needs --member VEHICLE, one of "
+                         f"{', '.join(exc.vehicles)}") from None
+    except UnknownMember as exc:
+        raise UsageError(f"--member {exc.member}: {exc}") from None
+    return orders if chosen is None else chosen.orders
 
 
 def _read_orders(source: str) -> ReadResult:

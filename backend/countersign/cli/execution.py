@@ -10,7 +10,7 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
-from .common import load_orders
+from .common import load_orders, member_orders
 
 EXIT_OK, EXIT_DEVIATION, EXIT_UNREADABLE, EXIT_UNVERIFIED = 0, 1, 2, 3
 MAX_LOG_BYTES = 16 * 1024 * 1024
@@ -34,7 +34,8 @@ def add_commands(commands: Any) -> None:
         "Times that cannot be real (not a time, no zone, backwards, in the future beyond "
         "clock skew) make the log unreadable. Exit 0 no deviation, 1 deviations, 2 "
         "unreadable input, 3 unverified (no deviation found, but times or readings "
-        "missing).")
+        "missing). Team orders: --member VEHICLE checks that member's log against its own "
+        "orders (paths numbered as in its orders alone).")
     check.add_argument("orders", metavar="ORDERS", help="orders file (or example:NAME)")
     check.add_argument("log", metavar="LOG", type=Path,
                        help="execution log: NDJSON, IMC messages (PlanControlState, "
@@ -42,6 +43,9 @@ def add_commands(commands: Any) -> None:
     check.add_argument("--input-format", choices=["auto", "ndjson", "imc", "alog"],
                        default="auto", help="the log's format (default: detected)")
     check.add_argument("--format", choices=["text", "json"], default="text")
+    check.add_argument("--member", default=None, metavar="VEHICLE",
+                       help="team orders: the member vehicle whose log this is (required for "
+                       "a team)")
     check.set_defaults(handler=cmd_execution_check)
 
 
@@ -51,7 +55,8 @@ def cmd_execution_check(args: argparse.Namespace) -> int:
     from ..rehearse.execution import ExecutionLogError, check_execution, read_log
     from ..rehearse.execution_evidence import TimeWindow
 
-    orders = load_orders(args.orders).orders
+    orders = member_orders(load_orders(args.orders, teams=True).orders, args.member,
+                           what="execution check")
     try:
         with args.log.open("rb") as handle:
             data = handle.read(MAX_LOG_BYTES + 1)

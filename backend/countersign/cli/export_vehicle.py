@@ -25,6 +25,10 @@ def add_export_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--plan-version", type=int, default=None, metavar="N",
         help="imc/moos: the version number to name in the plan id (default: a short digest)")
+    parser.add_argument(
+        "--member", default=None, metavar="VEHICLE",
+        help="team orders: write this member vehicle's files (its own orders and meetings); "
+        "imc, moos and avcl of a team need it")
 
 
 def print_notes(export: VehicleExport) -> None:
@@ -37,7 +41,8 @@ def write_vehicle_export(orders: Orders, args: argparse.Namespace) -> int:
     from ..export.vehicle import export_vehicle
 
     try:
-        export = export_vehicle(orders, args.format, version=args.plan_version)
+        export = export_vehicle(orders, args.format, version=args.plan_version,
+                                member=args.member)
     except ExportError as exc:
         sys.stderr.write(f"countersign: cannot export: {exc}\n")
         return EXIT_FINDINGS

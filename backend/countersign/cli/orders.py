@@ -19,6 +19,7 @@ from .common import (
     UsageError,
     budget_seconds,
     load_orders,
+    member_orders,
     non_negative,
 )
 from .export_vehicle import add_export_arguments
@@ -211,21 +212,27 @@ def cmd_run(args: argparse.Namespace) -> int:
 def cmd_export(args: argparse.Namespace) -> int:
     from ..rules.plain_orders import write_for_supervisor
 
-    loaded = with_library(load_orders(args.file, teams=args.format in ("plain", "json")),
-                          args.procedures)
+    # A team is one vehicle's files per member (--member); plain and json also write the team.
+    vehicle_format = args.format in ("imc", "moos", "avcl")
+    teams = vehicle_format or args.member is not None or args.format in ("plain", "json")
+    loaded = with_library(load_orders(args.file, teams=teams), args.procedures)
+    orders = loaded.orders
+    if vehicle_format or args.member is not None:
+        orders = member_orders(orders, args.member, what=f"--format {args.format}")
     if args.format in ("imc", "moos"):
         from .export_vehicle import write_vehicle_export
 
         return write_vehicle_export(loaded.orders, args)
     if args.format == "avcl":
         from ..export.avcl import export_avcl
+        from ..export.team import select_member
         from .export_vehicle import print_notes
 
-        export = export_avcl(loaded.orders)
+        export = export_avcl(orders, select_member(loaded.orders, args.member))
         sys.stdout.write(export.primary.content.decode("utf-8"))
         print_notes(export)
         return EXIT_OK
-    sys.stdout.write(write_for_supervisor(loaded.orders, args.format))
+    sys.stdout.write(write_for_supervisor(orders, args.format))
     return EXIT_OK
 
 
@@ -348,7 +355,11 @@ def add_commands(commands: Any) -> None:
         "against the NPS AVCL.3.1.xsd); or for a vehicle: an IMC PlanSpecification (imc, "
         "binary) or MOOS-IvP helm behaviours plus uSimMarine lines (moos); a refined goal "
         "becomes the maneuvers of its goals, ids carrying the hierarchy (imc: G1/G1.2#2), or "
-        "a helm mode holding its goals' modes (moos: ACTIVE:G1:G1_2_k2). What AVCL or a "
+        "a helm mode holding its goals' modes (moos: ACTIVE:G1:G1_2_k2). Team orders: "
+        "--member VEHICLE writes that member's files (any format; imc, moos and avcl need it); "
+        "a meeting goal holds at its point and waits for every partner (moos: posts "
+        "MEET_<id>_ARRIVED = <vehicle>, leaves after MEET_<id>_ALL = true; the .moos names what "
+        "a pShare bridge carries; imc: custom meet, meet.partners). What AVCL or a "
         "vehicle format cannot carry is printed to standard error as notes (code, path, "
         "message).",
     )

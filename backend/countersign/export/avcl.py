@@ -4,7 +4,8 @@ The document itself is written by `orders.avcl_writer` (it is also an orders for
 `orders.avcl`); this adds what the orders say beyond goals, successors, terminals, behaviours,
 phases, areas and durations: constraints (AVCL's Risk names only the NPS risk taxonomy),
 requirements, envelopes, energy costs, outcome probabilities, vehicle details, norms, rules and
-path properties.
+path properties. A team member's orders are written as a document of their own (AVCL has one
+vehicle per mission); its meetings, which AVCL cannot state, are notes.
 """
 
 from __future__ import annotations
@@ -13,15 +14,23 @@ from ..orders.avcl_writer import avcl_document
 from ..orders.model import Orders
 from .common import uncarried
 from .notes import ExportFile, ExportNote, VehicleExport
+from .team import Member
 
 FORMAT = "AVCL"
 
 
-def export_avcl(orders: Orders) -> VehicleExport:
+def export_avcl(orders: Orders, member: Member | None = None) -> VehicleExport:
+    """AVCL of one vehicle's orders; `member`: those are a team member's own orders."""
     document = avcl_document(orders)
     notes = [ExportNote(gap.code, gap.path, gap.message) for gap in document.gaps]
     for index, goal in enumerate(orders.goals):
         where = f"/goals/{index}"
+        meeting = member.meeting_of(goal.meet) if member is not None else None
+        if meeting is not None:
+            notes.append(ExportNote("MEET", f"{where}/meet", f"goal {goal.id} is meeting "
+                                    f"{meeting.meet} with {', '.join(meeting.partners)}: AVCL "
+                                    "has no meeting of vehicles: the goal is written, the "
+                                    "wait for every member is not"))
         if goal.refines is not None:
             notes.append(ExportNote("REFINE", f"{where}/refines", f"goal {goal.id}: its "
                                     "refinement has no AVCL form; not written"))

@@ -5,7 +5,8 @@ carries the hierarchy: G1/G1.2#2/G1.2.1 runs in G1.2's 2nd copy inside G1; its c
 names the refined goals and their titles), terminals become surface station-keeping maneuvers
 with no way out, and each goal has one transition per outcome. DUNE's plan engine fires
 `ManeuverIsDone` by itself; the fail and violate conditions name events the vehicle's own
-monitors must raise, which a note says."""
+monitors must raise, which a note says. A team member's meeting goal is a maneuver without an
+end (duration 0) whose custom field names the meeting and the partners it waits for."""
 
 from __future__ import annotations
 
@@ -29,6 +30,7 @@ from .common import (
 )
 from .notes import ExportError, ExportFile, ExportNote, VehicleExport
 from .provenance import Provenance
+from .team import Meeting, Member
 
 MEDIA_TYPE = "application/vnd.lsts.imc"
 MAX_MESSAGE_BYTES = 65_535
@@ -66,7 +68,7 @@ def _depth(maneuver: Any, depth: float | None) -> None:
 
 
 def _maneuver(place: Placement, speed: float,
-              inside: tuple[tuple[str, str], ...] = ()) -> Any:
+              inside: tuple[tuple[str, str], ...] = (), meeting: Meeting | None = None) -> Any:
     goal, box = place.goal, place.box
     if place.kind == "here" or box is None:
         elevator = imcpy.Elevator()
@@ -93,12 +95,12 @@ def _maneuver(place: Placement, speed: float,
             # A circular loiter ignores the racetrack length, but IMC.xml bounds it to
             # [1, 100000] m, so the diameter's worth (bounded too) stands in for it.
             maneuver.length = min(MAX_RADIUS_M, 2 * maneuver.radius)
-            maneuver.duration = _seconds(place)
+            maneuver.duration = _held(place, meeting)
             maneuver.direction = int(imcpy.Loiter.DirectionEnum.CLOCKW)
         elif place.kind == "station":
             maneuver = imcpy.StationKeeping()
             maneuver.radius = 20.0
-            maneuver.duration = _seconds(place)
+            maneuver.duration = _held(place, meeting)
         else:
             maneuver = imcpy.Goto()
         maneuver.lat, maneuver.lon = math.radians(lat), math.radians(lon)
@@ -112,9 +114,17 @@ def _maneuver(place: Placement, speed: float,
         # and their titles, which its id (G1/G1.2#2/G1.2.1) names only by id.
         custom["inside"] = "/".join(flat_id for flat_id, _ in inside)
         custom["inside.title"] = " / ".join(label for _, label in inside)
+    if meeting is not None:
+        custom["meet"] = meeting.meet
+        custom["meet.partners"] = ",".join(meeting.partners)
     custom.update({f"param.{k}": json.dumps(v) for k, v in sorted(goal.params.items())})
     maneuver.custom = _tuple_list(custom)
     return maneuver
+
+
+def _held(place: Placement, meeting: Meeting | None) -> int:
+    # IMC's 0 is "no time limit": a meeting ends when every member is there, not on a clock.
+    return 0 if meeting is not None else _seconds(place)
 
 
 def _terminal(kind: str, title: str, terminal_id: str) -> Any:
@@ -143,7 +153,8 @@ def _constraints(orders: Orders, plan: Any, notes: list[ExportNote]) -> None:
             "ConstraintViolated"))
 
 
-def build_plan(orders: Orders, provenance: Provenance) -> tuple[Any, list[ExportNote]]:
+def build_plan(orders: Orders, provenance: Provenance,
+               member: Member | None = None) -> tuple[Any, list[ExportNote]]:
     notes: list[ExportNote] = []
     orders, nesting = flat_with_nesting(orders, notes)
     require_sound(orders, notes)
@@ -156,8 +167,15 @@ def build_plan(orders: Orders, provenance: Provenance) -> tuple[Any, list[Export
     for place in placements(orders, notes):
         step = imcpy.PlanManeuver()
         step.maneuver_id = place.goal.id
-        step.data = _maneuver(place, speed, parents.get(place.goal.id, ()))
+        meeting = member.meeting_of(place.goal.meet) if member is not None else None
+        step.data = _maneuver(place, speed, parents.get(place.goal.id, ()), meeting)
         plan.maneuvers.append(step)
+        if meeting is not None:
+            notes.append(ExportNote(
+                "MEET", f"/goals/{place.index}", f"goal {place.goal.id} is meeting "
+                f"{meeting.meet} with {', '.join(meeting.partners)}: a maneuver without end "
+                "(custom meet, meet.partners); the team's coordinator ends it with the shared "
+                "outcome once every member has arrived"))
     for terminal in orders.effective_terminals:
         step = imcpy.PlanManeuver()
         step.maneuver_id = terminal.id
@@ -178,8 +196,9 @@ def build_plan(orders: Orders, provenance: Provenance) -> tuple[Any, list[Export
     return plan, notes
 
 
-def export_imc(orders: Orders, provenance: Provenance) -> VehicleExport:
-    plan, notes = build_plan(orders, provenance)
+def export_imc(orders: Orders, provenance: Provenance,
+               member: Member | None = None) -> VehicleExport:
+    plan, notes = build_plan(orders, provenance, member)
     try:
         data = bytes(plan.serialize())
     except RuntimeError as exc:

@@ -6,7 +6,8 @@ One hierarchical helm mode per goal (`ACTIVE:<goal>`), selected by MISSION_GOAL.
 MISSION_GOAL names a goal inside it, so the transitions stay those of the flat automaton. A goal's
 maneuver posts its succeed successor as an end flag; Timer behaviours relay an outcome posted
 in GOAL_OUTCOME (by the vehicle's monitors) or a broken constraint to the successor of that
-outcome. Terminal modes post MISSION_RESULT and DEPLOY = false, which parks the helm."""
+outcome. Terminal modes post MISSION_RESULT and DEPLOY = false, which parks the helm. A team
+member's meeting goals hold and wait for their partners (moos_meeting)."""
 
 from __future__ import annotations
 
@@ -29,8 +30,19 @@ from .common import (
 )
 from .geometry import bounding_box, local_xy
 from .moos_condition import violation
+from .moos_meeting import (
+    MeetingVars,
+    arrival_condition,
+    header,
+    hold,
+    initial,
+    logged,
+    meeting_vars,
+    pshare,
+)
 from .notes import ExportError, ExportFile, ExportNote, VehicleExport
 from .provenance import Provenance
+from .team import Member
 
 BHV_MEDIA_TYPE = "text/plain; charset=utf-8"
 # One Timer per goal and constraint in its scope: bound the file a request can make.
@@ -209,7 +221,8 @@ def _duration(place: Placement) -> list[str]:
 
 
 def write_bhv(orders: Orders, provenance: Provenance, notes: list[ExportNote],
-              nesting: Nesting | None = None) -> str:
+              nesting: Nesting | None = None,
+              meets: dict[str, MeetingVars] | None = None) -> str:
     speed = speed_of(orders, notes)
     origin = _origin(orders)
     terminals = orders.effective_terminals
@@ -230,7 +243,9 @@ def write_bhv(orders: Orders, provenance: Provenance, notes: list[ExportNote],
         f"initialize MISSION_GOAL = {start}",
         "initialize GOAL_OUTCOME = none",
         "initialize MISSION_RESULT = none",
+        *initial(meets or {}),
         "",
+        *header(meets or {}),
         "set MODE = ACTIVE {",
         "  DEPLOY = true",
         "} INACTIVE",
@@ -260,7 +275,8 @@ def write_bhv(orders: Orders, provenance: Provenance, notes: list[ExportNote],
                           f"exceed the {MAX_CONSTRAINT_RELAYS:,} a helm file may hold")
     named = BehaviourNames()
     for place in placements(orders, notes):
-        out += _goal_behaviours(place, modes, helm, origin, speed, scope, named, notes)
+        out += _goal_behaviours(place, modes, helm, origin, speed, scope, named, notes,
+                                (meets or {}).get(place.goal.meet or ""))
     for terminal in terminals:
         name = modes[terminal.id]
         out += _block("BHV_Timer", [
@@ -308,20 +324,18 @@ def _constraint_scope(orders: Orders) -> dict[str, list[tuple[int, str, str]]]:
 def _goal_behaviours(place: Placement, modes: dict[str, str], helm: HelmModes,
                      origin: tuple[float, float], speed: float,
                      scope: dict[str, list[tuple[int, str, str]]], named: BehaviourNames,
-                     notes: list[ExportNote]) -> list[str]:
+                     notes: list[ExportNote], meeting: MeetingVars | None = None) -> list[str]:
     goal = place.goal
     name = modes[goal.id]
     target = {o: modes[goal.successors(o)[0]] for o in OUTCOMES}
     when = f"condition = MODE == {helm.condition(goal.id)}"
-    kind, lines = _maneuver(place, origin, speed)
-    if kind != "BHV_Waypoint" and not duration_s(goal):
-        notes.append(ExportNote("SUCCEED", f"/goals/{place.index}", f"goal {goal.id} has no "
-                                "ordered duration: its maneuver never ends by itself, so its "
-                                "succeed must be posted as GOAL_OUTCOME = succeed"))
     out = [f"//---------- goal {goal.id} ({_comment(goal.behavior or 'no behaviour')})"]
-    out += _block(kind, [f"name = {named(name, 'run')}", "pwt = 100", when, "perpetual = true",
-                         f"endflag = MISSION_GOAL = {target['succeed']}",
-                         "endflag = GOAL_OUTCOME = none", *lines])
+    # At a meeting nothing moves on before every member is there.
+    gate = [] if meeting is None else [f"condition = {meeting.all} = true"]
+    if meeting is None:
+        out += _maneuver_blocks(place, name, target, when, origin, speed, named, notes)
+    else:
+        out += _meeting_blocks(place, name, when, origin, speed, named, meeting)
     if place.depth_m is not None:
         # Without a duration the helm ends the behaviour at once (and then has no depth
         # decision); it must hold the depth as long as its mode lasts.
@@ -331,15 +345,47 @@ def _goal_behaviours(place: Placement, modes: dict[str, str], helm: HelmModes,
     for outcome in OUTCOMES:
         out += _block("BHV_Timer", [
             f"name = {named(name, outcome)}", when, f"condition = GOAL_OUTCOME == {outcome}",
-            "perpetual = true", f"runflag = MISSION_GOAL = {target[outcome]}",
-            "runflag = GOAL_OUTCOME = none"])
+            *gate, "perpetual = true", f"runflag = MISSION_GOAL = {target[outcome]}",
+            "runflag = GOAL_OUTCOME = none",
+            *([] if meeting is None else [f"runflag = {meeting.all} = false"])])
+    # At a meeting a broken constraint is the outcome the meeting ends with, not a move.
+    leave = f"MISSION_GOAL = {target['violate']}" if meeting is None else "GOAL_OUTCOME = violate"
     for _, constraint_id, condition in scope[goal.id]:
         out += _block("BHV_Timer", [
             f"name = {named(name, 'violate_' + _UNSAFE.sub('_', constraint_id))}", when,
             f"condition = {condition}", "perpetual = true",
             # The outcome before the mode change, so a log names it before the next goal
             f"runflag = CONSTRAINT_VIOLATED = {_UNSAFE.sub('_', constraint_id)}",
-            f"runflag = MISSION_GOAL = {target['violate']}"])
+            f"runflag = {leave}"])
+    return out
+
+
+def _maneuver_blocks(place: Placement, name: str, target: dict[str, str], when: str,
+                     origin: tuple[float, float], speed: float, named: BehaviourNames,
+                     notes: list[ExportNote]) -> list[str]:
+    goal = place.goal
+    kind, lines = _maneuver(place, origin, speed)
+    if kind != "BHV_Waypoint" and not duration_s(goal):
+        notes.append(ExportNote("SUCCEED", f"/goals/{place.index}", f"goal {goal.id} has no "
+                                "ordered duration: its maneuver never ends by itself, so its "
+                                "succeed must be posted as GOAL_OUTCOME = succeed"))
+    return _block(kind, [f"name = {named(name, 'run')}", "pwt = 100", when, "perpetual = true",
+                         f"endflag = MISSION_GOAL = {target['succeed']}",
+                         "endflag = GOAL_OUTCOME = none", *lines])
+
+
+def _meeting_blocks(place: Placement, name: str, when: str, origin: tuple[float, float],
+                    speed: float, named: BehaviourNames, meeting: MeetingVars) -> list[str]:
+    """Hold at the meeting point (no end flag: the meeting, not the maneuver, ends the goal)
+    and post the arrival once there."""
+    x, y = (None, None) if place.box is None else local_xy(origin, place.box.centre)
+    out = [f"// meeting {meeting.meet}: holds here until {meeting.all} = true "
+           f"(partners: {', '.join(_comment(p) for p in meeting.partners) or 'none'})"]
+    out += _block("BHV_StationKeep", [f"name = {named(name, 'hold')}", "pwt = 100", when,
+                                      "perpetual = true", *hold(x, y, speed)])
+    out += _block("BHV_Timer", [f"name = {named(name, 'arrive')}", when,
+                                *arrival_condition(x, y), "perpetual = true",
+                                f"runflag = {meeting.arrived} = {meeting.vehicle}"])
     return out
 
 
@@ -357,7 +403,8 @@ def _unexpressed(orders: Orders, notes: list[ExportNote]) -> list[str]:
     return out
 
 
-def write_moos(orders: Orders, bhv_name: str, provenance: Provenance) -> str:
+def write_moos(orders: Orders, bhv_name: str, provenance: Provenance,
+               bridge: list[str] | None = None, also_logged: tuple[str, ...] = ()) -> str:
     lat, lon = _origin(orders)
     community = _UNSAFE.sub("_", orders.vehicle or orders.id)
     vehicle = orders.target_vehicle()
@@ -373,12 +420,15 @@ def write_moos(orders: Orders, bhv_name: str, provenance: Provenance) -> str:
         "  Run = uSimMarine    @ NewConsole = false",
         "  Run = pMarinePID    @ NewConsole = false",
         "  Run = pHelmIvP      @ NewConsole = false",
-        "  Run = pLogger       @ NewConsole = false", "}", "",
+        "  Run = pLogger       @ NewConsole = false",
+        *(["  // Run = pShare    @ NewConsole = false  (the bridge below, where installed)"]
+          if bridge else []), "}", "",
         # What `countersign execution check` reads, and the helm's own reports; logging every
         # variable (WildCardLogging) also works but writes megabytes a minute.
         "ProcessConfig = pLogger", "{", "  AppTick = 10", "  CommsTick = 10",
         f"  File = {_UNSAFE.sub('_', orders.id)}", "  PATH = ./", "  FileTimeStamp = false",
-        "  AsyncLog = true", *(f"  Log = {var} @ 0" for var in LOGGED), "}", "",
+        "  AsyncLog = true", *(f"  Log = {var} @ 0" for var in (*LOGGED, *also_logged)), "}", "",
+        *(bridge or []),
         "ProcessConfig = uSimMarine", "{", "  AppTick = 10", "  CommsTick = 10",
         "  start_pos = x=0, y=0, heading=0, speed=0, depth=0", "  prefix = NAV",
         "  buoyancy_rate = 0.025", "  max_depth_rate = 5", "  max_depth_rate_speed = 2.0", "}",
@@ -404,8 +454,10 @@ def write_moos(orders: Orders, bhv_name: str, provenance: Provenance) -> str:
         "  speed_factor = 20", "}", ""])
 
 
-def export_moos(orders: Orders, provenance: Provenance) -> VehicleExport:
+def export_moos(orders: Orders, provenance: Provenance,
+                member: Member | None = None) -> VehicleExport:
     notes: list[ExportNote] = []
+    meets = meeting_vars(member) if member is not None else {}
     orders, nesting = flat_with_nesting(orders, notes)
     require_sound(orders, notes)
     if nesting is not None:
@@ -414,8 +466,14 @@ def export_moos(orders: Orders, provenance: Provenance) -> VehicleExport:
                                 "(#k spelt _k<k>, @Ts _t<T>s); MISSION_GOAL names the goal's "
                                 "own mode"))
     bhv_name = f"{orders.id}.bhv"
-    bhv = write_bhv(orders, provenance, notes, nesting)
-    moos = write_moos(orders, bhv_name, provenance)
+    bhv = write_bhv(orders, provenance, notes, nesting, meets)
+    bridge = [] if member is None else pshare(member, meets)
+    moos = write_moos(orders, bhv_name, provenance, bridge, tuple(logged(meets)))
+    for meeting in meets.values():
+        notes.append(ExportNote("MEET", "/goals", f"meeting {meeting.meet}: the helm holds at "
+                                f"the point, posts {meeting.arrived} and leaves only after "
+                                f"{meeting.all} = true, which a bridge (pShare, see the .moos) "
+                                f"posts once {', '.join(meeting.partners)} arrived too"))
     files = (ExportFile(bhv_name, BHV_MEDIA_TYPE, bhv.encode()),
              ExportFile(f"{orders.id}.moos", BHV_MEDIA_TYPE, moos.encode()))
     return VehicleExport("moos", files, tuple(notes))

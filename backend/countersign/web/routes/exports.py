@@ -1,11 +1,12 @@
-"""Vehicle exports of a mission version (IMC, MOOS-IvP): a listing with notes, and downloads."""
+"""Vehicle exports of a mission version (IMC, MOOS-IvP): a listing with notes, and downloads;
+a team's version a member at a time (`?member=VEHICLE`)."""
 
 from __future__ import annotations
 
 import hashlib
 from typing import Annotated, Any, Literal
 
-from fastapi import APIRouter, Path
+from fastapi import APIRouter, Path, Query
 from fastapi.responses import Response
 from pydantic import BaseModel
 from sqlalchemy import select
@@ -15,6 +16,7 @@ from ...approved_package.build import build_package
 from ...errors import NotFound, Unprocessable
 from ...export.notes import ExportError, VehicleExport
 from ...export.package import export_provenance
+from ...export.team import MemberNeeded, UnknownMember
 from ...export.vehicle import export_vehicle
 from ...orders.reader import orders_from_data
 from ...store import missions as service
@@ -26,6 +28,10 @@ from .approvals import Signer
 router = APIRouter(prefix="/api", tags=["exports"], route_class=TransactionRoute)
 VehicleFormat = Literal["imc", "moos"]
 FileName = Annotated[str, Path(max_length=220, pattern=r"^[A-Za-z0-9_.:\-]+$")]
+# A team's orders are exported a member (vehicle) at a time; ids are at most 200 characters.
+MemberQuery = Annotated[str | None, Query(
+    max_length=200, description="team orders: the member vehicle whose files to write "
+    "(required for a team, refused for one vehicle's orders)")]
 
 
 class ExportNoteOut(BaseModel):
@@ -44,6 +50,7 @@ class ExportFileOut(BaseModel):
 class VehicleExportOut(BaseModel):
     format: VehicleFormat
     mission: str
+    member: str | None = None
     version: int
     orders_digest: str
     approved: bool
@@ -63,13 +70,15 @@ def approval_facts(db: DbSession, version: MissionVersion) -> dict[str, Any] | N
     return export_provenance(approved[-1].envelope)
 
 
-def _export(db: DbSession, mission_id: str, number: int, fmt: str
+def _export(db: DbSession, mission_id: str, number: int, fmt: str, member: str | None
             ) -> tuple[MissionVersion, VehicleExport, bool]:
     version = service.get_version(db, mission_id, number)
     approval = approval_facts(db, version)
     try:
         export = export_vehicle(orders_from_data(version.orders), fmt, version=version.number,
-                                approval=approval)
+                                approval=approval, member=member)
+    except (MemberNeeded, UnknownMember) as exc:
+        raise Unprocessable(f"member: {exc}") from None
     except ExportError as exc:
         raise Unprocessable(str(exc)) from None
     return version, export, approval is not None
@@ -79,10 +88,10 @@ def _export(db: DbSession, mission_id: str, number: int, fmt: str
             operation_id="getVehicleExport", response_model=VehicleExportOut,
             **allow(*EVERYONE))
 def get_vehicle_export(mission_id: str, number: RowId, format: VehicleFormat,
-                             db: Db) -> VehicleExportOut:
-    version, export, approved = _export(db, mission_id, number, format)
+                             db: Db, member: MemberQuery = None) -> VehicleExportOut:
+    version, export, approved = _export(db, mission_id, number, format, member)
     return VehicleExportOut(
-        format=format, mission=version.mission_id, version=version.number,
+        format=format, mission=version.mission_id, member=member, version=version.number,
         orders_digest=version.digest, approved=approved,
         files=[ExportFileOut(name=f.name, media_type=f.media_type, size=len(f.content),
                              sha256="sha256:" + hashlib.sha256(f.content).hexdigest())
@@ -95,8 +104,9 @@ def get_vehicle_export(mission_id: str, number: RowId, format: VehicleFormat,
             responses={200: {"content": {"application/octet-stream": {}}}},
             **allow(*EVERYONE))
 def download_vehicle_export(mission_id: str, number: RowId, format: VehicleFormat,
-                                  name: FileName, db: Db) -> Response:
-    _, export, _ = _export(db, mission_id, number, format)
+                                  name: FileName, db: Db,
+                                  member: MemberQuery = None) -> Response:
+    _, export, _ = _export(db, mission_id, number, format, member)
     item = export.file(name)
     if item is None:
         names = ", ".join(f.name for f in export.files)
