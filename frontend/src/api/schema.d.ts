@@ -4785,6 +4785,8 @@ export interface components {
              * @enum {string}
              */
             format: "imc" | "moos";
+            /** Member */
+            member?: string | null;
             /** Mission */
             mission: string;
             /** Notes */
@@ -6688,7 +6690,10 @@ export interface operations {
     };
     getVehicleExport: {
         parameters: {
-            query?: never;
+            query?: {
+                /** @description team orders: the member vehicle whose files to write (required for a team, refused for one vehicle's orders) */
+                member?: string | null;
+            };
             header?: never;
             path: {
                 mission_id: string;
@@ -6721,7 +6726,10 @@ export interface operations {
     };
     downloadVehicleExport: {
         parameters: {
-            query?: never;
+            query?: {
+                /** @description team orders: the member vehicle whose files to write (required for a team, refused for one vehicle's orders) */
+                member?: string | null;
+            };
             header?: never;
             path: {
                 mission_id: string;
