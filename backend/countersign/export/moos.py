@@ -381,8 +381,9 @@ def _meeting_blocks(place: Placement, name: str, when: str, origin: tuple[float,
     x, y = (None, None) if place.box is None else local_xy(origin, place.box.centre)
     out = [f"// meeting {meeting.meet}: holds here until {meeting.all} = true "
            f"(partners: {', '.join(_comment(p) for p in meeting.partners) or 'none'})"]
-    out += _block("BHV_StationKeep", [f"name = {named(name, 'hold')}", "pwt = 100", when,
-                                      "perpetual = true", *hold(x, y, speed)])
+    kind, lines = hold(x, y, speed)
+    out += _block(kind, [f"name = {named(name, 'hold')}", "pwt = 100", when, "perpetual = true",
+                         *lines])
     out += _block("BHV_Timer", [f"name = {named(name, 'arrive')}", when,
                                 *arrival_condition(x, y), "perpetual = true",
                                 f"runflag = {meeting.arrived} = {meeting.vehicle}"])

@@ -1,12 +1,14 @@
 """A team member's meetings in its MOOS-IvP community: hold at the meeting point, say so, and
 leave only when every member is there.
 
-A meeting goal's mode keeps the vehicle at the point (BHV_StationKeep: no end flag, so it never
-ends by itself) and posts MEET_<id>_ARRIVED = <vehicle> once inside the point's box. Its outcome
-relays wait for MEET_<id>_ALL = true, which the bridge between the members' communities posts
-when every member has arrived; the one shared outcome then arrives as GOAL_OUTCOME, as for any
-goal. A broken constraint while waiting becomes GOAL_OUTCOME = violate rather than a move, so
-no member leaves a meeting alone. pShare is MOOS-IvP's bridge; its block names what to share."""
+A meeting goal's mode keeps the vehicle at the point (BHV_Loiter on a small circle and no
+duration, so it never ends by itself; circling, not station keeping, because an AUV that
+stops cannot hold its depth) and posts MEET_<id>_ARRIVED = <vehicle> once inside the point's
+box. Its outcome relays wait for MEET_<id>_ALL = true, which the bridge between the members'
+communities posts when every member has arrived; the one shared outcome then arrives as
+GOAL_OUTCOME, as for any goal. A broken constraint while waiting becomes GOAL_OUTCOME =
+violate rather than a move, so no member leaves a meeting alone. pShare is MOOS-IvP's bridge;
+its block names what to share."""
 
 from __future__ import annotations
 
@@ -16,9 +18,10 @@ from dataclasses import dataclass
 from .team import Member
 
 _UNSAFE = re.compile(r"[^A-Za-z0-9_]")
-# Half the side of the square around the meeting point inside which the vehicle has arrived:
-# the station keeping's outer radius, so a vehicle held at the point counts as there.
-ARRIVAL_M = 20.0
+# The circle a vehicle holds on at the meeting point, and half the side of the square around
+# the point inside which it has arrived: the circle with room for the turns.
+HOLD_RADIUS_M = 30.0
+ARRIVAL_M = 2 * HOLD_RADIUS_M
 # Where the bridges listen by default (pShare routes): the coordinator first, then each member
 # in team order; a deployment sets its own hosts and ports.
 COORDINATOR_PORT = 9300
@@ -69,11 +72,13 @@ def header(meets: dict[str, MeetingVars]) -> list[str]:
     return [*lines, ""]
 
 
-def hold(x: float | None, y: float | None, speed: float) -> list[str]:
-    """BHV_StationKeep parameters holding the vehicle at (x, y), or where it is."""
-    where = ["center_activate = true"] if x is None or y is None else [f"station_pt = {x:g},{y:g}"]
-    return [*where, "inner_radius = 5", f"outer_radius = {ARRIVAL_M:g}",
-            f"outer_speed = {speed:g}", f"transit_speed = {speed:g}"]
+def hold(x: float | None, y: float | None, speed: float) -> tuple[str, list[str]]:
+    """The behaviour and parameters that hold the vehicle at (x, y), or where it is."""
+    if x is None or y is None:
+        return "BHV_StationKeep", ["center_activate = true", "inner_radius = 5",
+                                   "outer_radius = 20"]
+    return "BHV_Loiter", [f"speed = {speed:g}", f"polygon = format=radial, x={x:g}, y={y:g}, "
+                          f"radius={HOLD_RADIUS_M:g}, pts=8"]
 
 
 def arrival_condition(x: float | None, y: float | None) -> list[str]:
