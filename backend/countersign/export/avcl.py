@@ -28,7 +28,8 @@ def export_avcl(orders: Orders, member: Member | None = None) -> VehicleExport:
         meeting = member.meeting_of(goal.meet) if member is not None else None
         if meeting is not None:
             notes.append(ExportNote("MEET", f"{where}/meet", f"goal {goal.id} is meeting "
-                                    f"{meeting.meet} with {', '.join(meeting.partners)}: AVCL "
+                                    f"{meeting.meet} with "
+                                    f"{', '.join(meeting.partners) or 'no other member'}: AVCL "
                                     "has no meeting of vehicles: the goal is written, the "
                                     "wait for every member is not"))
         if goal.refines is not None:

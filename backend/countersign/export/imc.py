@@ -173,7 +173,8 @@ def build_plan(orders: Orders, provenance: Provenance,
         if meeting is not None:
             notes.append(ExportNote(
                 "MEET", f"/goals/{place.index}", f"goal {place.goal.id} is meeting "
-                f"{meeting.meet} with {', '.join(meeting.partners)}: a maneuver without end "
+                f"{meeting.meet} with {', '.join(meeting.partners) or 'no other member'}: a "
+                "maneuver without end "
                 "(custom meet, meet.partners); the team's coordinator ends it with the shared "
                 "outcome once every member has arrived"))
     for terminal in orders.effective_terminals:

@@ -474,7 +474,8 @@ def export_moos(orders: Orders, provenance: Provenance,
         notes.append(ExportNote("MEET", "/goals", f"meeting {meeting.meet}: the helm holds at "
                                 f"the point, posts {meeting.arrived} and leaves only after "
                                 f"{meeting.all} = true, which a bridge (pShare, see the .moos) "
-                                f"posts once {', '.join(meeting.partners)} arrived too"))
+                                f"posts once {', '.join(meeting.partners) or 'every member'} "
+                                "arrived too"))
     files = (ExportFile(bhv_name, BHV_MEDIA_TYPE, bhv.encode()),
              ExportFile(f"{orders.id}.moos", BHV_MEDIA_TYPE, moos.encode()))
     return VehicleExport("moos", files, tuple(notes))
