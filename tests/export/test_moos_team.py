@@ -7,7 +7,9 @@ pShare is not among the tools, so the test is the bridge: it reads each member's
 outcome into both with uPokeDB. What must hold: the member that arrives first keeps its mode at
 the meeting, its own outcome posted, while the bridge has not posted (its partner elsewhere);
 both leave once the bridge posts; no configuration error or BHV_ERROR; each alog read by
-`countersign execution check --member` as that member's path."""
+`countersign execution check --member` as that member's path. And a member whose partner never
+comes (no partner runs, the bridge never posts) holds at the meeting long past the goal's
+ordered duration, its own outcome posted."""
 
 from __future__ import annotations
 
@@ -84,10 +86,10 @@ def _outcome(community: Community, outcome: str) -> None:
         _more, community, "GOAL_OUTCOME", community.poked("GOAL_OUTCOME")))
 
 
-def _write(vehicle: str, folder: Path) -> Path:
+def _write(vehicle: str, folder: Path, orders: Orders | None = None) -> Path:
     """The member's export, started START_OFFSET_M west of its meeting point."""
     folder.mkdir(parents=True)
-    export = export_vehicle(_orders(), "moos", member=vehicle)
+    export = export_vehicle(orders or _orders(), "moos", member=vehicle)
     for item in export.files:
         (folder / item.name).write_bytes(item.content)
     bhv = next(folder.glob("*.bhv")).read_text()
@@ -197,3 +199,53 @@ def test_each_alog_is_its_members_path(flight: Flight, vehicle: str,
     assert verdict["terminal"] == terminal and verdict["path"] == index, captured
     # The helm logs no readings of most constraints: followed, but unverified (exit 3).
     assert code == {"no-deviation": 0, "unverified": 3}[verdict["status"]], captured
+
+
+# The goal's ordered duration in the never-met run, and how long past it the member is watched.
+ORDERED_S = 60
+NEVER_MET_S = 10 * ORDERED_S
+
+
+def _short_meeting() -> Orders:
+    """The team with remus-100's meeting goal ordered to last ORDERED_S seconds."""
+    data = _orders().model_dump(mode="json", exclude_unset=True)
+    goal = next(g for g in data["team"][0]["orders"]["goals"] if g["id"] == "G4")
+    goal["cost"] = {**goal.get("cost", {}), "duration_s": ORDERED_S}
+    return Orders.model_validate(data)
+
+
+@dataclass(frozen=True)
+class NeverMet:
+    modes: list[str]
+    goal: str | None
+    results: list[str]
+    outcome_pending: str | None
+    errors: list[str]
+
+
+def _wait_alone(root: Path) -> NeverMet:
+    with running(_write("remus-100", root / "remus-100", _short_meeting())) as a:
+        a.wait_for("the helm's first report", lambda: _latest(a, "IVPHELM_STATE") is not None)
+        a.poke("DEPLOY", "true", lambda: a.poked("DEPLOY") > 0)
+        a.wait_for("mode G1", partial(_is, a, "MODE", "ACTIVE:G1"))
+        _outcome(a, "violate")
+        a.wait_for("remus-100 at the meeting", partial(_is, a, "MEET_R1_ARRIVED", "remus_100"))
+        arrived = next(e.time for e in a.entries() if e.var == "MEET_R1_ARRIVED")
+        _outcome(a, "succeed")
+        a.wait_for(f"{NEVER_MET_S} simulated seconds at the meeting",
+                   lambda: a.entries()[-1].time >= arrived + NEVER_MET_S)
+        output = a.output.read_text(errors="replace")
+        return NeverMet(modes=_since(a, "MODE", "ACTIVE:G4"), goal=_latest(a, "MISSION_GOAL"),
+                        results=a.values("MISSION_RESULT"),
+                        outcome_pending=_latest(a, "GOAL_OUTCOME"),
+                        errors=sorted(set(CONFIG_ERRORS.findall(output)))
+                        + a.values("BHV_ERROR"))
+
+
+def test_a_member_whose_partner_never_comes_keeps_waiting(
+        tmp_path_factory: pytest.TempPathFactory) -> None:
+    run = _wait_alone(tmp_path_factory.mktemp("moos-never-met"))
+    assert run.errors == []
+    assert set(run.modes) == {"ACTIVE:G4"} and run.goal == "G4"
+    assert run.outcome_pending == "succeed"  # posted by its monitors, not acted on
+    assert run.results == ["none"]
