@@ -1,6 +1,7 @@
 import { useCallback, useEffect, useRef, useState } from "react";
 
 import { api, csrf, onUnauthorized, type Session } from "./api/client";
+import { queryClient } from "./api/query";
 import { Link } from "./components/Link";
 import { ErrorMessage, Loading } from "./components/Status";
 import { navigate, useLocationRoute } from "./navigation";
@@ -30,9 +31,11 @@ export function App() {
   }, []);
 
   useEffect(() => {
-    onUnauthorized(() =>
-      setSession({ status: "out", notice: "Your session has ended. Please sign in again." }),
-    );
+    onUnauthorized(() => {
+      // What the last person's pages fetched is theirs: the next one to sign in starts empty.
+      queryClient.clear();
+      setSession({ status: "out", notice: "Your session has ended. Please sign in again." });
+    });
     api.GET("/api/auth/me").then(
       ({ data, response }) => {
         if (response.ok && data) signedIn(data);
@@ -51,6 +54,7 @@ export function App() {
       await api.POST("/api/auth/logout");
     } finally {
       csrf.clear();
+      queryClient.clear();
       setSession({ status: "out", notice: "You have signed out." });
       navigate("/login", { replace: true });
     }

@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey
 from fastapi.testclient import TestClient
-from sqlalchemy import text
+from sqlalchemy import event, text
 
 from countersign.approvals import dsse
 from countersign.store.db import Database
@@ -95,3 +97,18 @@ def bypass_triggers(database: Database, table: str, sql: str, **params: Any) -> 
         else:
             connection.execute(text(f"DROP TRIGGER IF EXISTS {table}_no_update"))
             connection.execute(text(sql), params)
+
+
+@contextmanager
+def statements_run(world: World) -> Iterator[list[str]]:
+    """The SQL statements the app runs inside the block, to count queries per request."""
+    statements: list[str] = []
+
+    def count(_conn: Any, _cursor: Any, statement: str, *_args: Any) -> None:
+        statements.append(statement)
+
+    event.listen(world.database.engine, "before_cursor_execute", count)
+    try:
+        yield statements
+    finally:
+        event.remove(world.database.engine, "before_cursor_execute", count)

@@ -4,34 +4,18 @@ still shows the state its log entries give it."""
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-from contextlib import contextmanager
 from typing import Any
 
-from sqlalchemy import event, text
+from sqlalchemy import text
 
-from .approval_helpers import new_version, submit
+from .approval_helpers import new_version, statements_run, submit
 from .conftest import World
-
-
-@contextmanager
-def _counted(world: World) -> Iterator[list[str]]:
-    statements: list[str] = []
-
-    def count(_conn: Any, _cursor: Any, statement: str, *_args: Any) -> None:
-        statements.append(statement)
-
-    event.listen(world.database.engine, "before_cursor_execute", count)
-    try:
-        yield statements
-    finally:
-        event.remove(world.database.engine, "before_cursor_execute", count)
 
 
 def _list(world: World) -> tuple[list[dict[str, Any]], int]:
     client = world.client("auditor")
     client.get("/api/submissions")  # the token and the report cache warm, as for any page
-    with _counted(world) as statements:
+    with statements_run(world) as statements:
         response = client.get("/api/submissions")
     assert response.status_code == 200, response.text
     return response.json(), len(statements)

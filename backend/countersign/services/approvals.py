@@ -5,20 +5,24 @@ them (plain data: dicts of the response fields), with the report service passed 
 
 from __future__ import annotations
 
+import json
 from typing import Any
 
 from sqlalchemy import select
 from sqlalchemy.orm import Session as DbSession
 from sqlalchemy.orm import defer
 
+from ..approvals import dsse
+from ..approvals.signer import LogSigner
 from ..orders.reader import orders_from_data
 from ..orders.writers import write
 from ..rules.plain_orders import rules_sentences
 from ..store import approvals as store
 from ..store.integrity import submissions_checked
 from ..store.missions import get_version, report_for
+from ..store.rehearsals import get_record, record_summary
 from ..store.report_service import ReportService
-from ..store.tables import MissionVersion, Submission, User
+from ..store.tables import MissionVersion, SigningKey, Submission, User
 
 
 def submissions_fields(db: DbSession, submissions: list[Submission]) -> list[dict[str, Any]]:
@@ -101,3 +105,52 @@ def review(db: DbSession, *, reports: ReportService, user: User, mission_id: str
         "may_submit": submit_refusal is None, "submit_refusal": submit_refusal,
         "may_decide": decide_refusal is None, "decide_refusal": decide_refusal,
     }
+
+
+def key_fields(db: DbSession, key: SigningKey) -> dict[str, Any]:
+    user = db.get(User, key.user_id)
+    return {"key_id": key.id, "public_key": key.public_key,
+            "user": user.username if user else None, "name": key.name,
+            "status": store.key_status(db, key), "created_at": key.created_at,
+            "revoked_at": key.revoked_at}
+
+
+def approval_detail(db: DbSession, *, approval_id: int, reports: ReportService,
+                    signer: LogSigner) -> dict[str, Any]:
+    """An approval as signed: envelope, statement, the orders as approved, plain-language
+    orders and contingency rules, findings, path summary, its `summary` as the list shows it,
+    the `key` that signed it, and an inclusion proof against the latest checkpoint."""
+    approval = store.get_approval(db, approval_id)
+    version = db.get_one(MissionVersion, approval.version_id)
+    orders = orders_from_data(version.orders)
+    report = report_for(db, orders, version.digest, reports=reports).report
+    checkpoint = store.latest_checkpoint(db, signer=signer)
+    summary = store.approval_summary(db, approval)
+    envelope = dsse.parse_envelope(approval.envelope)
+    payload = dsse.unb64(envelope["payload"], "the payload")
+    proof = None
+    if summary["log_index"] is not None and summary["log_index"] < checkpoint.tree_size:
+        proof = store.inclusion_proof(db, index=summary["log_index"], size=checkpoint.tree_size)
+    return {
+        "summary": summary,
+        "envelope": approval.envelope,
+        "statement": json.loads(payload),
+        "orders": version.orders,
+        "plain": write(orders, "plain"),
+        "rules": rules_sentences(orders),
+        "findings": report["findings"],
+        "paths": report.get("paths"),
+        "rehearsal": _cited_rehearsal(db, approval.submission_id),
+        "key": key_fields(db, db.get_one(SigningKey, approval.key_id)),
+        "checkpoint": store.checkpoint_json(checkpoint),
+        "inclusion": proof,
+    }
+
+
+def _cited_rehearsal(db: DbSession, submission_id: int) -> dict[str, Any] | None:
+    digest = db.get_one(Submission, submission_id).rehearsal_digest
+    if digest is None:
+        return None
+    row = get_record(db, digest)
+    return {**record_summary(db, row), "created_at": row.created_at.isoformat(),
+            "record": row.record}

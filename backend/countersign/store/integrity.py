@@ -31,9 +31,9 @@ def logged_event(db: DbSession, event_id: int) -> dict[str, Any] | None:
     return _event(text) if text is not None else None
 
 
-def approval_integrity(db: DbSession, approval: Approval) -> list[str]:
+def approval_problems(approval: Approval, event: dict[str, Any] | None) -> list[str]:
+    """How an approval row disagrees with the event its log entry recorded (None: no entry)."""
     what = f"approval {approval.id}"
-    event = logged_event(db, approval.event_id)
     problems = row_problems({"decision": approval.decision, "reason": approval.reason,
                              "key_id": approval.key_id, "submission": approval.submission_id,
                              "orders_digest": approval.orders_digest,
@@ -42,6 +42,19 @@ def approval_integrity(db: DbSession, approval: Approval) -> list[str]:
         problems.append(f"{what}: the table says {approval.decision}, its log entry records "
                         f"{event.get('kind')}")
     return problems
+
+
+def logged_events(db: DbSession, event_ids: list[int]
+                  ) -> dict[int, tuple[int, dict[str, Any] | None]]:
+    """Each event's log index and the event its entry recorded, read in batches of 500 (events
+    whose entry is gone are absent)."""
+    found: dict[int, tuple[int, dict[str, Any] | None]] = {}
+    for start in range(0, len(event_ids), 500):
+        for event_id, index, text in db.execute(
+                select(LogEntry.event_id, LogEntry.index, LogEntry.entry)
+                .where(LogEntry.event_id.in_(event_ids[start:start + 500]))):
+            found[event_id] = (index, _event(text))
+    return found
 
 
 # Submissions whose log entries one query reads: two LIKE patterns each, well below SQLite's
@@ -88,13 +101,7 @@ def event_integrity(db: DbSession, events: list[Event], actors: dict[int, str]
                     ) -> dict[int, list[str]]:
     """For each listed event row, how it disagrees with the log entry that recorded it (the
     entry's event is what the row said when it was appended; a later UPDATE shows here)."""
-    logged: dict[int, tuple[int, dict[str, Any] | None]] = {}
-    ids = [e.id for e in events]
-    for start in range(0, len(ids), 500):
-        for event_id, index, text in db.execute(
-                select(LogEntry.event_id, LogEntry.index, LogEntry.entry)
-                .where(LogEntry.event_id.in_(ids[start:start + 500]))):
-            logged[event_id] = (index, _event(text))
+    logged = logged_events(db, [e.id for e in events])
     out: dict[int, list[str]] = {}
     for event in events:
         found = logged.get(event.id)

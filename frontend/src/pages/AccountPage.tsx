@@ -1,5 +1,7 @@
-import { useEffect, useState } from "react";
+import { useQueryClient } from "@tanstack/react-query";
+import { useEffect } from "react";
 
+import { tokensChanged } from "../api/tokens";
 import { useSession } from "../session";
 import { ApiTokens } from "./account/ApiTokens";
 import { ChangePassword } from "./account/ChangePassword";
@@ -7,8 +9,8 @@ import { ChangePassword } from "./account/ChangePassword";
 /** Every signed-in user's own account: password and API tokens (issue 15). */
 export function AccountPage() {
   const { user } = useSession();
-  // A password change revokes every token: the list is loaded again after one.
-  const [changes, setChanges] = useState(0);
+  // A password change revokes every token: the list is asked for again after one.
+  const client = useQueryClient();
 
   useEffect(() => {
     document.title = "Account · Countersign";
@@ -23,8 +25,8 @@ export function AccountPage() {
         Signed in as <code>{user.username}</code>
         {user.display_name ? ` (${user.display_name})` : ""}.
       </p>
-      <ChangePassword onChanged={() => setChanges((n) => n + 1)} />
-      <ApiTokens version={changes} />
+      <ChangePassword onChanged={() => void tokensChanged(client)} />
+      <ApiTokens />
     </section>
   );
 }

@@ -1,12 +1,13 @@
 import { type FormEvent, useEffect, useState } from "react";
 
-import { api, unwrap } from "../api/client";
+import type { Event } from "../api/client";
+import { useEvents } from "../api/events";
+import { type Column, DataTable } from "../components/DataTable";
 import { Link } from "../components/Link";
 import { Pager } from "../components/Pager";
 import { ErrorMessage, Loading } from "../components/Status";
 import { formatDateTime, shortDigest } from "../format";
 import { missionHref } from "../router";
-import { useLoad } from "../useLoad";
 
 const PAGE_SIZE = 50;
 
@@ -34,6 +35,49 @@ function instant(local: string): string | undefined {
   return Number.isNaN(when.getTime()) ? undefined : when.toISOString();
 }
 
+const EVENT_COLUMNS: Column<Event>[] = [
+  { header: "#", cell: (e) => e.index ?? "—" },
+  { header: "When", cell: (e) => <time dateTime={e.at}>{formatDateTime(e.at)}</time> },
+  { header: "Who", cell: (e) => e.actor ?? "system" },
+  {
+    header: "What",
+    cell: (e) => (
+      <>
+        <code>{e.kind}</code>
+        {e.integrity && e.integrity.length > 0 ? (
+          <ul className="integrity warning" role="alert" data-testid="event-integrity">
+            {e.integrity.map((problem) => (
+              <li key={problem}>Not as logged: {problem}</li>
+            ))}
+          </ul>
+        ) : null}
+      </>
+    ),
+  },
+  {
+    header: "Target",
+    testId: "event-target",
+    cell: (e) =>
+      e.target && e.mission && e.target.startsWith(`mission ${e.mission}`) ? (
+        <Link href={missionHref(e.mission)}>{e.target}</Link>
+      ) : (
+        (e.target ?? "—")
+      ),
+  },
+  { header: "Change", testId: "event-change", cell: (e) => e.change },
+  {
+    header: "Digest before → after",
+    cell: (e) =>
+      e.before_digest || e.after_digest ? (
+        <code>
+          {shortDigest(e.before_digest, 8) || "∅"} → {shortDigest(e.after_digest, 8) || "∅"}
+        </code>
+      ) : (
+        "—"
+      ),
+  },
+];
+
 /**
  * The append-only event log, newest first, numbered by each event's index in the transparency
  * log; filtered and paged by the server (`before`: the last id seen).
@@ -43,26 +87,16 @@ export function EventsPage() {
   const [filters, setFilters] = useState<Filters>(NO_FILTERS);
   const [befores, setBefores] = useState<(number | undefined)[]>([undefined]);
   const before = befores[befores.length - 1];
-  const { data, error, loading } = useLoad(
-    async () =>
-      unwrap(
-        await api.GET("/api/events", {
-          params: {
-            query: {
-              order: "newest",
-              before,
-              limit: PAGE_SIZE,
-              kind: filters.kind || undefined,
-              actor: filters.actor || undefined,
-              target: filters.target || undefined,
-              since: instant(filters.since),
-              until: instant(filters.until),
-            },
-          },
-        }),
-      ),
-    [before, filters],
-  );
+  const { data, error, isFetching: loading } = useEvents({
+    order: "newest",
+    before,
+    limit: PAGE_SIZE,
+    kind: filters.kind || undefined,
+    actor: filters.actor || undefined,
+    target: filters.target || undefined,
+    since: instant(filters.since),
+    until: instant(filters.until),
+  });
 
   useEffect(() => {
     document.title = "Activity · Countersign";
@@ -131,60 +165,16 @@ export function EventsPage() {
           {befores.length > 1 ? " before these" : ""}.
         </p>
       ) : data ? (
-        <div className="table-wrap" aria-busy={loading}>
-          <table className="events">
-            <caption className="visually-hidden">Event log entries, newest first</caption>
-            <thead>
-              <tr>
-                <th scope="col">#</th>
-                <th scope="col">When</th>
-                <th scope="col">Who</th>
-                <th scope="col">What</th>
-                <th scope="col">Target</th>
-                <th scope="col">Change</th>
-                <th scope="col">Digest before → after</th>
-              </tr>
-            </thead>
-            <tbody>
-              {data.map((e) => (
-                <tr key={e.id} data-testid="event-row" data-index={e.index ?? ""}>
-                  <td>{e.index ?? "—"}</td>
-                  <td>
-                    <time dateTime={e.at}>{formatDateTime(e.at)}</time>
-                  </td>
-                  <td>{e.actor ?? "system"}</td>
-                  <td>
-                    <code>{e.kind}</code>
-                    {e.integrity && e.integrity.length > 0 ? (
-                      <ul className="integrity warning" role="alert" data-testid="event-integrity">
-                        {e.integrity.map((problem) => (
-                          <li key={problem}>Not as logged: {problem}</li>
-                        ))}
-                      </ul>
-                    ) : null}
-                  </td>
-                  <td data-testid="event-target">
-                    {e.target && e.mission && e.target.startsWith(`mission ${e.mission}`) ? (
-                      <Link href={missionHref(e.mission)}>{e.target}</Link>
-                    ) : (
-                      (e.target ?? "—")
-                    )}
-                  </td>
-                  <td data-testid="event-change">{e.change}</td>
-                  <td>
-                    {e.before_digest || e.after_digest ? (
-                      <code>
-                        {shortDigest(e.before_digest, 8) || "∅"} → {shortDigest(e.after_digest, 8) || "∅"}
-                      </code>
-                    ) : (
-                      "—"
-                    )}
-                  </td>
-                </tr>
-              ))}
-            </tbody>
-          </table>
-        </div>
+        <DataTable
+          caption="Event log entries, newest first"
+          className="events"
+          scroll
+          busy={loading}
+          columns={EVENT_COLUMNS}
+          rows={data}
+          rowKey={(e) => e.id}
+          rowAttributes={(e) => ({ "data-testid": "event-row", "data-index": String(e.index ?? "") })}
+        />
       ) : null}
       <Pager
         label="Log pages"

@@ -1,6 +1,8 @@
 import { type FormEvent, useEffect, useState } from "react";
 
-import { api, unwrap } from "../api/client";
+import type { MissionSummary } from "../api/client";
+import { type MissionQuery, useMissionList } from "../api/missions";
+import { type Column, DataTable } from "../components/DataTable";
 import { Link } from "../components/Link";
 import {
   currentCursor,
@@ -14,10 +16,48 @@ import { formatDateTime, statusLabel } from "../format";
 import { replaceQuery } from "../navigation";
 import { missionHref } from "../router";
 import { useCan } from "../session";
-import { useLoad } from "../useLoad";
 
 export const STATUSES = ["draft", "submitted", "approved", "rejected"] as const;
 const PAGE_SIZE = 25;
+
+const MISSION_COLUMNS: Column<MissionSummary>[] = [
+  {
+    header: "Mission",
+    cell: (m) => (
+      <>
+        <Link href={missionHref(m.id)}>{m.title || m.id}</Link>
+        <div className="sub">
+          <code>{m.id}</code>
+        </div>
+      </>
+    ),
+  },
+  {
+    header: "Status",
+    cell: (m) => (
+      <>
+        <span className={`status status-${m.status}`}>{statusLabel(m.status)}</span>
+        {m.integrity && m.integrity.length > 0 ? (
+          <div className="sub warning" role="alert" data-testid="status-integrity">
+            {m.integrity.join("; ")}
+          </div>
+        ) : null}
+      </>
+    ),
+  },
+  { header: "Check", cell: (m) => <CheckBadge ok={m.ok} errors={m.errors} warnings={m.warnings} /> },
+  { header: "Vehicle", cell: (m) => m.vehicle ?? "—" },
+  { header: "Version", cell: (m) => (m.latest_version ? `v${m.latest_version}` : "—") },
+  {
+    header: "Updated",
+    cell: (m) => (
+      <>
+        <time dateTime={m.updated_at}>{formatDateTime(m.updated_at)}</time>
+        <div className="sub">by {m.updated_by}</div>
+      </>
+    ),
+  },
+];
 
 export function MissionListPage({ search }: { search: string }) {
   const initial = new URLSearchParams(search);
@@ -34,15 +74,11 @@ export function MissionListPage({ search }: { search: string }) {
     document.title = "Missions · Countersign";
   }, []);
 
-  const { data, error, loading } = useLoad(async () => {
-    const query: { limit: number; q?: string; status?: string; cursor?: string } = {
-      limit: PAGE_SIZE,
-    };
-    if (filters.q) query.q = filters.q;
-    if (filters.status) query.status = filters.status;
-    if (cursor) query.cursor = cursor;
-    return unwrap(await api.GET("/api/missions", { params: { query } }));
-  }, [filters.q, filters.status, cursor]);
+  const query: MissionQuery = { limit: PAGE_SIZE };
+  if (filters.q) query.q = filters.q;
+  if (filters.status) query.status = filters.status;
+  if (cursor) query.cursor = cursor;
+  const { data, error, isFetching: loading } = useMissionList(query);
 
   const apply = (next: { q: string; status: string }) => {
     setFilters(next);
@@ -103,50 +139,15 @@ export function MissionListPage({ search }: { search: string }) {
               : "No missions yet."}
         </p>
       ) : data ? (
-        <div className="table-wrap" aria-busy={loading}>
-          <table className="missions">
-            <caption className="visually-hidden">Missions</caption>
-            <thead>
-              <tr>
-                <th scope="col">Mission</th>
-                <th scope="col">Status</th>
-                <th scope="col">Check</th>
-                <th scope="col">Vehicle</th>
-                <th scope="col">Version</th>
-                <th scope="col">Updated</th>
-              </tr>
-            </thead>
-            <tbody>
-              {data.items.map((m) => (
-                <tr key={m.id}>
-                  <td>
-                    <Link href={missionHref(m.id)}>{m.title || m.id}</Link>
-                    <div className="sub">
-                      <code>{m.id}</code>
-                    </div>
-                  </td>
-                  <td>
-                    <span className={`status status-${m.status}`}>{statusLabel(m.status)}</span>
-                    {m.integrity && m.integrity.length > 0 ? (
-                      <div className="sub warning" role="alert" data-testid="status-integrity">
-                        {m.integrity.join("; ")}
-                      </div>
-                    ) : null}
-                  </td>
-                  <td>
-                    <CheckBadge ok={m.ok} errors={m.errors} warnings={m.warnings} />
-                  </td>
-                  <td>{m.vehicle ?? "—"}</td>
-                  <td>{m.latest_version ? `v${m.latest_version}` : "—"}</td>
-                  <td>
-                    <time dateTime={m.updated_at}>{formatDateTime(m.updated_at)}</time>
-                    <div className="sub">by {m.updated_by}</div>
-                  </td>
-                </tr>
-              ))}
-            </tbody>
-          </table>
-        </div>
+        <DataTable
+          caption="Missions"
+          className="missions"
+          scroll
+          busy={loading}
+          columns={MISSION_COLUMNS}
+          rows={data.items}
+          rowKey={(m) => m.id}
+        />
       ) : null}
       <Pager
         label="Mission pages"

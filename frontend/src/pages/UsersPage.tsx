@@ -1,16 +1,22 @@
 import { type FormEvent, useEffect, useState } from "react";
 
-import { api, ApiError, unwrap, type User } from "../api/client";
+import { useQueryClient } from "@tanstack/react-query";
+
+import type { User } from "../api/client";
+import { useCreateUser, useUpdateUser, usersChanged, useUsers } from "../api/users";
+import { type Column, DataTable } from "../components/DataTable";
 import { ErrorMessage, Loading, Notice } from "../components/Status";
 import { ROLE_LABEL, ROLES, type Role } from "../roles";
 import { useSession } from "../session";
-import { useLoad } from "../useLoad";
 import { ResetPassword } from "./users/ResetPassword";
 import { RoleChangeDialog } from "./RoleChangeDialog";
 
 export function UsersPage() {
   const me = useSession().user;
-  const { data, error, loading, reload } = useLoad(async () => unwrap(await api.GET("/api/users")), []);
+  const client = useQueryClient();
+  const { data, error, isPending: loading } = useUsers();
+  const update = useUpdateUser();
+  const reload = () => void usersChanged(client);
   const [actionError, setActionError] = useState<unknown>(null);
   const [notice, setNotice] = useState<string | null>(null);
   const [pending, setPending] = useState<{ user: User; role: Role } | null>(null);
@@ -19,20 +25,68 @@ export function UsersPage() {
     document.title = "Users · Countersign";
   }, []);
 
-  const patch = async (user: User, body: { role?: string; disabled?: boolean }, done: string) => {
+  const patch = (user: User, body: { disabled: boolean }, done: string) => {
     setActionError(null);
     setNotice(null);
-    const result = await api.PATCH("/api/users/{user_id}", {
-      params: { path: { user_id: user.id } },
-      body,
-    });
-    if (result.response.ok) {
-      setNotice(done);
-      reload();
-    } else {
-      setActionError(new ApiError(result.response.status, result.error));
-    }
+    update.mutate({ user, patch: body }, { onSuccess: () => setNotice(done), onError: setActionError });
   };
+
+  const columns: Column<User>[] = [
+    { header: "Username", cell: (u) => <code>{u.username}</code> },
+    { header: "Name", cell: (u) => u.display_name },
+    {
+      header: "Role",
+      cell: (u) => (
+        <>
+          <label className="visually-hidden" htmlFor={`role-${u.id}`}>
+            Role of {u.username}
+          </label>
+          <select
+            id={`role-${u.id}`}
+            value={u.role}
+            disabled={u.id === me.id}
+            onChange={(e) => setPending({ user: u, role: e.target.value as Role })}
+          >
+            {ROLES.map((r) => (
+              <option key={r} value={r}>
+                {ROLE_LABEL[r]}
+              </option>
+            ))}
+          </select>
+        </>
+      ),
+    },
+    { header: "State", cell: (u) => (u.disabled ? "Disabled" : "Active") },
+    {
+      header: "Actions",
+      cell: (u) => (
+        <>
+          {u.id === me.id ? (
+            <span className="hint">you</span>
+          ) : (
+            <button
+              type="button"
+              onClick={() =>
+                patch(u, { disabled: !u.disabled }, `${u.username} ${u.disabled ? "enabled" : "disabled"}.`)
+              }
+            >
+              {u.disabled ? "Enable" : "Disable"}
+              <span className="visually-hidden"> {u.username}</span>
+            </button>
+          )}
+          {u.id !== me.id && (
+            <ResetPassword
+              user={u}
+              onDone={(done) => {
+                setNotice(done);
+                reload();
+              }}
+            />
+          )}
+        </>
+      ),
+    },
+  ];
 
   return (
     <section aria-labelledby="users-title">
@@ -57,80 +111,17 @@ export function UsersPage() {
       {loading && !data ? (
         <Loading what="users" />
       ) : data ? (
-        <table className="users">
-          <caption className="visually-hidden">Accounts</caption>
-          <thead>
-            <tr>
-              <th scope="col">Username</th>
-              <th scope="col">Name</th>
-              <th scope="col">Role</th>
-              <th scope="col">State</th>
-              <th scope="col">Actions</th>
-            </tr>
-          </thead>
-          <tbody>
-            {data.map((u) => (
-              <tr key={u.id} className={u.disabled ? "disabled" : undefined}>
-                <td>
-                  <code>{u.username}</code>
-                </td>
-                <td>{u.display_name}</td>
-                <td>
-                  <label className="visually-hidden" htmlFor={`role-${u.id}`}>
-                    Role of {u.username}
-                  </label>
-                  <select
-                    id={`role-${u.id}`}
-                    value={u.role}
-                    disabled={u.id === me.id}
-                    onChange={(e) => setPending({ user: u, role: e.target.value as Role })}
-                  >
-                    {ROLES.map((r) => (
-                      <option key={r} value={r}>
-                        {ROLE_LABEL[r]}
-                      </option>
-                    ))}
-                  </select>
-                </td>
-                <td>{u.disabled ? "Disabled" : "Active"}</td>
-                <td>
-                  {u.id === me.id ? (
-                    <span className="hint">you</span>
-                  ) : (
-                    <button
-                      type="button"
-                      onClick={() =>
-                        void patch(
-                          u,
-                          { disabled: !u.disabled },
-                          `${u.username} ${u.disabled ? "enabled" : "disabled"}.`,
-                        )
-                      }
-                    >
-                      {u.disabled ? "Enable" : "Disable"}
-                      <span className="visually-hidden"> {u.username}</span>
-                    </button>
-                  )}
-                  {u.id !== me.id && (
-                    <ResetPassword
-                      user={u}
-                      onDone={(done) => {
-                        setNotice(done);
-                        reload();
-                      }}
-                    />
-                  )}
-                </td>
-              </tr>
-            ))}
-          </tbody>
-        </table>
+        <DataTable
+          caption="Accounts"
+          className="users"
+          columns={columns}
+          rows={data}
+          rowKey={(u) => u.id}
+          rowClassName={(u) => (u.disabled ? "disabled" : undefined)}
+        />
       ) : null}
       <CreateUser
-        onCreated={(u) => {
-          setNotice(`Created ${u.role} ${u.username}.`);
-          reload();
-        }}
+        onCreated={(u) => setNotice(`Created ${u.role} ${u.username}.`)}
       />
     </section>
   );
@@ -145,25 +136,21 @@ function CreateUser({ onCreated }: { onCreated: (user: User) => void }) {
     admin_password: "",
   };
   const [form, setForm] = useState(empty);
-  const [error, setError] = useState<unknown>(null);
-  const [busy, setBusy] = useState(false);
+  const create = useCreateUser();
+  const error = create.error;
+  const busy = create.isPending;
 
-  const submit = async (event: FormEvent) => {
+  const submit = (event: FormEvent) => {
     event.preventDefault();
-    setBusy(true);
-    setError(null);
-    try {
-      // A new supervisor or admin needs the admin's own password; other roles send none.
-      const granting = form.role === "supervisor" || form.role === "admin";
-      const body = { ...form, admin_password: granting ? form.admin_password : null };
-      const user = unwrap(await api.POST("/api/users", { body }));
-      setForm(empty);
-      onCreated(user);
-    } catch (e) {
-      setError(e);
-    } finally {
-      setBusy(false);
-    }
+    // A new supervisor or admin needs the admin's own password; other roles send none.
+    const granting = form.role === "supervisor" || form.role === "admin";
+    const body = { ...form, admin_password: granting ? form.admin_password : null };
+    create.mutate(body, {
+      onSuccess: (user) => {
+        setForm(empty);
+        onCreated(user);
+      },
+    });
   };
 
   return (

@@ -14,7 +14,7 @@ from .common import STATEMENT_MAX_AGE, BadDecision, BadKey, BadSignature, Refuse
 from .decisions import Context, Prepared, decide, get_approval, prepare_decision
 from .duties import ACTIVE_STATES, decision_refusal, previous_approval, submit_refusal
 from .keys import key_status, register_key, revoke_key
-from .listing import Filters, approval_summary, approvals_query
+from .listing import Filters, approval_summaries, approval_summary, approvals_query
 from .log import (
     LogUnvouched,
     checkpoint_json,
@@ -44,6 +44,7 @@ __all__ = [
     "Prepared",
     "Refused",
     "Stale",
+    "approval_summaries",
     "approval_summary",
     "approvals_query",
     "build_bundle",

@@ -10,14 +10,12 @@ from sqlalchemy import Select, select
 from sqlalchemy.orm import Session as DbSession
 from sqlalchemy.orm import aliased
 
-from ..integrity import approval_integrity
+from ..integrity import approval_problems, logged_events
 from ..tables import (
     Approval,
     MissionVersion,
     User,
 )
-from .common import _username
-from .log import log_index_of
 
 
 @dataclass(frozen=True)
@@ -55,13 +53,33 @@ def approvals_query(filters: Filters) -> Select[Approval]:
 
 
 def approval_summary(db: DbSession, approval: Approval) -> dict[str, Any]:
-    version = db.get_one(MissionVersion, approval.version_id)
-    return {"id": approval.id, "mission": approval.mission_id, "version": version.number,
-            "digest": approval.orders_digest, "vehicle": approval.vehicle,
-            "decision": approval.decision, "reason": approval.reason,
-            "revokes": approval.revokes, "operator": _username(db, approval.author_id),
-            "supervisor": _username(db, approval.supervisor_id), "key_id": approval.key_id,
-            "submission": approval.submission_id, "created_at": approval.created_at,
-            "log_index": log_index_of(db, approval.event_id),
-            # issue 14 item 5 (branch decisions): the row checked against its log entry.
-            "integrity": approval_integrity(db, approval)}
+    return approval_summaries(db, [approval])[0]
+
+
+def approval_summaries(db: DbSession, approvals: list[Approval]) -> list[dict[str, Any]]:
+    """Each approval as the list shows it, with its row checked against its log entry. The
+    versions, people and log entries of all of them are read in three queries, not per row."""
+    numbers = dict(db.execute(select(MissionVersion.id, MissionVersion.number).where(
+        MissionVersion.id.in_({a.version_id for a in approvals}))).all())
+    people = {a.author_id for a in approvals} | {a.supervisor_id for a in approvals}
+    names = dict(db.execute(select(User.id, User.username).where(
+        User.id.in_(people - {None}))).all())
+    logged = logged_events(db, [a.event_id for a in approvals])
+
+    def name(user_id: int | None) -> str | None:
+        return None if user_id is None else names.get(user_id, f"#{user_id}")
+
+    out = []
+    for approval in approvals:
+        index, event = logged.get(approval.event_id, (None, None))
+        out.append({
+            "id": approval.id, "mission": approval.mission_id,
+            "version": numbers[approval.version_id], "digest": approval.orders_digest,
+            "vehicle": approval.vehicle, "decision": approval.decision,
+            "reason": approval.reason, "revokes": approval.revokes,
+            "operator": name(approval.author_id), "supervisor": name(approval.supervisor_id),
+            "key_id": approval.key_id, "submission": approval.submission_id,
+            "created_at": approval.created_at, "log_index": index,
+            # The row checked against its log entry: the log, not the table, is the record.
+            "integrity": approval_problems(approval, event)})
+    return out

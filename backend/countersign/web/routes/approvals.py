@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from typing import Annotated, Any
 
 from fastapi import APIRouter, Depends, Path, Query, Request
@@ -10,18 +9,13 @@ from fastapi.responses import JSONResponse
 from pydantic import Field
 from sqlalchemy import select
 
-from ...approvals import dsse
 from ...approvals.signer import LogSigner
 from ...limits import MAX_REASON
-from ...orders.reader import orders_from_data
-from ...orders.writers import write
-from ...rules.plain_orders import rules_sentences
 from ...services import approvals
 from ...store import approvals as service
 from ...store.log_gaps import LogEntriesMissing
-from ...store.missions import report_for
-from ...store.rehearsals import attach, get_record, record_summary
-from ...store.tables import Approval, MissionVersion, SigningKey, Submission, User
+from ...store.rehearsals import attach
+from ...store.tables import Approval, SigningKey
 from ..deps import (
     EVERYONE,
     LOG_READERS,
@@ -112,10 +106,7 @@ class AttachIn(RequestBody):
 
 
 def _key_out(db: Db, key: SigningKey) -> KeyOut:
-    user = db.get(User, key.user_id)
-    return KeyOut(key_id=key.id, public_key=key.public_key, user=user.username if user else None,
-                  name=key.name, status=service.key_status(db, key), created_at=key.created_at,
-                  revoked_at=key.revoked_at)
+    return KeyOut(**approvals.key_fields(db, key))
 
 
 def _submission_out(db: Db, submission_id: int) -> SubmissionOut:
@@ -278,7 +269,7 @@ def list_approvals(
     if cursor:
         query = query.where(Approval.id < cursor)
     rows = list(db.scalars(query))
-    items = [ApprovalOut(**service.approval_summary(db, a)) for a in rows[:limit]]
+    items = [ApprovalOut(**summary) for summary in service.approval_summaries(db, rows[:limit])]
     return ApprovalPage(items=items, next_cursor=rows[limit - 1].id if len(rows) > limit else None)
 
 
@@ -288,42 +279,10 @@ def get_approval(approval_id: RowId, db: Db, services: Services) -> dict[str, An
     """An approval as signed: envelope, statement, the orders as approved, plain-language
     orders and contingency rules, findings, path summary, the key, and an inclusion proof
     against a checkpoint."""
-    approval = service.get_approval(db, approval_id)
-    version = db.get_one(MissionVersion, approval.version_id)
-    orders = orders_from_data(version.orders)
-    report = report_for(db, orders, version.digest, reports=services.reports).report
-    key = db.get_one(SigningKey, approval.key_id)
-    checkpoint = service.latest_checkpoint(db, signer=services.signer)
-    summary = service.approval_summary(db, approval)
-    envelope = dsse.parse_envelope(approval.envelope)
-    payload = dsse.unb64(envelope["payload"], "the payload")
-    proof = None
-    if summary["log_index"] is not None and summary["log_index"] < checkpoint.tree_size:
-        proof = service.inclusion_proof(db, index=summary["log_index"],
-                                        size=checkpoint.tree_size)
-    return {
-        **ApprovalOut(**summary).model_dump(mode="json"),
-        "envelope": approval.envelope,
-        "statement": json.loads(payload),
-        "orders": version.orders,
-        "plain": write(orders, "plain"),
-        "rules": rules_sentences(orders),
-        "findings": report["findings"],
-        "paths": report.get("paths"),
-        "rehearsal": _cited_rehearsal(db, approval.submission_id),
-        "key": _key_out(db, key).model_dump(mode="json"),
-        "checkpoint": service.checkpoint_json(checkpoint),
-        "inclusion": proof,
-    }
-
-
-def _cited_rehearsal(db: Db, submission_id: int) -> dict[str, Any] | None:
-    digest = db.get_one(Submission, submission_id).rehearsal_digest
-    if digest is None:
-        return None
-    row = get_record(db, digest)
-    return {**record_summary(db, row), "created_at": row.created_at.isoformat(),
-            "record": row.record}
+    detail = approvals.approval_detail(db, approval_id=approval_id, reports=services.reports,
+                                       signer=services.signer)
+    summary = ApprovalOut(**detail.pop("summary")).model_dump(mode="json")
+    return {**summary, **detail, "key": KeyOut(**detail["key"]).model_dump(mode="json")}
 
 
 @router.get("/log/checkpoint", operation_id="getCheckpoint",

@@ -1,16 +1,18 @@
 import { type FormEvent, useState } from "react";
 
-import { api, ApiError, unwrap } from "../../api/client";
 import type { components } from "../../api/schema";
+import { useCreateToken, useRevokeToken, useTokens } from "../../api/tokens";
+import { type Column, DataTable } from "../../components/DataTable";
 import { ErrorMessage, Loading, Notice } from "../../components/Status";
-import { useLoad } from "../../useLoad";
 
 type Scope = NonNullable<components["schemas"]["TokenIn"]["scopes"]>[number];
 const SCOPES: Scope[] = ["read", "write", "decide"];
 
 /** One's own API tokens: listed, created (the secret is shown once) and revoked. */
-export function ApiTokens({ version }: { version: number }) {
-  const tokens = useLoad(async () => unwrap(await api.GET("/api/tokens")), [version]);
+export function ApiTokens() {
+  const tokens = useTokens();
+  const createToken = useCreateToken();
+  const revokeToken = useRevokeToken();
   const [name, setName] = useState("");
   const [scopes, setScopes] = useState<Scope[]>(["read"]);
   const [days, setDays] = useState(30);
@@ -31,11 +33,10 @@ export function ApiTokens({ version }: { version: number }) {
         expires_in_days: days,
         password: scopes.includes("decide") ? password : null,
       };
-      const made = unwrap(await api.POST("/api/tokens", { body }));
+      const made = await createToken.mutateAsync(body);
       setSecret(made.token ?? null);
       setName("");
       setPassword("");
-      tokens.reload();
     } catch (e) {
       setError(e);
     }
@@ -44,18 +45,30 @@ export function ApiTokens({ version }: { version: number }) {
   const revoke = async (id: number, label: string) => {
     setError(null);
     setSecret(null);
-    const result = await api.DELETE("/api/tokens/{token_id}", {
-      params: { path: { token_id: id } },
-    });
-    if (result.response.ok) {
+    try {
+      await revokeToken.mutateAsync(id);
       setNotice(`Token ${label} revoked.`);
-      tokens.reload();
-    } else {
-      setError(new ApiError(result.response.status, result.error));
+    } catch (e) {
+      setError(e);
     }
   };
 
   const rows = tokens.data ?? [];
+  const columns: Column<(typeof rows)[number]>[] = [
+    { header: "Name", cell: (t) => t.name },
+    { header: "Scopes", cell: (t) => (t.scopes ?? []).join(", ") },
+    { header: "Expires", cell: (t) => (t.expires_at ? new Date(t.expires_at).toLocaleDateString() : "never") },
+    { header: "State", cell: (t) => (t.revoked ? "Revoked" : "Active") },
+    {
+      header: "Actions",
+      cell: (t) =>
+        !t.revoked && (
+          <button type="button" onClick={() => void revoke(t.id, t.name)}>
+            Revoke<span className="visually-hidden"> token {t.name}</span>
+          </button>
+        ),
+    },
+  ];
   return (
     <section className="card" aria-labelledby="tokens-title">
       <h2 id="tokens-title">API tokens</h2>
@@ -66,39 +79,19 @@ export function ApiTokens({ version }: { version: number }) {
           New token (shown once, copy it now): <code data-testid="new-token">{secret}</code>
         </Notice>
       )}
-      {tokens.loading && !tokens.data ? (
+      {tokens.isPending ? (
         <Loading what="tokens" />
       ) : rows.length === 0 ? (
         <p>You have no API tokens.</p>
       ) : (
-        <table className="tokens">
-          <thead>
-            <tr>
-              <th scope="col">Name</th>
-              <th scope="col">Scopes</th>
-              <th scope="col">Expires</th>
-              <th scope="col">State</th>
-              <th scope="col">Actions</th>
-            </tr>
-          </thead>
-          <tbody>
-            {rows.map((t) => (
-              <tr key={t.id} data-testid="token-row">
-                <td>{t.name}</td>
-                <td>{(t.scopes ?? []).join(", ")}</td>
-                <td>{t.expires_at ? new Date(t.expires_at).toLocaleDateString() : "never"}</td>
-                <td>{t.revoked ? "Revoked" : "Active"}</td>
-                <td>
-                  {!t.revoked && (
-                    <button type="button" onClick={() => void revoke(t.id, t.name)}>
-                      Revoke<span className="visually-hidden"> token {t.name}</span>
-                    </button>
-                  )}
-                </td>
-              </tr>
-            ))}
-          </tbody>
-        </table>
+        <DataTable
+          caption="Your API tokens"
+          className="tokens"
+          columns={columns}
+          rows={rows}
+          rowKey={(t) => t.id}
+          rowAttributes={() => ({ "data-testid": "token-row" })}
+        />
       )}
       <form onSubmit={create} aria-label="Create an API token">
         <div className="grid">

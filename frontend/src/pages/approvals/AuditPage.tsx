@@ -2,13 +2,13 @@
  * newest first, page by page; each record opens its audit page. */
 import { type FormEvent, useEffect, useState } from "react";
 
-import { api, unwrap } from "../../api/client";
+import { type ApprovalQuery, useApprovalHistory } from "../../api/approvals";
+import { type Column, DataTable } from "../../components/DataTable";
 import { Link } from "../../components/Link";
 import { currentCursor, firstPage, nextPage, Pager, previousPage } from "../../components/Pager";
 import { ErrorMessage, Loading } from "../../components/Status";
 import { formatDateTime, shortDigest } from "../../format";
-import { useLoad } from "../../useLoad";
-import { approvalHref, type ApprovalPage, bundleHref } from "./api";
+import { approvalHref, type ApprovalSummary, bundleHref } from "./api";
 import { StateBadge } from "./parts";
 
 const PAGE = 25;
@@ -30,6 +30,32 @@ function dayStart(day: string, plusDays = 0): string | undefined {
   return date.toISOString();
 }
 
+const HISTORY_COLUMNS: Column<ApprovalSummary>[] = [
+  { header: "Record", cell: (a) => <Link href={approvalHref(a.id)}>Record {a.id}</Link> },
+  {
+    header: "Mission",
+    cell: (a) => (
+      <>
+        {a.mission} v{a.version} <code title={a.digest}>{shortDigest(a.digest, 8)}</code>
+      </>
+    ),
+  },
+  {
+    header: "Decision",
+    cell: (a) => (
+      <>
+        <StateBadge state={a.decision} />
+        {a.revokes !== null && ` (of record ${a.revokes})`}
+      </>
+    ),
+  },
+  { header: "Operator", cell: (a) => a.operator },
+  { header: "Supervisor", cell: (a) => a.supervisor },
+  { header: "Vehicle", cell: (a) => a.vehicle ?? "—" },
+  { header: "Signed", cell: (a) => <time dateTime={a.created_at}>{formatDateTime(a.created_at)}</time> },
+  { header: "Log entry", cell: (a) => a.log_index ?? "—" },
+];
+
 export function AuditPage() {
   const [filters, setFilters] = useState<Filters>(fromSearch);
   const [form, setForm] = useState<Filters>(filters);
@@ -38,16 +64,14 @@ export function AuditPage() {
   useEffect(() => {
     document.title = "Audit history · Countersign";
   }, []);
-  const { data, error, loading } = useLoad(async () => {
-    const query: Record<string, string | number> = { limit: PAGE };
-    for (const f of ["mission", "operator", "supervisor", "vehicle", "decision"] as const) if (filters[f]) query[f] = filters[f];
-    const since = dayStart(filters.since);
-    const until = dayStart(filters.until, 1);
-    if (since) query.since = since;
-    if (until) query.until = until;
-    if (cursor) query.cursor = Number(cursor);
-    return unwrap(await api.GET("/api/approvals", { params: { query } })) as ApprovalPage;
-  }, [filters, cursor]);
+  const query: Record<string, string | number> = { limit: PAGE };
+  for (const f of ["mission", "operator", "supervisor", "vehicle", "decision"] as const) if (filters[f]) query[f] = filters[f];
+  const since = dayStart(filters.since);
+  const until = dayStart(filters.until, 1);
+  if (since) query.since = since;
+  if (until) query.until = until;
+  if (cursor) query.cursor = Number(cursor);
+  const { data, error, isFetching: loading } = useApprovalHistory(query as ApprovalQuery);
 
   const apply = (event: FormEvent) => {
     event.preventDefault();
@@ -120,46 +144,15 @@ export function AuditPage() {
       ) : data && data.items.length === 0 ? (
         <p className="empty">No signed decisions match.</p>
       ) : data ? (
-        <div className="table-wrap">
-          <table className="approvals" aria-busy={loading}>
-            <caption className="visually-hidden">Signed decisions, newest first</caption>
-            <thead>
-              <tr>
-                <th scope="col">Record</th>
-                <th scope="col">Mission</th>
-                <th scope="col">Decision</th>
-                <th scope="col">Operator</th>
-                <th scope="col">Supervisor</th>
-                <th scope="col">Vehicle</th>
-                <th scope="col">Signed</th>
-                <th scope="col">Log entry</th>
-              </tr>
-            </thead>
-            <tbody>
-              {data.items.map((a) => (
-                <tr key={a.id}>
-                  <td>
-                    <Link href={approvalHref(a.id)}>Record {a.id}</Link>
-                  </td>
-                  <td>
-                    {a.mission} v{a.version} <code title={a.digest}>{shortDigest(a.digest, 8)}</code>
-                  </td>
-                  <td>
-                    <StateBadge state={a.decision} />
-                    {a.revokes !== null && ` (of record ${a.revokes})`}
-                  </td>
-                  <td>{a.operator}</td>
-                  <td>{a.supervisor}</td>
-                  <td>{a.vehicle ?? "—"}</td>
-                  <td>
-                    <time dateTime={a.created_at}>{formatDateTime(a.created_at)}</time>
-                  </td>
-                  <td>{a.log_index ?? "—"}</td>
-                </tr>
-              ))}
-            </tbody>
-          </table>
-        </div>
+        <DataTable
+          caption="Signed decisions, newest first"
+          className="approvals"
+          scroll
+          busy={loading}
+          columns={HISTORY_COLUMNS}
+          rows={data.items}
+          rowKey={(a) => a.id}
+        />
       ) : null}
       {data && (
         <Pager

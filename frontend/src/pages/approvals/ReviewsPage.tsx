@@ -1,58 +1,38 @@
 /** Submissions waiting for a supervisor's decision (and recent decisions), newest first. */
 import { useEffect } from "react";
 
-import { api, unwrap } from "../../api/client";
+import { type Submission, useSubmissions } from "../../api/submissions";
+import { type Column, DataTable } from "../../components/DataTable";
 import { Link } from "../../components/Link";
 import { ErrorMessage, Loading } from "../../components/Status";
 import { formatDateTime, shortDigest } from "../../format";
-import { useLoad } from "../../useLoad";
-import { reviewHref, type Submission } from "./api";
+import { reviewHref } from "./api";
 import { StateBadge } from "./parts";
+
+const SUBMISSION_COLUMNS: Column<Submission>[] = [
+  {
+    header: "Mission version",
+    cell: (s) => (
+      <Link href={reviewHref(s.mission, s.version)}>
+        Review {s.mission} v{s.version}
+      </Link>
+    ),
+  },
+  { header: "State", cell: (s) => <StateBadge state={s.state} /> },
+  { header: "Submitted by", cell: (s) => s.submitted_by },
+  { header: "Submitted", cell: (s) => <time dateTime={s.submitted_at}>{formatDateTime(s.submitted_at)}</time> },
+  { header: "Digest", cell: (s) => <code title={s.digest}>{shortDigest(s.digest, 8)}</code> },
+];
 
 export function ReviewsPage() {
   useEffect(() => {
     document.title = "Reviews · Countersign";
   }, []);
-  const { data, error, loading } = useLoad(
-    async () => unwrap(await api.GET("/api/submissions", { params: { query: { limit: 200 } } })),
-    [],
-  );
+  const { data, error, isPending: loading } = useSubmissions(200);
   const waiting = data?.filter((s) => s.state === "submitted") ?? [];
   const decided = data?.filter((s) => s.state !== "submitted").slice(0, 20) ?? [];
   const table = (rows: Submission[], caption: string) => (
-    <table className="submissions">
-      <caption className="visually-hidden">{caption}</caption>
-      <thead>
-        <tr>
-          <th scope="col">Mission version</th>
-          <th scope="col">State</th>
-          <th scope="col">Submitted by</th>
-          <th scope="col">Submitted</th>
-          <th scope="col">Digest</th>
-        </tr>
-      </thead>
-      <tbody>
-        {rows.map((s) => (
-          <tr key={s.id}>
-            <td>
-              <Link href={reviewHref(s.mission, s.version)}>
-                Review {s.mission} v{s.version}
-              </Link>
-            </td>
-            <td>
-              <StateBadge state={s.state} />
-            </td>
-            <td>{s.submitted_by}</td>
-            <td>
-              <time dateTime={s.submitted_at}>{formatDateTime(s.submitted_at)}</time>
-            </td>
-            <td>
-              <code title={s.digest}>{shortDigest(s.digest, 8)}</code>
-            </td>
-          </tr>
-        ))}
-      </tbody>
-    </table>
+    <DataTable caption={caption} className="submissions" columns={SUBMISSION_COLUMNS} rows={rows} rowKey={(s) => s.id} />
   );
   return (
     <section aria-labelledby="reviews-title">

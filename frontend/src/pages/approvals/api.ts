@@ -2,12 +2,12 @@
 import { api, type Schema, unwrap } from "../../api/client";
 import type { LogEntryRow } from "../../crypto/verify";
 
-export type Submission = Schema<"SubmissionOut">;
+export type { Submission } from "../../api/submissions";
 export type Key = Schema<"KeyOut">;
 export type ApprovalSummary = Schema<"ApprovalOut">;
 /** A decision as recorded, with the log signer's receipt. */
 export type RecordedDecision = Schema<"DecisionOut">;
-export type ApprovalPage = Schema<"ApprovalPage">;
+export type { ApprovalPage } from "../../api/approvals";
 
 export type PathSummary = Schema<"PathCountsOut">;
 /** GET /api/missions/{id}/versions/{number}/review */

@@ -8,8 +8,8 @@ import { type FormEvent, useEffect, useMemo, useState } from "react";
 import { ErrorMessage, Loading, Notice } from "../../components/Status";
 import { trustedBehaviours } from "../../editor/pickers";
 import { formatDateTime } from "../../format";
-import { useLoad } from "../../useLoad";
-import { loadVehicles, loadVehicleVersions, type RegistryProfile, saveVehicle } from "./api";
+import { DataTable } from "../../components/DataTable";
+import { type RegistryProfile, useSaveVehicle, useVehicles, useVehicleVersions } from "./api";
 import { ProfileChanges } from "./ProfileChanges";
 import { ProfileForm } from "./ProfileForm";
 import { profileDiff } from "./profileDiff";
@@ -23,13 +23,13 @@ const TEMPLATE = {
 };
 
 export function VehiclesPage() {
-  const { data, error, loading, reload } = useLoad(loadVehicles, []);
+  const { data, error, isPending: loading } = useVehicles();
+  const saveProfile = useSaveVehicle();
   const [editing, setEditing] = useState<string | null>(null);
   const [text, setText] = useState("");
   const [saveError, setSaveError] = useState<unknown>(null);
   const [notice, setNotice] = useState<string | null>(null);
   const [history, setHistory] = useState<string | null>(null);
-  const [saved, setSaved] = useState(0);
 
   useEffect(() => {
     document.title = "Vehicle registry · Countersign";
@@ -68,7 +68,7 @@ export function VehiclesPage() {
       return;
     }
     try {
-      await saveVehicle(profile);
+      await saveProfile.mutateAsync(profile);
     } catch (problem) {
       setSaveError(problem);
       return;
@@ -76,8 +76,6 @@ export function VehiclesPage() {
     setNotice(`Vehicle ${profile.id} saved.`);
     setEditing(null);
     setHistory(profile.id);
-    setSaved((n) => n + 1);
-    reload();
   };
 
   return (
@@ -94,41 +92,32 @@ export function VehiclesPage() {
       {loading && !data ? (
         <Loading what="vehicles" />
       ) : (
-        <table className="vehicles">
-          <caption className="visually-hidden">Vehicles in the registry</caption>
-          <thead>
-            <tr>
-              <th scope="col">Vehicle</th>
-              <th scope="col">Title</th>
-              <th scope="col">Trusted behaviours</th>
-              <th scope="col">Actions</th>
-            </tr>
-          </thead>
-          <tbody>
-            {(data ?? []).length === 0 && (
-              <tr>
-                <td colSpan={4}>The registry has no vehicles yet.</td>
-              </tr>
-            )}
-            {(data ?? []).map((v) => (
-              <tr key={v.id}>
-                <td>
-                  <code>{v.id}</code>
-                </td>
-                <td>{v.title ?? ""}</td>
-                <td>{trustedBehaviours(v).join(", ")}</td>
-                <td className="actions">
+        <DataTable
+          caption="Vehicles in the registry"
+          className="vehicles"
+          rows={data ?? []}
+          rowKey={(v) => v.id}
+          empty="The registry has no vehicles yet."
+          columns={[
+            { header: "Vehicle", cell: (v) => <code>{v.id}</code> },
+            { header: "Title", cell: (v) => v.title ?? "" },
+            { header: "Trusted behaviours", cell: (v) => trustedBehaviours(v).join(", ") },
+            {
+              header: "Actions",
+              className: "actions",
+              cell: (v) => (
+                <>
                   <button type="button" onClick={() => edit(v)}>
                     Edit {v.id}
                   </button>
                   <button type="button" onClick={() => setHistory(v.id)}>
                     Versions of {v.id}
                   </button>
-                </td>
-              </tr>
-            ))}
-          </tbody>
-        </table>
+                </>
+              ),
+            },
+          ]}
+        />
       )}
       <p>
         <button type="button" onClick={() => edit(null)}>
@@ -160,13 +149,13 @@ export function VehiclesPage() {
           </p>
         </form>
       )}
-      {history && <VersionHistory key={`${history}:${saved}`} id={history} />}
+      {history && <VersionHistory key={history} id={history} />}
     </section>
   );
 }
 
 function VersionHistory({ id }: { id: string }) {
-  const { data, error, loading } = useLoad(() => loadVehicleVersions(id), [id]);
+  const { data, error, isPending: loading } = useVehicleVersions(id);
   const [from, setFrom] = useState<number | null>(null);
   const [to, setTo] = useState<number | null>(null);
   if (loading && !data) return <Loading what={`versions of ${id}`} />;

@@ -1,5 +1,8 @@
 /** The vehicle registry's API calls, typed from the OpenAPI document (schema.d.ts). */
+import { type QueryClient, useMutation, useQuery, useQueryClient } from "@tanstack/react-query";
+
 import { api, type Schema, unwrap } from "../../api/client";
+import { missionsChanged } from "../../api/missions";
 
 export type VehicleVersion = Schema<"VehicleVersionOut">;
 export type RegistryProfile = Schema<"Vehicle">;
@@ -26,4 +29,27 @@ export async function saveVehicle(profile: RegistryProfile): Promise<void> {
       body: profile as never,
     }),
   );
+}
+
+export const vehicleKeys = {
+  all: ["vehicles"] as const,
+  versions: (id: string) => ["vehicles", id, "versions"] as const,
+};
+
+export function useVehicles() {
+  return useQuery({ queryKey: vehicleKeys.all, queryFn: loadVehicles });
+}
+
+export function useVehicleVersions(id: string) {
+  return useQuery({ queryKey: vehicleKeys.versions(id), queryFn: () => loadVehicleVersions(id) });
+}
+
+/** A saved profile is a new version, and the drafts that use it are checked again. */
+export function vehicleSaved(client: QueryClient): Promise<unknown> {
+  return Promise.all([client.invalidateQueries({ queryKey: vehicleKeys.all }), missionsChanged(client)]);
+}
+
+export function useSaveVehicle() {
+  const client = useQueryClient();
+  return useMutation({ mutationFn: saveVehicle, onSuccess: () => vehicleSaved(client) });
 }

@@ -1,0 +1,41 @@
+/** Accounts as a resource (admins): the list, and the writes that change it. */
+import { type QueryClient, useMutation, useQuery, useQueryClient } from "@tanstack/react-query";
+
+import type { components } from "./schema";
+import { api, unwrap, type User, type UserList } from "./client";
+
+export const userKeys = { all: ["users"] as const };
+
+export async function listUsers(): Promise<UserList> {
+  return unwrap(await api.GET("/api/users"));
+}
+
+export function useUsers() {
+  return useQuery({ queryKey: userKeys.all, queryFn: listUsers });
+}
+
+export function usersChanged(client: QueryClient): Promise<void> {
+  return client.invalidateQueries({ queryKey: userKeys.all });
+}
+
+type UserPatch = components["schemas"]["UserPatch"];
+
+/** Enable or disable an account; the list is asked for again afterwards. */
+export function useUpdateUser() {
+  const client = useQueryClient();
+  return useMutation({
+    mutationFn: async ({ user, patch }: { user: User; patch: UserPatch }) =>
+      unwrap(await api.PATCH("/api/users/{user_id}", { params: { path: { user_id: user.id } }, body: patch })),
+    onSettled: () => usersChanged(client),
+  });
+}
+
+type NewUser = components["schemas"]["UserIn"];
+
+export function useCreateUser() {
+  const client = useQueryClient();
+  return useMutation({
+    mutationFn: async (body: NewUser) => unwrap(await api.POST("/api/users", { body })),
+    onSuccess: () => usersChanged(client),
+  });
+}
