@@ -58,8 +58,8 @@ def load_orders(source: str, *, teams: bool = False) -> ReadResult:
         raise UsageError(
             f"{source} holds a team's orders (one MEA per vehicle) and this command reads one "
             "vehicle's orders: 'countersign validate' checks the team, 'countersign export "
-            "--format plain' (or json) writes it; a member's own orders are its "
-            "team[i].orders")
+            "--format plain' (or json) writes it, 'export --member VEHICLE' writes one "
+            "member's vehicle files; a member's own orders are its team[i].orders")
     return loaded
 
 
