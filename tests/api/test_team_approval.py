@@ -124,3 +124,46 @@ def test_the_registry_profile_of_each_member_is_copied_in(world: World) -> None:
     draft = operator.get(f"/api/missions/{MISSION}").json()["orders"]
     assert draft["team"][1]["orders"]["vehicles"][0]["id"] == "vehicle-2"
     assert operator.get(f"/api/missions/{MISSION}/report").json()["ok"]
+
+
+def test_an_approved_team_is_packaged_with_every_members_vehicle_files(world: World) -> None:
+    """The package of an approved team holds each member's vehicle files (`vehicle/MEMBER.NAME`),
+    their digests are what the statement signs, and both package verifiers accept it."""
+    import hashlib
+
+    from countersign.approved_package.build import read_tar
+    from countersign.approved_package.verify import verify_package
+
+    from .test_packages import _standalone
+
+    operator = world.client("operator")
+    mission = operator.get(f"/api/missions/{MISSION}")
+    saved = operator.put(f"/api/missions/{MISSION}/draft", json={"orders": _clean_team()},
+                         headers={"If-Match": mission.headers["ETag"]})
+    assert saved.status_code == 200, saved.text
+    number = new_version(world)
+    supervisor = world.client("supervisor")
+    signer = register_key(supervisor)
+    prepared = prepare(supervisor, submit(world, number), signer)
+    signed = prepared["statement"]["predicate"]["exports"]
+    members = {m["vehicle"]: m["orders"]["id"] for m in _clean_team()["team"]}
+    assert sorted(signed) == sorted(f"vehicle/{member}.{orders_id}.{suffix}"
+                                    for member, orders_id in members.items()
+                                    for suffix in ("bhv", "imc", "moos"))
+    submission = prepared["statement"]["predicate"]["submission"]
+    response = supervisor.post(f"/api/submissions/{submission}/decision",
+                               json={"envelope": sign_prepared(prepared, signer),
+                                     "password": PASSWORD})
+    assert response.status_code == 201, response.text
+    package = world.client("auditor").get(f"/api/missions/{MISSION}/versions/{number}/package")
+    assert package.status_code == 200, package.text
+    files = read_tar(package.content)
+    vehicle = {n: c for n, c in files.items() if n.startswith("vehicle/")}
+    assert {n.split("/")[1].split(".")[0] for n in vehicle} == {"remus-100", "vehicle-2"}
+    assert signed == {n: "sha256:" + hashlib.sha256(c).hexdigest() for n, c in vehicle.items()}
+    # vehicle-2's mission file waits at meeting R1 for remus-100, and the reverse.
+    moos = {n: c.decode() for n, c in vehicle.items() if n.endswith(".moos")}
+    assert all("MEET_R1" in text for text in moos.values()), sorted(moos)
+    log_key = world.client("auditor").get("/api/log/checkpoint").json()["public_key"]
+    assert verify_package(package.content, log_key=log_key).ok
+    assert _standalone().verify(package.content, log_key)[1] == "OK"

@@ -35,10 +35,17 @@ def signed_provenance(submission: int) -> dict[str, Any]:
 
 
 def vehicle_files(orders: Orders, version: int, approval: dict[str, Any]) -> dict[str, bytes]:
+    """Every vehicle file of the orders by its name in the package: `vehicle/NAME` for one
+    vehicle's orders, `vehicle/MEMBER.NAME` for each member of a team (a package keeps two
+    path segments; member ids are names of the orders' safe alphabet)."""
     files: dict[str, bytes] = {}
-    for fmt in FORMATS:
-        export = export_vehicle(orders, fmt, version=version, approval=approval)
-        files.update({f"vehicle/{f.name}": f.content for f in export.files})
+    members = [None] if orders.team is None else [m.vehicle for m in orders.team]
+    for member in members:
+        prefix = "vehicle/" if member is None else f"vehicle/{member}."
+        for fmt in FORMATS:
+            export = export_vehicle(orders, fmt, version=version, approval=approval,
+                                    member=member)
+            files.update({prefix + f.name: f.content for f in export.files})
     return files
 
 
