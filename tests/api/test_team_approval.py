@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import time
 from typing import Any
 
 from countersign.approvals.bundle import verify_bundle
@@ -13,6 +14,7 @@ from countersign.web.routes.schemas import ReportOut
 
 from .approval_helpers import (
     MISSION,
+    approve,
     new_version,
     prepare,
     register_key,
@@ -167,3 +169,34 @@ def test_an_approved_team_is_packaged_with_every_members_vehicle_files(world: Wo
     log_key = world.client("auditor").get("/api/log/checkpoint").json()["public_key"]
     assert verify_package(package.content, log_key=log_key).ok
     assert _standalone().verify(package.content, log_key)[1] == "OK"
+
+
+def test_the_approvals_rehearsal_verdicts_read_each_member(world: World) -> None:
+    """A team's rehearsal cited by its approval goes through the execution checker member by
+    member, each against its own orders (the record holds each member's run fields)."""
+    operator = world.client("operator")
+    mission = operator.get(f"/api/missions/{MISSION}")
+    assert operator.put(f"/api/missions/{MISSION}/draft", json={"orders": _clean_team()},
+                        headers={"If-Match": mission.headers["ETag"]}).status_code == 200
+    number = new_version(world)
+    started = operator.post(f"/api/missions/{MISSION}/rehearsals",
+                            json={"source": "simulate", "speed": 100_000, "version": number})
+    assert started.status_code == 201, started.text
+    rid = started.json()["id"]
+    deadline = time.monotonic() + 300  # bounds a hang on a shared machine; times nothing
+    while operator.get(f"/api/rehearsals/{rid}").json()["status"]["state"] != "finished":
+        assert time.monotonic() < deadline
+        time.sleep(0.1)
+    digest = operator.post(f"/api/rehearsals/{rid}/stop").json()["digest"]
+    submitted = operator.post(f"/api/missions/{MISSION}/versions/{number}/submit",
+                              json={"rehearsal": digest})
+    assert submitted.status_code == 201, submitted.text
+    supervisor = world.client("supervisor")
+    approval = approve(world, supervisor, register_key(supervisor), submitted.json()["id"])
+    answer = world.client("auditor").get(f"/api/approvals/{approval['id']}/executions")
+    assert answer.status_code == 200, answer.text
+    runs = answer.json()["rehearsal"]
+    assert [r["vehicle"] for r in runs] == ["remus-100", "vehicle-2"]
+    for run in runs:
+        assert run["verdict"]["terminal"] == "COMPLETE", run
+        assert run["verdict"]["deviations"] == [], run

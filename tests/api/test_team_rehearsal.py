@@ -104,3 +104,44 @@ def test_team_sources_and_faults_are_refused_in_words(team_world: World) -> None
         refused = team_world.client(role).post(f"/api/missions/{MISSION}/rehearsals",
                                                 json={"source": "simulate"})
         assert refused.status_code == 403
+
+
+def test_a_member_replays_one_path_of_its_own_orders(team_world: World) -> None:
+    operator = team_world.client("operator")
+    started = operator.post(f"/api/missions/{MISSION}/rehearsals",
+                            json={"source": "simulate", "speed": 100_000,
+                                  "member_paths": {"vehicle-2": 19}})
+    assert started.status_code == 201, started.text
+    rid = started.json()["id"]
+    status = _wait_finished(operator, rid)
+    # Path 19 of vehicle 2's orders aborts before Area C: vehicle 1 is left waiting.
+    assert status["team"]["joint_end"] == "remus-100:waiting + vehicle-2:ABORT"
+    digest = operator.post(f"/api/rehearsals/{rid}/stop").json()["digest"]
+    with team_world.database.session() as db:
+        stored = get_record(db, digest).record
+    assert stored["team"]["paths"] == {"vehicle-2": 19}
+    member = next(m for m in stored["team"]["members"] if m["vehicle"] == "vehicle-2")
+    assert member["runs"][0]["path_index"] == 19 and member["terminal"] == "ABORT"
+
+
+def test_member_paths_are_bounded_and_refused_naming_the_member(team_world: World) -> None:
+    operator = team_world.client("operator")
+    for paths, words in (({"vehicle-9": 1}, "vehicle-9"),
+                         ({"vehicle-2": 100_000}, "member vehicle-2: path index must be "
+                          "between 1 and"),
+                         ({"vehicle-2": 0}, "member_paths"),
+                         ({"<b>x</b>": 1}, "member_paths"),
+                         ({f"v{i}": 1 for i in range(9)}, "member_paths")):
+        answer = operator.post(f"/api/missions/{MISSION}/rehearsals",
+                               json={"source": "simulate", "member_paths": paths})
+        assert answer.status_code == 422, (paths, answer.text)
+        assert words in json.dumps(answer.json()), (paths, answer.text)
+    # One vehicle's orders take path_index, not member paths.
+    solo = team_world.client("operator")
+    mission = solo.get("/api/missions/search-and-sample")
+    single = json.loads(example_bytes("search-and-sample"))
+    assert solo.put(f"/api/missions/{MISSION}/draft", json={"orders": single},
+                    headers={"If-Match": mission.headers["ETag"]}).status_code == 200
+    answer = solo.post(f"/api/missions/{MISSION}/rehearsals",
+                       json={"source": "simulate", "member_paths": {"vehicle-2": 1}})
+    assert answer.status_code == 422 and "member paths are for a team's orders" in answer.text

@@ -3,12 +3,14 @@ colour, its vehicle id as a text label), their paths, the meeting points and the
 
 from __future__ import annotations
 
+import itertools
 import json
 import time
 from typing import Any
 
 from countersign.orders.examples import example_bytes
 from countersign.orders.reader import orders_from_data
+from countersign.rehearse.label_layout import LINE, width_of
 from countersign.rehearse.manager import RehearsalManager, RehearsalOptions
 from countersign.rehearse.team_rehearsal import TeamRehearsal
 
@@ -119,3 +121,46 @@ def test_the_live_loop_runs_until_every_vehicle_has_ended() -> None:
     finally:
         record = rehearsal.stop()
     assert record.to_json()["team"]["paths"] == {"remus-100": 2, "vehicle-2": 1}
+
+
+def _drawn_at(client: ViserTestClient, nodes: dict[str, Any],
+              name: str) -> tuple[float, float, float]:
+    """Where a node is drawn: its position within every ancestor that has one (a path prefix
+    the scene never placed is an identity frame at the origin)."""
+    parts = name.strip("/").split("/")
+    total = [0.0, 0.0, 0.0]
+    for depth in range(1, len(parts) + 1):
+        node = "/" + "/".join(parts[:depth])
+        placed = [m["position"] for m in client.messages
+                  if m.get("name") == node and "position" in m]
+        if node in nodes and placed:
+            total = [t + float(p) for t, p in zip(total, placed[-1], strict=True)]
+    return (total[0], total[1], total[2])
+
+
+def test_the_meeting_label_is_drawn_at_the_meeting_clear_of_area_titles(
+        manager: RehearsalManager) -> None:
+    orders = orders_from_data(json.loads(example_bytes("search-and-sample-team")))
+    rehearsal = manager.start(orders, owner="alice",
+                              options=RehearsalOptions(source="simulate", speed=0.1))
+    try:
+        with ViserTestClient(rehearsal.port, secret=rehearsal.viewer_secret) as client:
+            client.hello()
+            assert client.wait_for(lambda c: "/meetings/R1/label" in c.scene_nodes())
+            nodes = client.scene_nodes()
+            labels = {name: _drawn_at(client, nodes, name) for name in nodes
+                      if name.endswith("/label") and name.startswith(("/areas/", "/meetings/"))}
+            assert any("traffic lane" in nodes[n]["props"]["text"] for n in labels), labels
+            # By its meeting point (above it, moved north a few lines at most).
+            label = labels["/meetings/R1/label"]
+            anchor = _position(client, "/meetings/R1/remus-100")
+            assert abs(label[0] - anchor[0]) < 1e-6 and 0 <= label[1] - anchor[1] <= 4 * LINE, (
+                label, anchor)
+            # No two titles' boxes on the chart overlap where they are drawn.
+            for (a, at), (b, bt) in itertools.combinations(labels.items(), 2):
+                half = (width_of(nodes[a]["props"]["text"]) +
+                        width_of(nodes[b]["props"]["text"])) / 2
+                assert abs(at[1] - bt[1]) >= LINE - 1e-6 or abs(at[0] - bt[0]) >= half - 1e-6, (
+                    a, at, b, bt)
+    finally:
+        manager.stop(rehearsal.id)

@@ -310,17 +310,19 @@ def test_joint_counts_and_shortest_deadlocks_match_brute_force(
 
 
 def test_the_offline_verifier_holds_the_signed_member_digests_to_the_orders() -> None:
-    from countersign.approvals.bundle import team_problems
+    from countersign.approvals.team_rules import team_problems
     from countersign.orders.team import member_digests
 
     orders = load_example(EXEMPLAR)
     data = orders_to_json(orders)
-    assert team_problems("approval 1", data, member_digests(orders)) == []
+    signed = {"team": member_digests(orders)}
+    assert team_problems(data, signed) == []
     other = copy.deepcopy(data)
     other["team"][1]["orders"]["goals"][0]["next"]["violate"] = "G2"
-    assert team_problems("approval 1", other, member_digests(orders))
-    assert team_problems("approval 1", orders_to_json(load_example("search-and-sample")),
-                          member_digests(orders))
+    assert team_problems(other, signed) == [
+        f"team member vehicle-2: the signed digest {signed['team']['vehicle-2']} is not that of "
+        f"its orders ({member_digests(orders_from_data(other))['vehicle-2']})"]
+    assert team_problems(orders_to_json(load_example("search-and-sample")), signed)
 
 
 def test_budget_and_norms_are_each_vehicles_own() -> None:

@@ -29,10 +29,7 @@ from .merkle import Tree, leaf_hash, verify_consistency, verify_inclusion
 from .note import Head
 from .receipt import verify_receipt
 from .statement import json_digest, subject_digest
-
-# The orders format a member's orders are hashed as (orders.model.FORMAT; the offline verifier
-# reads JSON only, so it does not import the model).
-ORDERS_FORMAT = "countersign.orders/1"
+from .team_rules import team_problems
 
 BUNDLE_FORMAT = "countersign.audit-bundle/1"
 
@@ -395,8 +392,9 @@ def _check_approval(approval: dict[str, Any], events: list[dict[str, Any]], leav
         elif not orders_match(covered, signed):
             report.problems.append(f"{name}: the stored orders of {statement['subject'][0]['name']}"
                                    f" do not hash to the signed digest {signed}")
-        elif "team" in statement["predicate"]:
-            report.problems.extend(team_problems(name, covered, statement["predicate"]["team"]))
+        else:
+            report.problems.extend(f"{name}: {problem}" for problem in
+                                   team_problems(covered, statement["predicate"]))
     _check_cited(name, "rehearsal", statement["predicate"].get("rehearsal_digest"), signed,
                  rehearsals or {}, report)
     cited_campaigns = statement["predicate"].get("campaigns") or []
@@ -413,22 +411,6 @@ def _check_approval(approval: dict[str, Any], events: list[dict[str, Any]], leav
         if not included:
             report.problems.append(f"{name}: the inclusion proof of log entry {index} does not "
                                    "verify against the signed checkpoint")
-
-
-def team_problems(name: str, orders: Any, signed: Any) -> list[str]:
-    """A team approval signs each member's orders digest (the member's orders alone, as
-    `countersign.orders/1`): they must be those of the team the signed orders hold."""
-    members = orders.get("team") if isinstance(orders, dict) else None
-    if not isinstance(members, list) or not all(
-            isinstance(m, dict) and isinstance(m.get("orders"), dict) for m in members):
-        return [f"{name}: the statement signs a team's member digests but the orders hold no "
-                "team"]
-    actual = {str(m.get("vehicle")): json_digest({**m["orders"], "format": ORDERS_FORMAT})
-              for m in members}
-    if actual != signed:
-        return [f"{name}: the signed member digests are not those of the team's orders "
-                f"({', '.join(sorted(actual))})"]
-    return []
 
 
 def _check_cited(name: str, kind: str, cited: Any, signed: str, records: dict[str, Any],

@@ -40,6 +40,7 @@ from ..approvals.note import (
 )
 from ..approvals.receipt import verify_receipt
 from ..approvals.statement import parse_statement, subject_digest
+from ..approvals.team_rules import team_problems
 from ..export.package import SIGNED_EXPORTS, export_provenance, signed_provenance, vehicle_files
 from ..limits import CLOCK_SKEW
 from ..orders.reader import orders_from_data
@@ -195,6 +196,7 @@ def _verify(data: bytes, log_key: str, now: datetime, max_age: timedelta) -> str
     if _sha(orders_bytes) != signed or detail.get("orders_digest") != signed:
         raise Refusal("ORDERS", "the orders are not the ones the approval signed "
                       f"({signed})")
+    check_team(orders_bytes, statement["predicate"])
     for later in events[index + 1:]:
         if later.get("kind") == "approval.revoked" and \
                 (later.get("detail") or {}).get("submission") == detail.get("submission"):
@@ -227,3 +229,16 @@ def _verify(data: bytes, log_key: str, now: datetime, max_age: timedelta) -> str
         raise Refusal("EXPORT", f"{missing} is signed but not in the package, or the reverse")
     return (f"{mission} version {version}: approved, orders {signed}, log entry {index} in "
             f"checkpoint size {head.size}; vehicle files match")
+
+
+def check_team(orders_bytes: bytes, predicate: dict[str, Any]) -> None:
+    """A team's approval signs each member's digest too (approvals/team_rules.py): a vehicle
+    loading its member's orders relies on it, so a disagreeing list is ORDERS, naming the
+    member."""
+    try:
+        orders = json.loads(orders_bytes)
+    except ValueError as exc:
+        raise Refusal("ORDERS", f"the signed orders are not JSON: {exc}") from None
+    problems = team_problems(orders, predicate)
+    if problems:
+        raise Refusal("ORDERS", "; ".join(problems))

@@ -39,13 +39,15 @@ def add_commands(commands: Any) -> None:
     check.add_argument("orders", metavar="ORDERS", help="orders file (or example:NAME)")
     check.add_argument("log", metavar="LOG", type=Path,
                        help="execution log: NDJSON, IMC messages (PlanControlState, "
-                       "LogBookEntry outcomes, EstimatedState depth) or a MOOS alog")
+                       "LogBookEntry outcomes, EstimatedState depth) or a MOOS alog; or a "
+                       "rehearsal record (countersign.rehearsal/1), every run of it checked")
+    check.add_argument("--member", metavar="VEHICLE", default=None,
+                       help="team orders: check this member's run against its own orders "
+                       "(a team's rehearsal record holds every member's; a log is one "
+                       "member's). Required for a team, refused otherwise")
     check.add_argument("--input-format", choices=["auto", "ndjson", "imc", "alog"],
                        default="auto", help="the log's format (default: detected)")
     check.add_argument("--format", choices=["text", "json"], default="text")
-    check.add_argument("--member", default=None, metavar="VEHICLE",
-                       help="team orders: the member vehicle whose log this is (required for "
-                       "a team)")
     check.set_defaults(handler=cmd_execution_check)
 
 
@@ -62,6 +64,9 @@ def cmd_execution_check(args: argparse.Namespace) -> int:
             data = handle.read(MAX_LOG_BYTES + 1)
         if len(data) > MAX_LOG_BYTES:
             raise ExecutionLogError(f"the log is larger than {MAX_LOG_BYTES:,} bytes")
+        record = rehearsal_record(data)
+        if record is not None:
+            return check_record(args, orders, record)
         converted = to_execution_log(orders, data, args.input_format)
         # Without the approval at hand, only the future is out of bounds.
         window = TimeWindow.of(now=datetime.now(UTC), skew_s=CLOCK_SKEW.total_seconds())
@@ -74,10 +79,14 @@ def cmd_execution_check(args: argparse.Namespace) -> int:
         return EXIT_UNREADABLE
     for note in converted.notes:
         sys.stderr.write(f"countersign: note: {note}\n")
+    return _print_verdict(args, verdict)
+
+
+def _print_verdict(args: argparse.Namespace, verdict: Any, prefix: str = "") -> int:
     if args.format == "json":
         sys.stdout.write(json.dumps(verdict.to_json()) + "\n")
     else:
-        sys.stdout.write(verdict.summary() + "\n")
+        sys.stdout.write(prefix + verdict.summary() + "\n")
         for deviation in verdict.deviations:
             sys.stdout.write(f"  step {deviation.step}  {deviation.code:<16} "
                              f"{deviation.message}\n")
@@ -91,3 +100,35 @@ def cmd_execution_check(args: argparse.Namespace) -> int:
     if verdict.deviations:
         return EXIT_DEVIATION
     return EXIT_OK if verdict.ok else EXIT_UNVERIFIED
+
+
+def rehearsal_record(data: bytes) -> dict[str, Any] | None:
+    """The rehearsal record these bytes hold, or None when they are an execution log."""
+    from ..rehearse.record import FORMAT
+
+    try:
+        parsed = json.loads(data)
+    except (ValueError, UnicodeDecodeError):
+        return None  # NDJSON of several lines, IMC or an alog
+    return parsed if isinstance(parsed, dict) and parsed.get("format") == FORMAT else None
+
+
+def check_record(args: argparse.Namespace, orders: Any, record: dict[str, Any]) -> int:
+    """Every run of a rehearsal record (the member's, for a team's) through the check; the
+    exit code is the worst run's."""
+    from ..export.rehearsal_log import RehearsalRecordError, rehearsal_runs
+    from ..rehearse.execution import ExecutionLogError, check_execution, read_log
+
+    try:
+        runs = rehearsal_runs(record, args.member)
+        verdicts = [check_execution(orders, read_log(run.ndjson)) for run in runs]
+    except (RehearsalRecordError, ExecutionLogError) as exc:
+        sys.stderr.write(f"countersign: {args.log}: {exc}\n")
+        return EXIT_UNREADABLE
+    if not verdicts:
+        sys.stderr.write(f"countersign: {args.log}: the record holds no run\n")
+        return EXIT_UNREADABLE
+    # Worst first: a deviation (1) over unverified (3) over none (0).
+    codes = [_print_verdict(args, v, f"run {i + 1}: " if len(verdicts) > 1 else "")
+             for i, v in enumerate(verdicts)]
+    return next((c for c in (EXIT_DEVIATION, EXIT_UNVERIFIED) if c in codes), EXIT_OK)

@@ -53,8 +53,47 @@ def _from_events(events: list[dict[str, Any]]) -> list[list[dict[str, Any]]]:
     return runs
 
 
-def rehearsal_runs(record: dict[str, Any]) -> list[RehearsalRun]:
-    """The record's runs as execution logs, in the order they ran."""
+class RehearsalRecordError(ValueError):
+    """A record that cannot be read as asked (a team's without a member, or the reverse)."""
+
+
+def record_members(record: dict[str, Any]) -> list[str]:
+    """The vehicles of a team's record, in team order; empty for one vehicle's record."""
+    team = record.get("team")
+    members = team.get("members") if isinstance(team, dict) else None
+    return [str(m.get("vehicle")) for m in members or [] if isinstance(m, dict)]
+
+
+def member_record(record: dict[str, Any], member: str | None) -> dict[str, Any]:
+    """The record as one vehicle's: a team's record holds each member's own run fields under
+    `team.members` and its events, naming it, at the top (README "Teams"), so a team's record
+    needs the member and one vehicle's record refuses one."""
+    vehicles = record_members(record)
+    if not vehicles:
+        if member is not None:
+            raise RehearsalRecordError(f"the record is one vehicle's, not a team's: it has no "
+                                       f"member {member[:40]!r}")
+        return record
+    if member is None:
+        raise RehearsalRecordError(f"the record is a team's ({', '.join(vehicles)}): name the "
+                                   "member to read")
+    found = next((m for m in record["team"]["members"]
+                  if isinstance(m, dict) and m.get("vehicle") == member), None)
+    if found is None:
+        raise RehearsalRecordError(f"the team's record has no member {member[:40]!r} (members: "
+                                   f"{', '.join(vehicles)})")
+    if "goals" not in found:
+        raise RehearsalRecordError(f"the team's record predates per-member runs: member "
+                                   f"{member[:40]} has none to read")
+    events = [{k: v for k, v in e.items() if k != "vehicle"} for e in record.get("events") or []
+              if isinstance(e, dict) and e.get("vehicle") == member]
+    return {**found, "events": events, "events_dropped": record.get("events_dropped")}
+
+
+def rehearsal_runs(record: dict[str, Any], member: str | None = None) -> list[RehearsalRun]:
+    """The record's runs as execution logs, in the order they ran: one vehicle's, or the team
+    member's (`member`, a vehicle of a team's record)."""
+    record = member_record(record, member)
     runs = [r for r in record.get("runs") or [] if isinstance(r, dict)][:MAX_RUNS]
     if not runs and record.get("goals"):
         runs = [{"goals": record.get("goals"), "outcomes": record.get("outcomes"),

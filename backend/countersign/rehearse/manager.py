@@ -25,7 +25,7 @@ import secrets
 import threading
 import time
 from collections import OrderedDict
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, Literal, Protocol
 
@@ -523,9 +523,10 @@ class RehearsalManager:
         self._stopped: OrderedDict[str, Rehearsal] = OrderedDict()
 
     def start(self, orders: Orders, *, owner: str, options: RehearsalOptions,
-              charts: Sequence[Chart] = (), controls: bool = False) -> Rehearsal:
+              charts: Sequence[Chart] = (), controls: bool = False,
+              paths: Mapping[str, int] | None = None) -> Rehearsal:
         """A running rehearsal with its own viser server; RehearsalLimit when full,
-        ValueError for options or orders that cannot be rehearsed."""
+        ValueError for options or orders that cannot be rehearsed (`paths`: team replays)."""
         self._reap()
         with self._lock:
             if len(self._active) >= self.max_active:
@@ -542,7 +543,7 @@ class RehearsalManager:
                 from .team_rehearsal import TeamRehearsal
 
                 rehearsal = TeamRehearsal(orders, owner=owner, options=options, charts=charts,
-                                          idle_timeout_s=self.idle_timeout_s,
+                                          paths=paths, idle_timeout_s=self.idle_timeout_s,
                                           on_stopped=self._forget)
             else:
                 rehearsal = Rehearsal(orders, owner=owner, options=options, charts=charts,

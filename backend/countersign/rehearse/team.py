@@ -30,6 +30,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
+from ..orders.canonical import digest
 from ..orders.model import OUTCOMES, Area, Orders
 from .sim import Event, FaultSpec, Limits, Simulation
 from .sources import Decision, OutcomeSource, make_source
@@ -246,8 +247,12 @@ class TeamSimulation:
             for meet in sorted(set(meets.values())):
                 self.participants[meet] = (*self.participants.get(meet, ()), team_member.vehicle)
             kind = "replay" if team_member.vehicle in paths else source
-            inner = make_source(kind, member_orders, path_index=paths.get(team_member.vehicle),
-                                max_tour_paths=self.limits.max_tour_paths)
+            try:
+                inner = make_source(kind, member_orders,
+                                    path_index=paths.get(team_member.vehicle),
+                                    max_tour_paths=self.limits.max_tour_paths)
+            except ValueError as exc:  # a path out of range: name whose
+                raise ValueError(f"member {team_member.vehicle}: {exc}") from None
             wrapped = MeetingSource(inner, meets)
             # Members' worlds differ by seed as the vehicles do: the same team and seed give
             # the same rehearsal.
@@ -329,6 +334,17 @@ class TeamSimulation:
             "members": [{
                 "vehicle": m.vehicle,
                 "state": m.state,
+                # The member's own single-run fields, as a one-vehicle record holds them, so
+                # readers of records (the execution check) read a member like a vehicle; its
+                # events are the team's events that name it.
+                "orders": {"id": m.orders.id, "digest": digest(m.orders)},
+                "goals": list(m.sim.run.goals),
+                "outcomes": list(m.sim.run.outcomes),
+                "terminal": m.sim.run.terminal,
+                "terminal_kind": m.sim.run.terminal_kind,
+                "steps": m.sim.steps,
+                "legs_flown": list(m.sim.flown_legs),
+                "unmonitored_constraints": list(m.sim.unmonitored),
                 "runs": [r.to_json() for r in m.sim.runs],
                 "energy": {"capacity_wh": round(m.sim.capacity_wh, 3),
                            "used_wh": round(m.sim.energy_used_wh, 3)},

@@ -165,10 +165,14 @@ class TeamScene:
                 if meet not in self.meeting_anchor:
                     self.meeting_anchor[meet] = anchor
                     text = f"meeting {meet}"
+                    # The label's parent (/meetings/R1) is no node, so it is drawn in the
+                    # scene's frame: its position is where the spacer placed it, not an offset
+                    # from the meeting point (which drew it at the chart's centre, over the
+                    # titles there).
                     self.server.scene.add_label(
                         f"/meetings/{_node_name(meet)}/label", text,
-                        position=offset(self._labels.place(
-                            (anchor[0], anchor[1], anchor[2] + 0.35), text), anchor))
+                        position=self._labels.place((anchor[0], anchor[1], anchor[2] + 0.35),
+                                                    text))
 
     def _vehicle(self, k: int, member: Member) -> None:
         v = member.sim.vehicle

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import threading
 from collections import OrderedDict
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from datetime import datetime
 from typing import TYPE_CHECKING
@@ -83,7 +83,8 @@ class RehearsalHub:
         return self._manager
 
     def start(self, orders: Orders, *, user_id: int, mission_id: str, version: int | None,
-              options: RehearsalOptions, charts: Sequence[Chart] = ()) -> Live:
+              options: RehearsalOptions, charts: Sequence[Chart] = (),
+              paths: Mapping[str, int] | None = None) -> Live:
         with self._lock:
             self._prune()
             mine = sum(1 for live in self._live.values()
@@ -103,7 +104,8 @@ class RehearsalHub:
 
             try:
                 rehearsal = self.manager.start(orders, owner=str(user_id), options=options,
-                                               charts=charts, controls=self.viewer_controls)
+                                               charts=charts, controls=self.viewer_controls,
+                                               paths=paths)
             except RehearsalLimit as exc:
                 raise Busy(str(exc) or "no rehearsal slot is free; try again later") from None
             live = Live(rehearsal, user_id, mission_id, version, options.source)

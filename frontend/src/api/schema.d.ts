@@ -4015,6 +4015,13 @@ export interface components {
              */
             faults?: string[];
             /**
+             * Member Paths
+             * @description a team's orders: members that replay one path of their own orders (numbered as their /paths), by vehicle; the others follow `source`
+             */
+            member_paths?: {
+                [key: string]: number;
+            };
+            /**
              * Path Index
              * @description the traversal path to replay (source replay), counted from 1 as in /paths
              */
@@ -4121,6 +4128,11 @@ export interface components {
              * @description the path number the rehearsal reported
              */
             claimed_path: number | null;
+            /**
+             * Vehicle
+             * @description a team's rehearsal: the member whose run this is, checked against that member's orders
+             */
+            vehicle?: string | null;
             verdict: components["schemas"]["ExecutionOut"];
         };
         /** RehearsalStatus */
@@ -4581,10 +4593,31 @@ export interface components {
             /** Faults */
             faults: string[];
         };
-        /** TeamRecordMember */
+        /**
+         * TeamRecordMember
+         * @description One vehicle of a team's record: its own run fields as a one-vehicle record holds them
+         *     (its events are the record's events naming it). Records made before these fields existed
+         *     (2026-12-04) lack them.
+         */
         TeamRecordMember: {
             energy: components["schemas"]["TeamRecordEnergy"];
+            /**
+             * Goals
+             * @default []
+             */
+            goals?: string[];
             inputs: components["schemas"]["TeamRecordInputs"];
+            /**
+             * Legs Flown
+             * @default []
+             */
+            legs_flown?: components["schemas"]["FlownLeg"][];
+            orders?: components["schemas"]["RecordOrders"] | null;
+            /**
+             * Outcomes
+             * @default []
+             */
+            outcomes?: string[];
             /** Rule Firings */
             rule_firings: {
                 [key: string]: number;
@@ -4598,6 +4631,20 @@ export interface components {
              * @enum {string}
              */
             state: "running" | "waiting" | "finished" | "deadlocked";
+            /**
+             * Steps
+             * @default 0
+             */
+            steps?: number;
+            /** Terminal */
+            terminal?: string | null;
+            /** Terminal Kind */
+            terminal_kind?: string | null;
+            /**
+             * Unmonitored Constraints
+             * @default []
+             */
+            unmonitored_constraints?: string[];
             /** Vehicle */
             vehicle: string;
         };

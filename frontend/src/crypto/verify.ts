@@ -12,6 +12,7 @@ import { checkLog } from "./logRules";
 import { leafHash, rootOf, verifyInclusion } from "./merkle";
 import { receiptProblems } from "./receipts";
 import { type ApprovalRow, checkRecords } from "./recordRules";
+import { isTeamApproval, teamProblems } from "./teamRules";
 
 export const GENESIS = "0".repeat(64);
 
@@ -58,7 +59,7 @@ export interface ApprovalRecord {
 }
 
 export interface Check {
-  id: "pin" | "history" | "receipts" | "checkpoint" | "chain" | "root" | "rules" | "records" | "inclusion" | "logged" | "key" | "signature" | "statement" | "orders";
+  id: "pin" | "history" | "receipts" | "checkpoint" | "chain" | "root" | "rules" | "records" | "inclusion" | "logged" | "key" | "signature" | "statement" | "orders" | "team";
   label: string;
   ok: boolean;
   detail: string;
@@ -382,6 +383,17 @@ export async function verifyApproval(record: ApprovalRecord, all: LogEntryRow[],
         ? `RFC 8785 SHA-256 ${digest.slice(0, 23)}…`
         : `the stored orders of ${record.mission}@v${record.version} do not hash to the signed digest ${record.digest}`,
     });
+    // A team's approval also signs each member's digest: single-vehicle approvals get no check.
+    if (statement && isTeamApproval(record.orders, statement.predicate)) {
+      const problems = await teamProblems(record.orders, statement.predicate);
+      const members = Object.keys((statement.predicate?.team ?? {}) as object);
+      checks.push({
+        id: "team",
+        label: "Each team member's orders hash to its signed digest",
+        ok: problems.length === 0,
+        detail: problems.length ? firstProblems(problems) : `${members.length} members: ${members.join(", ")}`,
+      });
+    }
   }
   return checks;
 }

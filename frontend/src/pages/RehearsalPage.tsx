@@ -12,6 +12,7 @@ import { goals, OUTCOME_LABEL, OUTCOMES, type Orders, type Outcome, successors, 
 import { type MemberSpec, teamOf } from "../editor/scope";
 import { formatDateTime, shortDigest } from "../format";
 import { useLoad } from "../useLoad";
+import { type MemberPaths, TeamMemberSources } from "./rehearsal/TeamMemberSources";
 import { outcomeKey, pathOrder, stepPlace } from "./rehearsalOrder";
 import "./rehearsal.css";
 
@@ -201,6 +202,7 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
         <StartForm
           mission={mission}
           team={team !== null}
+          vehicles={team?.map((m) => m.vehicle) ?? []}
           busy={busy}
           onStart={(body) =>
             act(async () => {
@@ -416,16 +418,19 @@ type StartBody = {
   path_index?: number | null;
   faults: string[];
   version?: number | null;
+  member_paths?: MemberPaths;
 };
 
 function StartForm({
   mission,
   team,
+  vehicles,
   busy,
   onStart,
 }: {
   mission: MissionDetail;
   team: boolean;
+  vehicles: string[];
   busy: boolean;
   onStart: (body: StartBody) => void;
 }) {
@@ -437,6 +442,7 @@ function StartForm({
   const [pathIndex, setPathIndex] = useState(1);
   const [version, setVersion] = useState<string>("");
   const [faults, setFaults] = useState<string[]>([]);
+  const [memberPaths, setMemberPaths] = useState<MemberPaths>({});
   return (
     <form
       className="rehearsal-start"
@@ -449,6 +455,7 @@ function StartForm({
           path_index: source === "replay" ? pathIndex : null,
           faults,
           version: version ? Number(version) : null,
+          ...(team ? { member_paths: memberPaths } : {}),
         });
       }}
     >
@@ -466,10 +473,11 @@ function StartForm({
       {team && (
         <p className="hint" data-testid="team-rehearsal-note">
           A team rehearses every vehicle in one scene and one clock: each vehicle&apos;s outcomes come from its
-          simulation, and a vehicle at a meeting holds there until its partners come; the meeting then ends for
-          all with one shared outcome.
+          simulation or a replayed path of its own orders, and a vehicle at a meeting holds there until its partners
+          come; the meeting then ends for all with one shared outcome.
         </p>
       )}
+      {team && <TeamMemberSources vehicles={vehicles} value={memberPaths} onChange={setMemberPaths} />}
       <label>
         Outcomes
         <select value={source} onChange={(e) => setSource(e.target.value as Source)} data-testid="rehearsal-source">

@@ -13,8 +13,9 @@ from pydantic import BaseModel, Field, model_validator
 
 from ...errors import Unprocessable
 from ...export.execution_input import ExecutionInputError, to_execution_log
-from ...export.rehearsal_log import rehearsal_runs
+from ...export.rehearsal_log import RehearsalRecordError, RehearsalRun, rehearsal_runs
 from ...limits import CLOCK_SKEW
+from ...orders.model import Orders
 from ...orders.reader import orders_from_data
 from ...rehearse.execution import ExecutionLogError, ExecutionVerdict, check_execution, read_log
 from ...rehearse.execution_evidence import TimeWindow
@@ -111,6 +112,9 @@ class RecordedExecutionOut(BaseModel):
 
 class RehearsalRunOut(BaseModel):
     claimed_path: int | None = Field(description="the path number the rehearsal reported")
+    vehicle: str | None = Field(
+        default=None, description="a team's rehearsal: the member whose run this is, checked "
+        "against that member's orders")
     verdict: ExecutionOut
 
 
@@ -211,17 +215,33 @@ def get_record_executions(approval_id: RowId, db: Db) -> RecordExecutionsOut:
     digest = db.get_one(Submission, approval.submission_id).rehearsal_digest
     if digest is not None:
         orders = orders_from_data(version.orders)
-        rehearsal = []
-        for run in rehearsal_runs(dict(get_record(db, digest).record)):
-            try:
-                verdict = _out(check_execution(orders, read_log(run.ndjson)), log_index=None,
-                               format="rehearsal")
-            except ExecutionLogError as exc:
-                verdict = ExecutionOut(ok=False, status="unverified", evidence=EvidenceOut(
-                    complete=False, timed=False, untimed_steps=[], constraints_read=[],
-                    constraints_unread=[], gaps=[str(exc)]),
-                                       path=None, terminal=None, summary=str(exc),
-                                       deviations=[], log_index=None, format="rehearsal")
-            rehearsal.append(RehearsalRunOut(claimed_path=run.claimed_path, verdict=verdict))
+        record = dict(get_record(db, digest).record)
+        # A team's record holds each member's runs: each is checked against its own orders.
+        members = [(m.vehicle, m.orders) for m in orders.team] if orders.team else [
+            (None, orders)]
+        rehearsal = [RehearsalRunOut(claimed_path=run.claimed_path, vehicle=vehicle,
+                                     verdict=_rehearsal_verdict(member_orders, run.ndjson))
+                     for vehicle, member_orders in members
+                     for run in _member_runs(record, vehicle)]
     return RecordExecutionsOut(decision=approval.decision, executions=executions,
                                rehearsal=rehearsal)
+
+
+def _member_runs(record: dict[str, Any], vehicle: str | None) -> list[RehearsalRun]:
+    """The member's runs; none when the record does not hold that member (a record made
+    before members carried their runs, which the verdicts then leave out)."""
+    try:
+        return rehearsal_runs(record, vehicle)
+    except RehearsalRecordError:
+        return []
+
+
+def _rehearsal_verdict(orders: Orders, ndjson: str) -> ExecutionOut:
+    try:
+        return _out(check_execution(orders, read_log(ndjson)), log_index=None,
+                    format="rehearsal")
+    except ExecutionLogError as exc:
+        return ExecutionOut(ok=False, status="unverified", evidence=EvidenceOut(
+            complete=False, timed=False, untimed_steps=[], constraints_read=[],
+            constraints_unread=[], gaps=[str(exc)]), path=None, terminal=None, summary=str(exc),
+            deviations=[], log_index=None, format="rehearsal")

@@ -178,8 +178,20 @@ class TeamRecordInputs(BaseModel):
 
 
 class TeamRecordMember(BaseModel):
+    """One vehicle of a team's record: its own run fields as a one-vehicle record holds them
+    (its events are the record's events naming it). Records made before these fields existed
+    (2026-12-04) lack them."""
+
     vehicle: str
     state: Literal["running", "waiting", "finished", "deadlocked"]
+    orders: RecordOrders | None = None
+    goals: list[str] = []
+    outcomes: list[str] = []
+    terminal: str | None = None
+    terminal_kind: str | None = None
+    steps: int = 0
+    legs_flown: list[FlownLeg] = []
+    unmonitored_constraints: list[str] = []
     runs: list[RecordRun]
     energy: TeamRecordEnergy
     sim_time_s: Number

@@ -19,7 +19,7 @@ import anyio
 from fastapi import APIRouter, Path, Query, Request, WebSocket
 from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import RedirectResponse, Response
-from pydantic import BaseModel, Field
+from pydantic import BaseModel, Field, StringConstraints
 
 from ...errors import DomainError, Unprocessable
 from ...orders.reader import orders_from_data
@@ -55,6 +55,9 @@ RecordDigest = Annotated[str, Path(pattern=r"^sha256:[0-9a-f]{64}$")]
 # `VEHICLE:` before a fault names one member of a team (without it: every member).
 FaultName = Annotated[str, Field(min_length=1, max_length=110,
                                  pattern=r"^([A-Za-z0-9_.-]{1,64}:)?[a-z][a-z0-9_]*$")]
+VehicleName = Annotated[str, StringConstraints(min_length=1, max_length=64,
+                                               pattern=r"^[A-Za-z0-9_.-]+$")]
+PathNumber = Annotated[int, Field(ge=1, le=2**62)]
 FaultSpecText = Annotated[str, Field(
     min_length=1, max_length=210,
     pattern=r"^([A-Za-z0-9_.-]{1,64}:)?[a-z][a-z0-9_]*(@[A-Za-z0-9_.:-]{1,100})?$")]
@@ -75,6 +78,10 @@ class RehearsalIn(RequestBody):
                                 "auto pace (each goal's plan in about three seconds)")
     version: int | None = Field(default=None, ge=1, le=2**31 - 1,
                                 description="the version to rehearse; omitted: the draft")
+    member_paths: dict[VehicleName, PathNumber] = Field(
+        default_factory=dict, max_length=8,
+        description="a team's orders: members that replay one path of their own orders "
+        "(numbered as their /paths), by vehicle; the others follow `source`")
 
 
 class OutcomeIn(RequestBody):
@@ -146,11 +153,15 @@ def start_rehearsal(mission_id: str, body: RehearsalIn, request: Request,
     region = mission_box(orders)
     charts = list(charts_in(db, region)) if region is not None else []
 
+    if body.member_paths and orders.team is None:
+        raise Unprocessable("the rehearsal cannot start: member paths are for a team's orders; "
+                            "these are one vehicle's (give path_index)")
     options = RehearsalOptions(source=body.source, seed=body.seed, path_index=body.path_index,
                                faults=tuple(body.faults), speed=body.speed)
     try:
         live = hub_of(request).start(orders, user_id=principal.user.id, mission_id=mission_id,
-                                     version=body.version, options=options, charts=charts)
+                                     version=body.version, options=options, charts=charts,
+                                     paths=body.member_paths)
     except ValueError as exc:
         raise Unprocessable(f"the rehearsal cannot start: {exc}") from None
     if live.rehearsal.orders_digest != digest:
@@ -159,7 +170,8 @@ def start_rehearsal(mission_id: str, body: RehearsalIn, request: Request,
     record(db, kind="rehearsal.started", actor=principal.user, mission_id=mission_id,
            after=live.rehearsal.orders_digest, detail={
                "rehearsal": live.rehearsal.id, "version": body.version, "source": body.source,
-               "seed": body.seed, "path_index": body.path_index, "faults": body.faults})
+               "seed": body.seed, "path_index": body.path_index, "faults": body.faults,
+               **({"member_paths": body.member_paths} if body.member_paths else {})})
     return _out(live)
 
 

@@ -64,6 +64,7 @@ export function ExecutionsSection({ approvalId }: { approvalId: number }) {
             {data.rehearsal.map((run, i) => (
               <li key={i} className={run.verdict.ok ? "verdict ok" : "verdict bad"}>
                 <span data-testid="rehearsal-verdict">
+                  {run.vehicle ? `${run.vehicle}: ` : ""}
                   {run.verdict.ok
                     ? `rehearsed as path ${run.verdict.path}, no deviation`
                     : `rehearsal run ${i + 1}: ${run.verdict.summary}`}

@@ -16,6 +16,23 @@ import "./review.css";
 /** What the summary reads: a stored record (RecordDetail) or the one an approval cites. */
 type RecordDetail = Pick<Schema<"RecordDetail">, "digest" | "version" | "source" | "owner" | "created_at" | "replay" | "record">;
 type Run = Schema<"RecordRun">;
+type RecordBody = RecordDetail["record"];
+
+/** The record's runs as rows: one vehicle's, or each team member's labelled with its vehicle
+ * (a team's record has no single run of its own), and how it ended. */
+export function summaryRows(record: RecordBody): { ended: string; rows: { label: string; run: Run }[] } {
+  if (record.team) {
+    const rows = record.team.members.flatMap((m) =>
+      m.runs.map((run, i) => ({ label: m.runs.length > 1 ? `${m.vehicle}, run ${i + 1}` : m.vehicle, run })),
+    );
+    return { ended: `the joint end ${record.team.joint_end}`, rows };
+  }
+  const runs = record.runs.length > 0 ? record.runs : [{ path_index: null, goals: record.goals, outcomes: record.outcomes, terminal: record.terminal, terminal_kind: record.terminal_kind }];
+  const ended = record.terminal
+    ? `${record.terminal}${record.terminal_kind ? ` (${record.terminal_kind})` : ""}`
+    : "did not reach a terminal";
+  return { ended, rows: runs.map((run, i) => ({ label: runs.length > 1 ? `Run ${i + 1}` : "Path", run })) };
+}
 
 const SOURCE: Record<string, string> = {
   manual: "outcomes chosen step by step",
@@ -61,10 +78,7 @@ function Steps({ run, titles }: { run: Run; titles: ReadonlyMap<string, string> 
 
 export function RehearsalSummary({ detail, titles }: { detail: RecordDetail; titles: ReadonlyMap<string, string> }) {
   const record = detail.record;
-  const runs = record.runs.length > 0 ? record.runs : [{ path_index: null, goals: record.goals, outcomes: record.outcomes, terminal: record.terminal, terminal_kind: record.terminal_kind }];
-  const ended = record.terminal
-    ? `${record.terminal}${record.terminal_kind ? ` (${record.terminal_kind})` : ""}`
-    : "did not reach a terminal";
+  const { ended, rows } = summaryRows(record);
   return (
     <table className="rehearsal-summary" data-testid="rehearsal-summary">
       <caption className="visually-hidden">Rehearsal record {shortDigest(detail.digest, 12)}</caption>
@@ -75,10 +89,10 @@ export function RehearsalSummary({ detail, titles }: { detail: RecordDetail; tit
             {record.state === "stopped_early" ? `Stopped early; ${ended}` : `Ended at ${ended}`}
           </td>
         </tr>
-        {runs.map((run, i) => (
+        {rows.map(({ label, run }, i) => (
           <tr key={i}>
             <th scope="row">
-              {runs.length > 1 ? `Run ${i + 1}` : "Path"}
+              {label}
               {run.path_index ? ` #${run.path_index}` : ""}
             </th>
             <td>

@@ -202,6 +202,7 @@ function DecisionForm({
         rehearsal: submission.rehearsal ?? null,
         campaigns: cited.campaigns.map((c) => c.digest ?? ""),
         checker: review.checker,
+        orders: review.orders,
       });
       const stored = unwrap(
         await api.POST("/api/submissions/{submission_id}/decision", {

@@ -64,3 +64,18 @@ describe("signPrepared", () => {
     ).rejects.toThrow("another rehearsal record");
   });
 });
+
+describe("signPrepared on a team's orders", () => {
+  it("signs only a statement whose member digests are those of the reviewed team", async () => {
+    const { default: vectors } = await import("../../crypto/__fixtures__/team.json");
+    const team = vectors.statement.predicate.team as Record<string, string>;
+    const orders = vectors.orders.team;
+    const ok = await signPrepared(prepared({ ...base, team }), await key(), { ...shown, orders });
+    expect(JSON.parse(ok).signatures).toHaveLength(1);
+    const [first] = Object.keys(team);
+    const missing = Object.fromEntries(Object.entries(team).filter(([v]) => v !== first));
+    await expect(signPrepared(prepared({ ...base, team: missing }), await key(), { ...shown, orders })).rejects.toThrow(
+      `team member ${first!}: the statement signs no digest for it`,
+    );
+  });
+});

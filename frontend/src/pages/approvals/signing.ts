@@ -5,6 +5,7 @@ import { api, unwrap } from "../../api/client";
 import { equalBytes, fromBase64 } from "../../crypto/bytes";
 import { pae, signEnvelope } from "../../crypto/dsse";
 import { listKeys, type StoredKey } from "../../crypto/keystore";
+import { teamProblems } from "../../crypto/teamRules";
 import type { Key, Prepared } from "./api";
 
 export interface SigningKeys {
@@ -60,6 +61,8 @@ export async function signPrepared(
     campaigns?: string[];
     /** The fingerprint of the checks whose findings the review showed. */
     checker?: string;
+    /** The orders the review showed: a team's statement must sign each member's digest. */
+    orders?: unknown;
   },
 ): Promise<string> {
   const payload = fromBase64(prepared.payload, "the payload");
@@ -90,6 +93,12 @@ export async function signPrepared(
     const shown = [...expected.campaigns].sort();
     if (signed.length !== shown.length || signed.some((d, i) => d !== shown[i])) {
       throw new Error("The statement cites other rehearsal campaigns than the review showed; nothing was signed.");
+    }
+  }
+  if (expected.orders !== undefined) {
+    const problems = await teamProblems(expected.orders, predicate);
+    if (problems.length) {
+      throw new Error(`The statement's team members disagree with the reviewed orders: ${problems.join("; ")}; nothing was signed.`);
     }
   }
   return signEnvelope(prepared.payloadType, payload, key.keyPair.privateKey, key.keyId);
