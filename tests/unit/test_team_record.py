@@ -81,4 +81,4 @@ def test_execution_check_reads_a_team_record_per_member(
         capsys.readouterr().err
     assert main(["execution", "check", "example:search-and-sample", str(record_file),
                  "--member", "vehicle-2"]) == 2
-    assert "the orders are one vehicle's" in capsys.readouterr().err
+    assert "these orders are one vehicle's, not a team's" in capsys.readouterr().err
