@@ -17,7 +17,7 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..orders.canonical import digest
 from ..orders.defaults import defaulted_findings
@@ -29,7 +29,6 @@ from .geo import check_geo
 from .graph import MissionGraph, build_graph
 from .legs import mission_legs
 from .logic import LogicCache, check_logic
-from .meo import MeoResult, meo_reasoning
 from .meo.direct import CODES, meo_only_findings
 from .parts import SHARED_PARTS, PartKeys, PartsCache, part_keys
 from .paths import PathCounts, count_paths
@@ -43,6 +42,9 @@ from .structure import check_structure
 from .team_report import TeamSummary
 from .text import check_text
 from .vehicle import check_vehicle
+
+if TYPE_CHECKING:
+    from .meo.reasoned import MeoResult
 
 # The MEO route re-derives the structural verdicts too (tests prove both routes agree); the
 # report takes from it only the rules no other check covers (MEO_ONLY_CODES), evaluated
@@ -77,6 +79,8 @@ class Report:
     @cached_property
     def meo(self) -> MeoResult | None:
         """The MEO reasoning (graph, inference, explanation), run when first asked for."""
+        from .meo.reasoned import meo_reasoning  # rdflib and owlrl: only for the explanation
+
         return meo_reasoning(self.orders) if self.orders is not None else None
 
     @property
