@@ -35,16 +35,15 @@ from .paths import PathCounts, count_paths
 from .patterns import check_patterns
 from .probability import Probabilities, declares_probabilities, outcome_probabilities
 from .procedures import procedure_findings
-from .properties import check_properties
 from .refine import Flat, dedupe_copies, flat_graph, flatten, has_refinements, refine_findings
 from .rules_design import rules_findings
 from .structure import check_structure
-from .team_report import TeamSummary
 from .text import check_text
 from .vehicle import check_vehicle
 
 if TYPE_CHECKING:
     from .meo.reasoned import MeoResult
+    from .team_report import TeamSummary
 
 # The MEO route re-derives the structural verdicts too (tests prove both routes agree); the
 # report takes from it only the rules no other check covers (MEO_ONLY_CODES), evaluated
@@ -167,6 +166,8 @@ def validate(
     # No properties, no findings (check_properties would still parse the logic model).
     properties = store.get("properties", keys.properties) if orders.properties else []
     if properties is None:
+        from .properties import check_properties  # orders with path properties only
+
         properties = check_properties(checked, mission_graph(), cache,
                                       timeout_ms=SOLVER_CALL_MS,
                                       total_timeout_s=max(0.0, deadline - time.monotonic()))
