@@ -15,7 +15,7 @@ from countersign.cli import rehearse as cli_rehearse
 
 HEAVY = ("z3", "rdflib", "networkx", "fastapi", "sqlalchemy", "pydantic", "viser", "owlrl",
          "numpy", "shapely", "pyproj", "pyoxigraph", "html5rdf", "uvicorn", "starlette",
-         "gunicorn", "http.client", "urllib.request", "pint")
+         "gunicorn", "http.client", "urllib.request", "pint", "socket")
 
 
 def _loaded_after(code: str) -> list[str]:
