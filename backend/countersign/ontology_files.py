@@ -4,14 +4,13 @@ The files live once, at the repository top (DESIGN.md layout), and are read wher
 `COUNTERSIGN_ONTOLOGY_DIR` if set, else `ontology/` beside the package's source tree (an
 editable install or a checkout), else `ontology/` in the working directory. The Docker image
 copies the folder and sets the variable. The files are parsed by `orders.ontology.load_graph`
-(this module imports only the settings).
+(this module imports nothing heavy: the settings, and pydantic-settings with them, only when
+the folder is looked up).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
-
-from .settings import InstallationEnvironment, read
 
 MEO = "meo.ttl"
 SHAPES = "shapes.ttl"
@@ -23,6 +22,8 @@ class OntologyNotFound(RuntimeError):
 
 
 def ontology_dir() -> Path:
+    from .settings import InstallationEnvironment, read
+
     candidates: list[Path] = []
     configured = read(InstallationEnvironment).ontology_dir
     if configured is not None:

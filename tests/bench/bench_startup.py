@@ -12,11 +12,16 @@ here). PYTHONDONTWRITEBYTECODE in the caller's environment is dropped for them, 
 every run would compile Countersign's 80-odd modules again (about 0.3 s of `validate` on a
 quiet machine), which is not how it runs once installed.
 
-Run: .venv/bin/python -m tests.bench.bench_startup
+With `--baseline DIR` (a `backend` folder of another commit, e.g. extracted with
+`git archive COMMIT backend ontology | tar -x -C /tmp/base`) each command runs with that code
+too, interleaved with this checkout's runs, so that both figures share the machine's load.
+
+Run: .venv/bin/python -m tests.bench.bench_startup [--baseline /tmp/base/backend]
 """
 
 from __future__ import annotations
 
+import argparse
 import os
 import statistics
 import subprocess
@@ -31,6 +36,7 @@ COMMANDS: dict[str, list[str]] = {
         sys.executable, "-m", "countersign.cli", "validate", "example:search-and-sample"],
 }
 TARGETS = {"countersign --help": 0.3, "countersign validate example:search-and-sample": 0.8}
+CPU_TARGETS = {"countersign validate example:search-and-sample": 0.3}
 CACHED_ENV = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
 
 
@@ -54,15 +60,46 @@ def measure(argv: list[str], runs: int = RUNS,
     return (statistics.median(s[0] for s in samples), statistics.median(s[1] for s in samples))
 
 
+def _with_path(backend: str) -> dict[str, str]:
+    return {**CACHED_ENV, "PYTHONPATH": backend}
+
+
+def measure_side_by_side(argv: list[str], baseline: str,
+                         runs: int = RUNS) -> tuple[tuple[float, float], tuple[float, float]]:
+    """Medians (wall, CPU) of this checkout and of the baseline's code, runs interleaved."""
+    ours, theirs = CACHED_ENV, _with_path(baseline)
+    _run_once(argv, ours)
+    _run_once(argv, theirs)
+    pairs = [(_run_once(argv, ours), _run_once(argv, theirs)) for _ in range(runs)]
+
+    def medians(samples: list[tuple[float, float]]) -> tuple[float, float]:
+        return (statistics.median(s[0] for s in samples),
+                statistics.median(s[1] for s in samples))
+
+    return medians([p[0] for p in pairs]), medians([p[1] for p in pairs])
+
+
 def main() -> None:
-    figures = {label: measure(argv) for label, argv in COMMANDS.items()}
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--baseline", metavar="DIR",
+                        help="a backend folder of other code to run beside this checkout's")
+    args = parser.parse_args()
+    figures: dict[str, tuple[float, float]] = {}
+    for label, argv in COMMANDS.items():
+        if args.baseline and label != "python -c pass":
+            figures[label], figures[f"  baseline: {label}"] = measure_side_by_side(
+                argv, args.baseline)
+        else:
+            figures[label] = measure(argv)
     _, base_cpu = figures["python -c pass"]
-    print(f"{'command':<48} {'wall s':>7} {'cpu s':>7} {'x pass (cpu)':>13} {'target':>7}")
+    print(f"{'command':<60} {'wall s':>7} {'cpu s':>7} {'x pass (cpu)':>13} {'target':>7} "
+          f"{'cpu target':>10}")
     for label, (wall, cpu) in figures.items():
-        target = TARGETS.get(label)
+        target, cpu_target = TARGETS.get(label), CPU_TARGETS.get(label)
         shown = f"{target:g}" if target is not None else "-"
+        shown_cpu = f"{cpu_target:g}" if cpu_target is not None else "-"
         ratio = cpu / base_cpu if base_cpu > 0 else float("nan")
-        print(f"{label:<48} {wall:7.3f} {cpu:7.3f} {ratio:13.1f} {shown:>7}")
+        print(f"{label:<60} {wall:7.3f} {cpu:7.3f} {ratio:13.1f} {shown:>7} {shown_cpu:>10}")
     print(f"(median of {RUNS} runs each; load average {os.getloadavg()[0]:.1f})")
 
 

@@ -30,12 +30,12 @@ from rdflib.term import Node
 from countersign.orders.findings import Finding, error
 from countersign.orders.model import Orders, Vehicle
 from countersign.orders.turtle import MEO, OUTCOME_PROPERTY, local_id, natural_key
-from countersign.verify.meo import explain, meo_reasoning
 from countersign.verify.meo.direct import _labels, _m6, _m7
+from countersign.verify.meo.reasoned import explain, meo_reasoning
 from countersign.verify.meo.reasoning import Inference
-from countersign.verify.meo.shapes import shape_info
 
 from .meo_shapes import Violation, native_violations, shacl_violations, validation_graph
+from .shape_info import shape_info
 
 Engine = Literal["native", "shacl"]
 

@@ -15,7 +15,7 @@ from countersign.cli import rehearse as cli_rehearse
 
 HEAVY = ("z3", "rdflib", "networkx", "fastapi", "sqlalchemy", "pydantic", "viser", "owlrl",
          "numpy", "shapely", "pyproj", "pyoxigraph", "html5rdf", "uvicorn", "starlette",
-         "gunicorn", "http.client", "urllib.request", "pint")
+         "gunicorn", "http.client", "urllib.request", "pint", "socket")
 
 
 def _loaded_after(code: str) -> list[str]:
@@ -70,3 +70,35 @@ def test_the_rules_help_lists_the_built_in_theories() -> None:
     text = rules.format_help()
     assert "{theories}" not in text
     assert all(name in text for name in theory_names())
+
+
+# What `countersign validate` of the exemplar has no use for: the MEO route (rdflib, owlrl,
+# pyoxigraph: only --explain reasons over the graph), pint (its texts write their numbers in the
+# units the conditions read), the rules engine (no rules), path properties and teams (none), the
+# store and the server. Each was once imported by every validation.
+NOT_FOR_VALIDATE = ("rdflib", "owlrl", "pyoxigraph", "pint", "networkx", "sqlalchemy",
+                    "fastapi", "numpy.ma", "countersign.verify.meo.reasoned",
+                    "countersign.orders.turtle", "countersign.rules",
+                    "countersign.verify.properties", "countersign.verify.team_report")
+
+
+def _modules_after_cli(*argv: str) -> set[str]:
+    """The modules loaded by `countersign ARGV` run as `python -m countersign.cli` runs it."""
+    code = ("import contextlib, io, json, runpy, sys\n"
+            f"sys.argv = ['countersign', *{list(argv)!r}]\n"
+            "out = io.StringIO()\n"
+            "with contextlib.suppress(SystemExit), contextlib.redirect_stdout(out):\n"
+            "    runpy.run_module('countersign.cli', run_name='__main__')\n"
+            "print(json.dumps([out.getvalue(), sorted(sys.modules)]))\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True, timeout=300)
+    output, modules = json.loads(done.stdout.strip().splitlines()[-1])
+    assert "OK: 0 error(s)" in output  # the command ran and validated
+    return set(modules)
+
+
+def test_validating_the_exemplar_imports_only_what_it_needs() -> None:
+    loaded = _modules_after_cli("validate", "example:search-and-sample")
+    assert {"z3", "shapely", "countersign.verify.meo.direct"} <= loaded  # it did check
+    assert sorted(m for m in loaded
+                  if any(m == name or m.startswith(f"{name}.") for name in NOT_FOR_VALIDATE)) == []

@@ -37,7 +37,7 @@ LONG_FUNCTIONS: dict[str, str] = {
         "issue 35 item 1)",
     "countersign/verify/logic/goal_set.py:explain_goal_set":
         "the explanation's cases in the order the report prints them",
-    "countersign/verify/meo/__init__.py:explain":
+    "countersign/verify/meo/reasoned.py:explain":
         "the MEO rules' explanations one after another (one rule set, issue 35 item 4)",
     "countersign/verify/meo/direct.py:meo_only_findings":
         "the MEO rules one after another (one rule set, issue 35 item 4)",

@@ -169,3 +169,30 @@ def test_leg_from_inside_to_outside_is_a_crossing(
     shape = box(x, y, x + size, y + size)
     assert crosses(LineString([(x + a * size, y + b * size), (x + far * size, y + b * size)]),
                    shape)
+
+
+def test_the_frame_projects_as_pyproj_chooses_bit_for_bit() -> None:
+    """legs._forward writes out the pipeline PROJ chooses from EPSG:4326 to the frame's
+    azimuthal equidistant CRS (to skip PROJ's database): the same metres and degrees, bit for
+    bit, both ways, for frames anywhere (poles and antimeridian too) and points around them."""
+    import random
+
+    from pyproj import CRS, Transformer
+
+    from countersign.verify.legs import _forward
+
+    rng = random.Random(20261204)
+    frames = [(90.0, 0.0), (-90.0, 180.0), (0.0, -180.0), (36.75, -121.9), (1e-05, -0.0001)]
+    frames += [(round(rng.uniform(-90, 90), 4), round(rng.uniform(-180, 180), 4))
+               for _ in range(40)]
+    for lat0, lon0 in frames:
+        crs = CRS.from_dict({"proj": "aeqd", "lat_0": lat0, "lon_0": lon0, "datum": "WGS84",
+                             "units": "m"})
+        chosen = Transformer.from_crs("EPSG:4326", crs, always_xy=True)
+        ours = _forward(lat0, lon0)
+        lons = [lon0 + rng.uniform(-2, 2) for _ in range(50)]
+        lats = [max(-90.0, min(90.0, lat0 + rng.uniform(-2, 2))) for _ in range(50)]
+        xy = chosen.transform(lons, lats)
+        assert ours.transform(lons, lats) == xy, (lat0, lon0)
+        assert (ours.transform(*xy, direction="INVERSE")
+                == chosen.transform(*xy, direction="INVERSE")), (lat0, lon0)

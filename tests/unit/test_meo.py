@@ -25,12 +25,12 @@ from countersign.orders.ontology import load_graph
 from countersign.orders.turtle import MEO as M
 from countersign.orders.turtle import MissionIris, orders_to_graph, read_turtle
 from countersign.verify.meo.reasoning import FACT_PROPERTIES, infer
-from countersign.verify.meo.shapes import shape_info
 from countersign.verify.structure import check_structure
 
 from ..bench.bench_meo import hermit_available, hermit_seconds, meo_mission, naive_closure
 from ..oracles.meo_route import meo_check
 from ..oracles.meo_shapes import native_violations, shacl_violations, validation_graph
+from ..oracles.shape_info import shape_info
 
 TABLE_2 = {
     *(f"M{i}" for i in range(1, 8)),

@@ -19,7 +19,7 @@ from countersign.orders.expressions.vocabulary import MARITIME_QUANTITIES
 from countersign.orders.model import Orders, Quantity
 from countersign.verify import validate
 from countersign.verify.text import check_text, disagreements
-from countersign.verify.units import REL_TOL
+from countersign.verify.units import KNOWN, REL_TOL, Unit, convert, parse_unit, registry
 
 from .test_cli_startup import _loaded_after
 
@@ -176,4 +176,23 @@ def test_pint_loads_only_when_a_text_may_write_a_unit() -> None:
              "from countersign.verify.text import check_text\n"
              "check_text(Orders.model_validate_json({!r}))\n")
     assert "pint" not in _loaded_after(probe.format(json.dumps(data)))
-    assert "pint" in _loaded_after(probe.format(json.dumps(_exemplar())))
+    # The exemplar writes its numbers in the units its conditions read ("1000 meters"), which
+    # the known units cover; "1 km" over a quantity in metres needs pint's conversion.
+    assert "pint" not in _loaded_after(probe.format(json.dumps(_exemplar())))
+    data = _exemplar()
+    data["constraints"][3]["text"] = "A lateral standoff of 1 km from shipping lanes."
+    data["constraints"][3]["expr"] = "lane_distance_m >= 1000"
+    assert "pint" in _loaded_after(probe.format(json.dumps(data)))
+
+
+@pytest.mark.parametrize("word", sorted(KNOWN))
+def test_the_units_known_without_pint_are_as_pint_reads_them(word: str) -> None:
+    """KNOWN (the units read without importing pint) names each unit as pint does, and a
+    number in the unit it is compared in is what pint's conversion gives."""
+    assert str(registry().parse_units(word)) == KNOWN[word]
+    unit = parse_unit(word)
+    assert unit is not None and unit.name == KNOWN[word]
+    for value in (1000.0, 0.1, 3.3333333333333335, 1e-300, 5e20):
+        by_pint = float(registry().Quantity(value, registry().parse_units(word)).to(
+            registry().parse_units(KNOWN[word])).magnitude)
+        assert convert(value, unit, Unit(KNOWN[word], KNOWN[word])) == by_pint == value

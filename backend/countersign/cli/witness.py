@@ -9,7 +9,6 @@ fork is reported naming both tree heads, exit 1; nothing is cosigned then."""
 from __future__ import annotations
 
 import argparse
-import socket
 import sys
 import time
 from collections.abc import Callable
@@ -86,8 +85,10 @@ def add_commands(commands: argparse._SubParsersAction) -> None:  # type: ignore[
     witness.add_argument("--key", type=Path, default=None, metavar="WITNESS_KEY",
                          help="the witness's Ed25519 private key (PEM, `countersign keygen`); "
                          "cosign and post the checkpoint")
-    witness.add_argument("--name", default=f"witness.{socket.gethostname()}",
-                         help="the witness's key name in its cosignatures")
+    # The host's name is looked up when the command runs (socket: not for every --help).
+    witness.add_argument("--name", default=None,
+                         help="the witness's key name in its cosignatures "
+                         "(default: witness.HOSTNAME)")
     witness.add_argument("--token-file", type=Path, default=None,
                          help="API token (otherwise COUNTERSIGN_TOKEN): an auditor's")
     witness.add_argument("--print-key", action="store_true",
@@ -110,6 +111,10 @@ def cmd_witness(args: argparse.Namespace) -> int:
     from ..approvals import dsse
     from ..approvals.note import COSIGNATURE, verifier_key
 
+    if args.name is None:
+        import socket
+
+        args.name = f"witness.{socket.gethostname()}"
     key = None
     if args.key is not None:
         try:

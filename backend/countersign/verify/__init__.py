@@ -1,7 +1,8 @@
 """Every check on mission orders; `validate(orders)` runs them all and returns the report.
 
-The report module pulls in z3, rdflib and owlrl, so it is imported when `validate` or `Report`
-is first asked for, not whenever a light submodule (expressions, structure) is.
+The report module pulls in numpy, shapely and pyproj (and z3 when there is logic to check), so
+it is imported when `validate` or `Report` is first asked for, not whenever a light submodule
+(expressions, structure) is.
 """
 
 from __future__ import annotations

@@ -17,7 +17,7 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from ..orders.canonical import digest
 from ..orders.defaults import defaulted_findings
@@ -29,20 +29,21 @@ from .geo import check_geo
 from .graph import MissionGraph, build_graph
 from .legs import mission_legs
 from .logic import LogicCache, check_logic
-from .meo import MeoResult, meo_reasoning
 from .meo.direct import CODES, meo_only_findings
 from .parts import SHARED_PARTS, PartKeys, PartsCache, part_keys
 from .paths import PathCounts, count_paths
 from .patterns import check_patterns
 from .probability import Probabilities, declares_probabilities, outcome_probabilities
 from .procedures import procedure_findings
-from .properties import check_properties
 from .refine import Flat, dedupe_copies, flat_graph, flatten, has_refinements, refine_findings
 from .rules_design import rules_findings
 from .structure import check_structure
-from .team_report import TeamSummary
 from .text import check_text
 from .vehicle import check_vehicle
+
+if TYPE_CHECKING:
+    from .meo.reasoned import MeoResult
+    from .team_report import TeamSummary
 
 # The MEO route re-derives the structural verdicts too (tests prove both routes agree); the
 # report takes from it only the rules no other check covers (MEO_ONLY_CODES), evaluated
@@ -77,6 +78,8 @@ class Report:
     @cached_property
     def meo(self) -> MeoResult | None:
         """The MEO reasoning (graph, inference, explanation), run when first asked for."""
+        from .meo.reasoned import meo_reasoning  # rdflib and owlrl: only for the explanation
+
         return meo_reasoning(self.orders) if self.orders is not None else None
 
     @property
@@ -163,6 +166,8 @@ def validate(
     # No properties, no findings (check_properties would still parse the logic model).
     properties = store.get("properties", keys.properties) if orders.properties else []
     if properties is None:
+        from .properties import check_properties  # orders with path properties only
+
         properties = check_properties(checked, mission_graph(), cache,
                                       timeout_ms=SOLVER_CALL_MS,
                                       total_timeout_s=max(0.0, deadline - time.monotonic()))

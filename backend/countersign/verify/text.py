@@ -23,7 +23,7 @@ from ..orders.model import Orders, Quantity
 from .expressions import ExprError, Name, Num, parse, quantity_table, walk
 
 if TYPE_CHECKING:
-    import pint
+    from .units import Unit
 
 # A number as people write it ("1000", "1,000", "2.5"), then an optional unit ("km", "m/s",
 # "°C", "nautical miles"); whether that word is a unit at all is for pint to say.
@@ -37,7 +37,7 @@ _NUMBER = re.compile(
 class _Condition:
     numbers: frozenset[Fraction]
     # The units of the quantities it reads, each as declared (for the message) and as read.
-    units: tuple[tuple[str, pint.Unit], ...] = ()
+    units: tuple[tuple[str, Unit], ...] = ()
 
 
 def _parsed(source: str) -> tuple[frozenset[Fraction], frozenset[str]] | None:
@@ -56,10 +56,10 @@ def _parsed(source: str) -> tuple[frozenset[Fraction], frozenset[str]] | None:
     return frozenset(numbers), frozenset(names)
 
 
-def _units(names: frozenset[str], quantities: Mapping[str, Quantity]) -> dict[str, pint.Unit]:
+def _units(names: frozenset[str], quantities: Mapping[str, Quantity]) -> dict[str, Unit]:
     from .units import unit_of_quantity
 
-    units: dict[str, pint.Unit] = {}
+    units: dict[str, Unit] = {}
     for name in sorted(names):
         spec = quantities.get(name)
         declared = spec.unit if spec is not None else ""

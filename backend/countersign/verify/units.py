@@ -2,13 +2,18 @@
 them (`unit: "m/s"`, or a name ending `_m`, `_mps`, `_wh`), read and converted by pint.
 
 pint is imported and its registry built on first use only: they cost about a second, which
-`countersign --help` and the other light commands must not pay.
+`countersign --help` and the other light commands must not pay. The units people write most
+are known without pint (KNOWN, pint's own names for them, held equal to pint's reading by
+tests/unit/test_text_units.py), and a number in the unit its condition reads needs no
+conversion: text like the exemplar's ("1000 meters" over `depth_m`) is checked without
+importing pint (about a sixth of a `countersign validate` process).
 """
 
 from __future__ import annotations
 
 import functools
 import math
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -32,6 +37,34 @@ _ALIASES: dict[str, str] = {
 # English words (and pi) that pint would read as units ("3 in a row" is not three inches).
 _NOT_UNITS = frozenset({"a", "am", "are", "as", "at", "e", "he", "in", "me", "pi", "pm", "point",
                         "points", "us"})
+
+
+# Words (after _ALIASES) and the name pint gives the unit each reads (str of its pint.Unit).
+KNOWN: dict[str, str] = {
+    "m": "meter", "meter": "meter", "meters": "meter", "metre": "meter", "metres": "meter",
+    "km": "kilometer", "kilometer": "kilometer", "kilometers": "kilometer",
+    "kilometre": "kilometer", "kilometres": "kilometer", "nautical_mile": "nautical_mile",
+    "ft": "foot", "feet": "foot", "foot": "foot", "m/s": "meter / second",
+    "knot": "knot", "knots": "knot", "kn": "knot", "kt": "knot",
+    "s": "second", "second": "second", "seconds": "second", "sec": "second",
+    "min": "minute", "minute": "minute", "minutes": "minute",
+    "h": "hour", "hr": "hour", "hour": "hour", "hours": "hour",
+    "Wh": "watt_hour", "kWh": "kilowatt_hour", "W": "watt", "percent": "percent",
+    "degC": "degree_Celsius", "°C": "degree_Celsius",
+}
+
+
+@dataclass(frozen=True)
+class Unit:
+    """A unit as read from a word: pint's name for it, and the word pint reads it from."""
+
+    name: str
+    word: str = field(compare=False)
+    parsed: pint.Unit | None = field(default=None, compare=False, repr=False)
+
+    @property
+    def pint_unit(self) -> pint.Unit:
+        return self.parsed if self.parsed is not None else registry().parse_units(self.word)
 
 
 @functools.cache
@@ -61,24 +94,26 @@ def pint_cache_folder() -> Path:
 
 # Bounded: the words come from user text, and a server reads many orders.
 @functools.lru_cache(maxsize=1024)
-def parse_unit(word: str) -> pint.Unit | None:
+def parse_unit(word: str) -> Unit | None:
     """The unit a word names, or None when it names none (or reads as an English word)."""
-    import pint
-
     word = " ".join(word.split())
     if word.startswith("°"):
         word = word.replace(" ", "")  # "° C" is "°C"
     if not word or word.lower() in _NOT_UNITS:
         return None
     name = _ALIASES.get(word) or _ALIASES.get(word.lower()) or word
+    if name in KNOWN:
+        return Unit(KNOWN[name], name)
+    import pint
+
     try:
         unit: pint.Unit = registry().parse_units(name)
     except (pint.errors.PintError, AttributeError, TypeError, ValueError, SyntaxError):
         return None
-    return unit
+    return Unit(str(unit), name, unit)
 
 
-def unit_of_quantity(name: str, declared: str) -> pint.Unit | None:
+def unit_of_quantity(name: str, declared: str) -> Unit | None:
     """A quantity's unit: the one declared (in the orders or the built-in vocabulary), else the
     one its name ends with (`lane_distance_m`, `transit_time_min`)."""
     if declared:
@@ -87,12 +122,14 @@ def unit_of_quantity(name: str, declared: str) -> pint.Unit | None:
     return parse_unit(suffix) if sep and head else None
 
 
-def convert(value: float, source: pint.Unit, target: pint.Unit) -> float | None:
+def convert(value: float, source: Unit, target: Unit) -> float | None:
     """`value` in `source` expressed in `target`, or None when they measure different things."""
+    if source.name == target.name:
+        return float(value)  # what pint gives too: the value unchanged
     import pint
 
     try:
-        magnitude = registry().Quantity(value, source).to(target).magnitude
+        magnitude = registry().Quantity(value, source.pint_unit).to(target.pint_unit).magnitude
     except pint.errors.DimensionalityError:
         return None
     return float(magnitude)

@@ -6,13 +6,17 @@ from __future__ import annotations
 
 import math
 import re
-from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Any, Final, TypeVar
+from typing import Any, Final
 
 from rdflib import Namespace, URIRef
 from rdflib.namespace import RDF, XSD
-from rdflib.term import Node
+
+# The IRIs as strings and the id helpers live where rdflib is not needed (validate reads them).
+from ..iris import MISSION_BASE as MISSION_BASE
+from ..iris import first_by_id
+from ..iris import local_id as local_id
+from ..iris import natural_key as natural_key
 
 MEO: Final = Namespace("https://countersign.example/ontology/meo#")
 CS: Final = Namespace("https://countersign.example/ontology/orders#")
@@ -20,7 +24,8 @@ CS: Final = Namespace("https://countersign.example/ontology/orders#")
 # per entry instead of the 3 of a cs:entry node (issue 22). Keys that are not names keep the
 # cs:entry form, which the reader also takes.
 CS_KEY: Final = Namespace("https://countersign.example/ontology/orders/key#")
-MISSION_BASE: Final = "https://countersign.example/mission/"
+# The name the turtle modules import it by.
+_first_by_id: Final = first_by_id
 NPS3: Final = Namespace("https://savage.nps.edu/EthicalControl/ontologies/MissionExecutionOntology#")
 
 OUTCOME_PROPERTY: Final = {
@@ -65,31 +70,6 @@ class MissionIris:
         return {kind: f"{base}/{kind}#" for kind in kinds}
 
 
-def local_id(node: Node) -> str:
-    """The element id an IRI names: the part after '#', else after the last '/'."""
-    text = str(node)
-    if "#" in text:
-        return text.rsplit("#", 1)[1]
-    return text.rstrip("/").rsplit("/", 1)[-1]
-
-
-
-_T = TypeVar("_T")
-
-
-def _first_by_id(items: Iterable[_T]) -> list[_T]:
-    """The first element of each id (a DUP finding reports the others)."""
-    seen: set[str] = set()
-    result: list[_T] = []
-    for item in items:
-        item_id = getattr(item, "id", None)
-        if isinstance(item_id, str) and item_id not in seen:
-            seen.add(item_id)
-            result.append(item)
-    return result
-
-
-
 _NAME: Final = re.compile(r"[a-z][a-z0-9_]*")
 # A map key written as a key: property: a local name every Turtle reader takes as it is.
 _KEY_NAME: Final = re.compile(r"[A-Za-z_][A-Za-z0-9_-]*")
@@ -127,12 +107,3 @@ def _json_scalar(item: Any) -> bool:
 
 
 _JSON_SCALAR: Final = _json_scalar
-
-
-_NATURAL: Final = re.compile(r"(\d+)")
-
-
-def natural_key(text: str) -> tuple[Any, ...]:
-    return tuple(int(part) if part.isdigit() else part for part in _NATURAL.split(text))
-
-

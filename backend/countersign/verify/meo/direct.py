@@ -24,28 +24,31 @@ from __future__ import annotations
 from collections import deque
 from typing import Any
 
-from rdflib import URIRef
-
 from ...orders.expressions import expression_quantities
 from ...orders.findings import Finding, error
+from ...orders.iris import element_iri, first_by_id, local_id, mission_iri, natural_key
 from ...orders.model import Orders, Vehicle
-from ...orders.turtle import MissionIris, _first_by_id, local_id, natural_key
-from .shapes import shape_info
 
 CODES = frozenset({"C1", "C2", "M6", "M7"})
+
+# The Table 2 rules each finding cites, as ontology/shapes.ttl's shapes of these codes name them
+# (`msh:rule`): written here so that a validation does not parse the shapes with rdflib
+# (tests/unit/test_meo_direct.py holds the table equal to `shapes.shape_info()`).
+RULES: dict[str, tuple[str, ...]] = {
+    "C1": ("C1",), "C2": ("C2", "C3"), "M6": ("M6",), "M7": ("M7", "V5"),
+}
 
 
 def meo_only_findings(orders: Orders) -> list[Finding]:
     """The MEO's C1, C2, M6 and M7 findings (as the shapes route would give them), without the
     graph."""
-    iris = MissionIris(orders.id)
+    # IRIs as plain strings: they are only compared, sorted and read back as ids here.
     goals = orders.goal_index()
     terminals = orders.terminal_index()
-    info = shape_info()
 
-    def node(kind_and_name: tuple[str, str]) -> URIRef:
+    def node(kind_and_name: tuple[str, str]) -> str:
         kind, name = kind_and_name
-        return iris.mission if kind == "mission" else iris.element(kind, name)
+        return mission_iri(orders.id) if kind == "mission" else element_iri(orders.id, kind, name)
 
     def successor(name: str) -> tuple[str, str]:
         if name in goals:
@@ -89,14 +92,14 @@ def meo_only_findings(orders: Orders) -> list[Finding]:
     includes.update(start_nodes)
 
     def details(shape: str, **extra: Any) -> dict[str, Any]:
-        return {"rules": list(info[shape].rules), **extra}
+        return {"rules": list(RULES[shape]), **extra}
 
     def key(text: str) -> tuple[Any, ...]:
         return natural_key(text)
 
-    constraints = _first_by_id(orders.constraints)
-    c1: set[tuple[URIRef, URIRef]] = set()
-    c2: set[URIRef] = set()
+    constraints = first_by_id(orders.constraints)
+    c1: set[tuple[str, str]] = set()
+    c2: set[str] = set()
     for constraint in constraints:
         scopes = ([("mission", orders.id)] if constraint.applies_to == "mission"
                   else [scope(name) for name in constraint.applies_to])
@@ -104,9 +107,9 @@ def meo_only_findings(orders: Orders) -> list[Finding]:
         for target in scopes:
             if target[0] in ("mission", "goal") or (to_mission and target in includes):
                 continue
-            c1.add((iris.element("constraint", constraint.id), node(target)))
+            c1.add((element_iri(orders.id, "constraint", constraint.id), node(target)))
         if not any(t[0] == "goal" for t in scopes) and not (to_mission and goals):
-            c2.add(iris.element("constraint", constraint.id))
+            c2.add(element_iri(orders.id, "constraint", constraint.id))
 
     findings: list[Finding] = []
     for constraint_iri, scope_iri in sorted(c1, key=lambda p: (key(p[0]), key(p[1]))):
@@ -124,10 +127,10 @@ def meo_only_findings(orders: Orders) -> list[Finding]:
             "mission (rules C2 and C3): it would never be monitored.", **details("C2")))
 
     vehicle = orders.target_vehicle()
-    performer = next((v for v in _first_by_id(orders.vehicles) if v is vehicle), None)
+    performer = next((v for v in first_by_id(orders.vehicles) if v is vehicle), None)
     if performer is None:
         return findings
-    features = _first_by_id(performer.features)
+    features = first_by_id(performer.features)
     identified: set[str] = set()
     met: set[str] = set()
     reads = {c.id: set(expression_quantities(c.expr)) for c in constraints
@@ -137,7 +140,7 @@ def meo_only_findings(orders: Orders) -> list[Finding]:
         identified.update(c for c, read in reads.items() if read <= measured)
         identified.update(feature.tests)
         met.update(feature.fulfills)
-    m6 = {iris.element("constraint", c.id) for c in constraints if c.id not in identified}
+    m6 = {element_iri(orders.id, "constraint", c.id) for c in constraints if c.id not in identified}
     for constraint_iri in sorted(m6, key=key):
         findings.append(_m6(orders, local_id(constraint_iri), vehicle, details("M6")))
     labels = _labels(orders)
@@ -146,7 +149,7 @@ def meo_only_findings(orders: Orders) -> list[Finding]:
         label = labels.get(node_id)
         return f"{node_id} ({label})" if label and label != node_id else node_id
 
-    m7 = {iris.element("goal", g.id) for g in goals.values()
+    m7 = {element_iri(orders.id, "goal", g.id) for g in goals.values()
           if any(r not in met for r in g.requires)}
     for goal_iri in sorted(m7, key=key):
         findings.append(_m7(orders, local_id(goal_iri), vehicle, say, details("M7")))

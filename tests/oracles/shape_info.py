@@ -1,5 +1,7 @@
 """The closed-world rules' labels: ontology/shapes.ttl names, for every shape, the finding code
-and the Table 2 rules it checks; a finding cites them in `details["rules"]`.
+and the Table 2 rules it checks; a finding cites them in `details["rules"]` (the product keeps
+the rules of the codes it reports in a table, `verify.meo.direct.RULES`, which the tests hold
+to this reading).
 
 The rules themselves are checked directly: C1, C2, M6 and M7 by `direct.py`, the structural
 rules by `countersign.verify.structure`. The shapes' own evaluation (natively and by pySHACL) is
@@ -13,8 +15,8 @@ from functools import cache
 
 from rdflib import Namespace
 
-from ...ontology_files import SHAPES
-from ...orders.ontology import load_graph
+from countersign.ontology_files import SHAPES
+from countersign.orders.ontology import load_graph
 
 MSH = Namespace("https://countersign.example/ontology/meo-shapes#")
 SH = Namespace("http://www.w3.org/ns/shacl#")
