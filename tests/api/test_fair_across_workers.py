@@ -58,8 +58,7 @@ def _listening(port: int) -> bool:
         return False
 
 
-def test_a_users_heavy_validations_on_both_workers_leave_a_turn_for_anothers_edit(
-        tmp_path: Path) -> None:
+def _users(tmp_path: Path) -> tuple[str, dict[str, str]]:
     url = f"sqlite:///{tmp_path / 'fair.db'}"
     database = Database(url)
     database.migrate()
@@ -69,25 +68,62 @@ def test_a_users_heavy_validations_on_both_workers_leave_a_turn_for_anothers_edi
             user = create_user(db, username=name, role="operator", password="a long password 1")
             tokens[name] = create_token(db, user=user, name="tests")[1]
     database.engine.dispose()
+    return url, tokens
+
+
+def _serve(tmp_path: Path, url: str, port: int, processes: str) -> subprocess.Popen[bytes]:
+    with (tmp_path / "server.log").open("wb") as log:
+        return subprocess.Popen(
+            [sys.executable, "-m", "countersign.cli", "serve", "--port", str(port),
+             "--data-dir", str(tmp_path / "data"), "--workers", "2",
+             "--validation-processes", processes],
+            stdout=log, stderr=subprocess.STDOUT,
+            env={**os.environ, "COUNTERSIGN_DATABASE_URL": url})
+
+
+def _wait_listening(server: subprocess.Popen[bytes], tmp_path: Path, port: int) -> None:
+    deadline = time.monotonic() + PATIENCE_S
+    while not _listening(port):
+        assert server.poll() is None, (tmp_path / "server.log").read_text()[-3000:]
+        assert time.monotonic() < deadline, "the server did not start"
+        time.sleep(0.2)
+
+
+def _stop(server: subprocess.Popen[bytes]) -> None:
+    server.send_signal(signal.SIGTERM)
+    try:
+        server.wait(timeout=60)
+    except subprocess.TimeoutExpired:
+        server.kill()
+        server.wait()
+
+
+def _host_process(master: int) -> int:
+    """The validation host: the master's child started by multiprocessing's spawn."""
+    for entry in Path("/proc").iterdir():
+        try:
+            if not entry.name.isdigit() or b"spawn_main" not in (entry / "cmdline").read_bytes():
+                continue
+            if int((entry / "stat").read_text().rsplit(")", 1)[1].split()[1]) == master:
+                return int(entry.name)
+        except OSError:
+            continue
+    raise AssertionError("no validation host process")
+
+
+def test_a_users_heavy_validations_on_both_workers_leave_a_turn_for_anothers_edit(
+        tmp_path: Path) -> None:
+    url, tokens = _users(tmp_path)
     port = _free_port()
     # One validation process for the host: the heavy user's validations run one at a time
     # there, and the light user's edit takes the next turn. With a pool in each server
     # process, each would run one of the heavy user's at once and the edit would wait behind
     # the one in its own process while the other finished too.
-    log = (tmp_path / "server.log").open("wb")
-    server = subprocess.Popen(
-        [sys.executable, "-m", "countersign.cli", "serve", "--port", str(port), "--data-dir",
-         str(tmp_path / "data"), "--workers", "2", "--validation-processes", "1"],
-        stdout=log, stderr=subprocess.STDOUT,
-        env={**os.environ, "COUNTERSIGN_DATABASE_URL": url})
+    server = _serve(tmp_path, url, port, "1")
     finished: list[str] = []  # who was answered, in order
     lock = threading.Lock()
     try:
-        deadline = time.monotonic() + PATIENCE_S
-        while not _listening(port):
-            assert server.poll() is None, (tmp_path / "server.log").read_text()[-3000:]
-            assert time.monotonic() < deadline, "the server did not start"
-            time.sleep(0.2)
+        _wait_listening(server, tmp_path, port)
 
         def heavy(n: int) -> None:
             body = heavy_orders()
@@ -114,10 +150,24 @@ def test_a_users_heavy_validations_on_both_workers_leave_a_turn_for_anothers_edi
         # host's process when the edit came in ended before it.
         assert order.count("heavy 200") <= 1 and len(order) <= 2, order
     finally:
-        server.send_signal(signal.SIGTERM)
-        try:
-            server.wait(timeout=60)
-        except subprocess.TimeoutExpired:
-            server.kill()
-            server.wait()
-        log.close()
+        _stop(server)
+
+
+def test_validation_goes_on_when_the_host_process_is_killed(tmp_path: Path) -> None:
+    """Each server process falls back to a pool of its own: answers, not 500s."""
+    url, tokens = _users(tmp_path)
+    port = _free_port()
+    server = _serve(tmp_path, url, port, "2")
+    try:
+        _wait_listening(server, tmp_path, port)
+        small = json.loads(example_bytes("search-and-sample"))
+        assert _post(port, tokens["light"], small) == 200
+        os.kill(_host_process(server.pid), signal.SIGKILL)
+        for n in range(6):  # new connections: both server processes answer some
+            small["description"] = f"after the host ended {n} {uuid.uuid4()}"
+            assert _post(port, tokens["light"], small) == 200
+        assert server.poll() is None
+    finally:
+        _stop(server)
+    assert "validating in this server process's own pool" in (
+        tmp_path / "server.log").read_text()

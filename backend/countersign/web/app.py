@@ -177,7 +177,7 @@ def create_app(settings: Settings, database: Database | None = None,
         # driven without its lifespan (in-process test clients) validates in its threads.
         pool: ValidationPool | HostPoolClient | None = None
         if host_pool is not None:
-            pool = HostPoolClient(host_pool)
+            pool = HostPoolClient(host_pool, settings.validation_processes)
         elif settings.validation_processes > 0:
             pool = ValidationPool(settings.validation_processes)
         if pool is not None:

@@ -16,11 +16,13 @@ the same on SQLite and PostgreSQL. Several hosts on one PostgreSQL each queue th
 
 from __future__ import annotations
 
+import logging
 import multiprocessing
 import os
 import secrets
 import shutil
 import tempfile
+import threading
 from dataclasses import dataclass
 from multiprocessing.managers import BaseManager, BaseProxy
 from typing import TYPE_CHECKING, Any
@@ -31,6 +33,8 @@ from .validation_pool import SUBMITTER, ValidationPool
 
 if TYPE_CHECKING:
     from ..verify.parts import PartKeys
+
+logger = logging.getLogger("countersign.validation")
 
 _POOL: ValidationPool | None = None  # in the host process only
 
@@ -117,26 +121,54 @@ class HostPool:
 
 class HostPoolClient:
     """In a server process: validation_pool.ValidationPool's interface, served by the host's
-    pool, each validation queued for the SUBMITTER of the calling context."""
+    pool, each validation queued for the SUBMITTER of the calling context.
 
-    def __init__(self, address: HostPoolAddress) -> None:
+    Should the host process end (killed, out of memory), validations go on in a pool of this
+    server process's own, fair among its own requests only, rather than failing until the
+    server is restarted."""
+
+    def __init__(self, address: HostPoolAddress, processes: int) -> None:
+        self.processes = processes
         manager = _HostManager(address=address.socket, authkey=address.authkey)
         manager.connect()
         self._pool: _PoolProxy = manager.pool()  # type: ignore[attr-defined]
+        self._lock = threading.Lock()
+        self._own: ValidationPool | None = None
+
+    def _fallback(self, error: BaseException) -> ValidationPool:
+        with self._lock:
+            if self._own is None:
+                logger.warning("the host's validation pool is gone (%s); validating in this "
+                               "server process's own pool", type(error).__name__)
+                self._own = ValidationPool(self.processes)
+            return self._own
+
+    def _served(self) -> _PoolProxy | ValidationPool:
+        return self._own if self._own is not None else self._pool
 
     def validate(self, orders: Orders, submitter: str | None = None) -> dict[str, Any]:
-        return self._pool.validate(orders, SUBMITTER.get() if submitter is None else submitter)
+        who = SUBMITTER.get() if submitter is None else submitter
+        try:
+            return self._served().validate(orders, who)
+        except (EOFError, OSError) as error:  # the connection to the host, not the checks
+            return self._fallback(error).validate(orders, who)
 
     def validate_parts(self, orders: Orders, known: dict[str, Any], keys: PartKeys,
                        orders_digest: str) -> tuple[dict[str, Any], dict[str, Any]]:
-        return self._pool.validate_parts(orders, known, keys, orders_digest, SUBMITTER.get())
+        handed = (orders, known, keys, orders_digest, SUBMITTER.get())
+        try:
+            return self._served().validate_parts(*handed)
+        except (EOFError, OSError) as error:
+            return self._fallback(error).validate_parts(*handed)
 
     def running(self, submitter: str) -> int:
-        return self._pool.running(submitter)
+        return self._served().running(submitter)
 
     def pending(self, submitter: str) -> int:
-        return self._pool.pending(submitter)
+        return self._served().pending(submitter)
 
     def shutdown(self) -> None:
-        """Nothing to stop here: the host's pool outlives a server process (gunicorn replaces
-        one that dies) and ends with the command."""
+        """The host's pool outlives a server process (gunicorn replaces one that dies) and
+        ends with the command; only a fallback pool of this process's own ends here."""
+        if self._own is not None:
+            self._own.shutdown()
