@@ -341,15 +341,15 @@ async def _load(base: str, token: str, label: str, clients: int, seconds: float,
     return run
 
 
-def _serve(url: str, workers: int, data: str, log_path: Path,
-           shared: bool = False) -> tuple[subprocess.Popen[bytes], str, int]:
+def _serve(url: str, workers: int, data: str, log_path: Path, shared: bool = False,
+           extra: tuple[str, ...] = ()) -> tuple[subprocess.Popen[bytes], str, int]:
     port = _free_port()
     env = {**os.environ, "COUNTERSIGN_DATABASE_URL": url}
     with open(log_path, "w") as log:
         server = subprocess.Popen(
             [sys.executable, "-m", "countersign.cli", "serve", "--port", str(port),
              "--data-dir", data, *(["--workers", str(workers)] if workers != 1 else []),
-             *(["--shared-socket"] if shared else [])],
+             *(["--shared-socket"] if shared else []), *extra],
             env=env, stdout=subprocess.DEVNULL, stderr=log)
     base = f"http://127.0.0.1:{port}"
     deadline = time.monotonic() + 60

@@ -63,7 +63,10 @@ def build_bundle(events: int, approvals: int) -> dict[str, Any]:
     keys = [dsse.generate_key() for _ in range(SUPERVISORS)]
     base = json.loads(example_bytes("search-and-sample"))
     start = datetime(2026, 1, 1, tzinfo=UTC)
-    every = max(1, (events - SUPERVISORS) // approvals)
+    # The log first creates the supervisors (the system, as `countersign users create` does:
+    # a decision by someone the log never made a supervisor is a problem), then their keys.
+    accounts = 2 * SUPERVISORS
+    every = max(1, (events - accounts) // approvals)
     texts: list[str] = []
     orders: dict[str, Any] = {}
     bundled: list[dict[str, Any]] = []
@@ -74,10 +77,13 @@ def build_bundle(events: int, approvals: int) -> dict[str, Any]:
         kind, detail, actor, mission = "draft.updated", {"revision": index}, "operator1", None
         envelope_text = None
         if index < SUPERVISORS:
-            public = dsse.public_text(keys[index])
-            kind, actor = "key.registered", f"supervisor{index}"
+            kind, actor = "user.created", None
+            detail = {"user": f"supervisor{index}", "role": "supervisor"}
+        elif index < accounts:
+            public = dsse.public_text(keys[index - SUPERVISORS])
+            kind, actor = "key.registered", f"supervisor{index - SUPERVISORS}"
             detail = {"key_id": dsse.key_id(public), "public_key": public, "user": actor}
-        elif (index - SUPERVISORS) % every == every - 1 and made < approvals:
+        elif (index - accounts) % every == every - 1 and made < approvals:
             data = dict(base, title=f"Search and sample, version {made}")
             digest = orders_digest(data)
             orders[digest] = data

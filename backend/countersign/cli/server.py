@@ -126,10 +126,21 @@ def cmd_serve(args: argparse.Namespace) -> int:
     # log's Merkle tree) are pure or checked against the database on use.
     database.engine.dispose()
     from ..web.gunicorn_server import serve_workers
+    from ..web.host_pool import HostPool
 
-    return serve_workers(partial(create_app, settings), host=args.host,
-                         port=args.port, workers=args.workers, log_level="info",
-                         reuse_port=not args.shared_socket)
+    # One validation pool for all of them, so that its fair queue sees every user's work on
+    # the host (web/host_pool.py); started before gunicorn forks, ended after it stops.
+    shared = settings.validation_processes > 0 and not args.pool_per_process
+    host_pool = HostPool(settings.validation_processes) if shared else None
+    try:
+        return serve_workers(
+            partial(create_app, settings,
+                    host_pool=host_pool.address if host_pool is not None else None),
+            host=args.host, port=args.port, workers=args.workers, log_level="info",
+            reuse_port=not args.shared_socket)
+    finally:
+        if host_pool is not None:
+            host_pool.stop()
 
 
 def cmd_users_create(args: argparse.Namespace) -> int:
@@ -180,14 +191,17 @@ def add_commands(commands: Any) -> None:
     )
     serve_cmd.add_argument(
         "--validation-processes", type=int, default=None, metavar="N",
-        help="processes that validate orders beside each server process, at a lower "
-        "priority so that reads go first, each user queued fairly so that one user's heavy "
-        "validation leaves a process for another's edit (default 2, or "
+        help="processes that validate orders beside the server processes (one pool that all "
+        "--workers share), at a lower priority so that reads go first, each user queued fairly "
+        "so that one user's heavy validation leaves a process for another's edit (default 2, or "
         "COUNTERSIGN_VALIDATION_PROCESSES; 0: validate in the server's own threads)",
     )
     # One listening socket shared by the --workers processes, as gunicorn does without
     # reuse_port: hidden, bench_api's baseline (issue 17, item 9).
     serve_cmd.add_argument("--shared-socket", action="store_true", help=argparse.SUPPRESS)
+    # A validation pool in each server process, as before the host's one pool: hidden,
+    # bench_fair's baseline.
+    serve_cmd.add_argument("--pool-per-process", action="store_true", help=argparse.SUPPRESS)
     serve_cmd.add_argument(
         "--demo", action="store_true",
         help="seed demo users (printing one-time passwords), the built-in examples and their "

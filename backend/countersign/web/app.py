@@ -23,6 +23,7 @@ from . import api_docs, openapi_links, problems
 from .access_log import hide_tickets
 from .client_address import ClientAddress
 from .fair import PlanSlots, RateLimiter
+from .host_pool import HostPoolAddress, HostPoolClient
 from .log_signer import open_log_signer
 from .rehearsal_hub import RehearsalHub
 from .routes import (
@@ -148,7 +149,10 @@ class SecurityHeaders:
         await self.app(scope, receive, with_headers)
 
 
-def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
+def create_app(settings: Settings, database: Database | None = None,
+               host_pool: HostPoolAddress | None = None) -> FastAPI:
+    """The app; with `host_pool` (serve --workers N) it validates in the pool every server
+    process of the host shares (host_pool.py), else in a pool of its own."""
     settings.prepare()
     hide_tickets()  # before the server logs its first request
     database = database or Database(settings.database_url)
@@ -171,8 +175,11 @@ def create_app(settings: Settings, database: Database | None = None) -> FastAPI:
         gc.freeze()
         # A running server validates in processes of its own (validation_pool.py); an app
         # driven without its lifespan (in-process test clients) validates in its threads.
-        pool = (ValidationPool(settings.validation_processes)
-                if settings.validation_processes > 0 else None)
+        pool: ValidationPool | HostPoolClient | None = None
+        if host_pool is not None:
+            pool = HostPoolClient(host_pool, settings.validation_processes)
+        elif settings.validation_processes > 0:
+            pool = ValidationPool(settings.validation_processes)
         if pool is not None:
             services.reports.use_pool(pool.validate, pool.validate_parts)
         app.state.validation_pool = pool

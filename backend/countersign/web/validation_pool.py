@@ -161,10 +161,11 @@ class ValidationPool:
             return report
 
     def validate_parts(self, orders: Orders, known: dict[str, Any], keys: PartKeys,
-                       orders_digest: str) -> tuple[dict[str, Any], dict[str, Any]]:
+                       orders_digest: str, submitter: str | None = None
+                       ) -> tuple[dict[str, Any], dict[str, Any]]:
         """As validate, handing over the report parts already known (verify.parts): the
         process computes the others and returns the report with all its parts."""
-        with self._turn(SUBMITTER.get()):
+        with self._turn(SUBMITTER.get() if submitter is None else submitter):
             report, parts = self._run(orders, known, keys, orders_digest)
             return report, parts
 
