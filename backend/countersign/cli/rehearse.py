@@ -59,6 +59,14 @@ member (FAULT alone: every member). Headless, the joint events print one a line,
 naming its vehicle:
   countersign rehearse example:search-and-sample-team --headless --member-path vehicle-2=19
 
+refined orders (goals with `refines`, e.g. example:search-and-sample-refined) are flown as the
+flat automaton `countersign paths` lists: every goal inside a refined goal is flown and decided
+(G1/G1.2#3: the third goal commenced inside G1), its time-out ends the refinement as DESIGN.md
+says, --path N replays path N of `countersign paths`, NAME@G1/G1.2 waits for a goal inside,
+and the summary indents a refinement's goals under its goal (then `Time-out: G1.` if it timed
+out, and the outcome the refinement returned):
+  countersign rehearse example:search-and-sample-refined --source replay --path 118 --headless
+
 exit codes: 0 rehearsed, 1 the orders cannot be rehearsed (e.g. no start goal, or paths that
 cannot be counted for replay/tour), 2 unreadable input or bad usage."""
 
