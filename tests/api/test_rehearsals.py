@@ -3,6 +3,7 @@ viser websocket through the app's proxy, stored records, limits and bad input.""
 
 from __future__ import annotations
 
+import json
 import threading
 import time
 from collections.abc import Callable, Iterator
@@ -14,6 +15,7 @@ from sqlalchemy import select
 from starlette.testclient import WebSocketDenialResponse
 from starlette.websockets import WebSocketDisconnect
 
+from countersign.orders.examples import example_bytes
 from countersign.store.rehearsals import get_record
 from countersign.store.tables import User
 from countersign.web.rehearsal_hub import RehearsalHub
@@ -374,3 +376,29 @@ def test_faults_while_waiting_skip_and_a_record_listed_at_once(app_world: World)
     assert listed[0]["digest"] == stored.json()["digest"]
     record = client.get(f"/api/rehearsal-records/{stored.json()['digest']}").json()["record"]
     _assert_whole_record(app_world, stored.json()["digest"], record)
+
+
+def test_a_refined_mission_is_decided_goal_inside_goal(app_world: World) -> None:
+    """The status names the goal inside (`G1/G1.1#1`) and the refined goals it runs inside
+    (the breadcrumb); six goals decided inside G1 reach its time-out, which the status keeps
+    and RehearsalStatus describes."""
+    operator = app_world.client("operator")
+    orders = json.loads(example_bytes("search-and-sample-refined"))
+    assert operator.post("/api/missions", json=orders).status_code == 201
+    response = operator.post("/api/missions/search-and-sample-refined/rehearsals", json=FAST)
+    assert response.status_code == 201, response.text
+    rid = response.json()["id"]
+    for step, outcome in enumerate(("succeed", "fail") * 3):
+        status = _wait(operator, rid, lambda s, n=step: _waiting(s) and s["step"] == n)
+        assert_described(RehearsalStatus, status)
+        assert status["current_goal"]["id"].startswith("G1/G1.")
+        assert status["refined"]["inside"] == [{"id": "G1", "title": "Search Area A"}]
+        assert status["refined"]["timeout"] is None
+        chosen = operator.post(f"/api/rehearsals/{rid}/outcome", json={"outcome": outcome})
+        assert chosen.status_code == 200, chosen.text
+    status = _wait(operator, rid, lambda s: _waiting(s) and s["step"] == 6)
+    assert_described(RehearsalStatus, status)
+    assert status["current_goal"]["id"] == "G3" and status["refined"]["inside"] == []
+    timeout = status["refined"]["timeout"]
+    assert (timeout["goal"], timeout["returns"]) == ("G1", "fail")
+    assert operator.post(f"/api/rehearsals/{rid}/stop").status_code == 200

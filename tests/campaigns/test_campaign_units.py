@@ -20,7 +20,8 @@ from countersign.rehearse.sim import FAULTS
 from countersign.store import campaigns as store
 from countersign.store.db import Database
 from countersign.store.tables import CampaignRun
-from countersign.verify.paths import iter_paths
+from countersign.verify.paths import count_paths, iter_paths
+from countersign.verify.refine import checked_form
 
 # Newcombe (1998), Statistics in Medicine 17:857, Table I, method 3 (Wilson score, no
 # continuity correction): an independent computation of the same interval.
@@ -44,6 +45,33 @@ def test_every_path_number_equals_the_enumerations() -> None:
         assert mission.path_index(path.goals, path.outcomes) == path.index
     assert mission.path_index(["G1"], ["succeed"]) is None  # not a whole path
     assert mission.path_index(["G2", "G3"], ["succeed", "succeed"]) is None
+
+
+def test_a_refined_missions_campaign_flies_and_counts_its_flat_paths() -> None:
+    """A campaign of the refined exemplar flies the goals inside G1 and numbers what it
+    covers as `countersign paths` does (867 flat paths); the per-goal estimates name the
+    goals of the orders (G1/G1.2), not their unrolled copies; a fault may wait for a goal
+    inside."""
+    orders = load_example("search-and-sample-refined")
+    mission = Mission(orders)
+    assert mission.total_paths == 867
+    _, graph = checked_form(orders)
+    counts = count_paths(graph)
+    assert counts is not None
+    flat = list(iter_paths(graph, counts))
+    spec = CampaignSpec.build(simulations=6, faults=["none", "leak"],
+                              goals=["start", "G1/G1.2"], orders=orders)
+    assert spec.cells == ((), ("leak",), ("leak@G1/G1.2",))
+    runs = [simulate(mission, i, *spec.simulation(i)) for i in range(6)]
+    for run in runs:
+        assert run["goals"][0].startswith("G1/G1.1#"), run["goals"]
+        path = flat[run["path"] - 1]
+        assert (list(path.goals), list(path.outcomes)) == (run["goals"], run["outcomes"])
+    summary = summarize(runs, total_paths=mission.total_paths,
+                        terminals=[(t.id, t.kind) for t in orders.effective_terminals],
+                        goals=[g.id for g in orders.goals])
+    assert summary["coverage"]["total_paths"] == 867
+    assert "G1/G1.1" in summary["goals"] and not any("#" in g for g in summary["goals"])
 
 
 def test_the_sweep_pairs_seeds_across_cells_and_is_bounded() -> None:

@@ -1,7 +1,10 @@
 """Issue 37 in the rehearsal, at 1024x768 and 1280x800: a refined mission rehearses as its flat
 form; the mission graph beside the scene lists the refined goal's steps inside its card
-(`G1/G1.1` and its title). The graph and its steps inside the window and the
-card, apart and readable; axe-core clean; screenshots in the artifacts folder."""
+(`G1/G1.1` and its title), the current-goal card names the goal inside and its breadcrumb
+(G1 › G1.2), the s/f/c keys and the buttons decide the goals inside one by one, and the
+time-out that ends G1's loop after six goals is shown. The graph, its steps and the card inside
+the window and their column, apart and readable; axe-core clean; screenshots in the artifacts
+folder."""
 
 from __future__ import annotations
 
@@ -9,7 +12,7 @@ import itertools
 import json
 
 import pytest
-from playwright.sync_api import Page, expect
+from playwright.sync_api import Locator, Page, expect
 
 from countersign.orders.examples import example_bytes
 
@@ -34,10 +37,16 @@ def test_rehearsal_marks_the_step_inside_a_refined_goal(
     expect(page.get_by_test_id("rehearsal-state")).to_have_text("Waiting for the outcome",
                                                                  timeout=90_000)
     expect(page.get_by_test_id("graph-current")).to_contain_text("G1", timeout=30_000)
-    # The live rehearsal asks for G1's outcome as one decision (its steps are listed; a log
-    # that names a step, G1/G1.1#1, marks that step: stepPlace in rehearsalOrder.ts).
+    # The live rehearsal asks for the outcome of G1's first goal inside (G1/G1.1#1): its card
+    # says so with the breadcrumb, and the graph marks that step (stepPlace, rehearsalOrder.ts).
     expect(page.get_by_test_id("graph-current")).to_contain_text(
         "G1/G1.1 Move to the next unvisited cell")
+    expect(page.get_by_test_id("graph-current-step")).to_contain_text("G1/G1.1")
+    crumbs = page.get_by_test_id("refined-breadcrumb").locator("li")
+    expect(crumbs).to_have_text(["G1", "G1.1"])
+    expect(page.get_by_test_id("refined-current")).to_contain_text(
+        "G1/G1.1#1 Move to the next unvisited cell of Area A inside Search Area A")
+    card_geometry(page, "the goal inside G1")
 
     refinement = page.get_by_test_id("rehearsal-refinement-G1")
     steps = refinement.locator(":scope > li")
@@ -57,13 +66,60 @@ def test_rehearsal_marks_the_step_inside_a_refined_goal(
 
     shots = tmp_path_factory.getbasetemp() / "artifacts"
     shots.mkdir(exist_ok=True)
+    page.get_by_test_id("refined-goal").scroll_into_view_if_needed()
+    page.screenshot(path=str(shots / f"rehearsal-refined-card-{width}x{height}.png"),
+                    timeout=120_000)
+    expect_accessible(page, f"the goal inside a refinement at {width} px",
+                      include="[data-testid='rehearsal']")
     graph.scroll_into_view_if_needed()
-    page.screenshot(path=str(shots / f"rehearsal-refined-{width}x{height}.png"))
+    page.screenshot(path=str(shots / f"rehearsal-refined-{width}x{height}.png"),
+                    timeout=120_000)
     expect_accessible(page, f"the rehearsal of a refined mission at {width} px",
                       include="[data-testid='rehearsal-graph']")
 
-    page.get_by_test_id("outcome-succeed").click()
-    expect(page.get_by_test_id("rehearsal-step")).to_have_text("1", timeout=30_000)
-    expect(page.get_by_test_id("graph-current")).to_contain_text("G2", timeout=30_000)
+    # Six goals inside G1, decided by key and by button in turn: succeed, fail, ... The
+    # seventh may not commence (within: 6 steps), so G1 ends with its on_timeout (fail) -> G3.
+    for step, (outcome, local) in enumerate([("succeed", "G1.1"), ("fail", "G1.2")] * 3):
+        expect(page.get_by_test_id("rehearsal-step")).to_have_text(str(step), timeout=30_000)
+        expect(page.get_by_test_id("rehearsal-state")).to_have_text("Waiting for the outcome",
+                                                                     timeout=60_000)
+        expect(crumbs).to_have_text(["G1", local])
+        expect(page.get_by_test_id("refined-current")).to_contain_text(f"G1/{local}#{step + 1}")
+        if step % 2:
+            page.get_by_test_id(f"outcome-{outcome}").click()
+        else:
+            page.keyboard.press(outcome[0])
+    expect(page.get_by_test_id("rehearsal-step")).to_have_text("6", timeout=30_000)
+    expect(page.get_by_test_id("rehearsal-state")).to_have_text("Waiting for the outcome",
+                                                                 timeout=60_000)
+    expect(page.get_by_test_id("graph-current")).to_contain_text("G3")
+    timeout = page.get_by_test_id("refined-timeout")
+    expect(timeout).to_contain_text("Time-out: Search Area A (G1) ended its refinement with Fail")
+    expect(page.get_by_test_id("refined-current")).to_contain_text("on the mission's level")
+    card_geometry(page, "the time-out of G1")
+    page.get_by_test_id("refined-goal").scroll_into_view_if_needed()
+    page.screenshot(path=str(shots / f"rehearsal-refined-timeout-{width}x{height}.png"),
+                    timeout=120_000)
+    expect_accessible(page, f"the time-out of a refinement at {width} px",
+                      include="[data-testid='rehearsal']")
     page.get_by_test_id("stop-rehearsal").click()
     expect(page.get_by_test_id("viser-frame")).to_have_count(0, timeout=30_000)
+
+
+def card_geometry(page: Page, what: str) -> None:
+    """The current-goal card inside the controls column and the window; its lines apart and
+    readable (>= 12 px)."""
+    size = page.viewport_size
+    assert size is not None
+    card = page.get_by_test_id("refined-goal")
+    card_box = box(card)
+    inside(card_box, box(page.locator(".rehearsal-controls")), f"{what}: card in its column")
+    assert card_box["x"] >= 0 and card_box["x"] + card_box["width"] <= size["width"], what
+    parts: list[Locator] = [card.locator(":scope > *").nth(i)
+                            for i in range(card.locator(":scope > *").count())]
+    boxes = [box(p) for p in parts]
+    for p, b in zip(parts, boxes, strict=True):
+        inside(b, card_box, f"{what}: a line inside the card")
+        assert font_px(p) >= 12, (what, font_px(p))
+    for a, b in itertools.pairwise(boxes):
+        assert a["y"] + a["height"] <= b["y"] + 0.5, (what, "lines overlap", a, b)

@@ -6,7 +6,11 @@ random path replayed nominally, at a random step of the simulation's clock. Ever
 run uses at most its own cost (verify/costs.py, the model BUDGET and the probabilities charge)
 plus the leg flown into it, in energy and in time; the leg flown is at most the verifier's leg
 of that edge when the goal before ran its plan to the end, so there each goal stays within its
-verified figure, and a path whose goals all ran to the end within BUDGET's worst path."""
+verified figure, and a path whose goals all ran to the end within BUDGET's worst path.
+
+Refined missions too: a goal refined into a loop bounded by `steps` or `duration_s` (nested
+once at random) is flown as the flat automaton the verifier prices, so each goal inside stays
+within the figure of its copy (`G1/G1.2#3`)."""
 
 from __future__ import annotations
 
@@ -21,7 +25,8 @@ from countersign.rehearse.sim import Event, Limits, Simulation
 from countersign.rehearse.sources import make_source
 from countersign.verify.budget import worst_paths
 from countersign.verify.costs import leg_cost, mission_costs
-from countersign.verify.paths import paths_of
+from countersign.verify.paths import count_paths
+from countersign.verify.refine import checked_form
 
 BEHAVIORS = ("area_search", "survey", "transect", "sample", "loiter", "rendezvous", "transit",
              "return_to_base")
@@ -109,20 +114,58 @@ def rehearse(orders: Orders, path_index: int, step_s: float) -> list[GoalRun]:
     return runs
 
 
-@settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
-@given(missions(), st.integers(1, 10_000), st.sampled_from([1.0, 7.0, 30.0]))
-def test_every_goal_rehearses_within_the_verifiers_figure(orders: Orders, pick: int,
-                                                          step_s: float) -> None:
-    graph, counts = paths_of(orders)
+@st.composite
+def refined_missions(draw: st.DrawFn) -> Orders:
+    """A random mission whose goals may be refined: each refinement a loop of 1-3 goals
+    bounded by steps or by duration_s (then every goal inside has a positive duration), one
+    level of it possibly refined again."""
+    base = draw(missions()).model_dump(mode="json", exclude_defaults=True)
+    area_ids = [a["id"] for a in base["areas"]]
+
+    def refinement(prefix: str, depth: int) -> dict[str, Any]:
+        count = draw(st.integers(1, 3))
+        by_steps = depth > 1 or draw(st.booleans())
+        ids = [f"{prefix}.{j}" for j in range(1, count + 1)]
+        inner: list[dict[str, Any]] = []
+        for gid in ids:
+            goal: dict[str, Any] = {
+                "id": gid, "behavior": draw(st.sampled_from(BEHAVIORS)),
+                "area": draw(st.sampled_from(area_ids)),
+                "next": {o: draw(st.sampled_from([*ids, "OK", "NO", "BAD"])) for o in OUTCOMES}}
+            if not by_steps or draw(st.booleans()):
+                goal["cost"] = {"energy_wh": draw(st.integers(0, 200)),
+                                "duration_s": draw(st.integers(1, 3_000))}
+            if by_steps and depth < 2 and draw(st.integers(0, 3)) == 0:
+                goal["refines"] = refinement(gid, depth + 1)
+            inner.append(goal)
+        return {"start": ids[0], "goals": inner,
+                "terminals": [{"id": "OK", "kind": "complete", "returns": "succeed"},
+                              {"id": "NO", "kind": "abort", "returns": "fail"},
+                              {"id": "BAD", "kind": "abort", "returns": "violate"}],
+                "within": {"steps": draw(st.integers(1, 4))} if by_steps
+                else {"duration_s": draw(st.integers(1, 6_000))},
+                "on_timeout": draw(st.sampled_from(["fail", "violate"]))}
+
+    for goal in base["goals"]:
+        if draw(st.booleans()):
+            goal["refines"] = refinement(goal["id"], 1)
+    return Orders.model_validate(base)
+
+
+def within_the_verifiers_figure(orders: Orders, pick: int, step_s: float) -> None:
+    """Replay one path (chosen by `pick`) and hold each goal, and the path, to the verifier's
+    figures on the form the verifier prices (a refined mission's flat automaton)."""
+    flat, graph = checked_form(orders)
+    counts = count_paths(graph)
     assert counts is not None
     path_index = 1 + pick % counts.total
     note(f"path {path_index} of {orders.model_dump_json(exclude_defaults=True)}")
     runs = rehearse(orders, path_index, step_s)
-    costs = mission_costs(orders)
-    goals = orders.goal_index()
-    worst = worst_paths(orders, graph)
+    costs = mission_costs(flat)
+    goals = flat.goal_index()
+    worst = worst_paths(flat, graph)
     assert worst is not None
-    vehicle = orders.target_vehicle()
+    vehicle = flat.target_vehicle()
     totals = dict.fromkeys(BUDGET_QUANTITIES, 0.0)
     previous: GoalRun | None = None
     for run in runs:
@@ -144,3 +187,17 @@ def test_every_goal_rehearses_within_the_verifiers_figure(orders: Orders, pick: 
     if all(run.outcome == "succeed" for run in runs[:-1]):
         for quantity, total in totals.items():
             assert total <= worst[quantity].total * (1 + EPSILON) + EPSILON
+
+
+@settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(missions(), st.integers(1, 10_000), st.sampled_from([1.0, 7.0, 30.0]))
+def test_every_goal_rehearses_within_the_verifiers_figure(orders: Orders, pick: int,
+                                                          step_s: float) -> None:
+    within_the_verifiers_figure(orders, pick, step_s)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(refined_missions(), st.integers(1, 10_000), st.sampled_from([1.0, 7.0, 30.0]))
+def test_every_goal_inside_a_refinement_rehearses_within_its_figure(
+        orders: Orders, pick: int, step_s: float) -> None:
+    within_the_verifiers_figure(orders, pick, step_s)

@@ -7,6 +7,7 @@ import time
 
 import msgspec
 
+from countersign.orders.examples import load_example
 from countersign.orders.model import Orders
 from countersign.rehearse.manager import RehearsalManager, RehearsalOptions
 
@@ -185,4 +186,26 @@ def test_user_text_reaches_the_scene_as_text_never_markdown(
         # The panel's label is React text in viser's client (ControlPanel), not markdown.
         assert any(m.get("type") == "SetGuiPanelLabelMessage" and m.get("label") == HOSTILE[:80]
                    for m in client.messages)
+    manager.stop(rehearsal.id)
+
+
+def test_a_goal_inside_a_refinement_is_decided_in_the_scene(manager: RehearsalManager) -> None:
+    """The viser panel's Succeed decides G1's first goal inside (G1/G1.1#1); its marker is
+    labelled by its last id (G1.1#1), so the goals of one refinement, which share an area, do
+    not pile full ids up there."""
+    orders = load_example("search-and-sample-refined")
+    rehearsal = manager.start(orders, owner="alice",
+                              options=RehearsalOptions(source="manual", speed=100_000),
+                              controls=True)
+    with ViserTestClient(rehearsal.port, secret=rehearsal.viewer_secret) as client:
+        client.hello()
+        assert client.wait_for(lambda c: "/vehicle" in c.scene_nodes())
+        assert _wait(lambda: rehearsal.status()["state"] == "waiting_for_outcome")
+        assert rehearsal.status()["current_goal"]["id"] == "G1/G1.1#1"
+        assert client.wait_for(lambda c: c.button("Succeed")["props"]["disabled"] is False)
+        client.click("Succeed")
+        assert _wait(lambda: rehearsal.status()["step"] == 1)
+        assert rehearsal.status()["outcomes"][0] == {"goal": "G1/G1.1#1", "outcome": "succeed"}
+        assert client.wait_for(lambda c: "/outcomes/0/label" in c.scene_nodes())
+        assert client.scene_nodes()["/outcomes/0/label"]["props"]["text"] == "G1.1#1: succeed"
     manager.stop(rehearsal.id)

@@ -8,9 +8,10 @@ from typing import Any
 
 from ..orders.model import OUTCOMES, Orders
 from ..rehearse.sim import Limits, Simulation
+from ..rehearse.sim_nesting import rehearsed_form
 from ..rehearse.sources import SimulateSource
-from ..verify.graph import MissionGraph
-from ..verify.paths import PathCounts, paths_of
+from ..verify.graph import MissionGraph, build_graph
+from ..verify.paths import PathCounts, count_paths
 
 # Events are not kept by a campaign: a small bound saves the memory of thousands of them.
 CAMPAIGN_LIMITS = Limits(max_events=200)
@@ -18,11 +19,15 @@ RUN_SECONDS = 10_000_000.0
 
 
 class Mission:
-    """The orders with their traversal graph and path counts, built once per worker."""
+    """The orders with their traversal graph and path counts, built once per worker. A
+    refined mission is flown, and its paths counted, as its flat automaton: coverage counts
+    the paths `countersign paths` lists."""
 
     def __init__(self, orders: Orders) -> None:
         self.orders = orders
-        self.graph, self.counts = paths_of(orders)
+        self.flown = rehearsed_form(orders)
+        self.graph = build_graph(self.flown[0])
+        self.counts = count_paths(self.graph)
         self._node = {goal: i for i, goal in enumerate(self.graph.goal_ids)}
 
     @property
@@ -63,7 +68,7 @@ def path_rank(graph: MissionGraph, counts: PathCounts, node_of: dict[str, int],
 
 def simulate(mission: Mission, index: int, seed: int, faults: tuple[str, ...]) -> dict[str, Any]:
     sim = Simulation(mission.orders, seed=seed, source=SimulateSource(), faults=faults,
-                     limits=CAMPAIGN_LIMITS)
+                     limits=CAMPAIGN_LIMITS, flown=mission.flown)
     sim.advance(RUN_SECONDS)
     run = sim.run
     return {

@@ -15,6 +15,7 @@ from typing import Any
 from ..errors import Unprocessable
 from ..orders.model import Orders
 from ..rehearse.sim import FAULTS
+from ..rehearse.sim_nesting import goal_names
 
 MAX_SIMULATIONS = 10_000
 MAX_SWEEP_CELLS = 64
@@ -59,7 +60,11 @@ class CampaignSpec:
             if name != NO_FAULT and name not in FAULTS:
                 raise Unprocessable(f"faults: unknown fault {str(name)[:40]!r}; choose from "
                                     f"{NO_FAULT}, {', '.join(FAULTS)}")
-        known = set(orders.goal_index()) if orders is not None else None
+        # A refined mission's goals inside (G1/G1.2) are goals a fault may wait for too.
+        try:
+            known = goal_names(orders) if orders is not None else None
+        except ValueError as exc:  # refinements that cannot be unrolled cannot be flown
+            raise Unprocessable(f"orders: {exc}") from None
         for goal in goals:
             if goal != AT_START and known is not None and goal not in known:
                 raise Unprocessable(f"goals: {str(goal)[:100]!r} is not a goal of these "

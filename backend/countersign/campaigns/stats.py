@@ -15,6 +15,7 @@ from collections.abc import Iterable, Sequence
 from typing import Any
 
 from ..orders.model import OUTCOMES
+from ..verify.refine import base_id
 
 Z_95 = 1.959963984540054  # the standard normal's 0.975 quantile
 HISTOGRAM_BINS = 20
@@ -70,7 +71,8 @@ def summarize(runs: Iterable[dict[str, Any]], *, total_paths: int | None,
         violated += "violate" in outcomes
         unfinished += not run.get("terminal")
         for goal, outcome in zip(run.get("goals", []), outcomes, strict=False):
-            visits.setdefault(goal, Counter())[outcome] += 1
+            # A refined mission's copies (G1/G1.2#3) are one goal of the orders, one `p`.
+            visits.setdefault(base_id(goal), Counter())[outcome] += 1
         if run.get("path") is not None:
             paths[int(run["path"])] += 1
         energy.append(float(run.get("energy_wh", 0.0)))

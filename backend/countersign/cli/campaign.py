@@ -69,7 +69,8 @@ def add_commands(commands: Any) -> None:
                      help="a fault of the sweep, or 'none' (repeatable; default none); a fault "
                           "no constraint, rule or vehicle reaction reads is named first")
     run.add_argument("--goal", action="append", default=[], metavar="GOAL",
-                     help="inject the faults when this goal starts, or 'start' (repeatable)")
+                     help="inject the faults when this goal starts, or 'start' (repeatable; "
+                          "a goal inside a refined goal reads G1/G1.2)")
     run.add_argument("--seed", type=int, default=0, help="first seed (default 0)")
     run.add_argument("--chunk", type=int, default=10,
                      help="simulations per job (default 10)")

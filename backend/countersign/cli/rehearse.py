@@ -19,6 +19,7 @@ if TYPE_CHECKING:
     from ..orders.model import Orders
     from ..rehearse.manager import Rehearsal
     from ..rehearse.record import RehearsalRecord
+    from ..verify.nesting import Nesting
 
 # rehearse.sim.FAULTS and rehearse.sources.SOURCES, named here so that help does not import
 # the simulation and viser (tests/unit/test_cli_startup.py holds them equal).
@@ -57,6 +58,14 @@ past ends as the TEAM finding says (a deadlock, in words). Sources simulate or r
 member (FAULT alone: every member). Headless, the joint events print one a line, each
 naming its vehicle:
   countersign rehearse example:search-and-sample-team --headless --member-path vehicle-2=19
+
+refined orders (goals with `refines`, e.g. example:search-and-sample-refined) are flown as the
+flat automaton `countersign paths` lists: every goal inside a refined goal is flown and decided
+(G1/G1.2#3: the third goal commenced inside G1), its time-out ends the refinement as DESIGN.md
+says, --path N replays path N of `countersign paths`, NAME@G1/G1.2 waits for a goal inside,
+and the summary indents a refinement's goals under its goal (then `Time-out: G1.` if it timed
+out, and the outcome the refinement returned):
+  countersign rehearse example:search-and-sample-refined --source replay --path 118 --headless
 
 exit codes: 0 rehearsed, 1 the orders cannot be rehearsed (e.g. no start goal, or paths that
 cannot be counted for replay/tour), 2 unreadable input or bad usage."""
@@ -168,7 +177,9 @@ def _rehearse(args: argparse.Namespace, out: TextIO) -> int:
     if args.format == "json":
         out.write(json.dumps({"digest": record.digest, "record": data}, indent=1) + "\n")
     else:
-        _summary(data, record.digest, out)
+        from ..rehearse.sim_nesting import rehearsed_form
+
+        _summary(data, record.digest, out, rehearsed_form(orders)[1])
     return EXIT_OK
 
 
@@ -267,19 +278,27 @@ def _watch(rehearsal: Rehearsal, args: argparse.Namespace, out: TextIO) -> None:
         err.write("\n")
 
 
-def _summary(data: dict[str, Any], digest: str, out: TextIO) -> None:
+def _summary(data: dict[str, Any], digest: str, out: TextIO,
+             nesting: Nesting | None = None) -> None:
+    """The runs goal by goal (a refined goal's goals indented under it, as traces indent
+    them), the notable events, energy, time and the record's digest."""
+    from ..rehearse.sim_nesting import summary_lines
+
     words = {"succeed": "succeed.", "fail": "fail.", "violate": "constraint."}
     for run in data["runs"]:
         if run["path_index"] is not None:
             out.write(f"Path #{run['path_index']}:\n")
-        for goal, outcome in zip(run["goals"], run["outcomes"], strict=False):
-            out.write(f"  {goal}: {words[outcome]}\n")
+        lines = summary_lines(nesting, run["goals"], run["outcomes"]) if nesting else [
+            f"{goal}: {words[outcome]}"
+            for goal, outcome in zip(run["goals"], run["outcomes"], strict=False)]
+        for line in lines:
+            out.write(f"  {line}\n")
         out.write(f"  {END.get(run['terminal_kind'], 'Mission did not end in a terminal.')}\n")
     for event in data["events"]:
-        if event["kind"] in ("decision", "fault", "current", "safe_action", "error"):
+        if event["kind"] in ("decision", "fault", "current", "safe_action", "error", "timeout"):
             hours, rem = divmod(int(event["t"]), 3600)
             goal = event.get("goal") or "-"
-            out.write(f"  [{hours}h{rem // 60:02d}m] {goal}: {event['text']}\n")
+            out.write(f"  [{hours}h{rem // 60:02d}m] {goal}: {event['text'].strip()}\n")
     energy = data["energy"]
     out.write(f"Energy used {energy['used_wh']:g} Wh of {energy['capacity_wh']:g} Wh; "
               f"simulated {data['sim_time_s'] / 3600:.2f} h.\n")

@@ -241,7 +241,7 @@ class Rehearsal:
                 "queued_faults": list(sim.queued_faults),
                 "fault_notice": self._notice,
                 "events": [e.to_json() for e in sim.events[-STATUS_EVENTS:]],
-                "port": self.port,
+                "port": self.port, **sim.refined_status(),
             }
             if sim.state == "waiting_for_outcome" and active is not None:
                 suggestion = active.suggestion

@@ -348,7 +348,10 @@ class Scene:
             anchor = self.to_scene(x, y, depth)
             self._marker_handles.append(self.server.scene.add_icosphere(
                 node, radius=0.1, color=colour, position=anchor))
-            text = f"{event.goal}: {OUTCOME_WORDS.get(outcome, outcome)}"
+            # A goal inside a refinement by its last id (G1.2#3): the goals of one refinement
+            # share an area, and their full ids made the markers' labels pile up there.
+            goal = event.goal.rsplit("/", 1)[-1] if event.goal else event.goal
+            text = f"{goal}: {OUTCOME_WORDS.get(outcome, outcome)}"
             at = self._labels.place((anchor[0], anchor[1], anchor[2] + 0.2), text)
             self.server.scene.add_label(f"{node}/label", text, position=offset(at, anchor))
             self._markers += 1

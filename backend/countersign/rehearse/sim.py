@@ -39,6 +39,8 @@ from typing import Any
 
 from ..orders.model import OUTCOMES, Area, Orders
 from ..verify.expressions import identifiers
+from ..verify.nesting import Nesting
+from ..verify.paths import INDENT
 from .contingency import Contingency
 from .geo import Point
 from .monitor import facts_of, monitors_of
@@ -62,6 +64,7 @@ from .sim_model import (
     Vehicle,
 )
 from .sim_motion import move, navigate
+from .sim_nesting import enter, fault_names, leave, rehearsed_form, status
 from .sim_plans import operating_depth, plan, priced_work
 from .sim_sensing import observations, values
 from .sources import OutcomeSource
@@ -88,7 +91,14 @@ class Simulation:
         limits: Limits | None = None,
         contingency: Contingency | None = None,
         charts: Sequence[Area] = (),
+        flown: tuple[Orders, Nesting | None] | None = None,
     ) -> None:
+        # A refined mission is flown as its flat automaton (sim_nesting.py); `nesting` says
+        # where each of its goals sits in the hierarchy. `flown` is that form made already
+        # (a campaign makes it once for thousands of simulations).
+        orders, self.nesting = flown if flown is not None else rehearsed_form(orders)
+        self.inside: list[str] = []  # the refined goals begun and not ended on this run
+        self.timeouts: list[dict[str, Any]] = []  # time-outs that ended a refinement
         self.orders = orders
         self.seed = seed
         self.limits = limits or Limits()
@@ -240,6 +250,10 @@ class Simulation:
         self._activate(spec.name)
         return f"Fault injected: {words}."
 
+    def refined_status(self) -> dict[str, Any]:
+        """The breadcrumb and last time-out of a refined mission (`sim_nesting.status`)."""
+        return status(self)
+
     def values(self, lookahead_s: float = 0.0,
                needed: frozenset[str] | None = None) -> dict[str, float | bool | str]:
         """The quantities the constraint monitors read (`sim_sensing.values`)."""
@@ -258,6 +272,7 @@ class Simulation:
             self._finish(None)
             return
         self.runs.append(Run(path_index=path_index))
+        self.inside.clear()
         if len(self.runs) > 1:
             # A tour starts every path from the same launch with a full battery.
             self.vehicle = Vehicle(*self._launch_point(), last_gps_s=self.time_s)
@@ -328,11 +343,16 @@ class Simulation:
             until = begin + self.rng.uniform(0.3, 1.0) * planned_s
             active.strong_current = (begin, until)
         self.active = active
-        self._emit("goal", f"Commence: {goal.label.rstrip('.')}.", goal_id,
-                   {"behavior": goal.behavior, "area": goal.area,
-                    "planned_s": round(planned_s, 1), "expected_wh": round(expected, 3)})
+        depth = enter(self, goal_id)
+        data: dict[str, Any] = {"behavior": goal.behavior, "area": goal.area,
+                                "planned_s": round(planned_s, 1),
+                                "expected_wh": round(expected, 3)}
+        if self.nesting is not None:
+            data["depth"] = depth
+        self._emit("goal", f"{INDENT * depth}Commence: {goal.label.rstrip('.')}.", goal_id, data)
+        names = fault_names(self.nesting, goal_id)
         for spec in list(self.pending_faults):
-            if spec.at_goal == goal_id:
+            if spec.at_goal in names:
                 self.pending_faults.remove(spec)
                 self._activate(spec.name)
         queued, self.queued_faults = self.queued_faults, []
@@ -346,11 +366,14 @@ class Simulation:
                 and (goal.behavior or "").lower() == "transect":
             self._transects_done.add(goal.area)
         v = self.vehicle
-        self._emit("outcome", f"{goal.label}: {outcome} ({reason}).", goal.id,
-                   {"outcome": outcome, "reason": reason,
-                    "position": [round(v.x, 2), round(v.y, 2), round(v.depth, 2)],
-                    "energy_wh": round(active.used_wh, 3)})
+        data: dict[str, Any] = {"outcome": outcome, "reason": reason,
+                                "position": [round(v.x, 2), round(v.y, 2), round(v.depth, 2)],
+                                "energy_wh": round(active.used_wh, 3)}
+        if self.nesting is not None:
+            data["depth"] = len(self.inside)
+        self._emit("outcome", f"{goal.label}: {outcome} ({reason}).", goal.id, data)
         self.active = None
+        leave(self, goal.id, outcome)
         targets = goal.successors(outcome)
         if not targets:
             self._emit("error", f"{goal.id} names no successor for {outcome} (SINK).", goal.id)

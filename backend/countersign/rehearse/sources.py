@@ -2,8 +2,9 @@
 
 - `manual`: a person answers each goal (the Figure 6 dialogue): the goal is animated to the
   end of its plan, then the rehearsal waits for succeed, fail or constraint.
-- `replay`: one path of the exhaustive traversal (`verify.paths` order, 1-based index); a
-  goal that fails or violates on that path is cut short part-way so the scene shows it.
+- `replay`: one path of the exhaustive traversal (`verify.paths` order, 1-based index; a
+  refined mission's paths are its flat automaton's, numbered as `countersign paths` numbers
+  them); a goal that fails or violates on that path is cut short part-way so the scene shows it.
 - `tour`: every path in traversal order, one run each, bounded.
 - `simulate`: the simulation decides (rules, constraint monitors, energy, the plan).
 """
@@ -13,7 +14,9 @@ from __future__ import annotations
 from typing import Literal
 
 from ..orders.model import Orders
-from ..verify.paths import MissionPath, iter_paths, paths_of
+from ..verify.graph import MissionGraph
+from ..verify.paths import MissionPath, PathCounts, count_paths, iter_paths
+from ..verify.refine import checked_form
 
 SourceKind = Literal["manual", "replay", "tour", "simulate"]
 SOURCES: tuple[SourceKind, ...] = ("manual", "replay", "tour", "simulate")
@@ -66,8 +69,14 @@ class _PathSource(OutcomeSource):
         return "scripted" if plan_done else "continue"
 
 
+def _paths_of(orders: Orders) -> tuple[MissionGraph, PathCounts | None]:
+    """The graph and counts `countersign paths` reads: a refined mission's flat one."""
+    graph = checked_form(orders)[1]
+    return graph, count_paths(graph)
+
+
 def _path(orders: Orders, index: int) -> MissionPath:
-    graph, counts = paths_of(orders)
+    graph, counts = _paths_of(orders)
     if counts is None:
         raise ValueError("the paths of these orders cannot be counted (no start, a loop or a "
                          "missing successor): fix the structural errors first")
@@ -93,7 +102,7 @@ class TourSource(_PathSource):
 
     def __init__(self, orders: Orders, max_paths: int) -> None:
         super().__init__()
-        graph, counts = paths_of(orders)
+        graph, counts = _paths_of(orders)
         if counts is None:
             raise ValueError("the paths of these orders cannot be counted (no start, a loop or "
                              "a missing successor): fix the structural errors first")

@@ -2793,6 +2793,13 @@ export interface components {
             /** Outcome */
             outcome: string;
         };
+        /** GoalRef */
+        GoalRef: {
+            /** Id */
+            id: string;
+            /** Title */
+            title: string;
+        };
         /** HTTPValidationError */
         HTTPValidationError: {
             /** Detail */
@@ -3944,6 +3951,16 @@ export interface components {
             terminal: string | null;
         };
         /**
+         * RefinedStatus
+         * @description A refined mission's rehearsal: the refined goals the current goal runs inside,
+         *     outermost first (the breadcrumb G1 › G1.2), and the last time-out that ended one.
+         */
+        RefinedStatus: {
+            /** Inside */
+            inside: components["schemas"]["GoalRef"][];
+            timeout: components["schemas"]["RefinementTimeout"] | null;
+        };
+        /**
          * Refinement
          * @description Sub-orders that carry out a goal: ids inside are local (outside they read G1/G1.1).
          *
@@ -4006,6 +4023,21 @@ export interface components {
             title?: string;
         } & {
             [key: string]: unknown;
+        };
+        /**
+         * RefinementTimeout
+         * @description A refinement's time-out ended it (`within`): the refined goal, the outcome it returned
+         *     and the simulated second.
+         */
+        RefinementTimeout: {
+            /** Goal */
+            goal: string;
+            /** Returns */
+            returns: string;
+            /** T */
+            t: number;
+            /** Title */
+            title: string;
         };
         /** RehearsalIn */
         RehearsalIn: {
@@ -4170,6 +4202,7 @@ export interface components {
             question?: string | null;
             /** Queued Faults */
             queued_faults: string[];
+            refined?: components["schemas"]["RefinedStatus"] | null;
             /** Run */
             run: number;
             /** Seed */

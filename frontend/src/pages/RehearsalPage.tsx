@@ -12,6 +12,7 @@ import { goals, OUTCOME_LABEL, OUTCOMES, type Orders, type Outcome, successors, 
 import { type MemberSpec, teamOf } from "../editor/scope";
 import { formatDateTime, shortDigest } from "../format";
 import { useLoad } from "../useLoad";
+import { RefinedGoalCard } from "./RefinedGoalCard";
 import { type MemberPaths, TeamMemberSources } from "./rehearsal/TeamMemberSources";
 import { outcomeKey, pathOrder, stepPlace } from "./rehearsalOrder";
 import "./rehearsal.css";
@@ -234,6 +235,7 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
               {terminal ? ` · ended at ${terminal}` : null}
               {" "}· step <span data-testid="rehearsal-step">{String(live.status.step)}</span>
             </p>
+            {status?.refined && <RefinedGoalCard refined={status.refined} current={status.current_goal} />}
             <dl className="rehearsal-figures" data-testid="rehearsal-figures">
               <dt>Simulated time</dt>
               <dd data-testid="rehearsal-time">{simTime === null ? "—" : simulatedTime(simTime)}</dd>

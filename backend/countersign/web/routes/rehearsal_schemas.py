@@ -85,6 +85,29 @@ class TeamStatus(BaseModel):
     joint_end: str | None
 
 
+class GoalRef(BaseModel):
+    id: str
+    title: str
+
+
+class RefinementTimeout(BaseModel):
+    """A refinement's time-out ended it (`within`): the refined goal, the outcome it returned
+    and the simulated second."""
+
+    goal: str
+    title: str
+    returns: str
+    t: Number
+
+
+class RefinedStatus(BaseModel):
+    """A refined mission's rehearsal: the refined goals the current goal runs inside,
+    outermost first (the breadcrumb G1 › G1.2), and the last time-out that ended one."""
+
+    inside: list[GoalRef]
+    timeout: RefinementTimeout | None
+
+
 class RehearsalStatus(BaseModel):
     id: str
     state: Literal["running", "waiting_for_outcome", "finished", "stopped"]
@@ -115,6 +138,8 @@ class RehearsalStatus(BaseModel):
     suggested: Suggestion | None = None
     # Only for a team's orders: every vehicle, the meetings and the joint end.
     team: TeamStatus | None = None
+    # Only for orders with refinements.
+    refined: RefinedStatus | None = None
 
 
 class RecordOrders(BaseModel):
