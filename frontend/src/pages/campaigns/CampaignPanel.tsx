@@ -4,6 +4,7 @@
  * cancel, and read the estimates: terminal probabilities with 95% Wilson intervals, the paths
  * covered (numbered as in the Paths tab), an energy histogram, and per-goal outcome
  * probabilities offered for the orders' `p` (copied by the operator, never written for them).
+ * A team's campaign shows its joint table instead (TeamCampaignResults.tsx).
  */
 import { useEffect, useState } from "react";
 
@@ -12,6 +13,7 @@ import { numberPair } from "../../api/pair";
 import { ErrorMessage, Notice } from "../../components/Status";
 import { useCan, useSession } from "../../session";
 import { useLoad } from "../../useLoad";
+import { TeamCampaignResults } from "./TeamCampaignResults";
 
 type Campaign = Schema<"CampaignOut">;
 type Estimate = Schema<"Estimate">;
@@ -237,6 +239,7 @@ export function CampaignResults({ campaign, offer: offering = true }: { campaign
     setOffered(JSON.stringify(p, null, 2));
   };
   if (!results) return <p>This campaign has no results yet.</p>;
+  if ("team" in results) return <TeamCampaignResults id={campaign.id} results={results} />;
   const coverage = results.coverage;
   return (
     <section aria-labelledby="campaign-results-title" className="campaign-results">
