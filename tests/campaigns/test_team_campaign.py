@@ -8,6 +8,7 @@ campaign's simulations reach must be exactly those the enumeration reaches."""
 from __future__ import annotations
 
 from collections import Counter
+from pathlib import Path
 from typing import Any
 
 import pytest
@@ -19,9 +20,12 @@ from countersign.campaigns.team import TeamMission, simulate_team, sweep_fault_r
 from countersign.campaigns.team_stats import summarize_team
 from countersign.cli.campaign import status_text
 from countersign.errors import Unprocessable
+from countersign.orders.canonical import digest, orders_to_json
 from countersign.orders.examples import load_example
 from countersign.orders.model import OUTCOMES, Orders
 from countersign.orders.reader import orders_from_data
+from countersign.store import campaigns as store
+from countersign.store.db import Database
 
 EXEMPLAR = "search-and-sample-team"
 V2_DRIFTS = "remus-100:waiting + vehicle-2:ABORT"  # nav_drift: vehicle 2 aborts before C
@@ -243,3 +247,32 @@ def test_a_fault_reacts_when_it_does_in_a_member_it_is_injected_into(
     assert reach["vehicle-2:nav_drift"].reacts
     assert "vehicle-2:" in reach["vehicle-2:nav_drift"].because
     assert "remus-100" not in reach["vehicle-2:nav_drift"].because
+
+
+def test_a_team_jobs_rerun_stores_each_simulation_once_and_seals_the_joint_table(
+        tmp_path: Path) -> None:
+    """A job retried after its worker was killed (or run twice) skips what was stored; the
+    last result seals a record whose results are the team's."""
+    from countersign.jobs.tasks import missing_chunks, run_chunk
+
+    database = Database(f"sqlite:///{tmp_path / 'c.db'}")
+    database.migrate()
+    team = _team([(v, {"id": v, "start": "G0", "goals": [
+        {"id": "G0", "behavior": "rendezvous", "meet": "R1",
+         "next": {"succeed": "COMPLETE", "fail": "ABORT", "violate": "ABORT"}}]})
+        for v in ("a", "b")])
+    spec = CampaignSpec.build(simulations=3, chunk=2, faults=["none", "b:leak"], orders=team)
+    with database.session() as db:
+        row = store.create(db, orders=orders_to_json(team), orders_digest=digest(team),
+                           spec=spec.to_json(), simulations=3, owner=None)
+    assert run_chunk(database, row.id, 0, 2) == 2
+    assert missing_chunks(database, row.id) == [(2, 3)]
+    assert run_chunk(database, row.id, 0, 2) == 0  # the retry stores nothing twice
+    assert run_chunk(database, row.id, 2, 3) == 1
+    with database.session(write=False) as db:
+        sealed = store.get(db, row.id)
+        assert sealed.state == "finished"
+        results = sealed.record["results"]
+    assert results["simulations"] == 3
+    assert sum(r["count"] for r in results["team"]["joint"]) == 3
+    assert results["team"]["findings"] == []
