@@ -75,9 +75,13 @@ function StartForm({ mission, versions, onStarted }: { mission: string; versions
   const [simulations, setSimulations] = useState(100);
   const [faults, setFaults] = useState<string[]>(["none"]);
   const [goals, setGoals] = useState("start");
+  // A team's faults for one member (`vehicle-2:leak`), beside the ones every member gets.
+  const [memberFaults, setMemberFaults] = useState("");
   const [seed, setSeed] = useState(0);
   const [busy, setBusy] = useState(false);
   const [error, setError] = useState<unknown>(null);
+  const perMember = memberFaults.split(",").map((f) => f.trim()).filter(Boolean);
+  const sweep = [...faults, ...perMember];
   const start = async () => {
     setBusy(true);
     setError(null);
@@ -87,7 +91,7 @@ function StartForm({ mission, versions, onStarted }: { mission: string; versions
           params: { path: { mission_id: mission, number: version } },
           body: {
             simulations,
-            faults,
+            faults: sweep,
             goals: goals.split(",").map((g) => g.trim()).filter(Boolean),
             seed,
           },
@@ -103,7 +107,7 @@ function StartForm({ mission, versions, onStarted }: { mission: string; versions
   const toggle = (fault: string) =>
     setFaults((f) => (f.includes(fault) ? f.filter((x) => x !== fault) : [...f, fault]));
   // Before the run: which chosen faults nothing in the version reacts to (issue 32 item 6).
-  const chosen = faults.filter((f) => f !== "none");
+  const chosen = sweep.filter((f) => f !== "none");
   const reach = useLoad(
     async () =>
       chosen.length === 0
@@ -144,6 +148,10 @@ function StartForm({ mission, versions, onStarted }: { mission: string; versions
         ))}
       </div>
       <label>
+        One team member's faults (VEHICLE:FAULT, comma separated){" "}
+        <input value={memberFaults} maxLength={400} placeholder="vehicle-2:leak" onChange={(e) => setMemberFaults(e.target.value)} />
+      </label>{" "}
+      <label>
         Inject at (goals, comma separated; start = from the start){" "}
         <input value={goals} maxLength={400} onChange={(e) => setGoals(e.target.value)} />
       </label>{" "}
@@ -156,7 +164,7 @@ function StartForm({ mission, versions, onStarted }: { mission: string; versions
           ))}
         </ul>
       )}
-      <button type="button" className="primary" onClick={start} disabled={busy || faults.length === 0}>
+      <button type="button" className="primary" onClick={start} disabled={busy || sweep.length === 0}>
         {busy ? "Starting…" : "Start campaign"}
       </button>
       <ErrorMessage error={error} />
