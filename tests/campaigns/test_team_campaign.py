@@ -120,8 +120,18 @@ def _oracle(team: Orders, fixed: dict[str, str]) -> tuple[set[str], Counter[str]
     return ends, fired_at_end, waits
 
 
+_TWICE = {"succeed": "G1", "fail": "G1", "violate": "G1"}
+_DONE = {"succeed": "COMPLETE", "fail": "COMPLETE", "violate": "COMPLETE"}
+
+
 @settings(max_examples=100, deadline=None)
 @given(tiny_teams())
+@example(([(v, {"id": v, "start": "G0", "goals": [
+              {"id": "G0", "behavior": "rendezvous", "meet": "R1", "next": _TWICE},
+              {"id": "G1", "behavior": "rendezvous", "meet": "R1", "next": _DONE}]})
+           for v in ("v0", "v1")],
+          {"R1": "fail", "R2": "succeed", "v0/G0": "fail", "v0/G1": "fail", "v1/G0": "fail",
+           "v1/G1": "fail"}))  # one meeting completing twice in a run
 @example(([("v0", {"id": "m0", "start": "G0", "goals": [
               {"id": "G0", "behavior": "rendezvous", "meet": "R1",
                "next": {"succeed": "G1", "fail": "G1", "violate": "G1"}},

@@ -28,12 +28,16 @@ def summarize_team(runs: Iterable[dict[str, Any]], mission: TeamMission) -> dict
     first: dict[str, list[int]] = {}
     completed: dict[str, Counter[str]] = {}
     deadlocked: Counter[str] = Counter()
+    met: Counter[str] = Counter()
     terminals: dict[str, Counter[str]] = {v: Counter() for v in mission.vehicles}
     paths: dict[str, set[int]] = {v: set() for v in mission.vehicles}
     unfinished = 0
     for run in runs:
         for meeting in run.get("meetings", []):
             completed.setdefault(meeting["meet"], Counter())[meeting["outcome"]] += 1
+        # A member's orders may name a meeting twice: runs are counted once, outcomes each time.
+        for meet in {str(m["meet"]) for m in run.get("meetings", [])}:
+            met[meet] += 1
         for meet in {str(d.get("meet")) for d in run.get("deadlocks", [])}:
             deadlocked[meet] += 1
         for member in run.get("members", []):
@@ -51,7 +55,7 @@ def summarize_team(runs: Iterable[dict[str, Any]], mission: TeamMission) -> dict
         "vehicles": list(mission.vehicles),
         "joint": _joint_rows(ends, n, possible),
         "unfinished": estimate(unfinished, n),
-        "meetings": _meeting_rows(mission, completed, deadlocked, n),
+        "meetings": _meeting_rows(mission, completed, met, deadlocked, n),
         "members": _member_rows(mission, terminals, paths, n),
         "coverage": _coverage(ends, possible),
         "findings": _findings(ends, first, possible),
@@ -68,11 +72,13 @@ def _joint_rows(ends: Counter[str], n: int,
              "executions": (possible or {}).get(key)} for key in keys]
 
 
-def _meeting_rows(mission: TeamMission, completed: dict[str, Counter[str]],
+def _meeting_rows(mission: TeamMission, completed: dict[str, Counter[str]], met: Counter[str],
                   deadlocked: Counter[str], n: int) -> list[dict[str, Any]]:
+    """Per meeting: the runs in which it completed (at least once) and deadlocked, and how
+    often each shared outcome was decided."""
     meets = sorted(set(mission.meetings) | set(completed) | set(deadlocked))
     return [{"meet": meet, "vehicles": list(mission.meetings.get(meet, ())),
-             "completed": estimate(sum(completed.get(meet, Counter()).values()), n),
+             "completed": estimate(met[meet], n),
              "deadlocked": estimate(deadlocked[meet], n),
              "outcomes": {o: completed.get(meet, Counter())[o] for o in OUTCOMES}}
             for meet in meets]
