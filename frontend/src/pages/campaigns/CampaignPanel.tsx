@@ -147,10 +147,12 @@ function StartForm({ mission, versions, onStarted }: { mission: string; versions
           </label>
         ))}
       </div>
-      <label>
-        One team member's faults (VEHICLE:FAULT, comma separated){" "}
-        <input value={memberFaults} maxLength={400} placeholder="vehicle-2:leak" onChange={(e) => setMemberFaults(e.target.value)} />
-      </label>{" "}
+      <div>
+        <label>
+          One team member's faults (VEHICLE:FAULT, comma separated){" "}
+          <input value={memberFaults} maxLength={400} placeholder="vehicle-2:leak" onChange={(e) => setMemberFaults(e.target.value)} />
+        </label>
+      </div>
       <label>
         Inject at (goals, comma separated; start = from the start){" "}
         <input value={goals} maxLength={400} onChange={(e) => setGoals(e.target.value)} />
