@@ -7,6 +7,9 @@ campaign's simulations reach must be exactly those the enumeration reaches."""
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
 from collections import Counter
 from pathlib import Path
 from typing import Any
@@ -286,3 +289,20 @@ def test_a_team_jobs_rerun_stores_each_simulation_once_and_seals_the_joint_table
     assert results["simulations"] == 3
     assert sum(r["count"] for r in results["team"]["joint"]) == 3
     assert results["team"]["findings"] == []
+
+
+def test_the_cli_runs_a_team_campaign_and_prints_its_joint_table(tmp_path: Path) -> None:
+    env = {**os.environ, "COUNTERSIGN_DATA_DIR": str(tmp_path)}
+    env.pop("COUNTERSIGN_DATABASE_URL", None)
+    cli = [sys.executable, "-m", "countersign.cli", "campaign", "run", f"example:{EXEMPLAR}"]
+    done = subprocess.run([*cli, "-n", "2", "--fault", "vehicle-2:nav_drift"], env=env,
+                          capture_output=True, text=True, timeout=1200)
+    assert done.returncode == 0, done.stderr
+    lines = done.stdout.splitlines()
+    assert any(line.split()[:1] == ["2"] and line.endswith(V2_DRIFTS) for line in lines), lines
+    assert "Meeting R1 (remus-100, vehicle-2): completed 0, deadlocked 2" in lines
+    assert any(line.startswith("Joint ends reached: 1 of 7") for line in lines), lines
+    bad = subprocess.run([*cli, "-n", "2", "--fault", "auv-9:leak"], env=env,
+                         capture_output=True, text=True, timeout=600)
+    assert bad.returncode == 2
+    assert "auv-9" in bad.stderr and "Traceback" not in bad.stderr
