@@ -243,9 +243,10 @@ def test_team_specs_are_bounded_and_name_what_is_wrong(exemplar: TeamMission) ->
                        ({"simulations": 2, "goals": ["G99"]}, "G99")]:
         with pytest.raises(Unprocessable, match=words):
             CampaignSpec.build(**bad, orders=team)  # type: ignore[arg-type]
-    spec = CampaignSpec.build(simulations=3, faults=["vehicle-2:leak"], goals=["G5"],
-                              orders=team)  # G5: a goal of remus-100 only
-    assert spec.cells == (("vehicle-2:leak@G5",),)
+    spec = CampaignSpec.build(simulations=3, faults=["vehicle-2:leak", "leak"],
+                              goals=["G2", "G5"], orders=team)  # G5: remus-100's only
+    assert spec.cells == (("vehicle-2:leak@G2",), ("vehicle-2:leak@G5",), ("leak@G2",),
+                          ("leak@G5",))
     # One vehicle's orders name no member.
     with pytest.raises(Unprocessable, match="unknown fault"):
         CampaignSpec.build(simulations=2, faults=["vehicle-2:leak"],

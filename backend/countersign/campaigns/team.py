@@ -40,8 +40,9 @@ class TeamMission:
 
     @property
     def possible(self) -> dict[str, int] | None:
-        """Joint end -> joint executions the verifier counts there; None when the product was
-        too large to count (then no run's end can be held against it)."""
+        """Joint end -> joint executions the verifier counts there; None when they were not
+        counted (a member's paths cannot be counted, or the product exceeds its bounds): then
+        no run's end can be held against them."""
         if self.joint is None:
             return None
         return {key: n for key, n in self.joint.by_key().items() if n > 0}
