@@ -93,14 +93,13 @@ def test_team_orders_are_never_a_500(world: World) -> None:
                  f"/api/missions/{MISSION}/standing"):
         response = supervisor.get(path)
         assert response.status_code < 500, (path, response.status_code, response.text)
-    # What reads one vehicle's MEA (vehicle files, simulations) refuses a team, never a 500.
+    # What reads one vehicle's MEA (vehicle files, simulations) refuses a team, never a 500
+    # (campaigns run teams: tests/api/test_team_campaigns.py).
     for path in (f"/api/missions/{MISSION}/versions/{number}/vehicle/imc",
                  f"/api/missions/{MISSION}/versions/{number}/vehicle/moos"):
         response = operator.get(path)
         assert 400 <= response.status_code < 500, (path, response.status_code, response.text)
-    for path, body in ((f"/api/missions/{MISSION}/versions/{number}/campaigns",
-                        {"simulations": 4}),
-                       (f"/api/missions/{MISSION}/rehearsals", {"version": number})):
+    for path, body in ((f"/api/missions/{MISSION}/rehearsals", {"version": number}),):
         response = operator.post(path, json=body)
         assert 400 <= response.status_code < 500, (path, response.status_code, response.text)
     paths = supervisor.get(f"/api/missions/{MISSION}/paths")

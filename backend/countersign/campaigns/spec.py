@@ -22,6 +22,9 @@ MAX_SWEEP_CELLS = 64
 MAX_FAULTS = len(FAULTS) + 1
 MAX_GOALS = 32
 MAX_SEED = 2**31 - 1
+# A team simulation runs every member's: the bound is on member simulations (simulations x
+# members), so a team's campaign costs at most what a single vehicle's may.
+MAX_MEMBER_SIMULATIONS = MAX_SIMULATIONS
 NO_FAULT = "none"
 AT_START = "start"
 DEFAULT_CHUNK = 10  # simulations per job: a killed worker loses at most one job's progress
@@ -56,13 +59,17 @@ class CampaignSpec:
             raise Unprocessable(f"faults: at most {MAX_FAULTS}")
         if len(goals) > MAX_GOALS:
             raise Unprocessable(f"goals: at most {MAX_GOALS}")
+        # None: orders not given (a stored spec, checked when it was made); [] one vehicle.
+        vehicles = None if orders is None else [m.vehicle for m in orders.team or ()]
+        if vehicles and simulations * len(vehicles) > MAX_MEMBER_SIMULATIONS:
+            raise Unprocessable(f"simulations: a team of {len(vehicles)} runs "
+                                f"{len(vehicles)} member simulations each; at most "
+                                f"{MAX_MEMBER_SIMULATIONS // len(vehicles)} for this team")
         for name in faults:
-            if name != NO_FAULT and name not in FAULTS:
-                raise Unprocessable(f"faults: unknown fault {str(name)[:40]!r}; choose from "
-                                    f"{NO_FAULT}, {', '.join(FAULTS)}")
+            _check_fault(name, vehicles)
         # A refined mission's goals inside (G1/G1.2) are goals a fault may wait for too.
         try:
-            known = goal_names(orders) if orders is not None else None
+            known = _goal_ids(orders) if orders is not None else None
         except ValueError as exc:  # refinements that cannot be unrolled cannot be flown
             raise Unprocessable(f"orders: {exc}") from None
         for goal in goals:
@@ -98,10 +105,33 @@ class CampaignSpec:
                 for start in range(0, self.simulations, self.chunk)]
 
 
+def _check_fault(name: str, vehicles: Sequence[str] | None) -> None:
+    """A fault of the sweep; a team's may name one member (`VEHICLE:FAULT`) or apply to
+    every member. `vehicles`: the team's, [] for one vehicle's orders, None when unknown."""
+    vehicle, sep, fault = str(name).rpartition(":")
+    if sep and vehicles != []:
+        if vehicles is not None and vehicle not in vehicles:
+            raise Unprocessable(f"faults: {str(name)[:60]!r} names vehicle {vehicle[:40]!r}, "
+                                f"which is not in the team ({', '.join(vehicles)})")
+        name = fault
+    if name != NO_FAULT and name not in FAULTS:
+        raise Unprocessable(f"faults: unknown fault {str(name)[:40]!r}; choose from "
+                            f"{NO_FAULT}, {', '.join(FAULTS)}"
+                            + (" (VEHICLE:FAULT for one member)" if vehicles else ""))
+
+
+def _goal_ids(orders: Orders) -> set[str]:
+    """Goals a fault may be injected at: a team's are every member's (a fault at G1 is
+    injected into each member with a G1)."""
+    if orders.team is None:
+        return set(goal_names(orders))
+    return {g for m in orders.team for g in goal_names(m.orders)}
+
+
 def _cells(faults: Sequence[str], goals: Sequence[str]) -> tuple[tuple[str, ...], ...]:
     cells: list[tuple[str, ...]] = []
     for name in faults:
-        if name == NO_FAULT:
+        if name.rpartition(":")[2] == NO_FAULT:
             cells.append(())
             continue
         for goal in goals:

@@ -26,14 +26,21 @@ FAULTS = ("gps_loss", "nav_drift", "leak", "low_energy", "contact_close")
 MAX_SIMULATIONS = 10_000
 EXIT_NOT_FINISHED = 1
 
-DESCRIPTION = """\
+DESCRIPTION = f"""\
 Rehearsal campaigns (issue 20): N seeded headless simulations of one set of orders over a
 sweep of faults and the goals at which they are injected. The results estimate each
 terminal's probability and that of any violation (95% Wilson intervals), each goal's outcome
 probabilities (offered for the orders' `p`), which paths were covered (numbered as
 `countersign paths`) and the energy used. Each simulation is stored once per index: a run
 killed part-way is resumed with `run --resume ID` (SQLite) or by the other workers
-(PostgreSQL) without counting anything twice."""
+(PostgreSQL) without counting anything twice.
+
+Orders with a team: each simulation runs every member in one world clock, as `rehearse`
+does (FAULT is injected into every member, VEHICLE:FAULT into one; simulations x members at
+most {MAX_SIMULATIONS}). The results are the joint ends as `validate` names them
+(`remus-100:waiting + vehicle-2:ABORT`) with their counts, the meetings completed and
+deadlocked, each member's terminals, and the joint ends the verifier counts that no run
+reached; a run ending where the verifier says no joint execution can is a TEAM finding."""
 
 EPILOG = f"""\
 examples:
@@ -42,6 +49,8 @@ examples:
   countersign campaign status ID
   countersign campaign cancel ID
   countersign campaign run --resume ID        (finish a campaign whose process was killed)
+  countersign campaign run example:search-and-sample-team -n 50 --fault none \\
+      --fault vehicle-2:nav_drift                (a team: joint ends and meetings)
   COUNTERSIGN_DATABASE_URL=postgresql://... countersign campaign worker   (PostgreSQL)
 
 faults: none, {', '.join(FAULTS)}; at most {MAX_SIMULATIONS} simulations.
@@ -67,7 +76,8 @@ def add_commands(commands: Any) -> None:
                      help=f"how many simulations (1 to {MAX_SIMULATIONS}; default 100)")
     run.add_argument("--fault", action="append", default=[], metavar="FAULT",
                      help="a fault of the sweep, or 'none' (repeatable; default none); a fault "
-                          "no constraint, rule or vehicle reaction reads is named first")
+                          "no constraint, rule or vehicle reaction reads is named first; a "
+                          "team's may be VEHICLE:FAULT (one member)")
     run.add_argument("--goal", action="append", default=[], metavar="GOAL",
                      help="inject the faults when this goal starts, or 'start' (repeatable; "
                           "a goal inside a refined goal reads G1/G1.2)")
@@ -203,7 +213,7 @@ def _create(database: Database, args: argparse.Namespace) -> tuple[str, list[tup
         orders = orders_from_data(data)
         mission_id, version = args.mission, args.version
     else:
-        orders = load_orders(args.file).orders
+        orders = load_orders(args.file, teams=True).orders
         data = orders_to_json(orders)
     try:
         spec = CampaignSpec.build(simulations=args.simulations,
@@ -212,10 +222,10 @@ def _create(database: Database, args: argparse.Namespace) -> tuple[str, list[tup
                                   chunk=args.chunk, orders=orders)
     except DomainError as exc:
         raise UsageError(str(exc)) from None
-    from ..rehearse.fault_reach import fault_reach
+    from ..campaigns.team import sweep_fault_reach
 
     # Said before the run: a fault nothing reacts to only repeats the runs without it.
-    for idle in (r for r in fault_reach(orders, spec.faults) if not r.reacts):
+    for idle in (r for r in sweep_fault_reach(orders, spec.faults) if not r.reacts):
         sys.stderr.write(f"warning: {idle.because}\n")
     with database.session() as db:
         row = store.create(db, orders=data, orders_digest=orders_digest(orders),
@@ -274,6 +284,8 @@ def status_text(data: dict[str, Any]) -> str:
     results = data.get("results")
     if not results:
         return "\n".join(lines) + "\n"
+    if "team" in results:
+        return "\n".join(lines + team_lines(results["team"])) + "\n"
 
     def line(name: str, e: dict[str, Any]) -> str:
         low, high = e["ci"]
@@ -300,6 +312,37 @@ def status_text(data: dict[str, Any]) -> str:
             parts = ", ".join(f"{o} {g[o]['p']:.3f}" for o in ("succeed", "fail", "violate"))
             lines.append(f"  {goal}: {parts} ({g['visits']} visits)")
     return "\n".join(lines) + "\n"
+
+
+def team_lines(team: dict[str, Any]) -> list[str]:
+    """A team campaign's joint table, meetings, member terminals, coverage and findings."""
+    lines = ["Joint ends (runs, estimated probability [95% Wilson], joint executions the "
+             "verifier counts):"]
+    for row in team["joint"]:
+        low, high = row["ci"]
+        verifier = "impossible" if row["possible"] is False else row["executions"]
+        lines.append(f"  {row['count']:>6}  {row['p']:.3f} [{low:.3f}, {high:.3f}]  "
+                     f"{verifier!s:>10}  {row['end']}")
+    if team["unfinished"]["count"]:
+        lines.append(f"  {team['unfinished']['count']:>6}  stopped by a bound (no joint end)")
+    for meeting in team["meetings"]:
+        outcomes = ", ".join(f"{o} {n}" for o, n in meeting["outcomes"].items() if n)
+        lines.append(f"Meeting {meeting['meet']} ({', '.join(meeting['vehicles'])}): completed "
+                     f"{meeting['completed']['count']}" + (f" ({outcomes})" if outcomes else "")
+                     + f", deadlocked {meeting['deadlocked']['count']}")
+    for member in team["members"]:
+        ends = ", ".join(f"{t} {e['count']}" for t, e in member["terminals"].items())
+        lines.append(f"  {member['vehicle']}: {ends}; paths covered "
+                     f"{member['covered_paths']} of {member['total_paths']}")
+    coverage = team["coverage"]
+    if coverage["checked"]:
+        lines.append(f"Joint ends reached: {coverage['reached']} of {coverage['possible']} "
+                     "the verifier counts" + (f"; never reached: {'; '.join(coverage['missed'])}"
+                                              if coverage["missed"] else ""))
+    else:
+        lines.append("Joint ends not held against the verifier (its joint counts are missing).")
+    lines += [f"error TEAM  {f['message']}" for f in team["findings"]]
+    return lines
 
 
 def cmd_status(args: argparse.Namespace) -> int:

@@ -16,23 +16,26 @@ from typing import Any
 from ..campaigns.simulate import Mission, simulate
 from ..campaigns.spec import CampaignSpec
 from ..campaigns.stats import FORMAT, summarize
+from ..campaigns.team import TeamMission, simulate_team
+from ..campaigns.team_stats import summarize_team
 from ..orders.reader import orders_from_data
 from ..store import campaigns as store
 from ..store.db import Database
 
-_missions: OrderedDict[tuple[str, str], Mission] = OrderedDict()
+_missions: OrderedDict[tuple[str, str], Mission | TeamMission] = OrderedDict()
 _missions_lock = threading.Lock()
 MISSIONS_KEPT = 4
 
 
-def _mission(digest: str, orders: dict[str, Any], campaign_id: str) -> Mission:
+def _mission(digest: str, orders: dict[str, Any], campaign_id: str) -> Mission | TeamMission:
     key = (campaign_id, digest)
     with _missions_lock:
         found = _missions.get(key)
         if found is not None:
             _missions.move_to_end(key)
             return found
-    mission = Mission(orders_from_data(orders))
+    read = orders_from_data(orders)
+    mission = TeamMission(read) if read.team is not None else Mission(read)
     with _missions_lock:
         _missions[key] = mission
         while len(_missions) > MISSIONS_KEPT:
@@ -62,7 +65,8 @@ def run_chunk(database: Database, campaign_id: str, start: int, stop: int, *,
             if store.state_of(db, campaign_id) not in store.ACTIVE_STATES:
                 return stored  # cancelled
         seed, faults = spec.simulation(index)
-        result = simulate(mission, index, seed, faults)
+        result = simulate_team(mission, index, seed, faults) \
+            if isinstance(mission, TeamMission) else simulate(mission, index, seed, faults)
         with database.session() as db:
             if store.store_result(db, campaign_id, index, result):
                 stored += 1
@@ -87,9 +91,12 @@ def finish_if_complete(database: Database, campaign_id: str) -> str | None:
         return store.seal(db, campaign_id, record)
 
 
-def campaign_record(mission: Mission, orders_digest: str, spec: dict[str, Any],
+def campaign_record(mission: Mission | TeamMission, orders_digest: str, spec: dict[str, Any],
                     runs: list[dict[str, Any]]) -> dict[str, Any]:
     orders = mission.orders
+    if isinstance(mission, TeamMission):
+        return {"format": FORMAT, "orders": {"id": orders.id, "digest": orders_digest},
+                "spec": spec, "results": summarize_team(runs, mission)}
     results = summarize(
         runs, total_paths=mission.total_paths,
         terminals=[(t.id, t.kind) for t in orders.effective_terminals],

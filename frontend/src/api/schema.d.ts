@@ -869,7 +869,9 @@ export interface paths {
         put?: never;
         /**
          * Start Campaign
-         * @description Queue N seeded simulations of this version over the sweep faults x goals.
+         * @description Queue N seeded simulations of this version over the sweep faults x goals. A team's
+         *     simulations run every member (faults `VEHICLE:FAULT` for one member) and its results are
+         *     the joint ends, meetings and member terminals (`results.team`).
          */
         post: operations["startCampaign"];
         delete?: never;
@@ -1629,6 +1631,11 @@ export type webhooks = Record<string, never>;
 export interface components {
     schemas: {
         /**
+         * AnyCampaignResults
+         * @description One vehicle's campaign results, or a team's (with `team`).
+         */
+        AnyCampaignResults: components["schemas"]["CampaignResults"] | components["schemas"]["TeamCampaignResults"];
+        /**
          * ApprovalDetailOut
          * @description An approval as signed (GET /api/approvals/{id}).
          */
@@ -1917,7 +1924,7 @@ export interface components {
             /** Owner */
             owner: string | null;
             /** Results */
-            results: components["schemas"]["CampaignResults"] | null;
+            results: components["schemas"]["AnyCampaignResults"] | null;
             /** Simulations */
             simulations: number;
             /** Spec */
@@ -1952,7 +1959,7 @@ export interface components {
              */
             format: "countersign.campaign/1";
             orders: components["schemas"]["CampaignOrders"];
-            results: components["schemas"]["CampaignResults"];
+            results: components["schemas"]["AnyCampaignResults"];
             spec: components["schemas"]["CampaignSpecOut"];
         };
         /** CampaignResults */
@@ -2836,6 +2843,40 @@ export interface components {
             /** Waiting */
             waiting: components["schemas"]["JointWaitingOut"][];
         };
+        /** JointCoverage */
+        JointCoverage: {
+            /** Checked */
+            checked: boolean;
+            /** Missed */
+            missed: string[];
+            /** Possible */
+            possible: number | null;
+            /** Reached */
+            reached: number;
+        };
+        /**
+         * JointEndRow
+         * @description Runs that ended in one joint end (`remus-100:waiting + vehicle-2:ABORT`), and whether
+         *     the verifier's joint counts have it (`executions`: how many joint executions end there;
+         *     both null when the verifier could not count them).
+         */
+        JointEndRow: {
+            /** Ci */
+            ci: [
+                number,
+                number
+            ];
+            /** Count */
+            count: number;
+            /** End */
+            end: string;
+            /** Executions */
+            executions: number | null;
+            /** P */
+            p: number | null;
+            /** Possible */
+            possible: boolean | null;
+        };
         /**
          * JointEndsOut
          * @description How many joint executions end with each member at the terminal `ends` names (null:
@@ -2848,6 +2889,30 @@ export interface components {
             ends: {
                 [key: string]: string | null;
             };
+        };
+        /**
+         * JointFinding
+         * @description Runs that ended in a joint end the verifier says no joint execution reaches.
+         */
+        JointFinding: {
+            /**
+             * Code
+             * @constant
+             */
+            code: "TEAM";
+            /** Count */
+            count: number;
+            /** End */
+            end: string;
+            /** Message */
+            message: string;
+            /** Runs */
+            runs: number[];
+            /**
+             * Severity
+             * @constant
+             */
+            severity: "error";
         };
         /**
          * JointWaitingOut
@@ -2963,6 +3028,36 @@ export interface components {
             password: string;
             /** Username */
             username: string;
+        };
+        /** MeetingRow */
+        MeetingRow: {
+            completed: components["schemas"]["Estimate"];
+            deadlocked: components["schemas"]["Estimate"];
+            /** Meet */
+            meet: string;
+            /** Outcomes */
+            outcomes: {
+                [key: string]: number;
+            };
+            /** Vehicles */
+            vehicles: string[];
+        };
+        /**
+         * MemberRow
+         * @description A member's terminals over the runs ('waiting': left waiting at a meeting; 'none': a
+         *     bound stopped it).
+         */
+        MemberRow: {
+            /** Covered Paths */
+            covered_paths: number;
+            /** Terminals */
+            terminals: {
+                [key: string]: components["schemas"]["Estimate"];
+            };
+            /** Total Paths */
+            total_paths: number | null;
+            /** Vehicle */
+            vehicle: string;
         };
         /** MissionDetail */
         MissionDetail: {
@@ -4504,6 +4599,30 @@ export interface components {
             because: string;
             /** Outcome */
             outcome: string;
+        };
+        /**
+         * TeamCampaignResults
+         * @description A team campaign's results (campaigns/team_stats.py).
+         */
+        TeamCampaignResults: {
+            /** Simulations */
+            simulations: number;
+            team: components["schemas"]["TeamCampaignSummary"];
+        };
+        /** TeamCampaignSummary */
+        TeamCampaignSummary: {
+            coverage: components["schemas"]["JointCoverage"];
+            /** Findings */
+            findings: components["schemas"]["JointFinding"][];
+            /** Joint */
+            joint: components["schemas"]["JointEndRow"][];
+            /** Meetings */
+            meetings: components["schemas"]["MeetingRow"][];
+            /** Members */
+            members: components["schemas"]["MemberRow"][];
+            unfinished: components["schemas"]["Estimate"];
+            /** Vehicles */
+            vehicles: string[];
         };
         /**
          * TeamMeeting

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel
+from pydantic import BaseModel, RootModel
 
 from .schemas import Number, SchemaOf
 
@@ -72,6 +72,76 @@ class CampaignResults(BaseModel):
     energy_wh: EnergySummary
 
 
+class JointEndRow(BaseModel):
+    """Runs that ended in one joint end (`remus-100:waiting + vehicle-2:ABORT`), and whether
+    the verifier's joint counts have it (`executions`: how many joint executions end there;
+    both null when the verifier could not count them)."""
+
+    end: str
+    count: int
+    p: Number | None
+    ci: tuple[Number, Number]
+    possible: bool | None
+    executions: int | None
+
+
+class MeetingRow(BaseModel):
+    meet: str
+    vehicles: list[str]
+    completed: Estimate
+    deadlocked: Estimate
+    outcomes: dict[str, int]
+
+
+class MemberRow(BaseModel):
+    """A member's terminals over the runs ('waiting': left waiting at a meeting; 'none': a
+    bound stopped it)."""
+
+    vehicle: str
+    terminals: dict[str, Estimate]
+    total_paths: int | None
+    covered_paths: int
+
+
+class JointCoverage(BaseModel):
+    checked: bool
+    possible: int | None
+    reached: int
+    missed: list[str]
+
+
+class JointFinding(BaseModel):
+    """Runs that ended in a joint end the verifier says no joint execution reaches."""
+
+    code: Literal["TEAM"]
+    severity: Literal["error"]
+    end: str
+    count: int
+    runs: list[int]
+    message: str
+
+
+class TeamCampaignSummary(BaseModel):
+    vehicles: list[str]
+    joint: list[JointEndRow]
+    unfinished: Estimate
+    meetings: list[MeetingRow]
+    members: list[MemberRow]
+    coverage: JointCoverage
+    findings: list[JointFinding]
+
+
+class TeamCampaignResults(BaseModel):
+    """A team campaign's results (campaigns/team_stats.py)."""
+
+    simulations: int
+    team: TeamCampaignSummary
+
+
+class AnyCampaignResults(RootModel[CampaignResults | TeamCampaignResults]):
+    """One vehicle's campaign results, or a team's (with `team`)."""
+
+
 class CampaignOrders(BaseModel):
     id: str
     digest: str
@@ -84,7 +154,7 @@ class CampaignRecord(BaseModel):
     format: Literal["countersign.campaign/1"]
     orders: CampaignOrders
     spec: CampaignSpecOut
-    results: CampaignResults
+    results: AnyCampaignResults
 
 
 class OfferedProbabilities(BaseModel):
@@ -96,6 +166,6 @@ class OfferedProbabilities(BaseModel):
 
 
 CampaignSpecJson = Annotated[dict[str, Any], SchemaOf(CampaignSpecOut)]
-CampaignResultsJson = Annotated[dict[str, Any], SchemaOf(CampaignResults)]
+CampaignResultsJson = Annotated[dict[str, Any], SchemaOf(AnyCampaignResults)]
 CampaignRecordJson = Annotated[dict[str, Any], SchemaOf(CampaignRecord)]
 OfferedProbabilitiesJson = Annotated[dict[str, Any], SchemaOf(OfferedProbabilities)]

@@ -19,10 +19,10 @@ from pydantic import BaseModel, Field
 
 from ...campaigns.spec import AT_START, MAX_SEED, MAX_SIMULATIONS, NO_FAULT, CampaignSpec
 from ...campaigns.stats import goal_probabilities
-from ...errors import Conflict, Forbidden, NotFound
+from ...campaigns.team import sweep_fault_reach
+from ...errors import Forbidden, NotFound
 from ...jobs import CampaignRunner, runner_for
 from ...orders.reader import orders_from_data
-from ...rehearse.fault_reach import fault_reach
 from ...store import approvals as approvals_service
 from ...store import campaigns as store
 from ...store.missions import get_mission, get_version
@@ -97,12 +97,11 @@ def runner_of(request: Request) -> CampaignRunner:
 def start_campaign(mission_id: str, number: RowId,
                    body: CampaignIn, request: Request, principal: CurrentPrincipal,
                    db: Db) -> CampaignOut:
-    """Queue N seeded simulations of this version over the sweep faults x goals."""
+    """Queue N seeded simulations of this version over the sweep faults x goals. A team's
+    simulations run every member (faults `VEHICLE:FAULT` for one member) and its results are
+    the joint ends, meetings and member terminals (`results.team`)."""
     stored = get_version(db, mission_id, number)
     orders = orders_from_data(stored.orders)
-    if orders.team is not None:
-        raise Conflict("these orders are a team's: a campaign simulates one "
-                       "vehicle's orders")
     spec = CampaignSpec.build(simulations=body.simulations, faults=body.faults,
                               goals=body.goals, seed=body.seed, orders=orders)
     row = store.create(db, orders=stored.orders, orders_digest=stored.digest,
@@ -129,7 +128,7 @@ def get_fault_reach(mission_id: str, number: RowId, db: Db,
     runs, so a sweep of a fault nothing reacts to is not read as evidence (issue 32 item 6)."""
     orders = orders_from_data(get_version(db, mission_id, number).orders)
     return [FaultReachOut(fault=r.fault, reacts=r.reacts, because=r.because)
-            for r in fault_reach(orders, fault)]
+            for r in sweep_fault_reach(orders, fault)]
 
 
 @router.get("/missions/{mission_id}/campaigns", operation_id="listCampaigns",

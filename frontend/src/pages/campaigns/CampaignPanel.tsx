@@ -4,6 +4,7 @@
  * cancel, and read the estimates: terminal probabilities with 95% Wilson intervals, the paths
  * covered (numbered as in the Paths tab), an energy histogram, and per-goal outcome
  * probabilities offered for the orders' `p` (copied by the operator, never written for them).
+ * A team's campaign shows its joint table instead (TeamCampaignResults.tsx).
  */
 import { useEffect, useState } from "react";
 
@@ -12,6 +13,7 @@ import { numberPair } from "../../api/pair";
 import { ErrorMessage, Notice } from "../../components/Status";
 import { useCan, useSession } from "../../session";
 import { useLoad } from "../../useLoad";
+import { TeamCampaignResults } from "./TeamCampaignResults";
 
 type Campaign = Schema<"CampaignOut">;
 type Estimate = Schema<"Estimate">;
@@ -73,9 +75,13 @@ function StartForm({ mission, versions, onStarted }: { mission: string; versions
   const [simulations, setSimulations] = useState(100);
   const [faults, setFaults] = useState<string[]>(["none"]);
   const [goals, setGoals] = useState("start");
+  // A team's faults for one member (`vehicle-2:leak`), beside the ones every member gets.
+  const [memberFaults, setMemberFaults] = useState("");
   const [seed, setSeed] = useState(0);
   const [busy, setBusy] = useState(false);
   const [error, setError] = useState<unknown>(null);
+  const perMember = memberFaults.split(",").map((f) => f.trim()).filter(Boolean);
+  const sweep = [...faults, ...perMember];
   const start = async () => {
     setBusy(true);
     setError(null);
@@ -85,7 +91,7 @@ function StartForm({ mission, versions, onStarted }: { mission: string; versions
           params: { path: { mission_id: mission, number: version } },
           body: {
             simulations,
-            faults,
+            faults: sweep,
             goals: goals.split(",").map((g) => g.trim()).filter(Boolean),
             seed,
           },
@@ -101,7 +107,7 @@ function StartForm({ mission, versions, onStarted }: { mission: string; versions
   const toggle = (fault: string) =>
     setFaults((f) => (f.includes(fault) ? f.filter((x) => x !== fault) : [...f, fault]));
   // Before the run: which chosen faults nothing in the version reacts to (issue 32 item 6).
-  const chosen = faults.filter((f) => f !== "none");
+  const chosen = sweep.filter((f) => f !== "none");
   const reach = useLoad(
     async () =>
       chosen.length === 0
@@ -141,6 +147,12 @@ function StartForm({ mission, versions, onStarted }: { mission: string; versions
           </label>
         ))}
       </div>
+      <div>
+        <label>
+          One team member's faults (VEHICLE:FAULT, comma separated){" "}
+          <input value={memberFaults} maxLength={400} placeholder="vehicle-2:leak" onChange={(e) => setMemberFaults(e.target.value)} />
+        </label>
+      </div>
       <label>
         Inject at (goals, comma separated; start = from the start){" "}
         <input value={goals} maxLength={400} onChange={(e) => setGoals(e.target.value)} />
@@ -154,7 +166,7 @@ function StartForm({ mission, versions, onStarted }: { mission: string; versions
           ))}
         </ul>
       )}
-      <button type="button" className="primary" onClick={start} disabled={busy || faults.length === 0}>
+      <button type="button" className="primary" onClick={start} disabled={busy || sweep.length === 0}>
         {busy ? "Starting…" : "Start campaign"}
       </button>
       <ErrorMessage error={error} />
@@ -237,6 +249,7 @@ export function CampaignResults({ campaign, offer: offering = true }: { campaign
     setOffered(JSON.stringify(p, null, 2));
   };
   if (!results) return <p>This campaign has no results yet.</p>;
+  if ("team" in results) return <TeamCampaignResults id={campaign.id} results={results} />;
   const coverage = results.coverage;
   return (
     <section aria-labelledby="campaign-results-title" className="campaign-results">
