@@ -166,7 +166,8 @@ def main() -> None:
                 for name, size in sorted(per_process_mb(server.pid).items()):
                     print(f"    {size:8.1f}  {name}")
                 print(f"peak {max(sizes):.1f} MB ({max(sizes) / warm - 1:+.1%} over the "
-                      f"warmed-up size; a process is replaced past {MAX_PROCESS_RSS / 2**20:.0f} MB)")
+                      f"warmed-up size; a process is replaced past "
+                      f"{MAX_PROCESS_RSS / 2**20:.0f} MB)")
                 if not after_replacement:
                     print("INCONCLUSIVE: no validation process was replaced yet; run more "
                           "rounds or heavier ones")
