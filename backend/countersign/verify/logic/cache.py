@@ -35,6 +35,8 @@ class LogicCache:
         if last is not None and last[0] is orders:
             return last[1]
         model = LogicModel(orders)
+        if last is not None:
+            model.carry_goal_items(last[1])
         with self._lock:
             self._last = (orders, model)
         return model
