@@ -106,13 +106,15 @@ def _validate(orders: Orders) -> tuple[int, int, dict[str, Any]]:
 def _validate_parts(orders: Orders, known: dict[str, Any], keys: PartKeys, orders_digest: str
                     ) -> tuple[int, int, dict[str, Any], dict[str, Any]]:
     """The report, computing only the parts not handed over (and not held in this process
-    from an earlier validation), and the parts it consists of, for the caller to keep."""
+    from an earlier validation), and its parts the caller did not hand over, for it to keep
+    (sending back what it has would only cost pickling a thousand findings twice)."""
     from ..verify.parts import SHARED_PARTS
     from ..verify.report import validate
 
     SHARED_PARTS.update(known)
     report = validate(orders, parts=SHARED_PARTS, keys=keys, orders_digest=orders_digest)
-    return os.getpid(), _rss(), report.to_json(), SHARED_PARTS.items(keys)
+    news = {k: v for k, v in SHARED_PARTS.items(keys).items() if k not in known}
+    return os.getpid(), _rss(), report.to_json(), news
 
 
 @dataclass
