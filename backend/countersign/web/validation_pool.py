@@ -36,7 +36,7 @@ import resource
 import threading
 from collections import deque
 from collections.abc import Iterator
-from concurrent.futures import Future, ProcessPoolExecutor
+from concurrent.futures import Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from contextvars import ContextVar
 from dataclasses import dataclass
@@ -53,6 +53,8 @@ if TYPE_CHECKING:
 NICENESS = 5  # below the web processes: reads first, validations in the gaps
 CHECKS_MODULE = "countersign.verify.report"
 WARM_EXAMPLE = "search-and-sample"
+# How long the app's start waits for its validation processes to warm up.
+WARM_WAIT_S = 60.0
 
 # Who asks for the validation running in this context: routes set it (fair.py) before handing
 # the work to a thread, which copies the context. Unset, work shares one anonymous queue.
@@ -207,10 +209,13 @@ class ValidationPool:
         return _Lane(executor, executor.submit(_warm))
 
     def wait_warm(self, timeout: float | None = None) -> list[int]:
-        """Wait until every process has warmed up; their process ids."""
+        """Wait until every process has warmed up, for at most `timeout` seconds in all; the
+        ids of the processes that did (one whose warm-up failed only starts its first job
+        cold)."""
         with self._lock:
-            lanes = list(self._lanes)
-        return [lane.warm.result(timeout) for lane in lanes]
+            futures = [lane.warm for lane in self._lanes]
+        done, _ = wait(futures, timeout)
+        return [f.result() for f in futures if f in done and f.exception() is None]
 
     def _take(self, mission: str) -> int:
         """A free process, the mission's last one if it is free, else the one idle longest."""
