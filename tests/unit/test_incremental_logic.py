@@ -14,6 +14,8 @@ assembled from kept goals and the bytes of the whole written at once.
 from __future__ import annotations
 
 import copy
+import gc
+import weakref
 from typing import Any
 
 import rfc8785
@@ -105,3 +107,21 @@ def test_a_quantity_one_goal_adds_reaches_the_other_goals_checks() -> None:
     kept = canonical_report(orders, logic, parts)
     assert kept == canonical_report(orders, LogicCache(), PartsCache())
     assert kept.count(b"CONTRADICTION") > 2
+
+
+def test_a_model_does_not_keep_the_model_before_it_alive() -> None:
+    """Carried goal items must not hold the model that built them (their phrases' closures
+    did): a long editing session would otherwise keep every version's model, z3 session
+    and orders."""
+    data = logic_orders(8, 3, 2, seed=2).model_dump(mode="json", exclude_unset=True)
+    logic = LogicCache()
+    first = Orders.model_validate(data)
+    validate(first, logic_cache=logic, parts=PartsCache())
+    before = weakref.ref(logic.model(first))  # the model validate made for these orders
+    data["goals"][0]["title"] = "Edited"
+    second = Orders.model_validate(data)
+    validate(second, logic_cache=logic, parts=PartsCache())
+    after = logic.model(second)
+    assert len(after.goal_items_memo) > 1  # the other goals' items were carried
+    gc.collect()
+    assert before() is None
