@@ -132,14 +132,19 @@ class LogicModel:
 
     def carry_goal_items(self, before: LogicModel) -> None:
         """Start with the goal items of the model of the orders before an edit, for each goal
-        the edit left as it was, when nothing else the items read changed (everything in the
-        orders but the goals, and the quantity table, which goal envelopes extend): building
-        the items of a thousand goals again was most of a one-goal edit's logic check.
+        the edit left as it was, and with its norms by goal facts, when nothing else the
+        items read changed (everything in the orders but the goals, and the quantity table,
+        which goal envelopes extend): building the items of a thousand goals again was most
+        of a one-goal edit's logic check.
         Each carried item's phrase is worded now, so that it no longer holds the model that
         built it: models would otherwise keep every model before them alive."""
         if before.quantities != self.quantities or not _same_but_goals(before.orders,
                                                                        self.orders):
             return
+        # Which norms a goal's facts leave open reads the norms, areas and the goal's
+        # behaviour and area only: every entry stays true.
+        self._relevant.update(before._relevant.copy())
+        self._residual.update(before._residual.copy())
         same = {gid for gid, goal in self.goals.items() if before.goals.get(gid) == goal}
         for memo, (items, constraints) in before.goal_items_memo.copy().items():
             if memo[0] in same:
