@@ -20,6 +20,7 @@ from countersign.settings import Settings
 from countersign.store.accounts import create_token, create_user
 from countersign.store.db import Database
 from countersign.verify import validate
+from countersign.web import app as app_module
 from countersign.web import validation_pool
 from countersign.web.app import create_app
 from countersign.web.validation_pool import NICENESS
@@ -38,7 +39,10 @@ def _running_app(tmp_path: Path) -> tuple[TestClient, Database, str]:
     return TestClient(app, raise_server_exceptions=False), database, token
 
 
-def test_a_running_app_validates_in_a_pool_process(tmp_path: Path) -> None:
+def test_a_running_app_validates_in_a_pool_process(tmp_path: Path,
+                                                   monkeypatch: pytest.MonkeyPatch) -> None:
+    # However slow the shared machine, the app's start waits for the warm-up.
+    monkeypatch.setattr(app_module, "WARM_WAIT_S", 3600.0)
     client, database, token = _running_app(tmp_path)
     client.headers["Authorization"] = f"Bearer {token}"
     # Orders no other test validated: the process keeps its recent reports (report_service),
@@ -48,11 +52,13 @@ def test_a_running_app_validates_in_a_pool_process(tmp_path: Path) -> None:
     with client:  # runs the lifespan, as `countersign serve` does
         pool = client.app.state.validation_pool  # type: ignore[attr-defined]
         assert database.reports.validator is not None
+        # The app served only once its validation process had warmed up.
+        [warm] = pool.wait_warm(0)
         answer = client.post("/api/validate", json=orders)
         assert answer.status_code == 200, answer.text
         assert answer.json() == validate(orders_from_data(orders)).to_json()
         first = pool.last_pid
-        assert first is not None and first != os.getpid()
+        assert first is not None and first != os.getpid() and first == warm
         if os.getpriority(os.PRIO_PROCESS, 0) + NICENESS <= 19:
             assert os.getpriority(os.PRIO_PROCESS, first) == (
                 os.getpriority(os.PRIO_PROCESS, 0) + NICENESS)
@@ -101,18 +107,41 @@ def test_validation_processes_setting_is_checked(monkeypatch: pytest.MonkeyPatch
     assert Settings.from_environment(tmp_path).validation_processes == 0
 
 
-def test_validation_processes_are_replaced_after_their_share_of_work(
-        monkeypatch: pytest.MonkeyPatch) -> None:
-    # Bounded memory: z3 keeps what it allocated, so a process serves a fixed number of
-    # validations and is then replaced by a fresh one from the forkserver.
-    monkeypatch.setattr(validation_pool, "TASKS_PER_PROCESS", 2)
-    pool = validation_pool.ValidationPool(1)
+def test_validation_processes_are_replaced_for_their_memory_not_their_count() -> None:
+    # Bounded memory: z3 and the caches keep what they allocate, so a process whose resident
+    # memory passed the limit after a job is replaced by a fresh one from the forkserver;
+    # under the limit it keeps serving (and keeps its caches), however many jobs it ran.
+    orders = load_example("search-and-sample")
+    for limit, replaced in ((1, True), (2**40, False)):
+        pool = validation_pool.ValidationPool(1, max_rss=limit)
+        try:
+            pids = []
+            for _ in range(4):
+                pool.validate(orders)
+                pids.append(pool.last_pid)
+            if replaced:
+                assert len(set(pids)) == 4 and pool.replaced == 4, pids
+            else:
+                assert len(set(pids)) == 1 and pool.replaced == 0, pids
+        finally:
+            pool.shutdown()
+
+
+def test_the_pool_starts_warm_and_sends_a_mission_to_its_last_process() -> None:
+    pool = validation_pool.ValidationPool(2)
     try:
-        orders = load_example("search-and-sample")
-        pids = []
-        for _ in range(4):
+        # Started and warmed up with the pool, before any validation was asked for.
+        warm = pool.wait_warm(timeout=600)
+        assert len(set(warm)) == 2 and os.getpid() not in warm
+        one = load_example("search-and-sample")
+        other = one.model_copy(update={"id": "another-mission"})
+        pids: dict[str, list[int | None]] = {one.id: [], other.id: []}
+        for orders in (one, other, other, one, one, other):
             pool.validate(orders)
-            pids.append(pool.last_pid)
-        assert pids[0] == pids[1] and pids[2] == pids[3] and pids[1] != pids[2], pids
+            pids[orders.id].append(pool.last_pid)
+        # Each mission stays with the process that holds its caches; the two are spread.
+        assert len(set(pids[one.id])) == 1 and len(set(pids[other.id])) == 1, pids
+        assert pids[one.id][0] != pids[other.id][0] and set(warm) == {
+            pids[one.id][0], pids[other.id][0]}, (pids, warm)
     finally:
         pool.shutdown()

@@ -4,10 +4,10 @@ tests/api/test_bad_input.py and test_hostile_input.py (oversized, malformed, XML
 bad UTF-8, deep nesting, non-finite numbers, duplicate keys, huge plan coordinates, bad
 cursors and instants) plus heavy validations, sent in rounds. Printed: the tree's RSS (the
 server and every descendant, from /proc) after start-up and a warm-up round, then after each
-round. Validation processes keep what z3 allocates and are replaced after
-TASKS_PER_PROCESS validations, so the RSS is a sawtooth: bounded means that once they have been
-replaced it comes back to the warmed-up size (target: within 10%), whatever the number of
-rounds, and the peak printed is what TASKS_PER_PROCESS costs.
+round. Validation processes keep what z3 and their caches allocate and are replaced once one's
+resident memory passes MAX_PROCESS_RSS, so the RSS is a sawtooth: bounded means that once they
+have been replaced it comes back to the warmed-up size (target: within 10%), whatever the
+number of rounds, and the peak printed is what MAX_PROCESS_RSS allows.
 
 Run: .venv/bin/python -m tests.bench.bench_rss [--rounds 10] [--heavy 6]   (the defaults)
 """
@@ -25,7 +25,7 @@ from pathlib import Path
 import httpx
 
 from countersign.orders.examples import example_bytes
-from countersign.web.validation_pool import TASKS_PER_PROCESS
+from countersign.web.validation_pool import MAX_PROCESS_RSS
 
 from ..heavy_orders import heavy_body
 from .bench_api import _serve
@@ -166,7 +166,8 @@ def main() -> None:
                 for name, size in sorted(per_process_mb(server.pid).items()):
                     print(f"    {size:8.1f}  {name}")
                 print(f"peak {max(sizes):.1f} MB ({max(sizes) / warm - 1:+.1%} over the "
-                      f"warmed-up size, {TASKS_PER_PROCESS} validations per process)")
+                      f"warmed-up size; a process is replaced past "
+                      f"{MAX_PROCESS_RSS / 2**20:.0f} MB)")
                 if not after_replacement:
                     print("INCONCLUSIVE: no validation process was replaced yet; run more "
                           "rounds or heavier ones")

@@ -33,7 +33,6 @@ WHITELIST: dict[tuple[str, str], str] = {
     # Read by scripts/export-openapi to write frontend/src/roles.gen.ts.
     ("web/roles_ts.py", "roles_typescript"): "scripts/export-openapi",
     # The examples' public reader; tests and benchmarks read examples as Orders with it.
-    ("orders/examples/__init__.py", "load_example"): "tests, benchmarks",
     # The size of the joint product the team check explores, printed by tests/bench/bench_team.py;
     # it reads the check's private product, so it stays beside it.
     ("verify/team.py", "joint_positions"): "tests/bench/bench_team.py",

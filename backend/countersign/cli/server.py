@@ -194,7 +194,9 @@ def add_commands(commands: Any) -> None:
         help="processes that validate orders beside the server processes (one pool that all "
         "--workers share), at a lower priority so that reads go first, each user queued fairly "
         "so that one user's heavy validation leaves a process for another's edit (default 2, or "
-        "COUNTERSIGN_VALIDATION_PROCESSES; 0: validate in the server's own threads)",
+        "COUNTERSIGN_VALIDATION_PROCESSES; 0: validate in the server's own threads); they "
+        "start warm with the server, keep their caches between jobs and are replaced once "
+        "one passes 768 MB of resident memory",
     )
     # One listening socket shared by the --workers processes, as gunicorn does without
     # reuse_port: hidden, bench_api's baseline (issue 17, item 9).

@@ -1,13 +1,29 @@
-"""Canonical bytes and digest of orders (RFC 8785 JSON Canonicalization Scheme)."""
+"""Canonical bytes and digest of orders (RFC 8785 JSON Canonicalization Scheme).
+
+An edit changes one goal of many, and the canonical form of a thousand goals took longer than
+validating the edit: each goal's canonical bytes are kept, by the goal's JSON as written, and
+the orders' bytes are assembled around them. RFC 8785 writes an object as its members sorted
+by the UTF-16 code units of their names, `"name":value` joined by commas, and an array as its
+elements joined by commas, with no white space: the assembled bytes are the bytes of the whole
+(tests compare both on random orders)."""
 
 from __future__ import annotations
 
 import hashlib
+import json
+import threading
 from typing import Any
 
 import rfc8785
+from cachetools import LRUCache
 
 from .model import Orders
+
+# Bytes of canonical goals kept (a 1,000-goal mission holds about half a megabyte).
+GOAL_BYTES_KEPT = 32 * 2**20
+
+_goals: LRUCache[str, bytes] = LRUCache(GOAL_BYTES_KEPT, getsizeof=len)
+_goals_lock = threading.Lock()
 
 
 def orders_to_json(orders: Orders) -> dict[str, Any]:
@@ -17,8 +33,30 @@ def orders_to_json(orders: Orders) -> dict[str, Any]:
     return data
 
 
+def _goal_bytes(goal: Any) -> bytes:
+    # The goal's JSON text is the key: equal texts are equal data (the text keeps 1 and 1.0
+    # apart; member order only makes two keys for one canonical form).
+    key = json.dumps(goal, ensure_ascii=False)
+    with _goals_lock:
+        found = _goals.get(key)
+    if found is None:
+        found = bytes(rfc8785.dumps(goal))
+        with _goals_lock:
+            _goals[key] = found
+    return found
+
+
 def canonical_bytes(orders: Orders) -> bytes:
-    return bytes(rfc8785.dumps(orders_to_json(orders)))
+    data = orders_to_json(orders)
+    goals = data.get("goals")
+    if not isinstance(goals, list) or not goals:
+        return bytes(rfc8785.dumps(data))
+    members = []
+    for name in sorted(data, key=lambda k: k.encode("utf-16be")):
+        value = (b"[" + b",".join(map(_goal_bytes, goals)) + b"]" if name == "goals"
+                 else bytes(rfc8785.dumps(data[name])))
+        members.append(bytes(rfc8785.dumps(name)) + b":" + value)
+    return b"{" + b",".join(members) + b"}"
 
 
 def digest(orders: Orders) -> str:

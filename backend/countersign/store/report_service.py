@@ -21,9 +21,10 @@ callable so the store never imports the web layer.
 from __future__ import annotations
 
 import threading
-from collections import OrderedDict
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
+
+from cachetools import LRUCache
 
 from ..verify import fingerprint
 from ..verify.reuse import ReportReuse
@@ -65,9 +66,9 @@ class ReportService:
         self._in_flight: dict[str, threading.Lock] = {}
         self._guard = threading.Lock()
         # The last reports computed here, so that requests that waited on a digest reuse it.
-        self._recent: OrderedDict[str, dict[str, Any]] = OrderedDict()
+        self._recent: LRUCache[str, dict[str, Any]] = LRUCache(RECENT_REPORTS)
         # The orders digest of recently validated request bodies, by the bodies' SHA-256.
-        self._bodies: OrderedDict[bytes, str] = OrderedDict()
+        self._bodies: LRUCache[bytes, str] = LRUCache(BODY_DIGESTS_KEPT)
         # The checker fingerprint the caches above hold reports of.
         self._checker: str | None = None
 
@@ -78,7 +79,8 @@ class ReportService:
         with self._guard:
             lock = self._in_flight.setdefault(key, threading.Lock())
         with lock:
-            done = self._recent.get(key)
+            with self._guard:
+                done = self._recent.get(key)
             if done is None:
                 # An edit of descriptions only is answered from the last report of the same
                 # facts.
@@ -89,8 +91,6 @@ class ReportService:
                     done = validate_here(orders)
                 with self._guard:
                     self._recent[key] = done
-                    while len(self._recent) > RECENT_REPORTS:
-                        self._recent.popitem(last=False)
         with self._guard:
             self._in_flight.pop(key, None)
         return done
@@ -151,8 +151,6 @@ class ReportService:
     def remember_body(self, body_sha256: bytes, orders_digest: str) -> None:
         with self._guard:
             self._bodies[body_sha256] = orders_digest
-            while len(self._bodies) > BODY_DIGESTS_KEPT:
-                self._bodies.popitem(last=False)
 
     def clear(self) -> None:
         with self._guard:

@@ -10,21 +10,23 @@
   the goals' costs and outcome probabilities;
 - properties: the path properties, which read what core reads.
 
-A part's key is the SHA-256 of the JSON of the orders with the fields its checks do not read
-left out. A key that left out a field its checks do read would reuse a stale part:
-tests/unit/test_incremental.py compares incremental reports with reports from scratch
-over random edits of every field, and fails when a field is wrongly left out.
+A part's key is the SHA-256 of the checker fingerprint and the JSON of the orders with the
+fields its checks do not read left out. A key that left out a field its checks do read would
+reuse a stale part: tests/unit/test_incremental.py compares incremental reports with reports
+from scratch over random edits of every field, and fails when a field is wrongly left out.
 """
 
 from __future__ import annotations
 
 import hashlib
 import threading
-from collections import OrderedDict
 from dataclasses import dataclass
 from typing import Any
 
+from cachetools import LRUCache
+
 from ..orders.model import Orders
+from .fingerprint import checker_fingerprint
 
 PART_NAMES = ("core", "meo", "logic", "properties")
 
@@ -53,11 +55,14 @@ def part_keys(orders: Orders) -> PartKeys:
     written (pydantic's serializer, one call per part) without the fields the part's checks
     do not read. Keys are compared only within one version of the code, never stored."""
     keys: dict[str, str] = {}
+    # With the checks' fingerprint: parts travel between processes (the web process hands
+    # its parts to a validation process), which may run other checks after an upgrade.
+    checker = checker_fingerprint().encode()
     for name, (top, per_goal) in _NOT_READ.items():
         exclude: dict[str, Any] = dict.fromkeys(top, True)
         exclude["goals"] = {"__all__": set(per_goal)}
         text = orders.model_dump_json(exclude_unset=True, exclude=exclude)
-        keys[name] = f"{name}:{hashlib.sha256(text.encode()).hexdigest()}"
+        keys[name] = f"{name}:{hashlib.sha256(checker + b'|' + text.encode()).hexdigest()}"
     keys["properties"] = "properties:" + keys["core"].removeprefix("core:")
     return PartKeys(**keys)
 
@@ -67,7 +72,7 @@ class PartsCache:
     are shared between reports: never mutate one."""
 
     def __init__(self, max_entries: int = 256) -> None:
-        self._data: OrderedDict[str, Any] = OrderedDict()
+        self._data: LRUCache[str, Any] = LRUCache(max_entries)
         self._lock = threading.Lock()
         self.max_entries = max_entries
         self.hits = 0
@@ -80,15 +85,11 @@ class PartsCache:
                 self.misses += 1
             else:
                 self.hits += 1
-                self._data.move_to_end(key)
             return value
 
     def put(self, name: str, key: str, value: Any) -> None:
         with self._lock:
             self._data[key] = value
-            self._data.move_to_end(key)
-            while len(self._data) > self.max_entries:
-                self._data.popitem(last=False)
 
     def items(self, keys: PartKeys) -> dict[str, Any]:
         """The parts held for these keys, by key (to hand to another process)."""

@@ -28,6 +28,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any, Literal
 
+import numpy as np
+
 from ..orders.findings import Finding, error, warning
 from ..orders.model import BUDGET_QUANTITIES, OUTCOMES, Orders, PathProperty
 from .budget import UNITS, reportable_total
@@ -197,34 +199,45 @@ def _shortest_by_length(
     n = graph.goal_count
     succ = graph.succ
     minus = float("-inf")
+    # Each layer reads only the one before it, so a layer is one array operation over every
+    # goal (an edit revalidates in milliseconds, not the seconds of a loop over goals per
+    # layer). float64 sums and maxima are the IEEE operations the loop made: equal results.
+    # Targets: a goal, `n` for a terminal, `n + 1` for no successor.
+    targets = np.array([[t if 0 <= t < n else (n if t >= n else n + 1) for t in row]
+                        for row in succ], dtype=np.intp).reshape(n, 3)
+    leg = np.array(legs, dtype=np.float64).reshape(n, 3)
+    cost = np.array(costs[:n], dtype=np.float64)
+    ordered = np.zeros(n, dtype=bool)
+    ordered[order] = True
 
-    def onward(node: int, previous: list[float] | None) -> list[float]:
-        """Per outcome, the leg and the most the rest of a path of the layer's length adds
-        (-inf where no such path goes on): into a terminal for the first layer."""
+    def layer_after(previous: np.ndarray | None) -> np.ndarray:
+        """layer[node]: the largest cost of a path of one goal more than `previous`'s from
+        node to a terminal (of one goal, into a terminal, when there is no previous)."""
+        tail = np.full(n + 2, minus)
+        if previous is None:
+            tail[n] = 0.0
+        else:
+            tail[:n] = previous
+        reached = tail[targets]
+        best = np.where(reached > minus, leg + reached, minus).max(axis=1)
+        return np.where(ordered & (best > minus), cost + best, minus)
+
+    def onward(node: int, previous: np.ndarray | None) -> list[float]:
+        """Per outcome, the leg and the most the rest of the path adds (-inf: none)."""
         return [legs[node][k] + (0.0 if t >= n else minus) if previous is None else
-                (legs[node][k] + previous[t] if 0 <= t < n and previous[t] > minus else minus)
+                (legs[node][k] + float(previous[t]) if 0 <= t < n and previous[t] > minus
+                 else minus)
                 for k, t in enumerate(succ[node])]
 
     # layers[k][node]: the largest cost of a path of exactly k+1 goals from node to a terminal.
-    first = [minus] * n
-    for node in order:
-        best = max(onward(node, None))
-        if best > minus:
-            first[node] = costs[node] + best
-    layers = [first]
+    layers = [layer_after(None)]
     start = graph.start
     assert start is not None
     while layers[-1][start] <= bound and len(layers) < limit:
-        previous = layers[-1]
-        layer = [minus] * n
-        for node in order:
-            best = max(onward(node, previous))
-            if best > minus:
-                layer[node] = costs[node] + best
-        layers.append(layer)
+        layers.append(layer_after(layers[-1]))
     if layers[-1][start] <= bound:
         return None
-    total = layers[-1][start]
+    total = float(layers[-1][start])
     goals: list[str] = []
     outcomes: list[str] = []
     node = start

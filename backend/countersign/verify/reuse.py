@@ -12,11 +12,11 @@ from __future__ import annotations
 import copy
 import hashlib
 import threading
-from collections import OrderedDict
 from collections.abc import Callable
 from typing import Any
 
 import rfc8785
+from cachetools import LRUCache
 
 from ..orders.canonical import orders_to_json
 from ..orders.model import Orders
@@ -35,8 +35,7 @@ class ReportReuse:
     """The last reports by checked digest, bounded and safe to share between threads."""
 
     def __init__(self, max_entries: int = 256) -> None:
-        self._reports: OrderedDict[str, dict[str, Any]] = OrderedDict()
-        self._max = max_entries
+        self._reports: LRUCache[str, dict[str, Any]] = LRUCache(max_entries)
         self._lock = threading.Lock()
 
     def report(self, orders: Orders, orders_digest: str,
@@ -48,17 +47,14 @@ class ReportReuse:
         key = checked if checked is not None else checked_digest(orders)
         with self._lock:
             found = self._reports.get(key)
-            if found is not None:
-                self._reports.move_to_end(key)
         if found is not None:
             reused = copy.deepcopy(found)
             reused["digest"] = orders_digest
             return reused
         done = validate(orders)
+        kept = copy.deepcopy(done)
         with self._lock:
-            self._reports[key] = copy.deepcopy(done)
-            while len(self._reports) > self._max:
-                self._reports.popitem(last=False)
+            self._reports[key] = kept
         return done
 
     def clear(self) -> None:

@@ -44,7 +44,7 @@ from .routes import (
 from .routes import campaigns as campaign_routes  # issue 20
 from .routes import executions as execution_routes  # issue 19
 from .routes import exports as export_routes  # issue 19
-from .validation_pool import ValidationPool
+from .validation_pool import WARM_WAIT_S, ValidationPool
 
 
 class BodyLimit:
@@ -182,6 +182,9 @@ def create_app(settings: Settings, database: Database | None = None,
             pool = ValidationPool(settings.validation_processes)
         if pool is not None:
             services.reports.use_pool(pool.validate, pool.validate_parts)
+            # Serve once the processes have warmed up (a few seconds), so that the first
+            # validation is a warm one; a warm-up slower than WARM_WAIT_S is not waited for.
+            await anyio.to_thread.run_sync(pool.wait_warm, WARM_WAIT_S)
         app.state.validation_pool = pool
         if database.engine.dialect.name != "postgresql":
             # SQLite: this process runs campaign jobs; pick up those a killed one left.

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import hashlib
 import threading
-from collections import OrderedDict
 from collections.abc import Iterable
 from operator import attrgetter
+
+from cachetools import LRUCache
 
 from ...orders.model import Orders
 from .constants import VERSION
@@ -20,7 +21,7 @@ class LogicCache:
     call: a unit whose items did not change is never solved again."""
 
     def __init__(self, max_entries: int = 100_000) -> None:
-        self._data: OrderedDict[str, object] = OrderedDict()
+        self._data: LRUCache[str, object] = LRUCache(max_entries)
         self._lock = threading.Lock()
         self.max_entries = max_entries
         self.hits = 0
@@ -35,6 +36,8 @@ class LogicCache:
         if last is not None and last[0] is orders:
             return last[1]
         model = LogicModel(orders)
+        if last is not None:
+            model.carry_goal_items(last[1])
         with self._lock:
             self._last = (orders, model)
         return model
@@ -46,15 +49,11 @@ class LogicCache:
                 self.misses += 1
             else:
                 self.hits += 1
-                self._data.move_to_end(key)
             return value
 
     def put(self, key: str, value: object) -> None:
         with self._lock:
             self._data[key] = value
-            self._data.move_to_end(key)
-            while len(self._data) > self.max_entries:
-                self._data.popitem(last=False)
 
     def __len__(self) -> int:
         return len(self._data)

@@ -71,6 +71,11 @@ class Item:
             self._phrase = self._phrase()
         return self._phrase
 
+    def word(self) -> None:
+        """Word the phrase now (and let go of what wording it needed)."""
+        if not isinstance(self._phrase, str):
+            self._phrase = self._phrase()
+
     @property
     def part(self) -> Part:
         return Part(self.key, self.kind, self.subject, self.phrase)

@@ -78,6 +78,12 @@ def _merge_reads(items: Iterable[Reads]) -> Reads:
     return Reads(frozenset(quantities), frozenset(tags), behavior, area)
 
 
+def _same_but_goals(one: Orders, other: Orders) -> bool:
+    return one.model_extra == other.model_extra and all(
+        getattr(one, name) == getattr(other, name)
+        for name in type(one).model_fields if name != "goals")
+
+
 class LogicModel:
     """Everything the checks need from the orders, computed once per call."""
 
@@ -116,10 +122,35 @@ class LogicModel:
         self._scope_items: dict[tuple[str, frozenset[str]], tuple[list[ParsedConstraint],
                                                                   list[Item]]] = {}
         self._background: dict[tuple[frozenset[str], str], tuple[Item, ...]] = {}
+        # LogicRun.goal_items by (goal id, quarantined keys, extra reads).
+        self.goal_items_memo: dict[tuple[str, frozenset[str], tuple[Reads, ...]],
+                                   tuple[tuple[Item, ...], tuple[ParsedConstraint, ...]]] = {}
         # One z3 session per version of the orders, shared by check_logic and
         # check_properties; runs that use it hold the lock.
         self.session: Session | None = None
         self.lock = threading.RLock()
+
+    def carry_goal_items(self, before: LogicModel) -> None:
+        """Start with the goal items of the model of the orders before an edit, for each goal
+        the edit left as it was, and with its norms by goal facts, when nothing else the
+        items read changed (everything in the orders but the goals, and the quantity table,
+        which goal envelopes extend): building the items of a thousand goals again was most
+        of a one-goal edit's logic check.
+        Each carried item's phrase is worded now, so that it no longer holds the model that
+        built it: models would otherwise keep every model before them alive."""
+        if before.quantities != self.quantities or not _same_but_goals(before.orders,
+                                                                       self.orders):
+            return
+        # Which norms a goal's facts leave open reads the norms, areas and the goal's
+        # behaviour and area only: every entry stays true.
+        self._relevant.update(before._relevant.copy())
+        self._residual.update(before._residual.copy())
+        same = {gid for gid, goal in self.goals.items() if before.goals.get(gid) == goal}
+        for memo, (items, constraints) in before.goal_items_memo.copy().items():
+            if memo[0] in same:
+                for item in items:
+                    item.word()
+                self.goal_items_memo.setdefault(memo, (items, constraints))
 
     # Parsing -----------------------------------------------------------------------------
 

@@ -102,15 +102,22 @@ class LogicRun:
         """The statements that hold while a goal runs as ordered: its envelope, the facts that
         expressions read, the constraints in scope, the vehicle envelope and the domains."""
         model = self.model
-        constraints, constraint_items = model.scope_items(goal.id, quarantined)
-        needs = _merge_reads([model.scope_reads(goal.id), *extra])
-        names = set(goal.envelope) | needs.quantities
-        items = [model.envelope_item(goal, name) for name in sorted(goal.envelope)]
-        items += model.fact_items(goal, needs)
-        items += constraint_items
-        background = model.background(names)
-        items += [i for i in background if i.key not in quarantined] if quarantined else background
-        return items, constraints
+        # Once per goal and model; a model made after a one-goal edit starts with the other
+        # goals' lists of the model before it (LogicModel.carry_goal_items).
+        memo = (goal.id, quarantined, tuple(extra))
+        found = model.goal_items_memo.get(memo)
+        if found is None:
+            constraints, constraint_items = model.scope_items(goal.id, quarantined)
+            needs = _merge_reads([model.scope_reads(goal.id), *extra])
+            names = set(goal.envelope) | needs.quantities
+            items = [model.envelope_item(goal, name) for name in sorted(goal.envelope)]
+            items += model.fact_items(goal, needs)
+            items += constraint_items
+            background = model.background(names)
+            items += ([i for i in background if i.key not in quarantined] if quarantined
+                      else background)
+            found = model.goal_items_memo[memo] = (tuple(items), tuple(constraints))
+        return list(found[0]), list(found[1])
 
     def goal(self, goal: Goal, quarantined: frozenset[str]) -> GoalResult:
         model = self.model
