@@ -29,7 +29,7 @@ from typing import TYPE_CHECKING, Any
 
 from ..orders.model import Orders
 from ..pool_lifetime import end_with
-from .validation_pool import SUBMITTER, ValidationPool
+from .validation_pool import SUBMITTER, WARM_WAIT_S, ValidationPool
 
 if TYPE_CHECKING:
     from ..verify.parts import PartKeys
@@ -57,7 +57,7 @@ class _PoolProxy(BaseProxy):
     """The pool's methods a server process calls; each calling thread has a connection of
     its own (BaseProxy keeps them per thread), so validations wait for their turn in parallel."""
 
-    _exposed_ = ("validate", "validate_parts", "running", "pending")
+    _exposed_ = ("validate", "validate_parts", "running", "pending", "wait_warm")
 
     def _call(self, method: str, *args: Any) -> Any:
         call: Any = self._callmethod  # typeshed has it return None; it returns the result
@@ -79,6 +79,9 @@ class _PoolProxy(BaseProxy):
 
     def pending(self, submitter: str) -> int:
         return int(self._call("pending", submitter))
+
+    def wait_warm(self, timeout: float | None = None) -> list[int]:
+        return list(self._call("wait_warm", timeout))
 
 
 class _HostManager(BaseManager):
@@ -113,6 +116,10 @@ class HostPool:
                                      authkey=self.address.authkey,
                                      ctx=multiprocessing.get_context("spawn"))
         self._manager.start(_start_pool, (processes, os.getpid()))
+        # Its processes warm up before the server processes start: a command that ends early
+        # (a taken port) then never stops the host while it is still starting them (their
+        # start-up, cut short, wrote tracebacks into the server's log).
+        self._manager.pool().wait_warm(WARM_WAIT_S)  # type: ignore[attr-defined]
 
     def stop(self) -> None:
         self._manager.shutdown()
@@ -166,6 +173,14 @@ class HostPoolClient:
 
     def pending(self, submitter: str) -> int:
         return self._served().pending(submitter)
+
+    def wait_warm(self, timeout: float | None = None) -> list[int]:
+        """Wait for the host's processes to warm up (every server process asks; the first
+        to ask waits, the others find them warm)."""
+        try:
+            return self._served().wait_warm(timeout)
+        except (EOFError, OSError) as error:
+            return self._fallback(error).wait_warm(timeout)
 
     def shutdown(self) -> None:
         """The host's pool outlives a server process (gunicorn replaces one that dies) and
