@@ -272,8 +272,7 @@ export function ConstraintsPanel({
   findings: Finding[];
 }) {
   const scopePick = useEditor((s) => s.scopePick);
-  const setState = useEditor((s) => s.set);
-  const onScopePick = useCallback((constraint: string | null) => setState({ scopePick: constraint }), [setState]);
+  const onScopePick = useEditor((s) => s.pickScopeFor);
   // Escape ends picking; so does leaving the panel (unmount).
   useEffect(() => {
     if (!scopePick) return;

@@ -106,7 +106,7 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
   const view = useScopedDraft();
   const orders = view.orders;
   const latest = useCallback(() => scopedDraft(latestWhole(), store.getState().scope), [latestWhole, store]);
-  const set = useEditor((s) => s.set);
+  const { markPlaced, showHighlight, failed, focusGoal, openScope: enterScope, replaceScope, showNotice } = store.getState();
   const savedRevision = useEditor((s) => s.savedRevision);
   const revision = useEditor((s) => s.revision);
   const saveState = useEditor((s) => s.saveState);
@@ -127,9 +127,9 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
   const refusal = useEditor((s) => s.refusal);
   const focus = useEditor((s) => s.focus);
   const [shortcutsOpen, setShortcutsOpen] = useState(false);
-  const setConnectMessage = useCallback((connectMessage: string) => set({ connectMessage }), [set]);
-  const setReady = useCallback((ready: boolean) => set({ ready }), [set]);
-  const setPanel = useCallback((panel: string) => set({ panel }), [set]);
+  const setConnectMessage = useEditor((s) => s.announce);
+  const setReady = useEditor((s) => s.showReady);
+  const setPanel = useEditor((s) => s.showPanel);
   const [plain, setPlain] = useState<string>("");
 
   useEffect(() => {
@@ -178,19 +178,19 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
       (layout) => {
         openView.current = true;
         updateHistory((h) => reset({ ...h.present, layout: { ...layout, ...h.present.layout } }));
-        set({ placed: true });
+        markPlaced();
         saveComputedLayout(layout);
       },
       () => {
         openView.current = true;
-        set({ placed: true }); // no layout: show the default positions rather than nothing
+        markPlaced(); // no layout: show the default positions rather than nothing
       },
     );
-  }, [orders, draft, updateHistory, saveComputedLayout, set]);
+  }, [orders, draft, updateHistory, saveComputedLayout, markPlaced]);
 
   // ---- React Flow nodes and edges, synchronised with the draft ----
   const { graph, findings, local, markers } = useFlowElements(large.current);
-  const highlightPath = useCallback((path: PathLike | null, label = "") => set({ highlight: path ? { path, label } : null }), [set]);
+  const highlightPath = useCallback((path: PathLike | null, label = "") => showHighlight(path ? { path, label } : null), [showHighlight]);
   const selectNext = useRef<string[] | null>(null);
 
   // Zoom to fit once the nodes carry their new positions (after an auto layout). A large draft
@@ -235,11 +235,11 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
   useEffect(() => {
     if (!plainShown) return;
     let current = true;
-    fetchText(exportHref(mission.id, "plain")).then((text) => current && setPlain(text), (e: unknown) => current && set({ saveError: e }));
+    fetchText(exportHref(mission.id, "plain")).then((text) => current && setPlain(text), (e: unknown) => current && failed(e));
     return () => {
       current = false;
     };
-  }, [plainShown, savedRevision, mission.id, set]);
+  }, [plainShown, savedRevision, mission.id, failed]);
   const [planOpen, setPlanOpen] = useState(false);
   const known = useMemo(() => knownQuantities(panelOrders), [panelOrders]);
   const goTo = (id: string) => {
@@ -365,7 +365,7 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
     try {
       layout = await layoutOffThread(latest().orders, sizes, canvasAspect());
     } catch (e) {
-      set({ saveError: e });
+      failed(e);
       setReady(true);
       return;
     }
@@ -391,12 +391,12 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
       const layout = await layoutOffThread(next, {}, canvasAspect());
       setReady(false);
       fitPending.current = true;
-      set({ scope: openingScope(next) });
+      replaceScope(openingScope(next));
       editWhole(() => ({ orders: next, layout }));
       const codes = [...new Set(found.map((f) => f.code).filter(Boolean))];
-      set({
-        notice: `Imported ${file.name}: ${plural(goals(next).length, "goal")}${codes.length > 0 ? `; reading it found ${codes.join(", ")}` : ""}. Undo brings the previous draft back.`,
-      });
+      showNotice(
+        `Imported ${file.name}: ${plural(goals(next).length, "goal")}${codes.length > 0 ? `; reading it found ${codes.join(", ")}` : ""}. Undo brings the previous draft back.`,
+      );
     } finally {
       setImporting(false);
     }
@@ -412,7 +412,7 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
 
   // "Focus this goal": its predecessors and successors in view, the rest faded (useFlowElements).
   const focusOn = (id: string | null) => {
-    set({ focus: id });
+    focusGoal(id);
     if (!id) {
       void flow.fitView(FIT);
       return;
@@ -430,7 +430,7 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
   const openScope = (next: Scope) => {
     if (next.member === scope.member && next.path.join("/") === scope.path.join("/")) return;
     setReady(false);
-    set({ scope: next, highlight: null, focus: null });
+    enterScope(next);
     setConnectMessage(next.path.length > 0 ? `Showing the refinement of ${next.path[next.path.length - 1]}.` : "Showing the mission.");
     // Fitted once the canvas carries the nodes of the new scope.
     window.requestAnimationFrame(() => window.requestAnimationFrame(showLaidOutThenReady));
@@ -440,8 +440,8 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
   useEffect(() => {
     if (ordersAt(draft.orders, scope)) return;
     const member = { member: scope.member, path: [] };
-    set({ scope: ordersAt(draft.orders, member) && scope.member !== null ? member : team ? openingScope(draft.orders) : TOP });
-  }, [draft.orders, scope, set, team]);
+    replaceScope(ordersAt(draft.orders, member) && scope.member !== null ? member : team ? openingScope(draft.orders) : TOP);
+  }, [draft.orders, scope, replaceScope, team]);
 
   // A refused change of a goal's or terminal's field: select it, so that its inspector shows
   // the field with the refusal beside it.
@@ -627,7 +627,7 @@ function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved
             {highlight.path.goals.map((g, i) => `${g} ${OUTCOME_LETTER[highlight.path.outcomes[i] as Outcome] ?? "?"}`).join(" → ")}
             {highlight.path.terminal ? ` → ${highlight.path.terminal}` : ""}
           </code>{" "}
-          <button type="button" onClick={() => set({ highlight: null })}>
+          <button type="button" onClick={() => showHighlight(null)}>
             Clear highlight
           </button>
         </p>

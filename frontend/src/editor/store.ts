@@ -85,7 +85,43 @@ export interface EditorState {
   onNodesChange: (changes: NodeChange<Node<NodeData>>[]) => void;
   onEdgesChange: (changes: EdgeChange[]) => void;
   select: (ids: string[]) => void;
-  set: (patch: Partial<EditorState>) => void;
+
+  // Named actions: each says what happened and changes only what that event changes (no
+  // generic patch, so every change of the editor's state can be found by its name).
+  /** Spoken by the canvas's live region. */
+  announce: (message: string) => void;
+  /** Whether the canvas shows the newest positions (false while a layout is on its way). */
+  showReady: (ready: boolean) => void;
+  showPanel: (panel: string) => void;
+  /** The opened draft has positions now (or will not get any: default positions are shown). */
+  markPlaced: () => void;
+  showHighlight: (highlight: Highlight | null) => void;
+  focusGoal: (id: string | null) => void;
+  pickScopeFor: (constraint: string | null) => void;
+  /** The canvas moves to another part of the orders: highlight and focus belong to the old one. */
+  openScope: (scope: Scope) => void;
+  /** The part shown is replaced (an import, a part an edit removed), nothing else changes. */
+  replaceScope: (scope: Scope) => void;
+  showNotice: (notice: string) => void;
+  /** A request failed outside saving (a layout, the plain orders, the first report). */
+  failed: (error: unknown) => void;
+  // Autosave (useAutosave.ts).
+  edited: () => void;
+  savePending: () => void;
+  saveStarted: () => void;
+  ordersSaved: (revision: number, orders: Orders) => void;
+  layoutSaved: (layout: Layout) => void;
+  saveFinished: (newestSaved: boolean) => void;
+  saveRefused: (error: unknown, refusal: Refusal | null) => void;
+  conflictFound: (conflict: Conflict) => void;
+  /** Their revision taken under a merged draft (which the next save sends). */
+  mergedOnto: (revision: number, base: Orders) => void;
+  /** Their draft replaces mine: the saved and checked state is theirs. */
+  theirsReloaded: (theirs: MissionDetail) => void;
+  // The server's check (useServerCheck.ts).
+  showReport: (report: Report) => void;
+  /** The report of `orders`, still the newest; `checkMs` from the edit that asked for it. */
+  checked: (orders: Orders, report: Report, checkMs: number | null) => void;
 }
 
 function openedDraft(mission: MissionDetail): Draft {
@@ -152,7 +188,45 @@ export function createEditorStore(mission: MissionDetail, report: Report | null 
         nodes: s.nodes.map((n) => ({ ...n, selected: ids.includes(n.id) })),
         edges: s.edges.map((e) => ({ ...e, selected: false })),
       })),
-    set: (patch) => set(patch),
+
+    announce: (connectMessage) => set({ connectMessage }),
+    showReady: (ready) => set({ ready }),
+    showPanel: (panel) => set({ panel }),
+    markPlaced: () => set({ placed: true }),
+    showHighlight: (highlight) => set({ highlight }),
+    focusGoal: (focus) => set({ focus }),
+    pickScopeFor: (scopePick) => set({ scopePick }),
+    openScope: (scope) => set({ scope, highlight: null, focus: null }),
+    replaceScope: (scope) => set({ scope }),
+    showNotice: (notice) => set({ notice }),
+    failed: (saveError) => set({ saveError }),
+
+    edited: () => set({ editedAt: performance.now() }),
+    savePending: () => set({ saveState: "pending" }),
+    saveStarted: () => set({ saveState: "saving" }),
+    ordersSaved: (revision, orders) => set({ revision, savedRevision: revision, base: orders, saveError: null }),
+    layoutSaved: (savedLayout) => set({ savedLayout }),
+    saveFinished: (newestSaved) => set({ saveError: null, refusal: null, saveState: newestSaved ? "saved" : "pending" }),
+    // A refused change is shown beside its field, on the panel (or goal) that holds it.
+    saveRefused: (saveError, refusal) =>
+      set({ saveError, saveState: "error", refusal, ...(refusal?.panel ? { panel: refusal.panel } : {}) }),
+    conflictFound: (conflict) => set({ conflict, saveState: "conflict" }),
+    mergedOnto: (revision, base) => set({ revision, base, conflict: null, saveState: "pending" }),
+    theirsReloaded: (theirs) =>
+      set({
+        revision: theirs.revision,
+        savedRevision: theirs.revision,
+        lastChecked: theirs.orders,
+        base: theirs.orders,
+        savedLayout: theirs.layout,
+        conflict: null,
+        saveState: "saved",
+        notice: "Reloaded the draft someone else saved.",
+      }),
+
+    showReport: (report) => set({ report }),
+    checked: (orders, report, checkMs) =>
+      set({ lastChecked: orders, report, ...(checkMs !== null ? { checkMs } : {}) }),
   }));
 }
 

@@ -46,15 +46,15 @@ export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDeta
    * overlap); otherwise the conflict dialog asks per item. */
   const mergeTheirs = useCallback(
     (theirs: MissionDetail): boolean => {
-      const { base, set } = store.getState();
+      const { base, conflictFound, showNotice } = store.getState();
       const merge = mergeOrders(base, latest().orders, theirs.orders);
       if (merge.conflicts.length > 0) {
         const differences = describeDifferences(latest().orders, theirs.orders);
-        set({ conflict: { theirs, differences, merge }, saveState: "conflict" });
+        conflictFound({ theirs, differences, merge });
         return false;
       }
       adoptMerged(theirs, merge.orders);
-      set({ notice: mergedNotice(theirs, merge.merged) });
+      showNotice(mergedNotice(theirs, merge.merged));
       return true;
     },
     [store, latest],
@@ -62,9 +62,9 @@ export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDeta
   /** Takes merged orders as a new undo step, on top of their revision (mine positions first). */
   const adoptMerged = useCallback(
     (theirs: MissionDetail, orders: Orders) => {
-      const { setHistory, set } = store.getState();
+      const { setHistory, mergedOnto } = store.getState();
       setHistory((h) => push(h, { orders, layout: { ...theirs.layout, ...h.present.layout } }));
-      set({ revision: theirs.revision, base: theirs.orders, conflict: null, saveState: "pending" });
+      mergedOnto(theirs.revision, theirs.orders);
       void check(orders);
     },
     [store, check],
@@ -73,13 +73,13 @@ export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDeta
   // A save sends what changed: the orders (If-Match; a new revision) and, apart, the positions
   // (editor data: no revision, no "Updated by").
   const save = useCallback(async () => {
-    const { set } = store.getState();
+    const { saveStarted, ordersSaved, layoutSaved, saveFinished, saveRefused } = store.getState();
     if (saving.current) {
       again.current = true;
       return;
     }
     saving.current = true;
-    set({ saveState: "saving" });
+    saveStarted();
     const sent = latest();
     try {
       if (sent.orders !== store.getState().base) {
@@ -96,21 +96,18 @@ export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDeta
           return;
         }
         const saved = unwrap(result);
-        set({ revision: saved.revision, savedRevision: saved.revision, base: sent.orders, saveError: null });
+        ordersSaved(saved.revision, sent.orders);
         onSaved(saved);
         // The check above reported these orders; re-read the report only if it failed.
         if (!reported && latest() === sent) await refreshChecks();
       }
       if (sent.layout !== store.getState().savedLayout) {
         await api.PUT("/api/missions/{mission_id}/layout", { params: { path: { mission_id: mission.id } }, body: { layout: sent.layout } }).then(unwrap);
-        set({ savedLayout: sent.layout });
+        layoutSaved(sent.layout);
       }
-      set({ saveError: null, refusal: null, saveState: latest() === sent ? "saved" : "pending" });
+      saveFinished(latest() === sent);
     } catch (e) {
-      // A refused change is shown beside its field, on the panel (or goal) that holds it.
-      const refusal = refusalOf(e, sent.orders);
-      set({ saveError: e, saveState: "error", refusal });
-      if (refusal?.panel) set({ panel: refusal.panel });
+      saveRefused(e, refusalOf(e, sent.orders));
     } finally {
       saving.current = false;
       if (again.current) {
@@ -124,11 +121,11 @@ export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDeta
   useEffect(() => () => window.clearTimeout(saveTimer.current), []);
   const changed = useCallback(
     (group?: string) => {
-      store.getState().set({ editedAt: performance.now() });
+      store.getState().edited();
       performance.mark("editor:edit");
       if (inConflict()) return;
       window.clearTimeout(saveTimer.current);
-      store.getState().set({ saveState: "pending" });
+      store.getState().savePending();
       if (group) {
         saveTimer.current = window.setTimeout(() => void save(), SAVE_DELAY_MS);
         return;
@@ -155,42 +152,33 @@ export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDeta
   const saveComputedLayout = useCallback(
     (layout: Layout) => {
       if (inConflict() || Object.keys(layout).every((id) => opened.current[id])) return;
-      store.getState().set({ saveState: "pending" });
+      store.getState().savePending();
       void save();
     },
     [store, save, inConflict],
   );
 
   const reloadTheirs = useCallback(() => {
-    const { conflict, set, setHistory } = store.getState();
+    const { conflict, theirsReloaded, setHistory } = store.getState();
     if (!conflict) return;
     setHistory(reset({ orders: conflict.theirs.orders, layout: conflict.theirs.layout }));
-    set({
-      revision: conflict.theirs.revision,
-      savedRevision: conflict.theirs.revision,
-      lastChecked: conflict.theirs.orders,
-      base: conflict.theirs.orders,
-      savedLayout: conflict.theirs.layout,
-      conflict: null,
-      saveState: "saved",
-      notice: "Reloaded the draft someone else saved.",
-    });
+    theirsReloaded(conflict.theirs);
     void refreshChecks();
     onSaved(conflict.theirs);
   }, [store, refreshChecks, onSaved]);
 
   const resolve = useCallback(
     (choices: Record<string, Side>) => {
-      const { conflict, set } = store.getState();
+      const { conflict, showNotice } = store.getState();
       if (!conflict) return;
       const orders = resolveMerge(conflict.merge, choices);
       const mine = conflict.merge.conflicts.filter((c) => choices[c.key] === "mine").map((c) => c.label);
       adoptMerged(conflict.theirs, orders);
-      set({
-        notice: `${mergedNotice(conflict.theirs, conflict.merge.merged)} Overlapping edits: ${
+      showNotice(
+        `${mergedNotice(conflict.theirs, conflict.merge.merged)} Overlapping edits: ${
           mine.length > 0 ? `yours kept for ${mine.join(", ")}` : "theirs kept"
         }${mine.length > 0 && mine.length < conflict.merge.conflicts.length ? ", theirs for the rest" : ""}. Undo brings your version back.`,
-      });
+      );
       void save();
     },
     [store, adoptMerged, save],

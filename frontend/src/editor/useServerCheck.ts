@@ -20,7 +20,7 @@ export function useServerCheck(opening: Promise<Report | null> | null = null): S
 
   const refreshChecks = useCallback(async () => {
     const path = { params: { path: { mission_id: store.getState().missionId } } };
-    store.getState().set({ report: unwrap(await api.GET("/api/missions/{mission_id}/report", path)) });
+    store.getState().showReport(unwrap(await api.GET("/api/missions/{mission_id}/report", path)));
   }, [store]);
 
   useEffect(() => {
@@ -28,10 +28,10 @@ export function useServerCheck(opening: Promise<Report | null> | null = null): S
     const first = opening
       ? opening.then((report) => {
           if (!report) return refreshChecks();
-          if (!store.getState().report) store.getState().set({ report }); // unless an edit's check came first
+          if (!store.getState().report) store.getState().showReport(report); // unless an edit's check came first
         })
       : refreshChecks();
-    first.catch((e: unknown) => store.getState().set({ saveError: e }));
+    first.catch((e: unknown) => store.getState().failed(e));
   }, [refreshChecks, store, opening]);
 
   // Shows the report if the orders are still the newest. Not queued behind a save in
@@ -47,11 +47,7 @@ export function useServerCheck(opening: Promise<Report | null> | null = null): S
           if (!x.response.ok || !x.data) return false;
           const now = store.getState();
           if (now.history.present.orders === orders) {
-            now.set({
-              lastChecked: orders,
-              report: x.data,
-              ...(now.editedAt ? { checkMs: Math.round(performance.now() - now.editedAt) } : {}),
-            });
+            now.checked(orders, x.data, now.editedAt ? Math.round(performance.now() - now.editedAt) : null);
           }
           return true;
         },
