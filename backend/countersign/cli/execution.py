@@ -105,11 +105,13 @@ def _print_verdict(args: argparse.Namespace, verdict: Any, prefix: str = "") -> 
 def rehearsal_record(data: bytes) -> dict[str, Any] | None:
     """The rehearsal record these bytes hold, or None when they are an execution log."""
     from ..rehearse.record import FORMAT
+    from ..strict_json import JsonPolicyError, loads
 
     try:
-        parsed = json.loads(data)
-    except (ValueError, UnicodeDecodeError):
-        return None  # NDJSON of several lines, IMC or an alog
+        parsed = loads(data)
+    except JsonPolicyError:
+        # NDJSON of several lines, IMC or an alog; or JSON the log reader refuses by line.
+        return None
     return parsed if isinstance(parsed, dict) and parsed.get("format") == FORMAT else None
 
 
