@@ -36,6 +36,7 @@ from ..expressions import (
 )
 from .constants import _IDENTIFIER, MAX_WORDS
 from .items import Item, _interval_formula, _range_words, _with_suffix, expr_formula
+from .screen import Screen
 from .session import Session
 
 # True: every constraint stays asserted once a unit used it (the policy before issue 22, kept
@@ -119,6 +120,8 @@ class LogicModel:
         # One z3 session per version of the orders, shared by check_logic and
         # check_properties; runs that use it hold the lock.
         self.session: Session | None = None
+        # Its status-only checks (screen.py), made on first use like the session.
+        self.screen: Screen | None = None
         self.lock = threading.RLock()
 
     # Parsing -----------------------------------------------------------------------------
@@ -370,6 +373,11 @@ class LogicModel:
                         items.append(item)
             found = self._background[key] = tuple(items)
         return list(found)
+
+    def mission_block(self, quarantined: frozenset[str]) -> frozenset[Item]:
+        """The items of the live mission-wide constraints: every goal's scope holds them."""
+        self.scope_items("", quarantined)
+        return frozenset(self._mission_block[quarantined][1])
 
     def scope_items(self, goal_id: str, quarantined: frozenset[str]) -> tuple[
         list[ParsedConstraint], list[Item]

@@ -274,6 +274,21 @@ class Session:
         self.calls += 1
         return (solver.model(), ctx) if solver.check() == self.z3.sat else None
 
+    def earliest_twins(self, core: Sequence[Item], items: Sequence[Item]) -> list[Item]:
+        """The core with each item replaced by the first of `items` of its kind that states
+        the same formula. Which of two identical constraints z3 names depends on what the session
+        solved before (its term ids and learned clauses), so without this a core could name
+        C184 in one run and its twin C52 in another; the first in the orders is named always.
+        A twin states the same thing, so the core stays unsatisfiable and minimal."""
+        def twin(item: Item) -> tuple[str, str]:
+            # Of the same kind too: a domain and a vehicle bound may read alike, not the same.
+            return item.kind, self._formulas.get(item.key) or item.formula(self.translator)
+
+        first: dict[tuple[str, str], Item] = {}
+        for item in items:
+            first.setdefault(twin(item), item)
+        return [first.get(twin(i), i) for i in core]
+
     # Minimal cores (seed 001, Algorithm 1) ---------------------------------------------------
 
     def minimal_core(self, core: Sequence[Item], hard: Sequence[Item] = ()) -> tuple[
