@@ -19,8 +19,11 @@ goal. Every solver call has a timeout and the whole run a time budget; an undeci
 warning finding, never a hang. z3 is imported and a context created only when some unit misses
 the cache.
 
-One module per job: items and model, the z3 session, the cache, a run, wording, the
-findings and the goal-set API. `findings.BATCH_VACUITY` switches batched vacuity checks.
+One module per job: items and model, the z3 session, the screen, the cache, a run, wording,
+the findings and the goal-set API. `findings.BATCH_VACUITY` switches batched vacuity checks,
+`run.GROUP_CHECKS` the screen (screen.py: status-only checks of terms parsed once per
+context, one answer shared by every goal with the same formulas; a unit whose answer is more
+than "fine" is solved by the session as before).
 
 A check costs z3 time in proportion to everything asserted, so only what every goal assumes
 (mission-wide constraints, the vehicle, domains, norms) stays asserted between goals; the rest
