@@ -100,6 +100,7 @@ class LogicRun:
             return session.check(items) if base is None else self.screened(items, base)
 
         found: list[Core] = []
+        first = items
         result = check(items)
         while result.status == "unsat" and len(found) < limit:
             core, minimal = session.minimal_core(result.core)
@@ -113,6 +114,12 @@ class LogicRun:
             items = [i for i in items if i not in removed]
             result = check(items)
         undecided = result.reason if result.status == "unknown" else None
+        # Which of several independent cores z3 names first depends on what the session solved
+        # before; listed by where their items stand in the unit, they read the same whatever
+        # was solved before (and whether the screen spared some checks).
+        if len(found) > 1:
+            place = {item.key: n for n, item in enumerate(first)}
+            found.sort(key=lambda c: sorted(place.get(p.key, len(place)) for p in c.parts))
         return found, items, undecided
 
     # Mission -------------------------------------------------------------------------------
