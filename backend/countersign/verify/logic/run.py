@@ -16,6 +16,7 @@ from .model import LogicModel, ParsedConstraint, _merge_reads
 from .results import Core, GoalResult, MissionResult, Risk, VacuousResult
 from .screen import Screen
 from .session import CheckResult, Limits, Session
+from .unique import UniqueCores
 
 # Units whose plain outcome (no core, no witness) the screen proves take no session check, and
 # goals with the same formulas share one screen check (False: every unit solved one by one in
@@ -43,8 +44,20 @@ class LogicRun:
             if session is None:
                 session = self.model.session = Session(self.model.quantities, self.limits)
             session.limits = self.limits
+            session.proven = self._proven if GROUP_CHECKS else None
             self._session = session
         return self._session
+
+    @property
+    def unique_cores(self) -> UniqueCores:
+        found = self.model.unique_cores
+        if found is None:
+            order = {c.key: n for n, c in enumerate(self.model.mission_constraints)}
+            found = self.model.unique_cores = UniqueCores(self.screen.decider, order)
+        return found
+
+    def _proven(self, items: Sequence[Item]) -> bool:
+        return self.screen.decider.status(items, frozenset()) == "sat"
 
     @property
     def screen(self) -> Screen:
@@ -99,20 +112,32 @@ class LogicRun:
         def check(items: list[Item]) -> CheckResult:
             return session.check(items) if base is None else self.screened(items, base)
 
+        def unique(items: list[Item]) -> list[Item] | None:
+            # The unit's only core, when bounds.py proves there is one (unique.py): z3 and
+            # the shrinking would end at it too.
+            if not GROUP_CHECKS or base is None or self.screen.status(items, base) != "unsat":
+                return None
+            return self.unique_cores.core(items, base)
+
         found: list[Core] = []
         first = items
-        result = check(items)
+        known = unique(items)
+        result = CheckResult("unsat") if known is not None else check(items)
         while result.status == "unsat" and len(found) < limit:
-            core, minimal = session.minimal_core(result.core)
-            if not core:
-                break
-            core = session.earliest_twins(core, items)
+            if known is not None:
+                core, minimal = known, True
+            else:
+                core, minimal = session.minimal_core(result.core)
+                if not core:
+                    break
+                core = session.earliest_twins(core, items)
             found.append(Core(tuple(sorted_parts(core)), minimal))
             removed = drop(core)
             if not removed:
                 break
             items = [i for i in items if i not in removed]
-            result = check(items)
+            known = unique(items)
+            result = CheckResult("unsat") if known is not None else check(items)
         undecided = result.reason if result.status == "unknown" else None
         # Which of several independent cores z3 names first depends on what the session solved
         # before; listed by where their items stand in the unit, they read the same whatever

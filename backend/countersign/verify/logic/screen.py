@@ -24,6 +24,7 @@ from typing import Any
 from ...orders.model import Quantity
 from ..expressions import Translator
 from ..z3_adapter import Status, check_asserting
+from .bounds import Decider
 from .items import Item
 from .session import Limits, _z3
 
@@ -39,6 +40,8 @@ class Screen:
         self.solver = z3.SimpleSolver(ctx=self.ctx)
         self.limits = limits
         self.translator = Translator(quantities)
+        # Units that bounds propagation settles take no z3 check at all.
+        self.decider = Decider(quantities)
         self._timeout: int | None = None
         # Item -> formula text (an item's formula never changes within a model; items are
         # made once per model, so the object itself is the key, looked up at C speed).
@@ -99,6 +102,9 @@ class Screen:
         if not base <= rest:  # pragma: no cover - callers pass a subset; never assume more
             base = frozenset()
         rest -= base
+        decided = self.decider.status(rest, base)
+        if decided is not None:
+            return decided  # type: ignore[return-value]
         if base is not self._base and base != self._base:
             self._rebase(base)
         key = (self._base_texts, self._texts_of(rest))
