@@ -142,9 +142,13 @@ class Session:
             self._asts[item.key] = found
         return found
 
-    def check(self, items: Sequence[Item]) -> CheckResult:
+    def ready(self) -> None:
+        """Assert what the current scope holds, if not yet done (before any z3 check)."""
         if self._pending is not None:
             self._enter(self._pending)
+
+    def check(self, items: Sequence[Item]) -> CheckResult:
+        self.ready()
         z3 = self.z3
         remaining = self.limits.remaining_ms()
         if remaining <= 0:
