@@ -393,8 +393,6 @@ def _tighten(bounds: Bounds, name: str, kind: str | None, value: Any, strict: bo
         else:
             value = math.ceil(value) - 1 if strict else math.floor(value)
         strict = False
-    else:
-        value = _exact(value)
     b = bounds.get(name)
     if b is None:
         b = bounds[name] = [None, False, None, False]
@@ -481,7 +479,7 @@ def _propagate(formulas: list[Formula], bounds: Bounds, bools: Bools,
                 changed = True
             elif f[0] == "a" and len(f[1]) == 1 and f[3] != "!=":
                 name, c = f[1][0]
-                value, op = Fraction(-f[2]) / c, f[3]
+                value, op = _exact(Fraction(-f[2]) / c), f[3]
                 kind = kinds.get(name)
                 ok = True
                 if op == "=" or c > 0:  # c x + k <= 0: x <= -k / c

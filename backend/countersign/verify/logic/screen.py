@@ -98,10 +98,9 @@ class Screen:
         """Whether the items can hold together: "sat", "unsat" or "unknown" (a timeout or the
         run's budget spent). `base`: items that every check of the run holds (the live
         mission-wide constraints), asserted once below the checks' scope."""
-        rest = set(items)
-        if not base <= rest:  # pragma: no cover - callers pass a subset; never assume more
-            base = frozenset()
-        rest -= base
+        rest = [i for i in items if i not in base]
+        if len(items) - len(rest) != len(base):  # base not all among the items: no base
+            rest, base = list(items), frozenset()
         decided = self.decider.status(rest, base)
         if decided is not None:
             return decided  # type: ignore[return-value]
