@@ -46,6 +46,7 @@ MAX_SPLITS = 64
 # for a behaviour or area with no fact, ("&", parts), ("|", parts).
 Formula = Any
 Facts = dict[Any, Any]
+FactsKey = frozenset[tuple[Any, Any]]
 Number = int | Fraction  # ints where integral: exact, and far cheaper to add and compare
 Bounds = dict[str, list[Any]]  # name -> [low, low strict, high, high strict]; None: unbounded
 Bools = dict[Any, Any]
@@ -63,10 +64,11 @@ class Decider:
     def __init__(self, quantities: Mapping[str, Quantity]) -> None:
         self.kinds = {name: q.type for name, q in quantities.items()}
         # (base, facts) -> the base's statements under those facts, propagated once.
-        self._bases: dict[tuple[int, tuple[Any, ...]], Any] = {}
+        self._bases: dict[tuple[int, FactsKey], Any] = {}
         self._base_refs: dict[int, frozenset[Item]] = {}
-        self._formulas: dict[tuple[Any, tuple[Any, ...]], Formula] = {}
-        self._states: dict[tuple[int, frozenset[Item]], Any] = {}
+        self._formulas: dict[tuple[Any, FactsKey], Formula] = {}
+        self._states: dict[tuple[Any, ...], Any] = {}
+        self._verdicts: dict[tuple[Any, ...], str] = {}
         self._intervals: dict[tuple[Any, ...], Any] = {}
         self.decided = 0
 
@@ -74,20 +76,39 @@ class Decider:
         """"sat" or "unsat" when proven for `rest` and `base` together, else None."""
         own: list[Item] = []
         extra: list[Item] = []
+        own_keys: list[Any] = []
+        extra_keys: list[Any] = []
         for item in rest:
-            if item.meaning is None:
+            meaning = item.meaning
+            if meaning is None:
                 return None
-            (extra if item.kind in _NORM_KINDS else own).append(item)
+            # What the item states, whoever states it: goals with the same envelope, facts
+            # and constraints ask the same question, answered once.
+            said = meaning[1] if meaning[0] == "expr" else meaning
+            if item.kind in _NORM_KINDS:
+                extra.append(item)
+                extra_keys.append(said)
+            else:
+                own.append(item)
+                own_keys.append(said)
+        self._base_refs.setdefault(id(base), base)  # held: its id is never another's
+        asked = (id(base), frozenset(own_keys), frozenset(extra_keys))
+        known = self._verdicts.get(asked)
+        if known is not None:
+            return self._count(known)
+        if len(self._verdicts) > 200_000:
+            self._verdicts.clear()
         try:
             # A goal's checks differ in their norms only: its own statements are propagated
             # once and the state reused for each norm or breach.
-            memo = (id(base), frozenset(own))
+            memo = asked[:2]
             state = self._states.get(memo, _MISSING)
             if state is _MISSING:
                 if len(self._states) > 64:
                     self._states.clear()
                 state = self._states[memo] = self._state(own, base)
             if state is None:
+                self._verdicts[asked] = "unsat"
                 return self._count("unsat")
             facts, key, bounds, bools, settled = state
             formulas = [self._formula(i, facts, key) for i in extra]
@@ -97,7 +118,8 @@ class Decider:
             return None
         if verdict is None:
             return None
-        return self._count("sat" if verdict else "unsat")
+        found = self._verdicts[asked] = "sat" if verdict else "unsat"
+        return self._count(found)
 
     def _state(self, own: list[Item], base: frozenset[Item]) -> Any:
         """(facts, their key, bounds, Booleans, formulas left) of a unit's own statements and
@@ -117,7 +139,7 @@ class Decider:
                 raise Unsupported
             elif facts.setdefault(meaning[1], meaning[2]) != meaning[2]:
                 return None  # one fact with two values
-        key = tuple(sorted(facts.items(), key=repr))
+        key = frozenset(facts.items())
         start = self._base(base, facts, key)
         if start is None:
             return None
@@ -140,7 +162,7 @@ class Decider:
             if (meaning is not None and meaning[0] == "fact"
                     and facts.setdefault(meaning[1], meaning[2]) != meaning[2]):
                 return None
-        key = tuple(sorted(facts.items(), key=repr))
+        key = frozenset(facts.items())
         for item in items:
             if item.meaning is not None and item.meaning[0] == "expr":
                 try:
@@ -154,7 +176,7 @@ class Decider:
         self.decided += 1
         return status
 
-    def _formula(self, item: Item, facts: Facts, key: tuple[Any, ...]) -> Formula:
+    def _formula(self, item: Item, facts: Facts, key: FactsKey) -> Formula:
         assert item.meaning is not None
         memo = (item.meaning[1], key)
         found = self._formulas.get(memo)
@@ -164,7 +186,7 @@ class Decider:
                 expr, not negate)
         return found
 
-    def _base(self, base: frozenset[Item], facts: Facts, key: tuple[Any, ...]) -> Any:
+    def _base(self, base: frozenset[Item], facts: Facts, key: FactsKey) -> Any:
         """(bounds, Booleans, other formulas) of the base under the facts, or None when the
         base alone cannot hold; Unsupported when it cannot be decided here."""
         memo = (id(base), key)
@@ -180,7 +202,7 @@ class Decider:
             raise Unsupported
         return found
 
-    def _propagate_base(self, base: frozenset[Item], facts: Facts, key: tuple[Any, ...]) -> Any:
+    def _propagate_base(self, base: frozenset[Item], facts: Facts, key: FactsKey) -> Any:
         bounds: Bounds = {}
         bools: Bools = {}
         formulas: list[Formula] = []

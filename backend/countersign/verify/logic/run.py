@@ -213,9 +213,17 @@ class LogicRun:
         hold together (no contradiction, no refusal) and no residual norm can be breached (no
         risk). That is the answer `_solve_goal_alone` gives for exactly these statuses."""
         screen = self.screen
-        if screen.status(items + rules, base) != "sat":
+        decide = screen.decider.status
+        own = [i for i in items if i not in base]  # once per goal, not once per check
+        if len(items) - len(own) != len(base):  # pragma: no cover - a unit holds its base
             return False
-        return all(screen.status([*items, breach], base) == "unsat" for _, breach in residual)
+
+        def status(extra: list[Item]) -> str:
+            return decide(own + extra, base) or screen.status(items + extra, base)
+
+        if status(rules) != "sat":
+            return False
+        return all(status([breach]) == "unsat" for _, breach in residual)
 
     def _solve_goal_alone(self, items: list[Item], norm_items: list[tuple[Item, Item]],
                           residual: list[tuple[Item, Item]],

@@ -34,10 +34,11 @@ class UniqueCores:
 
     def core(self, items: Sequence[Item], base: frozenset[Item]) -> list[Item] | None:
         """The unit's only minimal core (first twins named), or None when not proven so."""
-        if not base.issubset(items):
+        own = [i for i in items if i not in base]
+        if len(items) - len(own) != len(base):  # some of the base dropped: not tried here
             return None
         kept = self._first_base(base)
-        firsts = self._first_twins(items, base, kept)
+        firsts = self._first_twins(own, kept)
         culprit = self.decider.false_by_facts(firsts)
         if culprit is None:
             return None
@@ -69,15 +70,15 @@ class UniqueCores:
             self._bases[id(base)] = found = (base, kept)
         return found[1]
 
-    def _first_twins(self, items: Sequence[Item], base: frozenset[Item],
-                     kept: frozenset[Item]) -> list[Item]:
-        """The unit's items, each twin after the first left out. Twins have one kind, and
+    def _first_twins(self, own: Sequence[Item], kept: frozenset[Item]) -> list[Item]:
+        """The unit's items (its own, then the base's first twins), each twin after the first
+        left out. Twins have one kind, and
         the base's constraints come before the goal's own, so the base's first twins stay and
         a goal's constraint that repeats one of them goes."""
         seen = self._base_keys.get(id(kept))
         if seen is None:
             seen = self._base_keys[id(kept)] = {_twin_key(i) for i in kept}
-        return [*_dedupe([i for i in items if i not in base], set(seen)), *kept]
+        return [*_dedupe(own, set(seen)), *kept]
 
     def _base_without(self, kept: frozenset[Item], item: Item) -> frozenset[Item]:
         key = (id(kept), item)
