@@ -31,6 +31,7 @@ QUICK: dict[str, list[str]] = {
     "probability": [],
     "logic": ["--goals", "100", "--constraints", "25", "--norms", "10"],
     "logic_whole": ["--goals", "1000", "--constraints", "100"],
+    "logic_scale": ["--goals", "2000", "--constraints", "200"],
     "incremental": ["--quick"],
     "scale": ["--quick"],
     "startup": [],

@@ -55,6 +55,7 @@ class ReferenceSession(Session):
 
     def check(self, items: Sequence[Item]) -> CheckResult:
         self.asked.append(tuple(i.key for i in items))
+        self.ready()  # a scope's items are asserted at its first check
         z3 = self.z3
         remaining = self.limits.remaining_ms()
         if remaining <= 0:

@@ -47,6 +47,7 @@ from .logic import (
     expr_formula,
     join_words,
 )
+from .logic import run as logic_run
 from .paths import topological_order
 
 # Above this many (goal x path length) steps, the shortest resource counterexample falls back
@@ -389,7 +390,8 @@ def _check_state(model: LogicModel, run: LogicRun, graph: MissionGraph,
             continue
         items, _ = run.goal_items(goal, mission.quarantined, [expr_reads])
         verdict: GoalVerdict = run.cached(
-            "property", [*items, failing], functools.partial(_solve_state, run, items, failing)
+            "property", [*items, failing],
+            functools.partial(_solve_state, run, items, failing, run.block(mission.quarantined))
         )
         if verdict.undecided:
             undecided.append(goal.id)
@@ -435,7 +437,12 @@ def _check_state(model: LogicModel, run: LogicRun, graph: MissionGraph,
     return findings
 
 
-def _solve_state(run: LogicRun, items: list[Item], failing: Item) -> GoalVerdict:
+def _solve_state(run: LogicRun, items: list[Item], failing: Item,
+                 base: frozenset[Item]) -> GoalVerdict:
+    # A state that cannot fail needs no core and no witness: the screen's status is the answer
+    # (and goals with the same formulas share it); the session solves the others as before.
+    if logic_run.GROUP_CHECKS and run.screen.status([*items, failing], base) == "unsat":
+        return GoalVerdict(False, (), None)
     session = run.session
     with session.scope([*items, failing]):
         result = session.check([*items, failing])

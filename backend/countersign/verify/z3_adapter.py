@@ -77,3 +77,22 @@ def true_in_model(z3: Any, ctx: Any, model: Any, literals: Sequence[Any]) -> lis
         finally:
             z3.Z3_dec_ref(context, value)
     return result
+
+
+def check_asserting(z3: Any, ctx: Any, solver: Any, asts: Sequence[Any]) -> Status:
+    """Push, assert the raw ASTs, check without assumptions, pop: a status-only check of terms
+    parsed once (no SMT-LIB text per check, no indicator literals, no core to extract)."""
+    context = ctx.ref()
+    handle = solver.solver
+    z3.Z3_solver_push(context, handle)
+    try:
+        for ast in asts:
+            z3.Z3_solver_assert(context, handle, ast)
+        code = z3.Z3_solver_check(context, handle)
+    finally:
+        z3.Z3_solver_pop(context, handle, 1)
+    if code == z3.Z3_L_TRUE:
+        return "sat"
+    if code == z3.Z3_L_FALSE:
+        return "unsat"
+    return "unknown"

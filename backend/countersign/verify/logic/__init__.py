@@ -19,8 +19,15 @@ goal. Every solver call has a timeout and the whole run a time budget; an undeci
 warning finding, never a hang. z3 is imported and a context created only when some unit misses
 the cache.
 
-One module per job: items and model, the z3 session, the cache, a run, wording, the
-findings and the goal-set API. `findings.BATCH_VACUITY` switches batched vacuity checks.
+One module per job: items and model, the z3 session, the screen, bounds propagation (and its
+formulas), unique cores, the cache, a run, wording, the findings and the goal-set API.
+`findings.BATCH_VACUITY` switches batched vacuity checks, `run.GROUP_CHECKS` the fast route:
+the screen (screen.py: status-only checks, first by bounds propagation without z3, bounds.py,
+else of terms parsed once per context, one answer shared by every goal with the same
+formulas; a unit whose answer is more than "fine" is solved by the session as before), a
+core's shrinking taking its "sat" answers from bounds.py, and a goal's core taken without z3
+when it is proven the only one (unique.py). Every answer of the fast route is proven; the z3
+route is its reference (tests/unit/test_logic_grouped.py, test_logic_bounds.py).
 
 A check costs z3 time in proportion to everything asserted, so only what every goal assumes
 (mission-wide constraints, the vehicle, domains, norms) stays asserted between goals; the rest

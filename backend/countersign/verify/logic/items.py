@@ -7,6 +7,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from fractions import Fraction
+from typing import Any
 
 from ...orders.model import Quantity
 from ..expressions import (
@@ -37,8 +38,8 @@ class Item:
     """One statement for the solver, asserted behind its own indicator literal. Its phrase is
     built only when a core reports it."""
 
-    __slots__ = ("_phrase", "digest", "formula", "key", "kind", "quantities", "shared",
-                 "source", "subject")
+    __slots__ = ("_phrase", "digest", "formula", "key", "kind", "meaning", "quantities",
+                 "shared", "source", "subject")
 
     def __init__(
         self,
@@ -50,6 +51,7 @@ class Item:
         formula: Callable[[Translator], str],
         shared: bool = True,
         quantities: tuple[str, ...] = (),
+        meaning: tuple[Any, ...] | None = None,
     ) -> None:
         self.key = key
         self.kind = kind
@@ -61,6 +63,9 @@ class Item:
         # Asserted once per session (same formula for every goal) rather than per goal scope.
         self.shared = shared
         self.quantities = quantities
+        # What bounds.py decides from, without z3: ("box", quantity, low, high), ("fact", what,
+        # value) or ("expr", memo key, (expression, negated)); None: z3 only.
+        self.meaning = meaning
         # Every item ends up in some unit's cache key: an attribute, not a property, so a key
         # of hundreds of items is read at C speed.
         self.digest = hashlib.sha256(source.encode()).digest()

@@ -36,7 +36,9 @@ from ..expressions import (
 )
 from .constants import _IDENTIFIER, MAX_WORDS
 from .items import Item, _interval_formula, _range_words, _with_suffix, expr_formula
+from .screen import Screen
 from .session import Session
+from .unique import UniqueCores
 
 # True: every constraint stays asserted once a unit used it (the policy before issue 22, kept
 # as the benchmark's baseline).
@@ -128,6 +130,10 @@ class LogicModel:
         # One z3 session per version of the orders, shared by check_logic and
         # check_properties; runs that use it hold the lock.
         self.session: Session | None = None
+        # Its status-only checks (screen.py), made on first use like the session.
+        self.screen: Screen | None = None
+        # Cores proven the only ones without z3 (unique.py), made with the screen.
+        self.unique_cores: UniqueCores | None = None
         self.lock = threading.RLock()
 
     def carry_goal_items(self, before: LogicModel) -> None:
@@ -311,6 +317,7 @@ class LogicModel:
                 # goals (or a negation, checked once) would tax every later goal's checks.
                 shared=not suffix and (KEEP_EVERY_CONSTRAINT or (c.mission and not negate)),
                 quantities=tuple(sorted(c.reads.quantities)),
+                meaning=None if suffix else ("expr", ("con", c.source, negate), (c.expr, negate)),
             )
 
         return self._memo(key, build)
@@ -335,6 +342,7 @@ class LogicModel:
                 f"{key}|{goal.title}|{low!r}|{high!r}|{self.spec(name)}",
                 _with_suffix(_interval_formula(name, spec, low, high), suffix),
                 shared=False, quantities=(name,),
+                meaning=None if suffix else ("box", name, low, high),
             )
 
         return self._memo(key, build)
@@ -359,6 +367,7 @@ class LogicModel:
                 f"{key}|{vehicle.title}|{low!r}|{high!r}|{self.spec(name)}",
                 _with_suffix(_interval_formula(name, spec, low, high), suffix),
                 shared=not suffix, quantities=(name,),
+                meaning=None if suffix else ("box", name, low, high),
             )
 
         return self._memo(key, build)
@@ -385,6 +394,7 @@ class LogicModel:
                 key, "domain", name, phrase, f"{key}|{self.spec(name)}",
                 _with_suffix(_interval_formula(name, spec, spec.min, spec.max), suffix),
                 shared=not suffix, quantities=(name,),
+                meaning=None if suffix else ("box", name, spec.min, spec.max),
             )
 
         return self._memo(key, build)
@@ -401,6 +411,11 @@ class LogicModel:
                         items.append(item)
             found = self._background[key] = tuple(items)
         return list(found)
+
+    def mission_block(self, quarantined: frozenset[str]) -> frozenset[Item]:
+        """The items of the live mission-wide constraints: every goal's scope holds them."""
+        self.scope_items("", quarantined)
+        return frozenset(self._mission_block[quarantined][1])
 
     def scope_items(self, goal_id: str, quarantined: frozenset[str]) -> tuple[
         list[ParsedConstraint], list[Item]
@@ -438,6 +453,7 @@ class LogicModel:
                         suffix,
                     ),
                     shared=False,
+                    meaning=None if suffix else ("fact", "behavior", goal.behavior),
                 )
 
             items.append(self._memo(key, behavior))
@@ -456,6 +472,7 @@ class LogicModel:
                         suffix,
                     ),
                     shared=False,
+                    meaning=None if suffix else ("fact", "area", goal.area),
                 )
 
             items.append(self._memo(key, area))
@@ -477,6 +494,7 @@ class LogicModel:
                         lambda t: t.context(tag) if holds else f"(not {t.context(tag)})", suffix
                     ),
                     shared=False,
+                    meaning=None if suffix else ("fact", ("ctx", tag), holds),
                 )
 
             items.append(self._memo(key, context))
@@ -558,13 +576,15 @@ class LogicModel:
                 return words
 
             return Item(n.key, "norm", n.norm.id, phrase, source,
-                        expr_formula(self.breach_expr(n), negate=True), quantities=quantities)
+                        expr_formula(self.breach_expr(n), negate=True), quantities=quantities,
+                        meaning=("expr", ("norm", n.key, True), (self.breach_expr(n), True)))
 
         rule = self._memo(n.key, build_rule)
         breach_key = f"breach:{n.key}"
         broken = self._memo(breach_key, lambda: Item(
             breach_key, "breach", n.norm.id, lambda: rule.phrase, "breach|" + rule.source,
             expr_formula(self.breach_expr(n)), quantities=rule.quantities,
+            meaning=("expr", ("norm", n.key, False), (self.breach_expr(n), False)),
         ))
         return rule, broken
 

@@ -14,7 +14,14 @@ from .constants import _KIND_ORDER, MAX_CORES_PER_UNIT
 from .items import Item, Part
 from .model import LogicModel, ParsedConstraint, _merge_reads
 from .results import Core, GoalResult, MissionResult, Risk, VacuousResult
-from .session import Limits, Session
+from .screen import Screen
+from .session import CheckResult, Limits, Session
+from .unique import UniqueCores
+
+# Units whose plain outcome (no core, no witness) the screen proves take no session check, and
+# goals with the same formulas share one screen check (False: every unit solved one by one in
+# the session, the reference the screened path is tested against).
+GROUP_CHECKS = True
 
 
 class LogicRun:
@@ -25,6 +32,7 @@ class LogicRun:
         self.cache = cache if cache is not None else LogicCache()
         self.limits = limits
         self._session: Session | None = None
+        self._blocks: dict[frozenset[str], frozenset[Item]] = {}
         self.solved_units = 0
 
     @property
@@ -36,8 +44,47 @@ class LogicRun:
             if session is None:
                 session = self.model.session = Session(self.model.quantities, self.limits)
             session.limits = self.limits
+            session.proven = self._proven if GROUP_CHECKS else None
             self._session = session
         return self._session
+
+    @property
+    def unique_cores(self) -> UniqueCores:
+        found = self.model.unique_cores
+        if found is None:
+            order = {c.key: n for n, c in enumerate(self.model.mission_constraints)}
+            found = self.model.unique_cores = UniqueCores(self.screen.decider, order)
+        return found
+
+    def _proven(self, items: Sequence[Item]) -> bool:
+        return self.screen.decider.status(items, frozenset()) == "sat"
+
+    @property
+    def screen(self) -> Screen:
+        """The model's status-only checks (screen.py), under this run's limits."""
+        screen = self.model.screen
+        if screen is None:
+            screen = self.model.screen = Screen(self.model.quantities, self.limits)
+        screen.limits = self.limits
+        return screen
+
+    def block(self, quarantined: frozenset[str]) -> frozenset[Item]:
+        """The live mission-wide constraints' items, which the screen asserts once."""
+        found = self._blocks.get(quarantined)
+        if found is None:
+            found = self._blocks[quarantined] = self.model.mission_block(quarantined)
+        return found
+
+    def screened(self, items: Sequence[Item], base: frozenset[Item],
+                 core: bool = True) -> CheckResult:
+        """`session.check(items)` where the core is read only if unsatisfiable (or, without
+        `core`, never): the screen's answer when it decides and no core is wanted (goals with
+        the same formulas share it), else the session's."""
+        if GROUP_CHECKS:
+            status = self.screen.status(items, base)
+            if status == "sat" or (status == "unsat" and not core):
+                return CheckResult(status)
+        return self.session.check(items)
 
     def cached(self, kind: str, items: Iterable[Item], solve: Callable[[], Any]) -> Any:
         key = unit_key(kind, items)
@@ -54,23 +101,50 @@ class LogicRun:
         return result
 
     def cores(self, items: list[Item], drop: Callable[[list[Item]], list[Item]],
-              limit: int = MAX_CORES_PER_UNIT) -> tuple[list[Core], list[Item], str | None]:
+              limit: int = MAX_CORES_PER_UNIT, base: frozenset[Item] | None = None
+              ) -> tuple[list[Core], list[Item], str | None]:
         """Minimal cores of an item set, dropping items after each so that independent
-        contradictions are all found (up to a limit). Returns (cores, remaining, undecided)."""
+        contradictions are all found (up to a limit). Returns (cores, remaining, undecided).
+        With `base` (a goal's unit), whether the items (what is left) can hold is asked of the
+        screen first: often they can, and then no session check is needed."""
         session = self.session
+
+        def check(items: list[Item]) -> CheckResult:
+            return session.check(items) if base is None else self.screened(items, base)
+
+        def unique(items: list[Item]) -> list[Item] | None:
+            # The unit's only core, when bounds.py proves there is one (unique.py): z3 and
+            # the shrinking would end at it too.
+            if not GROUP_CHECKS or base is None or self.screen.status(items, base) != "unsat":
+                return None
+            return self.unique_cores.core(items, base)
+
         found: list[Core] = []
-        result = session.check(items)
+        first = items
+        known = unique(items)
+        result = CheckResult("unsat") if known is not None else check(items)
         while result.status == "unsat" and len(found) < limit:
-            core, minimal = session.minimal_core(result.core)
-            if not core:
-                break
+            if known is not None:
+                core, minimal = known, True
+            else:
+                core, minimal = session.minimal_core(result.core)
+                if not core:
+                    break
+                core = session.earliest_twins(core, items)
             found.append(Core(tuple(sorted_parts(core)), minimal))
             removed = drop(core)
             if not removed:
                 break
             items = [i for i in items if i not in removed]
-            result = session.check(items)
+            known = unique(items)
+            result = CheckResult("unsat") if known is not None else check(items)
         undecided = result.reason if result.status == "unknown" else None
+        # Which of several independent cores z3 names first depends on what the session solved
+        # before; listed by where their items stand in the unit, they read the same whatever
+        # was solved before (and whether the screen spared some checks).
+        if len(found) > 1:
+            place = {item.key: n for n, item in enumerate(first)}
+            found.sort(key=lambda c: sorted(place.get(p.key, len(place)) for p in c.parts))
         return found, items, undecided
 
     # Mission -------------------------------------------------------------------------------
@@ -127,13 +201,42 @@ class LogicRun:
         residual = [pair for n, pair in zip(norms, norm_items, strict=True)
                     if model.residual(n, goal)]
         every = items + [i for pair in norm_items for i in pair]
+        base = self.block(quarantined)
         result: GoalResult = self.cached(
-            "goal", every, lambda: self._solve_goal(items, norm_items, residual)
+            "goal", every, lambda: self._solve_goal(items, norm_items, residual, base)
         )
         return result
 
     def _solve_goal(self, items: list[Item], norm_items: list[tuple[Item, Item]],
-                    residual: list[tuple[Item, Item]]) -> GoalResult:
+                    residual: list[tuple[Item, Item]], base: frozenset[Item]) -> GoalResult:
+        if GROUP_CHECKS and self._plain_goal(items, [rule for rule, _ in norm_items], residual,
+                                             base):
+            return GoalResult((), (), (), None)
+        return self._solve_goal_alone(items, norm_items, residual, base)
+
+    def _plain_goal(self, items: list[Item], rules: list[Item],
+                    residual: list[tuple[Item, Item]], base: frozenset[Item]) -> bool:
+        """Whether the screen proves the goal's result holds nothing: its items and norms can
+        hold together (no contradiction, no refusal) and no residual norm can be breached (no
+        risk). That is the answer `_solve_goal_alone` gives for exactly these statuses."""
+        screen = self.screen
+        decide = screen.decider.status
+        own = [i for i in items if i not in base]  # once per goal, not once per check
+        if len(items) - len(own) != len(base):  # pragma: no cover - a unit holds its base
+            return False
+
+        def status(extra: list[Item]) -> str:
+            return decide(own + extra, base) or screen.status(items + extra, base)
+
+        if status(rules) != "sat":
+            return False
+        return all(status([breach]) == "unsat" for _, breach in residual)
+
+    def _solve_goal_alone(self, items: list[Item], norm_items: list[tuple[Item, Item]],
+                          residual: list[tuple[Item, Item]],
+                          base: frozenset[Item] | None = None) -> GoalResult:
+        """The goal's result, one check at a time in the session, cores and witnesses from
+        it. With `base` the checks whose status alone is read go to the screen first."""
         session = self.session
         every = items + [i for pair in norm_items for i in pair]
 
@@ -149,17 +252,24 @@ class LogicRun:
         undecided: str | None = None
         with session.scope(every):
             # Most goals are fine: one check of everything settles both questions.
-            together = session.check(items + rules) if rules else None
+            together = (None if not rules
+                        else self.screened(items + rules, base, core=False) if base is not None
+                        else session.check(items + rules))
             if together is None or together.status != "sat":
-                contradictions, _, undecided = self.cores(items, drop_contradiction)
+                contradictions, _, undecided = self.cores(items, drop_contradiction, base=base)
                 if contradictions or undecided is not None or not rules:
                     return GoalResult(tuple(contradictions), (), (), undecided)
                 refusals, _, undecided = self.cores(items + rules, drop_norms,
-                                                    limit=len(rules))
+                                                    limit=len(rules), base=base)
             refused = {i.key for core in refusals for i in core.parts}
             risks: list[Risk] = []
             for rule, breach in residual:
                 if rule.key in refused or undecided is not None:
+                    continue
+                # A breach the screen rules out needs no session check; one it allows does,
+                # for the witness's fallback reads the session's last model.
+                if GROUP_CHECKS and base is not None and self.screen.status(
+                        [*items, breach], base) == "unsat":
                     continue
                 result = session.check([*items, breach])
                 if result.status == "sat":

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import time
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 from fractions import Fraction
@@ -68,9 +68,15 @@ class Session:
         self._unit_context: Any = None
         self._items: dict[str, Item] = {}
         self.in_scope = False
+        self._pending: Iterable[Item] | None = None
+        self._pushed = False
         self._batches = 0
         self.calls = 0
         self.undecided = False
+        # Proves some item sets satisfiable without z3 (bounds.py, set by the run); a core's
+        # shrinking asks it first. Only "sat" is taken from it: an unsatisfiable subset's
+        # core still comes from z3, so the shrinking takes the steps it takes without it.
+        self.proven: Callable[[Sequence[Item]], bool] | None = None
 
     def _indicator(self, item: Item) -> tuple[str, bool]:
         name = self._indicators.get(item.key)
@@ -101,22 +107,32 @@ class Session:
 
     @contextmanager
     def scope(self, items: Iterable[Item]) -> Iterator[None]:
-        """Make items checkable: shared ones permanently, the others until the scope ends."""
+        """Make items checkable: shared ones permanently, the others until the scope ends.
+        They are asserted at the scope's first check: a unit whose answers all came without
+        z3 (bounds.py, unique.py) asserts nothing."""
         assert not self.in_scope
+        self._pending = items
+        self.in_scope = True
+        try:
+            yield
+        finally:
+            if self._pushed:
+                self.solver.pop()
+            self._pushed = False
+            self._pending = None
+            self.in_scope = False
+            self._unit_context = None
+
+    def _enter(self, items: Iterable[Item]) -> None:
+        self._pending = None
         items = list(items)
         shared = [i for i in items if i.shared and i.key not in self._based]
         if shared:
             self._assert(shared)
             self._based.update(i.key for i in shared)
         self.solver.push()
-        self.in_scope = True
-        try:
-            self._assert(i for i in items if not i.shared)
-            yield
-        finally:
-            self.solver.pop()
-            self.in_scope = False
-            self._unit_context = None
+        self._pushed = True
+        self._assert(i for i in items if not i.shared)
 
     def _ast(self, item: Item) -> Any:
         found = self._asts.get(item.key)
@@ -126,7 +142,13 @@ class Session:
             self._asts[item.key] = found
         return found
 
+    def ready(self) -> None:
+        """Assert what the current scope holds, if not yet done (before any z3 check)."""
+        if self._pending is not None:
+            self._enter(self._pending)
+
     def check(self, items: Sequence[Item]) -> CheckResult:
+        self.ready()
         z3 = self.z3
         remaining = self.limits.remaining_ms()
         if remaining <= 0:
@@ -274,6 +296,21 @@ class Session:
         self.calls += 1
         return (solver.model(), ctx) if solver.check() == self.z3.sat else None
 
+    def earliest_twins(self, core: Sequence[Item], items: Sequence[Item]) -> list[Item]:
+        """The core with each item replaced by the first of `items` of its kind that states
+        the same formula. Which of two identical constraints z3 names depends on what the session
+        solved before (its term ids and learned clauses), so without this a core could name
+        C184 in one run and its twin C52 in another; the first in the orders is named always.
+        A twin states the same thing, so the core stays unsatisfiable and minimal."""
+        def twin(item: Item) -> tuple[str, str]:
+            # Of the same kind too: a domain and a vehicle bound may read alike, not the same.
+            return item.kind, self._formulas.get(item.key) or item.formula(self.translator)
+
+        first: dict[tuple[str, str], Item] = {}
+        for item in items:
+            first.setdefault(twin(item), item)
+        return [first.get(twin(i), i) for i in core]
+
     # Minimal cores (seed 001, Algorithm 1) ---------------------------------------------------
 
     def minimal_core(self, core: Sequence[Item], hard: Sequence[Item] = ()) -> tuple[
@@ -293,17 +330,22 @@ class Session:
             return s
         half = len(s) // 2
         first, second = s[:half], s[half:]
-        result = self.check([*s0, *first])
+        result = self._shrink_check([*s0, *first])
         if result.status == "unsat":
             inside = [i for i in first if i in result.core]
             return self._minimise(inside, s0) if inside else []
-        result = self.check([*s0, *second])
+        result = self._shrink_check([*s0, *second])
         if result.status == "unsat":
             inside = [i for i in second if i in result.core]
             return self._minimise(inside, s0) if inside else []
         first_min = self._minimise(first, [*s0, *second])
         second_min = self._minimise(second, [*s0, *first_min])
         return first_min + second_min
+
+    def _shrink_check(self, items: list[Item]) -> CheckResult:
+        if self.proven is not None and self.proven(items):
+            return CheckResult("sat")
+        return self.check(items)
 
 
 def _decimal(value: Any) -> str:

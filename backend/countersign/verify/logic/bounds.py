@@ -1,0 +1,449 @@
+"""Satisfiability by bounds propagation, without z3, for the units it can settle.
+
+Most statements of a mission are bounds on one quantity (envelopes, the vehicle, domains,
+"depth_m >= 5") or become so once the goal's facts (behaviour, area, its tags) are put in
+("behavior == 'sample' implies depth_m >= 8"). A unit of such statements is decided by
+intersecting intervals; the few others (a disjunction, a sum of two quantities) are settled
+over the resulting box: true on all of it, false on all of it, true at one of its points, or
+split into their disjuncts. Each answer is a proof: "sat" names a box (or a point) where every
+statement holds, "unsat" an empty box or a statement false on all of the box. Whatever this
+cannot prove (a product of quantities, a division by a quantity, too many splits) is None, and
+z3 decides as before: this only ever spares a check whose answer it has proven.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping, Sequence
+from fractions import Fraction
+from typing import Any, Literal
+
+from ...orders.model import Quantity
+from .formulas import (
+    Facts,
+    Formula,
+    Number,
+    Translate,
+    Unsupported,
+    compare_constant,
+    exact,
+    join,
+)
+from .items import Item, _bound
+
+# Splits of disjunctions tried per check before leaving it to z3.
+MAX_SPLITS = 64
+
+# Formulas (formulas.py): True, False, linear comparisons, Booleans, texts, "&" and "|".
+FactsKey = frozenset[tuple[Any, Any]]
+Bounds = dict[str, list[Any]]  # name -> [low, low strict, high, high strict]; None: unbounded
+Bools = dict[Any, Any]
+# Booleans: a Boolean quantity or ("ctx", tag) -> its value, ("str", name) ->
+# the text a behaviour or area with no fact is set to.
+
+
+class Decider:
+    """Decides units from their items' meanings (`Item.meaning`); one per logic model."""
+
+    def __init__(self, quantities: Mapping[str, Quantity]) -> None:
+        self.kinds = {name: q.type for name, q in quantities.items()}
+        # (base, facts) -> the base's statements under those facts, propagated once.
+        self._bases: dict[tuple[int, FactsKey], Any] = {}
+        self._base_refs: dict[int, frozenset[Item]] = {}
+        self._formulas: dict[tuple[Any, FactsKey], Formula] = {}
+        self._states: dict[tuple[Any, ...], Any] = {}
+        self._verdicts: dict[tuple[Any, ...], str] = {}
+        self._intervals: dict[tuple[Any, ...], Any] = {}
+        self.decided = 0
+
+    def status(self, rest: Iterable[Item], base: frozenset[Item]) -> str | None:
+        """"sat" or "unsat" when proven for `rest` and `base` together, else None."""
+        own: list[Item] = []
+        extra: list[Item] = []
+        own_keys: list[Any] = []
+        extra_keys: list[Any] = []
+        for item in rest:
+            meaning = item.meaning
+            if meaning is None:
+                return None
+            # What the item states, whoever states it: goals with the same envelope, facts
+            # and constraints ask the same question, answered once.
+            said = meaning[1] if meaning[0] == "expr" else meaning
+            if item.kind in _NORM_KINDS:
+                extra.append(item)
+                extra_keys.append(said)
+            else:
+                own.append(item)
+                own_keys.append(said)
+        self._base_refs.setdefault(id(base), base)  # held: its id is never another's
+        asked = (id(base), frozenset(own_keys), frozenset(extra_keys))
+        known = self._verdicts.get(asked)
+        if known is not None:
+            return self._count(known)
+        if len(self._verdicts) > 200_000:
+            self._verdicts.clear()
+        try:
+            # A goal's checks differ in their norms only: its own statements are propagated
+            # once and the state reused for each norm or breach.
+            memo = asked[:2]
+            state = self._states.get(memo, _MISSING)
+            if state is _MISSING:
+                if len(self._states) > 64:
+                    self._states.clear()
+                state = self._states[memo] = self._state(own, base)
+            if state is None:
+                self._verdicts[asked] = "unsat"
+                return self._count("unsat")
+            facts, key, bounds, bools, settled = state
+            formulas = [self._formula(i, facts, key) for i in extra]
+            verdict = _solve(formulas, {n: list(b) for n, b in bounds.items()}, dict(bools),
+                             self.kinds, [MAX_SPLITS], settled)
+        except Unsupported:
+            return None
+        if verdict is None:
+            return None
+        found = self._verdicts[asked] = "sat" if verdict else "unsat"
+        return self._count(found)
+
+    def _state(self, own: list[Item], base: frozenset[Item]) -> Any:
+        """(facts, their key, bounds, Booleans, formulas left) of a unit's own statements and
+        the base, propagated; None when they cannot hold (Unsupported: not decided here)."""
+        facts: Facts = {}
+        boxes: list[Item] = []
+        exprs: list[Item] = []
+        for item in own:
+            meaning = item.meaning
+            assert meaning is not None
+            kind = meaning[0]
+            if kind == "box":
+                boxes.append(item)
+            elif kind == "expr":
+                exprs.append(item)
+            elif kind != "fact":
+                raise Unsupported
+            elif facts.setdefault(meaning[1], meaning[2]) != meaning[2]:
+                return None  # one fact with two values
+        key = frozenset(facts.items())
+        start = self._base(base, facts, key)
+        if start is None:
+            return None
+        bounds = {name: list(b) for name, b in start[0].items()}
+        bools = dict(start[1])
+        for item in boxes:
+            if not self._box(bounds, bools, item):
+                return None
+        formulas = [*start[2], *(self._formula(item, facts, key) for item in exprs)]
+        rest = _propagate(formulas, bounds, bools, self.kinds)
+        if rest is False:
+            return None
+        return facts, key, bounds, bools, rest
+
+    def false_by_facts(self, items: Sequence[Item]) -> Item | None:
+        """The first statement among the items that their facts alone make false."""
+        facts: Facts = {}
+        for item in items:
+            meaning = item.meaning
+            if (meaning is not None and meaning[0] == "fact"
+                    and facts.setdefault(meaning[1], meaning[2]) != meaning[2]):
+                return None
+        key = frozenset(facts.items())
+        for item in items:
+            if item.meaning is not None and item.meaning[0] == "expr":
+                try:
+                    if self._formula(item, facts, key) is False:
+                        return item
+                except Unsupported:
+                    continue
+        return None
+
+    def _count(self, status: str) -> str:
+        self.decided += 1
+        return status
+
+    def _formula(self, item: Item, facts: Facts, key: FactsKey) -> Formula:
+        assert item.meaning is not None
+        memo = (item.meaning[1], key)
+        found = self._formulas.get(memo)
+        if found is None:
+            expr, negate = item.meaning[2]
+            found = self._formulas[memo] = Translate(self.kinds, facts).condition(
+                expr, not negate)
+        return found
+
+    def _base(self, base: frozenset[Item], facts: Facts, key: FactsKey) -> Any:
+        """(bounds, Booleans, other formulas) of the base under the facts, or None when the
+        base alone cannot hold; Unsupported when it cannot be decided here."""
+        memo = (id(base), key)
+        found = self._bases.get(memo, _MISSING)
+        if found is _MISSING:
+            self._base_refs[id(base)] = base  # keeps the id from being reused
+            try:
+                found = self._propagate_base(base, facts, key)
+            except Unsupported:
+                found = Unsupported
+            self._bases[memo] = found
+        if found is Unsupported:
+            raise Unsupported
+        return found
+
+    def _propagate_base(self, base: frozenset[Item], facts: Facts, key: FactsKey) -> Any:
+        bounds: Bounds = {}
+        bools: Bools = {}
+        formulas: list[Formula] = []
+        seen: set[Any] = set()
+        for item in sorted(base, key=lambda i: i.key):
+            meaning = item.meaning
+            if meaning is None or meaning[0] not in {"box", "expr"}:
+                raise Unsupported
+            if meaning[0] == "box":
+                if not self._box(bounds, bools, item):
+                    return None
+            elif meaning[1] not in seen:
+                seen.add(meaning[1])
+                formulas.append(self._formula(item, facts, key))
+        rest = _propagate(formulas, bounds, bools, self.kinds)
+        if rest is False:
+            return None
+        return bounds, bools, rest
+
+    def _box(self, bounds: Bounds, bools: Bools, item: Item) -> bool:
+        """Add an envelope, vehicle or domain interval (as items.py states it to z3)."""
+        assert item.meaning is not None
+        found = self._intervals.get(item.meaning)
+        if found is None:
+            found = self._intervals[item.meaning] = self._interval(*item.meaning[1:])
+        name, kind, lo, hi, value = found
+        if kind == "boolean":
+            return value is None or _set_bool(bools, name, value)
+        return (lo is None or _tighten(bounds, name, kind, lo, False, True)) and (
+            hi is None or _tighten(bounds, name, kind, hi, False, False))
+
+    def _interval(self, name: str, low: Any, high: Any) -> tuple[Any, ...]:
+        """(name, kind, low, high, Boolean value) of an interval item, exact."""
+        lo: Any = _bound(low) if low is not None else None
+        hi: Any = _bound(high) if high is not None else None
+        kind = self.kinds.get(name)
+        if kind == "boolean":
+            value: Any = None
+            if lo is not None and lo > 0:
+                value = True
+            if hi is not None and hi < 1:
+                value = False if value is None else _CONFLICT
+            return name, kind, None, None, value
+        if kind == "integer":
+            lo = math.ceil(lo) if lo is not None else None
+            hi = math.floor(hi) if hi is not None else None
+        return name, kind, exact(lo), exact(hi), None
+
+
+_MISSING = object()
+_CONFLICT = object()  # a Boolean interval that admits neither value
+_NORM_KINDS = frozenset({"norm", "breach"})
+
+
+def _set_bool(bools: Bools, name: str, value: Any) -> bool:
+    return value is not _CONFLICT and bools.setdefault(name, value) == value
+
+
+# Solving -------------------------------------------------------------------------------------
+
+def _tighten(bounds: Bounds, name: str, kind: str | None, value: Any, strict: bool,
+             lower: bool) -> bool:
+    """Add `name > value` (lower) or `name < value` (or >=, <=); False when the box empties."""
+    if kind == "integer":
+        if lower:
+            value = math.floor(value) + 1 if strict else math.ceil(value)
+        else:
+            value = math.ceil(value) - 1 if strict else math.floor(value)
+        strict = False
+    b = bounds.get(name)
+    if b is None:
+        b = bounds[name] = [None, False, None, False]
+    if lower:
+        if b[0] is None or value > b[0] or (value == b[0] and strict):
+            b[0], b[1] = value, strict
+    elif b[2] is None or value < b[2] or (value == b[2] and strict):
+        b[2], b[3] = value, strict
+    if b[0] is None or b[2] is None:
+        return True
+    return b[0] < b[2] or (b[0] == b[2] and not b[1] and not b[3])
+
+
+def _range(terms: tuple[tuple[str, Fraction], ...], bounds: Bounds) -> tuple[Any, Any]:
+    """The least and greatest value of sum(c * x) over the box's closure (None: unbounded)."""
+    low: Number | None = 0
+    high: Number | None = 0
+    for name, c in terms:
+        b = bounds.get(name)
+        lo, hi = (b[0], b[2]) if b is not None else (None, None)
+        if c < 0:
+            lo, hi = hi, lo
+        if c != 1:  # ints mostly: exact and far cheaper than Fraction arithmetic
+            lo = None if lo is None else c * lo
+            hi = None if hi is None else c * hi
+        low = None if low is None or lo is None else low + lo
+        high = None if high is None or hi is None else high + hi
+    return low, high
+
+
+def _simplify(f: Formula, bounds: Bounds, bools: Bools) -> Formula:
+    """True or False when the formula holds on all or none of the box; else what is left.
+    (Over the box's closure: a verdict there holds on the box too.)"""
+    if f is True or f is False:
+        return f
+    tag = f[0]
+    if tag == "a":
+        low, high = _range(f[1], bounds)
+        k, op = f[2], f[3]
+        low = None if low is None else low + k
+        high = None if high is None else high + k
+        if op == "<=":
+            verdict = True if high is not None and high <= 0 else (
+                False if low is not None and low > 0 else None)
+        elif op == "<":
+            verdict = True if high is not None and high < 0 else (
+                False if low is not None and low >= 0 else None)
+        else:
+            equal = True if low == 0 and high == 0 else (
+                False if (low is not None and low > 0) or (high is not None and high < 0)
+                else None)
+            verdict = equal if op == "=" or equal is None else not equal
+        return f if verdict is None else verdict
+    if tag == "b":
+        value = bools.get(f[1])
+        return f if value is None else value == f[2]
+    if tag == "s":
+        value = bools.get(f[1], _MISSING)
+        return f if value is _MISSING else (value == f[2]) == f[3]
+    return join(tag, [_simplify(p, bounds, bools) for p in f[1]])
+
+
+def _propagate(formulas: list[Formula], bounds: Bounds, bools: Bools,
+               kinds: Mapping[str, str], settled: Iterable[Formula] = ()
+               ) -> list[Formula] | Literal[False]:
+    """Tighten the box with every top-level bound until nothing changes; the formulas left,
+    or False when some formula (or the box) cannot hold. `settled`: formulas already
+    propagated in this box, looked at again only if the box shrinks."""
+    settled = list(settled)
+    for _ in range(100):  # each round tightens some bound; a cap keeps it finite
+        changed = False
+        rest: list[Formula] = []
+        work = list(formulas)
+        while work:
+            f = _simplify(work.pop(), bounds, bools)
+            if f is True:
+                continue
+            if f is False:
+                return False
+            if f[0] == "&":
+                work.extend(f[1])
+            elif f[0] == "b" or (f[0] == "s" and f[3]):  # a Boolean, a text that is equal
+                bools[f[1]] = f[2]
+                changed = True
+            elif f[0] == "a" and len(f[1]) == 1 and f[3] != "!=":
+                name, c = f[1][0]
+                value, op = exact(Fraction(-f[2]) / c), f[3]
+                kind = kinds.get(name)
+                ok = True
+                if op == "=" or c > 0:  # c x + k <= 0: x <= -k / c
+                    ok = _tighten(bounds, name, kind, value, op == "<", False)
+                if ok and (op == "=" or c < 0):
+                    ok = _tighten(bounds, name, kind, value, op == "<", True)
+                if not ok:
+                    return False
+                changed = True
+            else:
+                rest.append(f)
+        if not changed:
+            return rest + settled
+        formulas, settled = rest + settled, []
+    return formulas + settled
+
+
+def _solve(formulas: list[Formula], bounds: Bounds, bools: Bools,
+           kinds: Mapping[str, str], splits: list[int], settled: Iterable[Formula] = ()
+           ) -> bool | None:
+    rest = _propagate(formulas, bounds, bools, kinds, settled)
+    if rest is False:
+        return False
+    if not rest or any(_holds_at(rest, bounds, bools, kinds, corner) for corner in _CORNERS):
+        return True
+    for index, f in enumerate(rest):
+        if f[0] != "|":
+            continue
+        others = rest[:index] + rest[index + 1:]
+        unknown = False
+        for part in f[1]:
+            if splits[0] <= 0:
+                return None
+            splits[0] -= 1
+            verdict = _solve([*others, part], {n: list(b) for n, b in bounds.items()},
+                             dict(bools), kinds, splits)
+            if verdict:
+                return True
+            unknown = unknown or verdict is None
+        return None if unknown else False
+    return None
+
+
+_CORNERS = ("low", "high", "middle")
+
+
+def _point(b: list[Any] | None, kind: str | None, corner: str) -> Number:
+    """A value inside one quantity's interval (its low end, high end or middle)."""
+    lo, lo_strict, hi, hi_strict = b if b is not None else (None, False, None, False)
+    if corner == "low" and lo is not None and not lo_strict:
+        value = lo
+    elif corner == "high" and hi is not None and not hi_strict:
+        value = hi
+    elif lo is not None and hi is not None:
+        value = Fraction(lo + hi) / 2
+    elif lo is not None:
+        value = lo + 1
+    elif hi is not None:
+        value = hi - 1
+    else:
+        value = 0
+    if kind == "integer":
+        floor: int = math.floor(value)
+        return floor
+    found: Number = exact(value)
+    return found
+
+
+def _holds_at(formulas: list[Formula], bounds: Bounds, bools: Bools,
+              kinds: Mapping[str, str], corner: str) -> bool:
+    """Whether every formula holds at one point of the box (a proof of satisfiability)."""
+    point: dict[str, Number] = {}
+
+    def value(name: str) -> Number:
+        found = point.get(name)
+        if found is None:
+            found = point[name] = _point(bounds.get(name), kinds.get(name), corner)
+            b = bounds.get(name)
+            if b is not None and not _inside(found, b):
+                raise Unsupported
+        return found
+
+    def holds(f: Formula) -> bool:
+        if f is True or f is False:
+            return bool(f)
+        if f[0] == "a":
+            total = f[2] + sum(c * value(n) for n, c in f[1])
+            return compare_constant(total, str(f[3]))
+        if f[0] == "b":
+            return bool(bools.get(f[1], corner == "high") == f[2])
+        if f[0] == "s":  # a free string equals no text named (z3 may pick any other code)
+            return bool((bools.get(f[1], _MISSING) == f[2]) == f[3])
+        return (all if f[0] == "&" else any)(holds(p) for p in f[1])
+
+    try:
+        return all(holds(f) for f in formulas)
+    except Unsupported:  # no such point inside the box (an integer interval between values)
+        return False
+
+
+def _inside(value: Number, b: list[Any]) -> bool:
+    lo, lo_strict, hi, hi_strict = b
+    return ((lo is None or value > lo or (value == lo and not lo_strict))
+            and (hi is None or value < hi or (value == hi and not hi_strict)))
