@@ -1,4 +1,4 @@
-"""Cheap Argon2 under test (issue 35 item 8): the suite signs in and creates accounts thousands
+"""Cheap Argon2 under test: the suite signs in and creates accounts thousands
 of times, and each production hash is 64 MiB and tens of milliseconds of CPU. Tests get a
 hasher of the same class with argon2-cffi's cheapest parameters, swapped in for the one
 process-wide hasher (store/hashing.py's HASHER) wherever a module of ours holds it. Production

@@ -1,4 +1,4 @@
-"""Orders that keep z3 busy: issue 15's 6 KB validation (40 nonlinear constraints, 20 path
+"""Orders that keep z3 busy: the 6 KB validation (40 nonlinear constraints, 20 path
 properties) that ran 76 s before every request had a solver budget."""
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ def heavy_orders(constraints: int = 40, properties: int = 20) -> dict[str, Any]:
     up only at its timeout."""
     data: dict[str, Any] = json.loads(example_bytes("search-and-sample"))
     data["id"] = "heavy-nonlinear"
-    # About issue 15's 6 KB: the exemplar's prose goes, its goals and constraints stay.
+    # About the 6 KB: the exemplar's prose goes, its goals and constraints stay.
     data["description"] = ""
     for item in (*data["goals"], *data["constraints"], *data.get("norms", ())):
         item.pop("params", None)

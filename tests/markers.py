@@ -5,7 +5,7 @@
 - postgres: the PostgreSQL variant of a `database_url` test and every test using the
   `postgres` fixture (they skip without COUNTERSIGN_TEST_POSTGRES_URL).
 - slow: the modules below, each of which costs a minute or more of a CI run on this 2-core
-  machine (issue 35 item 8: `--durations`); they still run in every full run."""
+  machine (`--durations`); they still run in every full run."""
 
 from __future__ import annotations
 

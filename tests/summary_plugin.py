@@ -1,6 +1,6 @@
 """One line at the end of a test run: how many tests ran, and what was skipped and why.
 
-./scripts/test prints it as its last line (issue 15: skipped PostgreSQL tests went unnoticed).
+./scripts/test prints it as its last line (skipped PostgreSQL tests went unnoticed).
 Skip reasons are grouped so that 300 skipped PostgreSQL variants read as one reason."""
 
 from __future__ import annotations

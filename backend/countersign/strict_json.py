@@ -1,4 +1,4 @@
-"""The one JSON policy of every reader and request body (issue 15).
+"""The one JSON policy of every reader and request body.
 
 Python's `json` accepts what RFC 8259 does not: `NaN`, `Infinity`, numbers such as `1e999` that
 overflow to infinity, and the same key twice in one object (the last one silently wins). Each of

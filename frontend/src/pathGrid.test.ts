@@ -30,7 +30,7 @@ describe("path rows", () => {
   });
 });
 
-describe("titles of refined goals (issue 37)", () => {
+describe("titles of refined goals", () => {
   it("names nested steps and their unrolled copies by the goal they copy", () => {
     const titles = titlesOf({
       goals: [{ id: "G1", title: "Search", refines: { goals: [{ id: "G1.1", title: "Next cell" }], terminals: [{ id: "T", title: "Found" }] } }],

@@ -19,7 +19,7 @@ type Titled = { id: string; title?: string | null; refines?: unknown };
 type Titles = { goals?: Titled[] | null; terminals?: Titled[] | null };
 
 /** Titles of the goals and terminals by id (empty when untitled), with the goals inside
- * refinements under their full ids (`G1/G1.1`, issue 37). */
+ * refinements under their full ids (`G1/G1.1`). */
 export function titlesOf(orders: Titles, prefix = "", titles = new Map<string, string>()): Map<string, string> {
   for (const n of [...(orders.goals ?? []), ...(orders.terminals ?? [])]) titles.set(`${prefix}${n.id}`, n.title ?? "");
   for (const g of orders.goals ?? []) {

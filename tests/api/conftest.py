@@ -1,9 +1,9 @@
 """API fixtures: a real database (SQLite always; PostgreSQL when COUNTERSIGN_TEST_POSTGRES_URL
 is set, as .ci/run does), users of every role, signed-in clients.
 
-A test that uses the `world` starts from a database migrated once per session (issue 35 item 8:
-Alembic per test was most of a short test's cost): on SQLite a copy of a migrated template
-file, on PostgreSQL the one migrated schema with every table emptied (tests/db_template.py).
+A test that uses the `world` starts from a database migrated once per session (Alembic per
+test was most of a short test's cost): on SQLite a copy of a migrated template file, on
+PostgreSQL the one migrated schema with every table emptied (tests/db_template.py).
 The app still upgrades to head on start and finds head applied. A test that uses
 `database_url` without the world gets an empty database, as before, to migrate as it likes."""
 

@@ -1,4 +1,4 @@
-"""Whether a response model describes a JSON value exactly (issue 17, typed API).
+"""Whether a response model describes a JSON value exactly (typed API).
 
 A field typed `SchemaOf(Model)` passes the stored value through untouched, so the answer alone
 cannot show that `Model` is right: a field the model forgets is still answered, and the

@@ -1,4 +1,4 @@
-"""Who may call each operation: the reviewed table (issue 15).
+"""Who may call each operation: the reviewed table.
 
 The route table must equal this table exactly (test_roles.py). Changing who may call an
 operation therefore takes two edits, one of them here, in review; a route opened to every role
@@ -8,7 +8,7 @@ declaration). Roles: operator, supervisor, auditor, admin, or anonymous (no sign
 from __future__ import annotations
 
 REVIEWED_ROLES: dict[str, tuple[str, ...]] = {
-    # The procedure library (issue 37): operators save versions, supervisors sign decisions
+    # The procedure library: operators save versions, supervisors sign decisions
     # on them, every role reads (auditors included).
     "listProcedures": ("operator", "supervisor", "auditor", "admin"),
     "getProcedure": ("operator", "supervisor", "auditor", "admin"),
@@ -16,7 +16,7 @@ REVIEWED_ROLES: dict[str, tuple[str, ...]] = {
     "prepareProcedureDecision": ("supervisor",),
     "signProcedureDecision": ("supervisor",),
     "getVersionProcedures": ("operator", "supervisor", "auditor", "admin"),
-    # Rehearsal campaigns (issue 20): operators and supervisors start and cancel their own;
+    # Rehearsal campaigns: operators and supervisors start and cancel their own;
     # every role reads; only the submitting operator attaches one to a submission.
     "startCampaign": ("operator", "supervisor"),
     "cancelCampaign": ("operator", "supervisor"),
@@ -25,9 +25,9 @@ REVIEWED_ROLES: dict[str, tuple[str, ...]] = {
     "campaignProbabilities": ("operator", "supervisor", "auditor", "admin"),
     "attachCampaign": ("operator",),
     "listAttachedCampaigns": ("operator", "supervisor", "auditor", "admin"),
-    # Whether a fault can change an outcome of a version (issue 32): read as the version is.
+    # Whether a fault can change an outcome of a version: read as the version is.
     "faultReach": ("operator", "supervisor", "auditor", "admin"),
-    # Chart registry and plan view (issue 21): admins write, every signed-in role reads.
+    # Chart registry and plan view: admins write, every signed-in role reads.
     "listCharts": ("operator", "supervisor", "auditor", "admin"),
     "exportCharts": ("operator", "supervisor", "auditor", "admin"),
     "exportChartsKml": ("operator", "supervisor", "auditor", "admin"),
@@ -55,14 +55,14 @@ REVIEWED_ROLES: dict[str, tuple[str, ...]] = {
     "deleteMission": ("operator",),
     # GET /api/audit/bundle
     "exportBundle": ("supervisor", "auditor", "admin"),
-    # GET /api/missions/{mission_id}/versions/{number}/vehicle/{format}[/{name}] (issue 19)
+    # GET /api/missions/{mission_id}/versions/{number}/vehicle/{format}[/{name}]
     "getVehicleExport": ("operator", "supervisor", "auditor", "admin"),
     "downloadVehicleExport": ("operator", "supervisor", "auditor", "admin"),
-    # POST /api/missions/{mission_id}/versions/{number}/executions (issue 19)
+    # POST /api/missions/{mission_id}/versions/{number}/executions
     "recordExecution": ("operator", "supervisor"),
-    # GET /api/approvals/{approval_id}/executions (issue 19): the record page's executions
+    # GET /api/approvals/{approval_id}/executions: the record page's executions
     "getRecordExecutions": ("supervisor", "auditor", "admin"),
-    # GET /api/missions/{mission_id}/versions/{number}/package (issue 19)
+    # GET /api/missions/{mission_id}/versions/{number}/package
     "downloadPackage": ("operator", "supervisor", "auditor", "admin"),
     # GET /api/missions/{mission_id}/export
     "exportMission": ("operator", "supervisor", "auditor", "admin"),

@@ -1,4 +1,4 @@
-"""Issue 15: sign-in throttling per account and address, counted before the hash; password
+"""Sign-in throttling per account and address, counted before the hash; password
 strength; token scopes, expiry and no minting by tokens; password change and reset revoke
 sessions and tokens; idle and absolute session timeouts."""
 

@@ -1,4 +1,4 @@
-"""Issue 16 item 7: the activity log names each event's target and change (whose role, from what
+"""The activity log names each event's target and change (whose role, from what
 to what), lists newest first, filters by kind, actor, target and time on the server, pages
 with a bound, and numbers each event by its entry's index in the transparency log."""
 

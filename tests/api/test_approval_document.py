@@ -1,4 +1,4 @@
-"""Issue 16 item 8: the printable approval document of a version. Its plain-orders section is
+"""The printable approval document of a version. Its plain-orders section is
 what `countersign export --format plain` writes; it carries the digest, findings, path counts
 by terminal, the rehearsal summary, the decision, the signer and the key fingerprint; changing
 only a condition changes it."""

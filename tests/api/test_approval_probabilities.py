@@ -1,4 +1,4 @@
-"""Issue 20: the outcome probabilities are on the review and inside the signed statement."""
+"""The outcome probabilities are on the review and inside the signed statement."""
 
 from __future__ import annotations
 

@@ -110,7 +110,7 @@ def test_keygen_sign_and_audit_verify(world: World, database_url: str, tmp_path:
         password_file = tmp_path / "password"
         password_file.write_text(PASSWORD + "\n")
         monkeypatch.setattr("getpass.getpass", lambda prompt="": "not the password")
-        # Without the right password a validly signed decision is refused (issue 14 item 2).
+        # Without the right password a validly signed decision is refused.
         assert run_cli("sign", "--server", url, "--key", str(key_file), "--submission",
                        str(submission), "--decision", "approved") == 1
         assert "password is wrong" in capsys.readouterr().err

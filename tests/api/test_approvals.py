@@ -1,4 +1,4 @@
-"""Issue 6: submission, signed decisions, keys, the transparency log and the audit API."""
+"""Submission, signed decisions, keys, the transparency log and the audit API."""
 
 from __future__ import annotations
 

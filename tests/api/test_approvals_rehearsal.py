@@ -1,4 +1,4 @@
-"""Issue 8: a submission cites a stored rehearsal record of exactly its version; the approval
+"""A submission cites a stored rehearsal record of exactly its version; the approval
 statement names the record's digest and the audit bundle carries the record.
 
 The records are stored through the same store function the stop route uses (the rehearsal

@@ -1,4 +1,4 @@
-"""The audit bundle after a database writer that is not the app deleted log entries (issue 15):
+"""The audit bundle after a database writer that is not the app deleted log entries:
 a 409 problem naming the missing entries, never a server error; the offline verifier of the
 bundle the app can still give names the gap."""
 

@@ -1,4 +1,4 @@
-"""Campaigns through the API (issue 20, item 3) on the in-process runner (SQLite) and, with
+"""Campaigns through the API on the in-process runner (SQLite) and, with
 COUNTERSIGN_TEST_POSTGRES_URL, the procrastinate queue: start, follow, cancel, bounds,
 per-person concurrency, the offered probabilities (never written into orders), attachment."""
 
@@ -154,7 +154,7 @@ def test_one_person_runs_a_bounded_number_of_campaigns_and_cancels_their_own(
 
 
 def test_an_attached_campaign_is_signed_exported_and_checked(sqlite_world: World) -> None:
-    """The signature covers the campaign the supervisor was shown (issue 20 item 3): its record
+    """The signature covers the campaign the supervisor was shown: its record
     digest is in the statement, the audit bundle carries the record, and a record changed in
     the database afterwards is reported, not trusted."""
     world = sqlite_world
@@ -206,7 +206,7 @@ def test_an_attached_campaign_is_signed_exported_and_checked(sqlite_world: World
 
 def test_another_users_small_campaign_finishes_while_one_users_big_ones_wait(
         sqlite_world: World) -> None:
-    """Issue 34 item 8: the runner takes its owners' queues in turn, so one person's two big
+    """The runner takes its owners' queues in turn, so one person's two big
     campaigns (the most one may have) do not hold back another person's small one."""
     world = sqlite_world
     number = new_version(world)
@@ -226,7 +226,7 @@ def test_another_users_small_campaign_finishes_while_one_users_big_ones_wait(
 
 
 def test_two_users_running_the_same_spec_both_finish(sqlite_world: World) -> None:
-    """Issue 34 item 8: the second campaign of the same orders and spec seals the same record
+    """The second campaign of the same orders and spec seals the same record
     under the same digest instead of failing on a UNIQUE digest after all its runs."""
     world = sqlite_world
     number = new_version(world)
@@ -242,7 +242,7 @@ def test_two_users_running_the_same_spec_both_finish(sqlite_world: World) -> Non
 
 
 def test_fault_reach_names_a_fault_nothing_reacts_to(world: World) -> None:
-    # Issue 32 item 6: before a campaign, which faults can change an outcome of the version.
+    # before a campaign, which faults can change an outcome of the version.
     number = new_version(world)
     reader = world.client("auditor")
     url = f"/api/missions/{MISSION}/versions/{number}/fault-reach"

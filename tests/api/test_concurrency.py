@@ -74,7 +74,7 @@ def test_concurrent_edits_lose_nothing(world: World, server: str) -> None:
     assert set(statuses) <= {200, 412}, statuses
     successes = len(applied)
     # Compare-and-set: two writes accepted from the same revision would be a lost update, even
-    # when the totals below still add up (issue 15: dropping the CAS survived this test).
+    # when the totals below still add up (dropping the CAS survived this test).
     assert len(set(accepted_from)) == len(accepted_from), sorted(accepted_from)
     assert successes >= 1 and statuses[412] == CLIENTS * ROUNDS - successes
     final = httpx.get(f"{server}/api/missions/search-and-sample",

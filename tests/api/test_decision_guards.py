@@ -1,4 +1,4 @@
-"""Issue 14 items 2, 5 (key status), 7: a decision needs the supervisor's fresh password; a key
+"""5 (key status), 7: a decision needs the supervisor's fresh password; a key
 revoked in the log stays revoked whatever its row says; editors of any earlier revision, later
 promoted, cannot decide."""
 

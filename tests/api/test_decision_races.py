@@ -1,4 +1,4 @@
-"""Issue 14 finding 4 / item 6: races closed by the database. On PostgreSQL (READ COMMITTED)
+"""Finding 4 / item 6: races closed by the database. On PostgreSQL (READ COMMITTED)
 approve and reject posted at once were both accepted, and parallel submits of one version left
 several active submissions. Row locks serialise them; unique partial indexes back them up.
 Runs on both engines (SQLite serialises writers already); the PostgreSQL run is the one that

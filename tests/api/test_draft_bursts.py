@@ -1,4 +1,4 @@
-"""Issue 32 item 9: the editor's autosaves are coalesced in the event log, one `draft.updated`
+"""The editor's autosaves are coalesced in the event log, one `draft.updated`
 entry per editing burst of one author, saying which items changed; every save still bumps the
 revision (the ETag of compare-and-set)."""
 

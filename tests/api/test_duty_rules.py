@@ -1,4 +1,4 @@
-"""Issue 14 finding 6: separation of duties by person, checked from the log by every verifier.
+"""Separation of duties by person, checked from the log by every verifier.
 
 An operator edits a draft, is promoted to supervisor and approves the version it led to. The
 app refuses that (tests/api/test_decision_guards.py); here the guard is switched off, as a

@@ -1,4 +1,4 @@
-"""Fair, bounded work (issue 15): one user's heavy validations leave a validation process for
+"""Fair, bounded work: one user's heavy validations leave a validation process for
 another user's small edit; the expensive routes are rate limited per user with a 429 problem."""
 
 from __future__ import annotations
@@ -179,7 +179,7 @@ def test_a_login_beyond_the_hash_queue_is_refused_at_once_and_not_counted(
         world: World, monkeypatch: pytest.MonkeyPatch) -> None:
     hasher = BoundedHasher(time_cost=1, memory_cost=8, parallelism=1)
     monkeypatch.setattr(accounts, "HASHER", hasher)
-    monkeypatch.setattr(login_throttle, "HASHER", hasher)  # every password check's (issue 34)
+    monkeypatch.setattr(login_throttle, "HASHER", hasher)  # every password check's
     hasher.use_processes(waiting=0)  # as if a flood held every place in the queue
     assert probe(hasher) is not None  # the hashing process is up
     try:

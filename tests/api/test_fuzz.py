@@ -1,4 +1,4 @@
-"""Schemathesis against the OpenAPI document (issue 15 item 9): no 5xx for any operation.
+"""Schemathesis against the OpenAPI document: no 5xx for any operation.
 
 1. Every operation alone, with a bounded number of generated requests, also checked against
    its response schema.
@@ -14,7 +14,7 @@ ever reach a 404, and a 500 planted in getVersion went unnoticed.
 
 Each operation is called with an API token of a role that may call it (the reviewed table,
 roles_reviewed.py), so generated requests reach the handlers instead of stopping at a 403; and
-then, with fewer examples, with every role's token and with none (issue 34)."""
+then, with fewer examples, with every role's token and with none."""
 
 from __future__ import annotations
 
@@ -188,13 +188,13 @@ def test_api_has_no_server_errors(case: schemathesis.Case) -> None:
 @settings(max_examples=SCALE, deadline=None,
           suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
 def test_no_role_meets_a_server_error(case: schemathesis.Case) -> None:
-    """Issue 34: every operation with every role's token and with none, a few examples each,
+    """Every operation with every role's token and with none, a few examples each,
     so that refusals too (403s, 401s, the checks before a role check) are never a 5xx. Bounded
     for CI: each generated request is sent four times, once per role and once anonymous, less
     the one test_api_has_no_server_errors sends (the operation's first allowed role, or none for
     an anonymous operation: the same cases, derandomized in CI, reach the same handler). That
     role's request is the one that does real work (validates, simulates, plans), and the
-    coverage phase's many cases each did it twice (issue 35 item 8)."""
+    coverage phase's many cases each did it twice."""
     _with_seeded_ids(case)
     plain = {k: v for k, v in (case.headers or {}).items() if k.lower() != "authorization"}
     already = _role(case) or "anonymous"

@@ -1,4 +1,4 @@
-"""Issue 15: hostile numbers, duplicate keys, cursors and times are 4xx problems naming where,
+"""Hostile numbers, duplicate keys, cursors and times are 4xx problems naming where,
 never 500s or silently changed values."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Node positions are editor data, not orders (issue 18 item 2): saving them creates no
+"""Node positions are editor data, not orders: saving them creates no
 revision, no "Updated by" and no event."""
 
 from __future__ import annotations

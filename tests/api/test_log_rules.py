@@ -1,4 +1,4 @@
-"""Issue 14 findings 4 and 5 and issue 15's surviving mutants: the offline verifier (and the
+"""the surviving mutants: the offline verifier (and the
 `audit verify` command) checks log-wide rules, whatever the tables say; the server refuses
 stale statements and keys revoked before they signed."""
 
@@ -88,7 +88,7 @@ def test_a_deleted_revocation_row_is_named(world: World) -> None:
 
 def test_a_key_revoked_before_it_signed_is_refused_by_the_verifier(
         world: World, monkeypatch: pytest.MonkeyPatch) -> None:
-    """Issue 15's survivor: the bundle's key-history check. The key's row is reset so that the
+    """the survivor: the bundle's key-history check. The key's row is reset so that the
     server accepts the decision (as before this issue) and the verifier must catch it."""
     supervisor = world.client("supervisor")
     signer = register_key(supervisor)
@@ -134,7 +134,7 @@ def test_check_log_names_a_revoked_keys_later_signature_and_duplicate_submission
                                          (timedelta(minutes=30), "in the future")])
 def test_statements_outside_the_freshness_window_are_refused(
         world: World, shift: timedelta, words: str) -> None:
-    """Issue 15's survivor: removing STATEMENT_MAX_AGE / CLOCK_SKEW went unnoticed."""
+    """the survivor: removing STATEMENT_MAX_AGE / CLOCK_SKEW went unnoticed."""
     supervisor = world.client("supervisor")
     signer = register_key(supervisor)
     submission = submit(world, new_version(world))

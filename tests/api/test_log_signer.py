@@ -1,4 +1,4 @@
-"""Issue 14, findings 2 and 3: the log signer vouches only for what it appended.
+"""The log signer vouches only for what it appended.
 
 A database writer who is not the app (INSERTs alone, every trigger in place, but no log key)
 forges a key registration and an approval the way the app would write them: the bundle does

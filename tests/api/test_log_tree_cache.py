@@ -1,4 +1,4 @@
-"""The log's Merkle tree is cached by its Database object (issue 17, item 8), not in a
+"""The log's Merkle tree is cached by its Database object, not in a
 module-level table keyed by engine URL that every Database of one URL shared."""
 
 from __future__ import annotations

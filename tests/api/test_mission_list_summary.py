@@ -1,5 +1,5 @@
 """The mission list reads the summary columns written with each report, never the reports
-(issue 36), and those columns are display only: nothing that is submitted or signed reads them."""
+, and those columns are display only: nothing that is submitted or signed reads them."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Issue 16 item 7: the mission's standing keeps the latest approved version apart from the
+"""The mission's standing keeps the latest approved version apart from the
 latest decision (after v2 is rejected, v1 still stands approved)."""
 
 from __future__ import annotations

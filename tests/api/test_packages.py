@@ -1,4 +1,4 @@
-"""Approved packages (issue 19): the API builds one, `countersign vehicle verify` and the
+"""Approved packages: the API builds one, `countersign vehicle verify` and the
 standalone tools/verify_package.py accept it and refuse the same eight tamperings with the same
 reason (the tampered packages are the shared test vectors)."""
 

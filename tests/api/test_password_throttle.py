@@ -1,11 +1,11 @@
-"""Issue 34 items 5 and 6: one throttle for every password check. Floods of wrong passwords
+"""One throttle for every password check. Floods of wrong passwords
 from one address, through sign-in and the decision route in parallel, leave the real user at
 another address signing in on the first try, and no account has more than ten hashes checked
 in any minute whatever the routes. Hashes are counted at the one hasher (store/hashing.py),
 through which every route's check passes.
 
-The floods last COUNTERSIGN_TEST_FLOOD_SECONDS (default 6; issue 34 asks for 60 s, which the
-limits, counted per minute, hold the same way)."""
+The floods last COUNTERSIGN_TEST_FLOOD_SECONDS (default 6; 60 s is the flood the throttle was
+built against, which the limits, counted per minute, hold the same way)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The procedure library over the API (issue 37): roles, CSRF, bad input, signed decisions,
+"""The procedure library over the API: roles, CSRF, bad input, signed decisions,
 the review's "uses only approved procedures", and rows a database writer changed."""
 
 from __future__ import annotations

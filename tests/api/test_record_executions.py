@@ -1,4 +1,4 @@
-"""The record (approval) page's executions (issue 19): each recorded execution of the version
+"""The record (approval) page's executions: each recorded execution of the version
 stated as "approved, executed as path N, no deviation" or naming the deviation; vehicle logs
 in IMC accepted by the API; the cited rehearsal's runs through the same execution checker."""
 

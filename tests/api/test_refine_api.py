@@ -1,4 +1,4 @@
-"""Refined orders over the API (issue 37): validation, the paths pages and traces read the flat
+"""Refined orders over the API: validation, the paths pages and traces read the flat
 mission, and an unbounded loop inside a refinement is a REFINE finding, not a 500."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Issue 15 item 5 and issue 14 item 1, the rehearsal viewer's sockets (real viser servers):
+"""And, the rehearsal viewer's sockets (real viser servers):
 viser's port answers only the app's proxy, the sandboxed viewer gets in with a per-rehearsal
 ticket that opens nothing else, sockets are capped per rehearsal and per user and end with
 their session, and idle rehearsals make room when every slot is taken."""

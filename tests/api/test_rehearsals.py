@@ -1,4 +1,4 @@
-"""Issue 8, the web side: rehearsals through the app (real manager, real viser servers), the
+"""The web side: rehearsals through the app (real manager, real viser servers), the
 viser websocket through the app's proxy, stored records, limits and bad input."""
 
 from __future__ import annotations
@@ -332,7 +332,7 @@ def test_ten_rehearsals_at_once_progress_and_stop_without_leaks(app_world: World
 
 
 def test_faults_while_waiting_skip_and_a_record_listed_at_once(app_world: World) -> None:
-    """Issue 18 item 7 through the API: the auto pace (no speed), skip, a fault pressed while
+    """Through the API: the auto pace (no speed), skip, a fault pressed while
     a goal waits is queued with a message, one on a finished rehearsal is refused with one,
     and the stored record is in the list as soon as the stop answers."""
     client = app_world.client("operator")

@@ -1,4 +1,4 @@
-"""A description edit is answered from the previous report's parts (issue 22): the report is
+"""A description edit is answered from the previous report's parts: the report is
 exactly what a full validation gives, and the checks are not run again."""
 
 from __future__ import annotations

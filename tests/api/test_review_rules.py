@@ -1,4 +1,4 @@
-"""Contingency rules in plain language where the supervisor reads orders (issue 8 item 2):
+"""Contingency rules in plain language where the supervisor reads orders:
 the review route, the approval record and the plain-orders export."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Issue 16 item 7: a role change needs the admin's password, entered again; the event names
+"""A role change needs the admin's password, entered again; the event names
 whose role changed, from what to what."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Issue 34 item 3: who may decide comes from the log, not the users table.
+"""Who may decide comes from the log, not the users table.
 
 A database writer runs `UPDATE users SET role = 'supervisor'` for an operator, who registers a
 key and approves. The app refuses the decision naming the mismatch; with that guard switched

@@ -40,7 +40,7 @@ def _call(world: World, role: str | None, method: str, path: str) -> int:
 
 
 def test_route_roles_equal_the_reviewed_table(world: World) -> None:
-    """Issue 15: opening deleteMission or listLogEntries to every role must fail a test. The
+    """Opening deleteMission or listLogEntries to every role must fail a test. The
     enforced roles (x-roles is what RoleGuard enforces, checked by the test below) must equal
     the committed, reviewed table; a new or changed route needs an entry there."""
     declared = {operation["operationId"]: tuple(operation.get("x-roles") or ())

@@ -1,4 +1,4 @@
-"""Issue 34 item 9: a mission's status, and a submission's state, are read from the log.
+"""A mission's status, and a submission's state, are read from the log.
 
 A database writer sets `submissions.state` (and `missions.status`) to 'approved' for a version
 that is only submitted: the mission list, the mission page and the submission show the log's

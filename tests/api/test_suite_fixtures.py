@@ -1,4 +1,4 @@
-"""The suite's own speed-ups (issue 35 item 8) keep their promises: cheap Argon2 only under test
+"""The suite's own speed-ups keep their promises: cheap Argon2 only under test
 and never for the tests that count or inspect the real hasher; each world starts from the
 session's migrated template, which is as empty as a freshly migrated database; the quick loop's
 markers follow folders and fixtures."""

@@ -1,4 +1,4 @@
-"""Issue 37 part 2: one approval signs a team's orders, every member's digest inside."""
+"""One approval signs a team's orders, every member's digest inside."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Issue 37: a team's orders rehearse through the app, every vehicle in one scene (real
+"""A team's orders rehearse through the app, every vehicle in one scene (real
 manager, real viser server); its status and record are described by the OpenAPI models;
 sources other than the simulation, unknown vehicles and bad faults are refused in words."""
 

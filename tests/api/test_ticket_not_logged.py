@@ -1,4 +1,4 @@
-"""Issue 34 item 9: the live viewer's ticket is a bearer secret in its URL
+"""The live viewer's ticket is a bearer secret in its URL
 (`/rehearsal/{id}/t/{ticket}/`, and its websocket on that path); the server's logs must not
 print it. A real `countersign serve` (one uvicorn process, and gunicorn with two workers) is
 sent the viewer's page, an asset under it and a websocket handshake, and its log output is read:

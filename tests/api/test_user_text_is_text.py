@@ -1,4 +1,4 @@
-"""Every user-controlled string is text, never markup (review of the merged issues 16-21).
+"""Every user-controlled string is text, never markup (an attacker's review of every page).
 
 Markup and markdown put into the orders' texts come back from the new routes exactly as typed,
 as data for the page to show as text: the printable approval document (JSON for its page, and a

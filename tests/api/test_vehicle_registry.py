@@ -1,4 +1,4 @@
-"""Issue 16: orders naming a vehicle without its profile get the registry's, copied into the
+"""Orders naming a vehicle without its profile get the registry's, copied into the
 draft (and so into every version and approval digest); without one, VEHICLE."""
 
 from __future__ import annotations
@@ -91,7 +91,7 @@ def test_a_body_validated_again_after_a_registry_change_sees_the_change(world: W
 
 
 def test_a_registry_change_brings_the_drafts_that_use_it_up_to_date(world: World) -> None:
-    # Issue 32 item 7: a draft created before its vehicle was registered said VEHICLE until
+    # a draft created before its vehicle was registered said VEHICLE until
     # someone edited it; a draft holding the registry's copy kept the old profile.
     data, profile = orders_without_profile("waits-for-profile")
     profile["id"] = data["vehicle"] = "late-auv"

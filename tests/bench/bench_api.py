@@ -1,4 +1,4 @@
-"""API benchmark (issue 5, "Speed"): 50 concurrent clients against a real server process over
+"""API benchmark ("Speed"): 50 concurrent clients against a real server process over
 HTTP, mixed reads and writes, on SQLite and PostgreSQL side by side.
 
 Targets: p99 under 100 ms for reads and under 1 s for validation of the exemplar; throughput
@@ -26,7 +26,7 @@ After both runs the event log is checked: one draft.updated event and one log le
 accepted write.
 
 Run: .venv/bin/python -m tests.bench.bench_api [--clients 50] [--seconds 30] [--workers 2]
-Listening sockets side by side (issue 17, item 9): gunicorn with uvicorn workers and a socket
+Listening sockets side by side: gunicorn with uvicorn workers and a socket
 per worker (reuse_port, what `serve --workers` runs) and the same with the master's one shared
 socket (hidden `serve --shared-socket`), the same worker count and database, in turn; "requests
 per process" is each server process's share of the requests, by the process holding the
@@ -60,7 +60,7 @@ from countersign.store.accounts import create_token, create_user
 from countersign.store.db import Database, make_engine
 
 KINDS = ("read", "validate", "write")
-TARGETS_MS = {"read": 100.0, "validate": 1000.0}  # p99, issue 5
+TARGETS_MS = {"read": 100.0, "validate": 1000.0}  # p99 goals
 MISSIONS = 10
 
 

@@ -1,4 +1,4 @@
-"""Audit benchmark (issue 6).
+"""Audit benchmark.
 
 1. Offline verification of a bundle with a 10,000-event log and 1,000 signed approvals (each
    over its own orders), target < 3 s, against a naive verifier that rebuilds the whole Merkle
@@ -7,7 +7,7 @@
    (SQLite, and PostgreSQL when COUNTERSIGN_TEST_POSTGRES_URL is set), target < 10 ms, against
    a naive server that loads every leaf and recomputes the tree for each proof.
 
-3. Issue 14: the same bundle verified with every entry's receipt, 10 checkpoints and a state
+3.: the same bundle verified with every entry's receipt, 10 checkpoints and a state
    file (consistency from a head seen before); a witness round (fetch, consistency proof,
    cosign, post) against an in-process server with a 10,000-event log; and the latency of a
    signed decision with its receipt (POST /decision, median and p95).
@@ -281,7 +281,7 @@ def bench_witness_and_decisions(rounds: int, events: int) -> None:
                 "decision": "approved", "reason": "", "key_id": kid}).json()
             envelope = json.dumps(dsse.sign_envelope(dsse.unb64(prepared["payload"], "p"), key))
             began = time.perf_counter()
-            # A decision needs the supervisor's password again (issue 14 item 2).
+            # A decision needs the supervisor's password again.
             stored = supervisor.post(f"/api/submissions/{sub}/decision",
                                      json={"envelope": envelope,
                                            "password": "benchmark password"})

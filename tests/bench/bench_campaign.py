@@ -1,4 +1,4 @@
-"""Benchmark of rehearsal campaigns (issue 20, Speed): simulations per second on two workers,
+"""Benchmark of rehearsal campaigns (Speed): simulations per second on two workers,
 printed beside one worker (the baseline, in this same process).
 
 Run: .venv/bin/python -m tests.bench.bench_campaign [-n 60] [--postgres URL]

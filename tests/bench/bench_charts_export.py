@@ -1,4 +1,4 @@
-"""Benchmark of issue 34 item 9: `GET /api/charts/geojson` with 10,000 charts in the registry
+"""Benchmark of: `GET /api/charts/geojson` with 10,000 charts in the registry
 (put there by a database writer: imports stop at the registry's bound), through the app,
 beside the export it replaced (every row validated as a Chart, each feature built as a
 geojson-pydantic model, then dumped) measured in this same process.
@@ -43,7 +43,7 @@ def _fill(database: Database, count: int) -> None:
 
 
 def replaced_export(charts: list[Chart]) -> dict[str, Any]:
-    """The export before issue 34: a LinearRing per chart for its orientation, a
+    """The export before: a LinearRing per chart for its orientation, a
     geojson-pydantic Feature per chart, then a dump of the whole collection."""
     feats = []
     for chart in charts:

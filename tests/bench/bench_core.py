@@ -1,4 +1,4 @@
-"""Benchmarks of issue 2 (the core: structure, path counts, streaming, bad input).
+"""Benchmarks of the core (structure, path counts, streaming, bad input).
 
 Run: .venv/bin/python -m tests.bench.bench_core
 

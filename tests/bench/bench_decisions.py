@@ -1,4 +1,4 @@
-"""Decision latency with the fresh-password check (issue 14 item 2).
+"""Decision latency with the fresh-password check.
 
 Times `POST /api/submissions/{id}/decision` (envelope + password: argon2 verify, signature
 check, row lock, log append, checkpoint) against the same request's work without the password

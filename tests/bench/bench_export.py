@@ -1,4 +1,4 @@
-"""Benchmark of issue 19: vehicle exports of generated orders, against the structure check the
+"""Benchmark of: vehicle exports of generated orders, against the structure check the
 export runs first (measured in this same process, the baseline).
 
 Run: .venv/bin/python -m tests.bench.bench_export

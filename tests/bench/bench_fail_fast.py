@@ -1,4 +1,4 @@
-"""How fast hostile input is refused (issue 15): the wall-clock figures that used to be
+"""How fast hostile input is refused: the wall-clock figures that used to be
 assertions in tests/unit (test_avcl < 0.5 s, test_expressions < 1 s, test_logic < 5 s and
 < 10 s), printed here instead, because a bound on a shared, busy machine is a flaky test.
 

@@ -1,11 +1,11 @@
-"""Fair, bounded work (issue 15): a real `countersign serve --workers N` on SQLite, measured
+"""Fair, bounded work: a real `countersign serve --workers N` on SQLite, measured
 over HTTP.
 
 1. A small edit's validation while another user's heavy validations run: the heavy user keeps
-   two of issue 15's nonlinear validations (40 nonlinear constraints, 20 path properties; 76 s
+   two of the nonlinear validations (40 nonlinear constraints, 20 path properties; 76 s
    before the solver budget) in flight; a second user validates the exemplar, changed each
    time so that no cache answers, every --interval seconds. Target: p99 under 1 s with
-   `--workers 2` (issue 36: 1,312 ms with a validation pool in each server process). Measured
+   `--workers 2` (1,312 ms with a validation pool in each server process). Measured
    with the host's one pool, then with a pool per server process (the baseline, the hidden
    `serve --pool-per-process`) in the same run.
 2. /api/health during those heavy validations, one probe every 50 ms. Target: p99 < 100 ms.
@@ -84,7 +84,7 @@ async def _heavy(client: httpx.AsyncClient, token: str, stop: asyncio.Event,
     rounds = 0
     while not stop.is_set():
         # A new bound each time: a new description alone is answered from the previous
-        # report's parts (issue 22), which is not the heavy job this measures.
+        # report's parts, which is not the heavy job this measures.
         rounds += 1
         last["expr"] = last["expr"].rsplit(">=", 1)[0] + f">= {1000 + rounds}"
         body["description"] = f"heavy {uuid.uuid4()}"
@@ -134,7 +134,7 @@ async def heavy_run(base: str, tokens: dict[str, str], seconds: float,
     print(f"-- {label}")
     line("small edit's /api/validate while heavy jobs run", small, 1000.0)
     line("/api/health during heavy validations", health, 100.0)
-    line("heavy /api/validate (issue 15's 76 s job)", heavy, None)
+    line("heavy /api/validate (the 76 s job)", heavy, None)
 
 
 async def _flood(base: str, seconds: float) -> None:

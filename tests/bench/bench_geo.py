@@ -1,4 +1,4 @@
-"""Benchmark of issue 21: 500 goals against 200 chart polygons, GEO with an STRtree, beside a
+"""Benchmark of: 500 goals against 200 chart polygons, GEO with an STRtree, beside a
 naive all-pairs test of every leg against every chart measured in this same process.
 
 Run: .venv/bin/python -m tests.bench.bench_geo [--goals 500] [--charts 200]

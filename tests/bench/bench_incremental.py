@@ -1,4 +1,4 @@
-"""Validation that scales (issue 17 item 10, issue 22 item 4).
+"""Validation that scales.
 
 Run: nice .venv/bin/python -m tests.bench.bench_incremental [--quick] [--only NAME]
 

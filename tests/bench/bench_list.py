@@ -1,4 +1,4 @@
-"""The mission list with large stored reports (issue 36 item 2): 50 readers, 20 stored
+"""The mission list with large stored reports: 50 readers, 20 stored
 1,000-goal missions, a real `countersign serve --workers 2` on SQLite. Target: p99 < 100 ms.
 
 Run: .venv/bin/python -m tests.bench.bench_list [--missions 20] [--goals 1000] [--readers 50]

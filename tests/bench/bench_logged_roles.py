@@ -1,4 +1,4 @@
-"""The cost of reading roles from the log (issue 34 item 3).
+"""The cost of reading roles from the log.
 
 Every decision, statement, key registration and review page now replays the log's account
 entries (store/logged_roles.py: one LIKE scan of log_entries, then a receipt check per account

@@ -1,4 +1,4 @@
-"""Benchmarks of issue 4 (constraint logic with z3).
+"""Benchmarks of the constraint logic with z3.
 
 Run: .venv/bin/python -m tests.bench.bench_logic
 

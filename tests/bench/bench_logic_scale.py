@@ -1,4 +1,4 @@
-"""Logic at scale (issue 36, item 4): the logic check of a generated mission, cold.
+"""Logic at scale: the logic check of a generated mission, cold.
 
 Run: nice .venv/bin/python -m tests.bench.bench_logic_scale --goals 10000 --constraints 1000
 

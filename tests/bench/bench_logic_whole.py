@@ -1,4 +1,4 @@
-"""The whole logic check at scale, and how much the default time budget leaves out (issue 22).
+"""The whole logic check at scale, and how much the default time budget leaves out.
 
 Run: nice .venv/bin/python -m tests.bench.bench_logic_whole --goals 10000 --constraints 1000
 

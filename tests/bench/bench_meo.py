@@ -1,4 +1,4 @@
-"""MEO validation benchmark (issue 3). Run: .venv/bin/python -m tests.bench.bench_meo
+"""MEO validation benchmark. Run: .venv/bin/python -m tests.bench.bench_meo
 
 Prints, for the exemplar and generated missions of 100 and 1,000 goals, the time of
 `meo_check` (staged reasoning + closed-world rules) next to baselines measured in this same run:

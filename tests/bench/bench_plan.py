@@ -1,4 +1,4 @@
-"""Benchmark of issue 9: the exact survey planner against seed 001 Table 1 (PAT on a Jetson
+"""Benchmark of: the exact survey planner against seed 001 Table 1 (PAT on a Jetson
 TX2) and against a naive brute force measured in this same process.
 
 Run: .venv/bin/python -m tests.bench.bench_plan [--cap SECONDS] [--limit SECONDS]

@@ -1,4 +1,4 @@
-"""Refinement (issue 37): counting the refined exemplar's paths by dynamic programming over its
+"""Refinement: counting the refined exemplar's paths by dynamic programming over its
 flat unrolling beside enumerating them with the brute force of tests/unit/refine_brute.py, as
 the time-out grows. Prints times and their ratio (same process, same machine); never asserts.
 

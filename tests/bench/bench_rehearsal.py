@@ -1,4 +1,4 @@
-"""Benchmarks of issue 8 (rehearsal).
+"""Benchmarks of the rehearsal.
 
 Run: .venv/bin/python -m tests.bench.bench_rehearsal [--only rules|simulation]
 

@@ -1,4 +1,4 @@
-"""Benchmark of the rehearsal simulation (issue 8, Speed): simulated seconds per wall second
+"""Benchmark of the rehearsal simulation (Speed): simulated seconds per wall second
 for the exemplar, target at least 50x real time.
 
 Run: .venv/bin/python -m tests.bench.bench_rehearsal_sim

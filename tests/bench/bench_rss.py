@@ -1,4 +1,4 @@
-"""RSS of the server's process tree across the bad-input run (issue 15: it grew 330 -> 930 MB
+"""RSS of the server's process tree across the bad-input run (it grew 330 -> 930 MB
 and stayed there). A real `countersign serve` on SQLite; the bad input of
 tests/api/test_bad_input.py and test_hostile_input.py (oversized, malformed, XML entities,
 bad UTF-8, deep nesting, non-finite numbers, duplicate keys, huge plan coordinates, bad
@@ -99,7 +99,7 @@ def bad_requests() -> list[tuple[str, str, bytes, str]]:
 
 
 def one_round(client: httpx.Client, admin: httpx.Client, heavy: int) -> tuple[int, int, str]:
-    """Every bad request once, and `heavy` of issue 15's heavy validations: (4xx, other, the
+    """Every bad request once, and `heavy` of the heavy validations: (4xx, other, the
     heavy validations' statuses)."""
     refused = other = 0
     statuses = []

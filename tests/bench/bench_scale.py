@@ -1,4 +1,4 @@
-"""Benchmarks of issue 22: costs that grow with the mission.
+"""Benchmarks of: costs that grow with the mission.
 
 Run: .venv/bin/python -m tests.bench.bench_scale [--quick]
 

@@ -1,7 +1,7 @@
-"""Start-up of the command line as whole processes (issue 17, item 11).
+"""Start-up of the command line as whole processes.
 
 Targets: `countersign --help` under 0.3 s and `countersign validate` of the exemplar
-(example:search-and-sample, seed 000 Figures 3-7) under 0.8 s wall (issue 36 asks 0.3 s of
+(example:search-and-sample, seed 000 Figures 3-7) under 0.8 s wall (the goal is 0.3 s of
 CPU), beside `python -c pass`.
 Each figure is the median of 5 runs: wall seconds and CPU seconds (user + system of the child;
 on a shared, busy machine the wall figure includes waiting for a core, the CPU figure does not).

@@ -1,4 +1,4 @@
-"""Benchmark of issue 37 part 2: TEAM on the product of the members' MEAs.
+"""Benchmark of: TEAM on the product of the members' MEAs.
 
 Run: .venv/bin/python -m tests.bench.bench_team
 

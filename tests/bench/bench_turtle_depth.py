@@ -1,4 +1,4 @@
-"""Turtle read time against nesting depth (issue 15): linear in the document, not in what
+"""Turtle read time against nesting depth: linear in the document, not in what
 shared blank-node lists would expand to.
 
 Each document holds lists where list k contains list k-1 twice, so depth d is about 4d

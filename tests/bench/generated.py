@@ -1,5 +1,5 @@
 """Generated orders for benchmarks: large random ternary DAGs with costs and a budget, and the
-checks every benchmark runs on its input before timing it (issue 22: a benchmark of an invalid
+checks every benchmark runs on its input before timing it (a benchmark of an invalid
 mission measures the wrong work)."""
 
 from __future__ import annotations

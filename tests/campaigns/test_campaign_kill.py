@@ -1,10 +1,10 @@
-"""What must hold (issue 20, item 3): a campaign of simulations of the exemplar survives a
+"""What must hold: a campaign of simulations of the exemplar survives a
 worker killed mid-run (its jobs retried, no simulation counted twice) and reports coverage of
 the 75 paths. On SQLite with the in-process runner (the `campaign run` process killed with
 SIGKILL and resumed) and on PostgreSQL with procrastinate (one of two real worker processes
 killed with SIGKILL; the survivor requeues its job).
 
-COUNTERSIGN_TEST_CAMPAIGN_N sets the size (default 120; issue 20 asked for 1,000, which is
+COUNTERSIGN_TEST_CAMPAIGN_N sets the size (default 120; the original size was 1,000, which is
 `COUNTERSIGN_TEST_CAMPAIGN_N=1000`)."""
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ from sqlalchemy import create_engine, text
 from countersign.store.db import Database
 
 # 120 simulations in jobs of CHUNK = 10 (`campaign run --chunk`) prove what 1,000 did, in
-# a ninth of the time (issue 35 item 8): the property is about jobs, not statistics. The kill
+# a ninth of the time: the property is about jobs, not statistics. The kill
 # comes once N // 5 = 24 results are stored, so at the kill some jobs are done (their results
 # must stay as they were), both workers are inside a job (the one killed must be retried, on
 # PostgreSQL counted in procrastinate's attempts) and about 9 of the 12 jobs are still to run

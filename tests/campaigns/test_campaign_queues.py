@@ -1,4 +1,4 @@
-"""The in-process runner's queues (issue 34 item 8): owners taken in turn, a lone owner (the
+"""The in-process runner's queues: owners taken in turn, a lone owner (the
 command line's, whose owner is None) on every worker, and a newcomer's job started as soon as a
 worker is free. The jobs are stand-ins that wait for the test to release them, so the order in
 which the runner starts them is what is asserted, not timings."""

@@ -1,4 +1,4 @@
-"""Campaign pieces (issue 20, item 3): the Wilson interval against Newcombe's published table,
+"""Campaign pieces: the Wilson interval against Newcombe's published table,
 path numbers against enumeration, the sweep, the bounds, and one stored result per index."""
 
 from __future__ import annotations

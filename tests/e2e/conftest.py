@@ -52,7 +52,7 @@ CHROMIUM_ARGS = [
     "--disable-background-networking", "--disable-component-update", "--disable-sync",
 ]
 ROLES = ("operator", "supervisor", "auditor", "admin")
-# Never containing the username (the password policy refuses that, issue 15).
+# Never containing the username (the password policy refuses that).
 PASSWORD = {role: f"Xy7-{role[:3]}-e2e-Qw9-pass" for role in ROLES}
 
 
@@ -343,8 +343,8 @@ def _api_import(server: Server, body: bytes, content_type: str) -> str:
 
 
 # axe-core (npm, frontend/node_modules) checks a page as a screen-reader user and the WCAG rules
-# see it; issue 32 item 9 asks every page the browser suite visits to be free of serious and
-# critical violations.
+# see it; every page the browser suite visits must be free of serious and critical
+# violations.
 AXE = REPO / "frontend" / "node_modules" / "axe-core" / "axe.min.js"
 AXE_FAILS = ("serious", "critical")
 

@@ -1,4 +1,4 @@
-"""Account page (issue 15 item 3): a user changes their own password in the browser; a weak one
+"""Account page: a user changes their own password in the browser; a weak one
 is refused with the policy's words; the change ends the user's other sessions and revokes their
 API tokens; the old password stops working and the new one works. An admin resets a user's
 password on the users page, which ends that user's sessions too."""

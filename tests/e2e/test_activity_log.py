@@ -1,4 +1,4 @@
-"""Issue 16 item 7 in the browser: the activity log shows a role change as whose role, from
+"""In the browser: the activity log shows a role change as whose role, from
 what to what; newest first; filtered by kind, actor, target and time on the server; each row
 numbered by its entry's index in the transparency log."""
 

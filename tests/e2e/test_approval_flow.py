@@ -1,4 +1,4 @@
-"""Issue 6 in the browser: an operator submits the exemplar, a supervisor creates a key in the
+"""In the browser: an operator submits the exemplar, a supervisor creates a key in the
 browser (WebCrypto, non-extractable, IndexedDB), registers it with a password confirmation and
 signs the approval in the browser, and an auditor verifies the record in the browser and exports
 a bundle that the offline verifier (`countersign audit verify`, a subprocess) accepts. Then one
@@ -82,7 +82,7 @@ def bypass(server: Server, table: str, sql: str, *params: Any) -> None:
 
 def delete_row(server: Server, table: str, sql: str, *params: Any) -> None:
     """Runs one DELETE directly on the server's SQLite database past the table's no-delete
-    trigger, as an attacker would (issue 14 finding 5)."""
+    trigger, as an attacker would."""
     connection = sqlite3.connect(server.data_dir / "countersign.db", timeout=30)
     try:
         found = connection.execute(
@@ -192,7 +192,7 @@ def test_submit_sign_verify_export_and_detect_tampering(
     expect(supervisor.get_by_test_id("review-paths-status")).to_contain_text("All 75 paths")
     expect(supervisor.get_by_test_id("review-paths").get_by_role("listitem").first
            ).to_have_attribute("aria-label", re.compile(r"^Path 1: G1 "))
-    # Without the password, a click signs nothing and nothing is sent (issue 14 item 2).
+    # Without the password, a click signs nothing and nothing is sent.
     supervisor.get_by_role("button", name="Sign approval").click()
     expect(supervisor.get_by_role("alert")).to_contain_text("Enter your password")
     supervisor.get_by_label("Your password").fill(reviewer_password)
@@ -203,7 +203,7 @@ def test_submit_sign_verify_export_and_detect_tampering(
     expect(supervisor.get_by_test_id("submission-state")).to_have_text("Approved")
     expect(supervisor.get_by_role("button", name="Sign approval")).to_be_disabled()
     expect(supervisor.get_by_test_id("decision-refusal")).to_contain_text("is approved")
-    # In the order things happened (issue 32 item 4): the decision, then what follows from it.
+    # In the order things happened: the decision, then what follows from it.
     done, refused = (supervisor.get_by_test_id(t).bounding_box()
                      for t in ("decision-verdict", "decision-refusal"))
     assert done and refused and done["y"] + done["height"] <= refused["y"], (done, refused)

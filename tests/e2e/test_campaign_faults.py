@@ -1,4 +1,4 @@
-"""Issue 32 item 6 in the browser: before a campaign runs, a fault nothing in the version reacts
+"""In the browser: before a campaign runs, a fault nothing in the version reacts
 to is named ("leak: no rule or constraint reacts to it"), one a constraint reads is not; axe-core
 finds no serious or critical violation on the campaign form."""
 

@@ -1,4 +1,4 @@
-"""Issue 20 item 3 in the browser: an operator starts a campaign on the Versions tab, watches
+"""In the browser: an operator starts a campaign on the Versions tab, watches
 its progress bar reach the end, reads the estimates with the covered paths and the SVG energy
 histogram, and is offered per-goal probabilities; a second campaign is cancelled."""
 
@@ -37,7 +37,7 @@ def test_operator_runs_reads_and_cancels_campaigns(page: Page, server: Server) -
     expect(results.get_by_role("img", name=re.compile("Energy used"))).to_be_visible()
     expect(results.locator("svg rect").first).to_be_visible()
     # Per-goal probabilities are offered only from runs that took more than one path
-    # (issue 32 item 6).
+    # .
     covered = re.search(r"Paths covered: (\d+) of 75", results.inner_text())
     assert covered, results.inner_text()
     if int(covered.group(1)) > 1:

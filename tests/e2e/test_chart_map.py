@@ -1,4 +1,4 @@
-"""Issue 32 item 3: a real chart, at 1024x768 and 1280x800 in Debian's Chromium.
+"""A real chart, at 1024x768 and 1280x800 in Debian's Chromium.
 
 The editor's areas chart and the mission's plan view are one MapLibre map (WebGL, software
 rendered here) over Natural Earth land bundled with the app. What must hold, measured as

@@ -174,7 +174,7 @@ def test_operator_builds_checks_fixes_and_undoes(page: Page, server: Server) -> 
     page.get_by_role("button", name="Auto layout").click()
     expect(canvas).to_have_attribute("data-ready", "true")
     expect(page.get_by_test_id("save-state")).to_have_text("Saved")
-    # A profile of the target vehicle, or VEHICLE (issue 16).
+    # A profile of the target vehicle, or VEHICLE.
     page.get_by_role("tab", name="Vehicle").click()
     page.get_by_role("button", name="Add vehicle profile").click()
     behaviours = page.get_by_label("Trusted behaviours (comma-separated)")
@@ -251,7 +251,7 @@ def test_operator_builds_checks_fixes_and_undoes(page: Page, server: Server) -> 
 
 
 def test_second_browser_gets_the_conflict_dialog(page: Page, server: Server) -> None:
-    """A save meanwhile that touched something else merges by itself (issue 18 item 4); one
+    """A save meanwhile that touched something else merges by itself; one
     that changed the same field shows both versions side by side."""
     del server
     sign_in(page, "operator")
@@ -350,7 +350,7 @@ def test_toolbar_is_one_row_and_its_menus_work_by_keyboard(page: Page,
 
 def test_layout_computed_on_open_is_saved_once(page: Page, server: Server) -> None:
     """A draft without positions is laid out as it opens, and that layout is saved apart from
-    the orders (issue 18: no revision, no "Updated by"; the draft then opens as laid out)."""
+    the orders (no revision, no "Updated by"; the draft then opens as laid out)."""
     del server
     sign_in(page, "operator")
     mission = "editor-layout-on-open"
@@ -387,7 +387,7 @@ def test_layout_computed_on_open_is_saved_once(page: Page, server: Server) -> No
 
 
 def test_findings_appear_quickly_after_an_edit(page: Page, seeded_mission: str) -> None:
-    """Speed (issue 7): an edit of the exemplar shows new findings in under 300 ms."""
+    """Speed: an edit of the exemplar shows new findings in under 300 ms."""
     sign_in(page, "operator")
     page.goto(f"/missions/{seeded_mission}?tab=editor")
     expect(page.get_by_test_id("node-G5")).to_be_visible()
@@ -405,7 +405,7 @@ def test_findings_appear_quickly_after_an_edit(page: Page, seeded_mission: str) 
     expect(page.get_by_test_id("save-state")).to_have_text("Saved")
     median, worst = report_times("exemplar", breaks + repairs)
     report_times("exemplar, new orders only", breaks)
-    # Issue 7: under 300 ms. The median holds on a busy 2-core machine (60-230 ms measured);
+    # under 300 ms. The median holds on a busy 2-core machine (60-230 ms measured);
     # single edits there reached 630 ms (the server's check waits for the CPU), so the worst
     # is printed, not asserted; the median is asserted an order of magnitude above the target,
     # so that load alone does not fail the test.
@@ -418,7 +418,7 @@ def _chain(mission: str, size: int) -> dict[str, object]:
         following = f"G{n + 1}" if n < size else "COMPLETE"
         goals.append({"id": f"G{n}", "title": f"Leg {n}",
                       "next": {"succeed": following, "fail": "ABORT", "violate": "ABORT"}})
-    # a profile of the target vehicle, or VEHICLE (issue 16)
+    # a profile of the target vehicle, or VEHICLE
     return {"format": "countersign.orders/1", "id": mission, "title": f"{size} goals",
             "start": "G1", "goals": goals,
             "vehicle": "auv", "vehicles": [{"id": "auv", "behaviors": ["transit"]}]}
@@ -446,7 +446,7 @@ def print_breakdown(page: Page) -> None:
 
 def test_large_missions_open_and_check_in_time(page: Page, server: Server) -> None:
     """Speed: a 500-goal mission opens and lays out in 2 s; an edit of 200 goals shows new
-    findings in under 1 s (issue 7)."""
+    findings in under 1 s."""
     del server
     sign_in(page, "operator")
     token = page.evaluate("() => fetch('/api/auth/me').then(r => r.json()).then(j => j.csrf_token)")
@@ -462,7 +462,7 @@ def test_large_missions_open_and_check_in_time(page: Page, server: Server) -> No
     opened = (time.monotonic() - started) * 1000
     print(f"500 goals: page load to laid-out canvas {opened:.0f} ms")
     print_breakdown(page)
-    # Issue 7's target is 2 s (the printed figure, quoted in notes); the assertion only catches
+    # the target is 2 s (the printed figure, quoted in notes); the assertion only catches
     # a regression of an order of magnitude, so that a loaded machine does not fail it.
     assert opened < 20_000, opened
 
@@ -483,7 +483,7 @@ def test_large_missions_open_and_check_in_time(page: Page, server: Server) -> No
     expect(page.get_by_test_id("save-state")).to_have_text("Saved")
     median, worst = report_times("200 goals", breaks + repairs)
     report_times("200 goals, new orders only", breaks)
-    # Issue 7: under 1 s for 200 goals (medians of 130-280 ms and worst edits of 310-520 ms
+    # under 1 s for 200 goals (medians of 130-280 ms and worst edits of 310-520 ms
     # measured on a busy 2-core machine): printed above; asserted only an order of magnitude
     # above, so that load alone does not fail the test.
     assert worst < 10_000, (median, worst)

@@ -1,4 +1,4 @@
-"""Issue 7 acceptance: an operator builds the built-in exemplar in the graph editor.
+"""Acceptance: an operator builds the built-in exemplar in the graph editor.
 
 In headless Chromium, with only mouse and keyboard (clicks, drags, typing into labelled
 fields), the operator starts an empty mission and enters everything `search-and-sample`
@@ -268,7 +268,7 @@ def test_operator_builds_the_exemplar_by_mouse_and_keyboard(own_page: Page) -> N
     expect(page.get_by_test_id("markers-G4")).to_contain_text("G10")
     expect(page.get_by_test_id("markers-G2")).to_contain_text("G7")  # G1 -> G2 -> G3 -> G1
     expect(page.get_by_test_id("markers-G5")).to_have_count(0)
-    # A loop is drawn once, as a halo under its edges, not as a "G7" label on each (issue 32).
+    # A loop is drawn once, as a halo under its edges, not as a "G7" label on each.
     loop_edge = page.locator('.react-flow__edge[data-id="G3:succeed:G1"]')
     expect(loop_edge).to_have_class(re.compile("edge-loop"))
     expect(loop_edge.locator(".loop-halo")).to_have_count(1)

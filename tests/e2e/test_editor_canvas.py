@@ -1,4 +1,4 @@
-"""Issue 18 items 1, 2 and 4: a canvas operators can work in, at 1024 and 1280 px.
+"""A canvas operators can work in, at 1024 and 1280 px.
 
 Geometry is read from the page: node boxes, handle boxes, the canvas and the minimap, and the
 title's font size times the zoom React Flow applied (its viewport transform)."""

@@ -63,7 +63,7 @@ def test_import_replaces_the_draft_and_undo_restores_it(page: Page, server: Serv
                    "next": {"succeed": "G2", "fail": "ABORT", "violate": "ABORT"}},
                   {"id": "G2", "title": "Survey box",
                    "next": {"succeed": "COMPLETE", "fail": "ABORT", "violate": "ABORT"}}],
-              # a profile of the target vehicle, or VEHICLE (issue 16)
+              # a profile of the target vehicle, or VEHICLE
               "vehicle": "auv", "vehicles": [{"id": "auv", "behaviors": ["transit"]}]}
     file = tmp_path / "two-legs.json"
     file.write_text(json.dumps(orders), encoding="utf-8")

@@ -1,4 +1,4 @@
-"""Issue 32 items 5 and 9 (the editor's parts): a new norm is valid as created, a change the
+"""9 (the editor's parts): a new norm is valid as created, a change the
 server refuses is shown beside its field and in Findings, the shortcuts are listed in a dialog,
 Tab reaches the nodes before anything else on the canvas, and axe-core finds no serious or
 critical violation on the editor (axe is injected from the front end's node_modules)."""

@@ -1,4 +1,4 @@
-"""Issue 18 items 3, 5 and 6 and issue 16 item 6 (the list), at 1024 and 1280 px.
+"""Item 6 (the list), at 1024 and 1280 px.
 
 - Goal pickers show id and title and find a goal by words of its title; the vehicle and the
   behaviour are picked from the registry and the vehicle's trusted behaviours (see also

@@ -1,4 +1,4 @@
-"""Issue 9 item 5: the "Plan survey" dialog of the mission editor.
+"""The "Plan survey" dialog of the mission editor.
 
 The operator opens the exemplar in the editor, opens "Plan survey", leaves out the shipping
 lane and the recovery area, sets rewards, a mandatory area and the battery, solves on the

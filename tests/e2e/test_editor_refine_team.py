@@ -1,4 +1,4 @@
-"""Issue 37 in the editor, at 1024x768 and 1280x800: a refined goal opens on its own canvas
+"""In the editor, at 1024x768 and 1280x800: a refined goal opens on its own canvas
 (sub-goals, terminals that return the parent's outcomes) with breadcrumbs back up and the
 findings of the refinement (REFINE); a refinement is added to a goal and edited, and every
 edit round-trips through the draft's save (`refines` in the orders). A team's orders show one

@@ -1,4 +1,4 @@
-"""Issue 32 items 1 and 2: the graph editor on a real screen, at 1024x768 and 1280x800.
+"""The graph editor on a real screen, at 1024x768 and 1280x800.
 
 Geometry is read from the page: the canvas, the inspector and the findings each inside the
 window and the page's card (the tab panel), none overlapping another, no horizontal scroll,

@@ -1,4 +1,4 @@
-"""Issue 16: an imported AVCL mission keeps the reader's findings (the SINK warnings of the
+"""An imported AVCL mission keeps the reader's findings (the SINK warnings of the
 handlers NPS defaults) in its stored report, and the browser shows them."""
 
 from __future__ import annotations

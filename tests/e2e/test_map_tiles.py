@@ -1,4 +1,4 @@
-"""Map tiles under the plan view (issue 21): with COUNTERSIGN_MAP_TILES the browser draws tiles
+"""Map tiles under the plan view: with COUNTERSIGN_MAP_TILES the browser draws tiles
 from that server, which the page's CSP allows; without it no tile is requested at all. The tile
 server is a tiny HTTP server of this test on loopback, serving one PNG for every tile."""
 

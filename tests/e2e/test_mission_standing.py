@@ -1,4 +1,4 @@
-"""Issue 16 item 7 in the browser: after v2 is rejected the mission page says "v1 approved;
+"""In the browser: after v2 is rejected the mission page says "v1 approved;
 v2 rejected", not only "Rejected"."""
 
 from __future__ import annotations
@@ -32,7 +32,7 @@ def test_status_shows_the_approved_version_and_the_latest_decision(page: Page,
     sign_in(page, "operator")
     page.goto(f"/missions/{mission}")
     expect(page.get_by_test_id("mission-standing")).to_have_text("v1 approved; v2 rejected")
-    # Issue 32 item 9: the status itself does not say only "Rejected" while v1 stands approved,
+    # the status itself does not say only "Rejected" while v1 stands approved,
     # and the package is offered for the approved version only (v2's would be a 409).
     expect(page.get_by_test_id("mission-status")).to_have_text("v1 approved; v2 rejected")
     page.get_by_role("tab", name=re.compile("^Versions")).click()

@@ -1,4 +1,4 @@
-"""Issue 14, first "must hold": no script runs that the app did not ship.
+"""First "must hold": no script runs that the app did not ship.
 
 Script-bearing strings (`<img onerror>`, `<iframe srcdoc>`, `<script>`, `<svg onload>`, markdown
 links and images, `javascript:` URLs) are put in every user-controlled field, through the API:
@@ -207,7 +207,7 @@ def make_hostile_world(server: Server) -> Made:
             "admin_password": PASSWORD["admin"],
             "display_name": f"Decider {PAYLOADS[1]}"})
 
-        # A chart (issue 21) whose title and kind the plan view and the 3D scene show.
+        # A chart whose title and kind the plan view and the 3D scene show.
         admin.call("POST", "/api/charts/import", json={"format": "geojson", "content": json.dumps(
             {"type": "FeatureCollection", "features": [{
                 "type": "Feature", "id": "HOSTILE",
@@ -397,7 +397,7 @@ def rehearse_and_replay(page: Page, findings: Findings) -> None:
     expect(page.get_by_test_id("rehearsal-state")).to_have_text("Waiting for the outcome",
                                                                  timeout=60_000)
     expect(page.get_by_test_id("current-goal")).to_contain_text("Changed v2", timeout=30_000)
-    # The page holds the rehearsal's controls and the goal's title (issue 18); viser's own
+    # The page holds the rehearsal's controls and the goal's title; viser's own
     # panel has none, so the title reaches viser only as scene labels, checked below.
     page.wait_for_timeout(1000)  # the scene's labels arrive
     check_frames(page, findings, "live rehearsal, first goal")
@@ -442,7 +442,7 @@ def test_no_script_the_app_did_not_ship_runs(browser: Browser, xss_server: Serve
             visit(supervisor, findings, f"/missions/{MISSION}/versions/{number}/review",
                   '[data-testid="review-plain"]')
         expect(supervisor.get_by_role("button", name="Sign approval")).to_be_enabled()
-        # The printable approval document (issue 16 item 8) of each version, its texts shown.
+        # The printable approval document of each version, its texts shown.
         for number in sorted(made.submissions):
             visit(supervisor, findings, f"/missions/{MISSION}/versions/{number}/document",
                   '[data-testid="approval-document"] h2')

@@ -1,4 +1,4 @@
-"""The plan view (issue 21) shows each outcome edge's leg and highlights the GEO crossings of a
+"""The plan view shows each outcome edge's leg and highlights the GEO crossings of a
 registry chart, drawn offline on the chart (MapLibre over bundled Natural Earth land). Its own
 server: the chart would change what the shared server's other tests see of the exemplar."""
 

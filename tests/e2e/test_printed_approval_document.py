@@ -1,4 +1,4 @@
-"""Issue 16 item 8 in the browser: the printable approval document of a version, reached from
+"""In the browser: the printable approval document of a version, reached from
 the Versions tab. Changing only a condition (depth_m >= 20 to >= 0.5 under the same text)
 changes the plain orders, the review and the document; printing shows the document alone
 (print CSS, checked with Chromium's print media and its PDF)."""

@@ -1,4 +1,4 @@
-"""Issue 19 in the browser: the record page states each recorded execution of the approved
+"""In the browser: the record page states each recorded execution of the approved
 version ("approved, executed as path N, no deviation", or the deviation named), and operator
 text in a deviation stays text."""
 

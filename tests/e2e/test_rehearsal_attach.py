@@ -1,4 +1,4 @@
-"""Issue 16 item 6 in the browser: from the mission page's Versions tab the submitting operator
+"""In the browser: from the mission page's Versions tab the submitting operator
 attaches a rehearsal record of exactly the submitted version; a record of another version is
 refused with a message naming both; the approval then cites the record (not "None")."""
 
@@ -76,5 +76,5 @@ def test_operator_attaches_a_record_of_that_exact_version(page: Page, server: Se
     sign_in(page, "auditor")
     page.goto(f"/audit/{approval}")
     expect(page.get_by_test_id("rehearsal")).not_to_have_text("None.")
-    # The record page shows the record as a table (issue 32 item 4), its digest shortened.
+    # The record page shows the record as a table, its digest shortened.
     expect(page.get_by_test_id("rehearsal")).to_contain_text(short(of_v2, 16))

@@ -1,4 +1,4 @@
-"""Issue 18 item 7 in the browser at 1024 and 1280 px: at the default pace a step-by-step
+"""In the browser at 1024 and 1280 px: at the default pace a step-by-step
 rehearsal of the exemplar asks its first question within a bounded number of frames; viser's
 own panel does not cover the scene; one set of controls with the app's outcome names; a fault
 pressed while waiting is queued with a visible message (pressed again, refused with one);

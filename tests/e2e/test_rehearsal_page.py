@@ -43,7 +43,7 @@ def test_operator_rehearses_in_the_browser(page: Page, server: Server, own_exemp
     expect(frame).to_have_attribute("src", re.compile(r"^/rehearsal/[A-Za-z0-9_-]+/$"))
     viewer = page.frame_locator('[data-testid="viser-frame"]')
     expect(viewer.locator("canvas").first).to_be_visible(timeout=30_000)
-    # The page holds the controls (issue 18): viser's panel has none.
+    # The page holds the controls: viser's panel has none.
     expect(viewer.get_by_role("button", name="Succeed")).to_have_count(0)
 
     expect(page.get_by_test_id("rehearsal-state")).to_have_text("Waiting for the outcome",

@@ -1,4 +1,4 @@
-"""Issue 37 in the rehearsal, at 1024x768 and 1280x800: a refined mission rehearses as its flat
+"""In the rehearsal, at 1024x768 and 1280x800: a refined mission rehearses as its flat
 form; the mission graph beside the scene lists the refined goal's steps inside its card
 (`G1/G1.1` and its title), the current-goal card names the goal inside and its breadcrumb
 (G1 › G1.2), the s/f/c keys and the buttons decide the goals inside one by one, and the

@@ -1,4 +1,4 @@
-"""Issue 32 item 8 on a real screen (1024x768 and 1280x800): when a rehearsal starts, the 3D
+"""On a real screen (1024x768 and 1280x800): when a rehearsal starts, the 3D
 view and the outcome buttons are on screen together without scrolling, side by side and not
 overlapping; the goal cards read in the order the mission is flown; the s, f and c keys answer
 the prompt; a fault notice does not outlive the mission; axe-core finds no serious or critical

@@ -1,4 +1,4 @@
-"""Issue 37 in the rehearsal, at 1024x768 and 1280x800: a team's orders rehearse from the
+"""In the rehearsal, at 1024x768 and 1280x800: a team's orders rehearse from the
 mission's Rehearse tab, every vehicle in one scene; beside it the team panel lists each
 vehicle (its scene colour, state, goal, energy), the meetings and the latest events naming
 their vehicle, and the "Vehicle:" switcher shows that vehicle's goal cards. Boxes inside the

@@ -1,4 +1,4 @@
-"""Issue 20 item 3 in the browser: a campaign attached to a submission is shown on the review,
+"""In the browser: a campaign attached to a submission is shown on the review,
 with its record digest and estimates, above the decision that will cite it."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Issue 37 on the review page: a version whose Goal 1 is a library procedure lists the
+"""On the review page: a version whose Goal 1 is a library procedure lists the
 procedure with its pinned digest and says whether every procedure it uses is an approved
 version, before and after a supervisor signs the procedure's approval. axe-core clean."""
 

@@ -1,4 +1,4 @@
-"""Issue 37 on the review page, at 1024x768 and 1280x800: a refined mission's review draws each
+"""On the review page, at 1024x768 and 1280x800: a refined mission's review draws each
 refinement under the mission's graph (its ends say which outcome they return) and its paths
 show the nested steps (`G1/G1.1`) readable, apart and inside the list; a team's review draws
 every member's graph, the meetings that link them and the TEAM findings. axe-core clean;

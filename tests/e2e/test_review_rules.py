@@ -1,4 +1,4 @@
-"""Issue 8 item 2 in the browser: the contingency rules of a mission in plain language, on the
+"""In the browser: the contingency rules of a mission in plain language, on the
 review page (one sentence per rule) and in the plain orders of the mission's Orders tab."""
 
 from __future__ import annotations

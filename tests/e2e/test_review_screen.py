@@ -1,4 +1,4 @@
-"""Issue 32 item 4 on a real screen (1024x768 and 1280x800): the supervisor's review shows every
+"""On a real screen (1024x768 and 1280x800): the supervisor's review shows every
 step of every path (goal id and outcome letter), the terminal and the probability always in
 view, costs with units, the cited rehearsal with its outcome, path and replay link, and the
 campaign the operator attached from the Versions tab; the record renders the rehearsal as a

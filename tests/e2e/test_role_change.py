@@ -1,4 +1,4 @@
-"""Issue 16 item 7 in the browser: moving a user's role drop-down changes nothing until the
+"""In the browser: moving a user's role drop-down changes nothing until the
 admin confirms in a dialog with their own password, which the server checks."""
 
 from __future__ import annotations

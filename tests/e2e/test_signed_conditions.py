@@ -1,4 +1,4 @@
-"""Issue 16 in the browser: the review page and the mission's plain orders show each
+"""In the browser: the review page and the mission's plain orders show each
 constraint's checked condition, so changing only a condition changes what is read (and a
 text that no longer matches its condition is a TEXT warning on the review)."""
 

@@ -1,4 +1,4 @@
-"""Issue 34 item 9 in the browser: a version only submitted, with `submissions.state` and
+"""In the browser: a version only submitted, with `submissions.state` and
 `missions.status` set to 'approved' behind the app, shows as Submitted on the mission list and
 the mission page, with the forged rows named as a warning; the Versions tab shows the log's
 state too."""

@@ -1,4 +1,4 @@
-"""The typed API end to end (issue 17 item 5): every JSON route names its response model, and
+"""The typed API end to end: every JSON route names its response model, and
 the browser's role table (frontend/src/roles.gen.ts) is the routes' x-roles, regenerated."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Issue 32 item 7 in the browser (1024x768): an admin enters a vehicle profile as a form, not
+"""In the browser (1024x768): an admin enters a vehicle profile as a form, not
 JSON (behaviours, speed, budget, an envelope limit, a feature), changes one nested value, and the
 version diff names that nested field (envelope.depth_m), not the whole envelope. The form fits
 the window; axe-core finds no serious or critical violation on the page."""

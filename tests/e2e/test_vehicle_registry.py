@@ -1,4 +1,4 @@
-"""Issue 16 item 4 in the browser: an admin creates and edits a vehicle in the registry
+"""In the browser: an admin creates and edits a vehicle in the registry
 (`/vehicles`), each changed save is a new version with a diff; an operator picks the vehicle
 from the registry in the mission editor and gets its trusted behaviours as suggestions; an
 approval whose vehicle profile the registry has since changed shows "needs re-approval" with

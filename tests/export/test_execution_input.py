@@ -1,4 +1,4 @@
-"""Vehicle logs as execution input (issue 19): IMC PlanControlState sequences (written with
+"""Vehicle logs as execution input: IMC PlanControlState sequences (written with
 imcpy, the vehicle side's own library) and MOOS alog lines become the NDJSON execution log and
 go through the same checker."""
 

@@ -191,7 +191,7 @@ def test_depth_is_held_for_as_long_as_the_mode_lasts() -> None:
     assert all("  duration = no-time-limit\n" in block for block in blocks)
 
 
-# --- refined missions (issue 37): nested helm modes, the hierarchy in IMC maneuver ids -------
+# --- refined missions: nested helm modes, the hierarchy in IMC maneuver ids -------
 TWICE = Path(__file__).with_name("refined_twice.json")
 REFINED = ["search-and-sample-refined", "refined-twice"]
 _DECLARED = re.compile(r"^set MODE = (\w+) \{\n  MODE = (\S+)\n  (.+)\n\}", re.M)

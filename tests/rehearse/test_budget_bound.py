@@ -1,4 +1,4 @@
-"""The verifier's budget figures bound what a nominal rehearsal uses (issue 19, issue 21 item 4).
+"""The verifier's budget figures bound what a nominal rehearsal uses.
 
 The simulation flies the verifier's legs and charges legs and goals from the verifier's cost
 model, so a replayed rehearsal of any path of the exemplar, read back through the execution

@@ -1,4 +1,4 @@
-"""Issue 32 item 6: a simulated fault that no constraint, rule or vehicle reaction can turn into
+"""A simulated fault that no constraint, rule or vehicle reaction can turn into
 another outcome is reported before a run; one that something reads is not."""
 
 from __future__ import annotations

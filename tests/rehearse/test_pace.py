@@ -1,4 +1,4 @@
-"""Issue 18 item 7 and issue 21 item 4 on a real rehearsal (viser server and its thread).
+"""On a real rehearsal (viser server and its thread).
 
 The pace is counted in frames, not wall time: the first choice must come after a bounded
 number of frames whatever the machine's load (wall times are printed, never asserted)."""
@@ -134,7 +134,7 @@ def test_failing_with_a_fault_on_a_finished_rehearsal_is_refused(
 
 
 def test_the_legs_flown_are_the_verifiers_legs(exemplar: Orders) -> None:
-    """Issue 21 item 4: every leg between goals is flown along verify/legs' leg, of its length
+    """Every leg between goals is flown along verify/legs' leg, of its length
     (geodesic metres) within 1e-6 relative, and priced as the budget prices a leg."""
     expected = leg_lengths(exemplar)
     for choice in ("succeed", "fail", "violate"):

@@ -1,4 +1,4 @@
-"""Issue 34 item 9: stopping a rehearsal whose figures overflow (goal costs near the largest
+"""Stopping a rehearsal whose figures overflow (goal costs near the largest
 double, so energy and time sum to infinity) stores a record that names what it could not hold,
 instead of failing on its digest and losing the record."""
 

@@ -1,4 +1,4 @@
-"""`countersign rehearse` of team orders (issue 37): headless, the joint events one a line,
+"""`countersign rehearse` of team orders: headless, the joint events one a line,
 each naming its vehicle; bad team options exit 2 naming what is wrong."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""A team's rehearsal on a real viser server (issue 37): one scene with every vehicle (its own
+"""A team's rehearsal on a real viser server: one scene with every vehicle (its own
 colour, its vehicle id as a text label), their paths, the meeting points and the meeting."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""A team's rehearsal (issue 37, rehearse/team.py): every member's simulation in one world
+"""A team's rehearsal (rehearse/team.py): every member's simulation in one world
 clock, meetings joint as verify/team.py defines a joint execution, a deadlock ended in the
 TEAM finding's words, every event naming its vehicle, everything bounded."""
 

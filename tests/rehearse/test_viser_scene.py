@@ -153,7 +153,7 @@ HOSTILE = '<iframe srcdoc="<script>parent.__pwned=1</script>"></iframe><img src=
 def test_user_text_reaches_the_scene_as_text_never_markdown(
     manager: RehearsalManager, exemplar: Orders
 ) -> None:
-    """Issue 14: viser's markdown passes raw HTML, so the goal's title (the orders author's
+    """Viser's markdown passes raw HTML, so the goal's title (the orders author's
     text) is shown in a read-only text field and never enters markdown."""
     from countersign.orders.canonical import orders_to_json
     from countersign.orders.reader import orders_from_data

@@ -1,10 +1,10 @@
-"""What Countersign does, hashed: the guard every refactor is measured against (issue 35).
+"""What Countersign does, hashed: the guard every refactor is measured against.
 
 "No behaviour change" means the OpenAPI document, the CLI's outputs on the built-in examples
 and on the NPS missions, and the signed bytes of the approval fixtures stay byte for byte as
 they were. This module computes a SHA-256 digest of each of them; tests/unit/
 test_no_behaviour_change.py compares today's code with data/no-behaviour-change.json, written
-from main at aea7afb (before the refactors of issue 35).
+from main at aea7afb (before the refactors of).
 
 Only what changes by design or is a measurement is normalised: the planner's time taken, the
 checker fingerprint (`checker`, a digest of the checking code itself) in validation reports

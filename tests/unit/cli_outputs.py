@@ -1,4 +1,4 @@
-"""Every CLI output of every built-in example, as SHA-256 digests (issue 37).
+"""Every CLI output of every built-in example, as SHA-256 digests.
 
 `refines` is optional: orders without it must print exactly what they printed before
 refinement existed. `python -m tests.unit.cli_outputs --write` with PYTHONPATH pointing at a

@@ -1,4 +1,4 @@
-"""A brute force for refined orders (issue 37), written apart from verify.refine: it runs the
+"""A brute force for refined orders, written apart from verify.refine: it runs the
 nested orders as an interpreter would, one outcome at a time in the order succeed, fail,
 violate, keeping a stack of refinements with their own goal counts and seconds spent. It
 yields every run with its flat goals, its trace lines and what each step costs."""

@@ -1,4 +1,4 @@
-"""The benchmarks' own inputs are valid, and the benchmark refuses an invalid one (issue 22)."""
+"""The benchmarks' own inputs are valid, and the benchmark refuses an invalid one."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The command line starts light (issue 17, item 11): heavy libraries load in the commands
+"""The command line starts light: heavy libraries load in the commands
 that need them, so `import countersign.cli` and building its parser (what `--help` does) import
 none of them. The figures are in tests/bench/bench_startup.py."""
 

@@ -33,17 +33,16 @@ LONG_FUNCTIONS: dict[str, str] = {
         "one pass of the prioritised-extension algorithm over local arrays shared with its "
         "closure; split, the hot loop pays for attribute lookups",
     "countersign/store/approvals/bundle.py:build_bundle":
-        "assembles the bundle's parts in the order the format lists them (service layer, "
-        "issue 35 item 1)",
+        "assembles the bundle's parts in the order the format lists them (service layer)",
     "countersign/verify/logic/goal_set.py:explain_goal_set":
         "the explanation's cases in the order the report prints them",
     "countersign/verify/meo/reasoned.py:explain":
-        "the MEO rules' explanations one after another (one rule set, issue 35 item 4)",
+        "the MEO rules' explanations one after another (one rule set)",
     "countersign/verify/meo/direct.py:meo_only_findings":
-        "the MEO rules one after another (one rule set, issue 35 item 4)",
+        "the MEO rules one after another (one rule set)",
     "countersign/web/app.py:create_app":
         "the application's middleware, routes and handlers in the order they apply "
-        "(services, issue 35 item 1)",
+        "(services)",
 }
 
 # The one Turtle writer: escaping and document layout for every Turtle the code writes.

@@ -1,4 +1,4 @@
-"""No dead functions (issue 35): vulture reads backend/countersign alone, so a function, method,
+"""No dead functions: vulture reads backend/countersign alone, so a function, method,
 class, property or import that only tests use, or that nothing uses, is reported. Code that
 only tests need lives under tests/.
 

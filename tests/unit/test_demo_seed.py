@@ -1,4 +1,4 @@
-"""`serve --demo` seeds the vehicle registry with the examples' vehicles (issue 32 item 7), so a
+"""`serve --demo` seeds the vehicle registry with the examples' vehicles, so a
 first run's new mission picks a registered vehicle instead of opening with a VEHICLE error; a
 second start adds nothing and keeps what an admin changed."""
 

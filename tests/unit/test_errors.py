@@ -1,4 +1,4 @@
-"""Domain errors carry no HTTP (issue 17, item 4): one hierarchy in countersign.errors,
+"""Domain errors carry no HTTP: one hierarchy in countersign.errors,
 mapped to the status codes the API has always answered by web/problems.py. One name per error:
 no two exception classes of the package share a name, none is an alias of another, and routes
 raise domain errors for domain cases (HTTPException only for what is HTTP's own)."""

@@ -1,4 +1,4 @@
-"""Every event kind the app records reads as a target and a change in words (issue 16 item 7);
+"""Every event kind the app records reads as a target and a change in words;
 a kind added without words would show only its code in the activity log."""
 
 from __future__ import annotations

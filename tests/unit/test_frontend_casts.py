@@ -1,4 +1,4 @@
-"""Issue 17: the front end's types come from the OpenAPI document, so no production module
+"""The front end's types come from the OpenAPI document, so no production module
 casts an answer through `unknown` (test files may build odd values on purpose)."""
 
 from __future__ import annotations

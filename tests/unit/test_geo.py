@@ -1,4 +1,4 @@
-"""GEO: every outcome edge's leg, sweep and loiter against areas, charts and land (issue 21)."""
+"""GEO: every outcome edge's leg, sweep and loiter against areas, charts and land."""
 
 from __future__ import annotations
 

@@ -175,7 +175,7 @@ def _kml_placemarks(count: int, ring: str = "0,0 0.001,0 0.001,0.001 0,0") -> st
 
 
 def test_kml_placemarks_are_bounded_like_geojson_parts() -> None:
-    # Issue 34: a KML import's placemarks had only the 10,000-feature bound.
+    # a KML import's placemarks had only the 10,000-feature bound.
     assert len(charts_from_kml(_kml_placemarks(3))) == 3
     with pytest.raises(GeoFormatError, match="1,000 polygons"):
         charts_from_kml(_kml_placemarks(1001))

@@ -1,4 +1,4 @@
-"""Incremental validation equals validation from scratch (issue 17 item 10, issue 22 item 4).
+"""Incremental validation equals validation from scratch.
 
 A generated mission is validated, then edited at random (a description, a goal's title, cost,
 outcome probabilities, successor, requirements, envelope, behavior; a constraint's scope or

@@ -1,4 +1,4 @@
-"""The rehearsal scene's labels do not pile up (issue 32 item 8): the boxes of the labels the
+"""The rehearsal scene's labels do not pile up: the boxes of the labels the
 spacer places (as wide as their text, a line high, on the chart's plane) never overlap."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The land mask is read from bit-packed bands without unpacking them (issue 17, item 11: a
+"""The land mask is read from bit-packed bands without unpacking them (a
 whole band unpacked is 26 MB and most of `countersign validate`'s geo check). Each looked-up
 cell is the cell of the unpacked grid."""
 

@@ -369,7 +369,7 @@ def test_expression_errors_are_findings_with_positions() -> None:
 def test_extreme_numbers_and_long_expressions_never_crash() -> None:
     def extreme(data: dict[str, Any]) -> None:
         goal(data, "G1")["envelope"] = {"depth_m": [25, 1e308], "nav_error_m": [-1e308, 0]}
-        # Non-finite bounds are refused by the model itself (issue 15; see below).
+        # Non-finite bounds are refused by the model itself (see below).
         goal(data, "G2")["envelope"] = {"depth_m": [-1.7e308, 1.7e308]}
         goal(data, "G3")["envelope"] = {"depth_m": [5e-324, 40]}
         data["constraints"].append({

@@ -1,4 +1,4 @@
-"""What stays asserted in the logic session between goals (issue 22): z3's check time grows
+"""What stays asserted in the logic session between goals: z3's check time grows
 with everything asserted, so only what every goal's checks assume (mission-wide constraints,
 the vehicle, domains, norms) stays; a constraint scoped to a few goals, or a constraint's
 negation (checked once for vacuity), is asserted in its unit's own scope."""

@@ -1,4 +1,4 @@
-"""Vacuity settled in batches gives exactly the findings of one check per constraint (issue 22)."""
+"""Vacuity settled in batches gives exactly the findings of one check per constraint."""
 
 from __future__ import annotations
 

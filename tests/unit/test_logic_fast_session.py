@@ -1,6 +1,6 @@
 """The logic session's shortcuts (raw z3 ASTs kept per item, cores read through the C API,
 formula text and goal items kept per session) give exactly the findings of the straightforward
-session, and ask z3 exactly the same questions (issue 22).
+session, and ask z3 exactly the same questions.
 
 The reference below is the session as it was before them: a Python literal per assumption
 asked for its AST at every check, cores read through z3's wrapper, every formula translated

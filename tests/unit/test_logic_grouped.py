@@ -1,5 +1,5 @@
 """Goals screened and grouped give exactly the findings of one session check at a time per
-goal (issue 36, item 4): codes, wording, cores, witnesses and order."""
+goal: codes, wording, cores, witnesses and order."""
 
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 """Algorithm 1 (seed 001) returns a minimal core even when the core z3 hands it is padded with
-statements that play no part (issue 15: a shrink that kept the whole first half survived)."""
+statements that play no part (a shrink that kept the whole first half survived)."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""No behaviour change (issue 35): the CLI's outputs on every built-in example and on the NPS
+"""No behaviour change: the CLI's outputs on every built-in example and on the NPS
 missions, the signed bytes of the approval fixtures and the committed OpenAPI document are byte
 for byte what main printed at aea7afb. tests/unit/behaviour_outputs.py computes them and says
 how to regenerate data/no-behaviour-change.json when a change of behaviour is meant."""

@@ -1,4 +1,4 @@
-"""The ontology files read by Oxigraph (orders.ontology.load_graph, issue 17 item 11) hold the
+"""The ontology files read by Oxigraph (orders.ontology.load_graph) hold the
 statements rdflib's own Turtle parser reads from them, blank nodes and collections included."""
 
 from __future__ import annotations

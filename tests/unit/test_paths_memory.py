@@ -1,4 +1,4 @@
-"""Path output holds one path at a time: memory linear in the path's length (issue 22)."""
+"""Path output holds one path at a time: memory linear in the path's length."""
 
 from __future__ import annotations
 

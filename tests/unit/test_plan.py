@@ -1,4 +1,4 @@
-"""Survey planning (issue 9, seed 001): the exact solver against brute force, infeasibility
+"""Survey planning (seed 001): the exact solver against brute force, infeasibility
 with a minimal conflict, draft orders that validate, bad input and the command line."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Canaries for the private third-party APIs we use (issue 17, item 6), one adapter each:
+"""Canaries for the private third-party APIs we use, one adapter each:
 rehearse/viser_adapter.py, verify/meo/owlrl_adapter.py, verify/z3_adapter.py. A library
 release that renames or reshapes one fails here, naming it, before anything subtler breaks."""
 

@@ -1,4 +1,4 @@
-"""Issue 20 part 1: exact outcome probabilities, checked against path enumeration, the vertices
+"""Exact outcome probabilities, checked against path enumeration, the vertices
 of each goal's polytope (intervals) and Storm on the same Markov chain; the expected energy
 and time charge the legs between goals as BUDGET does (one cost model)."""
 
@@ -347,7 +347,7 @@ def test_expectations_past_the_largest_double_read_as_the_largest_double() -> No
 @given(st.integers(0, 2**32), st.integers(1, 60), st.sampled_from([160, 40, 4]))
 def test_the_fixed_point_pass_reports_what_the_exact_pass_reports(
         seed: int, goals: int, bits: int) -> None:
-    """Issue 36: figures from the linear fixed-point pass are the exact pass's, double for
+    """Figures from the linear fixed-point pass are the exact pass's, double for
     double, on random DAGs with point, interval and missing probabilities and legs. At 40 and
     4 bits the enclosure rarely (4: never) decides the double, so the exact fallback must."""
     rng = random.Random(seed)

@@ -1,4 +1,4 @@
-"""Procedures (issue 37): a refinement saved by name and version and used by reference.
+"""Procedures: a refinement saved by name and version and used by reference.
 
 The orders' digest covers the procedure's digest; an unknown reference or a body that is not
 the pinned one is PROCEDURE; a referenced procedure counts exactly like the same refinement

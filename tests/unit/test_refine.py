@@ -1,4 +1,4 @@
-"""Refinement (issue 37): the refined mission's paths, traces and budgets equal a brute-force
+"""Refinement: the refined mission's paths, traces and budgets equal a brute-force
 run of the nested orders (tests/unit/refine_brute.py), and REFINE holds its rules."""
 
 from __future__ import annotations

@@ -17,7 +17,7 @@ SQUARE = ((0.0, 0.0), (1000.0, 0.0), (1000.0, 400.0), (0.0, 400.0))
 
 
 def test_the_world_is_in_the_verifiers_frame() -> None:
-    """Issue 21: the rehearsal's geography is verify/legs.py's, not a flat frame of its own."""
+    """The rehearsal's geography is verify/legs.py's, not a flat frame of its own."""
     import random
 
     from countersign.rehearse.world import World

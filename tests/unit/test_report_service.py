@@ -1,4 +1,4 @@
-"""The report service owns the single-flight cache and the validator (issue 17 item 1): one per
+"""The report service owns the single-flight cache and the validator: one per
 database, injected, no module state."""
 
 from __future__ import annotations

@@ -285,7 +285,7 @@ def test_parse_reads_literals_and_writes_plain_english(exemplar: DefaultTheory) 
 def test_rules_in_orders_keep_old_digests_and_round_trip() -> None:
     plain = load_example("search-and-sample")
     assert plain.rules is None and theory_for(plain) is None
-    # The digest of the built-in exemplar is pinned by issue 7's acceptance: unchanged.
+    # The digest of the built-in exemplar is pinned by the acceptance: unchanged.
     assert digest(plain) == digest(read_json(example_bytes("search-and-sample")))
     assert "rules" not in orders_to_json(plain)
     with_rules = load_example("search-and-sample-rules")

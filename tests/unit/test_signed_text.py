@@ -1,4 +1,4 @@
-"""Issue 16: what the supervisor reads is what they sign.
+"""What the supervisor reads is what they sign.
 
 Plain orders show each condition in words and symbols, each terminal by its own title and the
 vehicle profile checked; TEXT flags a text that says another number than its condition;

@@ -1,4 +1,4 @@
-"""A validation's solver time is bounded (issue 15): what the solver cannot decide within the
+"""A validation's solver time is bounded: what the solver cannot decide within the
 request's budget is a warning with the DESIGN.md codes, never an error nor a hang."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The one JSON policy (issue 15): non-finite numbers, duplicate keys and deep nesting are
+"""The one JSON policy: non-finite numbers, duplicate keys and deep nesting are
 refused with their JSON path, by the library and by the command line (exit 2)."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""One statement of the submit rules (issue 17, item 3): store.approvals.submit_refusal is what
+"""One statement of the submit rules: store.approvals.submit_refusal is what
 the review page shows and what submitting raises (with the codes and submission named)."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Teams (issue 37 part 2): TEAM on the product of the members' MEAs, joint counts against
+"""Teams: TEAM on the product of the members' MEAs, joint counts against
 brute-force interleavings, the exemplar as a two-vehicle team, and single-vehicle orders left
 byte for byte as they were."""
 

@@ -1,4 +1,4 @@
-"""Turtle readers and writers stay linear in their input (issues 15 and 22)."""
+"""Turtle readers and writers stay linear in their input."""
 
 from __future__ import annotations
 

@@ -156,11 +156,11 @@ def verify_bundle(
     report.head = latest
     keys = _keys_from_log(events, report)
     _check_bundle_keys(bundle.get("keys", []), keys, report)
-    # --- issue 14 item 5 (branch decisions): log-wide rules, approvals/log_rules.py ---
+    # --- log-wide rules, approvals/log_rules.py ---
     enveloped = [a.get("log_index") for a in bundle.get("approvals", []) if isinstance(a, dict)]
     report.problems += check_log(events, enveloped=[i for i in enveloped if isinstance(i, int)],
                                  scope=bundle.get("scope"))
-    # --- end issue 14 item 5 ---
+    # --- end of the log-wide rules ---
     orders = bundle.get("orders", {})
     for approval in bundle.get("approvals", []):
         report.approvals += 1

@@ -1,4 +1,4 @@
-"""The printable approval document of one version (issue 16 item 8).
+"""The printable approval document of one version.
 
 One function lays it out as titled sections of plain text; the web page prints them (print CSS)
 and `text()` joins them for a file. The plain-language orders section is, byte for byte, what

@@ -1,4 +1,4 @@
-"""Separation of duties by person, as a log-wide rule (issue 14 finding 6), pure: events in,
+"""Separation of duties by person, as a log-wide rule, pure: events in,
 problems out.
 
 The app refuses a decision by anyone who created the mission, edited its draft or cut a version

@@ -1,4 +1,4 @@
-"""Log-wide rules every verifier checks (issue 14 item 5), pure: events in, problems out.
+"""Log-wide rules every verifier checks, pure: events in, problems out.
 
 The log is the source of truth. Whatever the tables say, the sequence of logged events must
 describe a legal history: one decision per submission, one active submission per version, a

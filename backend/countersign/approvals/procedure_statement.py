@@ -1,4 +1,4 @@
-"""A supervisor's signed decision on a procedure version (issue 37): an in-toto Statement v1
+"""A supervisor's signed decision on a procedure version: an in-toto Statement v1
 whose subject is the procedure's digest, in the same DSSE envelope as an approval.
 
 Its predicate type differs from a mission approval's (approvals/statement.py), so neither

@@ -1,4 +1,4 @@
-"""Who may decide, from the log (issue 34 item 3), pure: events in, roles and problems out.
+"""Who may decide, from the log, pure: events in, roles and problems out.
 
 A database writer can `UPDATE users SET role = 'supervisor'`; the users table is not evidence.
 Every account's creation (`user.created`, with its role), role change and disabling

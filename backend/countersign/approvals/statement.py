@@ -37,17 +37,17 @@ def build_statement(
         "rehearsal_digest": rehearsal_digest, "vehicle": vehicle, "author": author,
         "supervisor": supervisor, "key_id": key_id, "time": time, "nonce": nonce,
     }
-    # The outcome probabilities the supervisor saw (issue 20). Only present when the orders
+    # The outcome probabilities the supervisor saw. Only present when the orders
     # declare some, so the statements of orders without them stay byte for byte as before and
     # approvals prepared before this field existed still match when they are decided.
     if probabilities is not None:
         predicate["probabilities"] = probabilities
-    # The digest of every vehicle file of the approved package (issue 19), by its name in the
+    # The digest of every vehicle file of the approved package, by its name in the
     # package: only on approvals of orders that export, so other statements stay as before
     # and a verifier that cannot rebuild the exports can still check them.
     if exports is not None:
         predicate["exports"] = exports
-    # The rehearsal campaigns attached to the submission (issue 20), by record digest, sorted:
+    # The rehearsal campaigns attached to the submission, by record digest, sorted:
     # only when some are, for the same reason as above.
     if campaigns:
         predicate["campaigns"] = sorted(campaigns)

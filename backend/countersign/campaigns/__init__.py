@@ -1,4 +1,4 @@
-"""Rehearsal campaigns (issue 20, item 3): many seeded headless simulations of one version over
+"""Rehearsal campaigns: many seeded headless simulations of one version over
 a sweep of faults, injection goals and seeds, and the statistics of their endings.
 
 Pure: `spec` says which simulation each index is, `simulate` runs one, `stats` summarises the

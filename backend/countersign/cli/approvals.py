@@ -7,7 +7,7 @@
   `sign --revoke APPROVAL_ID --reason TEXT` signs a revocation. The API token comes from
   COUNTERSIGN_TOKEN or --token-file; the private key never leaves this machine. The signer's
   password is asked for (or read from --password-file) and sent with the envelope: the server
-  refuses a decision without it (issue 14: a key alone is not the supervisor).
+  refuses a decision without it (a key alone is not the supervisor).
 - `audit verify BUNDLE [--log-key B64] [--checkpoint FILE]... [--state FILE]` checks an
   exported bundle offline: exit 0 when everything verifies, 1 with a report of what failed, 2
   when unreadable. Every log entry must carry the log signer's receipt; with --state the log

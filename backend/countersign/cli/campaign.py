@@ -1,4 +1,4 @@
-"""`countersign campaign run|status|cancel|worker`: rehearsal campaigns (issue 20).
+"""`countersign campaign run|status|cancel|worker`: rehearsal campaigns.
 
 On the embedded SQLite database `run` simulates in this process (--workers processes) and
 shows a progress bar; on PostgreSQL (COUNTERSIGN_DATABASE_URL) it queues procrastinate jobs
@@ -27,7 +27,7 @@ MAX_SIMULATIONS = 10_000
 EXIT_NOT_FINISHED = 1
 
 DESCRIPTION = f"""\
-Rehearsal campaigns (issue 20): N seeded headless simulations of one set of orders over a
+Rehearsal campaigns: N seeded headless simulations of one set of orders over a
 sweep of faults and the goals at which they are injected. The results estimate each
 terminal's probability and that of any violation (95% Wilson intervals), each goal's outcome
 probabilities (offered for the orders' `p`), which paths were covered (numbered as

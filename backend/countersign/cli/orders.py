@@ -183,7 +183,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     echo = not sys.stdin.isatty()
     sys.stdout.write("?- execute_mission.\n")
     node = graph.start
-    inside: list[str] = []  # refined goals begun and not ended (issue 37)
+    inside: list[str] = []  # refined goals begun and not ended
     while not graph.is_terminal(node):
         goal = graph.goals[node]
         if graph.nesting is None:

@@ -30,7 +30,7 @@ EXIT_OK, EXIT_CANNOT_RUN, EXIT_UNREADABLE = 0, 1, 2
 END = {"complete": "Mission Complete!", "abort": "Mission Abort!"}
 
 DESCRIPTION = """\
-Rehearse orders in a simulated world (issue 8): the vehicle flies every goal in a seeded
+Rehearse orders in a simulated world: the vehicle flies every goal in a seeded
 world (areas, shipping lanes, contacts, seafloor, currents); outcomes come from the
 simulation (constraint monitors, contingency rules, energy), from one path of the
 exhaustive traversal (replay), from every path (tour), or from you (manual, in the browser).

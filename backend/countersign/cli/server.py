@@ -67,7 +67,7 @@ def _seed_demo(database: Database) -> None:
         assert admin is not None
         examples = {name: read_bytes(example_bytes(name), name).orders for name in example_names()}
         # The examples' vehicles into the registry first, so that a mission created in the
-        # browser can pick one and is checked against its profile (issue 32 item 7).
+        # browser can pick one and is checked against its profile.
         seeded = seed_registry(
             db, [v for orders in examples.values() for v in orders.vehicles or []], admin)
         for name, orders in examples.items():
@@ -199,7 +199,7 @@ def add_commands(commands: Any) -> None:
         "one passes 768 MB of resident memory",
     )
     # One listening socket shared by the --workers processes, as gunicorn does without
-    # reuse_port: hidden, bench_api's baseline (issue 17, item 9).
+    # reuse_port: hidden, bench_api's baseline.
     serve_cmd.add_argument("--shared-socket", action="store_true", help=argparse.SUPPRESS)
     # A validation pool in each server process, as before the host's one pool: hidden,
     # bench_fair's baseline.

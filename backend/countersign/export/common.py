@@ -52,7 +52,7 @@ def require_sound(orders: Orders, notes: list[ExportNote]) -> None:
 
 
 def flat_with_nesting(orders: Orders, notes: list[ExportNote]) -> tuple[Orders, Nesting | None]:
-    """A vehicle runs a refined mission as its flat automaton (issue 37): each goal inside a
+    """A vehicle runs a refined mission as its flat automaton: each goal inside a
     refinement becomes a maneuver or mode of its own, named by its flat id (`G1/G1.2`; `#k`
     for the k-th goal commenced inside a time-out's unrolling), so the plan is exactly the
     automaton whose paths were counted and signed, and the hierarchy (the refined goals each

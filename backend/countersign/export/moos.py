@@ -1,7 +1,7 @@
 """MOOS-IvP helm behaviours (.bhv) and a uSimMarine community (.moos) written from orders.
 
 One hierarchical helm mode per goal (`ACTIVE:<goal>`), selected by MISSION_GOAL. A refined goal
-(issue 37) is a mode of its own holding the modes of the goals inside it: the helm's mode reads
+is a mode of its own holding the modes of the goals inside it: the helm's mode reads
 `ACTIVE:G1:G1_1_k1` while goal G1/G1.1#1 runs; the parent mode is selected whenever
 MISSION_GOAL names a goal inside it, so the transitions stay those of the flat automaton. A goal's
 maneuver posts its succeed successor as an end flag; Timer behaviours relay an outcome posted

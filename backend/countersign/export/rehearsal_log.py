@@ -1,5 +1,5 @@
 """A rehearsal record (`countersign.rehearsal/1`) as execution logs: a rehearsal is an execution
-in simulation, so it goes through the same checker as a vehicle's log (issue 19).
+in simulation, so it goes through the same checker as a vehicle's log.
 
 One NDJSON log per run of the record (a tour has several). From the record's events when it
 kept them all: each goal's start and outcome times (simulated seconds), its final depth as a

@@ -1,4 +1,4 @@
-"""Campaign jobs (issue 20): one task function, run by procrastinate workers on PostgreSQL
+"""Campaign jobs: one task function, run by procrastinate workers on PostgreSQL
 (`pg.py`, `countersign campaign worker`) or by a small in-process runner on SQLite
 (`inprocess.py`). Both call `tasks.run_chunk`, which is idempotent per (campaign, index)."""
 

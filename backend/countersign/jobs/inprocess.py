@@ -4,7 +4,7 @@ for simulations in parallel). Its queue is the database itself: `resume()` resch
 unfinished campaign's missing chunks, so a process killed mid-run loses nothing that was
 stored and counts nothing twice when started again.
 
-Jobs wait in one queue per campaign owner, taken in turn (issue 34: one FIFO let one person's
+Jobs wait in one queue per campaign owner, taken in turn (one FIFO let one person's
 two 10,000-simulation campaigns keep everyone else's small one queued for minutes). While
 others wait, one owner runs at most `workers - 1` jobs at once (with two workers or more), as
 validation's per-user queues do; alone, an owner uses every worker."""

@@ -91,7 +91,7 @@ class ProcrastinateRunner:
     def enqueue(self, campaign_id: str, chunks: list[tuple[int, int]]) -> None:
         # Workers take the highest priority first: each job's is minus the jobs its owner has
         # ahead of it, so owners' queues interleave and another person's small campaign is
-        # not left behind one person's 10,000 simulations (issue 34).
+        # not left behind one person's 10,000 simulations.
         with self.database.session(write=False) as db:
             ahead = store.owner_backlog(db, campaign_id)
         task = self.app.tasks[TASK]

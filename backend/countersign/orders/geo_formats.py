@@ -64,7 +64,7 @@ def _closed_rings(polygons: Sequence[Sequence[tuple[float, float]]]
                   ) -> list[list[tuple[float, float]]]:
     """Each polygon as a closed counterclockwise (longitude, latitude) ring. The orientation
     of all of them is one vectorised shapely call: one LinearRing object per chart made a
-    10,000-chart export take seconds (issue 34)."""
+    10,000-chart export take seconds."""
     rings = [[(lon, lat) for lat, lon in polygon] for polygon in polygons]
     testable = [n for n, ring in enumerate(rings) if len(ring) >= 3]
     if testable:
@@ -297,7 +297,7 @@ def charts_from_kml(text: str | bytes) -> list[Chart]:
 
 def _check_kml_size(tree: Any) -> None:
     """GeoJSON's bounds (MAX_PARTS polygons, MAX_VERTICES vertices), counted on the plain XML
-    tree before fastkml builds an object per placemark (issue 34: 10,000 placemarks became
+    tree before fastkml builds an object per placemark (10,000 placemarks became
     10,000 charts copied into every nearby draft)."""
     polygons = vertices = 0
     for element in tree.iter():

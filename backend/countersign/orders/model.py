@@ -68,7 +68,7 @@ Envelope = Annotated[dict[str, Interval], AfterValidator(_check_envelope)]
 def _digestible(value: Any) -> Any:
     # Values no field types (params, unknown fields) reach the digest's RFC 8785 form as they
     # are, and it refuses NaN, infinities and integers a double cannot hold: a Turtle
-    # "INF"^^xsd:double or 10**30 there was a 500 (issue 15). Typed fields convert or refuse.
+    # "INF"^^xsd:double or 10**30 there was a 500. Typed fields convert or refuse.
     try:
         strict_json.check(value, exact_integers=True)
     except strict_json.JsonPolicyError as exc:
@@ -471,7 +471,7 @@ class Orders(_Strict):
     constraints: list[Constraint] = Field(default_factory=list, max_length=MAX_LIST_LENGTH)
     norms: list[Norm] = Field(default_factory=list, max_length=MAX_LIST_LENGTH)
     areas: list[Area] = Field(default_factory=list, max_length=MAX_LIST_LENGTH)
-    # Registry charts in use (issue 21); absent from orders that predate charts.
+    # Registry charts in use; absent from orders that predate charts.
     charts: list[Chart] = Field(default_factory=list, max_length=MAX_LIST_LENGTH)
     quantities: dict[str, Quantity] = Field(default_factory=dict)
     vehicles: list[Vehicle] = Field(default_factory=list, max_length=1000)

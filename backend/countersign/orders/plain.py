@@ -232,7 +232,7 @@ def plain_orders(orders: Orders) -> str:
         blocks.append("The orders include no goal.")
     for number, goal in enumerate(orders.goals, start=1):
         blocks.append(plain_goal_paragraph(goal, number, names))
-        # A refined goal is followed by how it is carried out (issue 37).
+        # A refined goal is followed by how it is carried out.
         blocks.extend(refinement_paragraphs(goal, str(number), names))
     if orders.constraints:
         blocks.append("Constraints")

@@ -1,4 +1,4 @@
-"""Plain-language refinements (issue 37): "Goal 1 is carried out as: 1.1 ..., 1.2 ...".
+"""Plain-language refinements: "Goal 1 is carried out as: 1.1 ..., 1.2 ...".
 
 A refined goal's sub-goals are numbered under it (1.1, 1.2; nested 1.2.1) by their position in
 the refinement; each reads like a goal of the orders, and a terminal of the refinement reads as

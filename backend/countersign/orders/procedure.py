@@ -1,4 +1,4 @@
-"""Procedures (issue 37): a refinement saved by name and integer version, used by reference.
+"""Procedures: a refinement saved by name and integer version, used by reference.
 
 A procedure document reads
 

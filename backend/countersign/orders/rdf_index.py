@@ -1,4 +1,4 @@
-"""Turtle read into an in-memory index of triples (issue 22).
+"""Turtle read into an in-memory index of triples.
 
 rdflib's own Turtle parser and memory store cost about 30 s for the 290,000 statements of a
 10,000-goal mission. Oxigraph's parser (pyoxigraph, Rust) reads them in about a second; the

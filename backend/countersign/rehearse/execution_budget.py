@@ -1,4 +1,4 @@
-"""Time and energy of an execution against the vehicle's budget (issue 19).
+"""Time and energy of an execution against the vehicle's budget.
 
 Each budget quantity is measured from the best evidence the log holds, in this order:
 1. readings named after the quantity (`energy_wh`, `duration_s`): the mission's cumulative use

@@ -1,5 +1,5 @@
-"""Which simulated faults can change an outcome of these orders, said before a run (issue 32
-item 6). A fault changes what the vehicle measures and observes (sim_sensing.py: `values` and
+"""Which simulated faults can change an outcome of these orders, said before a run.
+A fault changes what the vehicle measures and observes (sim_sensing.py: `values` and
 `observations`); it can turn a goal into another outcome only through a constraint that reads a
 changed quantity (the monitor ends the goal with violate), a contingency rule that reads a
 changed observation (a safety action), or a reaction built into the vehicle (the energy check).

@@ -1,4 +1,4 @@
-"""Where the rehearsal scene's text labels go so that they do not pile up (issue 32 item 8).
+"""Where the rehearsal scene's text labels go so that they do not pile up.
 
 viser draws a label as screen-facing text of a fixed size at a 3D point; labels at nearly the
 same point (three outcome legs between the same two goals, an outcome marker beside an area's

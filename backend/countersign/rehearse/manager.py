@@ -1,4 +1,4 @@
-"""Rehearsal lifecycle (issue 8, item 4): one simulation thread and one viser server per
+"""Rehearsal lifecycle: one simulation thread and one viser server per
 rehearsal, created and stopped by the app.
 
     manager = RehearsalManager(max_active=16, idle_timeout_s=900)
@@ -539,7 +539,7 @@ class RehearsalManager:
         try:
             rehearsal: Rehearsal
             if orders.team is not None:
-                # A team: every member's simulation in one clock and one scene (issue 37).
+                # A team: every member's simulation in one clock and one scene.
                 from .team_rehearsal import TeamRehearsal
 
                 rehearsal = TeamRehearsal(orders, owner=owner, options=options, charts=charts,

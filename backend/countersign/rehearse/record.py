@@ -1,4 +1,4 @@
-"""The rehearsal record (issue 8, item 5): what happened, in a canonical JSON form that a
+"""The rehearsal record: what happened, in a canonical JSON form that a
 submission attaches and an approval cites by digest, plus the standalone HTML replay.
 
 The JSON holds only what the rehearsal determined (orders digest, options that change the
@@ -27,7 +27,7 @@ MAX_NAMED: Final = 100
 def representable(data: dict[str, Any]) -> dict[str, Any]:
     """`data` with every number RFC 8785 cannot hold (an infinite or NaN float, an integer
     beyond 2^53) replaced by null and its JSON path listed under `unrepresentable`: stopping a
-    rehearsal whose clock or energy overflowed (issue 34: speed 1e308) stores a record that says
+    rehearsal whose clock or energy overflowed (speed 1e308) stores a record that says
     so, instead of failing to compute its digest and losing it. Records with no such number are
     unchanged, and so are their digests."""
     named: list[str] = []

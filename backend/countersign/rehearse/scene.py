@@ -1,4 +1,4 @@
-"""The rehearsal's viser scene and GUI (issue 8, item 4).
+"""The rehearsal's viser scene and GUI.
 
 The scene is drawn in scene units of 100 m with depth exaggerated five times, so a 10 km
 mission and a 50 m dive are both visible from one camera. Everything the supervisor must see
@@ -123,7 +123,7 @@ class Scene:
         )
         self.contacts: dict[str, Any] = {}
         self._draw_contacts()
-        # In the app the page holds the one set of controls and the status (issue 18): viser's
+        # In the app the page holds the one set of controls and the status: viser's
         # panel stays empty and minimised so that the scene is unobstructed. The CLI's viewer
         # has no page around it and keeps its controls in the panel.
         self.controls = controls

@@ -16,7 +16,7 @@ updates navigation error, moves the surface contacts, then asks in order:
 Which of these may end a goal depends on the outcome source (see `sources.py`).
 
 Energy and time are charged from the verifier's cost model (verify/costs.py), so that the
-verifier's figure for a path bounds what a nominal rehearsal of that path uses (issue 19):
+verifier's figure for a path bounds what a nominal rehearsal of that path uses:
 - the mission starts where its start goal starts (the verifier charges no launch transit);
 - a leg is charged as `leg_cost` charges it: geodesic metres at the vehicle's power and speed;
 - a goal's own work (its sweep, run or holds) is charged exactly its `goal_cost` (given, or
@@ -147,7 +147,7 @@ class Simulation:
         self.active: ActiveGoal | None = None
         self.vehicle = Vehicle(*self._launch_point())
         self.trail: list[tuple[float, float, float]] = []
-        # The legs flown between goals: from, outcome, to and geodesic metres (issue 21).
+        # The legs flown between goals: from, outcome, to and geodesic metres.
         self.flown_legs: list[dict[str, Any]] = []
         self.leg_rate_wh_per_m = self.power_w / self.speed / 3600.0  # verify/costs' leg cost
         # Per-metre rates of the goals run so far: the price of the way home (seed 001 plans

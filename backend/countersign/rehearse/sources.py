@@ -1,4 +1,4 @@
-"""Where a goal's outcome comes from (issue 8, outcome sources).
+"""Where a goal's outcome comes from (outcome sources).
 
 - `manual`: a person answers each goal (the Figure 6 dialogue): the goal is animated to the
   end of its plan, then the rehearsal waits for succeed, fail or constraint.

@@ -1,4 +1,4 @@
-"""A team's rehearsal (issue 37): every member's `Simulation` in one world clock.
+"""A team's rehearsal: every member's `Simulation` in one world clock.
 
 Orders with a `team` hold one MEA per vehicle; a goal naming `meet: R` in two or more members'
 orders is one meeting (DESIGN.md "Refinement and teams"). Each member runs its own

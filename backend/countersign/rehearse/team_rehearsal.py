@@ -1,4 +1,4 @@
-"""A live team rehearsal (issue 37): `Rehearsal`'s lifecycle (thread, viser server, pace,
+"""A live team rehearsal: `Rehearsal`'s lifecycle (thread, viser server, pace,
 stop and record) around a `TeamSimulation` and its one `TeamScene`.
 
 Outcomes come from each member's simulation (or one path of its own orders) and meetings are

@@ -1,4 +1,4 @@
-"""One viser scene for a team's rehearsal (issue 37): every vehicle, its path, the meeting
+"""One viser scene for a team's rehearsal: every vehicle, its path, the meeting
 points and what happened at them.
 
 Each member's simulation flies in its own mission frame (its orders' areas); the scene

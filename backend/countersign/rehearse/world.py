@@ -2,7 +2,7 @@
 contacts on straight tracks and the recovery point. Everything random is drawn from the
 rehearsal's seed, so the same orders and seed give the same world.
 
-The geography is the verifier's (verify/legs.py, issue 21): the same azimuthal equidistant
+The geography is the verifier's (verify/legs.py): the same azimuthal equidistant
 frame, the same place for each goal (sweep, station) and the same leg for each outcome edge,
 so the rehearsal flies, draws and prices the route that was checked and signed.
 """

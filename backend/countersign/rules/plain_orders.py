@@ -1,4 +1,4 @@
-"""Plain-language orders with their contingency rules, for the supervisor (issue 8 item 2).
+"""Plain-language orders with their contingency rules, for the supervisor.
 
 `orders` must not import `rules` (dependencies point inward), so the rules join the orders'
 plain writer here; the CLI `export --format plain`, the export route and the review route all

@@ -187,7 +187,7 @@ def list_missions(db: DbSession, *, reports: ReportService, q: str | None,
                   status: str | None, vehicle: str | None, limit: int,
                   cursor: str | None) -> MissionList:
     # One query: each mission's row without its orders or layout, its draft report's summary
-    # columns (never the report itself) and its latest version number (issue 36).
+    # columns (never the report itself) and its latest version number.
     latest = (select(func.max(MissionVersion.number))
               .where(MissionVersion.mission_id == Mission.id).scalar_subquery())
     query = (

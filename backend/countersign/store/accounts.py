@@ -156,7 +156,7 @@ def close_session(db: DbSession, cookie: str) -> None:
 
 
 SCOPES = ("read", "write", "decide")
-# A token's default life; the longest one may ask for (issue 15: tokens never expired).
+# A token's default life; the longest one may ask for (tokens never expired).
 TOKEN_LIFETIME = timedelta(days=90)
 MAX_TOKEN_LIFETIME = timedelta(days=366)
 

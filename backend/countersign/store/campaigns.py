@@ -1,4 +1,4 @@
-"""Stored rehearsal campaigns (issue 20): the campaign, one result row per simulation index,
+"""Stored rehearsal campaigns: the campaign, one result row per simulation index,
 progress, cancel, the sealed record and its attachment to a submission.
 
 Results are inserted with ON CONFLICT DO NOTHING against the unique (campaign, index): a job

@@ -25,7 +25,7 @@ def _chart(row: ChartRecord) -> Chart | None:
 def all_charts(db: Session) -> list[Chart]:
     stored = list(db.scalars(select(ChartRecord.chart).order_by(ChartRecord.id)))
     try:
-        # One pydantic call for the registry (issue 34: 10,000 charts one by one took seconds).
+        # One pydantic call for the registry (10,000 charts one by one took seconds).
         return _CHARTS.validate_python(stored)
     except ValidationError:
         return [c for c in map(_chart_of, stored) if c is not None]

@@ -1,4 +1,4 @@
-"""What keeps a decision honest beyond its signature (issue 14, items 5-7).
+"""What keeps a decision honest beyond its signature.
 
 - Row locks: a decision locks its submission row and a submission locks its version row
   (SELECT ... FOR UPDATE on PostgreSQL, where READ COMMITTED let two requests both see

@@ -1,4 +1,4 @@
-"""Editing bursts (issue 32): the editor saves every edit at once, so that nothing is lost, and
+"""Editing bursts: the editor saves every edit at once, so that nothing is lost, and
 each save bumps the draft's revision (its ETag, for compare-and-set). The event log, though,
 records one `draft.updated` entry per burst of saves by one author, not one per keystroke pause
 (108 entries in 20 minutes flooded the activity log): the burst is kept on the mission row and

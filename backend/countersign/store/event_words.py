@@ -1,4 +1,4 @@
-"""Each event's target and change in words, for the activity log (issue 16 item 7).
+"""Each event's target and change in words, for the activity log.
 
 Both come only from what the log entry records (kind, mission, detail), so the target stored
 beside an event row (`events.target`, for filtering) can be recomputed from its log entry and a
@@ -106,7 +106,7 @@ def _draft_burst(detail: Mapping[str, Any]) -> str:
     """One editing burst (store/draft_bursts.py): its revisions and what changed."""
     revision, first = detail.get("revision"), detail.get("from_revision")
     saves = detail.get("saves")
-    if first is None or saves is None:  # logged per save before issue 32
+    if first is None or saves is None:  # logged per save before saves were coalesced
         return f"draft saved as revision {revision}"
     changed = [str(c) for c in detail.get("changed") or []]
     more = int(detail.get("more") or 0)

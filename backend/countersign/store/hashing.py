@@ -3,7 +3,7 @@
 An Argon2 hash is tens of milliseconds of CPU and 64 MiB of memory, and argon2-cffi's default
 (parallelism 4) runs each one in four threads of its own. Run in the web server's worker
 threads, a flood of anonymous logins took every core from the event loop: 96 of them pushed
-/api/health to 17.8 s (issue 15), and still 6.7 s with hashes one at a time, since one hash's
+/api/health to 17.8 s, and still 6.7 s with hashes one at a time, since one hash's
 four threads fill both cores of a 2-core machine.
 
 So a running server (`use_processes`, from the app's lifespan) hashes in processes of its own

@@ -1,4 +1,4 @@
-"""Rows checked against the log (issue 14 item 5): the log is the source of truth, so what the
+"""Rows checked against the log: the log is the source of truth, so what the
 API shows of an approval or a submission is compared with the log entries that record it, and
 every disagreement is returned as a sentence (the responses' `integrity` lists; the pages show
 them as warnings) instead of being shown as fact."""

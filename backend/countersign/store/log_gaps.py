@@ -1,7 +1,7 @@
 """Log entries missing from the database: rows deleted by a writer that is not the app (the
 append-only triggers bypassed). The log's indexes run 0..n-1 with no gap, and no signed
 checkpoint covers more entries than the table holds; an audit bundle of a log with holes is
-named as a conflict (409) instead of failing inside the Merkle proofs (issue 15)."""
+named as a conflict (409) instead of failing inside the Merkle proofs."""
 
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""The decision guard's roles come from the log, not the users table (issue 34 item 3).
+"""The decision guard's roles come from the log, not the users table.
 
 A database writer can `UPDATE users SET role = 'supervisor'`; the users table is then no
 evidence. The account entries of the log (creation with a role, role changes, disabling,

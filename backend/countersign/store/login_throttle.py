@@ -1,12 +1,12 @@
 """The one throttle for every password check: sign-in, decisions, revocations, signing keys,
-password changes, role changes and grants (issues 15 and 34).
+password changes, role changes and grants.
 
 `check_password` records the attempt and commits it *before* the hash is checked, then counts
 the attempts in the window: of N parallel tries, the one committed k-th sees at least k, so no
-more than a limit are ever evaluated, whatever the route (issue 34 found the decision route
+more than a limit are ever evaluated, whatever the route (a review found the decision route
 reading the back-off first and recording only failures: 3.5 times sign-in's guessing rate).
 A try refused here checked no hash and is forgotten at once, so refusals never count as the
-account's failures (issue 34: refusals of the address limit did, and one address flooding
+account's failures (refusals of the address limit did, and one address flooding
 wrong sign-ins kept the real user out everywhere).
 
 Limits, all read from the database so that they hold across server processes and replicas:

@@ -1,4 +1,4 @@
-"""A mission's status as the log tells it (issue 34 item 9).
+"""A mission's status as the log tells it.
 
 `missions.status` is a copy the app keeps for filtering; a database writer can set it, or a
 submission's state, to 'approved'. What the mission list and page show is read from the log

@@ -1,4 +1,4 @@
-"""Password strength (issue 15): length alone let `aaaaaaaaaa`, `password12` or the username
+"""Password strength: length alone let `aaaaaaaaaa`, `password12` or the username
 itself through. zxcvbn (Dropbox's estimator, Python port) scores guessability against its
 bundled lists of common passwords, names and words, keyboard patterns, repeats and dates;
 the username and display name are given to it as words an attacker knows."""

@@ -1,4 +1,4 @@
-"""The procedure library's tables (issue 37), on the one metadata of store/tables.py.
+"""The procedure library's tables, on the one metadata of store/tables.py.
 
 Both tables are only ever inserted into. A row's digest, its document and its decision are
 checked against the log entry that recorded it (store/procedures.py): a database writer who is

@@ -1,4 +1,4 @@
-"""The procedure library (issue 37): saved procedure versions and their signed decisions.
+"""The procedure library: saved procedure versions and their signed decisions.
 
 Operators save a procedure version once (a change is the next version); supervisors sign a
 decision on a version with their registered key, after entering their password again, as they

@@ -1,4 +1,4 @@
-"""Fresh password re-entry for signed decisions and revocations (issue 14, item 2).
+"""Fresh password re-entry for signed decisions and revocations.
 
 A script running in the supervisor's browser can use their session and their non-extractable
 signing key, but it does not know their password. So every decision and revocation carries the

@@ -1,5 +1,5 @@
 """A mission's standing: its latest approved version (an approval not revoked) and its latest
-decision, kept apart so that a rejected v2 does not hide that v1 stands approved (issue 16)."""
+decision, kept apart so that a rejected v2 does not hide that v1 stands approved."""
 
 from __future__ import annotations
 

@@ -140,7 +140,7 @@ class VehicleVersion(Base):
 
 
 class ChartRecord(Base):
-    """A shared chart of the registry (issue 21); the box makes the region query cheap."""
+    """A shared chart of the registry; the box makes the region query cheap."""
 
     __tablename__ = "charts"
     id: Mapped[str] = mapped_column(String(100), primary_key=True)
@@ -199,7 +199,7 @@ class ValidationReport(Base):
     checker_version: Mapped[str] = mapped_column(String(71), primary_key=True)
     report: Mapped[dict[str, Any]]
     # What the mission list shows, written with the report so that a list never decodes
-    # reports (issue 36). Display only: submitting, reviewing and signing read `report`, so a
+    # reports. Display only: submitting, reviewing and signing read `report`, so a
     # database writer who changes a count changes a number on a list and nothing else.
     ok: Mapped[bool | None] = mapped_column(Boolean, default=None)
     errors: Mapped[int | None] = mapped_column(Integer, default=None)
@@ -247,7 +247,7 @@ class RehearsalRecord(Base):
 
 
 class Campaign(Base):
-    """A rehearsal campaign (issue 20): N seeded simulations of one set of orders over a sweep.
+    """A rehearsal campaign: N seeded simulations of one set of orders over a sweep.
     `state` moves queued -> running -> finished | cancelled; `record` and `digest` are set once,
     when the last simulation is stored."""
 
@@ -266,7 +266,7 @@ class Campaign(Base):
     ended_at: Mapped[datetime | None] = mapped_column(default=None)
     record: Mapped[dict[str, Any] | None] = mapped_column(default=None)
     # Not unique: the record is a pure function of the orders and the spec, so two people's
-    # campaigns of the same spec seal the same record under the same digest (issue 34).
+    # campaigns of the same spec seal the same record under the same digest.
     digest: Mapped[str | None] = mapped_column(String(71), default=None, index=True)
 
 
@@ -413,5 +413,5 @@ APPEND_ONLY_TABLES_0003 = ("rehearsal_records",)
 APPEND_ONLY_TABLES_0004 = ("log_receipts", "log_cosignatures")
 
 
-# The procedure library's tables live in their own module on this metadata (issue 37).
+# The procedure library's tables live in their own module on this metadata.
 from . import procedure_tables as procedure_tables  # noqa: E402

@@ -40,7 +40,7 @@ def with_registry(db: Session, orders: Orders) -> Orders:
 
     if orders.team is not None:
         return _team_with_registry(db, orders)
-    orders = with_library(db, orders)  # the bodies of the procedures named (issue 37)
+    orders = with_library(db, orders)  # the bodies of the procedures named
     profiled = with_registry_profile(orders, lambda vehicle_id: registry_profile(db, vehicle_id))
     return with_registry_charts(db, profiled)
 
@@ -115,7 +115,7 @@ def refresh_drafts(db: Session, vehicle_id: str, previous: dict[str, Any] | None
     """After a registry save: the drafts that name the vehicle and carry no profile of it, or
     the registry's previous profile as it was copied in, get the current one (a new revision,
     logged as a draft update by the admin), so their next report is checked against it instead
-    of keeping a VEHICLE error or an outdated profile until someone edits them (issue 32 item 7).
+    of keeping a VEHICLE error or an outdated profile until someone edits them.
     A draft whose operator changed the copied profile is left alone. Versions never change."""
     from ..orders.canonical import orders_to_json
     from ..orders.reader import OrdersReadError, orders_from_data

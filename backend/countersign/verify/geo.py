@@ -1,4 +1,4 @@
-"""GEO: legs, sweeps and loiters that enter a charted area a norm forbids (issue 21).
+"""GEO: legs, sweeps and loiters that enter a charted area a norm forbids.
 
 Only waypoints used to be checked; here every outcome edge's leg (behaviour 'transit'), every
 sweep and every loiter is tested against the mission's areas and the registry charts copied into

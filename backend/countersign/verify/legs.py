@@ -1,4 +1,4 @@
-"""Where each goal runs and the legs between goals, in a proper projection (issue 21).
+"""Where each goal runs and the legs between goals, in a proper projection.
 
 A goal with an area runs a sweep (search behaviours: a lawn-mower clipped to the area) or holds
 at a station inside it (a loiter circles it). The leg of an outcome edge goes from where the goal

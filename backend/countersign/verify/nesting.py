@@ -1,4 +1,4 @@
-"""Where a refined mission's flat goals sit in the hierarchy (issue 37), for traces and runs.
+"""Where a refined mission's flat goals sit in the hierarchy, for traces and runs.
 
 A refined goal is carried out by the goals of its refinement, so the flat mission graph holds
 only those; this records what the flat graph forgets: the refined goals each flat goal runs

@@ -1,4 +1,4 @@
-"""Report parts, filed by the digest of exactly what their checks read (issue 17 item 10).
+"""Report parts, filed by the digest of exactly what their checks read.
 
 `verify.validate` assembles a report from four parts:
 

@@ -1,4 +1,4 @@
-"""Procedure references (issue 37): copying bodies in from a library, and PROCEDURE findings.
+"""Procedure references: copying bodies in from a library, and PROCEDURE findings.
 
 `expand(orders, lookup)` gives every reference without a body the library's body (and the
 library's digest when the reference pins none); the result is checked like orders with the

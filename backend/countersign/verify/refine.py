@@ -1,4 +1,4 @@
-"""Progressive goal refinement (seed 000 III.D, issue 37): a goal carried out by sub-orders.
+"""Progressive goal refinement (seed 000 III.D): a goal carried out by sub-orders.
 
 Every check sees the refined mission through one flat form. A refined goal is replaced by the
 goals of its refinement, named `G1/G1.1` (nested: `G1/G1.2/G1.2.1`); an outcome edge into it

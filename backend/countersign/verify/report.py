@@ -3,7 +3,7 @@
 One pure function, so the command line, the API and the tests share a code path: the contingency
 rules' design checks (RULES) run here too, so there is no second entry point to choose.
 
-Incremental (issue 17 item 10, issue 22 item 4): the report is assembled from parts, each filed
+Incremental: the report is assembled from parts, each filed
 in a `PartsCache` under the digest of exactly what its checks read (`verify.parts`). An edit
 recomputes only the parts whose inputs it changed: a description edit none, a goal's cost the
 structural part, a goal's title the structural, MEO and logic parts (the logic part then
@@ -70,7 +70,7 @@ class Report:
     paths: PathCounts | None
     costs: dict[str, WorstPath] | None
     orders: Orders | None = field(default=None, repr=False, compare=False)
-    # Outcome probabilities (issue 20), only for orders that declare some.
+    # Outcome probabilities, only for orders that declare some.
     probabilities: Probabilities | None = None
     # Orders with a team: each member's figures and the joint counts (verify/team_report.py).
     team: TeamSummary | None = None
@@ -136,7 +136,7 @@ def validate(
     cache = logic_cache if logic_cache is not None else SHARED_LOGIC_CACHE
     store = parts if parts is not None else SHARED_PARTS
     keys = keys if keys is not None else part_keys(orders)
-    # Refined orders (issue 37) are checked in their flat form: paths, costs and properties
+    # Refined orders are checked in their flat form: paths, costs and properties
     # on the unrolled mission, the per-goal checks once per goal of the orders.
     flat = flatten(orders) if has_refinements(orders) else None
     checked = flat.orders if flat is not None else orders

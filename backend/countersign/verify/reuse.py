@@ -1,4 +1,4 @@
-"""Reports reused across edits that change no checked fact (issue 22).
+"""Reports reused across edits that change no checked fact.
 
 No check reads a description (the mission's or a goal's): the findings, path counts and costs
 of orders that differ only there are the same. A report is therefore filed under the digest of

@@ -1,4 +1,4 @@
-"""Viewer tickets stay out of the server's logs (issue 34 item 9).
+"""Viewer tickets stay out of the server's logs.
 
 A live rehearsal's viewer opens `/rehearsal/{id}/t/{ticket}/` and its websocket on that path
 (viewer_tickets.py): the ticket is a bearer secret for that socket while it lives. uvicorn's

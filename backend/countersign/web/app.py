@@ -41,9 +41,9 @@ from .routes import (
     standing,
     vehicles,
 )
-from .routes import campaigns as campaign_routes  # issue 20
-from .routes import executions as execution_routes  # issue 19
-from .routes import exports as export_routes  # issue 19
+from .routes import campaigns as campaign_routes
+from .routes import executions as execution_routes
+from .routes import exports as export_routes
 from .validation_pool import WARM_WAIT_S, ValidationPool
 
 
@@ -204,7 +204,7 @@ def create_app(settings: Settings, database: Database | None = None,
                 services.reports.use_pool(None)
                 pool.shutdown()
 
-    # One schema per model: recursive orders (a goal's refinement holds goals, issue 37)
+    # One schema per model: recursive orders (a goal's refinement holds goals)
     # would otherwise split into Orders-Input and Orders-Output, which the routes' own
     # `#/components/schemas/Orders` references do not name.
     app = FastAPI(title="Countersign", version=__version__, docs_url=None,

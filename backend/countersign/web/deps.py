@@ -66,7 +66,7 @@ class TransactionRoute(APIRoute):
     trips to the thread pool. A write transaction left open until get_db's exit would hold the
     write lock (SQLite's, or PostgreSQL's row and advisory locks) while its request waits for a
     free thread; when every thread is taken by writers waiting for that lock, nothing moves
-    until the waiters time out (the 30 s writes and 503 "busy" answers of issue 5). Committing
+    until the waiters time out (the 30 s writes and 503 "busy" answers of). Committing
     here makes each write transaction one uninterrupted stretch of work in one thread."""
 
     def __init__(self, path: str, endpoint: Callable[..., Any], **kwargs: Any) -> None:
@@ -75,7 +75,7 @@ class TransactionRoute(APIRoute):
             endpoint = _committing(endpoint)
         super().__init__(path, endpoint, **kwargs)
 
-    # Issue 15: JSON bodies are parsed under the one JSON policy (see strict_body).
+    # JSON bodies are parsed under the one JSON policy (see strict_body).
     def get_route_handler(self) -> Callable[[Request], Coroutine[Any, Any, Response]]:
         return strict_handler(super().get_route_handler())
 
@@ -153,7 +153,7 @@ def _principal(request: Request, db: DbSession) -> Principal:
             raise HTTPException(401, "the API token is unknown, revoked or expired, or its "
                                      "user is disabled")
         user, token = live
-        # Issue 15: scopes, and no minting of tokens by tokens (see token_scopes).
+        # scopes, and no minting of tokens by tokens (see token_scopes).
         refusal = token_refusal(request, token.scopes)
         if refusal is not None:
             raise HTTPException(403, refusal)

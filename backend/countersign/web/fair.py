@@ -1,4 +1,4 @@
-"""Fair, bounded work per user (issue 15): who a validation is queued for, and rate limits on
+"""Fair, bounded work per user: who a validation is queued for, and rate limits on
 the expensive routes.
 
 A route that validates, reads, imports or plans names its kind here; the dependency that

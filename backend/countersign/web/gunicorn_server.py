@@ -7,7 +7,7 @@ socket of its own after the fork, so the kernel spreads new connections over the
 the master holds none. The keep-alive timeout is uvicorn's (5 s), not gunicorn's 2 s.
 
 Two things are added (they replace the home-made supervisor, web/workers.py, that did the
-same with uvicorn processes of its own; bench_api measured gunicorn as good, issue 17):
+same with uvicorn processes of its own; bench_api measured gunicorn as good):
 
 * each worker leads a process group holding what it starts (the forkserver and its hashing and
   validation processes); when the master reaps a worker it SIGKILLs what is left of the group,

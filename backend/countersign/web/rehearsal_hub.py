@@ -59,7 +59,7 @@ class RehearsalHub:
                  evict_idle_s: float = EVICT_IDLE_S, viewer_controls: bool = False) -> None:
         self.per_user, self.total, self.idle_timeout_s = per_user, total, idle_timeout_s
         self.evict_idle_s = evict_idle_s
-        # The page holds the one set of controls (issue 18): viser's own GUI stays empty.
+        # The page holds the one set of controls: viser's own GUI stays empty.
         # Tests of the viewer gate turn it on, so there is something a stray socket could click.
         self.viewer_controls = viewer_controls
         self.viewers = ViewerRegistry()

@@ -1,4 +1,4 @@
-"""What an API token may do (issue 15): scopes, and operations that need a signed-in person.
+"""What an API token may do: scopes, and operations that need a signed-in person.
 
 A Bearer token could mint tokens (which then outlived its revocation). Now a token carries
 scopes: `read` (GET and HEAD), `write` (other changes) and `decide` (approval decisions and

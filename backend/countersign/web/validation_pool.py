@@ -3,7 +3,7 @@
 A validation is tens of milliseconds of pure Python (the MEO check, z3, the rules). Run in a
 thread of the web process it holds the interpreter lock in slices of 5 ms, and every read
 served meanwhile by that process waits for the lock again after each database call: under 50
-clients, reads queued behind the validations of other clients' edits (issue 5's read p99).
+clients, reads queued behind the validations of other clients' edits (the read p99).
 In a process of its own it competes for a core under the operating system's scheduler
 instead, at a lower priority (nice), so that short reads go first and a validation still
 finishes well inside its one-second target.
@@ -19,7 +19,7 @@ edit finds the results of the goals it left alone. A process is replaced only wh
 resident memory passes a limit (z3 and the caches keep what they allocate), not after a count
 of jobs, which emptied the caches of a busy server every few edits.
 
-Fair queuing (issue 15: one user's 76-second validation made every other user's edit wait 72 s):
+Fair queuing (one user's 76-second validation made every other user's edit wait 72 s):
 each submitter (the signed-in user) has a queue of their own, and a free process takes the head
 of the queue of the user who has the fewest validations running, the one served longest ago
 first. A user runs at most `processes - 1` validations at once, so with two or more processes

@@ -953,7 +953,7 @@ export interface paths {
          * Get Fault Reach
          * @description Whether each simulated fault can change an outcome of this version (a constraint or
          *     contingency rule reads what it changes, or the vehicle reacts to it): said before a campaign
-         *     runs, so a sweep of a fault nothing reacts to is not read as evidence (issue 32 item 6).
+         *     runs, so a sweep of a fault nothing reacts to is not read as evidence.
          */
         get: operations["faultReach"];
         put?: never;
@@ -4389,7 +4389,7 @@ export interface components {
             previous: components["schemas"]["PreviousApprovalOut"] | null;
             /**
              * Probabilities
-             * @description outcome probabilities (issue 20): terminals, violation, expected energy and time, min/max where probabilities are intervals or missing; absent when the orders declare none
+             * @description outcome probabilities: terminals, violation, expected energy and time, min/max where probabilities are intervals or missing; absent when the orders declare none
              */
             probabilities?: components["schemas"]["ProbabilitiesOut"] | null;
             /**

@@ -1,5 +1,5 @@
 /**
- * Plan view of a mission's geography (issues 21 and 32): areas, registry charts (styled by
+ * Plan view of a mission's geography: areas, registry charts (styled by
  * kind), each outcome edge's leg (letter and colour of its outcome), the GEO crossings in red,
  * the coastline (Natural Earth land bundled with the app, plus the server's land-mask coastline
  * from /api/plan-view) on the same chart as the editor's, with a legend. Map tiles beneath only

@@ -1,5 +1,5 @@
 /**
- * Vehicle files of one version (issue 19): IMC plan and MOOS-IvP helm files as plain download
+ * Vehicle files of one version: IMC plan and MOOS-IvP helm files as plain download
  * links (same origin, the session cookie goes along), and on request the notes naming what
  * each format cannot carry. Notes are server text: rendered as React text, never markup.
  */
@@ -35,7 +35,7 @@ export function VehicleExports({ mission, version }: { mission: string; version:
   const [notes, setNotes] = useState<VehicleExport[] | null>(null);
   const [error, setError] = useState<unknown>(null);
   // The package exists only for a version with a standing approval (the route answers 409
-  // otherwise): ask the export listing, which says so, before offering the link (issue 32 item 9).
+  // otherwise): ask the export listing, which says so, before offering the link.
   const standing = useLoad(
     async () =>
       unwrap(

@@ -1,5 +1,5 @@
 /**
- * Separation of duties by person as a log-wide rule (issue 14 finding 6), the browser's copy of
+ * Separation of duties by person as a log-wide rule, the browser's copy of
  * backend approvals/duty_rules.py (both run the vectors in __fixtures__/duties.json). Whoever
  * created the mission, edited its draft or cut a version up to the one decided, or submitted
  * it, may not decide it, whatever their role is now: the app refuses that, so such a decision

@@ -1,4 +1,4 @@
-/** Issue 14 findings 4-5 and issue 15's surviving mutant (a key revoked before it signed), in
+/** the surviving mutant (a key revoked before it signed), in
  * the browser's verifier: the log-wide rules name the entries, whatever the tables say. */
 import { describe, expect, it } from "vitest";
 
@@ -22,7 +22,7 @@ describe("log-wide rules", () => {
     expect(checkLog(events)[0]).toContain("while submission 1 is still active");
   });
 
-  it("names a key revoked before it signed (issue 15)", () => {
+  it("names a key revoked before it signed", () => {
     const events = [
       ev("key.registered", { key_id: "k" }),
       ev("submission.created", { submission: 1, version: 1 }),

@@ -1,5 +1,5 @@
 /**
- * Log-wide rules (issue 14 item 5), the browser's copy of backend approvals/log_rules.py:
+ * Log-wide rules, the browser's copy of backend approvals/log_rules.py:
  * whatever the tables say, the logged events must describe a legal history. One decision per
  * submission, one active submission per version, a revocation only of an approved submission,
  * no signature by a key after the log revoked it, and (when the caller knows which entries it

@@ -1,5 +1,5 @@
 /**
- * The log key the auditor trusts, pinned in this browser (issue 6: the auditor must not have to
+ * The log key the auditor trusts, pinned in this browser (the auditor must not have to
  * trust the server). Checkpoints are verified against the key the server sends; that proves
  * nothing if the server can send any key. So the auditor pins the log's public key once per
  * server origin, on first use after comparing it with the published key or by entering the

@@ -1,4 +1,4 @@
-/** Issue 14 finding 5 in the browser: deleting a revocation's approvals row left the approval
+/** In the browser: deleting a revocation's approvals row left the approval
  * looking valid; the browser now holds the server's records against the log. */
 import { describe, expect, it } from "vitest";
 

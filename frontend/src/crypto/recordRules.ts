@@ -1,5 +1,5 @@
 /**
- * The server's approval records against the log (issue 14 finding 5, in the browser): the log
+ * The server's approval records against the log (in the browser): the log
  * is the source of truth, so a revocation or decision the log holds must have its record. A
  * database writer who deletes a revocation's `approvals` row makes the approval look valid;
  * here the log's `approval.revoked` entry still names it. Pure: events and rows in, problems out.

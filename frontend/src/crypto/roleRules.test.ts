@@ -1,4 +1,4 @@
-/** Issue 34 item 3 in the browser's verifier: the shared vectors (also run by
+/** In the browser's verifier: the shared vectors (also run by
  * tests/api/test_role_rules.py against the Python rule), and checkLog carrying the rule. */
 import { describe, expect, it } from "vitest";
 

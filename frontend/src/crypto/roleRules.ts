@@ -1,5 +1,5 @@
 /**
- * Who may decide, from the log (issue 34 item 3), the browser's copy of backend
+ * Who may decide, from the log, the browser's copy of backend
  * approvals/role_rules.py (both run the vectors in __fixtures__/roles.json). The users table is
  * not evidence (a database writer can promote an operator there); the log holds every account's
  * creation with its role, role change, disabling and password reset. A decision counts only from

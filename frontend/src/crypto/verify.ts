@@ -234,7 +234,7 @@ export async function verifyApproval(record: ApprovalRecord, all: LogEntryRow[],
       : `log entries 0..${cp.size - 1} differ from what the checkpoint at size ${cp.size} signed (an entry in that range was changed)`,
   });
 
-  // --- issue 14 item 5 (branch decisions): log-wide rules, logRules.ts ---
+  // --- log-wide rules, logRules.ts ---
   const ruleProblems = checkLog(events);
   checks.push({
     id: "rules",
@@ -244,7 +244,7 @@ export async function verifyApproval(record: ApprovalRecord, all: LogEntryRow[],
       ? firstProblems(ruleProblems)
       : "one decision per submission, one active submission per version, no signature by a revoked key",
   });
-  // --- end issue 14 item 5 ---
+  // --- end of the log-wide rules ---
   if (rows) {
     // Finding 5: a deleted revocation (or decision) row, caught from the log.
     const recordProblems = checkRecords(events, record.mission, record.id, rows);

@@ -1,5 +1,5 @@
 /**
- * "Plan survey" (issue 9): builds a countersign.plan/1 problem from the saved draft's areas and
+ * "Plan survey": builds a countersign.plan/1 problem from the saved draft's areas and
  * vehicle (the server lays lawn-mower passes over each polygon), lets the operator set level,
  * battery, reserve, rewards and mandatory areas, solves it exactly on the server, shows the
  * chosen order and passes on the plan view, and creates a new draft from the plan's orders.

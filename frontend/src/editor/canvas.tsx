@@ -1,5 +1,5 @@
 /**
- * Canvas geometry of the graph editor (issue 18 item 1): the canvas fills the window under the
+ * Canvas geometry of the graph editor: the canvas fills the window under the
  * toolbar, the inspector beside it is resizable, the minimap sits outside the graph (so it never
  * covers a handle) and can be hidden, zoom is bounded and nodes switch to a level of detail
  * whose titles stay legible, and new nodes go to free space beside the selection.
@@ -17,13 +17,13 @@ export const FIT = { padding: 0.08, minZoom: MIN_ZOOM, maxZoom: 1.2 };
 const MIN_CANVAS_PX = 360;
 
 /**
- * The height of the canvas and the side column (issue 32): the window's height less what stands
+ * The height of the canvas and the side column: the window's height less what stands
  * above them in the editor (toolbar, notices), so that, with the editor at the top of the
  * window, canvas, inspector and findings all fit in it; never below MIN_CANVAS_PX. The width is
- * the page's card's (no pull out of it: issue 32 found the canvas at x = 0, outside the card).
+ * the page's card's (no pull out of it: the canvas was once found at x = 0, outside the card).
  * On open the editor scrolls to the top of the window once, if it does not fit where it is.
  */
-/** `shape`: anything above the canvas that changes its height (the scope bar, issue 37). */
+/** `shape`: anything above the canvas that changes its height (the scope bar). */
 export function useEditorFrame(editor: RefObject<HTMLElement | null>, main: RefObject<HTMLElement | null>, shape: unknown = null): number {
   const [height, setHeight] = useState(620);
   useLayoutEffect(() => {
@@ -173,7 +173,7 @@ function minimapColour(node: { type?: string; data: Record<string, unknown> }): 
 
 /** The minimap, outside the graph's area (at the top of the side column), shown or hidden. Its
  * mask and background are given: xyflow's defaults come from CSS variables, and without them
- * (issue 32) the minimap drew as a black box. */
+ * the minimap drew as a black box. */
 export function SideMinimap({ width, height = 110 }: { width: number; height?: number }) {
   const [shown, setShown] = useState(true);
   return (

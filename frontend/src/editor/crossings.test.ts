@@ -1,5 +1,5 @@
 /**
- * Issue 32 item 2: the auto layout (ELK layered) against the linear layered layout it replaced
+ * the auto layout (ELK layered) against the linear layered layout it replaced
  * for up to ELK_MAX_GOALS goals, counted in edge crossings and printed for the exemplar, a
  * generated 100-goal mission and, when COUNTERSIGN_LAYOUT_ORDERS names JSON orders files
  * (tests/bench/layout_crossings.py writes Pirates there), for those too.

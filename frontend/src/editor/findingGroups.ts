@@ -1,5 +1,5 @@
 /**
- * Findings as the editor lists them (issue 32): errors before warnings, grouped by code; the
+ * Findings as the editor lists them: errors before warnings, grouped by code; the
  * loop findings (G7, one per elementary cycle, often dozens over the same goals) merged into one
  * item per loop, i.e. per set of goals that cycles share (a strongly connected part of the
  * graph); subject lists longer than SUBJECTS_SHOWN are folded by the list that shows them.

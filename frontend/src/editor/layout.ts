@@ -5,7 +5,7 @@
  * 32 measured it against the linear layout below (crossings.test.ts prints the counts): fewer
  * edge crossings on Pirates and on a 100-goal mission. Larger orders, and a worker that does
  * not answer, get the linear layered layout: goals in columns by their longest distance from
- * the start, ordered by their predecessors' ports, linear time (issue 18: ELK took seconds
+ * the start, ordered by their predecessors' ports, linear time (ELK took seconds
  * there).
  */
 import ELK, { type ElkExtendedEdge, type ElkNode } from "elkjs/lib/elk.bundled.js";

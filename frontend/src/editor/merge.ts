@@ -1,5 +1,5 @@
 /**
- * Three-way merge of concurrent edits of one draft (issue 18 item 4). `base` is the orders both
+ * Three-way merge of concurrent edits of one draft. `base` is the orders both
  * sides started from (the revision last read or saved), `mine` the editor's, `theirs` the one
  * saved meanwhile. Changes to different items (goals, terminals, constraints, norms, areas, ...)
  * and to different fields of one item merge by themselves, recursively into plain objects (a

@@ -9,7 +9,7 @@ export interface NodeData extends Record<string, unknown> {
   codes: string[];
   severity: "error" | "warning" | null;
   terminalKind?: "complete" | "abort";
-  /** A goal carried out by its refinement (issue 37). */
+  /** A goal carried out by its refinement. */
   refined?: boolean;
   /** The meeting a team's rendezvous goal names. */
   meet?: string | null;

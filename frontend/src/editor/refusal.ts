@@ -1,5 +1,5 @@
 /**
- * A change the server refused (issue 32 item 5): the first error of its problem document mapped
+ * A change the server refused: the first error of its problem document mapped
  * to the field that caused it, so that the editor shows "Not saved: ..." beside that field (and
  * in Findings), on the panel that holds it, instead of only at the top of the page.
  */

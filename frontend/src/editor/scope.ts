@@ -1,5 +1,5 @@
 /**
- * The part of the orders the canvas shows (issue 37): the mission's own goals, a team member's
+ * The part of the orders the canvas shows: the mission's own goals, a team member's
  * orders (one canvas per vehicle) or a goal's refinement (its own canvas of sub-goals and
  * terminals that return the parent's outcomes), nested. The draft stays whole: the editor reads
  * and edits the part in scope through these functions, so every edit goes through the one save

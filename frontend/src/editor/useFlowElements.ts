@@ -97,7 +97,7 @@ export function useFlowElements(large: boolean): FlowElements {
   const edgeMarks = useMemo(() => edgeMarkers(local, graph.edges), [local, graph.edges]);
   const onPath = useMemo(() => (highlight ? pathElements(highlight.path) : null), [highlight]);
   // Loops are drawn once, as a highlighted cycle (a halo under the edges inside one loop), not
-  // as a "✖ G7" label on every edge (issue 32).
+  // as a "✖ G7" label on every edge.
   const loopEdges = useMemo(() => {
     const inLoop = new Set<string>();
     for (const loop of loopsOf(local)) {
@@ -207,7 +207,7 @@ export function useFlowElements(large: boolean): FlowElements {
             label,
             className,
             data: { loop },
-            // Tab reaches the nodes, not the edges (issue 32: it walked every edge first); an
+            // Tab reaches the nodes, not the edges (it walked every edge first); an
             // edge is changed in its goal's inspector (the outcome's next goal).
             focusable: false,
             style: { stroke: colour, strokeWidth: lit ? 5 : mark || loop ? 3 : 2, strokeDasharray: mark ? "6 4" : undefined },

@@ -1,5 +1,5 @@
 /**
- * The chart (issue 32 item 3): MapLibre GL over an offline coastline (Natural Earth 1:50m land
+ * The chart: MapLibre GL over an offline coastline (Natural Earth 1:50m land
  * from the world-atlas package, bundled and served by the app), the server's land-mask coastline,
  * a graticule, a metric scale, optional tiles the admin configured, the mission's areas and the
  * registry's charts styled by kind, legs in their outcome's colour, and labels.

@@ -6,7 +6,7 @@ import { useSession } from "../session";
 import { ApiTokens } from "./account/ApiTokens";
 import { ChangePassword } from "./account/ChangePassword";
 
-/** Every signed-in user's own account: password and API tokens (issue 15). */
+/** Every signed-in user's own account: password and API tokens. */
 export function AccountPage() {
   const { user } = useSession();
   // A password change revokes every token: the list is asked for again after one.

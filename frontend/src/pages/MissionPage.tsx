@@ -118,7 +118,7 @@ export function MissionPage({ id, tab }: { id: string; tab: string }) {
         </h1>
         <CheckBadge ok={mission.ok} errors={mission.errors} warnings={mission.warnings} />
       </div>
-      {/* The status shown is the log's; a table that says otherwise is named (issue 34). */}
+      {/* The status shown is the log's; a table that says otherwise is named. */}
       <IntegrityWarning problems={mission.integrity} />
       <dl className="facts">
         <div>

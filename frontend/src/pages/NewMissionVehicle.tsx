@@ -1,5 +1,5 @@
 /**
- * The create form's vehicle (issue 32 item 7): picked from the server's vehicle registry, so a
+ * The create form's vehicle: picked from the server's vehicle registry, so a
  * new mission is checked against a registered profile from its first save, instead of a
  * free-text default that opened every new mission with a VEHICLE error. "Other id" keeps a
  * vehicle the registry does not know yet (VEHICLE says so until an admin adds its profile).

@@ -1,5 +1,5 @@
 /**
- * The rehearsal view (issue 8): start a rehearsal of the draft or a version, watch it in viser
+ * The rehearsal view: start a rehearsal of the draft or a version, watch it in viser
  * (served by the app at /rehearsal/{id}/, its websocket proxied after the session check) beside
  * the mission graph with the current goal highlighted, choose outcomes, inject faults, stop it
  * into a stored record, and open the records' standalone replays.
@@ -79,7 +79,7 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
   const [live, setLive] = useState<Started | null>(null);
   const [error, setError] = useState<unknown>(null);
   const [busy, setBusy] = useState(false);
-  // A team's orders (issue 37): every vehicle in one scene; the switcher picks the vehicle whose
+  // A team's orders: every vehicle in one scene; the switcher picks the vehicle whose
   // goal cards are shown and into which the fault buttons inject.
   const team = teamOf(mission.orders);
   const [memberIndex, setMemberIndex] = useState(0);
@@ -618,7 +618,7 @@ function MissionGraph({
   const order = pathOrder(orders);
   const ends = new Map(terminals(orders).map((t) => [t.id, t]));
   // A refined mission runs as its flat form: the current goal may be a step inside a
-  // refinement (`G1/G1.2#3`, issue 37); its refined goal is current on the mission's level.
+  // refinement (`G1/G1.2#3`); its refined goal is current on the mission's level.
   const place = current ? stepPlace(current) : null;
   const visitedTop = new Set([...visited].map((v) => stepPlace(v).top));
   const visitedInner = new Set([...visited].map((v) => stepPlace(v).full));

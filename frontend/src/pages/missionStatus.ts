@@ -1,4 +1,4 @@
-/** The mission page's status in words with its standing (issue 32 item 9): a rejection of v2
+/** The mission page's status in words with its standing: a rejection of v2
  * does not hide that v1 stands approved, so the status never says only "Rejected" then. */
 import { statusLabel } from "../format";
 

@@ -46,7 +46,7 @@ describe("rehearsal goal cards", () => {
   });
 });
 
-describe("stepPlace (issue 37)", () => {
+describe("stepPlace", () => {
   it("finds a refined step's top-level goal, its unrolling marks dropped", () => {
     expect(stepPlace("G1/G1.2#3")).toEqual({ top: "G1", full: "G1/G1.2" });
     expect(stepPlace("G1/G1.2@600s/G1.2.1#1")).toEqual({ top: "G1", full: "G1/G1.2/G1.2.1" });

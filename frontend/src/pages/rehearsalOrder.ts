@@ -1,5 +1,5 @@
 /**
- * The order of the rehearsal page's goal cards (issue 32 item 8): the order a mission is flown
+ * The order of the rehearsal page's goal cards: the order a mission is flown
  * in, not the order a breadth-first search meets goals (which put G6 before G3). Every goal comes
  * after each goal that can lead to it (a topological order, Kahn's algorithm), and among the
  * goals that could come next the one a depth-first walk over succeed, fail, violate meets first

@@ -21,7 +21,7 @@ from ..iris import natural_key as natural_key
 MEO: Final = Namespace("https://countersign.example/ontology/meo#")
 CS: Final = Namespace("https://countersign.example/ontology/orders#")
 # A record map's keys as properties (`[ key:succeed "G2" ; key:fail "ABORT" ]`): 1 statement
-# per entry instead of the 3 of a cs:entry node (issue 22). Keys that are not names keep the
+# per entry instead of the 3 of a cs:entry node. Keys that are not names keep the
 # cs:entry form, which the reader also takes.
 CS_KEY: Final = Namespace("https://countersign.example/ontology/orders/key#")
 # The name the turtle modules import it by.

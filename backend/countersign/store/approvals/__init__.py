@@ -1,4 +1,4 @@
-"""Submission, review, signed decisions, supervisor keys and the transparency log (issue 6).
+"""Submission, review, signed decisions, supervisor keys and the transparency log.
 
 Every refusal raises before anything is written, and the route's transaction rolls back, so a
 refused request records nothing. Every accepted step is an event (store/events.record), which

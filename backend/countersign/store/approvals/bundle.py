@@ -113,7 +113,7 @@ def build_bundle(db: DbSession, *, signer: LogSigner,
         "rehearsals": {r.digest: r.record for r in db.scalars(
             select(RehearsalRecord).where(RehearsalRecord.digest.in_(sorted(cited))))}
         if cited else {},
-        # Campaign records the approvals cite, by digest (issue 20).
+        # Campaign records the approvals cite, by digest.
         "campaigns": {c.digest: c.record for c in db.scalars(
             select(Campaign).where(Campaign.digest.in_(sorted(cited_campaigns))))}
         if cited_campaigns else {},

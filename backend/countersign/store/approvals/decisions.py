@@ -216,7 +216,7 @@ def decide(db: DbSession, *, submission_id: int, supervisor: User, envelope: str
            password: str | None, reports: ReportService) -> Approval:
     """Verify a signed decision and store its envelope verbatim, or refuse with nothing kept.
     `password` is the supervisor's, entered again for this decision (store/reauth.py)."""
-    # issue 14 (decisions): user verification first, then the row locks (store/decide_guard.py).
+    # User verification first, then the row locks (store/decide_guard.py).
     confirm_password(db, username=supervisor.username, password_hash=supervisor.password_hash,
                      password=password)
     lock_submission(db, submission_id)

@@ -69,7 +69,7 @@ def revoke_key(db: DbSession, *, user: User, key_id: str, password: str,
 
 
 def key_status(db: DbSession, key: SigningKey) -> str:
-    """From the log (issue 14 item 5); a row that claims otherwise is reported by integrity."""
+    """From the log; a row that claims otherwise is reported by integrity."""
     if key.revoked_at is not None or logged_key_revocation(db, key.id) is not None:
         return "revoked"
     return "active"
@@ -83,7 +83,7 @@ def _usable_key(db: DbSession, key_id: str, supervisor: User) -> SigningKey:
         raise Refused(f"the key {key_id} belongs to someone else")
     if key.revoked_at is not None:
         raise Refused(f"the key {key_id} was revoked at {key.revoked_at.isoformat()}")
-    # The log, not the row, says whether a key is revoked (issue 14 finding 5: a writer who
+    # The log, not the row, says whether a key is revoked (a writer who
     # sets revoked_at back to NULL must not make the key usable again).
     logged = logged_key_revocation(db, key_id)
     if logged is not None:

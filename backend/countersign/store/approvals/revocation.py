@@ -59,7 +59,7 @@ def prepare_revocation(db: DbSession, *, approval_id: int, supervisor: User, rea
 
 def revoke(db: DbSession, *, approval_id: int, supervisor: User, envelope: str,
            password: str | None, reports: ReportService) -> Approval:
-    # issue 14 (decisions): user verification first, then the row locks (store/decide_guard.py).
+    # User verification first, then the row locks (store/decide_guard.py).
     confirm_password(db, username=supervisor.username, password_hash=supervisor.password_hash,
                      password=password)
     lock_submission(db, get_approval(db, approval_id).submission_id)

@@ -33,7 +33,7 @@ def submit(db: DbSession, *, mission_id: str, number: int, operator: User,
            reports: ReportService, rehearsal: str | None = None) -> Submission:
     mission = get_mission(db, mission_id)
     version = get_version(db, mission_id, number)
-    lock_version(db, version.id)  # issue 14 item 6: parallel submits of one version queue here
+    lock_version(db, version.id)  # parallel submits of one version queue here
     report = _report(db, version, reports)
     active = db.scalar(select(Submission).where(
         Submission.version_id == version.id, Submission.state.in_(ACTIVE_STATES)))

@@ -40,7 +40,7 @@ from .screen import Screen
 from .session import Session
 from .unique import UniqueCores
 
-# True: every constraint stays asserted once a unit used it (the policy before issue 22, kept
+# True: every constraint stays asserted once a unit used it (the policy before, kept
 # as the benchmark's baseline).
 KEEP_EVERY_CONSTRAINT = False
 

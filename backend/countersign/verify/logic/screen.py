@@ -1,4 +1,4 @@
-"""Status-only checks that one solver call serves for many units (issue 36, item 4).
+"""Status-only checks that one solver call serves for many units.
 
 Most units of a large mission are fine: their items can hold together, and no breach or
 failing state is possible. Such a unit's result holds no core and no witness, so only the

@@ -124,7 +124,7 @@ def change_user(user_id: RowId, body: UserPatch, principal: CurrentPrincipal, db
     if body.display_name is not None:
         user.display_name = changes["display_name"] = body.display_name
     if body.password is not None:
-        # An admin's reset: every session and API token of that user ends (issue 15).
+        # An admin's reset: every session and API token of that user ends.
         set_password(db, user, body.password, actor=principal.user)
         changes["password"] = "reset"
     if body.disabled:

@@ -98,7 +98,7 @@ class ReviewOut(BaseModel):
     checker: str = Field(description="the fingerprint of the checks that made these findings; "
                          "a statement to sign names it")
     probabilities: ProbabilitiesJson | None = Field(
-        default=None, description="outcome probabilities (issue 20): terminals, violation, "
+        default=None, description="outcome probabilities: terminals, violation, "
         "expected energy and time, min/max where probabilities are intervals or missing; "
         "absent when the orders declare none")
     submissions: list[SubmissionOut]

@@ -1,4 +1,4 @@
-"""Rehearsal campaigns (issue 20): start one on a stored version, follow its progress, cancel
+"""Rehearsal campaigns: start one on a stored version, follow its progress, cancel
 it, read its estimates, take its per-goal probabilities as suggestions, attach its record to a
 submission.
 
@@ -125,7 +125,7 @@ def get_fault_reach(mission_id: str, number: RowId, db: Db,
                     fault: Annotated[list[SweepName], Query(max_length=16)]) -> list[FaultReachOut]:
     """Whether each simulated fault can change an outcome of this version (a constraint or
     contingency rule reads what it changes, or the vehicle reacts to it): said before a campaign
-    runs, so a sweep of a fault nothing reacts to is not read as evidence (issue 32 item 6)."""
+    runs, so a sweep of a fault nothing reacts to is not read as evidence."""
     orders = orders_from_data(get_version(db, mission_id, number).orders)
     return [FaultReachOut(fault=r.fault, reacts=r.reacts, because=r.because)
             for r in sweep_fault_reach(orders, fault)]

@@ -149,7 +149,7 @@ class PlanViewOut(BaseModel):
             response_model_exclude_unset=True, **allow(*EVERYONE))
 def export_charts(db: Db) -> Response:
     # Built as plain JSON and answered as is: validating 10,000 features against the response
-    # model again took seconds (issue 34); ChartsGeoJsonOut still documents it, and
+    # model again took seconds; ChartsGeoJsonOut still documents it, and
     # tests/api/test_charts.py checks that the answer matches it.
     return JSONResponse(areas_to_geojson(all_charts(db)))
 

@@ -1,5 +1,5 @@
-"""GET /api/missions/{id}/versions/{n}/document: the printable approval document (issue 16
-item 8), as sections for the page to print, and as one text (`document.txt`)."""
+"""GET /api/missions/{id}/versions/{n}/document: the printable approval document, as
+sections for the page to print, and as one text (`document.txt`)."""
 
 from __future__ import annotations
 

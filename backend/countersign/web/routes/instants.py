@@ -2,7 +2,7 @@
 
 A time without a zone is ambiguous and could not be compared with the stored UTC times, and
 one such as 9999-12-31T23:59:59-05:00 is past the last representable UTC instant: both were
-500s (issue 15). Each is now a 422 naming the parameter.
+500s. Each is now a 422 naming the parameter.
 """
 
 from __future__ import annotations

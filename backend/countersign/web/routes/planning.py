@@ -24,7 +24,7 @@ router = APIRouter(prefix="/api", tags=["planning"], route_class=TransactionRout
 PLAN_TIMEOUT_S = 10.0
 
 
-# Issue 15: every number bounded, so that no input reaches arithmetic that overflows.
+# every number bounded, so that no input reaches arithmetic that overflows.
 Latitude = Annotated[float, Field(ge=-90, le=90)]
 Longitude = Annotated[float, Field(ge=-180, le=180)]
 LatLon = tuple[Latitude, Longitude]

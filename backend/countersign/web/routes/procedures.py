@@ -1,4 +1,4 @@
-"""The procedure library (issue 37): operators save procedure versions, supervisors sign a
+"""The procedure library: operators save procedure versions, supervisors sign a
 decision on a version, everyone reads; a mission version says which procedures it uses and
 whether a supervisor approved each."""
 

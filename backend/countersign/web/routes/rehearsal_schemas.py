@@ -261,7 +261,7 @@ class RehearsalRecordOut(BaseModel):
     # Records made before the legs were recorded (2026-12-02) lack it.
     legs_flown: list[FlownLeg] = []
     world: RecordWorld
-    # Only for a team's orders (issue 37).
+    # Only for a team's orders.
     team: TeamRecord | None = None
 
 

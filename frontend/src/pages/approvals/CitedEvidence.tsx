@@ -1,5 +1,5 @@
 /**
- * What the signature cites besides the orders (issue 20 item 3, DESIGN.md "what a signature must
+ * What the signature cites besides the orders (DESIGN.md "what a signature must
  * mean"): the rehearsal record and the rehearsal campaigns attached to the submission, shown to the
  * supervisor before signing. The decision form signs only a statement that cites exactly these.
  */

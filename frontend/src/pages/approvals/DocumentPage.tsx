@@ -1,5 +1,5 @@
 /**
- * The printable approval document of one version (issue 16 item 8): the server lays it out
+ * The printable approval document of one version: the server lays it out
  * (GET .../document, the same plain orders as `countersign export --format plain`); this page
  * shows it and prints only it (print CSS: `.printable`).
  */

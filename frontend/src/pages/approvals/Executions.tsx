@@ -1,5 +1,5 @@
 /**
- * What a record (approval) page shows of what vehicles did (issue 19): each recorded execution
+ * What a record (approval) page shows of what vehicles did: each recorded execution
  * of the version, stated as "approved, executed as path 17, no deviation" or naming the
  * deviations, or "unverified" naming the times and readings it lacked; who uploaded each and
  * what it evidenced; and the cited rehearsal's runs checked by the same execution checker. All

@@ -1,5 +1,5 @@
 /**
- * The goal graphs a review shows (issue 37): the mission's graph and, under it, each refined
+ * The goal graphs a review shows: the mission's graph and, under it, each refined
  * goal's refinement (its terminals say which outcome of the parent they return); for a team,
  * every member's graph with the meetings that link them and the TEAM findings. Text only.
  */

@@ -1,4 +1,4 @@
-/** The review's outcome probabilities (issue 20): what the supervisor signs with the orders. */
+/** The review's outcome probabilities: what the supervisor signs with the orders. */
 import { type OutcomeFigures, probabilityRows } from "./probabilities";
 
 export function ProbabilityTable({ figures }: { figures: OutcomeFigures | null | undefined }) {

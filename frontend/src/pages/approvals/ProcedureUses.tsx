@@ -1,5 +1,5 @@
 /**
- * The procedures a version's orders use (issue 37): each library version by name, version and
+ * The procedures a version's orders use: each library version by name, version and
  * pinned digest, whether the library holds it and who approved it, and one verdict line saying
  * whether every one is an approved version. Nothing is shown for orders that use none.
  */

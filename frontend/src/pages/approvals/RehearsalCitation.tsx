@@ -1,5 +1,5 @@
 /**
- * The submission's rehearsal record (issue 16 item 6): which record the submission cites, and for
+ * The submission's rehearsal record: which record the submission cites, and for
  * its operator, the mission's stored records to attach. Only a record of exactly this version's
  * orders (same digest) can be attached; the others are listed with why not, and the server
  * refuses them all the same.

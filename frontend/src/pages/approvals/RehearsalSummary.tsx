@@ -1,5 +1,5 @@
 /**
- * A rehearsal record as a short table (issue 32 item 4): how it ended, the path it took step by
+ * A rehearsal record as a short table: how it ended, the path it took step by
  * step (goal id and outcome letter, titles in the tooltip), simulated time, energy, by whom, and
  * links to the standalone replay and the record itself. The review loads the record the
  * submission cites by its digest; the record page passes the one the approval carries. Every

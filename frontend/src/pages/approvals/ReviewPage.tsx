@@ -172,7 +172,7 @@ function DecisionForm({
   const [keyId, setKeyId] = useState("");
   const [reason, setReason] = useState("");
   // Fresh password for every decision: the server checks it, so a script that can use this
-  // browser's key and session still cannot decide (issue 14 item 2).
+  // browser's key and session still cannot decide.
   const [password, setPassword] = useState("");
   const [busy, setBusy] = useState(false);
   const [error, setError] = useState<unknown>(null);

@@ -1,5 +1,5 @@
 /**
- * One row of the review's path list (issue 32 item 4): the path number, the terminal and the
+ * One row of the review's path list: the path number, the terminal and the
  * probability first, so that they stay in view however long the path is (the three cells stick
  * to the left edge when the list scrolls sideways), then each step as its goal id and outcome
  * letter. Titles are not printed in the cells, where they made every row look alike ("G1

@@ -30,7 +30,7 @@ export async function loadApproval(id: number): Promise<ApprovalDetail> {
 }
 
 /** Every approval record the server lists for a mission (pages of 500), for the browser
- * verifier to hold against the log (issue 14 finding 5). */
+ * verifier to hold against the log. */
 export async function loadMissionApprovals(mission: string): Promise<ApprovalSummary[]> {
   const rows: ApprovalSummary[] = [];
   let cursor: number | null | undefined;
@@ -65,7 +65,7 @@ export function reviewHref(mission: string, version: number): string {
   return `/missions/${encodeURIComponent(mission)}/versions/${version}/review`;
 }
 
-/** The printable approval document of a version (issue 16 item 8). */
+/** The printable approval document of a version. */
 export function documentHref(mission: string, version: number): string {
   return `/missions/${encodeURIComponent(mission)}/versions/${version}/document`;
 }

@@ -1,4 +1,4 @@
-/** The approval pages (issue 6) as the app shell mounts them: nav links and the page switch. */
+/** The approval pages as the app shell mounts them: nav links and the page switch. */
 import type { ReactNode } from "react";
 
 import { Link } from "../../components/Link";

@@ -18,7 +18,7 @@ export function StateBadge({ state }: { state: string }) {
 }
 
 /** Where a row disagrees with the log (the source of truth): the server's `integrity` list,
- * shown as a warning so that the row's value is never taken as fact (issue 14 item 5). */
+ * shown as a warning so that the row's value is never taken as fact. */
 export function IntegrityWarning({ problems }: { problems?: string[] | null }) {
   if (!problems || problems.length === 0) return null;
   return (

@@ -1,4 +1,4 @@
-/** The outcome probabilities of a review (issue 20) as table rows: exact figures or bounds. */
+/** The outcome probabilities of a review as table rows: exact figures or bounds. */
 import type { Schema } from "../../api/client";
 
 export type Bound = Schema<"BoundOut">;

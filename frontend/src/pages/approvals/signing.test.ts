@@ -1,4 +1,4 @@
-/** The browser signs only a statement that cites exactly what the review showed (issue 20 item 3). */
+/** The browser signs only a statement that cites exactly what the review showed. */
 import { describe, expect, it } from "vitest";
 
 import { toBase64, utf8 } from "../../crypto/bytes";

@@ -1,5 +1,5 @@
 /**
- * The campaigns a submission cites (issue 32 item 4), on the Versions tab beside its rehearsal
+ * The campaigns a submission cites, on the Versions tab beside its rehearsal
  * record: what is attached, and for the submitting operator while it awaits a decision, the
  * finished campaigns of exactly this version with an Attach button. Campaigns of other versions
  * or not yet finished are not offered (the server refuses them too: 409).

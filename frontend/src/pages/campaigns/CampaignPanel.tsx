@@ -1,5 +1,5 @@
 /**
- * Rehearsal campaigns on the mission page's Versions tab (issue 20, item 3): start N seeded
+ * Rehearsal campaigns on the mission page's Versions tab: start N seeded
  * simulations of a version over a sweep of faults and injection goals, follow the progress,
  * cancel, and read the estimates: terminal probabilities with 95% Wilson intervals, the paths
  * covered (numbered as in the Paths tab), an energy histogram, and per-goal outcome
@@ -106,7 +106,7 @@ function StartForm({ mission, versions, onStarted }: { mission: string; versions
   };
   const toggle = (fault: string) =>
     setFaults((f) => (f.includes(fault) ? f.filter((x) => x !== fault) : [...f, fault]));
-  // Before the run: which chosen faults nothing in the version reacts to (issue 32 item 6).
+  // Before the run: which chosen faults nothing in the version reacts to.
   const chosen = sweep.filter((f) => f !== "none");
   const reach = useLoad(
     async () =>

@@ -1,5 +1,5 @@
 /**
- * A vehicle profile edited as a form (issue 32 item 7): trusted behaviours, speed, budget, the
+ * A vehicle profile edited as a form: trusted behaviours, speed, budget, the
  * envelope (one row per quantity: min and max) and the features (id, what each fulfils and
  * measures). The form edits the same profile the JSON box below it shows, so fields it has no
  * input for (contingency rules, consumption) are kept as they are. The server checks the saved

@@ -36,7 +36,7 @@ function byId(value: unknown): Map<string, unknown> | null {
   return found;
 }
 
-/** Field by field, down to the nested field that changed (issue 32 item 7): `envelope.depth_m`,
+/** Field by field, down to the nested field that changed: `envelope.depth_m`,
  * `budget.energy_wh`, `features[nav].measures`, not the whole envelope or feature list. Objects
  * are walked key by key, lists of objects with ids member by member (a member added or removed
  * is one change); anything else is compared whole. In a stable order: the "before" keys first. */
