@@ -23,7 +23,10 @@ TIME_WARP = 10
 # Generous: every wait polls the alog for a condition and returns as soon as it holds.
 DEADLINE_S = 120.0
 POLL_S = 0.2
-RETRY_S = 20.0
+# A post is re-sent only when the alog has not shown it for this long. pLogger writes the log
+# asynchronously, and with WildCardLogging (~200 KB/s) it once lagged over 20 s under load: the
+# outcome was posted twice and the second one read as another goal run.
+RETRY_S = 45.0
 # One uPokeDB run: it normally exits within a second; one stuck connecting is tried again.
 POKE_S = 30.0
 
