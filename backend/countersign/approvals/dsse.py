@@ -9,6 +9,7 @@ import base64
 import binascii
 import hashlib
 import os
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -17,6 +18,7 @@ from cryptography.hazmat.primitives import serialization
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PrivateKey, Ed25519PublicKey
 
 from .. import strict_json
+from ..orders.json_fields import Malformed, an_object, optional, required
 
 PAYLOAD_TYPE = "application/vnd.in-toto+json"
 
@@ -63,14 +65,64 @@ def public_text(key: Ed25519PrivateKey | Ed25519PublicKey) -> str:
     return b64(raw_public(public))
 
 
+@dataclass(frozen=True)
+class Signature:
+    sig: str
+    keyid: str | None = None  # optional in DSSE; absent, not null, when not given
+
+    def to_json(self) -> dict[str, str]:
+        return ({} if self.keyid is None else {"keyid": self.keyid}) | {"sig": self.sig}
+
+
+@dataclass(frozen=True)
+class Envelope:
+    """A DSSE envelope as Countersign accepts it: exactly one signature. Fields DSSE does
+    not define are ignored, as they always were (the signature covers only the payload)."""
+
+    payloadType: str
+    payload: str  # standard base64
+    signatures: tuple[Signature, ...]
+
+    @property
+    def key_id(self) -> str:
+        return self.signatures[0].keyid or ""
+
+    def to_json(self) -> dict[str, Any]:
+        return {"payloadType": self.payloadType, "payload": self.payload,
+                "signatures": [s.to_json() for s in self.signatures]}
+
+    @classmethod
+    def from_json(cls, data: Any) -> Envelope:
+        """The envelope in this JSON; SignatureError names the field that is wrong."""
+        try:
+            data = an_object(data, "the envelope")
+            payload_type = required(data, "payloadType", str, "envelope")
+            payload = required(data, "payload", str, "envelope")
+            signatures = required(data, "signatures", list, "envelope")
+        except Malformed as exc:
+            raise SignatureError(f"a DSSE envelope has payloadType, payload and signatures: "
+                                 f"{exc}") from None
+        try:
+            if len(signatures) != 1:
+                raise Malformed(f"envelope.signatures has {len(signatures)}")
+            one = an_object(signatures[0], "envelope.signatures[0]")
+            signature = Signature(required(one, "sig", str, "envelope.signatures[0]"),
+                                  optional(one, "keyid", str, "envelope.signatures[0]"))
+        except Malformed as exc:
+            raise SignatureError(f"the envelope must carry exactly one signature {{keyid, sig}}"
+                                 f": {exc}") from None
+        return cls(payload_type, payload, (signature,))
+
+
 def sign_envelope(payload: bytes, key: Ed25519PrivateKey,
                   payload_type: str = PAYLOAD_TYPE) -> dict[str, Any]:
     signature = key.sign(pae(payload_type, payload))
-    return {"payloadType": payload_type, "payload": b64(payload),
-            "signatures": [{"keyid": key_id(key.public_key()), "sig": b64(signature)}]}
+    return Envelope(payload_type, b64(payload),
+                    (Signature(b64(signature), key_id(key.public_key())),)).to_json()
 
 
-def parse_envelope(envelope: str | dict[str, Any]) -> dict[str, Any]:
+def read_envelope(envelope: str | dict[str, Any]) -> Envelope:
+    """The envelope in this text (or parsed JSON)."""
     if isinstance(envelope, str):
         try:
             data = strict_json.loads(envelope)
@@ -78,28 +130,31 @@ def parse_envelope(envelope: str | dict[str, Any]) -> dict[str, Any]:
             raise SignatureError("the envelope is not JSON") from None
     else:
         data = envelope
-    if not isinstance(data, dict) or not isinstance(data.get("payload"), str) or not isinstance(
-            data.get("payloadType"), str) or not isinstance(data.get("signatures"), list):
-        raise SignatureError("a DSSE envelope has payloadType, payload and signatures")
-    sigs = data["signatures"]
-    if len(sigs) != 1 or not isinstance(sigs[0], dict) or not isinstance(
-            sigs[0].get("sig"), str) or not isinstance(sigs[0].get("keyid", ""), str):
-        raise SignatureError("the envelope must carry exactly one signature {keyid, sig}")
-    return data
+    return Envelope.from_json(data)
 
 
-def envelope_key_id(envelope: dict[str, Any]) -> str:
-    return str(envelope["signatures"][0].get("keyid", ""))
+def parse_envelope(envelope: str | dict[str, Any]) -> dict[str, Any]:
+    """The envelope as JSON, checked as read_envelope checks it."""
+    return read_envelope(envelope).to_json()
 
 
-def verify_envelope(envelope: dict[str, Any], key: Ed25519PublicKey) -> bytes:
+def envelope_key_id(envelope: dict[str, Any] | Envelope) -> str:
+    return _typed(envelope).key_id
+
+
+def _typed(envelope: dict[str, Any] | Envelope) -> Envelope:
+    return envelope if isinstance(envelope, Envelope) else Envelope.from_json(envelope)
+
+
+def verify_envelope(envelope: dict[str, Any] | Envelope, key: Ed25519PublicKey) -> bytes:
     """The payload bytes if the envelope's one signature is valid under this key."""
-    if envelope["payloadType"] != PAYLOAD_TYPE:
+    typed = _typed(envelope)
+    if typed.payloadType != PAYLOAD_TYPE:
         raise SignatureError(f"the payloadType must be {PAYLOAD_TYPE}")
-    payload = unb64(envelope["payload"], "the payload")
-    signature = unb64(envelope["signatures"][0]["sig"], "the signature")
+    payload = unb64(typed.payload, "the payload")
+    signature = unb64(typed.signatures[0].sig, "the signature")
     try:
-        key.verify(signature, pae(envelope["payloadType"], payload))
+        key.verify(signature, pae(typed.payloadType, payload))
     except InvalidSignature:
         raise SignatureError("the signature does not verify over the DSSE PAE of the payload "
                              "with this key") from None
