@@ -26,14 +26,9 @@ REASON = "Length:"
 LONG_FUNCTIONS: dict[str, str] = {
     "countersign/cli/orders.py:add_commands":
         "a declarative argparse table of the orders commands, one block per command",
-    "countersign/approved_package/verify.py:_verify":
-        "the offline verifier's checklist in the order DESIGN.md states it; each step "
-        "records a finding and carries on",
     "countersign/rules/engine.py:compute":
         "one pass of the prioritised-extension algorithm over local arrays shared with its "
         "closure; split, the hot loop pays for attribute lookups",
-    "countersign/store/approvals/bundle.py:build_bundle":
-        "assembles the bundle's parts in the order the format lists them (service layer)",
     "countersign/verify/logic/goal_set.py:explain_goal_set":
         "the explanation's cases in the order the report prints them",
     "countersign/verify/meo/reasoned.py:explain":

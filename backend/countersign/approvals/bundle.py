@@ -15,23 +15,17 @@ from typing import Any
 import rfc8785
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PublicKey
 
-from .dsse import (
-    SignatureError,
-    envelope_digest,
-    envelope_key_id,
-    parse_envelope,
-    public_key,
-    verify_envelope,
-)
+from ..orders.json_fields import Malformed
+from .bundle_model import BUNDLE_FORMAT as BUNDLE_FORMAT
+from .bundle_model import Bundle, BundleApprovalOut, BundleKeyOut
+from .dsse import SignatureError, envelope_digest, public_key, read_envelope, verify_envelope
 from .log import GENESIS, verify_checkpoint_head
 from .log_rules import check_log
 from .merkle import Tree, leaf_hash, verify_consistency, verify_inclusion
 from .note import Head
 from .receipt import verify_receipt
-from .statement import json_digest, subject_digest
+from .statement import Statement, json_digest
 from .team_rules import team_problems
-
-BUNDLE_FORMAT = "countersign.audit-bundle/1"
 
 
 @dataclass
@@ -107,7 +101,7 @@ def orders_match(orders: Any, signed: str) -> bool:
 
 
 def verify_bundle(
-    bundle: dict[str, Any], *, trusted_log_key: str | None = None,
+    bundle: dict[str, Any] | Bundle, *, trusted_log_key: str | None = None,
     published: list[dict[str, Any]] | None = None, seen: dict[str, Head] | None = None,
     held_receipts: list[str] | None = None,
 ) -> BundleReport:
@@ -119,54 +113,55 @@ def verify_bundle(
     must hold each one's entry. The server's word that its log signer refuses the log is a
     problem too."""
     report = BundleReport()
-    if not isinstance(bundle, dict) or bundle.get("format") != BUNDLE_FORMAT:
-        report.problems.append(f"not an audit bundle (format {BUNDLE_FORMAT} expected)")
-        return report
     try:
-        log_key = public_key(trusted_log_key or str(bundle["log_key"]["public_key"]))
-    except (KeyError, TypeError, SignatureError) as exc:
-        report.problems.append(f"the log's public key is unusable: {exc}")
+        typed = bundle if isinstance(bundle, Bundle) else Bundle.from_json(bundle)
+        log_key = public_key(trusted_log_key or typed.log_key.public_key)
+    except (Malformed, SignatureError) as exc:
+        report.problems.append(str(exc) if isinstance(exc, Malformed)
+                               else f"the log's public key is unusable: {exc}")
         return report
     if trusted_log_key is None:
         report.notes.append("checkpoints were checked against the log key inside the bundle; "
                             "pass --log-key to pin the server's published key")
-    elif bundle.get("log_key", {}).get("public_key") != trusted_log_key:
+    elif typed.log_key.public_key != trusted_log_key:
         report.problems.append("the bundle's log key is not the pinned log key")
-
-    texts = [str(t) for t in bundle.get("entries", [])]
-    report.entries = len(texts)
-    leaves, events = _check_chain(texts, report)
+    report.entries = len(typed.entries)
+    leaves, events = _check_chain(typed.entries, report)
     tree = Tree(leaves)
-    latest = _check_checkpoints(bundle.get("checkpoints", []), tree, log_key, report)
-    # Receipts name the log's origin; without a valid checkpoint, the bundle's word for it
-    # (a receipt still needs the log key's signature).
-    origin = latest.origin if latest is not None else \
-        str((bundle.get("log_key") or {}).get("origin") or "") or None
-    _check_receipts(bundle.get("receipts") or [], leaves, events, origin, log_key, report)
-    _note_adoption(events, tree, report)
+    latest = _check_log(typed, tree, leaves, events, log_key, report)
     for checkpoint in published or []:
         _check_published(checkpoint, tree, log_key, report)
     if latest is not None and seen and latest.origin in seen:
         check_extends(seen[latest.origin], tree, report.problems)
     for held in held_receipts or []:
         _check_held(held, leaves, log_key, report)
-    refused = bundle.get("signer_refused")
-    if refused:
-        report.problems.append(f"the log signer refuses the log: {refused}")
+    if typed.signer_refused:
+        report.problems.append(f"the log signer refuses the log: {typed.signer_refused}")
     report.head = latest
     keys = _keys_from_log(events, report)
-    _check_bundle_keys(bundle.get("keys", []), keys, report)
+    _check_bundle_keys(typed.keys, keys, report)
     # --- log-wide rules, approvals/log_rules.py ---
-    enveloped = [a.get("log_index") for a in bundle.get("approvals", []) if isinstance(a, dict)]
-    report.problems += check_log(events, enveloped=[i for i in enveloped if isinstance(i, int)],
-                                 scope=bundle.get("scope"))
+    enveloped = [a.log_index for a in typed.approvals if a.log_index is not None]
+    report.problems += check_log(events, enveloped=enveloped, scope=typed.scope)
     # --- end of the log-wide rules ---
-    orders = bundle.get("orders", {})
-    for approval in bundle.get("approvals", []):
+    log = _Log(events, leaves, keys, latest)
+    for approval in typed.approvals:
         report.approvals += 1
-        _check_approval(approval, events, leaves, keys, orders, latest, report,
-                        bundle.get("rehearsals") or {}, bundle.get("campaigns") or {})
+        _check_approval(approval, log, typed, report)
     return report
+
+
+def _check_log(bundle: Bundle, tree: Tree, leaves: list[bytes], events: list[dict[str, Any]],
+               key: Ed25519PublicKey, report: BundleReport) -> Head | None:
+    """The checkpoints and the receipts over the chained entries; the newest checkpoint that
+    verified."""
+    latest = _check_checkpoints([c.model_dump() for c in bundle.checkpoints], tree, key, report)
+    # Receipts name the log's origin; without a valid checkpoint, the bundle's word for it
+    # (a receipt still needs the log key's signature).
+    origin = latest.origin if latest is not None else bundle.log_key.origin or None
+    _check_receipts(bundle.receipts, leaves, events, origin, key, report)
+    _note_adoption(events, tree, report)
+    return latest
 
 
 def _check_chain(
@@ -329,88 +324,116 @@ def _keys_from_log(events: list[dict[str, Any]], report: BundleReport) -> dict[s
     return keys
 
 
-def _check_bundle_keys(bundle_keys: list[dict[str, Any]], keys: dict[str, _Key],
+def _check_bundle_keys(bundle_keys: list[BundleKeyOut], keys: dict[str, _Key],
                        report: BundleReport) -> None:
     for key in bundle_keys:
-        logged = keys.get(str(key.get("key_id")))
+        logged = keys.get(key.key_id)
         if logged is None:
-            report.problems.append(f"key {key.get('key_id')} was never registered in the log")
-        elif logged.public_key != key.get("public_key"):
-            report.problems.append(f"key {key.get('key_id')} differs from its registration in "
+            report.problems.append(f"key {key.key_id} was never registered in the log")
+        elif logged.public_key != key.public_key:
+            report.problems.append(f"key {key.key_id} differs from its registration in "
                                    f"log entry {logged.registered}")
 
 
-def _check_approval(approval: dict[str, Any], events: list[dict[str, Any]], leaves: list[bytes],
-                    keys: dict[str, _Key], orders: dict[str, Any],
-                    latest: Head | None, report: BundleReport,
-                    rehearsals: dict[str, Any] | None = None,
-                    campaigns: dict[str, Any] | None = None) -> None:
-    name = f"approval {approval.get('id')}"
-    index = approval.get("log_index")
+@dataclass(frozen=True)
+class _Log:
+    """What the approvals are checked against: the log's events and leaves, the keys it
+    registered and its newest verified checkpoint."""
+
+    events: list[dict[str, Any]]
+    leaves: list[bytes]
+    keys: dict[str, _Key]
+    latest: Head | None
+
+
+def _check_approval(approval: BundleApprovalOut, log: _Log, bundle: Bundle,
+                    report: BundleReport) -> None:
+    name = f"approval {approval.id}"
+    index = approval.log_index
     if index is None:
         report.problems.append(f"{name}: its log entry is missing (deleted from the log)")
         return
-    if not isinstance(index, int) or not 0 <= index < len(events):
+    if not 0 <= index < len(log.events):
         report.problems.append(f"{name}: its log entry {index} is not in the log")
         return
-    detail = events[index].get("detail") or {}
-    if not str(events[index].get("kind", "")).startswith("approval."):
+    detail = log.events[index].get("detail") or {}
+    if not str(log.events[index].get("kind", "")).startswith("approval."):
         report.problems.append(f"{name}: log entry {index} does not record a signed decision")
         return
-    text = str(approval.get("envelope", ""))
-    if envelope_digest(text) != detail.get("envelope_digest"):
+    if envelope_digest(approval.envelope) != detail.get("envelope_digest"):
         report.problems.append(f"{name}: the envelope differs from the one logged in entry "
                                f"{index}")
     try:
-        envelope = parse_envelope(text)
-        kid = envelope_key_id(envelope)
-        key = keys.get(kid)
-        if key is None or key.registered > index:
-            raise SignatureError(f"key {kid} was not registered before log entry {index}")
-        if key.revoked is not None and key.revoked < index:
-            raise SignatureError(f"key {kid} was revoked (log entry {key.revoked}) before it "
-                                 "signed")
-        statement = json.loads(verify_envelope(envelope, public_key(key.public_key)))
-        if not isinstance(statement, dict) or not isinstance(statement.get("predicate"), dict):
-            raise ValueError("the signed payload is not an approval statement")
+        statement, key = _signed_statement(approval.envelope, index, log.keys)
     except (SignatureError, ValueError) as exc:
         report.problems.append(f"{name}: {exc}")
         return
-    signed = subject_digest(statement)
+    predicate, signed = statement.predicate, statement.orders_digest
     if signed != detail.get("orders_digest"):
         report.problems.append(f"{name}: the signed subject {signed} is not the digest logged "
                                f"in entry {index}")
-    if statement["predicate"].get("decision") != detail.get("decision"):
+    if predicate.decision != detail.get("decision"):
         report.problems.append(f"{name}: the signed decision differs from log entry {index}")
-    if statement["predicate"].get("supervisor") != key.user:
+    if predicate.supervisor != key.user:
         report.problems.append(f"{name}: signed by {key.user}'s key but names "
-                               f"{statement['predicate'].get('supervisor')}")
-    if statement["predicate"].get("decision") != "revoked":
-        covered = orders.get(signed)
-        if covered is None:
-            report.problems.append(f"{name}: the bundle lacks the orders {signed}")
-        elif not orders_match(covered, signed):
-            report.problems.append(f"{name}: the stored orders of {statement['subject'][0]['name']}"
-                                   f" do not hash to the signed digest {signed}")
-        else:
-            report.problems.extend(f"{name}: {problem}" for problem in
-                                   team_problems(covered, statement["predicate"]))
-    _check_cited(name, "rehearsal", statement["predicate"].get("rehearsal_digest"), signed,
-                 rehearsals or {}, report)
-    cited_campaigns = statement["predicate"].get("campaigns") or []
-    for cited in cited_campaigns if isinstance(cited_campaigns, list) else [cited_campaigns]:
-        _check_cited(name, "campaign", cited, signed, campaigns or {}, report)
-    proof = approval.get("inclusion") or {}
-    if latest is not None:
-        try:
-            hashes = [bytes.fromhex(h) for h in proof.get("hashes", [])]
-            included = int(proof.get("size", -1)) == latest.size and verify_inclusion(
-                leaves[index], index, latest.size, hashes, latest.root)
-        except (ValueError, TypeError):
-            included = False
-        if not included:
-            report.problems.append(f"{name}: the inclusion proof of log entry {index} does not "
-                                   "verify against the signed checkpoint")
+                               f"{predicate.supervisor}")
+    if predicate.decision != "revoked":
+        _check_orders(name, statement, bundle.orders, report)
+    _check_cited(name, "rehearsal", predicate.rehearsal_digest, signed, bundle.rehearsals,
+                 report)
+    for cited in predicate.campaigns or ():
+        _check_cited(name, "campaign", cited, signed, bundle.campaigns, report)
+    if log.latest is not None and not _included(approval, index, log.leaves, log.latest):
+        report.problems.append(f"{name}: the inclusion proof of log entry {index} does not "
+                               "verify against the signed checkpoint")
+
+
+def _signed_statement(text: str, index: int, keys: dict[str, _Key]) -> tuple[Statement, _Key]:
+    """The statement this envelope signs, with a key the log registered before entry `index`
+    and had not revoked by then."""
+    envelope = read_envelope(text)
+    kid = envelope.key_id
+    key = keys.get(kid)
+    if key is None or key.registered > index:
+        raise SignatureError(f"key {kid} was not registered before log entry {index}")
+    if key.revoked is not None and key.revoked < index:
+        raise SignatureError(f"key {kid} was revoked (log entry {key.revoked}) before it "
+                             "signed")
+    payload = verify_envelope(envelope, public_key(key.public_key))
+    try:
+        data = json.loads(payload)
+    except ValueError:
+        raise ValueError("the signed payload is not an approval statement") from None
+    if not isinstance(data, dict) or not isinstance(data.get("predicate"), dict):
+        raise ValueError("the signed payload is not an approval statement")
+    return Statement.from_json(data), key
+
+
+def _check_orders(name: str, statement: Statement, orders: dict[str, dict[str, Any]],
+                  report: BundleReport) -> None:
+    """The bundle holds the signed orders, they hash to the signed digest and, for a team,
+    every member's orders to the digest the predicate gives it."""
+    signed = statement.orders_digest
+    covered = orders.get(signed)
+    if covered is None:
+        report.problems.append(f"{name}: the bundle lacks the orders {signed}")
+    elif not orders_match(covered, signed):
+        report.problems.append(f"{name}: the stored orders of {statement.subject[0].name}"
+                               f" do not hash to the signed digest {signed}")
+    else:
+        report.problems.extend(f"{name}: {problem}" for problem in
+                               team_problems(covered, statement.predicate.to_json()))
+
+
+def _included(approval: BundleApprovalOut, index: int, leaves: list[bytes],
+              latest: Head) -> bool:
+    proof = approval.inclusion
+    try:
+        hashes = [bytes.fromhex(h) for h in proof.hashes]
+    except ValueError:
+        return False
+    return proof.size == latest.size and verify_inclusion(leaves[index], index, latest.size,
+                                                          hashes, latest.root)
 
 
 def _check_cited(name: str, kind: str, cited: Any, signed: str, records: dict[str, Any],

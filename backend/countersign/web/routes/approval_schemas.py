@@ -10,6 +10,8 @@ from typing import Annotated, Any
 
 from pydantic import BaseModel, Field
 
+from ...approvals.bundle_model import Bundle
+from ...approvals.bundle_model import CheckpointOut as CheckpointOut
 from .campaign_schemas import CampaignRecordJson
 from .rehearsal_schemas import RehearsalRecordJson
 from .schemas import FindingOut, OrdersJson, PathCountsOut, ProbabilitiesJson, SchemaOf
@@ -136,18 +138,6 @@ class PreparedOut(BaseModel):
     statement: StatementJson
 
 
-class CheckpointOut(BaseModel):
-    size: int
-    root: str
-    note: str
-    signed_note: str
-    origin: str
-    key_id: str
-    public_key: str
-    signature: str
-    created_at: str
-
-
 class CosignedCheckpointOut(CheckpointOut):
     cosignatures: list[str]
 
@@ -210,49 +200,10 @@ class ApprovalDetailOut(ApprovalOut):
     inclusion: InclusionProofOut | None
 
 
-class BundleKeyOut(BaseModel):
-    key_id: str
-    public_key: str
-    user: str | None
-    created_at: str
-    revoked_at: str | None
-
-
-class LogKeyOut(BaseModel):
-    key_id: str
-    public_key: str
-    origin: str
-    verifier_key: str
-
-
-class BundleInclusionOut(BaseModel):
-    index: int
-    size: int
-    hashes: list[str]
-
-
-class BundleApprovalOut(BaseModel):
-    id: int
-    mission: str
-    decision: str
-    log_index: int
-    envelope: str
-    inclusion: BundleInclusionOut
-
-
-class BundleOut(BaseModel):
+class BundleOut(Bundle):
     """An audit bundle for `countersign audit verify BUNDLE` (DESIGN.md, approval record)."""
 
-    format: str
-    created_at: str
-    scope: str | None
-    log_key: LogKeyOut
-    entries: list[str]
-    receipts: list[str | None]
-    signer_refused: str | None
-    checkpoints: list[CheckpointOut]
-    keys: list[BundleKeyOut]
+    # Documented by the orders' and the records' models; passed through as stored.
     orders: dict[str, OrdersJson]
-    approvals: list[BundleApprovalOut]
     rehearsals: dict[str, RehearsalRecordJson]
-    campaigns: dict[str, CampaignRecordJson] = {}
+    campaigns: dict[str, CampaignRecordJson] = Field(default={})
