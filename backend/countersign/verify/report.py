@@ -36,6 +36,7 @@ from .patterns import check_patterns
 from .probability import Probabilities, declares_probabilities, outcome_probabilities
 from .procedures import procedure_findings
 from .refine import Flat, dedupe_copies, flat_graph, flatten, has_refinements, refine_findings
+from .report_document import PathSummary, ReportDocument
 from .rules_design import rules_findings
 from .structure import check_structure
 from .text import check_text
@@ -92,24 +93,23 @@ class Report:
     def ok(self) -> bool:
         return not any(f.severity == "error" for f in self.findings)
 
-    def to_json(self, explain: bool = False) -> dict[str, Any]:
-        data = {
-            "mission": self.mission,
-            "digest": self.digest,
-            "ok": self.ok,
-            "findings": [f.to_json() for f in self.findings],
-            "paths": self.paths.to_json() if self.paths else None,
-            "costs": {q: w.to_json() for q, w in self.costs.items()} if self.costs else None,
+    def document(self, explain: bool = False) -> ReportDocument:
+        """The report as its JSON document (verify/report_document.py)."""
+        paths = self.paths
+        return ReportDocument(
+            mission=self.mission, digest=self.digest, ok=self.ok,
+            findings=tuple(self.findings),
+            paths=PathSummary(paths.total, dict(paths.by_terminal)) if paths else None,
+            costs={q: w.to_json() for q, w in self.costs.items()} if self.costs else None,
             # Which checks made it: the store keys reports by it and recomputes any other.
-            "checker": fingerprint.checker_fingerprint(),
-        }
-        if self.probabilities is not None:
-            data["probabilities"] = self.probabilities.to_json()
-        if self.team is not None:
-            data["team"] = self.team.to_json()
-        if explain:
-            data["explanation"] = self.explanation
-        return data
+            checker=fingerprint.checker_fingerprint(),
+            probabilities=(self.probabilities.to_json() if self.probabilities is not None
+                           else None),
+            team=self.team.to_json() if self.team is not None else None,
+            explanation=self.explanation if explain else None, explained=explain)
+
+    def to_json(self, explain: bool = False) -> dict[str, Any]:
+        return self.document(explain).to_json()
 
 
 def validate(
