@@ -24,7 +24,7 @@ from countersign.approvals.statement import (
     read_statement,
     statement_bytes,
 )
-from countersign.orders.examples import example_names, load_example
+from countersign.orders.examples import example_names, load_example, team_example_names
 from countersign.orders.findings import Finding
 from countersign.orders.json_fields import Malformed
 from countersign.verify.report import validate
@@ -50,9 +50,10 @@ def _same(data: dict[str, Any], written: dict[str, Any]) -> None:
 
 # --- the statement ------------------------------------------------------------------------
 
+@pytest.mark.parametrize("name", [EXAMPLE, *team_example_names()[:1]])
 @pytest.mark.parametrize("decision", ["approved", "rejected", "revoked"])
-def test_statement_fixtures_round_trip(decision: str) -> None:
-    data = approval_statements(EXAMPLE)[decision]
+def test_statement_fixtures_round_trip(name: str, decision: str) -> None:
+    data = approval_statements(name)[decision]
     statement = Statement.from_json(data)
     _same(data, statement.to_json())
     assert Statement.from_json(statement.to_json()) == statement

@@ -24,6 +24,7 @@ from ...limits import MAX_REASON
 from ...orders.reader import orders_from_data
 from ...orders.team import member_digests
 from ...verify import fingerprint
+from ...verify.report_document import ReportDocument
 from ..campaigns import attached as attached_campaigns
 from ..decide_guard import (
     lock_submission,
@@ -59,19 +60,20 @@ class Context:
     submission: Submission
     version: MissionVersion
     mission: Mission
-    report: dict[str, Any]
+    report: ReportDocument
 
 
 def _context(db: DbSession, submission_id: int, reports: ReportService) -> Context:
     submission = get_submission(db, submission_id)
     version = db.get_one(MissionVersion, submission.version_id)
     mission = get_mission(db, version.mission_id)
-    return Context(submission, version, mission, _report(db, version, reports))
+    return Context(submission, version, mission,
+                   ReportDocument.from_json(_report(db, version, reports)))
 
 
 def _statement(db: DbSession, ctx: Context, *, decision: str, reason: str, supervisor: User,
                key_id: str, time: str, nonce: str, revokes: str | None = None) -> dict[str, Any]:
-    checker = ctx.report.get("checker")
+    checker = ctx.report.checker
     if checker != fingerprint.checker_fingerprint():
         # report_for recomputes such reports; this guards the one thing that must never
         # happen: a signature over findings the current checks did not make.
@@ -84,13 +86,14 @@ def _statement(db: DbSession, ctx: Context, *, decision: str, reason: str, super
     return build_statement(
         mission=ctx.mission.id, version=ctx.version.number, orders_digest=ctx.version.digest,
         decision=decision, reason=reason, submission=ctx.submission.id,
-        report_digest=json_digest(ctx.report), paths=ctx.report.get("paths"),
+        report_digest=json_digest(ctx.report.to_json()),
+        paths=ctx.report.paths.to_json() if ctx.report.paths is not None else None,
         vehicle=orders.get("vehicle"), author=_username(db, ctx.version.author_id) or "",
         supervisor=supervisor.username, key_id=key_id, time=time, nonce=nonce, revokes=revokes,
         rehearsal_digest=ctx.submission.rehearsal_digest,
-        probabilities=ctx.report.get("probabilities"), exports=exports,
+        probabilities=ctx.report.probabilities, exports=exports,
         campaigns=[a.digest for a in attached_campaigns(db, ctx.submission.id)],
-        checker=str(checker),
+        checker=checker,
         team=member_digests(model) if model.team is not None else None)
 
 
@@ -134,7 +137,7 @@ def _check_open(ctx: Context) -> None:
     if ctx.submission.state != "submitted":
         raise Stale(f"submission {ctx.submission.id} is {ctx.submission.state}; "
                     "there is nothing to decide")
-    if ctx.report["findings"] and any(f["severity"] == "error" for f in ctx.report["findings"]):
+    if ctx.report.errors:
         raise Stale("the current validation report of this version has errors")
 
 
