@@ -12,6 +12,7 @@ entry, for the API's `integrity` lists."""
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
 from typing import Any
 
 from .duty_rules import check_duties
@@ -30,76 +31,96 @@ def check_log(events: Sequence[Mapping[str, Any]], *, enveloped: Iterable[int] |
     """Problems with the history these log events (in log order) describe. `enveloped` are
     the log indexes whose envelopes the bundle holds (None: do not check); with `scope`, only
     decisions on that mission need one (a bundle exported for one mission)."""
-    problems: list[str] = []
-    created: dict[int, int] = {}        # submission -> its submission.created entry
-    target: dict[int, tuple[Any, Any]] = {}  # submission -> (mission, version)
-    state: dict[int, str] = {}          # submission -> submitted/approved/rejected/...
-    decided: dict[int, int] = {}        # submission -> its decision entry
-    active: dict[tuple[Any, Any], int] = {}  # (mission, version) -> active submission
-    revoked_keys: dict[str, int] = {}   # key id -> entry that revoked it
-    wanted = set(enveloped) if enveloped is not None else None
+    history = _History(set(enveloped) if enveloped is not None else None, scope)
     for index, event in enumerate(events):
+        history.apply(index, event)
+    return history.problems + check_duties(events) + check_roles(events)
+
+
+@dataclass
+class _History:
+    """The submissions' states as the log so far describes them, and the problems found."""
+
+    wanted: set[int] | None  # log indexes whose envelopes the bundle holds (None: unchecked)
+    scope: str | None
+    problems: list[str] = field(default_factory=list)
+    created: dict[int, int] = field(default_factory=dict)  # submission -> its created entry
+    target: dict[int, tuple[Any, Any]] = field(default_factory=dict)  # -> (mission, version)
+    state: dict[int, str] = field(default_factory=dict)  # -> submitted/approved/rejected/...
+    decided: dict[int, int] = field(default_factory=dict)  # -> its decision entry
+    active: dict[tuple[Any, Any], int] = field(default_factory=dict)  # -> active submission
+    revoked_keys: dict[str, int] = field(default_factory=dict)  # key id -> revoking entry
+
+    def apply(self, index: int, event: Mapping[str, Any]) -> None:
         kind = str(event.get("kind", ""))
         detail = _detail(event)
         if kind == "key.revoked":
-            revoked_keys.setdefault(str(detail.get("key_id")), index)
-            continue
-        raw = detail.get("submission")
-        if not kind.startswith(("submission.", "approval.")) or not isinstance(raw, int):
-            continue
-        submission = raw
+            self.revoked_keys.setdefault(str(detail.get("key_id")), index)
+            return
+        submission = detail.get("submission")
+        if not kind.startswith(("submission.", "approval.")) or not isinstance(submission, int):
+            return
         if kind == "submission.created":
-            key = (event.get("mission"), detail.get("version"))
-            if submission in created:
-                problems.append(f"log entry {index} creates submission {submission} again "
-                                f"(first in log entry {created[submission]})")
-            if key in active:
-                problems.append(
-                    f"log entry {index} submits {key[0]} version {key[1]} while submission "
-                    f"{active[key]} is still active: one active submission per version")
-            created[submission], target[submission] = index, key
-            state[submission] = "submitted"
-            active.setdefault(key, submission)
-            continue
-        if submission not in created:
-            problems.append(f"log entry {index} ({kind}) concerns submission {submission}, "
-                            "which the log never created")
-            continue
-        now = state[submission]
+            self._create(index, submission, (event.get("mission"), detail.get("version")))
+            return
+        if submission not in self.created:
+            self.problems.append(f"log entry {index} ({kind}) concerns submission {submission}, "
+                                 "which the log never created")
+            return
+        self._move(index, kind, submission)
+        if kind.startswith("approval."):
+            self._signed(index, kind, str(detail.get("key_id")), event.get("mission"))
+
+    def _create(self, index: int, submission: int, key: tuple[Any, Any]) -> None:
+        if submission in self.created:
+            self.problems.append(f"log entry {index} creates submission {submission} again "
+                                 f"(first in log entry {self.created[submission]})")
+        if key in self.active:
+            self.problems.append(
+                f"log entry {index} submits {key[0]} version {key[1]} while submission "
+                f"{self.active[key]} is still active: one active submission per version")
+        self.created[submission], self.target[submission] = index, key
+        self.state[submission] = "submitted"
+        self.active.setdefault(key, submission)
+
+    def _move(self, index: int, kind: str, submission: int) -> None:
+        """A decision, revocation or withdrawal, from the state the submission was in."""
+        now = self.state[submission]
         if kind in DECISIONS:
-            if submission in decided:
-                problems.append(f"log entries {decided[submission]} and {index} both decide "
-                                f"submission {submission}: one decision per submission")
+            if submission in self.decided:
+                self.problems.append(f"log entries {self.decided[submission]} and {index} both "
+                                     f"decide submission {submission}: one decision per "
+                                     "submission")
             elif now != "submitted":
-                problems.append(f"log entry {index} decides submission {submission}, which "
-                                f"was {now}")
-            decided.setdefault(submission, index)
-            state[submission] = kind.removeprefix("approval.")
+                self.problems.append(f"log entry {index} decides submission {submission}, "
+                                     f"which was {now}")
+            self.decided.setdefault(submission, index)
+            self.state[submission] = kind.removeprefix("approval.")
         elif kind == "approval.revoked":
             if now != "approved":
-                problems.append(f"log entry {index} revokes submission {submission}, which "
-                                f"was {now}, not approved")
-            state[submission] = "revoked"
+                self.problems.append(f"log entry {index} revokes submission {submission}, "
+                                     f"which was {now}, not approved")
+            self.state[submission] = "revoked"
         elif kind == "submission.withdrawn":
             if now != "submitted":
-                problems.append(f"log entry {index} withdraws submission {submission}, which "
-                                f"was {now}")
-            state[submission] = "withdrawn"
-        if state[submission] not in ("submitted", "approved") and \
-                active.get(target[submission]) == submission:
-            del active[target[submission]]
-        if kind.startswith("approval."):
-            kid = str(detail.get("key_id"))
-            if kid in revoked_keys and revoked_keys[kid] < index:
-                problems.append(f"log entry {index} is signed with key {kid}, revoked in log "
-                                f"entry {revoked_keys[kid]}: a revoked key's later signatures "
-                                "are refused")
-            if wanted is not None and index not in wanted and \
-                    (scope is None or event.get("mission") == scope):
-                problems.append(f"log entry {index} records a signed decision ({kind}) but "
-                                "the bundle holds no envelope for it (its approvals row was "
-                                "removed?)")
-    return problems + check_duties(events) + check_roles(events)
+                self.problems.append(f"log entry {index} withdraws submission {submission}, "
+                                     f"which was {now}")
+            self.state[submission] = "withdrawn"
+        if self.state[submission] not in ("submitted", "approved") and \
+                self.active.get(self.target[submission]) == submission:
+            del self.active[self.target[submission]]
+
+    def _signed(self, index: int, kind: str, kid: str, mission: Any) -> None:
+        """A signed decision: by a key not revoked before it, with its envelope at hand."""
+        if kid in self.revoked_keys and self.revoked_keys[kid] < index:
+            self.problems.append(f"log entry {index} is signed with key {kid}, revoked in log "
+                                 f"entry {self.revoked_keys[kid]}: a revoked key's later "
+                                 "signatures are refused")
+        if self.wanted is not None and index not in self.wanted and \
+                (self.scope is None or mission == self.scope):
+            self.problems.append(f"log entry {index} records a signed decision ({kind}) but "
+                                 "the bundle holds no envelope for it (its approvals row was "
+                                 "removed?)")
 
 
 def submission_state(events: Iterable[Mapping[str, Any]], submission: int) -> str | None:
