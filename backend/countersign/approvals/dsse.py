@@ -87,6 +87,11 @@ class Envelope:
     def key_id(self) -> str:
         return self.signatures[0].keyid or ""
 
+    @property
+    def payload_bytes(self) -> bytes:
+        """The payload, unverified: verify_envelope gives it only under a valid signature."""
+        return unb64(self.payload, "the payload")
+
     def to_json(self) -> dict[str, Any]:
         return {"payloadType": self.payloadType, "payload": self.payload,
                 "signatures": [s.to_json() for s in self.signatures]}
@@ -151,7 +156,7 @@ def verify_envelope(envelope: dict[str, Any] | Envelope, key: Ed25519PublicKey) 
     typed = _typed(envelope)
     if typed.payloadType != PAYLOAD_TYPE:
         raise SignatureError(f"the payloadType must be {PAYLOAD_TYPE}")
-    payload = unb64(typed.payload, "the payload")
+    payload = typed.payload_bytes
     signature = unb64(typed.signatures[0].sig, "the signature")
     try:
         key.verify(signature, pae(typed.payloadType, payload))

@@ -16,8 +16,9 @@ import tarfile
 from dataclasses import dataclass
 from typing import Any
 
-from ..approvals.dsse import SignatureError, parse_envelope, unb64
-from ..export.package import SIGNED_EXPORTS, export_provenance, signed_provenance, vehicle_files
+from ..approvals.dsse import read_envelope
+from ..approvals.statement import Predicate, Statement
+from ..export.package import export_provenance, signed_provenance, vehicle_files
 from ..limits import MAX_PACKAGE_BYTES
 from ..orders.canonical import canonical_bytes
 from ..orders.model import Orders
@@ -44,22 +45,20 @@ class PackageParts:
     checkpoint: str  # C2SP signed note
 
 
-def unverified_predicate(envelope: str) -> dict[str, Any]:
+def unverified_predicate(envelope: str) -> Predicate | None:
     """The predicate of an envelope's statement, read without checking its signature (only
     to choose how to rebuild the exports; verifiers check the signature themselves)."""
     try:
-        payload = unb64(parse_envelope(envelope)["payload"], "the payload")
-        predicate = json.loads(payload).get("predicate")
-    except (SignatureError, ValueError, KeyError, TypeError, AttributeError):
-        return {}
-    return predicate if isinstance(predicate, dict) else {}
+        return Statement.from_json(json.loads(read_envelope(envelope).payload_bytes)).predicate
+    except ValueError:  # SignatureError and Malformed are ValueErrors
+        return None
 
 
 def approved_vehicle_files(orders: Orders, version: int, envelope: str) -> dict[str, bytes]:
     """The vehicle files of an approved package, as its approval statement determines them."""
     predicate = unverified_predicate(envelope)
-    if isinstance(predicate.get(SIGNED_EXPORTS), dict):
-        return vehicle_files(orders, version, signed_provenance(int(predicate["submission"])))
+    if predicate is not None and predicate.exports is not None:
+        return vehicle_files(orders, version, signed_provenance(predicate.submission))
     return vehicle_files(orders, version, export_provenance(envelope))
 
 
