@@ -100,8 +100,22 @@ class Bundle(BaseModel):
 
     def to_json(self) -> dict[str, Any]:
         """The bundle as served: the fields set, in the format's order."""
-        # Python mode: the parts passed through are JSON already and stay as they are.
-        return self.model_dump(exclude_unset=True)
+        # The small parts (keys, checkpoints, approvals) through pydantic; the orders and
+        # records passed through are JSON already and are handed on as they are, not walked
+        # (model_dump walks every value of a 14 MB bundle: 0.4 s against a few ms).
+        data: dict[str, Any] = {}
+        for name in type(self).model_fields:
+            if name in self.model_fields_set:
+                data[name] = _dumped(getattr(self, name))
+        return data
+
+
+def _dumped(value: Any) -> Any:
+    if isinstance(value, BaseModel):
+        return value.model_dump(exclude_unset=True)
+    if isinstance(value, list):
+        return [_dumped(v) for v in value]
+    return value
 
 
 # What an absent part of a bundle reads as: the parts the format gained over time (a bundle
