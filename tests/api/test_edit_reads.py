@@ -9,7 +9,7 @@ from contextlib import contextmanager
 from typing import Any
 
 import pytest
-from sqlalchemy import event
+from sqlalchemy import event, text
 
 from countersign.errors import Conflict
 from countersign.orders.canonical import digest, digest_of_json, orders_to_json
@@ -89,3 +89,15 @@ def test_a_reused_report_is_the_kept_one_with_its_digest_replaced() -> None:
 def test_the_digest_of_json_data_is_the_digest_of_the_orders() -> None:
     orders = load_example(EXAMPLE)
     assert digest_of_json(orders_to_json(orders)) == digest(orders)
+
+
+def test_a_detail_shows_the_summary_columns_without_decoding_the_report(world: World) -> None:
+    detail, _ = _edit(world, EXAMPLE)
+    # Every stored report made unusable: a detail that decoded one would fail (a 500).
+    with world.database.engine.begin() as connection:
+        connection.execute(text("UPDATE validation_reports SET report = '{\"corrupted\": true}'"))
+    again = world.client("auditor").get(f"/api/missions/{EXAMPLE}")
+    assert again.status_code == 200, again.text
+    assert [again.json()[k] for k in ("ok", "errors", "warnings")] == [
+        detail[k] for k in ("ok", "errors", "warnings")]
+    assert detail["errors"] is not None

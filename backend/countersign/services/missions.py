@@ -136,6 +136,16 @@ def summary(db: DbSession, mission: Mission, *, reports: ReportService,
             names: dict[int, str], latest: int | Literal[False] | None = False,
             status: tuple[str, list[str]] | None = None) -> dict[str, Any]:
     """The summary fields of a mission."""
+    if latest is False:
+        latest = db.scalar(select(func.max(MissionVersion.number))
+                           .where(MissionVersion.mission_id == mission.id))
+    updated_by = username_of(db, mission.updated_by, names)
+    shown = status or mission_status(db, mission)
+    # The stored report's summary columns, as the list reads them: an answer after a save
+    # does not decode the report it has just stored.
+    counts = store.report_counts(db, mission.draft_digest)
+    if counts is not None:
+        return counted_summary_fields(mission, *counts, latest, updated_by, shown)
     # A writing request holds the write lock until it answers: it reports only what is cached
     # (ok/errors stay null otherwise) and leaves validation to the next read or /validate.
     if writes(db):
@@ -143,11 +153,7 @@ def summary(db: DbSession, mission: Mission, *, reports: ReportService,
     else:
         report = store.report_for(db, lambda: _orders(mission.draft), mission.draft_digest,
                                   reports=reports).report
-    if latest is False:
-        latest = db.scalar(select(func.max(MissionVersion.number))
-                           .where(MissionVersion.mission_id == mission.id))
-    return summary_fields(mission, report, latest, username_of(db, mission.updated_by, names),
-                          status or mission_status(db, mission))
+    return summary_fields(mission, report, latest, updated_by, shown)
 
 
 def detail(db: DbSession, mission: Mission, *, reports: ReportService,

@@ -65,27 +65,6 @@ def draft_of(db: DbSession, mission_id: str, orders_digest: str) -> dict[str, An
     return draft
 
 
-_LOADED_REPORTS = "countersign_loaded_reports"
-
-
-def get_mission_with_report(db: DbSession, mission_id: str) -> Mission:
-    """get_mission, with its draft's stored report (if any) loaded by the same query: the
-    report lookups that follow find it in the session instead of asking the database."""
-    found = db.execute(
-        select(Mission, ValidationReport)
-        .outerjoin(ValidationReport, (ValidationReport.digest == Mission.draft_digest)
-                   & (ValidationReport.checker_version == fingerprint.checker_fingerprint()))
-        .where(Mission.id == mission_id)
-    ).first()
-    if found is None:
-        raise NotFound(f"no mission {mission_id!r}")
-    mission, report = found
-    if report is not None:
-        # The session's identity map holds objects weakly: keep the report for its lifetime.
-        db.info.setdefault(_LOADED_REPORTS, []).append(report)
-    return mission
-
-
 def create_mission(
     db: DbSession, *, orders: Orders, author: User, layout: dict[str, Any] | None = None,
     orders_digest: str | None = None, draft: dict[str, Any] | None = None,
@@ -226,6 +205,20 @@ def cached_report(db: DbSession, orders_digest: str) -> dict[str, Any] | None:
     other checks (before an upgrade) is never answered."""
     row = db.get(ValidationReport, (orders_digest, fingerprint.checker_fingerprint()))
     return row.report if row is not None else None
+
+
+def report_counts(db: DbSession, orders_digest: str) -> tuple[bool, int, int] | None:
+    """ok, errors and warnings of the stored report of this digest by the current checks,
+    from its summary columns (the report itself, hundreds of kilobytes of JSON for a
+    1,000-goal mission, is not decoded); None without such a report or columns."""
+    row = db.execute(select(ValidationReport.ok, ValidationReport.errors,
+                            ValidationReport.warnings)
+                     .where(ValidationReport.digest == orders_digest,
+                            ValidationReport.checker_version
+                            == fingerprint.checker_fingerprint())).first()
+    if row is None or row.ok is None or row.errors is None or row.warnings is None:
+        return None
+    return bool(row.ok), row.errors, row.warnings
 
 
 def report_for(
