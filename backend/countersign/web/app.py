@@ -45,6 +45,7 @@ from .routes import campaigns as campaign_routes
 from .routes import executions as execution_routes
 from .routes import exports as export_routes
 from .validation_pool import WARM_WAIT_S, ValidationPool
+from .validations import ValidationPools
 
 
 class BodyLimit:
@@ -149,6 +150,20 @@ class SecurityHeaders:
         await self.app(scope, receive, with_headers)
 
 
+def _validation_pool(settings: Settings, host_pool: HostPoolAddress | None
+                     ) -> ValidationPools | None:
+    """The host's pool (through a client) or one of this process's own, or None (validate in
+    the request threads). Each is typed as the protocol on its own, so that mypy names the
+    method one lacks."""
+    if host_pool is not None:
+        client: ValidationPools = HostPoolClient(host_pool, settings.validation_processes)
+        return client
+    if settings.validation_processes > 0:
+        local: ValidationPools = ValidationPool(settings.validation_processes)
+        return local
+    return None
+
+
 def create_app(settings: Settings, database: Database | None = None,
                host_pool: HostPoolAddress | None = None) -> FastAPI:
     """The app; with `host_pool` (serve --workers N) it validates in the pool every server
@@ -175,11 +190,7 @@ def create_app(settings: Settings, database: Database | None = None,
         gc.freeze()
         # A running server validates in processes of its own (validation_pool.py); an app
         # driven without its lifespan (in-process test clients) validates in its threads.
-        pool: ValidationPool | HostPoolClient | None = None
-        if host_pool is not None:
-            pool = HostPoolClient(host_pool, settings.validation_processes)
-        elif settings.validation_processes > 0:
-            pool = ValidationPool(settings.validation_processes)
+        pool = _validation_pool(settings, host_pool)
         if pool is not None:
             services.reports.use_pool(pool.validate, pool.validate_parts)
             # Serve once the processes have warmed up (a few seconds), so that the first
