@@ -57,11 +57,48 @@ def _key_path(path: str, key: str) -> str:
     return f"{path}[{json.dumps(key)}]"
 
 
+def _breaks(item: Any, exact_integers: bool) -> bool:
+    """Whether a number breaks the policy (anything else is judged by the walks)."""
+    if isinstance(item, float):
+        return not math.isfinite(item)
+    return (exact_integers and isinstance(item, int) and not isinstance(item, bool)
+            and abs(item) > MAX_EXACT_INTEGER)
+
+
+def _conforms(value: Any, max_depth: int, exact_integers: bool) -> bool:
+    """Whether `value` keeps the policy, walked without the paths that only an error needs
+    (a 1,000-goal body has some 130,000 keys and items: building each one's path string cost
+    more than parsing it)."""
+    stack: list[tuple[Any, int]] = [(value, 0)]
+    while stack:
+        item, depth = stack.pop()
+        if isinstance(item, dict):
+            values: Any = item.values()
+        elif isinstance(item, list):
+            values = item
+        elif _breaks(item, exact_integers):
+            return False
+        else:
+            continue
+        if depth >= max_depth:
+            return False
+        for child in values:
+            if isinstance(child, (dict, list)):
+                stack.append((child, depth + 1))
+            elif isinstance(child, (float, int)) and _breaks(child, exact_integers):
+                return False
+    return True
+
+
 def check(value: Any, max_depth: int = MAX_DEPTH, exact_integers: bool = False) -> None:
     """Raise `JsonPolicyError` for the first non-finite number or too-deep value (and, with
     `exact_integers`, integer beyond ±(2**53 - 1)), by path.
 
-    Iterative, so that its own depth is not limited by the interpreter's recursion limit."""
+    Iterative, so that its own depth is not limited by the interpreter's recursion limit.
+    Values that keep the policy (nearly all) are walked once without paths; only a value that
+    breaks it is walked again to say where."""
+    if _conforms(value, max_depth, exact_integers):
+        return
     stack: list[tuple[Any, str, int]] = [(value, "$", 0)]
     while stack:
         item, path, depth = stack.pop()

@@ -43,3 +43,30 @@ def test_cli_refuses_non_finite_budget_with_exit_2(tmp_path: Path, number: str) 
     assert result.returncode == 2, result.stderr
     assert "$.goals[0].params.pd" in result.stderr
     assert "internal error" not in result.stderr
+
+
+def test_a_value_that_keeps_the_policy_is_walked_without_paths(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    def no_paths(path: str, key: str) -> str:
+        raise AssertionError("a path was built for a value that keeps the policy")
+
+    monkeypatch.setattr(strict_json, "_key_path", no_paths)
+    text = json.dumps(orders_to_json(load_example("search-and-sample")))
+    assert strict_json.loads(text) == json.loads(text)
+    strict_json.check([[1.5, {"a": 2**53 - 1}]] * 3, exact_integers=True)
+
+
+@pytest.mark.parametrize(("value", "exact", "path"), [
+    ({"a": [{"b": float("nan")}]}, False, '$.a[0].b'),
+    ([{"n": 2**53}], True, "$[0].n"),
+    (float("inf"), False, "$"),
+    ({"x": [[[]]]}, False, "$.x[0][0]"),
+])
+def test_a_value_that_breaks_the_policy_is_named_by_its_path(
+        value: object, exact: bool, path: str) -> None:
+    with pytest.raises(strict_json.JsonPolicyError) as caught:
+        strict_json.check(value, max_depth=3, exact_integers=exact)
+    assert caught.value.path == path
+    # Within the policy without exact integers, or with room to nest.
+    if exact:
+        strict_json.check(value, max_depth=3)

@@ -47,7 +47,12 @@ def _goal_bytes(goal: Any) -> bytes:
 
 
 def canonical_bytes(orders: Orders) -> bytes:
-    data = orders_to_json(orders)
+    return canonical_bytes_of_json(orders_to_json(orders))
+
+
+def canonical_bytes_of_json(data: dict[str, Any]) -> bytes:
+    """The canonical bytes of orders already made JSON data by orders_to_json (a caller that
+    stores that data too makes it once); `data` is only read."""
     goals = data.get("goals")
     if not isinstance(goals, list) or not goals:
         return bytes(rfc8785.dumps(data))
@@ -60,4 +65,9 @@ def canonical_bytes(orders: Orders) -> bytes:
 
 
 def digest(orders: Orders) -> str:
-    return "sha256:" + hashlib.sha256(canonical_bytes(orders)).hexdigest()
+    return digest_of_json(orders_to_json(orders))
+
+
+def digest_of_json(data: dict[str, Any]) -> str:
+    """digest() of orders already made JSON data by orders_to_json."""
+    return "sha256:" + hashlib.sha256(canonical_bytes_of_json(data)).hexdigest()

@@ -9,6 +9,7 @@ from typing import Any
 from sqlalchemy import delete, func, select, update
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session as DbSession
+from sqlalchemy.orm.attributes import set_committed_value
 
 from ..errors import Conflict, Invalid, NotFound, PreconditionFailed
 from ..orders.canonical import digest, orders_to_json
@@ -44,36 +45,37 @@ def get_mission(db: DbSession, mission_id: str) -> Mission:
     return mission
 
 
-_LOADED_REPORTS = "countersign_loaded_reports"
-
-
-def get_mission_with_report(db: DbSession, mission_id: str) -> Mission:
-    """get_mission, with its draft's stored report (if any) loaded by the same query: the
-    report lookups that follow find it in the session instead of asking the database."""
-    found = db.execute(
-        select(Mission, ValidationReport)
-        .outerjoin(ValidationReport, (ValidationReport.digest == Mission.draft_digest)
-                   & (ValidationReport.checker_version == fingerprint.checker_fingerprint()))
-        .where(Mission.id == mission_id)
-    ).first()
-    if found is None:
+def draft_digest(db: DbSession, mission_id: str) -> str:
+    """The digest of the mission's draft, without loading the draft."""
+    value = db.scalar(select(Mission.draft_digest).where(Mission.id == mission_id))
+    if value is None:
         raise NotFound(f"no mission {mission_id!r}")
-    mission, report = found
-    if report is not None:
-        # The session's identity map holds objects weakly: keep the report for its lifetime.
-        db.info.setdefault(_LOADED_REPORTS, []).append(report)
-    return mission
+    return value
+
+
+def draft_of(db: DbSession, mission_id: str, orders_digest: str) -> dict[str, Any]:
+    """The mission's draft of this digest (read after draft_digest: on PostgreSQL each
+    statement of a read sees the latest commit, and a report made from a newer draft must
+    never be filed under the older digest)."""
+    draft: dict[str, Any] | None = db.scalar(select(Mission.draft).where(
+        Mission.id == mission_id, Mission.draft_digest == orders_digest))
+    if draft is None:
+        raise Conflict(f"the draft of mission {mission_id!r} changed while its report was "
+                       "read; ask again")
+    return draft
 
 
 def create_mission(
     db: DbSession, *, orders: Orders, author: User, layout: dict[str, Any] | None = None,
-    orders_digest: str | None = None,
+    orders_digest: str | None = None, draft: dict[str, Any] | None = None,
 ) -> Mission:
+    """A new mission; `draft` is orders_to_json(orders) when the caller made it already."""
     if db.get(Mission, orders.id) is not None:
         raise Conflict(f"a mission with id {orders.id!r} exists already; choose another id")
     value = orders_digest or digest(orders)
     mission = Mission(
-        id=orders.id, title=orders.title, vehicle=orders.vehicle, draft=orders_to_json(orders),
+        id=orders.id, title=orders.title, vehicle=orders.vehicle,
+        draft=orders_to_json(orders) if draft is None else draft,
         draft_digest=value, layout=_check_layout(layout or {}), revision=1,
         created_by=author.id, updated_by=author.id,
     )
@@ -90,9 +92,11 @@ def create_mission(
 def update_draft(
     db: DbSession, *, mission_id: str, orders: Orders, layout: dict[str, Any] | None,
     expected_revision: int, author: User, orders_digest: str | None = None,
+    draft: dict[str, Any] | None = None,
 ) -> Mission:
     """Compare-and-set on the revision: a concurrent edit fails with 412, nothing is lost.
-    The save joins its author's editing burst, logged once when it ends (draft_bursts.py)."""
+    The save joins its author's editing burst, logged once when it ends (draft_bursts.py).
+    `draft` is orders_to_json(orders) when the caller made it already."""
     mission = get_mission(db, mission_id)
     if orders.id != mission_id:
         raise BadDraft(
@@ -101,7 +105,7 @@ def update_draft(
         )
     before = mission.draft_digest
     value = orders_digest or digest(orders)
-    draft = orders_to_json(orders)
+    draft = orders_to_json(orders) if draft is None else draft
     now = utcnow()
     if mission.burst is not None and not draft_bursts.joins(mission, author, now):
         draft_bursts.flush(db, mission)  # someone else's burst, or one that went quiet
@@ -127,7 +131,11 @@ def update_draft(
             "reload it and apply your edit again",
             mission.revision,
         )
-    db.refresh(mission)
+    # The row now holds exactly what was written (the revision was `expected_revision`):
+    # set it on the object rather than reading it back, which decoded the whole draft again.
+    changes["revision"] = expected_revision + 1
+    for name, written in changes.items():
+        set_committed_value(mission, name, written)
     return mission
 
 
@@ -197,6 +205,20 @@ def cached_report(db: DbSession, orders_digest: str) -> dict[str, Any] | None:
     other checks (before an upgrade) is never answered."""
     row = db.get(ValidationReport, (orders_digest, fingerprint.checker_fingerprint()))
     return row.report if row is not None else None
+
+
+def report_counts(db: DbSession, orders_digest: str) -> tuple[bool, int, int] | None:
+    """ok, errors and warnings of the stored report of this digest by the current checks,
+    from its summary columns (the report itself, hundreds of kilobytes of JSON for a
+    1,000-goal mission, is not decoded); None without such a report or columns."""
+    row = db.execute(select(ValidationReport.ok, ValidationReport.errors,
+                            ValidationReport.warnings)
+                     .where(ValidationReport.digest == orders_digest,
+                            ValidationReport.checker_version
+                            == fingerprint.checker_fingerprint())).first()
+    if row is None or row.ok is None or row.errors is None or row.warnings is None:
+        return None
+    return bool(row.ok), row.errors, row.warnings
 
 
 def report_for(

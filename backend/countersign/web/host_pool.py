@@ -30,6 +30,7 @@ from typing import TYPE_CHECKING, Any
 from ..orders.model import Orders
 from ..pool_lifetime import end_with
 from .validation_pool import SUBMITTER, WARM_WAIT_S, ValidationPool
+from .validations import CALLS, ValidationCalls
 
 if TYPE_CHECKING:
     from ..verify.parts import PartKeys
@@ -54,21 +55,22 @@ def _the_pool() -> ValidationPool:
 
 
 class _PoolProxy(BaseProxy):
-    """The pool's methods a server process calls; each calling thread has a connection of
-    its own (BaseProxy keeps them per thread), so validations wait for their turn in parallel."""
+    """The pool's methods a server process calls (validations.ValidationCalls, checked by
+    mypy through _proxy); each calling thread has a connection of its own (BaseProxy keeps
+    them per thread), so validations wait for their turn in parallel."""
 
-    _exposed_ = ("validate", "validate_parts", "running", "pending", "wait_warm")
+    _exposed_ = CALLS
 
     def _call(self, method: str, *args: Any) -> Any:
         call: Any = self._callmethod  # typeshed has it return None; it returns the result
         return call(method, args)
 
-    def validate(self, orders: Orders, submitter: str) -> dict[str, Any]:
+    def validate(self, orders: Orders, submitter: str | None = None) -> dict[str, Any]:
         report: dict[str, Any] = self._call("validate", orders, submitter)
         return report
 
     def validate_parts(self, orders: Orders, known: dict[str, Any], keys: PartKeys,
-                       orders_digest: str, submitter: str
+                       orders_digest: str, submitter: str | None = None
                        ) -> tuple[dict[str, Any], dict[str, Any]]:
         result: tuple[dict[str, Any], dict[str, Any]] = self._call(
             "validate_parts", orders, known, keys, orders_digest, submitter)
@@ -89,6 +91,12 @@ class _HostManager(BaseManager):
 
 
 _HostManager.register("pool", callable=_the_pool, proxytype=_PoolProxy)
+
+
+def _proxy(manager: _HostManager) -> ValidationCalls:
+    """The host's pool, through a proxy typed as the calls it must forward."""
+    proxy: _PoolProxy = manager.pool()  # type: ignore[attr-defined]
+    return proxy
 
 
 @dataclass(frozen=True)
@@ -119,7 +127,7 @@ class HostPool:
         # Its processes warm up before the server processes start: a command that ends early
         # (a taken port) then never stops the host while it is still starting them (their
         # start-up, cut short, wrote tracebacks into the server's log).
-        self._manager.pool().wait_warm(WARM_WAIT_S)  # type: ignore[attr-defined]
+        _proxy(self._manager).wait_warm(WARM_WAIT_S)
 
     def stop(self) -> None:
         self._manager.shutdown()
@@ -127,8 +135,8 @@ class HostPool:
 
 
 class HostPoolClient:
-    """In a server process: validation_pool.ValidationPool's interface, served by the host's
-    pool, each validation queued for the SUBMITTER of the calling context.
+    """In a server process: the pool's calls (validations.ValidationPools), served by the
+    host's pool, each validation queued for the SUBMITTER of the calling context.
 
     Should the host process end (killed, out of memory), validations go on in a pool of this
     server process's own, fair among its own requests only, rather than failing until the
@@ -138,7 +146,7 @@ class HostPoolClient:
         self.processes = processes
         manager = _HostManager(address=address.socket, authkey=address.authkey)
         manager.connect()
-        self._pool: _PoolProxy = manager.pool()  # type: ignore[attr-defined]
+        self._pool = _proxy(manager)
         self._lock = threading.Lock()
         self._own: ValidationPool | None = None
 
@@ -150,7 +158,7 @@ class HostPoolClient:
                 self._own = ValidationPool(self.processes)
             return self._own
 
-    def _served(self) -> _PoolProxy | ValidationPool:
+    def _served(self) -> ValidationCalls:
         return self._own if self._own is not None else self._pool
 
     def validate(self, orders: Orders, submitter: str | None = None) -> dict[str, Any]:
@@ -161,8 +169,10 @@ class HostPoolClient:
             return self._fallback(error).validate(orders, who)
 
     def validate_parts(self, orders: Orders, known: dict[str, Any], keys: PartKeys,
-                       orders_digest: str) -> tuple[dict[str, Any], dict[str, Any]]:
-        handed = (orders, known, keys, orders_digest, SUBMITTER.get())
+                       orders_digest: str, submitter: str | None = None
+                       ) -> tuple[dict[str, Any], dict[str, Any]]:
+        handed = (orders, known, keys, orders_digest,
+                  SUBMITTER.get() if submitter is None else submitter)
         try:
             return self._served().validate_parts(*handed)
         except (EOFError, OSError) as error:

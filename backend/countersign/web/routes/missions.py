@@ -189,7 +189,7 @@ def get_example(name: Annotated[str, Path(max_length=100)]) -> dict[str, Any]:
             **with_limit(allow(*EVERYONE), None))
 def get_mission(mission_id: str, response: Response, db: Db,
                 services: Services) -> MissionDetail:
-    return _detail(db, services, service.get_mission_with_report(db, mission_id), response)
+    return _detail(db, services, service.get_mission(db, mission_id), response)
 
 
 def _revision(if_match: str | None) -> int:
