@@ -4,11 +4,14 @@ none of them. The figures are in tests/bench/bench_startup.py."""
 
 from __future__ import annotations
 
+import argparse
+import contextlib
+import io
 import json
 import subprocess
 import sys
 
-from countersign.cli import build_parser
+from countersign.cli import GROUP_OF, GROUPS, build_parser
 from countersign.cli import common as cli_common
 from countersign.cli import plan as cli_plan
 from countersign.cli import rehearse as cli_rehearse
@@ -104,3 +107,42 @@ def test_validating_the_exemplar_imports_only_what_it_needs() -> None:
     assert {"z3", "shapely", "countersign.verify.meo.direct"} <= loaded  # it did check
     assert sorted(m for m in loaded
                   if any(m == name or m.startswith(f"{name}.") for name in NOT_FOR_VALIDATE)) == []
+
+
+def test_the_command_table_is_what_the_groups_add() -> None:
+    def commands(parser: argparse.ArgumentParser) -> list[str]:
+        action = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+        return list(action.choices)
+
+    assert commands(build_parser()) == [c for group in GROUPS.values() for c in group]
+    for group, names in GROUPS.items():
+        assert tuple(commands(build_parser(group))) == names, group
+
+
+def _parsed(parser: argparse.ArgumentParser, argv: list[str]) -> tuple[str, str, object]:
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            result: object = vars(parser.parse_args(argv))
+        except SystemExit as exc:
+            result = exc.code
+    return out.getvalue(), err.getvalue(), result
+
+
+def test_a_group_parser_parses_its_commands_as_the_whole_parser() -> None:
+    # Help, errors and parsed arguments alike, for every command.
+    whole = build_parser()
+    cases = [["validate", "x.json", "--format", "json"], ["validate"], ["validate", "x", "--nope"],
+             ["export", "x.json", "--format", "moos"], ["plan", "--help"], ["users", "--help"],
+             ["audit", "--help"], ["validate", "x", "extra", "--help"]]
+    cases += [[command, "--help"] for names in GROUPS.values() for command in names]
+    for argv in cases:
+        assert _parsed(build_parser(GROUP_OF[argv[0]]), argv) == _parsed(whole, argv), argv
+
+
+def test_validating_loads_only_its_command_group() -> None:
+    loaded = _modules_after_cli("validate", "example:search-and-sample")
+    groups = {m.removeprefix("countersign.cli.") for m in loaded
+              if m.startswith("countersign.cli.")}
+    # validate is of the orders group, which takes --library from the procedures group.
+    assert groups & set(GROUPS) == {"orders", "procedures"}
