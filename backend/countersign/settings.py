@@ -100,7 +100,9 @@ class _Environment(BaseModel):
     """A group of variables, each field under its variable's exact name (validation_alias,
     case-sensitive); an unset variable is the field's default, validated too."""
 
-    model_config = ConfigDict(frozen=True, extra="ignore", validate_default=True)
+    # Built when first read: a command reads one group of the five.
+    model_config = ConfigDict(frozen=True, extra="ignore", validate_default=True,
+                              defer_build=True)
 
 
 class ServerEnvironment(_Environment):
@@ -182,7 +184,7 @@ class Settings(BaseModel):
     """The server's settings. Built from the environment (`from_environment`) by the command
     line, or given whole (tests, scripts), in which case no variable is read."""
 
-    model_config = ConfigDict(frozen=True)
+    model_config = ConfigDict(frozen=True, defer_build=True)  # the server's alone
 
     data_dir: Path
     database_url: str
