@@ -165,3 +165,25 @@ def test_the_program_ends_with_the_collector_frozen_and_a_call_does_not() -> Non
     frozen = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                             check=True, timeout=120).stdout.strip().splitlines()[-1]
     assert int(frozen) > 10_000
+
+
+def test_validate_loads_its_modules_frozen_only_as_the_program() -> None:
+    # As the program, validate's imports load without collections and are then frozen; called
+    # in-process, its imports leave the collector as it was.
+    from countersign.cli import main
+
+    before = gc.get_freeze_count()
+    with contextlib.redirect_stdout(io.StringIO()):
+        assert main(["validate", "example:search-and-sample"]) == 0
+    assert (gc.get_freeze_count(), gc.isenabled()) == (before, True)
+    code = ("import contextlib, gc, io, sys\nfrom countersign import cli\nfrozen = []\n"
+            "real = cli.common.gc.freeze\n"
+            "cli.common.gc.freeze = lambda: (frozen.append(sorted(sys.modules)), real())\n"
+            "sys.argv = ['countersign', 'validate', 'example:search-and-sample']\n"
+            "with contextlib.redirect_stdout(io.StringIO()):\n"
+            "    cli.main()\n"
+            "print(len(frozen), 'countersign.verify.report' in frozen[0], gc.isenabled())\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True, timeout=300).stdout.strip().splitlines()[-1]
+    # Frozen once the checks were loaded (and once more at the end), the collector back on.
+    assert done == "2 True True"

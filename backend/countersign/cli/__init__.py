@@ -79,6 +79,7 @@ def _run(argv: Sequence[str] | None) -> int:
     # parser does; anything else (an option, a misspelt command) by the whole parser.
     parser = build_parser(GROUP_OF.get(given[0]) if given else None)
     args = parser.parse_args(given)
+    args.program = argv is None  # cli.common.loading
     try:
         code: int = args.handler(args)
         return code
