@@ -36,7 +36,8 @@ def test_packed_lookup_is_the_unpacked_cell() -> None:
                        lat_axis[band * land_mask.BAND_ROWS], 5_000)
     lons = rng.uniform(-180.0, 180.0, 5_000)
     land = land_mask.is_land(lats, lons)
-    unpacked = np.unpackbits(land_mask._band(band), axis=1, count=land_mask.COLS).astype(bool)
+    packed = land_mask._arrays(f"b{band}")[0]
+    unpacked = np.unpackbits(packed, axis=1, count=land_mask.COLS).astype(bool)
     rows = ((lats - lat_axis[0]) / (lat_axis[1] - lat_axis[0])).astype(int) \
         - band * land_mask.BAND_ROWS
     cols = np.clip(((lons - lon_axis[0]) / (lon_axis[1] - lon_axis[0])).astype(int),

@@ -8,7 +8,8 @@ import os
 from typing import Any
 from unittest import mock
 
-from hypothesis import example, given
+from hypothesis import HealthCheck, example, given
+from hypothesis import settings as hypothesis_settings
 from hypothesis import strategies as st
 from pydantic import ValidationError
 from pydantic_settings import BaseSettings, SettingsConfigDict
@@ -52,6 +53,7 @@ def _oracle_outcome(group: type[settings._Environment]) -> tuple[str, Any]:
         return "refused", "; ".join(settings._explain(error) for error in exc.errors())
 
 
+@hypothesis_settings(deadline=None, suppress_health_check=[HealthCheck.too_slow])  # busy machine
 @given(st.dictionaries(NAMES, VALUES, max_size=8))
 @example({})
 @example({"COUNTERSIGN_VALIDATION_PROCESSES": "65", "COUNTERSIGN_DEBUG": ""})

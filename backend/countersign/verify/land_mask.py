@@ -80,7 +80,8 @@ def _archive() -> Any:
 
 
 def _arrays(*names: str) -> list[np.ndarray]:
-    """The named arrays of the cache, those not read before read with one opening of it (an
+    """The named arrays of the cache (a band `b<index>`'s bits still packed eight cells to a
+    byte: unpacked, a band is 2.6 MB), those not read before read with one opening of it (an
     opening reads the index of its 360-odd members)."""
     with _LOCK:
         missing = [name for name in names if name not in _ARRAYS]
@@ -88,11 +89,6 @@ def _arrays(*names: str) -> list[np.ndarray]:
             with _archive() as data:
                 _ARRAYS.update((name, data[name]) for name in missing)
         return [_ARRAYS[name] for name in names]
-
-
-def _band(index: int) -> np.ndarray:
-    """The band's bits, still packed eight cells to a byte (unpacking a band is 2.6 MB)."""
-    return _arrays(f"b{index}")[0]
 
 
 def _axes() -> tuple[np.ndarray, np.ndarray]:
