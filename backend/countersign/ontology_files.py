@@ -4,7 +4,7 @@ The files live once, at the repository top (DESIGN.md layout), and are read wher
 `COUNTERSIGN_ONTOLOGY_DIR` if set, else `ontology/` beside the package's source tree (an
 editable install or a checkout), else `ontology/` in the working directory. The Docker image
 copies the folder and sets the variable. The files are parsed by `orders.ontology.load_graph`
-(this module imports nothing heavy: the settings, and pydantic-settings with them, only when
+(this module imports nothing heavy: the settings, and pydantic with them, only when
 the folder is looked up).
 """
 

@@ -1,4 +1,4 @@
-"""Every setting Countersign reads from the environment, in this one module (pydantic-settings).
+"""Every setting Countersign reads from the environment, in this one module (pydantic).
 
 Each `COUNTERSIGN_*` variable is a field below, under its own name; nothing else in the package
 reads the environment (tests/unit/test_settings_place.py). The variables are read in groups,
@@ -10,10 +10,16 @@ variable and what is wrong; a group never fails for another group's variable.
 
 A leaf module: it imports nothing of ours but other leaves, so that every layer (the command
 line as well as the web app) takes its settings from here.
+
+Each group is a plain pydantic model validated from the environment's variables, not a
+pydantic-settings class: pydantic-settings imports asyncio, dotenv and its cloud providers,
+about a tenth of a `countersign validate` process, which reads one path from here (the land
+mask's cache). tests/unit/test_settings_reading.py holds the two readings equal.
 """
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 from typing import Annotated, Any, TypeVar
 
@@ -27,7 +33,6 @@ from pydantic import (
     ValidationError,
     field_validator,
 )
-from pydantic_settings import BaseSettings, SettingsConfigDict
 
 from .limits import MAX_BODY_BYTES
 from .map_tiles import checked_template
@@ -91,10 +96,13 @@ def _attribution(value: Any) -> Any:
 OptionalPath = Annotated[Path | None, BeforeValidator(_blank_is_none)]
 
 
-class _Environment(BaseSettings):
-    """A group of variables, each field under its variable's exact name (validation_alias)."""
+class _Environment(BaseModel):
+    """A group of variables, each field under its variable's exact name (validation_alias,
+    case-sensitive); an unset variable is the field's default, validated too."""
 
-    model_config = SettingsConfigDict(case_sensitive=True, frozen=True, extra="ignore")
+    # Built when first read: a command reads one group of the five.
+    model_config = ConfigDict(frozen=True, extra="ignore", validate_default=True,
+                              defer_build=True)
 
 
 class ServerEnvironment(_Environment):
@@ -155,7 +163,7 @@ E = TypeVar("E", bound=_Environment)
 def read(group: type[E]) -> E:
     """The group's variables from the environment; SettingsError naming each bad one."""
     try:
-        return group()
+        return group.model_validate(dict(os.environ))
     except ValidationError as exc:
         raise SettingsError("; ".join(_explain(error) for error in exc.errors())) from None
 
@@ -176,7 +184,7 @@ class Settings(BaseModel):
     """The server's settings. Built from the environment (`from_environment`) by the command
     line, or given whole (tests, scripts), in which case no variable is read."""
 
-    model_config = ConfigDict(frozen=True)
+    model_config = ConfigDict(frozen=True, defer_build=True)  # the server's alone
 
     data_dir: Path
     database_url: str

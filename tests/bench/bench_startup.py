@@ -3,8 +3,9 @@
 Targets: `countersign --help` under 0.3 s and `countersign validate` of the exemplar
 (example:search-and-sample, seed 000 Figures 3-7) under 0.8 s wall (the goal is 0.3 s of
 CPU), beside `python -c pass`.
-Each figure is the median of 5 runs: wall seconds and CPU seconds (user + system of the child;
-on a shared, busy machine the wall figure includes waiting for a core, the CPU figure does not).
+Each figure is the median of 5 runs (--runs N): wall seconds and CPU seconds (user + system of
+the child; on a shared, busy machine the wall figure includes waiting for a core, the CPU figure
+does not).
 
 The children run as an installed Countersign runs: with Python's bytecode cache (pip compiles
 an installed package; an editable checkout writes `__pycache__` on its first run, the warm-up
@@ -23,6 +24,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -40,16 +42,20 @@ CPU_TARGETS = {"countersign validate example:search-and-sample": 0.3}
 CACHED_ENV = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
 
 
+def _children_cpu() -> float:
+    # getrusage counts in microseconds; os.times() in clock ticks (10 ms here), too coarse for
+    # a difference of a few milliseconds between medians.
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
 def _run_once(argv: list[str], env: dict[str, str] | None = None) -> tuple[float, float]:
-    before = os.times()
+    before = _children_cpu()
     start = time.perf_counter()
     subprocess.run(argv, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, check=False,
                    env=env if env is not None else CACHED_ENV)
     wall = time.perf_counter() - start
-    after = os.times()
-    cpu = (after.children_user - before.children_user) + (
-        after.children_system - before.children_system)
-    return wall, cpu
+    return wall, _children_cpu() - before
 
 
 def measure(argv: list[str], runs: int = RUNS,
@@ -83,14 +89,16 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--baseline", metavar="DIR",
                         help="a backend folder of other code to run beside this checkout's")
+    parser.add_argument("--runs", type=int, default=RUNS, metavar="N",
+                        help=f"runs of each command, the median shown (default {RUNS})")
     args = parser.parse_args()
     figures: dict[str, tuple[float, float]] = {}
     for label, argv in COMMANDS.items():
         if args.baseline and label != "python -c pass":
             figures[label], figures[f"  baseline: {label}"] = measure_side_by_side(
-                argv, args.baseline)
+                argv, args.baseline, args.runs)
         else:
-            figures[label] = measure(argv)
+            figures[label] = measure(argv, args.runs)
     _, base_cpu = figures["python -c pass"]
     print(f"{'command':<60} {'wall s':>7} {'cpu s':>7} {'x pass (cpu)':>13} {'target':>7} "
           f"{'cpu target':>10}")
@@ -100,7 +108,7 @@ def main() -> None:
         shown_cpu = f"{cpu_target:g}" if cpu_target is not None else "-"
         ratio = cpu / base_cpu if base_cpu > 0 else float("nan")
         print(f"{label:<60} {wall:7.3f} {cpu:7.3f} {ratio:13.1f} {shown:>7} {shown_cpu:>10}")
-    print(f"(median of {RUNS} runs each; load average {os.getloadavg()[0]:.1f})")
+    print(f"(median of {args.runs} runs each; load average {os.getloadavg()[0]:.1f})")
 
 
 if __name__ == "__main__":

@@ -4,11 +4,15 @@ none of them. The figures are in tests/bench/bench_startup.py."""
 
 from __future__ import annotations
 
+import argparse
+import contextlib
+import gc
+import io
 import json
 import subprocess
 import sys
 
-from countersign.cli import build_parser
+from countersign.cli import GROUP_OF, GROUPS, build_parser
 from countersign.cli import common as cli_common
 from countersign.cli import plan as cli_plan
 from countersign.cli import rehearse as cli_rehearse
@@ -75,8 +79,10 @@ def test_the_rules_help_lists_the_built_in_theories() -> None:
 # What `countersign validate` of the exemplar has no use for: the MEO route (rdflib, owlrl,
 # pyoxigraph: only --explain reasons over the graph), pint (its texts write their numbers in the
 # units the conditions read), the rules engine (no rules), path properties and teams (none), the
-# store and the server. Each was once imported by every validation.
+# store and the server, pydantic-settings (the land mask's cache path is read with pydantic alone:
+# settings.py). Each was once imported by every validation.
 NOT_FOR_VALIDATE = ("rdflib", "owlrl", "pyoxigraph", "pint", "networkx", "sqlalchemy",
+                    "pydantic_settings", "asyncio", "dotenv",
                     "fastapi", "numpy.ma", "countersign.verify.meo.reasoned",
                     "countersign.orders.turtle", "countersign.rules",
                     "countersign.verify.properties", "countersign.verify.team_report")
@@ -102,3 +108,82 @@ def test_validating_the_exemplar_imports_only_what_it_needs() -> None:
     assert {"z3", "shapely", "countersign.verify.meo.direct"} <= loaded  # it did check
     assert sorted(m for m in loaded
                   if any(m == name or m.startswith(f"{name}.") for name in NOT_FOR_VALIDATE)) == []
+
+
+def test_the_command_table_is_what_the_groups_add() -> None:
+    def commands(parser: argparse.ArgumentParser) -> list[str]:
+        action = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+        return list(action.choices)
+
+    assert commands(build_parser()) == [c for group in GROUPS.values() for c in group]
+    for group, names in GROUPS.items():
+        assert tuple(commands(build_parser(group))) == names, group
+
+
+def _parsed(parser: argparse.ArgumentParser, argv: list[str]) -> tuple[str, str, object]:
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            result: object = vars(parser.parse_args(argv))
+        except SystemExit as exc:
+            result = exc.code
+    return out.getvalue(), err.getvalue(), result
+
+
+def test_a_group_parser_parses_its_commands_as_the_whole_parser() -> None:
+    # Help, errors and parsed arguments alike, for every command.
+    whole = build_parser()
+    cases = [["validate", "x.json", "--format", "json"], ["validate"], ["validate", "x", "--nope"],
+             ["export", "x.json", "--format", "moos"], ["plan", "--help"], ["users", "--help"],
+             ["audit", "--help"], ["validate", "x", "extra", "--help"]]
+    cases += [[command, "--help"] for names in GROUPS.values() for command in names]
+    for argv in cases:
+        assert _parsed(build_parser(GROUP_OF[argv[0]]), argv) == _parsed(whole, argv), argv
+
+
+def test_validating_loads_only_its_command_group() -> None:
+    loaded = _modules_after_cli("validate", "example:search-and-sample")
+    groups = {m.removeprefix("countersign.cli.") for m in loaded
+              if m.startswith("countersign.cli.")}
+    # validate is of the orders group, which takes --library from the procedures group.
+    assert groups & set(GROUPS) == {"orders", "procedures"}
+
+
+def test_the_program_ends_with_the_collector_frozen_and_a_call_does_not() -> None:
+    # Frozen, the objects a command loaded are not walked by the collections at exit (a quarter
+    # of a short command's CPU); a caller in the same process (these tests) keeps its collector.
+    from countersign.cli import main
+
+    before = gc.get_freeze_count()
+    with contextlib.redirect_stdout(io.StringIO()):
+        assert main(["examples"]) == 0
+    assert (gc.get_freeze_count(), gc.isenabled()) == (before, True)
+    code = ("import contextlib, gc, io, runpy, sys\nsys.argv = ['countersign', 'examples']\n"
+            "with contextlib.suppress(SystemExit), contextlib.redirect_stdout(io.StringIO()):\n"
+            "    runpy.run_module('countersign.cli', run_name='__main__')\n"
+            "print(gc.get_freeze_count())\n")
+    frozen = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                            check=True, timeout=120).stdout.strip().splitlines()[-1]
+    assert int(frozen) > 10_000
+
+
+def test_validate_loads_its_modules_frozen_only_as_the_program() -> None:
+    # As the program, validate's imports load without collections and are then frozen; called
+    # in-process, its imports leave the collector as it was.
+    from countersign.cli import main
+
+    before = gc.get_freeze_count()
+    with contextlib.redirect_stdout(io.StringIO()):
+        assert main(["validate", "example:search-and-sample"]) == 0
+    assert (gc.get_freeze_count(), gc.isenabled()) == (before, True)
+    code = ("import contextlib, gc, io, sys\nfrom countersign import cli\nfrozen = []\n"
+            "real = cli.common.gc.freeze\n"
+            "cli.common.gc.freeze = lambda: (frozen.append(sorted(sys.modules)), real())\n"
+            "sys.argv = ['countersign', 'validate', 'example:search-and-sample']\n"
+            "with contextlib.redirect_stdout(io.StringIO()):\n"
+            "    cli.main()\n"
+            "print(len(frozen), 'countersign.verify.report' in frozen[0], gc.isenabled())\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True, timeout=300).stdout.strip().splitlines()[-1]
+    # Frozen once the checks were loaded (and once more at the end), the collector back on.
+    assert done == "2 True True"

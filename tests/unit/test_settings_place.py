@@ -1,4 +1,4 @@
-"""Every COUNTERSIGN_* setting is read in one place, countersign/settings.py (pydantic-settings).
+"""Every COUNTERSIGN_* setting is read in one place, countersign/settings.py (pydantic).
 
 Nothing else in the package touches the environment (no read, no write: the command line hands
 gunicorn's workers their settings, not variables). Tests and tools may read only variables of

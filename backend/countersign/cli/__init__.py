@@ -8,31 +8,40 @@ COUNTERSIGN_DEBUG=1 shows the trace).
 from __future__ import annotations
 
 import argparse
+import gc
 import os
 import sys
 from collections.abc import Sequence
+from importlib import import_module
 
 from .. import __version__
-from . import (
-    approvals,
-    campaign,
-    charts,
-    execution,
-    orders,
-    package,
-    plan,
-    procedures,
-    rehearse,
-    rules,
-    server,
-    witness,
-)
 from .common import EXIT_INTERNAL, EXIT_OK, EXIT_UNREADABLE, UsageError
 
 __all__ = ["UsageError", "build_parser", "main"]
 
+# The command groups, each a module of this package, in the order of `countersign --help`, with
+# the commands each adds. A command's own run imports and builds only its group's parser (the
+# dozen modules and 80-odd parsers of all are about 0.02 s of CPU of every command);
+# tests/unit/test_cli_startup.py holds this table to what the groups add.
+GROUPS: dict[str, tuple[str, ...]] = {
+    "orders": ("validate", "paths", "run", "export", "explain", "examples"),
+    "procedures": ("procedures",),
+    "server": ("serve", "users"),
+    "plan": ("plan",),
+    "rules": ("rules",),
+    "rehearse": ("rehearse",),
+    "campaign": ("campaign",),
+    "approvals": ("keygen", "sign", "audit"),
+    "witness": ("witness",),
+    "package": ("package", "vehicle"),
+    "execution": ("execution",),
+    "charts": ("charts",),
+}
+GROUP_OF = {command: group for group, commands in GROUPS.items() for command in commands}
 
-def build_parser() -> argparse.ArgumentParser:
+
+def build_parser(group: str | None = None) -> argparse.ArgumentParser:
+    """The parser of every command, or (`group`) of that group's commands alone."""
     parser = argparse.ArgumentParser(
         prog="countersign",
         description=(
@@ -45,15 +54,32 @@ def build_parser() -> argparse.ArgumentParser:
     commands = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
     # The order of the groups is the order of `countersign --help`.
-    for group in (orders, procedures, server, plan, rules, rehearse, campaign, approvals,
-                  witness, package, execution, charts):
-        group.add_commands(commands)
+    for name in GROUPS if group is None else (group,):
+        import_module(f"{__name__}.{name}").add_commands(commands)
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = build_parser()
-    args = parser.parse_args(argv)
+    """Run the command `argv`, or (None) the program's own (`sys.argv`), which then ends with
+    the garbage collector's objects frozen."""
+    code = _run(argv)
+    if argv is None:
+        # The process ends next, and Python's collections at its exit would walk every object
+        # the command loaded (modules, classes, pydantic's schemas, numpy's and z3's): about a
+        # quarter of the CPU of `countersign validate` (tests/bench/bench_startup.py). Frozen,
+        # they are not walked; the exit still frees them by their counts and runs atexit.
+        # In-process callers (tests) pass `argv` and keep their collector as it was.
+        gc.freeze()
+    return code
+
+
+def _run(argv: Sequence[str] | None) -> int:
+    given = list(sys.argv[1:] if argv is None else argv)
+    # A command named first is parsed by its group's parser, which parses it as the whole
+    # parser does; anything else (an option, a misspelt command) by the whole parser.
+    parser = build_parser(GROUP_OF.get(given[0]) if given else None)
+    args = parser.parse_args(given)
+    args.program = argv is None  # cli.common.loading
     try:
         code: int = args.handler(args)
         return code

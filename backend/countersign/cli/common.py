@@ -6,8 +6,11 @@ Imports nothing heavy at module level: `countersign --help` loads every command 
 from __future__ import annotations
 
 import argparse
+import gc
 import math
 import sys
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -29,6 +32,24 @@ FILE_HELP = (
 
 class UsageError(Exception):
     """Bad input the user can fix; printed without a trace, exit code 2."""
+
+
+@contextmanager
+def loading(args: argparse.Namespace) -> Iterator[None]:
+    """A command's imports. Run by the program itself (`args.program`, cli.main), they load
+    without the collector, each of whose full collections would walk every object loaded so
+    far (modules, classes, pydantic's schemas: garbage-free and kept to the end, about 0.04 s
+    of `countersign validate`), and are then frozen out of the later ones. Called in-process
+    (tests), nothing changes."""
+    if not getattr(args, "program", False) or not gc.isenabled():
+        yield
+        return
+    gc.disable()
+    try:
+        yield
+    finally:
+        gc.freeze()
+        gc.enable()
 
 
 def server_url(given: str | None) -> str:

@@ -19,6 +19,7 @@ from .common import (
     UsageError,
     budget_seconds,
     load_orders,
+    loading,
     member_orders,
     non_negative,
 )
@@ -78,7 +79,8 @@ def _print_explanation(report: Report, out: TextIO) -> None:
 
 
 def cmd_validate(args: argparse.Namespace) -> int:
-    from ..verify.report import validate
+    with loading(args):
+        from ..verify.report import validate
 
     loaded = with_library(load_orders(args.file, teams=True), args.procedures)
     if args.explain and loaded.orders.team is not None:
