@@ -218,17 +218,10 @@ def database_of(session: Session) -> Database:
     return database
 
 
-# The store reaches the app's services through a session at two places only, both below
-# what a route calls: the event log's receipts (events.py, logged_roles.py) and the log's
-# Merkle tree cache (approvals/log.py). Routes and domain services get them from AppServices
-# (services/app.py) instead; tests/unit/test_no_info_services.py holds both rules.
-def log_signer_of(session: Session) -> LogSigner | None:
-    """The log signer that receipts what this session appends (None for a session of a
-    database without one, e.g. a tool run without the log key)."""
-    database: Database | None = session.info.get("database")
-    return database.log_signer if database is not None else None
-
-
+# The store reaches an app service through a session at one place only, below what a route
+# calls: the log's Merkle tree cache (approvals/log.py). The log signer is an argument
+# (`record(..., signer=)`), given by routes from AppServices (services/app.py) and by the CLI
+# from the database it opened; tests/unit/test_no_info_services.py holds both rules.
 def log_trees_of(session: Session) -> LogTreeCache | None:
     """The cached Merkle tree of the log of the session's database (None: no database)."""
     database: Database | None = session.info.get("database")
