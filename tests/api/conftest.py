@@ -107,11 +107,13 @@ def seed_users(database: Database) -> tuple[dict[str, str], dict[str, str]]:
     usernames: dict[str, str] = {}
     with database.session() as db:
         for role in ROLES:
-            user = create_user(db, username=f"{role}1", role=role, password=PASSWORD)
+            user = create_user(db, username=f"{role}1", role=role, password=PASSWORD,
+                               signer=database.log_signer)
             usernames[role] = user.username
-            tokens[role] = create_token(db, user=user, name="tests")[1]
+            tokens[role] = create_token(db, user=user, name="tests", signer=database.log_signer)[1]
             if role == "operator":
-                create_mission(db, orders=load_example("search-and-sample"), author=user)
+                create_mission(db, orders=load_example("search-and-sample"), author=user,
+                               signer=database.log_signer)
     return tokens, usernames
 
 

@@ -32,7 +32,7 @@ def test_existing_events_are_backfilled_then_record_appends(database_url: str) -
                  "detail": json.dumps({"n": number})})
     database.migrate()
     with database.session() as db:
-        record(db, kind="after.migration", actor=None)
+        record(db, kind="after.migration", actor=None, signer=database.log_signer)
     with database.engine.connect() as connection:
         rows = connection.execute(text(
             'SELECT "index", entry, leaf_hash FROM log_entries ORDER BY "index"')).all()

@@ -104,7 +104,7 @@ def _token_for(world: World, username: str) -> str:
 
     with world.database.session() as db:
         user = db.scalars(select(User).where(User.username == username)).one()
-        return create_token(db, user=user, name="t")[1]
+        return create_token(db, user=user, name="t", signer=world.database.log_signer)[1]
 
 
 def test_self_approval(world: World) -> None:

@@ -79,7 +79,7 @@ def test_review_tells_a_supervisor_who_authored_the_version_why_not(world: World
         from countersign.store.tables import User
 
         user = db.get_one(User, created.json()["id"])
-        token = create_token(db, user=user, name="tests")[1]
+        token = create_token(db, user=user, name="tests", signer=world.database.log_signer)[1]
     dual = world.client()
     dual.headers["Authorization"] = f"Bearer {token}"
     number = dual.post(f"/api/missions/{MISSION}/versions").json()["number"]

@@ -33,7 +33,7 @@ def _stored_record(world: World, number: int) -> str:
         save_record(db, digest=record.digest, record=record.to_json(),
                     replay_html=b"<!doctype html><p>headless: no scene", mission_id=MISSION,
                     version=number, orders_digest=version.digest, source="simulate",
-                    owner=owner, rehearsal_id=rehearsal.id)
+                    owner=owner, rehearsal_id=rehearsal.id, signer=world.database.log_signer)
     return record.digest
 
 

@@ -106,7 +106,7 @@ def test_a_key_revoked_in_the_log_stays_revoked_when_its_row_is_reset(world: Wor
 def _token(world: World, username: str) -> str:
     with world.database.session() as db:
         user = db.scalars(select(User).where(User.username == username)).one()
-        return create_token(db, user=user, name="t")[1]
+        return create_token(db, user=user, name="t", signer=world.database.log_signer)[1]
 
 
 def test_an_editor_of_an_earlier_revision_promoted_to_supervisor_cannot_decide(

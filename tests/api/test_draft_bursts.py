@@ -63,8 +63,9 @@ def test_one_burst_of_saves_is_one_log_entry_naming_what_changed(world: World) -
 
 def test_another_author_or_a_quiet_pause_ends_the_burst(world: World) -> None:
     with world.database.session() as db:
-        other = create_user(db, username="operator2", role="operator", password=PASSWORD)
-        token = create_token(db, user=other, name="tests")[1]
+        other = create_user(db, username="operator2", role="operator", password=PASSWORD,
+                            signer=world.database.log_signer)
+        token = create_token(db, user=other, name="tests", signer=world.database.log_signer)[1]
     first = world.client("operator")
     second = TestClient(world.app, headers={"Authorization": f"Bearer {token}"})
     mission = "burst-two"

@@ -46,8 +46,10 @@ def test_an_editor_promoted_to_supervisor_who_approves_is_named(
         world: World, monkeypatch: pytest.MonkeyPatch, tmp_path: Path,
         capsys: pytest.CaptureFixture[str]) -> None:
     with world.database.session() as db:
-        eve = create_user(db, username="eve", role="operator", password=PASSWORD)
-        eve_id, token = eve.id, create_token(db, user=eve, name="tests")[1]
+        eve = create_user(db, username="eve", role="operator", password=PASSWORD,
+                          signer=world.database.log_signer)
+        eve_id, token = eve.id, create_token(db, user=eve, name="tests",
+                                             signer=world.database.log_signer)[1]
     editor = world.client()
     editor.headers["Authorization"] = f"Bearer {token}"
     mission = editor.get(f"/api/missions/{MISSION}")

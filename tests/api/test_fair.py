@@ -54,8 +54,10 @@ def test_a_second_users_edit_is_validated_while_the_first_users_heavy_jobs_run(
     tokens, ids = {}, {}
     with database.session() as db:
         for name in ("heavy", "light"):
-            user = create_user(db, username=name, role="operator", password="a long password 1")
-            tokens[name], ids[name] = create_token(db, user=user, name="tests")[1], user.id
+            user = create_user(db, username=name, role="operator", password="a long password 1",
+                               signer=database.log_signer)
+            tokens[name], ids[name] = create_token(db, user=user, name="tests",
+                                                   signer=database.log_signer)[1], user.id
     heavy_user = f"user:{ids['heavy']}"
     with TestClient(app, raise_server_exceptions=False) as client:  # lifespan: the pool
         pool = app.state.validation_pool

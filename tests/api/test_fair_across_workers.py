@@ -65,8 +65,9 @@ def _users(tmp_path: Path) -> tuple[str, dict[str, str]]:
     tokens = {}
     with database.session() as db:
         for name in ("heavy", "light"):
-            user = create_user(db, username=name, role="operator", password="a long password 1")
-            tokens[name] = create_token(db, user=user, name="tests")[1]
+            user = create_user(db, username=name, role="operator", password="a long password 1",
+                               signer=database.log_signer)
+            tokens[name] = create_token(db, user=user, name="tests", signer=database.log_signer)[1]
     database.engine.dispose()
     return url, tokens
 

@@ -73,11 +73,13 @@ def _tokens(app: Any) -> dict[str, str]:
     tokens = {}
     with database.session() as db:
         for role in ROLES:
-            user = create_user(db, username=f"fuzz-{role}", role=role, password=_password(role))
-            tokens[role] = create_token(db, user=user, name="fuzz")[1]
+            user = create_user(db, username=f"fuzz-{role}", role=role, password=_password(role),
+                               signer=database.log_signer)
+            tokens[role] = create_token(db, user=user, name="fuzz", signer=database.log_signer)[1]
             if role == "operator":
                 for example in SEEDED_EXAMPLES:
-                    create_mission(db, orders=load_example(example), author=user)
+                    create_mission(db, orders=load_example(example), author=user,
+                                   signer=database.log_signer)
     return tokens
 
 

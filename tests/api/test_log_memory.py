@@ -117,7 +117,8 @@ def test_a_rolled_back_append_is_not_remembered(world: World) -> None:
     signer = world.database.log_signer
     before = dict(signer.remembered_beyond(0))
     with pytest.raises(RuntimeError), world.database.session() as db:
-        record(db, kind="mission.created", actor=None, mission_id=MISSION, detail={})
+        record(db, kind="mission.created", actor=None, mission_id=MISSION, detail={},
+               signer=world.database.log_signer)
         raise RuntimeError("the request failed after appending")
     assert signer.remembered_beyond(0) == before
     # The index the rolled-back append took is free for the next one.

@@ -60,15 +60,16 @@ def _forge_approval(world: World, submission: int) -> None:
         db.flush()
         record(db, kind="key.registered", actor=supervisor, detail={
             "key_id": kid, "public_key": dsse.public_text(key), "user": supervisor.username,
-            "name": "forged"})
+            "name": "forged"}, signer=attacker.log_signer)
         prepared = service.prepare_decision(db, submission_id=submission, supervisor=supervisor,
                                             decision="approved", reason="", key_id=kid,
-                                            reports=attacker.reports)
+                                            reports=attacker.reports, signer=attacker.log_signer)
         envelope = json.dumps(dsse.sign_envelope(prepared.payload, key))
         # The attacker writes rows with the app's code but skips its password check.
         with mock.patch.object(decisions, "confirm_password", lambda *a, **k: None):
             service.decide(db, submission_id=submission, supervisor=supervisor,
-                           envelope=envelope, password=None, reports=attacker.reports)
+                           envelope=envelope, password=None, reports=attacker.reports,
+                           signer=attacker.log_signer)
     attacker.engine.dispose()
 
 

@@ -70,7 +70,8 @@ def _forge_entry(url: str) -> None:
     attacker = Database(url)
     with attacker.session() as db:
         admin = db.scalars(select(User).where(User.role == "admin")).one()
-        record(db, kind="user.created", actor=admin, detail={"username": "mallory"})
+        record(db, kind="user.created", actor=admin, detail={"username": "mallory"},
+               signer=attacker.log_signer)
     attacker.engine.dispose()
 
 
@@ -154,7 +155,8 @@ def test_no_adoption_when_the_key_directory_was_not_made_by_this_start(
     assert not world.database.log_signer.fresh
     assert _adoptions(world) == 0
     with world.database.session() as db:  # a new entry, receipted: the log needs a new head
-        create_user(db, username="newcomer", role="operator", password=PASSWORD)
+        create_user(db, username="newcomer", role="operator", password=PASSWORD,
+                    signer=world.database.log_signer)
     refused = _bundle(world)["signer_refused"]
     assert refused is not None and refused.startswith("log entry 0 carries no receipt")
 

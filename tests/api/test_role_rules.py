@@ -57,7 +57,7 @@ def _events(bundle: dict[str, Any]) -> list[dict[str, Any]]:
 
 def _key_anyway(client: Any, monkeypatch: pytest.MonkeyPatch) -> Signer:
     """A key registered with the log's role check switched off there (as before this issue)."""
-    monkeypatch.setattr(keys, "decision_refusal_from_log", lambda db, user: None)
+    monkeypatch.setattr(keys, "decision_refusal_from_log", lambda db, user, signer: None)
     signer = register_key(client)
     monkeypatch.undo()
     return signer
@@ -66,8 +66,9 @@ def _key_anyway(client: Any, monkeypatch: pytest.MonkeyPatch) -> Signer:
 def _promoted_in_the_table(world: World) -> tuple[Any, int]:
     """An operator the log created (mallory), promoted by an UPDATE of the users table."""
     with world.database.session() as db:
-        mallory = create_user(db, username="mallory", role="operator", password=PASSWORD)
-        token = create_token(db, user=mallory, name="tests")[1]
+        mallory = create_user(db, username="mallory", role="operator", password=PASSWORD,
+                              signer=world.database.log_signer)
+        token = create_token(db, user=mallory, name="tests", signer=world.database.log_signer)[1]
     with world.database.engine.begin() as connection:
         connection.execute(text("UPDATE users SET role = 'supervisor' WHERE username = "
                                 "'mallory'"))
@@ -98,7 +99,7 @@ def test_an_operator_promoted_in_the_table_may_not_decide(
     assert review.status_code == 200 and named in (review.json()["decide_refusal"] or ""), \
         review.text
     # A statement obtained anyway (the guard off while preparing) is refused at the decision.
-    monkeypatch.setattr(duties, "decision_refusal_from_log", lambda db, user: None)
+    monkeypatch.setattr(duties, "decision_refusal_from_log", lambda db, user, signer: None)
     prepared = prepare(client, submission, signer)
     monkeypatch.undo()
     refused = client.post(f"/api/submissions/{submission}/decision", json={
@@ -113,7 +114,7 @@ def test_the_cli_and_the_offline_verifier_name_the_promotion(
     signer = _key_anyway(client, monkeypatch)
     submission = submit(world, new_version(world))
     # A server that trusted the row (before this issue) accepts the decision...
-    monkeypatch.setattr(duties, "decision_refusal_from_log", lambda db, user: None)
+    monkeypatch.setattr(duties, "decision_refusal_from_log", lambda db, user, signer: None)
     approval = approve(world, client, signer, submission)
     named = (f"log entry {approval['log_index']} (approval.approved) by mallory, but the log "
              f"made mallory operator in log entry {created}: only an enabled supervisor "
@@ -134,8 +135,10 @@ def test_a_promotion_through_the_app_lets_them_decide(world: World) -> None:
     """The control: the same person promoted by an admin (a log entry) decides, and the bundle
     verifies with no problem."""
     with world.database.session() as db:
-        olga = create_user(db, username="olga", role="operator", password=PASSWORD)
-        olga_id, token = olga.id, create_token(db, user=olga, name="tests")[1]
+        olga = create_user(db, username="olga", role="operator", password=PASSWORD,
+                           signer=world.database.log_signer)
+        olga_id, token = olga.id, create_token(db, user=olga, name="tests",
+                                               signer=world.database.log_signer)[1]
     promoted = world.client("admin").patch(f"/api/users/{olga_id}", json={
         "role": "supervisor", "admin_password": PASSWORD})
     assert promoted.status_code == 200, promoted.text
@@ -182,8 +185,9 @@ def test_a_supervisor_created_by_an_admin_promoted_in_the_table_may_not_decide(
     """mallory is made admin by an UPDATE and creates a supervisor through the API (the route
     trusts the row): the log shows a non-admin creating the account, which gives no role."""
     with world.database.session() as db:
-        mallory = create_user(db, username="mallory", role="operator", password=PASSWORD)
-        token = create_token(db, user=mallory, name="tests")[1]
+        mallory = create_user(db, username="mallory", role="operator", password=PASSWORD,
+                              signer=world.database.log_signer)
+        token = create_token(db, user=mallory, name="tests", signer=world.database.log_signer)[1]
     with world.database.engine.begin() as connection:
         connection.execute(text("UPDATE users SET role = 'admin' WHERE username = 'mallory'"))
     admin = world.client()
@@ -194,7 +198,7 @@ def test_a_supervisor_created_by_an_admin_promoted_in_the_table_may_not_decide(
     assert created.status_code == 201, created.text
     with world.database.session() as db:
         sock_token = create_token(db, user=db.get_one(User, created.json()["id"]),
-                                  name="tests")[1]
+                                  name="tests", signer=world.database.log_signer)[1]
     sock = world.client()
     sock.headers["Authorization"] = f"Bearer {sock_token}"
     refused = sock.post("/api/keys", json={

@@ -57,8 +57,8 @@ def test_a_killed_server_leaves_no_process_behind(tmp_path: Path) -> None:
     database.migrate()
     with database.session() as db:
         user = create_user(db, username="killed", role="operator",
-                           password="Vq8-orphan-check-Lp2-test")
-        token = create_token(db, user=user, name="test")[1]
+                           password="Vq8-orphan-check-Lp2-test", signer=database.log_signer)
+        token = create_token(db, user=user, name="test", signer=database.log_signer)[1]
     database.engine.dispose()
     port = _free_port()
     log = (tmp_path / "server.log").open("wb")

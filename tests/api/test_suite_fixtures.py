@@ -107,7 +107,7 @@ def test_a_template_database_holds_what_migration_leaves(world: World, tmp_path:
     assert {name: n for name, n in counts.items() if n} == {}
     with database.session() as db:
         user = accounts.create_user(db, username="first", role="auditor",
-                                    password="a long password 1")
+                                    password="a long password 1", signer=database.log_signer)
         assert user.id == 1
     database.engine.dispose()
 

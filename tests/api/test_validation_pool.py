@@ -34,8 +34,9 @@ def _running_app(tmp_path: Path) -> tuple[TestClient, Database, str]:
     app = create_app(Settings(data_dir=tmp_path, database_url=url, validation_processes=1),
                      database)
     with database.session() as db:
-        user = create_user(db, username="op", role="operator", password="a long password 1")
-        token = create_token(db, user=user, name="tests")[1]
+        user = create_user(db, username="op", role="operator", password="a long password 1",
+                           signer=database.log_signer)
+        token = create_token(db, user=user, name="tests", signer=database.log_signer)[1]
     return TestClient(app, raise_server_exceptions=False), database, token
 
 

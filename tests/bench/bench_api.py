@@ -117,8 +117,8 @@ def _prepare(url: str) -> str:
     database.migrate()
     with database.session() as db:
         user = create_user(db, username="bench", role="operator",
-                           password="tidal orchid 79 granite")
-        token = create_token(db, user=user, name="bench")[1]
+                           password="tidal orchid 79 granite", signer=database.log_signer)
+        token = create_token(db, user=user, name="bench", signer=database.log_signer)[1]
     database.engine.dispose()
     return token
 

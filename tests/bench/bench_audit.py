@@ -197,7 +197,7 @@ def _populate(url: str, events: int) -> Database:
     with database.session() as db:
         for index in range(events):
             record(db, kind="draft.updated", actor=None, mission_id="bench",
-                   detail={"revision": index})
+                   detail={"revision": index}, signer=database.log_signer)
     return database
 
 
@@ -256,13 +256,15 @@ def bench_witness_and_decisions(rounds: int, events: int) -> None:
         with database.session() as db:
             for role in ("operator", "supervisor", "auditor"):
                 user = create_user(db, username=f"{role}1", role=role,
-                                   password="benchmark password")
-                tokens[role] = create_token(db, user=user, name="bench")[1]
+                                   password="benchmark password", signer=database.log_signer)
+                tokens[role] = create_token(db, user=user, name="bench",
+                                            signer=database.log_signer)[1]
                 if role == "operator":
-                    create_mission(db, orders=load_example("search-and-sample"), author=user)
+                    create_mission(db, orders=load_example("search-and-sample"), author=user,
+                                   signer=database.log_signer)
             for index in range(events):
                 record(db, kind="draft.updated", actor=None, mission_id="bench",
-                       detail={"revision": index})
+                       detail={"revision": index}, signer=database.log_signer)
 
         def client(role: str) -> TestClient:
             return TestClient(app, headers={"Authorization": f"Bearer {tokens[role]}"})

@@ -37,7 +37,8 @@ def _campaign(database: Database, n: int) -> tuple[str, list[tuple[int, int]]]:
     spec = CampaignSpec.build(simulations=n, orders=orders, chunk=5, **SWEEP)  # type: ignore[arg-type]
     with database.session() as db:
         row = store.create(db, orders=orders_to_json(orders), orders_digest=digest(orders),
-                           spec=spec.to_json(), simulations=n, owner=None)
+                           spec=spec.to_json(), simulations=n, owner=None,
+                           signer=database.log_signer)
         return row.id, spec.chunks()
 
 

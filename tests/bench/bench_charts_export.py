@@ -80,8 +80,8 @@ def main() -> None:
         app = create_app(Settings(data_dir=Path(tmp), database_url=url), database)
         with database.session() as db:
             user = create_user(db, username="auditor1", role="auditor",
-                               password="correct horse battery staple")
-            token = create_token(db, user=user, name="bench")[1]
+                               password="correct horse battery staple", signer=database.log_signer)
+            token = create_token(db, user=user, name="bench", signer=database.log_signer)[1]
         _fill(database, args.charts)
         client = TestClient(app)
         client.headers["Authorization"] = f"Bearer {token}"

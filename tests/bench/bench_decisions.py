@@ -47,11 +47,14 @@ def run(rounds: int, skip_password: bool, url: str | None, data_dir: Path) -> li
     database = Database(url)
     app = create_app(Settings(data_dir=data_dir, database_url=url), database)
     with database.session() as db:
-        operator = create_user(db, username="op", role="operator", password=PASSWORD)
-        supervisor = create_user(db, username="sup", role="supervisor", password=PASSWORD)
-        create_mission(db, orders=load_example(MISSION), author=operator)
-        tokens = {"op": create_token(db, user=operator, name="b")[1],
-                  "sup": create_token(db, user=supervisor, name="b")[1]}
+        operator = create_user(db, username="op", role="operator", password=PASSWORD,
+                               signer=database.log_signer)
+        supervisor = create_user(db, username="sup", role="supervisor", password=PASSWORD,
+                                 signer=database.log_signer)
+        create_mission(db, orders=load_example(MISSION), author=operator,
+                       signer=database.log_signer)
+        tokens = {"op": create_token(db, user=operator, name="b", signer=database.log_signer)[1],
+                  "sup": create_token(db, user=supervisor, name="b", signer=database.log_signer)[1]}
     op, sup = TestClient(app), TestClient(app)
     op.headers["Authorization"] = f"Bearer {tokens['op']}"
     sup.headers["Authorization"] = f"Bearer {tokens['sup']}"

@@ -62,8 +62,9 @@ def _users(url: str) -> dict[str, str]:
     with database.session() as db:
         for name in ("heavy", "light"):
             user = create_user(db, username=name, role="operator",
-                               password=f"Bq7-{name[::-1]}-bench-Lp2-fair")
-            tokens[name] = create_token(db, user=user, name="bench")[1]
+                               password=f"Bq7-{name[::-1]}-bench-Lp2-fair",
+                               signer=database.log_signer)
+            tokens[name] = create_token(db, user=user, name="bench", signer=database.log_signer)[1]
     database.engine.dispose()
     return tokens
 

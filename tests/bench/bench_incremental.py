@@ -190,8 +190,8 @@ def bench_api(quick: bool, pool: bool) -> None:
                                   validation_processes=2 if pool else 0), database)
         with database.session() as db:
             user = create_user(db, username="bench", role="operator",
-                               password="a long harbour passphrase 1")
-            token = create_token(db, user=user, name="bench")[1]
+                               password="a long harbour passphrase 1", signer=database.log_signer)
+            token = create_token(db, user=user, name="bench", signer=database.log_signer)[1]
         started = time.perf_counter()
         with TestClient(app) as client:
             client.headers["Authorization"] = f"Bearer {token}"

@@ -43,15 +43,15 @@ def _populate(url: str, missions: int, goals: int) -> str:
     database.migrate()
     with database.session() as db:
         operator = create_user(db, username="op", role="operator",
-                               password="tidal orchid 79 granite")
+                               password="tidal orchid 79 granite", signer=database.log_signer)
         reader = create_user(db, username="reader", role="auditor",
-                             password="tidal orchid 79 granite")
-        token = create_token(db, user=reader, name="bench")[1]
+                             password="tidal orchid 79 granite", signer=database.log_signer)
+        token = create_token(db, user=reader, name="bench", signer=database.log_signer)[1]
     base = orders_to_json(random_dag(goals))
     for index in range(missions):
         orders = Orders.model_validate({**base, "id": f"large-{index:02d}"})
         with database.session() as db:
-            mission = create_mission(db, orders=orders, author=operator)
+            mission = create_mission(db, orders=orders, author=operator, signer=database.log_signer)
             # Stored with the mission.
             report_for(db, orders, mission.draft_digest, reports=database.reports)
     database.engine.dispose()

@@ -53,17 +53,20 @@ def main() -> None:
         database = Database(url)
         create_app(Settings(data_dir=Path(tmp), database_url=url), database)
         with database.session() as db:
-            create_user(db, username="sue", role="supervisor", password=PASSWORD)
+            create_user(db, username="sue", role="supervisor", password=PASSWORD,
+                        signer=database.log_signer)
             for i in range(args.accounts - 1):  # the password hash is the slow part: reuse it
                 record(db, kind="user.created", actor=None,
-                       detail={"user": f"u{i}", "role": "operator"})
+                       detail={"user": f"u{i}", "role": "operator"}, signer=database.log_signer)
             for i in range(args.entries - args.accounts):
                 record(db, kind="draft.updated", actor=None, mission_id="m",
-                       detail={"revision": i})
+                       detail={"revision": i}, signer=database.log_signer)
         with database.session(write=False) as db:
             user = db.scalars(select(User).where(User.username == "sue")).one()
-            assert decision_refusal_from_log(db, user) is None
-            roles = _median_ms(lambda: decision_refusal_from_log(db, user), args.rounds)
+            assert decision_refusal_from_log(db, user, signer=database.log_signer) is None
+            signer = database.log_signer
+            roles = _median_ms(lambda: decision_refusal_from_log(db, user, signer=signer),
+                               args.rounds)
             keys = _median_ms(lambda: logged_key_revocation(db, "k" * 16), args.rounds)
     print(f"log of {args.entries} entries, {args.accounts} account entries (SQLite)")
     print(f"  roles from the log:     median {roles:8.2f} ms")

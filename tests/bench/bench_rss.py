@@ -188,8 +188,8 @@ def _admin(url: str) -> str:
     database = Database(url)
     with database.session() as db:
         user = create_user(db, username="bench-admin", role="admin",
-                           password="Bq7-nimda-bench-Lp2-rss")
-        token = create_token(db, user=user, name="bench")[1]
+                           password="Bq7-nimda-bench-Lp2-rss", signer=database.log_signer)
+        token = create_token(db, user=user, name="bench", signer=database.log_signer)[1]
     database.engine.dispose()
     return token
 

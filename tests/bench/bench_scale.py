@@ -269,8 +269,8 @@ def bench_edit(quick: bool) -> None:
         app = create_app(Settings(data_dir=Path(folder), database_url=url), database)
         with database.session() as db:
             user = create_user(db, username="bench", role="operator",
-                               password="a long harbour passphrase 1")
-            token = create_token(db, user=user, name="bench")[1]
+                               password="a long harbour passphrase 1", signer=database.log_signer)
+            token = create_token(db, user=user, name="bench", signer=database.log_signer)[1]
         client = TestClient(app)
         client.headers["Authorization"] = f"Bearer {token}"
         orders: dict[str, Any] = checked_structure(

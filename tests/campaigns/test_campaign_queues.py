@@ -64,7 +64,8 @@ def _campaign(database: Database, owner: int | None) -> str:
     with database.session() as db:
         user = db.get(User, owner) if owner is not None else None
         return str(store.create(db, orders=orders_to_json(orders), orders_digest=digest(orders),
-                                spec={"simulations": 4}, simulations=4, owner=user).id)
+                                spec={"simulations": 4}, simulations=4, owner=user,
+                                signer=database.log_signer).id)
 
 
 def test_the_command_lines_lone_campaign_uses_every_worker(
@@ -92,9 +93,9 @@ def test_a_newcomers_job_starts_before_the_first_owners_next(
     monkeypatch.setattr(inprocess, "_attempts", jobs)
     with database.session() as db:
         first = create_user(db, username="first", role="operator",
-                            password="Tq7-Lantern-Quay-41").id
+                            password="Tq7-Lantern-Quay-41", signer=database.log_signer).id
         second = create_user(db, username="second", role="operator",
-                             password="Vx3-Harbor-Mist-58").id
+                             password="Vx3-Harbor-Mist-58", signer=database.log_signer).id
     runner = inprocess.InProcessRunner(database, workers=2)
     try:
         big = _campaign(database, first)

@@ -118,7 +118,8 @@ def test_a_result_is_stored_once_per_campaign_and_index(tmp_path: Path) -> None:
     orders = load_example("search-and-sample")
     with database.session() as db:
         row = store.create(db, orders=orders_to_json(orders), orders_digest=digest(orders),
-                           spec={"simulations": 2}, simulations=2, owner=None)
+                           spec={"simulations": 2}, simulations=2, owner=None,
+                           signer=database.log_signer)
     with database.session() as db:
         assert store.store_result(db, row.id, 0, {"index": 0}) is True
     with database.session() as db:

@@ -278,7 +278,8 @@ def test_a_team_jobs_rerun_stores_each_simulation_once_and_seals_the_joint_table
     spec = CampaignSpec.build(simulations=3, chunk=2, faults=["none", "b:leak"], orders=team)
     with database.session() as db:
         row = store.create(db, orders=orders_to_json(team), orders_digest=digest(team),
-                           spec=spec.to_json(), simulations=3, owner=None)
+                           spec=spec.to_json(), simulations=3, owner=None,
+                           signer=database.log_signer)
     assert run_chunk(database, row.id, 0, 2) == 2
     assert missing_chunks(database, row.id) == [(2, 3)]
     assert run_chunk(database, row.id, 0, 2) == 0  # the retry stores nothing twice

@@ -1,4 +1,4 @@
-"""The shape of the backend's code: no module over 600 lines, no function over 80 lines
+"""The shape of the backend's code: no module over 600 lines, no function over 60 lines
 without a stated reason, one Turtle writer, and no import cycle between the packages and the
 top-level modules. Each rule is also run on a planted example, so a check that stops seeing
 anything fails too."""
@@ -18,26 +18,23 @@ MAX_MODULE_LINES = 600
 # Modules allowed to be longer, each with its reason (none today).
 LONG_MODULES: dict[str, str] = {}
 
-MAX_FUNCTION_LINES = 80
+MAX_FUNCTION_LINES = 60
 # A function over the limit states why in its docstring, in a sentence starting "Length:".
 REASON = "Length:"
-# Functions over the limit when the rule came in, in modules other refactorings own; each
-# with the reason it is long. An entry must go when its function is split (the test says so).
+OWNER = "split by the owner"
+# Functions over the limit, each with the reason it is long: a declarative table or a hot
+# loop, or a module another refactoring owns and splits itself. An entry must go when its
+# function is split (the test says so).
 LONG_FUNCTIONS: dict[str, str] = {
     "countersign/cli/orders.py:add_commands":
         "a declarative argparse table of the orders commands, one block per command",
     "countersign/rules/engine.py:compute":
         "one pass of the prioritised-extension algorithm over local arrays shared with its "
         "closure; split, the hot loop pays for attribute lookups",
-    "countersign/verify/logic/goal_set.py:explain_goal_set":
-        "the explanation's cases in the order the report prints them",
-    "countersign/verify/meo/reasoned.py:explain":
-        "the MEO rules' explanations one after another (one rule set)",
-    "countersign/verify/meo/direct.py:meo_only_findings":
-        "the MEO rules one after another (one rule set)",
-    "countersign/web/app.py:create_app":
-        "the application's middleware, routes and handlers in the order they apply "
-        "(services)",
+    # Split by their owners (typed contracts; logic speed) in branches of their own.
+    "countersign/verify/report.py:validate": OWNER,
+    "countersign/verify/logic/goal_set.py:explain_goal_set": OWNER,
+    "countersign/verify/logic/model.py:LogicModel.fact_items": OWNER,
 }
 
 # The one Turtle writer: escaping and document layout for every Turtle the code writes.

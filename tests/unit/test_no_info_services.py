@@ -7,10 +7,10 @@ arguments (`reports=`, `signer=`). Three rules, read from the source with `ast`:
 2. Routes and domain services (web/, services/) never reach a service through a session or
    the database object (`database_of(db).reports`, `app.state.database.log_signer`): only
    the app factory's wiring may.
-3. Inside the store, nothing reads a service off the database object, and the two accessors
-   that still find one through a session (store/db.py: the log signer for event receipts, the
-   log's tree cache) are used only where they are used today; a new use must take the service
-   as an argument instead."""
+3. Inside the store, nothing reads a service off the database object, and the one accessor
+   that still finds one through a session (store/db.py: the log's tree cache) is used only
+   where it is used today; a new use must take the service as an argument instead. The log
+   signer is always an argument (`record(..., signer=)`, `decision_refusal_from_log`)."""
 
 from __future__ import annotations
 
@@ -23,13 +23,12 @@ ROOT = Path(__file__).resolve().parents[2] / "backend" / "countersign"
 SERVICE_KEYS = {"database", "write", "reports", "log_signer", "signer", "log_tree_cache",
                 "log_trees", "settings", "services"}
 SERVICE_ATTRIBUTES = {"reports", "log_signer", "log_tree_cache"}
+# log_signer_of is gone (the signer is an argument); named here so that it cannot return.
 LOOKUPS = {"database_of", "log_signer_of", "log_trees_of"}
 INFO_ALLOWED = {"store/db.py"}
 # The app factory and the services object itself wire the database's services together.
 WIRING = {"web/app.py", "web/log_signer.py", "services/app.py"}
 STORE_LOOKUPS_ALLOWED = {
-    "store/events.py": {"log_signer_of"},
-    "store/logged_roles.py": {"log_signer_of"},
     "store/approvals/log.py": {"log_trees_of"},
 }
 
@@ -135,3 +134,22 @@ def test_the_checks_see_each_kind_of_lookup() -> None:
     )
     assert sorted(what for _, what in service_reaches(reached)) == [
         ".log_signer", ".reports", "database_of()"]
+
+
+def _signer_parameter(source: str, function: str) -> ast.arg | None:
+    """The keyword-only `signer` parameter of `function`, if it has one without a default."""
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.FunctionDef) and node.name == function:
+            for arg, default in zip(node.args.kwonlyargs, node.args.kw_defaults, strict=True):
+                if arg.arg == "signer" and default is None:
+                    return arg
+    return None
+
+
+def test_event_appends_are_given_their_signer() -> None:
+    """record() and append_to_log() take the signer as a required keyword: a default would
+    let a caller append an entry without a receipt by forgetting it."""
+    source = (ROOT / "store" / "events.py").read_text(encoding="utf-8")
+    for function in ("record", "append_to_log"):
+        assert _signer_parameter(source, function) is not None, function
+    assert _signer_parameter("def record(db, *, signer=None): ...", "record") is None

@@ -228,9 +228,11 @@ def _create(database: Database, args: argparse.Namespace) -> tuple[str, list[tup
     for idle in (r for r in sweep_fault_reach(orders, spec.faults) if not r.reacts):
         sys.stderr.write(f"warning: {idle.because}\n")
     with database.session() as db:
+        # This command opens no log key: its entries carry no receipt (as before).
         row = store.create(db, orders=data, orders_digest=orders_digest(orders),
                            spec=spec.to_json(), simulations=spec.simulations, owner=None,
-                           mission_id=mission_id, version=version)
+                           mission_id=mission_id, version=version,
+                           signer=database.log_signer)
         campaign_id = row.id
     return campaign_id, spec.chunks()
 
@@ -364,7 +366,7 @@ def cmd_cancel(args: argparse.Namespace) -> int:
     database = _database(args)
     try:
         with database.session() as db:
-            row = store.cancel(db, args.id, actor=None)
+            row = store.cancel(db, args.id, actor=None, signer=database.log_signer)
             done = store.count_done(db, row.id)
     except DomainError as exc:
         raise UsageError(str(exc)) from None

@@ -66,7 +66,8 @@ def _with_db(args: argparse.Namespace, work: Any) -> int:
 
     _, database = _database(args)
     with database.session() as db:
-        result: int = work(db)
+        # The log signer the command opened receipts what `work` appends.
+        result: int = work(db, database.log_signer)
     return result
 
 
@@ -80,9 +81,9 @@ def cmd_import(args: argparse.Namespace) -> int:
     except GeoFormatError as exc:
         return _fail(exc)
 
-    def work(db: Any) -> int:
+    def work(db: Any, signer: Any) -> int:
         saved = save_charts(db, charts)
-        record(db, kind="chart.saved", actor=None, detail={"charts": saved[:1000],
+        record(db, signer=signer, kind="chart.saved", actor=None, detail={"charts": saved[:1000],
                                                            "source": "cli"})
         sys.stdout.write(f"imported {len(saved)} chart(s): {', '.join(saved[:20])}"
                          f"{' ...' if len(saved) > 20 else ''}\n")
@@ -95,7 +96,7 @@ def cmd_list(args: argparse.Namespace) -> int:
     from ..orders.geo_formats import areas_to_geojson, charts_to_kml
     from ..store.charts import all_charts
 
-    def work(db: Any) -> int:
+    def work(db: Any, _signer: Any) -> int:
         charts = all_charts(db)
         if args.format == "geojson":
             sys.stdout.write(json.dumps(areas_to_geojson(charts), indent=2) + "\n")
@@ -112,12 +113,12 @@ def cmd_delete(args: argparse.Namespace) -> int:
     from ..store.charts import delete_chart
     from ..store.events import record
 
-    def work(db: Any) -> int:
+    def work(db: Any, signer: Any) -> int:
         if not delete_chart(db, args.chart_id):
             sys.stderr.write(f"countersign: there is no chart {args.chart_id!r}\n")
             return EXIT_UNREADABLE
         record(db, kind="chart.deleted", actor=None, detail={"charts": [args.chart_id],
-                                                             "source": "cli"})
+                                                             "source": "cli"}, signer=signer)
         return EXIT_OK
 
     return _with_db(args, work)

@@ -59,7 +59,7 @@ def _seed_demo(database: Database) -> None:
             if db.scalar(select(User).where(User.username == name)) is None:
                 password = secrets.token_urlsafe(12)
                 create_user(db, username=name, role=role, password=password,
-                            display_name=f"Demo {role}")
+                            display_name=f"Demo {role}", signer=database.log_signer)
                 created.append((name, role, password))
         operator = db.scalar(select(User).where(User.username == "demo-operator"))
         assert operator is not None
@@ -69,10 +69,11 @@ def _seed_demo(database: Database) -> None:
         # The examples' vehicles into the registry first, so that a mission created in the
         # browser can pick one and is checked against its profile.
         seeded = seed_registry(
-            db, [v for orders in examples.values() for v in orders.vehicles or []], admin)
+            db, [v for orders in examples.values() for v in orders.vehicles or []], admin,
+            signer=database.log_signer)
         for name, orders in examples.items():
             if db.get(Mission, name) is None:
-                create_mission(db, orders=orders, author=operator)
+                create_mission(db, orders=orders, author=operator, signer=database.log_signer)
     if seeded:
         sys.stderr.write(f"Vehicle registry: added {', '.join(seeded)} from the examples.\n")
     if created:
@@ -160,7 +161,8 @@ def cmd_users_create(args: argparse.Namespace) -> int:
     try:
         with database.session() as db:
             create_user(db, username=args.username, role=args.role, password=password,
-                        display_name=args.display_name or args.username)
+                        display_name=args.display_name or args.username,
+                        signer=database.log_signer)
     except AccountError as exc:
         raise UsageError(str(exc)) from None
     sys.stdout.write(f"Created {args.role} {args.username}.\n")

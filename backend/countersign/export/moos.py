@@ -227,7 +227,7 @@ def write_bhv(orders: Orders, provenance: Provenance, notes: list[ExportNote],
     origin = _origin(orders)
     terminals = orders.effective_terminals
     helm = helm_modes(orders, nesting)
-    modes, paths = helm.name, helm.path
+    modes = helm.name
     start = modes[str(orders.start)]
     out = [
         f"// MOOS-IvP helm behaviours for mission {orders.id}, written by Countersign.",
@@ -252,22 +252,7 @@ def write_bhv(orders: Orders, provenance: Provenance, notes: list[ExportNote],
         "",
     ]
     out += _group_declarations(helm)
-    groups = {group.flat_id: group for group in helm.groups}
-    declared: set[str] = set()
-    for goal in orders.goals:
-        for flat_id in helm.within.get(goal.id, ()):
-            if flat_id not in declared:
-                declared.add(flat_id)
-                out += _group_mode(groups[flat_id])
-        parent = paths[goal.id].rsplit(":", 1)[0]
-        out += [f"// mode {modes[goal.id]} = goal {goal.id}: {_comment(goal.label)}",
-                f"set MODE = {modes[goal.id]} {{", f"  MODE = {parent}",
-                f"  MISSION_GOAL = {modes[goal.id]}", "}", ""]
-    for terminal in terminals:
-        out += [f"// mode {modes[terminal.id]} = terminal {terminal.id} ({terminal.kind}): "
-                f"{_comment(terminal.label)}",
-                f"set MODE = {modes[terminal.id]} {{", "  MODE = ACTIVE",
-                f"  MISSION_GOAL = {modes[terminal.id]}", "}", ""]
+    out += _mode_declarations(orders, helm)
     scope = _constraint_scope(orders)
     relays = sum(len(watched) for watched in scope.values())
     if relays > MAX_CONSTRAINT_RELAYS:
@@ -285,6 +270,30 @@ def write_bhv(orders: Orders, provenance: Provenance, notes: list[ExportNote],
     out += _unexpressed(orders, notes)
     uncarried(orders, "MOOS-IvP", notes)
     return "\n".join(out).rstrip("\n") + "\n"
+
+
+def _mode_declarations(orders: Orders, helm: HelmModes) -> list[str]:
+    """A mode per goal (inside its refinement groups' modes, each declared before its first
+    goal) and per terminal."""
+    modes, paths = helm.name, helm.path
+    out: list[str] = []
+    groups = {group.flat_id: group for group in helm.groups}
+    declared: set[str] = set()
+    for goal in orders.goals:
+        for flat_id in helm.within.get(goal.id, ()):
+            if flat_id not in declared:
+                declared.add(flat_id)
+                out += _group_mode(groups[flat_id])
+        parent = paths[goal.id].rsplit(":", 1)[0]
+        out += [f"// mode {modes[goal.id]} = goal {goal.id}: {_comment(goal.label)}",
+                f"set MODE = {modes[goal.id]} {{", f"  MODE = {parent}",
+                f"  MISSION_GOAL = {modes[goal.id]}", "}", ""]
+    for terminal in orders.effective_terminals:
+        out += [f"// mode {modes[terminal.id]} = terminal {terminal.id} ({terminal.kind}): "
+                f"{_comment(terminal.label)}",
+                f"set MODE = {modes[terminal.id]} {{", "  MODE = ACTIVE",
+                f"  MISSION_GOAL = {modes[terminal.id]}", "}", ""]
+    return out
 
 
 def _group_declarations(helm: HelmModes) -> list[str]:

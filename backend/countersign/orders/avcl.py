@@ -93,16 +93,7 @@ class _AvclGoal:
 def read_avcl(data: bytes, name: str = "<input>") -> ReadResult:
     """Convert AVCL mission XML into orders plus the SINK warnings of the NPS defaults."""
     root = _parse(data)
-    root_name = _local(root.tag)
-    if root_name != "AVCL":
-        message = f"the root element is <{root_name}>, not <AVCL>: this is not an AVCL mission"
-        raise OrdersReadError([Problem(f"/{root_name}", message)])
-    found = _find(root, "GoalList")
-    if found is None:
-        raise OrdersReadError(
-            [Problem("/AVCL", "the AVCL document has no GoalList, so it orders no goals")]
-        )
-    goal_list, list_path = found
+    goal_list, list_path = _goal_list(root)
     problems: list[Problem] = []
     renamed = _renamed_ids(root, problems)
     raw = [
@@ -111,21 +102,9 @@ def read_avcl(data: bytes, name: str = "<input>") -> ReadResult:
     ]
     if problems:
         raise OrdersReadError(problems[:MAX_PROBLEMS_SHOWN], total=len(problems))
-
-    reached_on_success = {g.success for g in raw if g.success}
-    goals: list[dict[str, Any]] = []
-    terminals: list[dict[str, Any]] = []
     areas: list[dict[str, Any]] = []
     findings: list[Finding] = []
-    for goal in raw:
-        if goal.success is None and goal.failure is None and goal.exception is None:
-            kind = _terminal_kind(goal, goal.id in reached_on_success)
-            terminals.append({"id": goal.id, "kind": kind, "title": goal.title})
-            continue
-        goals.append(_goal_data(goal, areas, problems))
-        defaulted = _defaulted(goal)
-        if defaulted:
-            goals[-1]["defaulted"] = defaulted
+    goals, terminals = _goals_and_terminals(raw, areas, problems)
     if problems:
         raise OrdersReadError(problems[:MAX_PROBLEMS_SHOWN], total=len(problems))
     _named_behaviors(root, goals)
@@ -149,6 +128,50 @@ def read_avcl(data: bytes, name: str = "<input>") -> ReadResult:
         raise OrdersReadError(problems[:MAX_PROBLEMS_SHOWN], total=len(problems))
     if charts:
         data_out["charts"] = charts
+    _vehicle_data(root, meta, data_out)
+    try:
+        orders = Orders.model_validate(data_out)
+    except ValidationError as exc:
+        raise problems_from_validation(exc) from None
+    return ReadResult(orders, [*findings, *defaulted_findings(orders)], "avcl")
+
+
+def _goal_list(root: Element) -> tuple[Element, str]:
+    """The document's GoalList and its path; refused when this is no AVCL mission."""
+    root_name = _local(root.tag)
+    if root_name != "AVCL":
+        message = f"the root element is <{root_name}>, not <AVCL>: this is not an AVCL mission"
+        raise OrdersReadError([Problem(f"/{root_name}", message)])
+    found = _find(root, "GoalList")
+    if found is None:
+        raise OrdersReadError(
+            [Problem("/AVCL", "the AVCL document has no GoalList, so it orders no goals")]
+        )
+    return found
+
+
+def _goals_and_terminals(raw: list[_AvclGoal], areas: list[dict[str, Any]],
+                         problems: list[Problem]
+                         ) -> tuple[list[dict[str, Any]], list[dict[str, Any]]]:
+    """The goals' data and, for a goal with no successor at all, a terminal's (its kind
+    from its title and whether a success reaches it)."""
+    reached_on_success = {g.success for g in raw if g.success}
+    goals: list[dict[str, Any]] = []
+    terminals: list[dict[str, Any]] = []
+    for goal in raw:
+        if goal.success is None and goal.failure is None and goal.exception is None:
+            kind = _terminal_kind(goal, goal.id in reached_on_success)
+            terminals.append({"id": goal.id, "kind": kind, "title": goal.title})
+            continue
+        goals.append(_goal_data(goal, areas, problems))
+        defaulted = _defaulted(goal)
+        if defaulted:
+            goals[-1]["defaulted"] = defaulted
+    return goals, terminals
+
+
+def _vehicle_data(root: Element, meta: dict[str, str], data_out: dict[str, Any]) -> None:
+    """The vehicle the document names (attributes, or the metas the writer leaves)."""
     vehicle_name = (root.get("vehicleName") or meta.get(VEHICLE_NAME_META) or "").strip()
     if vehicle_name:
         vehicle: dict[str, Any] = {"id": _slug(vehicle_name), "title": vehicle_name}
@@ -157,11 +180,6 @@ def read_avcl(data: bytes, name: str = "<input>") -> ReadResult:
             vehicle["vehicle_type"] = vehicle_type
         data_out["vehicle"] = vehicle["id"]
         data_out["vehicles"] = [vehicle]
-    try:
-        orders = Orders.model_validate(data_out)
-    except ValidationError as exc:
-        raise problems_from_validation(exc) from None
-    return ReadResult(orders, [*findings, *defaulted_findings(orders)], "avcl")
 
 
 def _parse(data: bytes) -> Element:

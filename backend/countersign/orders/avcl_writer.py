@@ -115,14 +115,7 @@ def avcl_document(orders: Orders) -> AvclDocument:
     defined = {g.id for _, g in goals} | {t.id for t in terminals}
     ids = _Ids(defined)
     root = ET.Element("AVCL", {"version": "3.1"})
-    head = ET.SubElement(root, "head")
-    _meta(head, "title", f"{orders.id}.xml")
-    if orders.title:
-        _meta(head, "description", orders.title)
-    _meta(head, "generator", "Countersign")
-    for chart in orders.charts:
-        _meta(head, CHART_META, json.dumps(chart.model_dump(mode="json", exclude_unset=True),
-                                           ensure_ascii=False, separators=(",", ":")))
+    head = _head(orders, root)
     body = ET.SubElement(root, "body")
     ET.SubElement(body, "UnitsOfMeasure", {"distance": "meters", "angle": "degrees",
                                            "mass": "kilograms", "time": "seconds"})
@@ -136,28 +129,7 @@ def avcl_document(orders: Orders) -> AvclDocument:
     dangling: dict[str, str] = {}
     for index, goal in ordered:
         where = f"/goals/{index}"
-        attributes = {"id": ids(goal.id), "title": goal.title or goal.id}
-        if goal.description:
-            attributes["description"] = goal.description
-        phase = goal.params.get("phase")
-        if isinstance(phase, str) and phase:
-            attributes["phase"] = phase
-        for outcome, attribute in HANDLERS:
-            targets = goal.successors(outcome)
-            if not targets:
-                # The NPS readers fill in a missing handler from the others, and take a goal
-                # with none at all for a terminal goal.
-                gaps.append(Gap("MISSING", f"{where}/next/{outcome}",
-                                f"goal {goal.id} names no {outcome} successor; AVCL readers "
-                                "apply the NPS defaults (no successor at all: a terminal)"))
-                continue
-            if len(targets) > 1:
-                gaps.append(Gap("CHOICE", f"{where}/next/{outcome}",
-                                f"goal {goal.id}: AVCL names one successor per outcome; "
-                                f"{targets[0]} is written, {', '.join(targets[1:])} is not"))
-            if targets[0] not in defined:
-                dangling.setdefault(targets[0], goal.id)
-            attributes[attribute] = ids(targets[0])
+        attributes = _goal_attributes(goal, where, ids, defined, dangling, gaps)
         element = ET.SubElement(goal_list, "Goal", attributes)
         _goal_content(orders, goal, where, element, head, gaps)
     for terminal in terminals:
@@ -183,6 +155,48 @@ def avcl_document(orders: Orders) -> AvclDocument:
     ET.indent(root)
     text = '<?xml version="1.0" encoding="UTF-8"?>\n' + ET.tostring(root, "unicode") + "\n"
     return AvclDocument(text, gaps)
+
+
+def _head(orders: Orders, root: ET.Element) -> ET.Element:
+    """The document's head: title, description, generator and the orders' charts."""
+    head = ET.SubElement(root, "head")
+    _meta(head, "title", f"{orders.id}.xml")
+    if orders.title:
+        _meta(head, "description", orders.title)
+    _meta(head, "generator", "Countersign")
+    for chart in orders.charts:
+        _meta(head, CHART_META, json.dumps(chart.model_dump(mode="json", exclude_unset=True),
+                                           ensure_ascii=False, separators=(",", ":")))
+    return head
+
+
+def _goal_attributes(goal: Goal, where: str, ids: _Ids, defined: set[str],
+                     dangling: dict[str, str], gaps: list[Gap]) -> dict[str, str]:
+    """A Goal element's attributes: id, title, description, phase and one successor per
+    outcome (what AVCL cannot say is a gap; a successor that names nothing is `dangling`)."""
+    attributes = {"id": ids(goal.id), "title": goal.title or goal.id}
+    if goal.description:
+        attributes["description"] = goal.description
+    phase = goal.params.get("phase")
+    if isinstance(phase, str) and phase:
+        attributes["phase"] = phase
+    for outcome, attribute in HANDLERS:
+        targets = goal.successors(outcome)
+        if not targets:
+            # The NPS readers fill in a missing handler from the others, and take a goal
+            # with none at all for a terminal goal.
+            gaps.append(Gap("MISSING", f"{where}/next/{outcome}",
+                            f"goal {goal.id} names no {outcome} successor; AVCL readers "
+                            "apply the NPS defaults (no successor at all: a terminal)"))
+            continue
+        if len(targets) > 1:
+            gaps.append(Gap("CHOICE", f"{where}/next/{outcome}",
+                            f"goal {goal.id}: AVCL names one successor per outcome; "
+                            f"{targets[0]} is written, {', '.join(targets[1:])} is not"))
+        if targets[0] not in defined:
+            dangling.setdefault(targets[0], goal.id)
+        attributes[attribute] = ids(targets[0])
+    return attributes
 
 
 def _meta(head: ET.Element, name: str, content: str) -> None:

@@ -8,7 +8,7 @@ output or inject statements. Defects stay visible: an unknown target becomes a d
 
 from __future__ import annotations
 
-from .model import OUTCOMES, Orders
+from .model import OUTCOMES, Goal, Orders, Terminal
 
 EDGE_STYLE: dict[str, tuple[str, str]] = {
     # outcome: (colour, label)
@@ -60,7 +60,33 @@ def to_dot(orders: Orders) -> str:
         f"  graph {_attributes(rankdir='LR', label=title, labelloc='t')};",
         '  node [fontname="Helvetica"];',
         '  edge [fontname="Helvetica"];',
+        *_element_nodes(goals, terminals, starts),
     ]
+    unknown: list[str] = []
+    edges = _edges(goals, terminals, starts, unknown)
+    if starts:
+        lines.append(
+            f"  {quote(START_NODE)} "
+            f"{_attributes(shape='point', width=quote('0.15'), label=quote(''))};"
+        )
+    for target in unknown:
+        attrs = _attributes(
+            shape="box",
+            style='"dashed"',
+            color='"red"',
+            fontcolor='"red"',
+            label=quote(f"? {target}"),
+        )
+        lines.append(f"  {quote(UNKNOWN_PREFIX + target)} {attrs};")
+    lines.extend(edges)
+    lines.append("}")
+    return "\n".join(lines) + "\n"
+
+
+def _element_nodes(goals: dict[str, Goal], terminals: dict[str, Terminal],
+                   starts: list[str]) -> list[str]:
+    """A node line per goal (a start in bold) and per terminal (coloured by its kind)."""
+    lines = []
     for goal in goals.values():
         style = '"rounded,bold"' if goal.id in starts else '"rounded"'
         penwidth = '"2.5"' if goal.id in starts else '"1"'
@@ -78,8 +104,13 @@ def to_dot(orders: Orders) -> str:
             label=_label(terminal.id, terminal.title),
         )
         lines.append(f"  {quote(terminal.id)} {attrs};")
+    return lines
 
-    unknown: list[str] = []
+
+def _edges(goals: dict[str, Goal], terminals: dict[str, Terminal], starts: list[str],
+           unknown: list[str]) -> list[str]:
+    """The start's edges and every successor edge, coloured by outcome; a successor that is
+    no goal or terminal goes to a node of its own, its name added to `unknown`."""
 
     def node_for(target: str) -> str:
         if target in goals or target in terminals:
@@ -99,21 +130,4 @@ def to_dot(orders: Orders) -> str:
                     label=quote(letter), color=quote(colour), fontcolor=quote(colour)
                 )
                 edges.append(f"  {quote(goal.id)} -> {node_for(target)} {attrs};")
-
-    if starts:
-        lines.append(
-            f"  {quote(START_NODE)} "
-            f"{_attributes(shape='point', width=quote('0.15'), label=quote(''))};"
-        )
-    for target in unknown:
-        attrs = _attributes(
-            shape="box",
-            style='"dashed"',
-            color='"red"',
-            fontcolor='"red"',
-            label=quote(f"? {target}"),
-        )
-        lines.append(f"  {quote(UNKNOWN_PREFIX + target)} {attrs};")
-    lines.extend(edges)
-    lines.append("}")
-    return "\n".join(lines) + "\n"
+    return edges

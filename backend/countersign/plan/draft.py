@@ -35,10 +35,39 @@ def orders_from_plan(
 ) -> Orders:
     if not plan.feasible:
         raise ValueError("an infeasible plan has no orders")
+    goals = _survey_goals(problem, plan)
+    planned = ", ".join(f"{s.area} (pass {s.pass_index})" for s in plan.steps) or "no area"
+    data = {
+        "format": "countersign.orders/1",
+        "id": mission_id,
+        "title": title,
+        "description": (
+            f"Drafted by countersign plan (level {problem.level}): {planned}; reward "
+            f"{plan.reward:g}, energy {plan.energy_wh:,.1f} Wh of {plan.limit_wh:,.1f} Wh "
+            f"(battery {problem.vehicle.battery_wh:g} Wh less reserve "
+            f"{problem.vehicle.reserve_wh:g} Wh)."
+        ),
+        "vehicle": VEHICLE_ID,
+        "start": "G1",
+        "goals": goals,
+        "vehicles": [
+            {
+                "id": VEHICLE_ID,
+                "title": "Planned vehicle",
+                "behaviors": ["area_search", "transit"],
+                "budget": {"energy_wh": _budget(plan, goals)},
+            }
+        ],
+    }
+    return Orders.model_validate(data)
+
+
+def _survey_goals(problem: PlanProblem, plan: Plan) -> list[dict[str, Any]]:
+    """One goal per planned pass, in plan order, then the return to the recovery point (where
+    a violated goal goes)."""
     areas = {area.id: area for area in problem.areas}
     rate = problem.vehicle.transit_wh_per_m
-    count = len(plan.steps)
-    recovery_id = f"G{count + 1}"
+    recovery_id = f"G{len(plan.steps) + 1}"
     goals: list[dict[str, Any]] = []
     spent = 0.0
     for index, step in enumerate(plan.steps, start=1):
@@ -75,35 +104,19 @@ def orders_from_plan(
             "next": {"succeed": "COMPLETE", "fail": "ABORT", "violate": "ABORT"},
         }
     )
-    # validate adds the costs along the path in its own order; allow for the last bits of
-    # floating-point rounding so that a plan exactly at the limit is not refused for them.
+    return goals
+
+
+def _budget(plan: Plan, goals: list[dict[str, Any]]) -> float:
+    """The vehicle's energy budget: the plan's limit, unless the goals' costs added along the
+    path exceed it by rounding only. validate adds the costs in its own order; the last bits
+    of floating-point rounding must not refuse a plan exactly at the limit."""
     along_path = 0.0
     for goal in goals:
         along_path += goal["cost"]["energy_wh"]
     budget = plan.limit_wh
     if budget < along_path <= budget * (1 + 1e-12) + 1e-9:
         budget = along_path
-    planned = ", ".join(f"{s.area} (pass {s.pass_index})" for s in plan.steps) or "no area"
-    data = {
-        "format": "countersign.orders/1",
-        "id": mission_id,
-        "title": title,
-        "description": (
-            f"Drafted by countersign plan (level {problem.level}): {planned}; reward "
-            f"{plan.reward:g}, energy {plan.energy_wh:,.1f} Wh of {plan.limit_wh:,.1f} Wh "
-            f"(battery {problem.vehicle.battery_wh:g} Wh less reserve "
-            f"{problem.vehicle.reserve_wh:g} Wh)."
-        ),
-        "vehicle": VEHICLE_ID,
-        "start": "G1",
-        "goals": goals,
-        "vehicles": [
-            {
-                "id": VEHICLE_ID,
-                "title": "Planned vehicle",
-                "behaviors": ["area_search", "transit"],
-                "budget": {"energy_wh": budget},
-            }
-        ],
-    }
-    return Orders.model_validate(data)
+    return budget
+
+

@@ -110,27 +110,13 @@ def problem_from_orders(
     if battery is None:
         raise CannotBuildProblem("give battery_wh, or an energy budget on the vehicle")
     wh_per_m = vehicle.power_w / vehicle.speed_mps / 3600.0
-    index = orders.area_index()
     wanted = list(areas) if areas is not None else [
         a.id for a in orders.areas if len(a.polygon) >= 3
     ]
-    must = set(mandatory)
     to_metres = _local(start)
-    items = []
-    for area_id in wanted:
-        area = index.get(area_id)
-        if area is None or len(area.polygon) < 3:
-            raise CannotBuildProblem(f"area {area_id!r} is not in the orders or has no polygon")
-        extra = area.model_extra or {}
-        reward = (rewards or {}).get(area_id, extra.get("reward", 1.0))
-        points = [to_metres(p) for p in area.polygon]
-        items.append({
-            "id": area.id,
-            "title": area.title,
-            "reward": reward,
-            "mandatory": area_id in must or bool(extra.get("mandatory", False)),
-            "passes": lawnmower_passes(points, _swath(orders, area, swath_m), wh_per_m),
-        })
+    index, must = orders.area_index(), set(mandatory)
+    items = [_area_item(orders, index.get(area_id), area_id, to_metres, wh_per_m,
+                        rewards=rewards, must=must, swath_m=swath_m) for area_id in wanted]
     # Inputs within their own bounds can still make a problem the model refuses (a start far
     # from the areas puts passes beyond the coordinate bound): say so rather than fail.
     try:
@@ -149,3 +135,21 @@ def problem_from_orders(
         message = str(first["msg"]).removeprefix("Value error, ")
         raise CannotBuildProblem(f"the planning problem would not be valid: {where}: "
                                  f"{message}") from None
+
+
+def _area_item(orders: Orders, area: Area | None, area_id: str, to_metres: Any,
+               wh_per_m: float, *, rewards: Mapping[str, float] | None, must: set[str],
+               swath_m: float | None) -> dict[str, Any]:
+    """One area of the problem: its reward, whether it is mandatory, its lawnmower passes."""
+    if area is None or len(area.polygon) < 3:
+        raise CannotBuildProblem(f"area {area_id!r} is not in the orders or has no polygon")
+    extra = area.model_extra or {}
+    reward = (rewards or {}).get(area_id, extra.get("reward", 1.0))
+    points = [to_metres(p) for p in area.polygon]
+    return {
+        "id": area.id,
+        "title": area.title,
+        "reward": reward,
+        "mandatory": area_id in must or bool(extra.get("mandatory", False)),
+        "passes": lawnmower_passes(points, _swath(orders, area, swath_m), wh_per_m),
+    }

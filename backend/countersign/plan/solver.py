@@ -126,6 +126,19 @@ def check_size(problem: PlanProblem) -> None:
         )
 
 
+def _pass_nodes(problem: PlanProblem) -> tuple[list[_Node], list[list[int]]]:
+    """A node per pass of every area, and each area's node indices."""
+    nodes: list[_Node] = []
+    nodes_of: list[list[int]] = []
+    for a, area in enumerate(problem.areas):
+        indices = []
+        for p, pass_ in enumerate(problem.passes_of(area)):
+            indices.append(len(nodes))
+            nodes.append(_Node(a, p, pass_.entry, pass_.exit, pass_.survey_wh))
+        nodes_of.append(indices)
+    return nodes, nodes_of
+
+
 class _Tables:
     """best[S] for every subset S, filled in increasing order of S."""
 
@@ -139,14 +152,7 @@ class _Tables:
         rate = problem.vehicle.transit_wh_per_m
         self.problem = problem
         self.n = len(problem.areas)
-        self.nodes: list[_Node] = []
-        self.nodes_of: list[list[int]] = []
-        for a, area in enumerate(problem.areas):
-            indices = []
-            for p, pass_ in enumerate(problem.passes_of(area)):
-                indices.append(len(self.nodes))
-                self.nodes.append(_Node(a, p, pass_.entry, pass_.exit, pass_.survey_wh))
-            self.nodes_of.append(indices)
+        self.nodes, self.nodes_of = _pass_nodes(problem)
         nodes = self.nodes
         self.first = [_leg(rate, problem.start, v.entry) + v.survey_wh for v in nodes]
         # into[v][u]: the leg from the exit of u to the entry of v, plus the survey of v
@@ -154,12 +160,25 @@ class _Tables:
         self.home = [_leg(rate, v.exit, problem.recovery) for v in nodes]
         self.direct = _leg(rate, problem.start, problem.recovery)
         size = 1 << self.n
-        width = len(nodes)
         self.best: list[list[float]] = [[]] * size
         self.energy: list[float] = [INF] * size
         self.energy[0] = self.direct
-        blank = [INF] * width
         started = time.perf_counter()
+        self._fill(deadline, progress, started)
+        rewards = [0.0] * size
+        values = [area.reward for area in problem.areas]
+        for mask in range(1, size):
+            low = mask & -mask
+            rewards[mask] = rewards[mask ^ low] + values[low.bit_length() - 1]
+        self.rewards = rewards
+        self.elapsed_s = time.perf_counter() - started
+
+    def _fill(self, deadline: float | None, progress: Callable[[int, int], None] | None,
+              started: float) -> None:
+        """best[S] and energy[S] for every non-empty subset S, in increasing order of S (each
+        from the subsets one area smaller)."""
+        size = 1 << self.n
+        blank = [INF] * len(self.nodes)
         for mask in range(1, size):
             if not mask & 0xFF:
                 if deadline is not None and time.perf_counter() > deadline:
@@ -188,13 +207,6 @@ class _Tables:
             self.energy[mask] = min(map(add, row, self.home))
         if progress is not None:
             progress(size, size)
-        rewards = [0.0] * size
-        values = [area.reward for area in problem.areas]
-        for mask in range(1, size):
-            low = mask & -mask
-            rewards[mask] = rewards[mask ^ low] + values[low.bit_length() - 1]
-        self.rewards = rewards
-        self.elapsed_s = time.perf_counter() - started
 
     def route(self, mask: int) -> tuple[list[int], float]:
         """The nodes of the cheapest plan for exactly `mask`, in order, and its last leg."""
@@ -269,27 +281,49 @@ def solve(
         if best_mask < 0 or key > best_key:
             best_mask, best_key = mask, key
     if best_mask < 0:
-        cover = _cover(tables.energy, tables.n)
-        core = minimal_conflict(cover, required, limit, tables.n)
-        ids = tuple(area.id for a, area in enumerate(problem.areas) if core & (1 << a))
-        if not ids:
-            message = (
-                f"even going straight from the start to recovery needs {tables.direct:,.1f} Wh, "
-                f"more than the {limit:,.1f} Wh the vehicle may use (battery less reserve)"
-            )
-        else:
-            need = cover[core]
-            amount = "no route at all" if need == INF else f"at least {need:,.1f} Wh"
-            message = (
-                f"the mandatory areas {', '.join(ids)} cannot be surveyed together: that needs "
-                f"{amount}, more than the {limit:,.1f} Wh the vehicle may use (battery less "
-                "reserve); without any one of them the rest can be served"
-            )
-        return Plan(False, limit_wh=limit, conflict=ids, message=message, stats=stats)
+        return _infeasible(problem, tables, required, stats)
     if best_mask == 0:
         return Plan(True, 0.0, tables.direct, limit, (), tables.direct,
                     value=objective(0.0, tables.direct), stats=stats)
     route, home = tables.route(best_mask)
+    return Plan(
+        True,
+        tables.rewards[best_mask],
+        tables.energy[best_mask],
+        limit,
+        _steps(problem, tables, route),
+        home,
+        value=objective(tables.rewards[best_mask], tables.energy[best_mask]),
+        stats=stats,
+    )
+
+
+def _infeasible(problem: PlanProblem, tables: _Tables, required: int,
+                stats: dict[str, Any]) -> Plan:
+    """No plan: the smallest set of mandatory areas that cannot be served together (none when
+    even the direct way to recovery is too long), said in words."""
+    limit = problem.vehicle.limit_wh
+    cover = _cover(tables.energy, tables.n)
+    core = minimal_conflict(cover, required, limit, tables.n)
+    ids = tuple(area.id for a, area in enumerate(problem.areas) if core & (1 << a))
+    if not ids:
+        message = (
+            f"even going straight from the start to recovery needs {tables.direct:,.1f} Wh, "
+            f"more than the {limit:,.1f} Wh the vehicle may use (battery less reserve)"
+        )
+    else:
+        need = cover[core]
+        amount = "no route at all" if need == INF else f"at least {need:,.1f} Wh"
+        message = (
+            f"the mandatory areas {', '.join(ids)} cannot be surveyed together: that needs "
+            f"{amount}, more than the {limit:,.1f} Wh the vehicle may use (battery less "
+            "reserve); without any one of them the rest can be served"
+        )
+    return Plan(False, limit_wh=limit, conflict=ids, message=message, stats=stats)
+
+
+def _steps(problem: PlanProblem, tables: _Tables, route: Sequence[int]) -> tuple[Step, ...]:
+    """The route's passes as plan steps, each with the leg to it and its survey energy."""
     steps = []
     previous: int | None = None
     rate = problem.vehicle.transit_wh_per_m
@@ -301,16 +335,7 @@ def solve(
                  node.survey_wh)
         )
         previous = v
-    return Plan(
-        True,
-        tables.rewards[best_mask],
-        tables.energy[best_mask],
-        limit,
-        tuple(steps),
-        home,
-        value=objective(tables.rewards[best_mask], tables.energy[best_mask]),
-        stats=stats,
-    )
+    return tuple(steps)
 
 
 def plan_energy(problem: PlanProblem, order: Sequence[str], passes: dict[str, int]) -> float:

@@ -22,12 +22,13 @@ from typing import Any
 
 from .. import strict_json
 from ..orders.model import OUTCOMES, Orders
+from ..verify.graph import MissionGraph
 from ..verify.paths import paths_of
 from ..verify.refine import checked_form
 from .execution_budget import Usage, budget_usage
 from .execution_evidence import Evidence, TimeWindow, check_times
 from .execution_evidence import ExecutionLogError as ExecutionLogError
-from .monitor import facts_of, monitors_of
+from .monitor import GoalFacts, Monitor, facts_of, monitors_of
 
 MAX_STEPS = 100_000
 MAX_LINE = 64 * 1024
@@ -159,36 +160,22 @@ def check_execution(orders: Orders, steps: list[Step],
             deviations.append(Deviation("AFTER-END", number, f"{step.goal} ran after the "
                                         "mission ended"))
             break
-        expected = graph.goal_ids[node]
-        if step.goal != expected:
-            if step.goal not in index:
-                code, text = "UNKNOWN-GOAL", f"{step.goal} is not a goal of the orders"
-            elif index[step.goal] in graph.succ[node]:
-                code, text = "SKIPPED-GOAL", f"{expected} was skipped: {step.goal} ran instead"
-            else:
-                code, text = "WRONG-TRANSITION", (
-                    f"the orders name {expected} next, but {step.goal} ran")
-            deviations.append(Deviation(code, number, text))
+        if step.goal != graph.goal_ids[node]:
+            deviations.append(_transition_deviation(graph, index, node, step, number))
             if step.goal not in index:
                 break
             node = index[step.goal]  # follow what the vehicle did, to name later deviations
             rank = -1
-        goal = goals[step.goal]
-        facts = facts_of(goal, orders)
+        facts = facts_of(goals[step.goal], orders)
         for monitor in monitors:
             if not monitor.applies(step.goal):
                 continue
             in_scope.add(monitor.constraint_id)
             if all(monitor.holds(r, facts) is None for r in (step.readings, *step.samples)):
                 unread.append((monitor.constraint_id, number))
-            broken = next((r for r in (step.readings, *step.samples)
-                           if r and monitor.holds(r, facts) is False), None)
+            broken = _broken_constraint(monitor, step, number, facts)
             if broken is not None:
-                shown = ", ".join(f"{k}={v}" for k, v in sorted(broken.items()))
-                deviations.append(Deviation(
-                    "CONSTRAINT", number, f"readings {shown} break {monitor.constraint_id} "
-                    f"({monitor.expr}) during {step.goal}"
-                    + (f" at {step.time}" if step.time else "")))
+                deviations.append(broken)
         k = OUTCOMES.index(step.outcome)
         if rank >= 0:
             rank += sum(counts.per_node[graph.succ[node][j]] for j in range(k))
@@ -207,3 +194,32 @@ def check_execution(orders: Orders, steps: list[Step],
     evidence = Evidence(untimed, tuple(unread), tuple(read))
     return ExecutionVerdict(rank + 1 if ok else None, terminal, tuple(deviations), usage,
                             evidence)
+
+
+def _transition_deviation(graph: MissionGraph, index: dict[str, int], node: int, step: Step,
+                          number: int) -> Deviation:
+    """How a step that is not the goal the orders name next deviates from them."""
+    expected = graph.goal_ids[node]
+    if step.goal not in index:
+        code, text = "UNKNOWN-GOAL", f"{step.goal} is not a goal of the orders"
+    elif index[step.goal] in graph.succ[node]:
+        code, text = "SKIPPED-GOAL", f"{expected} was skipped: {step.goal} ran instead"
+    else:
+        code, text = "WRONG-TRANSITION", (
+            f"the orders name {expected} next, but {step.goal} ran")
+    return Deviation(code, number, text)
+
+
+def _broken_constraint(monitor: Monitor, step: Step, number: int,
+                       facts: GoalFacts) -> Deviation | None:
+    """The CONSTRAINT deviation of the step's first readings that break the monitor's
+    constraint (None when none does)."""
+    broken = next((r for r in (step.readings, *step.samples)
+                   if r and monitor.holds(r, facts) is False), None)
+    if broken is None:
+        return None
+    shown = ", ".join(f"{k}={v}" for k, v in sorted(broken.items()))
+    return Deviation(
+        "CONSTRAINT", number, f"readings {shown} break {monitor.constraint_id} "
+        f"({monitor.expr}) during {step.goal}"
+        + (f" at {step.time}" if step.time else ""))

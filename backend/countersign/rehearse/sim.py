@@ -38,6 +38,7 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 from ..orders.model import OUTCOMES, Area, Orders
+from ..orders.model import Vehicle as OrdersVehicle
 from ..verify.expressions import identifiers
 from ..verify.nesting import Nesting
 from ..verify.paths import INDENT
@@ -114,7 +115,26 @@ class Simulation:
             orders
         )
         self.contingency_actions = self.contingency.actions()
-        vehicle = orders.target_vehicle()
+        self._take_profile(orders.target_vehicle())
+        self._initial_faults: tuple[FaultSpec, ...] = tuple(
+            f if isinstance(f, FaultSpec) else FaultSpec.parse(f) for f in faults
+        )
+        self._begin_record(orders)
+        self.vehicle = Vehicle(*self._launch_point())
+        self.trail: list[tuple[float, float, float]] = []
+        # The legs flown between goals: from, outcome, to and geodesic metres.
+        self.flown_legs: list[dict[str, Any]] = []
+        self.leg_rate_wh_per_m = self.power_w / self.speed / 3600.0  # verify/costs' leg cost
+        # Per-metre rates of the goals run so far: the price of the way home (seed 001 plans
+        # with the consumption it has learnt, not with a catalogue figure).
+        self._priced_m = 0.0
+        self._priced_wh = 0.0
+        self.listeners: list[Callable[[Event], None]] = []
+        self._start_run()
+
+    def _take_profile(self, vehicle: OrdersVehicle | None) -> None:
+        """Speed, power, energy and contact range from the performing vehicle's profile (the
+        defaults where it gives none)."""
         self.speed = vehicle.speed_mps if vehicle and vehicle.speed_mps else DEFAULT_SPEED_MPS
         self.power_w = vehicle.power_w if vehicle and vehicle.power_w else DEFAULT_POWER_W
         budget = vehicle.budget.energy_wh if vehicle and vehicle.budget else None
@@ -122,9 +142,9 @@ class Simulation:
         self.detection_range_m = 6_000.0
         if vehicle and "contact_detection_range_m" in vehicle.envelope:
             self.detection_range_m = float(vehicle.envelope["contact_detection_range_m"][1])
-        self._initial_faults: tuple[FaultSpec, ...] = tuple(
-            f if isinstance(f, FaultSpec) else FaultSpec.parse(f) for f in faults
-        )
+
+    def _begin_record(self, orders: Orders) -> None:
+        """What a run records and counts, empty at its start."""
         self.pending_faults: list[FaultSpec] = list(self._initial_faults)
         self.active_faults: set[str] = set()
         # Faults pressed while a goal waits for its outcome: applied when the next goal starts.
@@ -145,17 +165,6 @@ class Simulation:
                                        if g.area and (g.behavior or "").lower() == "transect"})
         self._transects_done: set[str] = set()
         self.active: ActiveGoal | None = None
-        self.vehicle = Vehicle(*self._launch_point())
-        self.trail: list[tuple[float, float, float]] = []
-        # The legs flown between goals: from, outcome, to and geodesic metres.
-        self.flown_legs: list[dict[str, Any]] = []
-        self.leg_rate_wh_per_m = self.power_w / self.speed / 3600.0  # verify/costs' leg cost
-        # Per-metre rates of the goals run so far: the price of the way home (seed 001 plans
-        # with the consumption it has learnt, not with a catalogue figure).
-        self._priced_m = 0.0
-        self._priced_wh = 0.0
-        self.listeners: list[Callable[[Event], None]] = []
-        self._start_run()
 
     # ------------------------------------------------------------------------------ public
 

@@ -44,12 +44,7 @@ def move(sim: Simulation, active: ActiveGoal, dt: float) -> float:
     takes the time its metres and holds take, not a step more per waypoint. Returns the
     part of the step left over when the plan was done within it."""
     v = sim.vehicle
-    strong = current_factor(sim) > 1.0
-    if strong != sim._strong_current:
-        sim._strong_current = strong
-        sim._emit("current", "Strong opposing current: consumption doubled (seed 001)."
-                  if strong else "The strong current has passed.", active.goal.id,
-                  {"strong": strong})
+    _note_current(sim, active)
     if active.finished_plan:
         v.vx = v.vy = v.vz = 0.0
         return 0.0
@@ -61,31 +56,42 @@ def move(sim: Simulation, active: ActiveGoal, dt: float) -> float:
     v.depth = max(0.0, v.depth + rise)
     v.vz = rise / dt
     x0, y0 = v.x, v.y
+    left, energy = _follow_waypoints(sim, active, dt, factor)
+    unused = left if active.finished_plan and left > 1e-9 else 0.0
+    spent = dt - unused
+    v.vx, v.vy = ((v.x - x0) / spent, (v.y - y0) / spent) if spent > 1e-9 else (0.0, 0.0)
+    active.used_wh += energy
+    sim.energy_used_wh += energy
+    if not sim.trail or math.dist(sim.trail[-1][:2], v.xy) >= 25.0 \
+            or abs(sim.trail[-1][2] - v.depth) >= 2.0:
+        sim.trail.append((v.x, v.y, v.depth))
+    return unused
+
+
+def _note_current(sim: Simulation, active: ActiveGoal) -> None:
+    """Say when a strong opposing current starts or passes."""
+    strong = current_factor(sim) > 1.0
+    if strong != sim._strong_current:
+        sim._strong_current = strong
+        sim._emit("current", "Strong opposing current: consumption doubled (seed 001)."
+                  if strong else "The strong current has passed.", active.goal.id,
+                  {"strong": strong})
+
+
+def _follow_waypoints(sim: Simulation, active: ActiveGoal, dt: float,
+                      factor: float) -> tuple[float, float]:
+    """Spend `dt` seconds along the waypoints and their holds: (the seconds left, when the plan
+    ended within the step; the energy used)."""
+    v = sim.vehicle
     energy = 0.0
     left = dt
     while left > 1e-9 and not active.finished_plan:
         w = active.waypoints[active.index]
         dx, dy = w.x - v.x, w.y - v.y
         distance = math.hypot(dx, dy)
-        speed = sim.speed if w.kind == "leg" else active.speed
         if distance > 1e-6:
-            to_go_m = distance * w.scale  # geodesic metres
-            moved_m = min(speed * left, to_go_m)
-            arrived = moved_m >= to_go_m
-            v.heading = math.atan2(dy, dx)
-            if arrived:
-                v.x, v.y = w.x, w.y
-            else:
-                moved = moved_m / w.scale
-                v.x += dx / distance * moved
-                v.y += dy / distance * moved
-            left -= moved_m / speed if math.isfinite(speed) else 0.0
-            active.done_s += moved_m / speed
-            rate = sim.leg_rate_wh_per_m if w.kind == "leg" else active.rate_wh_per_m
-            energy += moved_m * rate * factor
-            sim.expected_used_wh += moved_m * rate
-            if w.kind == "leg":
-                active.leg_m += moved_m
+            left, used, arrived = _toward(sim, active, w, (dx, dy, distance), left, factor)
+            energy += used
             if not arrived:
                 break
         # Depth changes while the vehicle moves and holds, and never holds the plan up:
@@ -105,15 +111,34 @@ def move(sim: Simulation, active: ActiveGoal, dt: float) -> float:
             break
         active.index += 1
         active.held_s = 0.0
-    unused = left if active.finished_plan and left > 1e-9 else 0.0
-    spent = dt - unused
-    v.vx, v.vy = ((v.x - x0) / spent, (v.y - y0) / spent) if spent > 1e-9 else (0.0, 0.0)
-    active.used_wh += energy
-    sim.energy_used_wh += energy
-    if not sim.trail or math.dist(sim.trail[-1][:2], v.xy) >= 25.0 \
-            or abs(sim.trail[-1][2] - v.depth) >= 2.0:
-        sim.trail.append((v.x, v.y, v.depth))
-    return unused
+    return left, energy
+
+
+def _toward(sim: Simulation, active: ActiveGoal, w: Waypoint,
+            offset: tuple[float, float, float], left: float,
+            factor: float) -> tuple[float, float, bool]:
+    """Move toward waypoint `w` (at `offset`: dx, dy, distance) for at most `left` seconds:
+    (the seconds left, the energy used, whether it was reached)."""
+    v = sim.vehicle
+    dx, dy, distance = offset
+    speed = sim.speed if w.kind == "leg" else active.speed
+    to_go_m = distance * w.scale  # geodesic metres
+    moved_m = min(speed * left, to_go_m)
+    arrived = moved_m >= to_go_m
+    v.heading = math.atan2(dy, dx)
+    if arrived:
+        v.x, v.y = w.x, w.y
+    else:
+        moved = moved_m / w.scale
+        v.x += dx / distance * moved
+        v.y += dy / distance * moved
+    left -= moved_m / speed if math.isfinite(speed) else 0.0
+    active.done_s += moved_m / speed
+    rate = sim.leg_rate_wh_per_m if w.kind == "leg" else active.rate_wh_per_m
+    sim.expected_used_wh += moved_m * rate
+    if w.kind == "leg":
+        active.leg_m += moved_m
+    return left, moved_m * rate * factor, arrived
 
 
 def leg_flown(sim: Simulation, active: ActiveGoal, w: Waypoint) -> None:

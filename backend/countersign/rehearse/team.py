@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 from typing import Any, Literal
 
 from ..orders.canonical import digest
-from ..orders.model import OUTCOMES, Area, Orders
+from ..orders.model import OUTCOMES, Area, Orders, TeamMember
 from .sim import Event, FaultSpec, Limits, Simulation
 from .sources import Decision, OutcomeSource, make_source
 
@@ -241,35 +241,41 @@ class TeamSimulation:
         self.members: list[Member] = []
         self.participants: dict[str, tuple[str, ...]] = {}
         for index, team_member in enumerate(orders.team):
-            member_orders = team_member.orders
-            meets = {g.id: g.meet for g in member_orders.goal_index().values()
-                     if g.meet is not None}
-            for meet in sorted(set(meets.values())):
-                self.participants[meet] = (*self.participants.get(meet, ()), team_member.vehicle)
             kind = "replay" if team_member.vehicle in paths else source
-            try:
-                inner = make_source(kind, member_orders,
-                                    path_index=paths.get(team_member.vehicle),
-                                    max_tour_paths=self.limits.max_tour_paths)
-            except ValueError as exc:  # a path out of range: name whose
-                raise ValueError(f"member {team_member.vehicle}: {exc}") from None
-            wrapped = MeetingSource(inner, meets)
-            # Members' worlds differ by seed as the vehicles do: the same team and seed give
-            # the same rehearsal.
-            sim = Simulation(member_orders, seed=seed + index, source=wrapped,
-                             faults=per_vehicle[team_member.vehicle], limits=self.limits,
+            self._add_member(team_member, kind, path_index=paths.get(team_member.vehicle),
+                             seed=seed + index, faults=per_vehicle[team_member.vehicle],
                              charts=charts)
-            member = Member(team_member.vehicle, member_orders, sim, wrapped, meets,
-                            _meetings_reachable(member_orders, meets))
-            # The first events (launch, first goal) were emitted while constructing.
-            for event in sim.events:
-                self._add(member.vehicle, event)
-            sim.listeners.append(self._listener(member.vehicle))
-            self.members.append(member)
-            if sim.state == "finished":
-                member.state = "finished"
         self._judge_meetings()
         self._maybe_finish()
+
+    def _add_member(self, team_member: TeamMember, kind: str, *, path_index: int | None,
+                    seed: int, faults: Sequence[str], charts: Sequence[Area]) -> None:
+        """One member's simulation, its outcomes from `kind` with meetings shared, its events
+        relayed to the team's."""
+        member_orders = team_member.orders
+        meets = {g.id: g.meet for g in member_orders.goal_index().values()
+                 if g.meet is not None}
+        for meet in sorted(set(meets.values())):
+            self.participants[meet] = (*self.participants.get(meet, ()), team_member.vehicle)
+        try:
+            inner = make_source(kind, member_orders, path_index=path_index,
+                                max_tour_paths=self.limits.max_tour_paths)
+        except ValueError as exc:  # a path out of range: name whose
+            raise ValueError(f"member {team_member.vehicle}: {exc}") from None
+        wrapped = MeetingSource(inner, meets)
+        # Members' worlds differ by seed as the vehicles do: the same team and seed give
+        # the same rehearsal.
+        sim = Simulation(member_orders, seed=seed, source=wrapped, faults=faults,
+                         limits=self.limits, charts=charts)
+        member = Member(team_member.vehicle, member_orders, sim, wrapped, meets,
+                        _meetings_reachable(member_orders, meets))
+        # The first events (launch, first goal) were emitted while constructing.
+        for event in sim.events:
+            self._add(member.vehicle, event)
+        sim.listeners.append(self._listener(member.vehicle))
+        self.members.append(member)
+        if sim.state == "finished":
+            member.state = "finished"
 
     # ------------------------------------------------------------------------------ public
 

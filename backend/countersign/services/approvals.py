@@ -71,7 +71,7 @@ def list_submissions(db: DbSession, *, state: str | None, mission: str | None,
 
 
 def review(db: DbSession, *, reports: ReportService, user: User, mission_id: str,
-           number: int) -> dict[str, Any]:
+           number: int, signer: LogSigner | None) -> dict[str, Any]:
     """What a review shows of one version (see the reviewVersion route); `submissions` holds
     each submission's fields (submissions_fields)."""
     version = get_version(db, mission_id, number)
@@ -83,7 +83,7 @@ def review(db: DbSession, *, reports: ReportService, user: User, mission_id: str
     refused = store.submit_refusal(user=user, number=number, report=report, active=current)
     submit_refusal = str(refused) if refused is not None else None
     decide_refusal = store.decision_refusal(db, user=user, version=version,
-                                            submission=current)
+                                            submission=current, signer=signer)
     previous = store.previous_approval(db, version)
     previous_out = None
     if previous is not None:

@@ -15,6 +15,7 @@ from sqlalchemy import func, or_, select
 from sqlalchemy.orm import Session as DbSession
 from sqlalchemy.orm import defer
 
+from ..approvals.signer import LogSigner
 from ..errors import Conflict, Invalid
 from ..orders.canonical import digest_of_json, orders_to_json
 from ..orders.model import Orders
@@ -83,20 +84,21 @@ def validate_first(db: DbSession, orders: Orders, *, database: Database,
 
 
 def create_mission(db: DbSession, orders: Orders, *, author: User, database: Database,
-                   reports: ReportService) -> Mission:
+                   reports: ReportService, signer: LogSigner | None) -> Mission:
     """A new mission of these orders (the registry's profile and charts copied in), its
     report validated before the write and stored with it."""
     orders = with_registry(db, orders)
     validated = validate_first(db, orders, database=database, reports=reports)
     mission = store.create_mission(db, orders=orders, author=author,
-                                   orders_digest=validated.digest, draft=validated.draft)
+                                   orders_digest=validated.digest, draft=validated.draft,
+                                   signer=signer)
     validated.keep(db)
     return mission
 
 
 def update_draft(db: DbSession, orders: Orders, *, mission_id: str,
                  layout: dict[str, Any] | None, expected_revision: int, author: User,
-                 database: Database, reports: ReportService) -> Mission:
+                 database: Database, reports: ReportService, signer: LogSigner | None) -> Mission:
     """The draft replaced by these orders (compare-and-set on the revision), validated first."""
     orders = with_registry(db, orders)
     validated = validate_first(db, orders, database=database, reports=reports,
@@ -104,7 +106,7 @@ def update_draft(db: DbSession, orders: Orders, *, mission_id: str,
     mission = store.update_draft(
         db, mission_id=mission_id, orders=orders, layout=layout,
         expected_revision=expected_revision, author=author, orders_digest=validated.digest,
-        draft=validated.draft)
+        draft=validated.draft, signer=signer)
     validated.keep(db)
     return mission
 

@@ -11,6 +11,7 @@ from datetime import datetime, timedelta
 from sqlalchemy import delete, func, select, update
 from sqlalchemy.orm import Session as DbSession
 
+from ..approvals.signer import LogSigner
 from ..errors import Invalid, TooMany
 from . import login_throttle
 from .db import database_of, writable
@@ -67,7 +68,7 @@ def hash_password(password: str, *, username: str = "", display_name: str = "") 
 
 def create_user(
     db: DbSession, *, username: str, role: str, password: str, display_name: str = "",
-    actor: User | None = None,
+    actor: User | None = None, signer: LogSigner | None,
 ) -> User:
     if role not in ROLES:
         raise AccountError(f"unknown role {role!r}; choose one of {', '.join(ROLES)}")
@@ -85,7 +86,8 @@ def create_user(
                                             display_name=display_name))
     db.add(user)
     db.flush()
-    record(db, kind="user.created", actor=actor, detail={"user": username, "role": role})
+    record(db, kind="user.created", actor=actor, detail={"user": username, "role": role},
+           signer=signer)
     return user
 
 
@@ -163,7 +165,8 @@ MAX_TOKEN_LIFETIME = timedelta(days=366)
 
 def create_token(db: DbSession, *, user: User, name: str,
                  scopes: tuple[str, ...] = SCOPES,
-                 lifetime: timedelta | None = TOKEN_LIFETIME) -> tuple[ApiToken, str]:
+                 lifetime: timedelta | None = TOKEN_LIFETIME,
+                 signer: LogSigner | None) -> tuple[ApiToken, str]:
     unknown = sorted(set(scopes) - set(SCOPES))
     if unknown or not scopes:
         raise AccountError(f"scopes are some of {', '.join(SCOPES)}; not {unknown or 'none'}")
@@ -175,7 +178,7 @@ def create_token(db: DbSession, *, user: User, name: str,
                      expires_at=utcnow() + lifetime if lifetime is not None else None)
     db.add(token)
     db.flush()
-    record(db, kind="token.created", actor=user,
+    record(db, signer=signer, kind="token.created", actor=user,
            detail={"token": token.id, "name": token.name, "scopes": token.scopes})
     return token, secret
 
@@ -220,19 +223,19 @@ def revoke_credentials(db: DbSession, user: User, *, keep_session: str | None = 
 
 
 def change_password(db: DbSession, user: User, *, current: str, new: str,
-                    keep_session: str | None = None) -> None:
+                    keep_session: str | None = None, signer: LogSigner | None) -> None:
     """The user's own change: the current password is checked first."""
     if not login_throttle.check_password(db, username=user.username,
                                          stored_hash=user.password_hash, password=current):
         raise AccountError("the current password is wrong")
-    set_password(db, user, new, actor=user, keep_session=keep_session)
+    set_password(db, user, new, actor=user, keep_session=keep_session, signer=signer)
 
 
 def set_password(db: DbSession, user: User, new: str, *, actor: User,
-                 keep_session: str | None = None) -> None:
+                 keep_session: str | None = None, signer: LogSigner | None) -> None:
     """Set a password (own change or an admin's reset); every other credential ends."""
     user.password_hash = hash_password(new, username=user.username,
                                        display_name=user.display_name)
     revoke_credentials(db, user, keep_session=keep_session)
-    record(db, kind="user.password_changed", actor=actor,
+    record(db, signer=signer, kind="user.password_changed", actor=actor,
            detail={"user": user.username, "by": "self" if actor.id == user.id else "admin"})

@@ -19,6 +19,7 @@ from sqlalchemy.dialects.postgresql import insert as pg_insert
 from sqlalchemy.dialects.sqlite import insert as sqlite_insert
 from sqlalchemy.orm import Session as DbSession
 
+from ..approvals.signer import LogSigner
 from ..errors import Conflict, NotFound, TooMany
 from .events import record as record_event
 from .tables import (
@@ -42,7 +43,7 @@ class CampaignNotThisVersion(Conflict):
 
 def create(db: DbSession, *, orders: dict[str, Any], orders_digest: str, spec: dict[str, Any],
            simulations: int, owner: User | None, mission_id: str | None = None,
-           version: int | None = None) -> Campaign:
+           version: int | None = None, signer: LogSigner | None) -> Campaign:
     """A queued campaign; TooMany when the owner already has MAX_ACTIVE_PER_USER active."""
     if owner is not None:
         if db.get_bind().dialect.name == "postgresql":
@@ -59,7 +60,7 @@ def create(db: DbSession, *, orders: dict[str, Any], orders_digest: str, spec: d
     db.add(row)
     db.flush()
     if owner is not None:
-        record_event(db, kind="campaign.created", actor=owner, mission_id=mission_id,
+        record_event(db, signer=signer, kind="campaign.created", actor=owner, mission_id=mission_id,
                      after=orders_digest, detail={"campaign": row.id, "version": version,
                                                   "spec": spec})
     return row
@@ -158,7 +159,8 @@ def fail(db: DbSession, campaign_id: str, reason: str) -> None:
                .values(state="failed", ended_at=utcnow(), record={"error": reason[:500]}))
 
 
-def cancel(db: DbSession, campaign_id: str, *, actor: User | None) -> Campaign:
+def cancel(db: DbSession, campaign_id: str, *, actor: User | None,
+           signer: LogSigner | None) -> Campaign:
     """Stop a queued or running campaign: its jobs see the state and stop at the next
     simulation. Cancelling a cancelled campaign is a no-op; a finished one is a Conflict."""
     row = get(db, campaign_id)
@@ -173,11 +175,13 @@ def cancel(db: DbSession, campaign_id: str, *, actor: User | None) -> Campaign:
     if actor is not None:
         record_event(db, kind="campaign.cancelled", actor=actor, mission_id=row.mission_id,
                      after=row.orders_digest, detail={"campaign": row.id,
-                                                      "done": count_done(db, row.id)})
+                                                      "done": count_done(db, row.id)},
+                     signer=signer)
     return row
 
 
-def attach(db: DbSession, *, submission: Submission, campaign_id: str, actor: User) -> None:
+def attach(db: DbSession, *, submission: Submission, campaign_id: str, actor: User,
+           signer: LogSigner | None) -> None:
     """Cite a finished campaign's record in a submission; it must have simulated exactly the
     submitted orders."""
     if submission.state != "submitted":
@@ -199,7 +203,7 @@ def attach(db: DbSession, *, submission: Submission, campaign_id: str, actor: Us
         return
     db.add(CampaignAttachment(submission_id=submission.id, campaign_id=row.id, digest=row.digest,
                               attached_by=actor.id))
-    record_event(db, kind="submission.campaign_attached", actor=actor,
+    record_event(db, signer=signer, kind="submission.campaign_attached", actor=actor,
                  mission_id=version.mission_id, after=version.digest,
                  detail={"submission": submission.id, "campaign": row.id,
                          "record_digest": row.digest})

@@ -43,59 +43,7 @@ WRITE_LOCK_TIMEOUT_S = 30.0
 
 def make_engine(url: str) -> Engine:
     if url.startswith("sqlite"):
-        # Up to two connections per worker thread (request session + report cache writer).
-        engine = create_engine(url, connect_args={"check_same_thread": False, "timeout": 30},
-                               pool_size=REQUEST_THREADS, max_overflow=REQUEST_THREADS,
-                               pool_timeout=10)
-        # SQLite has one writer at a time. Writers of this process queue on a lock of their
-        # own before asking SQLite: they are woken the moment the previous writer commits,
-        # instead of polling in SQLite's busy handler (which sleeps up to 100 ms between tries
-        # and lets late comers overtake). Writers of other processes still meet busy_timeout.
-        write_lock = threading.Lock()
-
-        @event.listens_for(engine, "connect")
-        def _sqlite_pragmas(dbapi_connection: Any, _record: Any) -> None:
-            # SQLAlchemy emits BEGIN itself (below), so the driver must not.
-            dbapi_connection.isolation_level = None
-            cursor = dbapi_connection.cursor()
-            cursor.execute("PRAGMA journal_mode=WAL")
-            cursor.execute("PRAGMA foreign_keys=ON")
-            cursor.execute("PRAGMA busy_timeout=30000")
-            cursor.close()
-
-        @event.listens_for(engine, "begin")
-        def _sqlite_begin(connection: Any) -> None:
-            # A writer takes the write lock when it begins (IMMEDIATE): a deferred transaction
-            # that reads and then writes cannot upgrade once another writer committed, and
-            # SQLite answers that with "database is locked" instead of waiting.
-            mode = connection.get_execution_options().get(BEGIN_MODE, "DEFERRED")
-            if mode == "IMMEDIATE":
-                if not write_lock.acquire(timeout=WRITE_LOCK_TIMEOUT_S):
-                    raise PoolTimeout("another writer held the SQLite write lock too long")
-                connection.info[_HOLDS_WRITE_LOCK] = True
-            try:
-                connection.exec_driver_sql(f"BEGIN {mode}")
-            except BaseException:
-                _release(connection.info)
-                raise
-
-        def _release(info: dict[str, Any]) -> None:
-            if info.pop(_HOLDS_WRITE_LOCK, False):
-                write_lock.release()
-
-        # A session gives its connection back to the pool right after COMMIT or ROLLBACK: the
-        # next writer may go then. (The "commit" event would fire before COMMIT is sent.)
-        @event.listens_for(engine, "checkin")
-        def _sqlite_checkin(_dbapi_connection: Any, record: Any) -> None:
-            if record is not None:
-                _release(record.info)
-
-        @event.listens_for(engine, "invalidate")
-        def _sqlite_invalidate(_dbapi_connection: Any, record: Any, _error: Any) -> None:
-            if record is not None:
-                _release(record.info)
-
-        return engine
+        return _sqlite_engine(url)
     if url.startswith("postgresql://"):
         url = "postgresql+psycopg://" + url.removeprefix("postgresql://")
     # One connection per server thread (REQUEST_THREADS) stays open; a thread may briefly hold
@@ -105,6 +53,66 @@ def make_engine(url: str) -> Engine:
     # 2 x REQUEST_THREADS connections per server process (README: max_connections).
     return create_engine(url, pool_size=REQUEST_THREADS, max_overflow=REQUEST_THREADS,
                          pool_timeout=10, pool_recycle=3600, pool_pre_ping=True)
+
+
+def _sqlite_engine(url: str) -> Engine:
+    # Up to two connections per worker thread (request session + report cache writer).
+    engine = create_engine(url, connect_args={"check_same_thread": False, "timeout": 30},
+                           pool_size=REQUEST_THREADS, max_overflow=REQUEST_THREADS,
+                           pool_timeout=10)
+
+    @event.listens_for(engine, "connect")
+    def _sqlite_pragmas(dbapi_connection: Any, _record: Any) -> None:
+        # SQLAlchemy emits BEGIN itself (_queue_writers), so the driver must not.
+        dbapi_connection.isolation_level = None
+        cursor = dbapi_connection.cursor()
+        cursor.execute("PRAGMA journal_mode=WAL")
+        cursor.execute("PRAGMA foreign_keys=ON")
+        cursor.execute("PRAGMA busy_timeout=30000")
+        cursor.close()
+
+    _queue_writers(engine)
+    return engine
+
+
+def _queue_writers(engine: Engine) -> None:
+    """SQLite has one writer at a time. Writers of this process queue on a lock of their
+    own before asking SQLite: they are woken the moment the previous writer commits,
+    instead of polling in SQLite's busy handler (which sleeps up to 100 ms between tries
+    and lets late comers overtake). Writers of other processes still meet busy_timeout."""
+    write_lock = threading.Lock()
+
+    @event.listens_for(engine, "begin")
+    def _sqlite_begin(connection: Any) -> None:
+        # A writer takes the write lock when it begins (IMMEDIATE): a deferred transaction
+        # that reads and then writes cannot upgrade once another writer committed, and
+        # SQLite answers that with "database is locked" instead of waiting.
+        mode = connection.get_execution_options().get(BEGIN_MODE, "DEFERRED")
+        if mode == "IMMEDIATE":
+            if not write_lock.acquire(timeout=WRITE_LOCK_TIMEOUT_S):
+                raise PoolTimeout("another writer held the SQLite write lock too long")
+            connection.info[_HOLDS_WRITE_LOCK] = True
+        try:
+            connection.exec_driver_sql(f"BEGIN {mode}")
+        except BaseException:
+            _release(connection.info)
+            raise
+
+    def _release(info: dict[str, Any]) -> None:
+        if info.pop(_HOLDS_WRITE_LOCK, False):
+            write_lock.release()
+
+    # A session gives its connection back to the pool right after COMMIT or ROLLBACK: the
+    # next writer may go then. (The "commit" event would fire before COMMIT is sent.)
+    @event.listens_for(engine, "checkin")
+    def _sqlite_checkin(_dbapi_connection: Any, record: Any) -> None:
+        if record is not None:
+            _release(record.info)
+
+    @event.listens_for(engine, "invalidate")
+    def _sqlite_invalidate(_dbapi_connection: Any, record: Any, _error: Any) -> None:
+        if record is not None:
+            _release(record.info)
 
 
 def alembic_config(url: str) -> Config:
@@ -218,17 +226,10 @@ def database_of(session: Session) -> Database:
     return database
 
 
-# The store reaches the app's services through a session at two places only, both below
-# what a route calls: the event log's receipts (events.py, logged_roles.py) and the log's
-# Merkle tree cache (approvals/log.py). Routes and domain services get them from AppServices
-# (services/app.py) instead; tests/unit/test_no_info_services.py holds both rules.
-def log_signer_of(session: Session) -> LogSigner | None:
-    """The log signer that receipts what this session appends (None for a session of a
-    database without one, e.g. a tool run without the log key)."""
-    database: Database | None = session.info.get("database")
-    return database.log_signer if database is not None else None
-
-
+# The store reaches an app service through a session at one place only, below what a route
+# calls: the log's Merkle tree cache (approvals/log.py). The log signer is an argument
+# (`record(..., signer=)`), given by routes from AppServices (services/app.py) and by the CLI
+# from the database it opened; tests/unit/test_no_info_services.py holds both rules.
 def log_trees_of(session: Session) -> LogTreeCache | None:
     """The cached Merkle tree of the log of the session's database (None: no database)."""
     database: Database | None = session.info.get("database")

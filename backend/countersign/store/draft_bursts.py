@@ -13,6 +13,7 @@ from typing import Any
 from sqlalchemy import select
 from sqlalchemy.orm import Session as DbSession
 
+from ..approvals.signer import LogSigner
 from .db import writable, writes
 from .events import record
 from .tables import Mission, User, utcnow
@@ -67,7 +68,7 @@ def extended(mission: Mission, author: User, *, draft: dict[str, Any], before: s
             "changed": named[:MAX_CHANGED], "more": max(0, len(named) - MAX_CHANGED)}
 
 
-def flush(db: DbSession, mission: Mission) -> None:
+def flush(db: DbSession, mission: Mission, *, signer: LogSigner | None) -> None:
     """Logs the mission's open burst (one `draft.updated` entry) and closes it."""
     burst = mission.burst
     if burst is None:
@@ -75,21 +76,21 @@ def flush(db: DbSession, mission: Mission) -> None:
     author = db.get(User, burst["by"])
     detail = {"revision": mission.revision, "from_revision": burst["from"],
               "saves": burst["saves"], "changed": burst["changed"], "more": burst.get("more", 0)}
-    record(db, kind="draft.updated", actor=author, mission_id=mission.id,
+    record(db, signer=signer, kind="draft.updated", actor=author, mission_id=mission.id,
            before=burst["before"], after=mission.draft_digest, detail=detail, log_at_commit=True)
     mission.burst = None
     mission.burst_at = None
 
 
-def flush_quiet(db: DbSession, now: datetime | None = None) -> None:
+def flush_quiet(db: DbSession, now: datetime | None = None, *, signer: LogSigner | None) -> None:
     """Logs every burst that has been quiet for BURST (before the events are read)."""
     limit = (now or utcnow()) - BURST
     for mission in db.scalars(select(Mission).where(Mission.burst_at.is_not(None),
                                                    Mission.burst_at < limit)):
-        flush(db, mission)
+        flush(db, mission, signer=signer)
 
 
-def flush_quiet_before_reading(db: DbSession) -> None:
+def flush_quiet_before_reading(db: DbSession, *, signer: LogSigner | None) -> None:
     """flush_quiet for a request about to read the events: through a write session of its own
     when this one only reads, whose snapshot is then ended, so that the read sees the entries."""
     limit = utcnow() - BURST
@@ -97,6 +98,6 @@ def flush_quiet_before_reading(db: DbSession) -> None:
     if db.scalar(quiet.limit(1)) is None:
         return
     with writable(db) as writer:
-        flush_quiet(writer)
+        flush_quiet(writer, signer=signer)
     if not writes(db):
         db.commit()

@@ -14,9 +14,8 @@ from sqlalchemy import inspect, select, text
 from sqlalchemy.orm import Session as DbSession
 
 from ..approvals.log import GENESIS, entry_bytes, entry_leaf, event_data
-from ..approvals.signer import SignerRefused
+from ..approvals.signer import LogSigner, SignerRefused
 from ..errors import Unavailable
-from .db import log_signer_of
 from .event_words import event_target
 from .tables import Event, LogEntry, LogReceipt, User, utcnow
 
@@ -26,14 +25,19 @@ LOG_LOCK = 0x636F756E  # "coun"
 
 
 def record(
-    db: DbSession, *, kind: str, actor: User | None, mission_id: str | None = None,
+    db: DbSession, *, signer: LogSigner | None, kind: str, actor: User | None,
+    mission_id: str | None = None,
     before: str | None = None, after: str | None = None, detail: dict[str, Any] | None = None,
     log_at_commit: bool = False,
 ) -> Event:
     """Insert the event and append its log leaf. With `log_at_commit` the leaf is appended
     just before the transaction commits (still in it, so the log stays complete): the global
     log lock is then held only for the append and the COMMIT, not for the rest of the request.
-    Callers that read the log in the same transaction (approvals) must not defer."""
+    Callers that read the log in the same transaction (approvals) must not defer.
+
+    `signer` receipts the entry (None: a tool run without the log key; the signer will then
+    refuse to cover it). It is an argument, not found through the session, so that what a
+    caller appends with is visible where it calls."""
     event = Event(kind=kind, actor_id=actor.id if actor else None, mission_id=mission_id,
                   before_digest=before, after_digest=after, detail=detail or {}, at=utcnow(),
                   target=event_target(kind, mission_id, detail or {}))
@@ -41,13 +45,14 @@ def record(
     db.flush()
     actor_name = actor.username if actor else None
     if not log_at_commit:
-        append_to_log(db, event, actor_name)
+        append_to_log(db, event, actor_name, signer=signer)
         return event
     if not db.info.get(_LISTENING):
         db.info[_LISTENING] = True
         sa_event.listen(db, "before_commit", _append_pending)
         sa_event.listen(db, "after_rollback", _forget_pending)
-    db.info.setdefault(_PENDING, []).append((event, actor_name))
+    # Transaction state: the signer travels with the event it is to receipt.
+    db.info.setdefault(_PENDING, []).append((event, actor_name, signer))
     return event
 
 
@@ -57,9 +62,9 @@ _LISTENING = "countersign_log_listener"
 
 def _append_pending(db: DbSession) -> None:
     pending = db.info.pop(_PENDING, None) or []
-    for event, actor_name in pending:
+    for event, actor_name, signer in pending:
         if inspect(event).persistent:  # not undone by a rolled-back savepoint
-            append_to_log(db, event, actor_name)
+            append_to_log(db, event, actor_name, signer=signer)
 
 
 def _forget_pending(db: DbSession) -> None:
@@ -67,7 +72,8 @@ def _forget_pending(db: DbSession) -> None:
         db.info.pop(_PENDING, None)
 
 
-def append_to_log(db: DbSession, event: Event, actor: str | None) -> LogEntry:
+def append_to_log(db: DbSession, event: Event, actor: str | None, *,
+                  signer: LogSigner | None) -> LogEntry:
     if db.get_bind().dialect.name == "postgresql":
         db.execute(text("SELECT pg_advisory_xact_lock(:key)"), {"key": LOG_LOCK})
     head = db.execute(
@@ -81,15 +87,14 @@ def append_to_log(db: DbSession, event: Event, actor: str | None) -> LogEntry:
                      leaf_hash=entry_leaf(data))
     db.add(entry)
     db.flush()
-    _receipt(db, entry)
+    _receipt(db, entry, signer)
     return entry
 
 
-def _receipt(db: DbSession, entry: LogEntry) -> None:
+def _receipt(db: DbSession, entry: LogEntry, signer: LogSigner | None) -> None:
     """The log signer's receipt for this entry (kept beside it, shown to the caller): the
     signer later vouches only for entries that carry one. A database without a signer (a
     tool run without the log key) appends entries the signer will refuse to cover."""
-    signer = log_signer_of(db)
     if signer is None:
         return
     try:
@@ -103,7 +108,7 @@ def _receipt(db: DbSession, entry: LogEntry) -> None:
         db.info[_REMEMBERING] = True
         sa_event.listen(db, "after_commit", _remember_committed)
         sa_event.listen(db, "after_rollback", _forget_uncommitted)
-    db.info.setdefault(_APPENDED, []).append((entry, entry.index, entry.leaf_hash))
+    db.info.setdefault(_APPENDED, []).append((signer, entry, entry.index, entry.leaf_hash))
 
 
 _APPENDED = "countersign_appended_entries"
@@ -118,16 +123,18 @@ def _remember_committed(db: DbSession) -> None:
     """Tell the signer which entries this transaction committed (those not undone by a
     rolled-back savepoint), so that it never signs a head without them."""
     appended = db.info.pop(_APPENDED, None) or []
-    signer = log_signer_of(db)
-    if signer is None:
-        return
-    try:
-        signer.remember([(index, leaf) for entry, index, leaf in appended
-                         if inspect(entry).persistent])
-    except OSError as exc:
-        # The transaction is committed; what is lost is only the signer's memory of it.
-        sys.stderr.write(f"countersign: the log signer could not record committed entries "
-                         f"{[i for _, i, _ in appended]}: {exc}\n")
+    # One signer per transaction in practice; grouped by identity so that none is mixed up.
+    by_signer: dict[int, tuple[LogSigner, list[tuple[int, str]]]] = {}
+    for signer, entry, index, leaf in appended:
+        if inspect(entry).persistent:
+            by_signer.setdefault(id(signer), (signer, []))[1].append((index, leaf))
+    for signer, committed in by_signer.values():
+        try:
+            signer.remember(committed)
+        except OSError as exc:
+            # The transaction is committed; what is lost is only the signer's memory of it.
+            sys.stderr.write(f"countersign: the log signer could not record committed "
+                             f"entries {[i for i, _ in committed]}: {exc}\n")
 
 
 def _forget_uncommitted(db: DbSession) -> None:

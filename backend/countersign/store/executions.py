@@ -16,6 +16,7 @@ from typing import Any, Protocol
 from sqlalchemy import select
 from sqlalchemy.orm import Session as DbSession
 
+from ..approvals.signer import LogSigner
 from ..orders.model import Orders
 from ..orders.reader import orders_from_data
 from . import missions as service
@@ -82,6 +83,7 @@ def approved_orders(db: DbSession, *, mission_id: str, number: int) -> ApprovedO
 def record_execution(
     db: DbSession, *, mission_id: str, number: int, log: bytes, actor: User,
     checked: ApprovedOrders, verdict: Verdict, source: dict[str, Any] | None = None,
+                     signer: LogSigner | None,
 ) -> int | None:
     """Append the verdict of `log`, checked against `checked` (see `approved_orders`), and
     return its log index. The approval is looked at again: it may have been revoked while the
@@ -100,7 +102,7 @@ def record_execution(
         "evidence": verdict.evidence.to_json()}
     if source:
         detail["source"] = dict(source)
-    event = record(db, kind="execution.recorded", actor=actor, mission_id=mission_id,
+    event = record(db, signer=signer, kind="execution.recorded", actor=actor, mission_id=mission_id,
                    after=version.digest, detail=detail)
     return log_index_of(db, event.id)
 

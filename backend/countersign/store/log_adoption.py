@@ -58,7 +58,7 @@ def adopt_pre_receipt_log(database: Database, signer: LogSigner) -> int | None:
         for index, leaf in rows:
             db.add(LogReceipt(index=index, receipt=signer.receipt(index, leaf, time)))
         db.flush()
-        record(db, kind=ADOPTED, actor=None, detail={
+        record(db, signer=signer, kind=ADOPTED, actor=None, detail={
             "entries": len(rows), "root": tree.root().hex(), "key_id": signer.key_id,
             "legacy_key": signer.imported is not None})
     adopted = len(rows)

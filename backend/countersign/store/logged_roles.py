@@ -20,7 +20,7 @@ from ..approvals.dsse import SignatureError, public_key
 from ..approvals.log import entry_leaf
 from ..approvals.receipt import verify_receipt
 from ..approvals.role_rules import RoleBook, replay
-from .db import log_signer_of
+from ..approvals.signer import LogSigner
 from .tables import LogEntry, LogReceipt, User
 
 # RFC 8785 entries: an account event's kind is written exactly so (a quote inside a string
@@ -28,10 +28,10 @@ from .tables import LogEntry, LogReceipt, User
 _ACCOUNT_LIKE = '%"kind":"user.%'
 
 
-def _account_entries(db: DbSession) -> tuple[list[tuple[int, dict[str, Any]]], str | None]:
+def _account_entries(db: DbSession, signer: LogSigner | None
+                     ) -> tuple[list[tuple[int, dict[str, Any]]], str | None]:
     """The log's account events in log order, and why they cannot be trusted (None when
-    every one carries the log signer's receipt, or when no signer is attached)."""
-    signer = log_signer_of(db)
+    every one carries the log signer's receipt, or when no signer is given)."""
     rows = db.execute(select(LogEntry.index, LogEntry.entry, LogEntry.leaf_hash,
                              LogReceipt.receipt)
                       .outerjoin(LogReceipt, LogReceipt.index == LogEntry.index)
@@ -67,15 +67,16 @@ def _unvouched(public: str, origin: str, index: int, text: str, leaf: str,
     return None
 
 
-def logged_roles(db: DbSession) -> tuple[RoleBook, str | None]:
-    entries, untrusted = _account_entries(db)
+def logged_roles(db: DbSession, *, signer: LogSigner | None) -> tuple[RoleBook, str | None]:
+    entries, untrusted = _account_entries(db, signer)
     return replay(entries), untrusted
 
 
-def decision_refusal_from_log(db: DbSession, user: User) -> str | None:
+def decision_refusal_from_log(db: DbSession, user: User, *,
+                              signer: LogSigner | None) -> str | None:
     """Why the log does not let this user decide (None when it does), naming how the users
     table disagrees."""
-    book, untrusted = logged_roles(db)
+    book, untrusted = logged_roles(db, signer=signer)
     if untrusted is not None:
         return (f"roles cannot be read from the log: {untrusted}; no decision until the log "
                 "is restored")

@@ -11,6 +11,7 @@ from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session as DbSession
 from sqlalchemy.orm.attributes import set_committed_value
 
+from ..approvals.signer import LogSigner
 from ..errors import Conflict, Invalid, NotFound, PreconditionFailed
 from ..orders.canonical import digest, orders_to_json
 from ..orders.model import Orders
@@ -68,6 +69,7 @@ def draft_of(db: DbSession, mission_id: str, orders_digest: str) -> dict[str, An
 def create_mission(
     db: DbSession, *, orders: Orders, author: User, layout: dict[str, Any] | None = None,
     orders_digest: str | None = None, draft: dict[str, Any] | None = None,
+    signer: LogSigner | None,
 ) -> Mission:
     """A new mission; `draft` is orders_to_json(orders) when the caller made it already."""
     if db.get(Mission, orders.id) is not None:
@@ -85,14 +87,14 @@ def create_mission(
     except IntegrityError:
         raise Conflict(f"a mission with id {orders.id!r} exists already") from None
     record(db, kind="mission.created", actor=author, mission_id=orders.id, after=value,
-           log_at_commit=True)
+           log_at_commit=True, signer=signer)
     return mission
 
 
 def update_draft(
     db: DbSession, *, mission_id: str, orders: Orders, layout: dict[str, Any] | None,
     expected_revision: int, author: User, orders_digest: str | None = None,
-    draft: dict[str, Any] | None = None,
+    draft: dict[str, Any] | None = None, signer: LogSigner | None,
 ) -> Mission:
     """Compare-and-set on the revision: a concurrent edit fails with 412, nothing is lost.
     The save joins its author's editing burst, logged once when it ends (draft_bursts.py).
@@ -108,7 +110,8 @@ def update_draft(
     draft = orders_to_json(orders) if draft is None else draft
     now = utcnow()
     if mission.burst is not None and not draft_bursts.joins(mission, author, now):
-        draft_bursts.flush(db, mission)  # someone else's burst, or one that went quiet
+        # Someone else's burst, or one that went quiet.
+        draft_bursts.flush(db, mission, signer=signer)
     burst = draft_bursts.extended(mission, author, draft=draft, before=before,
                                   revision=expected_revision + 1, now=now)
     changes: dict[str, Any] = {
@@ -151,7 +154,8 @@ def save_layout(db: DbSession, *, mission_id: str, layout: dict[str, Any]) -> Mi
     return mission
 
 
-def delete_mission(db: DbSession, *, mission_id: str, actor: User) -> None:
+def delete_mission(db: DbSession, *, mission_id: str, actor: User,
+                   signer: LogSigner | None) -> None:
     mission = get_mission(db, mission_id)
     versions = db.scalar(
         select(func.count()).select_from(MissionVersion)
@@ -161,16 +165,17 @@ def delete_mission(db: DbSession, *, mission_id: str, actor: User) -> None:
         raise Conflict(
             f"mission {mission_id!r} has {versions} version(s); only drafts can be deleted"
         )
-    draft_bursts.flush(db, mission)
-    record(db, kind="mission.deleted", actor=actor, mission_id=mission_id,
+    draft_bursts.flush(db, mission, signer=signer)
+    record(db, signer=signer, kind="mission.deleted", actor=actor, mission_id=mission_id,
            before=mission.draft_digest, log_at_commit=True)
     db.delete(mission)
 
 
-def create_version(db: DbSession, *, mission_id: str, author: User) -> MissionVersion:
+def create_version(db: DbSession, *, mission_id: str, author: User,
+                   signer: LogSigner | None) -> MissionVersion:
     mission = get_mission(db, mission_id)
     # The edits that led to this version are in the log before it (separation of duties).
-    draft_bursts.flush(db, mission)
+    draft_bursts.flush(db, mission, signer=signer)
     latest = db.scalar(
         select(func.max(MissionVersion.number)).where(MissionVersion.mission_id == mission_id)
     ) or 0
@@ -181,7 +186,7 @@ def create_version(db: DbSession, *, mission_id: str, author: User) -> MissionVe
         db.flush()
     except IntegrityError:
         raise Conflict("another version was created at the same moment; try again") from None
-    record(db, kind="version.created", actor=author, mission_id=mission_id,
+    record(db, signer=signer, kind="version.created", actor=author, mission_id=mission_id,
            after=version.digest, detail={"number": version.number}, log_at_commit=True)
     return version
 

@@ -25,6 +25,7 @@ from ..approvals.procedure_statement import (
     build_procedure_statement,
     parse_procedure_statement,
 )
+from ..approvals.signer import LogSigner
 from ..approvals.statement import json_digest, statement_bytes, subject_digest
 from ..errors import Conflict, NotFound, Unprocessable
 from ..limits import MAX_REASON
@@ -208,7 +209,8 @@ def procedure_uses(db: DbSession, orders: Orders) -> tuple[list[ProcedureUse], b
 
 # --- saving ----------------------------------------------------------------------------------
 
-def save_procedure(db: DbSession, *, procedure: Procedure, author: User) -> ProcedureRecord:
+def save_procedure(db: DbSession, *, procedure: Procedure, author: User,
+                   signer: LogSigner | None) -> ProcedureRecord:
     """Save a new version: the next number of its name, checked like a refinement, with the
     procedures it names itself copied in from the library."""
     name, version = procedure.name, procedure.version
@@ -229,7 +231,7 @@ def save_procedure(db: DbSession, *, procedure: Procedure, author: User) -> Proc
             if len(errors) > MAX_FINDINGS_SHOWN else ""
         raise Unprocessable(f"procedure {name!r} version {version} has errors and is not "
                             f"saved: {shown}{more}")
-    event = record(db, kind="procedure.saved", actor=author, detail={
+    event = record(db, signer=signer, kind="procedure.saved", actor=author, detail={
         "procedure": name, "version": version, "digest": procedure.digest})
     row = ProcedureRecord(name=name, version=version, document=procedure.to_json(),
                           digest=procedure.digest, author_id=author.id, event_id=event.id,
@@ -245,10 +247,11 @@ def save_procedure(db: DbSession, *, procedure: Procedure, author: User) -> Proc
 
 # --- signed decisions --------------------------------------------------------------------------
 
-def _check_duties(db: DbSession, supervisor: User, row: ProcedureRecord) -> None:
+def _check_duties(db: DbSession, supervisor: User, row: ProcedureRecord, *,
+                  signer: LogSigner | None) -> None:
     if supervisor.role != "supervisor":
         raise Refused(f"the {supervisor.role} role may not sign decisions")
-    mismatch = decision_refusal_from_log(db, supervisor)
+    mismatch = decision_refusal_from_log(db, supervisor, signer=signer)
     if mismatch is not None:
         raise Refused(mismatch)
     if supervisor.id == row.author_id:
@@ -291,12 +294,13 @@ def _reason(decision: str, reason: str) -> str:
 
 
 def prepare_procedure_decision(db: DbSession, *, name: str, version: int, supervisor: User,
-                               decision: str, reason: str, key_id: str) -> Prepared:
+                               decision: str, reason: str, key_id: str,
+                               signer: LogSigner | None) -> Prepared:
     """The exact statement the supervisor signs (the client signs its DSSE PAE)."""
     if decision not in ("approved", "rejected"):
         raise Unprocessable("decision is 'approved' or 'rejected'")
     row = get_procedure(db, name, version)
-    _check_duties(db, supervisor, row)
+    _check_duties(db, supervisor, row, signer=signer)
     procedure = _check_open(db, row)
     _usable_key(db, key_id, supervisor)
     statement = _statement(db, row, procedure, decision=decision,
@@ -306,12 +310,13 @@ def prepare_procedure_decision(db: DbSession, *, name: str, version: int, superv
 
 
 def decide_procedure(db: DbSession, *, name: str, version: int, supervisor: User,
-                     envelope: str, password: str | None) -> ProcedureApproval:
+                     envelope: str, password: str | None,
+                     signer: LogSigner | None) -> ProcedureApproval:
     """Verify a signed decision on a procedure version and store its envelope verbatim."""
     confirm_password(db, username=supervisor.username, password_hash=supervisor.password_hash,
                      password=password)
     row = get_procedure(db, name, version)
-    _check_duties(db, supervisor, row)
+    _check_duties(db, supervisor, row, signer=signer)
     procedure = _check_open(db, row)
     try:
         parsed = dsse.parse_envelope(envelope)
@@ -345,7 +350,7 @@ def decide_procedure(db: DbSession, *, name: str, version: int, supervisor: User
         raise Stale("the signed statement does not match this procedure version as stored "
                     f"({', '.join(differing)} differ); prepare it again")
     reason = str(predicate.get("reason"))
-    event = record(db, kind=f"procedure.{decision}", actor=supervisor, detail={
+    event = record(db, signer=signer, kind=f"procedure.{decision}", actor=supervisor, detail={
         "procedure": name, "version": version, "digest": row.digest, "decision": decision,
         "key_id": key.id, "payload_digest": payload_digest, "reason": reason})
     approval = ProcedureApproval(

@@ -14,6 +14,7 @@ from sqlalchemy import select
 from sqlalchemy.orm import Session as DbSession
 from sqlalchemy.orm import undefer
 
+from ..approvals.signer import LogSigner
 from .events import record as record_event
 from .missions import Conflict, NotFound
 from .tables import MissionVersion, RehearsalRecord, Submission, User
@@ -26,6 +27,7 @@ class RecordNotThisVersion(Conflict):
 def save_record(
     db: DbSession, *, digest: str, record: dict[str, Any], replay_html: bytes, mission_id: str,
     version: int | None, orders_digest: str, source: str, owner: User, rehearsal_id: str,
+                signer: LogSigner | None,
 ) -> RehearsalRecord:
     """Store a finished rehearsal's record (once: the digest names its content)."""
     existing = db.get(RehearsalRecord, digest)
@@ -36,7 +38,7 @@ def save_record(
                          after=orders_digest, detail={
                              "rehearsal": rehearsal_id, "record_digest": digest,
                              "replay_digest": replay_digest, "version": version,
-                             "source": source})
+                             "source": source}, signer=signer)
     row = RehearsalRecord(digest=digest, mission_id=mission_id, version=version,
                           orders_digest=orders_digest, owner_id=owner.id, source=source,
                           record=record, replay_html=replay_html, replay_digest=replay_digest,
@@ -62,7 +64,8 @@ def list_records(db: DbSession, *, mission_id: str, limit: int) -> list[Rehearsa
                            .order_by(RehearsalRecord.created_at.desc()).limit(limit)))
 
 
-def attach(db: DbSession, *, submission: Submission, digest: str, actor: User) -> None:
+def attach(db: DbSession, *, submission: Submission, digest: str, actor: User,
+           signer: LogSigner | None) -> None:
     """Cite a stored record in a submission; it must rehearse exactly the submitted orders."""
     if submission.state != "submitted":
         raise Conflict(f"submission {submission.id} is {submission.state}; records can be "
@@ -75,7 +78,7 @@ def attach(db: DbSession, *, submission: Submission, digest: str, actor: User) -
             f"{version.number} of {version.mission_id} is {version.digest}: rehearse that "
             "version and attach its record")
     submission.rehearsal_digest = digest
-    record_event(db, kind="submission.rehearsal_attached", actor=actor,
+    record_event(db, signer=signer, kind="submission.rehearsal_attached", actor=actor,
                  mission_id=version.mission_id, after=version.digest,
                  detail={"submission": submission.id, "version": version.number,
                          "record_digest": digest})

@@ -16,6 +16,7 @@ from pydantic import ValidationError
 from sqlalchemy import func, select
 from sqlalchemy.orm import Session
 
+from ..approvals.signer import LogSigner
 from ..orders.model import Orders, Vehicle
 from ..verify.vehicle import with_registry_profile
 from .tables import ChartRecord, User, VehicleProfile, VehicleVersion, utcnow
@@ -87,7 +88,8 @@ def save_vehicle(db: Session, vehicle: Vehicle, actor: User) -> tuple[dict[str, 
     return profile, number
 
 
-def seed_registry(db: Session, vehicles: Iterable[Vehicle], actor: User) -> list[str]:
+def seed_registry(db: Session, vehicles: Iterable[Vehicle], actor: User, *,
+                  signer: LogSigner | None) -> list[str]:
     """Saves each profile the registry does not hold yet (the first one of an id wins) and logs
     it as the admin's save would; profiles already registered are left as the admin keeps them.
     For `serve --demo`, so that a new mission's vehicle has a profile from the first run."""
@@ -99,7 +101,7 @@ def seed_registry(db: Session, vehicles: Iterable[Vehicle], actor: User) -> list
             continue
         _, number = save_vehicle(db, vehicle, actor)
         db.flush()
-        record(db, kind="vehicle.saved", actor=actor,
+        record(db, signer=signer, kind="vehicle.saved", actor=actor,
                detail={"vehicle": vehicle.id, "version": number})
         seeded.append(vehicle.id)
     return seeded
@@ -111,7 +113,7 @@ MAX_DRAFTS_REFRESHED = 200
 
 
 def refresh_drafts(db: Session, vehicle_id: str, previous: dict[str, Any] | None,
-                   actor: User) -> list[str]:
+                   actor: User, *, signer: LogSigner | None) -> list[str]:
     """After a registry save: the drafts that name the vehicle and carry no profile of it, or
     the registry's previous profile as it was copied in, get the current one (a new revision,
     logged as a draft update by the admin), so their next report is checked against it instead
@@ -142,7 +144,7 @@ def refresh_drafts(db: Session, vehicle_id: str, previous: dict[str, Any] | None
             "vehicles": [*(v for v in orders.vehicles if v.id != vehicle_id), current]})
         if orders_to_json(updated) == mission.draft:
             continue
-        update_draft(db, mission_id=mission.id, orders=updated, layout=None,
+        update_draft(db, signer=signer, mission_id=mission.id, orders=updated, layout=None,
                      expected_revision=mission.revision, author=actor)
         refreshed.append(mission.id)
     return refreshed

@@ -30,6 +30,7 @@ from typing import Any, Literal
 
 import numpy as np
 
+from ..orders.expressions.reads import Reads
 from ..orders.findings import Finding, error, warning
 from ..orders.model import BUDGET_QUANTITIES, OUTCOMES, Orders, PathProperty
 from .budget import UNITS, reportable_total
@@ -365,7 +366,6 @@ def _bounds(prop: PathProperty, findings: list[Finding]) -> list[tuple[PathPrope
 
 def _check_state(model: LogicModel, run: LogicRun, graph: MissionGraph,
                  state: _StateProperty) -> list[Finding]:
-    mission = run.mission()
     expr_reads = reads(state.expr)
     key = f"prop:{state.prop.id}:{state.mode}"
     # The item states that the property fails in a state: `always` fails where the condition
@@ -376,6 +376,26 @@ def _check_state(model: LogicModel, run: LogicRun, graph: MissionGraph,
         expr_formula(state.expr, negate=state.mode == "always"),
         quantities=tuple(sorted(expr_reads.quantities)),
     )
+    bad, undecided = _failing_goals(model, run, graph, state, failing, expr_reads)
+    findings: list[Finding] = []
+    if bad:
+        findings.append(_counterexample(model, graph, state, bad))
+    if undecided:
+        findings.append(warning(
+            "PROPERTY", undecided,
+            f"{_label(state.prop)} could not be decided at {', '.join(undecided[:20])} "
+            "(solver timeout).",
+            property=state.prop.id,
+        ))
+    return findings
+
+
+def _failing_goals(model: LogicModel, run: LogicRun, graph: MissionGraph,
+                   state: _StateProperty, failing: Item, expr_reads: Reads
+                   ) -> tuple[dict[int, GoalVerdict], list[str]]:
+    """The reachable goals where the property can fail (by graph node, with their verdict),
+    and those the solver could not decide."""
+    mission = run.mission()
     from_start = distances_from_start(graph)
     bad: dict[int, GoalVerdict] = {}
     undecided: list[str] = []
@@ -397,44 +417,41 @@ def _check_state(model: LogicModel, run: LogicRun, graph: MissionGraph,
             undecided.append(goal.id)
         elif verdict.fails:
             bad[node] = verdict
-    findings: list[Finding] = []
-    if bad:
-        node, path = shortest_through_any(graph, list(bad))
-        goal = graph.goals[node]
-        verdict = bad[node]
-        if verdict.witness:
-            values = join_words([
-                f"{quantity_words(q, model.quantities)} {with_unit(v, model.unit(q))}"
-                if v not in {"true", "false"} else f"{quantity_words(q, model.quantities)} {v}"
-                for q, v in verdict.witness
-            ])
-            why = f"the orders of {model.goal_label(goal)} allow {values}"
-        else:
-            needs = reads(state.expr)
-            facts_words = [i.phrase for i in model.fact_items(goal, needs)]
-            why = join_words(facts_words) if facts_words else f"at {model.goal_label(goal)}"
-        words = model.words(state.expr)
-        rule = f"rules out {words}" if state.mode == "never" else f"requires {words} always"
-        ending = f" -> {path.terminal}" if path.terminal else " (no terminal follows)"
-        findings.append(error(
-            "PROPERTY",
-            [*path.goals, *([path.terminal] if path.terminal else [])],
-            f"{_label(state.prop)} fails at {goal.id}: {why}, but {state.prop.id} {rule}. "
-            f"Shortest counterexample: {path.steps()}{ending}.",
-            property=state.prop.id,
-            goal=goal.id,
-            path=path.to_json(),
-            witness=dict(verdict.witness),
-            failing_goals=[graph.goal_ids[n] for n in sorted(bad)],
-        ))
-    if undecided:
-        findings.append(warning(
-            "PROPERTY", undecided,
-            f"{_label(state.prop)} could not be decided at {', '.join(undecided[:20])} "
-            "(solver timeout).",
-            property=state.prop.id,
-        ))
-    return findings
+    return bad, undecided
+
+
+def _counterexample(model: LogicModel, graph: MissionGraph, state: _StateProperty,
+                    bad: dict[int, GoalVerdict]) -> Finding:
+    """The PROPERTY error at the failing goal nearest the start, with its shortest path and
+    the values (or facts) that let the property fail there."""
+    node, path = shortest_through_any(graph, list(bad))
+    goal = graph.goals[node]
+    verdict = bad[node]
+    if verdict.witness:
+        values = join_words([
+            f"{quantity_words(q, model.quantities)} {with_unit(v, model.unit(q))}"
+            if v not in {"true", "false"} else f"{quantity_words(q, model.quantities)} {v}"
+            for q, v in verdict.witness
+        ])
+        why = f"the orders of {model.goal_label(goal)} allow {values}"
+    else:
+        needs = reads(state.expr)
+        facts_words = [i.phrase for i in model.fact_items(goal, needs)]
+        why = join_words(facts_words) if facts_words else f"at {model.goal_label(goal)}"
+    words = model.words(state.expr)
+    rule = f"rules out {words}" if state.mode == "never" else f"requires {words} always"
+    ending = f" -> {path.terminal}" if path.terminal else " (no terminal follows)"
+    return error(
+        "PROPERTY",
+        [*path.goals, *([path.terminal] if path.terminal else [])],
+        f"{_label(state.prop)} fails at {goal.id}: {why}, but {state.prop.id} {rule}. "
+        f"Shortest counterexample: {path.steps()}{ending}.",
+        property=state.prop.id,
+        goal=goal.id,
+        path=path.to_json(),
+        witness=dict(verdict.witness),
+        failing_goals=[graph.goal_ids[n] for n in sorted(bad)],
+    )
 
 
 def _solve_state(run: LogicRun, items: list[Item], failing: Item,

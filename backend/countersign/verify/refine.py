@@ -364,6 +364,14 @@ def _refined_goals(goals: list[Goal], prefix: str, depth: int
 
 def _check_refinement(path: str, parent: Goal, refinement: Refinement,
                       vehicle: Vehicle | None, areas: dict[str, Area]) -> list[Finding]:
+    used = {o for o in OUTCOMES if parent.successors(o)}
+    return [*_structure_findings(path, refinement), *_return_findings(path, refinement, used),
+            *_timeout_findings(path, refinement, used, vehicle, areas)]
+
+
+def _structure_findings(path: str, refinement: Refinement) -> list[Finding]:
+    """The refinement's own structure checked as orders, named inside `path` (a loop is
+    allowed under a time-out)."""
     findings: list[Finding] = []
     sub = Orders.model_construct(
         id=path, start=refinement.start, goals=refinement.goals,
@@ -382,7 +390,13 @@ def _check_refinement(path: str, parent: Goal, refinement: Refinement,
         findings.append(Finding(finding.code, finding.severity, local,
                                 f"In the refinement of {path}: {finding.message}",
                                 finding.details))
-    used = {o for o in OUTCOMES if parent.successors(o)}
+    return findings
+
+
+def _return_findings(path: str, refinement: Refinement, used: set[str]) -> list[Finding]:
+    """Each terminal returns an outcome the refined goal has a successor for; an outcome with
+    a successor that nothing returns is worth a warning."""
+    findings: list[Finding] = []
     for terminal in refinement.terminals:
         where = path + SEP + terminal.id
         if terminal.returns is None:
@@ -404,6 +418,15 @@ def _check_refinement(path: str, parent: Goal, refinement: Refinement,
             # from elsewhere or not at all, which the author should know.
             findings.append(warning("REFINE", [path], f"{path} names a successor for "
                                     f"{outcome}, but its refinement never returns {outcome}."))
+    return findings
+
+
+def _timeout_findings(path: str, refinement: Refinement, used: set[str],
+                      vehicle: Vehicle | None, areas: dict[str, Area]) -> list[Finding]:
+    """A time-out and its outcome come together, the outcome has a successor, and a time-out
+    in seconds can bound every goal inside (each has a duration and none is refined)."""
+    findings: list[Finding] = []
+    bounded = refinement.within is not None
     if bounded and refinement.on_timeout is None:
         findings.append(error("REFINE", [path], f"The time-out of {path}'s refinement says "
                               "no outcome: add \"on_timeout\": fail or violate."))

@@ -367,25 +367,7 @@ def joint_path_text(steps: Sequence[dict[str, Any]], ends: Sequence[str]) -> str
 def _deadlock(product: _Product, forward: _Forward, waiter: Waiter, begin: Position,
               position: Position) -> Finding:
     meet = waiter[0]
-    moves: list[tuple[Position, int, Position]] = []  # (from, outcome index, to)
-    first = position
-    while (parent := forward.parent[first]) is not None:
-        moves.append((parent[0], parent[1], first))
-        first = parent[0]
-    steps: list[dict[str, Any]] = []
-    for i, node in enumerate(begin):
-        steps.extend(_local_steps(product, i, node, first[i]))
-    last_meeting: dict[int, int] = {}
-    for here, k, nxt in reversed(moves):
-        fired = product.enabled(here)
-        assert fired is not None
-        steps.append({"meet": fired, "outcome": OUTCOMES[k],
-                      "goals": {product.members[i].vehicle: _node_id(product, i, here[i])
-                                for i in product.participants[fired]}})
-        meeting_step = len(steps) - 1
-        for i, node in product.after(here, fired, k):
-            last_meeting[i] = meeting_step
-            steps.extend(_local_steps(product, i, node, nxt[i]))
+    steps, last_meeting = _joint_steps(product, forward, begin, position)
     ends = [f"{m.vehicle}/{_node_id(product, i, position[i])}"
             for i, m in enumerate(product.members)]
     text = joint_path_text(steps, ends)
@@ -407,17 +389,7 @@ def _deadlock(product: _Product, forward: _Forward, waiter: Waiter, begin: Posit
     who = " and ".join(
         f"{product.members[i].vehicle} waits at {_node_id(product, i, position[i])} "
         f"({product.members[i].graph.goals[position[i]].label})" for i in waiters)
-    shared = ""
-    for i in waiters:
-        for j in absent:
-            if i in last_meeting and last_meeting.get(j) == last_meeting[i]:
-                step = steps[last_meeting[i]]
-                shared = (f" After their shared outcome {step['meet']} {step['outcome']}, "
-                          f"{product.members[i].vehicle} goes on to {meet} and "
-                          f"{product.members[j].vehicle} does not.")
-                break
-        if shared:
-            break
+    shared = _parting(product, meet, steps, last_meeting, waiters, absent)
     return error(
         "TEAM", [meet, text],
         f"Meeting {meet} can deadlock: {who}, but {' and '.join(why)}, so it can no longer "
@@ -425,3 +397,43 @@ def _deadlock(product: _Product, forward: _Forward, waiter: Waiter, begin: Posit
         meeting=meet, joint_path=steps,
         waiting=[product.members[i].vehicle for i in waiters],
         absent=[product.members[j].vehicle for j in absent])
+
+
+def _joint_steps(product: _Product, forward: _Forward, begin: Position, position: Position
+                 ) -> tuple[list[dict[str, Any]], dict[int, int]]:
+    """The shortest joint path from `begin` to `position` as steps (each member's own goals
+    between meetings), and for each member the index of the last meeting step it took part in."""
+    moves: list[tuple[Position, int, Position]] = []  # (from, outcome index, to)
+    first = position
+    while (parent := forward.parent[first]) is not None:
+        moves.append((parent[0], parent[1], first))
+        first = parent[0]
+    steps: list[dict[str, Any]] = []
+    for i, node in enumerate(begin):
+        steps.extend(_local_steps(product, i, node, first[i]))
+    last_meeting: dict[int, int] = {}
+    for here, k, nxt in reversed(moves):
+        fired = product.enabled(here)
+        assert fired is not None
+        steps.append({"meet": fired, "outcome": OUTCOMES[k],
+                      "goals": {product.members[i].vehicle: _node_id(product, i, here[i])
+                                for i in product.participants[fired]}})
+        meeting_step = len(steps) - 1
+        for i, node in product.after(here, fired, k):
+            last_meeting[i] = meeting_step
+            steps.extend(_local_steps(product, i, node, nxt[i]))
+    return steps, last_meeting
+
+
+def _parting(product: _Product, meet: str, steps: list[dict[str, Any]],
+             last_meeting: dict[int, int], waiters: list[int], absent: list[int]) -> str:
+    """The sentence naming the shared outcome after which a waiter and an absent member
+    parted ways (empty when none did)."""
+    for i in waiters:
+        for j in absent:
+            if i in last_meeting and last_meeting.get(j) == last_meeting[i]:
+                step = steps[last_meeting[i]]
+                return (f" After their shared outcome {step['meet']} {step['outcome']}, "
+                        f"{product.members[i].vehicle} goes on to {meet} and "
+                        f"{product.members[j].vehicle} does not.")
+    return ""

@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import gc
-from collections.abc import AsyncIterator
-from contextlib import asynccontextmanager
+from collections.abc import AsyncIterator, Callable
+from contextlib import AbstractAsyncContextManager, asynccontextmanager
 from pathlib import Path
 
 import anyio.to_thread
@@ -174,17 +174,53 @@ def create_app(settings: Settings, database: Database | None = None,
     process of the host shares (host_pool.py), else in a pool of its own."""
     settings.prepare()
     hide_tickets()  # before the server logs its first request
-    database = database or Database(settings.database_url)
+    services = _services(settings, database or Database(settings.database_url))
+    hub = RehearsalHub()
+    # One schema per model: recursive orders (a goal's refinement holds goals)
+    # would otherwise split into Orders-Input and Orders-Output, which the routes' own
+    # `#/components/schemas/Orders` references do not name.
+    app = FastAPI(title="Countersign", version=__version__, docs_url=None,
+                  openapi_url="/api/openapi.json", redoc_url=None,
+                  lifespan=_lifespan(settings, services, hub, host_pool),
+                  separate_input_output_schemas=False)
+    app.state.settings = settings
+    app.state.database = services.database
+    app.state.services = services  # routes: web/deps.py, Services
+    app.state.rehearsals = hub
+    app.state.rehearsal_proxies = []
+    app.state.rate_limiter = RateLimiter()
+    app.state.plan_slots = PlanSlots()
+    problems.install(app)
+
+    app.add_middleware(SecurityHeaders, secure_cookies=settings.secure_cookies,
+                       csp=app_csp(settings.map_tiles))
+    api_docs.install(app)
+    openapi_links.install(app)
+    _include_routes(app)
+    _serve_frontend(app, settings.frontend_dist)
+    app.add_middleware(BodyLimit, limit=settings.max_body_bytes)
+    app.add_middleware(ClientAddress)  # every route's password check counts its address
+    return app
+
+
+def _services(settings: Settings, database: Database) -> AppServices:
+    """The migrated database and the services built on it (its log signer opened here)."""
     database.migrate()
     signer = database.log_signer
     if signer is None:
         # Refuses to start on an unusable key file (readable by others, say).
         signer = database.log_signer = open_log_signer(settings, database)
-    services = AppServices.of(database, signer)
-    hub = RehearsalHub()
+    return AppServices.of(database, signer)
+
+
+def _lifespan(settings: Settings, services: AppServices, hub: RehearsalHub,
+              host_pool: HostPoolAddress | None
+              ) -> Callable[[FastAPI], AbstractAsyncContextManager[None]]:
+    """What a running server starts before its first request and stops after its last: the
+    validation pool, the campaign runner (SQLite), the password hashing process."""
 
     @asynccontextmanager
-    async def lifespan(_app: FastAPI) -> AsyncIterator[None]:
+    async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         # As many threads as the database pool keeps connections for (store/db.py).
         anyio.to_thread.current_default_thread_limiter().total_tokens = REQUEST_THREADS
         # What exists once the app is built (modules, the ontology, compiled queries) lives as
@@ -198,16 +234,9 @@ def create_app(settings: Settings, database: Database | None = None,
         # of its CPU. Fewer, larger young collections: 2 per edit, 13 ms (bench_incremental).
         thresholds = gc.get_threshold()
         gc.set_threshold(max(thresholds[0], YOUNG_GC_THRESHOLD), *thresholds[1:])
-        # A running server validates in processes of its own (validation_pool.py); an app
-        # driven without its lifespan (in-process test clients) validates in its threads.
-        pool = _validation_pool(settings, host_pool)
-        if pool is not None:
-            services.reports.use_pool(pool.validate, pool.validate_parts)
-            # Serve once the processes have warmed up (a few seconds), so that the first
-            # validation is a warm one; a warm-up slower than WARM_WAIT_S is not waited for.
-            await anyio.to_thread.run_sync(pool.wait_warm, WARM_WAIT_S)
+        pool = await _start_pool(settings, services, host_pool)
         app.state.validation_pool = pool
-        if database.engine.dialect.name != "postgresql":
+        if services.database.engine.dialect.name != "postgresql":
             # SQLite: this process runs campaign jobs; pick up those a killed one left.
             campaign_routes.start_runner(app)
         # Password hashes in a low-priority process with a bounded queue (store/hashing.py).
@@ -226,26 +255,24 @@ def create_app(settings: Settings, database: Database | None = None,
                 services.reports.use_pool(None)
                 pool.shutdown()
 
-    # One schema per model: recursive orders (a goal's refinement holds goals)
-    # would otherwise split into Orders-Input and Orders-Output, which the routes' own
-    # `#/components/schemas/Orders` references do not name.
-    app = FastAPI(title="Countersign", version=__version__, docs_url=None,
-                  openapi_url="/api/openapi.json", redoc_url=None, lifespan=lifespan,
-                  separate_input_output_schemas=False)
-    app.state.settings = settings
-    app.state.database = database
-    app.state.services = services  # routes: web/deps.py, Services
-    app.state.rehearsals = hub
-    app.state.rehearsal_proxies = []
-    app.state.rate_limiter = RateLimiter()
-    app.state.plan_slots = PlanSlots()
-    problems.install(app)
+    return lifespan
 
-    app.add_middleware(SecurityHeaders, secure_cookies=settings.secure_cookies,
-                       csp=app_csp(settings.map_tiles))
-    api_docs.install(app)
-    openapi_links.install(app)
 
+async def _start_pool(settings: Settings, services: AppServices,
+                      host_pool: HostPoolAddress | None) -> ValidationPools | None:
+    """A running server validates in processes of its own (validation_pool.py); an app
+    driven without its lifespan (in-process test clients) validates in its threads."""
+    pool = _validation_pool(settings, host_pool)
+    if pool is not None:
+        services.reports.use_pool(pool.validate, pool.validate_parts)
+        # Serve once the processes have warmed up (a few seconds), so that the first
+        # validation is a warm one; a warm-up slower than WARM_WAIT_S is not waited for.
+        await anyio.to_thread.run_sync(pool.wait_warm, WARM_WAIT_S)
+    return pool
+
+
+def _include_routes(app: FastAPI) -> None:
+    """The health route and every router, in the order the OpenAPI document lists them."""
     # Taken at start, so that it names the checks this process loaded even if the files are
     # replaced under a running server (verify.fingerprint).
     checker = fingerprint.checker_fingerprint()
@@ -257,27 +284,14 @@ def create_app(settings: Settings, database: Database | None = None,
         (`checker`, as in its reports and approval statements)."""
         return {"status": "ok", "version": __version__, "checker": checker}
 
-    app.include_router(auth.router)
-    app.include_router(client_config.router)
-    app.include_router(missions.router)
-    app.include_router(admin.router)
-    app.include_router(vehicles.router)
-    app.include_router(procedures.router)
-    app.include_router(standing.router)
-    app.include_router(charts.router)
-    app.include_router(planning.router)
-    app.include_router(approvals.router)
-    app.include_router(document.router)
-    app.include_router(log_witness.router)
+    for module in (auth, client_config, missions, admin, vehicles, procedures, standing,
+                   charts, planning, approvals, document, log_witness):
+        app.include_router(module.router)
     app.include_router(rehearsals.router)
     app.include_router(rehearsals.viewer)
     app.include_router(export_routes.router)
     app.include_router(execution_routes.router)
     app.include_router(campaign_routes.router)
-    _serve_frontend(app, settings.frontend_dist)
-    app.add_middleware(BodyLimit, limit=settings.max_body_bytes)
-    app.add_middleware(ClientAddress)  # every route's password check counts its address
-    return app
 
 
 def _serve_frontend(app: FastAPI, dist: Path) -> None:

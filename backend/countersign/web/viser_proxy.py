@@ -224,73 +224,13 @@ async def relay(browser: WebSocket, upstream: ClientConnection, stats: ProxyStat
     """Relay frames until either side closes; the other side is then closed too. `watch`,
     when given, returns once the connection may no longer relay (its session ended), with
     the reason: the browser is then cut off."""
-
-    async def to_server() -> None:
-        window, count = time.monotonic(), 0
-        while True:
-            message = await browser.receive()
-            if message["type"] == "websocket.disconnect":
-                stats.close_code = stats.close_code or int(message.get("code", 1000))
-                return
-            frame = message.get("bytes")
-            now = time.monotonic()
-            if now - window >= 1.0:
-                window, count = now, 0
-            count += 1
-            if count > MAX_FRAMES_PER_SECOND:
-                await _close(browser, stats, POLICY_VIOLATION, "too many frames")
-                return
-            if frame is None:  # viser speaks binary only
-                if await _malformed(browser, stats, "text frame"):
-                    return
-                continue
-            if len(frame) > MAX_FRAME:
-                await _close(browser, stats, TOO_BIG, f"frames are at most {MAX_FRAME} bytes")
-                return
-            try:
-                kind = check_from_browser(frame)
-            except ValueError as exc:
-                if await _malformed(browser, stats, str(exc)):
-                    return
-                continue
-            if kind in SHARE_FROM_BROWSER:
-                stats.dropped_share += 1
-                continue
-            await upstream.send(frame)
-            stats.to_server += 1
-
-    async def to_browser() -> None:
-        async for data in upstream:
-            if isinstance(data, str):
-                continue
-            frame, removed = strip_share_from_server(data)
-            stats.dropped_share += removed
-            await browser.send_bytes(frame)
-            stats.to_browser += 1
-        await _close(browser, stats, GOING_AWAY, "the rehearsal ended")
-
-    async def watcher() -> None:
-        if watch is None:
-            await anyio.sleep_forever()
-            return
-        reason = await watch()
-        await _close(browser, stats, POLICY_VIOLATION, reason)
-
-    async def run(side: Callable[[], Awaitable[None]], group: anyio.abc.TaskGroup) -> None:
-        try:
-            await side()
-        except (ConnectionClosed, WebSocketDisconnect, RuntimeError, OSError):
-            pass  # either side went away
-        except Exception as exc:
-            log.warning("rehearsal proxy: %r", exc)
-        finally:
-            group.cancel_scope.cancel()  # one side ended: end the other
-
     try:
+        sides = (functools.partial(_to_server, browser, upstream, stats),
+                 functools.partial(_to_browser, browser, upstream, stats),
+                 functools.partial(_watcher, browser, stats, watch))
         async with anyio.create_task_group() as group:
-            group.start_soon(run, to_server, group)
-            group.start_soon(run, to_browser, group)
-            group.start_soon(run, watcher, group)
+            for side in sides:
+                group.start_soon(_until_ended, side, group)
     finally:
         # The closing handshake with viser runs on its own: the browser's side is done now.
         closing = asyncio.get_running_loop().create_task(_close_upstream(upstream))
@@ -298,6 +238,75 @@ async def relay(browser: WebSocket, upstream: ClientConnection, stats: ProxyStat
         closing.add_done_callback(_CLOSING.discard)
         with anyio.CancelScope(shield=True):
             await _close(browser, stats, GOING_AWAY, "the rehearsal connection ended")
+
+
+async def _to_server(browser: WebSocket, upstream: ClientConnection, stats: ProxyStats) -> None:
+    """The browser's frames to viser: rate-limited, size-limited, checked, shares dropped."""
+    window, count = time.monotonic(), 0
+    while True:
+        message = await browser.receive()
+        if message["type"] == "websocket.disconnect":
+            stats.close_code = stats.close_code or int(message.get("code", 1000))
+            return
+        frame = message.get("bytes")
+        now = time.monotonic()
+        if now - window >= 1.0:
+            window, count = now, 0
+        count += 1
+        if count > MAX_FRAMES_PER_SECOND:
+            await _close(browser, stats, POLICY_VIOLATION, "too many frames")
+            return
+        if frame is None:  # viser speaks binary only
+            if await _malformed(browser, stats, "text frame"):
+                return
+            continue
+        if len(frame) > MAX_FRAME:
+            await _close(browser, stats, TOO_BIG, f"frames are at most {MAX_FRAME} bytes")
+            return
+        try:
+            kind = check_from_browser(frame)
+        except ValueError as exc:
+            if await _malformed(browser, stats, str(exc)):
+                return
+            continue
+        if kind in SHARE_FROM_BROWSER:
+            stats.dropped_share += 1
+            continue
+        await upstream.send(frame)
+        stats.to_server += 1
+
+
+async def _to_browser(browser: WebSocket, upstream: ClientConnection, stats: ProxyStats) -> None:
+    """viser's frames to the browser, with its share offers removed."""
+    async for data in upstream:
+        if isinstance(data, str):
+            continue
+        frame, removed = strip_share_from_server(data)
+        stats.dropped_share += removed
+        await browser.send_bytes(frame)
+        stats.to_browser += 1
+    await _close(browser, stats, GOING_AWAY, "the rehearsal ended")
+
+
+async def _watcher(browser: WebSocket, stats: ProxyStats,
+                   watch: Callable[[], Awaitable[str]] | None) -> None:
+    if watch is None:
+        await anyio.sleep_forever()
+        return
+    reason = await watch()
+    await _close(browser, stats, POLICY_VIOLATION, reason)
+
+
+async def _until_ended(side: Callable[[], Awaitable[None]], group: anyio.abc.TaskGroup) -> None:
+    """Run one side of the relay; when it ends, for whatever reason, end the others."""
+    try:
+        await side()
+    except (ConnectionClosed, WebSocketDisconnect, RuntimeError, OSError):
+        pass  # either side went away
+    except Exception as exc:
+        log.warning("rehearsal proxy: %r", exc)
+    finally:
+        group.cancel_scope.cancel()  # one side ended: end the other
 
 
 _CLOSING: set[asyncio.Task[None]] = set()

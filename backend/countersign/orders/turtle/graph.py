@@ -15,7 +15,7 @@ from rdflib.term import Node
 
 from ..canonical import orders_to_json
 from ..expressions import expression_quantities
-from ..model import Orders
+from ..model import Constraint, Orders
 from .vocabulary import (
     _ELEMENT_LISTS,
     _ENTRY,
@@ -116,15 +116,26 @@ def fill_graph(graph: GraphSink, orders: Orders, record: bool) -> None:
 
 
 def _meaning(graph: Graph, orders: Orders, iris: MissionIris) -> None:
-    add = graph.add
     resolve = _Resolver(orders, iris)
+    _mission_and_goals(graph, orders, iris, resolve)
+    for terminal in orders.terminal_index().values():
+        node = iris.element("terminal", terminal.id)
+        graph.add((node, RDF.type, MEO.Terminal))
+        graph.add((node, RDFS.label, Literal(terminal.label)))
+    constraints = _first_by_id(orders.constraints)
+    _constraints(graph, iris, resolve, constraints)
+    _vehicles(graph, orders, iris, constraints)
+
+
+def _mission_and_goals(graph: Graph, orders: Orders, iris: MissionIris,
+                       resolve: _Resolver) -> None:
+    add = graph.add
     mission = iris.mission
     add((mission, RDF.type, MEO.Mission))
     add((mission, RDFS.label, Literal(orders.title or orders.id)))
     for start in resolve.starts(orders.start):
         add((mission, MEO.startsWith, start))
-    goal_index = orders.goal_index()
-    for goal in goal_index.values():
+    for goal in orders.goal_index().values():
         node = iris.element("goal", goal.id)
         add((node, RDF.type, MEO.Goal))
         add((node, RDFS.label, Literal(goal.label)))
@@ -139,15 +150,16 @@ def _meaning(graph: Graph, orders: Orders, iris: MissionIris) -> None:
         phase = goal.params.get("phase")
         if isinstance(phase, str):
             add((node, MEO.isPartOfPhase, Literal(phase)))
-    for terminal in orders.terminal_index().values():
-        node = iris.element("terminal", terminal.id)
-        add((node, RDF.type, MEO.Terminal))
-        add((node, RDFS.label, Literal(terminal.label)))
-    constraints = _first_by_id(orders.constraints)
+
+
+def _constraints(graph: Graph, iris: MissionIris, resolve: _Resolver,
+                 constraints: list[Constraint]) -> None:
+    """The constraints, their scopes and the quantities they read."""
+    add = graph.add
     for constraint in constraints:
         node = iris.element("constraint", constraint.id)
         add((node, RDF.type, MEO.Constraint))
-        add((mission, MEO.hasConstraint, node))
+        add((iris.mission, MEO.hasConstraint, node))
         if constraint.text:
             add((node, RDFS.comment, Literal(constraint.text)))
         for scope in resolve.scopes(constraint.applies_to):
@@ -156,6 +168,12 @@ def _meaning(graph: Graph, orders: Orders, iris: MissionIris) -> None:
             q = iris.element("quantity", quantity)
             add((node, MEO.reads, q))
             add((q, RDF.type, MEO.Quantity))
+
+
+def _vehicles(graph: Graph, orders: Orders, iris: MissionIris,
+              constraints: list[Constraint]) -> None:
+    """The vehicles and their features, with what each feature can fulfil and test."""
+    add = graph.add
     performer = orders.target_vehicle()
     reads = {c.id: set(expression_quantities(c.expr)) for c in constraints}
     for vehicle in _first_by_id(orders.vehicles):
@@ -163,7 +181,7 @@ def _meaning(graph: Graph, orders: Orders, iris: MissionIris) -> None:
         add((node, RDF.type, MEO.Vehicle))
         add((node, RDFS.label, Literal(vehicle.title or vehicle.id)))
         if vehicle is performer:
-            add((mission, MEO.performableBy, node))
+            add((iris.mission, MEO.performableBy, node))
         for feature in _first_by_id(vehicle.features):
             f = iris.feature(vehicle.id, feature.id)
             add((f, RDF.type, MEO.VehicleFeature))
@@ -182,7 +200,6 @@ def _meaning(graph: Graph, orders: Orders, iris: MissionIris) -> None:
                     add((f, MEO.canTest, iris.element("constraint", constraint.id)))
             for constraint_id in feature.tests:  # asserted (canTest / NPS canMeasure)
                 add((f, MEO.canTest, iris.element("constraint", constraint_id)))
-
 
 
 # The record: every field as written, generically encoded.

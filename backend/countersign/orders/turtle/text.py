@@ -11,7 +11,7 @@ from rdflib.namespace import RDF, RDFS, XSD
 
 from ..canonical import orders_to_json
 from ..expressions import expression_quantities
-from ..model import Orders
+from ..model import Constraint, Orders
 from ..rdf_index import paused_collection
 from .syntax import DECIMAL, LOCAL, document, iri_ref, quoted
 from .vocabulary import (
@@ -94,12 +94,19 @@ class _TurtleText:
 
     def meaning(self) -> None:
         orders = self.orders
-        add = self.add
-        element = self.element
-        mission = self.mission
-        goal_index = orders.goal_index()
-        goals = set(goal_index)
+        goals = set(orders.goal_index())
         terminals = set(orders.terminal_index())
+        self._mission_and_goals(goals, terminals)
+        for terminal in orders.terminal_index().values():
+            node = self.element("terminal", terminal.id)
+            self.add(node, "a", "meo:Terminal")
+            self.add(node, "rdfs:label", quoted(terminal.label))
+        constraints = _first_by_id(orders.constraints)
+        reads = self._constraints(constraints, goals, terminals)
+        self._vehicles(constraints, reads)
+
+    def _mission_and_goals(self, goals: set[str], terminals: set[str]) -> None:
+        orders, add, element, mission = self.orders, self.add, self.element, self.mission
         add(mission, "a", "meo:Mission")
         add(mission, "rdfs:label", quoted(orders.title or orders.id))
         start = orders.start
@@ -107,7 +114,7 @@ class _TurtleText:
             add(mission, "meo:startsWith", self.successor(name, goals, terminals))
         outcomes = tuple((outcome, f"meo:{str(prop)[len(str(MEO)):]}")
                          for outcome, prop in OUTCOME_PROPERTY.items())
-        for goal in goal_index.values():
+        for goal in orders.goal_index().values():
             node = element("goal", goal.id)
             add(node, "a", "meo:Goal")
             add(node, "rdfs:label", quoted(goal.label))
@@ -122,11 +129,11 @@ class _TurtleText:
             phase = goal.params.get("phase")
             if isinstance(phase, str):
                 add(node, "meo:isPartOfPhase", quoted(phase))
-        for terminal in orders.terminal_index().values():
-            node = element("terminal", terminal.id)
-            add(node, "a", "meo:Terminal")
-            add(node, "rdfs:label", quoted(terminal.label))
-        constraints = _first_by_id(orders.constraints)
+
+    def _constraints(self, constraints: list[Constraint], goals: set[str],
+                     terminals: set[str]) -> dict[str, list[str]]:
+        """The constraints, their scopes and the quantities they read (returned by id)."""
+        orders, add, element, mission = self.orders, self.add, self.element, self.mission
         reads: dict[str, list[str]] = {}
         for constraint in constraints:
             node = element("constraint", constraint.id)
@@ -147,13 +154,18 @@ class _TurtleText:
                 q = element("quantity", quantity)
                 add(node, "meo:reads", q)
                 add(q, "a", "meo:Quantity")
-        performer = orders.target_vehicle()
-        for vehicle in _first_by_id(orders.vehicles):
+        return reads
+
+    def _vehicles(self, constraints: list[Constraint], reads: dict[str, list[str]]) -> None:
+        """The vehicles and their features, with what each feature can fulfil and test."""
+        add, element = self.add, self.element
+        performer = self.orders.target_vehicle()
+        for vehicle in _first_by_id(self.orders.vehicles):
             node = element("vehicle", vehicle.id)
             add(node, "a", "meo:Vehicle")
             add(node, "rdfs:label", quoted(vehicle.title or vehicle.id))
             if vehicle is performer:
-                add(mission, "meo:performableBy", node)
+                add(self.mission, "meo:performableBy", node)
             for feature in _first_by_id(vehicle.features):
                 f = self.feature(vehicle.id, feature.id)
                 add(f, "a", "meo:VehicleFeature")

@@ -3,7 +3,7 @@ of meo.ttl, reported as findings of the violated rule."""
 
 from __future__ import annotations
 
-from rdflib import URIRef
+from rdflib import Graph, URIRef
 from rdflib.collection import Collection
 from rdflib.namespace import OWL, RDF, RDFS
 from rdflib.term import Node
@@ -26,34 +26,46 @@ def typing_findings(graph: TripleIndex) -> list[Finding]:
     without an end condition and EC1 for an end condition other than SUCCEED, FAIL, VIOLATE.
     Orders cannot express these mistakes, so they exist only in RDF input."""
     meo = load_graph(MEO_FILE)
-    superclasses: dict[Node, set[Node]] = {}
-    for sub, sup in meo.subject_objects(RDFS.subClassOf):
-        if isinstance(sup, URIRef):
-            superclasses.setdefault(sub, set()).add(sup)
-    disjoint: set[tuple[Node, Node]] = set()
-    for group in meo.subjects(RDF.type, OWL.AllDisjointClasses):
-        head = meo.value(group, OWL.members)
-        members = list(Collection(meo, head)) if head is not None else []
-        disjoint.update((a, b) for a in members for b in members if a != b)
-    subproperties: dict[Node, set[Node]] = {}
-    for sub, sup in meo.subject_objects(RDFS.subPropertyOf):
-        subproperties.setdefault(sup, set()).add(sub)
+    return _axiom_findings(graph, meo, _Hierarchy(meo)) + _end_condition_findings(graph)
 
-    def classes(node: Node) -> set[Node]:
+
+class _Hierarchy:
+    """meo.ttl's class and property hierarchy, and its disjoint classes."""
+
+    def __init__(self, meo: Graph) -> None:
+        self.superclasses: dict[Node, set[Node]] = {}
+        for sub, sup in meo.subject_objects(RDFS.subClassOf):
+            if isinstance(sup, URIRef):
+                self.superclasses.setdefault(sub, set()).add(sup)
+        self.disjoint: set[tuple[Node, Node]] = set()
+        for group in meo.subjects(RDF.type, OWL.AllDisjointClasses):
+            head = meo.value(group, OWL.members)
+            members = list(Collection(meo, head)) if head is not None else []
+            self.disjoint.update((a, b) for a in members for b in members if a != b)
+        self.subproperties: dict[Node, set[Node]] = {}
+        for sub, sup in meo.subject_objects(RDFS.subPropertyOf):
+            self.subproperties.setdefault(sup, set()).add(sub)
+
+    def classes(self, graph: TripleIndex, node: Node) -> set[Node]:
+        """The node's asserted classes and their superclasses."""
         found = set(graph.objects(node, RDF.type))
         for cls in list(found):
-            found |= superclasses.get(cls, set())
+            found |= self.superclasses.get(cls, set())
         return found
 
-    def with_subproperties(prop: Node) -> set[Node]:
+    def with_subproperties(self, prop: Node) -> set[Node]:
         result, todo = {prop}, [prop]
         while todo:
-            for sub in subproperties.get(todo.pop(), ()):
+            for sub in self.subproperties.get(todo.pop(), ()):
                 if sub not in result:
                     result.add(sub)
                     todo.append(sub)
         return result
 
+
+def _axiom_findings(graph: TripleIndex, meo: Graph, hierarchy: _Hierarchy) -> list[Finding]:
+    """A finding per node of a class disjoint with a domain or range axiom's class, once per
+    rule, node and class."""
     findings: list[Finding] = []
     seen: set[tuple[str, str, str]] = set()
     for axiom in meo.subjects(RDF.type, OWL.Axiom):
@@ -65,11 +77,12 @@ def typing_findings(graph: TripleIndex) -> list[Finding]:
         rule = str(meo.value(axiom, RDFS.label))
         if not isinstance(required, URIRef) or prop is None:
             continue
-        for used in with_subproperties(prop):
+        for used in hierarchy.with_subproperties(prop):
             for s, o in graph.subject_objects(used):
                 node = s if kind == RDFS.domain else o
-                for cls in classes(node):
-                    if (cls, required) in disjoint and (rule, str(node), str(cls)) not in seen:
+                for cls in hierarchy.classes(graph, node):
+                    if ((cls, required) in hierarchy.disjoint
+                            and (rule, str(node), str(cls)) not in seen):
                         seen.add((rule, str(node), str(cls)))
                         role = "subject" if kind == RDFS.domain else "object"
                         findings.append(error(
@@ -79,6 +92,12 @@ def typing_findings(graph: TripleIndex) -> list[Finding]:
                             f"{local_id(required)} (rule {rule}).",
                             property=local_id(used),
                         ))
+    return findings
+
+
+def _end_condition_findings(graph: TripleIndex) -> list[Finding]:
+    """G4: a successor without an end condition; EC1: an end condition that is not one."""
+    findings: list[Finding] = []
     for s, o in graph.subject_objects(MEO.isNext):
         findings.append(error(
             "G4", [local_id(s), local_id(o)],

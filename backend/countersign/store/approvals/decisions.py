@@ -12,6 +12,7 @@ from sqlalchemy.orm import Session as DbSession
 
 from ...approvals import dsse
 from ...approvals.dsse import SignatureError
+from ...approvals.signer import LogSigner
 from ...approvals.statement import (
     build_statement,
     json_digest,
@@ -119,13 +120,14 @@ def _reason(decision: str, reason: str) -> str:
 
 
 def prepare_decision(db: DbSession, *, submission_id: int, supervisor: User, decision: str,
-                     reason: str, key_id: str, reports: ReportService) -> Prepared:
+                     reason: str, key_id: str, reports: ReportService,
+                     signer: LogSigner | None) -> Prepared:
     """The exact statement the supervisor signs (the client signs its DSSE PAE)."""
     if decision not in ("approved", "rejected"):
         raise BadDecision("decision is 'approved' or 'rejected'")
     ctx = _context(db, submission_id, reports)
     _check_open(ctx)
-    _check_duties(db, supervisor, ctx.version, ctx.submission)
+    _check_duties(db, supervisor, ctx.version, ctx.submission, signer=signer)
     _usable_key(db, key_id, supervisor)
     statement = _statement(db, ctx, decision=decision, reason=_reason(decision, reason),
                            supervisor=supervisor, key_id=key_id, time=_now_text(),
@@ -182,7 +184,8 @@ def _check_fresh(db: DbSession, ctx: Context, statement: dict[str, Any], supervi
 
 
 def _store(db: DbSession, ctx: Context, *, envelope_text: str, statement: dict[str, Any],
-           key: SigningKey, supervisor: User, revokes: Approval | None) -> Approval:
+           key: SigningKey, supervisor: User, revokes: Approval | None,
+           signer: LogSigner | None) -> Approval:
     predicate = statement["predicate"]
     decision = str(predicate["decision"])
     detail = {"decision": decision, "envelope_digest": dsse.envelope_digest(envelope_text),
@@ -191,7 +194,7 @@ def _store(db: DbSession, ctx: Context, *, envelope_text: str, statement: dict[s
               "orders_digest": ctx.version.digest, "reason": predicate["reason"],
               "revokes": revokes.id if revokes else None}
     event = record(db, kind=f"approval.{decision}", actor=supervisor, mission_id=ctx.mission.id,
-                   after=ctx.version.digest, detail=detail)
+                   after=ctx.version.digest, detail=detail, signer=signer)
     approval = Approval(
         submission_id=ctx.submission.id, version_id=ctx.version.id, mission_id=ctx.mission.id,
         vehicle=ctx.version.orders.get("vehicle"), author_id=ctx.version.author_id,
@@ -216,7 +219,7 @@ def _store(db: DbSession, ctx: Context, *, envelope_text: str, statement: dict[s
 
 
 def decide(db: DbSession, *, submission_id: int, supervisor: User, envelope: str,
-           password: str | None, reports: ReportService) -> Approval:
+           password: str | None, reports: ReportService, signer: LogSigner | None) -> Approval:
     """Verify a signed decision and store its envelope verbatim, or refuse with nothing kept.
     `password` is the supervisor's, entered again for this decision (store/reauth.py)."""
     # User verification first, then the row locks (store/decide_guard.py).
@@ -224,7 +227,7 @@ def decide(db: DbSession, *, submission_id: int, supervisor: User, envelope: str
                      password=password)
     lock_submission(db, submission_id)
     ctx = _context(db, submission_id, reports)
-    _check_duties(db, supervisor, ctx.version, ctx.submission)
+    _check_duties(db, supervisor, ctx.version, ctx.submission, signer=signer)
     _, statement, key, _ = _verified(db, envelope, supervisor)
     if statement["predicate"].get("submission") != submission_id:
         raise Stale(f"the statement is about submission {statement['predicate'].get('submission')}"
@@ -233,7 +236,7 @@ def decide(db: DbSession, *, submission_id: int, supervisor: User, envelope: str
         raise BadSignature("a decision is approved or rejected")
     _check_open(ctx)
     _check_fresh(db, ctx, statement, supervisor, key)
-    return _store(db, ctx, envelope_text=envelope, statement=statement, key=key,
+    return _store(db, ctx, signer=signer, envelope_text=envelope, statement=statement, key=key,
                   supervisor=supervisor, revokes=None)
 
 

@@ -7,6 +7,7 @@ from typing import Any
 from sqlalchemy import select
 from sqlalchemy.orm import Session as DbSession
 
+from ...approvals.signer import LogSigner
 from ...errors import DomainError
 from ..decide_guard import (
     editors_up_to,
@@ -27,11 +28,11 @@ def _editors(db: DbSession, version: MissionVersion) -> set[int]:
 
 
 def _check_duties(db: DbSession, supervisor: User, version: MissionVersion,
-                  submission: Submission) -> None:
+                  submission: Submission, *, signer: LogSigner | None) -> None:
     if supervisor.role != "supervisor":
         raise Refused(f"the {supervisor.role} role may not sign decisions")
     # The row's role is not evidence (a database writer can set it): the log's is.
-    mismatch = decision_refusal_from_log(db, supervisor)
+    mismatch = decision_refusal_from_log(db, supervisor, signer=signer)
     if mismatch is not None:
         raise Refused(mismatch)
     if supervisor.id in _editors(db, version) | {submission.submitted_by}:
@@ -63,7 +64,7 @@ def submit_refusal(*, user: User, number: int, report: dict[str, Any],
 
 
 def decision_refusal(db: DbSession, *, user: User, version: MissionVersion,
-                     submission: Submission | None) -> str | None:
+                     submission: Submission | None, signer: LogSigner | None) -> str | None:
     """Why this user may not sign a decision on this version (None when they may): what
     the review page shows beside a disabled button; signing checks it again."""
     if user.role != "supervisor":
@@ -71,7 +72,7 @@ def decision_refusal(db: DbSession, *, user: User, version: MissionVersion,
     try:
         if submission is None:
             raise Stale("the version is not submitted")
-        _check_duties(db, user, version, submission)
+        _check_duties(db, user, version, submission, signer=signer)
         if submission.state != "submitted":
             raise Stale(f"submission {submission.id} is {submission.state}; there is nothing "
                         "to decide")

@@ -6,6 +6,7 @@ from sqlalchemy.orm import Session as DbSession
 
 from ...approvals import dsse
 from ...approvals.dsse import SignatureError
+from ...approvals.signer import LogSigner
 from ...limits import MAX_REASON
 from ..decide_guard import (
     logged_key_revocation,
@@ -31,11 +32,11 @@ def _confirm_password(db: DbSession, user: User, password: str) -> None:
 
 
 def register_key(db: DbSession, *, user: User, public_key: str, name: str,
-                 password: str) -> SigningKey:
+                 password: str, signer: LogSigner | None) -> SigningKey:
     if user.role != "supervisor":
         raise Refused("only supervisors register signing keys")
     # The row's role is not evidence (a database writer can set it): the log's is.
-    mismatch = decision_refusal_from_log(db, user)
+    mismatch = decision_refusal_from_log(db, user, signer=signer)
     if mismatch is not None:
         raise Refused(mismatch)
     _confirm_password(db, user, password)
@@ -48,13 +49,13 @@ def register_key(db: DbSession, *, user: User, public_key: str, name: str,
     key = SigningKey(id=kid, user_id=user.id, name=name[:100], public_key=public_key)
     db.add(key)
     db.flush()
-    record(db, kind="key.registered", actor=user, detail={
+    record(db, signer=signer, kind="key.registered", actor=user, detail={
         "key_id": kid, "public_key": public_key, "user": user.username, "name": key.name})
     return key
 
 
 def revoke_key(db: DbSession, *, user: User, key_id: str, password: str,
-               reason: str) -> SigningKey:
+               reason: str, signer: LogSigner | None) -> SigningKey:
     _confirm_password(db, user, password)
     key = db.get(SigningKey, key_id)
     if key is None:
@@ -64,7 +65,8 @@ def revoke_key(db: DbSession, *, user: User, key_id: str, password: str,
     if key.revoked_at is not None:
         raise Stale(f"the key {key_id} is revoked already")
     key.revoked_at, key.revoke_reason = utcnow(), reason[:MAX_REASON]
-    record(db, kind="key.revoked", actor=user, detail={"key_id": key_id, "reason": reason})
+    record(db, kind="key.revoked", actor=user, detail={"key_id": key_id, "reason": reason},
+           signer=signer)
     return key
 
 

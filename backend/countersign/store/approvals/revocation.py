@@ -6,6 +6,7 @@ import secrets
 
 from sqlalchemy.orm import Session as DbSession
 
+from ...approvals.signer import LogSigner
 from ...approvals.statement import (
     statement_bytes,
 )
@@ -47,9 +48,9 @@ def _revocable(db: DbSession, approval_id: int,
 
 
 def prepare_revocation(db: DbSession, *, approval_id: int, supervisor: User, reason: str,
-                       key_id: str, reports: ReportService) -> Prepared:
+                       key_id: str, reports: ReportService, signer: LogSigner | None) -> Prepared:
     approval, ctx = _revocable(db, approval_id, reports)
-    _check_duties(db, supervisor, ctx.version, ctx.submission)
+    _check_duties(db, supervisor, ctx.version, ctx.submission, signer=signer)
     _usable_key(db, key_id, supervisor)
     statement = _statement(db, ctx, decision="revoked", reason=_reason("revoked", reason),
                            supervisor=supervisor, key_id=key_id, time=_now_text(),
@@ -58,16 +59,16 @@ def prepare_revocation(db: DbSession, *, approval_id: int, supervisor: User, rea
 
 
 def revoke(db: DbSession, *, approval_id: int, supervisor: User, envelope: str,
-           password: str | None, reports: ReportService) -> Approval:
+           password: str | None, reports: ReportService, signer: LogSigner | None) -> Approval:
     # User verification first, then the row locks (store/decide_guard.py).
     confirm_password(db, username=supervisor.username, password_hash=supervisor.password_hash,
                      password=password)
     lock_submission(db, get_approval(db, approval_id).submission_id)
     approval, ctx = _revocable(db, approval_id, reports)
-    _check_duties(db, supervisor, ctx.version, ctx.submission)
+    _check_duties(db, supervisor, ctx.version, ctx.submission, signer=signer)
     _, statement, key, _ = _verified(db, envelope, supervisor)
     if statement["predicate"].get("decision") != "revoked":
         raise BadSignature("a revocation statement has decision 'revoked'")
     _check_fresh(db, ctx, statement, supervisor, key, revokes=approval.envelope_digest)
-    return _store(db, ctx, envelope_text=envelope, statement=statement, key=key,
+    return _store(db, ctx, signer=signer, envelope_text=envelope, statement=statement, key=key,
                   supervisor=supervisor, revokes=approval)

@@ -8,6 +8,7 @@ from sqlalchemy import select
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session as DbSession
 
+from ...approvals.signer import LogSigner
 from ...orders.reader import orders_from_data
 from ..decide_guard import lock_version
 from ..events import record
@@ -30,7 +31,8 @@ def _report(db: DbSession, version: MissionVersion, reports: ReportService) -> d
 
 
 def submit(db: DbSession, *, mission_id: str, number: int, operator: User,
-           reports: ReportService, rehearsal: str | None = None) -> Submission:
+           reports: ReportService, rehearsal: str | None = None,
+           signer: LogSigner | None) -> Submission:
     mission = get_mission(db, mission_id)
     version = get_version(db, mission_id, number)
     lock_version(db, version.id)  # parallel submits of one version queue here
@@ -48,10 +50,11 @@ def submit(db: DbSession, *, mission_id: str, number: int, operator: User,
     except IntegrityError:  # uq_submissions_active_version: a parallel submit won
         raise Stale(f"version {number} was submitted by another request just now") from None
     mission.status = "submitted"
-    record(db, kind="submission.created", actor=operator, mission_id=mission_id,
+    record(db, signer=signer, kind="submission.created", actor=operator, mission_id=mission_id,
            after=version.digest, detail={"submission": submission.id, "version": number})
     if rehearsal is not None:
-        attach_rehearsal(db, submission=submission, digest=rehearsal, actor=operator)
+        attach_rehearsal(db, submission=submission, digest=rehearsal, actor=operator,
+                         signer=signer)
     return submission
 
 
@@ -62,7 +65,8 @@ def get_submission(db: DbSession, submission_id: int) -> Submission:
     return submission
 
 
-def withdraw(db: DbSession, *, submission_id: int, operator: User) -> Submission:
+def withdraw(db: DbSession, *, submission_id: int, operator: User,
+             signer: LogSigner | None) -> Submission:
     submission = get_submission(db, submission_id)
     if submission.submitted_by != operator.id:
         raise Refused("only the operator who submitted it can withdraw a submission")
@@ -72,5 +76,6 @@ def withdraw(db: DbSession, *, submission_id: int, operator: User) -> Submission
     submission.state, submission.decided_at = "withdrawn", utcnow()
     get_mission(db, version.mission_id).status = "withdrawn"
     record(db, kind="submission.withdrawn", actor=operator, mission_id=version.mission_id,
-           after=version.digest, detail={"submission": submission_id, "version": version.number})
+           after=version.digest, detail={"submission": submission_id, "version": version.number},
+           signer=signer)
     return submission

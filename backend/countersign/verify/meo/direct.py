@@ -27,7 +27,7 @@ from typing import Any
 from ...orders.expressions import expression_quantities
 from ...orders.findings import Finding, error
 from ...orders.iris import element_iri, first_by_id, local_id, mission_iri, natural_key
-from ...orders.model import Orders, Vehicle
+from ...orders.model import Constraint, Orders, Vehicle
 
 CODES = frozenset({"C1", "C2", "M6", "M7"})
 
@@ -42,42 +42,57 @@ RULES: dict[str, tuple[str, ...]] = {
 def meo_only_findings(orders: Orders) -> list[Finding]:
     """The MEO's C1, C2, M6 and M7 findings (as the shapes route would give them), without the
     graph."""
-    # IRIs as plain strings: they are only compared, sorted and read back as ids here.
-    goals = orders.goal_index()
-    terminals = orders.terminal_index()
+    nodes = _Nodes(orders)
+    constraints = first_by_id(orders.constraints)
+    findings = _scope_findings(orders, nodes, _includes(orders, nodes), constraints)
+    return findings + _vehicle_findings(orders, constraints)
 
-    def node(kind_and_name: tuple[str, str]) -> str:
+
+class _Nodes:
+    """The orders' elements as (kind, name) nodes, and their IRIs as plain strings: they are
+    only compared, sorted and read back as ids here."""
+
+    def __init__(self, orders: Orders) -> None:
+        self.orders = orders
+        self.goals = orders.goal_index()
+        self.terminals = orders.terminal_index()
+
+    def iri(self, kind_and_name: tuple[str, str]) -> str:
         kind, name = kind_and_name
-        return mission_iri(orders.id) if kind == "mission" else element_iri(orders.id, kind, name)
+        if kind == "mission":
+            return mission_iri(self.orders.id)
+        return element_iri(self.orders.id, kind, name)
 
-    def successor(name: str) -> tuple[str, str]:
-        if name in goals:
+    def successor(self, name: str) -> tuple[str, str]:
+        if name in self.goals:
             return ("goal", name)
-        if name in terminals:
+        if name in self.terminals:
             return ("terminal", name)
         return ("ref", name)
 
-    def scope(name: str) -> tuple[str, str]:
-        if name in goals:
+    def scope(self, name: str) -> tuple[str, str]:
+        if name in self.goals:
             return ("goal", name)
-        if name == orders.id:
+        if name == self.orders.id:
             return ("mission", name)
-        return successor(name)
+        return self.successor(name)
 
-    # includes: the declared goals (asserted), the starts (M4) and what follows them (G10).
+
+def _includes(orders: Orders, nodes: _Nodes) -> set[tuple[str, str]]:
+    """includes: the declared goals (asserted), the starts (M4) and what follows them (G10)."""
     start = orders.start
     starts = [] if start is None else [start] if isinstance(start, str) else list(start)
-    start_nodes = [successor(s) for s in starts]
+    start_nodes = [nodes.successor(s) for s in starts]
     reached: set[tuple[str, str]] = set()
     queue: deque[tuple[str, str]] = deque()
 
     def visit(source: tuple[str, str]) -> None:
         if source[0] != "goal":
             return  # only goals name successors
-        goal = goals[source[1]]
+        goal = nodes.goals[source[1]]
         for outcome in ("succeed", "fail", "violate"):
             for target in goal.successors(outcome):
-                found = successor(target)
+                found = nodes.successor(target)
                 if found not in reached:
                     reached.add(found)
                     queue.append(found)
@@ -86,73 +101,82 @@ def meo_only_findings(orders: Orders) -> list[Finding]:
         visit(begin)
     while queue:
         visit(queue.popleft())
-    includes: set[tuple[str, str]] = {("goal", g) for g in goals}
+    includes: set[tuple[str, str]] = {("goal", g) for g in nodes.goals}
     if start_nodes:  # the G10 chain needs a startsWith triple
         includes |= reached
     includes.update(start_nodes)
+    return includes
 
-    def details(shape: str, **extra: Any) -> dict[str, Any]:
-        return {"rules": list(RULES[shape]), **extra}
 
-    def key(text: str) -> tuple[Any, ...]:
-        return natural_key(text)
+def _details(shape: str, **extra: Any) -> dict[str, Any]:
+    return {"rules": list(RULES[shape]), **extra}
 
-    constraints = first_by_id(orders.constraints)
+
+def _scope_findings(orders: Orders, nodes: _Nodes, includes: set[tuple[str, str]],
+                    constraints: list[Constraint]) -> list[Finding]:
+    """C1 (a constraint applies to something that is neither the mission nor its goal) and
+    C2 (a constraint applies to no goal)."""
     c1: set[tuple[str, str]] = set()
     c2: set[str] = set()
     for constraint in constraints:
         scopes = ([("mission", orders.id)] if constraint.applies_to == "mission"
-                  else [scope(name) for name in constraint.applies_to])
+                  else [nodes.scope(name) for name in constraint.applies_to])
         to_mission = ("mission", orders.id) in scopes
         for target in scopes:
             if target[0] in ("mission", "goal") or (to_mission and target in includes):
                 continue
-            c1.add((element_iri(orders.id, "constraint", constraint.id), node(target)))
-        if not any(t[0] == "goal" for t in scopes) and not (to_mission and goals):
+            c1.add((element_iri(orders.id, "constraint", constraint.id), nodes.iri(target)))
+        if not any(t[0] == "goal" for t in scopes) and not (to_mission and nodes.goals):
             c2.add(element_iri(orders.id, "constraint", constraint.id))
 
     findings: list[Finding] = []
+    key = natural_key
     for constraint_iri, scope_iri in sorted(c1, key=lambda p: (key(p[0]), key(p[1]))):
         constraint_id = local_id(constraint_iri)
         scope_id = orders.id if "#" not in scope_iri else local_id(scope_iri)
         findings.append(error(
             "C1", [constraint_id, scope_id],
             f"Constraint {constraint_id} applies to {scope_id}, which is neither the mission "
-            "nor one of its goals (rule C1).", **details("C1")))
+            "nor one of its goals (rule C1).", **_details("C1")))
     for constraint_iri in sorted(c2, key=key):
         constraint_id = local_id(constraint_iri)
         findings.append(error(
             "C2", [constraint_id],
             f"Constraint {constraint_id} applies to no goal, neither directly nor through the "
-            "mission (rules C2 and C3): it would never be monitored.", **details("C2")))
+            "mission (rules C2 and C3): it would never be monitored.", **_details("C2")))
+    return findings
 
+
+def _vehicle_findings(orders: Orders, constraints: list[Constraint]) -> list[Finding]:
+    """M6 (the performing vehicle cannot identify a constraint) and M7 (it lacks a goal's
+    capability); none when no listed vehicle performs the mission."""
     vehicle = orders.target_vehicle()
     performer = next((v for v in first_by_id(orders.vehicles) if v is vehicle), None)
     if performer is None:
-        return findings
-    features = first_by_id(performer.features)
+        return []
     identified: set[str] = set()
     met: set[str] = set()
     reads = {c.id: set(expression_quantities(c.expr)) for c in constraints
              if c.expr is not None}
-    for feature in features:
+    for feature in first_by_id(performer.features):
         measured = set(feature.measures)
         identified.update(c for c, read in reads.items() if read <= measured)
         identified.update(feature.tests)
         met.update(feature.fulfills)
+    findings: list[Finding] = []
     m6 = {element_iri(orders.id, "constraint", c.id) for c in constraints if c.id not in identified}
-    for constraint_iri in sorted(m6, key=key):
-        findings.append(_m6(orders, local_id(constraint_iri), vehicle, details("M6")))
+    for constraint_iri in sorted(m6, key=natural_key):
+        findings.append(_m6(orders, local_id(constraint_iri), vehicle, _details("M6")))
     labels = _labels(orders)
 
     def say(node_id: str) -> str:
         label = labels.get(node_id)
         return f"{node_id} ({label})" if label and label != node_id else node_id
 
-    m7 = {element_iri(orders.id, "goal", g.id) for g in goals.values()
+    m7 = {element_iri(orders.id, "goal", g.id) for g in orders.goal_index().values()
           if any(r not in met for r in g.requires)}
-    for goal_iri in sorted(m7, key=key):
-        findings.append(_m7(orders, local_id(goal_iri), vehicle, say, details("M7")))
+    for goal_iri in sorted(m7, key=natural_key):
+        findings.append(_m7(orders, local_id(goal_iri), vehicle, say, _details("M7")))
     return findings
 
 

@@ -46,21 +46,48 @@ def meo_reasoning(orders: Orders, *, vehicle: Vehicle | None = None) -> MeoResul
 def explain(orders: Orders, graph: Graph, inference: Inference, engine: str) -> dict[str, Any]:
     """Inferred facts with their rule and premises, the scope of every constraint after C3, and
     what the reasoner worked on. Element ids stand for IRIs; the mission is its id."""
+    facts = _Facts(orders)
+    _inclusion_facts(facts, inference)
+    _application_facts(facts, graph, inference)
+    _vehicle_facts(facts, graph, inference)
+    name = facts.name
+    return {
+        "mission": orders.id,
+        "engine": engine,
+        "facts": facts.facts,
+        "constraint_scope": _constraint_scope(facts, graph, inference),
+        "performable_by": sorted(name(v) for _, v in inference.pairs(MEO.performableBy)),
+        "reasoning": {
+            "goals": inference.goals,
+            "representatives": inference.representatives,
+            "owlrl_triples": inference.owlrl_triples,
+        },
+    }
 
-    def name(node: Node) -> str:
-        return orders.id if "#" not in str(node) else local_id(node)
 
-    facts: list[dict[str, Any]] = []
+class _Facts:
+    """The explained facts in the order they are found, each with its rule and premises."""
 
-    def fact(s: Node, prop: str, o: Node, rule: str, because: list[list[str]]) -> None:
-        facts.append({"subject": name(s), "property": prop, "object": name(o), "rule": rule,
-                      "because": because})
+    def __init__(self, orders: Orders) -> None:
+        self.mission = orders.id
+        self.facts: list[dict[str, Any]] = []
 
+    def name(self, node: Node) -> str:
+        return self.mission if "#" not in str(node) else local_id(node)
+
+    def add(self, s: Node, prop: str, o: Node, rule: str, because: list[list[str]]) -> None:
+        self.facts.append({"subject": self.name(s), "property": prop, "object": self.name(o),
+                           "rule": rule, "because": because})
+
+
+def _inclusion_facts(facts: _Facts, inference: Inference) -> None:
+    """includes: a start (M4), or a goal reached from the start (G10)."""
+    name = facts.name
     reach = inference.reachability
     starts = set(reach.starts)
     for mission, goal in sorted(inference.inferred(MEO.includes), key=_pair_key):
         if goal in starts:
-            fact(mission, "includes", goal, "M4", [[name(mission), "startsWith", name(goal)]])
+            facts.add(mission, "includes", goal, "M4", [[name(mission), "startsWith", name(goal)]])
         elif goal in reach.reached:
             parent = reach.reached[goal]
             assert parent is not None
@@ -69,7 +96,12 @@ def explain(orders: Orders, graph: Graph, inference: Inference, engine: str) -> 
             because.append([name(parent), "isNext", name(goal)])
             if parent != start:
                 because.insert(1, [name(start), "follows", name(parent)])
-            fact(mission, "includes", goal, "G10", because)
+            facts.add(mission, "includes", goal, "G10", because)
+
+
+def _application_facts(facts: _Facts, graph: Graph, inference: Inference) -> None:
+    """appliesTo through the mission's includes (C3)."""
+    name = facts.name
     includes = inference.pairs(MEO.includes)
     for constraint, goal in sorted(inference.inferred(MEO.appliesTo), key=_pair_key):
         via = next(
@@ -77,9 +109,15 @@ def explain(orders: Orders, graph: Graph, inference: Inference, engine: str) -> 
             None,
         )
         if via is not None:
-            fact(constraint, "appliesTo", goal, "C3",
-                 [[name(constraint), "appliesTo", name(via)],
-                  [name(via), "includes", name(goal)]])
+            facts.add(constraint, "appliesTo", goal, "C3",
+                      [[name(constraint), "appliesTo", name(via)],
+                       [name(via), "includes", name(goal)]])
+
+
+def _vehicle_facts(facts: _Facts, graph: Graph, inference: Inference) -> None:
+    """What a vehicle's features give it (V3, V4), its capabilities (V5) and the missions it
+    can perform (V2)."""
+    name = facts.name
     features = inference.pairs(MEO.hasFeature)
     for prop, via, rule in (
         (MEO.meetsRequirement, MEO.canFulfill, "V3"),
@@ -93,19 +131,24 @@ def explain(orders: Orders, graph: Graph, inference: Inference, engine: str) -> 
                 None,
             )
             if witness is not None:
-                fact(vehicle, str(prop).rsplit("#", 1)[1], target, rule,
-                     [[name(vehicle), "hasFeature", name(witness)],
-                      [name(witness), str(via).rsplit("#", 1)[1], name(target)]])
+                facts.add(vehicle, str(prop).rsplit("#", 1)[1], target, rule,
+                          [[name(vehicle), "hasFeature", name(witness)],
+                           [name(witness), str(via).rsplit("#", 1)[1], name(target)]])
     capability = capabilities(graph, inference)
     for vehicle, goal in sorted(capability, key=_pair_key):
         requirements = sorted(name(r) for r in graph.objects(goal, MEO.requires))
-        fact(vehicle, "hasCapability", goal, "V5",
-             [[name(vehicle), "meetsRequirement", r] for r in requirements]
-             or [[name(goal), "requires", "nothing"]])
+        facts.add(vehicle, "hasCapability", goal, "V5",
+                  [[name(vehicle), "meetsRequirement", r] for r in requirements]
+                  or [[name(goal), "requires", "nothing"]])
     for mission, vehicle in sorted(inference.pairs(MEO.performableBy), key=_pair_key):
-        fact(vehicle, "canPerform", mission, "V2",
-             [[name(mission), "performableBy", name(vehicle)]])
+        facts.add(vehicle, "canPerform", mission, "V2",
+                  [[name(mission), "performableBy", name(vehicle)]])
 
+
+def _constraint_scope(facts: _Facts, graph: Graph, inference: Inference
+                      ) -> dict[str, list[str]]:
+    """Each constraint's goals after C3 (an empty list for one that applies to none)."""
+    name = facts.name
     scope: dict[str, list[str]] = {}
     declared = set(graph.subjects(RDF.type, MEO.Goal))
     for constraint, target in inference.pairs(MEO.appliesTo):
@@ -113,18 +156,7 @@ def explain(orders: Orders, graph: Graph, inference: Inference, engine: str) -> 
             scope.setdefault(name(constraint), []).append(name(target))
     for constraint in graph.objects(None, MEO.hasConstraint):
         scope.setdefault(name(constraint), [])
-    return {
-        "mission": orders.id,
-        "engine": engine,
-        "facts": facts,
-        "constraint_scope": {c: sorted(g, key=natural_key) for c, g in sorted(scope.items())},
-        "performable_by": sorted(name(v) for _, v in inference.pairs(MEO.performableBy)),
-        "reasoning": {
-            "goals": inference.goals,
-            "representatives": inference.representatives,
-            "owlrl_triples": inference.owlrl_triples,
-        },
-    }
+    return {c: sorted(g, key=natural_key) for c, g in sorted(scope.items())}
 
 
 def capabilities(graph: Graph, inference: Inference) -> set[tuple[Node, Node]]:

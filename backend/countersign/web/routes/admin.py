@@ -31,6 +31,7 @@ from ..deps import (
     CurrentPrincipal,
     Db,
     RowId,
+    Services,
     TransactionRoute,
     allow,
 )
@@ -84,18 +85,19 @@ def list_users(db: Db) -> list[UserOut]:
 
 @router.post("/users", operation_id="createUser", status_code=201, response_model=UserOut,
              **allow(*ADMINS))
-def add_user(body: UserIn, principal: CurrentPrincipal, db: Db) -> UserOut:
+def add_user(body: UserIn, principal: CurrentPrincipal, db: Db, services: Services) -> UserOut:
     if body.role in GRANTING_ROLES:
         confirm_grant(db, principal.user, body.admin_password, action=f"creating a {body.role}",
                       undone="no user was created")
     user = create_user(db, username=body.username, role=body.role, password=body.password,
-                       display_name=body.display_name, actor=principal.user)
+                       display_name=body.display_name, actor=principal.user, signer=services.signer)
     return UserOut.of(user)
 
 
 @router.patch("/users/{user_id}", operation_id="updateUser", response_model=UserOut,
               **allow(*ADMINS))
-def change_user(user_id: RowId, body: UserPatch, principal: CurrentPrincipal, db: Db) -> UserOut:
+def change_user(user_id: RowId, body: UserPatch, principal: CurrentPrincipal, db: Db,
+                services: Services) -> UserOut:
     user = db.get(User, user_id)
     if user is None:
         raise NotFound(f"no user {user_id}")
@@ -125,11 +127,12 @@ def change_user(user_id: RowId, body: UserPatch, principal: CurrentPrincipal, db
         user.display_name = changes["display_name"] = body.display_name
     if body.password is not None:
         # An admin's reset: every session and API token of that user ends.
-        set_password(db, user, body.password, actor=principal.user)
+        set_password(db, user, body.password, actor=principal.user,
+                     signer=services.signer)
         changes["password"] = "reset"
     if body.disabled:
         revoke_credentials(db, user)
-    record(db, kind="user.updated", actor=principal.user,
+    record(db, signer=services.signer, kind="user.updated", actor=principal.user,
            detail={"user": user.username, **changes})
     return UserOut.of(user)
 
@@ -144,12 +147,12 @@ def list_tokens(principal: CurrentPrincipal, db: Db) -> list[TokenOut]:
 
 @router.post("/tokens", operation_id="createToken", status_code=201, response_model=TokenOut,
              **allow(*EVERYONE))
-def add_token(body: TokenIn, principal: CurrentPrincipal, db: Db) -> TokenOut:
+def add_token(body: TokenIn, principal: CurrentPrincipal, db: Db, services: Services) -> TokenOut:
     if "decide" in body.scopes:
         confirm_grant(db, principal.user, body.password,
                       action="a token with the 'decide' scope", undone="no token was created",
                       field="password")
-    token, secret = create_token(db, user=principal.user, name=body.name,
+    token, secret = create_token(db, signer=services.signer, user=principal.user, name=body.name,
                                  scopes=tuple(body.scopes),
                                  lifetime=timedelta(days=body.expires_in_days))
     return TokenOut(id=token.id, name=token.name, token=secret, scopes=token.scopes.split(),
@@ -158,12 +161,13 @@ def add_token(body: TokenIn, principal: CurrentPrincipal, db: Db) -> TokenOut:
 
 @router.delete("/tokens/{token_id}", operation_id="revokeToken", status_code=204,
                **allow(*EVERYONE))
-def revoke_token(token_id: RowId, principal: CurrentPrincipal, db: Db) -> None:
+def revoke_token(token_id: RowId, principal: CurrentPrincipal, db: Db, services: Services) -> None:
     token = db.get(ApiToken, token_id)
     if token is None or token.user_id != principal.user.id:
         raise NotFound(f"you have no token {token_id}")
     token.revoked = True
-    record(db, kind="token.revoked", actor=principal.user, detail={"token": token_id})
+    record(db, kind="token.revoked", actor=principal.user, detail={"token": token_id},
+           signer=services.signer)
 
 
 @router.get("/vehicles", operation_id="listVehicles", response_model=list[VehicleJson],
@@ -175,17 +179,17 @@ def list_vehicles(db: Db) -> list[dict[str, Any]]:
 @router.put("/vehicles/{vehicle_id}", operation_id="putVehicle", response_model=VehicleJson,
             **allow(*ADMINS))
 def put_vehicle(vehicle_id: str, body: Vehicle, principal: CurrentPrincipal,
-                db: Db) -> dict[str, Any]:
+                db: Db, services: Services) -> dict[str, Any]:
     if body.id != vehicle_id:
         raise Invalid(f"the profile's id {body.id!r} differs from {vehicle_id!r}")
     before = db.get(VehicleProfile, vehicle_id)
     previous = dict(before.profile) if before is not None else None
     profile, number = save_vehicle(db, body, principal.user)
     db.flush()
-    record(db, kind="vehicle.saved", actor=principal.user,
+    record(db, signer=services.signer, kind="vehicle.saved", actor=principal.user,
            detail={"vehicle": vehicle_id, "version": number})
     # Drafts that use the vehicle are checked against the new profile from their next read.
-    refresh_drafts(db, vehicle_id, previous, principal.user)
+    refresh_drafts(db, vehicle_id, previous, principal.user, signer=services.signer)
     return profile
 
 
@@ -193,6 +197,7 @@ def put_vehicle(vehicle_id: str, body: Vehicle, principal: CurrentPrincipal,
             **allow(*LOG_READERS))
 def list_events(
     db: Db,
+    services: Services,
     mission: Annotated[str | None, Query(max_length=100)] = None,
     kind: Annotated[str | None, Query(max_length=64, description=(
         "an event kind ('user.updated'), or a family without a dot ('user')"))] = None,
@@ -210,7 +215,8 @@ def list_events(
 ) -> list[EventOut]:
     """The event log, filtered and paged by the server (at most `limit` rows a call). Each
     event carries `index`, its entry's index in the transparency log: the number to show."""
-    draft_bursts.flush_quiet_before_reading(db)  # editing bursts that ended are listed
+    # Editing bursts that ended are listed.
+    draft_bursts.flush_quiet_before_reading(db, signer=services.signer)
     query = select(Event)
     if order == "newest":
         query = query.order_by(Event.id.desc())

@@ -123,18 +123,18 @@ def list_keys(db: Db) -> list[KeyOut]:
 
 @router.post("/keys", operation_id="registerKey", status_code=201, response_model=KeyOut,
              **allow(*SUPERVISORS))
-def register_key(body: KeyIn, principal: CurrentPrincipal, db: Db) -> KeyOut:
+def register_key(body: KeyIn, principal: CurrentPrincipal, db: Db, services: Services) -> KeyOut:
     key = service.register_key(db, user=principal.user, public_key=body.public_key,
-                               name=body.name, password=body.password)
+                               name=body.name, password=body.password, signer=services.signer)
     return _key_out(db, key)
 
 
 @router.post("/keys/{key_id}/revoke", operation_id="revokeKey", response_model=KeyOut,
              **allow("supervisor", "admin"))
 def revoke_key(key_id: Annotated[str, Path(max_length=64)], body: KeyRevokeIn,
-               principal: CurrentPrincipal, db: Db) -> KeyOut:
+               principal: CurrentPrincipal, db: Db, services: Services) -> KeyOut:
     key = service.revoke_key(db, user=principal.user, key_id=key_id, password=body.password,
-                             reason=body.reason)
+                             reason=body.reason, signer=services.signer)
     return _key_out(db, key)
 
 
@@ -144,7 +144,7 @@ def revoke_key(key_id: Annotated[str, Path(max_length=64)], body: KeyRevokeIn,
              status_code=201, response_model=SubmissionOut, **allow(*OPERATORS))
 def submit_version(mission_id: str, number: RowId, principal: CurrentPrincipal,
                    db: Db, services: Services, body: SubmitIn | None = None) -> SubmissionOut:
-    submission = service.submit(db, mission_id=mission_id, number=number,
+    submission = service.submit(db, signer=services.signer, mission_id=mission_id, number=number,
                                 operator=principal.user, reports=services.reports,
                                 rehearsal=body.rehearsal if body else None)
     return _submission_out(db, submission.id)
@@ -153,13 +153,14 @@ def submit_version(mission_id: str, number: RowId, principal: CurrentPrincipal,
 @router.post("/submissions/{submission_id}/rehearsal", operation_id="attachRehearsal",
              response_model=SubmissionOut, **allow(*OPERATORS))
 def attach_rehearsal(submission_id: RowId, body: AttachIn, principal: CurrentPrincipal,
-                     db: Db) -> SubmissionOut:
+                     db: Db, services: Services) -> SubmissionOut:
     """Cite a stored rehearsal record of exactly the submitted version (409 otherwise);
     only the submitting operator, only while the submission awaits a decision."""
     submission = service.get_submission(db, submission_id)
     if submission.submitted_by != principal.user.id:
         raise service.Refused("only the operator who submitted it can attach a rehearsal")
-    attach(db, submission=submission, digest=body.rehearsal, actor=principal.user)
+    attach(db, submission=submission, digest=body.rehearsal, actor=principal.user,
+           signer=services.signer)
     return _submission_out(db, submission_id)
 
 
@@ -184,8 +185,9 @@ def get_submission(submission_id: RowId, db: Db) -> SubmissionOut:
 @router.post("/submissions/{submission_id}/withdraw", operation_id="withdrawSubmission",
              response_model=SubmissionOut, **allow(*OPERATORS))
 def withdraw_submission(submission_id: RowId, principal: CurrentPrincipal,
-                        db: Db) -> SubmissionOut:
-    service.withdraw(db, submission_id=submission_id, operator=principal.user)
+                        db: Db, services: Services) -> SubmissionOut:
+    service.withdraw(db, submission_id=submission_id, operator=principal.user,
+                     signer=services.signer)
     return _submission_out(db, submission_id)
 
 
@@ -199,7 +201,7 @@ def review_version(mission_id: str, number: RowId, principal: CurrentPrincipal,
     previously approved version's orders (for the diff), and whether the caller may submit it
     or sign a decision on it (and why not)."""
     review = approvals.review(db, reports=services.reports, user=principal.user,
-                              mission_id=mission_id, number=number)
+                              mission_id=mission_id, number=number, signer=services.signer)
     return {**review, "submissions": [SubmissionOut(**fields).model_dump(mode="json")
                                       for fields in review["submissions"]]}
 
@@ -212,7 +214,8 @@ def prepare_decision(submission_id: RowId, body: DecisionIn, principal: CurrentP
     registered key, then POST the envelope to `/decision`. Nothing is stored."""
     return service.prepare_decision(db, submission_id=submission_id, supervisor=principal.user,
                                     decision=body.decision, reason=body.reason,
-                                    key_id=body.key_id, reports=services.reports).to_json()
+                                    key_id=body.key_id, reports=services.reports,
+                                    signer=services.signer).to_json()
 
 
 @router.post("/submissions/{submission_id}/decision", operation_id="signDecision",
@@ -221,7 +224,7 @@ def sign_decision(submission_id: RowId, body: EnvelopeIn, principal: CurrentPrin
                   db: Db, services: Services) -> DecisionOut:
     approval = service.decide(db, submission_id=submission_id, supervisor=principal.user,
                               envelope=body.envelope, password=body.password,
-                              reports=services.reports)
+                              reports=services.reports, signer=services.signer)
     return DecisionOut(**service.approval_summary(db, approval),
                        receipt=service.receipt_of(db, approval))
 
@@ -232,7 +235,7 @@ def prepare_revocation(approval_id: RowId, body: RevocationIn, principal: Curren
                        db: Db, services: Services) -> dict[str, Any]:
     return service.prepare_revocation(db, approval_id=approval_id, supervisor=principal.user,
                                       reason=body.reason, key_id=body.key_id,
-                                      reports=services.reports).to_json()
+                                      reports=services.reports, signer=services.signer).to_json()
 
 
 @router.post("/approvals/{approval_id}/revoke", operation_id="revokeApproval",
@@ -241,7 +244,7 @@ def revoke_approval(approval_id: RowId, body: EnvelopeIn, principal: CurrentPrin
                     db: Db, services: Services) -> DecisionOut:
     approval = service.revoke(db, approval_id=approval_id, supervisor=principal.user,
                               envelope=body.envelope, password=body.password,
-                              reports=services.reports)
+                              reports=services.reports, signer=services.signer)
     return DecisionOut(**service.approval_summary(db, approval),
                        receipt=service.receipt_of(db, approval))
 

@@ -7,7 +7,7 @@ from pydantic import BaseModel, Field
 
 from ...store.accounts import authenticate, change_password, close_session, open_session
 from ...store.tables import User
-from ..deps import EVERYONE, SESSION_COOKIE, CurrentPrincipal, Db, TransactionRoute, allow
+from ..deps import EVERYONE, SESSION_COOKIE, CurrentPrincipal, Db, Services, TransactionRoute, allow
 from ..viewer_tickets import Credential
 from .schemas import RequestBody, UserOut
 
@@ -66,10 +66,10 @@ class PasswordChange(RequestBody):
 
 @router.post("/password", operation_id="changePassword", status_code=204, **allow(*EVERYONE))
 def password(body: PasswordChange, request: Request, principal: CurrentPrincipal,
-             db: Db) -> None:
+             db: Db, services: Services) -> None:
     """Change your own password. Every other session and every API token of yours ends; the
     browser session that asked stays signed in."""
     user = db.get_one(User, principal.user.id)
     keep = request.cookies.get(SESSION_COOKIE) if principal.via == "cookie" else None
     change_password(db, user, current=body.current_password, new=body.new_password,
-                    keep_session=keep)
+                    keep_session=keep, signer=services.signer)

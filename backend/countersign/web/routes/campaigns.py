@@ -26,7 +26,7 @@ from ...orders.reader import orders_from_data
 from ...store import approvals as approvals_service
 from ...store import campaigns as store
 from ...store.missions import get_mission, get_version
-from ..deps import EVERYONE, CurrentPrincipal, Db, RowId, TransactionRoute, allow
+from ..deps import EVERYONE, CurrentPrincipal, Db, RowId, Services, TransactionRoute, allow
 from .campaign_schemas import CampaignResultsJson, CampaignSpecJson, OfferedProbabilitiesJson
 from .schemas import RequestBody
 
@@ -96,7 +96,7 @@ def runner_of(request: Request) -> CampaignRunner:
              status_code=201, response_model=CampaignOut, **allow(*STARTERS))
 def start_campaign(mission_id: str, number: RowId,
                    body: CampaignIn, request: Request, principal: CurrentPrincipal,
-                   db: Db) -> CampaignOut:
+                   db: Db, services: Services) -> CampaignOut:
     """Queue N seeded simulations of this version over the sweep faults x goals. A team's
     simulations run every member (faults `VEHICLE:FAULT` for one member) and its results are
     the joint ends, meetings and member terminals (`results.team`)."""
@@ -106,7 +106,7 @@ def start_campaign(mission_id: str, number: RowId,
                               goals=body.goals, seed=body.seed, orders=orders)
     row = store.create(db, orders=stored.orders, orders_digest=stored.digest,
                        spec=spec.to_json(), simulations=spec.simulations, owner=principal.user,
-                       mission_id=mission_id, version=number)
+                       mission_id=mission_id, version=number, signer=services.signer)
     out = CampaignOut(**store.summary(db, row))
     db.commit()  # the jobs read the campaign from their own sessions
     runner_of(request).enqueue(row.id, spec.chunks())
@@ -150,13 +150,13 @@ def get_campaign(campaign_id: CampaignId, db: Db) -> CampaignOut:
 @router.post("/campaigns/{campaign_id}/cancel", operation_id="cancelCampaign",
              response_model=CampaignOut, **allow(*STARTERS))
 def cancel_campaign(campaign_id: CampaignId, principal: CurrentPrincipal,
-                    db: Db) -> CampaignOut:
+                    db: Db, services: Services) -> CampaignOut:
     """Stop a queued or running campaign of yours; what was simulated stays stored."""
     row = store.get(db, campaign_id)
     if row.owner_id != principal.user.id:
         raise Forbidden("only the person who started a campaign can cancel it")
-    return CampaignOut(**store.summary(db, store.cancel(db, campaign_id,
-                                                        actor=principal.user)))
+    return CampaignOut(**store.summary(db, store.cancel(db, campaign_id, actor=principal.user,
+                                                        signer=services.signer)))
 
 
 class CampaignProbabilitiesOut(BaseModel):
@@ -183,13 +183,14 @@ def campaign_probabilities(campaign_id: CampaignId, db: Db) -> dict[str, Any]:
              status_code=201, response_model=AttachedCampaignOut, **allow("operator"))
 def attach_campaign(submission_id: RowId,
                     body: AttachCampaignIn, principal: CurrentPrincipal,
-                    db: Db) -> AttachedCampaignOut:
+                    db: Db, services: Services) -> AttachedCampaignOut:
     """Cite a finished campaign of exactly the submitted version (409 otherwise); only the
     submitting operator, only while the submission awaits a decision."""
     submission = approvals_service.get_submission(db, submission_id)
     if submission.submitted_by != principal.user.id:
         raise Forbidden("only the operator who submitted it can attach a campaign")
-    store.attach(db, submission=submission, campaign_id=body.campaign, actor=principal.user)
+    store.attach(db, submission=submission, campaign_id=body.campaign, actor=principal.user,
+                 signer=services.signer)
     row = store.get(db, body.campaign)
     assert row.digest is not None
     return AttachedCampaignOut(submission=submission_id, campaign=row.id, digest=row.digest)

@@ -25,7 +25,7 @@ from ...store.charts import all_charts, delete_chart, save_charts
 from ...store.events import record
 from ...store.vehicles import with_registry
 from ...verify.plan_view import plan_view
-from ..deps import ADMINS, EVERYONE, CurrentPrincipal, Db, TransactionRoute, allow
+from ..deps import ADMINS, EVERYONE, CurrentPrincipal, Db, Services, TransactionRoute, allow
 from .schemas import Number, RequestBody, SchemaOf
 
 router = APIRouter(prefix="/api", tags=["charts"], route_class=TransactionRoute)
@@ -167,35 +167,40 @@ def export_charts_kml(db: Db) -> Response:
 
 @router.put("/charts/{chart_id}", operation_id="putChart", response_model=Chart,
             **allow(*ADMINS))
-def put_chart(chart_id: str, body: Chart, principal: CurrentPrincipal, db: Db) -> Chart:
+def put_chart(chart_id: str, body: Chart, principal: CurrentPrincipal, db: Db,
+              services: Services) -> Chart:
     if body.id != chart_id:
         raise Invalid(f"the chart's id {body.id!r} differs from {chart_id!r}")
     if len(body.polygon) < 3:
         raise Unprocessable(f"chart {chart_id}: a polygon needs at least three points")
     save_charts(db, [body])
-    record(db, kind="chart.saved", actor=principal.user, detail={"charts": [chart_id]})
+    record(db, kind="chart.saved", actor=principal.user, detail={"charts": [chart_id]},
+           signer=services.signer)
     return body
 
 
 @router.post("/charts/import", operation_id="importCharts", response_model=ChartsSaved,
              **allow(*ADMINS))
-def import_charts(body: ChartImport, principal: CurrentPrincipal, db: Db) -> ChartsSaved:
+def import_charts(body: ChartImport, principal: CurrentPrincipal, db: Db,
+                  services: Services) -> ChartsSaved:
     try:
         reader = charts_from_kml if body.format == "kml" else charts_from_geojson
         charts = reader(body.content)
     except GeoFormatError as exc:
         raise Unprocessable(f"{body.format} charts: {exc}") from None
     saved = save_charts(db, charts)
-    record(db, kind="chart.saved", actor=principal.user, detail={"charts": saved[:1000]})
+    record(db, kind="chart.saved", actor=principal.user, detail={"charts": saved[:1000]},
+           signer=services.signer)
     return ChartsSaved(saved=saved)
 
 
 @router.delete("/charts/{chart_id}", operation_id="deleteChart", status_code=204,
                **allow(*ADMINS))
-def remove_chart(chart_id: str, principal: CurrentPrincipal, db: Db) -> None:
+def remove_chart(chart_id: str, principal: CurrentPrincipal, db: Db, services: Services) -> None:
     if not delete_chart(db, chart_id):
         raise NotFound(f"there is no chart {chart_id!r}")
-    record(db, kind="chart.deleted", actor=principal.user, detail={"charts": [chart_id]})
+    record(db, kind="chart.deleted", actor=principal.user, detail={"charts": [chart_id]},
+           signer=services.signer)
 
 
 PLAN_ROUTE = allow(*EVERYONE)

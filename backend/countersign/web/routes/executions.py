@@ -24,7 +24,7 @@ from ...store.db import Database
 from ...store.executions import approved_orders, record_execution, recorded_executions
 from ...store.rehearsals import get_record
 from ...store.tables import MissionVersion, Submission
-from ..deps import LOG_READERS, CurrentPrincipal, Db, RowId, TransactionRoute, allow
+from ..deps import LOG_READERS, CurrentPrincipal, Db, RowId, Services, TransactionRoute, allow
 from .schemas import RequestBody
 
 router = APIRouter(prefix="/api", tags=["executions"], route_class=TransactionRoute)
@@ -146,7 +146,7 @@ def _out(verdict: ExecutionVerdict, **extra: Any) -> ExecutionOut:
              operation_id="recordExecution", response_model=ExecutionOut, status_code=201,
              **allow(*EXECUTION_ROLES))
 def post_execution(mission_id: str, number: RowId, body: ExecutionIn, request: Request,
-                   principal: CurrentPrincipal, db: Db) -> ExecutionOut:
+                   principal: CurrentPrincipal, db: Db, services: Services) -> ExecutionOut:
     """Check an execution log (NDJSON, IMC PlanControlState messages or a MOOS alog) against
     the version's approved orders and append the verdict to the log (execution.recorded)."""
     data = _input_bytes(body)
@@ -165,7 +165,7 @@ def post_execution(mission_id: str, number: RowId, body: ExecutionIn, request: R
     index = record_execution(
         db, mission_id=mission_id, number=number, log=data, actor=principal.user,
         checked=checked, verdict=verdict,
-        source={"format": result.fmt, "notes": list(result.notes)})
+        source={"format": result.fmt, "notes": list(result.notes)}, signer=services.signer)
     return _out(verdict, log_index=index, format=result.fmt, notes=list(result.notes))
 
 

@@ -111,7 +111,8 @@ def list_missions(
 def create_mission(body: OrdersJson, response: Response, principal: CurrentPrincipal,
                    db: Db, services: Services) -> MissionDetail:
     mission = missions.create_mission(db, _orders(body), author=principal.user,
-                                      database=services.database, reports=services.reports)
+                                      database=services.database, reports=services.reports,
+                                      signer=services.signer)
     return _detail(db, services, mission, response)
 
 
@@ -137,7 +138,8 @@ def _import(db: DbSession, services: AppServices, data: bytes, response: Respons
             principal: CurrentPrincipal) -> MissionDetail:
     loaded = read_bytes(data, "the uploaded file")
     mission = missions.create_mission(db, loaded.orders, author=principal.user,
-                                      database=services.database, reports=services.reports)
+                                      database=services.database, reports=services.reports,
+                                      signer=services.signer)
     return _detail(db, services, mission, response, [f.to_json() for f in loaded.findings])
 
 
@@ -209,7 +211,8 @@ def update_draft(mission_id: str, body: DraftIn, response: Response,
     orders, expected = _orders(body.orders), _revision(if_match)
     mission = missions.update_draft(
         db, orders, mission_id=mission_id, layout=body.layout, expected_revision=expected,
-        author=principal.user, database=services.database, reports=services.reports)
+        author=principal.user, database=services.database, reports=services.reports,
+        signer=services.signer)
     return _detail(db, services, mission, response)
 
 
@@ -224,14 +227,17 @@ def save_layout(mission_id: str, body: LayoutIn, db: Db) -> LayoutOut:
 
 @router.delete("/missions/{mission_id}", operation_id="deleteMission", status_code=204,
                **allow(*OPERATORS))
-def delete_mission(mission_id: str, principal: CurrentPrincipal, db: Db) -> None:
-    service.delete_mission(db, mission_id=mission_id, actor=principal.user)
+def delete_mission(mission_id: str, principal: CurrentPrincipal, db: Db,
+                   services: Services) -> None:
+    service.delete_mission(db, signer=services.signer, mission_id=mission_id, actor=principal.user)
 
 
 @router.post("/missions/{mission_id}/versions", operation_id="createVersion", status_code=201,
              response_model=VersionOut, **allow(*OPERATORS))
-def create_version(mission_id: str, principal: CurrentPrincipal, db: Db) -> VersionOut:
-    version = service.create_version(db, mission_id=mission_id, author=principal.user)
+def create_version(mission_id: str, principal: CurrentPrincipal, db: Db,
+                   services: Services) -> VersionOut:
+    version = service.create_version(db, mission_id=mission_id, author=principal.user,
+                                     signer=services.signer)
     return version_out(version, principal.user.username, True)
 
 

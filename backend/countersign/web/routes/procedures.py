@@ -18,7 +18,16 @@ from ...store.approvals.common import _username
 from ...store.approvals.log import log_index_of
 from ...store.missions import get_version
 from ...store.procedure_tables import ProcedureApproval, ProcedureRecord
-from ..deps import EVERYONE, OPERATORS, CurrentPrincipal, Db, RowId, TransactionRoute, allow
+from ..deps import (
+    EVERYONE,
+    OPERATORS,
+    CurrentPrincipal,
+    Db,
+    RowId,
+    Services,
+    TransactionRoute,
+    allow,
+)
 from .approval_schemas import PreparedOut
 from .approvals import SUPERVISORS, DecisionIn, EnvelopeIn
 from .schemas import SchemaOf
@@ -108,10 +117,11 @@ def list_procedures(db: Db, name: Annotated[str | None, Query(max_length=100)] =
 
 @router.post("/procedures", operation_id="saveProcedure", status_code=201,
              response_model=ProcedureOut, **allow(*OPERATORS))
-def save_procedure(body: ProcedureJson, principal: CurrentPrincipal, db: Db) -> dict[str, Any]:
+def save_procedure(body: ProcedureJson, principal: CurrentPrincipal, db: Db,
+                   services: Services) -> dict[str, Any]:
     """Save a procedure version: its name's next version number, checked like a refinement
     (errors refuse it, 422). A saved version never changes (409 for the same number)."""
-    row = service.save_procedure(db, procedure=procedure_from_data(body),
+    row = service.save_procedure(db, signer=services.signer, procedure=procedure_from_data(body),
                                  author=principal.user)
     return {**_summary(db, row), "document": row.document, "decisions": []}
 
@@ -128,22 +138,22 @@ def get_procedure(name: Name, version: Version, db: Db) -> dict[str, Any]:
              operation_id="prepareProcedureDecision", response_model=PreparedOut,
              **allow(*SUPERVISORS))
 def prepare_decision(name: Name, version: Version, body: DecisionIn,
-                     principal: CurrentPrincipal, db: Db) -> dict[str, Any]:
+                     principal: CurrentPrincipal, db: Db, services: Services) -> dict[str, Any]:
     """The exact statement to sign about this procedure version: sign the DSSE PAE (`pae`)
     with your registered key, then POST the envelope to `/decision`. Nothing is stored."""
     return service.prepare_procedure_decision(
         db, name=name, version=version, supervisor=principal.user, decision=body.decision,
-        reason=body.reason, key_id=body.key_id).to_json()
+        reason=body.reason, key_id=body.key_id, signer=services.signer).to_json()
 
 
 @router.post("/procedures/{name}/versions/{version}/decision",
              operation_id="signProcedureDecision", status_code=201,
              response_model=ProcedureDecisionOut, **allow(*SUPERVISORS))
 def sign_decision(name: Name, version: Version, body: EnvelopeIn, principal: CurrentPrincipal,
-                  db: Db) -> ProcedureDecisionOut:
+                  db: Db, services: Services) -> ProcedureDecisionOut:
     """Verify and store a signed decision on the version (your password, entered again, is
     required); a version has at most one decision."""
-    approval = service.decide_procedure(db, name=name, version=version,
+    approval = service.decide_procedure(db, signer=services.signer, name=name, version=version,
                                         supervisor=principal.user, envelope=body.envelope,
                                         password=body.password)
     return _decision(db, approval)

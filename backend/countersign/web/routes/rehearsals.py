@@ -30,7 +30,7 @@ from ...store.events import record
 from ...store.missions import Conflict, NotFound, get_mission, get_version
 from ...store.tables import User
 from .. import problems
-from ..deps import EVERYONE, SESSION_COOKIE, CurrentPrincipal, Db, TransactionRoute, allow
+from ..deps import EVERYONE, SESSION_COOKIE, CurrentPrincipal, Db, Services, TransactionRoute, allow
 from ..rehearsal_hub import Live, RehearsalHub
 from ..viewer_tickets import SESSION_CHECK_S, Credential, SocketLimit, Ticket
 from ..viser_proxy import (
@@ -133,7 +133,7 @@ def _out(live: Live) -> RehearsalOut:
 @router.post("/missions/{mission_id}/rehearsals", operation_id="startRehearsal",
              status_code=201, response_model=RehearsalOut, **allow(*REHEARSERS))
 def start_rehearsal(mission_id: str, body: RehearsalIn, request: Request,
-                    principal: CurrentPrincipal, db: Db) -> RehearsalOut:
+                    principal: CurrentPrincipal, db: Db, services: Services) -> RehearsalOut:
     """Start a rehearsal of the draft or of one version; watch it at `viewer`."""
     mission = get_mission(db, mission_id)
     if body.version is not None:
@@ -171,7 +171,8 @@ def start_rehearsal(mission_id: str, body: RehearsalIn, request: Request,
            after=live.rehearsal.orders_digest, detail={
                "rehearsal": live.rehearsal.id, "version": body.version, "source": body.source,
                "seed": body.seed, "path_index": body.path_index, "faults": body.faults,
-               **({"member_paths": body.member_paths} if body.member_paths else {})})
+               **({"member_paths": body.member_paths} if body.member_paths else {})},
+           signer=services.signer)
     return _out(live)
 
 
@@ -185,7 +186,7 @@ def get_rehearsal(rehearsal_id: RehearsalId, request: Request,
 @router.post("/rehearsals/{rehearsal_id}/outcome", operation_id="chooseOutcome",
              response_model=RehearsalOut, **allow(*REHEARSERS))
 def choose_outcome(rehearsal_id: RehearsalId, body: OutcomeIn, request: Request,
-                   principal: CurrentPrincipal, db: Db) -> RehearsalOut:
+                   principal: CurrentPrincipal, db: Db, services: Services) -> RehearsalOut:
     """End the current goal with this outcome (manual rehearsals)."""
     live = hub_of(request).get(rehearsal_id, user_id=principal.user.id)
     goal = live.rehearsal.status().get("current_goal")
@@ -194,21 +195,22 @@ def choose_outcome(rehearsal_id: RehearsalId, body: OutcomeIn, request: Request,
     except ValueError as exc:
         raise Conflict(str(exc)) from None
     record(db, kind="rehearsal.outcome", actor=principal.user, mission_id=live.mission_id,
-           detail={"rehearsal": rehearsal_id, "goal": goal, "outcome": body.outcome})
+           detail={"rehearsal": rehearsal_id, "goal": goal, "outcome": body.outcome},
+           signer=services.signer)
     return _out(live)
 
 
 @router.post("/rehearsals/{rehearsal_id}/faults", operation_id="injectFault",
              response_model=RehearsalOut, **allow(*REHEARSERS))
 def inject_fault(rehearsal_id: RehearsalId, body: FaultIn, request: Request,
-                 principal: CurrentPrincipal, db: Db) -> RehearsalOut:
+                 principal: CurrentPrincipal, db: Db, services: Services) -> RehearsalOut:
     live = hub_of(request).get(rehearsal_id, user_id=principal.user.id)
     try:
         live.rehearsal.inject(body.fault)
     except ValueError as exc:
         raise Conflict(str(exc)) from None
     record(db, kind="rehearsal.fault", actor=principal.user, mission_id=live.mission_id,
-           detail={"rehearsal": rehearsal_id, "fault": body.fault})
+           detail={"rehearsal": rehearsal_id, "fault": body.fault}, signer=services.signer)
     return _out(live)
 
 
@@ -228,7 +230,7 @@ def skip_rehearsal(rehearsal_id: RehearsalId, request: Request,
 @router.post("/rehearsals/{rehearsal_id}/stop", operation_id="stopRehearsal",
              response_model=RecordOut, **allow(*REHEARSERS))
 def stop_rehearsal(rehearsal_id: RehearsalId, request: Request, principal: CurrentPrincipal,
-                   db: Db) -> RecordOut:
+                   db: Db, services: Services) -> RecordOut:
     """Stop the rehearsal and store its record and standalone replay."""
     hub = hub_of(request)
     live, finished = hub.stop(rehearsal_id, user_id=principal.user.id)
@@ -238,7 +240,7 @@ def stop_rehearsal(rehearsal_id: RehearsalId, request: Request, principal: Curre
             db, digest=finished.digest, record=finished.to_json(), replay_html=replay,
             mission_id=live.mission_id, version=live.version,
             orders_digest=live.rehearsal.orders_digest, source=live.source,
-            owner=principal.user, rehearsal_id=rehearsal_id)
+            owner=principal.user, rehearsal_id=rehearsal_id, signer=services.signer)
         out = RecordOut(**records.record_summary(db, row))
         db.commit()  # stored before the rehearsal is forgotten: a failure here can be retried
     except BaseException:
