@@ -34,8 +34,6 @@ LONG_FUNCTIONS: dict[str, str] = {
         "closure; split, the hot loop pays for attribute lookups",
     "countersign/store/approvals/bundle.py:build_bundle":
         "assembles the bundle's parts in the order the format lists them (service layer)",
-    "countersign/verify/logic/goal_set.py:explain_goal_set":
-        "the explanation's cases in the order the report prints them",
     "countersign/verify/meo/reasoned.py:explain":
         "the MEO rules' explanations one after another (one rule set)",
     "countersign/verify/meo/direct.py:meo_only_findings":

@@ -30,11 +30,10 @@ from ..expressions import (
     quantity_table,
     quantity_words,
     reads,
-    smt_int,
-    tag_state,
     with_unit,
 )
 from .constants import _IDENTIFIER, MAX_WORDS
+from .facts import area_item, behavior_item, context_item
 from .items import Item, _interval_formula, _range_words, _with_suffix, expr_formula
 from .screen import Screen
 from .session import Session
@@ -436,68 +435,17 @@ class LogicModel:
         return list(found[0]), list(found[1])
 
     def fact_items(self, goal: Goal, needs: Reads, suffix: str = "") -> list[Item]:
+        """The goal's facts that the expressions read: its behaviour, its area, and whether
+        its area carries each tag they name."""
         items: list[Item] = []
         label = self.goal_label(goal)
         if needs.behavior:
-            key = f"beh:{goal.id}{suffix}"
-
-            def behavior() -> Item:
-                code_of = goal.behavior
-                return Item(
-                    key, "behavior", goal.id,
-                    lambda: (f"{label} has behavior {goal.behavior!r}" if goal.behavior
-                             else f"{label} names no behavior"),
-                    f"{key}|{goal.title}|{goal.behavior}",
-                    _with_suffix(
-                        lambda t: f"(= {t.special('behavior')} {smt_int(t.string_code(code_of))})",
-                        suffix,
-                    ),
-                    shared=False,
-                    meaning=None if suffix else ("fact", "behavior", goal.behavior),
-                )
-
-            items.append(self._memo(key, behavior))
+            items.append(behavior_item(self, goal, label, suffix))
         if needs.area:
-            key = f"area:{goal.id}{suffix}"
-
-            def area() -> Item:
-                code_of = goal.area
-                return Item(
-                    key, "area", goal.id,
-                    lambda: (f"{label} runs in {self.area_label(goal.area)}" if goal.area
-                             else f"{label} names no area"),
-                    f"{key}|{goal.title}|{goal.area}|{self.area_label(goal.area or '')}",
-                    _with_suffix(
-                        lambda t: f"(= {t.special('area')} {smt_int(t.string_code(code_of))})",
-                        suffix,
-                    ),
-                    shared=False,
-                    meaning=None if suffix else ("fact", "area", goal.area),
-                )
-
-            items.append(self._memo(key, area))
+            items.append(area_item(self, goal, label, suffix))
         facts = self.facts(goal)
         for tag in sorted(needs.tags):
-            key = f"ctx:{goal.id}:{tag}{suffix}"
-            holds = tag in facts.tags
-
-            def context(tag: str = tag, holds: bool = holds, key: str = key) -> Item:
-                def phrase() -> str:
-                    if goal.area:
-                        return f"{self.area_label(goal.area)} {tag_state(tag, holds)}"
-                    return f"{label} names no area, so it is not {in_tag(tag)}"
-
-                return Item(
-                    key, "context", goal.area or goal.id, phrase,
-                    f"{key}|{goal.title}|{goal.area}|{self.area_label(goal.area or '')}|{holds}",
-                    _with_suffix(
-                        lambda t: t.context(tag) if holds else f"(not {t.context(tag)})", suffix
-                    ),
-                    shared=False,
-                    meaning=None if suffix else ("fact", ("ctx", tag), holds),
-                )
-
-            items.append(self._memo(key, context))
+            items.append(context_item(self, goal, label, tag, tag in facts.tags, suffix))
         return items
 
     # Norms -------------------------------------------------------------------------------
