@@ -38,8 +38,8 @@ class Item:
     """One statement for the solver, asserted behind its own indicator literal. Its phrase is
     built only when a core reports it."""
 
-    __slots__ = ("_phrase", "digest", "formula", "key", "kind", "meaning", "quantities",
-                 "shared", "source", "subject")
+    __slots__ = ("_phrase", "digest", "extra", "formula", "key", "kind", "meaning",
+                 "quantities", "said", "shared", "source", "subject")
 
     def __init__(
         self,
@@ -66,6 +66,11 @@ class Item:
         # What bounds.py decides from, without z3: ("box", quantity, low, high), ("fact", what,
         # value) or ("expr", memo key, (expression, negated)); None: z3 only.
         self.meaning = meaning
+        # What the item states, whoever states it (bounds.py keys its answers by it: goals with
+        # the same envelope, facts and constraints ask the same question); None: z3 only.
+        self.said = None if meaning is None else meaning[1] if meaning[0] == "expr" else meaning
+        # A norm or a breach: what a goal's checks add, one at a time, to its own statements.
+        self.extra = kind in _EXTRA_KINDS
         # Every item ends up in some unit's cache key: an attribute, not a property, so a key
         # of hundreds of items is read at C speed.
         self.digest = hashlib.sha256(source.encode()).digest()
@@ -87,6 +92,9 @@ class Item:
 
     def __repr__(self) -> str:
         return f"Item({self.key!r})"
+
+
+_EXTRA_KINDS = frozenset({"norm", "breach"})
 
 
 def _bound(value: float) -> Fraction | None:

@@ -86,8 +86,11 @@ class LogicRun:
                 return CheckResult(status)
         return self.session.check(items)
 
-    def cached(self, kind: str, items: Iterable[Item], solve: Callable[[], Any]) -> Any:
-        key = unit_key(kind, items)
+    def cached(self, kind: str, items: Iterable[Item], solve: Callable[[], Any],
+               base: frozenset[Item] | None = None) -> Any:
+        if base is None:  # a goal's unit (of a property too) holds the run's live block
+            base = next(iter(self._blocks.values())) if len(self._blocks) == 1 else frozenset()
+        key = unit_key(kind, items, base)
         found = self.cache.get(key)
         if found is not None:
             return found
@@ -203,7 +206,7 @@ class LogicRun:
         every = items + [i for pair in norm_items for i in pair]
         base = self.block(quarantined)
         result: GoalResult = self.cached(
-            "goal", every, lambda: self._solve_goal(items, norm_items, residual, base)
+            "goal", every, lambda: self._solve_goal(items, norm_items, residual, base), base
         )
         return result
 
