@@ -56,6 +56,17 @@ class ParsedConstraint:
     goals: frozenset[str]
 
 
+@dataclass(frozen=True, slots=True)
+class GoalItems:
+    """A goal's items but the live mission-wide block (which every goal holds: one list for
+    all): its envelope and facts (head), its own constraints' items, its background (tail)."""
+
+    head: tuple[Item, ...]
+    own: tuple[Item, ...]
+    tail: tuple[Item, ...]
+    own_constraints: tuple[ParsedConstraint, ...]
+
+
 @dataclass(frozen=True)
 class ParsedNorm:
     norm: Norm
@@ -119,13 +130,15 @@ class LogicModel:
         self._residual: dict[tuple[str, str | None, str | None], bool] = {}
         self._scope_reads: dict[str, Reads] = {}
         # Built once per goal or set of quantities, then copied: every unit of a goal (its own
-        # and one per state property) asks for the same lists.
-        self._scope_items: dict[tuple[str, frozenset[str]], tuple[list[ParsedConstraint],
-                                                                  list[Item]]] = {}
+        # and one per state property) asks for the same lists. A goal's own part only: the
+        # mission-wide block is one list for all (kept per goal, 10,000 copies of hundreds of
+        # references were most of what each garbage collection walked).
+        self._scope_own: dict[tuple[str, frozenset[str]], tuple[
+            tuple[ParsedConstraint, ...], tuple[Item, ...]]] = {}
         self._background: dict[tuple[frozenset[str], str], tuple[Item, ...]] = {}
-        # LogicRun.goal_items by (goal id, quarantined keys, extra reads).
+        # LogicRun.goal_items by (goal id, quarantined keys, extra reads), without the block.
         self.goal_items_memo: dict[tuple[str, frozenset[str], tuple[Reads, ...]],
-                                   tuple[tuple[Item, ...], tuple[ParsedConstraint, ...]]] = {}
+                                   GoalItems] = {}
         # One z3 session per version of the orders, shared by check_logic and
         # check_properties; runs that use it hold the lock.
         self.session: Session | None = None
@@ -151,11 +164,11 @@ class LogicModel:
         self._relevant.update(before._relevant.copy())
         self._residual.update(before._residual.copy())
         same = {gid for gid, goal in self.goals.items() if before.goals.get(gid) == goal}
-        for memo, (items, constraints) in before.goal_items_memo.copy().items():
+        for memo, found in before.goal_items_memo.copy().items():
             if memo[0] in same:
-                for item in items:
+                for item in (*found.head, *found.own, *found.tail):
                     item.word()
-                self.goal_items_memo.setdefault(memo, (items, constraints))
+                self.goal_items_memo.setdefault(memo, found)
 
     # Parsing -----------------------------------------------------------------------------
 
@@ -413,26 +426,37 @@ class LogicModel:
 
     def mission_block(self, quarantined: frozenset[str]) -> frozenset[Item]:
         """The items of the live mission-wide constraints: every goal's scope holds them."""
-        self.scope_items("", quarantined)
-        return frozenset(self._mission_block[quarantined][1])
+        return frozenset(self.live_block(quarantined)[1])
+
+    def live_block(self, quarantined: frozenset[str]) -> tuple[list[ParsedConstraint],
+                                                                list[Item]]:
+        """The live mission-wide constraints and their items (lists not to be changed)."""
+        block = self._mission_block.get(quarantined)
+        if block is None:
+            live = [c for c in self.mission_constraints if c.key not in quarantined]
+            block = self._mission_block[quarantined] = (
+                live, [self.constraint_item(c) for c in live])
+        return block
+
+    def scope_own(self, goal_id: str, quarantined: frozenset[str]) -> tuple[
+        tuple[ParsedConstraint, ...], tuple[Item, ...]
+    ]:
+        """The live constraints scoped to the goal by name, and their items."""
+        key = (goal_id, quarantined)
+        found = self._scope_own.get(key)
+        if found is None:
+            own = tuple(c for c in self.scoped.get(goal_id, ()) if c.key not in quarantined)
+            found = self._scope_own[key] = (own, tuple(self.constraint_item(c) for c in own))
+        return found
 
     def scope_items(self, goal_id: str, quarantined: frozenset[str]) -> tuple[
         list[ParsedConstraint], list[Item]
     ]:
         """The constraints in a goal's scope that are not quarantined, and their items: the
         mission-wide ones first (one list for every goal), then the goal's own."""
-        key = (goal_id, quarantined)
-        found = self._scope_items.get(key)
-        if found is None:
-            block = self._mission_block.get(quarantined)
-            if block is None:
-                live = [c for c in self.mission_constraints if c.key not in quarantined]
-                block = self._mission_block[quarantined] = (
-                    live, [self.constraint_item(c) for c in live])
-            own = [c for c in self.scoped.get(goal_id, ()) if c.key not in quarantined]
-            found = self._scope_items[key] = (
-                block[0] + own, block[1] + [self.constraint_item(c) for c in own])
-        return list(found[0]), list(found[1])
+        live, block = self.live_block(quarantined)
+        own, items = self.scope_own(goal_id, quarantined)
+        return [*live, *own], [*block, *items]
 
     def fact_items(self, goal: Goal, needs: Reads, suffix: str = "") -> list[Item]:
         """The goal's facts that the expressions read: its behaviour, its area, and whether

@@ -12,7 +12,7 @@ from ..expressions import (
 from .cache import LogicCache, unit_key
 from .constants import _KIND_ORDER, MAX_CORES_PER_UNIT
 from .items import Item, Part
-from .model import LogicModel, ParsedConstraint, _merge_reads
+from .model import GoalItems, LogicModel, ParsedConstraint, _merge_reads
 from .results import Core, GoalResult, MissionResult, Risk, VacuousResult
 from .screen import Screen
 from .session import CheckResult, Limits, Session
@@ -184,17 +184,19 @@ class LogicRun:
         memo = (goal.id, quarantined, tuple(extra))
         found = model.goal_items_memo.get(memo)
         if found is None:
-            constraints, constraint_items = model.scope_items(goal.id, quarantined)
+            own_constraints, own = model.scope_own(goal.id, quarantined)
             needs = _merge_reads([model.scope_reads(goal.id), *extra])
             names = set(goal.envelope) | needs.quantities
-            items = [model.envelope_item(goal, name) for name in sorted(goal.envelope)]
-            items += model.fact_items(goal, needs)
-            items += constraint_items
+            head = [model.envelope_item(goal, name) for name in sorted(goal.envelope)]
+            head += model.fact_items(goal, needs)
             background = model.background(names)
-            items += ([i for i in background if i.key not in quarantined] if quarantined
-                      else background)
-            found = model.goal_items_memo[memo] = (tuple(items), tuple(constraints))
-        return list(found[0]), list(found[1])
+            tail = ([i for i in background if i.key not in quarantined] if quarantined
+                    else background)
+            found = model.goal_items_memo[memo] = GoalItems(
+                tuple(head), own, tuple(tail), own_constraints)
+        live, block = model.live_block(quarantined)
+        return ([*found.head, *block, *found.own, *found.tail],
+                [*live, *found.own_constraints])
 
     def goal(self, goal: Goal, quarantined: frozenset[str]) -> GoalResult:
         model = self.model
