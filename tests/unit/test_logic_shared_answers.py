@@ -17,8 +17,14 @@ from typing import Any
 import pytest
 
 from countersign.orders.model import Orders
-from countersign.verify.logic import LogicCache, LogicModel, LogicRun, check_logic, unit_key
-from countersign.verify.logic import collector
+from countersign.verify.logic import (
+    LogicCache,
+    LogicModel,
+    LogicRun,
+    check_logic,
+    collector,
+    unit_key,
+)
 from countersign.verify.logic.bounds import Decider
 from countersign.verify.logic.session import Limits
 from tests.unit.test_logic_bounds import z3_status
@@ -78,7 +84,7 @@ def test_goals_whose_constraints_differ_in_a_bound_are_decided_apart() -> None:
 
 def test_a_goal_key_stands_for_its_base_and_stays_one_of_its_items() -> None:
     orders = _orders({"G0": 10, "G1": 10}, ["x <= 30", "x >= -5"])
-    _, run, base, items = _asked(orders)
+    _, _, base, items = _asked(orders)
     own = items["G0"]
     assert base and base <= set(own)
     with_base = unit_key("goal", own, base)

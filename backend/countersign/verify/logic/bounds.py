@@ -58,6 +58,8 @@ class Decider:
 
     def status(self, rest: Iterable[Item], base: frozenset[Item]) -> str | None:
         """"sat" or "unsat" when proven for `rest` and `base` together, else None."""
+        if not base:  # one empty base for all: `frozenset()` makes a new object (a new id)
+            base = _NO_BASE
         rest = list(rest)
         said = [i.said for i in rest]
         if None in said:
@@ -65,7 +67,7 @@ class Decider:
         own = [i for i in rest if not i.extra]
         if len(own) == len(rest):  # no norm nor breach (most checks of a unit's own items)
             extra: list[Item] = []
-            own_keys, extra_keys = frozenset(said), frozenset[Any]()
+            own_keys, extra_keys = frozenset(said), _NO_EXTRA
         else:
             extra = [i for i in rest if i.extra]
             own_keys = frozenset([i.said for i in own])
@@ -232,6 +234,8 @@ class Decider:
 
 
 _MISSING = object()
+_NO_BASE: frozenset[Item] = frozenset()
+_NO_EXTRA: frozenset[Any] = frozenset()
 _CONFLICT = object()  # a Boolean interval that admits neither value
 
 

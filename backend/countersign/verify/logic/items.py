@@ -7,6 +7,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from fractions import Fraction
+from functools import partial
 from typing import Any
 
 from ...orders.model import Quantity
@@ -114,31 +115,35 @@ def _range_words(low: float, high: float, unit: str) -> str:
 def _interval_formula(
     quantity: str, spec: Quantity, low: float | None, high: float | None
 ) -> Callable[[Translator], str]:
-    def build(translator: Translator) -> str:
-        symbol, kind = translator.quantity(quantity)
-        parts: list[str] = []
-        lo = _bound(low) if low is not None else None
-        hi = _bound(high) if high is not None else None
-        if kind == "boolean":
-            if lo is not None and lo > 0:
-                parts.append(symbol)
-            if hi is not None and hi < 1:
-                parts.append(f"(not {symbol})")
-        elif kind == "integer":
-            if lo is not None:
-                parts.append(f"(<= {smt_int(math.ceil(lo))} {symbol})")
-            if hi is not None:
-                parts.append(f"(<= {symbol} {smt_int(math.floor(hi))})")
-        else:
-            if lo is not None:
-                parts.append(f"(<= {smt_real(lo)} {symbol})")
-            if hi is not None:
-                parts.append(f"(<= {symbol} {smt_real(hi)})")
-        if not parts:
-            return "true"
-        return parts[0] if len(parts) == 1 else f"(and {' '.join(parts)})"
+    # A partial, not a closure: thousands of items each keep one (a closure's cells are
+    # objects of their own that every garbage collection walks).
+    return partial(_interval_text, quantity, low, high)
 
-    return build
+
+def _interval_text(quantity: str, low: float | None, high: float | None,
+                   translator: Translator) -> str:
+    symbol, kind = translator.quantity(quantity)
+    parts: list[str] = []
+    lo = _bound(low) if low is not None else None
+    hi = _bound(high) if high is not None else None
+    if kind == "boolean":
+        if lo is not None and lo > 0:
+            parts.append(symbol)
+        if hi is not None and hi < 1:
+            parts.append(f"(not {symbol})")
+    elif kind == "integer":
+        if lo is not None:
+            parts.append(f"(<= {smt_int(math.ceil(lo))} {symbol})")
+        if hi is not None:
+            parts.append(f"(<= {symbol} {smt_int(math.floor(hi))})")
+    else:
+        if lo is not None:
+            parts.append(f"(<= {smt_real(lo)} {symbol})")
+        if hi is not None:
+            parts.append(f"(<= {symbol} {smt_real(hi)})")
+    if not parts:
+        return "true"
+    return parts[0] if len(parts) == 1 else f"(and {' '.join(parts)})"
 
 
 def expr_formula(expr: Expr, negate: bool = False) -> Callable[[Translator], str]:

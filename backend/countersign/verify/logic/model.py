@@ -5,6 +5,7 @@ from __future__ import annotations
 import threading
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
+from functools import partial
 from typing import Literal
 
 from ...orders.findings import Finding, error
@@ -340,17 +341,8 @@ class LogicModel:
         def build() -> Item:
             low, high = goal.envelope[name]
             spec = self.quantities.get(name) or Quantity()
-
-            def phrase() -> str:
-                words = quantity_words(name, self.quantities)
-                if spec.type == "boolean":
-                    value = "true" if low > 0 else "false" if high < 1 else "true or false"
-                    return f"{self.goal_label(goal)} is ordered with {words} {value}"
-                return (f"{self.goal_label(goal)} is ordered at {words} "
-                        f"{_range_words(low, high, spec.unit)}")
-
             return Item(
-                key, "envelope", goal.id, phrase,
+                key, "envelope", goal.id, partial(self._envelope_phrase, goal, name),
                 f"{key}|{goal.title}|{low!r}|{high!r}|{self.spec(name)}",
                 _with_suffix(_interval_formula(name, spec, low, high), suffix),
                 shared=False, quantities=(name,),
@@ -358,6 +350,17 @@ class LogicModel:
             )
 
         return self._memo(key, build)
+
+    def _envelope_phrase(self, goal: Goal, name: str) -> str:
+        # A method behind a partial, not a closure: one per envelope item (see items.py).
+        low, high = goal.envelope[name]
+        spec = self.quantities.get(name) or Quantity()
+        words = quantity_words(name, self.quantities)
+        if spec.type == "boolean":
+            value = "true" if low > 0 else "false" if high < 1 else "true or false"
+            return f"{self.goal_label(goal)} is ordered with {words} {value}"
+        return (f"{self.goal_label(goal)} is ordered at {words} "
+                f"{_range_words(low, high, spec.unit)}")
 
     def vehicle_item(self, name: str, suffix: str = "") -> Item | None:
         if self.vehicle is None or name not in self.vehicle.envelope:
