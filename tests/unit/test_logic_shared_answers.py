@@ -26,6 +26,7 @@ from countersign.verify.logic import (
     unit_key,
 )
 from countersign.verify.logic.bounds import Decider
+from countersign.verify.logic.cache import unit_key_apart
 from countersign.verify.logic.session import Limits
 from tests.unit.test_logic_bounds import z3_status
 
@@ -88,6 +89,8 @@ def test_a_goal_key_stands_for_its_base_and_stays_one_of_its_items() -> None:
     own = items["G0"]
     assert base and base <= set(own)
     with_base = unit_key("goal", own, base)
+    # A caller that holds the items but the base apart gets the same key.
+    assert unit_key_apart("goal", [i for i in own if i not in base], base) == with_base
     # Another model of the same orders (a new set of item objects, as after an edit): the
     # same key, with or without its own base.
     _, _, other_base, other = _asked(orders)

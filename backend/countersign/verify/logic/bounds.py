@@ -53,7 +53,7 @@ class Decider:
         self._formulas: dict[tuple[Any, FactsKey], Formula] = {}
         self._states: dict[tuple[Any, ...], Any] = {}
         self._verdicts: dict[tuple[Any, ...], str] = {}
-        self._intervals: dict[Item, Any] = {}
+        self._intervals: dict[Item | tuple[Any, ...], Any] = {}
         self.decided = 0
 
     def status(self, rest: Iterable[Item], base: frozenset[Item]) -> str | None:
@@ -207,8 +207,11 @@ class Decider:
         """Add an envelope, vehicle or domain interval (as items.py states it to z3)."""
         assert item.meaning is not None
         found = self._intervals.get(item)  # by the item itself: hashed at C speed
-        if found is None:
-            found = self._intervals[item] = self._interval(*item.meaning[1:])
+        if found is None:  # by what it states: goals with the same envelope share it
+            found = self._intervals.get(item.meaning)
+            if found is None:
+                found = self._intervals[item.meaning] = self._interval(*item.meaning[1:])
+            self._intervals[item] = found
         name, kind, lo, hi, value = found
         if kind == "boolean":
             return value is None or _set_bool(bools, name, value)
