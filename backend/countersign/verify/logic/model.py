@@ -452,15 +452,6 @@ class LogicModel:
             found = self._scope_own[key] = (own, tuple(self.constraint_item(c) for c in own))
         return found
 
-    def scope_items(self, goal_id: str, quarantined: frozenset[str]) -> tuple[
-        list[ParsedConstraint], list[Item]
-    ]:
-        """The constraints in a goal's scope that are not quarantined, and their items: the
-        mission-wide ones first (one list for every goal), then the goal's own."""
-        live, block = self.live_block(quarantined)
-        own, items = self.scope_own(goal_id, quarantined)
-        return [*live, *own], [*block, *items]
-
     def fact_items(self, goal: Goal, needs: Reads, suffix: str = "") -> list[Item]:
         """The goal's facts that the expressions read: its behaviour, its area, and whether
         its area carries each tag they name."""
