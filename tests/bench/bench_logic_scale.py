@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import gc
+import os
 import time
 from collections.abc import Callable
 from typing import Any
@@ -101,7 +102,8 @@ def main() -> None:
     args = parser.parse_args()
     orders = logic_orders(args.goals, args.constraints, args.norms)
     print(f"## {args.goals:,} goals, {args.constraints:,} constraints, {args.norms} norms, "
-          "cold (fresh cache and z3 context per run)")
+          "cold (fresh cache and z3 context per run); load average "
+          + ", ".join(f"{x:.2f}" for x in os.getloadavg()))
     failed = False
     runs = [(f"budget {args.generous:g} s", args.generous),
             (f"validate's {SOLVER_BUDGET_S:g} s budget", SOLVER_BUDGET_S)]

@@ -22,6 +22,7 @@ import countersign.export.moos_condition
 import countersign.orders.conditions
 import countersign.rehearse.monitor
 import countersign.verify.expressions
+import countersign.verify.logic.formulas
 from countersign.orders.expressions import ExprVisitor, children, parse, walk
 from countersign.orders.expressions import tree as tree_module
 from countersign.orders.expressions import visit as visit_module
@@ -80,12 +81,16 @@ def test_every_interpreter_handles_every_kind() -> None:
         "countersign.verify.expressions.types.TypeChecker",
         "countersign.rehearse.monitor._Compile",
         "countersign.export.moos_condition._Helm",
+        "countersign.verify.logic.formulas._Condition",
+        "countersign.verify.logic.formulas._Linear",
+        "countersign.verify.logic.formulas._Strings",
     }, "an interpreter no longer uses ExprVisitor"
     for cls in production:
         assert not inspect.isabstract(cls), (
             f"{cls.__qualname__} leaves out {sorted(cls.__abstractmethods__)}")
     assert countersign.orders.conditions and countersign.rehearse.monitor  # imported for above
     assert countersign.export.moos_condition and countersign.verify.expressions
+    assert countersign.verify.logic.formulas
 
 
 def test_an_interpreter_that_leaves_a_kind_out_cannot_be_made() -> None:

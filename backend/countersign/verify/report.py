@@ -14,7 +14,7 @@ incremental reports with reports from scratch over random edits.
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
@@ -156,6 +156,17 @@ def validate(
     if meo is None:
         meo = meo_only_findings(per_goal)
         store.put("meo", keys.meo, meo)
+    logic, properties = _solver_parts(orders, checked, per_goal, mission_graph, cache, store,
+                                      keys, solver_budget_s)
+    return _assembled(orders, reader_findings, core, meo, logic, properties, orders_digest)
+
+
+def _solver_parts(orders: Orders, checked: Orders, per_goal: Orders,
+                  mission_graph: Callable[[], MissionGraph], cache: LogicCache,
+                  store: PartsCache, keys: PartKeys, solver_budget_s: float
+                  ) -> tuple[list[Finding], list[Finding]]:
+    """The logic and path-property findings, from the parts cache or the solver; both share
+    one budget, and a part with undecided goals is not kept."""
     deadline = time.monotonic() + solver_budget_s
     logic = store.get("logic", keys.logic)
     if logic is None:
@@ -173,7 +184,13 @@ def validate(
                                       total_timeout_s=max(0.0, deadline - time.monotonic()))
         if decided(properties):
             store.put("properties", keys.properties, properties)
+    return logic, properties
 
+
+def _assembled(orders: Orders, reader_findings: Sequence[Finding], core: CorePart,
+               meo: list[Finding], logic: list[Finding], properties: list[Finding],
+               orders_digest: str | None) -> Report:
+    """The report from its parts, its findings in the order the report lists them."""
     findings = list(reader_findings)
     findings.extend(procedure_findings(orders))  # PROCEDURE: references not as pinned
     # Warnings an importer recorded in the orders (NPS default handlers) stay in every report;

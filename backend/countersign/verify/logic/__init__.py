@@ -19,8 +19,9 @@ goal. Every solver call has a timeout and the whole run a time budget; an undeci
 warning finding, never a hang. z3 is imported and a context created only when some unit misses
 the cache.
 
-One module per job: items and model, the z3 session, the screen, bounds propagation (and its
-formulas), unique cores, the cache, a run, wording, the findings and the goal-set API.
+One module per job: items and model (a goal's facts in facts.py), the z3 session, the screen,
+bounds propagation (and its formulas), unique cores, the cache, a run, wording, the findings
+(a check pauses the cyclic garbage collector: collector.py) and the goal-set API.
 `findings.BATCH_VACUITY` switches batched vacuity checks, `run.GROUP_CHECKS` the fast route:
 the screen (screen.py: status-only checks, first by bounds propagation without z3, bounds.py,
 else of terms parsed once per context, one answer shared by every goal with the same

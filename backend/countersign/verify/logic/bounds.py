@@ -53,30 +53,27 @@ class Decider:
         self._formulas: dict[tuple[Any, FactsKey], Formula] = {}
         self._states: dict[tuple[Any, ...], Any] = {}
         self._verdicts: dict[tuple[Any, ...], str] = {}
-        self._intervals: dict[tuple[Any, ...], Any] = {}
+        self._intervals: dict[Item | tuple[Any, ...], Any] = {}
         self.decided = 0
 
     def status(self, rest: Iterable[Item], base: frozenset[Item]) -> str | None:
         """"sat" or "unsat" when proven for `rest` and `base` together, else None."""
-        own: list[Item] = []
-        extra: list[Item] = []
-        own_keys: list[Any] = []
-        extra_keys: list[Any] = []
-        for item in rest:
-            meaning = item.meaning
-            if meaning is None:
-                return None
-            # What the item states, whoever states it: goals with the same envelope, facts
-            # and constraints ask the same question, answered once.
-            said = meaning[1] if meaning[0] == "expr" else meaning
-            if item.kind in _NORM_KINDS:
-                extra.append(item)
-                extra_keys.append(said)
-            else:
-                own.append(item)
-                own_keys.append(said)
+        if not base:  # one empty base for all: `frozenset()` makes a new object (a new id)
+            base = _NO_BASE
+        rest = list(rest)
+        said = [i.said for i in rest]
+        if None in said:
+            return None
+        own = [i for i in rest if not i.extra]
+        if len(own) == len(rest):  # no norm nor breach (most checks of a unit's own items)
+            extra: list[Item] = []
+            own_keys, extra_keys = frozenset(said), _NO_EXTRA
+        else:
+            extra = [i for i in rest if i.extra]
+            own_keys = frozenset([i.said for i in own])
+            extra_keys = frozenset([i.said for i in extra])
         self._base_refs.setdefault(id(base), base)  # held: its id is never another's
-        asked = (id(base), frozenset(own_keys), frozenset(extra_keys))
+        asked = (id(base), own_keys, extra_keys)
         known = self._verdicts.get(asked)
         if known is not None:
             return self._count(known)
@@ -209,9 +206,12 @@ class Decider:
     def _box(self, bounds: Bounds, bools: Bools, item: Item) -> bool:
         """Add an envelope, vehicle or domain interval (as items.py states it to z3)."""
         assert item.meaning is not None
-        found = self._intervals.get(item.meaning)
-        if found is None:
-            found = self._intervals[item.meaning] = self._interval(*item.meaning[1:])
+        found = self._intervals.get(item)  # by the item itself: hashed at C speed
+        if found is None:  # by what it states: goals with the same envelope share it
+            found = self._intervals.get(item.meaning)
+            if found is None:
+                found = self._intervals[item.meaning] = self._interval(*item.meaning[1:])
+            self._intervals[item] = found
         name, kind, lo, hi, value = found
         if kind == "boolean":
             return value is None or _set_bool(bools, name, value)
@@ -237,8 +237,9 @@ class Decider:
 
 
 _MISSING = object()
+_NO_BASE: frozenset[Item] = frozenset()
+_NO_EXTRA: frozenset[Any] = frozenset()
 _CONFLICT = object()  # a Boolean interval that admits neither value
-_NORM_KINDS = frozenset({"norm", "breach"})
 
 
 def _set_bool(bools: Bools, name: str, value: Any) -> bool:

@@ -6,6 +6,7 @@ import hashlib
 import threading
 from collections.abc import Iterable
 from operator import attrgetter
+from weakref import WeakKeyDictionary
 
 from cachetools import LRUCache
 
@@ -66,9 +67,53 @@ class LogicCache:
 
 
 _DIGEST = attrgetter("digest")
+# A base's (digests, digest of them) by the base itself (a frozenset made once per run and
+# quarantine).
+_BASES: WeakKeyDictionary[frozenset[Item], tuple[frozenset[bytes], bytes]] = (
+    WeakKeyDictionary())
 
 
-def unit_key(kind: str, items: Iterable[Item]) -> str:
-    """The digest of a unit's inputs: the digests of its items' sources, in a fixed order."""
-    digests = sorted(map(_DIGEST, items))
-    return hashlib.sha256(f"{VERSION}\x1e{kind}\x1e".encode() + b"".join(digests)).hexdigest()
+def unit_key(kind: str, items: Iterable[Item], base: frozenset[Item] = frozenset()) -> str:
+    """The digest of a unit's inputs: the digests of its items' sources, in a fixed order.
+    With `base` (items every unit of a run holds), one digest of the base's stands for its
+    items when they are all among the unit's (each listed once, as a unit's are): the
+    hundreds of mission-wide constraints are sorted once, not once per goal. Membership is by
+    digest, not by object: a model after an edit reuses the items of the one before (whose
+    base is another set of the same statements), and the key must not change with that. The
+    same set of items has the same key either way; its 37 bytes never read as whole 32-byte
+    digests of a key made without one."""
+    digests = list(map(_DIGEST, items))
+    if base:
+        members, _ = _base(base)
+        own = [d for d in digests if d not in members]
+        if len(digests) - len(own) == len(members):
+            return _with_base(kind, own, base)
+    digests.sort()
+    return hashlib.sha256(_head(kind) + b"".join(digests)).hexdigest()
+
+
+def unit_key_apart(kind: str, apart: Iterable[Item], base: frozenset[Item]) -> str:
+    """`unit_key(kind, [*apart, *base], base)` for a caller that holds the unit's items but
+    the base apart (none of them a statement of the base's): no scan of the base's hundreds
+    of items to find them again."""
+    if not base:
+        return unit_key(kind, apart)
+    return _with_base(kind, list(map(_DIGEST, apart)), base)
+
+
+def _head(kind: str) -> bytes:
+    return f"{VERSION}\x1e{kind}\x1e".encode()
+
+
+def _with_base(kind: str, own: list[bytes], base: frozenset[Item]) -> str:
+    own.sort()
+    return hashlib.sha256(_head(kind) + b"base\x1e" + _base(base)[1]
+                          + b"".join(own)).hexdigest()
+
+
+def _base(base: frozenset[Item]) -> tuple[frozenset[bytes], bytes]:
+    found = _BASES.get(base)
+    if found is None:
+        members = frozenset(map(_DIGEST, base))
+        found = _BASES[base] = (members, hashlib.sha256(b"".join(sorted(members))).digest())
+    return found

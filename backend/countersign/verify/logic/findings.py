@@ -11,6 +11,7 @@ from ..expressions import (
     with_unit,
 )
 from .cache import LogicCache
+from .collector import collector_paused
 from .constants import DEFAULT_TIMEOUT_MS, DEFAULT_TOTAL_S, GOAL_KINDS
 from .items import Item
 from .model import LogicModel
@@ -36,6 +37,12 @@ def check_logic(
     Pass a long-lived LogicCache to re-solve only the units whose inputs changed. Every solver
     call stops after `timeout_ms`, and the whole check after `total_timeout_s`; what could not
     be decided is reported as a warning."""
+    with collector_paused():
+        return _check_logic(orders, cache, timeout_ms, total_timeout_s)
+
+
+def _check_logic(orders: Orders, cache: LogicCache | None, timeout_ms: int,
+                 total_timeout_s: float) -> list[Finding]:
     model = cache.model(orders) if cache is not None else LogicModel(orders)
     with model.lock:
         run = LogicRun(model, cache, Limits.start(timeout_ms, total_timeout_s))

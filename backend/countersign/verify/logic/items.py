@@ -7,6 +7,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from fractions import Fraction
+from functools import partial
 from typing import Any
 
 from ...orders.model import Quantity
@@ -38,8 +39,8 @@ class Item:
     """One statement for the solver, asserted behind its own indicator literal. Its phrase is
     built only when a core reports it."""
 
-    __slots__ = ("_phrase", "digest", "formula", "key", "kind", "meaning", "quantities",
-                 "shared", "source", "subject")
+    __slots__ = ("_phrase", "digest", "extra", "formula", "key", "kind", "meaning",
+                 "quantities", "said", "shared", "source", "subject")
 
     def __init__(
         self,
@@ -66,6 +67,11 @@ class Item:
         # What bounds.py decides from, without z3: ("box", quantity, low, high), ("fact", what,
         # value) or ("expr", memo key, (expression, negated)); None: z3 only.
         self.meaning = meaning
+        # What the item states, whoever states it (bounds.py keys its answers by it: goals with
+        # the same envelope, facts and constraints ask the same question); None: z3 only.
+        self.said = None if meaning is None else meaning[1] if meaning[0] == "expr" else meaning
+        # A norm or a breach: what a goal's checks add, one at a time, to its own statements.
+        self.extra = kind in _EXTRA_KINDS
         # Every item ends up in some unit's cache key: an attribute, not a property, so a key
         # of hundreds of items is read at C speed.
         self.digest = hashlib.sha256(source.encode()).digest()
@@ -89,6 +95,9 @@ class Item:
         return f"Item({self.key!r})"
 
 
+_EXTRA_KINDS = frozenset({"norm", "breach"})
+
+
 def _bound(value: float) -> Fraction | None:
     if not math.isfinite(value):
         return None
@@ -106,31 +115,35 @@ def _range_words(low: float, high: float, unit: str) -> str:
 def _interval_formula(
     quantity: str, spec: Quantity, low: float | None, high: float | None
 ) -> Callable[[Translator], str]:
-    def build(translator: Translator) -> str:
-        symbol, kind = translator.quantity(quantity)
-        parts: list[str] = []
-        lo = _bound(low) if low is not None else None
-        hi = _bound(high) if high is not None else None
-        if kind == "boolean":
-            if lo is not None and lo > 0:
-                parts.append(symbol)
-            if hi is not None and hi < 1:
-                parts.append(f"(not {symbol})")
-        elif kind == "integer":
-            if lo is not None:
-                parts.append(f"(<= {smt_int(math.ceil(lo))} {symbol})")
-            if hi is not None:
-                parts.append(f"(<= {symbol} {smt_int(math.floor(hi))})")
-        else:
-            if lo is not None:
-                parts.append(f"(<= {smt_real(lo)} {symbol})")
-            if hi is not None:
-                parts.append(f"(<= {symbol} {smt_real(hi)})")
-        if not parts:
-            return "true"
-        return parts[0] if len(parts) == 1 else f"(and {' '.join(parts)})"
+    # A partial, not a closure: thousands of items each keep one (a closure's cells are
+    # objects of their own that every garbage collection walks).
+    return partial(_interval_text, quantity, low, high)
 
-    return build
+
+def _interval_text(quantity: str, low: float | None, high: float | None,
+                   translator: Translator) -> str:
+    symbol, kind = translator.quantity(quantity)
+    parts: list[str] = []
+    lo = _bound(low) if low is not None else None
+    hi = _bound(high) if high is not None else None
+    if kind == "boolean":
+        if lo is not None and lo > 0:
+            parts.append(symbol)
+        if hi is not None and hi < 1:
+            parts.append(f"(not {symbol})")
+    elif kind == "integer":
+        if lo is not None:
+            parts.append(f"(<= {smt_int(math.ceil(lo))} {symbol})")
+        if hi is not None:
+            parts.append(f"(<= {symbol} {smt_int(math.floor(hi))})")
+    else:
+        if lo is not None:
+            parts.append(f"(<= {smt_real(lo)} {symbol})")
+        if hi is not None:
+            parts.append(f"(<= {symbol} {smt_real(hi)})")
+    if not parts:
+        return "true"
+    return parts[0] if len(parts) == 1 else f"(and {' '.join(parts)})"
 
 
 def expr_formula(expr: Expr, negate: bool = False) -> Callable[[Translator], str]:

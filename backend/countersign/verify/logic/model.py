@@ -5,6 +5,7 @@ from __future__ import annotations
 import threading
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass
+from functools import partial
 from typing import Literal
 
 from ...orders.findings import Finding, error
@@ -30,11 +31,10 @@ from ..expressions import (
     quantity_table,
     quantity_words,
     reads,
-    smt_int,
-    tag_state,
     with_unit,
 )
 from .constants import _IDENTIFIER, MAX_WORDS
+from .facts import area_item, behavior_item, context_item
 from .items import Item, _interval_formula, _range_words, _with_suffix, expr_formula
 from .screen import Screen
 from .session import Session
@@ -55,6 +55,17 @@ class ParsedConstraint:
     reads: Reads
     mission: bool
     goals: frozenset[str]
+
+
+@dataclass(frozen=True, slots=True)
+class GoalItems:
+    """A goal's items but the live mission-wide block (which every goal holds: one list for
+    all): its envelope and facts (head), its own constraints' items, its background (tail)."""
+
+    head: tuple[Item, ...]
+    own: tuple[Item, ...]
+    tail: tuple[Item, ...]
+    own_constraints: tuple[ParsedConstraint, ...]
 
 
 @dataclass(frozen=True)
@@ -120,13 +131,15 @@ class LogicModel:
         self._residual: dict[tuple[str, str | None, str | None], bool] = {}
         self._scope_reads: dict[str, Reads] = {}
         # Built once per goal or set of quantities, then copied: every unit of a goal (its own
-        # and one per state property) asks for the same lists.
-        self._scope_items: dict[tuple[str, frozenset[str]], tuple[list[ParsedConstraint],
-                                                                  list[Item]]] = {}
+        # and one per state property) asks for the same lists. A goal's own part only: the
+        # mission-wide block is one list for all (kept per goal, 10,000 copies of hundreds of
+        # references were most of what each garbage collection walked).
+        self._scope_own: dict[tuple[str, frozenset[str]], tuple[
+            tuple[ParsedConstraint, ...], tuple[Item, ...]]] = {}
         self._background: dict[tuple[frozenset[str], str], tuple[Item, ...]] = {}
-        # LogicRun.goal_items by (goal id, quarantined keys, extra reads).
+        # LogicRun.goal_items by (goal id, quarantined keys, extra reads), without the block.
         self.goal_items_memo: dict[tuple[str, frozenset[str], tuple[Reads, ...]],
-                                   tuple[tuple[Item, ...], tuple[ParsedConstraint, ...]]] = {}
+                                   GoalItems] = {}
         # One z3 session per version of the orders, shared by check_logic and
         # check_properties; runs that use it hold the lock.
         self.session: Session | None = None
@@ -152,11 +165,11 @@ class LogicModel:
         self._relevant.update(before._relevant.copy())
         self._residual.update(before._residual.copy())
         same = {gid for gid, goal in self.goals.items() if before.goals.get(gid) == goal}
-        for memo, (items, constraints) in before.goal_items_memo.copy().items():
+        for memo, found in before.goal_items_memo.copy().items():
             if memo[0] in same:
-                for item in items:
+                for item in (*found.head, *found.own, *found.tail):
                     item.word()
-                self.goal_items_memo.setdefault(memo, (items, constraints))
+                self.goal_items_memo.setdefault(memo, found)
 
     # Parsing -----------------------------------------------------------------------------
 
@@ -328,17 +341,8 @@ class LogicModel:
         def build() -> Item:
             low, high = goal.envelope[name]
             spec = self.quantities.get(name) or Quantity()
-
-            def phrase() -> str:
-                words = quantity_words(name, self.quantities)
-                if spec.type == "boolean":
-                    value = "true" if low > 0 else "false" if high < 1 else "true or false"
-                    return f"{self.goal_label(goal)} is ordered with {words} {value}"
-                return (f"{self.goal_label(goal)} is ordered at {words} "
-                        f"{_range_words(low, high, spec.unit)}")
-
             return Item(
-                key, "envelope", goal.id, phrase,
+                key, "envelope", goal.id, partial(self._envelope_phrase, goal, name),
                 f"{key}|{goal.title}|{low!r}|{high!r}|{self.spec(name)}",
                 _with_suffix(_interval_formula(name, spec, low, high), suffix),
                 shared=False, quantities=(name,),
@@ -346,6 +350,17 @@ class LogicModel:
             )
 
         return self._memo(key, build)
+
+    def _envelope_phrase(self, goal: Goal, name: str) -> str:
+        # A method behind a partial, not a closure: one per envelope item (see items.py).
+        low, high = goal.envelope[name]
+        spec = self.quantities.get(name) or Quantity()
+        words = quantity_words(name, self.quantities)
+        if spec.type == "boolean":
+            value = "true" if low > 0 else "false" if high < 1 else "true or false"
+            return f"{self.goal_label(goal)} is ordered with {words} {value}"
+        return (f"{self.goal_label(goal)} is ordered at {words} "
+                f"{_range_words(low, high, spec.unit)}")
 
     def vehicle_item(self, name: str, suffix: str = "") -> Item | None:
         if self.vehicle is None or name not in self.vehicle.envelope:
@@ -414,90 +429,41 @@ class LogicModel:
 
     def mission_block(self, quarantined: frozenset[str]) -> frozenset[Item]:
         """The items of the live mission-wide constraints: every goal's scope holds them."""
-        self.scope_items("", quarantined)
-        return frozenset(self._mission_block[quarantined][1])
+        return frozenset(self.live_block(quarantined)[1])
 
-    def scope_items(self, goal_id: str, quarantined: frozenset[str]) -> tuple[
-        list[ParsedConstraint], list[Item]
+    def live_block(self, quarantined: frozenset[str]) -> tuple[list[ParsedConstraint],
+                                                                list[Item]]:
+        """The live mission-wide constraints and their items (lists not to be changed)."""
+        block = self._mission_block.get(quarantined)
+        if block is None:
+            live = [c for c in self.mission_constraints if c.key not in quarantined]
+            block = self._mission_block[quarantined] = (
+                live, [self.constraint_item(c) for c in live])
+        return block
+
+    def scope_own(self, goal_id: str, quarantined: frozenset[str]) -> tuple[
+        tuple[ParsedConstraint, ...], tuple[Item, ...]
     ]:
-        """The constraints in a goal's scope that are not quarantined, and their items: the
-        mission-wide ones first (one list for every goal), then the goal's own."""
+        """The live constraints scoped to the goal by name, and their items."""
         key = (goal_id, quarantined)
-        found = self._scope_items.get(key)
+        found = self._scope_own.get(key)
         if found is None:
-            block = self._mission_block.get(quarantined)
-            if block is None:
-                live = [c for c in self.mission_constraints if c.key not in quarantined]
-                block = self._mission_block[quarantined] = (
-                    live, [self.constraint_item(c) for c in live])
-            own = [c for c in self.scoped.get(goal_id, ()) if c.key not in quarantined]
-            found = self._scope_items[key] = (
-                block[0] + own, block[1] + [self.constraint_item(c) for c in own])
-        return list(found[0]), list(found[1])
+            own = tuple(c for c in self.scoped.get(goal_id, ()) if c.key not in quarantined)
+            found = self._scope_own[key] = (own, tuple(self.constraint_item(c) for c in own))
+        return found
 
     def fact_items(self, goal: Goal, needs: Reads, suffix: str = "") -> list[Item]:
+        """The goal's facts that the expressions read: its behaviour, its area, and whether
+        its area carries each tag they name."""
         items: list[Item] = []
         label = self.goal_label(goal)
         if needs.behavior:
-            key = f"beh:{goal.id}{suffix}"
-
-            def behavior() -> Item:
-                code_of = goal.behavior
-                return Item(
-                    key, "behavior", goal.id,
-                    lambda: (f"{label} has behavior {goal.behavior!r}" if goal.behavior
-                             else f"{label} names no behavior"),
-                    f"{key}|{goal.title}|{goal.behavior}",
-                    _with_suffix(
-                        lambda t: f"(= {t.special('behavior')} {smt_int(t.string_code(code_of))})",
-                        suffix,
-                    ),
-                    shared=False,
-                    meaning=None if suffix else ("fact", "behavior", goal.behavior),
-                )
-
-            items.append(self._memo(key, behavior))
+            items.append(behavior_item(self, goal, label, suffix))
         if needs.area:
-            key = f"area:{goal.id}{suffix}"
-
-            def area() -> Item:
-                code_of = goal.area
-                return Item(
-                    key, "area", goal.id,
-                    lambda: (f"{label} runs in {self.area_label(goal.area)}" if goal.area
-                             else f"{label} names no area"),
-                    f"{key}|{goal.title}|{goal.area}|{self.area_label(goal.area or '')}",
-                    _with_suffix(
-                        lambda t: f"(= {t.special('area')} {smt_int(t.string_code(code_of))})",
-                        suffix,
-                    ),
-                    shared=False,
-                    meaning=None if suffix else ("fact", "area", goal.area),
-                )
-
-            items.append(self._memo(key, area))
+            items.append(area_item(self, goal, label, suffix))
         facts = self.facts(goal)
         for tag in sorted(needs.tags):
-            key = f"ctx:{goal.id}:{tag}{suffix}"
-            holds = tag in facts.tags
-
-            def context(tag: str = tag, holds: bool = holds, key: str = key) -> Item:
-                def phrase() -> str:
-                    if goal.area:
-                        return f"{self.area_label(goal.area)} {tag_state(tag, holds)}"
-                    return f"{label} names no area, so it is not {in_tag(tag)}"
-
-                return Item(
-                    key, "context", goal.area or goal.id, phrase,
-                    f"{key}|{goal.title}|{goal.area}|{self.area_label(goal.area or '')}|{holds}",
-                    _with_suffix(
-                        lambda t: t.context(tag) if holds else f"(not {t.context(tag)})", suffix
-                    ),
-                    shared=False,
-                    meaning=None if suffix else ("fact", ("ctx", tag), holds),
-                )
-
-            items.append(self._memo(key, context))
+            items.append(context_item(self, goal, label, tag, tag in facts.tags, suffix))
         return items
 
     # Norms -------------------------------------------------------------------------------

@@ -9,10 +9,10 @@ from ...orders.model import Goal
 from ..expressions import (
     Reads,
 )
-from .cache import LogicCache, unit_key
+from .cache import LogicCache, unit_key, unit_key_apart
 from .constants import _KIND_ORDER, MAX_CORES_PER_UNIT
 from .items import Item, Part
-from .model import LogicModel, ParsedConstraint, _merge_reads
+from .model import GoalItems, LogicModel, ParsedConstraint, _merge_reads
 from .results import Core, GoalResult, MissionResult, Risk, VacuousResult
 from .screen import Screen
 from .session import CheckResult, Limits, Session
@@ -86,8 +86,15 @@ class LogicRun:
                 return CheckResult(status)
         return self.session.check(items)
 
-    def cached(self, kind: str, items: Iterable[Item], solve: Callable[[], Any]) -> Any:
-        key = unit_key(kind, items)
+    def cached(self, kind: str, items: Iterable[Item], solve: Callable[[], Any],
+               base: frozenset[Item] | None = None, apart: Sequence[Item] | None = None
+               ) -> Any:
+        """The unit's result from the cache, or solved and put there. `apart`: the items but
+        the base, when the caller holds them apart (and every item of the base is among
+        `items`)."""
+        if base is None:  # a goal's unit (of a property too) holds the run's live block
+            base = next(iter(self._blocks.values())) if len(self._blocks) == 1 else frozenset()
+        key = unit_key(kind, items, base) if apart is None else unit_key_apart(kind, apart, base)
         found = self.cache.get(key)
         if found is not None:
             return found
@@ -175,55 +182,67 @@ class LogicRun:
                    extra: Sequence[Reads] = ()) -> tuple[list[Item], list[ParsedConstraint]]:
         """The statements that hold while a goal runs as ordered: its envelope, the facts that
         expressions read, the constraints in scope, the vehicle envelope and the domains."""
+        found = self._goal_parts(goal, quarantined, extra)
+        live, block = self.model.live_block(quarantined)
+        return ([*found.head, *block, *found.own, *found.tail],
+                [*live, *found.own_constraints])
+
+    def _goal_parts(self, goal: Goal, quarantined: frozenset[str],
+                    extra: Sequence[Reads]) -> GoalItems:
         model = self.model
         # Once per goal and model; a model made after a one-goal edit starts with the other
         # goals' lists of the model before it (LogicModel.carry_goal_items).
         memo = (goal.id, quarantined, tuple(extra))
         found = model.goal_items_memo.get(memo)
         if found is None:
-            constraints, constraint_items = model.scope_items(goal.id, quarantined)
+            own_constraints, own = model.scope_own(goal.id, quarantined)
             needs = _merge_reads([model.scope_reads(goal.id), *extra])
             names = set(goal.envelope) | needs.quantities
-            items = [model.envelope_item(goal, name) for name in sorted(goal.envelope)]
-            items += model.fact_items(goal, needs)
-            items += constraint_items
+            head = [model.envelope_item(goal, name) for name in sorted(goal.envelope)]
+            head += model.fact_items(goal, needs)
             background = model.background(names)
-            items += ([i for i in background if i.key not in quarantined] if quarantined
-                      else background)
-            found = model.goal_items_memo[memo] = (tuple(items), tuple(constraints))
-        return list(found[0]), list(found[1])
+            tail = ([i for i in background if i.key not in quarantined] if quarantined
+                    else background)
+            found = model.goal_items_memo[memo] = GoalItems(
+                tuple(head), own, tuple(tail), own_constraints)
+        return found
 
     def goal(self, goal: Goal, quarantined: frozenset[str]) -> GoalResult:
         model = self.model
         norms = model.relevant_norms(goal)
-        items, _ = self.goal_items(goal, quarantined, [model.norm_reads(n) for n in norms])
+        extra = [model.norm_reads(n) for n in norms]
+        items, _ = self.goal_items(goal, quarantined, extra)
+        parts = self._goal_parts(goal, quarantined, extra)
+        # The goal's items but the block, listed apart once: no check scans the block's
+        # hundreds of items to find them again.
+        own = [*parts.head, *parts.own, *parts.tail]
         norm_items = [model.norm_items(n) for n in norms]
         residual = [pair for n, pair in zip(norms, norm_items, strict=True)
                     if model.residual(n, goal)]
-        every = items + [i for pair in norm_items for i in pair]
+        added = [i for pair in norm_items for i in pair]
         base = self.block(quarantined)
         result: GoalResult = self.cached(
-            "goal", every, lambda: self._solve_goal(items, norm_items, residual, base)
-        )
+            "goal", items + added,
+            lambda: self._solve_goal(items, own, norm_items, residual, base), base,
+            apart=own + added)
         return result
 
-    def _solve_goal(self, items: list[Item], norm_items: list[tuple[Item, Item]],
-                    residual: list[tuple[Item, Item]], base: frozenset[Item]) -> GoalResult:
-        if GROUP_CHECKS and self._plain_goal(items, [rule for rule, _ in norm_items], residual,
-                                             base):
+    def _solve_goal(self, items: list[Item], own: list[Item],
+                    norm_items: list[tuple[Item, Item]], residual: list[tuple[Item, Item]],
+                    base: frozenset[Item]) -> GoalResult:
+        if GROUP_CHECKS and self._plain_goal(items, own, [rule for rule, _ in norm_items],
+                                             residual, base):
             return GoalResult((), (), (), None)
         return self._solve_goal_alone(items, norm_items, residual, base)
 
-    def _plain_goal(self, items: list[Item], rules: list[Item],
+    def _plain_goal(self, items: list[Item], own: list[Item], rules: list[Item],
                     residual: list[tuple[Item, Item]], base: frozenset[Item]) -> bool:
         """Whether the screen proves the goal's result holds nothing: its items and norms can
         hold together (no contradiction, no refusal) and no residual norm can be breached (no
-        risk). That is the answer `_solve_goal_alone` gives for exactly these statuses."""
+        risk). That is the answer `_solve_goal_alone` gives for exactly these statuses.
+        `own`: the items but the base."""
         screen = self.screen
         decide = screen.decider.status
-        own = [i for i in items if i not in base]  # once per goal, not once per check
-        if len(items) - len(own) != len(base):  # pragma: no cover - a unit holds its base
-            return False
 
         def status(extra: list[Item]) -> str:
             return decide(own + extra, base) or screen.status(items + extra, base)
