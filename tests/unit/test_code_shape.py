@@ -22,8 +22,7 @@ MAX_FUNCTION_LINES = 60
 # A function over the limit states why in its docstring, in a sentence starting "Length:".
 REASON = "Length:"
 # Functions over the limit, each with the reason it is long: a declarative table or a hot
-# loop. An entry must go when its
-# function is split (the test says so).
+# loop. An entry must go when its function is split (the test says so).
 LONG_FUNCTIONS: dict[str, str] = {
     "countersign/cli/orders.py:add_commands":
         "a declarative argparse table of the orders commands, one block per command",
