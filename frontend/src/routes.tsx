@@ -132,7 +132,7 @@ const approvalRoute = createRoute({
   },
 });
 
-/** A page with no params, shown to the roles that may `action`. */
+/** A page with no params (its role check, if any, is in `page`). */
 function plain<P extends string>(path: P, page: () => ReactNode) {
   return createRoute({ getParentRoute: () => rootRoute, path, component: page });
 }

@@ -8,11 +8,11 @@
 import type { Schema } from "../../api/client";
 import { ErrorMessage, Loading } from "../../components/Status";
 import { formatDateTime } from "../../format";
-import { type RecordExecutions, useRecordExecutions } from "../../api/approvals";
+import { useRecordExecutions } from "../../api/approvals";
 import { evidenceText } from "./evidence";
 
-export type { RecordExecutions };
 type Verdict = Schema<"ExecutionOut">;
+
 function Deviations({ verdict }: { verdict: Pick<Verdict, "deviations"> }) {
   if (!verdict.deviations.length) return null;
   return (

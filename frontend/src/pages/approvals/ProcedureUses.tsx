@@ -5,9 +5,7 @@
  */
 import { ErrorMessage } from "../../components/Status";
 import { shortDigest } from "../../format";
-import { type ProcedureUses, useProcedureUses } from "../../api/versions";
-
-export type { ProcedureUses };
+import { useProcedureUses } from "../../api/versions";
 
 export function ProcedureUsesSection({ mission, version }: { mission: string; version: number }) {
   const { data, error } = useProcedureUses(mission, version);

@@ -1,4 +1,4 @@
-/** Which approval pages each role may open (their addresses are in routes.tsx). */
+/** The approval pages by name (their addresses are in src/routes.tsx). */
 export type ApprovalPageName = "review" | "document" | "reviews" | "keys" | "audit" | "approval";
 
 /** Which roles may open each page (the server enforces the same on every call). */
