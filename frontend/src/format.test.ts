@@ -1,7 +1,6 @@
 import { describe, expect, it } from "vitest";
 
 import { formatDateTime, plural, shortDigest, statusLabel } from "./format";
-import { parseRoute } from "./router";
 import { outcomeLetters, traceText } from "./trace";
 import { contentTypeFor } from "./upload";
 
@@ -59,17 +58,7 @@ describe("traceText", () => {
   });
 });
 
-describe("routes and uploads", () => {
-  it("parses app routes", () => {
-    expect(parseRoute("/")).toEqual({ name: "missions" });
-    expect(parseRoute("/missions/search%20and", "?tab=paths")).toEqual({
-      name: "mission",
-      id: "search and",
-      tab: "paths",
-    });
-    expect(parseRoute("/nope").name).toBe("notFound");
-  });
-
+describe("uploads", () => {
   it("picks the content type of an orders document", () => {
     expect(contentTypeFor("m.JSON")).toBe("application/json");
     expect(contentTypeFor("SailorOverboard.xml")).toBe("application/xml");

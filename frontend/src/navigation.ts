@@ -1,17 +1,21 @@
-import { useEffect, useState } from "react";
+/**
+ * The browser history the app's router listens to. Code outside React (the editor's dialogs,
+ * a page after a write) goes somewhere with `navigate(href)`; the router sees the change and
+ * draws the page. Created on first use, so modules importing this one load under Node (tests).
+ */
+import { createBrowserHistory, type RouterHistory } from "@tanstack/react-router";
 
-import { parseRoute, type Route } from "./router";
+let browser: RouterHistory | null = null;
 
-const EVENT = "countersign:navigate";
+export function appHistory(): RouterHistory {
+  browser ??= createBrowserHistory();
+  return browser;
+}
 
 /** Goes to `href` inside the app without reloading the page. */
 export function navigate(href: string, options: { replace?: boolean } = {}): void {
-  if (options.replace) {
-    window.history.replaceState(null, "", href);
-  } else {
-    window.history.pushState(null, "", href);
-  }
-  window.dispatchEvent(new Event(EVENT));
+  if (options.replace) appHistory().replace(href);
+  else appHistory().push(href);
 }
 
 /** Changes the query string of the current page (filters, pages) without a new history entry. */
@@ -21,26 +25,5 @@ export function replaceQuery(params: Record<string, string | null | undefined>):
     if (value) url.searchParams.set(key, value);
     else url.searchParams.delete(key);
   }
-  window.history.replaceState(null, "", `${url.pathname}${url.search}`);
-}
-
-function current(): { route: Route; search: string } {
-  return {
-    route: parseRoute(window.location.pathname, window.location.search),
-    search: window.location.search,
-  };
-}
-
-export function useLocationRoute(): { route: Route; search: string } {
-  const [state, setState] = useState(current);
-  useEffect(() => {
-    const update = () => setState(current());
-    window.addEventListener("popstate", update);
-    window.addEventListener(EVENT, update);
-    return () => {
-      window.removeEventListener("popstate", update);
-      window.removeEventListener(EVENT, update);
-    };
-  }, []);
-  return state;
+  appHistory().replace(`${url.pathname}${url.search}`);
 }

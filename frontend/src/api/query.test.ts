@@ -7,7 +7,7 @@ import { missionKeys, missionsChanged } from "./missions";
 import { retryRequest } from "./query";
 import { tokenKeys, tokensChanged } from "./tokens";
 import { userKeys, usersChanged } from "./users";
-import { vehicleKeys, vehicleSaved } from "../pages/vehicles/api";
+import { vehicleKeys, vehicleSaved } from "./vehicles";
 
 function seeded(): QueryClient {
   const client = new QueryClient();

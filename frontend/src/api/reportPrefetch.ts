@@ -2,9 +2,12 @@
  * The saved draft's report, asked for beside the mission when the graph editor is opened (not
  * after the editor mounted): the editor then opens with its findings. Asked for after mounting,
  * it came back while the canvas was being laid out and made React render every node a second
- * time (their markers) and the findings list, just after the canvas said ready.
+ * time (their markers) and the findings list, just after the canvas said ready. It goes through
+ * reports.ts (one place asks for `/report`) and lands in the query cache the findings tab reads.
  */
-import { api, type Report, unwrap } from "./client";
+import type { Report } from "./client";
+import { queryClient } from "./query";
+import { loadReport } from "./reports";
 
 export interface ReportPrefetch {
   /** The report once it has come, else null. */
@@ -15,9 +18,8 @@ export interface ReportPrefetch {
 
 export function prefetchReport(missionId: string): ReportPrefetch {
   const prefetch: ReportPrefetch = { report: null, done: Promise.resolve(null) };
-  prefetch.done = api
-    .GET("/api/missions/{mission_id}/report", { params: { path: { mission_id: missionId } } })
-    .then((answer) => (prefetch.report = unwrap(answer)))
+  prefetch.done = loadReport(queryClient, missionId)
+    .then((report) => (prefetch.report = report))
     .catch(() => null);
   return prefetch;
 }

@@ -8,14 +8,14 @@
  */
 import { useMemo } from "react";
 
-import { useLoad } from "../useLoad";
-import { api, type Schema, unwrap } from "../api/client";
+import type { Schema } from "../api/client";
+import { type PlanData, useClientConfig, usePlanView } from "../api/plans";
 import { areaStyle, type MapArea, type MapLeg } from "../map/features";
 import { ChartMap } from "../map/LazyChartMap";
 import { ErrorMessage, Loading } from "./Status";
 
 /** POST /api/plan-view: what the plan view draws. */
-export type PlanData = Schema<"PlanViewOut">;
+export type { PlanData };
 
 /** Areas and charts as the map draws them; a crossed one is outlined in red. */
 export function planAreas(data: PlanData): MapArea[] {
@@ -60,12 +60,9 @@ export function planLegs(data: PlanData): MapLeg[] {
 
 /** The plan view of given orders (the draft in the editor, the version under review). */
 export function ChartPlanView({ orders }: { orders: Schema<"Orders"> }) {
-  const { data, error, loading } = useLoad(
-    async () => unwrap(await api.POST("/api/plan-view", { body: orders })),
-    [JSON.stringify(orders)],
-  );
+  const { data, error, isFetching: loading } = usePlanView(orders);
   // The server's tile setting; without it (or if it cannot be read) no tile is requested.
-  const config = useLoad(async () => unwrap(await api.GET("/api/client-config")), []);
+  const config = useClientConfig();
   const template = config.data?.map_tiles ?? null;
   const tiles = useMemo(
     () => (template ? { template, attribution: config.data?.map_tiles_attribution ?? "" } : null),
@@ -77,7 +74,7 @@ export function ChartPlanView({ orders }: { orders: Schema<"Orders"> }) {
   if (!data) return <ErrorMessage error={error ?? "The plan view could not be drawn."} />;
   return (
     <div className="chart-plan-view">
-      {config.loading && !config.data ? (
+      {config.isPending ? (
         <Loading what="the map settings" />
       ) : (
         <ChartMap

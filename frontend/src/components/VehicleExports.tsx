@@ -6,8 +6,8 @@
 import { useState } from "react";
 
 import { api, unwrap } from "../api/client";
+import { useVehicleExportApproved } from "../api/versions";
 import type { components } from "../api/schema";
-import { useLoad } from "../useLoad";
 import { ErrorMessage } from "./Status";
 import "./vehicleExports.css";
 
@@ -36,15 +36,7 @@ export function VehicleExports({ mission, version }: { mission: string; version:
   const [error, setError] = useState<unknown>(null);
   // The package exists only for a version with a standing approval (the route answers 409
   // otherwise): ask the export listing, which says so, before offering the link.
-  const standing = useLoad(
-    async () =>
-      unwrap(
-        await api.GET("/api/missions/{mission_id}/versions/{number}/vehicle/{format}", {
-          params: { path: { mission_id: mission, number: version, format: "imc" } },
-        }),
-      ).approved,
-    [mission, version],
-  );
+  const standing = useVehicleExportApproved(mission, version);
 
   async function loadNotes() {
     setError(null);

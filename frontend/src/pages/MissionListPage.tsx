@@ -1,3 +1,4 @@
+import { Link as RouteLink } from "@tanstack/react-router";
 import { type FormEvent, useEffect, useState } from "react";
 
 import type { MissionSummary } from "../api/client";
@@ -14,7 +15,6 @@ import {
 import { CheckBadge, ErrorMessage, Loading } from "../components/Status";
 import { formatDateTime, statusLabel } from "../format";
 import { replaceQuery } from "../navigation";
-import { missionHref } from "../router";
 import { useCan } from "../session";
 
 export const STATUSES = ["draft", "submitted", "approved", "rejected"] as const;
@@ -25,7 +25,10 @@ const MISSION_COLUMNS: Column<MissionSummary>[] = [
     header: "Mission",
     cell: (m) => (
       <>
-        <Link href={missionHref(m.id)}>{m.title || m.id}</Link>
+        {/* A typed route link: the route's param name is checked when this is compiled. */}
+        <RouteLink to="/missions/$missionId" params={{ missionId: m.id }}>
+          {m.title || m.id}
+        </RouteLink>
         <div className="sub">
           <code>{m.id}</code>
         </div>

@@ -1,3 +1,4 @@
+import { useQueryClient } from "@tanstack/react-query";
 import { useEffect, useState } from "react";
 
 import {
@@ -5,12 +6,12 @@ import {
   ApiError,
   EXPORT_FORMATS,
   exportHref,
-  fetchText,
   type MissionDetail,
-  type PathPage,
   unwrap,
 } from "../api/client";
+import { missionChanged, missionSaved, useMission, useMissionPaths, usePlainOrders } from "../api/missions";
 import { prefetchReport } from "../api/reportPrefetch";
+import { useReport } from "../api/reports";
 import { ChartPlanView } from "../components/ChartPlanView";
 import type { Orders } from "../editor/graph";
 import { FindingsTable } from "../components/FindingsTable";
@@ -32,7 +33,6 @@ import { navigate } from "../navigation";
 import { missionHref } from "../router";
 import { useCan, useSession } from "../session";
 import { outcomeLetters, traceText } from "../trace";
-import { useLoad } from "../useLoad";
 import { SubmissionPanel } from "./approvals";
 import { IntegrityWarning } from "./approvals/parts";
 import { CampaignPanel } from "./campaigns/CampaignPanel";
@@ -59,10 +59,10 @@ function missionPath(id: string) {
 export function MissionPage({ id, tab }: { id: string; tab: string }) {
   const canEdit = useCan("editDraft");
   const canRehearse = ["operator", "supervisor"].includes(useSession().user.role);
-  const { data: mission, error, loading, reload, replace } = useLoad(
-    async () => unwrap(await api.GET("/api/missions/{mission_id}", missionPath(id))),
-    [id],
-  );
+  const client = useQueryClient();
+  const { data: mission, error, isPending: loading } = useMission(id);
+  const reload = () => void missionChanged(client, id);
+  const replace = (saved: MissionDetail) => void missionSaved(client, saved);
   const [MissionEditor, setMissionEditor] = useState<EditorComponent | null>(() => loadedEditor);
   // The editor's findings are asked for beside the mission, not after the editor mounted.
   const [editorReport] = useState(() => (canEdit && tab === "editor" ? prefetchReport(id) : null));
@@ -201,10 +201,7 @@ export function MissionPage({ id, tab }: { id: string; tab: string }) {
 }
 
 function OrdersTab({ id, digest }: { id: string; digest: string }) {
-  const { data, error, loading } = useLoad(
-    () => fetchText(`${exportHref(id, "plain")}`),
-    [id, digest],
-  );
+  const { data, error, isFetching: loading } = usePlainOrders(id, digest);
   return (
     <>
       <h2>Plain-language orders</h2>
@@ -221,11 +218,7 @@ function OrdersTab({ id, digest }: { id: string; digest: string }) {
 }
 
 function FindingsTab({ mission }: { mission: MissionDetail }) {
-  const { data, error, loading } = useLoad(
-    async () =>
-      unwrap(await api.GET("/api/missions/{mission_id}/report", missionPath(mission.id))),
-    [mission.id, mission.draft_digest],
-  );
+  const { data, error, isFetching: loading } = useReport(mission.id, mission.draft_digest);
   if (loading && !data) return <Loading what="the validation report" />;
   if (!data) return <ErrorMessage error={error} />;
   const errors = data.findings.filter((f) => f.severity === "error").length;
@@ -270,14 +263,7 @@ function PathsTab({ mission }: { mission: MissionDetail }) {
   const [pages, setPages] = useState(firstPage);
   const [open, setOpen] = useState<number | null>(null);
   const cursor = currentCursor(pages);
-  const { data, error, loading } = useLoad(async () => {
-    const query: { limit: number; cursor?: string } = { limit: PATHS_PER_PAGE };
-    if (cursor) query.cursor = cursor;
-    const result = await api.GET("/api/missions/{mission_id}/paths", {
-      params: { path: { mission_id: mission.id }, query },
-    });
-    return unwrap(result) as PathPage; // JSON was asked for (the route can also stream text)
-  }, [mission.id, mission.draft_digest, cursor]);
+  const { data, error, isFetching: loading } = useMissionPaths(mission.id, mission.draft_digest, cursor ?? null, PATHS_PER_PAGE);
 
   if (loading && !data) return <Loading what="the paths" />;
   if (!data) {
@@ -370,7 +356,7 @@ function VersionsTab({ mission, onChange }: { mission: MissionDetail; onChange: 
       </p>
       <ErrorMessage error={error} />
       {created !== null && <Notice>Version {created} created.</Notice>}
-      <SubmissionPanel mission={mission.id} versions={mission.versions.map((v) => v.number)} onChange={onChange} />
+      <SubmissionPanel mission={mission.id} versions={mission.versions.map((v) => v.number)} />
       <CampaignPanel mission={mission.id} versions={mission.versions.map((v) => v.number)} />
       {versions.length === 0 ? (
         <p className="empty">No versions yet.</p>

@@ -3,22 +3,18 @@
  * decision, each on its own ("v1 approved; v2 rejected"), so a later rejection or a pending
  * submission never hides which version stands approved.
  */
-import { api, unwrap } from "../api/client";
+import { useStanding } from "../api/missions";
 import { Link } from "../components/Link";
 import { approvalHref } from "./approvals/api";
-import { useLoad } from "../useLoad";
 import { statusWords } from "./missionStatus";
 
-function useStanding(id: string, status: string) {
-  return useLoad(
-    async () => unwrap(await api.GET("/api/missions/{mission_id}/standing", { params: { path: { mission_id: id } } })),
-    [id, status],
-  ).data;
+function useStandingOf(id: string, status: string) {
+  return useStanding(id, status).data;
 }
 
 /** The status cell: the status in words with what stands approved (missionStatus.ts). */
 export function MissionStatus({ id, status }: { id: string; status: string }) {
-  const data = useStanding(id, status);
+  const data = useStandingOf(id, status);
   return (
     <span className={`status status-${status}`} data-testid="mission-status">
       {statusWords(status, data?.approved, data?.latest)}
@@ -27,7 +23,7 @@ export function MissionStatus({ id, status }: { id: string; status: string }) {
 }
 
 export function MissionStanding({ id, status }: { id: string; status: string }) {
-  const data = useStanding(id, status);
+  const data = useStandingOf(id, status);
   if (!data) return null;
   const { approved, latest } = data;
   if (!approved && !latest) return <span data-testid="mission-standing">No version decided yet</span>;

@@ -7,13 +7,12 @@
 import { useEffect, useState } from "react";
 
 import { idAndTitle } from "../editor/pickers";
-import { useLoad } from "../useLoad";
-import { loadVehicles } from "./vehicles/api";
+import { useVehicles } from "../api/vehicles";
 
 const OTHER = " other"; // not a valid id, so no vehicle can be confused with it
 
 export function NewMissionVehicle({ value, onChange }: { value: string; onChange: (id: string) => void }) {
-  const { data: known, loading } = useLoad(loadVehicles, []);
+  const { data: known, isPending: loading } = useVehicles();
   const [other, setOther] = useState(false);
   const registered = known ?? [];
   // The first registered vehicle until the user chooses (an empty registry: none).

@@ -4,6 +4,7 @@
  * the mission graph with the current goal highlighted, choose outcomes, inject faults, stop it
  * into a stored record, and open the records' standalone replays.
  */
+import { useQueryClient } from "@tanstack/react-query";
 import { useCallback, useEffect, useRef, useState } from "react";
 
 import { api, ApiError, type MissionDetail, type paths, unwrap } from "../api/client";
@@ -11,7 +12,7 @@ import { ErrorMessage, Loading, Notice } from "../components/Status";
 import { goals, OUTCOME_LABEL, OUTCOMES, type Orders, type Outcome, successors, terminals } from "../editor/graph";
 import { type MemberSpec, teamOf } from "../editor/scope";
 import { formatDateTime, shortDigest } from "../format";
-import { useLoad } from "../useLoad";
+import { rehearsalStored, useRehearsalRecords } from "../api/rehearsals";
 import { RefinedGoalCard } from "./RefinedGoalCard";
 import { type MemberPaths, TeamMemberSources } from "./rehearsal/TeamMemberSources";
 import { outcomeKey, pathOrder, stepPlace } from "./rehearsalOrder";
@@ -84,15 +85,8 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
   const team = teamOf(mission.orders);
   const [memberIndex, setMemberIndex] = useState(0);
   const member: MemberSpec | null = team ? (team[Math.min(memberIndex, team.length - 1)] ?? null) : null;
-  const records = useLoad(
-    async () =>
-      unwrap(
-        await api.GET("/api/missions/{mission_id}/rehearsal-records", {
-          params: { path: { mission_id: mission.id } },
-        }),
-      ),
-    [mission.id],
-  );
+  const client = useQueryClient();
+  const records = useRehearsalRecords(mission.id, null);
 
   // Poll the live rehearsal's status while it runs.
   const liveId = live?.id;
@@ -360,7 +354,7 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
                   setLive(null);
                   setFaultNotice(null);
                   // Listed at once from the stop's answer (the record is stored by then).
-                  records.replace([stored, ...(records.data ?? []).filter((r) => r.digest !== stored.digest)]);
+                  await rehearsalStored(client, mission.id, stored);
                 })
               }
             >
@@ -385,7 +379,7 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
         </div>
       )}
       <h3>Records</h3>
-      {records.loading && !records.data ? (
+      {records.isPending ? (
         <Loading what="the rehearsal records" />
       ) : records.data && records.data.length > 0 ? (
         <ul className="records" data-testid="rehearsal-records">

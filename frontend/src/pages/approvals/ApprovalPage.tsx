@@ -4,6 +4,7 @@
  * (WebCrypto) of the signature, the key, the log and the checkpoint. Supervisors can revoke an
  * approval here with a signed reason.
  */
+import { keepPreviousData, useQuery, useQueryClient } from "@tanstack/react-query";
 import { type FormEvent, useEffect, useState } from "react";
 
 import { api, unwrap } from "../../api/client";
@@ -14,10 +15,10 @@ import { pinCheck } from "../../crypto/logkey";
 import { type Check, verifyApproval } from "../../crypto/verify";
 import { formatDateTime, shortDigest } from "../../format";
 import { useSession } from "../../session";
-import { useLoad } from "../../useLoad";
+import { approvalKeys, recordRevoked, useApproval } from "../../api/approvals";
 import { titlesOf } from "../../pathGrid";
 import { RehearsalSummary } from "./RehearsalSummary";
-import { type ApprovalDetail, approvalHref, bundleHref, documentHref, loadApproval, loadEntries, loadMissionApprovals, reviewHref } from "./api";
+import { type ApprovalDetail, approvalHref, bundleHref, documentHref, loadEntries, loadMissionApprovals, reviewHref } from "./api";
 import { LogKeyPanel, useLogKeyPin } from "./LogKeyPin";
 import { OrdersGraph } from "./OrdersGraph";
 import { FindingsTable, IntegrityWarning, PathSummaryTable, RulesSection, StateBadge } from "./parts";
@@ -27,7 +28,10 @@ import { historyCheck } from "./history";
 import { ProfileDrift } from "../vehicles/ProfileDrift";
 
 export function ApprovalPage({ id }: { id: number }) {
-  const { data: record, error, loading, reload } = useLoad(() => loadApproval(id), [id]);
+  const client = useQueryClient();
+  const { data: record, error, isPending: loading } = useApproval(id);
+  // A revocation changes this record, the history and the mission's standing.
+  const reload = () => void (record && recordRevoked(client, record.mission));
   useEffect(() => {
     document.title = `Record ${id} · Countersign`;
   }, [id]);
@@ -152,13 +156,21 @@ export function ApprovalPage({ id }: { id: number }) {
 
 function Verification({ record }: { record: ApprovalDetail }) {
   const [run, setRun] = useState(0);
-  const { data: logChecks, error, loading } = useLoad(async () => {
-    // Up to the approval's own entry, so that its receipt is checked even if uncovered.
-    const entries = await loadEntries(Math.max(record.checkpoint.size, (record.log_index ?? -1) + 1));
-    // Every record of the mission too: a decision or revocation in the log must have one.
-    const checks = await verifyApproval(record, entries, await loadMissionApprovals(record.mission));
-    return [await historyCheck(record.checkpoint), ...checks];
-  }, [record, run]);
+  // Run in this browser on the record as fetched; "Check again" (run) runs it anew. Keyed by the
+  // record itself, so a record that changed (revoked) is checked again; never retried on its own.
+  const { data: logChecks, error, isFetching: loading } = useQuery({
+    queryKey: [...approvalKeys.one(record.id), "verification", run, record],
+    queryFn: async () => {
+      // Up to the approval's own entry, so that its receipt is checked even if uncovered.
+      const entries = await loadEntries(Math.max(record.checkpoint.size, (record.log_index ?? -1) + 1));
+      // Every record of the mission too: a decision or revocation in the log must have one.
+      const checks = await verifyApproval(record, entries, await loadMissionApprovals(record.mission));
+      return [await historyCheck(record.checkpoint), ...checks];
+    },
+    retry: false,
+    // The last run's checks stay shown while the next one runs.
+    placeholderData: keepPreviousData,
+  });
   const pin = useLogKeyPin(record.checkpoint.public_key);
   const pinned = pin.state ? pinCheck(pin.state) : null;
   // The pin comes first: every checkpoint check below is only as good as the key it used.

@@ -8,6 +8,7 @@ import { Link } from "../../components/Link";
 import { currentCursor, firstPage, nextPage, Pager, previousPage } from "../../components/Pager";
 import { ErrorMessage, Loading } from "../../components/Status";
 import { formatDateTime, shortDigest } from "../../format";
+import { replaceQuery } from "../../navigation";
 import { approvalHref, type ApprovalSummary, bundleHref } from "./api";
 import { StateBadge } from "./parts";
 
@@ -77,12 +78,7 @@ export function AuditPage() {
     event.preventDefault();
     setFilters(form);
     setPages(firstPage());
-    const url = new URL(window.location.href);
-    for (const f of FIELDS) {
-      if (form[f]) url.searchParams.set(f, form[f]);
-      else url.searchParams.delete(f);
-    }
-    window.history.replaceState(null, "", `${url.pathname}${url.search}`);
+    replaceQuery(Object.fromEntries(FIELDS.map((f) => [f, form[f]])));
   };
   const input = (field: keyof Filters, label: string, type = "text") => (
     <div>
@@ -131,7 +127,7 @@ export function AuditPage() {
               setForm(EMPTY);
               setFilters(EMPTY);
               setPages(firstPage());
-              window.history.replaceState(null, "", window.location.pathname);
+              replaceQuery(Object.fromEntries(FIELDS.map((f) => [f, null])));
             }}
           >
             Clear

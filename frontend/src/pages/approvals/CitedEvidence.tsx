@@ -3,14 +3,12 @@
  * mean"): the rehearsal record and the rehearsal campaigns attached to the submission, shown to the
  * supervisor before signing. The decision form signs only a statement that cites exactly these.
  */
-import { api, type Schema, unwrap } from "../../api/client";
+import { type Campaign, useCitedCampaignList } from "../../api/campaigns";
 import { ErrorMessage } from "../../components/Status";
 import { shortDigest } from "../../format";
-import { useLoad } from "../../useLoad";
 import { CampaignResults } from "../campaigns/CampaignPanel";
 import { CitedRehearsal } from "./RehearsalSummary";
 
-type Campaign = Schema<"CampaignOut">;
 
 export interface CitedCampaigns {
   campaigns: Campaign[];
@@ -20,17 +18,9 @@ export interface CitedCampaigns {
 
 /** The finished campaigns attached to a submission, with their records' digests and results. */
 export function useCitedCampaigns(submission: number | undefined): CitedCampaigns {
-  const { data, error, loading } = useLoad(async () => {
-    if (submission === undefined) return [];
-    const attached = unwrap(
-      await api.GET("/api/submissions/{submission_id}/campaigns", { params: { path: { submission_id: submission } } }),
-    );
-    return Promise.all(
-      attached.map(async (a) =>
-        unwrap(await api.GET("/api/campaigns/{campaign_id}", { params: { path: { campaign_id: a.campaign } } })),
-      ),
-    );
-  }, [submission]);
+  const { data, error, isPending } = useCitedCampaignList(submission);
+  // Nothing to ask for without a submission: not loading.
+  const loading = submission !== undefined && isPending;
   return { campaigns: data ?? [], error, loading };
 }
 

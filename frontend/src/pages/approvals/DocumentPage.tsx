@@ -5,23 +5,14 @@
  */
 import { useEffect } from "react";
 
-import { api, unwrap } from "../../api/client";
 import { Link } from "../../components/Link";
 import { ErrorMessage, Loading } from "../../components/Status";
 import { missionHref } from "../../router";
-import { useLoad } from "../../useLoad";
+import { useApprovalDocument } from "../../api/versions";
 import { reviewHref } from "./api";
 
 export function DocumentPage({ mission, version }: { mission: string; version: number }) {
-  const { data, error, loading } = useLoad(
-    async () =>
-      unwrap(
-        await api.GET("/api/missions/{mission_id}/versions/{number}/document", {
-          params: { path: { mission_id: mission, number: version } },
-        }),
-      ),
-    [mission, version],
-  );
+  const { data, error, isPending: loading } = useApprovalDocument(mission, version);
   useEffect(() => {
     document.title = `Approval document ${mission} v${version} · Countersign`;
   }, [mission, version]);

@@ -5,18 +5,13 @@
  * what it evidenced; and the cited rehearsal's runs checked by the same execution checker. All
  * text from the server is rendered as text.
  */
-import { api, type Schema, unwrap } from "../../api/client";
+import type { Schema } from "../../api/client";
 import { ErrorMessage, Loading } from "../../components/Status";
 import { formatDateTime } from "../../format";
-import { useLoad } from "../../useLoad";
+import { useRecordExecutions } from "../../api/approvals";
 import { evidenceText } from "./evidence";
 
-export type RecordExecutions = Schema<"RecordExecutionsOut">;
 type Verdict = Schema<"ExecutionOut">;
-export async function loadRecordExecutions(id: number): Promise<RecordExecutions> {
-  const result = await api.GET("/api/approvals/{approval_id}/executions", { params: { path: { approval_id: id } } });
-  return unwrap(result);
-}
 
 function Deviations({ verdict }: { verdict: Pick<Verdict, "deviations"> }) {
   if (!verdict.deviations.length) return null;
@@ -32,7 +27,7 @@ function Deviations({ verdict }: { verdict: Pick<Verdict, "deviations"> }) {
 }
 
 export function ExecutionsSection({ approvalId }: { approvalId: number }) {
-  const { data, error, loading } = useLoad(() => loadRecordExecutions(approvalId), [approvalId]);
+  const { data, error, isPending: loading } = useRecordExecutions(approvalId);
   if (loading && !data) return <Loading what="the executions" />;
   if (!data) return <ErrorMessage error={error ?? "The executions could not be loaded."} />;
   return (

@@ -18,7 +18,7 @@ import {
   pinLogKey,
 } from "../../crypto/logkey";
 import { formatDateTime } from "../../format";
-import { useLoad } from "../../useLoad";
+import { useQuery } from "@tanstack/react-query";
 
 function browserStorage(): PinStorage {
   try {
@@ -37,11 +37,14 @@ export interface LogKeyPin {
 
 /** The pin state for the key the server presents; reloads after the pin changes. */
 export function useLogKeyPin(presentedKey: string): LogKeyPin {
-  const { data, error, reload } = useLoad(
-    async () => comparePin(await loadPin(browserStorage(), serverName()), presentedKey),
-    [presentedKey],
-  );
-  return { state: data, error, reload };
+  // The pin lives in this browser's storage, not on the server: read through TanStack Query
+  // only for one way of loading; `reload` reads it again after the user changed it.
+  const { data, error, refetch } = useQuery({
+    queryKey: ["log-key-pin", serverName(), presentedKey],
+    queryFn: async () => comparePin(await loadPin(browserStorage(), serverName()), presentedKey),
+    retry: false,
+  });
+  return { state: data, error, reload: () => void refetch() };
 }
 
 function KeyFacts({ what, logKey, testId }: { what: string; logKey: LogKey; testId: string }) {

@@ -3,22 +3,12 @@
  * pinned digest, whether the library holds it and who approved it, and one verdict line saying
  * whether every one is an approved version. Nothing is shown for orders that use none.
  */
-import { api, type Schema, unwrap } from "../../api/client";
 import { ErrorMessage } from "../../components/Status";
 import { shortDigest } from "../../format";
-import { useLoad } from "../../useLoad";
-
-export type ProcedureUses = Schema<"ProcedureUsesOut">;
-
-export async function loadProcedureUses(mission: string, version: number): Promise<ProcedureUses> {
-  const result = await api.GET("/api/missions/{mission_id}/versions/{number}/procedures", {
-    params: { path: { mission_id: mission, number: version } },
-  });
-  return unwrap(result);
-}
+import { useProcedureUses } from "../../api/versions";
 
 export function ProcedureUsesSection({ mission, version }: { mission: string; version: number }) {
-  const { data, error } = useLoad(() => loadProcedureUses(mission, version), [mission, version]);
+  const { data, error } = useProcedureUses(mission, version);
   if (error) return <ErrorMessage error={error} />;
   if (!data || data.procedures.length === 0) return null;
   return (

@@ -6,10 +6,11 @@
  */
 import { useState } from "react";
 
-import { api, type Schema, unwrap } from "../../api/client";
+import type { Schema } from "../../api/client";
+import { useRehearsalRecords } from "../../api/rehearsals";
+import { useAttachRehearsal } from "../../api/submissions";
 import { ErrorMessage } from "../../components/Status";
 import { formatDateTime, shortDigest } from "../../format";
-import { useLoad } from "../../useLoad";
 
 type Submission = Schema<"SubmissionOut">;
 
@@ -29,27 +30,15 @@ export function RehearsalCitation({
 }) {
   const [busy, setBusy] = useState(false);
   const [error, setError] = useState<unknown>(null);
-  const { data: records, error: loadError } = useLoad(
-    async () =>
-      mayAttach
-        ? unwrap(
-            await api.GET("/api/missions/{mission_id}/rehearsal-records", {
-              params: { path: { mission_id: mission }, query: { limit: 50 } },
-            }),
-          )
-        : [],
-    [mission, mayAttach, submission.id],
-  );
+  const listed = useRehearsalRecords(mission, 50, mayAttach);
+  const records = mayAttach ? listed.data : [];
+  const loadError = listed.error;
+  const attachRecord = useAttachRehearsal(mission, submission.id);
   const attach = async (digest: string) => {
     setBusy(true);
     setError(null);
     try {
-      unwrap(
-        await api.POST("/api/submissions/{submission_id}/rehearsal", {
-          params: { path: { submission_id: submission.id } },
-          body: { rehearsal: digest },
-        }),
-      );
+      await attachRecord.mutateAsync(digest);
       onAttached(`Rehearsal record ${shortDigest(digest, 12)} attached to submission ${submission.id}.`);
     } catch (e) {
       setError(e);

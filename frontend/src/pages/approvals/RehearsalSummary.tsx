@@ -5,11 +5,11 @@
  * submission cites by its digest; the record page passes the one the approval carries. Every
  * value is rendered as text.
  */
-import { api, type Schema, unwrap } from "../../api/client";
+import type { Schema } from "../../api/client";
 import { ErrorMessage, Loading } from "../../components/Status";
 import { formatDateTime, shortDigest } from "../../format";
 import { OUTCOME_LETTERS, OUTCOME_WORDS } from "../../pathGrid";
-import { useLoad } from "../../useLoad";
+import { useRehearsalRecord } from "../../api/rehearsals";
 import { duration } from "./probabilities";
 import "./review.css";
 
@@ -47,10 +47,7 @@ export function recordHref(digest: string): string {
 
 /** The cited record, fetched by digest (the review: the submission names only the digest). */
 export function CitedRehearsal({ digest, titles }: { digest: string; titles: ReadonlyMap<string, string> }) {
-  const { data, error, loading } = useLoad(
-    async () => unwrap(await api.GET("/api/rehearsal-records/{digest}", { params: { path: { digest } } })),
-    [digest],
-  );
+  const { data, error, isPending: loading } = useRehearsalRecord(digest);
   if (loading && !data) return <Loading what="the cited rehearsal" />;
   if (!data) return <ErrorMessage error={error ?? "The cited rehearsal record could not be loaded."} />;
   return <RehearsalSummary detail={data} titles={titles} />;

@@ -3,6 +3,7 @@
  * findings, paths), what changed since the previously approved version, and the decision,
  * signed in this browser with the supervisor's non-extractable key.
  */
+import { useQueryClient } from "@tanstack/react-query";
 import { ProbabilityTable } from "./Probabilities";
 import { useEffect, useMemo, useState } from "react";
 
@@ -14,8 +15,9 @@ import { formatDateTime, shortDigest } from "../../format";
 import { titlesOf } from "../../pathGrid";
 import { missionHref } from "../../router";
 import { useSession } from "../../session";
-import { useLoad } from "../../useLoad";
-import { approvalHref, loadReview, type RecordedDecision, type Review } from "./api";
+import { decisionRecorded } from "../../api/approvals";
+import { useReview } from "../../api/versions";
+import { approvalHref, type RecordedDecision, type Review } from "./api";
 import { describeDiff, diffOrders } from "./diff";
 import { MissionGraphs } from "./MissionGraphs";
 import { ProfileDrift } from "../vehicles/ProfileDrift";
@@ -27,7 +29,10 @@ import { ReceiptNote } from "./Receipt";
 import { type CitedCampaigns, CitedEvidence, useCitedCampaigns } from "./CitedEvidence";
 
 export function ReviewPage({ mission, version }: { mission: string; version: number }) {
-  const { data: review, error, loading, reload } = useLoad(() => loadReview(mission, version), [mission, version]);
+  const client = useQueryClient();
+  const { data: review, error, isPending: loading } = useReview(mission, version);
+  // A decision changes the records, the submissions and this mission: all asked for again.
+  const reload = () => void decisionRecorded(client, mission);
   const cited = useCitedCampaigns(review?.submissions[0]?.id);
   useEffect(() => {
     document.title = `Review ${mission} v${version} · Countersign`;

@@ -4,27 +4,19 @@
  */
 import { useEffect, useState } from "react";
 
-import { api, unwrap } from "../../api/client";
 import { RehearsalCitation } from "./RehearsalCitation";
 import { CampaignCitation } from "../campaigns/CampaignCitation";
 import { Link } from "../../components/Link";
 import { ErrorMessage, Loading, Notice } from "../../components/Status";
 import { formatDateTime } from "../../format";
 import { useSession } from "../../session";
-import { useLoad } from "../../useLoad";
-import { documentHref, loadReview, reviewHref } from "./api";
+import { documentHref, reviewHref } from "./api";
+import { useSubmission } from "../../api/submissions";
+import { useReview } from "../../api/versions";
 import { IntegrityWarning, StateBadge } from "./parts";
 
-export function SubmissionPanel({
-  mission,
-  versions,
-  onChange,
-}: {
-  mission: string;
-  versions: number[];
-  /** Called after a submission or withdrawal (the mission's status changed). */
-  onChange?: () => void;
-}) {
+/** A submission or withdrawal invalidates the mission (api/submissions.ts): its page follows. */
+export function SubmissionPanel({ mission, versions }: { mission: string; versions: number[] }) {
   const { user } = useSession();
   const newest = versions.length ? Math.max(...versions) : null;
   const [chosen, setChosen] = useState<number | null>(newest);
@@ -32,15 +24,10 @@ export function SubmissionPanel({
   const [error, setError] = useState<unknown>(null);
   const [done, setDone] = useState<string | null>(null);
   useEffect(() => setChosen(newest), [newest]);
-  const { data: review, error: loadError, loading, reload } = useLoad(
-    async () => (chosen === null ? null : loadReview(mission, chosen)),
-    [mission, chosen],
-  );
-  // A campaign or rehearsal attached: say so and read the review again.
-  const attached = (message: string) => {
-    setDone(message);
-    reload();
-  };
+  const { data: review, error: loadError, isFetching: loading } = useReview(mission, chosen);
+  const submission = useSubmission(mission);
+  // A campaign or rehearsal attached (its mutation asked for the review again): say so.
+  const attached = (message: string) => setDone(message);
   if (newest === null || chosen === null) {
     return (
       <section aria-labelledby="submission-title" className="card">
@@ -56,18 +43,12 @@ export function SubmissionPanel({
     setDone(null);
     try {
       if (what === "submit") {
-        unwrap(
-          await api.POST("/api/missions/{mission_id}/versions/{number}/submit", {
-            params: { path: { mission_id: mission, number: chosen } },
-          }),
-        );
+        await submission.mutateAsync({ submit: chosen });
         setDone(`Version ${chosen} submitted for review.`);
       } else if (current) {
-        unwrap(await api.POST("/api/submissions/{submission_id}/withdraw", { params: { path: { submission_id: current.id } } }));
+        await submission.mutateAsync({ withdraw: current.id });
         setDone(`Submission ${current.id} withdrawn.`);
       }
-      reload();
-      onChange?.();
     } catch (e) {
       setError(e);
     } finally {

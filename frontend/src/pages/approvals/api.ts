@@ -11,23 +11,11 @@ export type { ApprovalPage } from "../../api/approvals";
 
 export type PathSummary = Schema<"PathCountsOut">;
 /** GET /api/missions/{id}/versions/{number}/review */
-export type Review = Schema<"ReviewOut">;
+export type { Review } from "../../api/versions";
 /** GET /api/approvals/{id} */
-export type ApprovalDetail = Schema<"ApprovalDetailOut">;
+export type { ApprovalDetail } from "../../api/approvals";
 /** The server's prepared statement: sign `pae` (which must equal PAE(payloadType, payload)). */
 export type Prepared = Schema<"PreparedOut">;
-
-export async function loadReview(mission: string, version: number): Promise<Review> {
-  const result = await api.GET("/api/missions/{mission_id}/versions/{number}/review", {
-    params: { path: { mission_id: mission, number: version } },
-  });
-  return unwrap(result);
-}
-
-export async function loadApproval(id: number): Promise<ApprovalDetail> {
-  const result = await api.GET("/api/approvals/{approval_id}", { params: { path: { approval_id: id } } });
-  return unwrap(result);
-}
 
 /** Every approval record the server lists for a mission (pages of 500), for the browser
  * verifier to hold against the log. */

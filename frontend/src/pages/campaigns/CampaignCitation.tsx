@@ -6,10 +6,10 @@
  */
 import { useState } from "react";
 
-import { api, type Schema, unwrap } from "../../api/client";
+import type { Schema } from "../../api/client";
+import { useAttachCampaign, useAttachedCampaigns, useMissionCampaigns } from "../../api/campaigns";
 import { ErrorMessage } from "../../components/Status";
 import { shortDigest } from "../../format";
-import { useLoad } from "../../useLoad";
 
 type Submission = Schema<"SubmissionOut">;
 
@@ -28,28 +28,19 @@ export function CampaignCitation({
 }) {
   const [busy, setBusy] = useState(false);
   const [error, setError] = useState<unknown>(null);
-  const { data, error: loadError, reload } = useLoad(async () => {
-    const attached = unwrap(
-      await api.GET("/api/submissions/{submission_id}/campaigns", { params: { path: { submission_id: submission.id } } }),
-    );
-    const campaigns = mayAttach
-      ? unwrap(await api.GET("/api/missions/{mission_id}/campaigns", { params: { path: { mission_id: mission } } }))
-      : [];
-    return { attached, campaigns };
-  }, [mission, submission.id, mayAttach]);
+  const attachedQuery = useAttachedCampaigns(submission.id);
+  const campaignsQuery = useMissionCampaigns(mission, { enabled: mayAttach });
+  const ready = attachedQuery.data && (!mayAttach || campaignsQuery.data);
+  const data = ready ? { attached: attachedQuery.data ?? [], campaigns: mayAttach ? (campaignsQuery.data ?? []) : [] } : undefined;
+  const loadError = attachedQuery.error ?? campaignsQuery.error;
+  const attachCampaign = useAttachCampaign(mission, submission.id);
   const attached = new Set((data?.attached ?? []).map((a) => a.campaign));
   const offered = (data?.campaigns ?? []).filter((c) => c.version === version && c.state === "finished" && !attached.has(c.id));
   const attach = async (campaign: string) => {
     setBusy(true);
     setError(null);
     try {
-      unwrap(
-        await api.POST("/api/submissions/{submission_id}/campaigns", {
-          params: { path: { submission_id: submission.id } },
-          body: { campaign },
-        }),
-      );
-      reload();
+      await attachCampaign.mutateAsync(campaign);
       onAttached(`Campaign ${campaign} attached to submission ${submission.id}.`);
     } catch (e) {
       setError(e);

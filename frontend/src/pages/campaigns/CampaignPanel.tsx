@@ -6,16 +6,18 @@
  * probabilities offered for the orders' `p` (copied by the operator, never written for them).
  * A team's campaign shows its joint table instead (TeamCampaignResults.tsx).
  */
-import { useEffect, useState } from "react";
+import { useQueryClient } from "@tanstack/react-query";
+import { useState } from "react";
 
 import { api, type Schema, unwrap } from "../../api/client";
 import { numberPair } from "../../api/pair";
 import { ErrorMessage, Notice } from "../../components/Status";
 import { useCan, useSession } from "../../session";
-import { useLoad } from "../../useLoad";
+import { campaignsChanged, useFaultReach, useMissionCampaigns } from "../../api/campaigns";
 import { TeamCampaignResults } from "./TeamCampaignResults";
 
 type Campaign = Schema<"CampaignOut">;
+const anyRunning = (campaigns: Campaign[]) => campaigns.some((c) => ACTIVE.has(c.state));
 type Estimate = Schema<"Estimate">;
 
 const FAULTS = ["none", "gps_loss", "nav_drift", "leak", "low_energy", "contact_close"];
@@ -23,18 +25,11 @@ const ACTIVE = new Set(["queued", "running"]);
 
 export function CampaignPanel({ mission, versions }: { mission: string; versions: number[] }) {
   const canStart = useCan("startCampaign");
-  const { data, error, reload } = useLoad(
-    async () =>
-      unwrap(await api.GET("/api/missions/{mission_id}/campaigns", { params: { path: { mission_id: mission } } })),
-    [mission],
-  );
+  const client = useQueryClient();
+  // Asked again every second while a campaign is queued or running (its progress).
+  const { data, error } = useMissionCampaigns(mission, { pollWhile: anyRunning });
+  const reload = () => void campaignsChanged(client, mission);
   const campaigns = data ?? [];
-  const running = campaigns.some((c) => ACTIVE.has(c.state));
-  useEffect(() => {
-    if (!running) return;
-    const timer = window.setInterval(reload, 1000);
-    return () => window.clearInterval(timer);
-  }, [running, reload]);
   const [shown, setShown] = useState<string | null>(null);
   const selected = campaigns.find((c) => c.id === shown && c.results);
   return (
@@ -108,17 +103,7 @@ function StartForm({ mission, versions, onStarted }: { mission: string; versions
     setFaults((f) => (f.includes(fault) ? f.filter((x) => x !== fault) : [...f, fault]));
   // Before the run: which chosen faults nothing in the version reacts to.
   const chosen = sweep.filter((f) => f !== "none");
-  const reach = useLoad(
-    async () =>
-      chosen.length === 0
-        ? []
-        : unwrap(
-            await api.GET("/api/missions/{mission_id}/versions/{number}/fault-reach", {
-              params: { path: { mission_id: mission, number: version }, query: { fault: chosen } },
-            }),
-          ),
-    [mission, version, chosen.join(",")],
-  );
+  const reach = useFaultReach(mission, version, chosen);
   const idle = (reach.data ?? []).filter((r) => !r.reacts);
   return (
     <fieldset className="campaign-form">

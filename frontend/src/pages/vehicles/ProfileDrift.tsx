@@ -4,8 +4,7 @@
  * signature stays valid for what it covered; the notice says what a new approval would change.
  */
 import type { Schema } from "../../api/client";
-import { useLoad } from "../../useLoad";
-import { type RegistryProfile, registryVersions } from "./api";
+import { type RegistryProfile, useRegistryVersions } from "../../api/vehicles";
 import { ProfileChanges } from "./ProfileChanges";
 import { profileDiff } from "./profileDiff";
 
@@ -19,7 +18,7 @@ function targetProfile(orders: Schema<"Orders">): RegistryProfile | undefined {
 export function ProfileDrift({ orders, approved }: { orders: Schema<"Orders">; approved: boolean }) {
   const signed = targetProfile(orders);
   const id = signed?.id ?? "";
-  const { data } = useLoad(() => (id ? registryVersions(id) : Promise.resolve([])), [id]);
+  const { data } = useRegistryVersions(id);
   const latest = data?.[0];
   if (!signed || !latest) return null;
   const changes = profileDiff(signed, latest.profile);

@@ -8,7 +8,7 @@
  */
 import type { ReactNode } from "react";
 
-import type { RegistryProfile } from "./api";
+import type { RegistryProfile } from "../../api/vehicles";
 import "./vehicles.css";
 
 type Profile = RegistryProfile & Record<string, unknown>;

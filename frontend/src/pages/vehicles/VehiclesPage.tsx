@@ -9,7 +9,7 @@ import { ErrorMessage, Loading, Notice } from "../../components/Status";
 import { trustedBehaviours } from "../../editor/pickers";
 import { formatDateTime } from "../../format";
 import { DataTable } from "../../components/DataTable";
-import { type RegistryProfile, useSaveVehicle, useVehicles, useVehicleVersions } from "./api";
+import { type RegistryProfile, useSaveVehicle, useVehicles, useVehicleVersions } from "../../api/vehicles";
 import { ProfileChanges } from "./ProfileChanges";
 import { ProfileForm } from "./ProfileForm";
 import { profileDiff } from "./profileDiff";
