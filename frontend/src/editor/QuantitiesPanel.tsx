@@ -6,7 +6,6 @@ import { type Orders } from "./graph";
 import { addQuantity, deleteQuantity, parseNumber, quantities, updateQuantity } from "./model";
 import { type EditOrders } from "./panels";
 
-// Length: the quantities table: one row of fields per quantity.
 export function QuantitiesPanel({ orders, editOrders }: { orders: Orders; editOrders: EditOrders }) {
   const all = quantities(orders);
   const [name, setName] = useState("");
@@ -38,45 +37,7 @@ export function QuantitiesPanel({ orders, editOrders }: { orders: Orders; editOr
         </thead>
         <tbody>
           {Object.entries(all).map(([q, spec]) => (
-            <tr key={q}>
-              <th scope="row">
-                <code>{q}</code>
-              </th>
-              <td>
-                <input aria-label={`${q} title`} value={spec.title ?? ""} onChange={(e) => editOrders((o) => updateQuantity(o, q, { title: e.target.value }), `q:${q}:title`)} />
-              </td>
-              <td>
-                <CommitSelect
-                  aria-label={`${q} type`}
-                  value={spec.type ?? ""}
-                  onCommit={(v) => editOrders((o) => updateQuantity(o, q, { type: v || undefined }))}
-                >
-                  <option value="">real (default)</option>
-                  <option value="real">real</option>
-                  <option value="integer">integer</option>
-                  <option value="boolean">boolean</option>
-                </CommitSelect>
-              </td>
-              <td>
-                <input aria-label={`${q} unit`} size={5} value={spec.unit ?? ""} onChange={(e) => editOrders((o) => updateQuantity(o, q, { unit: e.target.value }), `q:${q}:unit`)} />
-              </td>
-              {(["min", "max"] as const).map((k) => (
-                <td key={k}>
-                  <input
-                    aria-label={`${q} ${k}`}
-                    type="number"
-                    step="any"
-                    value={spec[k] ?? ""}
-                    onChange={(e) => editOrders((o) => updateQuantity(o, q, { [k]: parseNumber(e.target.value) }), `q:${q}:${k}`)}
-                  />
-                </td>
-              ))}
-              <td>
-                <button type="button" className="small" aria-label={`Delete quantity ${q}`} onClick={() => editOrders((o) => deleteQuantity(o, q))}>
-                  ✕
-                </button>
-              </td>
-            </tr>
+            <QuantityRow key={q} name={q} spec={spec} editOrders={editOrders} />
           ))}
         </tbody>
       </table>
@@ -95,5 +56,52 @@ export function QuantitiesPanel({ orders, editOrders }: { orders: Orders; editOr
         </span>
       </form>
     </section>
+  );
+}
+
+type Quantity = ReturnType<typeof quantities>[string];
+
+/** One quantity: its title, type, unit and range (typing is grouped: one undo step a pause). */
+function QuantityRow({ name: q, spec, editOrders }: { name: string; spec: Quantity; editOrders: EditOrders }) {
+  return (
+    <tr>
+      <th scope="row">
+        <code>{q}</code>
+      </th>
+      <td>
+        <input aria-label={`${q} title`} value={spec.title ?? ""} onChange={(e) => editOrders((o) => updateQuantity(o, q, { title: e.target.value }), `q:${q}:title`)} />
+      </td>
+      <td>
+        <CommitSelect
+          aria-label={`${q} type`}
+          value={spec.type ?? ""}
+          onCommit={(v) => editOrders((o) => updateQuantity(o, q, { type: v || undefined }))}
+        >
+          <option value="">real (default)</option>
+          <option value="real">real</option>
+          <option value="integer">integer</option>
+          <option value="boolean">boolean</option>
+        </CommitSelect>
+      </td>
+      <td>
+        <input aria-label={`${q} unit`} size={5} value={spec.unit ?? ""} onChange={(e) => editOrders((o) => updateQuantity(o, q, { unit: e.target.value }), `q:${q}:unit`)} />
+      </td>
+      {(["min", "max"] as const).map((k) => (
+        <td key={k}>
+          <input
+            aria-label={`${q} ${k}`}
+            type="number"
+            step="any"
+            value={spec[k] ?? ""}
+            onChange={(e) => editOrders((o) => updateQuantity(o, q, { [k]: parseNumber(e.target.value) }), `q:${q}:${k}`)}
+          />
+        </td>
+      ))}
+      <td>
+        <button type="button" className="small" aria-label={`Delete quantity ${q}`} onClick={() => editOrders((o) => deleteQuantity(o, q))}>
+          ✕
+        </button>
+      </td>
+    </tr>
   );
 }
