@@ -217,7 +217,7 @@ def page(browser: Browser, server: Server, request: pytest.FixtureRequest,
          tmp_path_factory: pytest.TempPathFactory) -> Iterator[Page]:
     """A fresh browser context (no cookies) per test; a screenshot is kept when a test fails
     (pytest's temporary directory, `screenshots/`, printed with the failure)."""
-    context = browser.new_context(base_url=server.url, viewport={"width": 1280, "height": 900})
+    context = browser.new_context(base_url=server.url, viewport=_viewport())
     context.set_default_timeout(15_000)
     opened = context.new_page()
     problems: list[str] = []
@@ -234,6 +234,17 @@ def page(browser: Browser, server: Server, request: pytest.FixtureRequest,
                 opened.screenshot(path=str(shot), full_page=True)
                 print(f"screenshot of the failed page: {shot}")
         context.close()
+
+
+def _viewport() -> dict[str, int]:
+    """The page's window: 1280x900, or COUNTERSIGN_E2E_VIEWPORT (e.g. 1024x768) to run the tests
+    that do not set their own size at another one."""
+    wanted = os.environ.get("COUNTERSIGN_E2E_VIEWPORT", "1280x900")
+    found = re.fullmatch(r"(\d{3,4})x(\d{3,4})", wanted)
+    if not found:
+        raise pytest.UsageError(f"COUNTERSIGN_E2E_VIEWPORT={wanted!r}: expected WIDTHxHEIGHT, "
+                                "e.g. 1024x768")
+    return {"width": int(found[1]), "height": int(found[2])}
 
 
 def _failed(request: pytest.FixtureRequest) -> bool:

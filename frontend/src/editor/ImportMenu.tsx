@@ -55,6 +55,7 @@ export function ImportMenu({ onImport, busy }: { onImport: (file: File) => Promi
 type Example = Schema<"ExampleOut">;
 
 /** "New from example": a built-in example saved as a new mission, opened in the editor. */
+// Length: one form: the example, its new id and title, with the create request's states.
 export function NewFromExample() {
   const [examples, setExamples] = useState<Example[] | null>(null);
   const [name, setName] = useState("");

@@ -100,6 +100,7 @@ export const FindingsList = memo(function FindingsList({
   );
 });
 
+// Length: every field of a goal in one fieldset, in the order the orders format lists them.
 export const GoalInspector = memo(function GoalInspector({
   goal,
   orders,
@@ -260,6 +261,7 @@ export function useScopePickClick(editOrders: EditOrders): (event: unknown, node
  * (each goal by id and title) or, with "Pick the scope on the graph", by clicking goals on the
  * canvas (the store's `scopePick` names the constraint; useScopePickClick toggles the goal).
  */
+// Length: the constraints table: one row of fields per constraint with its scope pick.
 export function ConstraintsPanel({
   orders,
   editOrders,

@@ -18,6 +18,7 @@ const PAGE = 500;
 const ROW = 27;
 const HEIGHT = 280;
 
+// Length: the path explorer's query form and its paged, virtualised grid.
 export function PathsPanel({
   missionId,
   orders,

@@ -22,6 +22,7 @@ type Problem = Schema<"PlanProblem">;
 /** POST /api/plan: the best plan, or why there is none. */
 type Solution = Schema<"PlanOut">;
 
+// Length: one modal dialog: the survey plan's inputs, its map and the plan it answers.
 export function PlanDialog({ mission, orders, onClose }: { mission: MissionDetail; orders: Orders; onClose: () => void }) {
   const withPolygons = areas(orders).filter((a) => (a.polygon ?? []).length >= 3);
   const vehicle = targetVehicle(orders);

@@ -102,6 +102,7 @@ function describe(t: Token): string {
 }
 
 /** Parses an expression; answers the quantity names it reads, or the first error's position. */
+// Length: one recursive-descent parser: its grammar rules read together as the grammar.
 export function parseExpr(text: string): { names: string[]; error?: ExprError } {
   if (text.trim() === "") return { names: [], error: { message: "the expression is empty", col: 1 } };
   const { tokens, error } = tokenize(text);

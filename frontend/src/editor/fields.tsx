@@ -74,6 +74,7 @@ export function CommitSelect({
  * title, the arrow keys only highlight, and Enter or a click commits the highlighted choice.
  * Leaving the field (or Escape) keeps the saved value.
  */
+// Length: one downshift combobox: its state reducer beside the markup it drives.
 export function Picker({
   id,
   label,
@@ -156,6 +157,7 @@ export function Picker({
  * A text input (or textarea) that keeps its own text while typing and calls `onCommit` on
  * Enter (inputs) or blur. `onCommit` answers an error message to show, or nothing.
  */
+// Length: one field with its commit-on-Enter-or-blur states for input and textarea.
 export function CommitField({
   id,
   label,
@@ -234,6 +236,7 @@ export function CommitField({
  * start with the word at the caret. ArrowDown/ArrowUp move, Enter or Tab accepts, Escape closes.
  * A parse error or an unknown quantity shows under the field with its column.
  */
+// Length: one expression field: parse, suggest and commit states beside its markup.
 export function ExprField({
   id,
   label,

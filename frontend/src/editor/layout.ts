@@ -24,6 +24,7 @@ export type Sizes = Record<string, { width: number; height: number }>;
  * from the start (back edges of loops ignored), terminals in the last column, and inside a
  * column ordered by the mean position of their predecessors' outcome ports (s above f above c).
  */
+// Length: one layered layout pass (ranks, order, coordinates) read top to bottom.
 export function layeredLayout(orders: Orders, aspect?: number): Layout {
   const goalIds = [...new Set(goals(orders).map((g) => g.id))];
   const isGoal = new Set(goalIds);

@@ -147,6 +147,7 @@ export function isLaidOut(draft: Draft): boolean {
 }
 
 /** `report`: the saved draft's report when it came beside the mission (api/reportPrefetch.ts). */
+// Length: the store's state and its named actions, one line each, listed together.
 export function createEditorStore(mission: MissionDetail, report: Report | null = null): StoreApi<EditorState> {
   performance.mark("editor:first-render");
   const draft = openedDraft(mission);

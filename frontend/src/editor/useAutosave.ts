@@ -33,6 +33,7 @@ export interface Autosave {
   resolve: (choices: Record<string, Side>) => void;
 }
 
+// Length: save, merge and conflict share the in-flight save's refs.
 export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDetail) => void, server: ServerCheck): Autosave {
   const store = useEditorApi();
   const { check, refreshChecks } = server;

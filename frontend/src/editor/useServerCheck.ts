@@ -1,9 +1,12 @@
 /** The editor's server check: every edit's orders go to /api/validate (nothing stored; the
- * report is cached there by digest) and the newest answer is the report shown (in the store). */
+ * report is cached there by digest) and the newest answer is the report shown (in the store).
+ * The saved draft's report is read through the query cache (queries.ts). */
+import { useQueryClient } from "@tanstack/react-query";
 import { useCallback, useEffect, useRef } from "react";
 
-import { api, type Report, unwrap } from "../api/client";
+import { api, type Report } from "../api/client";
 import type { Orders } from "./graph";
+import { fetchSavedReport } from "./queries";
 import { useEditorApi } from "./store";
 
 export interface ServerCheck {
@@ -17,11 +20,11 @@ export interface ServerCheck {
  * is not of this draft or failed); without it the report is asked for here. */
 export function useServerCheck(opening: Promise<Report | null> | null = null): ServerCheck {
   const store = useEditorApi();
+  const client = useQueryClient();
 
   const refreshChecks = useCallback(async () => {
-    const path = { params: { path: { mission_id: store.getState().missionId } } };
-    store.getState().showReport(unwrap(await api.GET("/api/missions/{mission_id}/report", path)));
-  }, [store]);
+    store.getState().showReport(await fetchSavedReport(client, store.getState().missionId, true));
+  }, [store, client]);
 
   useEffect(() => {
     if (store.getState().report) return; // it came with the mission (the store opened with it)
