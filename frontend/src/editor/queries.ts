@@ -1,28 +1,26 @@
 /**
  * The editor's server state through TanStack Query: the saved draft's report, the plain orders
- * as saved, and what a saved draft invalidates. Keys start with the missions' ("missions"), so a
- * write anywhere that invalidates the missions reaches these too. The edits' own checks
+ * as saved, and what a saved draft invalidates. Keys sit inside the missions' and the reports'
+ * (api/), so a write anywhere that invalidates a mission reaches these too. The edits' own checks
  * (/api/validate, one per edit) stay in useServerCheck: they report orders not yet saved.
  */
 import { type QueryClient, useQuery } from "@tanstack/react-query";
 
-import { api, exportHref, fetchText, type MissionDetail, type Report, unwrap } from "../api/client";
-import { missionsChanged } from "../api/missions";
+import { exportHref, fetchText, type MissionDetail, type Report } from "../api/client";
+import { missionKeys, missionsChanged } from "../api/missions";
 import { type ReportPrefetch, reportOf } from "../api/reportPrefetch";
+import { fetchReport, reportKeys } from "../api/reports";
 
+/** The saved draft's report is the newest one, kept apart from the reports keyed by a digest. */
 export const editorKeys = {
-  mission: (id: string) => ["missions", "detail", id] as const,
-  report: (id: string) => ["missions", "detail", id, "report"] as const,
-  plain: (id: string) => ["missions", "detail", id, "plain"] as const,
+  mission: missionKeys.detail,
+  report: (id: string) => [...reportKeys.mission(id), "saved"] as const,
+  plain: (id: string) => [...missionKeys.one(id), "plain"] as const,
 };
-
-async function savedReport(id: string): Promise<Report> {
-  return unwrap(await api.GET("/api/missions/{mission_id}/report", { params: { path: { mission_id: id } } }));
-}
 
 /** The saved draft's report, fresh (after a save or a reload of theirs) or from the cache. */
 export function fetchSavedReport(client: QueryClient, id: string, fresh = false): Promise<Report> {
-  return client.fetchQuery({ queryKey: editorKeys.report(id), queryFn: () => savedReport(id), staleTime: fresh ? 0 : Infinity });
+  return client.fetchQuery({ queryKey: editorKeys.report(id), queryFn: () => fetchReport(id), staleTime: fresh ? 0 : Infinity });
 }
 
 /** The report the page asked for beside the mission, if it is of the opened draft (its digest),
@@ -49,5 +47,8 @@ export function usePlainOrders(id: string, enabled: boolean) {
  * and the mission list and this mission's queries are asked for again when next shown. */
 export function draftSaved(client: QueryClient, saved: MissionDetail): Promise<void> {
   client.setQueryData(editorKeys.mission(saved.id), saved);
-  return missionsChanged(client);
+  return Promise.all([
+    missionsChanged(client),
+    client.invalidateQueries({ queryKey: reportKeys.mission(saved.id) }),
+  ]).then(() => undefined);
 }
