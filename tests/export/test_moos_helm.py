@@ -191,9 +191,15 @@ def _more(community: Community, var: str, before: int) -> bool:
     return community.poked(var) > before
 
 
-def _near(community: Community, depth: float) -> bool:
+def _near(community: Community, depth: float, seen: list[float]) -> bool:
+    """Whether the vehicle is within the tolerance of `depth`; the depth read is kept in
+    `seen`, so the depth held is the one that was judged (a second read a moment later may
+    find the vehicle moving on: 35.4 m read after 35.6 m passed, at load 20)."""
     value = _latest(community, "NAV_DEPTH")
-    return value is not None and abs(float(value) - depth) <= DEPTH_TOLERANCE_M
+    if value is None:
+        return False
+    seen.append(float(value))
+    return abs(seen[-1] - depth) <= DEPTH_TOLERANCE_M
 
 
 def _fly(drive: Drive, folder: Path) -> Flown:
@@ -218,9 +224,10 @@ def _fly(drive: Drive, folder: Path) -> Flown:
             active = mode[goal]
             community.wait_for(f"mode {active}", partial(_is, community, "MODE", active))
             if goal in depths:
+                seen: list[float] = []
                 community.wait_for(f"depth {depths[goal]:g} m in {goal}",
-                                   partial(_near, community, depths[goal]))
-                held[goal] = [depths[goal], float(_latest(community, "NAV_DEPTH") or "nan")]
+                                   partial(_near, community, depths[goal], seen))
+                held[goal] = [depths[goal], seen[-1]]
             if not outcome:
                 break
             if step in drive.breaks:
