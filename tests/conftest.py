@@ -8,6 +8,7 @@ from hypothesis import settings
 
 from .cheap_hashing import _cheap_password_hashing  # noqa: F401
 from .markers import mark_items
+from .workers import heavy_first, separate_postgres
 
 REPO = Path(__file__).resolve().parents[1]
 
@@ -18,6 +19,10 @@ settings.register_profile("explore", print_blob=True)
 settings.register_profile("ci", derandomize=True, print_blob=True)
 settings.load_profile(os.environ.get("COUNTERSIGN_HYPOTHESIS_PROFILE", "explore"))
 
+# Here, on import, not in a hook: a sub-folder's conftest or a test module named on the command
+# line is imported before pytest_configure, and reads the variable on import (tests/workers.py).
+separate_postgres()
+
 
 @pytest.fixture(scope="session")
 def repo() -> Path:
@@ -26,11 +31,14 @@ def repo() -> Path:
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     """The markers postgres, browser and slow (pyproject.toml), added by where a test lives and
-    what it uses (tests/markers.py)."""
+    what it uses (tests/markers.py); under xdist, the order of tests/workers.py."""
     mark_items(items)
+    heavy_first(items)
 
 
 def pytest_terminal_summary(terminalreporter: pytest.TerminalReporter) -> None:
+    if hasattr(terminalreporter.config, "workerinput"):
+        return  # an xdist worker: the controller receives every worker's reports and writes it
     from .summary_plugin import write_summary
 
     write_summary(terminalreporter)
