@@ -8,6 +8,7 @@ from hypothesis import settings
 
 from .cheap_hashing import _cheap_password_hashing  # noqa: F401
 from .markers import mark_items
+from .node_ids import unique_ids
 from .workers import heavy_first, separate_postgres
 
 REPO = Path(__file__).resolve().parents[1]
@@ -31,7 +32,9 @@ def repo() -> Path:
 
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     """The markers postgres, browser and slow (pyproject.toml), added by where a test lives and
-    what it uses (tests/markers.py); under xdist, the order of tests/workers.py."""
+    what it uses (tests/markers.py); under xdist, the order of tests/workers.py. Ids made
+    unique first (tests/node_ids.py): xdist hands out tests by id."""
+    unique_ids(items)
     mark_items(items)
     heavy_first(items)
 
