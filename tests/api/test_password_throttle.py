@@ -9,6 +9,7 @@ built against, which the limits, counted per minute, hold the same way)."""
 
 from __future__ import annotations
 
+import math
 import os
 import threading
 import time
@@ -21,7 +22,7 @@ from fastapi.testclient import TestClient
 from sqlalchemy import select
 
 from countersign.store import login_throttle
-from countersign.store.hashing import HASHER
+from countersign.store.hashing import HASHER, HashingBusy
 from countersign.store.tables import LoginAttempt
 
 from .approval_helpers import new_version, prepare, register_key, sign_prepared, submit
@@ -52,9 +53,18 @@ def hashes(monkeypatch: pytest.MonkeyPatch) -> Iterator[Hashes]:
     original = HASHER.verify
 
     def counting(stored: str | bytes, password: str | bytes) -> bool:
-        with seen.lock:
-            seen.times.append(time.monotonic())
-        return original(stored, password)
+        # Counted when a hash was checked, right or wrong, at the time it was asked for; a
+        # full queue (HashingBusy, a 503) checks none, and the throttle forgets that attempt.
+        began = time.monotonic()
+        try:
+            return original(stored, password)
+        except HashingBusy:
+            began = math.nan
+            raise
+        finally:
+            if not math.isnan(began):
+                with seen.lock:
+                    seen.times.append(began)
 
     monkeypatch.setattr(HASHER, "verify", counting)
     yield seen

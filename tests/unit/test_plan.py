@@ -382,8 +382,8 @@ def test_check_explains_first_violation() -> None:
 def run_cli(monkeypatch: pytest.MonkeyPatch) -> Any:
     original = cli.build_parser
 
-    def build_parser() -> argparse.ArgumentParser:
-        parser = original()
+    def build_parser(group: str | None = None) -> argparse.ArgumentParser:
+        parser = original(group)
         for action in parser._actions:
             if isinstance(action, argparse._SubParsersAction) and "plan" not in action.choices:
                 add_commands(action)

@@ -36,6 +36,7 @@ TEST_ONLY: dict[str, str] = {
     "COUNTERSIGN_UPDATE_VECTORS": "rewrite the browser's crypto vectors",
     "COUNTERSIGN_CHROMIUM": "the browser the end-to-end suite drives",
     "COUNTERSIGN_REQUIRE_E2E": "a missing browser fails instead of skipping",
+    "COUNTERSIGN_E2E_VIEWPORT": "the window size of browser tests that set none of their own",
 }
 # The variables of the app, as the README and the command line's help name them.
 VARIABLES = {
