@@ -6,7 +6,8 @@ model they belong to.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Literal
 
 from ...orders.model import Goal
 from ..expressions import in_tag, smt_int, tag_state
@@ -17,45 +18,38 @@ if TYPE_CHECKING:
 
 
 def behavior_item(model: LogicModel, goal: Goal, label: str, suffix: str) -> Item:
-    key = f"beh:{goal.id}{suffix}"
-
-    def behavior() -> Item:
-        code_of = goal.behavior
-        return Item(
-            key, "behavior", goal.id,
-            lambda: (f"{label} has behavior {goal.behavior!r}" if goal.behavior
-                     else f"{label} names no behavior"),
-            f"{key}|{goal.title}|{goal.behavior}",
-            _with_suffix(
-                lambda t: f"(= {t.special('behavior')} {smt_int(t.string_code(code_of))})",
-                suffix,
-            ),
-            shared=False,
-            meaning=None if suffix else ("fact", "behavior", goal.behavior),
-        )
-
-    return model._memo(key, behavior)
+    return _named_code_item(
+        model, goal, "beh", "behavior", goal.behavior, suffix,
+        lambda: (f"{label} has behavior {goal.behavior!r}" if goal.behavior
+                 else f"{label} names no behavior"),
+        lambda: f"{goal.behavior}")
 
 
 def area_item(model: LogicModel, goal: Goal, label: str, suffix: str) -> Item:
-    key = f"area:{goal.id}{suffix}"
+    return _named_code_item(
+        model, goal, "area", "area", goal.area, suffix,
+        lambda: (f"{label} runs in {model.area_label(goal.area)}" if goal.area
+                 else f"{label} names no area"),
+        lambda: f"{goal.area}|{model.area_label(goal.area or '')}")
 
-    def area() -> Item:
-        code_of = goal.area
+
+def _named_code_item(model: LogicModel, goal: Goal, prefix: str,
+                     kind: Literal["behavior", "area"],
+                     value: str | None, suffix: str, sentence: Callable[[], str],
+                     text_tail: Callable[[], str]) -> Item:
+    """A goal's fact that names one thing (its behaviour, its area) as a string code."""
+    key = f"{prefix}:{goal.id}{suffix}"
+
+    def made() -> Item:
         return Item(
-            key, "area", goal.id,
-            lambda: (f"{label} runs in {model.area_label(goal.area)}" if goal.area
-                     else f"{label} names no area"),
-            f"{key}|{goal.title}|{goal.area}|{model.area_label(goal.area or '')}",
-            _with_suffix(
-                lambda t: f"(= {t.special('area')} {smt_int(t.string_code(code_of))})",
-                suffix,
-            ),
+            key, kind, goal.id, sentence, f"{key}|{goal.title}|{text_tail()}",
+            _with_suffix(lambda t: f"(= {t.special(kind)} {smt_int(t.string_code(value))})",
+                         suffix),
             shared=False,
-            meaning=None if suffix else ("fact", "area", goal.area),
+            meaning=None if suffix else ("fact", kind, value),
         )
 
-    return model._memo(key, area)
+    return model._memo(key, made)
 
 
 def context_item(model: LogicModel, goal: Goal, label: str, tag: str, holds: bool,
