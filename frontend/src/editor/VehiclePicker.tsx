@@ -6,7 +6,7 @@
  */
 import { useEffect, useState } from "react";
 
-import { loadVehicles, type RegistryProfile } from "../pages/vehicles/api";
+import { loadVehicles, type RegistryProfile } from "../api/vehicles";
 import { CommitField, Picker } from "./fields";
 import { type BehaviourProfile, behaviourChoices, type Choice, idAndTitle, trustedBehaviours } from "./pickers";
 
