@@ -15,6 +15,8 @@ from contextlib import contextmanager, suppress
 from dataclasses import dataclass
 from pathlib import Path
 
+from countersign.export.execution_input import redelivered
+
 SHARED = Path(__file__).resolve().parents[2].parent / "shared"
 TOOLS = SHARED / "tools" / "moos-ivp"
 # Simulated seconds per second: fast enough for dives of tens of metres, slow enough that
@@ -67,6 +69,9 @@ class Community:
         self.folder, self.moos, self.process, self.output = folder, moos, process, output
         self._read = 0  # bytes of the alog parsed so far: polls read only what is new
         self._entries: list[Entry] = []
+        # pLogger's repeats of earlier values (WildCardLogging) are left out, as the
+        # execution log conversion leaves them out: a stale MODE would read as a mode change
+        self._latest: dict[str, tuple[float, str]] = {}
 
     @property
     def alog(self) -> Path:
@@ -85,7 +90,8 @@ class Community:
             parts = line.split(None, 3)
             if len(parts) >= 3 and re.fullmatch(r"-?[0-9.]+", parts[0]):
                 value = parts[3].strip() if len(parts) == 4 else ""
-                self._entries.append(Entry(float(parts[0]), parts[1], parts[2], value))
+                if not redelivered(self._latest, float(parts[0]), parts[1], value):
+                    self._entries.append(Entry(float(parts[0]), parts[1], parts[2], value))
         return self._entries
 
     def values(self, var: str) -> list[str]:

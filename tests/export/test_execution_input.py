@@ -190,6 +190,26 @@ def test_what_plogger_writes_is_read_and_the_skipped_lines_are_counted() -> None
                                "skipped",)
 
 
+def test_values_plogger_writes_again_with_their_old_times_are_passed_over() -> None:
+    # WildCardLogging: pLogger now and then writes every variable's current value again with
+    # the time it was posted; one such batch written after G2 began held G1's MISSION_GOAL and
+    # MODE (a CI run read G1, G2, G1, G2, ... from it).
+    path = next(p for p in _paths() if p.index == 17)
+    lines = alog_run(path.goals, path.outcomes, path.terminal).splitlines()
+    second = next(i for i, line in enumerate(lines) if line.endswith("ACTIVE:G2"))
+    first = lines[2:second]
+    assert any("MISSION_GOAL" in line for line in first)
+    again = [*lines[:second + 1], "-1.36191 MISSION_GOAL pHelmIvP G1",
+             *first, lines[second], *lines[second + 1:]]
+    converted = from_alog(ORDERS, "\n".join(again) + "\n")
+    assert check_execution(ORDERS, read_log(converted.ndjson)).path == 17
+    assert [json.loads(line)["goal"] for line in converted.ndjson.splitlines()] == \
+        list(path.goals)
+    assert converted.notes == (f"{len(first) + 2} alog entries repeat a variable's earlier "
+                               "value with its old time (pLogger's wildcard logging writes "
+                               "them); skipped",)
+
+
 @pytest.mark.parametrize(("data", "fmt", "words"), [
     (b"\x00\x01garbage", "auto", "none of"),
     (b"\x54\xfe" + b"\x00" * 30, "auto", "no IMC message"),

@@ -239,11 +239,26 @@ def _alog_entry(line: str) -> tuple[float, str, str] | None:
     return at, parts[1], parts[3].strip() if len(parts) == 4 else ""
 
 
+def redelivered(latest: dict[str, tuple[float, str]], at: float, var: str,
+                 value: str) -> bool:
+    """Whether an entry repeats what the log has already shown of `var`. pLogger with
+    WildCardLogging now and then writes the current value of every variable again with the
+    time it was posted: MISSION_GOAL=G1 from the mission's start appearing after G2 began, or
+    an outcome twice. A variable's entries older than its latest one, or that one again, are
+    such repeats; every other entry becomes the latest."""
+    seen = latest.get(var)
+    if seen is not None and (at < seen[0] or (at, value) == seen):
+        return True
+    latest[var] = (at, value)
+    return False
+
+
 def from_alog(orders: Orders, text: str, nesting: Nesting | None = None) -> Converted:
     helm = helm_modes(orders, nesting)
     goal_of = {mode: item for item, mode in helm.name.items()}
     sequencer = _Sequencer(orders, goal_of, absolute=False)
-    skipped, first_skipped = 0, 0
+    skipped, first_skipped, repeats = 0, 0, 0
+    latest: dict[str, tuple[float, str]] = {}
     for number, line in enumerate(text.splitlines(), 1):
         if not line.strip() or line.startswith("%"):
             continue
@@ -253,7 +268,9 @@ def from_alog(orders: Orders, text: str, nesting: Nesting | None = None) -> Conv
             first_skipped = first_skipped or number
             continue
         at, var, value = entry
-        if var == "MODE" and value.startswith("ACTIVE:"):
+        if redelivered(latest, at, var, value):
+            repeats += 1
+        elif var == "MODE" and value.startswith("ACTIVE:"):
             # the innermost mode: ACTIVE:G1:G1_1_k1 runs goal G1/G1.1#1 inside G1
             sequencer.enter(value.rsplit(":", 1)[1], at)
         elif var == "MISSION_GOAL":
@@ -269,6 +286,10 @@ def from_alog(orders: Orders, text: str, nesting: Nesting | None = None) -> Conv
                 continue
         elif var == "MISSION_RESULT" and value != "none":
             sequencer.stop(at)
+    if repeats:
+        sequencer.notes.append(f"{repeats:,} alog entries repeat a variable's earlier value "
+                               "with its old time (pLogger's wildcard logging writes them); "
+                               "skipped")
     if skipped:
         sequencer.notes.append(f"{skipped:,} alog line(s) are no TIME VAR SOURCE VALUE entry "
                                f"(the first: line {first_skipped}), e.g. the continuation of "
