@@ -9,11 +9,12 @@ every replica."""
 from __future__ import annotations
 
 import threading
-from collections import OrderedDict
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from datetime import datetime
 from typing import TYPE_CHECKING
+
+from cachetools import LRUCache
 
 from ..errors import Gone, TooMany, Unavailable
 from ..orders.model import Chart, Orders
@@ -68,7 +69,7 @@ class RehearsalHub:
         self._live: dict[str, Live] = {}
         self._starting: dict[int, int] = {}
         self._stopping: set[str] = set()
-        self._ended: OrderedDict[str, str | None] = OrderedDict()
+        self._ended: LRUCache[str, str | None] = LRUCache(ENDED_MEMORY)
 
     @property
     def manager(self) -> RehearsalManager:
@@ -204,6 +205,3 @@ class RehearsalHub:
 
     def _remember(self, rehearsal_id: str, digest: str | None) -> None:
         self._ended[rehearsal_id] = digest
-        self._ended.move_to_end(rehearsal_id)
-        while len(self._ended) > ENDED_MEMORY:
-            self._ended.popitem(last=False)
