@@ -29,7 +29,7 @@ from .geo import check_geo
 from .graph import MissionGraph, build_graph
 from .legs import mission_legs
 from .logic import LogicCache, check_logic
-from .meo.direct import CODES, meo_only_findings
+from .meo.direct import meo_only_findings
 from .parts import SHARED_PARTS, PartKeys, PartsCache, part_keys
 from .paths import PathCounts, count_paths
 from .patterns import check_patterns
@@ -47,10 +47,9 @@ if TYPE_CHECKING:
     from .team_report import TeamSummary
 
 # The MEO route re-derives the structural verdicts too (tests prove both routes agree); the
-# report takes from it only the rules no other check covers (MEO_ONLY_CODES), evaluated
+# report takes from it only the rules no other check covers (`meo.direct.CODES`), evaluated
 # straight from the orders by `meo.direct` (tests prove it equal to the MEO route's findings).
 # The MEO route itself runs when its explanation is asked for.
-MEO_ONLY_CODES = CODES
 
 # Solver results are pure functions of their inputs, so one bounded cache serves every caller
 # in the process: re-validating after a one-goal edit solves only what that goal touches.
