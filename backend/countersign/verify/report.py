@@ -55,8 +55,8 @@ if TYPE_CHECKING:
 # in the process: re-validating after a one-goal edit solves only what that goal touches.
 SHARED_LOGIC_CACHE = LogicCache(max_entries=20_000)
 
-# The solver time one validation may spend, shared by the logic and the property checks (issue
-# 15: 40 nonlinear constraints and 20 path properties ran 76 s). What the solver cannot decide
+# The solver time one validation may spend, shared by the logic and the property checks (40
+# nonlinear constraints and 20 path properties once ran 76 s). What the solver cannot decide
 # within it is a warning (CONTRADICTION, PROPERTY, VACUOUS), never an error nor a hang.
 SOLVER_BUDGET_S = 8.0
 SOLVER_CALL_MS = 1_000  # one solver call; a hard call gives up early and leaves the rest time
