@@ -10,8 +10,7 @@ from __future__ import annotations
 
 import threading
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
-from datetime import datetime
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from cachetools import LRUCache
@@ -19,7 +18,6 @@ from cachetools import LRUCache
 from ..errors import Gone, TooMany, Unavailable
 from ..orders.model import Chart, Orders
 from ..store.missions import Conflict, NotFound
-from ..store.tables import utcnow
 from .viewer_tickets import ViewerRegistry
 
 if TYPE_CHECKING:
@@ -50,7 +48,6 @@ class Live:
     mission_id: str
     version: int | None
     source: str
-    started_at: datetime = field(default_factory=utcnow)
     sockets: int = 0
 
 

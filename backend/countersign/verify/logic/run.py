@@ -33,7 +33,6 @@ class LogicRun:
         self.limits = limits
         self._session: Session | None = None
         self._blocks: dict[frozenset[str], frozenset[Item]] = {}
-        self.solved_units = 0
 
     @property
     def session(self) -> Session:
@@ -98,7 +97,6 @@ class LogicRun:
         found = self.cache.get(key)
         if found is not None:
             return found
-        self.solved_units += 1
         result = solve()
         # What a timeout cut short (undecided, or a core not proven minimal) is tried again.
         cores = [c for name in ("cores", "contradictions", "refusals", "core")
@@ -316,7 +314,6 @@ class LogicRun:
         shown = self.session.satisfiable_groups([items for _, items in pending])
         for (key, _), sat in zip(pending, shown, strict=True):
             if sat:
-                self.solved_units += 1
                 self.cache.put(key, VacuousResult(None, None))
 
     def vacuous(self, c: ParsedConstraint) -> VacuousResult:
