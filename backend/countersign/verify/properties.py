@@ -32,7 +32,7 @@ import numpy as np
 
 from ..orders.expressions.reads import Reads
 from ..orders.findings import Finding, error, warning
-from ..orders.model import BUDGET_QUANTITIES, OUTCOMES, Orders, PathProperty
+from ..orders.model import BUDGET_QUANTITIES, OUTCOMES, Goal, Orders, PathProperty
 from .budget import UNITS, reportable_total
 from .costs import graph_costs
 from .expressions import Expr, fold, number_words, quantity_words, reads, with_unit
@@ -49,6 +49,7 @@ from .logic import (
     join_words,
 )
 from .logic import run as logic_run
+from .logic.collector import collector_paused
 from .paths import topological_order
 
 # Above this many (goal x path length) steps, the shortest resource counterexample falls back
@@ -304,6 +305,14 @@ def check_properties(
 ) -> list[Finding]:
     """EXPR findings for property expressions and PROPERTY findings with the shortest
     counterexample path from the start."""
+    # As for check_logic: the goals' units, verdicts and items it builds are long-lived, and
+    # collections during the check only walk them again.
+    with collector_paused():
+        return _check_properties(orders, graph, cache, timeout_ms, total_timeout_s)
+
+
+def _check_properties(orders: Orders, graph: MissionGraph | None, cache: LogicCache | None,
+                      timeout_ms: int, total_timeout_s: float) -> list[Finding]:
     graph = graph or build_graph(orders)
     model = cache.model(orders) if cache is not None else LogicModel(orders)
     findings: list[Finding] = []
@@ -402,22 +411,41 @@ def _failing_goals(model: LogicModel, run: LogicRun, graph: MissionGraph,
     for node, goal in enumerate(graph.goals):
         if from_start[node] < 0:
             continue
-        facts = model.facts(goal)
-        decided = fold(state.expr, facts)
-        if decided is not None:
-            if decided is (state.mode == "never"):
-                bad[node] = GoalVerdict(True, (), None)
+        verdict = _goal_verdict(model, run, goal, state, failing, expr_reads, mission.quarantined)
+        if verdict is None:
             continue
-        items, _ = run.goal_items(goal, mission.quarantined, [expr_reads])
-        verdict: GoalVerdict = run.cached(
-            "property", [*items, failing],
-            functools.partial(_solve_state, run, items, failing, run.block(mission.quarantined))
-        )
         if verdict.undecided:
             undecided.append(goal.id)
         elif verdict.fails:
             bad[node] = verdict
     return bad, undecided
+
+
+def _goal_verdict(model: LogicModel, run: LogicRun, goal: Goal, state: _StateProperty,
+                  failing: Item, expr_reads: Reads, quarantined: frozenset[str]
+                  ) -> GoalVerdict | None:
+    """Whether the property can fail while the goal runs (None: its facts alone say it cannot).
+    Carried from the model before an edit that left the goal and the rest of the orders as
+    they were (LogicModel.carry_goal_items): a verdict of the facts alone, or a solver's that
+    the cache still holds under its key."""
+    memo = (goal.id, quarantined, failing.key, failing.source)
+    carried = model.property_verdicts.get(memo)
+    if carried is not None:
+        key, known = carried
+        if key is None or run.cache.holds(key, known):
+            return known if isinstance(known, GoalVerdict) else None
+    decided = fold(state.expr, model.facts(goal))
+    if decided is not None:
+        by_facts = GoalVerdict(True, (), None) if decided is (state.mode == "never") else None
+        model.property_verdicts[memo] = (None, by_facts)
+        return by_facts
+    items, _ = run.goal_items(goal, quarantined, [expr_reads])
+    key, solved = run.keyed(
+        "property", [*items, failing],
+        functools.partial(_solve_state, run, items, failing, run.block(quarantined)))
+    verdict: GoalVerdict = solved
+    model.property_verdicts[memo] = (key, verdict)
+    return verdict
 
 
 def _counterexample(model: LogicModel, graph: MissionGraph, state: _StateProperty,
