@@ -141,6 +141,8 @@ class LogicModel:
         # LogicRun.goal_items by (goal id, quarantined keys, extra reads), without the block.
         self.goal_items_memo: dict[tuple[str, frozenset[str], tuple[Reads, ...]],
                                    GoalItems] = {}
+        # Which of them came from the model before (their items' phrases already worded).
+        self._carried_items: set[tuple[str, frozenset[str], tuple[Reads, ...]]] = set()
         # check_logic's outcome of each goal by (goal id, quarantined keys), and the path
         # properties' verdict of each goal by (goal id, quarantined keys, property item key
         # and source): carried like the goal items, and used only while the cache still holds
@@ -175,9 +177,11 @@ class LogicModel:
         same = {gid for gid, goal in self.goals.items() if before.goals.get(gid) == goal}
         for memo, found in before.goal_items_memo.copy().items():
             if memo[0] in same:
-                for item in (*found.head, *found.own, *found.tail):
-                    item.word()
+                if memo not in before._carried_items:  # carried ones were worded then
+                    for item in (*found.head, *found.own, *found.tail):
+                        item.word()
                 self.goal_items_memo.setdefault(memo, found)
+                self._carried_items.add(memo)
         for outcome_memo, outcome in before.goal_outcomes.copy().items():
             if outcome_memo[0] in same:
                 self.goal_outcomes.setdefault(outcome_memo, outcome)
