@@ -40,6 +40,7 @@ from .graph import MissionGraph, build_graph
 from .logic import (
     DEFAULT_TIMEOUT_MS,
     DEFAULT_TOTAL_S,
+    WALL_CAP_REACHED,
     Item,
     Limits,
     LogicCache,
@@ -301,9 +302,10 @@ def check_properties(
     *,
     timeout_ms: int = DEFAULT_TIMEOUT_MS,
     total_timeout_s: float = DEFAULT_TOTAL_S,
+    limits: Limits | None = None,
 ) -> list[Finding]:
     """EXPR findings for property expressions and PROPERTY findings with the shortest
-    counterexample path from the start."""
+    counterexample path from the start. The solver's limits as check_logic's."""
     graph = graph or build_graph(orders)
     model = cache.model(orders) if cache is not None else LogicModel(orders)
     findings: list[Finding] = []
@@ -331,7 +333,8 @@ def check_properties(
         return findings
     if states:
         with model.lock:
-            run = LogicRun(model, cache, Limits.start(timeout_ms, total_timeout_s))
+            run = LogicRun(model, cache,
+                           limits or Limits.start(timeout_ms, total_timeout_s))
             for state in states:
                 findings.extend(_check_state(model, run, graph, state))
     for prop, quantity, bound in bounds:
@@ -381,10 +384,14 @@ def _check_state(model: LogicModel, run: LogicRun, graph: MissionGraph,
     if bad:
         findings.append(_counterexample(model, graph, state, bad))
     if undecided:
+        # The wall-clock cap ends the work on a busy machine, however easy what is left.
+        why = (f"the machine was too busy to finish within the wall-clock cap of "
+               f"{run.limits.wall_cap_s:g} s" if WALL_CAP_REACHED in undecided.values()
+               else "solver timeout")
+        goals = list(undecided)
         findings.append(warning(
-            "PROPERTY", undecided,
-            f"{_label(state.prop)} could not be decided at {', '.join(undecided[:20])} "
-            "(solver timeout).",
+            "PROPERTY", goals,
+            f"{_label(state.prop)} could not be decided at {', '.join(goals[:20])} ({why}).",
             property=state.prop.id,
         ))
     return findings
@@ -392,13 +399,13 @@ def _check_state(model: LogicModel, run: LogicRun, graph: MissionGraph,
 
 def _failing_goals(model: LogicModel, run: LogicRun, graph: MissionGraph,
                    state: _StateProperty, failing: Item, expr_reads: Reads
-                   ) -> tuple[dict[int, GoalVerdict], list[str]]:
+                   ) -> tuple[dict[int, GoalVerdict], dict[str, str]]:
     """The reachable goals where the property can fail (by graph node, with their verdict),
-    and those the solver could not decide."""
+    and those the solver could not decide (with why)."""
     mission = run.mission()
     from_start = distances_from_start(graph)
     bad: dict[int, GoalVerdict] = {}
-    undecided: list[str] = []
+    undecided: dict[str, str] = {}
     for node, goal in enumerate(graph.goals):
         if from_start[node] < 0:
             continue
@@ -414,7 +421,7 @@ def _failing_goals(model: LogicModel, run: LogicRun, graph: MissionGraph,
             functools.partial(_solve_state, run, items, failing, run.block(mission.quarantined))
         )
         if verdict.undecided:
-            undecided.append(goal.id)
+            undecided[goal.id] = verdict.undecided
         elif verdict.fails:
             bad[node] = verdict
     return bad, undecided
