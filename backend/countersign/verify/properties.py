@@ -385,14 +385,16 @@ def _check_state(model: LogicModel, run: LogicRun, graph: MissionGraph,
         findings.append(_counterexample(model, graph, state, bad))
     if undecided:
         # The wall-clock cap ends the work on a busy machine, however easy what is left.
+        capped = WALL_CAP_REACHED in undecided.values()
         why = (f"the machine was too busy to finish within the wall-clock cap of "
-               f"{run.limits.wall_cap_s:g} s" if WALL_CAP_REACHED in undecided.values()
-               else "solver timeout")
+               f"{run.limits.wall_cap_s:g} s" if capped else "solver timeout")
         goals = list(undecided)
         findings.append(warning(
             "PROPERTY", goals,
             f"{_label(state.prop)} could not be decided at {', '.join(goals[:20])} ({why}).",
             property=state.prop.id,
+            # Marked so that the report part is not kept: another run may decide it.
+            undecided=WALL_CAP_REACHED if capped else next(iter(undecided.values())),
         ))
     return findings
 

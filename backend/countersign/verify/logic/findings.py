@@ -14,7 +14,7 @@ from .cache import LogicCache
 from .collector import collector_paused
 from .constants import DEFAULT_TIMEOUT_MS, DEFAULT_TOTAL_S, GOAL_KINDS
 from .items import Item
-from .limits import BUDGET_SPENT, OUT_OF_TIME, Limits
+from .limits import BUDGET_SPENT, OUT_OF_TIME, WALL_CAP_REACHED, Limits
 from .model import LogicModel
 from .results import Core, MissionResult, Risk
 from .run import LogicRun
@@ -135,9 +135,7 @@ def _goal_findings(model: LogicModel, run: LogicRun, mission: MissionResult) -> 
 
 def _out_of_time(goals: list[str], reason: str, limits: Limits) -> Finding:
     """The goals the limits left undecided, in one warning that says which limit it was."""
-    why = ("" if reason == BUDGET_SPENT else
-           f" (the machine was too busy to finish within the wall-clock cap of "
-           f"{limits.wall_cap_s:g} s)")
+    why = "" if reason == BUDGET_SPENT else f" ({_reason_words(reason, limits)})"
     return warning(
         "CONTRADICTION",
         goals,
@@ -208,10 +206,13 @@ def _vacuous_findings(
 ) -> Iterator[Finding]:
     if BATCH_VACUITY:
         run.vacuous_batch(c for c in model.constraints if c.key not in mission.quarantined)
+    undecided: dict[str, list[str]] = {}
     for c in model.constraints:
         if c.key in mission.quarantined:
             continue
         result = run.vacuous(c)
+        if result.undecided is not None:
+            undecided.setdefault(result.undecided, []).append(c.id)
         if result.core is None:
             continue
         reasons = [p for p in result.core.parts if p.kind in {"vehicle", "domain"}]
@@ -227,6 +228,23 @@ def _vacuous_findings(
             "a typo.",
             **_core_details(result.core),
         )
+    # Said, not dropped: a report without them would read as "none can never trigger".
+    for reason, constraints in undecided.items():
+        yield warning(
+            "VACUOUS",
+            constraints,
+            f"The solver could not decide whether {len(constraints)} constraint(s) can ever "
+            f"trigger ({_reason_words(reason, run.limits)}): {', '.join(constraints[:20])}"
+            f"{' ...' if len(constraints) > 20 else ''}.",
+            undecided=reason,
+        )
+
+
+def _reason_words(reason: str, limits: Limits) -> str:
+    if reason == WALL_CAP_REACHED:
+        return (f"the machine was too busy to finish within the wall-clock cap of "
+                f"{limits.wall_cap_s:g} s")
+    return reason
 
 
 def core_satisfiable(
