@@ -373,11 +373,14 @@ def _check_state(model: LogicModel, run: LogicRun, graph: MissionGraph,
     key = f"prop:{state.prop.id}:{state.mode}"
     # The item states that the property fails in a state: `always` fails where the condition
     # can be false, `never` where it can be true.
+    negate = state.mode == "always"
     failing = Item(
         key, "property", state.prop.id, f"{state.prop.id} {state.mode}: {state.text}",
         f"{key}|{state.text}|{model.specs(expr_reads.quantities)}",
-        expr_formula(state.expr, negate=state.mode == "always"),
+        expr_formula(state.expr, negate=negate),
         quantities=tuple(sorted(expr_reads.quantities)),
+        # Bounds propagation (logic/bounds.py) decides most goals' states without z3.
+        meaning=("expr", ("prop", key, state.text, negate), (state.expr, negate)),
     )
     bad, undecided = _failing_goals(model, run, graph, state, failing, expr_reads)
     findings: list[Finding] = []
