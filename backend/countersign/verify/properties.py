@@ -32,7 +32,7 @@ import numpy as np
 
 from ..orders.expressions.reads import Reads
 from ..orders.findings import Finding, error, warning
-from ..orders.model import BUDGET_QUANTITIES, OUTCOMES, Orders, PathProperty
+from ..orders.model import BUDGET_QUANTITIES, OUTCOMES, Goal, Orders, PathProperty
 from .budget import UNITS, reportable_total
 from .costs import graph_costs
 from .expressions import Expr, fold, number_words, quantity_words, reads, with_unit
@@ -287,7 +287,9 @@ class _StateProperty:
 @dataclass(frozen=True)
 class GoalVerdict:
     fails: bool
-    witness: tuple[tuple[str, str], ...]
+    # Values that let the property fail; None: not yet asked (only the goal a finding
+    # reports needs them, and a model costs a z3 context of its own).
+    witness: tuple[tuple[str, str], ...] | None
     undecided: str | None
 
 
@@ -385,7 +387,11 @@ def _check_state(model: LogicModel, run: LogicRun, graph: MissionGraph,
     bad, undecided = _failing_goals(model, run, graph, state, failing, expr_reads)
     findings: list[Finding] = []
     if bad:
-        findings.append(_counterexample(model, graph, state, bad))
+        node, path = shortest_through_any(graph, list(bad))
+        verdict = bad[node]
+        if verdict.witness is None:  # the solver's: only the reported goal's values are asked
+            verdict = _witnessed(run, graph.goals[node], failing, expr_reads)
+        findings.append(_counterexample(model, graph, state, bad, (node, path), verdict))
     if undecided:
         # The wall-clock cap ends the work on a busy machine, however easy what is left.
         capped = WALL_CAP_REACHED in undecided.values()
@@ -433,12 +439,12 @@ def _failing_goals(model: LogicModel, run: LogicRun, graph: MissionGraph,
 
 
 def _counterexample(model: LogicModel, graph: MissionGraph, state: _StateProperty,
-                    bad: dict[int, GoalVerdict]) -> Finding:
-    """The PROPERTY error at the failing goal nearest the start, with its shortest path and
-    the values (or facts) that let the property fail there."""
-    node, path = shortest_through_any(graph, list(bad))
+                    bad: dict[int, GoalVerdict], nearest: tuple[int, CounterPath],
+                    verdict: GoalVerdict) -> Finding:
+    """The PROPERTY error at the failing goal nearest the start (`nearest`: its node and
+    shortest path), with the values (or facts) that let the property fail there."""
+    node, path = nearest
     goal = graph.goals[node]
-    verdict = bad[node]
     if verdict.witness:
         values = join_words([
             f"{quantity_words(q, model.quantities)} {with_unit(v, model.unit(q))}"
@@ -461,26 +467,45 @@ def _counterexample(model: LogicModel, graph: MissionGraph, state: _StatePropert
         property=state.prop.id,
         goal=goal.id,
         path=path.to_json(),
-        witness=dict(verdict.witness),
+        witness=dict(verdict.witness or ()),
         failing_goals=[graph.goal_ids[n] for n in sorted(bad)],
     )
 
 
 def _solve_state(run: LogicRun, items: list[Item], failing: Item,
                  base: frozenset[Item]) -> GoalVerdict:
-    # A state that cannot fail needs no core and no witness: the screen's status is the answer
-    # (and goals with the same formulas share it); the session solves the others as before.
-    if logic_run.GROUP_CHECKS and run.screen.status([*items, failing], base) == "unsat":
-        return GoalVerdict(False, (), None)
+    """Whether the state can fail. The screen's status is the answer when it decides (goals
+    with the same formulas share it, bounds.py proves most without z3); the session decides
+    the others. The values come later, for the reported goal alone (`_witnessed`)."""
+    if logic_run.GROUP_CHECKS:
+        status = run.screen.status([*items, failing], base)
+        if status != "unknown":
+            return GoalVerdict(status == "sat", None, None)
     session = run.session
     with session.scope([*items, failing]):
         result = session.check([*items, failing])
-        if result.status == "unknown":
-            return GoalVerdict(False, (), result.reason)
-        if result.status == "unsat":
-            return GoalVerdict(False, (), None)
-        witness = session.witness(failing.quantities, items=[*items, failing])
-    return GoalVerdict(True, tuple(sorted(witness.items())), None)
+    if result.status == "unknown":
+        return GoalVerdict(False, (), result.reason)
+    return GoalVerdict(result.status == "sat", None, None)
+
+
+def _witnessed(run: LogicRun, goal: Goal, failing: Item, expr_reads: Reads) -> GoalVerdict:
+    """The reported goal's verdict with the values that let the property fail there: solved
+    in the unit's own context, so they are the same whatever was checked before."""
+    mission = run.mission()
+    items, _ = run.goal_items(goal, mission.quarantined, [expr_reads])
+
+    def solve() -> GoalVerdict:
+        session = run.session
+        with session.scope([*items, failing]):
+            result = session.check([*items, failing])
+            if result.status != "sat":  # out of time: the finding names no values
+                return GoalVerdict(True, (), result.reason or None)
+            witness = session.witness(failing.quantities, items=[*items, failing])
+        return GoalVerdict(True, tuple(sorted(witness.items())), None)
+
+    verdict: GoalVerdict = run.cached("property-witness", [*items, failing], solve)
+    return verdict
 
 
 def _check_bound(orders: Orders, graph: MissionGraph, prop: PathProperty, quantity: str,
