@@ -68,11 +68,6 @@ class Limits:
     def _used(self) -> tuple[float, float]:
         return self.clocks.cpu() - self._cpu_start, self.clocks.wall() - self._wall_start
 
-    def remaining_ms(self) -> int:
-        """Milliseconds left before either limit: of CPU budget or of wall-clock cap."""
-        cpu, wall = self._used()
-        return int(min(self.budget_s - cpu, self.wall_cap_s - wall) * 1000)
-
     def call_timeout_ms(self) -> int:
         """The wall-clock timeout of the next solver call: `per_call_ms`, or less when the CPU
         budget or the wall cap leaves less; 0 when either is reached."""
