@@ -177,3 +177,21 @@ def test_the_collector_pauses_for_the_property_checks(
     check_properties(orders, build_graph(orders), LogicCache())
     assert seen and not any(seen)
     assert gc.isenabled()
+
+
+def test_reordered_norms_list_their_risks_in_the_new_order() -> None:
+    # A goal's unit is keyed without the order of its norms: the result kept from before the
+    # edit is worded in the orders' norm order as it is now, as a fresh check words it.
+    goal = {"id": "G0", "title": "Goal 0", "behavior": "transit", "area": "A2",
+            "envelope": {"depth_m": [12, 30], "speed_mps": [0.5, 2]},
+            "next": {"succeed": "COMPLETE", "fail": "ABORT", "violate": "ABORT"}}
+    data: dict[str, Any] = {
+        "id": "reordered", "start": "G0", "vehicle": "v", "areas": AREAS, "goals": [goal],
+        "norms": NORMS[:2], "constraints": [],
+        "vehicles": [{"id": "v", "envelope": {"depth_m": [0, 300], "speed_mps": [0, 3]}}]}
+    kept = LogicCache()
+    before = Orders.model_validate(data)
+    assert [f["details"]["norm"] for f in _checked(before, kept)[0]] == ["N0", "N1"]
+    after = Orders.model_validate({**data, "norms": NORMS[1::-1]})
+    assert _checked(after, kept) == _checked(after, LogicCache())
+    assert [f["details"]["norm"] for f in _checked(after, kept)[0]] == ["N1", "N0"]

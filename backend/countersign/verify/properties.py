@@ -559,7 +559,10 @@ def _witnessed(run: LogicRun, goal: Goal, failing: Item, expr_reads: Reads) -> G
             witness = session.witness(failing.quantities, items=[*items, failing])
         return GoalVerdict(True, tuple(sorted(witness.items())), None)
 
-    verdict: GoalVerdict = run.cached("property-witness", [*items, failing], solve)
+    # The live block as its base, named: when every verdict was carried from before an edit,
+    # no unit of this run has named it, and the key would differ from the one stored.
+    verdict: GoalVerdict = run.cached("property-witness", [*items, failing], solve,
+                                      base=run.block(mission.quarantined))
     return verdict
 
 
