@@ -20,13 +20,13 @@ export function usersChanged(client: QueryClient): Promise<void> {
 
 type UserPatch = components["schemas"]["UserPatch"];
 
-/** Enable or disable an account; the list is asked for again afterwards. */
+/** Change an account (enable or disable it, its role, a password reset); the list is asked for again after it. */
 export function useUpdateUser() {
   const client = useQueryClient();
   return useMutation({
     mutationFn: async ({ user, patch }: { user: User; patch: UserPatch }) =>
       unwrap(await api.PATCH("/api/users/{user_id}", { params: { path: { user_id: user.id } }, body: patch })),
-    onSettled: () => usersChanged(client),
+    onSuccess: () => usersChanged(client),
   });
 }
 

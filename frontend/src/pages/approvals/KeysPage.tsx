@@ -5,9 +5,9 @@
  */
 import { type FormEvent, useEffect, useState } from "react";
 
-import { api, unwrap } from "../../api/client";
+import { useRegisterKey, useRevokeKey } from "../../api/keys";
 import { ErrorMessage, Loading, Notice } from "../../components/Status";
-import { deleteKey, fingerprint, generateSigningKey, saveKey } from "../../crypto/keystore";
+import { fingerprint } from "../../crypto/keystore";
 import { formatDateTime } from "../../format";
 import { useSession } from "../../session";
 import type { Key } from "./api";
@@ -18,7 +18,8 @@ export function KeysPage() {
   const keys = useSigningKeys(user.username);
   const [name, setName] = useState("");
   const [password, setPassword] = useState("");
-  const [busy, setBusy] = useState(false);
+  const registerKey = useRegisterKey(user.username);
+  const busy = registerKey.isPending;
   const [error, setError] = useState<unknown>(null);
   const [notice, setNotice] = useState<string | null>(null);
   const [revoking, setRevoking] = useState<Key | null>(null);
@@ -32,37 +33,19 @@ export function KeysPage() {
 
   const register = async (event: { preventDefault(): void }, rotate: boolean) => {
     event.preventDefault();
-    setBusy(true);
     setError(null);
     setNotice(null);
     try {
       if (!password) throw new Error("Confirm your password to register a key.");
-      const generated = await generateSigningKey();
-      const registered = unwrap(
-        await api.POST("/api/keys", { body: { public_key: generated.publicKey, name: name || "browser", password } }),
-      );
-      await saveKey(user.username, generated, name || "browser");
+      const revoked = rotate ? active : [];
+      const registered = await registerKey.mutateAsync({ name: name || "browser", password, rotate: revoked });
       let text = `Key ${fingerprint(registered.key_id)} registered; its private key stays in this browser.`;
-      if (rotate) {
-        for (const old of active) {
-          unwrap(
-            await api.POST("/api/keys/{key_id}/revoke", {
-              params: { path: { key_id: old.key_id } },
-              body: { password, reason: `rotated to ${registered.key_id}` },
-            }),
-          );
-          await deleteKey(user.username, old.key_id);
-        }
-        if (active.length) text += ` Revoked ${active.map((k) => fingerprint(k.key_id)).join(", ")}.`;
-      }
+      if (revoked.length) text += ` Revoked ${revoked.map((k) => fingerprint(k.key_id)).join(", ")}.`;
       setNotice(text);
       setPassword("");
       setName("");
     } catch (e) {
       setError(e);
-    } finally {
-      setBusy(false);
-      keys.reload();
     }
   };
 
@@ -155,7 +138,6 @@ export function KeysPage() {
           onDone={(text) => {
             setRevoking(null);
             if (text) setNotice(text);
-            keys.reload();
           }}
         />
       )}
@@ -167,24 +149,16 @@ function RevokeKey({ keyRow, onDone }: { keyRow: Key; onDone: (notice: string | 
   const { user } = useSession();
   const [password, setPassword] = useState("");
   const [reason, setReason] = useState("");
-  const [error, setError] = useState<unknown>(null);
-  const [busy, setBusy] = useState(false);
-  const submit = async (event: FormEvent) => {
+  const revokeKey = useRevokeKey(user.username);
+  const busy = revokeKey.isPending;
+  const submit = (event: FormEvent) => {
     event.preventDefault();
-    setBusy(true);
-    setError(null);
-    try {
-      unwrap(
-        await api.POST("/api/keys/{key_id}/revoke", { params: { path: { key_id: keyRow.key_id } }, body: { password, reason } }),
-      );
-      await deleteKey(user.username, keyRow.key_id);
-      onDone(`Key ${fingerprint(keyRow.key_id)} revoked; earlier approvals keep verifying against it.`);
-    } catch (e) {
-      setError(e);
-    } finally {
-      setBusy(false);
-    }
+    revokeKey.mutate(
+      { keyId: keyRow.key_id, password, reason },
+      { onSuccess: () => onDone(`Key ${fingerprint(keyRow.key_id)} revoked; earlier approvals keep verifying against it.`) },
+    );
   };
+  const error = revokeKey.error;
   return (
     <form className="card" onSubmit={(e) => void submit(e)} aria-labelledby="revoke-key-title">
       <h2 id="revoke-key-title">Revoke key {fingerprint(keyRow.key_id)}</h2>
