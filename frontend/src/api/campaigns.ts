@@ -103,11 +103,14 @@ export function useStartCampaign(mission: string) {
 }
 
 /** Cancel a queued or running campaign of the mission. */
-export function useCancelCampaign(mission: string) {
-  const client = useQueryClient();
-  return useMutation({
+export function cancelCampaignMutation(client: QueryClient, mission: string) {
+  return {
     mutationFn: async (campaign: string) =>
       unwrap(await api.POST("/api/campaigns/{campaign_id}/cancel", { params: { path: { campaign_id: campaign } } })),
     onSuccess: () => campaignsChanged(client, mission),
-  });
+  };
+}
+
+export function useCancelCampaign(mission: string) {
+  return useMutation(cancelCampaignMutation(useQueryClient(), mission));
 }

@@ -138,9 +138,8 @@ export function useCreateMission() {
 }
 
 /** Import a file's bytes as they are (JSON, AVCL XML or MEO Turtle) as a new mission. */
-export function useImportMission() {
-  const client = useQueryClient();
-  return useMutation({
+export function importMissionMutation(client: QueryClient) {
+  return {
     mutationFn: async ({ body, contentType }: { body: string | Blob; contentType: string }) =>
       unwrap(
         await api.POST("/api/import", {
@@ -150,7 +149,11 @@ export function useImportMission() {
         }),
       ),
     onSuccess: (mission: MissionDetail) => missionCreated(client, mission),
-  });
+  };
+}
+
+export function useImportMission() {
+  return useMutation(importMissionMutation(useQueryClient()));
 }
 
 /** A draft save's answer: the mission as saved, or (412) the mission someone else saved first. */
@@ -180,16 +183,20 @@ export function useSaveDraft(id: string) {
 }
 
 /** Save the editor's node positions (editor data: no revision, no "Updated by"). */
-export function useSaveLayout(id: string) {
-  const client = useQueryClient();
-  return useMutation({
+export function saveLayoutMutation(client: QueryClient, id: string) {
+  return {
     mutationFn: async (layout: Layout) => {
       unwrap(await api.PUT("/api/missions/{mission_id}/layout", { params: { path: { mission_id: id } }, body: { layout } }));
       return layout;
     },
-    onSuccess: (layout: Layout) =>
-      client.setQueryData<MissionDetail>(missionKeys.detail(id), (old) => (old ? { ...old, layout } : old)),
-  });
+    onSuccess: (layout: Layout) => {
+      client.setQueryData<MissionDetail>(missionKeys.detail(id), (old) => (old ? { ...old, layout } : old));
+    },
+  };
+}
+
+export function useSaveLayout(id: string) {
+  return useMutation(saveLayoutMutation(useQueryClient(), id));
 }
 
 /** Create a version of the draft: the mission's versions, status and lists change. */

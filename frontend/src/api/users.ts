@@ -21,13 +21,16 @@ export function usersChanged(client: QueryClient): Promise<void> {
 type UserPatch = components["schemas"]["UserPatch"];
 
 /** Change an account (enable or disable it, its role, a password reset); the list is asked for again after it. */
-export function useUpdateUser() {
-  const client = useQueryClient();
-  return useMutation({
+export function updateUserMutation(client: QueryClient) {
+  return {
     mutationFn: async ({ user, patch }: { user: User; patch: UserPatch }) =>
       unwrap(await api.PATCH("/api/users/{user_id}", { params: { path: { user_id: user.id } }, body: patch })),
     onSuccess: () => usersChanged(client),
-  });
+  };
+}
+
+export function useUpdateUser() {
+  return useMutation(updateUserMutation(useQueryClient()));
 }
 
 type NewUser = components["schemas"]["UserIn"];
