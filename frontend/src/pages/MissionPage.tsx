@@ -1,6 +1,6 @@
 import { useEffect, useState } from "react";
 
-import { ApiError, EXPORT_FORMATS, exportHref, type MissionDetail } from "../api/client";
+import { ApiError, EXPORT_FORMATS, exportHref, type MissionDetail, type Version } from "../api/client";
 import {
   useCreateVersion,
   useDeleteMission,
@@ -13,6 +13,7 @@ import {
 import { prefetchReport } from "../api/reportPrefetch";
 import { useReport } from "../api/reports";
 import { ChartPlanView } from "../components/ChartPlanView";
+import { type Column, DataTable } from "../components/DataTable";
 import type { Orders } from "../editor/graph";
 import { FindingsTable } from "../components/FindingsTable";
 import { Link } from "../components/Link";
@@ -313,6 +314,16 @@ function PathsTab({ mission }: { mission: MissionDetail }) {
   );
 }
 
+function versionColumns(mission: string): Column<Version>[] {
+  return [
+    { header: "Version", cell: (v) => `v${v.number}` },
+    { header: "Digest", cell: (v) => <code title={v.digest}>{shortDigest(v.digest)}</code> },
+    { header: "Author", cell: (v) => v.author },
+    { header: "Created", cell: (v) => <time dateTime={v.created_at}>{formatDateTime(v.created_at)}</time> },
+    { header: "Vehicle files", cell: (v) => <VehicleExports mission={mission} version={v.number} /> },
+  ];
+}
+
 function VersionsTab({ mission }: { mission: MissionDetail }) {
   const canVersion = useCan("createVersion");
   const createVersion = useCreateVersion(mission.id);
@@ -341,35 +352,13 @@ function VersionsTab({ mission }: { mission: MissionDetail }) {
       {versions.length === 0 ? (
         <p className="empty">No versions yet.</p>
       ) : (
-        <table className="versions">
-          <caption className="visually-hidden">Versions, newest first</caption>
-          <thead>
-            <tr>
-              <th scope="col">Version</th>
-              <th scope="col">Digest</th>
-              <th scope="col">Author</th>
-              <th scope="col">Created</th>
-              <th scope="col">Vehicle files</th>
-            </tr>
-          </thead>
-          <tbody>
-            {versions.map((v) => (
-              <tr key={v.number}>
-                <td>v{v.number}</td>
-                <td>
-                  <code title={v.digest}>{shortDigest(v.digest)}</code>
-                </td>
-                <td>{v.author}</td>
-                <td>
-                  <time dateTime={v.created_at}>{formatDateTime(v.created_at)}</time>
-                </td>
-                <td>
-                  <VehicleExports mission={mission.id} version={v.number} />
-                </td>
-              </tr>
-            ))}
-          </tbody>
-        </table>
+        <DataTable
+          caption="Versions, newest first"
+          className="versions"
+          columns={versionColumns(mission.id)}
+          rows={versions}
+          rowKey={(v) => v.number}
+        />
       )}
     </>
   );

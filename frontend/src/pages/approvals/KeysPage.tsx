@@ -6,12 +6,47 @@
 import { type FormEvent, useEffect, useState } from "react";
 
 import { useRegisterKey, useRevokeKey } from "../../api/keys";
+import { type Column, DataTable } from "../../components/DataTable";
 import { ErrorMessage, Loading, Notice } from "../../components/Status";
 import { fingerprint } from "../../crypto/keystore";
 import { formatDateTime } from "../../format";
 import { useSession } from "../../session";
 import type { Key } from "./api";
 import { useSigningKeys } from "./signing";
+
+function keyColumns(local: Set<string>, onRevoke: (key: Key) => void): Column<Key>[] {
+  return [
+    {
+      header: "Fingerprint",
+      cell: (k) => (
+        <code title={`SHA-256 of the public key: ${k.key_id}`} data-testid="key-fingerprint">
+          {fingerprint(k.key_id)}
+        </code>
+      ),
+    },
+    { header: "Name", cell: (k) => k.name },
+    {
+      header: "Status",
+      cell: (k) => (
+        <>
+          <span className={`badge ${k.status === "active" ? "ok" : "muted"}`}>{k.status}</span>
+          {k.revoked_at && ` ${formatDateTime(k.revoked_at)}`}
+        </>
+      ),
+    },
+    { header: "In this browser", cell: (k) => (local.has(k.key_id) ? "yes (can sign here)" : "no") },
+    { header: "Registered", cell: (k) => <time dateTime={k.created_at}>{formatDateTime(k.created_at)}</time> },
+    {
+      header: "Actions",
+      cell: (k) =>
+        k.status === "active" && (
+          <button type="button" onClick={() => onRevoke(k)} aria-label={`Revoke key ${fingerprint(k.key_id)}`}>
+            Revoke
+          </button>
+        ),
+    },
+  ];
+}
 
 export function KeysPage() {
   const { user } = useSession();
@@ -91,46 +126,7 @@ export function KeysPage() {
       ) : mine.length === 0 ? (
         <p className="empty">You have no registered keys.</p>
       ) : (
-        <table className="keys">
-          <caption className="visually-hidden">Your registered signing keys</caption>
-          <thead>
-            <tr>
-              <th scope="col">Fingerprint</th>
-              <th scope="col">Name</th>
-              <th scope="col">Status</th>
-              <th scope="col">In this browser</th>
-              <th scope="col">Registered</th>
-              <th scope="col">Actions</th>
-            </tr>
-          </thead>
-          <tbody>
-            {mine.map((k) => (
-              <tr key={k.key_id}>
-                <td>
-                  <code title={`SHA-256 of the public key: ${k.key_id}`} data-testid="key-fingerprint">
-                    {fingerprint(k.key_id)}
-                  </code>
-                </td>
-                <td>{k.name}</td>
-                <td>
-                  <span className={`badge ${k.status === "active" ? "ok" : "muted"}`}>{k.status}</span>
-                  {k.revoked_at && ` ${formatDateTime(k.revoked_at)}`}
-                </td>
-                <td>{local.has(k.key_id) ? "yes (can sign here)" : "no"}</td>
-                <td>
-                  <time dateTime={k.created_at}>{formatDateTime(k.created_at)}</time>
-                </td>
-                <td>
-                  {k.status === "active" && (
-                    <button type="button" onClick={() => setRevoking(k)} aria-label={`Revoke key ${fingerprint(k.key_id)}`}>
-                      Revoke
-                    </button>
-                  )}
-                </td>
-              </tr>
-            ))}
-          </tbody>
-        </table>
+        <DataTable caption="Your registered signing keys" className="keys" columns={keyColumns(local, setRevoking)} rows={mine} rowKey={(k) => k.key_id} />
       )}
       {revoking && (
         <RevokeKey
