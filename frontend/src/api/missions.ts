@@ -1,6 +1,7 @@
 /** Missions as a resource: the list, one mission and what hangs off its draft (plain orders,
  * paths, standing), their keys, and what a write to a mission invalidates. */
-import { keepPreviousData, type QueryClient, useMutation, useQuery, useQueryClient } from "@tanstack/react-query";
+import { keepPreviousData, MutationObserver, type QueryClient, useMutation, useQuery, useQueryClient } from "@tanstack/react-query";
+import { useState } from "react";
 
 import { ApiError, api, exportHref, fetchText, type Finding, type MissionDetail, type MissionPage, type PathPage, type Schema, unwrap } from "./client";
 import { reportKeys } from "./reports";
@@ -189,14 +190,28 @@ export function saveLayoutMutation(client: QueryClient, id: string) {
       unwrap(await api.PUT("/api/missions/{mission_id}/layout", { params: { path: { mission_id: id } }, body: { layout } }));
       return layout;
     },
-    onSuccess: (layout: Layout) => {
-      client.setQueryData<MissionDetail>(missionKeys.detail(id), (old) => (old ? { ...old, layout } : old));
-    },
+    // The positions are the open editor's own: the cached mission is marked stale (asked for
+    // when next opened) rather than replaced, which would re-render the page and the editor.
+    onSuccess: () => client.invalidateQueries({ queryKey: missionKeys.detail(id), refetchType: "none" }),
   };
 }
 
-export function useSaveLayout(id: string) {
-  return useMutation(saveLayoutMutation(useQueryClient(), id));
+export interface DraftSaves {
+  saveDraft: (draft: { revision: number; orders: Orders }) => Promise<DraftSave>;
+  saveLayout: (layout: Layout) => Promise<Layout>;
+}
+
+/** The editor's saves, as the mutations above that the editor does not subscribe to: it shows
+ * their state from its own store, and a render of the whole editor for each pending and
+ * settled save would cost more than the save. */
+export function useDraftSaves(id: string): DraftSaves {
+  const client = useQueryClient();
+  const [saves] = useState((): DraftSaves => {
+    const draft = new MutationObserver(client, saveDraftMutation(client, id));
+    const layout = new MutationObserver(client, saveLayoutMutation(client, id));
+    return { saveDraft: (d) => draft.mutate(d), saveLayout: (l) => layout.mutate(l) };
+  });
+  return saves;
 }
 
 /** Create a version of the draft: the mission's versions, status and lists change. */

@@ -121,12 +121,12 @@ describe("a mutation hook", () => {
     expect(calls()).toBe(2);
   });
 
-  it("saved positions are set on the cached mission, with no request", async () => {
+  it("saved positions mark the mission stale, asked for when next opened, not while the editor is open", async () => {
     answer(200, {});
     const client = new QueryClient();
-    client.setQueryData(missionKeys.detail("m1"), { id: "m1", layout: {} });
+    const calls = await watch(client, missionKeys.detail("m1"));
     expect(await run(saveLayoutMutation(client, "m1") as never, { G1: { x: 1, y: 2 } })).toBe(true);
-    expect(client.getQueryData(missionKeys.detail("m1"))).toEqual({ id: "m1", layout: { G1: { x: 1, y: 2 } } });
-    expect(client.getQueryState(missionKeys.detail("m1"))?.isInvalidated).toBe(false);
+    expect(client.getQueryState(missionKeys.detail("m1"))?.isInvalidated).toBe(true);
+    expect(calls()).toBe(1);
   });
 });

@@ -6,7 +6,7 @@
 import { useCallback, useEffect, useRef } from "react";
 
 import type { MissionDetail } from "../api/client";
-import { useSaveDraft, useSaveLayout } from "../api/missions";
+import { useDraftSaves } from "../api/missions";
 import { describeDifferences, type Layout, type Orders } from "./graph";
 import { push, reset } from "./history";
 import { mergeOrders, resolveMerge, type Side } from "./merge";
@@ -38,8 +38,7 @@ export interface Autosave {
 export function useAutosave(mission: MissionDetail, onReloaded: (theirs: MissionDetail) => void, server: ServerCheck): Autosave {
   const store = useEditorApi();
   // Each save updates the query cache itself (api/missions.ts): the page shows it without re-reading.
-  const { mutateAsync: saveDraft } = useSaveDraft(mission.id);
-  const { mutateAsync: saveLayout } = useSaveLayout(mission.id);
+  const { saveDraft, saveLayout } = useDraftSaves(mission.id);
   const { check, refreshChecks } = server;
   const saving = useRef(false);
   const again = useRef(false);
