@@ -1,6 +1,7 @@
 import { RouterProvider } from "@tanstack/react-router";
 import { useCallback, useEffect, useState } from "react";
 
+import { useSignOut } from "./api/auth";
 import { api, csrf, onUnauthorized, type Session } from "./api/client";
 import { queryClient } from "./api/query";
 import { ErrorMessage, Loading } from "./components/Status";
@@ -41,16 +42,15 @@ export function App() {
     return () => onUnauthorized(null);
   }, [signedIn]);
 
+  const { mutateAsync: signOutOnServer } = useSignOut();
   const signOut = useCallback(async () => {
     try {
-      await api.POST("/api/auth/logout");
+      await signOutOnServer();
     } finally {
-      csrf.clear();
-      queryClient.clear();
       setSession({ status: "out", notice: "You have signed out." });
       navigate("/login", { replace: true });
     }
-  }, []);
+  }, [signOutOnServer]);
 
   if ("status" in session && session.status === "checking") {
     return (

@@ -1,6 +1,6 @@
 /** Signed decisions as a resource: the audit history, one record, its executions, and what a
  * decision or a revocation invalidates. */
-import { keepPreviousData, type QueryClient, useQuery } from "@tanstack/react-query";
+import { keepPreviousData, type QueryClient, useMutation, useQuery, useQueryClient } from "@tanstack/react-query";
 
 import { api, type paths, type Schema, unwrap } from "./client";
 import { missionKeys } from "./missions";
@@ -64,3 +64,58 @@ export function decisionRecorded(client: QueryClient, mission: string): Promise<
 
 /** A record was revoked: the same reach as a decision (the version no longer stands approved). */
 export const recordRevoked = decisionRecorded;
+
+/** The statement the server prepared for signing, signed in the browser into a DSSE envelope. */
+export type Prepared = Schema<"PreparedOut">;
+export type SignStatement = (prepared: Prepared) => Promise<string>;
+
+export interface DecisionIn {
+  decision: "approved" | "rejected";
+  reason: string;
+  keyId: string;
+  password: string;
+  /** Checks that the prepared statement says what the review showed, and signs it. */
+  sign: SignStatement;
+}
+
+/** Decide on a submission: the server prepares the statement, the browser signs it, the server
+ * records the signed decision (checking the password with it). */
+export function decideMutation(client: QueryClient, mission: string, submission: number) {
+  return {
+    mutationFn: async ({ decision, reason, keyId, password, sign }: DecisionIn) => {
+      const submissionPath = { params: { path: { submission_id: submission } } };
+      const prepared = unwrap(await api.POST("/api/submissions/{submission_id}/statement", { ...submissionPath, body: { decision, reason, key_id: keyId } }));
+      const envelope = await sign(prepared);
+      return unwrap(await api.POST("/api/submissions/{submission_id}/decision", { ...submissionPath, body: { envelope, password } }));
+    },
+    onSuccess: () => decisionRecorded(client, mission),
+  };
+}
+
+export function useDecide(mission: string, submission: number) {
+  return useMutation(decideMutation(useQueryClient(), mission, submission));
+}
+
+export interface RevocationIn {
+  reason: string;
+  keyId: string;
+  password: string;
+  sign: SignStatement;
+}
+
+/** Revoke an approval with a signed statement, like a decision. */
+export function revokeMutation(client: QueryClient, mission: string, approval: number) {
+  return {
+    mutationFn: async ({ reason, keyId, password, sign }: RevocationIn) => {
+      const approvalPath = { params: { path: { approval_id: approval } } };
+      const prepared = unwrap(await api.POST("/api/approvals/{approval_id}/statement", { ...approvalPath, body: { reason, key_id: keyId } }));
+      const envelope = await sign(prepared);
+      return unwrap(await api.POST("/api/approvals/{approval_id}/revoke", { ...approvalPath, body: { envelope, password } }));
+    },
+    onSuccess: () => recordRevoked(client, mission),
+  };
+}
+
+export function useRevokeApproval(mission: string, approval: number) {
+  return useMutation(revokeMutation(useQueryClient(), mission, approval));
+}

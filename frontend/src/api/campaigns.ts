@@ -2,7 +2,7 @@
  * submission; what starting, changing or attaching one invalidates. */
 import { type QueryClient, useMutation, useQuery, useQueryClient } from "@tanstack/react-query";
 
-import { api, type Schema, unwrap } from "./client";
+import { api, type paths, type Schema, unwrap } from "./client";
 import { missionKeys } from "./missions";
 import { useFaultReach } from "./versions";
 import { submissionChanged, submissionKeys } from "./submissions";
@@ -80,4 +80,37 @@ export function attachCampaignMutation(client: QueryClient, mission: string, sub
 
 export function useAttachCampaign(mission: string, submission: number) {
   return useMutation(attachCampaignMutation(useQueryClient(), mission, submission));
+}
+
+export type CampaignIn = NonNullable<paths["/api/missions/{mission_id}/versions/{number}/campaigns"]["post"]["requestBody"]>["content"]["application/json"];
+
+/** Start a campaign of one version: the mission's campaigns list it (and poll its progress). */
+export function startCampaignMutation(client: QueryClient, mission: string) {
+  return {
+    mutationFn: async ({ version, body }: { version: number; body: CampaignIn }) =>
+      unwrap(
+        await api.POST("/api/missions/{mission_id}/versions/{number}/campaigns", {
+          params: { path: { mission_id: mission, number: version } },
+          body,
+        }),
+      ),
+    onSuccess: () => campaignsChanged(client, mission),
+  };
+}
+
+export function useStartCampaign(mission: string) {
+  return useMutation(startCampaignMutation(useQueryClient(), mission));
+}
+
+/** Cancel a queued or running campaign of the mission. */
+export function cancelCampaignMutation(client: QueryClient, mission: string) {
+  return {
+    mutationFn: async (campaign: string) =>
+      unwrap(await api.POST("/api/campaigns/{campaign_id}/cancel", { params: { path: { campaign_id: campaign } } })),
+    onSuccess: () => campaignsChanged(client, mission),
+  };
+}
+
+export function useCancelCampaign(mission: string) {
+  return useMutation(cancelCampaignMutation(useQueryClient(), mission));
 }

@@ -1,10 +1,12 @@
 /** What the plan view draws of some orders, and the server's map tile setting. */
 import { useQuery } from "@tanstack/react-query";
 
-import { api, type Schema, unwrap } from "./client";
+import { api, type paths, type Schema, unwrap } from "./client";
 
 export type PlanData = Schema<"PlanViewOut">;
 type Orders = Schema<"Orders">;
+type ProblemIn = NonNullable<paths["/api/missions/{mission_id}/plan-problem"]["post"]["requestBody"]>["content"]["application/json"];
+type Problem = Schema<"PlanProblem">;
 
 export const planKeys = {
   view: (orders: string) => ["plan-view", orders] as const,
@@ -27,4 +29,15 @@ export function useClientConfig() {
     queryFn: async () => unwrap(await api.GET("/api/client-config")),
     staleTime: Infinity,
   });
+}
+
+/** The planning problem the server builds from a mission's areas and the dialog's choices (it
+ * stores nothing). */
+export async function buildPlanProblem(mission: string, body: ProblemIn): Promise<Problem> {
+  return unwrap(await api.POST("/api/missions/{mission_id}/plan-problem", { params: { path: { mission_id: mission } }, body }));
+}
+
+/** The server's plan for a problem (computed, not stored). */
+export async function solvePlan(problem: Problem) {
+  return unwrap(await api.POST("/api/plan", { body: problem }));
 }

@@ -2,7 +2,7 @@
  * key carries the draft's digest, so a saved draft is a new report and an old one is not shown. */
 import { type QueryClient, useQuery } from "@tanstack/react-query";
 
-import { api, type Report, unwrap } from "./client";
+import { api, type Report, type Schema, unwrap } from "./client";
 
 export const reportKeys = {
   all: ["reports"] as const,
@@ -23,4 +23,11 @@ export async function loadReport(client: QueryClient, id: string): Promise<Repor
   const report = await fetchReport(id);
   client.setQueryData(reportKeys.draft(id, report.digest), report);
   return report;
+}
+
+/** Checks orders not yet saved (POST /api/validate stores nothing): the report, or null when
+ * the server refused or could not be reached (the editor then keeps its last report). */
+export async function validateOrders(orders: Schema<"Orders">): Promise<Report | null> {
+  const answer = await api.POST("/api/validate", { body: orders });
+  return answer.response.ok && answer.data ? answer.data : null;
 }

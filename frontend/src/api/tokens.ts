@@ -20,7 +20,7 @@ export function useCreateToken() {
   const client = useQueryClient();
   return useMutation({
     mutationFn: async (body: TokenIn) => unwrap(await api.POST("/api/tokens", { body })),
-    onSettled: () => tokensChanged(client),
+    onSuccess: () => tokensChanged(client),
   });
 }
 
@@ -31,6 +31,6 @@ export function useRevokeToken() {
       const result = await api.DELETE("/api/tokens/{token_id}", { params: { path: { token_id: id } } });
       if (!result.response.ok) unwrap(result);
     },
-    onSettled: () => tokensChanged(client),
+    onSuccess: () => tokensChanged(client),
   });
 }

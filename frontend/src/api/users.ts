@@ -20,14 +20,17 @@ export function usersChanged(client: QueryClient): Promise<void> {
 
 type UserPatch = components["schemas"]["UserPatch"];
 
-/** Enable or disable an account; the list is asked for again afterwards. */
-export function useUpdateUser() {
-  const client = useQueryClient();
-  return useMutation({
+/** Change an account (enable or disable it, its role, a password reset); the list is asked for again after it. */
+export function updateUserMutation(client: QueryClient) {
+  return {
     mutationFn: async ({ user, patch }: { user: User; patch: UserPatch }) =>
       unwrap(await api.PATCH("/api/users/{user_id}", { params: { path: { user_id: user.id } }, body: patch })),
-    onSettled: () => usersChanged(client),
-  });
+    onSuccess: () => usersChanged(client),
+  };
+}
+
+export function useUpdateUser() {
+  return useMutation(updateUserMutation(useQueryClient()));
 }
 
 type NewUser = components["schemas"]["UserIn"];

@@ -59,7 +59,11 @@ export function vehicleSaved(client: QueryClient): Promise<unknown> {
   return Promise.all([client.invalidateQueries({ queryKey: vehicleKeys.all }), missionsChanged(client)]);
 }
 
+/** Register a vehicle or save a new version of its profile. */
+export function saveVehicleMutation(client: QueryClient) {
+  return { mutationFn: saveVehicle, onSuccess: () => vehicleSaved(client) };
+}
+
 export function useSaveVehicle() {
-  const client = useQueryClient();
-  return useMutation({ mutationFn: saveVehicle, onSuccess: () => vehicleSaved(client) });
+  return useMutation(saveVehicleMutation(useQueryClient()));
 }

@@ -2,6 +2,8 @@
 import { useRef, useState } from "react";
 
 import { numberPair } from "../api/pair";
+import type { Column } from "../components/DataTable";
+import { EditableTable } from "../components/EditableTable";
 import { CommitField } from "./fields";
 import { type Orders } from "./graph";
 import { addArea, addVertex, areas, type AreaSpec, deleteArea, type LatLon, parseList, parseNumber, removeVertex, renameArea, setVertex, updateArea } from "./model";
@@ -89,40 +91,21 @@ function AreaEditor({
         value={(area.contexts ?? []).join(", ")}
         onCommit={(text) => editOrders((o) => updateArea(o, id, { contexts: parseList(text) }))}
       />
-      <table className="vertices">
-        <caption>Vertices of {id} (latitude, longitude in degrees)</caption>
-        <thead>
-          <tr>
-            <th scope="col">#</th>
-            <th scope="col">Latitude</th>
-            <th scope="col">Longitude</th>
-            <th scope="col">
-              <span className="visually-hidden">Remove</span>
-            </th>
-          </tr>
-        </thead>
-        <tbody>
-          {polygon.map(numberPair).map(([lat, lon], i) => (
-            <tr key={i}>
-              <td>{i + 1}</td>
-              {[0, 1].map((k) => (
-                <td key={k}>
-                  <VertexInput
-                    label={`Vertex ${i + 1} ${k === 0 ? "latitude" : "longitude"}`}
-                    value={k === 0 ? lat : lon}
-                    onChange={(n) => editOrders((o) => setVertex(o, id, i, k === 0 ? [n, lon] : [lat, n]), `area:${id}:v${i}:${k}`)}
-                  />
-                </td>
-              ))}
-              <td>
-                <button type="button" className="small" aria-label={`Remove vertex ${i + 1}`} onClick={() => editOrders((o) => removeVertex(o, id, i))}>
-                  ✕
-                </button>
-              </td>
-            </tr>
-          ))}
-        </tbody>
-      </table>
+      <EditableTable
+        caption={`Vertices of ${id} (latitude, longitude in degrees)`}
+        showCaption
+        className="vertices"
+        columns={vertexColumns(id, editOrders)}
+        rows={polygon.map(numberPair)}
+        rowKey={(_, i) => i}
+        remove={{
+          header: "Remove",
+          text: () => "✕",
+          label: (_, i) => `Remove vertex ${i + 1}`,
+          className: "small",
+          onRemove: (_, i) => editOrders((o) => removeVertex(o, id, i)),
+        }}
+      />
       <button type="button" onClick={() => editOrders((o) => addVertex(o, id))}>
         Add vertex
       </button>{" "}
@@ -131,6 +114,21 @@ function AreaEditor({
       </button>
     </fieldset>
   );
+}
+
+/** A vertex a row: its number, latitude and longitude (typing is grouped per field). */
+function vertexColumns(id: string, editOrders: EditOrders): Column<[number, number]>[] {
+  const coordinate = (k: 0 | 1): Column<[number, number]> => ({
+    header: k === 0 ? "Latitude" : "Longitude",
+    cell: ([lat, lon], i) => (
+      <VertexInput
+        label={`Vertex ${i + 1} ${k === 0 ? "latitude" : "longitude"}`}
+        value={k === 0 ? lat : lon}
+        onChange={(n) => editOrders((o) => setVertex(o, id, i, k === 0 ? [n, lon] : [lat, n]), `area:${id}:v${i}:${k}`)}
+      />
+    ),
+  });
+  return [{ header: "#", cell: (_, i) => i + 1 }, coordinate(0), coordinate(1)];
 }
 
 /** A number input that keeps partial text ("36.", "-") while typing. */

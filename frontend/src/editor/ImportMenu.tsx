@@ -5,23 +5,11 @@
  */
 import { type FormEvent, useEffect, useId, useRef, useState } from "react";
 
-import { api, type Finding, type Schema, unwrap } from "../api/client";
+import { api, type Schema, unwrap } from "../api/client";
+import { useCreateMission } from "../api/missions";
 import { ErrorMessage } from "../components/Status";
 import { navigate } from "../navigation";
 import { missionHref } from "../router";
-import { contentTypeFor } from "../upload";
-import type { Orders } from "./graph";
-
-/** Reads a file into orders on the server (POST /api/read), with what reading it found. */
-export async function readOrdersFile(file: Blob & { name?: string; type: string }): Promise<{ orders: Orders; findings: Finding[] }> {
-  const result = await api.POST("/api/read", {
-    body: file as never,
-    bodySerializer: (raw: unknown) => raw as BodyInit,
-    headers: { "Content-Type": contentTypeFor(file.name ?? "", file.type) },
-  });
-  const data = unwrap(result);
-  return { orders: data.orders, findings: data.findings ?? [] };
-}
 
 export function ImportMenu({ onImport, busy }: { onImport: (file: File) => Promise<void>; busy: boolean }) {
   const inputId = useId();
@@ -60,7 +48,7 @@ export function NewFromExample() {
   const [examples, setExamples] = useState<Example[] | null>(null);
   const [name, setName] = useState("");
   const [id, setId] = useState("");
-  const [busy, setBusy] = useState(false);
+  const createMission = useCreateMission();
   const [error, setError] = useState<unknown>(null);
   const [open, setOpen] = useState(false);
   const touched = useRef(false);
@@ -85,18 +73,16 @@ export function NewFromExample() {
       setError("Choose an example and give the new mission an id.");
       return;
     }
-    setBusy(true);
     setError(null);
     try {
       const orders = unwrap(await api.GET("/api/examples/{name}", { params: { path: { name } } }));
-      const mission = unwrap(await api.POST("/api/missions", { body: { ...orders, id: newId } }));
+      const mission = await createMission.mutateAsync({ ...orders, id: newId });
       navigate(missionHref(mission.id, "editor"));
     } catch (e) {
       setError(e);
-    } finally {
-      setBusy(false);
     }
   };
+  const busy = createMission.isPending;
   return (
     <details className="import-menu" onToggle={(e) => setOpen((e.target as HTMLDetailsElement).open)}>
       <summary>New from example…</summary>

@@ -31,26 +31,26 @@ import { createEditorStore, EditorStoreContext, useEditor } from "./store";
 import { useEditorActions } from "./useEditorActions";
 import { useFlowElements } from "./useFlowElements";
 
-/** `onSaved` gets the mission as the save answered it (the page shows it without re-reading).
+/** Saves update the query cache (api/missions.ts), so the page shows them without re-reading.
  * `report`: the saved draft's report if the page asked for it beside the mission; it is used only
  * if it is of this draft (its digest), else the editor asks for it. */
-export default function MissionEditor(props: { mission: MissionDetail; report?: ReportPrefetch | null; onSaved: (saved: MissionDetail) => void }) {
-  const { mission, report, onSaved } = props;
+export default function MissionEditor(props: { mission: MissionDetail; report?: ReportPrefetch | null }) {
+  const { mission, report } = props;
   const client = useQueryClient();
   const [store] = useState(() => createEditorStore(mission, reportOf(report, mission.draft_digest)));
   const [opening] = useState(() => seedOpening(client, mission, report));
   return (
     <EditorStoreContext.Provider value={store}>
       <ReactFlowProvider>
-        <Editor mission={mission} onSaved={onSaved} opening={opening} />
+        <Editor mission={mission} opening={opening} />
       </ReactFlowProvider>
     </EditorStoreContext.Provider>
   );
 }
 
-function Editor({ mission, onSaved, opening }: { mission: MissionDetail; onSaved: (saved: MissionDetail) => void; opening: Promise<Report | null> | null }) {
+function Editor({ mission, opening }: { mission: MissionDetail; opening: Promise<Report | null> | null }) {
   const titleRef = useRef<HTMLInputElement>(null);
-  const { editing, open, actions } = useEditorActions(mission, onSaved, opening, titleRef);
+  const { editing, open, actions } = useEditorActions(mission, opening, titleRef);
   const elements = useFlowElements(open.large);
   const editorRef = useRef<HTMLDivElement>(null);
   const mainRef = useRef<HTMLDivElement>(null);

@@ -6,7 +6,9 @@
  */
 import { useEffect, useMemo, useRef, useState } from "react";
 
-import { api, ApiError, unwrap, type MissionDetail, type Schema } from "../api/client";
+import { ApiError, type MissionDetail, type Schema } from "../api/client";
+import { useCreateMission } from "../api/missions";
+import { buildPlanProblem, solvePlan } from "../api/plans";
 import { ErrorMessage } from "../components/Status";
 import { formatNumber } from "../format";
 import { navigate } from "../navigation";
@@ -39,7 +41,9 @@ export function PlanDialog({ mission, orders, onClose }: { mission: MissionDetai
   );
   const [rewards, setRewards] = useState<Record<string, string>>(() => Object.fromEntries(withPolygons.map((a) => [a.id, "1"])));
   const [mandatory, setMandatory] = useState<Record<string, boolean>>({});
-  const [busy, setBusy] = useState(false);
+  const [solving, setBusy] = useState(false);
+  const createMission = useCreateMission();
+  const busy = solving || createMission.isPending;
   const [error, setError] = useState<unknown>(null);
   const [problem, setProblem] = useState<Problem | null>(null);
   const [solution, setSolution] = useState<Solution | null>(null);
@@ -65,11 +69,9 @@ export function PlanDialog({ mission, orders, onClose }: { mission: MissionDetai
         rewards: Object.fromEntries(chosen.map((id) => [id, Number(rewards[id] ?? 1)])),
         mandatory: chosen.filter((id) => mandatory[id]),
       };
-      const built = unwrap(
-        await api.POST("/api/missions/{mission_id}/plan-problem", { params: { path: { mission_id: mission.id } }, body }),
-      );
+      const built = await buildPlanProblem(mission.id, body);
       setProblem(built);
-      const solved = unwrap(await api.POST("/api/plan", { body: built }));
+      const solved = await solvePlan(built);
       setSolution(solved);
     } catch (e) {
       setError(e);
@@ -95,17 +97,14 @@ export function PlanDialog({ mission, orders, onClose }: { mission: MissionDetai
 
   const createDraft = async () => {
     if (!solution?.orders) return;
-    setBusy(true);
     setError(null);
     try {
       const body = { ...solution.orders, id: newId.trim(), title: `Survey plan from ${orders.title || mission.id}` };
-      const created = unwrap(await api.POST("/api/missions", { body }));
+      const created = await createMission.mutateAsync(body);
       navigate(missionHref(created.id, "editor"));
       onClose();
     } catch (e) {
       setError(e instanceof ApiError ? e : String(e));
-    } finally {
-      setBusy(false);
     }
   };
 

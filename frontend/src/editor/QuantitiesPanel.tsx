@@ -1,6 +1,8 @@
 /** The Quantities panel: the quantities the expressions read, with their units and ranges. */
 import { useState } from "react";
 
+import type { Column } from "../components/DataTable";
+import { EditableTable } from "../components/EditableTable";
 import { CommitSelect } from "./fields";
 import { type Orders } from "./graph";
 import { addQuantity, deleteQuantity, parseNumber, quantities, updateQuantity } from "./model";
@@ -21,26 +23,20 @@ export function QuantitiesPanel({ orders, editOrders }: { orders: Orders; editOr
     <section aria-labelledby="quantities-title">
       <h3 id="quantities-title">Quantities</h3>
       <p className="hint">What constraints and envelopes measure. Built-in maritime quantities need no declaration.</p>
-      <table className="quantities">
-        <thead>
-          <tr>
-            <th scope="col">Name</th>
-            <th scope="col">Title</th>
-            <th scope="col">Type</th>
-            <th scope="col">Unit</th>
-            <th scope="col">Min</th>
-            <th scope="col">Max</th>
-            <th scope="col">
-              <span className="visually-hidden">Delete</span>
-            </th>
-          </tr>
-        </thead>
-        <tbody>
-          {Object.entries(all).map(([q, spec]) => (
-            <QuantityRow key={q} name={q} spec={spec} editOrders={editOrders} />
-          ))}
-        </tbody>
-      </table>
+      <EditableTable
+        caption="Quantities"
+        className="quantities"
+        columns={quantityColumns(editOrders)}
+        rows={Object.entries(all)}
+        rowKey={([q]) => q}
+        remove={{
+          header: "Delete",
+          text: () => "✕",
+          label: ([q]) => `Delete quantity ${q}`,
+          className: "small",
+          onRemove: ([q]) => editOrders((o) => deleteQuantity(o, q)),
+        }}
+      />
       <form
         className="inline"
         onSubmit={(e) => {
@@ -61,47 +57,42 @@ export function QuantitiesPanel({ orders, editOrders }: { orders: Orders; editOr
 
 type Quantity = ReturnType<typeof quantities>[string];
 
-/** One quantity: its title, type, unit and range (typing is grouped: one undo step a pause). */
-function QuantityRow({ name: q, spec, editOrders }: { name: string; spec: Quantity; editOrders: EditOrders }) {
-  return (
-    <tr>
-      <th scope="row">
-        <code>{q}</code>
-      </th>
-      <td>
-        <input aria-label={`${q} title`} value={spec.title ?? ""} onChange={(e) => editOrders((o) => updateQuantity(o, q, { title: e.target.value }), `q:${q}:title`)} />
-      </td>
-      <td>
-        <CommitSelect
-          aria-label={`${q} type`}
-          value={spec.type ?? ""}
-          onCommit={(v) => editOrders((o) => updateQuantity(o, q, { type: v || undefined }))}
-        >
+/** One quantity a row: its title, type, unit and range (typing is grouped: one undo step a pause). */
+function quantityColumns(editOrders: EditOrders): Column<[string, Quantity]>[] {
+  const text = (key: "title" | "unit", size?: number): Column<[string, Quantity]> => ({
+    header: key === "title" ? "Title" : "Unit",
+    cell: ([q, spec]) => (
+      <input aria-label={`${q} ${key}`} size={size} value={spec[key] ?? ""} onChange={(e) => editOrders((o) => updateQuantity(o, q, { [key]: e.target.value }), `q:${q}:${key}`)} />
+    ),
+  });
+  const bound = (key: "min" | "max"): Column<[string, Quantity]> => ({
+    header: key === "min" ? "Min" : "Max",
+    cell: ([q, spec]) => (
+      <input
+        aria-label={`${q} ${key}`}
+        type="number"
+        step="any"
+        value={spec[key] ?? ""}
+        onChange={(e) => editOrders((o) => updateQuantity(o, q, { [key]: parseNumber(e.target.value) }), `q:${q}:${key}`)}
+      />
+    ),
+  });
+  return [
+    { header: "Name", rowHeader: true, cell: ([q]) => <code>{q}</code> },
+    text("title"),
+    {
+      header: "Type",
+      cell: ([q, spec]) => (
+        <CommitSelect aria-label={`${q} type`} value={spec.type ?? ""} onCommit={(v) => editOrders((o) => updateQuantity(o, q, { type: v || undefined }))}>
           <option value="">real (default)</option>
           <option value="real">real</option>
           <option value="integer">integer</option>
           <option value="boolean">boolean</option>
         </CommitSelect>
-      </td>
-      <td>
-        <input aria-label={`${q} unit`} size={5} value={spec.unit ?? ""} onChange={(e) => editOrders((o) => updateQuantity(o, q, { unit: e.target.value }), `q:${q}:unit`)} />
-      </td>
-      {(["min", "max"] as const).map((k) => (
-        <td key={k}>
-          <input
-            aria-label={`${q} ${k}`}
-            type="number"
-            step="any"
-            value={spec[k] ?? ""}
-            onChange={(e) => editOrders((o) => updateQuantity(o, q, { [k]: parseNumber(e.target.value) }), `q:${q}:${k}`)}
-          />
-        </td>
-      ))}
-      <td>
-        <button type="button" className="small" aria-label={`Delete quantity ${q}`} onClick={() => editOrders((o) => deleteQuantity(o, q))}>
-          ✕
-        </button>
-      </td>
-    </tr>
-  );
+      ),
+    },
+    text("unit", 5),
+    bound("min"),
+    bound("max"),
+  ];
 }

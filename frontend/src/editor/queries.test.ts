@@ -1,9 +1,9 @@
 import { describe, expect, it } from "vitest";
 
 import type { MissionDetail, Report } from "../api/client";
-import { missionKeys } from "../api/missions";
+import { draftSaved, missionKeys } from "../api/missions";
 import { makeQueryClient } from "../api/query";
-import { draftSaved, editorKeys, seedOpening } from "./queries";
+import { editorKeys, seedOpening } from "./queries";
 
 const mission = { id: "m1", revision: 3, draft_digest: "d3" } as unknown as MissionDetail;
 

@@ -7,7 +7,7 @@
 import { type QueryClient, useQuery } from "@tanstack/react-query";
 
 import { exportHref, fetchText, type MissionDetail, type Report } from "../api/client";
-import { missionKeys, missionsChanged } from "../api/missions";
+import { missionKeys } from "../api/missions";
 import { type ReportPrefetch, reportOf } from "../api/reportPrefetch";
 import { fetchReport, reportKeys } from "../api/reports";
 
@@ -38,17 +38,7 @@ export function seedOpening(client: QueryClient, mission: MissionDetail, prefetc
 }
 
 /** The plain-language orders as saved: asked for only while their tab is open (`enabled`);
- * a save invalidates them (draftSaved), so an open tab shows the new text. */
+ * a save invalidates them (draftSaved in api/missions.ts), so an open tab shows the new text. */
 export function usePlainOrders(id: string, enabled: boolean) {
   return useQuery({ queryKey: editorKeys.plain(id), queryFn: () => fetchText(exportHref(id, "plain")), enabled });
-}
-
-/** A saved draft (mine, or theirs reloaded): the mission's cache holds it as the server answered,
- * and the mission list and this mission's queries are asked for again when next shown. */
-export function draftSaved(client: QueryClient, saved: MissionDetail): Promise<void> {
-  client.setQueryData(editorKeys.mission(saved.id), saved);
-  return Promise.all([
-    missionsChanged(client),
-    client.invalidateQueries({ queryKey: reportKeys.mission(saved.id) }),
-  ]).then(() => undefined);
 }

@@ -5,7 +5,8 @@
  */
 import { useCallback, useEffect, useRef } from "react";
 
-import { api, type MissionDetail, unwrap } from "../api/client";
+import type { MissionDetail } from "../api/client";
+import { useDraftSaves } from "../api/missions";
 import { describeDifferences, type Layout, type Orders } from "./graph";
 import { push, reset } from "./history";
 import { mergeOrders, resolveMerge, type Side } from "./merge";
@@ -34,8 +35,10 @@ export interface Autosave {
 }
 
 // Length: save, merge and conflict share the in-flight save's refs.
-export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDetail) => void, server: ServerCheck): Autosave {
+export function useAutosave(mission: MissionDetail, onReloaded: (theirs: MissionDetail) => void, server: ServerCheck): Autosave {
   const store = useEditorApi();
+  // Each save updates the query cache itself (api/missions.ts): the page shows it without re-reading.
+  const { saveDraft, saveLayout } = useDraftSaves(mission.id);
   const { check, refreshChecks } = server;
   const saving = useRef(false);
   const again = useRef(false);
@@ -87,23 +90,17 @@ export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDeta
         // Saved once checked: the save then finds the report cached instead of validating the
         // same orders a second time beside the check.
         const reported = await check(sent.orders);
-        const result = await api.PUT("/api/missions/{mission_id}/draft", {
-          params: { path: { mission_id: mission.id }, header: { "if-match": `"${store.getState().revision}"` } },
-          body: { orders: sent.orders },
-        });
-        if (result.response.status === 412) {
-          const theirs = unwrap(await api.GET("/api/missions/{mission_id}", { params: { path: { mission_id: mission.id } } }));
-          again.current = mergeTheirs(theirs);
+        const answer = await saveDraft({ revision: store.getState().revision, orders: sent.orders });
+        if (answer.theirs) {
+          again.current = mergeTheirs(answer.theirs);
           return;
         }
-        const saved = unwrap(result);
-        ordersSaved(saved.revision, sent.orders);
-        onSaved(saved);
+        ordersSaved(answer.saved.revision, sent.orders);
         // The check above reported these orders; re-read the report only if it failed.
         if (!reported && latest() === sent) await refreshChecks();
       }
       if (sent.layout !== store.getState().savedLayout) {
-        await api.PUT("/api/missions/{mission_id}/layout", { params: { path: { mission_id: mission.id } }, body: { layout: sent.layout } }).then(unwrap);
+        await saveLayout(sent.layout);
         layoutSaved(sent.layout);
       }
       saveFinished(latest() === sent);
@@ -116,7 +113,7 @@ export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDeta
         void save();
       }
     }
-  }, [store, latest, mission.id, onSaved, refreshChecks, check, mergeTheirs]);
+  }, [store, latest, saveDraft, saveLayout, refreshChecks, check, mergeTheirs]);
 
   const saveTimer = useRef<number | undefined>(undefined);
   useEffect(() => () => window.clearTimeout(saveTimer.current), []);
@@ -165,8 +162,8 @@ export function useAutosave(mission: MissionDetail, onSaved: (saved: MissionDeta
     setHistory(reset({ orders: conflict.theirs.orders, layout: conflict.theirs.layout }));
     theirsReloaded(conflict.theirs);
     void refreshChecks();
-    onSaved(conflict.theirs);
-  }, [store, refreshChecks, onSaved]);
+    onReloaded(conflict.theirs);
+  }, [store, refreshChecks, onReloaded]);
 
   const resolve = useCallback(
     (choices: Record<string, Side>) => {

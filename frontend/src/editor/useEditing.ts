@@ -9,7 +9,7 @@ import { useCallback, useMemo } from "react";
 import type { MissionDetail, Report } from "../api/client";
 import type { Orders } from "./graph";
 import { redo, undo } from "./history";
-import { draftSaved } from "./queries";
+import { draftSaved } from "../api/missions";
 import { ordersAt } from "./scope";
 import { type Draft, useEditor, useEditorApi } from "./store";
 import { type Autosave, useAutosave } from "./useAutosave";
@@ -35,21 +35,16 @@ export interface Editing extends DraftHistory {
   doRedo: () => void;
 }
 
-export function useEditing(mission: MissionDetail, onSaved: (saved: MissionDetail) => void, opening: Promise<Report | null> | null): Editing {
+export function useEditing(mission: MissionDetail, opening: Promise<Report | null> | null): Editing {
   const store = useEditorApi();
   const client = useQueryClient();
   const drafts = useDraftHistory();
   const { latest, updateHistory } = drafts;
   const view = useScopedDraft();
   const member = useEditor((s) => s.scope.member);
-  const saved = useCallback(
-    (answer: MissionDetail) => {
-      void draftSaved(client, answer);
-      onSaved(answer);
-    },
-    [client, onSaved],
-  );
-  const autosave = useAutosave(mission, saved, useServerCheck(opening));
+  // Their draft, reloaded after a conflict, is what the page shows from now on.
+  const reloaded = useCallback((theirs: MissionDetail) => void draftSaved(client, theirs), [client]);
+  const autosave = useAutosave(mission, reloaded, useServerCheck(opening));
   const { edit: editWhole, editOrders: editWholeOrders, changed } = autosave;
   const latestScoped = useCallback(() => scopedDraft(latest(), store.getState().scope), [latest, store]);
   const edit = useCallback(

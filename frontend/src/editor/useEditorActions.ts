@@ -34,8 +34,8 @@ export interface EditorParts {
   actions: EditorActions;
 }
 
-export function useEditorActions(mission: MissionDetail, onSaved: (saved: MissionDetail) => void, opening: Promise<Report | null> | null, titleRef: RefObject<HTMLInputElement | null>): EditorParts {
-  const editing = useEditing(mission, onSaved, opening);
+export function useEditorActions(mission: MissionDetail, opening: Promise<Report | null> | null, titleRef: RefObject<HTMLInputElement | null>): EditorParts {
+  const editing = useEditing(mission, opening);
   const [openedGoals] = useState(() => goals(mission.orders).length);
   const open = useOpenView(editing, openedGoals);
   const selectWhenShown = useSelectWhenShown();

@@ -4,7 +4,7 @@ import { useCallback, useState } from "react";
 
 import { plural } from "../format";
 import { goals, type Orders } from "./graph";
-import { readOrdersFile } from "./ImportMenu";
+import { readOrdersFile } from "../api/missions";
 import { canvasAspect, layoutOffThread } from "./layoutClient";
 import { openingScope } from "./scope";
 import { useEditorApi } from "./store";

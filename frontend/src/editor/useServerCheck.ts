@@ -4,7 +4,8 @@
 import { useQueryClient } from "@tanstack/react-query";
 import { useCallback, useEffect, useRef } from "react";
 
-import { api, type Report } from "../api/client";
+import type { Report } from "../api/client";
+import { validateOrders } from "../api/reports";
 import type { Orders } from "./graph";
 import { fetchSavedReport } from "./queries";
 import { useEditorApi } from "./store";
@@ -44,13 +45,13 @@ export function useServerCheck(opening: Promise<Report | null> | null = null): S
     (orders: Orders): Promise<boolean> => {
       if (orders === store.getState().lastChecked) return Promise.resolve(true);
       if (pendingCheck.current?.orders === orders) return pendingCheck.current.done;
-      const done = api.POST("/api/validate", { body: orders }).then(
-        (x) => {
+      const done = validateOrders(orders).then(
+        (report) => {
           performance.mark("editor:validated");
-          if (!x.response.ok || !x.data) return false;
+          if (!report) return false;
           const now = store.getState();
           if (now.history.present.orders === orders) {
-            now.checked(orders, x.data, now.editedAt ? Math.round(performance.now() - now.editedAt) : null);
+            now.checked(orders, report, now.editedAt ? Math.round(performance.now() - now.editedAt) : null);
           }
           return true;
         },

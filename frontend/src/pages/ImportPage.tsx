@@ -1,6 +1,6 @@
 import { type FormEvent, useEffect, useRef, useState } from "react";
 
-import { api, unwrap } from "../api/client";
+import { useCreateMission, useImportMission } from "../api/missions";
 import { ErrorMessage } from "../components/Status";
 import type { Orders } from "../editor/graph";
 import { navigate } from "../navigation";
@@ -12,7 +12,9 @@ export function ImportPage() {
   const [file, setFile] = useState<File | null>(null);
   const [pasted, setPasted] = useState("");
   const [error, setError] = useState<unknown>(null);
-  const [busy, setBusy] = useState(false);
+  const importMission = useImportMission();
+  const createMission = useCreateMission();
+  const busy = importMission.isPending || createMission.isPending;
   const [newId, setNewId] = useState("");
   const [newTitle, setNewTitle] = useState("");
   const [newVehicle, setNewVehicle] = useState("");
@@ -23,21 +25,12 @@ export function ImportPage() {
   }, []);
 
   const upload = async (body: string | Blob, contentType: string) => {
-    setBusy(true);
     setError(null);
     try {
-      // The import route takes the file's bytes as they are (JSON, AVCL XML or MEO Turtle).
-      const result = await api.POST("/api/import", {
-        body: body as never,
-        bodySerializer: (raw: unknown) => raw as BodyInit,
-        headers: { "Content-Type": contentType },
-      });
-      const mission = unwrap(result);
+      const mission = await importMission.mutateAsync({ body, contentType });
       navigate(missionHref(mission.id, "findings"));
     } catch (e) {
       setError(e);
-    } finally {
-      setBusy(false);
     }
   };
 
@@ -58,7 +51,6 @@ export function ImportPage() {
       setError("Give the new mission an id.");
       return;
     }
-    setBusy(true);
     setError(null);
     try {
       // An empty draft: no goals yet, the default terminals; the graph editor takes it from here.
@@ -73,12 +65,10 @@ export function ImportPage() {
         ],
       };
       if (newVehicle.trim()) orders.vehicle = newVehicle.trim();
-      const mission = unwrap(await api.POST("/api/missions", { body: orders }));
+      const mission = await createMission.mutateAsync(orders);
       navigate(missionHref(mission.id, "editor"));
     } catch (e) {
       setError(e);
-    } finally {
-      setBusy(false);
     }
   };
 

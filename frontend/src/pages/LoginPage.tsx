@@ -1,6 +1,7 @@
 import { type FormEvent, useEffect, useRef, useState } from "react";
 
-import { api, ApiError, type Session } from "../api/client";
+import { useSignIn } from "../api/auth";
+import { ApiError, type Session } from "../api/client";
 import { ErrorMessage, Notice } from "../components/Status";
 
 export function LoginPage({
@@ -13,7 +14,8 @@ export function LoginPage({
   const [username, setUsername] = useState("");
   const [password, setPassword] = useState("");
   const [error, setError] = useState<string | null>(null);
-  const [busy, setBusy] = useState(false);
+  const signIn = useSignIn();
+  const busy = signIn.isPending;
   const userRef = useRef<HTMLInputElement>(null);
 
   useEffect(() => {
@@ -23,26 +25,16 @@ export function LoginPage({
 
   const submit = async (event: FormEvent) => {
     event.preventDefault();
-    setBusy(true);
     setError(null);
     try {
-      const { data, error: body, response } = await api.POST("/api/auth/login", {
-        body: { username, password },
-      });
-      if (response.ok && data) {
-        onSignedIn(data);
+      onSignedIn(await signIn.mutateAsync({ username, password }));
+    } catch (e) {
+      if (!(e instanceof ApiError)) {
+        setError("The server cannot be reached. Check that Countersign is running.");
         return;
       }
-      if (response.status === 401) {
-        setError("Wrong username or password.");
-      } else {
-        setError(new ApiError(response.status, body).message);
-      }
+      setError(e.status === 401 ? "Wrong username or password." : e.message);
       setPassword("");
-    } catch {
-      setError("The server cannot be reached. Check that Countersign is running.");
-    } finally {
-      setBusy(false);
     }
   };
 

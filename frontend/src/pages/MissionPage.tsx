@@ -1,18 +1,19 @@
-import { useQueryClient } from "@tanstack/react-query";
 import { useEffect, useState } from "react";
 
+import { ApiError, EXPORT_FORMATS, exportHref, type MissionDetail, type Version } from "../api/client";
 import {
-  api,
-  ApiError,
-  EXPORT_FORMATS,
-  exportHref,
-  type MissionDetail,
-  unwrap,
-} from "../api/client";
-import { missionChanged, missionSaved, useMission, useMissionPaths, usePlainOrders } from "../api/missions";
+  useCreateVersion,
+  useDeleteMission,
+  useMission,
+  useMissionPaths,
+  usePlainOrders,
+  useReloadMission,
+  useSaveDraft,
+} from "../api/missions";
 import { prefetchReport } from "../api/reportPrefetch";
 import { useReport } from "../api/reports";
 import { ChartPlanView } from "../components/ChartPlanView";
+import { type Column, DataTable } from "../components/DataTable";
 import type { Orders } from "../editor/graph";
 import { FindingsTable } from "../components/FindingsTable";
 import { Link } from "../components/Link";
@@ -52,17 +53,10 @@ function loadEditor(): Promise<EditorComponent> {
 }
 type Tab = (typeof TABS)[number];
 
-function missionPath(id: string) {
-  return { params: { path: { mission_id: id } } };
-}
-
 export function MissionPage({ id, tab }: { id: string; tab: string }) {
   const canEdit = useCan("editDraft");
   const canRehearse = ["operator", "supervisor"].includes(useSession().user.role);
-  const client = useQueryClient();
   const { data: mission, error, isPending: loading } = useMission(id);
-  const reload = () => void missionChanged(client, id);
-  const replace = (saved: MissionDetail) => void missionSaved(client, saved);
   const [MissionEditor, setMissionEditor] = useState<EditorComponent | null>(() => loadedEditor);
   // The editor's findings are asked for beside the mission, not after the editor mounted.
   const [editorReport] = useState(() => (canEdit && tab === "editor" ? prefetchReport(id) : null));
@@ -183,12 +177,12 @@ export function MissionPage({ id, tab }: { id: string; tab: string }) {
         {selected === "findings" && <FindingsTab mission={mission} />}
         {selected === "paths" && <PathsTab mission={mission} />}
         {selected === "plan" && <ChartPlanView orders={mission.orders} />}
-        {selected === "versions" && <VersionsTab mission={mission} onChange={reload} />}
+        {selected === "versions" && <VersionsTab mission={mission} />}
         {selected === "rehearse" && <RehearsalPanel mission={mission} canRehearse={canRehearse} />}
-        {selected === "edit" && canEdit && <EditTab mission={mission} onSaved={reload} />}
+        {selected === "edit" && canEdit && <EditTab mission={mission} />}
         {selected === "editor" && canEdit && (
           MissionEditor ? (
-            <MissionEditor key={mission.id} mission={mission} report={editorReport} onSaved={replace} />
+            <MissionEditor key={mission.id} mission={mission} report={editorReport} />
           ) : editorError ? (
             <ErrorMessage error={editorError} />
           ) : (
@@ -320,25 +314,22 @@ function PathsTab({ mission }: { mission: MissionDetail }) {
   );
 }
 
-function VersionsTab({ mission, onChange }: { mission: MissionDetail; onChange: () => void }) {
-  const canVersion = useCan("createVersion");
-  const [busy, setBusy] = useState(false);
-  const [error, setError] = useState<unknown>(null);
-  const [created, setCreated] = useState<number | null>(null);
+function versionColumns(mission: string): Column<Version>[] {
+  return [
+    { header: "Version", cell: (v) => `v${v.number}` },
+    { header: "Digest", cell: (v) => <code title={v.digest}>{shortDigest(v.digest)}</code> },
+    { header: "Author", cell: (v) => v.author },
+    { header: "Created", cell: (v) => <time dateTime={v.created_at}>{formatDateTime(v.created_at)}</time> },
+    { header: "Vehicle files", cell: (v) => <VehicleExports mission={mission} version={v.number} /> },
+  ];
+}
 
-  const create = async () => {
-    setBusy(true);
-    setError(null);
-    try {
-      const version = unwrap(await api.POST("/api/missions/{mission_id}/versions", missionPath(mission.id)));
-      setCreated(version.number);
-      onChange();
-    } catch (e) {
-      setError(e);
-    } finally {
-      setBusy(false);
-    }
-  };
+function VersionsTab({ mission }: { mission: MissionDetail }) {
+  const canVersion = useCan("createVersion");
+  const createVersion = useCreateVersion(mission.id);
+  const busy = createVersion.isPending;
+  const created = createVersion.data?.number ?? null;
+  const create = () => createVersion.mutate();
 
   const versions = [...mission.versions].sort((a, b) => b.number - a.number);
   return (
@@ -354,54 +345,35 @@ function VersionsTab({ mission, onChange }: { mission: MissionDetail; onChange: 
       <p className="hint">
         A version is an immutable snapshot of the draft; supervisors review and approve versions.
       </p>
-      <ErrorMessage error={error} />
+      <ErrorMessage error={createVersion.error} />
       {created !== null && <Notice>Version {created} created.</Notice>}
       <SubmissionPanel mission={mission.id} versions={mission.versions.map((v) => v.number)} />
       <CampaignPanel mission={mission.id} versions={mission.versions.map((v) => v.number)} />
       {versions.length === 0 ? (
         <p className="empty">No versions yet.</p>
       ) : (
-        <table className="versions">
-          <caption className="visually-hidden">Versions, newest first</caption>
-          <thead>
-            <tr>
-              <th scope="col">Version</th>
-              <th scope="col">Digest</th>
-              <th scope="col">Author</th>
-              <th scope="col">Created</th>
-              <th scope="col">Vehicle files</th>
-            </tr>
-          </thead>
-          <tbody>
-            {versions.map((v) => (
-              <tr key={v.number}>
-                <td>v{v.number}</td>
-                <td>
-                  <code title={v.digest}>{shortDigest(v.digest)}</code>
-                </td>
-                <td>{v.author}</td>
-                <td>
-                  <time dateTime={v.created_at}>{formatDateTime(v.created_at)}</time>
-                </td>
-                <td>
-                  <VehicleExports mission={mission.id} version={v.number} />
-                </td>
-              </tr>
-            ))}
-          </tbody>
-        </table>
+        <DataTable
+          caption="Versions, newest first"
+          className="versions"
+          columns={versionColumns(mission.id)}
+          rows={versions}
+          rowKey={(v) => v.number}
+        />
       )}
     </>
   );
 }
 
-function EditTab({ mission, onSaved }: { mission: MissionDetail; onSaved: () => void }) {
+function EditTab({ mission }: { mission: MissionDetail }) {
   const canDelete = useCan("deleteDraft");
+  const saveDraft = useSaveDraft(mission.id);
+  const deleteMission = useDeleteMission(mission.id);
+  const reload = useReloadMission(mission.id);
   const [text, setText] = useState(() => JSON.stringify(mission.orders, null, 2));
   const [error, setError] = useState<unknown>(null);
   const [conflict, setConflict] = useState(false);
   const [saved, setSaved] = useState(false);
-  const [busy, setBusy] = useState(false);
+  const busy = saveDraft.isPending;
   const [revision, setRevision] = useState(mission.revision);
 
   useEffect(() => {
@@ -425,34 +397,26 @@ function EditTab({ mission, onSaved }: { mission: MissionDetail; onSaved: () => 
       setError(`The orders are not valid JSON: ${(e as Error).message}`);
       return;
     }
-    setBusy(true);
     try {
-      const result = await api.PUT("/api/missions/{mission_id}/draft", {
-        params: { path: { mission_id: mission.id }, header: { "if-match": `"${mission.revision}"` } },
-        body: { orders },
-      });
-      if (result.response.status === 412) {
+      const answer = await saveDraft.mutateAsync({ revision: mission.revision, orders });
+      if (answer.theirs) {
         setConflict(true);
         return;
       }
-      unwrap(result);
       setSaved(true);
-      onSaved();
     } catch (e) {
       setError(e);
-    } finally {
-      setBusy(false);
     }
   };
 
   const remove = async () => {
     if (!window.confirm(`Delete mission ${mission.id}? This cannot be undone.`)) return;
     setError(null);
-    const result = await api.DELETE("/api/missions/{mission_id}", missionPath(mission.id));
-    if (result.response.ok) {
+    try {
+      await deleteMission.mutateAsync();
       navigate("/missions");
-    } else {
-      setError(new ApiError(result.response.status, result.error));
+    } catch (e) {
+      setError(e);
     }
   };
 
@@ -479,7 +443,7 @@ function EditTab({ mission, onSaved }: { mission: MissionDetail; onSaved: () => 
         <p className="message error" role="alert">
           Someone else saved this draft first; nothing was overwritten. Copy your changes if you
           need them, then reload to edit the current draft.{" "}
-          <button type="button" onClick={onSaved}>
+          <button type="button" onClick={reload}>
             Reload
           </button>
         </p>
@@ -490,7 +454,7 @@ function EditTab({ mission, onSaved }: { mission: MissionDetail; onSaved: () => 
           {busy ? "Saving…" : "Save draft"}
         </button>
         {canDelete && mission.versions.length === 0 && (
-          <button type="button" className="danger" onClick={remove}>
+          <button type="button" className="danger" onClick={remove} disabled={deleteMission.isPending}>
             Delete mission
           </button>
         )}

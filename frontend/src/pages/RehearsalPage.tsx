@@ -4,15 +4,14 @@
  * the mission graph with the current goal highlighted, choose outcomes, inject faults, stop it
  * into a stored record, and open the records' standalone replays.
  */
-import { useQueryClient } from "@tanstack/react-query";
 import { useCallback, useEffect, useRef, useState } from "react";
 
-import { api, ApiError, type MissionDetail, type paths, unwrap } from "../api/client";
+import { api, ApiError, type MissionDetail, type paths } from "../api/client";
 import { ErrorMessage, Loading, Notice } from "../components/Status";
 import { goals, OUTCOME_LABEL, OUTCOMES, type Orders, type Outcome, successors, terminals } from "../editor/graph";
 import { type MemberSpec, teamOf } from "../editor/scope";
 import { formatDateTime, shortDigest } from "../format";
-import { rehearsalStored, useRehearsalRecords } from "../api/rehearsals";
+import { useRehearsalCommand, useRehearsalRecords, useStopRehearsal } from "../api/rehearsals";
 import { RefinedGoalCard } from "./RefinedGoalCard";
 import { type MemberPaths, TeamMemberSources } from "./rehearsal/TeamMemberSources";
 import { outcomeKey, pathOrder, stepPlace } from "./rehearsalOrder";
@@ -20,7 +19,6 @@ import "./rehearsal.css";
 
 type JsonBody<R> = R extends { content: { "application/json": infer T } } ? T : never;
 type Started = JsonBody<paths["/api/missions/{mission_id}/rehearsals"]["post"]["responses"][201]>;
-type StoredRecord = JsonBody<paths["/api/rehearsals/{rehearsal_id}/stop"]["post"]["responses"][200]>;
 type Status = Started["status"];
 type Source = Status["source"];
 type TeamStatus = NonNullable<Status["team"]>;
@@ -79,13 +77,14 @@ export function simulatedTime(seconds: number): string {
 export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetail; canRehearse: boolean }) {
   const [live, setLive] = useState<Started | null>(null);
   const [error, setError] = useState<unknown>(null);
-  const [busy, setBusy] = useState(false);
+  const command = useRehearsalCommand(mission.id);
+  const stop = useStopRehearsal(mission.id);
+  const busy = command.isPending || stop.isPending;
   // A team's orders: every vehicle in one scene; the switcher picks the vehicle whose
   // goal cards are shown and into which the fault buttons inject.
   const team = teamOf(mission.orders);
   const [memberIndex, setMemberIndex] = useState(0);
   const member: MemberSpec | null = team ? (team[Math.min(memberIndex, team.length - 1)] ?? null) : null;
-  const client = useQueryClient();
   const records = useRehearsalRecords(mission.id, null);
 
   // Poll the live rehearsal's status while it runs.
@@ -113,16 +112,14 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
   }, [liveId]);
 
   const act = useCallback(async (work: () => Promise<void>) => {
-    setBusy(true);
     setError(null);
     try {
       await work();
     } catch (e) {
       setError(e);
-    } finally {
-      setBusy(false);
     }
   }, []);
+  const { mutateAsync: send } = command;
 
   const status: Status | undefined = live?.status;
   const state = status?.state ?? null;
@@ -152,18 +149,9 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
   const choose = useCallback(
     (outcome: Outcome) => {
       if (!live) return;
-      void act(async () => {
-        setLive(
-          unwrap(
-            await api.POST("/api/rehearsals/{rehearsal_id}/outcome", {
-              params: { path: { rehearsal_id: live.id } },
-              body: { outcome },
-            }),
-          ),
-        );
-      });
+      void act(async () => setLive(await send({ rehearsal: live.id, outcome })));
     },
-    [live, act],
+    [live, act, send],
   );
   // The prompt's answers from the keyboard: s, f, c (Figure 6), unless the key is typed into a
   // field or carries a modifier (Ctrl+F stays the browser's find).
@@ -199,18 +187,7 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
           team={team !== null}
           vehicles={team?.map((m) => m.vehicle) ?? []}
           busy={busy}
-          onStart={(body) =>
-            act(async () => {
-              setLive(
-                unwrap(
-                  await api.POST("/api/missions/{mission_id}/rehearsals", {
-                    params: { path: { mission_id: mission.id } },
-                    body,
-                  }),
-                ),
-              );
-            })
-          }
+          onStart={(body) => act(async () => setLive(await send({ start: body })))}
         />
       )}
       {!live && !canRehearse && <Notice>Your role may read rehearsal records but not rehearse.</Notice>}
@@ -297,15 +274,7 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
               disabled={busy || state !== "running"}
               data-testid="skip-rehearsal"
               onClick={() =>
-                void act(async () => {
-                  setLive(
-                    unwrap(
-                      await api.POST("/api/rehearsals/{rehearsal_id}/skip", {
-                        params: { path: { rehearsal_id: live.id } },
-                      }),
-                    ),
-                  );
-                })
+                void act(async () => setLive(await send({ rehearsal: live.id, skip: true })))
               }
             >
               Skip to the next decision
@@ -325,12 +294,7 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
                   onClick={() =>
                     void act(async () => {
                       setFaultNotice(null);
-                      const answer = unwrap(
-                        await api.POST("/api/rehearsals/{rehearsal_id}/faults", {
-                          params: { path: { rehearsal_id: live.id } },
-                          body: { fault: member ? `${member.vehicle}:${f.value}` : f.value },
-                        }),
-                      );
+                      const answer = await send({ rehearsal: live.id, fault: member ? `${member.vehicle}:${f.value}` : f.value });
                       setLive(answer);
                       setFaultNotice(answer.status.fault_notice?.text ?? `${f.label}: sent.`);
                     })
@@ -346,15 +310,10 @@ export function RehearsalPanel({ mission, canRehearse }: { mission: MissionDetai
               data-testid="stop-rehearsal"
               onClick={() =>
                 void act(async () => {
-                  const stored: StoredRecord = unwrap(
-                    await api.POST("/api/rehearsals/{rehearsal_id}/stop", {
-                      params: { path: { rehearsal_id: live.id } },
-                    }),
-                  );
+                  // Listed at once from the stop's answer (the record is stored by then).
+                  await stop.mutateAsync(live.id);
                   setLive(null);
                   setFaultNotice(null);
-                  // Listed at once from the stop's answer (the record is stored by then).
-                  await rehearsalStored(client, mission.id, stored);
                 })
               }
             >

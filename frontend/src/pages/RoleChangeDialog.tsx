@@ -4,7 +4,8 @@
  */
 import { type FormEvent, useEffect, useRef, useState } from "react";
 
-import { api, ApiError, type User } from "../api/client";
+import type { User } from "../api/client";
+import { useUpdateUser } from "../api/users";
 import { ErrorMessage } from "../components/Status";
 import { ROLE_LABEL, type Role } from "../roles";
 
@@ -21,7 +22,8 @@ export function RoleChangeDialog({
 }) {
   const [password, setPassword] = useState("");
   const [error, setError] = useState<unknown>(null);
-  const [busy, setBusy] = useState(false);
+  const update = useUpdateUser();
+  const busy = update.isPending;
   const field = useRef<HTMLInputElement>(null);
   useEffect(() => field.current?.focus(), []);
 
@@ -31,15 +33,13 @@ export function RoleChangeDialog({
       setError("Enter your password to change a role.");
       return;
     }
-    setBusy(true);
     setError(null);
-    const result = await api.PATCH("/api/users/{user_id}", {
-      params: { path: { user_id: user.id } },
-      body: { role, admin_password: password },
-    });
-    setBusy(false);
-    if (result.response.ok) onDone(`${user.username} is now ${role}.`);
-    else setError(new ApiError(result.response.status, result.error));
+    try {
+      await update.mutateAsync({ user, patch: { role, admin_password: password } });
+      onDone(`${user.username} is now ${role}.`);
+    } catch (e) {
+      setError(e);
+    }
   };
 
   const from = ROLE_LABEL[user.role as Role] ?? user.role;

@@ -1,9 +1,7 @@
 import { type FormEvent, useEffect, useState } from "react";
 
-import { useQueryClient } from "@tanstack/react-query";
-
 import type { User } from "../api/client";
-import { useCreateUser, useUpdateUser, usersChanged, useUsers } from "../api/users";
+import { useCreateUser, useUpdateUser, useUsers } from "../api/users";
 import { type Column, DataTable } from "../components/DataTable";
 import { ErrorMessage, Loading, Notice } from "../components/Status";
 import { ROLE_LABEL, ROLES, type Role } from "../roles";
@@ -13,10 +11,8 @@ import { RoleChangeDialog } from "./RoleChangeDialog";
 
 export function UsersPage() {
   const me = useSession().user;
-  const client = useQueryClient();
   const { data, error, isPending: loading } = useUsers();
   const update = useUpdateUser();
-  const reload = () => void usersChanged(client);
   const [actionError, setActionError] = useState<unknown>(null);
   const [notice, setNotice] = useState<string | null>(null);
   const [pending, setPending] = useState<{ user: User; role: Role } | null>(null);
@@ -79,7 +75,6 @@ export function UsersPage() {
               user={u}
               onDone={(done) => {
                 setNotice(done);
-                reload();
               }}
             />
           )}
@@ -104,7 +99,6 @@ export function UsersPage() {
           onDone={(message) => {
             setPending(null);
             setNotice(message);
-            reload();
           }}
         />
       )}

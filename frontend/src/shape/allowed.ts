@@ -18,7 +18,6 @@ export const ALLOWED: Record<string, string> = {
   "src/pages/LoginPage.tsx:LoginPage": "a page: the sign-in form with its error states",
   "src/pages/MissionListPage.tsx:MissionListPage": "a page: search, filters, the table and its pager in one JSX tree",
   "src/pages/MissionPage.tsx:MissionPage": "a page: the mission's facts, exports and every tab in one JSX tree",
-  "src/pages/MissionPage.tsx:VersionsTab": "a tab: the versions table with its compare and restore actions",
   "src/pages/MissionPage.tsx:EditTab": "a tab: the orders text editor with its save and conflict states",
   "src/pages/RehearsalPage.tsx:RehearsalPanel": "the rehearsal panel: its runs, their live state and the results",
   "src/pages/RehearsalPage.tsx:StartForm": "one form: every option of a rehearsal run",
@@ -27,7 +26,6 @@ export const ALLOWED: Record<string, string> = {
   "src/pages/UsersPage.tsx:UsersPage": "a page: the users table and its actions in one JSX tree",
   "src/pages/UsersPage.tsx:CreateUser": "one form: every field of a new account",
   "src/pages/account/ApiTokens.tsx:ApiTokens": "a page section: the tokens table, the create form and the one-time secret",
-  "src/pages/account/ChangePassword.tsx:ChangePassword": "one form with its validation messages",
   "src/pages/approvals/ApprovalPage.tsx:ApprovalPage": "a page: the approval record, its verification and downloads",
   "src/pages/approvals/ApprovalPage.tsx:Verification": "the verification steps shown one per row",
   "src/pages/approvals/AuditPage.tsx:AuditPage": "a page: the audit log's filters, table and pager",
@@ -43,7 +41,6 @@ export const ALLOWED: Record<string, string> = {
   "src/pages/campaigns/CampaignPanel.tsx:StartForm": "one form: every option of a campaign",
   "src/pages/campaigns/CampaignPanel.tsx:CampaignResults": "the campaign's results table",
   "src/pages/campaigns/TeamCampaignResults.tsx:TeamCampaignResults": "the team campaign's results tables",
-  "src/pages/users/ResetPassword.tsx:ResetPassword": "one form with its validation messages",
   "src/pages/vehicles/ProfileForm.tsx:ProfileForm": "one form: every field of a vehicle profile",
   "src/pages/vehicles/VehiclesPage.tsx:VehiclesPage": "a page: the vehicles table with its actions",
 };

@@ -1,16 +1,17 @@
 import { type FormEvent, useState } from "react";
 
-import { api, ApiError } from "../../api/client";
+import { useChangePassword } from "../../api/auth";
 import { ErrorMessage, Notice } from "../../components/Status";
 
 /** Change one's own password: the server checks the current one and the policy (its refusal
  * text is shown as is), then ends every other session and revokes every API token. */
-export function ChangePassword({ onChanged }: { onChanged: () => void }) {
+export function ChangePassword() {
   const empty = { current: "", next: "", again: "" };
   const [form, setForm] = useState(empty);
   const [error, setError] = useState<unknown>(null);
   const [notice, setNotice] = useState<string | null>(null);
-  const [busy, setBusy] = useState(false);
+  const changePassword = useChangePassword();
+  const busy = changePassword.isPending;
 
   const submit = async (event: FormEvent) => {
     event.preventDefault();
@@ -20,21 +21,14 @@ export function ChangePassword({ onChanged }: { onChanged: () => void }) {
       setError("The two new passwords differ.");
       return;
     }
-    setBusy(true);
     try {
-      const result = await api.POST("/api/auth/password", {
-        body: { current_password: form.current, new_password: form.next },
-      });
-      if (!result.response.ok) throw new ApiError(result.response.status, result.error);
+      await changePassword.mutateAsync({ current_password: form.current, new_password: form.next });
       setForm(empty);
       setNotice(
         "Password changed. Your other sessions have ended and your API tokens are revoked.",
       );
-      onChanged();
     } catch (e) {
       setError(e);
-    } finally {
-      setBusy(false);
     }
   };
 

@@ -4,10 +4,9 @@
  * (WebCrypto) of the signature, the key, the log and the checkpoint. Supervisors can revoke an
  * approval here with a signed reason.
  */
-import { keepPreviousData, useQuery, useQueryClient } from "@tanstack/react-query";
+import { keepPreviousData, useQuery } from "@tanstack/react-query";
 import { type FormEvent, useEffect, useState } from "react";
 
-import { api, unwrap } from "../../api/client";
 import { Link } from "../../components/Link";
 import { ErrorMessage, Loading, Notice } from "../../components/Status";
 import { fingerprint } from "../../crypto/keystore";
@@ -15,7 +14,7 @@ import { pinCheck } from "../../crypto/logkey";
 import { type Check, verifyApproval } from "../../crypto/verify";
 import { formatDateTime, shortDigest } from "../../format";
 import { useSession } from "../../session";
-import { approvalKeys, recordRevoked, useApproval } from "../../api/approvals";
+import { approvalKeys, type Prepared, useApproval, useRevokeApproval } from "../../api/approvals";
 import { titlesOf } from "../../pathGrid";
 import { RehearsalSummary } from "./RehearsalSummary";
 import { type ApprovalDetail, approvalHref, bundleHref, documentHref, loadEntries, loadMissionApprovals, reviewHref } from "./api";
@@ -28,10 +27,7 @@ import { historyCheck } from "./history";
 import { ProfileDrift } from "../vehicles/ProfileDrift";
 
 export function ApprovalPage({ id }: { id: number }) {
-  const client = useQueryClient();
   const { data: record, error, isPending: loading } = useApproval(id);
-  // A revocation changes this record, the history and the mission's standing.
-  const reload = () => void (record && recordRevoked(client, record.mission));
   useEffect(() => {
     document.title = `Record ${id} · Countersign`;
   }, [id]);
@@ -119,7 +115,7 @@ export function ApprovalPage({ id }: { id: number }) {
         <Link href={documentHref(record.mission, record.version)}>Printable approval document</Link>
       </p>
       <Verification record={record} />
-      <Revoke record={record} onRevoked={reload} />
+      <Revoke record={record} />
 
       <h2>Orders as approved</h2>
       <OrdersGraph orders={record.orders} label={`Goal graph of ${record.mission} v${record.version}`} />
@@ -229,44 +225,34 @@ function Verification({ record }: { record: ApprovalDetail }) {
   );
 }
 
-function Revoke({ record, onRevoked }: { record: ApprovalDetail; onRevoked: () => void }) {
+function Revoke({ record }: { record: ApprovalDetail }) {
   const { user } = useSession();
   if (user.role !== "supervisor" || record.decision !== "approved") return null;
-  return <RevokeForm record={record} onRevoked={onRevoked} username={user.username} />;
+  return <RevokeForm record={record} username={user.username} />;
 }
 
-function RevokeForm({ record, onRevoked, username }: { record: ApprovalDetail; onRevoked: () => void; username: string }) {
+// A revocation changes the records, the submissions and the mission: useRevokeApproval asks for them again.
+function RevokeForm({ record, username }: { record: ApprovalDetail; username: string }) {
   const keys = useSigningKeys(username);
   const [reason, setReason] = useState("");
   const [password, setPassword] = useState(""); // checked by the server
-  const [busy, setBusy] = useState(false);
+  const revoke = useRevokeApproval(record.mission, record.id);
+  const busy = revoke.isPending;
   const [error, setError] = useState<unknown>(null);
   const [done, setDone] = useState<number | null>(null);
   const key = keys.usable[0];
   const submit = async (event: FormEvent) => {
     event.preventDefault();
     if (!key) return;
-    setBusy(true);
     setError(null);
     try {
       if (!reason.trim()) throw new Error("A revocation needs a reason.");
       if (!password) throw new Error("Enter your password to sign: the server checks it with the revocation.");
-      const prepared = unwrap(
-        await api.POST("/api/approvals/{approval_id}/statement", {
-          params: { path: { approval_id: record.id } },
-          body: { reason, key_id: key.keyId },
-        }),
-      );
-      const envelope = await signPrepared(prepared, key, { digest: record.digest, decision: "revoked" });
-      const stored = unwrap(
-        await api.POST("/api/approvals/{approval_id}/revoke", { params: { path: { approval_id: record.id } }, body: { envelope, password } }),
-      );
+      const sign = (prepared: Prepared) => signPrepared(prepared, key, { digest: record.digest, decision: "revoked" });
+      const stored = await revoke.mutateAsync({ reason, keyId: key.keyId, password, sign });
       setDone(stored.id);
-      onRevoked();
     } catch (e) {
       setError(e);
-    } finally {
-      setBusy(false);
     }
   };
   return (

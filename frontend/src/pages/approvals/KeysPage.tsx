@@ -5,20 +5,56 @@
  */
 import { type FormEvent, useEffect, useState } from "react";
 
-import { api, unwrap } from "../../api/client";
+import { useRegisterKey, useRevokeKey } from "../../api/keys";
+import { type Column, DataTable } from "../../components/DataTable";
 import { ErrorMessage, Loading, Notice } from "../../components/Status";
-import { deleteKey, fingerprint, generateSigningKey, saveKey } from "../../crypto/keystore";
+import { fingerprint } from "../../crypto/keystore";
 import { formatDateTime } from "../../format";
 import { useSession } from "../../session";
 import type { Key } from "./api";
 import { useSigningKeys } from "./signing";
+
+function keyColumns(local: Set<string>, onRevoke: (key: Key) => void): Column<Key>[] {
+  return [
+    {
+      header: "Fingerprint",
+      cell: (k) => (
+        <code title={`SHA-256 of the public key: ${k.key_id}`} data-testid="key-fingerprint">
+          {fingerprint(k.key_id)}
+        </code>
+      ),
+    },
+    { header: "Name", cell: (k) => k.name },
+    {
+      header: "Status",
+      cell: (k) => (
+        <>
+          <span className={`badge ${k.status === "active" ? "ok" : "muted"}`}>{k.status}</span>
+          {k.revoked_at && ` ${formatDateTime(k.revoked_at)}`}
+        </>
+      ),
+    },
+    { header: "In this browser", cell: (k) => (local.has(k.key_id) ? "yes (can sign here)" : "no") },
+    { header: "Registered", cell: (k) => <time dateTime={k.created_at}>{formatDateTime(k.created_at)}</time> },
+    {
+      header: "Actions",
+      cell: (k) =>
+        k.status === "active" && (
+          <button type="button" onClick={() => onRevoke(k)} aria-label={`Revoke key ${fingerprint(k.key_id)}`}>
+            Revoke
+          </button>
+        ),
+    },
+  ];
+}
 
 export function KeysPage() {
   const { user } = useSession();
   const keys = useSigningKeys(user.username);
   const [name, setName] = useState("");
   const [password, setPassword] = useState("");
-  const [busy, setBusy] = useState(false);
+  const registerKey = useRegisterKey(user.username);
+  const busy = registerKey.isPending;
   const [error, setError] = useState<unknown>(null);
   const [notice, setNotice] = useState<string | null>(null);
   const [revoking, setRevoking] = useState<Key | null>(null);
@@ -32,37 +68,19 @@ export function KeysPage() {
 
   const register = async (event: { preventDefault(): void }, rotate: boolean) => {
     event.preventDefault();
-    setBusy(true);
     setError(null);
     setNotice(null);
     try {
       if (!password) throw new Error("Confirm your password to register a key.");
-      const generated = await generateSigningKey();
-      const registered = unwrap(
-        await api.POST("/api/keys", { body: { public_key: generated.publicKey, name: name || "browser", password } }),
-      );
-      await saveKey(user.username, generated, name || "browser");
+      const revoked = rotate ? active : [];
+      const registered = await registerKey.mutateAsync({ name: name || "browser", password, rotate: revoked });
       let text = `Key ${fingerprint(registered.key_id)} registered; its private key stays in this browser.`;
-      if (rotate) {
-        for (const old of active) {
-          unwrap(
-            await api.POST("/api/keys/{key_id}/revoke", {
-              params: { path: { key_id: old.key_id } },
-              body: { password, reason: `rotated to ${registered.key_id}` },
-            }),
-          );
-          await deleteKey(user.username, old.key_id);
-        }
-        if (active.length) text += ` Revoked ${active.map((k) => fingerprint(k.key_id)).join(", ")}.`;
-      }
+      if (revoked.length) text += ` Revoked ${revoked.map((k) => fingerprint(k.key_id)).join(", ")}.`;
       setNotice(text);
       setPassword("");
       setName("");
     } catch (e) {
       setError(e);
-    } finally {
-      setBusy(false);
-      keys.reload();
     }
   };
 
@@ -108,46 +126,7 @@ export function KeysPage() {
       ) : mine.length === 0 ? (
         <p className="empty">You have no registered keys.</p>
       ) : (
-        <table className="keys">
-          <caption className="visually-hidden">Your registered signing keys</caption>
-          <thead>
-            <tr>
-              <th scope="col">Fingerprint</th>
-              <th scope="col">Name</th>
-              <th scope="col">Status</th>
-              <th scope="col">In this browser</th>
-              <th scope="col">Registered</th>
-              <th scope="col">Actions</th>
-            </tr>
-          </thead>
-          <tbody>
-            {mine.map((k) => (
-              <tr key={k.key_id}>
-                <td>
-                  <code title={`SHA-256 of the public key: ${k.key_id}`} data-testid="key-fingerprint">
-                    {fingerprint(k.key_id)}
-                  </code>
-                </td>
-                <td>{k.name}</td>
-                <td>
-                  <span className={`badge ${k.status === "active" ? "ok" : "muted"}`}>{k.status}</span>
-                  {k.revoked_at && ` ${formatDateTime(k.revoked_at)}`}
-                </td>
-                <td>{local.has(k.key_id) ? "yes (can sign here)" : "no"}</td>
-                <td>
-                  <time dateTime={k.created_at}>{formatDateTime(k.created_at)}</time>
-                </td>
-                <td>
-                  {k.status === "active" && (
-                    <button type="button" onClick={() => setRevoking(k)} aria-label={`Revoke key ${fingerprint(k.key_id)}`}>
-                      Revoke
-                    </button>
-                  )}
-                </td>
-              </tr>
-            ))}
-          </tbody>
-        </table>
+        <DataTable caption="Your registered signing keys" className="keys" columns={keyColumns(local, setRevoking)} rows={mine} rowKey={(k) => k.key_id} />
       )}
       {revoking && (
         <RevokeKey
@@ -155,7 +134,6 @@ export function KeysPage() {
           onDone={(text) => {
             setRevoking(null);
             if (text) setNotice(text);
-            keys.reload();
           }}
         />
       )}
@@ -167,24 +145,16 @@ function RevokeKey({ keyRow, onDone }: { keyRow: Key; onDone: (notice: string | 
   const { user } = useSession();
   const [password, setPassword] = useState("");
   const [reason, setReason] = useState("");
-  const [error, setError] = useState<unknown>(null);
-  const [busy, setBusy] = useState(false);
-  const submit = async (event: FormEvent) => {
+  const revokeKey = useRevokeKey(user.username);
+  const busy = revokeKey.isPending;
+  const submit = (event: FormEvent) => {
     event.preventDefault();
-    setBusy(true);
-    setError(null);
-    try {
-      unwrap(
-        await api.POST("/api/keys/{key_id}/revoke", { params: { path: { key_id: keyRow.key_id } }, body: { password, reason } }),
-      );
-      await deleteKey(user.username, keyRow.key_id);
-      onDone(`Key ${fingerprint(keyRow.key_id)} revoked; earlier approvals keep verifying against it.`);
-    } catch (e) {
-      setError(e);
-    } finally {
-      setBusy(false);
-    }
+    revokeKey.mutate(
+      { keyId: keyRow.key_id, password, reason },
+      { onSuccess: () => onDone(`Key ${fingerprint(keyRow.key_id)} revoked; earlier approvals keep verifying against it.`) },
+    );
   };
+  const error = revokeKey.error;
   return (
     <form className="card" onSubmit={(e) => void submit(e)} aria-labelledby="revoke-key-title">
       <h2 id="revoke-key-title">Revoke key {fingerprint(keyRow.key_id)}</h2>

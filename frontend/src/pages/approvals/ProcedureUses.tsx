@@ -3,9 +3,19 @@
  * pinned digest, whether the library holds it and who approved it, and one verdict line saying
  * whether every one is an approved version. Nothing is shown for orders that use none.
  */
+import { type Column, DataTable } from "../../components/DataTable";
 import { ErrorMessage } from "../../components/Status";
 import { shortDigest } from "../../format";
-import { useProcedureUses } from "../../api/versions";
+import { type ProcedureUses, useProcedureUses } from "../../api/versions";
+
+type Use = ProcedureUses["procedures"][number];
+
+const COLUMNS: Column<Use>[] = [
+  { header: "Procedure", rowHeader: true, cell: (use) => use.name },
+  { header: "Version", cell: (use) => use.version },
+  { header: "Pinned digest", cell: (use) => (use.digest ? <code title={use.digest}>{shortDigest(use.digest)}</code> : "none pinned") },
+  { header: "Approved by", cell: (use) => use.approved_by ?? (use.in_library ? "not approved" : "not in the library") },
+];
 
 export function ProcedureUsesSection({ mission, version }: { mission: string; version: number }) {
   const { data, error } = useProcedureUses(mission, version);
@@ -20,29 +30,14 @@ export function ProcedureUsesSection({ mission, version }: { mission: string; ve
           : "Not every procedure these orders use is an approved version."}
         {data.truncated && " (More procedures are named than are listed here.)"}
       </p>
-      <table>
-        <caption>Procedures used by {mission} v{version}</caption>
-        <thead>
-          <tr>
-            <th scope="col">Procedure</th>
-            <th scope="col">Version</th>
-            <th scope="col">Pinned digest</th>
-            <th scope="col">Approved by</th>
-          </tr>
-        </thead>
-        <tbody>
-          {data.procedures.map((use) => (
-            <tr key={`${use.name}@${use.version}@${use.digest ?? ""}`} data-testid="procedure-use">
-              <th scope="row">{use.name}</th>
-              <td>{use.version}</td>
-              <td>
-                {use.digest ? <code title={use.digest}>{shortDigest(use.digest)}</code> : "none pinned"}
-              </td>
-              <td>{use.approved_by ?? (use.in_library ? "not approved" : "not in the library")}</td>
-            </tr>
-          ))}
-        </tbody>
-      </table>
+      <DataTable
+        caption={`Procedures used by ${mission} v${version}`}
+        showCaption
+        columns={COLUMNS}
+        rows={data.procedures}
+        rowKey={(use) => `${use.name}@${use.version}@${use.digest ?? ""}`}
+        rowAttributes={() => ({ "data-testid": "procedure-use" })}
+      />
     </section>
   );
 }

@@ -3,11 +3,9 @@
  * findings, paths), what changed since the previously approved version, and the decision,
  * signed in this browser with the supervisor's non-extractable key.
  */
-import { useQueryClient } from "@tanstack/react-query";
 import { ProbabilityTable } from "./Probabilities";
 import { useEffect, useMemo, useState } from "react";
 
-import { api, unwrap } from "../../api/client";
 import { Link } from "../../components/Link";
 import { ErrorMessage, Loading, Notice } from "../../components/Status";
 import { fingerprint } from "../../crypto/keystore";
@@ -15,7 +13,7 @@ import { formatDateTime, shortDigest } from "../../format";
 import { titlesOf } from "../../pathGrid";
 import { missionHref } from "../../router";
 import { useSession } from "../../session";
-import { decisionRecorded } from "../../api/approvals";
+import { type Prepared, useDecide } from "../../api/approvals";
 import { useReview } from "../../api/versions";
 import { approvalHref, type RecordedDecision, type Review } from "./api";
 import { describeDiff, diffOrders } from "./diff";
@@ -29,10 +27,7 @@ import { ReceiptNote } from "./Receipt";
 import { type CitedCampaigns, CitedEvidence, useCitedCampaigns } from "./CitedEvidence";
 
 export function ReviewPage({ mission, version }: { mission: string; version: number }) {
-  const client = useQueryClient();
   const { data: review, error, isPending: loading } = useReview(mission, version);
-  // A decision changes the records, the submissions and this mission: all asked for again.
-  const reload = () => void decisionRecorded(client, mission);
   const cited = useCitedCampaigns(review?.submissions[0]?.id);
   useEffect(() => {
     document.title = `Review ${mission} v${version} · Countersign`;
@@ -124,7 +119,7 @@ export function ReviewPage({ mission, version }: { mission: string; version: num
 
       <CitedEvidence rehearsal={current?.rehearsal} cited={cited} titles={titlesOf(review.orders as Parameters<typeof titlesOf>[0])} />
 
-      <Decision review={review} cited={cited} onDecided={reload} />
+      <Decision mission={mission} review={review} cited={cited} />
     </section>
   );
 }
@@ -156,21 +151,22 @@ function Changes({ review }: { review: Review }) {
   );
 }
 
-function Decision({ review, cited, onDecided }: { review: Review; cited: CitedCampaigns; onDecided: () => void }) {
+function Decision({ mission, review, cited }: { mission: string; review: Review; cited: CitedCampaigns }) {
   const { user } = useSession();
   if (user.role !== "supervisor") return null;
-  return <DecisionForm review={review} cited={cited} onDecided={onDecided} username={user.username} />;
+  return <DecisionForm mission={mission} review={review} cited={cited} username={user.username} />;
 }
 
+// A decision changes the records, the submissions and this mission: useDecide asks for them again.
 function DecisionForm({
+  mission,
   review,
   cited,
-  onDecided,
   username,
 }: {
+  mission: string;
   review: Review;
   cited: CitedCampaigns;
-  onDecided: () => void;
   username: string;
 }) {
   const keys = useSigningKeys(username);
@@ -179,49 +175,37 @@ function DecisionForm({
   // Fresh password for every decision: the server checks it, so a script that can use this
   // browser's key and session still cannot decide.
   const [password, setPassword] = useState("");
-  const [busy, setBusy] = useState(false);
   const [error, setError] = useState<unknown>(null);
   const [result, setResult] = useState<RecordedDecision | null>(null);
   const submission = review.submissions[0];
+  const recordDecision = useDecide(mission, submission?.id ?? 0);
+  const busy = recordDecision.isPending;
   const selected = keys.usable.find((k) => k.keyId === keyId) ?? keys.usable[0];
 
   const decide = async (decision: "approved" | "rejected") => {
     if (!submission || !selected) return;
-    setBusy(true);
     setError(null);
     setResult(null);
     try {
       if (decision === "rejected" && !reason.trim()) throw new Error("A rejection needs a reason: say what must change.");
       if (!password) throw new Error("Enter your password to sign: the server checks it with your decision.");
-      const prepared = unwrap(
-        await api.POST("/api/submissions/{submission_id}/statement", {
-          params: { path: { submission_id: submission.id } },
-          body: { decision, reason, key_id: selected.keyId },
-        }),
-      );
-      if (cited.loading || cited.error) throw new Error("The attached campaigns are not loaded: reload the review before signing.");
-      const envelope = await signPrepared(prepared, selected, {
-        digest: review.digest,
-        decision,
-        submission: submission.id,
-        rehearsal: submission.rehearsal ?? null,
-        campaigns: cited.campaigns.map((c) => c.digest ?? ""),
-        checker: review.checker,
-        orders: review.orders,
-      });
-      const stored = unwrap(
-        await api.POST("/api/submissions/{submission_id}/decision", {
-          params: { path: { submission_id: submission.id } },
-          body: { envelope, password },
-        }),
-      );
+      const sign = (prepared: Prepared) => {
+        if (cited.loading || cited.error) throw new Error("The attached campaigns are not loaded: reload the review before signing.");
+        return signPrepared(prepared, selected, {
+          digest: review.digest,
+          decision,
+          submission: submission.id,
+          rehearsal: submission.rehearsal ?? null,
+          campaigns: cited.campaigns.map((c) => c.digest ?? ""),
+          checker: review.checker,
+          orders: review.orders,
+        });
+      };
+      const stored = await recordDecision.mutateAsync({ decision, reason, keyId: selected.keyId, password, sign });
       setPassword("");
       setResult(stored);
-      onDecided();
     } catch (e) {
       setError(e);
-    } finally {
-      setBusy(false);
     }
   };
 

@@ -1,10 +1,8 @@
 /** Signing in the browser: this user's usable keys, and signing exactly what the server built. */
-import { useCallback, useEffect, useState } from "react";
-
-import { api, unwrap } from "../../api/client";
+import { useKeyRing } from "../../api/keys";
 import { equalBytes, fromBase64 } from "../../crypto/bytes";
 import { pae, signEnvelope } from "../../crypto/dsse";
-import { listKeys, type StoredKey } from "../../crypto/keystore";
+import type { StoredKey } from "../../crypto/keystore";
 import { teamProblems } from "../../crypto/teamRules";
 import type { Key, Prepared } from "./api";
 
@@ -17,32 +15,18 @@ export interface SigningKeys {
   server: Key[];
   loading: boolean;
   error: unknown;
-  reload: () => void;
 }
 
+/** This user's keys; a registration or a revocation asks for them again (api/keys.ts). */
 export function useSigningKeys(username: string): SigningKeys {
-  const [state, setState] = useState<Omit<SigningKeys, "reload">>({ usable: [], local: [], server: [], loading: true, error: null });
-  const [tick, setTick] = useState(0);
-  useEffect(() => {
-    let current = true;
-    (async () => {
-      const server = unwrap(await api.GET("/api/keys")) as Key[];
-      let local: StoredKey[] = [];
-      let error: unknown = null;
-      try {
-        local = await listKeys(username);
-      } catch (e) {
-        error = e;
-      }
-      const active = new Set(server.filter((k) => k.status === "active" && k.user === username).map((k) => k.key_id));
-      if (current) setState({ server, local, usable: local.filter((k) => active.has(k.keyId)), loading: false, error });
-    })().catch((error: unknown) => current && setState((s) => ({ ...s, loading: false, error })));
-    return () => {
-      current = false;
-    };
-  }, [username, tick]);
-  const reload = useCallback(() => setTick((t) => t + 1), []);
-  return { ...state, reload };
+  const { data, error, isPending } = useKeyRing(username);
+  return {
+    usable: data?.usable ?? [],
+    local: data?.local ?? [],
+    server: data?.server ?? [],
+    loading: isPending,
+    error: error ?? data?.localError ?? null,
+  };
 }
 
 /**

@@ -6,14 +6,13 @@
  * probabilities offered for the orders' `p` (copied by the operator, never written for them).
  * A team's campaign shows its joint table instead (TeamCampaignResults.tsx).
  */
-import { useQueryClient } from "@tanstack/react-query";
 import { useState } from "react";
 
 import { api, type Schema, unwrap } from "../../api/client";
 import { numberPair } from "../../api/pair";
 import { ErrorMessage, Notice } from "../../components/Status";
 import { useCan, useSession } from "../../session";
-import { campaignsChanged, useFaultReach, useMissionCampaigns } from "../../api/campaigns";
+import { useCancelCampaign, useFaultReach, useMissionCampaigns, useStartCampaign } from "../../api/campaigns";
 import { TeamCampaignResults } from "./TeamCampaignResults";
 
 type Campaign = Schema<"CampaignOut">;
@@ -25,10 +24,8 @@ const ACTIVE = new Set(["queued", "running"]);
 
 export function CampaignPanel({ mission, versions }: { mission: string; versions: number[] }) {
   const canStart = useCan("startCampaign");
-  const client = useQueryClient();
   // Asked again every second while a campaign is queued or running (its progress).
   const { data, error } = useMissionCampaigns(mission, { pollWhile: anyRunning });
-  const reload = () => void campaignsChanged(client, mission);
   const campaigns = data ?? [];
   const [shown, setShown] = useState<string | null>(null);
   const selected = campaigns.find((c) => c.id === shown && c.results);
@@ -39,7 +36,7 @@ export function CampaignPanel({ mission, versions }: { mission: string; versions
         Many seeded simulations of a version; the results estimate how likely each ending is.
       </p>
       <ErrorMessage error={error} />
-      {canStart && versions.length > 0 && <StartForm mission={mission} versions={versions} onStarted={reload} />}
+      {canStart && versions.length > 0 && <StartForm mission={mission} versions={versions} />}
       {campaigns.length > 0 && (
         <table className="campaigns">
           <caption className="visually-hidden">Campaigns, newest first</caption>
@@ -55,7 +52,7 @@ export function CampaignPanel({ mission, versions }: { mission: string; versions
           </thead>
           <tbody>
             {campaigns.map((c) => (
-              <CampaignRow key={c.id} campaign={c} onChange={reload} onShow={() => setShown(c.id)} />
+              <CampaignRow key={c.id} mission={mission} campaign={c} onShow={() => setShown(c.id)} />
             ))}
           </tbody>
         </table>
@@ -65,7 +62,7 @@ export function CampaignPanel({ mission, versions }: { mission: string; versions
   );
 }
 
-function StartForm({ mission, versions, onStarted }: { mission: string; versions: number[]; onStarted: () => void }) {
+function StartForm({ mission, versions }: { mission: string; versions: number[] }) {
   const [version, setVersion] = useState(Math.max(...versions));
   const [simulations, setSimulations] = useState(100);
   const [faults, setFaults] = useState<string[]>(["none"]);
@@ -73,32 +70,15 @@ function StartForm({ mission, versions, onStarted }: { mission: string; versions
   // A team's faults for one member (`vehicle-2:leak`), beside the ones every member gets.
   const [memberFaults, setMemberFaults] = useState("");
   const [seed, setSeed] = useState(0);
-  const [busy, setBusy] = useState(false);
-  const [error, setError] = useState<unknown>(null);
+  const startCampaign = useStartCampaign(mission);
+  const busy = startCampaign.isPending;
   const perMember = memberFaults.split(",").map((f) => f.trim()).filter(Boolean);
   const sweep = [...faults, ...perMember];
-  const start = async () => {
-    setBusy(true);
-    setError(null);
-    try {
-      unwrap(
-        await api.POST("/api/missions/{mission_id}/versions/{number}/campaigns", {
-          params: { path: { mission_id: mission, number: version } },
-          body: {
-            simulations,
-            faults: sweep,
-            goals: goals.split(",").map((g) => g.trim()).filter(Boolean),
-            seed,
-          },
-        }),
-      );
-      onStarted();
-    } catch (e) {
-      setError(e);
-    } finally {
-      setBusy(false);
-    }
-  };
+  const start = () =>
+    startCampaign.mutate({
+      version,
+      body: { simulations, faults: sweep, goals: goals.split(",").map((g) => g.trim()).filter(Boolean), seed },
+    });
   const toggle = (fault: string) =>
     setFaults((f) => (f.includes(fault) ? f.filter((x) => x !== fault) : [...f, fault]));
   // Before the run: which chosen faults nothing in the version reacts to.
@@ -154,24 +134,17 @@ function StartForm({ mission, versions, onStarted }: { mission: string; versions
       <button type="button" className="primary" onClick={start} disabled={busy || sweep.length === 0}>
         {busy ? "Starting…" : "Start campaign"}
       </button>
-      <ErrorMessage error={error} />
+      <ErrorMessage error={startCampaign.error} />
     </fieldset>
   );
 }
 
-function CampaignRow({ campaign: c, onChange, onShow }: { campaign: Campaign; onChange: () => void; onShow: () => void }) {
+function CampaignRow({ mission, campaign: c, onShow }: { mission: string; campaign: Campaign; onShow: () => void }) {
   const { user } = useSession();
   const canCancel = useCan("cancelCampaign") && c.owner === user?.username && ACTIVE.has(c.state);
-  const [error, setError] = useState<unknown>(null);
-  const cancel = async () => {
-    setError(null);
-    try {
-      unwrap(await api.POST("/api/campaigns/{campaign_id}/cancel", { params: { path: { campaign_id: c.id } } }));
-      onChange();
-    } catch (e) {
-      setError(e);
-    }
-  };
+  const cancelCampaign = useCancelCampaign(mission);
+  const error = cancelCampaign.error;
+  const cancel = () => cancelCampaign.mutate(c.id);
   const spec = c.spec;
   return (
     <tr>
@@ -191,7 +164,7 @@ function CampaignRow({ campaign: c, onChange, onShow }: { campaign: Campaign; on
       </td>
       <td>
         {canCancel && (
-          <button type="button" onClick={cancel}>
+          <button type="button" onClick={cancel} disabled={cancelCampaign.isPending}>
             Cancel
           </button>
         )}

@@ -1,6 +1,7 @@
 import { type FormEvent, useId, useState } from "react";
 
-import { api, ApiError, type User } from "../../api/client";
+import type { User } from "../../api/client";
+import { useUpdateUser } from "../../api/users";
 import { ErrorMessage } from "../../components/Status";
 
 /** An admin's reset of another user's password, confirmed with the admin's own password: the
@@ -10,7 +11,8 @@ export function ResetPassword({ user, onDone }: { user: User; onDone: (notice: s
   const [password, setPassword] = useState("");
   const [adminPassword, setAdminPassword] = useState("");
   const [error, setError] = useState<unknown>(null);
-  const [busy, setBusy] = useState(false);
+  const update = useUpdateUser();
+  const busy = update.isPending;
   const id = useId();
 
   if (!open) {
@@ -23,22 +25,15 @@ export function ResetPassword({ user, onDone }: { user: User; onDone: (notice: s
 
   const submit = async (event: FormEvent) => {
     event.preventDefault();
-    setBusy(true);
     setError(null);
     try {
-      const result = await api.PATCH("/api/users/{user_id}", {
-        params: { path: { user_id: user.id } },
-        body: { password, admin_password: adminPassword },
-      });
-      if (!result.response.ok) throw new ApiError(result.response.status, result.error);
+      await update.mutateAsync({ user, patch: { password, admin_password: adminPassword } });
       setPassword("");
       setAdminPassword("");
       setOpen(false);
       onDone(`Password of ${user.username} reset; their sessions and API tokens have ended.`);
     } catch (e) {
       setError(e);
-    } finally {
-      setBusy(false);
     }
   };
 

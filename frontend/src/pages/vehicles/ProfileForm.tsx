@@ -9,6 +9,8 @@
 import type { ReactNode } from "react";
 
 import type { RegistryProfile } from "../../api/vehicles";
+import type { Column } from "../../components/DataTable";
+import { EditableTable } from "../../components/EditableTable";
 import "./vehicles.css";
 
 type Profile = RegistryProfile & Record<string, unknown>;
@@ -30,11 +32,53 @@ function Row({ children }: { children: ReactNode }) {
   return <div className="profile-row">{children}</div>;
 }
 
+type Envelope = Record<string, [number, number]>;
+
+/** A quantity a row, its min and max (an empty field is 0: the server names a refused range). */
+function envelopeColumns(envelope: Envelope, setEnvelope: (next: Envelope) => void): Column<[string, [number, number]]>[] {
+  const end = (at: 0 | 1): Column<[string, [number, number]]> => ({
+    header: at === 0 ? "Min" : "Max",
+    cell: ([quantity, range]) => (
+      <input
+        type="number"
+        step="any"
+        aria-label={`${quantity} ${at === 0 ? "min" : "max"}`}
+        value={Array.isArray(range) ? (range[at] ?? "") : ""}
+        onChange={(e) => {
+          const next: [number, number] = [Array.isArray(range) ? range[0] : 0, Array.isArray(range) ? range[1] : 0];
+          next[at] = number(e.target.value) ?? 0;
+          setEnvelope({ ...envelope, [quantity]: next });
+        }}
+      />
+    ),
+  });
+  return [{ header: "Quantity", rowHeader: true, cell: ([quantity]) => <code>{quantity}</code> }, end(0), end(1)];
+}
+
+/** A feature a row: its id, what it fulfils and what it measures. */
+function featureColumns(setFeature: (i: number, changes: Partial<Feature>) => void): Column<Feature>[] {
+  const name = (f: Feature, i: number) => f.id || `Feature ${i + 1}`;
+  return [
+    {
+      header: "Feature",
+      cell: (f, i) => <input aria-label={`Feature ${i + 1} id`} value={f.id ?? ""} maxLength={100} onChange={(e) => setFeature(i, { id: e.target.value })} />,
+    },
+    {
+      header: "Fulfils (comma-separated)",
+      cell: (f, i) => <input aria-label={`${name(f, i)} fulfils`} value={(f.fulfills ?? []).join(", ")} onChange={(e) => setFeature(i, { fulfills: words(e.target.value) })} />,
+    },
+    {
+      header: "Measures (comma-separated)",
+      cell: (f, i) => <input aria-label={`${name(f, i)} measures`} value={(f.measures ?? []).join(", ")} onChange={(e) => setFeature(i, { measures: words(e.target.value) })} />,
+    },
+  ];
+}
+
 export function ProfileForm({ profile, onChange, fixedId }: { profile: Profile; onChange: (p: Profile) => void; fixedId: boolean }) {
-  const envelope = (profile.envelope ?? {}) as Record<string, [number, number]>;
+  const envelope = (profile.envelope ?? {}) as Envelope;
   const budget = (profile.budget ?? {}) as { energy_wh?: number; duration_s?: number };
   const features = ((profile.features ?? []) as Feature[]).filter((f) => typeof f === "object" && f !== null);
-  const setEnvelope = (next: Record<string, [number, number]>) => onChange(withField(profile, "envelope", next));
+  const setEnvelope = (next: Envelope) => onChange(withField(profile, "envelope", next));
   const setFeatures = (next: Feature[]) => onChange(withField(profile, "features", next));
   const setFeature = (i: number, changes: Partial<Feature>) => setFeatures(features.map((f, k) => (k === i ? { ...f, ...changes } : f)));
   return (
@@ -77,47 +121,18 @@ export function ProfileForm({ profile, onChange, fixedId }: { profile: Profile; 
         />
       </Row>
       <h3>Envelope</h3>
-      <table className="profile-table">
-        <thead>
-          <tr>
-            <th scope="col">Quantity</th>
-            <th scope="col">Min</th>
-            <th scope="col">Max</th>
-            <th scope="col">
-              <span className="visually-hidden">Remove</span>
-            </th>
-          </tr>
-        </thead>
-        <tbody>
-          {Object.entries(envelope).map(([quantity, range]) => (
-            <tr key={quantity}>
-              <th scope="row">
-                <code>{quantity}</code>
-              </th>
-              {[0, 1].map((end) => (
-                <td key={end}>
-                  <input
-                    type="number"
-                    step="any"
-                    aria-label={`${quantity} ${end === 0 ? "min" : "max"}`}
-                    value={Array.isArray(range) ? (range[end] ?? "") : ""}
-                    onChange={(e) => {
-                      const next: [number, number] = [Array.isArray(range) ? range[0] : 0, Array.isArray(range) ? range[1] : 0];
-                      next[end] = number(e.target.value) ?? 0;
-                      setEnvelope({ ...envelope, [quantity]: next });
-                    }}
-                  />
-                </td>
-              ))}
-              <td>
-                <button type="button" onClick={() => setEnvelope(Object.fromEntries(Object.entries(envelope).filter(([q]) => q !== quantity)))}>
-                  Remove {quantity}
-                </button>
-              </td>
-            </tr>
-          ))}
-        </tbody>
-      </table>
+      <EditableTable
+        caption="Envelope: limits per quantity"
+        className="profile-table"
+        columns={envelopeColumns(envelope, setEnvelope)}
+        rows={Object.entries(envelope)}
+        rowKey={([quantity]) => quantity}
+        remove={{
+          header: "Remove",
+          text: ([quantity]) => `Remove ${quantity}`,
+          onRemove: ([quantity]) => setEnvelope(Object.fromEntries(Object.entries(envelope).filter(([q]) => q !== quantity))),
+        }}
+      />
       <Row>
         <label htmlFor="vehicle-new-limit">New limit (quantity name)</label>
         <input
@@ -134,38 +149,18 @@ export function ProfileForm({ profile, onChange, fixedId }: { profile: Profile; 
         />
       </Row>
       <h3>Features</h3>
-      <table className="profile-table">
-        <thead>
-          <tr>
-            <th scope="col">Feature</th>
-            <th scope="col">Fulfils (comma-separated)</th>
-            <th scope="col">Measures (comma-separated)</th>
-            <th scope="col">
-              <span className="visually-hidden">Remove</span>
-            </th>
-          </tr>
-        </thead>
-        <tbody>
-          {features.map((f, i) => (
-            <tr key={i}>
-              <td>
-                <input aria-label={`Feature ${i + 1} id`} value={f.id ?? ""} maxLength={100} onChange={(e) => setFeature(i, { id: e.target.value })} />
-              </td>
-              <td>
-                <input aria-label={`${f.id || `Feature ${i + 1}`} fulfils`} value={(f.fulfills ?? []).join(", ")} onChange={(e) => setFeature(i, { fulfills: words(e.target.value) })} />
-              </td>
-              <td>
-                <input aria-label={`${f.id || `Feature ${i + 1}`} measures`} value={(f.measures ?? []).join(", ")} onChange={(e) => setFeature(i, { measures: words(e.target.value) })} />
-              </td>
-              <td>
-                <button type="button" onClick={() => setFeatures(features.filter((_, k) => k !== i))}>
-                  Remove {f.id || `feature ${i + 1}`}
-                </button>
-              </td>
-            </tr>
-          ))}
-        </tbody>
-      </table>
+      <EditableTable
+        caption="Features"
+        className="profile-table"
+        columns={featureColumns(setFeature)}
+        rows={features}
+        rowKey={(_, i) => i}
+        remove={{
+          header: "Remove",
+          text: (f, i) => `Remove ${f.id || `feature ${i + 1}`}`,
+          onRemove: (_, i) => setFeatures(features.filter((_, k) => k !== i)),
+        }}
+      />
       <button type="button" onClick={() => setFeatures([...features, { id: `feature-${features.length + 1}`, fulfills: [], measures: [] }])}>
         Add feature
       </button>
