@@ -13,7 +13,6 @@ from __future__ import annotations
 from pathlib import Path
 
 MEO = "meo.ttl"
-SHAPES = "shapes.ttl"
 NPS_ALIGNMENT = "nps-meo3-alignment.ttl"
 
 

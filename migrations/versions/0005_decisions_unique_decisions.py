@@ -1,5 +1,5 @@
 """decisions: one decision (and one revocation) per submission, one active submission per
-version, as unique partial indexes (issue 14 item 6; branch `decisions`)
+version, as unique partial indexes
 
 Revision ID: 0005
 Revises: 0004

@@ -1,4 +1,4 @@
-"""account hygiene (issue 15): API token expiry and scopes, session idle timeout, login
+"""account hygiene: API token expiry and scopes, session idle timeout, login
 attempts counted per client address as well as per account
 
 Revision ID: 0006

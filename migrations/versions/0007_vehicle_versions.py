@@ -1,4 +1,4 @@
-"""vehicle registry versions (issue 16): every saved profile kept, numbered per vehicle; the
+"""vehicle registry versions: every saved profile kept, numbered per vehicle; the
 profiles already in the registry become their vehicle's version 1
 
 Revision ID: 0007

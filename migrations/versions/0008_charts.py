@@ -1,4 +1,4 @@
-"""the chart registry (issue 21): shared areas with kind, tags and norms
+"""the chart registry: shared areas with kind, tags and norms
 
 Revision ID: 0008
 Revises: 0007

@@ -1,4 +1,4 @@
-"""each event's target, for the activity log's filter (issue 16 item 7)
+"""each event's target, for the activity log's filter
 
 Revision ID: 0009
 Revises: 0008

@@ -1,4 +1,4 @@
-"""rehearsal campaigns (issue 20): campaigns, one result per (campaign, index), and their
+"""rehearsal campaigns: campaigns, one result per (campaign, index), and their
 attachment to submissions
 
 Revision ID: 0010

@@ -1,5 +1,5 @@
 """validation reports carry the mission list's summary (ok, errors, warnings) in columns, and
-missions get (status, id) and (vehicle, id) indexes for the list's filters (issue 36)
+missions get (status, id) and (vehicle, id) indexes for the list's filters
 
 Revision ID: 0012
 Revises: 0011

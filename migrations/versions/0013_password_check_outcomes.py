@@ -1,6 +1,6 @@
 """password checks keep their outcome: login_attempts.outcome ('failed', 'ok', 'forgiven'), so a
 success forgives the account's failures without erasing the hashes counted against the
-per-minute limit (store/login_throttle.py, issue 34 items 5 and 6)
+per-minute limit (store/login_throttle.py)
 
 Revision ID: 0013
 Revises: 0012

@@ -1,6 +1,6 @@
 """campaign digests are shared, not unique: two users' campaigns of the same spec and orders
-seal the same record under the same digest (issue 34 item 8: the second one to finish failed
-on uq_campaigns_digest after all its runs)
+seal the same record under the same digest (the second one to finish failed on
+uq_campaigns_digest after all its runs)
 
 Revision ID: 0014
 Revises: 0013

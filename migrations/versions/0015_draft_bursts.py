@@ -1,5 +1,5 @@
 """editing bursts: a mission's open burst of draft saves, logged as one event when it ends
-(store/draft_bursts.py, issue 32)
+(store/draft_bursts.py)
 
 Revision ID: 0015
 Revises: 0014

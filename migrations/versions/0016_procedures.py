@@ -1,5 +1,5 @@
 """procedures: the library of refinements saved by name and version, and their signed
-approvals (store/procedure_tables.py, issue 37)
+approvals (store/procedure_tables.py)
 
 Revision ID: 0016_procedures
 Revises: 0015

@@ -164,7 +164,6 @@ def test_reference_holds_the_ten_avcl_missions() -> None:
 def test_every_mission_loads(path: Path) -> None:
     result = read_file(path)
     expected = oracle(path)
-    assert result.source_format == "avcl"
     assert result.orders.start == expected.start
     assert [g.id for g in result.orders.goals] == expected.goals
     assert {t.id for t in result.orders.effective_terminals} == expected.terminals

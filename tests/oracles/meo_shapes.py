@@ -29,12 +29,11 @@ from rdflib import Graph, URIRef
 from rdflib.namespace import RDF
 from rdflib.term import Node
 
-from countersign.ontology_files import SHAPES
 from countersign.orders.ontology import load_graph
 from countersign.orders.turtle import MEO, OUTCOME_PROPERTY
 from countersign.verify.meo.reasoning import Inference
 
-from .shape_info import MSH, SH, ShapeInfo, shape_info
+from .shape_info import MSH, SH, SHAPES, ShapeInfo, shape_info
 
 # Inferred role assertions added to the data graph.
 INFERRED_ROLES = (

@@ -15,9 +15,11 @@ from functools import cache
 
 from rdflib import Namespace
 
-from countersign.ontology_files import SHAPES
 from countersign.orders.ontology import load_graph
 
+# ontology/shapes.ttl, the SHACL shapes of the MEO rules: only the oracles read them (a
+# validation evaluates the rules natively, verify/meo/direct.py).
+SHAPES = "shapes.ttl"
 MSH = Namespace("https://countersign.example/ontology/meo-shapes#")
 SH = Namespace("http://www.w3.org/ns/shacl#")
 

@@ -53,7 +53,6 @@ THREE = (
 def test_goals_start_and_terminal_in_document_order() -> None:
     result = read(THREE)
     orders = result.orders
-    assert result.source_format == "avcl"
     assert result.findings == []
     assert orders.start == "A"
     assert [g.id for g in orders.goals] == ["A", "B"]

@@ -107,6 +107,21 @@ def turtle_writers(root: Path = ROOT) -> set[str]:
     return found
 
 
+def hand_written_caches(root: Path = ROOT) -> set[str]:
+    """Modules bounding a dict by hand (`move_to_end` or `popitem(last=False)`): one cache
+    interface, cachetools', holds every bounded memory, so eviction is written once."""
+    found = set()
+    for name, path in _sources(root):
+        for node in ast.walk(_tree(path)):
+            if isinstance(node, ast.Attribute) and node.attr == "move_to_end":
+                found.add(name)
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and \
+                    node.func.attr == "popitem" and any(
+                        k.arg == "last" for k in node.keywords):
+                found.add(name)
+    return found
+
+
 def import_cycles(root: Path = ROOT) -> list[list[str]]:
     """Cycles among the packages and top-level modules of countersign (an import inside a
     function counts: it is a dependency all the same)."""
@@ -149,6 +164,10 @@ def test_one_turtle_writer() -> None:
     assert turtle_writers() == {TURTLE_WRITER}
 
 
+def test_bounded_memories_use_the_one_cache_interface() -> None:
+    assert hand_written_caches() == set()
+
+
 def test_no_import_cycle() -> None:
     assert import_cycles() == []
 
@@ -168,6 +187,8 @@ def test_the_checks_see_planted_examples(tmp_path: Path) -> None:
     )
     (package / "leaf.py").write_text("def load():\n    from .orders import big\n")
     (package / "orders" / "uses_leaf.py").write_text("from .. import leaf\n")
+    (package / "orders" / "lru.py").write_text(
+        "def put(d, k, v):\n    d[k] = v\n    d.move_to_end(k)\n    d.popitem(last=False)\n")
     assert long_modules(package) == {"countersign/orders/big.py": MAX_MODULE_LINES + 1}
     assert long_functions(package) == {
         "countersign/orders/long.py:quiet": (MAX_FUNCTION_LINES + 1, False),
@@ -175,3 +196,4 @@ def test_the_checks_see_planted_examples(tmp_path: Path) -> None:
     }
     assert turtle_writers(package) == {"countersign/orders/writer.py"}
     assert import_cycles(package) == [["leaf", "orders", "leaf"]]
+    assert hand_written_caches(package) == {"countersign/orders/lru.py"}

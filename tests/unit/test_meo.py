@@ -17,7 +17,7 @@ from hypothesis import strategies as st
 from rdflib import Graph
 from rdflib.namespace import OWL, RDF, RDFS
 
-from countersign.ontology_files import MEO, NPS_ALIGNMENT, SHAPES
+from countersign.ontology_files import MEO, NPS_ALIGNMENT
 from countersign.orders.examples import example_bytes, example_names, load_example
 from countersign.orders.findings import Finding
 from countersign.orders.model import Orders
@@ -30,7 +30,7 @@ from countersign.verify.structure import check_structure
 from ..bench.bench_meo import hermit_available, hermit_seconds, meo_mission, naive_closure
 from ..oracles.meo_route import meo_check
 from ..oracles.meo_shapes import native_violations, shacl_violations, validation_graph
-from ..oracles.shape_info import shape_info
+from ..oracles.shape_info import SHAPES, shape_info
 
 TABLE_2 = {
     *(f"M{i}" for i in range(1, 8)),

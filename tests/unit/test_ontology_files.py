@@ -7,8 +7,10 @@ import pytest
 from rdflib import Graph
 from rdflib.compare import isomorphic
 
-from countersign.ontology_files import MEO, NPS_ALIGNMENT, SHAPES, ontology_path
+from countersign.ontology_files import MEO, NPS_ALIGNMENT, ontology_path
 from countersign.orders.ontology import load_graph
+
+from ..oracles.shape_info import SHAPES
 
 
 @pytest.mark.parametrize("name", [MEO, SHAPES, NPS_ALIGNMENT])

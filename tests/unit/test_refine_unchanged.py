@@ -1,5 +1,5 @@
-"""Orders without `refines` print exactly what they printed before refinement existed (issue
-37): every CLI output of every earlier built-in example is compared with digests captured from
+"""Orders without `refines` print exactly what they printed before refinement existed:
+every CLI output of every earlier built-in example is compared with digests captured from
 the commit before refinement (tests/unit/cli_outputs.py says how)."""
 
 from __future__ import annotations

@@ -288,7 +288,6 @@ def test_stable_iris() -> None:
 def test_turtle_is_sniffed_and_read_through_read_bytes() -> None:
     data = write_turtle(load_example("search-and-sample")).encode()
     result = read_bytes(data, "mission.ttl")
-    assert result.source_format == "turtle"
     assert result.orders.id == "search-and-sample"
 
 

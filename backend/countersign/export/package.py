@@ -11,11 +11,6 @@ from ..orders.model import Orders
 from .notes import ExportError
 from .vehicle import FORMATS, export_vehicle
 
-# The approval statement's predicate field holding the digest of every vehicle file, by its
-# name in the package: the signature then names the exports, so a verifier that cannot rebuild
-# them (tools/verify_package.py) still detects a forged one.
-SIGNED_EXPORTS = "exports"
-
 
 def _sha(data: bytes) -> str:
     return "sha256:" + hashlib.sha256(data).hexdigest()
@@ -23,8 +18,8 @@ def _sha(data: bytes) -> str:
 
 def export_provenance(envelope: str) -> dict[str, Any]:
     """What an export names of its approval when the statement does not sign the exports
-    (statements signed before SIGNED_EXPORTS): derivable from the envelope alone, so verifiers
-    can rebuild it."""
+    (statements signed before the predicate had an `exports` field): derivable from the
+    envelope alone, so verifiers can rebuild it."""
     return {"decision": "approved", "envelope_digest": _sha(envelope.encode())}
 
 

@@ -9,9 +9,10 @@ result once. The last job to store a result seals the record.
 from __future__ import annotations
 
 import threading
-from collections import OrderedDict
 from collections.abc import Callable
 from typing import Any
+
+from cachetools import LRUCache
 
 from ..campaigns.simulate import Mission, simulate
 from ..campaigns.spec import CampaignSpec
@@ -22,9 +23,9 @@ from ..orders.reader import orders_from_data
 from ..store import campaigns as store
 from ..store.db import Database
 
-_missions: OrderedDict[tuple[str, str], Mission | TeamMission] = OrderedDict()
-_missions_lock = threading.Lock()
 MISSIONS_KEPT = 4
+_missions: LRUCache[tuple[str, str], Mission | TeamMission] = LRUCache(MISSIONS_KEPT)
+_missions_lock = threading.Lock()
 
 
 def _mission(digest: str, orders: dict[str, Any], campaign_id: str) -> Mission | TeamMission:
@@ -32,14 +33,11 @@ def _mission(digest: str, orders: dict[str, Any], campaign_id: str) -> Mission |
     with _missions_lock:
         found = _missions.get(key)
         if found is not None:
-            _missions.move_to_end(key)
             return found
     read = orders_from_data(orders)
     mission = TeamMission(read) if read.team is not None else Mission(read)
     with _missions_lock:
         _missions[key] = mission
-        while len(_missions) > MISSIONS_KEPT:
-            _missions.popitem(last=False)
     return mission
 
 

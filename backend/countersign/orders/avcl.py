@@ -133,7 +133,7 @@ def read_avcl(data: bytes, name: str = "<input>") -> ReadResult:
         orders = Orders.model_validate(data_out)
     except ValidationError as exc:
         raise problems_from_validation(exc) from None
-    return ReadResult(orders, [*findings, *defaulted_findings(orders)], "avcl")
+    return ReadResult(orders, [*findings, *defaulted_findings(orders)])
 
 
 def _goal_list(root: Element) -> tuple[Element, str]:

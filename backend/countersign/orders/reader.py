@@ -53,7 +53,6 @@ class ReadResult:
     orders: Orders
     # Findings the reader itself made, e.g. SINK warnings for NPS default handlers.
     findings: list[Finding] = field(default_factory=list)
-    source_format: str = "json"
 
 
 def _json_path(loc: tuple[int | str, ...]) -> str:
@@ -211,7 +210,7 @@ def read_bytes(data: bytes, name: str = "<input>") -> ReadResult:
         from .turtle import read_turtle
 
         return read_turtle(data, name)
-    return ReadResult(read_json(data), [], "json")
+    return ReadResult(read_json(data), [])
 
 
 def read_file(path: str | Path) -> ReadResult:

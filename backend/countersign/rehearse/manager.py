@@ -24,12 +24,12 @@ import logging
 import secrets
 import threading
 import time
-from collections import OrderedDict
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, Literal, Protocol
 
 import viser
+from cachetools import FIFOCache
 
 from ..orders.canonical import digest as orders_digest
 from ..orders.model import OUTCOMES, Chart, Orders
@@ -520,7 +520,7 @@ class RehearsalManager:
         self.idle_timeout_s = idle_timeout_s
         self._lock = threading.Lock()
         self._active: dict[str, Rehearsal] = {}
-        self._stopped: OrderedDict[str, Rehearsal] = OrderedDict()
+        self._stopped: FIFOCache[str, Rehearsal] = FIFOCache(MAX_STOPPED)
 
     def start(self, orders: Orders, *, owner: str, options: RehearsalOptions,
               charts: Sequence[Chart] = (), controls: bool = False,
@@ -591,8 +591,6 @@ class RehearsalManager:
         with self._lock:
             self._active.pop(rehearsal.id, None)
             self._stopped[rehearsal.id] = rehearsal
-            while len(self._stopped) > MAX_STOPPED:
-                self._stopped.popitem(last=False)
 
     def _reap(self) -> None:
         for rehearsal in self.active():

@@ -342,7 +342,7 @@ class Simulation:
         self._priced_m += leg_m + work_m
         self._priced_wh += rate * work_m + self.leg_rate_wh_per_m * leg_m
         active = ActiveGoal(goal, facts, waypoints, planned_s, rate, hold_w, self.time_s,
-                            expected_wh=expected, speed=speed)
+                            speed=speed)
         active.scripted = self.source.scripted(goal_id, len(run.goals) - 1)
         # Seed 001: a strong opposing current with a 20% chance during each goal, for an
         # uncertain part of it; a disturbance only the simulating source meets.

@@ -176,7 +176,6 @@ class ActiveGoal:
     index: int = 0
     held_s: float = 0.0
     done_s: float = 0.0  # plan-time completed (metres / speed plus holds)
-    expected_wh: float = 0.0  # energy the plan would use at normal consumption
     used_wh: float = 0.0
     strong_current: tuple[float, float] | None = None  # (from, until) simulated seconds
     scripted: str | None = None

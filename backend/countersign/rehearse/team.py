@@ -98,7 +98,6 @@ class Member:
     meets: dict[str, str]  # goal id -> meeting id
     reach: dict[str, frozenset[str]]  # goal id -> meetings reachable from it (itself included)
     state: MemberState = "running"
-    waiting_since: float | None = None
 
     def at_meeting(self) -> str | None:
         """The meeting this member stands at, its plan there done (it holds); else None."""
@@ -378,7 +377,7 @@ class TeamSimulation:
             if held is None:
                 continue
             if member.state == "running":
-                member.state, member.waiting_since = "waiting", member.sim.time_s
+                member.state = "waiting"
                 names = [v for v in self.participants[held] if v != member.vehicle]
                 self._emit(member, "holding",
                            f"Holds at meeting {held} and waits for "
@@ -420,7 +419,7 @@ class TeamSimulation:
             self._emit(member, "meeting", text,
                        {"meet": meet, "outcome": outcome, "with": [v for v in goals
                                                                    if v != member.vehicle]})
-            member.state, member.waiting_since = "running", None
+            member.state = "running"
             member.sim.end_goal(outcome, f"meeting {meet} with {others}: {reason}")
             if member.sim.state == "finished":
                 member.state = "finished"

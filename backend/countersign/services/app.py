@@ -9,7 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..approvals.signer import LogSigner
-from ..store.db import Database, LogTreeCache
+from ..store.db import Database
 from ..store.report_service import ReportService
 
 
@@ -18,19 +18,17 @@ class AppServices:
     """One app's services. `database` opens sessions (a short reader beside a writer);
     `reports` computes validation reports once per digest (with the app's pool of validation
     processes while it runs); `signer` holds the log key (outside the database) and signs
-    receipts and checkpoints; `log_trees` caches the committed log's Merkle tree."""
+    receipts and checkpoints."""
 
     database: Database
     reports: ReportService
     signer: LogSigner
-    log_trees: LogTreeCache
 
     @classmethod
     def of(cls, database: Database, signer: LogSigner) -> AppServices:
-        """The services of an app on `database`. The database keeps the same report service,
-        signer and tree cache for the store's own use (the log receipt each appended event
+        """The services of an app on `database`. The database keeps the same report service
+        and signer for the store's own use (the log receipt each appended event
         carries, the CLI's runs without an app), so both see one instance of each."""
         if database.log_signer is not signer:
             raise ValueError("the app's log signer must be the one its database appends with")
-        return cls(database=database, reports=database.reports, signer=signer,
-                   log_trees=database.log_tree_cache)
+        return cls(database=database, reports=database.reports, signer=signer)

@@ -13,7 +13,7 @@ from fractions import Fraction
 
 from ..orders.findings import Finding, error, warning
 from ..orders.model import BUDGET_QUANTITIES, OUTCOMES, Orders
-from .costs import exact_costs, graph_costs, mission_costs
+from .costs import ExactCosts, exact_costs, graph_costs, mission_costs
 
 # The prices of one goal and one leg, under the names checks have long imported from here.
 from .costs import goal_cost as goal_cost
@@ -70,16 +70,7 @@ def worst_paths(orders: Orders, graph: MissionGraph, legs: MissionLegs | None = 
     for quantity in BUDGET_QUANTITIES:
         priced = graph_costs(orders, graph, quantity, costs, order)
         exact = exact_costs(priced)
-        best: dict[int, int] = {}
-        choice: dict[int, int] = {}
-        for node in order:  # successors come first
-            options = [
-                (best.get(target, 0) if target < graph.goal_count else 0) + exact.leg[node][k]
-                for k, target in enumerate(graph.succ[node])
-            ]
-            k = max(range(3), key=lambda i: (options[i], -i))
-            choice[node] = k
-            best[node] = exact.goal[node] + options[k]
+        best, choice = _costliest_onward(graph, order, exact)
         goals: list[str] = []
         outcomes: list[str] = []
         node = graph.start
@@ -99,6 +90,34 @@ def worst_paths(orders: Orders, graph: MissionGraph, legs: MissionLegs | None = 
             tuple(graph.goal_ids[n] for n in priced.estimated),
         )
     return result
+
+
+def _costliest_onward(graph: MissionGraph, order: list[int], exact: ExactCosts
+                      ) -> tuple[list[int], list[int]]:
+    """The cost of the costliest way on from each goal of `order` (successors first, every
+    target a goal of `order` or a terminal, in the units of `exact.scale`) and the outcome it
+    takes: the first of the costliest outcomes.
+    Integer sums, so exact; one pass with the three outcomes compared in line (the goals'
+    loop is what an edit of a large mission pays for)."""
+    n = graph.goal_count
+    succ, leg, own = graph.succ, exact.leg, exact.goal
+    best = [0] * n
+    choice = [0] * n
+    for node in order:
+        first, second, third = succ[node]
+        to_first, to_second, to_third = leg[node]
+        if first < n:
+            to_first += best[first]
+        if second < n:
+            to_second += best[second]
+        if third < n:
+            to_third += best[third]
+        k, most = (0, to_first) if to_first >= to_second else (1, to_second)
+        if to_third > most:
+            k, most = 2, to_third
+        choice[node] = k
+        best[node] = own[node] + most
+    return best, choice
 
 
 def _amount(quantity: str, value: float) -> str:

@@ -11,6 +11,7 @@ from here (DESIGN.md: one cost model everywhere).
 
 from __future__ import annotations
 
+import functools
 import itertools
 import math
 from collections.abc import Sequence
@@ -161,10 +162,18 @@ class ExactCosts:
     leg: tuple[Edges, ...]
 
 
+@functools.lru_cache(maxsize=65_536, typed=True)
+def _decimal(cost: float) -> Fraction:
+    """The decimal a cost prints as, exactly. Kept: an edit prices the same costs again, and
+    parsing their text was most of what exact costs took (typed: an int and the float equal to
+    it can print as different decimals)."""
+    return Fraction(repr(cost))
+
+
 def exact_costs(priced: GraphCosts) -> ExactCosts:
     # Costs repeat (most legs are zero): convert each distinct value once.
     distinct = {*priced.goal, *itertools.chain(*priced.leg)}
-    decimals = {c: Fraction(repr(c)) for c in distinct}
+    decimals = {c: _decimal(c) for c in distinct}
     scale = 1
     for value in decimals.values():
         scale = math.lcm(scale, value.denominator)

@@ -32,7 +32,7 @@ import numpy as np
 
 from ..orders.expressions.reads import Reads
 from ..orders.findings import Finding, error, warning
-from ..orders.model import BUDGET_QUANTITIES, OUTCOMES, Orders, PathProperty
+from ..orders.model import BUDGET_QUANTITIES, OUTCOMES, Goal, Orders, PathProperty
 from .budget import UNITS, reportable_total
 from .costs import graph_costs
 from .expressions import Expr, fold, number_words, quantity_words, reads, with_unit
@@ -49,6 +49,7 @@ from .logic import (
     join_words,
 )
 from .logic import run as logic_run
+from .logic.collector import collector_paused
 from .paths import topological_order
 
 # Above this many (goal x path length) steps, the shortest resource counterexample falls back
@@ -76,16 +77,19 @@ class CounterPath:
 
 def distances_from_start(graph: MissionGraph) -> list[int]:
     """Outcomes from the start to each goal (-1 when unreachable)."""
-    dist = [-1] * graph.goal_count
+    n = graph.goal_count
+    dist = [-1] * n
     if graph.start is None:
         return dist
+    succ, extra = graph.succ, graph.extra_targets
     dist[graph.start] = 0
     queue = deque([graph.start])
     while queue:
         node = queue.popleft()
-        for target in graph.out_nodes(node):
-            if target < graph.goal_count and dist[target] < 0:
-                dist[target] = dist[node] + 1
+        step = dist[node] + 1
+        for target in succ[node] if node not in extra else (*succ[node], *extra[node]):
+            if 0 <= target < n and dist[target] < 0:
+                dist[target] = step
                 queue.append(target)
     return dist
 
@@ -96,8 +100,8 @@ def distances_to_terminal(graph: MissionGraph) -> list[int]:
     reverse: list[list[int]] = [[] for _ in range(n)]
     dist = [-1] * n
     queue: deque[int] = deque()
-    for node in range(n):
-        for target in graph.succ[node]:
+    for node, row in enumerate(graph.succ):
+        for target in row:
             if target >= n:
                 if dist[node] < 0:
                     dist[node] = 1
@@ -177,21 +181,43 @@ def shortest_exceeding_path(
     n = graph.goal_count
     succ = graph.succ
     edge = legs if legs is not None else [(0.0, 0.0, 0.0)] * n
-    worst = [0.0] * n
-    for node in order:  # successors first
-        worst[node] = costs[node] + max(
-            edge[node][k] + (0.0 if t >= n else worst[t]) for k, t in enumerate(succ[node])
-        )
+    worst, longest = _worst_and_longest(order, succ, costs, edge, n)
     if worst[graph.start] <= bound:
         return None
-    longest = [0] * n
-    for node in order:
-        longest[node] = 1 + max(0 if t >= n else longest[t] for t in succ[node])
     if len(order) * longest[graph.start] <= MAX_LAYER_WORK:
         found = _shortest_by_length(graph, order, costs, edge, bound, longest[graph.start])
         if found is not None:
             return found[0], reportable_total(found[1]), True
     return _costliest(graph, worst, edge), reportable_total(worst[graph.start]), False
+
+
+def _worst_and_longest(order: list[int], succ: Sequence[tuple[int, int, int]],
+                       costs: Sequence[float], legs: Legs, n: int
+                       ) -> tuple[list[float], list[int]]:
+    """Per goal of `order` (successors first), the costliest path from it to a terminal and
+    the most goals on such a path. The float sums and maxima of the loop they replace (the
+    same additions, the first of equal maxima), in one pass with the outcomes in line."""
+    worst = [0.0] * n
+    longest = [0] * n
+    for node in order:
+        first, second, third = succ[node]
+        to_first, to_second, to_third = legs[node]
+        to_first += 0.0 if first >= n else worst[first]
+        to_second += 0.0 if second >= n else worst[second]
+        to_third += 0.0 if third >= n else worst[third]
+        most = to_first
+        if to_second > most:
+            most = to_second
+        if to_third > most:
+            most = to_third
+        worst[node] = costs[node] + most
+        deepest = 0 if first >= n else longest[first]
+        if second < n and longest[second] > deepest:
+            deepest = longest[second]
+        if third < n and longest[third] > deepest:
+            deepest = longest[third]
+        longest[node] = 1 + deepest
+    return worst, longest
 
 
 def _shortest_by_length(
@@ -304,6 +330,14 @@ def check_properties(
 ) -> list[Finding]:
     """EXPR findings for property expressions and PROPERTY findings with the shortest
     counterexample path from the start."""
+    # As for check_logic: the goals' units, verdicts and items it builds are long-lived, and
+    # collections during the check only walk them again.
+    with collector_paused():
+        return _check_properties(orders, graph, cache, timeout_ms, total_timeout_s)
+
+
+def _check_properties(orders: Orders, graph: MissionGraph | None, cache: LogicCache | None,
+                      timeout_ms: int, total_timeout_s: float) -> list[Finding]:
     graph = graph or build_graph(orders)
     model = cache.model(orders) if cache is not None else LogicModel(orders)
     findings: list[Finding] = []
@@ -330,10 +364,11 @@ def check_properties(
     if graph.start is None:
         return findings
     if states:
+        from_start = distances_from_start(graph)
         with model.lock:
             run = LogicRun(model, cache, Limits.start(timeout_ms, total_timeout_s))
             for state in states:
-                findings.extend(_check_state(model, run, graph, state))
+                findings.extend(_check_state(model, run, graph, state, from_start))
     for prop, quantity, bound in bounds:
         findings.extend(_check_bound(orders, graph, prop, quantity, bound))
     return findings
@@ -365,7 +400,7 @@ def _bounds(prop: PathProperty, findings: list[Finding]) -> list[tuple[PathPrope
 
 
 def _check_state(model: LogicModel, run: LogicRun, graph: MissionGraph,
-                 state: _StateProperty) -> list[Finding]:
+                 state: _StateProperty, from_start: list[int]) -> list[Finding]:
     expr_reads = reads(state.expr)
     key = f"prop:{state.prop.id}:{state.mode}"
     # The item states that the property fails in a state: `always` fails where the condition
@@ -376,7 +411,7 @@ def _check_state(model: LogicModel, run: LogicRun, graph: MissionGraph,
         expr_formula(state.expr, negate=state.mode == "always"),
         quantities=tuple(sorted(expr_reads.quantities)),
     )
-    bad, undecided = _failing_goals(model, run, graph, state, failing, expr_reads)
+    bad, undecided = _failing_goals(model, run, graph, state, failing, expr_reads, from_start)
     findings: list[Finding] = []
     if bad:
         findings.append(_counterexample(model, graph, state, bad))
@@ -391,33 +426,51 @@ def _check_state(model: LogicModel, run: LogicRun, graph: MissionGraph,
 
 
 def _failing_goals(model: LogicModel, run: LogicRun, graph: MissionGraph,
-                   state: _StateProperty, failing: Item, expr_reads: Reads
-                   ) -> tuple[dict[int, GoalVerdict], list[str]]:
+                   state: _StateProperty, failing: Item, expr_reads: Reads,
+                   from_start: list[int]) -> tuple[dict[int, GoalVerdict], list[str]]:
     """The reachable goals where the property can fail (by graph node, with their verdict),
-    and those the solver could not decide."""
+    and those the solver could not decide. `from_start`: distances_from_start(graph)."""
     mission = run.mission()
-    from_start = distances_from_start(graph)
     bad: dict[int, GoalVerdict] = {}
     undecided: list[str] = []
     for node, goal in enumerate(graph.goals):
         if from_start[node] < 0:
             continue
-        facts = model.facts(goal)
-        decided = fold(state.expr, facts)
-        if decided is not None:
-            if decided is (state.mode == "never"):
-                bad[node] = GoalVerdict(True, (), None)
+        verdict = _goal_verdict(model, run, goal, state, failing, expr_reads, mission.quarantined)
+        if verdict is None:
             continue
-        items, _ = run.goal_items(goal, mission.quarantined, [expr_reads])
-        verdict: GoalVerdict = run.cached(
-            "property", [*items, failing],
-            functools.partial(_solve_state, run, items, failing, run.block(mission.quarantined))
-        )
         if verdict.undecided:
             undecided.append(goal.id)
         elif verdict.fails:
             bad[node] = verdict
     return bad, undecided
+
+
+def _goal_verdict(model: LogicModel, run: LogicRun, goal: Goal, state: _StateProperty,
+                  failing: Item, expr_reads: Reads, quarantined: frozenset[str]
+                  ) -> GoalVerdict | None:
+    """Whether the property can fail while the goal runs (None: its facts alone say it cannot).
+    Carried from the model before an edit that left the goal and the rest of the orders as
+    they were (LogicModel.carry_goal_items): a verdict of the facts alone, or a solver's that
+    the cache still holds under its key."""
+    memo = (goal.id, quarantined, failing.key, failing.source)
+    carried = model.property_verdicts.get(memo)
+    if carried is not None:
+        key, known = carried
+        if key is None or run.cache.holds(key, known):
+            return known if isinstance(known, GoalVerdict) else None
+    decided = fold(state.expr, model.facts(goal))
+    if decided is not None:
+        by_facts = GoalVerdict(True, (), None) if decided is (state.mode == "never") else None
+        model.property_verdicts[memo] = (None, by_facts)
+        return by_facts
+    items, _ = run.goal_items(goal, quarantined, [expr_reads])
+    key, solved = run.keyed(
+        "property", [*items, failing],
+        functools.partial(_solve_state, run, items, failing, run.block(quarantined)))
+    verdict: GoalVerdict = solved
+    model.property_verdicts[memo] = (key, verdict)
+    return verdict
 
 
 def _counterexample(model: LogicModel, graph: MissionGraph, state: _StateProperty,

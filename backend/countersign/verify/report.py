@@ -29,7 +29,7 @@ from .geo import check_geo
 from .graph import MissionGraph, build_graph
 from .legs import mission_legs
 from .logic import LogicCache, check_logic
-from .meo.direct import CODES, meo_only_findings
+from .meo.direct import meo_only_findings
 from .parts import SHARED_PARTS, UNKEYED, PartKeys, PartsCache, part_keys
 from .paths import PathCounts, count_paths
 from .refine import Flat, dedupe_copies, flat_graph, flatten, has_refinements, refine_findings
@@ -47,17 +47,16 @@ if TYPE_CHECKING:
     from .team_report import TeamSummary
 
 # The MEO route re-derives the structural verdicts too (tests prove both routes agree); the
-# report takes from it only the rules no other check covers (MEO_ONLY_CODES), evaluated
+# report takes from it only the rules no other check covers (`meo.direct.CODES`), evaluated
 # straight from the orders by `meo.direct` (tests prove it equal to the MEO route's findings).
 # The MEO route itself runs when its explanation is asked for.
-MEO_ONLY_CODES = CODES
 
 # Solver results are pure functions of their inputs, so one bounded cache serves every caller
 # in the process: re-validating after a one-goal edit solves only what that goal touches.
 SHARED_LOGIC_CACHE = LogicCache(max_entries=20_000)
 
-# The solver time one validation may spend, shared by the logic and the property checks (issue
-# 15: 40 nonlinear constraints and 20 path properties ran 76 s). What the solver cannot decide
+# The solver time one validation may spend, shared by the logic and the property checks (40
+# nonlinear constraints and 20 path properties once ran 76 s). What the solver cannot decide
 # within it is a warning (CONTRADICTION, PROPERTY, VACUOUS), never an error nor a hang.
 SOLVER_BUDGET_S = 8.0
 SOLVER_CALL_MS = 1_000  # one solver call; a hard call gives up early and leaves the rest time

@@ -9,16 +9,15 @@ every replica."""
 from __future__ import annotations
 
 import threading
-from collections import OrderedDict
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
-from datetime import datetime
+from dataclasses import dataclass
 from typing import TYPE_CHECKING
+
+from cachetools import LRUCache
 
 from ..errors import Gone, TooMany, Unavailable
 from ..orders.model import Chart, Orders
 from ..store.missions import Conflict, NotFound
-from ..store.tables import utcnow
 from .viewer_tickets import ViewerRegistry
 
 if TYPE_CHECKING:
@@ -49,7 +48,6 @@ class Live:
     mission_id: str
     version: int | None
     source: str
-    started_at: datetime = field(default_factory=utcnow)
     sockets: int = 0
 
 
@@ -68,7 +66,7 @@ class RehearsalHub:
         self._live: dict[str, Live] = {}
         self._starting: dict[int, int] = {}
         self._stopping: set[str] = set()
-        self._ended: OrderedDict[str, str | None] = OrderedDict()
+        self._ended: LRUCache[str, str | None] = LRUCache(ENDED_MEMORY)
 
     @property
     def manager(self) -> RehearsalManager:
@@ -204,6 +202,3 @@ class RehearsalHub:
 
     def _remember(self, rehearsal_id: str, digest: str | None) -> None:
         self._ended[rehearsal_id] = digest
-        self._ended.move_to_end(rehearsal_id)
-        while len(self._ended) > ENDED_MEMORY:
-            self._ended.popitem(last=False)

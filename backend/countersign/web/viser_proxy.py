@@ -53,7 +53,7 @@ FROM_BROWSER = frozenset({
     "TransformControlsDragStartMessage", "TransformControlsDragEndMessage",
     "CommandTriggerMessage", "LocalStorageGetItemResponseMessage",
 })
-POLICY_VIOLATION, TOO_BIG, GOING_AWAY, UNAVAILABLE = 1008, 1009, 1001, 1011
+POLICY_VIOLATION, TOO_BIG, GOING_AWAY = 1008, 1009, 1001
 CLOSE_TIMEOUT_S = 2.0  # how long a close frame may take to go out
 
 # viser's client loads one inline loader script that decompresses the bundle, injects it as an
@@ -137,7 +137,6 @@ class ProxyStats:
     dropped_share: int = 0
     malformed: int = 0
     close_code: int | None = None
-    close_reason: str = ""
     started: float = field(default_factory=time.monotonic)
 
 
@@ -328,7 +327,7 @@ async def _malformed(browser: WebSocket, stats: ProxyStats, why: str) -> bool:
 
 async def _close(browser: WebSocket, stats: ProxyStats, code: int, reason: str) -> None:
     if stats.close_code is None:
-        stats.close_code, stats.close_reason = code, reason
+        stats.close_code = code
     # Shielded: the other side, failing to send once the close began, cancels the relay's
     # task group; a close cancelled halfway is marked sent but never reaches the browser,
     # which then never learns why (a test client waits for it forever).

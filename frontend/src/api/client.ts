@@ -26,7 +26,6 @@ export type MissionDetail = JsonBody<paths["/api/missions/{mission_id}"]["get"][
 export type Version = MissionDetail["versions"][number];
 export type Report = JsonBody<paths["/api/missions/{mission_id}/report"]["get"]["responses"][200]>;
 export type Finding = Report["findings"][number];
-export type WorstCost = NonNullable<Report["costs"]>[string];
 export type PathPage = JsonBody<paths["/api/missions/{mission_id}/paths"]["get"]["responses"][200]>;
 export type MissionPath = PathPage["items"][number];
 export type UserList = JsonBody<paths["/api/users"]["get"]["responses"][200]>;

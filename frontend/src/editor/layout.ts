@@ -1,8 +1,8 @@
 /**
  * Auto layout. Up to ELK_MAX_GOALS (40) goals: ELK's layered algorithm (elkjs; Sugiyama with layer
  * sweep crossing minimisation and fixed port order, succeed above fail above violate), run in
- * the layout worker (layoutClient.ts), wrapped into bands at the canvas's aspect ratio. Issue
- * 32 measured it against the linear layout below (crossings.test.ts prints the counts): fewer
+ * the layout worker (layoutClient.ts), wrapped into bands at the canvas's aspect ratio. It was
+ * measured against the linear layout below (crossings.test.ts prints the counts): fewer
  * edge crossings on Pirates and on a 100-goal mission. Larger orders, and a worker that does
  * not answer, get the linear layered layout: goals in columns by their longest distance from
  * the start, ordered by their predecessors' ports, linear time (ELK took seconds

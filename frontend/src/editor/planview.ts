@@ -83,8 +83,3 @@ export function centroid(points: readonly Coordinates[]): LatLon {
   const pts = points.map(numberPair);
   return [pts.reduce((s, p) => s + p[0], 0) / pts.length, pts.reduce((s, p) => s + p[1], 0) / pts.length];
 }
-
-/** SVG polygon `points` attribute. */
-export function svgPoints(view: View, polygon: readonly Coordinates[]): string {
-  return polygon.map((p) => project(view, p).map((n) => n.toFixed(1)).join(",")).join(" ");
-}

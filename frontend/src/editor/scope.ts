@@ -14,7 +14,6 @@ import { goals, type GoalSpec, type Layout, type Orders, OUTCOMES, type Outcome 
 import { layeredLayout } from "./layout";
 
 export type RefinementSpec = Schema<"Refinement">;
-export type RefinementTerminalSpec = Schema<"RefinementTerminal">;
 
 export interface Scope {
   /** The team member shown (its index in `team`), or null for orders without a team. */

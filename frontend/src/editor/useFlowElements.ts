@@ -3,7 +3,7 @@
  * the findings (markers) and the highlighted path. Unchanged nodes and edges keep their objects,
  * so React Flow re-renders only what changed.
  */
-import { type Edge, MarkerType, type Node, Position } from "@xyflow/react";
+import { type Edge, MarkerType, Position } from "@xyflow/react";
 import { useEffect, useLayoutEffect, useMemo } from "react";
 
 import type { Finding } from "../api/client";
@@ -223,6 +223,3 @@ export function useFlowElements(large: boolean): FlowElements {
 
   return { graph, findings, local, markers };
 }
-
-/** The node type of the canvas's nodes. */
-export type FlowNode = Node<NodeData>;

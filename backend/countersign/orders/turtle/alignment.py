@@ -37,8 +37,8 @@ def _equivalences() -> Iterator[tuple[Node, Node]]:
                 yield ours, theirs
 
 
-def _align(graph: TripleIndex) -> bool:
-    """Rename NPS terms to meo: in place; True when any NPS term was found."""
+def _align(graph: TripleIndex) -> None:
+    """Rename NPS terms to meo: in place."""
     mapping = {theirs: ours for ours, theirs in _equivalences()}
     renamed: list[tuple[tuple[Node, Node, Node], tuple[Node, Node, Node]]] = []
     for theirs, ours in mapping.items():
@@ -49,5 +49,4 @@ def _align(graph: TripleIndex) -> bool:
     for old, new in renamed:
         graph.remove(old)
         graph.add(new)
-    return bool(renamed)
 

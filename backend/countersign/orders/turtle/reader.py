@@ -48,18 +48,18 @@ from .vocabulary import (
 def read_turtle(data: bytes, name: str = "<input>") -> ReadResult:
     """Orders from Turtle in our vocabulary (lossless) or NPS MEO Turtle (by its conventions)."""
     graph = _parse(data, name)
-    renamed = _align(graph)
+    _align(graph)
     try:
         with paused_collection():
-            return _read(graph, renamed, name)
+            return _read(graph, name)
     except RecursionError:
         raise OrdersReadError([Problem("$", f"{name} is nested too deeply")]) from None
 
 
-def _read(graph: TripleIndex, renamed: bool, name: str) -> ReadResult:
+def _read(graph: TripleIndex, name: str) -> ReadResult:
     findings = typing_findings(graph)
-    result = _Reader(graph, renamed, name).read()
-    return ReadResult(result.orders, findings + result.findings, "turtle")
+    result = _Reader(graph, name).read()
+    return ReadResult(result.orders, findings + result.findings)
 
 
 def _parse(data: bytes, name: str) -> TripleIndex:
@@ -100,7 +100,6 @@ DECODE_SLACK: Final = 10_000
 @dataclass
 class _Reader:
     graph: TripleIndex
-    aligned: bool  # the input used NPS names (renamed to meo:)
     name: str
     findings: list[Finding] = field(default_factory=list)
     _goal_ids: set[str] | None = None
@@ -259,7 +258,7 @@ class _Reader:
             orders = Orders.model_validate(data)
         except ValidationError as exc:
             raise problems_from_validation(exc) from None
-        return ReadResult(orders, self.findings, "turtle")
+        return ReadResult(orders, self.findings)
 
     def mission(self) -> Node:
         graph = self.graph

@@ -52,6 +52,16 @@ class LogicCache:
                 self.hits += 1
             return value
 
+    def holds(self, key: str, value: object) -> bool:
+        """Whether `value` itself is the result kept under `key` (counted as the hit that
+        `get` of it would be): a result carried from an earlier run is then the one a lookup
+        by its key returns now."""
+        with self._lock:
+            if self._data.get(key) is not value:
+                return False
+            self.hits += 1
+            return True
+
     def put(self, key: str, value: object) -> None:
         with self._lock:
             self._data[key] = value

@@ -15,7 +15,7 @@ from .collector import collector_paused
 from .constants import DEFAULT_TIMEOUT_MS, DEFAULT_TOTAL_S, GOAL_KINDS
 from .items import Item
 from .model import LogicModel
-from .results import Core, MissionResult, Risk
+from .results import Core, GoalOutcome, GoalResult, MissionResult, Risk
 from .run import LogicRun
 from .session import Limits
 from .wording import _core_details, _ids, _subjects, core_sentence, join_words
@@ -79,45 +79,15 @@ def _mission_findings(model: LogicModel, mission: MissionResult) -> Iterator[Fin
 def _goal_findings(model: LogicModel, run: LogicRun, mission: MissionResult) -> Iterator[Finding]:
     shared: dict[tuple[str, ...], tuple[Core, list[str]]] = {}
     out_of_time: list[str] = []
+    if model.goals:  # the run's live block, as the goals' units hold it (vacuity's keys too)
+        run.block(mission.quarantined)
     for goal in model.goals.values():
-        result = run.goal(goal, mission.quarantined)
-        label = model.goal_label(goal)
-        for core in result.contradictions:
-            if not any(p.kind in GOAL_KINDS for p in core.parts):
-                key = tuple(p.key for p in core.parts)
-                shared.setdefault(key, (core, []))[1].append(goal.id)
-                continue
-            constraints = _ids(core.parts, "constraint")
-            if constraints:
-                why = f" without violating {join_words(constraints)}"
-            elif any(p.kind == "vehicle" for p in core.parts):
-                why = " on this vehicle"
-            else:
-                why = ""
-            yield error(
-                "CONTRADICTION",
-                _subjects([goal.id], core.parts),
-                f"{core_sentence(core.parts)} {goal.id} cannot run as ordered{why}.",
-                goal=goal.id,
-                **_core_details(core),
-            )
-        for core in result.refusals:
-            yield _refusal(model, goal, core)
-        for risk in result.risks:
-            yield _risk(model, goal, risk)
-        if result.undecided == "time budget exhausted":
+        outcome = _goal_outcome(model, run, goal, mission.quarantined)
+        for core in outcome.shared:
+            shared.setdefault(tuple(p.key for p in core.parts), (core, []))[1].append(goal.id)
+        yield from outcome.findings
+        if outcome.result.undecided == "time budget exhausted":
             out_of_time.append(goal.id)
-        elif result.undecided:
-            scope = [c.id for c in model.in_scope(goal.id)]
-            yield warning(
-                "CONTRADICTION",
-                [goal.id],
-                f"The solver could not decide whether {label} can run as ordered under its "
-                f"constraints and norms ({result.undecided}). Simplify the expressions that "
-                f"apply to it{': ' + ', '.join(scope) if scope else ''}.",
-                goal=goal.id,
-                undecided=result.undecided,
-            )
     for core, goals in shared.values():
         constraints = _ids(core.parts, "constraint")
         yield error(
@@ -135,6 +105,61 @@ def _goal_findings(model: LogicModel, run: LogicRun, mission: MissionResult) -> 
             f"The logic checks ran out of time before deciding {len(out_of_time)} goal(s): "
             f"{', '.join(out_of_time[:20])}{' ...' if len(out_of_time) > 20 else ''}.",
             undecided="time budget exhausted",
+        )
+
+
+def _goal_outcome(model: LogicModel, run: LogicRun, goal: Goal,
+                  quarantined: frozenset[str]) -> GoalOutcome:
+    """The goal's result and findings: carried from the model before an edit when the cache
+    still holds that very result under its key (the key, and so the result and the words,
+    are what solving the goal again would give), else from `run.goal_keyed`."""
+    memo = (goal.id, quarantined)
+    carried = model.goal_outcomes.get(memo)
+    if carried is not None and run.cache.holds(carried.key, carried.result):
+        return carried
+    key, result = run.goal_keyed(goal, quarantined)
+    shared = tuple(core for core in result.contradictions
+                   if not any(p.kind in GOAL_KINDS for p in core.parts))
+    outcome = model.goal_outcomes[memo] = GoalOutcome(
+        key, result, tuple(_worded_goal_findings(model, goal, result)), shared)
+    return outcome
+
+
+def _worded_goal_findings(model: LogicModel, goal: Goal, result: GoalResult
+                          ) -> Iterator[Finding]:
+    """A goal's own findings (the contradictions with a statement of the goal's, refusals,
+    risks, an undecided solver), in the order the report lists them."""
+    for core in result.contradictions:
+        if not any(p.kind in GOAL_KINDS for p in core.parts):
+            continue
+        constraints = _ids(core.parts, "constraint")
+        if constraints:
+            why = f" without violating {join_words(constraints)}"
+        elif any(p.kind == "vehicle" for p in core.parts):
+            why = " on this vehicle"
+        else:
+            why = ""
+        yield error(
+            "CONTRADICTION",
+            _subjects([goal.id], core.parts),
+            f"{core_sentence(core.parts)} {goal.id} cannot run as ordered{why}.",
+            goal=goal.id,
+            **_core_details(core),
+        )
+    for core in result.refusals:
+        yield _refusal(model, goal, core)
+    for risk in result.risks:
+        yield _risk(model, goal, risk)
+    if result.undecided and result.undecided != "time budget exhausted":
+        scope = [c.id for c in model.in_scope(goal.id)]
+        yield warning(
+            "CONTRADICTION",
+            [goal.id],
+            f"The solver could not decide whether {model.goal_label(goal)} can run as ordered "
+            f"under its constraints and norms ({result.undecided}). Simplify the expressions "
+            f"that apply to it{': ' + ', '.join(scope) if scope else ''}.",
+            goal=goal.id,
+            undecided=result.undecided,
         )
 
 

@@ -36,6 +36,7 @@ from ..expressions import (
 from .constants import _IDENTIFIER, MAX_WORDS
 from .facts import area_item, behavior_item, context_item
 from .items import Item, _interval_formula, _range_words, _with_suffix, expr_formula
+from .results import GoalOutcome
 from .screen import Screen
 from .session import Session
 from .unique import UniqueCores
@@ -140,6 +141,15 @@ class LogicModel:
         # LogicRun.goal_items by (goal id, quarantined keys, extra reads), without the block.
         self.goal_items_memo: dict[tuple[str, frozenset[str], tuple[Reads, ...]],
                                    GoalItems] = {}
+        # Which of them came from the model before (their items' phrases already worded).
+        self._carried_items: set[tuple[str, frozenset[str], tuple[Reads, ...]]] = set()
+        # check_logic's outcome of each goal by (goal id, quarantined keys), and the path
+        # properties' verdict of each goal by (goal id, quarantined keys, property item key
+        # and source): carried like the goal items, and used only while the cache still holds
+        # the very result under its key.
+        self.goal_outcomes: dict[tuple[str, frozenset[str]], GoalOutcome] = {}
+        self.property_verdicts: dict[tuple[str, frozenset[str], str, str],
+                                     tuple[str | None, object]] = {}
         # One z3 session per version of the orders, shared by check_logic and
         # check_properties; runs that use it hold the lock.
         self.session: Session | None = None
@@ -167,9 +177,17 @@ class LogicModel:
         same = {gid for gid, goal in self.goals.items() if before.goals.get(gid) == goal}
         for memo, found in before.goal_items_memo.copy().items():
             if memo[0] in same:
-                for item in (*found.head, *found.own, *found.tail):
-                    item.word()
+                if memo not in before._carried_items:  # carried ones were worded then
+                    for item in (*found.head, *found.own, *found.tail):
+                        item.word()
                 self.goal_items_memo.setdefault(memo, found)
+                self._carried_items.add(memo)
+        for outcome_memo, outcome in before.goal_outcomes.copy().items():
+            if outcome_memo[0] in same:
+                self.goal_outcomes.setdefault(outcome_memo, outcome)
+        for verdict_memo, verdict in before.property_verdicts.copy().items():
+            if verdict_memo[0] in same:
+                self.property_verdicts.setdefault(verdict_memo, verdict)
 
     # Parsing -----------------------------------------------------------------------------
 

@@ -33,7 +33,6 @@ class LogicRun:
         self.limits = limits
         self._session: Session | None = None
         self._blocks: dict[frozenset[str], frozenset[Item]] = {}
-        self.solved_units = 0
 
     @property
     def session(self) -> Session:
@@ -92,20 +91,26 @@ class LogicRun:
         """The unit's result from the cache, or solved and put there. `apart`: the items but
         the base, when the caller holds them apart (and every item of the base is among
         `items`)."""
+        return self.keyed(kind, items, solve, base, apart)[1]
+
+    def keyed(self, kind: str, items: Iterable[Item], solve: Callable[[], Any],
+              base: frozenset[Item] | None = None, apart: Sequence[Item] | None = None
+              ) -> tuple[str, Any]:
+        """`cached`, with the unit's key: a caller that carries the result to the next run
+        checks with `cache.holds` that the key still gives it."""
         if base is None:  # a goal's unit (of a property too) holds the run's live block
             base = next(iter(self._blocks.values())) if len(self._blocks) == 1 else frozenset()
         key = unit_key(kind, items, base) if apart is None else unit_key_apart(kind, apart, base)
         found = self.cache.get(key)
         if found is not None:
-            return found
-        self.solved_units += 1
+            return key, found
         result = solve()
         # What a timeout cut short (undecided, or a core not proven minimal) is tried again.
         cores = [c for name in ("cores", "contradictions", "refusals", "core")
                  for c in _as_tuple(getattr(result, name, ()))]
         if getattr(result, "undecided", None) is None and all(c.minimal for c in cores):
             self.cache.put(key, result)
-        return result
+        return key, result
 
     def cores(self, items: list[Item], drop: Callable[[list[Item]], list[Item]],
               limit: int = MAX_CORES_PER_UNIT, base: frozenset[Item] | None = None
@@ -215,6 +220,11 @@ class LogicRun:
         return found
 
     def goal(self, goal: Goal, quarantined: frozenset[str]) -> GoalResult:
+        result: GoalResult = self.goal_keyed(goal, quarantined)[1]
+        return result
+
+    def goal_keyed(self, goal: Goal, quarantined: frozenset[str]) -> tuple[str, GoalResult]:
+        """The goal's unit key and result."""
         model = self.model
         norms = model.relevant_norms(goal)
         extra = [model.norm_reads(n) for n in norms]
@@ -228,11 +238,10 @@ class LogicRun:
                     if model.residual(n, goal)]
         added = [i for pair in norm_items for i in pair]
         base = self.block(quarantined)
-        result: GoalResult = self.cached(
+        return self.keyed(
             "goal", items + added,
             lambda: self._solve_goal(items, own, norm_items, residual, base), base,
             apart=own + added)
-        return result
 
     def _solve_goal(self, items: list[Item], own: list[Item],
                     norm_items: list[tuple[Item, Item]], residual: list[tuple[Item, Item]],
@@ -332,7 +341,6 @@ class LogicRun:
             shown = self.session.satisfiable_groups(groups)
         for (key, _), sat in zip(pending, shown, strict=True):
             if sat:
-                self.solved_units += 1
                 self.cache.put(key, VacuousResult(None, None))
 
     def vacuous(self, c: ParsedConstraint) -> VacuousResult:

@@ -31,11 +31,12 @@ the benchmark compares their cost.
 from __future__ import annotations
 
 import threading
-from collections import OrderedDict, deque
+from collections import deque
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 
 import owlrl
+from cachetools import LRUCache
 from rdflib import BNode, Graph, URIRef
 from rdflib.collection import Collection
 from rdflib.namespace import OWL, RDF, RDFS
@@ -219,8 +220,9 @@ def _cycles(successors: dict[Node, list[Node]]) -> list[list[Node]]:
 # titles, descriptions, parameters or expressions reuses the reasoning. Inference objects are
 # never mutated after infer() returns, so cached ones are shared.
 _INFER_INPUTS = frozenset((*NEXT_PROPERTIES, MEO.startsWith, *FACT_PROPERTIES, RDF.type))
-_INFER_CACHE: OrderedDict[frozenset[tuple[Node, Node, Node]], Inference] = OrderedDict()
 _INFER_CACHE_SIZE = 128
+_INFER_CACHE: LRUCache[frozenset[tuple[Node, Node, Node]], Inference] = \
+    LRUCache(_INFER_CACHE_SIZE)
 _INFER_LOCK = threading.Lock()
 
 
@@ -243,14 +245,11 @@ def infer(graph: Graph) -> Inference:
         with _INFER_LOCK:
             cached = _INFER_CACHE.get(key)
             if cached is not None:
-                _INFER_CACHE.move_to_end(key)
                 return cached
     result = _infer(graph)
     if key is not None:
         with _INFER_LOCK:
             _INFER_CACHE[key] = result
-            while len(_INFER_CACHE) > _INFER_CACHE_SIZE:
-                _INFER_CACHE.popitem(last=False)
     return result
 
 
