@@ -8,8 +8,8 @@
   all see the worker's database. Two workers on one database would truncate each other's
   tables mid-test.
 - Temporary folders (SQLite templates, data dirs, e2e servers' folders) come from
-  tmp_path_factory, which xdist already gives a base folder per worker; ports are always
-  bound to 0 and asked for.
+  tmp_path_factory, which xdist already gives a base folder per worker; the ports of the
+  servers tests start come from tests/ports.py, which no two workers (nor sessions) share.
 - ./scripts/test hands out whole modules (`--dist loadfile`), so a module- or class-scoped
   set-up (a MOOS-IvP flight of minutes, a seeded fuzz app) runs once, not once on each
   worker. (`--dist loadgroup` with xdist_group marks would let the other modules' tests

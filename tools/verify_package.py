@@ -306,6 +306,7 @@ def check(data: bytes, log_key: str, now: datetime, max_age: timedelta,
         predicate = statement["predicate"]
         if not isinstance(predicate, dict):
             raise ValueError("the statement has no predicate")
+        signed_exports = signed_digests(predicate)
     except (ValueError, KeyError, TypeError, IndexError, InvalidSignature,
             binascii.Error) as exc:
         raise Refused("SIGNATURE", f"the approval envelope does not verify: "
@@ -319,16 +320,13 @@ def check(data: bytes, log_key: str, now: datetime, max_age: timedelta,
     vehicle = sorted(n for n in files if n.startswith("vehicle/"))
     if not vehicle:
         raise Refused("EXPORT", "the package holds no vehicle files")
-    signed_exports = predicate.get("exports")
-    if isinstance(signed_exports, dict):
+    if signed_exports is not None:
         for name in vehicle:
             if signed_exports.get(name) != sha(files[name]):
                 raise Refused("EXPORT", f"{name} is not the file the approval signed")
         missing = sorted(set(signed_exports) - set(vehicle))
         if missing:
             raise Refused("EXPORT", f"{missing[0]} is signed but not in the package")
-    elif signed_exports is not None:
-        raise Refused("EXPORT", "the statement's export digests are not a name -> digest map")
     elif not trust_manifest:
         raise Refused("EXPORT", "the approval statement signs no export digests (signed "
                       "before they existed): only `countersign vehicle verify` can rebuild "
@@ -337,6 +335,19 @@ def check(data: bytes, log_key: str, now: datetime, max_age: timedelta,
         manifest_only(files, manifest, vehicle, mission, version, signed, envelope_bytes)
     return (f"{mission} version {version}: approved, orders {signed}, log entry {index} in "
             f"checkpoint size {size}; vehicle files match")
+
+
+def signed_digests(predicate: dict[str, Any]) -> dict[str, str] | None:
+    """The statement's export digests, None when it signs none. A signed statement of the
+    wrong shape is a SIGNATURE fault, as `countersign vehicle verify` reads it: the signature
+    holds, but over no approval statement."""
+    if "exports" not in predicate:
+        return None
+    exports = predicate["exports"]
+    if not isinstance(exports, dict) or not all(
+            isinstance(k, str) and isinstance(v, str) for k, v in exports.items()):
+        raise ValueError("statement.predicate.exports must be an object of strings")
+    return exports
 
 
 def manifest_only(files: dict[str, bytes], manifest: dict[str, Any], vehicle: list[str],

@@ -10,6 +10,7 @@ import {
   createRouter,
   Navigate,
   notFound,
+  type ParsedLocation,
   type RouterHistory,
   useRouterState,
 } from "@tanstack/react-router";
@@ -155,9 +156,22 @@ const routeTree = rootRoute.addChildren([
   plain("/account", () => <AccountPage />),
 ]);
 
+/** Whether the router should place the window after a navigation: only when it went to another
+ * page (back and forward return to where that page was left, others start at the top). A change
+ * of the query string alone (a list's filter, a mission's tab) keeps the window where the reader
+ * scrolled it; the router would otherwise scroll to the top after every navigation. */
+function placesWindow(): (options: { location: ParsedLocation }) => boolean {
+  let shown: string | undefined;
+  return ({ location }) => {
+    const otherPage = location.pathname !== shown;
+    shown = location.pathname;
+    return otherPage;
+  };
+}
+
 export function createAppRouter(history: RouterHistory = appHistory()) {
   // Pages fetch through TanStack Query themselves: the router only picks the page.
-  return createRouter({ routeTree, history, trailingSlash: "never" });
+  return createRouter({ routeTree, history, trailingSlash: "never", scrollRestoration: placesWindow() });
 }
 
 export type AppRouter = ReturnType<typeof createAppRouter>;

@@ -10,7 +10,6 @@ The app still upgrades to head on start and finds head applied. A test that uses
 from __future__ import annotations
 
 import os
-import socket
 import threading
 import time
 from collections.abc import Iterator
@@ -31,6 +30,7 @@ from countersign.store.missions import create_mission
 from countersign.web.app import create_app
 
 from ..db_template import PostgresTemplate, SqliteTemplate
+from ..ports import free_port
 
 ROLES = ("operator", "supervisor", "auditor", "admin")
 PASSWORD = "correct horse battery staple"
@@ -139,9 +139,7 @@ def count_rows(database: Database, sql: str) -> int:
 def server(world: World) -> Iterator[str]:
     """The world's app served by a real uvicorn on a free loopback port, for clients that need
     HTTP (the command line, concurrent raw requests)."""
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        port = sock.getsockname()[1]
+    port = free_port()
     instance = uvicorn.Server(uvicorn.Config(world.app, host="127.0.0.1", port=port,
                                              log_level="warning"))
     thread = threading.Thread(target=instance.run, daemon=True)

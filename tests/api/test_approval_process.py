@@ -9,7 +9,6 @@ import json
 import os
 import random
 import signal
-import socket
 import subprocess
 import sys
 import threading
@@ -26,6 +25,7 @@ from sqlalchemy import text
 from countersign.approvals import dsse
 from countersign.cli import approvals as cli_approvals
 
+from ..ports import free_port
 from .approval_helpers import MISSION, sign_prepared
 from .conftest import PASSWORD, World
 
@@ -45,9 +45,7 @@ def run_cli(*argv: str) -> int:
 @contextmanager
 def server_process(database_url: str,
                    data_dir: Path) -> Iterator[tuple[str, subprocess.Popen[bytes]]]:
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        port = sock.getsockname()[1]
+    port = free_port()
     # One log has one signer: the server shares the log key directory of the `world` fixture's
     # app (tmp_path/log-signer), which receipted the entries the fixture appended.
     env = {**os.environ, "COUNTERSIGN_DATABASE_URL": database_url,

@@ -3,7 +3,6 @@ no 5xx, every conflicting write gets 412, nothing is lost, the event log is comp
 
 from __future__ import annotations
 
-import socket
 import threading
 import time
 from collections import Counter
@@ -13,6 +12,7 @@ import httpx
 import pytest
 import uvicorn
 
+from ..ports import free_port
 from .conftest import World, count_rows
 
 CLIENTS = 20
@@ -21,9 +21,7 @@ ROUNDS = 5
 
 @pytest.fixture
 def server(world: World) -> Iterator[str]:
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        port = sock.getsockname()[1]
+    port = free_port()
     config = uvicorn.Config(world.app, host="127.0.0.1", port=port, log_level="warning")
     instance = uvicorn.Server(config)
     thread = threading.Thread(target=instance.run, daemon=True)

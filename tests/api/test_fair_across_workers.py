@@ -8,7 +8,6 @@ import http.client
 import json
 import os
 import signal
-import socket
 import subprocess
 import sys
 import threading
@@ -24,17 +23,12 @@ from countersign.store.db import Database
 from countersign.web.gunicorn_server import reuse_port_available
 
 from ..heavy_orders import heavy_orders
+from ..ports import free_port
 
 pytestmark = pytest.mark.skipif(not reuse_port_available(), reason="needs SO_REUSEPORT")
 
 PATIENCE_S = 600.0  # a loaded machine is slow; this only bounds a hang
 HEAVY = 4  # over two server processes: the kernel spreads the connections over both
-
-
-def _free_port() -> int:
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        return int(sock.getsockname()[1])
 
 
 def _post(port: int, token: str, body: dict[str, object]) -> int:
@@ -115,7 +109,7 @@ def _host_process(master: int) -> int:
 def test_a_users_heavy_validations_on_both_workers_leave_a_turn_for_anothers_edit(
         tmp_path: Path) -> None:
     url, tokens = _users(tmp_path)
-    port = _free_port()
+    port = free_port()
     # One validation process for the host: the heavy user's validations run one at a time
     # there, and the light user's edit takes the next turn. With a pool in each server
     # process, each would run one of the heavy user's at once and the edit would wait behind
@@ -157,7 +151,7 @@ def test_a_users_heavy_validations_on_both_workers_leave_a_turn_for_anothers_edi
 def test_validation_goes_on_when_the_host_process_is_killed(tmp_path: Path) -> None:
     """Each server process falls back to a pool of its own: answers, not 500s."""
     url, tokens = _users(tmp_path)
-    port = _free_port()
+    port = free_port()
     server = _serve(tmp_path, url, port, "2")
     try:
         _wait_listening(server, tmp_path, port)

@@ -14,6 +14,7 @@ from collections.abc import Callable
 from datetime import UTC, datetime, timedelta
 from pathlib import Path
 from types import ModuleType
+from typing import Any
 
 import pytest
 
@@ -301,3 +302,39 @@ def test_new_statements_sign_every_export(world: World) -> None:
     assert signed == {n: "sha256:" + hashlib.sha256(c).hexdigest()
                       for n, c in files.items() if n.startswith("vehicle/")}
     assert set(signed) == {IMC, BHV, f"vehicle/{MISSION}.moos"}
+
+
+@pytest.mark.parametrize("exports", [["sha256:" + "0" * 64], {IMC: 1}, None])
+def test_a_signed_statement_with_malformed_export_digests_is_refused_alike(
+        world: World, monkeypatch: pytest.MonkeyPatch, exports: object) -> None:
+    """A statement whose signature holds but whose export digests are not a name -> digest
+    map (a server that stored it unchecked): both verifiers name the same fault."""
+    from countersign.approvals.statement import _statement_json
+    from countersign.store.approvals import decisions
+
+    monkeypatch.setattr(decisions, "export_digests", lambda *a, **k: exports)
+    if exports is None:  # the field present and null, not absent
+        monkeypatch.setattr(decisions, "build_statement", _with_null_exports(
+            decisions.build_statement))
+    monkeypatch.setattr(decisions, "parse_statement", _statement_json)
+    supervisor = world.client("supervisor")
+    signer = register_key(supervisor)
+    number = new_version(world)
+    approve(world, supervisor, signer, submit(world, number))
+    log_key = world.client("auditor").get("/api/log/checkpoint").json()["public_key"]
+    package = _package(world, number)
+    payload = dsse.unb64(json.loads(read_tar(package)["approval.dsse.json"])["payload"], "p")
+    assert json.loads(payload)["predicate"]["exports"] == exports
+    main_verdict = verify_package(package, log_key=log_key)
+    ok, code, _ = _standalone().verify(package, log_key)
+    assert (main_verdict.ok, main_verdict.code) == (ok, code) == (False, "SIGNATURE")
+    assert _standalone().verify(package, log_key, trust_manifest=True)[1] == "SIGNATURE"
+
+
+def _with_null_exports(build: Callable[..., dict[str, Any]]) -> Callable[..., dict[str, Any]]:
+    def build_with_null(**fields: Any) -> dict[str, Any]:
+        statement = build(**fields)
+        if fields.get("decision") == "approved":
+            statement["predicate"]["exports"] = None
+        return statement
+    return build_with_null

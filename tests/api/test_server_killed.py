@@ -17,7 +17,8 @@ from countersign.orders.examples import example_bytes
 from countersign.store.accounts import create_token, create_user
 from countersign.store.db import Database
 
-from .test_server_processes import _free_port, _wait
+from ..ports import free_port
+from .test_server_processes import _wait
 
 pytestmark = pytest.mark.skipif(not Path("/proc").is_dir(), reason="needs /proc (Linux)")
 
@@ -60,7 +61,7 @@ def test_a_killed_server_leaves_no_process_behind(tmp_path: Path) -> None:
                            password="Vq8-orphan-check-Lp2-test", signer=database.log_signer)
         token = create_token(db, user=user, name="test", signer=database.log_signer)[1]
     database.engine.dispose()
-    port = _free_port()
+    port = free_port()
     log = (tmp_path / "server.log").open("wb")
     server = subprocess.Popen(
         [sys.executable, "-m", "countersign.cli", "serve", "--port", str(port), "--data-dir",

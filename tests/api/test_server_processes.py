@@ -21,15 +21,11 @@ import pytest
 
 from countersign.web.gunicorn_server import reuse_port_available
 
+from ..ports import free_port
+
 pytestmark = pytest.mark.skipif(
     not (reuse_port_available() and Path("/proc/net/tcp").exists()),
     reason="needs SO_REUSEPORT and /proc (Linux)")
-
-
-def _free_port() -> int:
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        return int(sock.getsockname()[1])
 
 
 def _tcp_rows(port: int, state: str) -> list[str]:
@@ -135,7 +131,7 @@ def _health(port: int) -> int:
 
 
 def test_workers_listen_each_share_connections_and_are_replaced(tmp_path: Path) -> None:
-    port = _free_port()
+    port = free_port()
     with _serve(tmp_path, port, 2) as server:
         _wait(lambda: len(_tcp_rows(port, "0A")) == 2 or server.poll() is not None,
               "two server processes listen")
@@ -181,7 +177,7 @@ def test_workers_listen_each_share_connections_and_are_replaced(tmp_path: Path) 
 
 def test_a_taken_port_is_refused_with_its_reason(tmp_path: Path) -> None:
     with socket.socket() as taken:
-        taken.bind(("127.0.0.1", 0))
+        taken.bind(("127.0.0.1", free_port()))
         taken.listen()
         port = taken.getsockname()[1]
         with _serve(tmp_path, port, 2) as server:

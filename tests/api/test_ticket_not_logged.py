@@ -10,7 +10,6 @@ import base64
 import http.client
 import os
 import secrets
-import socket
 import subprocess
 import sys
 import time
@@ -20,11 +19,7 @@ import pytest
 
 from countersign.web.gunicorn_server import reuse_port_available
 
-
-def _free_port() -> int:
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        return int(sock.getsockname()[1])
+from ..ports import free_port
 
 
 def _get(port: int, path: str, headers: dict[str, str] | None = None) -> int:
@@ -53,7 +48,7 @@ def _healthy(port: int, process: subprocess.Popen[bytes], log: Path) -> None:
 def test_no_viewer_ticket_in_the_server_log(tmp_path: Path, workers: int) -> None:
     if workers > 1 and not reuse_port_available():
         pytest.skip("several server processes need SO_REUSEPORT")
-    port, log = _free_port(), tmp_path / "server.log"
+    port, log = free_port(), tmp_path / "server.log"
     ticket = secrets.token_urlsafe(24)
     env = {**os.environ, "COUNTERSIGN_DATABASE_URL": ""}
     with log.open("wb") as out:

@@ -44,7 +44,6 @@ import asyncio
 import gc
 import os
 import random
-import socket
 import subprocess
 import sys
 import tempfile
@@ -58,6 +57,8 @@ from sqlalchemy import text
 from countersign.orders.examples import example_bytes
 from countersign.store.accounts import create_token, create_user
 from countersign.store.db import Database, make_engine
+
+from ..ports import free_port
 
 KINDS = ("read", "validate", "write")
 TARGETS_MS = {"read": 100.0, "validate": 1000.0}  # p99 goals
@@ -98,12 +99,6 @@ class Run:
     @property
     def errors(self) -> int:
         return sum(n for status, n in self.statuses.items() if status >= 500)
-
-
-def _free_port() -> int:
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        return int(sock.getsockname()[1])
 
 
 def _prepare(url: str) -> str:
@@ -343,7 +338,7 @@ async def _load(base: str, token: str, label: str, clients: int, seconds: float,
 
 def _serve(url: str, workers: int, data: str, log_path: Path, shared: bool = False,
            extra: tuple[str, ...] = ()) -> tuple[subprocess.Popen[bytes], str, int]:
-    port = _free_port()
+    port = free_port()
     env = {**os.environ, "COUNTERSIGN_DATABASE_URL": url}
     with open(log_path, "w") as log:
         server = subprocess.Popen(

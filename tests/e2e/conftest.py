@@ -13,7 +13,6 @@ import json
 import os
 import re
 import secrets
-import socket
 import subprocess
 import sys
 import time
@@ -25,6 +24,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import pytest
+
+from ..ports import free_port
 
 if TYPE_CHECKING:
     import httpx
@@ -86,13 +87,6 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
             item.add_marker(skip)
 
 
-def _free_port() -> int:
-    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as sock:
-        sock.bind(("127.0.0.1", 0))
-        port: int = sock.getsockname()[1]
-        return port
-
-
 def _cli(*args: str) -> list[str]:
     """The `countersign` command of the Python running the tests."""
     return [sys.executable, "-c", "import sys; from countersign.cli import main; "
@@ -149,7 +143,7 @@ def running_server(data_dir: Path, roles: Iterable[str],
             input=PASSWORD[role] + "\n", capture_output=True, text=True, env=env, timeout=120,
         )
         assert done.returncode == 0, f"users create {role} failed:\n{done.stdout}{done.stderr}"
-    port = _free_port()
+    port = free_port()
     log = data_dir / "server.log"
     with log.open("wb") as out:
         process = subprocess.Popen(

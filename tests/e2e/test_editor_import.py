@@ -126,3 +126,26 @@ def test_new_mission_from_a_built_in_example(page: Page, server: Server) -> None
     expected = json.loads(example_bytes("search-and-sample"))
     detail = _draft(page, "from-example-e2e")
     assert [g["id"] for g in detail["orders"]["goals"]] == [g["id"] for g in expected["goals"]]
+
+
+def test_the_toolbar_menus_stay_inside_a_small_window(page: Page, server: Server) -> None:
+    """At 1024x768 the More menu with its Import form open stays inside the window: a menu
+    past the right edge widened the page, and the press that closed it (on Undo, say) then
+    ended on another control once the page scrolled back."""
+    del server
+    page.set_viewport_size({"width": 1024, "height": 768})
+    sign_in(page, "operator")
+    mission = "editor-menus-small-window"
+    _create_empty(page, mission)
+    page.goto(f"/missions/{mission}?tab=editor")
+    expect(page.get_by_test_id("node-COMPLETE")).to_be_visible()
+    _open_menu(page, ".editor-toolbar details.toolbar-menu", "More")
+    _open_menu(page, ".editor-toolbar details.import-menu", "Import…")
+    field = page.get_by_label("Replace this draft with a file")
+    expect(field).to_be_visible()
+    width = page.evaluate("() => document.documentElement.clientWidth")
+    for body in (".toolbar-menu[open] > .toolbar-menu-body", ".import-menu[open] .menu-body"):
+        box = page.locator(body).first.bounding_box()
+        assert box is not None and box["x"] >= 0 and box["x"] + box["width"] <= width, (body, box)
+    assert page.evaluate("() => document.documentElement.scrollWidth") <= width
+    assert page.evaluate("() => window.scrollX") == 0

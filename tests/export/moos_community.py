@@ -7,7 +7,6 @@ from __future__ import annotations
 import os
 import re
 import signal
-import socket
 import subprocess
 import time
 from collections.abc import Callable, Iterator
@@ -16,6 +15,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from countersign.export.execution_input import redelivered
+
+from ..ports import free_port
 
 SHARED = Path(__file__).resolve().parents[2].parent / "shared"
 TOOLS = SHARED / "tools" / "moos-ivp"
@@ -45,12 +46,6 @@ def _env() -> dict[str, str]:
     lib = env.get("LD_LIBRARY_PATH")
     env["LD_LIBRARY_PATH"] = str(TOOLS / "lib") + (f"{os.pathsep}{lib}" if lib else "")
     return env
-
-
-def _free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return int(probe.getsockname()[1])
 
 
 @dataclass(frozen=True)
@@ -145,7 +140,7 @@ def prepare(moos: Path, port: int, warp: int = TIME_WARP) -> None:
 def running(moos: Path) -> Iterator[Community]:
     """pAntler on `moos` in a session of its own; every process of it is ended on the way
     out, whatever happened."""
-    prepare(moos, _free_port())
+    prepare(moos, free_port())
     output = moos.parent / "antler.out"
     with output.open("wb") as sink:
         process = subprocess.Popen(["pAntler", moos.name], cwd=moos.parent, env=_env(),

@@ -1,13 +1,13 @@
 from __future__ import annotations
 
 import json
-import socket
 import subprocess
 import sys
 import time
 import urllib.request
 from pathlib import Path
 
+from ..ports import free_port
 from .test_bad_input import run_cli
 from .test_paths import FIGURE_6_TRACE_1
 
@@ -121,14 +121,8 @@ def test_help_lists_every_command() -> None:
         assert command in result.stdout
 
 
-def _free_port() -> int:
-    with socket.socket() as sock:
-        sock.bind(("127.0.0.1", 0))
-        return int(sock.getsockname()[1])
-
-
 def test_serve_answers_health(tmp_path: Path) -> None:
-    port = _free_port()
+    port = free_port()
     server = subprocess.Popen(
         [sys.executable, "-m", "countersign.cli", "serve", "--port", str(port),
          "--data-dir", str(tmp_path / "data")],

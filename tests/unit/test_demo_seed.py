@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 from sqlalchemy import select
 
-from countersign.cli.server import _database, _seed_demo
+from countersign.cli.server import _seed_demo, open_database
 from countersign.orders.examples import example_bytes, example_names
 from countersign.orders.reader import read_bytes
 from countersign.store.tables import Event, VehicleProfile, VehicleVersion
@@ -20,7 +20,7 @@ from countersign.store.tables import Event, VehicleProfile, VehicleVersion
 def test_demo_seeds_the_registry_once(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     for name in [k for k in os.environ if k.startswith("COUNTERSIGN_")]:
         monkeypatch.delenv(name)
-    _, database = _database(argparse.Namespace(data_dir=tmp_path))
+    _, database = open_database(argparse.Namespace(data_dir=tmp_path))
     _seed_demo(database)
     wanted = {v.id for name in example_names()
               for v in read_bytes(example_bytes(name), name).orders.vehicles}

@@ -19,7 +19,7 @@ from countersign.verify.graph import build_graph
 from countersign.verify.logic import LogicCache, LogicModel, LogicRun, check_logic
 from countersign.verify.logic import run as logic_run
 from countersign.verify.logic.bounds import Decider
-from countersign.verify.logic.session import Limits
+from countersign.verify.logic.limits import Limits
 from countersign.verify.logic.unique import UniqueCores
 from countersign.verify.properties import check_properties
 

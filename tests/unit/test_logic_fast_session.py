@@ -57,11 +57,10 @@ class ReferenceSession(Session):
         self.asked.append(tuple(i.key for i in items))
         self.ready()  # a scope's items are asserted at its first check
         z3 = self.z3
-        remaining = self.limits.remaining_ms()
-        if remaining <= 0:
+        timeout = self.limits.call_timeout_ms()
+        if timeout <= 0:
             self.undecided = True
             return CheckResult("unknown", reason="time budget exhausted")
-        timeout = max(1, min(self.limits.per_call_ms, remaining))
         if timeout != self._timeout:
             self.solver.set("timeout", timeout)
             self._timeout = timeout

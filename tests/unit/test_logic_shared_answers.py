@@ -27,7 +27,7 @@ from countersign.verify.logic import (
 )
 from countersign.verify.logic.bounds import Decider
 from countersign.verify.logic.cache import unit_key_apart
-from countersign.verify.logic.session import Limits
+from countersign.verify.logic.limits import Limits
 from tests.unit.test_logic_bounds import z3_status
 
 NEXT = {"succeed": "COMPLETE", "fail": "ABORT", "violate": "ABORT"}

@@ -121,18 +121,12 @@ def _common(cmd: argparse.ArgumentParser) -> None:
         cmd.add_argument("--format", choices=("text", "json"), default="text")
 
 
-def _database(args: argparse.Namespace) -> Database:
-    from ..settings import Settings
-    from ..store.db import Database, DatabaseTooNew
+def _database(args: argparse.Namespace, *, appends: bool = False) -> Database:
+    """The app's database; a command that `appends` to the log (run, cancel) opens the log
+    signer as the server does, so its entries carry receipts."""
+    from .server import open_database
 
-    settings = Settings.from_environment(data_dir=args.data_dir)
-    settings.prepare()
-    database = Database(settings.database_url)
-    try:
-        database.migrate()
-    except DatabaseTooNew as exc:
-        raise UsageError(str(exc)) from None
-    return database
+    return open_database(args, log_signer=appends)[1]
 
 
 def cmd_run(args: argparse.Namespace) -> int:
@@ -140,7 +134,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     from ..jobs import is_postgres
     from ..jobs.tasks import missing_chunks
 
-    database = _database(args)
+    database = _database(args, appends=True)
     if args.resume is not None:
         if args.file is not None or args.mission is not None:
             raise UsageError("--resume takes no FILE or --mission")
@@ -228,7 +222,6 @@ def _create(database: Database, args: argparse.Namespace) -> tuple[str, list[tup
     for idle in (r for r in sweep_fault_reach(orders, spec.faults) if not r.reacts):
         sys.stderr.write(f"warning: {idle.because}\n")
     with database.session() as db:
-        # This command opens no log key: its entries carry no receipt (as before).
         row = store.create(db, orders=data, orders_digest=orders_digest(orders),
                            spec=spec.to_json(), simulations=spec.simulations, owner=None,
                            mission_id=mission_id, version=version,
@@ -363,7 +356,7 @@ def cmd_cancel(args: argparse.Namespace) -> int:
     from ..errors import DomainError
     from ..store import campaigns as store
 
-    database = _database(args)
+    database = _database(args, appends=True)
     try:
         with database.session() as db:
             row = store.cancel(db, args.id, actor=None, signer=database.log_signer)

@@ -62,9 +62,9 @@ def cmd_check(args: argparse.Namespace) -> int:
 
 
 def _with_db(args: argparse.Namespace, work: Any) -> int:
-    from .server import _database
+    from .server import open_database
 
-    _, database = _database(args)
+    _, database = open_database(args)
     with database.session() as db:
         # The log signer the command opened receipts what `work` appends.
         result: int = work(db, database.log_signer)

@@ -309,8 +309,9 @@ def add_commands(commands: Any) -> None:
     )
     validate_cmd.add_argument(
         "--solver-budget", type=budget_seconds, default=SOLVER_BUDGET_S, metavar="SECONDS",
-        help=f"solver time for the whole validation (default {SOLVER_BUDGET_S:g}, as the "
-        "server allows); what it leaves undecided is reported as a warning")
+        help=f"solver CPU time for the whole validation (default {SOLVER_BUDGET_S:g}, as the "
+        "server allows; it stops at 4 times as much wall time in any case); what it leaves "
+        "undecided is reported as a warning")
     add_library_argument(validate_cmd)
     validate_cmd.set_defaults(handler=cmd_validate)
 

@@ -16,8 +16,11 @@ if TYPE_CHECKING:
     from ..store.db import Database
 
 
-def _database(args: argparse.Namespace,
-              validation_processes: int | None = None) -> tuple[Settings, Database]:
+def open_database(args: argparse.Namespace, *, validation_processes: int | None = None,
+                  log_signer: bool = True) -> tuple[Settings, Database]:
+    """The app's database for --data-dir (or COUNTERSIGN_DATABASE_URL), migrated. With
+    `log_signer` (any command that appends to the log) the log signer is opened as the server
+    opens it, so the entries the command appends carry its receipts as the web app's do."""
     from ..settings import Settings
     from ..store.db import Database, DatabaseTooNew
 
@@ -29,14 +32,14 @@ def _database(args: argparse.Namespace,
         database.migrate()
     except DatabaseTooNew as exc:
         raise UsageError(str(exc)) from None
-    # What the CLI appends to the log (users, demo missions) is receipted by the log signer.
-    from ..approvals.signer import SignerError
-    from ..web.log_signer import open_log_signer
+    if log_signer:
+        from ..approvals.signer import SignerError
+        from ..web.log_signer import open_log_signer
 
-    try:
-        database.log_signer = open_log_signer(settings, database)
-    except SignerError as exc:
-        raise UsageError(str(exc)) from None
+        try:
+            database.log_signer = open_log_signer(settings, database)
+        except SignerError as exc:
+            raise UsageError(str(exc)) from None
     return settings, database
 
 
@@ -102,7 +105,7 @@ def cmd_serve(args: argparse.Namespace) -> int:
     if args.validation_processes is not None and not (
             0 <= args.validation_processes <= MAX_VALIDATION_PROCESSES):
         raise UsageError(f"--validation-processes must be from 0 to {MAX_VALIDATION_PROCESSES}")
-    settings, database = _database(args, args.validation_processes)
+    settings, database = open_database(args, validation_processes=args.validation_processes)
     if args.demo:
         _seed_demo(database)
     elif not _has_users(database):
@@ -150,7 +153,7 @@ def cmd_users_create(args: argparse.Namespace) -> int:
 
     from ..store.accounts import AccountError, create_user
 
-    _, database = _database(args)
+    _, database = open_database(args)
     generated = False
     if args.password_stdin:
         password = sys.stdin.readline().rstrip("\n")

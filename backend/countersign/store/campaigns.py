@@ -59,10 +59,10 @@ def create(db: DbSession, *, orders: dict[str, Any], orders_digest: str, spec: d
                    spec=spec, simulations=simulations, state="queued")
     db.add(row)
     db.flush()
-    if owner is not None:
-        record_event(db, signer=signer, kind="campaign.created", actor=owner, mission_id=mission_id,
-                     after=orders_digest, detail={"campaign": row.id, "version": version,
-                                                  "spec": spec})
+    # Logged alike whoever starts it: a person in the app, or the command line (no actor).
+    record_event(db, signer=signer, kind="campaign.created", actor=owner, mission_id=mission_id,
+                 after=orders_digest, detail={"campaign": row.id, "version": version,
+                                              "spec": spec})
     return row
 
 
@@ -172,11 +172,10 @@ def cancel(db: DbSession, campaign_id: str, *, actor: User | None,
     row.state = "cancelled"
     row.ended_at = utcnow()
     db.flush()
-    if actor is not None:
-        record_event(db, kind="campaign.cancelled", actor=actor, mission_id=row.mission_id,
-                     after=row.orders_digest, detail={"campaign": row.id,
-                                                      "done": count_done(db, row.id)},
-                     signer=signer)
+    record_event(db, kind="campaign.cancelled", actor=actor, mission_id=row.mission_id,
+                 after=row.orders_digest, detail={"campaign": row.id,
+                                                  "done": count_done(db, row.id)},
+                 signer=signer)
     return row
 
 

@@ -40,6 +40,7 @@ from .graph import MissionGraph, build_graph
 from .logic import (
     DEFAULT_TIMEOUT_MS,
     DEFAULT_TOTAL_S,
+    WALL_CAP_REACHED,
     Item,
     Limits,
     LogicCache,
@@ -312,7 +313,9 @@ class _StateProperty:
 @dataclass(frozen=True)
 class GoalVerdict:
     fails: bool
-    witness: tuple[tuple[str, str], ...]
+    # Values that let the property fail; None: not yet asked (only the goal a finding
+    # reports needs them, and a model costs a z3 context of its own).
+    witness: tuple[tuple[str, str], ...] | None
     undecided: str | None
 
 
@@ -327,17 +330,19 @@ def check_properties(
     *,
     timeout_ms: int = DEFAULT_TIMEOUT_MS,
     total_timeout_s: float = DEFAULT_TOTAL_S,
+    limits: Limits | None = None,
 ) -> list[Finding]:
     """EXPR findings for property expressions and PROPERTY findings with the shortest
-    counterexample path from the start."""
+    counterexample path from the start. The solver's limits as check_logic's."""
     # As for check_logic: the goals' units, verdicts and items it builds are long-lived, and
     # collections during the check only walk them again.
     with collector_paused():
-        return _check_properties(orders, graph, cache, timeout_ms, total_timeout_s)
+        return _check_properties(orders, graph, cache, timeout_ms, total_timeout_s, limits)
 
 
 def _check_properties(orders: Orders, graph: MissionGraph | None, cache: LogicCache | None,
-                      timeout_ms: int, total_timeout_s: float) -> list[Finding]:
+                      timeout_ms: int, total_timeout_s: float, limits: Limits | None
+                      ) -> list[Finding]:
     graph = graph or build_graph(orders)
     model = cache.model(orders) if cache is not None else LogicModel(orders)
     findings: list[Finding] = []
@@ -366,7 +371,8 @@ def _check_properties(orders: Orders, graph: MissionGraph | None, cache: LogicCa
     if states:
         from_start = distances_from_start(graph)
         with model.lock:
-            run = LogicRun(model, cache, Limits.start(timeout_ms, total_timeout_s))
+            run = LogicRun(model, cache,
+                           limits or Limits.start(timeout_ms, total_timeout_s))
             for state in states:
                 findings.extend(_check_state(model, run, graph, state, from_start))
     for prop, quantity, bound in bounds:
@@ -405,34 +411,48 @@ def _check_state(model: LogicModel, run: LogicRun, graph: MissionGraph,
     key = f"prop:{state.prop.id}:{state.mode}"
     # The item states that the property fails in a state: `always` fails where the condition
     # can be false, `never` where it can be true.
+    negate = state.mode == "always"
     failing = Item(
         key, "property", state.prop.id, f"{state.prop.id} {state.mode}: {state.text}",
         f"{key}|{state.text}|{model.specs(expr_reads.quantities)}",
-        expr_formula(state.expr, negate=state.mode == "always"),
+        expr_formula(state.expr, negate=negate),
         quantities=tuple(sorted(expr_reads.quantities)),
+        # Bounds propagation (logic/bounds.py) decides most goals' states without z3.
+        meaning=("expr", ("prop", key, state.text, negate), (state.expr, negate)),
     )
     bad, undecided = _failing_goals(model, run, graph, state, failing, expr_reads, from_start)
     findings: list[Finding] = []
     if bad:
-        findings.append(_counterexample(model, graph, state, bad))
+        node, path = shortest_through_any(graph, list(bad))
+        verdict = bad[node]
+        if verdict.witness is None:  # the solver's: only the reported goal's values are asked
+            verdict = _witnessed(run, graph.goals[node], failing, expr_reads)
+        findings.append(_counterexample(model, graph, state, bad, (node, path), verdict))
     if undecided:
+        # The wall-clock cap ends the work on a busy machine, however easy what is left.
+        capped = WALL_CAP_REACHED in undecided.values()
+        why = (f"the machine was too busy to finish within the wall-clock cap of "
+               f"{run.limits.wall_cap_s:g} s" if capped else "solver timeout")
+        goals = list(undecided)
         findings.append(warning(
-            "PROPERTY", undecided,
-            f"{_label(state.prop)} could not be decided at {', '.join(undecided[:20])} "
-            "(solver timeout).",
+            "PROPERTY", goals,
+            f"{_label(state.prop)} could not be decided at {', '.join(goals[:20])} ({why}).",
             property=state.prop.id,
+            # Marked so that the report part is not kept: another run may decide it.
+            undecided=WALL_CAP_REACHED if capped else next(iter(undecided.values())),
         ))
     return findings
 
 
 def _failing_goals(model: LogicModel, run: LogicRun, graph: MissionGraph,
                    state: _StateProperty, failing: Item, expr_reads: Reads,
-                   from_start: list[int]) -> tuple[dict[int, GoalVerdict], list[str]]:
+                   from_start: list[int]) -> tuple[dict[int, GoalVerdict], dict[str, str]]:
     """The reachable goals where the property can fail (by graph node, with their verdict),
-    and those the solver could not decide. `from_start`: distances_from_start(graph)."""
+    and those the solver could not decide (with why). `from_start`:
+    distances_from_start(graph)."""
     mission = run.mission()
     bad: dict[int, GoalVerdict] = {}
-    undecided: list[str] = []
+    undecided: dict[str, str] = {}
     for node, goal in enumerate(graph.goals):
         if from_start[node] < 0:
             continue
@@ -440,7 +460,7 @@ def _failing_goals(model: LogicModel, run: LogicRun, graph: MissionGraph,
         if verdict is None:
             continue
         if verdict.undecided:
-            undecided.append(goal.id)
+            undecided[goal.id] = verdict.undecided
         elif verdict.fails:
             bad[node] = verdict
     return bad, undecided
@@ -474,12 +494,12 @@ def _goal_verdict(model: LogicModel, run: LogicRun, goal: Goal, state: _StatePro
 
 
 def _counterexample(model: LogicModel, graph: MissionGraph, state: _StateProperty,
-                    bad: dict[int, GoalVerdict]) -> Finding:
-    """The PROPERTY error at the failing goal nearest the start, with its shortest path and
-    the values (or facts) that let the property fail there."""
-    node, path = shortest_through_any(graph, list(bad))
+                    bad: dict[int, GoalVerdict], nearest: tuple[int, CounterPath],
+                    verdict: GoalVerdict) -> Finding:
+    """The PROPERTY error at the failing goal nearest the start (`nearest`: its node and
+    shortest path), with the values (or facts) that let the property fail there."""
+    node, path = nearest
     goal = graph.goals[node]
-    verdict = bad[node]
     if verdict.witness:
         values = join_words([
             f"{quantity_words(q, model.quantities)} {with_unit(v, model.unit(q))}"
@@ -502,26 +522,45 @@ def _counterexample(model: LogicModel, graph: MissionGraph, state: _StatePropert
         property=state.prop.id,
         goal=goal.id,
         path=path.to_json(),
-        witness=dict(verdict.witness),
+        witness=dict(verdict.witness or ()),
         failing_goals=[graph.goal_ids[n] for n in sorted(bad)],
     )
 
 
 def _solve_state(run: LogicRun, items: list[Item], failing: Item,
                  base: frozenset[Item]) -> GoalVerdict:
-    # A state that cannot fail needs no core and no witness: the screen's status is the answer
-    # (and goals with the same formulas share it); the session solves the others as before.
-    if logic_run.GROUP_CHECKS and run.screen.status([*items, failing], base) == "unsat":
-        return GoalVerdict(False, (), None)
+    """Whether the state can fail. The screen's status is the answer when it decides (goals
+    with the same formulas share it, bounds.py proves most without z3); the session decides
+    the others. The values come later, for the reported goal alone (`_witnessed`)."""
+    if logic_run.GROUP_CHECKS:
+        status = run.screen.status([*items, failing], base)
+        if status != "unknown":
+            return GoalVerdict(status == "sat", None, None)
     session = run.session
     with session.scope([*items, failing]):
         result = session.check([*items, failing])
-        if result.status == "unknown":
-            return GoalVerdict(False, (), result.reason)
-        if result.status == "unsat":
-            return GoalVerdict(False, (), None)
-        witness = session.witness(failing.quantities, items=[*items, failing])
-    return GoalVerdict(True, tuple(sorted(witness.items())), None)
+    if result.status == "unknown":
+        return GoalVerdict(False, (), result.reason)
+    return GoalVerdict(result.status == "sat", None, None)
+
+
+def _witnessed(run: LogicRun, goal: Goal, failing: Item, expr_reads: Reads) -> GoalVerdict:
+    """The reported goal's verdict with the values that let the property fail there: solved
+    in the unit's own context, so they are the same whatever was checked before."""
+    mission = run.mission()
+    items, _ = run.goal_items(goal, mission.quarantined, [expr_reads])
+
+    def solve() -> GoalVerdict:
+        session = run.session
+        with session.scope([*items, failing]):
+            result = session.check([*items, failing])
+            if result.status != "sat":  # out of time: the finding names no values
+                return GoalVerdict(True, (), result.reason or None)
+            witness = session.witness(failing.quantities, items=[*items, failing])
+        return GoalVerdict(True, tuple(sorted(witness.items())), None)
+
+    verdict: GoalVerdict = run.cached("property-witness", [*items, failing], solve)
+    return verdict
 
 
 def _check_bound(orders: Orders, graph: MissionGraph, prop: PathProperty, quantity: str,

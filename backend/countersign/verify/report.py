@@ -13,7 +13,6 @@ incremental reports with reports from scratch over random edits.
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -28,7 +27,7 @@ from .budget import WorstPath, check_budget, worst_paths
 from .geo import check_geo
 from .graph import MissionGraph, build_graph
 from .legs import mission_legs
-from .logic import LogicCache, check_logic
+from .logic import THREAD_CLOCKS, Clocks, Limits, LogicCache, check_logic
 from .meo.direct import meo_only_findings
 from .parts import SHARED_PARTS, UNKEYED, PartKeys, PartsCache, part_keys
 from .paths import PathCounts, count_paths
@@ -56,8 +55,10 @@ if TYPE_CHECKING:
 SHARED_LOGIC_CACHE = LogicCache(max_entries=20_000)
 
 # The solver time one validation may spend, shared by the logic and the property checks (40
-# nonlinear constraints and 20 path properties once ran 76 s). What the solver cannot decide
-# within it is a warning (CONTRADICTION, PROPERTY, VACUOUS), never an error nor a hang.
+# nonlinear constraints and 20 path properties once ran 76 s): CPU time of the work, so that a
+# busy machine decides what a quiet one does, under a wall-clock cap (by default 4 times as
+# long: logic/limits.py) that ends it in any case. What the solver cannot decide within them
+# is a warning (CONTRADICTION, PROPERTY, VACUOUS), never an error nor a hang.
 SOLVER_BUDGET_S = 8.0
 SOLVER_CALL_MS = 1_000  # one solver call; a hard call gives up early and leaves the rest time
 
@@ -120,6 +121,8 @@ def validate(
     logic_cache: LogicCache | None = None,
     *,
     solver_budget_s: float = SOLVER_BUDGET_S,
+    solver_wall_cap_s: float | None = None,
+    solver_clocks: Clocks = THREAD_CLOCKS,
     parts: PartsCache | None = None,
     keys: PartKeys | None = None,
     orders_digest: str | None = None,
@@ -127,13 +130,17 @@ def validate(
     """Every check on the orders. `parts` (default: one cache shared by the process) holds
     the report parts of earlier validations by the digest of what they read; pass a fresh
     PartsCache to validate from scratch (a NoParts: from scratch, keeping nothing). `keys` and
-    `orders_digest`, when the caller computed them already, save computing them again."""
+    `orders_digest`, when the caller computed them already, save computing them again. The
+    solver may spend `solver_budget_s` seconds of this thread's CPU time and stops at
+    `solver_wall_cap_s` of wall time (default: 4 times the budget) in any case;
+    `solver_clocks` are where both are read."""
     if orders.team is not None:
         from .team_report import validate_team
 
         return validate_team(orders, reader_findings, logic_cache,
-                             solver_budget_s=solver_budget_s, parts=parts,
-                             orders_digest=orders_digest)
+                             solver_budget_s=solver_budget_s,
+                             solver_wall_cap_s=solver_wall_cap_s, solver_clocks=solver_clocks,
+                             parts=parts, orders_digest=orders_digest)
     cache = logic_cache if logic_cache is not None else SHARED_LOGIC_CACHE
     store = parts if parts is not None else SHARED_PARTS
     if keys is None:
@@ -158,22 +165,21 @@ def validate(
     if meo is None:
         meo = meo_only_findings(per_goal)
         store.put("meo", keys.meo, meo)
+    limits = Limits.start(SOLVER_CALL_MS, solver_budget_s, solver_wall_cap_s, solver_clocks)
     logic, properties = _solver_parts(orders, checked, per_goal, mission_graph, cache, store,
-                                      keys, solver_budget_s)
+                                      keys, limits)
     return _assembled(orders, reader_findings, core, meo, logic, properties, orders_digest)
 
 
 def _solver_parts(orders: Orders, checked: Orders, per_goal: Orders,
                   mission_graph: Callable[[], MissionGraph], cache: LogicCache,
-                  store: PartsCache, keys: PartKeys, solver_budget_s: float
+                  store: PartsCache, keys: PartKeys, limits: Limits
                   ) -> tuple[list[Finding], list[Finding]]:
     """The logic and path-property findings, from the parts cache or the solver; both share
     one budget, and a part with undecided goals is not kept."""
-    deadline = time.monotonic() + solver_budget_s
     logic = store.get("logic", keys.logic)
     if logic is None:
-        logic = check_logic(per_goal, cache, timeout_ms=SOLVER_CALL_MS,
-                            total_timeout_s=solver_budget_s)
+        logic = check_logic(per_goal, cache, limits=limits)
         if decided(logic):
             store.put("logic", keys.logic, logic)
     # No properties, no findings (check_properties would still parse the logic model).
@@ -181,9 +187,7 @@ def _solver_parts(orders: Orders, checked: Orders, per_goal: Orders,
     if properties is None:
         from .properties import check_properties  # orders with path properties only
 
-        properties = check_properties(checked, mission_graph(), cache,
-                                      timeout_ms=SOLVER_CALL_MS,
-                                      total_timeout_s=max(0.0, deadline - time.monotonic()))
+        properties = check_properties(checked, mission_graph(), cache, limits=limits)
         if decided(properties):
             store.put("properties", keys.properties, properties)
     return logic, properties

@@ -16,6 +16,7 @@ from ..orders.canonical import digest
 from ..orders.findings import Finding, warning
 from ..orders.model import Orders
 from .graph import build_graph
+from .logic.limits import THREAD_CLOCKS, Clocks
 from .paths import PathCounts
 from .team import JointCounts, TeamMemberGraph, check_team
 
@@ -64,6 +65,8 @@ def validate_team(
     logic_cache: LogicCache | None = None,
     *,
     solver_budget_s: float,
+    solver_wall_cap_s: float | None = None,
+    solver_clocks: Clocks = THREAD_CLOCKS,
     parts: PartsCache | None = None,
     orders_digest: str | None = None,
 ) -> Report:
@@ -72,6 +75,7 @@ def validate_team(
     assert orders.team is not None
     # The whole validation keeps the one solver budget: members share it.
     share = solver_budget_s / len(orders.team)
+    cap_share = None if solver_wall_cap_s is None else solver_wall_cap_s / len(orders.team)
     findings = list(reader_findings)
     members: list[MemberReport] = []
     graphs: list[TeamMemberGraph] = []
@@ -79,7 +83,8 @@ def validate_team(
     for member in orders.team:
         graph = build_graph(member.orders)
         report = validate(member.orders, graph=graph, logic_cache=logic_cache,
-                          solver_budget_s=share, parts=parts)
+                          solver_budget_s=share, solver_wall_cap_s=cap_share,
+                          solver_clocks=solver_clocks, parts=parts)
         members.append(MemberReport(member.vehicle, report))
         findings.extend(scoped(member.vehicle, f) for f in report.findings)
         graphs.append(TeamMemberGraph(member.vehicle, graph))

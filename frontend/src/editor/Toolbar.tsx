@@ -1,5 +1,5 @@
 /** The editor toolbar's menus: a generic menu and the export downloads (with an SVG of the canvas). */
-import { type ReactNode, useEffect, useRef, useState } from "react";
+import { type ReactNode, type RefObject, useEffect, useLayoutEffect, useRef, useState } from "react";
 
 import { exportHref } from "../api/client";
 
@@ -7,7 +7,9 @@ import { exportHref } from "../api/client";
  * class menu-item), Escape, or a press outside the menu closes it. */
 export function ToolbarMenu({ label, children }: { label: string; children: ReactNode }) {
   const ref = useRef<HTMLDetailsElement>(null);
+  const body = useRef<HTMLDivElement>(null);
   const [open, setOpen] = useState(false);
+  useKeptInWindow(body, open);
   useEffect(() => {
     if (!open) return;
     const outside = (event: PointerEvent) => {
@@ -32,11 +34,36 @@ export function ToolbarMenu({ label, children }: { label: string; children: Reac
       }}
     >
       <summary>{label}</summary>
-      <div className="toolbar-menu-body" role="group" aria-label={label}>
+      <div ref={body} className="toolbar-menu-body" role="group" aria-label={label}>
         {children}
       </div>
     </details>
   );
+}
+
+/** Moves an open menu's body left by as much as it would reach past the window's right edge
+ * (never past its left edge), also when it grows (a submenu opened inside it). A body past the
+ * edge widens the page; closing the menu then narrows it again and the page scrolls back, so
+ * the press outside that closed it ends on another control than the one it began on. */
+function useKeptInWindow(body: RefObject<HTMLElement | null>, open: boolean) {
+  useLayoutEffect(() => {
+    const element = body.current;
+    if (!open || !element) return;
+    const place = () => {
+      element.style.left = "";
+      const { left, right } = element.getBoundingClientRect();
+      const beyond = right - document.documentElement.clientWidth;
+      if (beyond > 0) element.style.left = `${-Math.min(beyond, Math.max(left, 0))}px`;
+    };
+    place();
+    const resized = typeof ResizeObserver === "undefined" ? null : new ResizeObserver(place);
+    resized?.observe(element);
+    window.addEventListener("resize", place);
+    return () => {
+      resized?.disconnect();
+      window.removeEventListener("resize", place);
+    };
+  }, [body, open]);
 }
 
 /** Downloads of the saved draft in every format, plus an SVG drawing of the canvas. */

@@ -15,9 +15,9 @@ and Algorithm 1 shrinks z3's core to a minimal one that reads as a sentence:
 Checks come in units whose result depends only on their items: the mission (vehicle, domains,
 mission-wide constraints), each goal (CONTRADICTION and NORM) and each constraint (VACUOUS).
 A unit's cache key is the digest of its items' sources, so editing one goal re-checks only that
-goal. Every solver call has a timeout and the whole run a time budget; an undecided check is a
-warning finding, never a hang. z3 is imported and a context created only when some unit misses
-the cache.
+goal. Every solver call has a timeout and the whole run a budget of CPU time under a wall-clock
+cap (limits.py); an undecided check is a warning finding, never a hang. z3 is imported and a
+context created only when some unit misses the cache.
 
 One module per job: items and model (a goal's facts in facts.py), the z3 session, the screen,
 bounds propagation (and its formulas), unique cores, the cache, a run, wording, the findings
@@ -52,20 +52,35 @@ from .constants import (
 from .findings import check_logic, core_satisfiable
 from .goal_set import GoalSetResult, UnknownIds, explain_goal_set, format_goal_set
 from .items import Item, Part, expr_formula
+from .limits import (
+    BUDGET_SPENT,
+    OUT_OF_TIME,
+    THREAD_CLOCKS,
+    WALL_CAP_FACTOR,
+    WALL_CAP_REACHED,
+    Clocks,
+    Limits,
+)
 from .model import LogicModel, ParsedConstraint, ParsedNorm
 from .results import Core, GoalResult, MissionResult, Risk, VacuousResult
 from .run import LogicRun, sorted_parts
-from .session import CheckResult, Limits, Session
+from .session import CheckResult, Session
 from .wording import core_sentence, join_words
 
 __all__ = [
+    "BUDGET_SPENT",
     "DEFAULT_TIMEOUT_MS",
     "DEFAULT_TOTAL_S",
     "GOAL_KINDS",
     "MAX_CORES_PER_UNIT",
     "MAX_WORDS",
+    "OUT_OF_TIME",
+    "THREAD_CLOCKS",
     "VERSION",
+    "WALL_CAP_FACTOR",
+    "WALL_CAP_REACHED",
     "CheckResult",
+    "Clocks",
     "Core",
     "GoalResult",
     "GoalSetResult",

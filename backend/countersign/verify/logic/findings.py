@@ -14,10 +14,10 @@ from .cache import LogicCache
 from .collector import collector_paused
 from .constants import DEFAULT_TIMEOUT_MS, DEFAULT_TOTAL_S, GOAL_KINDS
 from .items import Item
+from .limits import BUDGET_SPENT, OUT_OF_TIME, WALL_CAP_REACHED, Limits
 from .model import LogicModel
 from .results import Core, GoalOutcome, GoalResult, MissionResult, Risk
 from .run import LogicRun
-from .session import Limits
 from .wording import _core_details, _ids, _subjects, core_sentence, join_words
 
 # Vacuity of many constraints settled from shared models (False: one check per constraint, the
@@ -31,21 +31,22 @@ def check_logic(
     *,
     timeout_ms: int = DEFAULT_TIMEOUT_MS,
     total_timeout_s: float = DEFAULT_TOTAL_S,
+    limits: Limits | None = None,
 ) -> list[Finding]:
     """EXPR, CONTRADICTION, NORM and VACUOUS findings of a set of orders.
 
     Pass a long-lived LogicCache to re-solve only the units whose inputs changed. Every solver
-    call stops after `timeout_ms`, and the whole check after `total_timeout_s`; what could not
-    be decided is reported as a warning."""
+    call stops after `timeout_ms`, and the whole check after `total_timeout_s` of CPU time
+    (or its wall-clock cap, limits.py); `limits`, when given, are those instead (a validation
+    shares one with check_properties). What could not be decided is reported as a warning."""
     with collector_paused():
-        return _check_logic(orders, cache, timeout_ms, total_timeout_s)
+        return _check_logic(orders, cache, limits or Limits.start(timeout_ms, total_timeout_s))
 
 
-def _check_logic(orders: Orders, cache: LogicCache | None, timeout_ms: int,
-                 total_timeout_s: float) -> list[Finding]:
+def _check_logic(orders: Orders, cache: LogicCache | None, limits: Limits) -> list[Finding]:
     model = cache.model(orders) if cache is not None else LogicModel(orders)
     with model.lock:
-        run = LogicRun(model, cache, Limits.start(timeout_ms, total_timeout_s))
+        run = LogicRun(model, cache, limits)
         findings = list(model.expr_findings)
         mission = run.mission()
         findings.extend(_mission_findings(model, mission))
@@ -78,7 +79,7 @@ def _mission_findings(model: LogicModel, mission: MissionResult) -> Iterator[Fin
 
 def _goal_findings(model: LogicModel, run: LogicRun, mission: MissionResult) -> Iterator[Finding]:
     shared: dict[tuple[str, ...], tuple[Core, list[str]]] = {}
-    out_of_time: list[str] = []
+    out_of_time: dict[str, list[str]] = {}
     if model.goals:  # the run's live block, as the goals' units hold it (vacuity's keys too)
         run.block(mission.quarantined)
     for goal in model.goals.values():
@@ -86,8 +87,8 @@ def _goal_findings(model: LogicModel, run: LogicRun, mission: MissionResult) -> 
         for core in outcome.shared:
             shared.setdefault(tuple(p.key for p in core.parts), (core, []))[1].append(goal.id)
         yield from outcome.findings
-        if outcome.result.undecided == "time budget exhausted":
-            out_of_time.append(goal.id)
+        if outcome.result.undecided in OUT_OF_TIME:
+            out_of_time.setdefault(outcome.result.undecided, []).append(goal.id)
     for core, goals in shared.values():
         constraints = _ids(core.parts, "constraint")
         yield error(
@@ -98,14 +99,20 @@ def _goal_findings(model: LogicModel, run: LogicRun, mission: MissionResult) -> 
             goals=goals,
             **_core_details(core),
         )
-    if out_of_time:
-        yield warning(
-            "CONTRADICTION",
-            out_of_time,
-            f"The logic checks ran out of time before deciding {len(out_of_time)} goal(s): "
-            f"{', '.join(out_of_time[:20])}{' ...' if len(out_of_time) > 20 else ''}.",
-            undecided="time budget exhausted",
-        )
+    for reason, goals in out_of_time.items():
+        yield _out_of_time(goals, reason, run.limits)
+
+
+def _out_of_time(goals: list[str], reason: str, limits: Limits) -> Finding:
+    """The goals the limits left undecided, in one warning that says which limit it was."""
+    why = "" if reason == BUDGET_SPENT else f" ({_reason_words(reason, limits)})"
+    return warning(
+        "CONTRADICTION",
+        goals,
+        f"The logic checks ran out of time{why} before deciding {len(goals)} goal(s): "
+        f"{', '.join(goals[:20])}{' ...' if len(goals) > 20 else ''}.",
+        undecided=reason,
+    )
 
 
 def _goal_outcome(model: LogicModel, run: LogicRun, goal: Goal,
@@ -150,7 +157,7 @@ def _worded_goal_findings(model: LogicModel, goal: Goal, result: GoalResult
         yield _refusal(model, goal, core)
     for risk in result.risks:
         yield _risk(model, goal, risk)
-    if result.undecided and result.undecided != "time budget exhausted":
+    if result.undecided and result.undecided not in OUT_OF_TIME:
         scope = [c.id for c in model.in_scope(goal.id)]
         yield warning(
             "CONTRADICTION",
@@ -224,10 +231,13 @@ def _vacuous_findings(
 ) -> Iterator[Finding]:
     if BATCH_VACUITY:
         run.vacuous_batch(c for c in model.constraints if c.key not in mission.quarantined)
+    undecided: dict[str, list[str]] = {}
     for c in model.constraints:
         if c.key in mission.quarantined:
             continue
         result = run.vacuous(c)
+        if result.undecided is not None:
+            undecided.setdefault(result.undecided, []).append(c.id)
         if result.core is None:
             continue
         reasons = [p for p in result.core.parts if p.kind in {"vehicle", "domain"}]
@@ -243,6 +253,23 @@ def _vacuous_findings(
             "a typo.",
             **_core_details(result.core),
         )
+    # Said, not dropped: a report without them would read as "none can never trigger".
+    for reason, constraints in undecided.items():
+        yield warning(
+            "VACUOUS",
+            constraints,
+            f"The solver could not decide whether {len(constraints)} constraint(s) can ever "
+            f"trigger ({_reason_words(reason, run.limits)}): {', '.join(constraints[:20])}"
+            f"{' ...' if len(constraints) > 20 else ''}.",
+            undecided=reason,
+        )
+
+
+def _reason_words(reason: str, limits: Limits) -> str:
+    if reason == WALL_CAP_REACHED:
+        return (f"the machine was too busy to finish within the wall-clock cap of "
+                f"{limits.wall_cap_s:g} s")
+    return reason
 
 
 def core_satisfiable(

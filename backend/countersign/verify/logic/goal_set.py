@@ -13,9 +13,9 @@ from ..expressions import (
 )
 from .constants import DEFAULT_TIMEOUT_MS, ItemKind
 from .items import Item, Part
+from .limits import Limits
 from .model import LogicModel, ParsedConstraint, _merge_reads
 from .run import LogicRun, sorted_parts
-from .session import Limits
 from .wording import core_sentence, join_words
 
 

@@ -12,10 +12,11 @@ from ..expressions import (
 from .cache import LogicCache, unit_key, unit_key_apart
 from .constants import _KIND_ORDER, MAX_CORES_PER_UNIT
 from .items import Item, Part
+from .limits import Limits
 from .model import GoalItems, LogicModel, ParsedConstraint, _merge_reads
 from .results import Core, GoalResult, MissionResult, Risk, VacuousResult
 from .screen import Screen
-from .session import CheckResult, Limits, Session
+from .session import CheckResult, Session
 from .unique import UniqueCores
 
 # Units whose plain outcome (no core, no witness) the screen proves take no session check, and

@@ -27,7 +27,8 @@ from ..expressions import Translator
 from ..z3_adapter import Status, check_asserting
 from .bounds import Decider
 from .items import Item
-from .session import Limits, _z3
+from .limits import Limits
+from .session import _z3
 
 
 class Screen:
@@ -121,10 +122,9 @@ class Screen:
         if known is not None:
             self.shared += 1
             return known
-        remaining = self.limits.remaining_ms()
-        if remaining <= 0:
+        timeout = self.limits.call_timeout_ms()
+        if timeout <= 0:
             return "unknown"
-        timeout = max(1, min(self.limits.per_call_ms, remaining))
         if timeout != self._timeout:
             self.solver.set("timeout", timeout)
             self._timeout = timeout

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -17,25 +16,13 @@ from ..expressions import (
 )
 from ..z3_adapter import assert_any, bool_constant, check_asts, true_in_model, unsat_core_ids
 from .items import Item
+from .limits import BUDGET_SPENT, Limits
 
 
 def _z3() -> Any:
     import z3
 
     return z3
-
-
-@dataclass
-class Limits:
-    per_call_ms: int
-    deadline: float
-
-    @classmethod
-    def start(cls, per_call_ms: int, total_s: float) -> Limits:
-        return cls(per_call_ms, time.monotonic() + total_s)
-
-    def remaining_ms(self) -> int:
-        return int((self.deadline - time.monotonic()) * 1000)
 
 
 @dataclass(frozen=True)
@@ -198,11 +185,10 @@ class Session:
 
     def _check(self, items: Sequence[Item]) -> CheckResult:
         z3 = self.z3
-        remaining = self.limits.remaining_ms()
-        if remaining <= 0:
+        timeout = self.limits.call_timeout_ms()
+        if timeout <= 0:
             self.undecided = True
-            return CheckResult("unknown", reason="time budget exhausted")
-        timeout = max(1, min(self.limits.per_call_ms, remaining))
+            return CheckResult("unknown", reason=self.limits.spent() or BUDGET_SPENT)
         if timeout != self._timeout:
             self.solver.set("timeout", timeout)
             self._timeout = timeout
@@ -228,7 +214,8 @@ class Session:
         self.undecided = True
         reason = self.solver.reason_unknown()
         if reason in {"canceled", "timeout"}:
-            reason = f"timeout after {timeout:,} ms"
+            # A call the limits cut short says so: the goal may be easy, the time was gone.
+            reason = self.limits.timed_out()
         return CheckResult("unknown", reason=reason)
 
     def satisfiable_groups(self, groups: Sequence[Sequence[Item]]) -> list[bool]:
@@ -243,7 +230,7 @@ class Session:
 
     def _groups(self, groups: Sequence[Sequence[Item]]) -> list[bool]:
         shown = [False] * len(groups)
-        if not groups or self.limits.remaining_ms() <= 0:
+        if not groups or self.limits.call_timeout_ms() <= 0:
             return shown
         z3 = self.z3
         formulas = []
@@ -269,10 +256,9 @@ class Session:
             ))
             pending = list(range(len(groups)))
             while pending:
-                remaining = self.limits.remaining_ms()
-                if remaining <= 0:
+                timeout = self.limits.call_timeout_ms()
+                if timeout <= 0:
                     break
-                timeout = max(1, min(self.limits.per_call_ms, remaining))
                 if timeout != self._timeout:
                     self.solver.set("timeout", timeout)
                     self._timeout = timeout
@@ -329,8 +315,8 @@ class Session:
 
     def _model_of(self, items: Sequence[Item]) -> tuple[Any, Any] | None:
         """(a model of the items alone, its context), or None when not found in time."""
-        remaining = self.limits.remaining_ms()
-        if remaining <= 0:
+        timeout = self.limits.call_timeout_ms()
+        if timeout <= 0:
             return None
         formulas = list(dict.fromkeys(
             self._formulas.get(i.key) or i.formula(self.translator) for i in items))
@@ -344,7 +330,7 @@ class Session:
             self._unit_context = self.z3.Context()
         ctx = self._unit_context
         solver = self.z3.SimpleSolver(ctx=ctx)
-        solver.set("timeout", max(1, min(self.limits.per_call_ms, remaining)))
+        solver.set("timeout", timeout)
         solver.from_string(declarations + "".join(f"(assert {f})" for f in formulas))
         self.calls += 1
         return (solver.model(), ctx) if solver.check() == self.z3.sat else None
