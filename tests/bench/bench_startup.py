@@ -108,6 +108,14 @@ def main() -> None:
         shown_cpu = f"{cpu_target:g}" if cpu_target is not None else "-"
         ratio = cpu / base_cpu if base_cpu > 0 else float("nan")
         print(f"{label:<60} {wall:7.3f} {cpu:7.3f} {ratio:13.1f} {shown:>7} {shown_cpu:>10}")
+    for label, cpu_target in CPU_TARGETS.items():
+        _, cpu = figures[label]
+        verdict = "met" if cpu < cpu_target else "NOT met"
+        line = f"{label}: {cpu:.3f} s CPU, goal < {cpu_target:g} s: {verdict}"
+        if f"  baseline: {label}" in figures:
+            _, base = figures[f"  baseline: {label}"]
+            line += f"; baseline {base:.3f} s ({(cpu - base) / base:+.0%})"
+        print(line)
     print(f"(median of {args.runs} runs each; load average {os.getloadavg()[0]:.1f})")
 
 

@@ -20,7 +20,7 @@ from countersign.orders.pattern_words import pattern_sentence
 from countersign.orders.plain import plain_orders
 from countersign.verify.budget import goal_cost, leg_cost
 from countersign.verify.graph import MissionGraph, build_graph
-from countersign.verify.legs import GEOD, leg_lengths
+from countersign.verify.legs import geod, leg_lengths
 from countersign.verify.patterns import (
     Counterexample,
     Position,
@@ -330,7 +330,7 @@ def test_the_legs_between_the_events_count() -> None:
         "vehicles": [{"id": "auv", "speed_mps": 1.5, "power_w": 110}]})
     metres = leg_lengths(orders)
     there, back = metres[("G0", "succeed")], metres[("G1", "succeed")]
-    centres = GEOD.inv(-121.8995, 36.7005, -121.8995, 36.7095)[2]
+    centres = geod().inv(-121.8995, 36.7005, -121.8995, 36.7095)[2]
     assert abs(there - centres) < 1 and abs(back - centres) < 1
     between = 20 + (there + back) / 1.5 * 110 / 3600
     assert between > 55

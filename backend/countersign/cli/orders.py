@@ -80,13 +80,16 @@ def _print_explanation(report: Report, out: TextIO) -> None:
 
 def cmd_validate(args: argparse.Namespace) -> int:
     with loading(args):
+        from ..verify.parts import NoParts
         from ..verify.report import validate
 
     loaded = with_library(load_orders(args.file, teams=True), args.procedures)
     if args.explain and loaded.orders.team is not None:
         raise UsageError("--explain shows the ontology's facts about one vehicle's orders; "
                          "give a member's orders (team[i].orders)")
-    report = validate(loaded.orders, loaded.findings, solver_budget_s=args.solver_budget)
+    # One validation: parts kept for a later one of the same orders would never be read.
+    report = validate(loaded.orders, loaded.findings, solver_budget_s=args.solver_budget,
+                      parts=NoParts())
     if args.format == "json":
         json.dump(report.to_json(explain=args.explain), sys.stdout, indent=2)
         sys.stdout.write("\n")
@@ -123,7 +126,8 @@ def cmd_paths(args: argparse.Namespace) -> int:
             loaded, f"the paths of {args.file} cannot be enumerated")
         return refused if refused is not None else EXIT_FINDINGS
     out = sys.stdout
-    from ..verify.probability import declares_probabilities, path_probability_bounds
+    from ..orders.model import declares_probabilities
+    from ..verify.probability import path_probability_bounds
 
     # Each path's probability (or its bounds) when the orders declare outcome probabilities.
     bounds = (path_probability_bounds(orders, graph)

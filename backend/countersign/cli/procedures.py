@@ -77,12 +77,12 @@ def load_library(paths: list[Path]) -> dict[tuple[str, int], Procedure]:
 
 def with_library(loaded: ReadResult, paths: list[Path]) -> ReadResult:
     """The orders with the library's procedures copied in (unchanged without --procedures)."""
+    if not paths:
+        return loaded
     from dataclasses import replace
 
     from ..verify.procedures import expand
 
-    if not paths:
-        return loaded
     library = load_library(paths)
     return replace(loaded, orders=expand(loaded.orders,
                                          lambda name, version: library.get((name, version))))

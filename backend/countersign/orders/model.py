@@ -518,6 +518,12 @@ class Orders(_Strict):
         return index
 
 
+def declares_probabilities(orders: Orders) -> bool:
+    """Whether any goal or vehicle gives outcome probabilities (verify.probability's input)."""
+    return any(g.p is not None for g in orders.goals) or any(
+        v.p for v in orders.vehicles)
+
+
 class TeamMember(_Strict):
     """One vehicle of a team with its own orders (its goals, profile, budget and norms)."""
 

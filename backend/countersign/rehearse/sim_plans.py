@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 
 from ..orders.model import Goal
 from ..verify.costs import goal_cost
-from ..verify.legs import GEOD
+from ..verify.legs import geod
 from .sim_model import (
     DEFAULT_DEPTH_M,
     HOLD_BEHAVIORS,
@@ -83,7 +83,7 @@ def measured(sim: Simulation, points: list[Waypoint]) -> list[Waypoint]:
     xs = [sim.vehicle.x, *(p.x for p in points)]
     ys = [sim.vehicle.y, *(p.y for p in points)]
     lats, lons = sim.world.frame.to_latlon(xs, ys)
-    _, _, metres = GEOD.inv(lons[:-1], lats[:-1], lons[1:], lats[1:])
+    _, _, metres = geod().inv(lons[:-1], lats[:-1], lons[1:], lats[1:])
     for k, p in enumerate(points):
         planar = math.dist((xs[k], ys[k]), (xs[k + 1], ys[k + 1]))
         p.geo_m = float(metres[k]) if planar > 1e-9 else 0.0

@@ -18,7 +18,7 @@ from sqlalchemy.orm import defer
 from ..approvals.signer import LogSigner
 from ..errors import Conflict, Invalid
 from ..orders.canonical import digest_of_json, orders_to_json
-from ..orders.model import Orders
+from ..orders.model import Orders, declares_probabilities
 from ..orders.reader import orders_from_data, read_json
 from ..store import missions as store
 from ..store.accounts import username_of
@@ -37,7 +37,7 @@ from ..verify.paths import (
     iter_path_lines,
     iter_paths,
 )
-from ..verify.probability import declares_probabilities, path_probability_bounds
+from ..verify.probability import path_probability_bounds
 from ..verify.refine import checked_form
 
 

@@ -13,18 +13,19 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
-
-import numpy as np
-import shapely
-from shapely.geometry import LineString, Polygon
-from shapely.geometry.base import BaseGeometry
+from typing import TYPE_CHECKING
 
 from ..orders.findings import Finding, error, warning
 from ..orders.model import OUTCOMES, Area, Chart, Orders
 from .expressions import ExprError, Facts, fold, parse
 from .graph import MissionGraph, build_graph
-from .land import land_hits
 from .legs import Frame, Leg, MissionLegs, Place, mission_legs
+
+if TYPE_CHECKING:
+    # Loaded by the checks of a mission with areas (legs.py), not by this module.
+    import shapely
+    from shapely.geometry import LineString, Polygon
+    from shapely.geometry.base import BaseGeometry
 
 MAX_FINDINGS = 500
 FORBIDDING_TAGS = {"keep_out": "keep-out area", "land": "land"}
@@ -102,11 +103,15 @@ def regions(orders: Orders, frame: Frame) -> list[Region]:
 
 def crosses(leg: LineString, shape: Polygon) -> bool:
     """The leg passes through the area's interior and also runs outside it."""
+    import shapely
+
     return bool(shapely.crosses(leg, shape))
 
 
 def enters(geometry: BaseGeometry, shape: Polygon) -> bool:
     """Some part of a sweep, loiter or station lies in the area's interior."""
+    import shapely
+
     return bool(shapely.relate_pattern(geometry, shape, "T********"))
 
 
@@ -199,6 +204,8 @@ def check_geo(orders: Orders, graph: MissionGraph | None = None,
     zones = regions(orders, frame)
     findings: list[Finding] = []
     if zones:
+        import shapely
+
         tree = shapely.STRtree([z.shape for z in zones])
         findings.extend(_leg_findings(found_legs, where, zones, tree, rules, paths))
         findings.extend(_place_findings(where, zones, tree, rules))
@@ -215,6 +222,9 @@ def _leg_findings(found_legs: list[Leg], where: dict[str, Place], zones: list[Re
                   tree: shapely.STRtree, rules: Rules, paths: _Paths) -> list[Finding]:
     if not found_legs:
         return []
+    import numpy as np
+    import shapely
+
     lines = np.array([leg.line for leg in found_legs], dtype=object)
     leg_idx, zone_idx = tree.query(lines, predicate="intersects")
     if len(leg_idx) == 0:
@@ -275,6 +285,8 @@ def _place_findings(where: dict[str, Place], zones: list[Region], tree: shapely.
 
 def _land_findings(frame: Frame, found_legs: list[Leg], where: dict[str, Place],
                    paths: _Paths) -> list[Finding]:
+    from .land import land_hits  # numpy and the land mask
+
     findings = []
     for leg, hit in zip(found_legs, land_hits(frame, [leg.line for leg in found_legs]),
                         strict=True):

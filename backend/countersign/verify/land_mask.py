@@ -4,15 +4,23 @@ The package holds a 21,600 x 43,200 boolean grid (about 1 km cells) that its own
 decompresses into 933 MB at import. Here the grid is streamed once out of the package's npz into
 bit-packed bands of BAND_ROWS rows (a few MB in all, in the user cache directory or
 COUNTERSIGN_LAND_MASK_CACHE) and each band is loaded when a point falls in it.
+
+The cache is one file: MAGIC, the length of a JSON index (4 bytes, big-endian), the index (the
+axes' four numbers each, and each band's offset and length after the index), then the bands,
+each its packed bits zlib-compressed. A lookup reads the index and its bands' bytes; an npz
+(v2) had each lookup parse a zip directory of 360-odd members and load a codec for their names,
+about a tenth of what `countersign validate` spent on land.
 """
 
 from __future__ import annotations
 
 import importlib.util
+import json
 import os
 import tempfile
 import threading
 import zipfile
+import zlib
 from pathlib import Path
 from typing import Any
 
@@ -25,9 +33,12 @@ ROWS, COLS = 21_600, 43_200
 # Half a degree of latitude: a band is inflated from the cache when a point falls in it, and a
 # band of 600 rows (v1) took about 9 ms of CPU of every `countersign validate`, 60 rows about 1.
 BAND_ROWS = 60
-CACHE_NAME = "land-mask-v2.npz"
+PACKED_COLS = (COLS + 7) // 8
+CACHE_NAME = "land-mask-v3.bin"
+MAGIC = b"countersign-land-mask-v3\n"
 _LOCK = threading.Lock()
 _ARRAYS: dict[str, np.ndarray] = {}  # the cache's arrays read so far, by name
+_INDEX: dict[str, Any] = {}  # the cache's index, once read
 
 
 def _package_file() -> Path:
@@ -65,29 +76,56 @@ def _build(target: Path) -> None:
                 raw = stream.read(BAND_ROWS * COLS)
                 rows = np.frombuffer(raw, dtype=np.uint8).reshape(BAND_ROWS, COLS)
                 bands[f"b{band}"] = np.packbits(rows.astype(bool), axis=1)
+    _write(target, bands)
+
+
+def _write(target: Path, bands: dict[str, np.ndarray]) -> None:
+    """The cache file (see the module's doc) of the axes and the packed bands, written whole
+    under another name and then renamed, so that a reader never sees half of it."""
+    blobs = [zlib.compress(bands[f"b{band}"].tobytes(), 6) for band in range(ROWS // BAND_ROWS)]
+    spans, at = [], 0
+    for blob in blobs:
+        spans.append([at, len(blob)])
+        at += len(blob)
+    index = json.dumps({"lat": bands["lat"].tolist(), "lon": bands["lon"].tolist(),
+                        "bands": spans}).encode()
     target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=target.parent, suffix=".npz")
-    os.close(fd)
-    np.savez_compressed(tmp, **bands)  # type: ignore[arg-type]
+    fd, tmp = tempfile.mkstemp(dir=target.parent, suffix=".bin")
+    with os.fdopen(fd, "wb") as out:
+        out.write(MAGIC + len(index).to_bytes(4, "big") + index)
+        out.writelines(blobs)
     os.replace(tmp, target)
 
 
-def _archive() -> Any:
+def _read(names: list[str]) -> dict[str, np.ndarray]:
     path = cache_path()
     if not path.exists():
         _build(path)
-    return np.load(path)
+    with path.open("rb") as handle:
+        if not _INDEX:
+            if handle.read(len(MAGIC)) != MAGIC:
+                raise RuntimeError(f"{path} is not a land mask cache; delete it to rebuild it")
+            size = int.from_bytes(handle.read(4), "big")
+            _INDEX.update(json.loads(handle.read(size)), start=len(MAGIC) + 4 + size)
+        found: dict[str, np.ndarray] = {}
+        for name in names:
+            if name in ("lat", "lon"):
+                found[name] = np.array(_INDEX[name], dtype=float)
+                continue
+            offset, length = _INDEX["bands"][int(name.removeprefix("b"))]
+            handle.seek(_INDEX["start"] + offset)
+            bits = np.frombuffer(zlib.decompress(handle.read(length)), dtype=np.uint8)
+            found[name] = bits.reshape(BAND_ROWS, PACKED_COLS)
+        return found
 
 
 def _arrays(*names: str) -> list[np.ndarray]:
     """The named arrays of the cache (a band `b<index>`'s bits still packed eight cells to a
-    byte: unpacked, a band is 2.6 MB), those not read before read with one opening of it (an
-    opening reads the index of its 360-odd members)."""
+    byte: unpacked, a band is 2.6 MB), those not read before read with one opening of it."""
     with _LOCK:
         missing = [name for name in names if name not in _ARRAYS]
         if missing:
-            with _archive() as data:
-                _ARRAYS.update((name, data[name]) for name in missing)
+            _ARRAYS.update(_read(missing))
         return [_ARRAYS[name] for name in names]
 
 

@@ -13,14 +13,17 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from functools import lru_cache
-
-import numpy as np
-import shapely
-from pyproj import Geod, Transformer
-from shapely.geometry import LineString, Point, Polygon
+from functools import cache, lru_cache
+from typing import TYPE_CHECKING
 
 from ..orders.model import OUTCOMES, Area, Goal, Orders
+
+if TYPE_CHECKING:
+    # numpy, shapely and pyproj load when a mission has areas (`mission_legs` of orders
+    # without any imports none of them).
+    import numpy as np
+    from pyproj import Geod, Transformer
+    from shapely.geometry import LineString, Point, Polygon
 
 SEARCH_BEHAVIORS = frozenset({"area_search", "search", "survey", "patrol", "coverage"})
 TRANSECT_BEHAVIORS = frozenset({"transect"})  # one run along the area's long side
@@ -28,8 +31,15 @@ DEFAULT_SWATH_M = 200.0  # as the rehearsal's simulation
 MAX_SWEEP_LINES = 200
 DEFAULT_LOITER_RADIUS_M = 100.0
 MAX_LOITER_RADIUS_M = 50_000.0
-GEOD = Geod(ellps="WGS84")
 LatLon = tuple[float, float]
+
+
+@cache
+def geod() -> Geod:
+    """Geodesics on WGS84."""
+    from pyproj import Geod
+
+    return Geod(ellps="WGS84")
 
 
 @dataclass(frozen=True)
@@ -39,11 +49,15 @@ class Frame:
 
     def to_xy(self, lats: Sequence[float] | np.ndarray,
               lons: Sequence[float] | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        import numpy as np
+
         xs, ys = _forward(self.lat0, self.lon0).transform(np.asarray(lons), np.asarray(lats))
         return np.asarray(xs), np.asarray(ys)
 
     def to_latlon(self, xs: Sequence[float] | np.ndarray,
                   ys: Sequence[float] | np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        import numpy as np
+
         lons, lats = _forward(self.lat0, self.lon0).transform(
             np.asarray(xs), np.asarray(ys), direction="INVERSE")
         return np.asarray(lats), np.asarray(lons)
@@ -53,6 +67,8 @@ class Frame:
 
     def polygons(self, rings: Sequence[Sequence[LatLon]]) -> list[Polygon | None]:
         """Areas' polygons in the frame (one projection call for all of them)."""
+        import numpy as np
+
         flat = [p for ring in rings for p in ring]
         if not flat:
             return [None] * len(rings)
@@ -68,6 +84,9 @@ class Frame:
 
 def _shape(coords: np.ndarray) -> Polygon | None:
     """The polygon, repaired if it self-intersects; None if degenerate."""
+    import shapely
+    from shapely.geometry import Polygon
+
     shape = Polygon(coords)
     if not shape.is_valid:
         repaired = shapely.make_valid(shape)
@@ -85,6 +104,8 @@ def _forward(lat0: float, lon0: float) -> Transformer:
     PROJ's database costs about 2 % of a `countersign validate` process, the pipeline nothing
     (tests/unit/test_geo.py holds it to `Transformer.from_crs` bit for bit).
     """
+    from pyproj import Transformer
+
     return Transformer.from_pipeline(
         "+proj=pipeline +step +proj=unitconvert +xy_in=deg +xy_out=rad "
         f"+step +proj=aeqd +lat_0={lat0!r} +lon_0={lon0!r} +x_0=0 +y_0=0 +ellps=WGS84")
@@ -135,6 +156,8 @@ def _number(goal: Goal, *names: str) -> float | None:
 
 def sweep(shape: Polygon, swath_m: float) -> LineString | None:
     """Lawn-mower lines along the longer side of the bounding box, clipped to the area."""
+    from shapely.geometry import LineString
+
     x0, y0, x1, y1 = shape.bounds
     along_x = (x1 - x0) >= (y1 - y0)
     across = (y1 - y0) if along_x else (x1 - x0)
@@ -204,7 +227,7 @@ def _track_m(frame: Frame, behavior: str, swath: float | None,
         return None
     xs, ys = zip(*track.coords, strict=True)
     lats, lons = frame.to_latlon(xs, ys)
-    return float(GEOD.line_length(lons, lats))
+    return float(geod().line_length(lons, lats))
 
 
 def places(orders: Orders, frame: Frame) -> dict[str, Place]:
@@ -223,6 +246,8 @@ def places(orders: Orders, frame: Frame) -> dict[str, Place]:
 
 def legs(orders: Orders, frame: Frame, where: dict[str, Place]) -> list[Leg]:
     """One leg per outcome edge between two goals that both have a place."""
+    from shapely.geometry import LineString
+
     pending: list[tuple[str, str, str, tuple[float, float], tuple[float, float]]] = []
     seen: set[str] = set()
     for goal in orders.goals:
@@ -242,7 +267,7 @@ def legs(orders: Orders, frame: Frame, where: dict[str, Place]) -> list[Leg]:
     ys1 = [p[4][1] for p in pending]
     lat0, lon0 = frame.to_latlon(xs0, ys0)
     lat1, lon1 = frame.to_latlon(xs1, ys1)
-    _, _, lengths = GEOD.inv(lon0, lat0, lon1, lat1)
+    _, _, lengths = geod().inv(lon0, lat0, lon1, lat1)
     return [
         Leg(g, o, t, LineString([a, b]), (float(lat0[i]), float(lon0[i])),
             (float(lat1[i]), float(lon1[i])), float(lengths[i]))

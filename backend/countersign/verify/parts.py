@@ -71,6 +71,8 @@ class PartsCache:
     """Report parts by key, bounded (least recently used first out) and thread-safe. Values
     are shared between reports: never mutate one."""
 
+    keeps = True
+
     def __init__(self, max_entries: int = 256) -> None:
         self._data: LRUCache[str, Any] = LRUCache(max_entries)
         self._lock = threading.Lock()
@@ -106,8 +108,26 @@ class PartsCache:
             self._data.clear()
 
 
+class NoParts(PartsCache):
+    """Keeps nothing, so validating with it computes no keys: for a process that validates
+    once and ends (the command line), where the keys (a serialisation of the orders per part
+    and the checker fingerprint's read of the package) would cost more than they can save."""
+
+    keeps = False
+
+    def get(self, name: str, key: str) -> Any:
+        return None
+
+    def put(self, name: str, key: str, value: Any) -> None:
+        return None
+
+
+# The keys validate uses with a store that keeps nothing (NoParts): it never reads them.
+UNKEYED = PartKeys("", "", "", "")
+
 # One cache per process: in-process callers (command line, tests, the validation processes)
 # reuse the parts of earlier validations of the same mission.
 SHARED_PARTS = PartsCache()
 
-__all__ = ["PART_NAMES", "SHARED_PARTS", "PartKeys", "PartsCache", "part_keys"]
+__all__ = ["PART_NAMES", "SHARED_PARTS", "UNKEYED", "NoParts", "PartKeys", "PartsCache",
+           "part_keys"]

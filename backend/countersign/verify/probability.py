@@ -107,11 +107,6 @@ class Probabilities:
         }
 
 
-def declares_probabilities(orders: Orders) -> bool:
-    return any(g.p is not None for g in orders.goals) or any(
-        v.p for v in orders.vehicles)
-
-
 def goal_probabilities(orders: Orders, graph: MissionGraph) -> list[OutcomeProbabilities | None]:
     """Each goal's outcome probabilities: its own, else its vehicle's for the behaviour."""
     vehicle = orders.target_vehicle()

@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING, Any
 from ..orders.canonical import digest
 from ..orders.defaults import defaulted_findings
 from ..orders.findings import Finding
-from ..orders.model import Orders
+from ..orders.model import Orders, declares_probabilities
 from . import fingerprint
 from .budget import WorstPath, check_budget, worst_paths
 from .geo import check_geo
@@ -29,20 +29,20 @@ from .graph import MissionGraph, build_graph
 from .legs import mission_legs
 from .logic import THREAD_CLOCKS, Clocks, Limits, LogicCache, check_logic
 from .meo.direct import meo_only_findings
-from .parts import SHARED_PARTS, PartKeys, PartsCache, part_keys
+from .parts import SHARED_PARTS, UNKEYED, PartKeys, PartsCache, part_keys
 from .paths import PathCounts, count_paths
-from .patterns import check_patterns
-from .probability import Probabilities, declares_probabilities, outcome_probabilities
-from .procedures import procedure_findings
 from .refine import Flat, dedupe_copies, flat_graph, flatten, has_refinements, refine_findings
-from .report_document import PathSummary, ReportDocument
 from .rules_design import rules_findings
 from .structure import check_structure
 from .text import check_text
 from .vehicle import check_vehicle
 
 if TYPE_CHECKING:
+    # The checks of what a mission may not have (path patterns, outcome probabilities,
+    # procedures) load when it has them, the JSON document when asked for.
     from .meo.reasoned import MeoResult
+    from .probability import Probabilities
+    from .report_document import ReportDocument
     from .team_report import TeamSummary
 
 # The MEO route re-derives the structural verdicts too (tests prove both routes agree); the
@@ -95,6 +95,8 @@ class Report:
 
     def document(self, explain: bool = False) -> ReportDocument:
         """The report as its JSON document (verify/report_document.py)."""
+        from .report_document import PathSummary, ReportDocument
+
         paths = self.paths
         return ReportDocument(
             mission=self.mission, digest=self.digest, ok=self.ok,
@@ -127,10 +129,11 @@ def validate(
 ) -> Report:
     """Every check on the orders. `parts` (default: one cache shared by the process) holds
     the report parts of earlier validations by the digest of what they read; pass a fresh
-    PartsCache to validate from scratch. `keys` and `orders_digest`, when the caller computed
-    them already, save computing them again. The solver may spend `solver_budget_s` seconds
-    of this thread's CPU time and stops at `solver_wall_cap_s` of wall time (default: 4 times
-    the budget) in any case; `solver_clocks` are where both are read."""
+    PartsCache to validate from scratch (a NoParts: from scratch, keeping nothing). `keys` and
+    `orders_digest`, when the caller computed them already, save computing them again. The
+    solver may spend `solver_budget_s` seconds of this thread's CPU time and stops at
+    `solver_wall_cap_s` of wall time (default: 4 times the budget) in any case;
+    `solver_clocks` are where both are read."""
     if orders.team is not None:
         from .team_report import validate_team
 
@@ -140,7 +143,8 @@ def validate(
                              parts=parts, orders_digest=orders_digest)
     cache = logic_cache if logic_cache is not None else SHARED_LOGIC_CACHE
     store = parts if parts is not None else SHARED_PARTS
-    keys = keys if keys is not None else part_keys(orders)
+    if keys is None:
+        keys = part_keys(orders) if store.keeps else UNKEYED
     # Refined orders are checked in their flat form: paths, costs and properties
     # on the unrolled mission, the per-goal checks once per goal of the orders.
     flat = flatten(orders) if has_refinements(orders) else None
@@ -194,7 +198,10 @@ def _assembled(orders: Orders, reader_findings: Sequence[Finding], core: CorePar
                orders_digest: str | None) -> Report:
     """The report from its parts, its findings in the order the report lists them."""
     findings = list(reader_findings)
-    findings.extend(procedure_findings(orders))  # PROCEDURE: references not as pinned
+    if has_refinements(orders):  # a procedure is named by a goal's refinement
+        from .procedures import procedure_findings
+
+        findings.extend(procedure_findings(orders))  # PROCEDURE: references not as pinned
     # Warnings an importer recorded in the orders (NPS default handlers) stay in every report;
     # the reader returns them too, so those already given are not repeated.
     given = {(f.code, f.subjects, f.message) for f in findings}
@@ -238,9 +245,16 @@ def _core(orders: Orders, graph: MissionGraph, flat: Flat | None = None) -> Core
                    *check_geo(checked, graph, legs)]
     if flat is not None:
         descriptive = dedupe_copies(descriptive)
-    design = [*rules_findings(orders), *check_patterns(checked, graph, legs=legs)]
-    probabilities = (outcome_probabilities(checked, graph, legs)
-                     if counts is not None and declares_probabilities(checked) else None)
+    design = list(rules_findings(orders))
+    if checked.properties:
+        from .patterns import check_patterns
+
+        design.extend(check_patterns(checked, graph, legs=legs))
+    probabilities = None
+    if counts is not None and declares_probabilities(checked):
+        from .probability import outcome_probabilities
+
+        probabilities = outcome_probabilities(checked, graph, legs)
     return CorePart(defaulted_findings(orders), structural, descriptive, design, counts, costs,
                     probabilities)
 

@@ -51,7 +51,7 @@ if TYPE_CHECKING:
     from ..verify.parts import PartKeys
 
 NICENESS = 5  # below the web processes: reads first, validations in the gaps
-CHECKS_MODULE = "countersign.verify.report"
+CHECKS_MODULE = "countersign.verify.every_check"  # the checks and what they load on demand
 WARM_EXAMPLE = "search-and-sample"
 # How long the app's start waits for its validation processes to warm up.
 WARM_WAIT_S = 60.0
@@ -86,9 +86,11 @@ def _rss() -> int:
 
 
 def _warm() -> int:
-    """Run every check once on a small example: the first real job then finds z3 loaded and
-    the checks' lazily imported code imported. The process id."""
+    """Run every check once on a small example, with every check's code loaded (the
+    forkserver's preload, or here): the first real job then finds z3 and the checks' lazily
+    imported code imported. The process id."""
     from ..orders.examples import load_example
+    from ..verify import every_check  # noqa: F401
     from ..verify.logic import LogicCache
     from ..verify.parts import PartsCache
     from ..verify.report import validate

@@ -27,9 +27,10 @@ def team_example_names() -> list[str]:
 
 
 def example_bytes(name: str) -> bytes:
-    for package, names in ((__name__, example_names()),
-                           (f"{__name__}.teams", team_example_names())):
-        if name in names:
+    # The teams' folder is listed only for a name that is not among the others.
+    for package, names in ((__name__, example_names),
+                           (f"{__name__}.teams", team_example_names)):
+        if name in names():
             return resources.files(package).joinpath(f"{name}.json").read_bytes()
     choices = example_names() + team_example_names()
     raise KeyError(f"no built-in example named {name!r}; choose one of {choices}")

@@ -123,7 +123,14 @@ class LogicRun:
         session = self.session
 
         def check(items: list[Item]) -> CheckResult:
-            return session.check(items) if base is None else self.screened(items, base)
+            if base is not None:
+                return self.screened(items, base)
+            # A scope's first check that bounds propagation proves satisfiable waits for z3's
+            # next call (if any: a mission whose every unit bounds settle never loads z3).
+            if GROUP_CHECKS and not session.entered and self._proven(items):
+                session.owe_check(items)
+                return CheckResult("sat")
+            return session.check(items)
 
         def unique(items: list[Item]) -> list[Item] | None:
             # The unit's only core, when bounds.py proves there is one (unique.py): z3 and
@@ -321,9 +328,18 @@ class LogicRun:
             key = unit_key("vacuous", items)
             if self.cache.get(key) is None:
                 pending.append((key, items))
-        if len(pending) < 2:
+        groups = [items for _, items in pending]
+        if groups and GROUP_CHECKS and all(self._proven(items) for items in groups):
+            # z3 makes the call (of one group: `vacuous`'s check) before its next one, if any.
+            if len(groups) == 1:
+                self.session.owe_check(groups[0])
+            else:
+                self.session.owe_groups(groups)
+            shown = [True] * len(groups)
+        elif len(pending) < 2:
             return
-        shown = self.session.satisfiable_groups([items for _, items in pending])
+        else:
+            shown = self.session.satisfiable_groups(groups)
         for (key, _), sat in zip(pending, shown, strict=True):
             if sat:
                 self.cache.put(key, VacuousResult(None, None))

@@ -19,6 +19,7 @@ as without the screen: the screen only ever spares a check whose outcome it has 
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
+from functools import cached_property
 from typing import Any
 
 from ...orders.model import Quantity
@@ -32,13 +33,10 @@ from .session import _z3
 
 class Screen:
     """One z3 context and solver for status-only checks (one per logic model, like the
-    session, so check_logic and check_properties on one version share parsed terms)."""
+    session, so check_logic and check_properties on one version share parsed terms), made at
+    the first check that bounds propagation leaves to z3."""
 
     def __init__(self, quantities: dict[str, Quantity], limits: Limits) -> None:
-        z3 = _z3()
-        self.z3 = z3
-        self.ctx = z3.Context()
-        self.solver = z3.SimpleSolver(ctx=self.ctx)
         self.limits = limits
         self.translator = Translator(quantities)
         # Units that bounds propagation settles take no z3 check at all.
@@ -56,6 +54,18 @@ class Screen:
         self._base_texts: frozenset[str] = frozenset()
         self.calls = 0
         self.shared = 0
+
+    @cached_property
+    def z3(self) -> Any:
+        return _z3()
+
+    @cached_property
+    def ctx(self) -> Any:
+        return self.z3.Context()
+
+    @cached_property
+    def solver(self) -> Any:
+        return self.z3.SimpleSolver(ctx=self.ctx)
 
     def _text(self, item: Item) -> str:
         text = self._texts[item] = item.formula(self.translator)

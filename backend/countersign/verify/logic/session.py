@@ -6,6 +6,7 @@ from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass
 from fractions import Fraction
+from functools import cached_property
 from typing import Any, Literal
 
 from ...orders.model import Quantity
@@ -33,13 +34,10 @@ class CheckResult:
 
 class Session:
     """A z3 context and an incremental solver. Shared items are asserted once at the base
-    level; goal-specific items inside a push/pop scope."""
+    level; goal-specific items inside a push/pop scope. z3 itself is loaded and the context
+    made at the first check: a run whose units bounds propagation settles makes none."""
 
     def __init__(self, quantities: dict[str, Quantity], limits: Limits) -> None:
-        z3 = _z3()
-        self.z3 = z3
-        self.ctx = z3.Context()
-        self.solver = z3.SimpleSolver(ctx=self.ctx)
         self.limits = limits
         self.translator = Translator(quantities)
         self._timeout: int | None = None
@@ -58,12 +56,28 @@ class Session:
         self._pending: Iterable[Item] | None = None
         self._pushed = False
         self._batches = 0
+        # Calls that bounds propagation answered (`owe_check`, `owe_groups`), made in z3 all
+        # the same before its next call: which of several cores z3 names depends on what the
+        # solver took in before, and must not depend on which answers bounds gave.
+        self._owed: list[Callable[[], object]] = []
         self.calls = 0
         self.undecided = False
         # Proves some item sets satisfiable without z3 (bounds.py, set by the run); a core's
         # shrinking asks it first. Only "sat" is taken from it: an unsatisfiable subset's
         # core still comes from z3, so the shrinking takes the steps it takes without it.
         self.proven: Callable[[Sequence[Item]], bool] | None = None
+
+    @cached_property
+    def z3(self) -> Any:
+        return _z3()
+
+    @cached_property
+    def ctx(self) -> Any:
+        return self.z3.Context()
+
+    @cached_property
+    def solver(self) -> Any:
+        return self.z3.SimpleSolver(ctx=self.ctx)
 
     def _indicator(self, item: Item) -> tuple[str, bool]:
         name = self._indicators.get(item.key)
@@ -134,8 +148,42 @@ class Session:
         if self._pending is not None:
             self._enter(self._pending)
 
+    @property
+    def entered(self) -> bool:
+        """Whether the current scope's items are asserted (a check ran in it)."""
+        return self._pushed
+
+    def owe_check(self, items: Sequence[Item]) -> None:
+        """A check in a scope of its own (or the first of the current scope), proven
+        satisfiable without z3: z3 makes it before its next call, in a scope of its own."""
+        assert not self._pushed
+        self._owed.append(lambda: self._replay_check(list(items)))
+
+    def owe_groups(self, groups: Sequence[Sequence[Item]]) -> None:
+        """A `satisfiable_groups` call whose every group was proven satisfiable without z3."""
+        self._owed.append(lambda: self._groups([list(g) for g in groups]))
+
+    def _settle(self) -> None:
+        owed, self._owed = self._owed, []
+        undecided = self.undecided
+        for call in owed:
+            call()
+        self.undecided = undecided
+
+    def _replay_check(self, items: list[Item]) -> None:
+        pending = self._pending  # the scope now open: entered at its own first check
+        self._enter(items)
+        self._check(items)
+        self.solver.pop()
+        self._pending, self._pushed = pending, False
+
     def check(self, items: Sequence[Item]) -> CheckResult:
+        if self._owed:
+            self._settle()
         self.ready()
+        return self._check(items)
+
+    def _check(self, items: Sequence[Item]) -> CheckResult:
         z3 = self.z3
         timeout = self.limits.call_timeout_ms()
         if timeout <= 0:
@@ -175,10 +223,15 @@ class Session:
         ask for a model of "some group holds", mark every group that model satisfies, and
         ask again for the rest. False means not shown (unsatisfiable or undecided): the caller
         checks those one by one, so results are those of one check per group."""
+        assert not self.in_scope
+        if self._owed:
+            self._settle()
+        return self._groups(groups)
+
+    def _groups(self, groups: Sequence[Sequence[Item]]) -> list[bool]:
         shown = [False] * len(groups)
         if not groups or self.limits.call_timeout_ms() <= 0:
             return shown
-        assert not self.in_scope
         z3 = self.z3
         formulas = []
         for group in groups:
