@@ -152,12 +152,12 @@ class _Callspec:
 
 def test_markers_follow_folders_and_fixtures(request: pytest.FixtureRequest) -> None:
     items = [_Item(TESTS / "e2e" / "test_editor.py"),
-             _Item(TESTS / "api" / "test_roles.py", ("database_url",),
+             _Item(TESTS / "web" / "test_roles.py", ("database_url",),
                    _Callspec({"database_url": "postgresql"})),
-             _Item(TESTS / "api" / "test_roles.py", ("database_url",),
+             _Item(TESTS / "web" / "test_roles.py", ("database_url",),
                    _Callspec({"database_url": "sqlite"})),
              _Item(TESTS / "campaigns" / "test_campaign_kill.py", ("postgres",)),
-             _Item(TESTS / "api" / "test_fuzz.py")]
+             _Item(TESTS / "web" / "test_fuzz.py")]
     markers.mark_items(items)  # type: ignore[arg-type]
     assert [item.markers for item in items] == [
         ["browser"], ["postgres"], [], ["slow", "postgres"], ["slow"]]
