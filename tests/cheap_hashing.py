@@ -6,7 +6,7 @@ code and its settings are untouched: the default parameters are what `countersig
 every subprocess server started by a test use.
 
 Tests that inspect or patch the real hasher (counting the throttle's hashes, checking the stored
-parameters) keep it: mark them `production_hashing` (tests/api/test_suite_fixtures.py refuses a
+parameters) keep it: mark them `production_hashing` (tests/web/test_suite_fixtures.py refuses a
 test module that patches HASHER without that marker)."""
 
 from __future__ import annotations

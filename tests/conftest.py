@@ -1,3 +1,13 @@
+"""The suite's root: markers, ids and worker order for every test (below), and where tests live.
+
+Folders mirror the packages: tests/<package> holds the tests of backend/countersign/<package>,
+by the package a module exercises (the one its docstring is about; a module spanning several
+without one subject goes to the outermost). tests/web holds the API tests (its conftest.py gives
+them the `world`); tests/core the top-level modules (errors, limits, settings, strict_json,
+ontology_files); tests/codebase rules over the whole code and the suite; tests/e2e, bench and
+oracles keep folders of their own. tests/codebase/test_suite_layout.py holds this, with the
+reason for each exception. Helpers sit beside the tests that use them, or here at the top."""
+
 from __future__ import annotations
 
 import os

@@ -10,7 +10,7 @@ revision and the template's stamp) and the schema is rebuilt and migrated again.
 
 Each template carries a stamp of the session (SQLite `PRAGMA user_version`, a comment on the
 PostgreSQL schema) so that a test can tell a template database from a fresh one
-(tests/api/test_suite_fixtures.py)."""
+(tests/web/test_suite_fixtures.py)."""
 
 from __future__ import annotations
 

@@ -16,7 +16,7 @@ import pytest
 TESTS = Path(__file__).resolve().parent
 BROWSER_FOLDERS = ("e2e",)
 SLOW_MODULES = (
-    "api/test_fuzz.py",  # schemathesis over every operation, roles and scenarios
+    "web/test_fuzz.py",  # schemathesis over every operation, roles and scenarios
     "campaigns/test_campaign_kill.py",  # real campaign processes killed and resumed
     "export/test_moos_helm.py",  # builds and runs MOOS-IvP's helm
 )

@@ -4,7 +4,7 @@ pytest 9.2 builds a test function's id from its `originalname` and its callspec,
 schemathesis makes per API operation (named `test_x[GET /api/...]`, no callspec) all get the
 id `test_x`. Under pytest-xdist, which hands out tests by id, 184 fuzz items then ran as two:
 the role sweep took 0.5 s instead of minutes. The id is rebuilt from the item's name;
-tests/unit/test_node_ids.py fails when pytest or schemathesis change this."""
+tests/codebase/test_node_ids.py fails when pytest or schemathesis change this."""
 
 from __future__ import annotations
 

@@ -32,12 +32,12 @@ TESTS = Path(__file__).resolve().parent
 # The longest modules and folders of a CI run (`--durations`, ci10.log), longest first.
 HEAVY_FIRST = (
     "export/test_moos_team.py",
-    "api/test_fuzz.py",
+    "web/test_fuzz.py",
     "export/test_moos_helm.py",
     "e2e/",
-    "api/test_fair_across_workers.py",
-    "api/test_approval_process.py",
-    "api/test_fair.py",
+    "web/test_fair_across_workers.py",
+    "web/test_approval_process.py",
+    "web/test_fair.py",
     "campaigns/",
 )
 

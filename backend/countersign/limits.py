@@ -2,7 +2,7 @@
 
 A leaf module (it imports nothing of ours), so that every layer uses the same number by name:
 the reader and the web app's body limit, the approval store and the package verifier's clock
-allowance, the decision rule and the route's request model. tests/unit/test_limits.py refuses
+allowance, the decision rule and the route's request model. tests/core/test_limits.py refuses
 the literals of these limits anywhere else.
 """
 

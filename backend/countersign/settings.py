@@ -1,7 +1,7 @@
 """Every setting Countersign reads from the environment, in this one module (pydantic).
 
 Each `COUNTERSIGN_*` variable is a field below, under its own name; nothing else in the package
-reads the environment (tests/unit/test_settings_place.py). The variables are read in groups,
+reads the environment (tests/core/test_settings_place.py). The variables are read in groups,
 each when its user needs it, as before: the server's when a server or command opens the
 database (`Settings.from_environment`), the log key's when the log signer opens, the password
 limit when the throttle is imported, the installation paths when a file is looked up, the
@@ -14,7 +14,7 @@ line as well as the web app) takes its settings from here.
 Each group is a plain pydantic model validated from the environment's variables, not a
 pydantic-settings class: pydantic-settings imports asyncio, dotenv and its cloud providers,
 about a tenth of a `countersign validate` process, which reads one path from here (the land
-mask's cache). tests/unit/test_settings_reading.py holds the two readings equal.
+mask's cache). tests/core/test_settings_reading.py holds the two readings equal.
 """
 
 from __future__ import annotations

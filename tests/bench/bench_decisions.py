@@ -27,7 +27,7 @@ from countersign.store.db import Database
 from countersign.store.hashing import HASHER
 from countersign.store.missions import create_mission
 from countersign.web.app import create_app
-from tests.api.approval_helpers import Signer, prepare, register_key, sign_prepared
+from tests.web.approval_helpers import Signer, prepare, register_key, sign_prepared
 
 PASSWORD = "correct horse battery staple"
 MISSION = "search-and-sample"

@@ -1,6 +1,7 @@
 """How fast hostile input is refused: the wall-clock figures that used to be
-assertions in tests/unit (test_avcl < 0.5 s, test_expressions < 1 s, test_logic < 5 s and
-< 10 s), printed here instead, because a bound on a shared, busy machine is a flaky test.
+assertions in tests/orders and tests/verify (test_avcl < 0.5 s, test_expressions < 1 s,
+test_logic < 5 s and < 10 s), printed here instead, because a bound on a shared, busy machine
+is a flaky test.
 
 Run: .venv/bin/python -m tests.bench.bench_fail_fast
 """
@@ -12,7 +13,8 @@ from collections.abc import Callable
 
 import pytest
 
-from tests.unit import test_avcl, test_expressions, test_logic
+from tests.orders import test_avcl
+from tests.verify import test_expressions, test_logic
 
 
 def _time(action: Callable[[], object]) -> float:

@@ -39,7 +39,7 @@ REQUIREMENTS = ("transit", "area_search", "sample", "rendezvous")
 
 def naive_closure(graph: Graph) -> Graph:
     """The textbook route: owlrl's OWL 2 RL closure of all of meo.ttl and every triple.
-    Quadratic or worse in goals; the oracle of tests/unit/test_meo.py on small orders and the
+    Quadratic or worse in goals; the oracle of tests/verify/test_meo.py on small orders and the
     baseline here."""
     closed = Graph()
     for triple in load_graph(MEO_FILE):

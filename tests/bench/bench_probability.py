@@ -113,7 +113,7 @@ def bench_probabilities() -> None:
               f"float DP of one terminal {CPU['float'] * 1000:6.1f} ms")
         if size == 10_000:
             try:
-                from tests.unit.prob_oracles import storm_figures
+                from tests.verify.prob_oracles import storm_figures
             except ImportError:
                 print("  stormpy is not installed: no Storm baseline")
                 continue

@@ -1,5 +1,5 @@
 """Refinement: counting the refined exemplar's paths by dynamic programming over its
-flat unrolling beside enumerating them with the brute force of tests/unit/refine_brute.py, as
+flat unrolling beside enumerating them with the brute force of tests/verify/refine_brute.py, as
 the time-out grows. Prints times and their ratio (same process, same machine); never asserts.
 
     .venv/bin/python -m tests.bench.bench_refine
@@ -15,7 +15,7 @@ from countersign.orders.model import Orders
 from countersign.orders.reader import read_json
 from countersign.verify.paths import count_paths
 from countersign.verify.refine import checked_form
-from tests.unit.refine_brute import runs
+from tests.verify.refine_brute import runs
 
 
 def _orders(steps: int) -> Orders:

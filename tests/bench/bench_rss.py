@@ -1,6 +1,6 @@
 """RSS of the server's process tree across the bad-input run (it grew 330 -> 930 MB
 and stayed there). A real `countersign serve` on SQLite; the bad input of
-tests/api/test_bad_input.py and test_hostile_input.py (oversized, malformed, XML entities,
+tests/web/test_bad_input.py and test_hostile_input.py (oversized, malformed, XML entities,
 bad UTF-8, deep nesting, non-finite numbers, duplicate keys, huge plan coordinates, bad
 cursors and instants) plus heavy validations, sent in rounds. Printed: the tree's RSS (the
 server and every descendant, from /proc) after start-up and a warm-up round, then after each

@@ -110,7 +110,7 @@ def _server_env(data_dir: Path) -> dict[str, str]:
     env = {k: v for k, v in os.environ.items() if not k.startswith("COUNTERSIGN_")}
     env["COUNTERSIGN_DATA_DIR"] = str(data_dir)
     # The suite signs its shared accounts in many times a minute; the default limit (10 password
-    # checks per account per minute) is the API suite's to test (tests/api/test_password_throttle).
+    # checks per account per minute) is the API suite's to test (tests/web/test_password_throttle).
     env["COUNTERSIGN_PASSWORD_CHECKS_PER_MINUTE"] = "600"
     return env
 

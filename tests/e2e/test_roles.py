@@ -1,6 +1,6 @@
 """Each role signs in through the browser and sees only what that role may do.
 
-The server enforces the roles on every route (tests/api); these tests prove the app shell
+The server enforces the roles on every route (tests/web); these tests prove the app shell
 offers each role exactly its own actions, and that the server still refuses a forbidden
 action when a page's buttons are bypassed.
 """

@@ -124,7 +124,7 @@ def test_avcl_of_a_member_is_schema_valid_with_a_meeting_note(tmp_path: Path) ->
                and "vehicle-2" in n.message for n in export.notes)
     if not AVCL_SCHEMA.is_file():
         pytest.skip(f"NPS AVCL schema not found at {AVCL_SCHEMA}")
-    from tests.conformance.test_avcl_schema import assert_valid
+    from tests.export.test_avcl_schema import assert_valid
 
     etree = pytest.importorskip("lxml.etree")
     assert_valid(export.primary.content.decode(), etree.XMLSchema(etree.parse(str(AVCL_SCHEMA))),

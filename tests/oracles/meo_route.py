@@ -8,8 +8,8 @@ of countersign.verify.meo (the product keeps that for its explanation), the clos
     result.explanation                  # the product's explanation of the same reasoning
 
 The tests hold the product to it: the direct route gives the same C1, C2, M6 and M7 findings
-(tests/unit/test_meo_direct.py), the structural check the same verdicts on M1, M2, G3, G5, SINK,
-G7 and G10 (tests/unit/test_meo.py, tests/conformance/test_nps_turtle.py). Two differences from
+(tests/verify/test_meo_direct.py), the structural check the same verdicts on M1, M2, G3, G5, SINK,
+G7 and G10 (tests/verify/test_meo.py, tests/orders/test_nps_turtle.py). Two differences from
 the structural check are by construction: a start given as a one-element list is a JSON-format M1
 the MEO cannot see (it sees one start goal); loops are reported per strongly connected component
 here and per elementary cycle there (the goals on loops are the same). DUP is not an MEO rule (an

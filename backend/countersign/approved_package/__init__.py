@@ -3,5 +3,5 @@ the approval's evidence (`approvals`) in one deterministic tar (`build`), checke
 vehicle (`verify`) and unpacked only after it verifies (`unpack`).
 
 It joins `export` and `approvals`, which may not import each other, so it sits one ring above
-them (README, Development; tests/unit/test_layering.py); the store, the web app and the command
+them (README, Development; tests/codebase/test_layering.py); the store, the web app and the command
 line call in."""

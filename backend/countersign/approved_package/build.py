@@ -3,7 +3,7 @@ vehicle exports, the approval envelope, its log receipt, an inclusion proof, the
 checkpoint and the log entries it covers, so a vehicle can check offline what it loads.
 
 A package joins two packages of one ring: the vehicle files come from `export`
-(export/package.py), the evidence from `approvals`; so it sits above both (tests/unit/
+(export/package.py), the evidence from `approvals`; so it sits above both (tests/codebase/
 test_layering.py) and `export` never imports `approvals`."""
 
 from __future__ import annotations

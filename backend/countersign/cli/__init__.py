@@ -22,7 +22,7 @@ __all__ = ["UsageError", "build_parser", "main"]
 # The command groups, each a module of this package, in the order of `countersign --help`, with
 # the commands each adds. A command's own run imports and builds only its group's parser (the
 # dozen modules and 80-odd parsers of all are about 0.02 s of CPU of every command);
-# tests/unit/test_cli_startup.py holds this table to what the groups add.
+# tests/cli/test_cli_startup.py holds this table to what the groups add.
 GROUPS: dict[str, tuple[str, ...]] = {
     "orders": ("validate", "paths", "run", "export", "explain", "examples"),
     "procedures": ("procedures",),

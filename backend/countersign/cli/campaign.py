@@ -21,7 +21,7 @@ if TYPE_CHECKING:
     from ..store.db import Database
 
 # rehearse.sim.FAULTS and campaigns.spec limits, named here so that help does not import the
-# simulation (tests/unit/test_campaigns.py holds them equal).
+# simulation (tests/campaigns/test_campaign_units.py holds them equal).
 FAULTS = ("gps_loss", "nav_drift", "leak", "low_energy", "contact_close")
 MAX_SIMULATIONS = 10_000
 EXIT_NOT_FINISHED = 1

@@ -21,7 +21,7 @@ if TYPE_CHECKING:
 EXIT_OK, EXIT_FINDINGS, EXIT_UNREADABLE, EXIT_INTERNAL = 0, 1, 2, 3
 
 # The solver budget the server allows (verify.report.SOLVER_BUDGET_S; the help text shows it
-# without importing the verifier; tests/unit/test_cli_startup.py holds the two equal).
+# without importing the verifier; tests/cli/test_cli_startup.py holds the two equal).
 SOLVER_BUDGET_S = 8.0
 
 FILE_HELP = (

@@ -21,7 +21,7 @@ if TYPE_CHECKING:
 EXIT_OK, EXIT_NO_PLAN, EXIT_UNREADABLE = 0, 1, 2
 
 # plan.examples.EXAMPLES, named here so that help does not import the planner
-# (tests/unit/test_cli_startup.py holds the two equal).
+# (tests/cli/test_cli_startup.py holds the two equal).
 EXAMPLE_NAMES = ("gravitas", "gravitas-currency", "gravitas-level1", "gravitas-replan")
 
 PROBLEM_HELP = (

@@ -22,7 +22,7 @@ if TYPE_CHECKING:
     from ..verify.nesting import Nesting
 
 # rehearse.sim.FAULTS and rehearse.sources.SOURCES, named here so that help does not import
-# the simulation and viser (tests/unit/test_cli_startup.py holds them equal).
+# the simulation and viser (tests/cli/test_cli_startup.py holds them equal).
 FAULTS = ("gps_loss", "nav_drift", "leak", "low_energy", "contact_close")
 SOURCES = ("manual", "replay", "tour", "simulate")
 

@@ -215,7 +215,7 @@ _NORMS = TypeAdapter(list[list[ChartNorm]])
 def areas_to_geojson(areas: Iterable[Area]) -> dict[str, Any]:
     """A FeatureCollection with one Polygon feature per area (charts keep kind and norms).
     Plain dicts, not geojson-pydantic models: what it writes is checked by geojson-validator
-    in tests/unit/test_geo_formats_out.py, and models cost seconds at 10,000 charts."""
+    in tests/orders/test_geo_formats_out.py, and models cost seconds at 10,000 charts."""
     areas = list(areas)
     rings = _closed_rings([area.polygon for area in areas])
     # Every chart's norms in one pydantic call: one call per chart cost more than the rest.

@@ -21,7 +21,7 @@ def load_graph(name: str) -> Graph:
 
     Oxigraph parses the Turtle (orders/rdf_index.py), about ten times faster than rdflib's
     parser: a quarter of the MEO check of `countersign validate` went to reading these files.
-    The graph holds the same statements (tests/unit/test_ontology_files.py)."""
+    The graph holds the same statements (tests/core/test_ontology_files.py)."""
     path = ontology_path(name)
     graph = Graph()
     graph.addN((s, p, o, graph) for s, p, o in parse_turtle(path.read_bytes()))

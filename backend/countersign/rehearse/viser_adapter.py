@@ -2,7 +2,7 @@
 
 viser offers no public hook for what the rehearsal needs: refusing a websocket before its
 client exists (the viewer gate), dropping share-link requests, and the wire format's message
-base class (the app's proxy). When viser changes these, tests/unit/test_private_apis.py fails
+base class (the app's proxy). When viser changes these, tests/codebase/test_private_apis.py fails
 first, naming the attribute."""
 
 from __future__ import annotations

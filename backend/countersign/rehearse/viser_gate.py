@@ -7,7 +7,7 @@ viser builds a client for it, so none of its messages is ever handled.
 
 viser exposes no hook before its connection callbacks, so the gate goes first in its websocket
 server's connect callbacks (private attributes of viser 1.1, reached through viser_adapter and
-checked by tests/api tests that connect without the secret)."""
+checked by tests/web tests that connect without the secret)."""
 
 from __future__ import annotations
 

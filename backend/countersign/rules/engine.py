@@ -17,7 +17,7 @@ sound and refutation-complete, so
 
 Checking consistency against the closure *after* adding C (not merely "not C is absent") is
 what keeps every step consistent, so the greedy construction below yields a Reiter extension
-(semi-monotonicity of normal theories). `tests/unit/test_rules_properties.py` checks it against
+(semi-monotonicity of normal theories). `tests/rules/test_rules_properties.py` checks it against
 the definition with z3 as the oracle on random theories.
 
 Priorities (Brewka's prioritised default logic, as the seed resolves conflicts): strict rules

@@ -229,7 +229,7 @@ def database_of(session: Session) -> Database:
 # The store reaches an app service through a session at one place only, below what a route
 # calls: the log's Merkle tree cache (approvals/log.py). The log signer is an argument
 # (`record(..., signer=)`), given by routes from AppServices (services/app.py) and by the CLI
-# from the database it opened; tests/unit/test_no_info_services.py holds both rules.
+# from the database it opened; tests/codebase/test_no_info_services.py holds both rules.
 def log_trees_of(session: Session) -> LogTreeCache | None:
     """The cached Merkle tree of the log of the session's database (None: no database)."""
     database: Database | None = session.info.get("database")

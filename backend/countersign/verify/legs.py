@@ -102,7 +102,7 @@ def _forward(lat0: float, lon0: float) -> Transformer:
     The operation PROJ chooses for EPSG:4326 (longitude first) to the azimuthal equidistant CRS
     of WGS84 centred on the frame, written out as its pipeline: looking the two CRSs up in
     PROJ's database costs about 2 % of a `countersign validate` process, the pipeline nothing
-    (tests/unit/test_geo.py holds it to `Transformer.from_crs` bit for bit).
+    (tests/verify/test_geo.py holds it to `Transformer.from_crs` bit for bit).
     """
     from pyproj import Transformer
 

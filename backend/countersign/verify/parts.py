@@ -12,7 +12,7 @@
 
 A part's key is the SHA-256 of the checker fingerprint and the JSON of the orders with the
 fields its checks do not read left out. A key that left out a field its checks do read would
-reuse a stale part: tests/unit/test_incremental.py compares incremental reports with reports
+reuse a stale part: tests/verify/test_incremental.py compares incremental reports with reports
 from scratch over random edits of every field, and fails when a field is wrongly left out.
 """
 

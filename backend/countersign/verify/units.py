@@ -4,7 +4,7 @@ them (`unit: "m/s"`, or a name ending `_m`, `_mps`, `_wh`), read and converted b
 pint is imported and its registry built on first use only: they cost about a second, which
 `countersign --help` and the other light commands must not pay. The units people write most
 are known without pint (KNOWN, pint's own names for them, held equal to pint's reading by
-tests/unit/test_text_units.py), and a number in the unit its condition reads needs no
+tests/verify/test_text_units.py), and a number in the unit its condition reads needs no
 conversion: text like the exemplar's ("1000 meters" over `depth_m`) is checked without
 importing pint (about a sixth of a `countersign validate` process).
 """

@@ -2,7 +2,7 @@
 
 The Python wrapper's `Solver.check(*assumptions)` re-checks the sort of every assumption,
 which costs more than solving the small problems the logic check asks; the C call does not.
-tests/unit/test_private_apis.py fails first when z3 changes these names."""
+tests/codebase/test_private_apis.py fails first when z3 changes these names."""
 
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 /**
  * The browser's DSSE, RFC 6962 and RFC 8785 code against vectors computed by the Python
- * implementation (tests/unit/test_browser_vectors.py writes and checks __fixtures__/vectors.json).
+ * implementation (tests/approvals/test_browser_vectors.py writes and checks __fixtures__/vectors.json).
  */
 import { describe, expect, it } from "vitest";
 

@@ -1,5 +1,5 @@
 /** In the browser's verifier: the shared vectors (also run by
- * tests/api/test_role_rules.py against the Python rule), and checkLog carrying the rule. */
+ * tests/web/test_role_rules.py against the Python rule), and checkLog carrying the rule. */
 import { describe, expect, it } from "vitest";
 
 import vectors from "./__fixtures__/roles.json";

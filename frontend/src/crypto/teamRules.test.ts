@@ -1,5 +1,5 @@
 /** A team approval's member digests in the browser's verifier: the shared vectors (also run by
- * tests/unit/test_team_vectors.py against approvals/team_rules.py), built by the server's own
+ * tests/approvals/test_team_vectors.py against approvals/team_rules.py), built by the server's own
  * statement builder from the team exemplar. */
 import { describe, expect, it } from "vitest";
 

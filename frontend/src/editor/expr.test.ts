@@ -1,6 +1,6 @@
 /**
  * The editor's reading of expressions against the vectors it shares with the server
- * (__fixtures__/expressions.json; tests/unit/test_expression_vectors.py reads the same file).
+ * (__fixtures__/expressions.json; tests/orders/test_expression_vectors.py reads the same file).
  * The editor is held to the error's column (not its wording), the quantity names read and the
  * column of an unknown quantity; `browser` in a vector records where it knowingly differs.
  */

@@ -12,7 +12,7 @@ is an `ExprVisitor`. Exhaustiveness is checked twice by mypy, so adding a node k
   be instantiated (mypy: "Cannot instantiate abstract class"; at run time: TypeError).
 
 An interpreter that has nothing to say about a kind still writes its method (returning its
-"cannot say" value), so the choice is explicit. `tests/unit/test_expression_visitor.py` checks
+"cannot say" value), so the choice is explicit. `tests/orders/test_expression_visitor.py` checks
 both properties.
 """
 

@@ -28,7 +28,7 @@ else of terms parsed once per context, one answer shared by every goal with the 
 formulas; a unit whose answer is more than "fine" is solved by the session as before), a
 core's shrinking taking its "sat" answers from bounds.py, and a goal's core taken without z3
 when it is proven the only one (unique.py). Every answer of the fast route is proven; the z3
-route is its reference (tests/unit/test_logic_grouped.py, test_logic_bounds.py).
+route is its reference (tests/verify/test_logic_grouped.py, test_logic_bounds.py).
 
 A check costs z3 time in proportion to everything asserted, so only what every goal assumes
 (mission-wide constraints, the vehicle, domains, norms) stays asserted between goals; the rest

@@ -15,7 +15,7 @@ the same rules on the same facts the MEO route asserts and infers, without a gra
 - meetsRequirement (V3): a feature of the performing vehicle fulfils the requirement.
 
 The findings are the very `Finding`s the oracle's `meo_check` gives for these codes, in the same
-order (tests/unit/test_meo_direct.py compares both routes on generated and example orders; the
+order (tests/verify/test_meo_direct.py compares both routes on generated and example orders; the
 reasoning keeps its own tests proving it equal to owlrl's naive closure).
 """
 
@@ -33,7 +33,7 @@ CODES = frozenset({"C1", "C2", "M6", "M7"})
 
 # The Table 2 rules each finding cites, as ontology/shapes.ttl's shapes of these codes name them
 # (`msh:rule`): written here so that a validation does not parse the shapes with rdflib
-# (tests/unit/test_meo_direct.py holds the table equal to `shapes.shape_info()`).
+# (tests/verify/test_meo_direct.py holds the table equal to `shapes.shape_info()`).
 RULES: dict[str, tuple[str, ...]] = {
     "C1": ("C1",), "C2": ("C2", "C3"), "M6": ("M6",), "M7": ("M7", "V5"),
 }

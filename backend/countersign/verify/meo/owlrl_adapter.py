@@ -1,8 +1,8 @@
 """owlrl's private API, in one place (owlrl pinned <7.7 in pyproject).
 
 owlrl has no option to leave out rule eq-ref; overriding its private `_equality` hook is the
-one way. tests/unit/test_private_apis.py fails first when owlrl renames or reshapes it, and
-tests/unit (the MEO route against the unmodified closure) when its meaning changes."""
+one way. tests/codebase/test_private_apis.py fails first when owlrl renames or reshapes it, and
+tests/verify (the MEO route against the unmodified closure) when its meaning changes."""
 
 from __future__ import annotations
 

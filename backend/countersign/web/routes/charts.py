@@ -150,7 +150,7 @@ class PlanViewOut(BaseModel):
 def export_charts(db: Db) -> Response:
     # Built as plain JSON and answered as is: validating 10,000 features against the response
     # model again took seconds; ChartsGeoJsonOut still documents it, and
-    # tests/api/test_charts.py checks that the answer matches it.
+    # tests/web/test_charts.py checks that the answer matches it.
     return JSONResponse(areas_to_geojson(all_charts(db)))
 
 

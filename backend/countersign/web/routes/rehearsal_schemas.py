@@ -3,7 +3,7 @@ stored rehearsal record (countersign.rehearsal/1, Rehearsal._record_json), for O
 
 Both are handed over untouched (SchemaOf): a record is hashed as stored, so re-validating it
 could only change what its digest covers; these models only document it for the front end's
-generated types. tests/api/test_rehearsals.py checks that they describe the answers exactly."""
+generated types. tests/web/test_rehearsals.py checks that they describe the answers exactly."""
 
 from __future__ import annotations
 
