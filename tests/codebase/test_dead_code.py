@@ -38,8 +38,9 @@ ALLOWED: dict[str, set[tuple[str, str]]] = {
     "pydantic calls __get_pydantic_json_schema__ with the core schema, unused here": {
         ("web/routes/schemas.py", "schema"),
     },
-    "gunicorn's BaseApplication calls load_config": {
+    "gunicorn's BaseApplication calls load_config, and load in each worker": {
         ("web/gunicorn_server.py", "load_config"),
+        ("web/gunicorn_server.py", "load"),
     },
     "Python's import system calls a module's __getattr__ (PEP 562 lazy imports)": {
         ("verify/__init__.py", "__getattr__"),

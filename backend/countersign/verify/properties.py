@@ -448,8 +448,7 @@ def _failing_goals(model: LogicModel, run: LogicRun, graph: MissionGraph,
                    state: _StateProperty, failing: Item, expr_reads: Reads,
                    from_start: list[int]) -> tuple[dict[int, GoalVerdict], dict[str, str]]:
     """The reachable goals where the property can fail (by graph node, with their verdict),
-    and those the solver could not decide (with why). `from_start`:
-    distances_from_start(graph)."""
+    and those undecided (with why). `from_start`: distances_from_start(graph)."""
     mission = run.mission()
     bad: dict[int, GoalVerdict] = {}
     undecided: dict[str, str] = {}
@@ -559,8 +558,7 @@ def _witnessed(run: LogicRun, goal: Goal, failing: Item, expr_reads: Reads) -> G
             witness = session.witness(failing.quantities, items=[*items, failing])
         return GoalVerdict(True, tuple(sorted(witness.items())), None)
 
-    # The live block as its base, named: when every verdict was carried from before an edit,
-    # no unit of this run has named it, and the key would differ from the one stored.
+    # The live block named: with every verdict carried, no unit of this run has named it.
     verdict: GoalVerdict = run.cached("property-witness", [*items, failing], solve,
                                       base=run.block(mission.quarantined))
     return verdict
