@@ -25,6 +25,10 @@ const html = (rows: Limit[], remove: Partial<Parameters<typeof EditableTable<Lim
   );
 
 describe("EditableTable", () => {
+  it("scrolls sideways inside its card rather than running past it (1024 px)", () => {
+    expect(html([["depth_m", 50]])).toMatch(/^<div class="table-wrap"><table class="limits"/);
+  });
+
   it("names each row by its row header and each input by the caller's label", () => {
     const out = html([["depth_m", 50]]);
     expect(out).toContain('<th scope="row">depth_m</th>');

@@ -39,6 +39,8 @@ function removeColumn<Row>(remove: RemoveColumn<Row>): Column<Row> {
   };
 }
 
+/** Always in a horizontally scrolling box: its inputs keep a width a value can be read in,
+ * so at 1024 px the Quantities table is wider than its card and scrolls inside it. */
 export function EditableTable<Row>({ remove, columns, ...table }: EditableTableProps<Row>) {
-  return <DataTable {...table} columns={[...columns, removeColumn(remove)]} />;
+  return <DataTable {...table} scroll columns={[...columns, removeColumn(remove)]} />;
 }
