@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import gc
 import threading
-from collections.abc import Iterator, Sequence
+from collections.abc import Sequence
 from typing import Any
 
 import pytest
@@ -117,15 +117,6 @@ def test_a_one_goal_edit_reuses_the_other_goals_results() -> None:
     # G1's unit, and its constraint's vacuity (which bounds settle in the batch, so it is not
     # asked alone): G0's unit, the mission and the other constraints come from the cache.
     assert cache.misses == solved + 2
-
-
-@pytest.fixture
-def collector_enabled() -> Iterator[None]:
-    enabled = gc.isenabled()
-    gc.enable()
-    yield
-    if not enabled:
-        gc.disable()
 
 
 def test_the_collector_pauses_for_a_check_and_comes_back(collector_enabled: None) -> None:

@@ -19,7 +19,6 @@ as without the screen: the screen only ever spares a check whose outcome it has 
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
-from functools import cached_property
 from typing import Any
 
 from ...orders.model import Quantity
@@ -28,10 +27,10 @@ from ..z3_adapter import Status, check_asserting
 from .bounds import Decider
 from .items import Item
 from .limits import Limits
-from .session import _z3
+from .session import LazySolver
 
 
-class Screen:
+class Screen(LazySolver):
     """One z3 context and solver for status-only checks (one per logic model, like the
     session, so check_logic and check_properties on one version share parsed terms), made at
     the first check that bounds propagation leaves to z3."""
@@ -54,18 +53,6 @@ class Screen:
         self._base_texts: frozenset[str] = frozenset()
         self.calls = 0
         self.shared = 0
-
-    @cached_property
-    def z3(self) -> Any:
-        return _z3()
-
-    @cached_property
-    def ctx(self) -> Any:
-        return self.z3.Context()
-
-    @cached_property
-    def solver(self) -> Any:
-        return self.z3.SimpleSolver(ctx=self.ctx)
 
     def _text(self, item: Item) -> str:
         text = self._texts[item] = item.formula(self.translator)

@@ -25,6 +25,23 @@ def _z3() -> Any:
     return z3
 
 
+class LazySolver:
+    """z3, a context of its own and a solver in it, each made when first used: a run whose
+    checks bounds propagation settles loads none of them."""
+
+    @cached_property
+    def z3(self) -> Any:
+        return _z3()
+
+    @cached_property
+    def ctx(self) -> Any:
+        return self.z3.Context()
+
+    @cached_property
+    def solver(self) -> Any:
+        return self.z3.SimpleSolver(ctx=self.ctx)
+
+
 @dataclass(frozen=True)
 class CheckResult:
     status: Literal["sat", "unsat", "unknown"]
@@ -32,7 +49,7 @@ class CheckResult:
     reason: str = ""
 
 
-class Session:
+class Session(LazySolver):
     """A z3 context and an incremental solver. Shared items are asserted once at the base
     level; goal-specific items inside a push/pop scope. z3 itself is loaded and the context
     made at the first check: a run whose units bounds propagation settles makes none."""
@@ -66,18 +83,6 @@ class Session:
         # shrinking asks it first. Only "sat" is taken from it: an unsatisfiable subset's
         # core still comes from z3, so the shrinking takes the steps it takes without it.
         self.proven: Callable[[Sequence[Item]], bool] | None = None
-
-    @cached_property
-    def z3(self) -> Any:
-        return _z3()
-
-    @cached_property
-    def ctx(self) -> Any:
-        return self.z3.Context()
-
-    @cached_property
-    def solver(self) -> Any:
-        return self.z3.SimpleSolver(ctx=self.ctx)
 
     def _indicator(self, item: Item) -> tuple[str, bool]:
         name = self._indicators.get(item.key)
