@@ -27,7 +27,7 @@ SERVICE_ATTRIBUTES = {"reports", "log_signer", "log_tree_cache"}
 LOOKUPS = {"database_of", "log_signer_of", "log_trees_of"}
 INFO_ALLOWED = {"store/db.py"}
 # The app factory and the services object itself wire the database's services together.
-WIRING = {"web/app.py", "web/log_signer.py", "services/app.py"}
+WIRING = {"web/app.py", "services/log_signer.py", "services/app.py"}
 STORE_LOOKUPS_ALLOWED = {
     "store/approvals/log.py": {"log_trees_of"},
 }

@@ -18,6 +18,7 @@ from countersign.approvals import dsse
 from countersign.approvals.note import checkpoint_body
 from countersign.approvals.signer import LEGACY_ORIGIN, LogSigner
 from countersign.cli import main
+from countersign.services.log_signer import LEGACY_KEY_ENV, LEGACY_KEY_FILE, LOG_KEY_DIR_ENV
 from countersign.settings import Settings
 from countersign.store.accounts import create_user
 from countersign.store.approvals import log_tree
@@ -25,7 +26,6 @@ from countersign.store.db import Database
 from countersign.store.events import record
 from countersign.store.tables import Checkpoint, User
 from countersign.web.app import create_app
-from countersign.web.log_signer import LEGACY_KEY_ENV, LEGACY_KEY_FILE, LOG_KEY_DIR_ENV
 
 from .approval_helpers import approve, new_version, register_key, submit
 from .conftest import PASSWORD, World, count_rows, seed_users

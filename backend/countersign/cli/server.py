@@ -34,7 +34,7 @@ def open_database(args: argparse.Namespace, *, validation_processes: int | None 
         raise UsageError(str(exc)) from None
     if log_signer:
         from ..approvals.signer import SignerError
-        from ..web.log_signer import open_log_signer
+        from ..services.log_signer import open_log_signer
 
         try:
             database.log_signer = open_log_signer(settings, database)

@@ -15,6 +15,7 @@ from starlette.types import ASGIApp, Message, Receive, Scope, Send
 from .. import __version__
 from ..map_tiles import tile_origin
 from ..services.app import AppServices
+from ..services.log_signer import open_log_signer
 from ..settings import Settings
 from ..store.db import REQUEST_THREADS, Database
 from ..store.hashing import HASHER
@@ -24,7 +25,6 @@ from .access_log import hide_tickets
 from .client_address import ClientAddress
 from .fair import PlanSlots, RateLimiter
 from .host_pool import HostPoolAddress, HostPoolClient
-from .log_signer import open_log_signer
 from .rehearsal_hub import RehearsalHub
 from .routes import (
     admin,

@@ -54,7 +54,7 @@ AS_BUILT: dict[str, Any] = {"response_model_exclude_unset": True}
 
 
 def get_signer(services: Services) -> LogSigner:
-    """The log signer the app opened at start (web/log_signer.py): its key is a file of its
+    """The log signer the app opened at start (services/log_signer.py): its key is a file of its
     own, outside the database."""
     return services.signer
 

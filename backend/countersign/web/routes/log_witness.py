@@ -8,10 +8,10 @@ from typing import Any
 from fastapi import APIRouter, Request
 from pydantic import Field
 
+from ...services.log_signer import signer_directory
 from ...store import approvals as service
 from ...store.cosignatures import add_cosignature, cosignature_lines
 from ..deps import EVERYONE, LOG_READERS, Db, Services, TransactionRoute, allow
-from ..log_signer import signer_directory
 from .approval_schemas import CosignatureOut, CosignedCheckpointOut
 from .schemas import RequestBody
 
