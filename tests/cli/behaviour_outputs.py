@@ -4,7 +4,7 @@
 and on the NPS missions, and the signed bytes of the approval fixtures stay byte for byte as
 they were. This module computes a SHA-256 digest of each of them; tests/cli/
 test_no_behaviour_change.py compares today's code with data/no-behaviour-change.json, written
-from main at aea7afb (before the refactors of).
+from main at aea7afb (before the one-shape refactors).
 
 Only what changes by design or is a measurement is normalised: the planner's time taken, the
 checker fingerprint (`checker`, a digest of the checking code itself) in validation reports
