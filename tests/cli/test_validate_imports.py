@@ -6,10 +6,13 @@ rdflib and owlrl for --explain. Each is a large part of a short command's CPU
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
 from typing import Any
+
+import pytest
 
 GEOMETRY = ("numpy", "shapely", "pyproj")
 HEAVY = (*GEOMETRY, "z3", "rdflib", "owlrl", "pyoxigraph", "networkx", "pint")
@@ -79,3 +82,33 @@ def test_a_unit_bounds_cannot_settle_loads_the_solver(tmp_path: Path) -> None:
     path.write_text(json.dumps(orders))
     _, loaded = _heavy_after_validate(str(path))
     assert loaded == ["z3"]
+
+
+def _threads_after_validate(environment: dict[str, str]) -> tuple[int, str | None]:
+    """The threads of a `countersign validate` process of the exemplar at its end (the kernel's
+    count, native threads too), and the OPENBLAS_NUM_THREADS it ran with."""
+    code = ("import contextlib, io, json, os, runpy, sys\n"
+            "sys.argv = ['countersign', 'validate', 'example:search-and-sample']\n"
+            "out = io.StringIO()\n"
+            "with contextlib.suppress(SystemExit), contextlib.redirect_stdout(out):\n"
+            "    runpy.run_module('countersign.cli', run_name='__main__')\n"
+            "assert 'OK: 0 error(s)' in out.getvalue() and 'numpy' in sys.modules\n"
+            "print(json.dumps([len(os.listdir('/proc/self/task')),\n"
+            "                  os.environ.get('OPENBLAS_NUM_THREADS')]))\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True, timeout=300, env=environment)
+    threads, given = json.loads(done.stdout.strip().splitlines()[-1])
+    return threads, given
+
+
+@pytest.mark.skipif(not Path("/proc/self/task").is_dir(), reason="threads counted in /proc")
+def test_validating_starts_no_blas_threads() -> None:
+    # numpy's OpenBLAS otherwise starts a thread per core as numpy loads, and they spin: more
+    # CPU than the validation's own wall time on two cores (tests/bench/bench_startup.py).
+    environment = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"}
+    assert _threads_after_validate(environment) == (1, "1")
+
+
+def test_a_given_blas_thread_count_is_kept() -> None:
+    environment = {**os.environ, "OPENBLAS_NUM_THREADS": "2"}
+    assert _threads_after_validate(environment)[1] == "2"
