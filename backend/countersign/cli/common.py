@@ -43,14 +43,17 @@ def loading(args: argparse.Namespace) -> Iterator[None]:
     of `countersign validate`), and are then frozen out of the later ones. Called in-process
     (tests), nothing changes.
 
-    The program also keeps numpy's OpenBLAS to the calling thread (unless OPENBLAS_NUM_THREADS
-    says otherwise): as numpy loads, OpenBLAS starts a thread per core that spins waiting for
-    work no check gives it (Countersign multiplies no matrices), which cost more CPU than the
-    wall time of a validation (tests/bench/bench_startup.py)."""
+    The program also keeps numpy's OpenBLAS to the calling thread and pydantic from looking for
+    plugins, each unless its variable says otherwise. As numpy loads, OpenBLAS starts a thread
+    per core that spins waiting for work no check gives it (Countersign multiplies no matrices):
+    more CPU than a validation's wall time (tests/bench/bench_startup.py). Pydantic's search
+    reads the metadata of every installed distribution, for observers of validation that
+    Countersign neither ships nor needs to print its report."""
     if not getattr(args, "program", False) or not gc.isenabled():
         yield
         return
     os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+    os.environ.setdefault("PYDANTIC_DISABLE_PLUGINS", "__all__")
     gc.disable()
     try:
         yield
