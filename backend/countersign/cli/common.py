@@ -8,6 +8,7 @@ from __future__ import annotations
 import argparse
 import gc
 import math
+import os
 import sys
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -40,10 +41,19 @@ def loading(args: argparse.Namespace) -> Iterator[None]:
     without the collector, each of whose full collections would walk every object loaded so
     far (modules, classes, pydantic's schemas: garbage-free and kept to the end, about 0.04 s
     of `countersign validate`), and are then frozen out of the later ones. Called in-process
-    (tests), nothing changes."""
+    (tests), nothing changes.
+
+    The program also keeps numpy's OpenBLAS to the calling thread and pydantic from looking for
+    plugins, each unless its variable says otherwise. As numpy loads, OpenBLAS starts a thread
+    per core that spins waiting for work no check gives it (Countersign multiplies no matrices):
+    more CPU than a validation's wall time (tests/bench/bench_startup.py). Pydantic's search
+    reads the metadata of every installed distribution, for observers of validation that
+    Countersign neither ships nor needs to print its report."""
     if not getattr(args, "program", False) or not gc.isenabled():
         yield
         return
+    os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+    os.environ.setdefault("PYDANTIC_DISABLE_PLUGINS", "__all__")
     gc.disable()
     try:
         yield
