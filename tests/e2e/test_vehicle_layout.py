@@ -15,7 +15,7 @@ import pytest
 from playwright.sync_api import Browser, Locator, Page, Route, expect
 
 from .conftest import Server, expect_accessible
-from .test_review_screen import SCREENS, box, inside, no_page_scroll_sideways
+from .screens import SCREENS, box, inside, no_page_scroll_sideways
 from .test_roles import sign_in
 
 # Answered in place of the registry's list, so that the table is empty (or holds these) whatever
