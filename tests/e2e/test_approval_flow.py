@@ -23,6 +23,7 @@ from playwright.sync_api import Browser, BrowserContext, Page, expect
 from countersign.approvals import dsse
 
 from .conftest import Server, _cli, _server_env, make_user
+from .screens import tables_fit_each_screen
 from .test_roles import sign_in
 
 MISSION = "e2e-approval"
@@ -119,7 +120,7 @@ def tamper_envelope(server: Server, approval: int) -> None:
 
 def test_submit_sign_verify_export_and_detect_tampering(
     page: Page, browser: Browser, server: Server, contexts: list[BrowserContext],
-    tmp_path: Path,
+    tmp_path: Path, tmp_path_factory: pytest.TempPathFactory,
 ) -> None:
     from countersign.orders.examples import example_bytes
 
@@ -228,6 +229,8 @@ def test_submit_sign_verify_export_and_detect_tampering(
     diff = supervisor.get_by_test_id("orders-diff")
     expect(diff).to_contain_text(f"{orders['goals'][0]['id']}")
     expect(diff).to_contain_text(f"title: {old_title} → {old_title}, north half")
+    tables_fit_each_screen(supervisor, tmp_path_factory, "review-diff",
+                           [(diff, supervisor.locator("main"))])
     operator.get_by_role("button", name="Withdraw submission").click()
     expect(operator.get_by_test_id("submission-state")).to_have_text("Withdrawn")
     expect(operator.get_by_role("button", name="Submit version 2")).to_be_enabled()

@@ -7,14 +7,17 @@ from __future__ import annotations
 import json
 import re
 
+import pytest
 from playwright.sync_api import Page, expect
 
 from .conftest import Server, _api_import
+from .screens import tables_fit_each_screen
 from .test_roles import sign_in
 from .test_vehicle_registry import client, exemplar
 
 
-def test_operator_runs_reads_and_cancels_campaigns(page: Page, server: Server) -> None:
+def test_operator_runs_reads_and_cancels_campaigns(
+        page: Page, server: Server, tmp_path_factory: pytest.TempPathFactory) -> None:
     data = exemplar()
     data["id"] = "e2e-campaigns"
     mission = _api_import(server, json.dumps(data).encode(), "application/json")
@@ -36,6 +39,10 @@ def test_operator_runs_reads_and_cancels_campaigns(page: Page, server: Server) -
     expect(results).to_contain_text(re.compile(r"Paths covered: \d+ of 75"))
     expect(results.get_by_role("img", name=re.compile("Energy used"))).to_be_visible()
     expect(results.locator("svg rect").first).to_be_visible()
+    estimates = results.get_by_role("table", name="Estimated probabilities (95% Wilson intervals)")
+    expect(estimates.locator("tfoot th")).to_have_text("Any violation")
+    tables_fit_each_screen(page, tmp_path_factory, "campaign-results",
+                           [(panel.locator("table.campaigns"), panel), (estimates, panel)])
     # Per-goal probabilities are offered only from runs that took more than one path
     # .
     covered = re.search(r"Paths covered: (\d+) of 75", results.inner_text())

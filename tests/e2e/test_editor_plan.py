@@ -10,12 +10,15 @@ from __future__ import annotations
 
 import re
 
+import pytest
 from playwright.sync_api import Page, expect
 
+from .screens import tables_fit_each_screen
 from .test_roles import sign_in
 
 
-def test_plan_survey_dialog_solves_and_creates_a_draft(page: Page, seeded_mission: str) -> None:
+def test_plan_survey_dialog_solves_and_creates_a_draft(
+        page: Page, seeded_mission: str, tmp_path_factory: pytest.TempPathFactory) -> None:
     sign_in(page, "operator")
     page.goto(f"/missions/{seeded_mission}?tab=editor")
     expect(page.get_by_test_id("node-G5")).to_be_visible()
@@ -26,6 +29,9 @@ def test_plan_survey_dialog_solves_and_creates_a_draft(page: Page, seeded_missio
     # Defaults: start and recovery at the recovery area, battery from the vehicle's budget.
     expect(dialog.get_by_label("Battery (Wh)")).to_have_value("1500")
     expect(dialog.get_by_label("Include BASE", exact=True)).not_to_be_checked()
+    tables_fit_each_screen(page, tmp_path_factory, "plan-areas",
+                           [(dialog.get_by_role("table", name="Areas to consider"), dialog)],
+                           include=".plan-dialog")
     dialog.get_by_label("Include LANE", exact=True).uncheck()
     dialog.get_by_label("Battery (Wh)").fill("20000")
     dialog.get_by_label("Reserve (Wh)").fill("500")

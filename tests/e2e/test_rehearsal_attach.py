@@ -7,9 +7,11 @@ from __future__ import annotations
 import json
 
 import httpx
+import pytest
 from playwright.sync_api import Page, expect
 
 from .conftest import Server, _api_import
+from .screens import tables_fit_each_screen
 from .test_roles import sign_in
 from .test_vehicle_registry import approve, client, exemplar
 
@@ -33,7 +35,8 @@ def _record(operator: httpx.Client, number: int) -> str:
     return digest
 
 
-def test_operator_attaches_a_record_of_that_exact_version(page: Page, server: Server) -> None:
+def test_operator_attaches_a_record_of_that_exact_version(
+        page: Page, server: Server, tmp_path_factory: pytest.TempPathFactory) -> None:
     data = exemplar()
     data["id"] = MISSION
     _api_import(server, json.dumps(data).encode(), "application/json")
@@ -55,6 +58,9 @@ def test_operator_attaches_a_record_of_that_exact_version(page: Page, server: Se
     expect(citation.get_by_test_id("cited-rehearsal")).to_have_text(
         "Rehearsal record: none attached")
     expect(citation.get_by_test_id("rehearsal-record-row")).to_have_count(2)
+    tables_fit_each_screen(page, tmp_path_factory, "rehearsal-records",
+                           [(citation.locator("table.records-table"),
+                             page.get_by_test_id("rehearsal-citation"))])
 
     citation.get_by_role("button", name=f"Attach record {short(of_v1)} (v1)").click()
     refusal = citation.get_by_role("alert")

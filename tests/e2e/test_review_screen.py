@@ -17,13 +17,12 @@ from typing import Any
 
 import httpx
 import pytest
-from playwright.sync_api import Browser, Locator, Page, expect
+from playwright.sync_api import Browser, Page, expect
 
 from .conftest import Server, _api_import, expect_accessible
+from .screens import SCREENS, box, font_px, inside, no_page_scroll_sideways
 from .test_roles import sign_in
 from .test_vehicle_registry import approve, client, exemplar
-
-SCREENS = [(1024, 768), (1280, 800)]
 
 
 def wait_for(operator: httpx.Client, url: str, done: Any) -> dict[str, Any]:
@@ -85,27 +84,6 @@ def screen(request: pytest.FixtureRequest, browser: Browser, server: Server) -> 
         assert not errors, errors
     finally:
         context.close()
-
-
-def box(locator: Locator) -> dict[str, float]:
-    found = locator.bounding_box()
-    assert found is not None, f"{locator} is not rendered"
-    return found
-
-
-def inside(inner: dict[str, float], outer: dict[str, float], what: str) -> None:
-    assert inner["x"] >= outer["x"] - 1 and inner["y"] >= outer["y"] - 1, (what, inner, outer)
-    assert inner["x"] + inner["width"] <= outer["x"] + outer["width"] + 1, (what, inner, outer)
-    assert inner["y"] + inner["height"] <= outer["y"] + outer["height"] + 1, (what, inner, outer)
-
-
-def no_page_scroll_sideways(page: Page) -> None:
-    overflow = page.evaluate("() => document.documentElement.scrollWidth - window.innerWidth")
-    assert overflow <= 0, f"the page scrolls sideways by {overflow} px"
-
-
-def font_px(locator: Locator) -> float:
-    return float(locator.evaluate("e => parseFloat(getComputedStyle(e).fontSize)"))
 
 
 def test_operator_attaches_the_campaign_from_the_versions_tab(page: Page,

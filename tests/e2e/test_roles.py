@@ -14,6 +14,7 @@ import pytest
 from playwright.sync_api import Page, expect
 
 from .conftest import PASSWORD, ROLES, Server, submit_sign_in
+from .screens import tables_fit_each_screen
 
 NAV_LINKS = {
     "operator": ["Missions", "Import"],
@@ -103,7 +104,7 @@ def test_server_refuses_an_import_that_the_page_does_not_offer(
 
 
 def test_operator_imports_the_example_and_reads_findings_paths_and_orders(
-    page: Page, tmp_path: Path
+    page: Page, tmp_path: Path, tmp_path_factory: pytest.TempPathFactory
 ) -> None:
     from countersign.orders.examples import example_bytes
 
@@ -126,6 +127,8 @@ def test_operator_imports_the_example_and_reads_findings_paths_and_orders(
     page.get_by_role("tab", name="Paths").click()
     expect(page.get_by_test_id("paths-to-COMPLETE")).to_have_text("25")
     expect(page.get_by_test_id("paths-to-ABORT")).to_have_text("50")
+    tables_fit_each_screen(page, tmp_path_factory, "paths-counts",
+                           [(page.locator("table.counts"), page.locator("main"))])
     page.get_by_role("button", name="Trace of path 1", exact=True).click()
     trace = page.locator("pre.trace")
     expect(trace).to_contain_text("Ethical Mission Execution Trace #1:")

@@ -23,8 +23,8 @@ import {
 } from "./missions";
 import { rehearsalKeys, stopRehearsalMutation } from "./rehearsals";
 import { attachRehearsalMutation, submissionKeys, submissionMutation } from "./submissions";
-import { tokenKeys } from "./tokens";
-import { updateUserMutation, userKeys } from "./users";
+import { createTokenMutation, revokeTokenMutation, tokenKeys } from "./tokens";
+import { createUserMutation, updateUserMutation, userKeys } from "./users";
 import { saveVehicleMutation, vehicleKeys } from "./vehicles";
 
 vi.mock("../crypto/keystore", () => ({
@@ -84,7 +84,10 @@ const CASES: Case[] = [
   ["revoke an approval", (c) => revokeMutation(c, "m1", 3), { reason: "r", keyId: "k", password: "p", sign }, approvalKeys.one(3)],
   ["stop a rehearsal", (c) => stopRehearsalMutation(c, "m1"), "r1", rehearsalKeys.list("m1", 50)],
   ["register a vehicle", (c) => saveVehicleMutation(c), { id: "remus-100" }, vehicleKeys.all],
+  ["create an account", (c) => createUserMutation(c), { username: "ann", role: "operator", password: "p" }, userKeys.all],
   ["change an account", (c) => updateUserMutation(c), { user: { id: 1 }, patch: { disabled: true } }, userKeys.all],
+  ["create a token", (c) => createTokenMutation(c), { name: "ci", scopes: ["read"] }, tokenKeys.all],
+  ["revoke a token", (c) => revokeTokenMutation(c), 4, tokenKeys.all, 204],
   ["change my password", (c) => changePasswordMutation(c), { current_password: "a", new_password: "b" }, tokenKeys.all, 204],
   ["revoke a signing key", (c) => revokeKeyMutation(c, "sup"), { keyId: "k1", password: "p", reason: "lost" }, keyKeys.ring("sup")],
 ];
@@ -94,8 +97,12 @@ describe("a mutation hook", () => {
     answer(status);
     const client = new QueryClient();
     const calls = await watch(client, key);
+    const elsewhere = await watch(client, ["elsewhere"]);
     expect(await run(options(client) as never, variables)).toBe(true);
     expect(calls()).toBe(2);
+    // Only what the write changed: a query of another resource is left as it was.
+    expect(elsewhere()).toBe(1);
+    expect(client.getQueryState(["elsewhere"])?.isInvalidated).toBe(false);
   });
 
   it.each(CASES)("%s, refused: nothing is asked for again", async (_, options, variables, key) => {

@@ -16,21 +16,29 @@ export function tokensChanged(client: QueryClient): Promise<void> {
   return client.invalidateQueries({ queryKey: tokenKeys.all });
 }
 
-export function useCreateToken() {
-  const client = useQueryClient();
-  return useMutation({
+/** Create a token (its secret is in the answer, shown once); the list is asked for again after it. */
+export function createTokenMutation(client: QueryClient) {
+  return {
     mutationFn: async (body: TokenIn) => unwrap(await api.POST("/api/tokens", { body })),
     onSuccess: () => tokensChanged(client),
-  });
+  };
 }
 
-export function useRevokeToken() {
-  const client = useQueryClient();
-  return useMutation({
+export function useCreateToken() {
+  return useMutation(createTokenMutation(useQueryClient()));
+}
+
+/** Revoke a token by its id (the answer has no body); the list is asked for again after it. */
+export function revokeTokenMutation(client: QueryClient) {
+  return {
     mutationFn: async (id: number) => {
       const result = await api.DELETE("/api/tokens/{token_id}", { params: { path: { token_id: id } } });
       if (!result.response.ok) unwrap(result);
     },
     onSuccess: () => tokensChanged(client),
-  });
+  };
+}
+
+export function useRevokeToken() {
+  return useMutation(revokeTokenMutation(useQueryClient()));
 }

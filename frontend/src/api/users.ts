@@ -35,10 +35,14 @@ export function useUpdateUser() {
 
 type NewUser = components["schemas"]["UserIn"];
 
-export function useCreateUser() {
-  const client = useQueryClient();
-  return useMutation({
+/** Create an account; the list is asked for again after it. */
+export function createUserMutation(client: QueryClient) {
+  return {
     mutationFn: async (body: NewUser) => unwrap(await api.POST("/api/users", { body })),
     onSuccess: () => usersChanged(client),
-  });
+  };
+}
+
+export function useCreateUser() {
+  return useMutation(createUserMutation(useQueryClient()));
 }

@@ -1,4 +1,5 @@
 import { plural } from "../format";
+import { DataTable } from "./DataTable";
 
 /** How many paths end at each terminal, as the paths tab and the review pages show it. */
 export function PathCounts({
@@ -11,22 +12,21 @@ export function PathCounts({
   testIdPrefix: string;
 }) {
   return (
-    <table className="counts">
-      <caption>{plural(count, "path")} from the start goal to a terminal</caption>
-      <thead>
-        <tr>
-          <th scope="col">Terminal</th>
-          <th scope="col">Paths</th>
-        </tr>
-      </thead>
-      <tbody>
-        {Object.entries(byTerminal).map(([terminal, n]) => (
-          <tr key={terminal}>
-            <th scope="row">{terminal}</th>
-            <td data-testid={`${testIdPrefix}${terminal}`}>{n.toLocaleString("en-US")}</td>
-          </tr>
-        ))}
-      </tbody>
-    </table>
+    <DataTable
+      caption={`${plural(count, "path")} from the start goal to a terminal`}
+      showCaption
+      className="counts"
+      rows={Object.entries(byTerminal)}
+      rowKey={([terminal]) => terminal}
+      columns={[
+        { header: "Terminal", rowHeader: true, cell: ([terminal]) => terminal },
+        {
+          header: "Paths",
+          numeric: true,
+          cell: ([, n]) => n.toLocaleString("en-US"),
+          testId: ([terminal]) => `${testIdPrefix}${terminal}`,
+        },
+      ]}
+    />
   );
 }

@@ -9,6 +9,7 @@ import { useEffect, useMemo, useRef, useState } from "react";
 import { ApiError, type MissionDetail, type Schema } from "../api/client";
 import { useCreateMission } from "../api/missions";
 import { buildPlanProblem, solvePlan } from "../api/plans";
+import { type Column, DataTable } from "../components/DataTable";
 import { ErrorMessage } from "../components/Status";
 import { formatNumber } from "../format";
 import { navigate } from "../navigation";
@@ -23,6 +24,60 @@ import { centroid, fromMetres, round6 } from "./planview";
 type Problem = Schema<"PlanProblem">;
 /** POST /api/plan: the best plan, or why there is none. */
 type Solution = Schema<"PlanOut">;
+
+type Area = ReturnType<typeof areas>[number];
+
+/** What the operator chose for each area: included, its reward, mandatory. */
+interface AreaChoices {
+  included: Record<string, boolean>;
+  setIncluded: (next: Record<string, boolean>) => void;
+  rewards: Record<string, string>;
+  setRewards: (next: Record<string, string>) => void;
+  mandatory: Record<string, boolean>;
+  setMandatory: (next: Record<string, boolean>) => void;
+}
+
+/** An area a row: its id and title, then the operator's choices for it. */
+function areaColumns({ included, setIncluded, rewards, setRewards, mandatory, setMandatory }: AreaChoices): Column<Area>[] {
+  return [
+    { header: "Area", rowHeader: true, cell: (a) => `${a.id}${a.title ? `: ${a.title}` : ""}` },
+    {
+      header: "Include",
+      cell: (a) => (
+        <input
+          type="checkbox"
+          aria-label={`Include ${a.id}`}
+          checked={!!included[a.id]}
+          onChange={(e) => setIncluded({ ...included, [a.id]: e.target.checked })}
+        />
+      ),
+    },
+    {
+      header: "Reward",
+      cell: (a) => (
+        <input
+          type="number"
+          step="any"
+          min={0}
+          aria-label={`Reward of ${a.id}`}
+          value={rewards[a.id] ?? ""}
+          onChange={(e) => setRewards({ ...rewards, [a.id]: e.target.value })}
+        />
+      ),
+    },
+    {
+      header: "Mandatory",
+      cell: (a) => (
+        <input
+          type="checkbox"
+          aria-label={`${a.id} is mandatory`}
+          checked={!!mandatory[a.id]}
+          onChange={(e) => setMandatory({ ...mandatory, [a.id]: e.target.checked })}
+        />
+      ),
+    },
+  ];
+}
 
 // Length: one modal dialog: the survey plan's inputs, its map and the plan it answers.
 export function PlanDialog({ mission, orders, onClose }: { mission: MissionDetail; orders: Orders; onClose: () => void }) {
@@ -166,53 +221,14 @@ export function PlanDialog({ mission, orders, onClose }: { mission: MissionDetai
                 <input id="plan-swath" type="number" step="any" min={0} value={swath} onChange={(e) => setSwath(e.target.value)} />
               </span>
             </div>
-            <table className="plan-areas">
-              <caption>Areas to consider</caption>
-              <thead>
-                <tr>
-                  <th scope="col">Area</th>
-                  <th scope="col">Include</th>
-                  <th scope="col">Reward</th>
-                  <th scope="col">Mandatory</th>
-                </tr>
-              </thead>
-              <tbody>
-                {withPolygons.map((a) => (
-                  <tr key={a.id}>
-                    <th scope="row">
-                      {a.id}
-                      {a.title ? `: ${a.title}` : ""}
-                    </th>
-                    <td>
-                      <input
-                        type="checkbox"
-                        aria-label={`Include ${a.id}`}
-                        checked={!!included[a.id]}
-                        onChange={(e) => setIncluded({ ...included, [a.id]: e.target.checked })}
-                      />
-                    </td>
-                    <td>
-                      <input
-                        type="number"
-                        step="any"
-                        min={0}
-                        aria-label={`Reward of ${a.id}`}
-                        value={rewards[a.id] ?? ""}
-                        onChange={(e) => setRewards({ ...rewards, [a.id]: e.target.value })}
-                      />
-                    </td>
-                    <td>
-                      <input
-                        type="checkbox"
-                        aria-label={`${a.id} is mandatory`}
-                        checked={!!mandatory[a.id]}
-                        onChange={(e) => setMandatory({ ...mandatory, [a.id]: e.target.checked })}
-                      />
-                    </td>
-                  </tr>
-                ))}
-              </tbody>
-            </table>
+            <DataTable
+              caption="Areas to consider"
+              showCaption
+              className="plan-areas"
+              rows={withPolygons}
+              rowKey={(a) => a.id}
+              columns={areaColumns({ included, setIncluded, rewards, setRewards, mandatory, setMandatory })}
+            />
             <button type="submit" disabled={busy}>
               {busy ? "Solving…" : "Solve"}
             </button>

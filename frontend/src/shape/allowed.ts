@@ -39,8 +39,6 @@ export const ALLOWED: Record<string, string> = {
   "src/pages/approvals/SubmissionPanel.tsx:SubmissionPanel": "the submission panel with its states from draft to decided",
   "src/pages/campaigns/CampaignCitation.tsx:CampaignCitation": "the cited campaign's facts in one JSX tree",
   "src/pages/campaigns/CampaignPanel.tsx:StartForm": "one form: every option of a campaign",
-  "src/pages/campaigns/CampaignPanel.tsx:CampaignResults": "the campaign's results table",
-  "src/pages/campaigns/TeamCampaignResults.tsx:TeamCampaignResults": "the team campaign's results tables",
   "src/pages/vehicles/ProfileForm.tsx:ProfileForm": "one form: every field of a vehicle profile",
   "src/pages/vehicles/VehiclesPage.tsx:VehiclesPage": "a page: the vehicles table with its actions",
 };

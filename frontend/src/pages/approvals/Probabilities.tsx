@@ -1,4 +1,5 @@
 /** The review's outcome probabilities: what the supervisor signs with the orders. */
+import { DataTable } from "../../components/DataTable";
 import { type OutcomeFigures, probabilityRows } from "./probabilities";
 
 export function ProbabilityTable({ figures }: { figures: OutcomeFigures | null | undefined }) {
@@ -12,16 +13,17 @@ export function ProbabilityTable({ figures }: { figures: OutcomeFigures | null |
           ? "Exact, from the outcome probabilities in the orders; these figures are inside the signed statement."
           : `Bounds: ${[...figures.intervals, ...figures.unknown].join(", ")} give intervals or no probabilities.`}
       </p>
-      <table data-testid="review-probabilities">
-        <tbody>
-          {rows.map((row) => (
-            <tr key={row.what}>
-              <th scope="row">{row.what}</th>
-              <td>{row.value}</td>
-            </tr>
-          ))}
-        </tbody>
-      </table>
+      <DataTable
+        caption="Outcome probabilities"
+        testId="review-probabilities"
+        columnHeaders={false}
+        rows={rows}
+        rowKey={(row) => row.what}
+        columns={[
+          { header: "Outcome", rowHeader: true, cell: (row) => row.what },
+          { header: "Probability", cell: (row) => row.value },
+        ]}
+      />
     </>
   );
 }

@@ -7,12 +7,60 @@
 import { useState } from "react";
 
 import type { Schema } from "../../api/client";
-import { useRehearsalRecords } from "../../api/rehearsals";
+import { type StoredRecord, useRehearsalRecords } from "../../api/rehearsals";
 import { useAttachRehearsal } from "../../api/submissions";
+import { type Column, DataTable } from "../../components/DataTable";
 import { ErrorMessage } from "../../components/Status";
 import { formatDateTime, shortDigest } from "../../format";
 
 type Submission = Schema<"SubmissionOut">;
+
+
+/** A stored record a row: which, of which orders, by whom and when, and its Attach button. */
+function recordColumns(submission: Submission, version: number, busy: boolean, attach: (digest: string) => void): Column<StoredRecord>[] {
+  const what = (r: StoredRecord) => (r.version !== null ? `v${r.version}` : r.source);
+  return [
+    { header: "Record", cell: (r) => <code>{shortDigest(r.digest, 12)}</code> },
+    {
+      header: "Rehearsed",
+      cell: (r) => (
+        <>
+          {what(r)}
+          {r.orders_digest !== submission.digest && (
+            <span className="hint"> — other orders ({shortDigest(r.orders_digest, 8)}), not v{version}</span>
+          )}
+        </>
+      ),
+    },
+    {
+      header: "By, when",
+      cell: (r) => (
+        <>
+          {r.owner ?? "?"}, <time dateTime={String(r.created_at)}>{formatDateTime(String(r.created_at))}</time>
+        </>
+      ),
+    },
+    {
+      header: "Attach",
+      hiddenHeader: true,
+      cell: (r) => {
+        const cited = r.digest === submission.rehearsal;
+        return (
+          <button
+            type="button"
+            disabled={busy || cited}
+            // The visible word starts the name (WCAG 2.5.3, axe label-content-name-mismatch).
+            aria-label={`${cited ? "Attached" : "Attach"} record ${shortDigest(r.digest, 12)} (${what(r)})`}
+            title={r.orders_digest === submission.digest ? undefined : `The record rehearsed other orders than v${version}; the server will refuse it.`}
+            onClick={() => attach(r.digest)}
+          >
+            {cited ? "Attached" : "Attach"}
+          </button>
+        );
+      },
+    },
+  ];
+}
 
 export function RehearsalCitation({
   mission,
@@ -62,54 +110,15 @@ export function RehearsalCitation({
         records.length === 0 ? (
           <p className="hint">No rehearsal recorded for this mission yet: rehearse v{version} (Rehearse tab), then attach its record here.</p>
         ) : (
-          <table className="records-table">
-            <caption>Rehearsal records of {mission}</caption>
-            <thead>
-              <tr>
-                <th scope="col">Record</th>
-                <th scope="col">Rehearsed</th>
-                <th scope="col">By, when</th>
-                <th scope="col">
-                  <span className="visually-hidden">Attach</span>
-                </th>
-              </tr>
-            </thead>
-            <tbody>
-              {records.map((r) => {
-                const same = r.orders_digest === submission.digest;
-                const cited = r.digest === submission.rehearsal;
-                const what = r.version !== null ? `v${r.version}` : r.source;
-                return (
-                  <tr key={r.digest} data-testid="rehearsal-record-row">
-                    <td>
-                      <code>{shortDigest(r.digest, 12)}</code>
-                    </td>
-                    <td>
-                      {what}
-                      {!same && (
-                        <span className="hint"> — other orders ({shortDigest(r.orders_digest, 8)}), not v{version}</span>
-                      )}
-                    </td>
-                    <td>
-                      {r.owner ?? "?"}, <time dateTime={String(r.created_at)}>{formatDateTime(String(r.created_at))}</time>
-                    </td>
-                    <td>
-                      <button
-                        type="button"
-                        disabled={busy || cited}
-                        // The visible word starts the name (WCAG 2.5.3, axe label-content-name-mismatch).
-                        aria-label={`${cited ? "Attached" : "Attach"} record ${shortDigest(r.digest, 12)} (${what})`}
-                        title={same ? undefined : `The record rehearsed other orders than v${version}; the server will refuse it.`}
-                        onClick={() => void attach(r.digest)}
-                      >
-                        {cited ? "Attached" : "Attach"}
-                      </button>
-                    </td>
-                  </tr>
-                );
-              })}
-            </tbody>
-          </table>
+          <DataTable
+            caption={`Rehearsal records of ${mission}`}
+            showCaption
+            className="records-table"
+            rows={records}
+            rowKey={(r) => r.digest}
+            rowAttributes={() => ({ "data-testid": "rehearsal-record-row" })}
+            columns={recordColumns(submission, version, busy, (digest) => void attach(digest))}
+          />
         )
       )}
       <ErrorMessage error={error ?? loadError} />

@@ -5,7 +5,10 @@
  * submission cites by its digest; the record page passes the one the approval carries. Every
  * value is rendered as text.
  */
+import type { ReactNode } from "react";
+
 import type { Schema } from "../../api/client";
+import { DataTable } from "../../components/DataTable";
 import { ErrorMessage, Loading } from "../../components/Status";
 import { formatDateTime, shortDigest } from "../../format";
 import { OUTCOME_LETTERS, OUTCOME_WORDS } from "../../pathGrid";
@@ -73,61 +76,81 @@ function Steps({ run, titles }: { run: Run; titles: ReadonlyMap<string, string> 
   );
 }
 
-export function RehearsalSummary({ detail, titles }: { detail: RecordDetail; titles: ReadonlyMap<string, string> }) {
+interface Field {
+  label: ReactNode;
+  value: ReactNode;
+  testId?: string;
+}
+
+/** The record's fields in the order a reader asks: how it ended, the path(s), what was
+ * rehearsed, what the simulation used, who and when, and where the record itself is. */
+function fields(detail: RecordDetail, titles: ReadonlyMap<string, string>): Field[] {
   const record = detail.record;
   const { ended, rows } = summaryRows(record);
+  return [
+    {
+      label: "Outcome",
+      value: record.state === "stopped_early" ? `Stopped early; ${ended}` : `Ended at ${ended}`,
+      testId: "rehearsal-outcome",
+    },
+    ...rows.map(({ label, run }) => ({
+      label: `${label}${run.path_index ? ` #${run.path_index}` : ""}`,
+      value: <Steps run={run} titles={titles} />,
+    })),
+    {
+      label: "Rehearsed",
+      value: (
+        <>
+          {detail.version !== null ? `v${detail.version}` : "the draft"}, {SOURCE[detail.source] ?? detail.source}, seed {record.seed}
+          {record.options.faults.length > 0 && `, faults: ${record.options.faults.join(", ")}`}
+        </>
+      ),
+    },
+    {
+      label: "Simulated",
+      value: (
+        <>
+          {duration(record.sim_time_s)}, {record.energy.used_wh.toLocaleString("en-US", { maximumFractionDigits: 1 })} Wh of{" "}
+          {record.energy.capacity_wh.toLocaleString("en-US", { maximumFractionDigits: 0 })} Wh used
+        </>
+      ),
+    },
+    {
+      label: "By, when",
+      value: (
+        <>
+          {detail.owner ?? "?"}, <time dateTime={String(detail.created_at)}>{formatDateTime(String(detail.created_at))}</time>
+        </>
+      ),
+    },
+    {
+      label: "Record",
+      value: (
+        <>
+          <code title={detail.digest}>{shortDigest(detail.digest, 16)}</code> ·{" "}
+          <a href={detail.replay} target="_blank" rel="noreferrer" data-testid="rehearsal-replay">
+            Replay in 3D
+          </a>{" "}
+          · <a href={recordHref(detail.digest)}>Record (JSON)</a>
+        </>
+      ),
+    },
+  ];
+}
+
+export function RehearsalSummary({ detail, titles }: { detail: RecordDetail; titles: ReadonlyMap<string, string> }) {
   return (
-    <table className="rehearsal-summary" data-testid="rehearsal-summary">
-      <caption className="visually-hidden">Rehearsal record {shortDigest(detail.digest, 12)}</caption>
-      <tbody>
-        <tr>
-          <th scope="row">Outcome</th>
-          <td data-testid="rehearsal-outcome">
-            {record.state === "stopped_early" ? `Stopped early; ${ended}` : `Ended at ${ended}`}
-          </td>
-        </tr>
-        {rows.map(({ label, run }, i) => (
-          <tr key={i}>
-            <th scope="row">
-              {label}
-              {run.path_index ? ` #${run.path_index}` : ""}
-            </th>
-            <td>
-              <Steps run={run} titles={titles} />
-            </td>
-          </tr>
-        ))}
-        <tr>
-          <th scope="row">Rehearsed</th>
-          <td>
-            {detail.version !== null ? `v${detail.version}` : "the draft"}, {SOURCE[detail.source] ?? detail.source}, seed {record.seed}
-            {record.options.faults.length > 0 && `, faults: ${record.options.faults.join(", ")}`}
-          </td>
-        </tr>
-        <tr>
-          <th scope="row">Simulated</th>
-          <td>
-            {duration(record.sim_time_s)}, {record.energy.used_wh.toLocaleString("en-US", { maximumFractionDigits: 1 })} Wh of{" "}
-            {record.energy.capacity_wh.toLocaleString("en-US", { maximumFractionDigits: 0 })} Wh used
-          </td>
-        </tr>
-        <tr>
-          <th scope="row">By, when</th>
-          <td>
-            {detail.owner ?? "?"}, <time dateTime={String(detail.created_at)}>{formatDateTime(String(detail.created_at))}</time>
-          </td>
-        </tr>
-        <tr>
-          <th scope="row">Record</th>
-          <td>
-            <code title={detail.digest}>{shortDigest(detail.digest, 16)}</code> ·{" "}
-            <a href={detail.replay} target="_blank" rel="noreferrer" data-testid="rehearsal-replay">
-              Replay in 3D
-            </a>{" "}
-            · <a href={recordHref(detail.digest)}>Record (JSON)</a>
-          </td>
-        </tr>
-      </tbody>
-    </table>
+    <DataTable
+      caption={`Rehearsal record ${shortDigest(detail.digest, 12)}`}
+      className="rehearsal-summary"
+      testId="rehearsal-summary"
+      columnHeaders={false}
+      rows={fields(detail, titles)}
+      rowKey={(_, i) => i}
+      columns={[
+        { header: "Field", rowHeader: true, cell: (f) => f.label },
+        { header: "Value", cell: (f) => f.value, testId: (f) => f.testId },
+      ]}
+    />
   );
 }

@@ -1,6 +1,7 @@
 /** Pieces shared by the review and audit pages: findings, path summary, diff, state badge,
  * contingency rules. */
 import { statusLabel } from "../../format";
+import { DataTable } from "../../components/DataTable";
 import { FindingsTable } from "../../components/FindingsTable";
 import { PathCounts } from "../../components/PathCounts";
 import type { PathSummary } from "./api";
@@ -83,32 +84,23 @@ export function DiffView({ diff }: { diff: OrdersDiff }) {
     }
   }
   return (
-    <div className="table-wrap">
-      <table className="diff" data-testid="orders-diff">
-        <caption className="visually-hidden">Differences from the previously approved version</caption>
-        <thead>
-          <tr>
-            <th scope="col">Part</th>
-            <th scope="col">Item</th>
-            <th scope="col">Change</th>
-            <th scope="col">Detail</th>
-          </tr>
-        </thead>
-        <tbody>
-          {rows.map((r, i) => (
-            <tr key={i} className={`diff-${r.change}`}>
-              <td>{r.what}</td>
-              <td>
-                <code>{r.id}</code>
-              </td>
-              <td>
-                <span className={`badge ${r.change === "added" ? "ok" : r.change === "removed" ? "bad" : "warn"}`}>{r.change}</span>
-              </td>
-              <td>{r.detail}</td>
-            </tr>
-          ))}
-        </tbody>
-      </table>
-    </div>
+    <DataTable
+      caption="Differences from the previously approved version"
+      className="diff"
+      testId="orders-diff"
+      scroll
+      rows={rows}
+      rowKey={(_, i) => i}
+      rowClassName={(r) => `diff-${r.change}`}
+      columns={[
+        { header: "Part", cell: (r) => r.what },
+        { header: "Item", cell: (r) => <code>{r.id}</code> },
+        {
+          header: "Change",
+          cell: (r) => <span className={`badge ${r.change === "added" ? "ok" : r.change === "removed" ? "bad" : "warn"}`}>{r.change}</span>,
+        },
+        { header: "Detail", cell: (r) => r.detail },
+      ]}
+    />
   );
 }

@@ -10,6 +10,7 @@ import { useState } from "react";
 
 import { api, type Schema, unwrap } from "../../api/client";
 import { numberPair } from "../../api/pair";
+import { type Column, DataTable } from "../../components/DataTable";
 import { ErrorMessage, Notice } from "../../components/Status";
 import { useCan, useSession } from "../../session";
 import { useCancelCampaign, useFaultReach, useMissionCampaigns, useStartCampaign } from "../../api/campaigns";
@@ -38,24 +39,13 @@ export function CampaignPanel({ mission, versions }: { mission: string; versions
       <ErrorMessage error={error} />
       {canStart && versions.length > 0 && <StartForm mission={mission} versions={versions} />}
       {campaigns.length > 0 && (
-        <table className="campaigns">
-          <caption className="visually-hidden">Campaigns, newest first</caption>
-          <thead>
-            <tr>
-              <th scope="col">Campaign</th>
-              <th scope="col">Version</th>
-              <th scope="col">Sweep</th>
-              <th scope="col">Progress</th>
-              <th scope="col">State</th>
-              <th scope="col"></th>
-            </tr>
-          </thead>
-          <tbody>
-            {campaigns.map((c) => (
-              <CampaignRow key={c.id} mission={mission} campaign={c} onShow={() => setShown(c.id)} />
-            ))}
-          </tbody>
-        </table>
+        <DataTable
+          caption="Campaigns, newest first"
+          className="campaigns"
+          rows={campaigns}
+          rowKey={(c) => c.id}
+          columns={campaignColumns(mission, (c) => setShown(c.id))}
+        />
       )}
       {selected && <CampaignResults campaign={selected} />}
     </section>
@@ -139,61 +129,71 @@ function StartForm({ mission, versions }: { mission: string; versions: number[] 
   );
 }
 
-function CampaignRow({ mission, campaign: c, onShow }: { mission: string; campaign: Campaign; onShow: () => void }) {
+/** A campaign a row: its id, version, sweep, progress and state, then its buttons. */
+function campaignColumns(mission: string, onShow: (c: Campaign) => void): Column<Campaign>[] {
+  return [
+    { header: "Campaign", cell: (c) => <code>{c.id}</code> },
+    { header: "Version", cell: (c) => `v${c.version}` },
+    { header: "Sweep", cell: (c) => `${c.spec.faults.join(", ")} at ${c.spec.goals.join(", ")}; seeds from ${c.spec.seed}` },
+    {
+      header: "Progress",
+      cell: (c) => (
+        <>
+          <progress max={c.simulations} value={c.done} aria-label={`Campaign ${c.id} progress`} /> {c.done} / {c.simulations}
+        </>
+      ),
+    },
+    {
+      header: "State",
+      cell: (c) => (
+        <>
+          {c.state}
+          {c.error && <span className="error"> {c.error}</span>}
+        </>
+      ),
+    },
+    { header: "Actions", hiddenHeader: true, cell: (c) => <CampaignActions mission={mission} campaign={c} onShow={() => onShow(c)} /> },
+  ];
+}
+
+/** Cancel (its owner, while it runs) and Results (once it has them). */
+function CampaignActions({ mission, campaign: c, onShow }: { mission: string; campaign: Campaign; onShow: () => void }) {
   const { user } = useSession();
   const canCancel = useCan("cancelCampaign") && c.owner === user?.username && ACTIVE.has(c.state);
   const cancelCampaign = useCancelCampaign(mission);
-  const error = cancelCampaign.error;
   const cancel = () => cancelCampaign.mutate(c.id);
-  const spec = c.spec;
   return (
-    <tr>
-      <td>
-        <code>{c.id}</code>
-      </td>
-      <td>v{c.version}</td>
-      <td>
-        {spec.faults.join(", ")} at {spec.goals.join(", ")}; seeds from {spec.seed}
-      </td>
-      <td>
-        <progress max={c.simulations} value={c.done} aria-label={`Campaign ${c.id} progress`} /> {c.done} / {c.simulations}
-      </td>
-      <td>
-        {c.state}
-        {c.error && <span className="error"> {c.error}</span>}
-      </td>
-      <td>
-        {canCancel && (
-          <button type="button" onClick={cancel} disabled={cancelCampaign.isPending}>
-            Cancel
-          </button>
-        )}
-        {c.results && (
-          <button type="button" onClick={onShow}>
-            Results
-          </button>
-        )}
-        <ErrorMessage error={error} />
-      </td>
-    </tr>
+    <>
+      {canCancel && (
+        <button type="button" onClick={cancel} disabled={cancelCampaign.isPending}>
+          Cancel
+        </button>
+      )}
+      {c.results && (
+        <button type="button" onClick={onShow}>
+          Results
+        </button>
+      )}
+      <ErrorMessage error={cancelCampaign.error} />
+    </>
   );
 }
 
 /** A proportion as a percentage; "—" when there is none (no estimate, or a bound missing). */
 export const percent = (x: number | null) => (x === null || !Number.isFinite(x) ? "—" : `${(100 * x).toFixed(1)}%`);
 
-function EstimateCells({ e }: { e: Estimate }) {
-  const [low, high] = numberPair(e.ci);
-  return (
-    <>
-      <td>{percent(e.p)}</td>
-      <td>
-        {percent(low)} – {percent(high)}
-      </td>
-      <td>{e.count}</td>
-    </>
-  );
-}
+const ESTIMATE_COLUMNS: Column<[string, Estimate]>[] = [
+  { header: "Ending", rowHeader: true, cell: ([ending]) => ending },
+  { header: "Estimate", numeric: true, cell: ([, e]) => percent(e.p) },
+  {
+    header: "Interval",
+    cell: ([, e]) => {
+      const [low, high] = numberPair(e.ci);
+      return `${percent(low)} – ${percent(high)}`;
+    },
+  },
+  { header: "Simulations", numeric: true, cell: ([, e]) => e.count },
+];
 
 /** A finished campaign's estimates; `offer` adds the button that offers per-goal probabilities. */
 export function CampaignResults({ campaign, offer: offering = true }: { campaign: Campaign; offer?: boolean }) {
@@ -214,29 +214,14 @@ export function CampaignResults({ campaign, offer: offering = true }: { campaign
       <h4 id="campaign-results-title">
         Campaign <code>{campaign.id}</code>: {results.simulations} simulations
       </h4>
-      <table>
-        <caption>Estimated probabilities (95% Wilson intervals)</caption>
-        <thead>
-          <tr>
-            <th scope="col">Ending</th>
-            <th scope="col">Estimate</th>
-            <th scope="col">Interval</th>
-            <th scope="col">Simulations</th>
-          </tr>
-        </thead>
-        <tbody>
-          {Object.entries(results.terminals).map(([terminal, e]) => (
-            <tr key={terminal}>
-              <th scope="row">{terminal}</th>
-              <EstimateCells e={e} />
-            </tr>
-          ))}
-          <tr>
-            <th scope="row">Any violation</th>
-            <EstimateCells e={results.any_violation} />
-          </tr>
-        </tbody>
-      </table>
+      <DataTable
+        caption="Estimated probabilities (95% Wilson intervals)"
+        showCaption
+        rows={Object.entries(results.terminals)}
+        footer={[["Any violation", results.any_violation]]}
+        rowKey={([ending]) => ending}
+        columns={ESTIMATE_COLUMNS}
+      />
       <p data-testid="campaign-covered">
         Paths covered: {coverage.covered} of {coverage.total_paths ?? "?"}
         {coverage.paths.length > 0 && ": "}

@@ -7,6 +7,7 @@
  */
 import { numberPair } from "../../api/pair";
 import { type Schema } from "../../api/client";
+import { type Column, DataTable } from "../../components/DataTable";
 import "./teamCampaign.css";
 
 type TeamResults = Schema<"TeamCampaignResults">;
@@ -34,6 +35,54 @@ function Interval({ e }: { e: Estimate }) {
   );
 }
 
+type Team = TeamResults["team"];
+
+const JOINT_COLUMNS: Column<Team["joint"][number]>[] = [
+  {
+    header: "Joint end",
+    rowHeader: true,
+    cell: (row) =>
+      jointParts(row.end).map(([vehicle, end]) => (
+        <span key={vehicle} className="joint-part">
+          {vehicle}: <span className={end === "waiting" ? "waiting" : undefined}>{end === "waiting" ? "left waiting" : end}</span>
+        </span>
+      )),
+  },
+  { header: "Runs", numeric: true, cell: (row) => row.count },
+  { header: "Estimate", cell: (row) => <Interval e={row} /> },
+  {
+    header: "Verifier",
+    cell: (row) =>
+      row.possible === false ? "impossible (TEAM)" : row.executions === null ? "not counted" : `${row.executions} joint executions`,
+  },
+];
+
+const MEETING_COLUMNS: Column<Team["meetings"][number]>[] = [
+  { header: "Meeting", rowHeader: true, cell: (m) => m.meet },
+  { header: "Vehicles", cell: (m) => m.vehicles.join(", ") },
+  { header: "Completed", numeric: true, cell: (m) => m.completed.count },
+  { header: "Deadlocked", numeric: true, cell: (m) => m.deadlocked.count },
+  {
+    header: "Shared outcomes",
+    cell: (m) =>
+      Object.entries(m.outcomes)
+        .map(([o, n]) => `${o} ${n}`)
+        .join(", "),
+  },
+];
+
+const MEMBER_COLUMNS: Column<Team["members"][number]>[] = [
+  { header: "Vehicle", rowHeader: true, cell: (m) => m.vehicle },
+  {
+    header: "Ends (runs)",
+    cell: (m) =>
+      Object.entries(m.terminals)
+        .map(([t, e]) => `${t === "waiting" ? "left waiting" : t} ${e.count}`)
+        .join(", "),
+  },
+  { header: "Own paths covered", cell: (m) => `${m.covered_paths} of ${m.total_paths ?? "?"}` },
+];
+
 export function TeamCampaignResults({ id, results }: { id: string; results: TeamResults }) {
   const team = results.team;
   const coverage = team.coverage;
@@ -52,41 +101,16 @@ export function TeamCampaignResults({ id, results }: { id: string; results: Team
         </ul>
       )}
       <div className="team-scroll">
-        <table className="team-joint" data-testid="joint-table">
-          <caption>Joint ends: runs, estimate (95% Wilson interval), and the verifier's joint executions</caption>
-          <thead>
-            <tr>
-              <th scope="col">Joint end</th>
-              <th scope="col">Runs</th>
-              <th scope="col">Estimate</th>
-              <th scope="col">Verifier</th>
-            </tr>
-          </thead>
-          <tbody>
-            {team.joint.map((row) => (
-              <tr key={row.end} className={row.possible === false ? "impossible" : row.count === 0 ? "missed" : undefined}>
-                <th scope="row">
-                  {jointParts(row.end).map(([vehicle, end]) => (
-                    <span key={vehicle} className="joint-part">
-                      {vehicle}: <span className={end === "waiting" ? "waiting" : undefined}>{end === "waiting" ? "left waiting" : end}</span>
-                    </span>
-                  ))}
-                </th>
-                <td>{row.count}</td>
-                <td>
-                  <Interval e={row} />
-                </td>
-                <td>
-                  {row.possible === false
-                    ? "impossible (TEAM)"
-                    : row.executions === null
-                      ? "not counted"
-                      : `${row.executions} joint executions`}
-                </td>
-              </tr>
-            ))}
-          </tbody>
-        </table>
+        <DataTable
+          caption="Joint ends: runs, estimate (95% Wilson interval), and the verifier's joint executions"
+          showCaption
+          className="team-joint"
+          testId="joint-table"
+          rows={team.joint}
+          rowKey={(row) => row.end}
+          rowClassName={(row) => (row.possible === false ? "impossible" : row.count === 0 ? "missed" : undefined)}
+          columns={JOINT_COLUMNS}
+        />
       </div>
       {team.unfinished.count > 0 && (
         <p>{team.unfinished.count} runs were stopped by a bound before every member ended; they have no joint end.</p>
@@ -98,60 +122,10 @@ export function TeamCampaignResults({ id, results }: { id: string; results: Team
         {coverage.missed.length > 0 && ` Never reached: ${coverage.missed.join("; ")}. The campaign says nothing about these.`}
       </p>
       <div className="team-scroll">
-        <table className="team-meetings">
-          <caption>Meetings</caption>
-          <thead>
-            <tr>
-              <th scope="col">Meeting</th>
-              <th scope="col">Vehicles</th>
-              <th scope="col">Completed</th>
-              <th scope="col">Deadlocked</th>
-              <th scope="col">Shared outcomes</th>
-            </tr>
-          </thead>
-          <tbody>
-            {team.meetings.map((m) => (
-              <tr key={m.meet}>
-                <th scope="row">{m.meet}</th>
-                <td>{m.vehicles.join(", ")}</td>
-                <td>{m.completed.count}</td>
-                <td>{m.deadlocked.count}</td>
-                <td>
-                  {Object.entries(m.outcomes)
-                    .map(([o, n]) => `${o} ${n}`)
-                    .join(", ")}
-                </td>
-              </tr>
-            ))}
-          </tbody>
-        </table>
+        <DataTable caption="Meetings" showCaption className="team-meetings" rows={team.meetings} rowKey={(m) => m.meet} columns={MEETING_COLUMNS} />
       </div>
       <div className="team-scroll">
-        <table className="team-members">
-          <caption>Each member's ends</caption>
-          <thead>
-            <tr>
-              <th scope="col">Vehicle</th>
-              <th scope="col">Ends (runs)</th>
-              <th scope="col">Own paths covered</th>
-            </tr>
-          </thead>
-          <tbody>
-            {team.members.map((m) => (
-              <tr key={m.vehicle}>
-                <th scope="row">{m.vehicle}</th>
-                <td>
-                  {Object.entries(m.terminals)
-                    .map(([t, e]) => `${t === "waiting" ? "left waiting" : t} ${e.count}`)
-                    .join(", ")}
-                </td>
-                <td>
-                  {m.covered_paths} of {m.total_paths ?? "?"}
-                </td>
-              </tr>
-            ))}
-          </tbody>
-        </table>
+        <DataTable caption="Each member's ends" showCaption className="team-members" rows={team.members} rowKey={(m) => m.vehicle} columns={MEMBER_COLUMNS} />
       </div>
     </section>
   );

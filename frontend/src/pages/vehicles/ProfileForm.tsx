@@ -32,6 +32,13 @@ function Row({ children }: { children: ReactNode }) {
   return <div className="profile-row">{children}</div>;
 }
 
+/** A label and its input, kept together: when a row wraps, the pair moves to the next line as
+ * one (never a label ending a line with its input on the next), and a pair too narrow for both
+ * puts the input directly under its label. */
+function Field({ children }: { children: ReactNode }) {
+  return <span className="profile-field">{children}</span>;
+}
+
 type Envelope = Record<string, [number, number]>;
 
 /** A quantity a row, its min and max (an empty field is 0: the server names a refused range). */
@@ -85,40 +92,50 @@ export function ProfileForm({ profile, onChange, fixedId }: { profile: Profile; 
     <fieldset className="profile-form" data-testid="profile-form">
       <legend>Profile</legend>
       <Row>
-        <label htmlFor="vehicle-id">Vehicle id</label>
-        <input id="vehicle-id" value={profile.id ?? ""} readOnly={fixedId} maxLength={100} onChange={(e) => onChange({ ...profile, id: e.target.value })} />
-        <label htmlFor="vehicle-title">Title</label>
-        <input id="vehicle-title" value={(profile.title as string | undefined) ?? ""} maxLength={200} onChange={(e) => onChange(withField(profile, "title", e.target.value || undefined))} />
+        <Field>
+          <label htmlFor="vehicle-id">Vehicle id</label>
+          <input id="vehicle-id" value={profile.id ?? ""} readOnly={fixedId} maxLength={100} onChange={(e) => onChange({ ...profile, id: e.target.value })} />
+        </Field>
+        <Field>
+          <label htmlFor="vehicle-title">Title</label>
+          <input id="vehicle-title" value={(profile.title as string | undefined) ?? ""} maxLength={200} onChange={(e) => onChange(withField(profile, "title", e.target.value || undefined))} />
+        </Field>
       </Row>
       <Row>
-        <label htmlFor="vehicle-behaviors">Trusted behaviours (comma-separated)</label>
-        <input
-          id="vehicle-behaviors"
-          value={((profile.behaviors as string[] | undefined) ?? []).join(", ")}
-          onChange={(e) => onChange(withField(profile, "behaviors", words(e.target.value)))}
-        />
+        <Field>
+          <label htmlFor="vehicle-behaviors">Trusted behaviours (comma-separated)</label>
+          <input
+            id="vehicle-behaviors"
+            value={((profile.behaviors as string[] | undefined) ?? []).join(", ")}
+            onChange={(e) => onChange(withField(profile, "behaviors", words(e.target.value)))}
+          />
+        </Field>
       </Row>
       <Row>
-        <label htmlFor="vehicle-speed">Speed (m/s)</label>
-        <input id="vehicle-speed" type="number" step="any" value={(profile.speed_mps as number | undefined) ?? ""} onChange={(e) => onChange(withField(profile, "speed_mps", number(e.target.value)))} />
-        <label htmlFor="vehicle-energy">Energy budget (Wh)</label>
-        <input
-          id="vehicle-energy"
-          type="number"
-          step="any"
-         
-          value={budget.energy_wh ?? ""}
-          onChange={(e) => onChange(withField(profile, "budget", { ...budget, energy_wh: number(e.target.value) }))}
-        />
-        <label htmlFor="vehicle-duration">Time budget (s)</label>
-        <input
-          id="vehicle-duration"
-          type="number"
-          step="any"
-         
-          value={budget.duration_s ?? ""}
-          onChange={(e) => onChange(withField(profile, "budget", { ...budget, duration_s: number(e.target.value) }))}
-        />
+        <Field>
+          <label htmlFor="vehicle-speed">Speed (m/s)</label>
+          <input id="vehicle-speed" type="number" step="any" value={(profile.speed_mps as number | undefined) ?? ""} onChange={(e) => onChange(withField(profile, "speed_mps", number(e.target.value)))} />
+        </Field>
+        <Field>
+          <label htmlFor="vehicle-energy">Energy budget (Wh)</label>
+          <input
+            id="vehicle-energy"
+            type="number"
+            step="any"
+            value={budget.energy_wh ?? ""}
+            onChange={(e) => onChange(withField(profile, "budget", { ...budget, energy_wh: number(e.target.value) }))}
+          />
+        </Field>
+        <Field>
+          <label htmlFor="vehicle-duration">Time budget (s)</label>
+          <input
+            id="vehicle-duration"
+            type="number"
+            step="any"
+            value={budget.duration_s ?? ""}
+            onChange={(e) => onChange(withField(profile, "budget", { ...budget, duration_s: number(e.target.value) }))}
+          />
+        </Field>
       </Row>
       <h3>Envelope</h3>
       <EditableTable
@@ -134,19 +151,21 @@ export function ProfileForm({ profile, onChange, fixedId }: { profile: Profile; 
         }}
       />
       <Row>
-        <label htmlFor="vehicle-new-limit">New limit (quantity name)</label>
-        <input
-          id="vehicle-new-limit"
-          placeholder="depth_m"
-          maxLength={100}
-          onKeyDown={(e) => {
-            const name = e.currentTarget.value.trim();
-            if (e.key !== "Enter" || !name) return;
-            e.preventDefault();
-            if (!(name in envelope)) setEnvelope({ ...envelope, [name]: [0, 0] });
-            e.currentTarget.value = "";
-          }}
-        />
+        <Field>
+          <label htmlFor="vehicle-new-limit">New limit (quantity name)</label>
+          <input
+            id="vehicle-new-limit"
+            placeholder="depth_m"
+            maxLength={100}
+            onKeyDown={(e) => {
+              const name = e.currentTarget.value.trim();
+              if (e.key !== "Enter" || !name) return;
+              e.preventDefault();
+              if (!(name in envelope)) setEnvelope({ ...envelope, [name]: [0, 0] });
+              e.currentTarget.value = "";
+            }}
+          />
+        </Field>
       </Row>
       <h3>Features</h3>
       <EditableTable
