@@ -34,6 +34,12 @@ def test_operator_runs_reads_and_cancels_campaigns(
     row = panel.get_by_role("row").nth(1)
     expect(row).to_contain_text("finished", timeout=240_000)
     expect(row).to_contain_text("3 / 3")
+    # The bar and its count are one figure: "3 / 3" on one line beside the bar, at 1024 too.
+    page.set_viewport_size({"width": 1024, "height": 768})
+    lines = row.locator(".campaign-progress").evaluate(
+        "e => { const r = document.createRange(); r.selectNodeContents(e);"
+        " return new Set([...r.getClientRects()].map(b => Math.round(b.bottom))).size; }")
+    assert lines == 1, f"the progress cell wraps onto {lines} lines"
     row.get_by_role("button", name="Results").click()
     results = panel.get_by_role("region", name=re.compile("^Campaign "))
     expect(results).to_contain_text(re.compile(r"Paths covered: \d+ of 75"))
@@ -43,8 +49,7 @@ def test_operator_runs_reads_and_cancels_campaigns(
     expect(estimates.locator("tfoot th")).to_have_text("Any violation")
     tables_fit_each_screen(page, tmp_path_factory, "campaign-results",
                            [(panel.locator("table.campaigns"), panel), (estimates, panel)])
-    # Per-goal probabilities are offered only from runs that took more than one path
-    # .
+    # Per-goal probabilities are offered only from runs that took more than one path.
     covered = re.search(r"Paths covered: (\d+) of 75", results.inner_text())
     assert covered, results.inner_text()
     if int(covered.group(1)) > 1:

@@ -66,7 +66,7 @@ class TransactionRoute(APIRoute):
     trips to the thread pool. A write transaction left open until get_db's exit would hold the
     write lock (SQLite's, or PostgreSQL's row and advisory locks) while its request waits for a
     free thread; when every thread is taken by writers waiting for that lock, nothing moves
-    until the waiters time out (the 30 s writes and 503 "busy" answers of). Committing
+    until the waiters time out (the 30 s writes and 503 "busy" answers seen under load). Committing
     here makes each write transaction one uninterrupted stretch of work in one thread."""
 
     def __init__(self, path: str, endpoint: Callable[..., Any], **kwargs: Any) -> None:

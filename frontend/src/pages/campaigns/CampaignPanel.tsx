@@ -138,9 +138,9 @@ function campaignColumns(mission: string, onShow: (c: Campaign) => void): Column
     {
       header: "Progress",
       cell: (c) => (
-        <>
+        <span className="campaign-progress">
           <progress max={c.simulations} value={c.done} aria-label={`Campaign ${c.id} progress`} /> {c.done} / {c.simulations}
-        </>
+        </span>
       ),
     },
     {
