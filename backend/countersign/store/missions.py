@@ -5,7 +5,7 @@ from __future__ import annotations
 import threading
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from cachetools import LRUCache
 from sqlalchemy import delete, func, select, update
@@ -24,6 +24,9 @@ from .db import writable
 from .events import record
 from .report_service import ReportService
 from .tables import Mission, MissionVersion, User, ValidationReport, utcnow
+
+if TYPE_CHECKING:
+    from ..verify.parts import PartKeys
 
 MAX_LAYOUT_NODES = 50_000
 # The draft this process last wrote for each of the missions edited most recently, with its
@@ -277,18 +280,19 @@ def report_for(
 
 def lookup_report(
     db: DbSession, orders: Orders | Callable[[], Orders], orders_digest: str | None = None,
-    *, reports: ReportService,
+    *, reports: ReportService, keys: PartKeys | None = None,
 ) -> CachedReport:
     """The stored report of these orders, or a new one computed but not stored (its `cached`
-    is False: store it with remember_report, e.g. in the write transaction that follows)."""
+    is False: store it with remember_report, e.g. in the write transaction that follows).
+    `keys`: the orders' part keys, when the caller made them (verify.parts)."""
     if orders_digest is None:
         orders = orders() if callable(orders) else orders
         orders_digest = digest(orders)
     row = db.get(ValidationReport, (orders_digest, fingerprint.checker_fingerprint()))
     if row is not None:
         return CachedReport(row.report, True)
-    return CachedReport(reports.report(orders_digest, orders() if callable(orders) else orders),
-                        False)
+    return CachedReport(reports.report(orders_digest, orders() if callable(orders) else orders,
+                                       keys), False)
 
 
 def report_summary(report: dict[str, Any]) -> dict[str, Any]:
