@@ -247,6 +247,11 @@ def draft_report(db: DbSession, *, reports: ReportService, mission_id: str) -> d
     # The digest alone: the draft (a 1,000-goal mission's is 300 kB of JSON to decode) is read
     # only when its report must be made.
     value = store.draft_digest(db, mission_id)
+    # The editor reads the report of the draft it has just saved: made here, it is answered
+    # from memory rather than decoded from its stored copy (700 kB of JSON at 1,000 goals).
+    made = reports.recent(value)
+    if made is not None:
+        return made
     return store.report_for(db, lambda: _orders(store.draft_of(db, mission_id, value)), value,
                             reports=reports).report
 

@@ -98,6 +98,13 @@ class ReportService:
             self._in_flight.pop(key, None)
         return done
 
+    def recent(self, key: str) -> dict[str, Any] | None:
+        """The report of this orders digest if this service made it lately (by the current
+        checks), else None: what the store holds for it, without decoding the stored copy."""
+        self._current_checker()
+        with self._guard:
+            return self._recent.get(key)
+
     def _current_checker(self) -> str:
         """This process's checker fingerprint; what was cached under another is dropped (the
         orders digests of bodies too: the digest is computed by checked code)."""
