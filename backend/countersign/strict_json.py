@@ -37,18 +37,15 @@ class _DuplicateKey(ValueError):
 
 
 def _pairs(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
-    result: dict[str, Any] = {}
-    for key, value in pairs:
-        if key in result:
-            raise _DuplicateKey(key)
-        result[key] = value
+    # The dict is built in C; only an object with a repeated key is walked here.
+    result = dict(pairs)
+    if len(result) != len(pairs):
+        seen: set[str] = set()
+        for key, _ in pairs:
+            if key in seen:
+                raise _DuplicateKey(key)
+            seen.add(key)
     return result
-
-
-def _constant(name: str) -> float:
-    # NaN, Infinity and -Infinity are not JSON; keep them as floats so that the walk below
-    # reports them with their path.
-    return float(name)
 
 
 def _key_path(path: str, key: str) -> str:
@@ -63,6 +60,21 @@ def _breaks(item: Any, exact_integers: bool) -> bool:
         return not math.isfinite(item)
     return (exact_integers and isinstance(item, int) and not isinstance(item, bool)
             and abs(item) > MAX_EXACT_INTEGER)
+
+
+def _nested_within(value: Any, max_depth: int) -> bool:
+    """Whether no container in `value` lies `max_depth` or more levels deep."""
+    stack: list[tuple[Any, int]] = [(value, 0)]
+    while stack:
+        item, depth = stack.pop()
+        if depth >= max_depth:
+            return False
+        below = depth + 1
+        for child in item.values() if type(item) is dict else item:
+            kind = type(child)
+            if kind is dict or kind is list:
+                stack.append((child, below))
+    return True
 
 
 def _conforms(value: Any, max_depth: int, exact_integers: bool) -> bool:
@@ -129,8 +141,19 @@ def loads(text: str | bytes, max_depth: int = MAX_DEPTH) -> Any:
             text = text.decode("utf-8-sig")
         except UnicodeDecodeError as exc:
             raise JsonPolicyError("$", f"not UTF-8 text (byte {exc.start})") from None
+    # Every number that can be non-finite passes here (NaN, Infinity, 1e999: a fraction or
+    # an exponent); kept as floats so that the walk in `check` reports them with their path.
+    nonfinite: list[float] = []
+
+    def number(written: str) -> float:
+        value = float(written)
+        if not math.isfinite(value):
+            nonfinite.append(value)
+        return value
+
     try:
-        parsed = json.loads(text, object_pairs_hook=_pairs, parse_constant=_constant)
+        parsed = json.loads(text, object_pairs_hook=_pairs, parse_constant=number,
+                            parse_float=number)
     except json.JSONDecodeError as exc:
         raise JsonPolicyError(
             "$", f"invalid JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}") from None
@@ -140,5 +163,7 @@ def loads(text: str | bytes, max_depth: int = MAX_DEPTH) -> Any:
         raise JsonPolicyError("$", "JSON nested too deeply") from None
     except ValueError as exc:  # e.g. an integer with more digits than int() converts
         raise JsonPolicyError("$", f"invalid JSON: {exc}") from None
-    check(parsed, max_depth)
+    # Nearly every body keeps the policy: then only the depth is left to walk, containers only.
+    if nonfinite or (isinstance(parsed, (dict, list)) and not _nested_within(parsed, max_depth)):
+        check(parsed, max_depth)
     return parsed

@@ -70,3 +70,23 @@ def test_a_value_that_breaks_the_policy_is_named_by_its_path(
     # Within the policy without exact integers, or with room to nest.
     if exact:
         strict_json.check(value, max_depth=3)
+
+
+def test_a_body_that_keeps_the_policy_is_checked_without_a_walk_of_its_numbers(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    """A 1,000-goal draft has some 130,000 keys and items: its numbers are judged as they
+    are parsed, and the walk after parsing visits only the containers, for their depth."""
+    def no_walk(*args: object) -> bool:
+        raise AssertionError("the numbers of a value that keeps the policy were walked")
+
+    text = json.dumps(orders_to_json(load_example("search-and-sample")))
+    monkeypatch.setattr(strict_json, "_conforms", no_walk)
+    monkeypatch.setattr(strict_json, "_breaks", no_walk)
+    assert strict_json.loads(text) == json.loads(text)
+    assert strict_json.loads("1e308") == 1e308
+    monkeypatch.undo()  # a value that breaks it is walked again, for the path
+    with pytest.raises(strict_json.JsonPolicyError) as caught:
+        strict_json.loads("-1e999")
+    assert caught.value.path == "$"
+    with pytest.raises(strict_json.JsonPolicyError, match="'b' appears twice"):
+        strict_json.loads('{"a": {"b": 1, "c": 2, "b": 3}}')

@@ -12,6 +12,7 @@ from __future__ import annotations
 import hashlib
 import json
 import threading
+from collections.abc import Sequence
 from typing import Any
 
 import rfc8785
@@ -33,10 +34,18 @@ def orders_to_json(orders: Orders) -> dict[str, Any]:
     return data
 
 
-def _goal_bytes(goal: Any) -> bytes:
+def goal_texts(data: dict[str, Any]) -> list[str]:
+    """The JSON text of each goal of orders made JSON data by orders_to_json: what the goals'
+    canonical bytes (and verify.parts' keys) are kept by, made once for both."""
+    goals = data.get("goals")
+    if not isinstance(goals, list):
+        return []
+    return [json.dumps(goal, ensure_ascii=False) for goal in goals]
+
+
+def _goal_bytes(goal: Any, key: str) -> bytes:
     # The goal's JSON text is the key: equal texts are equal data (the text keeps 1 and 1.0
     # apart; member order only makes two keys for one canonical form).
-    key = json.dumps(goal, ensure_ascii=False)
     with _goals_lock:
         found = _goals.get(key)
     if found is None:
@@ -50,15 +59,18 @@ def canonical_bytes(orders: Orders) -> bytes:
     return canonical_bytes_of_json(orders_to_json(orders))
 
 
-def canonical_bytes_of_json(data: dict[str, Any]) -> bytes:
+def canonical_bytes_of_json(data: dict[str, Any], texts: Sequence[str] | None = None) -> bytes:
     """The canonical bytes of orders already made JSON data by orders_to_json (a caller that
-    stores that data too makes it once); `data` is only read."""
+    stores that data too makes it once); `data` is only read. `texts`: goal_texts(data), when
+    the caller made them already."""
     goals = data.get("goals")
     if not isinstance(goals, list) or not goals:
         return bytes(rfc8785.dumps(data))
+    if texts is None:
+        texts = goal_texts(data)
     members = []
     for name in sorted(data, key=lambda k: k.encode("utf-16be")):
-        value = (b"[" + b",".join(map(_goal_bytes, goals)) + b"]" if name == "goals"
+        value = (b"[" + b",".join(map(_goal_bytes, goals, texts)) + b"]" if name == "goals"
                  else bytes(rfc8785.dumps(data[name])))
         members.append(bytes(rfc8785.dumps(name)) + b":" + value)
     return b"{" + b",".join(members) + b"}"
@@ -68,6 +80,7 @@ def digest(orders: Orders) -> str:
     return digest_of_json(orders_to_json(orders))
 
 
-def digest_of_json(data: dict[str, Any]) -> str:
-    """digest() of orders already made JSON data by orders_to_json."""
-    return "sha256:" + hashlib.sha256(canonical_bytes_of_json(data)).hexdigest()
+def digest_of_json(data: dict[str, Any], texts: Sequence[str] | None = None) -> str:
+    """digest() of orders already made JSON data by orders_to_json (`texts` as for
+    canonical_bytes_of_json)."""
+    return "sha256:" + hashlib.sha256(canonical_bytes_of_json(data, texts)).hexdigest()

@@ -54,12 +54,14 @@ def joins(mission: Mission, author: User, now: datetime) -> bool:
             and now - mission.burst_at <= BURST)
 
 
-def extended(mission: Mission, author: User, *, draft: dict[str, Any], before: str,
-             revision: int, now: datetime) -> dict[str, Any]:
-    """The burst after this save (a new one unless it continues the open one)."""
+def extended(mission: Mission, author: User, *, previous: dict[str, Any],
+             draft: dict[str, Any], before: str, revision: int, now: datetime
+             ) -> dict[str, Any]:
+    """The burst after this save (a new one unless it continues the open one); `previous`
+    is the draft this save replaces."""
     burst = mission.burst if joins(mission, author, now) else None
     named: list[str] = list(burst["changed"]) if burst else []
-    for item in changed_items(mission.draft, draft):
+    for item in changed_items(previous, draft):
         if item not in named:
             named.append(item)
     return {"by": author.id, "before": burst["before"] if burst else before,

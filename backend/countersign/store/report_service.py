@@ -72,9 +72,11 @@ class ReportService:
         # The checker fingerprint the caches above hold reports of.
         self._checker: str | None = None
 
-    def report(self, key: str, orders: Orders) -> dict[str, Any]:
+    def report(self, key: str, orders: Orders, keys: PartKeys | None = None
+               ) -> dict[str, Any]:
         """The report of these orders (`key` is their digest, orders.canonical.digest, which
-        the report carries), validated once even when many requests ask at once."""
+        the report carries), validated once even when many requests ask at once. `keys`, the
+        orders' part keys when the caller made them already (verify.parts)."""
         checker = self._current_checker()
         with self._guard:
             lock = self._in_flight.setdefault(key, threading.Lock())
@@ -84,9 +86,10 @@ class ReportService:
             if done is None:
                 # An edit of descriptions only is answered from the last report of the same
                 # facts.
-                keys = self._keys(orders)
-                done = self._reuse.report(orders, key, lambda o: self._full(o, key, keys),
-                                          checked=keys.core)
+                part_keys = keys if keys is not None else self._keys(orders)
+                done = self._reuse.report(
+                    orders, key, lambda o: self._full(o, key, part_keys),
+                    checked=part_keys.core)
                 if done.get("checker") != checker:
                     done = validate_here(orders)
                 with self._guard:
@@ -94,6 +97,13 @@ class ReportService:
         with self._guard:
             self._in_flight.pop(key, None)
         return done
+
+    def recent(self, key: str) -> dict[str, Any] | None:
+        """The report of this orders digest if this service made it lately (by the current
+        checks), else None: what the store holds for it, without decoding the stored copy."""
+        self._current_checker()
+        with self._guard:
+            return self._recent.get(key)
 
     def _current_checker(self) -> str:
         """This process's checker fingerprint; what was cached under another is dropped (the

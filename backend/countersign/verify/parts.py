@@ -11,20 +11,26 @@
 - properties: the path properties, which read what core reads.
 
 A part's key is the SHA-256 of the checker fingerprint and the JSON of the orders with the
-fields its checks do not read left out. A key that left out a field its checks do read would
-reuse a stale part: tests/verify/test_incremental.py compares incremental reports with reports
-from scratch over random edits of every field, and fails when a field is wrongly left out.
+fields its checks do not read left out: the top-level fields as text, then each goal as the
+SHA-256 of its text, kept by the goal's whole JSON text (an edit's other 999 goals cost a
+lookup, with the text the orders' digest is made from too: orders.canonical.goal_texts). A key
+that left out a field its checks do read would reuse a stale part:
+tests/verify/test_incremental.py compares incremental reports with reports from scratch over
+random edits of every field, and fails when a field is wrongly left out.
 """
 
 from __future__ import annotations
 
 import hashlib
+import json
 import threading
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
 from cachetools import LRUCache
 
+from ..orders.canonical import goal_texts, orders_to_json
 from ..orders.model import Orders
 from .fingerprint import checker_fingerprint
 
@@ -50,19 +56,55 @@ class PartKeys:
         return str(getattr(self, name))
 
 
+# The SHA-256 of each keyed part's view of a goal, by the goal's JSON text.
+GOALS_KEPT = 200_000
+_KEYED = tuple(_NOT_READ)
+_goal_views: LRUCache[str, tuple[bytes, ...]] = LRUCache(GOALS_KEPT)
+_goal_views_lock = threading.Lock()
+
+
+def _views_of_goal(goal: Any, text: str) -> tuple[bytes, ...]:
+    with _goal_views_lock:
+        found = _goal_views.get(text)
+    if found is None:
+        found = tuple(
+            hashlib.sha256(json.dumps(
+                {k: v for k, v in goal.items() if k not in _NOT_READ[name][1]}
+                if isinstance(goal, dict) else goal, ensure_ascii=False).encode()).digest()
+            for name in _KEYED)
+        with _goal_views_lock:
+            _goal_views[text] = found
+    return found
+
+
 def part_keys(orders: Orders) -> PartKeys:
-    """The key of each part of these orders' report: the SHA-256 of the orders' JSON as
-    written (pydantic's serializer, one call per part) without the fields the part's checks
-    do not read. Keys are compared only within one version of the code, never stored."""
-    keys: dict[str, str] = {}
+    """The key of each part of these orders' report. Keys are compared only within one
+    version of the code, never stored."""
+    return part_keys_of_json(orders_to_json(orders))
+
+
+def part_keys_of_json(data: dict[str, Any], texts: Sequence[str] | None = None) -> PartKeys:
+    """part_keys of orders made JSON data by orders_to_json; `texts` is goal_texts(data) when
+    the caller made it already."""
+    given = data.get("goals")
+    goals = given if isinstance(given, list) else []
+    # Goals not given and given as [] (or not as a list) keep keys of their own.
+    shape = f"list {len(goals)}" if isinstance(given, list) else f"not a list: {given!r}"
+    if texts is None:
+        texts = goal_texts(data)
+    views = [_views_of_goal(goal, text) for goal, text in zip(goals, texts, strict=True)]
     # With the checks' fingerprint: parts travel between processes (the web process hands
     # its parts to a validation process), which may run other checks after an upgrade.
     checker = checker_fingerprint().encode()
-    for name, (top, per_goal) in _NOT_READ.items():
-        exclude: dict[str, Any] = dict.fromkeys(top, True)
-        exclude["goals"] = {"__all__": set(per_goal)}
-        text = orders.model_dump_json(exclude_unset=True, exclude=exclude)
-        keys[name] = f"{name}:{hashlib.sha256(checker + b'|' + text.encode()).hexdigest()}"
+    keys: dict[str, str] = {}
+    for index, name in enumerate(_KEYED):
+        top = json.dumps({k: v for k, v in data.items()
+                          if k != "goals" and k not in _NOT_READ[name][0]},
+                         ensure_ascii=False).encode()
+        digest = hashlib.sha256(b"|".join((checker, str(len(top)).encode(), top, shape.encode())))
+        for view in views:
+            digest.update(view[index])
+        keys[name] = f"{name}:{digest.hexdigest()}"
     keys["properties"] = "properties:" + keys["core"].removeprefix("core:")
     return PartKeys(**keys)
 
@@ -130,4 +172,4 @@ UNKEYED = PartKeys("", "", "", "")
 SHARED_PARTS = PartsCache()
 
 __all__ = ["PART_NAMES", "SHARED_PARTS", "UNKEYED", "NoParts", "PartKeys", "PartsCache",
-           "part_keys"]
+           "part_keys", "part_keys_of_json"]
