@@ -180,6 +180,13 @@ def _wait_healthy(server: Server, process: subprocess.Popen[bytes]) -> None:
     pytest.fail(f"countersign serve did not answer /api/health within 180 s:\n{server.log_tail()}")
 
 
+# How long an action (a click waits for its element to be visible, enabled and stable) or an
+# assertion waits, in ms. Under load 11 on two cores a starved Chromium once took over 15 s to
+# paint a stable sign-in button; what passes returns as soon as it holds, so only a failure waits
+# this long. Every browser context of the suite uses it.
+PATIENCE_MS = 60_000
+
+
 @pytest.fixture(scope="session")
 def playwright_instance() -> Iterator[Playwright]:
     from playwright.sync_api import expect, sync_playwright
@@ -187,7 +194,7 @@ def playwright_instance() -> Iterator[Playwright]:
     # Playwright's assertions give up after 5 s; a sign-in (its argon2 hash runs at low priority)
     # or a validation on a loaded 2-core machine takes longer. A passing check returns as soon as
     # it holds, so the longer bound only delays a real failure.
-    expect.set_options(timeout=20_000)
+    expect.set_options(timeout=PATIENCE_MS)
     with sync_playwright() as instance:
         yield instance
 
@@ -212,7 +219,7 @@ def page(browser: Browser, server: Server, request: pytest.FixtureRequest,
     """A fresh browser context (no cookies) per test; a screenshot is kept when a test fails
     (pytest's temporary directory, `screenshots/`, printed with the failure)."""
     context = browser.new_context(base_url=server.url, viewport=_viewport())
-    context.set_default_timeout(15_000)
+    context.set_default_timeout(PATIENCE_MS)
     opened = context.new_page()
     problems: list[str] = []
     opened.on("pageerror", lambda error: problems.append(f"page error: {error}"))

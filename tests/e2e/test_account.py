@@ -12,7 +12,7 @@ from collections.abc import Iterator
 import httpx
 from playwright.sync_api import Browser, BrowserContext, Page, expect
 
-from .conftest import PASSWORD, Server, api_login
+from .conftest import PASSWORD, PATIENCE_MS, Server, api_login
 
 FIRST = "Kq8-first-Zt4-pass"
 SECOND = "Wm3-second-Hx7-pass"
@@ -32,7 +32,7 @@ def _create_user(server: Server, username: str) -> None:
 @contextlib.contextmanager
 def _context(browser: Browser, server: Server) -> Iterator[BrowserContext]:
     context = browser.new_context(base_url=server.url, viewport={"width": 1280, "height": 900})
-    context.set_default_timeout(15_000)
+    context.set_default_timeout(PATIENCE_MS)
     try:
         yield context
     finally:

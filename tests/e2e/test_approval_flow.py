@@ -22,7 +22,7 @@ from playwright.sync_api import Browser, BrowserContext, Page, expect
 
 from countersign.approvals import dsse
 
-from .conftest import Server, _cli, _server_env, make_user
+from .conftest import PATIENCE_MS, Server, _cli, _server_env, make_user
 from .screens import tables_fit_each_screen
 from .test_roles import sign_in
 
@@ -42,7 +42,7 @@ def new_page(browser: Browser, server: Server, opened: list[BrowserContext],
              errors: list[str]) -> Page:
     context = browser.new_context(base_url=server.url, viewport={"width": 1280, "height": 900},
                                   accept_downloads=True)
-    context.set_default_timeout(15_000)
+    context.set_default_timeout(PATIENCE_MS)
     opened.append(context)
     page = context.new_page()
     page.on("pageerror", lambda error: errors.append(f"page error: {error}"))
@@ -272,7 +272,7 @@ def test_submit_sign_verify_export_and_detect_tampering(
            ).to_be_visible()
     verification = auditor.get_by_test_id("verification-verdict")
     expect(verification).to_have_text(re.compile(
-        r"^All 13 checks passed, against a log key not pinned"), timeout=30_000)
+        r"^All 13 checks passed, against a log key not pinned"))
     # Trust on first use: the auditor pins the log key the server presents, explicitly.
     checkpoint: dict[str, Any] = auditor.evaluate(
         "async () => (await fetch('/api/log/checkpoint')).json()")
@@ -280,7 +280,7 @@ def test_submit_sign_verify_export_and_detect_tampering(
     expect(auditor.get_by_test_id("log-key-presented")).to_contain_text(checkpoint["key_id"])
     auditor.get_by_role("button", name="Pin this key…").click()
     auditor.get_by_role("button", name="Confirm: pin this key").click()
-    expect(verification).to_have_text("All 14 checks passed.", timeout=30_000)
+    expect(verification).to_have_text("All 14 checks passed.")
     expect(auditor.get_by_test_id("check-pin")).to_contain_text(
         f"signed by log key {server_print}, the key pinned in this browser")
     expect(auditor.get_by_test_id("approval-plain")).to_contain_text("Search Area A")
@@ -296,7 +296,7 @@ def test_submit_sign_verify_export_and_detect_tampering(
     # Finding 5: the revocation's approvals row is deleted; the log still names it.
     delete_row(server, "approvals", "DELETE FROM approvals WHERE revokes = ?", record["id"])
     auditor.reload()
-    expect(verification).to_contain_text("checks failed", timeout=30_000)
+    expect(verification).to_contain_text("checks failed")
     expect(auditor.get_by_test_id("check-records")).to_contain_text(
         re.compile(rf"log entry \d+ revokes approval {record['id']}, but the server shows it "
                    "as not revoked"))
@@ -304,7 +304,7 @@ def test_submit_sign_verify_export_and_detect_tampering(
     # One byte of the stored envelope changes in the database: the page names the entry.
     tamper_envelope(server, int(record["id"]))
     auditor.reload()
-    expect(verification).to_contain_text("checks failed", timeout=30_000)
+    expect(verification).to_contain_text("checks failed")
     entry = f"log entry {record['log_index']}"
     expect(auditor.get_by_test_id("check-logged")).to_contain_text(
         f"the envelope differs from the one logged in {entry}")
@@ -330,7 +330,7 @@ def test_submit_sign_verify_export_and_detect_tampering(
     bypass(server, "log_entries", 'UPDATE log_entries SET entry = ? WHERE "index" = 0',
            first.replace('"at":"20', '"at":"19', 1))
     auditor.reload()
-    expect(verification).to_contain_text("checks failed", timeout=30_000)
+    expect(verification).to_contain_text("checks failed")
     expect(auditor.get_by_test_id("check-key")).to_contain_text(
         re.compile(r"differs from its registration in log entry \d+"))
     expect(auditor.get_by_test_id("check-orders")).to_contain_text(
@@ -357,7 +357,7 @@ def test_submit_sign_verify_export_and_detect_tampering(
     pin = auditor.get_by_test_id("check-pin")
     expect(pin).to_contain_text(
         f"the server presents log key {server_print}, but this browser pinned log key "
-        f"{fingerprint(dsse.key_id(dsse.public_text(published)))}", timeout=30_000)
+        f"{fingerprint(dsse.key_id(dsse.public_text(published)))}")
     expect(verification).to_contain_text("Log key matches the pinned key")
     expect(auditor.get_by_test_id("log-key-state")).to_contain_text("a different log key")
     assert not errors, "the app raised errors in the browser:\n" + "\n".join(errors)

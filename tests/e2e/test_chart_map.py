@@ -18,7 +18,7 @@ from typing import Any
 import pytest
 from playwright.sync_api import Browser, Locator, Page, expect
 
-from .conftest import PASSWORD, REPO, Server, _api_import, submit_sign_in
+from .conftest import PASSWORD, PATIENCE_MS, REPO, Server, _api_import, submit_sign_in
 
 SIZES = [(1024, 768), (1280, 800)]
 AXE = REPO / "frontend" / "node_modules" / "axe-core" / "axe.min.js"
@@ -38,7 +38,7 @@ def _page(browser: Browser, server: Server, size: tuple[int, int]) -> tuple[Page
     will collect."""
     context = browser.new_context(base_url=server.url,
                                   viewport={"width": size[0], "height": size[1]})
-    context.set_default_timeout(30_000)
+    context.set_default_timeout(PATIENCE_MS)
     page = context.new_page()
     problems: list[str] = []
     page.on("pageerror", lambda error: problems.append(str(error)))

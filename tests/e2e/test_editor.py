@@ -132,7 +132,7 @@ def timed_edit(page: Page, goal: str, outcome: str, target: str, testid: str, te
     painted after the findings show (the marker `testid` contains `text`, or is `gone`)."""
     page.evaluate(_WATCH, [testid, text, gone])
     pick(page, re.compile(rf"{outcome.capitalize()}.*→ next"), target)
-    page.wait_for_function("() => window.__editWatch.painted !== null", timeout=10_000)
+    page.wait_for_function("() => window.__editWatch.painted !== null")
     times = page.evaluate(_TIMES)
     if verbose:
         print(f"    {goal} {outcome} -> {target or '(none)'}:"
@@ -457,8 +457,7 @@ def test_large_missions_open_and_check_in_time(page: Page, server: Server) -> No
 
     started = time.monotonic()
     page.goto("/missions/chain-500?tab=editor")
-    expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true",
-                                                                    timeout=30_000)
+    expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
     opened = (time.monotonic() - started) * 1000
     print(f"500 goals: page load to laid-out canvas {opened:.0f} ms")
     print_breakdown(page)
@@ -467,8 +466,7 @@ def test_large_missions_open_and_check_in_time(page: Page, server: Server) -> No
     assert opened < 20_000, opened
 
     page.goto("/missions/chain-200?tab=editor")
-    expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true",
-                                                                    timeout=30_000)
+    expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
     expect(page.get_by_test_id("editor-verdict")).to_contain_text("Valid")
     expect(page.get_by_test_id("markers-G1")).to_have_count(0)
     breaks, repairs = [], []

@@ -23,7 +23,7 @@ from pathlib import Path
 import pytest
 from playwright.sync_api import Browser, Locator, Page, expect
 
-from .conftest import Server, running_server
+from .conftest import PATIENCE_MS, Server, running_server
 from .test_editor import choose_next, drag_connect, edge, pick, select_node
 from .test_roles import sign_in
 
@@ -44,7 +44,7 @@ def own_page(browser: Browser, own_server: Server, request: pytest.FixtureReques
              tmp_path_factory: pytest.TempPathFactory) -> Iterator[Page]:
     context = browser.new_context(base_url=own_server.url, viewport={"width": 1280, "height": 900},
                                   accept_downloads=True)
-    context.set_default_timeout(15_000)
+    context.set_default_timeout(PATIENCE_MS)
     opened = context.new_page()
     problems: list[str] = []
     opened.on("pageerror", lambda error: problems.append(f"page error: {error}"))

@@ -10,7 +10,7 @@ import time
 import pytest
 from playwright.sync_api import Browser, Page, expect
 
-from .conftest import AVCL, Server, _api_import
+from .conftest import AVCL, PATIENCE_MS, Server, _api_import
 from .test_editor import _chain
 from .test_roles import sign_in
 
@@ -70,8 +70,7 @@ def _revision(page: Page, mission: str) -> int:
 def _auto_layout(page: Page) -> float:
     started = time.monotonic()
     page.get_by_role("button", name="Auto layout").click()
-    expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true",
-                                                                    timeout=30_000)
+    expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
     return (time.monotonic() - started) * 1000
 
 
@@ -149,8 +148,7 @@ def _open_lay_out_and_check(page: Page, name: str, mission: str, width: int) -> 
     before = _revision(page, mission)
     started = time.monotonic()
     page.goto(f"/missions/{mission}?tab=editor")
-    expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true",
-                                                                    timeout=30_000)
+    expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
     opened = (time.monotonic() - started) * 1000
     print(f"{name} at {width} px: graph editor open {opened:.0f} ms")
     layout_ms = _auto_layout(page)
@@ -203,8 +201,7 @@ def test_five_hundred_goals_open_and_lay_out_without_blocking(page: Page, server
     mission = _create(page, _chain(f"canvas-500-{width}", 500))
     started = time.monotonic()
     page.goto(f"/missions/{mission}?tab=editor")
-    expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true",
-                                                                    timeout=30_000)
+    expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
     opened = (time.monotonic() - started) * 1000
     print(f"500 goals at {width} px: open and laid out {opened:.0f} ms")
     page.evaluate("() => { window.__frames = (" + _FRAMES + ")(); }")
@@ -220,7 +217,7 @@ def test_five_hundred_goals_open_and_lay_out_without_blocking(page: Page, server
 
 def _open(browser: Browser, server: Server, mission: str) -> Page:
     context = browser.new_context(base_url=server.url, viewport={"width": 1280, "height": 900})
-    context.set_default_timeout(15_000)
+    context.set_default_timeout(PATIENCE_MS)
     page = context.new_page()
     sign_in(page, "operator")
     page.goto(f"/missions/{mission}?tab=editor")

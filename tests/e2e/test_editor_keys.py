@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 from playwright.sync_api import Browser, Page, expect
 
-from .conftest import REPO, Server
+from .conftest import PATIENCE_MS, REPO, Server
 from .test_editor_screen import open_editor
 from .test_roles import sign_in
 
@@ -114,7 +114,7 @@ def axe_page(browser: Browser, server: Server) -> Iterator[Page]:
     scripts, rightly)."""
     context = browser.new_context(base_url=server.url, viewport={"width": 1280, "height": 800},
                                   bypass_csp=True)
-    context.set_default_timeout(15_000)
+    context.set_default_timeout(PATIENCE_MS)
     try:
         yield context.new_page()
     finally:

@@ -50,8 +50,7 @@ def wide(page: Page, request: pytest.FixtureRequest) -> Iterator[tuple[Page, int
 def _open_editor(page: Page, mission: str) -> None:
     sign_in(page, "operator")
     page.goto(f"/missions/{mission}?tab=editor")
-    expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true",
-                                                                    timeout=30_000)
+    expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
     saved(page)
 
 

@@ -32,8 +32,7 @@ def _shot(page: Page, tmp_path_factory: pytest.TempPathFactory, name: str) -> No
 
 
 def _shape(page: Page) -> dict[str, Any]:
-    expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true",
-                                                                    timeout=30_000)
+    expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
     shape: dict[str, Any] = page.evaluate(GEOMETRY)
     return shape
 
@@ -103,7 +102,7 @@ def test_editor_opens_edits_and_adds_refinements(
     returns.blur()
     saved(page)
     expect(page.get_by_test_id("returns-FOUND")).to_have_text("returns succeed")
-    expect(page.get_by_test_id("markers-FOUND")).to_have_count(0, timeout=30_000)
+    expect(page.get_by_test_id("markers-FOUND")).to_have_count(0)
     terminal = _goal(_draft(page, mission), "G1")["refines"]["terminals"][0]
     assert terminal == {**terminal, "id": "FOUND", "returns": "succeed"}, terminal
 

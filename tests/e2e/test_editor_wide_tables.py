@@ -9,14 +9,14 @@ from playwright.sync_api import Browser, expect
 
 from countersign.orders.examples import example_bytes
 
-from .conftest import Server, _api_import
+from .conftest import PATIENCE_MS, Server, _api_import
 from .test_editor_build_exemplar import panel, saved
 from .test_roles import sign_in
 
 
 def test_the_quantities_table_scrolls_inside_its_card(browser: Browser, server: Server) -> None:
     context = browser.new_context(base_url=server.url, viewport={"width": 1024, "height": 768})
-    context.set_default_timeout(30_000)
+    context.set_default_timeout(PATIENCE_MS)
     page = context.new_page()
     try:
         data = json.loads(example_bytes("search-and-sample"))

@@ -29,15 +29,13 @@ def test_pirates_imported_in_the_browser_shows_its_sink_warnings(page: Page,
     # "Saved" holds before the import too (the file is read first): wait for the import to
     # reach the draft, then for its save.
     expect(page.get_by_test_id("editor-notice")).to_contain_text(
-        "Imported PiratesSeizingMerchantDefense.xml", timeout=30_000)
-    expect(page.get_by_test_id("save-state")).to_have_text("Saved", timeout=30_000)
-    expect(page.get_by_test_id("editor-verdict")).to_contain_text("19 warnings",
-                                                                  timeout=30_000)
+        "Imported PiratesSeizingMerchantDefense.xml")
+    expect(page.get_by_test_id("save-state")).to_have_text("Saved")
+    expect(page.get_by_test_id("editor-verdict")).to_contain_text("19 warnings")
     # The stored report keeps them: a fresh load of the page shows them too.
     report = page.request.get(f"/api/missions/{mission}/report").json()
     sinks = [f for f in report["findings"] if f["code"] == "SINK" and f["severity"] == "warning"]
     assert len(sinks) == 19, report["findings"]
     page.reload()
-    expect(page.get_by_test_id("editor-verdict")).to_contain_text("19 warnings",
-                                                                  timeout=30_000)
+    expect(page.get_by_test_id("editor-verdict")).to_contain_text("19 warnings")
     expect(page.get_by_test_id("editor-findings")).to_contain_text("NPS convention")

@@ -17,7 +17,7 @@ from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 import pytest
 from playwright.sync_api import Browser, expect
 
-from .conftest import PASSWORD, Server, _api_import, running_server, submit_sign_in
+from .conftest import PASSWORD, PATIENCE_MS, Server, _api_import, running_server, submit_sign_in
 
 PLAN = "Plan view: areas, charts and legs"
 
@@ -83,7 +83,7 @@ def _plan_requests(browser: Browser, server: Server) -> tuple[list[str], str | N
     orders["id"] = f"tiles-{uuid.uuid4().hex[:8]}"  # the shared server may hold the exemplar
     mission = _api_import(server, json.dumps(orders).encode(), "application/json")
     context = browser.new_context(base_url=server.url)
-    context.set_default_timeout(20_000)
+    context.set_default_timeout(PATIENCE_MS)
     page = context.new_page()
     asked: list[str] = []
     page.on("request", lambda request: asked.append(request.url))

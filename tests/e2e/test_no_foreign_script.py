@@ -36,7 +36,7 @@ from playwright.sync_api import Browser, BrowserContext, Frame, Page, expect
 
 from countersign.approvals import dsse
 
-from .conftest import PASSWORD, ROLES, Server, api_login, running_server
+from .conftest import PASSWORD, PATIENCE_MS, ROLES, Server, api_login, running_server
 from .test_roles import sign_in
 
 MISSION = "xss-mission"
@@ -303,7 +303,7 @@ def api_state(server: Server) -> dict[str, Any]:
 def open_context(browser: Browser, server: Server, findings: Findings,
                  opened: list[BrowserContext]) -> Page:
     context = browser.new_context(base_url=server.url, viewport={"width": 1280, "height": 900})
-    context.set_default_timeout(30_000)
+    context.set_default_timeout(PATIENCE_MS)
     opened.append(context)
     context.expose_binding("__reportPwned",
                            lambda source, href: findings.pwned.append(str(href)))
@@ -396,13 +396,13 @@ def rehearse_and_replay(page: Page, findings: Findings) -> None:
     expect(viewer.locator("canvas").first).to_be_visible(timeout=90_000)
     expect(page.get_by_test_id("rehearsal-state")).to_have_text("Waiting for the outcome",
                                                                  timeout=60_000)
-    expect(page.get_by_test_id("current-goal")).to_contain_text("Changed v2", timeout=30_000)
+    expect(page.get_by_test_id("current-goal")).to_contain_text("Changed v2")
     # The page holds the rehearsal's controls and the goal's title; viser's own
     # panel has none, so the title reaches viser only as scene labels, checked below.
     page.wait_for_timeout(1000)  # the scene's labels arrive
     check_frames(page, findings, "live rehearsal, first goal")
     page.get_by_test_id("outcome-succeed").click()
-    expect(page.get_by_test_id("rehearsal-step")).to_have_text("1", timeout=30_000)
+    expect(page.get_by_test_id("rehearsal-step")).to_have_text("1")
     page.wait_for_timeout(1000)
     check_frames(page, findings, "live rehearsal, second goal")
     page.get_by_test_id("stop-rehearsal").click()

@@ -14,6 +14,7 @@ from playwright.sync_api import Browser, expect
 
 from .conftest import (
     PASSWORD,
+    PATIENCE_MS,
     Server,
     _api_import,
     _cli,
@@ -50,7 +51,7 @@ def test_plan_view_highlights_the_legs_that_cross_a_keep_out_chart(
 
     mission = _api_import(charted_server, example_bytes("search-and-sample"), "application/json")
     context = browser.new_context(base_url=charted_server.url)
-    context.set_default_timeout(20_000)
+    context.set_default_timeout(PATIENCE_MS)
     page = context.new_page()
     problems: list[str] = []
     page.on("pageerror", lambda error: problems.append(str(error)))

@@ -32,7 +32,7 @@ def test_the_record_page_shows_executions(page: Page, server: Server) -> None:
     sign_in(page, "auditor")
     page.goto(f"/audit/{record}")
     statements = page.get_by_test_id("execution-statement")
-    expect(statements).to_have_count(2, timeout=30_000)
+    expect(statements).to_have_count(2)
     expect(statements.nth(0)).to_have_text(f"approved, executed as path {path}, no deviation")
     expect(statements.nth(1)).to_contain_text(
         "UNKNOWN-GOAL at step 2: <b>G9</b> is not a goal of the orders")

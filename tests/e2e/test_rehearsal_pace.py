@@ -110,8 +110,8 @@ def test_a_step_by_step_rehearsal_in_the_browser(page: Page, server: Server, own
     expect(page.get_by_role("alert")).to_contain_text("already queued")
     expect(page.get_by_test_id("rehearsal-faults")).to_contain_text("queued for the next goal")
     page.get_by_test_id("outcome-succeed").click()
-    expect(page.get_by_test_id("rehearsal-step")).to_have_text("1", timeout=30_000)
-    expect(page.get_by_test_id("rehearsal-faults")).to_contain_text("Leak", timeout=30_000)
+    expect(page.get_by_test_id("rehearsal-step")).to_have_text("1")
+    expect(page.get_by_test_id("rehearsal-faults")).to_contain_text("Leak")
 
     # The record is listed from the stop's answer: no reload of the list is needed.
     records = page.get_by_test_id("rehearsal-records")

@@ -42,15 +42,14 @@ def test_operator_rehearses_in_the_browser(page: Page, server: Server, own_exemp
     expect(frame).to_be_visible(timeout=60_000)
     expect(frame).to_have_attribute("src", re.compile(r"^/rehearsal/[A-Za-z0-9_-]+/$"))
     viewer = page.frame_locator('[data-testid="viser-frame"]')
-    expect(viewer.locator("canvas").first).to_be_visible(timeout=30_000)
+    expect(viewer.locator("canvas").first).to_be_visible()
     # The page holds the controls: viser's panel has none.
     expect(viewer.get_by_role("button", name="Succeed")).to_have_count(0)
 
     expect(page.get_by_test_id("rehearsal-state")).to_have_text("Waiting for the outcome",
                                                                  timeout=60_000)
     # The first goal of the exemplar is current, in the status line and in the graph.
-    expect(page.get_by_test_id("current-goal")).to_have_text(re.compile("Search Area A"),
-                                                              timeout=30_000)
+    expect(page.get_by_test_id("current-goal")).to_have_text(re.compile("Search Area A"))
     expect(page.get_by_test_id("graph-current")).to_contain_text("G1")
 
     shots = tmp_path_factory.getbasetemp() / "artifacts"
@@ -71,16 +70,16 @@ def test_operator_rehearses_in_the_browser(page: Page, server: Server, own_exemp
     assert variance > 50, f"the scene looks blank (variance {variance:.1f})"
 
     page.get_by_test_id("outcome-succeed").click()
-    expect(page.get_by_test_id("rehearsal-step")).to_have_text("1", timeout=30_000)
-    expect(page.get_by_test_id("graph-current")).to_contain_text("G2", timeout=30_000)
+    expect(page.get_by_test_id("rehearsal-step")).to_have_text("1")
+    expect(page.get_by_test_id("graph-current")).to_contain_text("G2")
 
     page.get_by_test_id("stop-rehearsal").click()
     records = page.get_by_test_id("rehearsal-records")
-    expect(records.get_by_role("link", name="Replay")).to_have_count(1, timeout=30_000)
+    expect(records.get_by_role("link", name="Replay")).to_have_count(1)
     expect(page.get_by_test_id("viser-frame")).to_have_count(0)
 
     # The stored replay plays offline: viser's standalone page, sandboxed, draws the scene.
     href = records.get_by_role("link", name="Replay").get_attribute("href")
     assert href and href.endswith("/replay.html")
     page.goto(href)
-    expect(page.locator("canvas").first).to_be_visible(timeout=30_000)
+    expect(page.locator("canvas").first).to_be_visible()

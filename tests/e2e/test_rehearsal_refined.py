@@ -36,7 +36,7 @@ def test_rehearsal_marks_the_step_inside_a_refined_goal(
     # Generous timeouts: a viser server and the simulation start on a loaded machine.
     expect(page.get_by_test_id("rehearsal-state")).to_have_text("Waiting for the outcome",
                                                                  timeout=90_000)
-    expect(page.get_by_test_id("graph-current")).to_contain_text("G1", timeout=30_000)
+    expect(page.get_by_test_id("graph-current")).to_contain_text("G1")
     # The live rehearsal asks for the outcome of G1's first goal inside (G1/G1.1#1): its card
     # says so with the breadcrumb, and the graph marks that step (stepPlace, rehearsalOrder.ts).
     expect(page.get_by_test_id("graph-current")).to_contain_text(
@@ -80,7 +80,7 @@ def test_rehearsal_marks_the_step_inside_a_refined_goal(
     # Six goals inside G1, decided by key and by button in turn: succeed, fail, ... The
     # seventh may not commence (within: 6 steps), so G1 ends with its on_timeout (fail) -> G3.
     for step, (outcome, local) in enumerate([("succeed", "G1.1"), ("fail", "G1.2")] * 3):
-        expect(page.get_by_test_id("rehearsal-step")).to_have_text(str(step), timeout=30_000)
+        expect(page.get_by_test_id("rehearsal-step")).to_have_text(str(step))
         expect(page.get_by_test_id("rehearsal-state")).to_have_text("Waiting for the outcome",
                                                                      timeout=60_000)
         expect(crumbs).to_have_text(["G1", local])
@@ -89,7 +89,7 @@ def test_rehearsal_marks_the_step_inside_a_refined_goal(
             page.get_by_test_id(f"outcome-{outcome}").click()
         else:
             page.keyboard.press(outcome[0])
-    expect(page.get_by_test_id("rehearsal-step")).to_have_text("6", timeout=30_000)
+    expect(page.get_by_test_id("rehearsal-step")).to_have_text("6")
     expect(page.get_by_test_id("rehearsal-state")).to_have_text("Waiting for the outcome",
                                                                  timeout=60_000)
     expect(page.get_by_test_id("graph-current")).to_contain_text("G3")
@@ -103,7 +103,7 @@ def test_rehearsal_marks_the_step_inside_a_refined_goal(
     expect_accessible(page, f"the time-out of a refinement at {width} px",
                       include="[data-testid='rehearsal']")
     page.get_by_test_id("stop-rehearsal").click()
-    expect(page.get_by_test_id("viser-frame")).to_have_count(0, timeout=30_000)
+    expect(page.get_by_test_id("viser-frame")).to_have_count(0)
 
 
 def card_geometry(page: Page, what: str) -> None:

@@ -13,7 +13,7 @@ from collections.abc import Iterator
 import pytest
 from playwright.sync_api import Browser, Page, expect
 
-from .conftest import Server, expect_accessible
+from .conftest import PATIENCE_MS, Server, expect_accessible
 from .test_review_screen import SCREENS, box, font_px, inside, no_page_scroll_sideways
 from .test_roles import sign_in
 
@@ -22,7 +22,7 @@ from .test_roles import sign_in
 def screen(request: pytest.FixtureRequest, browser: Browser, server: Server) -> Iterator[Page]:
     width, height = request.param
     context = browser.new_context(base_url=server.url, viewport={"width": width, "height": height})
-    context.set_default_timeout(30_000)
+    context.set_default_timeout(PATIENCE_MS)
     errors: list[str] = []
     page = context.new_page()
     page.on("pageerror", lambda e: errors.append(str(e)))

@@ -112,5 +112,5 @@ def test_team_rehearses_every_vehicle_with_a_switcher(
                     timeout=120_000)
 
     page.get_by_test_id("stop-rehearsal").click()
-    expect(page.get_by_test_id("viser-frame")).to_have_count(0, timeout=30_000)
+    expect(page.get_by_test_id("viser-frame")).to_have_count(0)
     assert not errors, errors

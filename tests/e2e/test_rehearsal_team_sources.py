@@ -91,5 +91,5 @@ def test_each_vehicle_simulates_or_replays_a_path(
     expect(page.get_by_test_id("team-joint-end")).to_contain_text(
         "remus-100:waiting + vehicle-2:ABORT")
     page.get_by_test_id("stop-rehearsal").click()
-    expect(page.get_by_test_id("viser-frame")).to_have_count(0, timeout=30_000)
+    expect(page.get_by_test_id("viser-frame")).to_have_count(0)
     assert not errors, errors

@@ -19,7 +19,7 @@ import httpx
 import pytest
 from playwright.sync_api import Browser, Page, expect
 
-from .conftest import Server, _api_import, expect_accessible
+from .conftest import PATIENCE_MS, Server, _api_import, expect_accessible
 from .screens import SCREENS, box, font_px, inside, no_page_scroll_sideways
 from .test_roles import sign_in
 from .test_vehicle_registry import approve, client, exemplar
@@ -75,7 +75,7 @@ def submitted(server: Server) -> dict[str, Any]:
 def screen(request: pytest.FixtureRequest, browser: Browser, server: Server) -> Iterator[Page]:
     width, height = request.param
     context = browser.new_context(base_url=server.url, viewport={"width": width, "height": height})
-    context.set_default_timeout(30_000)
+    context.set_default_timeout(PATIENCE_MS)
     errors: list[str] = []
     page = context.new_page()
     page.on("pageerror", lambda e: errors.append(str(e)))

@@ -14,7 +14,7 @@ from typing import Any
 import pytest
 from playwright.sync_api import Browser, Locator, Page, Route, expect
 
-from .conftest import Server, expect_accessible
+from .conftest import PATIENCE_MS, Server, expect_accessible
 from .screens import SCREENS, box, inside, no_page_scroll_sideways
 from .test_roles import sign_in
 
@@ -30,7 +30,7 @@ FORM_WIDTHS = (1280, 1024, 900, 800, 700)
 def screen(request: pytest.FixtureRequest, browser: Browser, server: Server) -> Iterator[Page]:
     width, height = request.param
     context = browser.new_context(base_url=server.url, viewport={"width": width, "height": height})
-    context.set_default_timeout(30_000)
+    context.set_default_timeout(PATIENCE_MS)
     errors: list[str] = []
     page = context.new_page()
     page.on("pageerror", lambda e: errors.append(str(e)))

@@ -9,7 +9,7 @@ import secrets
 
 from playwright.sync_api import Browser, expect
 
-from .conftest import Server, expect_accessible
+from .conftest import PATIENCE_MS, Server, expect_accessible
 from .test_review_screen import box, no_page_scroll_sideways
 from .test_roles import sign_in
 
@@ -17,7 +17,7 @@ from .test_roles import sign_in
 def test_admin_edits_a_profile_as_a_form_and_reads_a_field_level_diff(
         browser: Browser, server: Server) -> None:
     context = browser.new_context(base_url=server.url, viewport={"width": 1024, "height": 768})
-    context.set_default_timeout(30_000)
+    context.set_default_timeout(PATIENCE_MS)
     page = context.new_page()
     try:
         vehicle = f"form-auv-{secrets.token_hex(3)}"
