@@ -121,7 +121,11 @@ def save_procedure(body: ProcedureJson, principal: CurrentPrincipal, db: Db,
                    services: Services) -> dict[str, Any]:
     """Save a procedure version: its name's next version number, checked like a refinement
     (errors refuse it, 422). A saved version never changes (409 for the same number)."""
-    row = service.save_procedure(db, signer=services.signer, procedure=procedure_from_data(body),
+    # Checked in a read session before the write transaction begins (`db` is not touched
+    # until then): the check takes seconds, and other writers must not wait for it.
+    with services.database.session(write=False) as reader:
+        checked = service.checked_procedure(reader, procedure_from_data(body))
+    row = service.save_procedure(db, signer=services.signer, procedure=checked,
                                  author=principal.user)
     return {**_summary(db, row), "document": row.document, "decisions": []}
 
