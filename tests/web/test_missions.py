@@ -1,9 +1,14 @@
 from __future__ import annotations
 
 import json
+import sqlite3
+from typing import Any
+
+import pytest
 
 from countersign.orders.examples import example_bytes
 from countersign.orders.reader import read_bytes
+from countersign.store import missions as missions_store
 from countersign.web.routes.schemas import FindingOut
 
 from .conftest import World, count_rows
@@ -173,3 +178,41 @@ def test_read_orders_stores_nothing_and_examples_list(world: World) -> None:
     orders = client.get("/api/examples/search-and-sample").json()
     assert orders["id"] == exemplar["id"] and len(orders["goals"]) == exemplar["goals"]
     assert client.get("/api/examples/nope").status_code == 404
+
+
+def test_orders_are_validated_without_holding_the_write_lock(
+        world: World, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A validation runs up to 8 s of solver CPU (32 s of wall time): on SQLite, validating
+    inside the write transaction made every other user's writes wait for it. Creating,
+    importing and editing all validate first, in a read session."""
+    if world.database.engine.dialect.name != "sqlite":
+        pytest.skip("the single write lock is SQLite's")
+    path = world.database.engine.url.database
+    assert path
+    writable_meanwhile: list[bool] = []
+    original = missions_store.lookup_report
+
+    def probe(*args: Any, **kwargs: Any) -> Any:
+        other = sqlite3.connect(path, timeout=0, isolation_level=None)
+        try:
+            other.execute("BEGIN IMMEDIATE")
+            other.execute("ROLLBACK")
+            writable_meanwhile.append(True)
+        except sqlite3.OperationalError:
+            writable_meanwhile.append(False)
+        finally:
+            other.close()
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(missions_store, "lookup_report", probe)
+    client = world.client("operator")
+    orders = _copy(world, "copy")
+    assert client.post("/api/missions", json=orders).status_code == 201
+    orders["title"] = "Edited"
+    edited = client.put("/api/missions/copy/draft", json={"orders": orders},
+                        headers={"If-Match": '"1"'})
+    assert edited.status_code == 200, edited.text
+    imported = client.post("/api/import", content=example_bytes("transect-survey"),
+                           headers={"content-type": "application/json"})
+    assert imported.status_code == 201, imported.text
+    assert len(writable_meanwhile) >= 3 and all(writable_meanwhile), writable_meanwhile
