@@ -27,6 +27,7 @@ from ..deps import (
     Services,
     TransactionRoute,
     allow,
+    computing,
 )
 from .approval_schemas import PreparedOut
 from .approvals import SUPERVISORS, DecisionIn, EnvelopeIn
@@ -140,7 +141,7 @@ def get_procedure(name: Name, version: Version, db: Db) -> dict[str, Any]:
 
 @router.post("/procedures/{name}/versions/{version}/statement",
              operation_id="prepareProcedureDecision", response_model=PreparedOut,
-             **allow(*SUPERVISORS))
+             **computing(allow(*SUPERVISORS)))
 def prepare_decision(name: Name, version: Version, body: DecisionIn,
                      principal: CurrentPrincipal, db: Db, services: Services) -> dict[str, Any]:
     """The exact statement to sign about this procedure version: sign the DSSE PAE (`pae`)
