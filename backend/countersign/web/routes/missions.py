@@ -152,13 +152,20 @@ class ReadOrdersOut(BaseModel):
 
 @router.post("/read", operation_id="readOrders", response_model=ReadOrdersOut,
              **with_limit(IMPORT_ROUTE, "read"))
-async def read_orders(request: Request) -> ReadOrdersOut:
+async def read_orders(request: Request) -> Response:
     """Reads JSON, AVCL XML or MEO Turtle into orders (the import route's reader) and stores
     nothing: the editor replaces its draft with them through the usual If-Match save."""
     data = await request.body()
-    loaded = await run_in_threadpool(read_bytes, data, "the uploaded file")
-    return ReadOrdersOut(orders=orders_to_json(loaded.orders),
-                         findings=[f.to_json() for f in loaded.findings])
+    # The answer is made and encoded in the worker thread too: megabytes of orders encoded on
+    # the event loop would stall every other request of this process.
+    return await run_in_threadpool(_read_orders, data)
+
+
+def _read_orders(data: bytes) -> Response:
+    loaded = read_bytes(data, "the uploaded file")
+    out = ReadOrdersOut(orders=orders_to_json(loaded.orders),
+                        findings=[f.to_json() for f in loaded.findings])
+    return JSONResponse(out.model_dump(mode="json"))
 
 
 class ExampleOut(BaseModel):
