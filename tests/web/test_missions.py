@@ -11,7 +11,7 @@ from countersign.orders.examples import example_bytes
 from countersign.orders.reader import read_bytes
 from countersign.store import missions as missions_store
 from countersign.web.routes import missions as missions_routes
-from countersign.web.routes.schemas import FindingOut
+from countersign.web.routes.schemas import FindingOut, MissionDetail
 
 from .conftest import World, count_rows
 from .described import assert_described
@@ -242,3 +242,27 @@ def test_read_orders_answers_off_the_event_loop(world: World,
     assert read.status_code == 200, read.text
     assert on_the_loop == [False]
     assert read.json() == {"orders": real(read_bytes(data, "x").orders), "findings": []}
+
+
+def test_an_import_answers_encoded_in_the_worker_thread(world: World,
+                                                      monkeypatch: pytest.MonkeyPatch) -> None:
+    """The import's answer carries the whole orders: returned as a model from the worker
+    thread, FastAPI validated and encoded it on the event loop (an async route), stalling every
+    other request of the process meanwhile."""
+    answers: list[object] = []
+    real = missions_routes._import
+
+    def probe(*args: Any) -> Any:
+        answers.append(real(*args))
+        return answers[-1]
+
+    monkeypatch.setattr(missions_routes, "_import", probe)
+    imported = world.client("operator").post(
+        "/api/import", content=example_bytes("transect-survey"),
+        headers={"content-type": "application/json"})
+    assert imported.status_code == 201, imported.text
+    assert imported.headers["etag"] == '"1"'
+    assert [type(a).__name__ for a in answers] == ["JSONResponse"]
+    body = imported.json()
+    assert body["id"] == "transect-survey" and body["orders"]["id"] == "transect-survey"
+    assert_described(MissionDetail, body)
