@@ -10,6 +10,7 @@ import time
 from playwright.sync_api import Page, expect
 
 from .conftest import Server, _api_import
+from .test_approval_flow import bypass
 from .test_roles import sign_in
 from .test_vehicle_registry import client, exemplar
 
@@ -43,3 +44,12 @@ def test_the_review_shows_the_campaigns_the_signature_cites(page: Page, server: 
     expect(cited.get_by_role("table")).to_contain_text("Any violation")
     expect(cited.get_by_role("button", name="Offer per-goal probabilities")).to_have_count(0)
     expect(page.get_by_test_id("review-rehearsal")).to_contain_text("none attached")
+
+    # A database writer who is not the app edits the record: the review withholds the
+    # results, says why, and shows no estimate the digest does not cover.
+    bypass(server, "campaigns",
+           "UPDATE campaigns SET record = json_set(record, '$.simulations', 1000) WHERE id = ?",
+           campaign)
+    page.reload()
+    expect(cited.get_by_role("alert")).to_contain_text("does not hash to its digest")
+    expect(cited.get_by_role("table")).to_have_count(0)

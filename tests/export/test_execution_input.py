@@ -274,3 +274,10 @@ def test_an_alog_of_nested_helm_modes_reads_as_the_flat_goals_run() -> None:
     runs = [json.loads(line) for line in converted.ndjson.splitlines()]
     assert [(r["goal"], r["outcome"]) for r in runs] == list(zip(path.goals, path.outcomes,
                                                                  strict=True))
+
+
+@pytest.mark.parametrize("t0", [1e300, -1e300, 4e11, 2.0**64])
+def test_vehicle_times_beyond_any_calendar_date_are_refused_by_name(t0: float) -> None:
+    data = imc_run(["G1", "G2", "G5"], ["succeed"] * 3, "COMPLETE", t0=t0)
+    with pytest.raises(ExecutionInputError, match="is not a date"):
+        to_execution_log(ORDERS, data)

@@ -109,6 +109,13 @@ def test_kml_forbids_shortcut_and_multipolygon() -> None:
      ' [[[0,0],[1,0],[1,100],[0,0]]]}}]}', "latitude"),
     ("[1, 2", "not JSON"),
     ('{"type": "Topology"}', "FeatureCollection"),
+    ('{"type": "Feature", "id": "a", "properties": {},'
+     ' "geometry": {"type": "MultiPolygon", "coordinates": []}}', "feature 0: no polygon"),
+    ('{"type": "Feature", "id": "a", "properties": {},'
+     ' "geometry": {"type": "Polygon", "coordinates": []}}', "feature 0: polygon 0 has no ring"),
+    ('{"type": "Feature", "id": "a", "properties": {},'
+     ' "geometry": {"type": "MultiPolygon", "coordinates": [[[[0,0],[1,0],[1,1],[0,0]]], []]}}',
+     "feature 0: polygon 1 has no ring"),
 ])
 def test_bad_geojson_names_what_and_where(text: str, words: str) -> None:
     with pytest.raises(GeoFormatError, match=words):

@@ -3,9 +3,12 @@ from __future__ import annotations
 import sqlite3
 
 import pytest
+from sqlalchemy import select
 
+from countersign.store.accounts import MAX_LISTED_TOKENS, MAX_LIVE_TOKENS
 from countersign.store.hashing import HASHER
 from countersign.store.login_throttle import FREE_FAILURES
+from countersign.store.tables import ApiToken, User
 
 from .conftest import PASSWORD, World, count_rows
 
@@ -141,3 +144,28 @@ def test_look_alike_usernames_are_refused(world: World) -> None:
                                                  "admin_password": PASSWORD})
         assert refused.status_code == 400, (look_alike, refused.text)
         assert words in refused.json()["detail"]
+
+
+def test_live_api_tokens_and_the_token_list_are_bounded(world: World) -> None:
+    """Anyone signed in makes tokens: their number alive at once is bounded (409 naming the
+    bound, room again after a revocation) and so is the list, live tokens first."""
+    client, csrf = world.browser("auditor")
+    client.headers["X-CSRF-Token"] = csrf
+    live = len(client.get("/api/tokens").json())  # the world's own token
+    made = [client.post("/api/tokens", json={"name": f"t{n}", "scopes": ["read"]})
+            for n in range(MAX_LIVE_TOKENS - live)]
+    assert all(r.status_code == 201 for r in made), [r.text for r in made if r.is_error][:1]
+    refused = client.post("/api/tokens", json={"name": "one more", "scopes": ["read"]})
+    assert refused.status_code == 409, refused.text
+    assert f"at most {MAX_LIVE_TOKENS}" in refused.json()["detail"]
+    assert client.delete(f"/api/tokens/{made[0].json()['id']}").status_code == 204
+    again = client.post("/api/tokens", json={"name": "after a revocation", "scopes": ["read"]})
+    assert again.status_code == 201, again.text
+    with world.database.session() as db:
+        user = db.scalars(select(User).where(User.username == world.usernames["auditor"])).one()
+        db.add_all(ApiToken(user_id=user.id, name=f"old{n}", token_hash=f"{n:064x}",
+                            scopes="read", revoked=True) for n in range(MAX_LISTED_TOKENS))
+    listed = client.get("/api/tokens").json()
+    assert len(listed) == MAX_LISTED_TOKENS
+    assert sum(not t["revoked"] for t in listed) == MAX_LIVE_TOKENS
+    assert [t["id"] for t in listed] == sorted(t["id"] for t in listed)

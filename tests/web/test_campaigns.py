@@ -259,3 +259,52 @@ def test_fault_reach_names_a_fault_nothing_reacts_to(world: World) -> None:
     assert reader.get(url, params=[("fault", "leak")] * 17).status_code == 422
     assert reader.get(f"/api/missions/{MISSION}/versions/999/fault-reach",
                       params={"fault": "leak"}).status_code == 404
+
+
+def _rewrite_record(world: World, campaign_id: str, **changes: Any) -> None:
+    """What a database writer who is not the app does: the record changes, its digest stays."""
+    with world.database.engine.begin() as connection:
+        row = connection.execute(text("SELECT record FROM campaigns WHERE id = :id"),
+                                 {"id": campaign_id}).scalar_one()
+        record = json.loads(row) if isinstance(row, str) else row
+        record.update(changes)
+        connection.execute(text("UPDATE campaigns SET record = :r WHERE id = :id"),
+                           {"r": json.dumps(record), "id": campaign_id})
+
+
+def test_a_record_changed_in_the_database_is_neither_shown_nor_cited(
+        sqlite_world: World) -> None:
+    """Before signing, not only in the audit bundle afterwards: the results of a record that no
+    longer hashes to its digest are withheld with the reason, it cannot be attached, and an
+    attached one changed later stops the statement from being prepared."""
+    world = sqlite_world
+    number = new_version(world)
+    operator = world.client("operator")
+    first, second = (_start(operator, number, seed=seed).json()["id"] for seed in (1, 2))
+    for campaign in (first, second):
+        assert _wait_finished(operator, campaign)["results"] is not None
+    submission = submit(world, number)
+    attached = operator.post(f"/api/submissions/{submission}/campaigns",
+                             json={"campaign": first})
+    assert attached.status_code == 201, attached.text
+    supervisor = world.client("supervisor")
+    signer = register_key(supervisor)
+
+    _rewrite_record(world, second, simulations=1000)
+    shown = operator.get(f"/api/campaigns/{second}").json()
+    assert shown["results"] is None, "tampered results shown under the untampered digest"
+    assert "does not hash to its digest" in shown["error"], shown
+    offered = operator.get(f"/api/campaigns/{second}/probabilities")
+    assert offered.status_code == 409 and "does not hash" in offered.json()["detail"]
+    listed = {c["id"]: c for c in operator.get(f"/api/missions/{MISSION}/campaigns").json()}
+    assert listed[second]["results"] is None
+    refused = operator.post(f"/api/submissions/{submission}/campaigns",
+                            json={"campaign": second})
+    assert refused.status_code == 409 and "does not hash" in refused.json()["detail"], \
+        refused.text
+
+    _rewrite_record(world, first, simulations=1000)
+    statement = supervisor.post(f"/api/submissions/{submission}/statement",
+                                json={"decision": "approved", "key_id": signer.key_id})
+    assert statement.status_code == 409, statement.text
+    assert f"campaign {first}" in statement.json()["detail"]

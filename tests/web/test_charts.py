@@ -2,10 +2,17 @@
 
 from __future__ import annotations
 
+import asyncio
 import json
+from contextlib import AbstractContextManager
 from typing import Any
 
+import pytest
+from sqlalchemy.orm import Session
+
 from countersign.orders.examples import example_bytes
+from countersign.orders.model import Orders
+from countersign.web.routes import charts as chart_routes
 
 from .conftest import World
 from .described import assert_described
@@ -151,3 +158,32 @@ def test_geojson_nested_two_thousand_deep_is_a_422_naming_nesting(world: World) 
     response = _import(world, "admin", deep)
     assert response.status_code == 422, response.text  # type: ignore[attr-defined]
     assert "nested" in response.text  # type: ignore[attr-defined]
+
+
+def test_the_plan_view_reads_off_the_event_loop_and_takes_no_write_lock(
+        world: World, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Reading up to 9 MiB of orders on the event loop stalled every request of the process,
+    and the plan view's session took the write lock (on SQLite, waited for on the event loop
+    itself) though it stores nothing."""
+    opened: list[bool] = []
+    on_the_loop: list[bool] = []
+    real_open, real_registry = world.database.open, chart_routes.with_registry
+
+    def recording(write: bool = True) -> AbstractContextManager[Session]:
+        opened.append(write)
+        return real_open(write=write)
+
+    def registry(db: Session, orders: Orders) -> Orders:
+        try:
+            asyncio.get_running_loop()
+            on_the_loop.append(True)
+        except RuntimeError:
+            on_the_loop.append(False)
+        return real_registry(db, orders)
+
+    monkeypatch.setattr(world.database, "open", recording)
+    monkeypatch.setattr(chart_routes, "with_registry", registry)
+    viewed = world.client("auditor").post("/api/plan-view",
+                                          content=example_bytes("search-and-sample"))
+    assert viewed.status_code == 200, viewed.text
+    assert (opened, on_the_loop) == ([False], [False])

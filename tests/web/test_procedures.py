@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import copy
 import json
+import sqlite3
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -16,6 +17,7 @@ from sqlalchemy import text
 from countersign.approvals import dsse
 from countersign.approvals.statement import statement_bytes
 from countersign.orders.procedure import procedure_from_data
+from countersign.store import procedures as procedures_store
 from countersign.web.deps import CSRF_HEADER
 
 from .approval_helpers import Signer, register_key, sign_prepared
@@ -319,3 +321,36 @@ def test_cli_signs_a_procedure_decision_with_a_key_file(
     assert main([*argv, "--password-file", str(password_file)]) == 1
     assert "decision already" in capsys.readouterr().err
     assert main([*argv[:-2], "--decision", "approved", "--key", str(tmp_path / "none")]) == 2
+
+
+def test_a_procedure_is_checked_without_holding_the_write_lock(
+        world: World, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Checking a procedure of up to 2,000 goals takes seconds (its solver budget alone is
+    two): on SQLite, doing it inside the write transaction made every other writer, any user's
+    draft edit, wait for it."""
+    if world.database.engine.dialect.name != "sqlite":
+        pytest.skip("the single write lock is SQLite's")
+    path = world.database.engine.url.database
+    assert path
+    writable_meanwhile: list[bool] = []
+    original = procedures_store.check_procedure
+
+    def probe(procedure: Any) -> Any:
+        other = sqlite3.connect(path, timeout=0, isolation_level=None)
+        try:
+            other.execute("BEGIN IMMEDIATE")
+            other.execute("ROLLBACK")
+            writable_meanwhile.append(True)
+        except sqlite3.OperationalError:
+            writable_meanwhile.append(False)
+        finally:
+            other.close()
+        return original(procedure)
+
+    monkeypatch.setattr(procedures_store, "check_procedure", probe)
+    _save(world)
+    assert writable_meanwhile == [True]
+    # The version's number is checked again under the write lock: no gap, no second 1.
+    again = world.client("operator").post("/api/procedures", json=_document())
+    assert again.status_code == 409 and "saved already" in again.json()["detail"], again.text
+    assert writable_meanwhile == [True]  # refused before any check

@@ -4,6 +4,7 @@ viser websocket through the app's proxy, stored records, limits and bad input.""
 from __future__ import annotations
 
 import json
+import sqlite3
 import threading
 import time
 from collections.abc import Callable, Iterator
@@ -402,3 +403,36 @@ def test_a_refined_mission_is_decided_goal_inside_goal(app_world: World) -> None
     timeout = status["refined"]["timeout"]
     assert (timeout["goal"], timeout["returns"]) == ("G1", "fail")
     assert operator.post(f"/api/rehearsals/{rid}/stop").status_code == 200
+
+
+def test_a_rehearsal_starts_without_holding_the_write_lock(
+        app_world: World, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Starting one builds its simulation, scene and viser server (a second or more, longer
+    for large orders): on SQLite, doing that inside the write transaction made every other
+    user's writes wait for it."""
+    world = app_world
+    if world.database.engine.dialect.name != "sqlite":
+        pytest.skip("the single write lock is SQLite's")
+    path = world.database.engine.url.database
+    assert path
+    hub = _hub(world)
+    writable_meanwhile: list[bool] = []
+    original = hub.start
+
+    def probe(*args: Any, **kwargs: Any) -> Any:
+        other = sqlite3.connect(path, timeout=0, isolation_level=None)
+        try:
+            other.execute("BEGIN IMMEDIATE")
+            other.execute("ROLLBACK")
+            writable_meanwhile.append(True)
+        except sqlite3.OperationalError:
+            writable_meanwhile.append(False)
+        finally:
+            other.close()
+        return original(*args, **kwargs)
+
+    monkeypatch.setattr(hub, "start", probe)
+    operator = world.client("operator")
+    started = _start(operator)
+    assert writable_meanwhile == [True]
+    assert operator.post(f"/api/rehearsals/{started['id']}/stop").status_code == 200

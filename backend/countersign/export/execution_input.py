@@ -83,7 +83,12 @@ def _when(seconds: float | None, absolute: bool) -> str | None:
         return None
     if not absolute:
         return f"{seconds:g}"
-    return datetime.fromtimestamp(seconds, UTC).isoformat().replace("+00:00", "Z")
+    try:
+        moment = datetime.fromtimestamp(seconds, UTC)
+    except (OverflowError, OSError, ValueError):
+        raise ExecutionInputError(f"the vehicle's time {seconds:g} s since 1970 is not a date "
+                                  "(years 1-9999)") from None
+    return moment.isoformat().replace("+00:00", "Z")
 
 
 class _Sequencer:

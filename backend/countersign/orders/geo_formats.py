@@ -136,8 +136,12 @@ def _polygons_of(geometry: Any, where: str) -> list[list[tuple[float, float]]]:
     else:
         kind = type(geometry).__name__ if geometry is not None else "no geometry"
         raise GeoFormatError(f"{where}: a chart must be a Polygon or MultiPolygon, not {kind}")
+    if not rings:
+        raise GeoFormatError(f"{where}: no polygon in the {type(geometry).__name__}")
     result = []
     for index, polygon in enumerate(rings):
+        if not polygon:
+            raise GeoFormatError(f"{where}: polygon {index} has no ring")
         if len(polygon) > 1:
             raise GeoFormatError(f"{where}: polygon {index} has holes, which orders cannot hold")
         result.append(_ring_to_polygon([tuple(p) for p in polygon[0]], where))

@@ -61,6 +61,13 @@ class Validated:
             store.remember_report(db, self.new_report)
 
 
+def registered(database: Database, orders: Orders) -> Orders:
+    """with_registry in a read session of its own: read through the writer's session, it
+    began the write transaction (SQLite's write lock) before the validation that follows."""
+    with database.session(write=False) as reader:
+        return with_registry(reader, orders)
+
+
 def validate_first(db: DbSession, orders: Orders, *, database: Database,
                    reports: ReportService, mission_id: str | None = None,
                    expected_revision: int | None = None) -> Validated:
@@ -91,7 +98,7 @@ def create_mission(db: DbSession, orders: Orders, *, author: User, database: Dat
                    reports: ReportService, signer: LogSigner | None) -> Mission:
     """A new mission of these orders (the registry's profile and charts copied in), its
     report validated before the write and stored with it."""
-    orders = with_registry(db, orders)
+    orders = registered(database, orders)
     validated = validate_first(db, orders, database=database, reports=reports)
     mission = store.create_mission(db, orders=orders, author=author,
                                    orders_digest=validated.digest, draft=validated.draft,
@@ -104,7 +111,7 @@ def update_draft(db: DbSession, orders: Orders, *, mission_id: str,
                  layout: dict[str, Any] | None, expected_revision: int, author: User,
                  database: Database, reports: ReportService, signer: LogSigner | None) -> Mission:
     """The draft replaced by these orders (compare-and-set on the revision), validated first."""
-    orders = with_registry(db, orders)
+    orders = registered(database, orders)
     validated = validate_first(db, orders, database=database, reports=reports,
                                mission_id=mission_id, expected_revision=expected_revision)
     mission = store.update_draft(

@@ -8,11 +8,11 @@ import secrets
 from dataclasses import dataclass
 from datetime import datetime, timedelta
 
-from sqlalchemy import delete, func, select, update
+from sqlalchemy import case, delete, func, or_, select, update
 from sqlalchemy.orm import Session as DbSession
 
 from ..approvals.signer import LogSigner
-from ..errors import Invalid, TooMany
+from ..errors import Conflict, Invalid, TooMany
 from . import login_throttle
 from .db import database_of, writable
 from .events import record
@@ -161,6 +161,10 @@ SCOPES = ("read", "write", "decide")
 # A token's default life; the longest one may ask for (tokens never expired).
 TOKEN_LIFETIME = timedelta(days=90)
 MAX_TOKEN_LIFETIME = timedelta(days=366)
+# Anyone signed in may make tokens (an auditor too): bound how many are alive at once, and the
+# list (live ones first, then the latest ended), so that neither grows with one person's clicks.
+MAX_LIVE_TOKENS = 50
+MAX_LISTED_TOKENS = 200
 
 
 def create_token(db: DbSession, *, user: User, name: str,
@@ -172,6 +176,12 @@ def create_token(db: DbSession, *, user: User, name: str,
         raise AccountError(f"scopes are some of {', '.join(SCOPES)}; not {unknown or 'none'}")
     if lifetime is not None and not timedelta(0) < lifetime <= MAX_TOKEN_LIFETIME:
         raise AccountError(f"a token lives at most {MAX_TOKEN_LIFETIME.days} days")
+    live = db.scalar(select(func.count()).select_from(ApiToken).where(
+        ApiToken.user_id == user.id, ApiToken.revoked.is_(False),
+        or_(ApiToken.expires_at.is_(None), ApiToken.expires_at > utcnow())))
+    if live is not None and live >= MAX_LIVE_TOKENS:
+        raise Conflict(f"you have {live} live API tokens (at most {MAX_LIVE_TOKENS}); revoke "
+                       "one you no longer use first")
     secret = "cst_" + new_secret()
     token = ApiToken(user_id=user.id, name=name[:100] or "token", token_hash=token_hash(secret),
                      scopes=" ".join(s for s in SCOPES if s in scopes),
@@ -181,6 +191,15 @@ def create_token(db: DbSession, *, user: User, name: str,
     record(db, signer=signer, kind="token.created", actor=user,
            detail={"token": token.id, "name": token.name, "scopes": token.scopes})
     return token, secret
+
+
+def listed_tokens(db: DbSession, user: User) -> list[ApiToken]:
+    """The user's tokens, oldest first: every live one and the latest ended ones, at most
+    MAX_LISTED_TOKENS in all."""
+    ended = case((ApiToken.revoked.is_(True), 1), (ApiToken.expires_at <= utcnow(), 1), else_=0)
+    rows = db.scalars(select(ApiToken).where(ApiToken.user_id == user.id)
+                      .order_by(ended, ApiToken.id.desc()).limit(MAX_LISTED_TOKENS))
+    return sorted(rows, key=lambda token: token.id)
 
 
 def token_user(db: DbSession, secret: str) -> User | None:

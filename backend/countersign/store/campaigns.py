@@ -41,6 +41,28 @@ class CampaignNotThisVersion(Conflict):
     """The campaign simulated other orders than the submitted version."""
 
 
+class RecordChanged(Conflict):
+    """A sealed campaign record that no longer hashes to its digest: it was changed in the
+    database by something other than the app, so it is neither shown nor cited."""
+
+
+def record_digest(record: dict[str, Any]) -> str:
+    return "sha256:" + hashlib.sha256(rfc8785.dumps(record)).hexdigest()
+
+
+def changed_record(row: Campaign, digest: str | None = None) -> str | None:
+    """Why the sealed record cannot be trusted as `digest` (the row's own by default), or None
+    when it hashes to it. Checked where the record is shown or cited, not only in the audit
+    bundle afterwards: a supervisor must never sign over results the seal did not cover."""
+    expected = digest or row.digest
+    if expected is None or row.record is None:
+        return None
+    if record_digest(row.record) == expected:
+        return None
+    return (f"campaign {row.id}: the stored record does not hash to its digest {expected}; "
+            "it was changed outside the app")
+
+
 def create(db: DbSession, *, orders: dict[str, Any], orders_digest: str, spec: dict[str, Any],
            simulations: int, owner: User | None, mission_id: str | None = None,
            version: int | None = None, signer: LogSigner | None) -> Campaign:
@@ -144,7 +166,7 @@ def seal(db: DbSession, campaign_id: str, record: dict[str, Any]) -> str | None:
     """Finish the campaign with its record (once; a second caller changes nothing). The
     record's digest is sha256 over its RFC 8785 form. Returns the digest when this call
     finished it."""
-    digest = "sha256:" + hashlib.sha256(rfc8785.dumps(record)).hexdigest()
+    digest = record_digest(record)
     statement = (update(Campaign)
                  .where(Campaign.id == campaign_id, Campaign.state.in_(ACTIVE_STATES))
                  .values(state="finished", record=record, digest=digest, ended_at=utcnow()))
@@ -190,6 +212,9 @@ def attach(db: DbSession, *, submission: Submission, campaign_id: str, actor: Us
     if row.state != "finished" or row.digest is None:
         raise Conflict(f"campaign {row.id} is {row.state}; only a finished campaign can be "
                        "attached")
+    changed = changed_record(row)
+    if changed is not None:
+        raise RecordChanged(changed)
     version = db.get_one(MissionVersion, submission.version_id)
     if row.orders_digest != version.digest:
         raise CampaignNotThisVersion(
@@ -214,9 +239,28 @@ def attached(db: DbSession, submission_id: int) -> list[CampaignAttachment]:
                            .order_by(CampaignAttachment.id)))
 
 
+def cited_digests(db: DbSession, submission_id: int) -> list[str]:
+    """The attached campaigns' record digests, for a statement to cite; RecordChanged when a
+    record no longer hashes to the digest it was attached with."""
+    digests = []
+    for attachment in attached(db, submission_id):
+        changed = changed_record(get(db, attachment.campaign_id), attachment.digest)
+        if changed is not None:
+            raise RecordChanged(changed)
+        digests.append(attachment.digest)
+    return digests
+
+
 def summary(db: DbSession, row: Campaign) -> dict[str, Any]:
     owner = db.get(User, row.owner_id) if row.owner_id is not None else None
     done = row.simulations if row.state == "finished" else count_done(db, row.id)
+    changed = changed_record(row)
+    if changed is not None:
+        return {**_summary(row, owner, done), "error": changed, "results": None}
+    return _summary(row, owner, done)
+
+
+def _summary(row: Campaign, owner: User | None, done: int) -> dict[str, Any]:
     return {"id": row.id, "mission": row.mission_id, "version": row.version,
             "orders_digest": row.orders_digest, "owner": owner.username if owner else None,
             "spec": row.spec, "simulations": row.simulations, "done": done,

@@ -209,10 +209,7 @@ def procedure_uses(db: DbSession, orders: Orders) -> tuple[list[ProcedureUse], b
 
 # --- saving ----------------------------------------------------------------------------------
 
-def save_procedure(db: DbSession, *, procedure: Procedure, author: User,
-                   signer: LogSigner | None) -> ProcedureRecord:
-    """Save a new version: the next number of its name, checked like a refinement, with the
-    procedures it names itself copied in from the library."""
+def _check_next_version(db: DbSession, procedure: Procedure) -> None:
     name, version = procedure.name, procedure.version
     if db.get(ProcedureRecord, (name, version)) is not None:
         raise Conflict(f"procedure {name!r} version {version} is saved already and never "
@@ -221,16 +218,32 @@ def save_procedure(db: DbSession, *, procedure: Procedure, author: User,
                        .where(ProcedureRecord.name == name)) or 0
     if version != latest + 1:
         raise Conflict(f"the next version of procedure {name!r} is {latest + 1}, not {version}")
-    procedure = expand_procedure(procedure, library_lookup(db))
-    findings, _paths = check_procedure(procedure)
+
+
+def checked_procedure(db: DbSession, procedure: Procedure) -> Procedure:
+    """The procedure with the library versions it names copied in, checked like a refinement
+    (Unprocessable naming its errors). Only reads: give it a read session, as the check takes
+    seconds at the largest size and a writer would hold the write lock all that time."""
+    _check_next_version(db, procedure)
+    expanded = expand_procedure(procedure, library_lookup(db))
+    findings, _paths = check_procedure(expanded)
     errors = [f for f in findings if f.severity == "error"]
     if errors:
         shown = "; ".join(f"{f.code} [{', '.join(f.subjects)}]: {f.message}"
                           for f in errors[:MAX_FINDINGS_SHOWN])
         more = f" (and {len(errors) - MAX_FINDINGS_SHOWN} more)" \
             if len(errors) > MAX_FINDINGS_SHOWN else ""
-        raise Unprocessable(f"procedure {name!r} version {version} has errors and is not "
-                            f"saved: {shown}{more}")
+        raise Unprocessable(f"procedure {procedure.name!r} version {procedure.version} has "
+                            f"errors and is not saved: {shown}{more}")
+    return expanded
+
+
+def save_procedure(db: DbSession, *, procedure: Procedure, author: User,
+                   signer: LogSigner | None) -> ProcedureRecord:
+    """Save a new version that checked_procedure returned: the next number of its name
+    (checked again here, under the write lock: another request may have saved it since)."""
+    name, version = procedure.name, procedure.version
+    _check_next_version(db, procedure)
     event = record(db, signer=signer, kind="procedure.saved", actor=author, detail={
         "procedure": name, "version": version, "digest": procedure.digest})
     row = ProcedureRecord(name=name, version=version, document=procedure.to_json(),

@@ -307,7 +307,8 @@ def _serve_frontend(app: FastAPI, dist: Path) -> None:
             return JSONResponse({"detail": "the browser app is not built; run "
                                  "./scripts/build-frontend (the API is at /api/docs)"},
                                 status_code=503)
-        candidate = (dist / path).resolve()
+        # A NUL is no file name: resolve() raises on it (a 500 for any GET /%00).
+        candidate = (dist / path).resolve() if "\x00" not in path else index
         if path and candidate.is_file() and candidate.is_relative_to(dist.resolve()):
             # Built assets carry a content hash in their names: cache them for good.
             immutable = path.startswith("assets/")

@@ -26,7 +26,7 @@ from ...orders.reader import orders_from_data
 from ...orders.team import member_digests
 from ...verify import fingerprint
 from ...verify.report_document import ReportDocument
-from ..campaigns import attached as attached_campaigns
+from ..campaigns import cited_digests as cited_campaigns
 from ..decide_guard import (
     lock_submission,
 )
@@ -93,7 +93,7 @@ def _statement(db: DbSession, ctx: Context, *, decision: str, reason: str, super
         supervisor=supervisor.username, key_id=key_id, time=time, nonce=nonce, revokes=revokes,
         rehearsal_digest=ctx.submission.rehearsal_digest,
         probabilities=ctx.report.probabilities, exports=exports,
-        campaigns=[a.digest for a in attached_campaigns(db, ctx.submission.id)],
+        campaigns=cited_campaigns(db, ctx.submission.id),
         checker=checker,
         team=member_digests(model) if model.team is not None else None)
 

@@ -16,6 +16,7 @@ from ...store.accounts import (
     AccountError,
     create_token,
     create_user,
+    listed_tokens,
     revoke_credentials,
     set_password,
 )
@@ -140,7 +141,7 @@ def change_user(user_id: RowId, body: UserPatch, principal: CurrentPrincipal, db
 @router.get("/tokens", operation_id="listTokens", response_model=list[TokenOut],
             **allow(*EVERYONE))
 def list_tokens(principal: CurrentPrincipal, db: Db) -> list[TokenOut]:
-    rows = db.scalars(select(ApiToken).where(ApiToken.user_id == principal.user.id))
+    rows = listed_tokens(db, principal.user)
     return [TokenOut(id=t.id, name=t.name, revoked=t.revoked, scopes=t.scopes.split(),
                      expires_at=t.expires_at) for t in rows]
 

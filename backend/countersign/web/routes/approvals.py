@@ -26,6 +26,7 @@ from ..deps import (
     Services,
     TransactionRoute,
     allow,
+    computing,
 )
 from ..problems import problem
 from .approval_schemas import (
@@ -207,7 +208,7 @@ def review_version(mission_id: str, number: RowId, principal: CurrentPrincipal,
 
 
 @router.post("/submissions/{submission_id}/statement", operation_id="prepareDecision",
-             response_model=PreparedOut, **allow(*SUPERVISORS))
+             response_model=PreparedOut, **computing(allow(*SUPERVISORS)))
 def prepare_decision(submission_id: RowId, body: DecisionIn, principal: CurrentPrincipal,
                      db: Db, services: Services) -> dict[str, Any]:
     """The exact in-toto statement to sign: sign the DSSE PAE bytes (`pae`, base64) with the
@@ -230,7 +231,7 @@ def sign_decision(submission_id: RowId, body: EnvelopeIn, principal: CurrentPrin
 
 
 @router.post("/approvals/{approval_id}/statement", operation_id="prepareRevocation",
-             response_model=PreparedOut, **allow(*SUPERVISORS))
+             response_model=PreparedOut, **computing(allow(*SUPERVISORS)))
 def prepare_revocation(approval_id: RowId, body: RevocationIn, principal: CurrentPrincipal,
                        db: Db, services: Services) -> dict[str, Any]:
     return service.prepare_revocation(db, approval_id=approval_id, supervisor=principal.user,

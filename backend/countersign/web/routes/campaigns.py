@@ -175,6 +175,9 @@ def campaign_probabilities(campaign_id: CampaignId, db: Db) -> dict[str, Any]:
     row = store.get(db, campaign_id)
     if row.state != "finished" or not row.record:
         raise NotFound(f"campaign {campaign_id} is {row.state}: no estimates yet")
+    changed = store.changed_record(row)
+    if changed is not None:
+        raise store.RecordChanged(changed)
     return {"campaign": row.id, "digest": row.digest, "orders_digest": row.orders_digest,
             "goals": goal_probabilities(row.record["results"])}
 

@@ -25,7 +25,16 @@ from ...store.charts import all_charts, delete_chart, save_charts
 from ...store.events import record
 from ...store.vehicles import with_registry
 from ...verify.plan_view import plan_view
-from ..deps import ADMINS, EVERYONE, CurrentPrincipal, Db, Services, TransactionRoute, allow
+from ..deps import (
+    ADMINS,
+    EVERYONE,
+    CurrentPrincipal,
+    Db,
+    Services,
+    TransactionRoute,
+    allow,
+    computing,
+)
 from .schemas import Number, RequestBody, SchemaOf
 
 router = APIRouter(prefix="/api", tags=["charts"], route_class=TransactionRoute)
@@ -209,11 +218,17 @@ PLAN_ROUTE["openapi_extra"]["requestBody"] = {"required": True, "content": {
     "application/json": {"schema": {"$ref": "#/components/schemas/Orders"}}}}
 
 
-@router.post("/plan-view", operation_id="planView", response_model=PlanViewOut, **PLAN_ROUTE)
+@router.post("/plan-view", operation_id="planView", response_model=PlanViewOut,
+             **computing(PLAN_ROUTE))
 async def post_plan_view(request: Request, db: Db) -> dict[str, Any]:
     """The plan view of orders (with the registry's charts in use copied in, as validation)."""
     data = await request.body()
     if len(data) > 20 * MAX_BYTES:
         raise HTTPException(413, "the orders are too large for a plan view")
-    orders = with_registry(db, read_json(data))
-    return await run_in_threadpool(plan_view, orders)
+    # Reading megabytes of orders and the registry is no work for the event loop: it would
+    # stall every other request of this process meanwhile.
+    return await run_in_threadpool(_plan_view, db, data)
+
+
+def _plan_view(db: Db, data: bytes) -> dict[str, Any]:
+    return plan_view(with_registry(db, read_json(data)))

@@ -125,22 +125,25 @@ IMPORT_ROUTE["openapi_extra"]["requestBody"] = {"required": True, "content": {
 
 @router.post("/import", operation_id="importMission", status_code=201,
              response_model=MissionDetail, **with_limit(IMPORT_ROUTE, "import"))
-async def import_mission(request: Request, response: Response, principal: CurrentPrincipal,
-                         db: Db, services: Services) -> MissionDetail:
+async def import_mission(request: Request, principal: CurrentPrincipal,
+                         db: Db, services: Services) -> Response:
     data = await request.body()
-    # Parsing, validation and the write run in a worker thread, committed there (the event
-    # loop must never wait for a database lock).
+    # Parsing, validation, the write and the answer's encoding run in a worker thread,
+    # committed there: the event loop must never wait for a database lock, nor encode
+    # megabytes of orders while every other request of the process waits.
     return await run_in_threadpool(in_one_transaction, db, _import, db, services, data,
-                                   response, principal)
+                                   principal)
 
 
-def _import(db: DbSession, services: AppServices, data: bytes, response: Response,
-            principal: CurrentPrincipal) -> MissionDetail:
+def _import(db: DbSession, services: AppServices, data: bytes,
+            principal: CurrentPrincipal) -> Response:
     loaded = read_bytes(data, "the uploaded file")
     mission = missions.create_mission(db, loaded.orders, author=principal.user,
                                       database=services.database, reports=services.reports,
                                       signer=services.signer)
-    return _detail(db, services, mission, response, [f.to_json() for f in loaded.findings])
+    detail = _detail(db, services, mission, None, [f.to_json() for f in loaded.findings])
+    return JSONResponse(detail.model_dump(mode="json"), status_code=201,
+                        headers={"ETag": f'"{mission.revision}"'})
 
 
 class ReadOrdersOut(BaseModel):
@@ -152,13 +155,20 @@ class ReadOrdersOut(BaseModel):
 
 @router.post("/read", operation_id="readOrders", response_model=ReadOrdersOut,
              **with_limit(IMPORT_ROUTE, "read"))
-async def read_orders(request: Request) -> ReadOrdersOut:
+async def read_orders(request: Request) -> Response:
     """Reads JSON, AVCL XML or MEO Turtle into orders (the import route's reader) and stores
     nothing: the editor replaces its draft with them through the usual If-Match save."""
     data = await request.body()
-    loaded = await run_in_threadpool(read_bytes, data, "the uploaded file")
-    return ReadOrdersOut(orders=orders_to_json(loaded.orders),
-                         findings=[f.to_json() for f in loaded.findings])
+    # The answer is made and encoded in the worker thread too: megabytes of orders encoded on
+    # the event loop would stall every other request of this process.
+    return await run_in_threadpool(_read_orders, data)
+
+
+def _read_orders(data: bytes) -> Response:
+    loaded = read_bytes(data, "the uploaded file")
+    out = ReadOrdersOut(orders=orders_to_json(loaded.orders),
+                        findings=[f.to_json() for f in loaded.findings])
+    return JSONResponse(out.model_dump(mode="json"))
 
 
 class ExampleOut(BaseModel):

@@ -27,6 +27,7 @@ from ..deps import (
     Services,
     TransactionRoute,
     allow,
+    computing,
 )
 from .approval_schemas import PreparedOut
 from .approvals import SUPERVISORS, DecisionIn, EnvelopeIn
@@ -121,7 +122,11 @@ def save_procedure(body: ProcedureJson, principal: CurrentPrincipal, db: Db,
                    services: Services) -> dict[str, Any]:
     """Save a procedure version: its name's next version number, checked like a refinement
     (errors refuse it, 422). A saved version never changes (409 for the same number)."""
-    row = service.save_procedure(db, signer=services.signer, procedure=procedure_from_data(body),
+    # Checked in a read session before the write transaction begins (`db` is not touched
+    # until then): the check takes seconds, and other writers must not wait for it.
+    with services.database.session(write=False) as reader:
+        checked = service.checked_procedure(reader, procedure_from_data(body))
+    row = service.save_procedure(db, signer=services.signer, procedure=checked,
                                  author=principal.user)
     return {**_summary(db, row), "document": row.document, "decisions": []}
 
@@ -136,7 +141,7 @@ def get_procedure(name: Name, version: Version, db: Db) -> dict[str, Any]:
 
 @router.post("/procedures/{name}/versions/{version}/statement",
              operation_id="prepareProcedureDecision", response_model=PreparedOut,
-             **allow(*SUPERVISORS))
+             **computing(allow(*SUPERVISORS)))
 def prepare_decision(name: Name, version: Version, body: DecisionIn,
                      principal: CurrentPrincipal, db: Db, services: Services) -> dict[str, Any]:
     """The exact statement to sign about this procedure version: sign the DSSE PAE (`pae`)

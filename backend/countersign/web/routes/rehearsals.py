@@ -20,8 +20,10 @@ from fastapi import APIRouter, Path, Query, Request, WebSocket
 from fastapi.concurrency import run_in_threadpool
 from fastapi.responses import RedirectResponse, Response
 from pydantic import BaseModel, Field, StringConstraints
+from sqlalchemy.orm import Session as DbSession
 
 from ...errors import DomainError, Unprocessable
+from ...orders.model import Chart, Orders
 from ...orders.reader import orders_from_data
 from ...store import rehearsals as records
 from ...store.accounts import session_user, token_user
@@ -130,28 +132,36 @@ def _out(live: Live) -> RehearsalOut:
                         viewer=f"/rehearsal/{r.id}/", status=r.status())
 
 
+def _to_rehearse(db: DbSession, mission_id: str, version: int | None
+                 ) -> tuple[Orders, str, list[Chart]]:
+    """The orders (the draft, or one version), their stored digest, and the registry's charts
+    in use, drawn in the scene as the plan view draws them (the orders stay as stored)."""
+    from ...store.charts import charts_in
+    from ...verify.charts import mission_box
+
+    mission = get_mission(db, mission_id)
+    if version is not None:
+        stored = get_version(db, mission_id, version)
+        data, digest = stored.orders, stored.digest
+    else:
+        data, digest = mission.draft, mission.draft_digest
+    orders = orders_from_data(data)
+    region = mission_box(orders)
+    return orders, digest, list(charts_in(db, region)) if region is not None else []
+
+
 @router.post("/missions/{mission_id}/rehearsals", operation_id="startRehearsal",
              status_code=201, response_model=RehearsalOut, **allow(*REHEARSERS))
 def start_rehearsal(mission_id: str, body: RehearsalIn, request: Request,
                     principal: CurrentPrincipal, db: Db, services: Services) -> RehearsalOut:
     """Start a rehearsal of the draft or of one version; watch it at `viewer`."""
-    mission = get_mission(db, mission_id)
-    if body.version is not None:
-        stored = get_version(db, mission_id, body.version)
-        data, digest = stored.orders, stored.digest
-    else:
-        data, digest = mission.draft, mission.draft_digest
-    orders = orders_from_data(data)
+    # Read in a session of its own, and `db` first touched for the event once the rehearsal
+    # runs: starting one takes a second or more, and other writers must not wait for it.
+    with services.database.session(write=False) as reader:
+        orders, digest, charts = _to_rehearse(reader, mission_id, body.version)
     # A team's orders rehearse every member in one scene (rehearse/team_rehearsal.py), with
     # outcomes from each member's simulation: other sources are refused below (422).
     from ...rehearse.manager import RehearsalOptions
-    from ...store.charts import charts_in
-    from ...verify.charts import mission_box
-
-    # The registry's charts in use are drawn in the scene as the plan view draws them; the
-    # orders (and their digest) stay as stored.
-    region = mission_box(orders)
-    charts = list(charts_in(db, region)) if region is not None else []
 
     if body.member_paths and orders.team is None:
         raise Unprocessable("the rehearsal cannot start: member paths are for a team's orders; "

@@ -49,6 +49,7 @@ export function CitedEvidence({
               <p>
                 Campaign <code>{c.id}</code>, record <code title={c.digest ?? ""}>{shortDigest(c.digest ?? "", 16)}</code>
               </p>
+              {c.error ? <p className="error" role="alert">{c.error}</p> : null}
               {c.results ? <CampaignResults campaign={c} offer={false} /> : null}
             </div>
           ))}
