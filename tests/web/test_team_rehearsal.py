@@ -64,7 +64,7 @@ def test_a_team_rehearses_every_vehicle_and_records_the_joint_run(team_world: Wo
     else:  # remus-100 may already have ended at this speed
         assert fault.status_code == 409, fault.text
     unknown = operator.post(f"/api/rehearsals/{rid}/faults", json={"fault": "vehicle-9:leak"})
-    assert unknown.status_code == 409 and "vehicle-9" in unknown.json()["detail"]
+    assert unknown.status_code == 422 and "vehicle-9" in unknown.json()["detail"]
     chosen = operator.post(f"/api/rehearsals/{rid}/outcome", json={"outcome": "succeed"})
     assert chosen.status_code == 409 and "no outcome to choose" in chosen.json()["detail"]
 

@@ -37,6 +37,7 @@ from . import viser_gate
 from .record import FORMAT, RehearsalRecord
 from .scene import Scene
 from .sim import FAULTS, QUESTION, FaultSpec, Limits, Simulation
+from .sim_model import UnknownFault
 from .sources import SOURCES, make_source
 
 log = logging.getLogger("countersign.rehearse")
@@ -274,7 +275,7 @@ class Rehearsal:
         which (ValueError, with the reason, when it is refused)."""
         self.touch()
         if fault not in FAULTS:
-            raise ValueError(f"fault must be one of {', '.join(FAULTS)}, not {str(fault)[:40]!r}")
+            raise UnknownFault(f"fault must be one of {', '.join(FAULTS)}, not {str(fault)[:40]!r}")
         with self._lock:
             if self._stopped:
                 raise ValueError("the rehearsal is stopped: no fault can be injected")

@@ -13,6 +13,11 @@ from .monitor import GoalFacts
 
 State = Literal["running", "waiting_for_outcome", "finished"]
 FAULTS: tuple[str, ...] = ("gps_loss", "nav_drift", "leak", "low_energy", "contact_close")
+
+
+class UnknownFault(ValueError):
+    """A fault (or team member) the rehearsal does not have: the request's mistake, not the
+    rehearsal's state."""
 SEARCH_BEHAVIORS = frozenset({"area_search", "search", "survey", "patrol", "coverage"})
 HOLD_BEHAVIORS = {"sample": 600.0, "rendezvous": 300.0, "loiter": 300.0, "observe": 300.0}
 RECOVERY_BEHAVIORS = frozenset({"recover", "recovery", "return", "return_to_base", "go_home"})

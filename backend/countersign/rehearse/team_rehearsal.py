@@ -36,6 +36,7 @@ from .manager import (
 )
 from .record import FORMAT
 from .sim import FAULTS, Limits
+from .sim_model import UnknownFault
 from .team import TeamSimulation
 from .team_scene import TeamScene
 
@@ -138,14 +139,14 @@ class TeamRehearsal(Rehearsal):
         if not sep:
             vehicle, name = "", fault
         if name not in FAULTS:
-            raise ValueError(f"fault must be one of {', '.join(FAULTS)}, not {str(name)[:40]!r}")
+            raise UnknownFault(f"fault must be one of {', '.join(FAULTS)}, not {str(name)[:40]!r}")
         with self._lock:
             if self._stopped:
                 raise ValueError("the rehearsal is stopped: no fault can be injected")
             try:
                 members = [self.team.member(vehicle)] if vehicle else list(self.team.members)
             except KeyError:
-                raise ValueError(f"no vehicle {vehicle[:40]!r} in the team") from None
+                raise UnknownFault(f"no vehicle {vehicle[:40]!r} in the team") from None
             texts = [f"{m.vehicle}: {m.sim.inject(name)}" for m in members
                      if m.state not in ("finished", "deadlocked")]
             if not texts:

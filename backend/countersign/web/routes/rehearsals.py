@@ -214,10 +214,14 @@ def choose_outcome(rehearsal_id: RehearsalId, body: OutcomeIn, request: Request,
              response_model=RehearsalOut, **allow(*REHEARSERS))
 def inject_fault(rehearsal_id: RehearsalId, body: FaultIn, request: Request,
                  principal: CurrentPrincipal, db: Db, services: Services) -> RehearsalOut:
+    from ...rehearse.sim_model import UnknownFault  # loaded with the live rehearsal
+
     live = hub_of(request).get(rehearsal_id, user_id=principal.user.id)
     try:
         live.rehearsal.inject(body.fault)
-    except ValueError as exc:
+    except UnknownFault as exc:
+        raise Unprocessable(str(exc)) from None
+    except ValueError as exc:  # the rehearsal's state: stopped, finished, already injected
         raise Conflict(str(exc)) from None
     record(db, kind="rehearsal.fault", actor=principal.user, mission_id=live.mission_id,
            detail={"rehearsal": rehearsal_id, "fault": body.fault}, signer=services.signer)
