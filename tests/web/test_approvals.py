@@ -12,6 +12,7 @@ from sqlalchemy.exc import DBAPIError
 from countersign.approvals import dsse
 from countersign.approvals.bundle import verify_bundle
 from countersign.approvals.merkle import verify_consistency, verify_inclusion
+from countersign.store.approvals import keys as keys_store
 
 from .approval_helpers import (
     MISSION,
@@ -162,6 +163,24 @@ def test_key_registration_needs_the_password_and_keys_rotate(world: World) -> No
     assert report.approvals == 2 and first["key_id"] == old.key_id
     statuses = {k["key_id"]: k["status"] for k in world.client("auditor").get("/api/keys").json()}
     assert statuses == {old.key_id: "revoked", new.key_id: "active"}
+
+
+def test_a_supervisor_has_a_bounded_number_of_unrevoked_keys(
+        world: World, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(keys_store, "MAX_LIVE_KEYS", 2)
+    supervisor = world.client("supervisor")
+    first, _ = register_key(supervisor, "one"), register_key(supervisor, "two")
+    third = dsse.generate_key()
+    refused = supervisor.post("/api/keys", json={"public_key": dsse.public_text(third),
+                                                 "password": PASSWORD, "name": "three"})
+    assert refused.status_code == 409 and "at most 2" in refused.json()["detail"], refused.text
+    assert len(world.client("auditor").get("/api/keys").json()) == 2
+    # Revoking one makes room again.
+    assert supervisor.post(f"/api/keys/{first.key_id}/revoke",
+                           json={"password": PASSWORD, "reason": "rotated"}).status_code == 200
+    assert supervisor.post("/api/keys", json={"public_key": dsse.public_text(third),
+                                              "password": PASSWORD,
+                                              "name": "three"}).status_code == 201
 
 
 def test_revoking_an_approval_is_signed(world: World) -> None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from sqlalchemy import func, select
 from sqlalchemy.orm import Session as DbSession
 
 from ...approvals import dsse
@@ -21,6 +22,11 @@ from ..tables import (
     utcnow,
 )
 from .common import BadKey, Refused, Stale
+
+# A supervisor rotates keys, never needs many at once: bound the unrevoked ones, so that the
+# key list (which every reader gets whole: the audit verifies against every key) cannot grow
+# with one person's registrations. Revoking one makes room.
+MAX_LIVE_KEYS = 10
 
 
 def _confirm_password(db: DbSession, user: User, password: str) -> None:
@@ -46,6 +52,11 @@ def register_key(db: DbSession, *, user: User, public_key: str, name: str,
         raise BadKey(str(exc)) from None
     if db.get(SigningKey, kid) is not None:
         raise Conflict(f"the key {kid} is registered already")
+    live = db.scalar(select(func.count()).select_from(SigningKey).where(
+        SigningKey.user_id == user.id, SigningKey.revoked_at.is_(None)))
+    if live is not None and live >= MAX_LIVE_KEYS:
+        raise Conflict(f"you have {live} signing keys that are not revoked (at most "
+                       f"{MAX_LIVE_KEYS}); revoke one you no longer use first")
     key = SigningKey(id=kid, user_id=user.id, name=name[:100], public_key=public_key)
     db.add(key)
     db.flush()
