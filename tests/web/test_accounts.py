@@ -131,6 +131,37 @@ def test_passwords_are_checked_without_holding_the_write_lock(
     assert writable_meanwhile == [True, True]
 
 
+@pytest.mark.production_hashing  # patches the one hasher account creation uses
+def test_a_new_users_password_is_hashed_without_holding_the_write_lock(
+        world: World, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Creating an account hashes its password (argon2, tens of milliseconds by design) before
+    the write transaction begins, not while other writers wait for SQLite's one lock."""
+    if world.database.engine.dialect.name != "sqlite":
+        pytest.skip("the single write lock is SQLite's")
+    path = world.database.engine.url.database
+    assert path
+    writable_meanwhile: list[bool] = []
+    original = HASHER.hash
+
+    def probe(password: str) -> str:
+        other = sqlite3.connect(path, timeout=0, isolation_level=None)
+        try:
+            other.execute("BEGIN IMMEDIATE")
+            other.execute("ROLLBACK")
+            writable_meanwhile.append(True)
+        except sqlite3.OperationalError:
+            writable_meanwhile.append(False)
+        finally:
+            other.close()
+        return original(password)
+
+    monkeypatch.setattr(HASHER, "hash", probe)
+    made = world.client("admin").post("/api/users", json={
+        "username": "erin", "role": "operator", "password": "a long enough passphrase 7"})
+    assert made.status_code == 201, made.text
+    assert writable_meanwhile == [True]
+
+
 def test_look_alike_usernames_are_refused(world: World) -> None:
     # Another account that reads as an existing one ('ADMIN', fullwidth or Cyrillic letters)
     # would pass as that person in the log and on approvals.

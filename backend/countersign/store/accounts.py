@@ -76,14 +76,16 @@ def create_user(
     # account would read as that person in the log and on approvals.
     if not USERNAME.fullmatch(username):
         raise AccountError("a username has 1-64 ASCII letters, digits, '.', '-' or '_'")
+    # Hashed before the first query: a write session's first query takes the write lock, and
+    # argon2's tens of milliseconds (more on a loaded machine) would hold every other writer.
+    password_hash = hash_password(password, username=username, display_name=display_name)
     taken = db.scalar(select(User.username).where(func.lower(User.username)
                                                    == username.lower()))
     if taken is not None:
         raise AccountError(f"the username {username!r} is taken"
                            + ("" if taken == username else f" (as {taken!r})"))
     user = User(username=username, role=role, display_name=display_name or username,
-                password_hash=hash_password(password, username=username,
-                                            display_name=display_name))
+                password_hash=password_hash)
     db.add(user)
     db.flush()
     record(db, kind="user.created", actor=actor, detail={"user": username, "role": role},
