@@ -16,6 +16,8 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from fractions import Fraction
+from itertools import filterfalse
+from operator import attrgetter
 from typing import Any, Literal
 
 from ...orders.model import Quantity
@@ -48,10 +50,17 @@ class Decider:
     def __init__(self, quantities: Mapping[str, Quantity]) -> None:
         self.kinds = {name: q.type for name, q in quantities.items()}
         # (base, facts) -> the base's statements under those facts, propagated once.
-        self._bases: dict[tuple[int, FactsKey], Any] = {}
-        self._base_refs: dict[int, frozenset[Item]] = {}
+        self._bases: dict[tuple[frozenset[int], FactsKey], Any] = {}
+        # id(base) -> (the base, held so that its id is never another's; what its items state,
+        # as `_codes_of` numbers, or None when some item is z3's only).
+        self._base_codes: dict[int, tuple[frozenset[Item], frozenset[int] | None]] = {}
         self._formulas: dict[tuple[Any, FactsKey], Formula] = {}
         self._states: dict[tuple[Any, ...], Any] = {}
+        self._starts: dict[tuple[Any, ...], Any] = {}
+        self._translators: dict[FactsKey, Translate] = {}
+        # Item -> the number of what it states (`_codes_of`); None: z3 only.
+        self._item_codes: dict[Item, int | None] = {}
+        self._said_codes: dict[Any, int] = {}
         self._verdicts: dict[tuple[Any, ...], str] = {}
         self._intervals: dict[Item | tuple[Any, ...], Any] = {}
         self.decided = 0
@@ -60,23 +69,27 @@ class Decider:
         """"sat" or "unsat" when proven for `rest` and `base` together, else None."""
         if not base:  # one empty base for all: `frozenset()` makes a new object (a new id)
             base = _NO_BASE
-        rest = list(rest)
-        said = [i.said for i in rest]
-        if None in said:
+        rest = rest if isinstance(rest, list) else list(rest)
+        codes = self._codes_of(rest)
+        if None in codes:
             return None
-        own = [i for i in rest if not i.extra]
-        if len(own) == len(rest):  # no norm nor breach (most checks of a unit's own items)
-            extra: list[Item] = []
-            own_keys, extra_keys = frozenset(said), _NO_EXTRA
+        if not any(map(_EXTRA, rest)):  # no norm nor breach (most checks of a unit's own items)
+            own, extra = rest, []
+            own_keys, extra_keys = frozenset(codes), _NO_EXTRA
         else:
-            extra = [i for i in rest if i.extra]
-            own_keys = frozenset([i.said for i in own])
-            extra_keys = frozenset([i.said for i in extra])
-        self._base_refs.setdefault(id(base), base)  # held: its id is never another's
-        asked = (id(base), own_keys, extra_keys)
+            own, extra = list(filterfalse(_EXTRA, rest)), list(filter(_EXTRA, rest))
+            own_keys = frozenset(self._codes_of(own))
+            extra_keys = frozenset(self._codes_of(extra))
+        # By what the base states, not by the set itself: a base without its twins (unique.py)
+        # asks the questions its goal asked already.
+        base_codes = self._codes_of_base(base)
+        if base_codes is None:
+            return None
+        asked = (base_codes, own_keys, extra_keys)
         known = self._verdicts.get(asked)
         if known is not None:
-            return self._count(known)
+            self.decided += 1
+            return known
         if len(self._verdicts) > 200_000:
             self._verdicts.clear()
         try:
@@ -89,31 +102,62 @@ class Decider:
                     self._states.clear()
                 state = self._states[memo] = self._state(own, base)
             if state is None:
-                self._verdicts[asked] = "unsat"
-                return self._count("unsat")
-            facts, key, bounds, bools, settled = state
-            formulas = [self._formula(i, facts, key) for i in extra]
-            verdict = _solve(formulas, {n: list(b) for n, b in bounds.items()}, dict(bools),
-                             self.kinds, [MAX_SPLITS], settled)
+                verdict: bool | None = False
+            else:
+                facts, key, bounds, bools, settled = state
+                if extra:
+                    formulas = [self._formula(i, facts, key) for i in extra]
+                    verdict = _solve(formulas, {n: list(b) for n, b in bounds.items()},
+                                     dict(bools), self.kinds, [MAX_SPLITS], settled)
+                else:  # nothing to propagate: the state's box is read, never changed
+                    verdict = _solve([], bounds, bools, self.kinds, [MAX_SPLITS], settled)
         except Unsupported:
             return None
         if verdict is None:
             return None
         found = self._verdicts[asked] = "sat" if verdict else "unsat"
-        return self._count(found)
+        self.decided += 1
+        return found
+
+    def _codes_of(self, items: list[Item]) -> list[int | None]:
+        """What each item states (`Item.said`) as a small number: goals' questions are keyed
+        by sets of them, and a number hashes and compares at once where a statement's tuple
+        is hashed again at every question."""
+        try:  # at C speed when every item was seen before (the usual case)
+            return list(map(self._item_codes.__getitem__, items))
+        except KeyError:
+            return [self._code(i) for i in items]
+
+    def _codes_of_base(self, base: frozenset[Item]) -> frozenset[int] | None:
+        found = self._base_codes.get(id(base))
+        if found is None or found[0] is not base:
+            codes = self._codes_of(list(base))
+            found = self._base_codes[id(base)] = (
+                base, None if None in codes else frozenset(codes))  # type: ignore[arg-type]
+        return found[1]
+
+    def _code(self, item: Item) -> int | None:
+        found = self._item_codes.get(item, _MISSING)
+        if found is _MISSING:
+            said = item.said
+            found = None if said is None else self._said_codes.setdefault(
+                said, len(self._said_codes))
+            self._item_codes[item] = found
+        return found  # type: ignore[return-value]
 
     def _state(self, own: list[Item], base: frozenset[Item]) -> Any:
         """(facts, their key, bounds, Booleans, formulas left) of a unit's own statements and
         the base, propagated; None when they cannot hold (Unsupported: not decided here)."""
         facts: Facts = {}
         boxes: list[Item] = []
+        shared: list[Item] = []
         exprs: list[Item] = []
         for item in own:
             meaning = item.meaning
             assert meaning is not None
             kind = meaning[0]
             if kind == "box":
-                boxes.append(item)
+                (shared if item.kind in _BACKGROUND else boxes).append(item)
             elif kind == "expr":
                 exprs.append(item)
             elif kind != "fact":
@@ -121,7 +165,7 @@ class Decider:
             elif facts.setdefault(meaning[1], meaning[2]) != meaning[2]:
                 return None  # one fact with two values
         key = frozenset(facts.items())
-        start = self._base(base, facts, key)
+        start = self._start(base, facts, key, frozenset(shared))
         if start is None:
             return None
         bounds = {name: list(b) for name, b in start[0].items()}
@@ -134,6 +178,26 @@ class Decider:
         if rest is False:
             return None
         return facts, key, bounds, bools, rest
+
+    def _start(self, base: frozenset[Item], facts: Facts, key: FactsKey,
+               shared: frozenset[Item]) -> Any:
+        """The base under the facts with the vehicle and domain intervals of a unit applied
+        (not propagated further): thousands of goals read the same few sets of them, so each
+        set is applied once, not once per goal. Intervals intersect in any order, and the
+        formulas are propagated after every interval as before."""
+        memo = (self._codes_of_base(base), key, shared)
+        found = self._starts.get(memo, _MISSING)
+        if found is _MISSING:
+            found = start = self._base(base, facts, key)
+            if start is not None:
+                bounds = {name: list(b) for name, b in start[0].items()}
+                bools = dict(start[1])
+                ok = all(self._box(bounds, bools, item) for item in shared)
+                found = (bounds, bools, start[2]) if ok else None
+            if len(self._starts) > 4096:
+                self._starts.clear()
+            self._starts[memo] = found
+        return found
 
     def false_by_facts(self, items: Sequence[Item]) -> Item | None:
         """The first statement among the items that their facts alone make false."""
@@ -153,27 +217,26 @@ class Decider:
                     continue
         return None
 
-    def _count(self, status: str) -> str:
-        self.decided += 1
-        return status
-
     def _formula(self, item: Item, facts: Facts, key: FactsKey) -> Formula:
         assert item.meaning is not None
         memo = (item.meaning[1], key)
         found = self._formulas.get(memo)
         if found is None:
             expr, negate = item.meaning[2]
-            found = self._formulas[memo] = Translate(self.kinds, facts).condition(
-                expr, not negate)
+            translate = self._translators.get(key)
+            if translate is None:  # one per set of facts: each holds its visitors in a cycle
+                translate = self._translators[key] = Translate(self.kinds, dict(facts))
+            found = self._formulas[memo] = translate.condition(expr, not negate)
         return found
 
     def _base(self, base: frozenset[Item], facts: Facts, key: FactsKey) -> Any:
         """(bounds, Booleans, other formulas) of the base under the facts, or None when the
         base alone cannot hold; Unsupported when it cannot be decided here."""
-        memo = (id(base), key)
+        codes = self._codes_of_base(base)
+        assert codes is not None
+        memo = (codes, key)
         found = self._bases.get(memo, _MISSING)
         if found is _MISSING:
-            self._base_refs[id(base)] = base  # keeps the id from being reused
             try:
                 found = self._propagate_base(base, facts, key)
             except Unsupported:
@@ -237,6 +300,8 @@ class Decider:
 
 
 _MISSING = object()
+_BACKGROUND = frozenset({"vehicle", "domain"})
+_EXTRA = attrgetter("extra")
 _NO_BASE: frozenset[Item] = frozenset()
 _NO_EXTRA: frozenset[Any] = frozenset()
 _CONFLICT = object()  # a Boolean interval that admits neither value
@@ -268,6 +333,19 @@ def _tighten(bounds: Bounds, name: str, kind: str | None, value: Any, strict: bo
     if b[0] is None or b[2] is None:
         return True
     return b[0] < b[2] or (b[0] == b[2] and not b[1] and not b[3])
+
+
+def _solved(constant: Number, c: Number) -> Number:
+    """The x of c x + constant = 0, exact (an int when integral)."""
+    if type(constant) is int and type(c) is int:  # most bounds: no Fraction made
+        if c == 1:
+            return -constant
+        if c == -1:
+            return constant
+        whole, left = divmod(-constant, c)
+        return whole if left == 0 else Fraction(-constant, c)
+    found: Number = exact(Fraction(-constant) / c)
+    return found
 
 
 def _range(terms: tuple[tuple[str, Fraction], ...], bounds: Bounds) -> tuple[Any, Any]:
@@ -324,11 +402,14 @@ def _propagate(formulas: list[Formula], bounds: Bounds, bools: Bools,
                ) -> list[Formula] | Literal[False]:
     """Tighten the box with every top-level bound until nothing changes; the formulas left,
     or False when some formula (or the box) cannot hold. `settled`: formulas already
-    propagated in this box, looked at again only if the box shrinks."""
+    propagated in this box, looked at again only if the box shrinks. A formula simplified
+    after the round's last tightening is settled too: the next round looks again only at
+    those simplified before it."""
     settled = list(settled)
     for _ in range(100):  # each round tightens some bound; a cap keeps it finite
         changed = False
         rest: list[Formula] = []
+        stale = 0  # rest[:stale] were simplified before the box last shrank
         work = list(formulas)
         while work:
             f = _simplify(work.pop(), bounds, bools)
@@ -340,10 +421,10 @@ def _propagate(formulas: list[Formula], bounds: Bounds, bools: Bools,
                 work.extend(f[1])
             elif f[0] == "b" or (f[0] == "s" and f[3]):  # a Boolean, a text that is equal
                 bools[f[1]] = f[2]
-                changed = True
+                changed, stale = True, len(rest)
             elif f[0] == "a" and len(f[1]) == 1 and f[3] != "!=":
                 name, c = f[1][0]
-                value, op = exact(Fraction(-f[2]) / c), f[3]
+                value, op = _solved(f[2], c), f[3]
                 kind = kinds.get(name)
                 ok = True
                 if op == "=" or c > 0:  # c x + k <= 0: x <= -k / c
@@ -352,12 +433,12 @@ def _propagate(formulas: list[Formula], bounds: Bounds, bools: Bools,
                     ok = _tighten(bounds, name, kind, value, op == "<", True)
                 if not ok:
                     return False
-                changed = True
+                changed, stale = True, len(rest)
             else:
                 rest.append(f)
         if not changed:
             return rest + settled
-        formulas, settled = rest + settled, []
+        formulas, settled = rest[:stale] + settled, rest[stale:]
     return formulas + settled
 
 
@@ -415,33 +496,45 @@ def _point(b: list[Any] | None, kind: str | None, corner: str) -> Number:
 def _holds_at(formulas: list[Formula], bounds: Bounds, bools: Bools,
               kinds: Mapping[str, str], corner: str) -> bool:
     """Whether every formula holds at one point of the box (a proof of satisfiability)."""
-    point: dict[str, Number] = {}
+    at = _Corner(bounds, bools, kinds, corner)
+    try:
+        return all(map(at.holds, formulas))
+    except Unsupported:  # no such point inside the box (an integer interval between values)
+        return False
 
-    def value(name: str) -> Number:
-        found = point.get(name)
+
+class _Corner:
+    """One point of a box, each quantity's value chosen when first read. An object, not
+    nested functions: a recursive closure is a reference cycle, left for the collector at
+    every one of the thousands of calls."""
+
+    __slots__ = ("bools", "bounds", "corner", "kinds", "point")
+
+    def __init__(self, bounds: Bounds, bools: Bools, kinds: Mapping[str, str],
+                 corner: str) -> None:
+        self.bounds, self.bools, self.kinds, self.corner = bounds, bools, kinds, corner
+        self.point: dict[str, Number] = {}
+
+    def value(self, name: str) -> Number:
+        found = self.point.get(name)
         if found is None:
-            found = point[name] = _point(bounds.get(name), kinds.get(name), corner)
-            b = bounds.get(name)
+            b = self.bounds.get(name)
+            found = self.point[name] = _point(b, self.kinds.get(name), self.corner)
             if b is not None and not _inside(found, b):
                 raise Unsupported
         return found
 
-    def holds(f: Formula) -> bool:
+    def holds(self, f: Formula) -> bool:
         if f is True or f is False:
             return bool(f)
         if f[0] == "a":
-            total = f[2] + sum(c * value(n) for n, c in f[1])
+            total = f[2] + sum(c * self.value(n) for n, c in f[1])
             return compare_constant(total, str(f[3]))
         if f[0] == "b":
-            return bool(bools.get(f[1], corner == "high") == f[2])
+            return bool(self.bools.get(f[1], self.corner == "high") == f[2])
         if f[0] == "s":  # a free string equals no text named (z3 may pick any other code)
-            return bool((bools.get(f[1], _MISSING) == f[2]) == f[3])
-        return (all if f[0] == "&" else any)(holds(p) for p in f[1])
-
-    try:
-        return all(holds(f) for f in formulas)
-    except Unsupported:  # no such point inside the box (an integer interval between values)
-        return False
+            return bool((self.bools.get(f[1], _MISSING) == f[2]) == f[3])
+        return (all if f[0] == "&" else any)(map(self.holds, f[1]))
 
 
 def _inside(value: Number, b: list[Any]) -> bool:

@@ -14,6 +14,7 @@ any answer bounds.py cannot prove, leaves the unit to z3 as before.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from itertools import filterfalse
 from typing import Any
 
 from .bounds import Decider
@@ -34,7 +35,7 @@ class UniqueCores:
 
     def core(self, items: Sequence[Item], base: frozenset[Item]) -> list[Item] | None:
         """The unit's only minimal core (first twins named), or None when not proven so."""
-        own = [i for i in items if i not in base]
+        own = list(filterfalse(base.__contains__, items))
         if len(items) - len(own) != len(base):  # some of the base dropped: not tried here
             return None
         kept = self._first_base(base)
