@@ -64,6 +64,7 @@ class Decider:
         self._verdicts: dict[tuple[Any, ...], str] = {}
         self._intervals: dict[Item | tuple[Any, ...], Any] = {}
         self.decided = 0
+        self.propagated = 0  # units whose own statements were propagated (not remembered)
 
     def status(self, rest: Iterable[Item], base: frozenset[Item]) -> str | None:
         """"sat" or "unsat" when proven for `rest` and `base` together, else None."""
@@ -101,6 +102,7 @@ class Decider:
                 if len(self._states) > 64:
                     self._states.clear()
                 state = self._states[memo] = self._state(own, base)
+                self.propagated += 1
             if state is None:
                 verdict: bool | None = False
             else:
