@@ -38,7 +38,8 @@ MAX_SPLITS = 64
 
 # Formulas (formulas.py): True, False, linear comparisons, Booleans, texts, "&" and "|".
 FactsKey = frozenset[tuple[Any, Any]]
-Bounds = dict[str, list[Any]]  # name -> [low, low strict, high, high strict]; None: unbounded
+# name -> (low, low strict, high, high strict); None: unbounded
+Bounds = dict[str, tuple[Any, ...]]
 Bools = dict[Any, Any]
 # Booleans: a Boolean quantity or ("ctx", tag) -> its value, ("str", name) ->
 # the text a behaviour or area with no fact is set to.
@@ -72,11 +73,13 @@ class Decider:
             base = _NO_BASE
         rest = rest if isinstance(rest, list) else list(rest)
         codes = self._codes_of(rest)
-        if None in codes:
-            return None
         if not any(map(_EXTRA, rest)):  # no norm nor breach (most checks of a unit's own items)
             own, extra = rest, []
             own_keys, extra_keys = frozenset(codes), _NO_EXTRA
+            if None in own_keys:  # a hashed look-up, not a scan
+                return None
+        elif None in codes:
+            return None
         else:
             own, extra = list(filterfalse(_EXTRA, rest)), list(filter(_EXTRA, rest))
             own_keys = frozenset(self._codes_of(own))
@@ -109,8 +112,8 @@ class Decider:
                 facts, key, bounds, bools, settled = state
                 if extra:
                     formulas = [self._formula(i, facts, key) for i in extra]
-                    verdict = _solve(formulas, {n: list(b) for n, b in bounds.items()},
-                                     dict(bools), self.kinds, [MAX_SPLITS], settled)
+                    verdict = _solve(formulas, dict(bounds), dict(bools), self.kinds,
+                                     [MAX_SPLITS], settled)
                 else:  # nothing to propagate: the state's box is read, never changed
                     verdict = _solve([], bounds, bools, self.kinds, [MAX_SPLITS], settled)
         except Unsupported:
@@ -170,7 +173,7 @@ class Decider:
         start = self._start(base, facts, key, frozenset(shared))
         if start is None:
             return None
-        bounds = {name: list(b) for name, b in start[0].items()}
+        bounds = dict(start[0])
         bools = dict(start[1])
         for item in boxes:
             if not self._box(bounds, bools, item):
@@ -192,7 +195,7 @@ class Decider:
         if found is _MISSING:
             found = start = self._base(base, facts, key)
             if start is not None:
-                bounds = {name: list(b) for name, b in start[0].items()}
+                bounds = dict(start[0])
                 bools = dict(start[1])
                 ok = all(self._box(bounds, bools, item) for item in shared)
                 found = (bounds, bools, start[2]) if ok else None
@@ -306,6 +309,7 @@ _BACKGROUND = frozenset({"vehicle", "domain"})
 _EXTRA = attrgetter("extra")
 _NO_BASE: frozenset[Item] = frozenset()
 _NO_EXTRA: frozenset[Any] = frozenset()
+_UNBOUNDED = (None, False, None, False)
 _CONFLICT = object()  # a Boolean interval that admits neither value
 
 
@@ -324,14 +328,13 @@ def _tighten(bounds: Bounds, name: str, kind: str | None, value: Any, strict: bo
         else:
             value = math.ceil(value) - 1 if strict else math.floor(value)
         strict = False
-    b = bounds.get(name)
-    if b is None:
-        b = bounds[name] = [None, False, None, False]
+    b = bounds.get(name) or _UNBOUNDED
+    # A new interval, never a change to one: a box is copied by copying its dict alone.
     if lower:
         if b[0] is None or value > b[0] or (value == b[0] and strict):
-            b[0], b[1] = value, strict
+            b = bounds[name] = (value, strict, b[2], b[3])
     elif b[2] is None or value < b[2] or (value == b[2] and strict):
-        b[2], b[3] = value, strict
+        b = bounds[name] = (b[0], b[1], value, strict)
     if b[0] is None or b[2] is None:
         return True
     return b[0] < b[2] or (b[0] == b[2] and not b[1] and not b[3])
@@ -352,6 +355,16 @@ def _solved(constant: Number, c: Number) -> Number:
 
 def _range(terms: tuple[tuple[str, Fraction], ...], bounds: Bounds) -> tuple[Any, Any]:
     """The least and greatest value of sum(c * x) over the box's closure (None: unbounded)."""
+    if len(terms) == 1:  # most formulas: the ends themselves, no sum made
+        name, c = terms[0]
+        b = bounds.get(name)
+        if b is None:
+            return None, None
+        lo, hi = (b[2], b[0]) if c < 0 else (b[0], b[2])
+        if c != 1:
+            lo = None if lo is None else c * lo
+            hi = None if hi is None else c * hi
+        return lo, hi
     low: Number | None = 0
     high: Number | None = 0
     for name, c in terms:
@@ -375,18 +388,17 @@ def _simplify(f: Formula, bounds: Bounds, bools: Bools) -> Formula:
     tag = f[0]
     if tag == "a":
         low, high = _range(f[1], bounds)
-        k, op = f[2], f[3]
-        low = None if low is None else low + k
-        high = None if high is None else high + k
+        # sum + k against 0 is sum against -k: compared, not added (Fractions are slow made)
+        edge, op = -f[2], f[3]
         if op == "<=":
-            verdict = True if high is not None and high <= 0 else (
-                False if low is not None and low > 0 else None)
+            verdict = True if high is not None and high <= edge else (
+                False if low is not None and low > edge else None)
         elif op == "<":
-            verdict = True if high is not None and high < 0 else (
-                False if low is not None and low >= 0 else None)
+            verdict = True if high is not None and high < edge else (
+                False if low is not None and low >= edge else None)
         else:
-            equal = True if low == 0 and high == 0 else (
-                False if (low is not None and low > 0) or (high is not None and high < 0)
+            equal = True if low == edge and high == edge else (
+                False if (low is not None and low > edge) or (high is not None and high < edge)
                 else None)
             verdict = equal if op == "=" or equal is None else not equal
         return f if verdict is None else verdict
@@ -461,7 +473,7 @@ def _solve(formulas: list[Formula], bounds: Bounds, bools: Bools,
             if splits[0] <= 0:
                 return None
             splits[0] -= 1
-            verdict = _solve([*others, part], {n: list(b) for n, b in bounds.items()},
+            verdict = _solve([*others, part], dict(bounds),
                              dict(bools), kinds, splits)
             if verdict:
                 return True
@@ -473,7 +485,7 @@ def _solve(formulas: list[Formula], bounds: Bounds, bools: Bools,
 _CORNERS = ("low", "high", "middle")
 
 
-def _point(b: list[Any] | None, kind: str | None, corner: str) -> Number:
+def _point(b: tuple[Any, ...] | None, kind: str | None, corner: str) -> Number:
     """A value inside one quantity's interval (its low end, high end or middle)."""
     lo, lo_strict, hi, hi_strict = b if b is not None else (None, False, None, False)
     if corner == "low" and lo is not None and not lo_strict:
@@ -539,7 +551,7 @@ class _Corner:
         return (all if f[0] == "&" else any)(map(self.holds, f[1]))
 
 
-def _inside(value: Number, b: list[Any]) -> bool:
+def _inside(value: Number, b: tuple[Any, ...]) -> bool:
     lo, lo_strict, hi, hi_strict = b
     return ((lo is None or value > lo or (value == lo and not lo_strict))
             and (hi is None or value < hi or (value == hi and not hi_strict)))

@@ -35,6 +35,8 @@ class LogicRun:
         self.limits = limits
         self._session: Session | None = None
         self._blocks: dict[frozenset[str], frozenset[Item]] = {}
+        self._norms: dict[tuple[str | None, str | None], tuple[
+            list[Reads], list[tuple[Item, Item]], list[tuple[Item, Item]], list[Item]]] = {}
 
     @property
     def session(self) -> Session:
@@ -233,21 +235,34 @@ class LogicRun:
     def goal_keyed(self, goal: Goal, quarantined: frozenset[str]) -> tuple[str, GoalResult]:
         """The goal's unit key and result."""
         model = self.model
-        norms = model.relevant_norms(goal)
-        extra = [model.norm_reads(n) for n in norms]
+        extra, norm_items, residual, added = self._goal_norms(goal)
         parts = self._goal_parts(goal, quarantined, extra)
         items = [*parts.head, *model.live_block(quarantined)[1], *parts.own, *parts.tail]
         # The goal's items but the block, listed apart once: no check scans the block's
         # hundreds of items to find them again.
         own = [*parts.head, *parts.own, *parts.tail]
-        norm_items = [model.norm_items(n) for n in norms]
-        residual = [pair for n, pair in zip(norms, norm_items, strict=True)
-                    if model.residual(n, goal)]
-        added = [i for pair in norm_items for i in pair]
         base = self.block(quarantined)
         return self.keyed(  # the key reads `apart` (and the base) only: no list of them all
             "goal", (), lambda: self._solve_goal(items, own, norm_items, residual, base), base,
             apart=own + added)
+
+    def _goal_norms(self, goal: Goal) -> tuple[
+        list[Reads], list[tuple[Item, Item]], list[tuple[Item, Item]], list[Item]
+    ]:
+        """What a goal's relevant norms read, their (rule, breach) items, those whose breach
+        depends on quantities, and their items in one list: the goal's behaviour and area
+        decide them all, so thousands of goals share a few dozen (lists not to be changed)."""
+        key = (goal.behavior, goal.area)
+        found = self._norms.get(key)
+        if found is None:
+            model = self.model
+            norms = model.relevant_norms(goal)
+            pairs = [model.norm_items(n) for n in norms]
+            found = self._norms[key] = (
+                [model.norm_reads(n) for n in norms], pairs,
+                [pair for n, pair in zip(norms, pairs, strict=True) if model.residual(n, goal)],
+                [i for pair in pairs for i in pair])
+        return found
 
     def _solve_goal(self, items: list[Item], own: list[Item],
                     norm_items: list[tuple[Item, Item]], residual: list[tuple[Item, Item]],
