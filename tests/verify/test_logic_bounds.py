@@ -5,6 +5,7 @@ and tags."""
 
 from __future__ import annotations
 
+import gc
 import random
 from typing import Any
 
@@ -238,3 +239,40 @@ def test_bounds_at_the_edges(envelope: dict[str, list[float]], exprs: list[str])
     """Strict and non-strict bounds that meet, integers between values, implications."""
     ours, theirs = _verdicts(envelope, exprs)
     assert ours is not None and ours == theirs
+
+
+def test_bounds_leave_no_reference_cycles() -> None:
+    """Thousands of goals ask bounds.py several questions each: what a question makes is
+    freed when it is answered, not left in cycles for the collector (the logic check pauses
+    it, and its one collection at the end walks everything made meanwhile)."""
+    orders = random_orders(11, 6, 8, 4)
+    model = LogicModel(orders)
+    checks = unit_checks(orders, random.Random(11))
+    gc.collect()
+    gc.disable()
+    try:
+        decider = Decider(model.quantities)
+        answered = sum(decider.status([i for i in items if i not in base], base) is not None
+                       for items, base in checks)
+        left = gc.collect()
+    finally:
+        gc.enable()
+    assert answered > 0 and left == 0
+
+
+def test_a_base_is_known_by_what_it_states() -> None:
+    """Another set of the same statements (the base's first twins, unique.py) asks what the
+    goal asked already: its statements are not propagated again."""
+    orders = random_orders(3, 2, 8, 2)
+    model = LogicModel(orders)
+    run = LogicRun(model, None, Limits.start(2000, 60))
+    base = run.block(frozenset())
+    items, _ = run.goal_items(model.goals["G0"], frozenset())
+    rest = [i for i in items if i not in base]
+    decider = Decider(model.quantities)
+    first = decider.status(rest, base)
+    made = decider.propagated
+    assert made == 1 and base
+    again = frozenset(list(base))  # another object (frozenset(base) is base itself)
+    assert again is not base and decider.status(rest, again) == first
+    assert decider.propagated == made

@@ -157,9 +157,10 @@ def _worded_goal_findings(model: LogicModel, goal: Goal, result: GoalResult
         yield _refusal(model, goal, core)
     # In the orders' norm order: a unit's key does not hold the order of its norms, so a
     # result kept from before the norms were reordered lists its risks in the old order.
-    position = {n.key: i for i, n in enumerate(model.norms)}
-    for risk in sorted(result.risks, key=lambda r: position.get(r.norm.key, len(position))):
-        yield _risk(model, goal, risk)
+    if result.risks:
+        position = {n.key: i for i, n in enumerate(model.norms)}
+        for risk in sorted(result.risks, key=lambda r: position.get(r.norm.key, len(position))):
+            yield _risk(model, goal, risk)
     if result.undecided and result.undecided not in OUT_OF_TIME:
         scope = [c.id for c in model.in_scope(goal.id)]
         yield warning(

@@ -233,13 +233,22 @@ def _minus(a: Linear, b: Linear) -> Linear:
 
 def exact(value: Any) -> Any:
     """A Fraction as an int when integral (None stays None)."""
-    if isinstance(value, Fraction) and value.denominator == 1:
+    # `type`, not isinstance: Fraction's abstract base makes isinstance a slow Python call.
+    if type(value) is Fraction and value.denominator == 1:
         return value.numerator
     return value
 
 
 def compare_constant(value: Number, op: str) -> bool:
-    return {"<=": value <= 0, "<": value < 0, "=": value == 0, "!=": value != 0}[op]
+    if op == "<=":
+        return value <= 0
+    if op == "<":
+        return value < 0
+    if op == "=":
+        return value == 0
+    if op == "!=":
+        return value != 0
+    raise KeyError(op)
 
 
 def join(op: Literal["&", "|"], parts: list[Formula]) -> Formula:

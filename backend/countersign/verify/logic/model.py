@@ -131,6 +131,9 @@ class LogicModel:
         self._relevant: dict[tuple[str | None, str | None], list[ParsedNorm]] = {}
         self._residual: dict[tuple[str, str | None, str | None], bool] = {}
         self._scope_reads: dict[str, Reads] = {}
+        self._norm_reads: dict[str, Reads] = {}
+        self._norm_pairs: dict[str, tuple[Item, Item]] = {}
+        self._needs: dict[tuple[Reads, tuple[Reads, ...]], Reads] = {}
         # Built once per goal or set of quantities, then copied: every unit of a goal (its own
         # and one per state property) asks for the same lists. A goal's own part only: the
         # mission-wide block is one list for all (kept per goal, 10,000 copies of hundreds of
@@ -542,6 +545,12 @@ class LogicModel:
 
     def norm_items(self, n: ParsedNorm) -> tuple[Item, Item]:
         """(the norm as a rule: no breach, the breach itself) for one norm."""
+        found = self._norm_pairs.get(n.key)  # every goal the norm is relevant to asks
+        if found is None:
+            found = self._norm_pairs[n.key] = self._make_norm_items(n)
+        return found
+
+    def _make_norm_items(self, n: ParsedNorm) -> tuple[Item, Item]:
         def build_rule() -> Item:
             permissions = self.permissions if n.modality == "forbidden" else []
             quantities = tuple(sorted(_merge_reads(
@@ -575,4 +584,17 @@ class LogicModel:
     def norm_reads(self, n: ParsedNorm) -> Reads:
         if n.modality != "forbidden":
             return n.reads
-        return _merge_reads([n.reads, *(p.reads for p in self.permissions)])
+        found = self._norm_reads.get(n.key)  # every goal the norm is relevant to asks
+        if found is None:
+            found = self._norm_reads[n.key] = _merge_reads(
+                [n.reads, *(p.reads for p in self.permissions)])
+        return found
+
+    def scope_needs(self, goal_id: str, extra: tuple[Reads, ...]) -> Reads:
+        """What the constraints in a goal's scope and the `extra` reads read together:
+        thousands of goals share a few of these."""
+        scope = self.scope_reads(goal_id)
+        found = self._needs.get((scope, extra))
+        if found is None:
+            found = self._needs[scope, extra] = _merge_reads([scope, *extra])
+        return found

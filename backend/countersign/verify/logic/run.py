@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Sequence
+from itertools import filterfalse
 from typing import Any
 
 from ...orders.model import Goal
@@ -13,7 +14,7 @@ from .cache import LogicCache, unit_key, unit_key_apart
 from .constants import _KIND_ORDER, MAX_CORES_PER_UNIT
 from .items import Item, Part
 from .limits import Limits
-from .model import GoalItems, LogicModel, ParsedConstraint, _merge_reads
+from .model import GoalItems, LogicModel, ParsedConstraint
 from .results import Core, GoalResult, MissionResult, Risk, VacuousResult
 from .screen import Screen
 from .session import CheckResult, Session
@@ -34,6 +35,8 @@ class LogicRun:
         self.limits = limits
         self._session: Session | None = None
         self._blocks: dict[frozenset[str], frozenset[Item]] = {}
+        self._norms: dict[tuple[str | None, str | None], tuple[
+            list[Reads], list[tuple[Item, Item]], list[tuple[Item, Item]], list[Item]]] = {}
 
     @property
     def session(self) -> Session:
@@ -121,10 +124,11 @@ class LogicRun:
         With `base` (a goal's unit), whether the items (what is left) can hold is asked of the
         screen first: often they can, and then no session check is needed."""
         session = self.session
+        screen = GROUP_CHECKS and base is not None
 
         def check(items: list[Item]) -> CheckResult:
-            if base is not None:
-                return self.screened(items, base)
+            if screen:
+                return self.session.check(items)
             # A scope's first check that bounds propagation proves satisfiable waits for z3's
             # next call (if any: a mission whose every unit bounds settle never loads z3).
             if GROUP_CHECKS and not session.entered and self._proven(items):
@@ -132,17 +136,22 @@ class LogicRun:
                 return CheckResult("sat")
             return session.check(items)
 
-        def unique(items: list[Item]) -> list[Item] | None:
-            # The unit's only core, when bounds.py proves there is one (unique.py): z3 and
-            # the shrinking would end at it too.
-            if not GROUP_CHECKS or base is None or self.screen.status(items, base) != "unsat":
-                return None
-            return self.unique_cores.core(items, base)
+        def first(items: list[Item]) -> tuple[CheckResult, list[Item] | None]:
+            """The check's result, and the unit's only core when bounds.py proves there is
+            one (unique.py: z3 and the shrinking would end at it too). With a base the
+            screen answers first, once for both questions."""
+            if not screen:
+                return check(items), None
+            assert base is not None
+            status = self.screen.status(items, base)
+            if status == "sat":
+                return CheckResult("sat"), None
+            known = self.unique_cores.core(items, base) if status == "unsat" else None
+            return (CheckResult("unsat"), known) if known is not None else (check(items), None)
 
         found: list[Core] = []
-        first = items
-        known = unique(items)
-        result = CheckResult("unsat") if known is not None else check(items)
+        first_items = items
+        result, known = first(items)
         while result.status == "unsat" and len(found) < limit:
             if known is not None:
                 core, minimal = known, True
@@ -155,15 +164,14 @@ class LogicRun:
             removed = drop(core)
             if not removed:
                 break
-            items = [i for i in items if i not in removed]
-            known = unique(items)
-            result = CheckResult("unsat") if known is not None else check(items)
+            items = list(filterfalse(set(removed).__contains__, items))
+            result, known = first(items)
         undecided = result.reason if result.status == "unknown" else None
         # Which of several independent cores z3 names first depends on what the session solved
         # before; listed by where their items stand in the unit, they read the same whatever
         # was solved before (and whether the screen spared some checks).
         if len(found) > 1:
-            place = {item.key: n for n, item in enumerate(first)}
+            place = {item.key: n for n, item in enumerate(first_items)}
             found.sort(key=lambda c: sorted(place.get(p.key, len(place)) for p in c.parts))
         return found, items, undecided
 
@@ -209,7 +217,7 @@ class LogicRun:
         found = model.goal_items_memo.get(memo)
         if found is None:
             own_constraints, own = model.scope_own(goal.id, quarantined)
-            needs = _merge_reads([model.scope_reads(goal.id), *extra])
+            needs = model.scope_needs(goal.id, memo[2])
             names = set(goal.envelope) | needs.quantities
             head = [model.envelope_item(goal, name) for name in sorted(goal.envelope)]
             head += model.fact_items(goal, needs)
@@ -227,22 +235,34 @@ class LogicRun:
     def goal_keyed(self, goal: Goal, quarantined: frozenset[str]) -> tuple[str, GoalResult]:
         """The goal's unit key and result."""
         model = self.model
-        norms = model.relevant_norms(goal)
-        extra = [model.norm_reads(n) for n in norms]
-        items, _ = self.goal_items(goal, quarantined, extra)
+        extra, norm_items, residual, added = self._goal_norms(goal)
         parts = self._goal_parts(goal, quarantined, extra)
+        items = [*parts.head, *model.live_block(quarantined)[1], *parts.own, *parts.tail]
         # The goal's items but the block, listed apart once: no check scans the block's
         # hundreds of items to find them again.
         own = [*parts.head, *parts.own, *parts.tail]
-        norm_items = [model.norm_items(n) for n in norms]
-        residual = [pair for n, pair in zip(norms, norm_items, strict=True)
-                    if model.residual(n, goal)]
-        added = [i for pair in norm_items for i in pair]
         base = self.block(quarantined)
-        return self.keyed(
-            "goal", items + added,
-            lambda: self._solve_goal(items, own, norm_items, residual, base), base,
+        return self.keyed(  # the key reads `apart` (and the base) only: no list of them all
+            "goal", (), lambda: self._solve_goal(items, own, norm_items, residual, base), base,
             apart=own + added)
+
+    def _goal_norms(self, goal: Goal) -> tuple[
+        list[Reads], list[tuple[Item, Item]], list[tuple[Item, Item]], list[Item]
+    ]:
+        """What a goal's relevant norms read, their (rule, breach) items, those whose breach
+        depends on quantities, and their items in one list: the goal's behaviour and area
+        decide them all, so thousands of goals share a few dozen (lists not to be changed)."""
+        key = (goal.behavior, goal.area)
+        found = self._norms.get(key)
+        if found is None:
+            model = self.model
+            norms = model.relevant_norms(goal)
+            pairs = [model.norm_items(n) for n in norms]
+            found = self._norms[key] = (
+                [model.norm_reads(n) for n in norms], pairs,
+                [pair for n, pair in zip(norms, pairs, strict=True) if model.residual(n, goal)],
+                [i for pair in pairs for i in pair])
+        return found
 
     def _solve_goal(self, items: list[Item], own: list[Item],
                     norm_items: list[tuple[Item, Item]], residual: list[tuple[Item, Item]],

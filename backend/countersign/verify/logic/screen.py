@@ -19,6 +19,7 @@ as without the screen: the screen only ever spares a check whose outcome it has 
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
+from itertools import filterfalse
 from typing import Any
 
 from ...orders.model import Quantity
@@ -96,7 +97,7 @@ class Screen(LazySolver):
         """Whether the items can hold together: "sat", "unsat" or "unknown" (a timeout or the
         run's budget spent). `base`: items that every check of the run holds (the live
         mission-wide constraints), asserted once below the checks' scope."""
-        rest = [i for i in items if i not in base]
+        rest = list(filterfalse(base.__contains__, items)) if base else list(items)
         if len(items) - len(rest) != len(base):  # base not all among the items: no base
             rest, base = list(items), frozenset()
         decided = self.decider.status(rest, base)

@@ -66,6 +66,8 @@ class Session(LazySolver):
         self._asts: dict[str, Any] = {}
         self._formulas: dict[str, str] = {}
         self._based: set[str] = set()
+        # Item -> (its kind, its formula's text): what `earliest_twins` compares.
+        self._twins: dict[Item, tuple[str, str]] = {}
         # Where the current unit's witnesses are solved (see `witness`); a new one per unit.
         self._unit_context: Any = None
         self._items: dict[str, Item] = {}
@@ -346,13 +348,23 @@ class Session(LazySolver):
         solved before (its term ids and learned clauses), so without this a core could name
         C184 in one run and its twin C52 in another; the first in the orders is named always.
         A twin states the same thing, so the core stays unsatisfiable and minimal."""
-        def twin(item: Item) -> tuple[str, str]:
-            # Of the same kind too: a domain and a vehicle bound may read alike, not the same.
-            return item.kind, self._formulas.get(item.key) or item.formula(self.translator)
+        twins = self._twins
 
+        def twin(item: Item) -> tuple[str, str]:
+            found = twins.get(item)
+            if found is None:
+                # Of the same kind too: a domain and a vehicle bound may read alike, not the
+                # same.
+                found = twins[item] = (
+                    item.kind, self._formulas.get(item.key) or item.formula(self.translator))
+            return found
+
+        wanted = {twin(i) for i in core}
         first: dict[tuple[str, str], Item] = {}
         for item in items:
-            first.setdefault(twin(item), item)
+            key = twin(item)
+            if key in wanted:
+                first.setdefault(key, item)
         return [first.get(twin(i), i) for i in core]
 
     # Minimal cores (seed 001, Algorithm 1) ---------------------------------------------------

@@ -14,6 +14,7 @@ any answer bounds.py cannot prove, leaves the unit to z3 as before.
 from __future__ import annotations
 
 from collections.abc import Sequence
+from itertools import filterfalse
 from typing import Any
 
 from .bounds import Decider
@@ -34,15 +35,17 @@ class UniqueCores:
 
     def core(self, items: Sequence[Item], base: frozenset[Item]) -> list[Item] | None:
         """The unit's only minimal core (first twins named), or None when not proven so."""
-        own = [i for i in items if i not in base]
+        own = list(filterfalse(base.__contains__, items))
         if len(items) - len(own) != len(base):  # some of the base dropped: not tried here
             return None
         kept = self._first_base(base)
-        firsts = self._first_twins(own, kept)
+        own_firsts = self._first_twins(own, kept)
+        firsts = [*own_firsts, *kept]
         culprit = self.decider.false_by_facts(firsts)
         if culprit is None:
             return None
-        facts = [i for i in firsts if i.meaning is not None and i.meaning[0] == "fact"]
+        # The base holds constraints only: the facts, and the rest below, are the goal's own.
+        facts = [i for i in own_firsts if i.meaning is not None and i.meaning[0] == "fact"]
         core = [culprit, *facts]
         status = self.decider.status
         if status(core, frozenset()) != "unsat":
@@ -53,7 +56,7 @@ class UniqueCores:
                 core = fewer
         for item in core:
             without = self._base_without(kept, item) if item in kept else kept
-            rest = [i for i in firsts if i is not item and i not in kept]
+            rest = [i for i in own_firsts if i is not item]
             if status(rest, without) != "sat":
                 return None
         self.found += 1
@@ -71,14 +74,14 @@ class UniqueCores:
         return found[1]
 
     def _first_twins(self, own: Sequence[Item], kept: frozenset[Item]) -> list[Item]:
-        """The unit's items (its own, then the base's first twins), each twin after the first
-        left out. Twins have one kind, and
+        """The unit's own items, each twin after the first left out (the base's first twins,
+        `kept`, come after them in the unit). Twins have one kind, and
         the base's constraints come before the goal's own, so the base's first twins stay and
         a goal's constraint that repeats one of them goes."""
         seen = self._base_keys.get(id(kept))
         if seen is None:
             seen = self._base_keys[id(kept)] = {_twin_key(i) for i in kept}
-        return [*_dedupe(own, set(seen)), *kept]
+        return _dedupe(own, set(seen))
 
     def _base_without(self, kept: frozenset[Item], item: Item) -> frozenset[Item]:
         key = (id(kept), item)
