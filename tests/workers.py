@@ -16,7 +16,9 @@
   spread, but with pytest 9.2 and pytest-xdist 3.8 it groups nothing: xdist renames
   `item._nodeid`, which pytest no longer reads.)
 - Under xdist the long modules are handed out first, so that neither worker is left with a
-  several-minute module at the end while the other idles."""
+  several-minute module at the end while the other idles: the workers collect them first
+  (heavy_first) and ./scripts/test's --no-loadscope-reorder keeps that order (xdist's default
+  hands out the modules with the most tests first)."""
 
 from __future__ import annotations
 
