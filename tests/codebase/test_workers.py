@@ -127,3 +127,12 @@ def test_modules_are_handed_out_in_the_collections_order(tmp_path: Path) -> None
     assert done.returncode == 0, done.stdout + done.stderr
     order = (tmp_path / "order").read_text().split()
     assert order == ["test_a_few"] + ["test_b_many"] * 6, order
+
+
+def test_every_long_module_named_first_exists() -> None:
+    """A renamed or split module would drop out of HEAVY_FIRST silently and run wherever
+    its name falls, perhaps last."""
+    from ..workers import HEAVY_FIRST, TESTS
+
+    missing = [entry for entry in HEAVY_FIRST if not (TESTS / entry).exists()]
+    assert not missing, missing
