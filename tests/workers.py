@@ -16,7 +16,9 @@
   spread, but with pytest 9.2 and pytest-xdist 3.8 it groups nothing: xdist renames
   `item._nodeid`, which pytest no longer reads.)
 - Under xdist the long modules are handed out first, so that neither worker is left with a
-  several-minute module at the end while the other idles."""
+  several-minute module at the end while the other idles: the workers collect them first
+  (heavy_first) and ./scripts/test's --no-loadscope-reorder keeps that order (xdist's default
+  hands out the modules with the most tests first)."""
 
 from __future__ import annotations
 
@@ -29,15 +31,34 @@ from sqlalchemy.engine import make_url
 
 POSTGRES_VARIABLE = "COUNTERSIGN_TEST_POSTGRES_URL"
 TESTS = Path(__file__).resolve().parent
-# The longest modules and folders of a CI run (`--durations`, ci10.log), longest first.
+# The longest modules and folders, longest first (`--durations=250` of full runs: ci10.log, and
+# 2026-12-05's at load 10, where the server-starting modules weigh more): with the long ones
+# handed out first and the many short modules after them, the workers end within a short
+# module of each other (greedy, longest first). A folder's entry takes the modules not named.
 HEAVY_FIRST = (
-    "export/test_moos_team.py",
     "web/test_fuzz.py",
-    "export/test_moos_helm.py",
-    "e2e/",
-    "web/test_fair_across_workers.py",
     "web/test_approval_process.py",
+    "export/test_moos_team.py",
+    "web/test_password_throttle.py",
+    "e2e/test_editor_panels.py",
+    "e2e/test_editor_build_exemplar.py",
+    "e2e/test_no_foreign_script.py",
+    "rehearse/test_budget_bound.py",
+    "export/test_moos_helm.py",
+    "e2e/test_editor_canvas.py",
+    "e2e/test_rehearsal_screen.py",
+    "e2e/test_rehearsal_refined.py",
+    "e2e/test_roles.py",
+    "e2e/test_rehearsal_team.py",
+    "campaigns/test_campaign_kill.py",
+    "e2e/",
+    "web/test_accounts.py",
+    "rehearse/test_refined_rehearsal.py",
     "web/test_fair.py",
+    "web/test_fair_across_workers.py",
+    "web/test_campaigns.py",
+    "web/test_account_hygiene.py",
+    "web/test_decision_races.py",
     "campaigns/",
 )
 

@@ -100,3 +100,39 @@ def test_a_modules_shared_setup_runs_once_in_a_parallel_run(tmp_path: Path) -> N
     for module in ("test_first", "test_second"):
         setups = (tmp_path / f"{module}.setups").read_text().split()
         assert len(setups) == 1, f"{module}'s module fixture was set up on {setups}"
+
+
+ORDERED_MODULE = """
+import os, pathlib
+
+def test_{n}(n=0):
+    with open(pathlib.Path(__file__).with_name("order"), "a") as out:
+        out.write(pathlib.Path(__file__).stem + "\\n")
+"""
+
+
+def test_modules_are_handed_out_in_the_collections_order(tmp_path: Path) -> None:
+    """./scripts/test's parallel options keep the collection's order of modules (tests/workers.py
+    puts the long ones first there): by default xdist hands out the modules with the most tests
+    first, and the browser modules, few tests of a minute each, ran last on both workers. One
+    worker here, so that the order handed out is the order run."""
+    for name, tests in (("test_a_few", 1), ("test_b_many", 6)):
+        (tmp_path / f"{name}.py").write_text("".join(
+            textwrap.dedent(ORDERED_MODULE).replace("{n}", str(n)) for n in range(tests)))
+    options = [option if option != "2" else "1" for option in _parallel_options()]
+    done = subprocess.run(
+        [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", *options,
+         "-o", "addopts=", "--rootdir", str(tmp_path), str(tmp_path)],
+        cwd=tmp_path, capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stdout + done.stderr
+    order = (tmp_path / "order").read_text().split()
+    assert order == ["test_a_few"] + ["test_b_many"] * 6, order
+
+
+def test_every_long_module_named_first_exists() -> None:
+    """A renamed or split module would drop out of HEAVY_FIRST silently and run wherever
+    its name falls, perhaps last."""
+    from ..workers import HEAVY_FIRST, TESTS
+
+    missing = [entry for entry in HEAVY_FIRST if not (TESTS / entry).exists()]
+    assert not missing, missing

@@ -79,21 +79,24 @@ def _exception_classes(root: Path) -> tuple[list[str], list[str]]:
     # Library bases the package subclasses (FastAPI's HTTPException, its own errors' bases).
     known |= {"HTTPException", "ValidationError", "DomainError"}
     defined: dict[str, list[str]] = {}
+    # Every class and its bases' names, read once: the fixed point below goes over them again
+    # for each new exception class found (walking every tree each time cost seconds).
+    classes = [(path, node.name, {ast.unparse(base).rsplit(".", 1)[-1] for base in node.bases})
+               for path, tree in trees.items() for node in ast.walk(tree)
+               if isinstance(node, ast.ClassDef)]
     grew = True
     while grew:  # a class is an exception when one of its bases is
         grew = False
-        for tree in trees.values():
-            for node in ast.walk(tree):
-                if isinstance(node, ast.ClassDef) and node.name not in known and any(
-                        ast.unparse(base).rsplit(".", 1)[-1] in known for base in node.bases):
-                    known.add(node.name)
-                    grew = True
+        for _, name, bases in classes:
+            if name not in known and not bases.isdisjoint(known):
+                known.add(name)
+                grew = True
+    for path, name, _ in classes:
+        if name in known:
+            defined.setdefault(name, []).append(str(path.relative_to(root.parent)))
     aliases = []
     for path, tree in trees.items():
         where = str(path.relative_to(root.parent))
-        for node in ast.walk(tree):
-            if isinstance(node, ast.ClassDef) and node.name in known:
-                defined.setdefault(node.name, []).append(where)
         for node in tree.body:
             if isinstance(node, ast.Assign) and isinstance(node.value, ast.Name) and \
                     node.value.id in known:

@@ -9,10 +9,12 @@ The app still upgrades to head on start and finds head applied. A test that uses
 
 from __future__ import annotations
 
+import functools
 import os
 import threading
 import time
 from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -24,11 +26,14 @@ from sqlalchemy import text
 
 from countersign.orders.examples import load_example
 from countersign.settings import Settings
+from countersign.store import accounts, password_policy
 from countersign.store.accounts import create_token, create_user
 from countersign.store.db import Database, make_engine
+from countersign.store.hashing import BoundedHasher
 from countersign.store.missions import create_mission
 from countersign.web.app import create_app
 
+from ..cheap_hashing import PRODUCTION_HASHER
 from ..db_template import PostgresTemplate, SqliteTemplate
 from ..ports import free_port
 
@@ -101,11 +106,44 @@ class World:
         return client, response.json()["csrf_token"]
 
 
+# Every world seeds the same password for the same usernames: the policy's verdict (zxcvbn,
+# milliseconds a user) is the same pure function's, remembered; and a test on production's
+# hasher (production_hashing) gets its seeded users' production hashes made once a session
+# (one per user, each with its own salt) instead of four 64 MiB hashes per world. The tests
+# check passwords against them as before: only the seeding is spared.
+_seeded_password_problem = functools.cache(password_policy.password_problem)
+_SEEDED_PRODUCTION_HASHES: dict[int, str] = {}
+
+
+class _SeedingHasher:
+    """Stands in for production's hasher while a world is seeded: the n-th seeded user's hash
+    of PASSWORD, made by that hasher the first time."""
+
+    def __init__(self, real: BoundedHasher) -> None:
+        self.real, self.made = real, 0
+
+    def hash(self, password: str, **kwargs: object) -> str:
+        assert password == PASSWORD and not kwargs, "only the world's seeding is stood in for"
+        index, self.made = self.made, self.made + 1
+        if index not in _SEEDED_PRODUCTION_HASHES:
+            _SEEDED_PRODUCTION_HASHES[index] = self.real.hash(password)
+        return _SEEDED_PRODUCTION_HASHES[index]
+
+
+@contextmanager
+def _seeding() -> Iterator[None]:
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(accounts, "password_problem", _seeded_password_problem)
+        if accounts.HASHER is PRODUCTION_HASHER:
+            patch.setattr(accounts, "HASHER", _SeedingHasher(PRODUCTION_HASHER))
+        yield
+
+
 def seed_users(database: Database) -> tuple[dict[str, str], dict[str, str]]:
     """One user per role (their API tokens and usernames) and the operator's example mission."""
     tokens: dict[str, str] = {}
     usernames: dict[str, str] = {}
-    with database.session() as db:
+    with _seeding(), database.session() as db:
         for role in ROLES:
             user = create_user(db, username=f"{role}1", role=role, password=PASSWORD,
                                signer=database.log_signer)

@@ -39,6 +39,7 @@ from countersign.store.db import Database
 from countersign.store.missions import create_mission
 from countersign.web.app import create_app
 
+from . import lazy_coverage
 from .approval_helpers import Signer as _Signer
 from .approval_helpers import sign_prepared
 from .roles_reviewed import REVIEWED_ROLES
@@ -132,6 +133,9 @@ SEEDED_OPERATIONS = ("getMission", "getVersion", "getReport", "listPaths", "getM
                      "reviewVersion", "getSubmission", "getApproval", "listRehearsalRecords",
                      "createVersion", "submitVersion", "withdrawSubmission", "prepareDecision",
                      "prepareRevocation")
+# Each operation's coverage cases are made when its test runs, not in every process that
+# collects this module (tests/web/lazy_coverage.py).
+lazy_coverage.install()
 schema = schemathesis.openapi.from_asgi("/api/openapi.json", APP)
 
 

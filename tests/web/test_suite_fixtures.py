@@ -20,8 +20,15 @@ from countersign.store.hashing import BoundedHasher
 
 from .. import markers
 from ..cheap_hashing import PRODUCTION_HASHER
-from ..db_template import STAMP, STAMP_COMMENT, PostgresTemplate, postgres_stamp, sqlite_stamp
-from .conftest import World, count_rows
+from ..db_template import (
+    STAMP,
+    STAMP_COMMENT,
+    PostgresTemplate,
+    SqliteTemplate,
+    postgres_stamp,
+    sqlite_stamp,
+)
+from .conftest import PASSWORD, World, count_rows, seed_users
 
 TESTS = Path(__file__).resolve().parents[1]
 
@@ -163,3 +170,29 @@ def test_markers_follow_folders_and_fixtures(request: pytest.FixtureRequest) -> 
         ["browser"], ["postgres"], [], ["slow", "postgres"], ["slow"]]
     registered = {line.split(":", 1)[0] for line in request.config.getini("markers")}
     assert {"browser", "postgres", "slow", "production_hashing"} <= registered
+
+
+def _refuse_hashing(*args: object, **kwargs: object) -> str:
+    raise AssertionError("a seeded world hashed a password again")
+
+
+@pytest.mark.production_hashing
+def test_seeded_worlds_share_the_sessions_production_hashes(
+        sqlite_template: SqliteTemplate, tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    stored = []
+    for name in ("first", "second"):
+        path = tmp_path / f"{name}.db"
+        sqlite_template.copy_to(path)
+        database = Database(f"sqlite:///{path}")
+        if name == "second":
+            monkeypatch.setattr(PRODUCTION_HASHER, "hash", _refuse_hashing)
+        seed_users(database)
+        with database.engine.connect() as connection:
+            stored.append(connection.execute(text(
+                "SELECT password_hash FROM users ORDER BY id")).scalars().all())
+        database.engine.dispose()
+    monkeypatch.undo()
+    assert stored[0] == stored[1] and len(set(stored[0])) == len(stored[0]) == 4
+    assert {extract_parameters(h).memory_cost for h in stored[0]} == {
+        PRODUCTION_HASHER.memory_cost}
+    assert all(PRODUCTION_HASHER.verify(h, PASSWORD) for h in stored[0])

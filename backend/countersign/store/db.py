@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -122,11 +123,19 @@ def alembic_config(url: str) -> Config:
     return config
 
 
+@functools.cache
+def _revisions() -> tuple[frozenset[str], frozenset[str]]:
+    """Every revision the migrations folder knows, and its heads. Read once per process: the
+    folder ships with the code, and loading its scripts is most of a start at head."""
+    script = ScriptDirectory.from_config(alembic_config(""))
+    return (frozenset(rev.revision for rev in script.walk_revisions()),
+            frozenset(script.get_heads()))
+
+
 def upgrade_to_head(engine: Engine) -> None:
     """Bring the schema to this version's head; refuse a database from a newer version."""
     config = alembic_config(engine.url.render_as_string(hide_password=False))
-    script = ScriptDirectory.from_config(config)
-    known = {rev.revision for rev in script.walk_revisions()}
+    known, heads = _revisions()
     with engine.connect() as connection:
         current = MigrationContext.configure(connection).get_current_heads()
     unknown = [rev for rev in current if rev not in known]
@@ -135,6 +144,8 @@ def upgrade_to_head(engine: Engine) -> None:
             f"the database is at schema revision {', '.join(unknown)}, which this version of "
             "Countersign does not know: it was upgraded by a newer version. Refusing to start."
         )
+    if set(current) == heads:
+        return  # at head already: Alembic would load every script again to do nothing
     with engine.begin() as connection:
         config.attributes["connection"] = connection
         command.upgrade(config, "head")
