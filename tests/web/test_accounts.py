@@ -1,7 +1,5 @@
 from __future__ import annotations
 
-import sqlite3
-
 import pytest
 from sqlalchemy import select
 
@@ -11,6 +9,7 @@ from countersign.store.login_throttle import FREE_FAILURES
 from countersign.store.tables import ApiToken, User
 
 from .conftest import PASSWORD, World, count_rows
+from .write_lock import probe_write_lock
 
 
 def test_login_sets_a_hardened_cookie_and_returns_csrf(world: World) -> None:
@@ -103,26 +102,7 @@ def test_passwords_are_checked_without_holding_the_write_lock(
         world: World, monkeypatch: pytest.MonkeyPatch) -> None:
     """argon2 takes tens of milliseconds by design: on SQLite, checking a password while
     holding the one write lock would make every other writer wait for each sign-in."""
-    if world.database.engine.dialect.name != "sqlite":
-        pytest.skip("the single write lock is SQLite's")
-    path = world.database.engine.url.database
-    assert path
-    writable_meanwhile: list[bool] = []
-    original = HASHER.verify
-
-    def probe(stored: str, password: str) -> bool:
-        other = sqlite3.connect(path, timeout=0, isolation_level=None)
-        try:
-            other.execute("BEGIN IMMEDIATE")
-            other.execute("ROLLBACK")
-            writable_meanwhile.append(True)
-        except sqlite3.OperationalError:
-            writable_meanwhile.append(False)
-        finally:
-            other.close()
-        return original(stored, password)
-
-    monkeypatch.setattr(HASHER, "verify", probe)
+    writable_meanwhile = probe_write_lock(world, monkeypatch, HASHER, "verify")
     client = world.client()
     assert client.post("/api/auth/login",
                        json={"username": "operator1", "password": PASSWORD}).status_code == 200
@@ -136,26 +116,7 @@ def test_a_new_users_password_is_hashed_without_holding_the_write_lock(
         world: World, monkeypatch: pytest.MonkeyPatch) -> None:
     """Creating an account hashes its password (argon2, tens of milliseconds by design) before
     the write transaction begins, not while other writers wait for SQLite's one lock."""
-    if world.database.engine.dialect.name != "sqlite":
-        pytest.skip("the single write lock is SQLite's")
-    path = world.database.engine.url.database
-    assert path
-    writable_meanwhile: list[bool] = []
-    original = HASHER.hash
-
-    def probe(password: str) -> str:
-        other = sqlite3.connect(path, timeout=0, isolation_level=None)
-        try:
-            other.execute("BEGIN IMMEDIATE")
-            other.execute("ROLLBACK")
-            writable_meanwhile.append(True)
-        except sqlite3.OperationalError:
-            writable_meanwhile.append(False)
-        finally:
-            other.close()
-        return original(password)
-
-    monkeypatch.setattr(HASHER, "hash", probe)
+    writable_meanwhile = probe_write_lock(world, monkeypatch, HASHER, "hash")
     made = world.client("admin").post("/api/users", json={
         "username": "erin", "role": "operator", "password": "a long enough passphrase 7"})
     assert made.status_code == 201, made.text

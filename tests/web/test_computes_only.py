@@ -15,9 +15,8 @@ from .approval_helpers import approve, new_version, prepare, register_key, submi
 from .conftest import World
 
 
-def test_only_a_declared_post_opens_without_the_write_lock(
-    world: World, monkeypatch: pytest.MonkeyPatch
-) -> None:
+def _record_opens(world: World, monkeypatch: pytest.MonkeyPatch) -> list[bool]:
+    """Each request session's `write` flag, in the order the sessions open."""
     opened: list[bool] = []
     real = world.database.open
 
@@ -26,6 +25,13 @@ def test_only_a_declared_post_opens_without_the_write_lock(
         return real(write=write)
 
     monkeypatch.setattr(world.database, "open", recording)
+    return opened
+
+
+def test_only_a_declared_post_opens_without_the_write_lock(
+    world: World, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    opened = _record_opens(world, monkeypatch)
     client = world.client("operator")
     orders = orders_to_json(load_example("search-and-sample"))
     assert client.post("/api/validate", json=orders).status_code == 200
@@ -51,14 +57,7 @@ def test_preparing_a_statement_to_sign_takes_no_write_lock(
     signer = register_key(supervisor)
     approval = approve(world, supervisor, signer, submission)
     second = submit(world, new_version(world))
-    opened: list[bool] = []
-    real = world.database.open
-
-    def recording(write: bool = True) -> AbstractContextManager[Session]:
-        opened.append(write)
-        return real(write=write)
-
-    monkeypatch.setattr(world.database, "open", recording)
+    opened = _record_opens(world, monkeypatch)
     prepare(supervisor, second, signer)
     revocation = supervisor.post(f"/api/approvals/{approval['id']}/statement",
                                  json={"reason": "superseded", "key_id": signer.key_id})

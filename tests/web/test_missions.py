@@ -2,7 +2,6 @@ from __future__ import annotations
 
 import asyncio
 import json
-import sqlite3
 from typing import Any
 
 import pytest
@@ -15,6 +14,7 @@ from countersign.web.routes.schemas import FindingOut, MissionDetail
 
 from .conftest import World, count_rows
 from .described import assert_described
+from .write_lock import probe_write_lock
 
 EXAMPLE = "search-and-sample"
 
@@ -187,26 +187,7 @@ def test_orders_are_validated_without_holding_the_write_lock(
     """A validation runs up to 8 s of solver CPU (32 s of wall time): on SQLite, validating
     inside the write transaction made every other user's writes wait for it. Creating,
     importing and editing all validate first, in a read session."""
-    if world.database.engine.dialect.name != "sqlite":
-        pytest.skip("the single write lock is SQLite's")
-    path = world.database.engine.url.database
-    assert path
-    writable_meanwhile: list[bool] = []
-    original = missions_store.lookup_report
-
-    def probe(*args: Any, **kwargs: Any) -> Any:
-        other = sqlite3.connect(path, timeout=0, isolation_level=None)
-        try:
-            other.execute("BEGIN IMMEDIATE")
-            other.execute("ROLLBACK")
-            writable_meanwhile.append(True)
-        except sqlite3.OperationalError:
-            writable_meanwhile.append(False)
-        finally:
-            other.close()
-        return original(*args, **kwargs)
-
-    monkeypatch.setattr(missions_store, "lookup_report", probe)
+    writable_meanwhile = probe_write_lock(world, monkeypatch, missions_store, "lookup_report")
     client = world.client("operator")
     orders = _copy(world, "copy")
     assert client.post("/api/missions", json=orders).status_code == 201

@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import copy
 import json
-import sqlite3
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -22,6 +21,7 @@ from countersign.web.deps import CSRF_HEADER
 
 from .approval_helpers import Signer, register_key, sign_prepared
 from .conftest import PASSWORD, World
+from .write_lock import probe_write_lock
 
 EXAMPLES = resources.files("countersign.orders.examples") / "procedures"
 NAME = "cell-search"
@@ -328,26 +328,7 @@ def test_a_procedure_is_checked_without_holding_the_write_lock(
     """Checking a procedure of up to 2,000 goals takes seconds (its solver budget alone is
     two): on SQLite, doing it inside the write transaction made every other writer, any user's
     draft edit, wait for it."""
-    if world.database.engine.dialect.name != "sqlite":
-        pytest.skip("the single write lock is SQLite's")
-    path = world.database.engine.url.database
-    assert path
-    writable_meanwhile: list[bool] = []
-    original = procedures_store.check_procedure
-
-    def probe(procedure: Any) -> Any:
-        other = sqlite3.connect(path, timeout=0, isolation_level=None)
-        try:
-            other.execute("BEGIN IMMEDIATE")
-            other.execute("ROLLBACK")
-            writable_meanwhile.append(True)
-        except sqlite3.OperationalError:
-            writable_meanwhile.append(False)
-        finally:
-            other.close()
-        return original(procedure)
-
-    monkeypatch.setattr(procedures_store, "check_procedure", probe)
+    writable_meanwhile = probe_write_lock(world, monkeypatch, procedures_store, "check_procedure")
     _save(world)
     assert writable_meanwhile == [True]
     # The version's number is checked again under the write lock: no gap, no second 1.

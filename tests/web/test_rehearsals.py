@@ -4,7 +4,6 @@ viser websocket through the app's proxy, stored records, limits and bad input.""
 from __future__ import annotations
 
 import json
-import sqlite3
 import threading
 import time
 from collections.abc import Callable, Iterator
@@ -26,6 +25,7 @@ from countersign.web.viser_proxy import MAX_MALFORMED
 from .conftest import World
 from .described import assert_described
 from .viser_client import PROTOCOL, SceneReader, encode
+from .write_lock import probe_write_lock
 
 MISSION = "search-and-sample"
 ORIGIN = {"origin": "http://testserver"}
@@ -413,27 +413,8 @@ def test_a_rehearsal_starts_without_holding_the_write_lock(
     for large orders): on SQLite, doing that inside the write transaction made every other
     user's writes wait for it."""
     world = app_world
-    if world.database.engine.dialect.name != "sqlite":
-        pytest.skip("the single write lock is SQLite's")
-    path = world.database.engine.url.database
-    assert path
     hub = _hub(world)
-    writable_meanwhile: list[bool] = []
-    original = hub.start
-
-    def probe(*args: Any, **kwargs: Any) -> Any:
-        other = sqlite3.connect(path, timeout=0, isolation_level=None)
-        try:
-            other.execute("BEGIN IMMEDIATE")
-            other.execute("ROLLBACK")
-            writable_meanwhile.append(True)
-        except sqlite3.OperationalError:
-            writable_meanwhile.append(False)
-        finally:
-            other.close()
-        return original(*args, **kwargs)
-
-    monkeypatch.setattr(hub, "start", probe)
+    writable_meanwhile = probe_write_lock(world, monkeypatch, hub, "start")
     operator = world.client("operator")
     started = _start(operator)
     assert writable_meanwhile == [True]
