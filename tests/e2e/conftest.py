@@ -213,6 +213,26 @@ def browser(playwright_instance: Playwright, server: Server,
         launched.close()
 
 
+# The two screens every page is looked at on (DESIGN: 1024x768 and 1280x800).
+SCREENS = [(1024, 768), (1280, 800)]
+
+
+@pytest.fixture(params=SCREENS, ids=lambda s: f"{s[0]}x{s[1]}")
+def screen(request: pytest.FixtureRequest, browser: Browser, server: Server) -> Iterator[Page]:
+    """A fresh browser context of one of SCREENS' sizes (the test runs once per screen)."""
+    width, height = request.param
+    context = browser.new_context(base_url=server.url, viewport={"width": width, "height": height})
+    context.set_default_timeout(PATIENCE_MS)
+    errors: list[str] = []
+    page = context.new_page()
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    try:
+        yield page
+        assert not errors, errors
+    finally:
+        context.close()
+
+
 @pytest.fixture()
 def page(browser: Browser, server: Server, request: pytest.FixtureRequest,
          tmp_path_factory: pytest.TempPathFactory) -> Iterator[Page]:

@@ -8,9 +8,9 @@ from __future__ import annotations
 import pytest
 from playwright.sync_api import Locator, Page
 
-from .conftest import expect_accessible
+from .conftest import SCREENS, expect_accessible
 
-SCREENS = [(1024, 768), (1280, 800)]
+__all__ = ["SCREENS"]
 
 
 def box(locator: Locator) -> dict[str, float]:

@@ -10,12 +10,10 @@ import re
 import pytest
 from playwright.sync_api import Page, expect
 
-from .conftest import Server
+from .conftest import SCREENS, Server
 from .test_editor import _chain
 from .test_editor_canvas import _create
 from .test_roles import sign_in
-
-SCREENS = ((1024, 768), (1280, 800))
 
 # Whether a node's box lies inside the canvas (what "in view" means to an operator).
 _IN_VIEW = """(id) => {

@@ -12,12 +12,11 @@ from pathlib import Path
 import pytest
 from playwright.sync_api import Browser, Page, expect
 
-from .conftest import PATIENCE_MS, REPO, Server
+from .conftest import PATIENCE_MS, REPO, SCREENS, Server
 from .test_editor_screen import open_editor
 from .test_roles import sign_in
 
 AXE = REPO / "frontend" / "node_modules" / "axe-core" / "axe.min.js"
-SCREENS = ((1024, 768), (1280, 800))
 
 
 def _fresh_exemplar(page: Page, mission: str) -> str:

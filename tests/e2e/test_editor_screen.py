@@ -14,11 +14,10 @@ from typing import Any
 import pytest
 from playwright.sync_api import Page, expect
 
-from .conftest import AVCL, Server, _api_import
+from .conftest import AVCL, SCREENS, Server, _api_import
 from .test_roles import sign_in
 
 PIRATES = AVCL / "PiratesSeizingMerchantDefense.xml"
-SCREENS = ((1024, 768), (1280, 800))
 
 # Boxes of the editor's parts, the card, the window, and the smallest rendered label: the
 # text a person reads on each node (its title near, its id far) times the canvas's zoom.

@@ -17,7 +17,7 @@ from playwright.sync_api import Locator, Page, expect
 from countersign.orders.examples import example_bytes
 
 from .conftest import Server, _api_import, expect_accessible
-from .test_review_screen import SCREENS, box, font_px, inside
+from .screens import SCREENS, box, font_px, inside
 from .test_roles import sign_in
 
 

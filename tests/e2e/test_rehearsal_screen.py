@@ -8,29 +8,13 @@ from __future__ import annotations
 
 import itertools
 import re
-from collections.abc import Iterator
 
 import pytest
-from playwright.sync_api import Browser, Page, expect
+from playwright.sync_api import Page, expect
 
-from .conftest import PATIENCE_MS, Server, expect_accessible
-from .test_review_screen import SCREENS, box, font_px, inside, no_page_scroll_sideways
+from .conftest import expect_accessible
+from .screens import box, font_px, inside, no_page_scroll_sideways
 from .test_roles import sign_in
-
-
-@pytest.fixture(params=SCREENS, ids=lambda s: f"{s[0]}x{s[1]}")
-def screen(request: pytest.FixtureRequest, browser: Browser, server: Server) -> Iterator[Page]:
-    width, height = request.param
-    context = browser.new_context(base_url=server.url, viewport={"width": width, "height": height})
-    context.set_default_timeout(PATIENCE_MS)
-    errors: list[str] = []
-    page = context.new_page()
-    page.on("pageerror", lambda e: errors.append(str(e)))
-    try:
-        yield page
-        assert not errors, errors
-    finally:
-        context.close()
 
 
 def test_scene_and_outcome_controls_share_the_screen(

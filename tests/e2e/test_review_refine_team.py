@@ -17,7 +17,7 @@ from playwright.sync_api import Page, expect
 from countersign.orders.examples import example_bytes
 
 from .conftest import Server, _api_import, expect_accessible
-from .test_review_screen import SCREENS, box, font_px, inside, no_page_scroll_sideways
+from .screens import SCREENS, box, font_px, inside, no_page_scroll_sideways
 from .test_roles import sign_in
 from .test_vehicle_registry import client
 

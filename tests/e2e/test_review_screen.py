@@ -12,15 +12,14 @@ import json
 import re
 import secrets
 import time
-from collections.abc import Iterator
 from typing import Any
 
 import httpx
 import pytest
-from playwright.sync_api import Browser, Page, expect
+from playwright.sync_api import Page, expect
 
-from .conftest import PATIENCE_MS, Server, _api_import, expect_accessible
-from .screens import SCREENS, box, font_px, inside, no_page_scroll_sideways
+from .conftest import Server, _api_import, expect_accessible
+from .screens import box, font_px, inside, no_page_scroll_sideways
 from .test_roles import sign_in
 from .test_vehicle_registry import approve, client, exemplar
 
@@ -69,21 +68,6 @@ def submitted(server: Server) -> dict[str, Any]:
         cited = operator.post(f"/api/submissions/{sid}/rehearsal", json={"rehearsal": record})
         assert cited.status_code in (200, 201), cited.text
     return {"mission": mission, "campaign": campaign, "submission": sid, "record": record}
-
-
-@pytest.fixture(params=SCREENS, ids=lambda s: f"{s[0]}x{s[1]}")
-def screen(request: pytest.FixtureRequest, browser: Browser, server: Server) -> Iterator[Page]:
-    width, height = request.param
-    context = browser.new_context(base_url=server.url, viewport={"width": width, "height": height})
-    context.set_default_timeout(PATIENCE_MS)
-    errors: list[str] = []
-    page = context.new_page()
-    page.on("pageerror", lambda e: errors.append(str(e)))
-    try:
-        yield page
-        assert not errors, errors
-    finally:
-        context.close()
 
 
 def test_operator_attaches_the_campaign_from_the_versions_tab(page: Page,

@@ -8,14 +8,13 @@ from __future__ import annotations
 
 import itertools
 import json
-from collections.abc import Iterator
 from typing import Any
 
 import pytest
-from playwright.sync_api import Browser, Locator, Page, Route, expect
+from playwright.sync_api import Locator, Page, Route, expect
 
-from .conftest import PATIENCE_MS, Server, expect_accessible
-from .screens import SCREENS, box, inside, no_page_scroll_sideways
+from .conftest import expect_accessible
+from .screens import box, inside, no_page_scroll_sideways
 from .test_roles import sign_in
 
 # Answered in place of the registry's list, so that the table is empty (or holds these) whatever
@@ -24,21 +23,6 @@ LISTED = [{"id": "remus-100", "title": "REMUS 100", "behaviors": ["transit", "ar
           {"id": "glider-7", "title": "Slocum glider", "behaviors": ["transit"]}]
 # The profile form at these widths too: its rows wrap at other points than at the two screens.
 FORM_WIDTHS = (1280, 1024, 900, 800, 700)
-
-
-@pytest.fixture(params=SCREENS, ids=lambda s: f"{s[0]}x{s[1]}")
-def screen(request: pytest.FixtureRequest, browser: Browser, server: Server) -> Iterator[Page]:
-    width, height = request.param
-    context = browser.new_context(base_url=server.url, viewport={"width": width, "height": height})
-    context.set_default_timeout(PATIENCE_MS)
-    errors: list[str] = []
-    page = context.new_page()
-    page.on("pageerror", lambda e: errors.append(str(e)))
-    try:
-        yield page
-        assert not errors, errors
-    finally:
-        context.close()
 
 
 def _shot(page: Page, tmp_path_factory: pytest.TempPathFactory, name: str) -> None:

@@ -10,7 +10,7 @@ import secrets
 from playwright.sync_api import Browser, expect
 
 from .conftest import PATIENCE_MS, Server, expect_accessible
-from .test_review_screen import box, no_page_scroll_sideways
+from .screens import box, no_page_scroll_sideways
 from .test_roles import sign_in
 
 
