@@ -98,6 +98,7 @@ ALLOWED: dict[str, set[tuple[str, str]]] = {
         ("web/viser_proxy.py", "to_browser"),
         ("web/viser_proxy.py", "dropped_share"),
         ("rules/engine.py", "inferences"),
+        ("verify/logic/bounds.py", "propagated"),
     },
     # It reads the check's private product, so it stays beside it.
     "tests/bench/bench_team.py prints the size of the joint product the team check explores": {

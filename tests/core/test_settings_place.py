@@ -21,8 +21,12 @@ REPO = Path(__file__).resolve().parents[2]
 PACKAGE = REPO / "backend" / "countersign"
 SETTINGS = PACKAGE / "settings.py"
 
-# Modules of the package allowed to touch os.environ, with the reason (none today).
-PLUMBING: dict[str, str] = {}
+# Modules of the package allowed to touch os.environ, with the reason.
+PLUMBING: dict[str, str] = {
+    "countersign/cli/common.py": "the program sets two variables of libraries, not of Countersign "
+                     "(OPENBLAS_NUM_THREADS, PYDANTIC_DISABLE_PLUGINS), unless given, before "
+                     "they load: importing settings.py first would load pydantic, too early",
+}
 # Variables only the tests or scripts read: knobs of the suite, never of the app.
 TEST_ONLY: dict[str, str] = {
     "COUNTERSIGN_TEST_POSTGRES_URL": "the PostgreSQL database the suite may use",
