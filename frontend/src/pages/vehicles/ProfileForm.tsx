@@ -42,6 +42,16 @@ function Field({ children }: { children: ReactNode }) {
 type Envelope = Record<string, [number, number]>;
 
 /** A quantity a row, its min and max (an empty field is 0: the server names a refused range). */
+/** One number of the vehicle's budget, with its label kept beside it when the row wraps. */
+function BudgetField({ id, label, value, onChange }: { id: string; label: string; value: number | undefined; onChange: (value: number | undefined) => void }) {
+  return (
+    <Field>
+      <label htmlFor={id}>{label}</label>
+      <input id={id} type="number" step="any" value={value ?? ""} onChange={(e) => onChange(number(e.target.value))} />
+    </Field>
+  );
+}
+
 function envelopeColumns(envelope: Envelope, setEnvelope: (next: Envelope) => void): Column<[string, [number, number]]>[] {
   const end = (at: 0 | 1): Column<[string, [number, number]]> => ({
     header: at === 0 ? "Min" : "Max",
@@ -84,6 +94,7 @@ function featureColumns(setFeature: (i: number, changes: Partial<Feature>) => vo
 export function ProfileForm({ profile, onChange, fixedId }: { profile: Profile; onChange: (p: Profile) => void; fixedId: boolean }) {
   const envelope = (profile.envelope ?? {}) as Envelope;
   const budget = (profile.budget ?? {}) as { energy_wh?: number; duration_s?: number };
+  const setBudget = (changes: typeof budget) => onChange(withField(profile, "budget", { ...budget, ...changes }));
   const features = ((profile.features ?? []) as Feature[]).filter((f) => typeof f === "object" && f !== null);
   const setEnvelope = (next: Envelope) => onChange(withField(profile, "envelope", next));
   const setFeatures = (next: Feature[]) => onChange(withField(profile, "features", next));
@@ -116,26 +127,8 @@ export function ProfileForm({ profile, onChange, fixedId }: { profile: Profile; 
           <label htmlFor="vehicle-speed">Speed (m/s)</label>
           <input id="vehicle-speed" type="number" step="any" value={(profile.speed_mps as number | undefined) ?? ""} onChange={(e) => onChange(withField(profile, "speed_mps", number(e.target.value)))} />
         </Field>
-        <Field>
-          <label htmlFor="vehicle-energy">Energy budget (Wh)</label>
-          <input
-            id="vehicle-energy"
-            type="number"
-            step="any"
-            value={budget.energy_wh ?? ""}
-            onChange={(e) => onChange(withField(profile, "budget", { ...budget, energy_wh: number(e.target.value) }))}
-          />
-        </Field>
-        <Field>
-          <label htmlFor="vehicle-duration">Time budget (s)</label>
-          <input
-            id="vehicle-duration"
-            type="number"
-            step="any"
-            value={budget.duration_s ?? ""}
-            onChange={(e) => onChange(withField(profile, "budget", { ...budget, duration_s: number(e.target.value) }))}
-          />
-        </Field>
+        <BudgetField id="vehicle-energy" label="Energy budget (Wh)" value={budget.energy_wh} onChange={(v) => setBudget({ energy_wh: v })} />
+        <BudgetField id="vehicle-duration" label="Time budget (s)" value={budget.duration_s} onChange={(v) => setBudget({ duration_s: v })} />
       </Row>
       <h3>Envelope</h3>
       <EditableTable
