@@ -9,17 +9,16 @@ import the simulation); `countersign.jobs` runs the jobs.
 
 from __future__ import annotations
 
-import hashlib
 import secrets
 from typing import Any
 
-import rfc8785
 from sqlalchemy import CursorResult, func, select, update
 from sqlalchemy.dialects.postgresql import insert as pg_insert
 from sqlalchemy.dialects.sqlite import insert as sqlite_insert
 from sqlalchemy.orm import Session as DbSession
 
 from ..approvals.signer import LogSigner
+from ..approvals.statement import json_digest
 from ..errors import Conflict, NotFound, TooMany
 from .events import record as record_event
 from .tables import (
@@ -46,10 +45,6 @@ class RecordChanged(Conflict):
     database by something other than the app, so it is neither shown nor cited."""
 
 
-def record_digest(record: dict[str, Any]) -> str:
-    return "sha256:" + hashlib.sha256(rfc8785.dumps(record)).hexdigest()
-
-
 def changed_record(row: Campaign, digest: str | None = None) -> str | None:
     """Why the sealed record cannot be trusted as `digest` (the row's own by default), or None
     when it hashes to it. Checked where the record is shown or cited, not only in the audit
@@ -57,7 +52,7 @@ def changed_record(row: Campaign, digest: str | None = None) -> str | None:
     expected = digest or row.digest
     if expected is None or row.record is None:
         return None
-    if record_digest(row.record) == expected:
+    if json_digest(row.record) == expected:
         return None
     return (f"campaign {row.id}: the stored record does not hash to its digest {expected}; "
             "it was changed outside the app")
@@ -166,7 +161,7 @@ def seal(db: DbSession, campaign_id: str, record: dict[str, Any]) -> str | None:
     """Finish the campaign with its record (once; a second caller changes nothing). The
     record's digest is sha256 over its RFC 8785 form. Returns the digest when this call
     finished it."""
-    digest = record_digest(record)
+    digest = json_digest(record)
     statement = (update(Campaign)
                  .where(Campaign.id == campaign_id, Campaign.state.in_(ACTIVE_STATES))
                  .values(state="finished", record=record, digest=digest, ended_at=utcnow()))
