@@ -82,8 +82,9 @@ class Decider:
             return None
         else:
             own, extra = list(filterfalse(_EXTRA, rest)), list(filter(_EXTRA, rest))
-            own_keys = frozenset(self._codes_of(own))
-            extra_keys = frozenset(self._codes_of(extra))
+            # The codes made above, split as the items are (not looked up again).
+            own_keys = frozenset(c for i, c in zip(rest, codes, strict=True) if not _EXTRA(i))
+            extra_keys = frozenset(c for i, c in zip(rest, codes, strict=True) if _EXTRA(i))
         # By what the base states, not by the set itself: a base without its twins (unique.py)
         # asks the questions its goal asked already.
         base_codes = self._codes_of_base(base)
