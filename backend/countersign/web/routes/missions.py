@@ -85,8 +85,13 @@ def _detail(db: DbSession, services: AppServices, mission: Mission, response: Re
     fields = missions.detail(db, mission, reports=services.reports,
                              import_findings=import_findings)
     if response is not None:
-        response.headers["ETag"] = f'"{mission.revision}"'
+        response.headers["ETag"] = _etag(mission)
     return MissionDetail(**fields)
+
+
+def _etag(mission: Mission) -> str:
+    """The draft's ETag, which a save's If-Match must send back."""
+    return f'"{mission.revision}"'
 
 
 @router.get("/missions", operation_id="listMissions", response_model=MissionPage,
@@ -143,7 +148,7 @@ def _import(db: DbSession, services: AppServices, data: bytes,
                                       signer=services.signer)
     detail = _detail(db, services, mission, None, [f.to_json() for f in loaded.findings])
     return JSONResponse(detail.model_dump(mode="json"), status_code=201,
-                        headers={"ETag": f'"{mission.revision}"'})
+                        headers={"ETag": _etag(mission)})
 
 
 class ReadOrdersOut(BaseModel):
