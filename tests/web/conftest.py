@@ -22,7 +22,7 @@ import pytest
 import uvicorn
 from fastapi import FastAPI
 from fastapi.testclient import TestClient
-from sqlalchemy import text
+from sqlalchemy import Engine, text
 
 from countersign.orders.examples import load_example
 from countersign.settings import Settings
@@ -34,7 +34,7 @@ from countersign.store.missions import create_mission
 from countersign.web.app import create_app
 
 from ..cheap_hashing import PRODUCTION_HASHER
-from ..db_template import PostgresTemplate, SqliteTemplate
+from ..db_template import LOCK_TIMEOUT, PostgresTemplate, SqliteTemplate
 from ..ports import free_port
 
 ROLES = ("operator", "supervisor", "auditor", "admin")
@@ -45,9 +45,45 @@ POSTGRES_URL = os.environ.get("COUNTERSIGN_TEST_POSTGRES_URL")
 def _reset_postgres(url: str) -> None:
     engine = make_engine(url)
     with engine.begin() as connection:
+        connection.execute(text(f"SET LOCAL lock_timeout = '{LOCK_TIMEOUT}'"))
         connection.execute(text("DROP SCHEMA public CASCADE"))
         connection.execute(text("CREATE SCHEMA public"))
     engine.dispose()
+
+
+_OPEN_TRANSACTIONS = text(
+    "SELECT pid, application_name, now() - xact_start, left(query, 300) FROM pg_stat_activity "
+    "WHERE datname = current_database() AND pid <> pg_backend_pid() "
+    "AND state LIKE 'idle in transaction%'")
+
+
+@pytest.fixture(scope="session")
+def postgres_watch() -> Iterator[Engine]:
+    """A connection of the suite's own to the worker's database, to look at the others."""
+    assert POSTGRES_URL
+    engine = make_engine(POSTGRES_URL)
+    yield engine
+    engine.dispose()
+
+
+@pytest.fixture(autouse=True)
+def no_transaction_left_open(request: pytest.FixtureRequest) -> Iterator[None]:
+    """On PostgreSQL, a test that leaves a connection idle in a transaction fails itself and
+    the connection is ended: otherwise its locks make a later test's reset of the worker's
+    database wait (DROP SCHEMA, TRUNCATE) and that unrelated test fails instead."""
+    callspec = getattr(request.node, "callspec", None)
+    if callspec is None or callspec.params.get("database_url") != "postgresql":
+        yield
+        return
+    watch: Engine = request.getfixturevalue("postgres_watch")
+    yield
+    with watch.begin() as connection:
+        left = connection.execute(_OPEN_TRANSACTIONS).all()
+        for row in left:
+            connection.execute(text("SELECT pg_terminate_backend(:pid)"), {"pid": row[0]})
+    if left:
+        pytest.fail("transactions left open (pid, application, age, last query): "
+                    + "; ".join(repr(tuple(row)) for row in left), pytrace=False)
 
 
 # Fixtures whose tests start from the migrated template rather than an empty database.

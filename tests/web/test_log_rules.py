@@ -181,8 +181,9 @@ def test_events_edited_behind_the_app_are_reported_by_the_activity_log(world: Wo
     events = auditor.get("/api/events", params={"limit": 1000}).json()
     assert events and all(e["integrity"] == [] for e in events)
     rejected = next(e for e in events if e["kind"] == "approval.rejected")
-    admin_id = world.database.engine.connect().execute(text(
-        "SELECT id FROM users WHERE role = 'admin' ORDER BY id LIMIT 1")).scalar_one()
+    with world.database.engine.connect() as connection:
+        admin_id = connection.execute(text(
+            "SELECT id FROM users WHERE role = 'admin' ORDER BY id LIMIT 1")).scalar_one()
     bypass_triggers(world.database, "events",
                     "UPDATE events SET actor_id = :a, detail = :d WHERE id = :i",
                     a=admin_id, d=json.dumps({**rejected["detail"], "reason": "fine"}),
