@@ -72,7 +72,8 @@ def no_transaction_left_open(request: pytest.FixtureRequest) -> Iterator[None]:
     the connection is ended: otherwise its locks make a later test's reset of the worker's
     database wait (DROP SCHEMA, TRUNCATE) and that unrelated test fails instead."""
     callspec = getattr(request.node, "callspec", None)
-    if callspec is None or callspec.params.get("database_url") != "postgresql":
+    if not POSTGRES_URL or callspec is None or \
+            callspec.params.get("database_url") != "postgresql":
         yield
         return
     watch: Engine = request.getfixturevalue("postgres_watch")
