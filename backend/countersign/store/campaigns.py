@@ -45,17 +45,18 @@ class RecordChanged(Conflict):
     database by something other than the app, so it is neither shown nor cited."""
 
 
-def changed_record(row: Campaign, digest: str | None = None) -> str | None:
-    """Why the sealed record cannot be trusted as `digest` (the row's own by default), or None
-    when it hashes to it. Checked where the record is shown or cited, not only in the audit
-    bundle afterwards: a supervisor must never sign over results the seal did not cover."""
+def sealed_record(row: Campaign, digest: str | None = None) -> dict[str, Any] | None:
+    """The row's record (None before it is sealed), once it hashes to `digest` (the row's own
+    by default); RecordChanged when it does not. Every reader of a record goes through here, not
+    only the audit bundle afterwards: a supervisor must never sign over results the seal did not
+    cover."""
     expected = digest or row.digest
     if expected is None or row.record is None:
-        return None
-    if json_digest(row.record) == expected:
-        return None
-    return (f"campaign {row.id}: the stored record does not hash to its digest {expected}; "
-            "it was changed outside the app")
+        return row.record
+    if json_digest(row.record) != expected:
+        raise RecordChanged(f"campaign {row.id}: the stored record does not hash to its digest "
+                            f"{expected}; it was changed outside the app")
+    return row.record
 
 
 def create(db: DbSession, *, orders: dict[str, Any], orders_digest: str, spec: dict[str, Any],
@@ -207,9 +208,7 @@ def attach(db: DbSession, *, submission: Submission, campaign_id: str, actor: Us
     if row.state != "finished" or row.digest is None:
         raise Conflict(f"campaign {row.id} is {row.state}; only a finished campaign can be "
                        "attached")
-    changed = changed_record(row)
-    if changed is not None:
-        raise RecordChanged(changed)
+    sealed_record(row)
     version = db.get_one(MissionVersion, submission.version_id)
     if row.orders_digest != version.digest:
         raise CampaignNotThisVersion(
@@ -239,9 +238,7 @@ def cited_digests(db: DbSession, submission_id: int) -> list[str]:
     record no longer hashes to the digest it was attached with."""
     digests = []
     for attachment in attached(db, submission_id):
-        changed = changed_record(get(db, attachment.campaign_id), attachment.digest)
-        if changed is not None:
-            raise RecordChanged(changed)
+        sealed_record(get(db, attachment.campaign_id), attachment.digest)
         digests.append(attachment.digest)
     return digests
 
@@ -249,16 +246,18 @@ def cited_digests(db: DbSession, submission_id: int) -> list[str]:
 def summary(db: DbSession, row: Campaign) -> dict[str, Any]:
     owner = db.get(User, row.owner_id) if row.owner_id is not None else None
     done = row.simulations if row.state == "finished" else count_done(db, row.id)
-    changed = changed_record(row)
-    if changed is not None:
-        return {**_summary(row, owner, done), "error": changed, "results": None}
-    return _summary(row, owner, done)
+    try:
+        record = sealed_record(row) or {}
+    except RecordChanged as changed:
+        return {**_summary(row, owner, done, {}), "error": str(changed), "results": None}
+    return _summary(row, owner, done, record)
 
 
-def _summary(row: Campaign, owner: User | None, done: int) -> dict[str, Any]:
+def _summary(row: Campaign, owner: User | None, done: int,
+             record: dict[str, Any]) -> dict[str, Any]:
     return {"id": row.id, "mission": row.mission_id, "version": row.version,
             "orders_digest": row.orders_digest, "owner": owner.username if owner else None,
             "spec": row.spec, "simulations": row.simulations, "done": done,
             "state": row.state, "created_at": row.created_at, "ended_at": row.ended_at,
-            "digest": row.digest, "error": (row.record or {}).get("error"),
-            "results": (row.record or {}).get("results")}
+            "digest": row.digest, "error": record.get("error"),
+            "results": record.get("results")}

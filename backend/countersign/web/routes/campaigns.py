@@ -173,13 +173,11 @@ def campaign_probabilities(campaign_id: CampaignId, db: Db) -> dict[str, Any]:
     form (point estimates and 95% intervals): suggestions for the operator to copy into a new
     draft. Nothing is written into any orders here."""
     row = store.get(db, campaign_id)
-    if row.state != "finished" or not row.record:
+    record = store.sealed_record(row)
+    if row.state != "finished" or not record:
         raise NotFound(f"campaign {campaign_id} is {row.state}: no estimates yet")
-    changed = store.changed_record(row)
-    if changed is not None:
-        raise store.RecordChanged(changed)
     return {"campaign": row.id, "digest": row.digest, "orders_digest": row.orders_digest,
-            "goals": goal_probabilities(row.record["results"])}
+            "goals": goal_probabilities(record["results"])}
 
 
 @router.post("/submissions/{submission_id}/campaigns", operation_id="attachCampaign",
