@@ -2,7 +2,8 @@
 """Standalone verifier of a Countersign approved package (countersign.package/1).
 
 For vehicles that cannot install Countersign: one file, the standard library plus
-`cryptography`. Usage: python3 verify_package.py PACKAGE.tar --log-key BASE64 [--max-age-days N]
+`cryptography` and `rfc8785` (canonical JSON, for a team's member digests).
+Usage: python3 verify_package.py PACKAGE.tar --log-key BASE64 [--max-age-days N]
 [--unpack DIR]
 Exit 0 and "OK ..." when the package verifies; exit 1 and "REFUSED CODE: reason" otherwise.
 It runs the same checks in the same order as `countersign vehicle verify` and names the first
@@ -33,6 +34,7 @@ import tarfile
 from datetime import UTC, datetime, timedelta
 from typing import Any
 
+import rfc8785
 from cryptography.exceptions import InvalidSignature
 from cryptography.hazmat.primitives.asymmetric.ed25519 import Ed25519PublicKey
 
@@ -313,6 +315,12 @@ def check(data: bytes, log_key: str, now: datetime, max_age: timedelta,
                       f"{exc or 'bad signature'}") from None
     if sha(files.get("orders.json", b"")) != signed or detail.get("orders_digest") != signed:
         raise Refused("ORDERS", f"the orders are not the ones the approval signed ({signed})")
+    try:
+        problems = team_problems(json.loads(files["orders.json"]), predicate)
+    except ValueError as exc:
+        raise Refused("ORDERS", f"the signed orders are not JSON: {exc}") from None
+    if problems:
+        raise Refused("ORDERS", "; ".join(problems))
     for later in events[index + 1:]:
         if later.get("kind") == "approval.revoked" and \
                 (later.get("detail") or {}).get("submission") == detail.get("submission"):
@@ -335,6 +343,41 @@ def check(data: bytes, log_key: str, now: datetime, max_age: timedelta,
         manifest_only(files, manifest, vehicle, mission, version, signed, envelope_bytes)
     return (f"{mission} version {version}: approved, orders {signed}, log entry {index} in "
             f"checkpoint size {size}; vehicle files match")
+
+
+def member_digests(orders: Any) -> dict[str, str] | None:
+    """A team's member orders digests by vehicle (each member's orders alone, as
+    countersign.orders/1, canonical JSON), or None when the orders hold no team."""
+    members = orders.get("team") if isinstance(orders, dict) else None
+    if not isinstance(members, list) or not all(
+            isinstance(m, dict) and isinstance(m.get("orders"), dict) for m in members):
+        return None
+    return {str(m.get("vehicle")): "sha256:" + hashlib.sha256(bytes(rfc8785.dumps(
+        {**m["orders"], "format": "countersign.orders/1"}))).hexdigest() for m in members}
+
+
+def team_problems(orders: Any, predicate: Any) -> list[str]:
+    """A team's approval signs each member's digest (predicate.team): what disagrees with the
+    orders, naming the member, in the words of `countersign vehicle verify`."""
+    signed = predicate.get("team") if isinstance(predicate, dict) else None
+    actual = member_digests(orders)
+    if signed is None:
+        return [] if actual is None else [
+            "the orders hold a team but the statement signs no member digests (predicate.team)"]
+    if actual is None:
+        return ["the statement signs a team's member digests (predicate.team) but the orders "
+                "hold no team"]
+    if not isinstance(signed, dict) or not all(isinstance(v, str) for v in signed.values()):
+        return ["the statement's predicate.team is not a map of vehicle to orders digest"]
+    problems = [f"team member {vehicle}: the statement signs no digest for it"
+                for vehicle in actual if vehicle not in signed]
+    problems += [f"team member {vehicle}: the statement signs a digest for it but the team "
+                 "has no such member" for vehicle in signed if vehicle not in actual]
+    problems += [f"team member {vehicle}: the signed digest {signed[vehicle]} is not that of "
+                 f"its orders ({digest})"
+                 for vehicle, digest in actual.items()
+                 if vehicle in signed and signed[vehicle] != digest]
+    return problems
 
 
 def signed_digests(predicate: dict[str, Any]) -> dict[str, str] | None:

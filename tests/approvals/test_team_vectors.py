@@ -126,3 +126,25 @@ def test_the_package_verifier_refuses_a_disagreeing_member_list_naming_the_membe
                 assert all(f"team member {v}:" in refusal.message for v in case["names"])
             else:
                 raise AssertionError(f"{case['name']}: not refused")
+
+
+def test_the_standalone_package_verifier_names_the_same_problems() -> None:
+    """tools/verify_package.py (one file, no countersign import) checks the member digests
+    with its own copy of the rule: on every vector it names exactly the problems
+    approvals/team_rules.py names."""
+    import importlib.util
+
+    tool_path = Path(__file__).resolve().parents[2] / "tools" / "verify_package.py"
+    spec = importlib.util.spec_from_file_location("verify_package_tool", tool_path)
+    assert spec is not None and spec.loader is not None
+    tool = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(tool)
+    data = vectors()
+    assert tool.member_digests(data["orders"]["team"]) == \
+        data["statement"]["predicate"]["team"]
+    for case in data["cases"]:
+        predicate = {**data["statement"]["predicate"], "team": case["team"]}
+        if case["team"] is None:
+            predicate.pop("team")
+        assert tool.team_problems(data["orders"][case["orders"]], predicate) == \
+            case["problems"], case["name"]
