@@ -7,14 +7,14 @@ from __future__ import annotations
 import json
 import secrets
 
-from playwright.sync_api import Page, expect
+from playwright.sync_api import Page, Route, expect
 
 from .conftest import Server, _api_import, expect_accessible
 from .test_roles import sign_in
 from .test_vehicle_registry import client
 
 
-def test_a_fault_nothing_reacts_to_is_named_before_the_run(page: Page, server: Server) -> None:
+def _versioned_mission(server: Server) -> str:
     from countersign.orders.examples import example_bytes
 
     data = json.loads(example_bytes("harbor-approach-survey"))
@@ -22,6 +22,34 @@ def test_a_fault_nothing_reacts_to_is_named_before_the_run(page: Page, server: S
     mission = _api_import(server, json.dumps(data).encode(), "application/json")
     with client(server, "operator") as operator:
         assert operator.post(f"/api/missions/{mission}/versions").status_code == 201
+    return mission
+
+
+def test_the_campaign_form_stays_put_while_the_submission_state_loads(
+        page: Page, server: Server) -> None:
+    """The submission panel above the campaign form shows its action row while the version's
+    state loads: when the state arrives nothing below moves. It did, by a row, and a click
+    aimed at a fault's checkbox as it moved (a loaded machine) missed it."""
+    mission = _versioned_mission(server)
+    sign_in(page, "operator")
+    held: list[Route] = []
+    page.route("**/versions/1/review", lambda route: held.append(route))
+    page.goto(f"/missions/{mission}?tab=versions")
+    sweep = page.get_by_role("group", name="Faults of the sweep")
+    expect(page.get_by_text("Loading the version's state")).to_be_visible()
+    expect(sweep).to_be_visible()
+    before = sweep.bounding_box()
+    for route in held:
+        route.continue_()
+    page.unroute("**/versions/1/review")
+    expect(page.get_by_role("button", name="Submit version 1")).to_be_enabled()
+    after = sweep.bounding_box()
+    assert before is not None and after is not None
+    assert abs(after["y"] - before["y"]) <= 2, (before, after)
+
+
+def test_a_fault_nothing_reacts_to_is_named_before_the_run(page: Page, server: Server) -> None:
+    mission = _versioned_mission(server)
     sign_in(page, "operator")
     page.goto(f"/missions/{mission}?tab=versions")
     sweep = page.get_by_role("group", name="Faults of the sweep")

@@ -86,26 +86,34 @@ export function SubmissionPanel({ mission, versions }: { mission: string; versio
           </p>
           {/* The state above is the log's; a submissions row that says otherwise is named. */}
           <IntegrityWarning problems={current?.integrity} />
-          <div className="actions">
-            {isOperator && (
-              <button
-                type="button"
-                className="primary"
-                disabled={busy || !review.may_submit}
-                aria-describedby={review.submit_refusal ? "submit-refusal" : undefined}
-                onClick={() => void act("submit")}
-              >
-                Submit version {chosen}
-              </button>
-            )}
-            {mayWithdraw && (
-              <button type="button" disabled={busy} onClick={() => void act("withdraw")}>
-                Withdraw submission
-              </button>
-            )}
-            <Link href={reviewHref(mission, chosen)}>Open the review of v{chosen}</Link>
-            <Link href={documentHref(mission, chosen)}>Printable approval document of v{chosen}</Link>
-          </div>
+        </>
+      ) : null}
+      {/* Shown while the state loads too (Submit disabled): what is below does not move under
+          a pointer when the state arrives. */}
+      {(review || loading) && (
+        <div className="actions">
+          {isOperator && (
+            <button
+              type="button"
+              className="primary"
+              disabled={busy || !review?.may_submit}
+              aria-describedby={review?.submit_refusal ? "submit-refusal" : undefined}
+              onClick={() => void act("submit")}
+            >
+              Submit version {chosen}
+            </button>
+          )}
+          {mayWithdraw && (
+            <button type="button" disabled={busy} onClick={() => void act("withdraw")}>
+              Withdraw submission
+            </button>
+          )}
+          <Link href={reviewHref(mission, chosen)}>Open the review of v{chosen}</Link>
+          <Link href={documentHref(mission, chosen)}>Printable approval document of v{chosen}</Link>
+        </div>
+      )}
+      {review && (
+        <>
           {current && (
             <CampaignCitation
               mission={mission}
@@ -130,7 +138,7 @@ export function SubmissionPanel({ mission, versions }: { mission: string; versio
             </p>
           )}
         </>
-      ) : null}
+      )}
       <ErrorMessage error={error ?? loadError} />
       {done && <Notice>{done}</Notice>}
     </section>
