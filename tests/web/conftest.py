@@ -22,7 +22,7 @@ import pytest
 import uvicorn
 from fastapi import FastAPI
 from fastapi.testclient import TestClient
-from sqlalchemy import Engine, text
+from sqlalchemy import text
 
 from countersign.orders.examples import load_example
 from countersign.settings import Settings
@@ -57,15 +57,6 @@ _OPEN_TRANSACTIONS = text(
     "AND state LIKE 'idle in transaction%'")
 
 
-@pytest.fixture(scope="session")
-def postgres_watch() -> Iterator[Engine]:
-    """A connection of the suite's own to the worker's database, to look at the others."""
-    assert POSTGRES_URL
-    engine = make_engine(POSTGRES_URL)
-    yield engine
-    engine.dispose()
-
-
 @pytest.fixture(autouse=True)
 def no_transaction_left_open(request: pytest.FixtureRequest) -> Iterator[None]:
     """On PostgreSQL, a test that leaves a connection idle in a transaction fails itself and
@@ -76,9 +67,10 @@ def no_transaction_left_open(request: pytest.FixtureRequest) -> Iterator[None]:
             callspec.params.get("database_url") != "postgresql":
         yield
         return
-    watch: Engine = request.getfixturevalue("postgres_watch")
+    # The template's engine: a connection of the suite's own to the worker's database.
+    watch: PostgresTemplate = request.getfixturevalue("postgres_template")
     yield
-    with watch.begin() as connection:
+    with watch.engine.begin() as connection:
         left = connection.execute(_OPEN_TRANSACTIONS).all()
         for row in left:
             connection.execute(text("SELECT pg_terminate_backend(:pid)"), {"pid": row[0]})
