@@ -345,6 +345,9 @@ def check(data: bytes, log_key: str, now: datetime, max_age: timedelta,
             f"checkpoint size {size}; vehicle files match")
 
 
+# member_digests and team_problems are this file's copy of approvals/team_rules.py (the tool
+# imports nothing of Countersign); tests/approvals/test_team_vectors.py holds both to the same
+# problems on the shared team vectors.
 def member_digests(orders: Any) -> dict[str, str] | None:
     """A team's member orders digests by vehicle (each member's orders alone, as
     countersign.orders/1, canonical JSON), or None when the orders hold no team."""
@@ -352,8 +355,8 @@ def member_digests(orders: Any) -> dict[str, str] | None:
     if not isinstance(members, list) or not all(
             isinstance(m, dict) and isinstance(m.get("orders"), dict) for m in members):
         return None
-    return {str(m.get("vehicle")): "sha256:" + hashlib.sha256(bytes(rfc8785.dumps(
-        {**m["orders"], "format": "countersign.orders/1"}))).hexdigest() for m in members}
+    return {str(m.get("vehicle")): sha(bytes(rfc8785.dumps(
+        {**m["orders"], "format": "countersign.orders/1"}))) for m in members}
 
 
 def team_problems(orders: Any, predicate: Any) -> list[str]:
