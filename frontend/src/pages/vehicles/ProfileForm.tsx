@@ -39,11 +39,8 @@ function Field({ children }: { children: ReactNode }) {
   return <span className="profile-field">{children}</span>;
 }
 
-type Envelope = Record<string, [number, number]>;
-
-/** A quantity a row, its min and max (an empty field is 0: the server names a refused range). */
-/** One number of the vehicle's budget, with its label kept beside it when the row wraps. */
-function BudgetField({ id, label, value, onChange }: { id: string; label: string; value: number | undefined; onChange: (value: number | undefined) => void }) {
+/** One number of the profile (speed, a budget) in a Field; an empty input is undefined. */
+function NumberField({ id, label, value, onChange }: { id: string; label: string; value: number | undefined; onChange: (value: number | undefined) => void }) {
   return (
     <Field>
       <label htmlFor={id}>{label}</label>
@@ -52,6 +49,9 @@ function BudgetField({ id, label, value, onChange }: { id: string; label: string
   );
 }
 
+type Envelope = Record<string, [number, number]>;
+
+/** A quantity a row, its min and max (an empty field is 0: the server names a refused range). */
 function envelopeColumns(envelope: Envelope, setEnvelope: (next: Envelope) => void): Column<[string, [number, number]]>[] {
   const end = (at: 0 | 1): Column<[string, [number, number]]> => ({
     header: at === 0 ? "Min" : "Max",
@@ -123,12 +123,14 @@ export function ProfileForm({ profile, onChange, fixedId }: { profile: Profile; 
         </Field>
       </Row>
       <Row>
-        <Field>
-          <label htmlFor="vehicle-speed">Speed (m/s)</label>
-          <input id="vehicle-speed" type="number" step="any" value={(profile.speed_mps as number | undefined) ?? ""} onChange={(e) => onChange(withField(profile, "speed_mps", number(e.target.value)))} />
-        </Field>
-        <BudgetField id="vehicle-energy" label="Energy budget (Wh)" value={budget.energy_wh} onChange={(v) => setBudget({ energy_wh: v })} />
-        <BudgetField id="vehicle-duration" label="Time budget (s)" value={budget.duration_s} onChange={(v) => setBudget({ duration_s: v })} />
+        <NumberField
+          id="vehicle-speed"
+          label="Speed (m/s)"
+          value={profile.speed_mps as number | undefined}
+          onChange={(v) => onChange(withField(profile, "speed_mps", v))}
+        />
+        <NumberField id="vehicle-energy" label="Energy budget (Wh)" value={budget.energy_wh} onChange={(v) => setBudget({ energy_wh: v })} />
+        <NumberField id="vehicle-duration" label="Time budget (s)" value={budget.duration_s} onChange={(v) => setBudget({ duration_s: v })} />
       </Row>
       <h3>Envelope</h3>
       <EditableTable
