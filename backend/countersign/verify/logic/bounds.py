@@ -488,7 +488,7 @@ _CORNERS = ("low", "high", "middle")
 
 def _point(b: tuple[Any, ...] | None, kind: str | None, corner: str) -> Number:
     """A value inside one quantity's interval (its low end, high end or middle)."""
-    lo, lo_strict, hi, hi_strict = b if b is not None else (None, False, None, False)
+    lo, lo_strict, hi, hi_strict = b or _UNBOUNDED
     if corner == "low" and lo is not None and not lo_strict:
         value = lo
     elif corner == "high" and hi is not None and not hi_strict:

@@ -78,14 +78,12 @@ class LogicRun:
             found = self._blocks[quarantined] = self.model.mission_block(quarantined)
         return found
 
-    def screened(self, items: Sequence[Item], base: frozenset[Item],
-                 core: bool = True) -> CheckResult:
-        """`session.check(items)` where the core is read only if unsatisfiable (or, without
-        `core`, never): the screen's answer when it decides and no core is wanted (goals with
-        the same formulas share it), else the session's."""
+    def screened(self, items: Sequence[Item], base: frozenset[Item]) -> CheckResult:
+        """Whether `items` can hold, no core read: the screen's answer when it decides (goals
+        with the same formulas share it), else the session's."""
         if GROUP_CHECKS:
             status = self.screen.status(items, base)
-            if status == "sat" or (status == "unsat" and not core):
+            if status in ("sat", "unsat"):
                 return CheckResult(status)
         return self.session.check(items)
 
@@ -127,8 +125,6 @@ class LogicRun:
         screen = GROUP_CHECKS and base is not None
 
         def check(items: list[Item]) -> CheckResult:
-            if screen:
-                return self.session.check(items)
             # A scope's first check that bounds propagation proves satisfiable waits for z3's
             # next call (if any: a mission whose every unit bounds settle never loads z3).
             if GROUP_CHECKS and not session.entered and self._proven(items):
@@ -147,7 +143,8 @@ class LogicRun:
             if status == "sat":
                 return CheckResult("sat"), None
             known = self.unique_cores.core(items, base) if status == "unsat" else None
-            return (CheckResult("unsat"), known) if known is not None else (check(items), None)
+            return ((CheckResult("unsat"), known) if known is not None
+                    else (session.check(items), None))
 
         found: list[Core] = []
         first_items = items
@@ -234,17 +231,16 @@ class LogicRun:
 
     def goal_keyed(self, goal: Goal, quarantined: frozenset[str]) -> tuple[str, GoalResult]:
         """The goal's unit key and result."""
-        model = self.model
         extra, norm_items, residual, added = self._goal_norms(goal)
         parts = self._goal_parts(goal, quarantined, extra)
-        items = [*parts.head, *model.live_block(quarantined)[1], *parts.own, *parts.tail]
         # The goal's items but the block, listed apart once: no check scans the block's
         # hundreds of items to find them again.
         own = [*parts.head, *parts.own, *parts.tail]
         base = self.block(quarantined)
         return self.keyed(  # the key reads `apart` (and the base) only: no list of them all
-            "goal", (), lambda: self._solve_goal(items, own, norm_items, residual, base), base,
-            apart=own + added)
+            "goal", (), lambda: self._solve_goal(self.goal_items(goal, quarantined, extra)[0],
+                                                 own, norm_items, residual, base),
+            base, apart=own + added)
 
     def _goal_norms(self, goal: Goal) -> tuple[
         list[Reads], list[tuple[Item, Item]], list[tuple[Item, Item]], list[Item]
@@ -309,7 +305,7 @@ class LogicRun:
         with session.scope(every):
             # Most goals are fine: one check of everything settles both questions.
             together = (None if not rules
-                        else self.screened(items + rules, base, core=False) if base is not None
+                        else self.screened(items + rules, base) if base is not None
                         else session.check(items + rules))
             if together is None or together.status != "sat":
                 contradictions, _, undecided = self.cores(items, drop_contradiction, base=base)

@@ -66,8 +66,6 @@ class Session(LazySolver):
         self._asts: dict[str, Any] = {}
         self._formulas: dict[str, str] = {}
         self._based: set[str] = set()
-        # Item -> (its kind, its formula's text): what `earliest_twins` compares.
-        self._twins: dict[Item, tuple[str, str]] = {}
         # Where the current unit's witnesses are solved (see `witness`); a new one per unit.
         self._unit_context: Any = None
         self._items: dict[str, Item] = {}
@@ -94,14 +92,19 @@ class Session(LazySolver):
         self._indicators[item.key] = name
         return name, True
 
+    def _formula(self, item: Item) -> str:
+        """The item's formula as SMT text, made once per key."""
+        formula = self._formulas.get(item.key)
+        if formula is None:
+            formula = self._formulas[item.key] = item.formula(self.translator)
+        return formula
+
     def _assert(self, items: Iterable[Item]) -> None:
         chunks: list[str] = []
         for item in items:
             name, new = self._indicator(item)
             self._items[name] = item
-            formula = self._formulas.get(item.key)
-            if formula is None:
-                formula = self._formulas[item.key] = item.formula(self.translator)
+            formula = self._formula(item)
             if new:
                 chunks.append(f"(declare-const |{name}| Bool)")
             chunks.append(f"(assert (=> |{name}| {formula}))")
@@ -325,8 +328,7 @@ class Session(LazySolver):
         timeout = self.limits.call_timeout_ms()
         if timeout <= 0:
             return None
-        formulas = list(dict.fromkeys(
-            self._formulas.get(i.key) or i.formula(self.translator) for i in items))
+        formulas = list(dict.fromkeys(self._formula(i) for i in items))
         text = "".join(formulas)
         # Only the symbols these formulas use, in a fixed order: each declaration makes a
         # term, and what the context made before moves the ids of what follows.
@@ -348,16 +350,9 @@ class Session(LazySolver):
         solved before (its term ids and learned clauses), so without this a core could name
         C184 in one run and its twin C52 in another; the first in the orders is named always.
         A twin states the same thing, so the core stays unsatisfiable and minimal."""
-        twins = self._twins
-
         def twin(item: Item) -> tuple[str, str]:
-            found = twins.get(item)
-            if found is None:
-                # Of the same kind too: a domain and a vehicle bound may read alike, not the
-                # same.
-                found = twins[item] = (
-                    item.kind, self._formulas.get(item.key) or item.formula(self.translator))
-            return found
+            # Of the same kind too: a domain and a vehicle bound may read alike, not the same.
+            return item.kind, self._formula(item)
 
         wanted = {twin(i) for i in core}
         first: dict[tuple[str, str], Item] = {}
