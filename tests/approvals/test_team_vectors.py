@@ -132,13 +132,9 @@ def test_the_standalone_package_verifier_names_the_same_problems() -> None:
     """tools/verify_package.py (one file, no countersign import) checks the member digests
     with its own copy of the rule: on every vector it names exactly the problems
     approvals/team_rules.py names."""
-    import importlib.util
+    from ..standalone_tool import standalone_verifier
 
-    tool_path = Path(__file__).resolve().parents[2] / "tools" / "verify_package.py"
-    spec = importlib.util.spec_from_file_location("verify_package_tool", tool_path)
-    assert spec is not None and spec.loader is not None
-    tool = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(tool)
+    tool = standalone_verifier()
     data = vectors()
     assert tool.member_digests(data["orders"]["team"]) == \
         data["statement"]["predicate"]["team"]

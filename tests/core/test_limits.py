@@ -8,12 +8,13 @@ of the clock allowance is held equal here instead.
 
 from __future__ import annotations
 
-import importlib.util
 import re
 from pathlib import Path
 
 from countersign import limits
 from countersign.settings import Settings
+
+from ..standalone_tool import standalone_verifier
 
 REPO = Path(__file__).resolve().parents[2]
 PACKAGE = REPO / "backend" / "countersign"
@@ -86,10 +87,6 @@ def test_the_values_and_their_users() -> None:
 
 
 def test_the_standalone_verifier_allows_the_same_clock_skew() -> None:
-    spec = importlib.util.spec_from_file_location("verify_package",
-                                                  REPO / "tools" / "verify_package.py")
-    assert spec is not None and spec.loader is not None
-    tool = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(tool)
+    tool = standalone_verifier()
     assert tool.CLOCK_SKEW == limits.CLOCK_SKEW
     assert tool.MAX_BYTES == limits.MAX_PACKAGE_BYTES

@@ -23,9 +23,9 @@ from countersign.approved_package.build import read_tar, write_tar
 from countersign.approved_package.verify import verify_package
 from countersign.cli import main
 
+from ..standalone_tool import TOOL, standalone_verifier
 from .approval_helpers import MISSION, approve, new_version, register_key, submit
 from .conftest import World
-from .test_packages import TOOL, _standalone
 
 pytestmark = pytest.mark.parametrize("database_url", ["sqlite"], indirect=True)
 
@@ -118,7 +118,7 @@ def test_hostile_tars_are_refused_by_both_verifiers_and_unpack_writes_nothing(
         approved: tuple[bytes, str], tmp_path: Path,
         capsys: pytest.CaptureFixture[str]) -> None:
     good, log_key = approved
-    standalone = _standalone()
+    standalone = standalone_verifier()
     assert verify_package(good, log_key=log_key).ok
     for attack, data in _attacks(good).items():
         verdict = verify_package(data, log_key=log_key)
@@ -188,6 +188,6 @@ def test_unpack_never_writes_into_an_existing_directory(
     link.symlink_to(existing)
     assert main(["vehicle", "unpack", str(package), "--into", str(link),
                  "--log-key", log_key]) == 2
-    assert _standalone().main([str(package), "--log-key", log_key,
+    assert standalone_verifier().main([str(package), "--log-key", log_key,
                                "--unpack", str(existing)]) == 2
     assert (existing / "orders.json").read_bytes() == FORGED

@@ -4,7 +4,6 @@ reason (the tampered packages are the shared test vectors)."""
 
 from __future__ import annotations
 
-import importlib.util
 import io
 import json
 import subprocess
@@ -13,7 +12,6 @@ import tarfile
 from collections.abc import Callable
 from datetime import UTC, datetime, timedelta
 from pathlib import Path
-from types import ModuleType
 from typing import Any
 
 import pytest
@@ -25,6 +23,7 @@ from countersign.cli import main
 from countersign.store.packages import package_parts
 
 from ..export.execution_logs import evidenced_log
+from ..standalone_tool import TOOL, standalone_verifier
 from .approval_helpers import (
     MISSION,
     PASSWORD,
@@ -36,17 +35,8 @@ from .approval_helpers import (
 )
 from .conftest import World
 
-TOOL = Path(__file__).resolve().parents[2] / "tools" / "verify_package.py"
 IMC = f"vehicle/{MISSION}.imc"
 BHV = f"vehicle/{MISSION}.bhv"
-
-
-def _standalone() -> ModuleType:
-    spec = importlib.util.spec_from_file_location("verify_package", TOOL)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def _package(world: World, number: int) -> bytes:
@@ -163,7 +153,7 @@ def test_packages_verify_and_eight_tamperings_are_refused_alike(world: World,
          "EXPIRED"),
         ("not a package", b"hello", log_key, None, "FORMAT"),
     ]
-    tool = _standalone()
+    tool = standalone_verifier()
     verdicts = {}
     for name, data, key, now, expected in vectors:
         main_verdict = verify_package(data, log_key=key, now=now)
@@ -233,7 +223,7 @@ def test_freshness_is_the_checkpoints_timestamp_not_the_logs_last_entry(world: W
     with world.database.session() as db:
         quiet = build_package(package_parts(db, mission_id=MISSION, number=number,
                                             signer=world.database.log_signer, now=month))
-    tool = _standalone()
+    tool = standalone_verifier()
     for data, now, expected in ((quiet, month, "OK"), (_package(world, number), month,
                                                        "EXPIRED")):
         assert verify_package(data, log_key=log_key, now=now).code == expected
@@ -261,7 +251,7 @@ def test_a_forged_stamp_is_a_bad_checkpoint(world: World) -> None:
 
     forged = _edit(good, bump)
     assert verify_package(forged, log_key=log_key).code == "CHECKPOINT"
-    assert _standalone().verify(forged, log_key)[1] == "CHECKPOINT"
+    assert standalone_verifier().verify(forged, log_key)[1] == "CHECKPOINT"
 
 
 def test_an_approval_signed_without_export_digests_still_verifies(
@@ -280,7 +270,7 @@ def test_an_approval_signed_without_export_digests_still_verifies(
     envelope = json.loads(read_tar(old)["approval.dsse.json"])
     assert "exports" not in json.loads(dsse.unb64(envelope["payload"], "p"))["predicate"]
     assert verify_package(old, log_key=log_key).code == "OK"
-    tool = _standalone()
+    tool = standalone_verifier()
     refused = tool.verify(old, log_key)
     assert refused[1] == "EXPORT" and "signs no export digests" in refused[2]
     assert tool.verify(old, log_key, trust_manifest=True)[1] == "OK"
@@ -326,9 +316,9 @@ def test_a_signed_statement_with_malformed_export_digests_is_refused_alike(
     payload = dsse.unb64(json.loads(read_tar(package)["approval.dsse.json"])["payload"], "p")
     assert json.loads(payload)["predicate"]["exports"] == exports
     main_verdict = verify_package(package, log_key=log_key)
-    ok, code, _ = _standalone().verify(package, log_key)
+    ok, code, _ = standalone_verifier().verify(package, log_key)
     assert (main_verdict.ok, main_verdict.code) == (ok, code) == (False, "SIGNATURE")
-    assert _standalone().verify(package, log_key, trust_manifest=True)[1] == "SIGNATURE"
+    assert standalone_verifier().verify(package, log_key, trust_manifest=True)[1] == "SIGNATURE"
 
 
 def _with_null_exports(build: Callable[..., dict[str, Any]]) -> Callable[..., dict[str, Any]]:

@@ -135,7 +135,7 @@ def test_an_approved_team_is_packaged_with_every_members_vehicle_files(world: Wo
     from countersign.approved_package.build import read_tar
     from countersign.approved_package.verify import verify_package
 
-    from .test_packages import _standalone
+    from ..standalone_tool import standalone_verifier
 
     operator = world.client("operator")
     mission = operator.get(f"/api/missions/{MISSION}")
@@ -167,7 +167,7 @@ def test_an_approved_team_is_packaged_with_every_members_vehicle_files(world: Wo
     assert all("MEET_R1" in text for text in moos.values()), sorted(moos)
     log_key = world.client("auditor").get("/api/log/checkpoint").json()["public_key"]
     assert verify_package(package.content, log_key=log_key).ok
-    assert _standalone().verify(package.content, log_key)[1] == "OK"
+    assert standalone_verifier().verify(package.content, log_key)[1] == "OK"
 
 
 def test_the_approvals_rehearsal_verdicts_read_each_member(world: World) -> None:
