@@ -104,11 +104,15 @@ class PostgresTemplate:
                     pass
         self.rebuild()
 
-    def rebuild(self) -> None:
+    def empty(self) -> None:
+        """The schema dropped and made again, with no tables: a database never migrated."""
         with self.engine.begin() as connection:
             connection.execute(text(f"SET LOCAL lock_timeout = '{LOCK_TIMEOUT}'"))
             connection.execute(text("DROP SCHEMA public CASCADE"))
             connection.execute(text("CREATE SCHEMA public"))
+
+    def rebuild(self) -> None:
+        self.empty()
         database = Database(self.url)
         try:
             database.migrate()

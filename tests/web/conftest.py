@@ -28,13 +28,13 @@ from countersign.orders.examples import load_example
 from countersign.settings import Settings
 from countersign.store import accounts, password_policy
 from countersign.store.accounts import create_token, create_user
-from countersign.store.db import Database, make_engine
+from countersign.store.db import Database
 from countersign.store.hashing import BoundedHasher
 from countersign.store.missions import create_mission
 from countersign.web.app import create_app
 
 from ..cheap_hashing import PRODUCTION_HASHER
-from ..db_template import LOCK_TIMEOUT, PostgresTemplate, SqliteTemplate
+from ..db_template import PostgresTemplate, SqliteTemplate
 from ..ports import free_port
 
 ROLES = ("operator", "supervisor", "auditor", "admin")
@@ -42,19 +42,17 @@ PASSWORD = "correct horse battery staple"
 POSTGRES_URL = os.environ.get("COUNTERSIGN_TEST_POSTGRES_URL")
 
 
-def _reset_postgres(url: str) -> None:
-    engine = make_engine(url)
-    with engine.begin() as connection:
-        connection.execute(text(f"SET LOCAL lock_timeout = '{LOCK_TIMEOUT}'"))
-        connection.execute(text("DROP SCHEMA public CASCADE"))
-        connection.execute(text("CREATE SCHEMA public"))
-    engine.dispose()
-
-
-_OPEN_TRANSACTIONS = text(
+OPEN_TRANSACTIONS = text(
     "SELECT pid, application_name, now() - xact_start, left(query, 300) FROM pg_stat_activity "
     "WHERE datname = current_database() AND pid <> pg_backend_pid() "
     "AND state LIKE 'idle in transaction%'")
+
+
+def watched(node: pytest.Item) -> bool:
+    """Whether no_transaction_left_open looks after this test: one on PostgreSQL."""
+    callspec = getattr(node, "callspec", None)
+    return bool(POSTGRES_URL) and callspec is not None and \
+        callspec.params.get("database_url") == "postgresql"
 
 
 @pytest.fixture(autouse=True)
@@ -62,16 +60,14 @@ def no_transaction_left_open(request: pytest.FixtureRequest) -> Iterator[None]:
     """On PostgreSQL, a test that leaves a connection idle in a transaction fails itself and
     the connection is ended: otherwise its locks make a later test's reset of the worker's
     database wait (DROP SCHEMA, TRUNCATE) and that unrelated test fails instead."""
-    callspec = getattr(request.node, "callspec", None)
-    if not POSTGRES_URL or callspec is None or \
-            callspec.params.get("database_url") != "postgresql":
+    if not watched(request.node):
         yield
         return
     # The template's engine: a connection of the suite's own to the worker's database.
     watch: PostgresTemplate = request.getfixturevalue("postgres_template")
     yield
     with watch.engine.begin() as connection:
-        left = connection.execute(_OPEN_TRANSACTIONS).all()
+        left = connection.execute(OPEN_TRANSACTIONS).all()
         for row in left:
             connection.execute(text("SELECT pg_terminate_backend(:pid)"), {"pid": row[0]})
     if left:
@@ -106,10 +102,11 @@ def database_url(request: pytest.FixtureRequest, tmp_path: Path) -> str:
         return f"sqlite:///{path}"
     if not POSTGRES_URL:
         pytest.skip("PostgreSQL tests need COUNTERSIGN_TEST_POSTGRES_URL (.ci/run sets it)")
+    template: PostgresTemplate = request.getfixturevalue("postgres_template")
     if migrated:
-        request.getfixturevalue("postgres_template").reset()
+        template.reset()
     else:
-        _reset_postgres(POSTGRES_URL)
+        template.empty()
     return POSTGRES_URL
 
 

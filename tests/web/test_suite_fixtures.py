@@ -28,7 +28,7 @@ from ..db_template import (
     postgres_stamp,
     sqlite_stamp,
 )
-from .conftest import PASSWORD, World, count_rows, seed_users
+from .conftest import OPEN_TRANSACTIONS, PASSWORD, World, count_rows, seed_users, watched
 
 TESTS = Path(__file__).resolve().parents[1]
 
@@ -196,3 +196,23 @@ def test_seeded_worlds_share_the_sessions_production_hashes(
     assert {extract_parameters(h).memory_cost for h in stored[0]} == {
         PRODUCTION_HASHER.memory_cost}
     assert all(PRODUCTION_HASHER.verify(h, PASSWORD) for h in stored[0])
+
+
+def test_a_transaction_left_open_is_seen(database_url: str,
+                                         request: pytest.FixtureRequest) -> None:
+    """The guard that fails a test leaving a PostgreSQL transaction open (conftest.py,
+    no_transaction_left_open) looks after this test, and its query finds such a connection."""
+    if not database_url.startswith("postgresql"):
+        pytest.skip("the guard reads PostgreSQL's pg_stat_activity")
+    assert watched(request.node)
+    template: PostgresTemplate = request.getfixturevalue("postgres_template")
+    database = Database(database_url)
+    left = database.engine.connect()
+    try:
+        pid = left.execute(text("SELECT pg_backend_pid()")).scalar_one()
+        with template.engine.connect() as connection:
+            found = [row[0] for row in connection.execute(OPEN_TRANSACTIONS)]
+        assert pid in found
+    finally:
+        left.close()
+        database.engine.dispose()
