@@ -217,28 +217,11 @@ def browser(playwright_instance: Playwright, server: Server,
 SCREENS = [(1024, 768), (1280, 800)]
 
 
-@pytest.fixture(params=SCREENS, ids=lambda s: f"{s[0]}x{s[1]}")
-def screen(request: pytest.FixtureRequest, browser: Browser, server: Server) -> Iterator[Page]:
-    """A fresh browser context of one of SCREENS' sizes (the test runs once per screen)."""
-    width, height = request.param
-    context = browser.new_context(base_url=server.url, viewport={"width": width, "height": height})
-    context.set_default_timeout(PATIENCE_MS)
-    errors: list[str] = []
-    page = context.new_page()
-    page.on("pageerror", lambda e: errors.append(str(e)))
-    try:
-        yield page
-        assert not errors, errors
-    finally:
-        context.close()
-
-
-@pytest.fixture()
-def page(browser: Browser, server: Server, request: pytest.FixtureRequest,
-         tmp_path_factory: pytest.TempPathFactory) -> Iterator[Page]:
-    """A fresh browser context (no cookies) per test; a screenshot is kept when a test fails
-    (pytest's temporary directory, `screenshots/`, printed with the failure)."""
-    context = browser.new_context(base_url=server.url, viewport=_viewport())
+@contextlib.contextmanager
+def _fresh_page(browser: Browser, server: Server, viewport: dict[str, int]) -> Iterator[Page]:
+    """A page in a fresh browser context (no cookies), patient by PATIENCE_MS; the test fails
+    when the app raised errors in the browser."""
+    context = browser.new_context(base_url=server.url, viewport=viewport)
     context.set_default_timeout(PATIENCE_MS)
     opened = context.new_page()
     problems: list[str] = []
@@ -247,6 +230,24 @@ def page(browser: Browser, server: Server, request: pytest.FixtureRequest,
         yield opened
         assert not problems, "the app raised errors in the browser:\n" + "\n".join(problems)
     finally:
+        context.close()
+
+
+@pytest.fixture(params=SCREENS, ids=lambda s: f"{s[0]}x{s[1]}")
+def screen(request: pytest.FixtureRequest, browser: Browser, server: Server) -> Iterator[Page]:
+    """A fresh browser context of one of SCREENS' sizes (the test runs once per screen)."""
+    width, height = request.param
+    with _fresh_page(browser, server, {"width": width, "height": height}) as opened:
+        yield opened
+
+
+@pytest.fixture()
+def page(browser: Browser, server: Server, request: pytest.FixtureRequest,
+         tmp_path_factory: pytest.TempPathFactory) -> Iterator[Page]:
+    """A fresh browser context (no cookies) per test; a screenshot is kept when a test fails
+    (pytest's temporary directory, `screenshots/`, printed with the failure)."""
+    with _fresh_page(browser, server, _viewport()) as opened:
+        yield opened
         if _failed(request):
             shot = tmp_path_factory.getbasetemp() / "screenshots" / f"{request.node.name}.png"
             shot.parent.mkdir(exist_ok=True)
@@ -254,7 +255,6 @@ def page(browser: Browser, server: Server, request: pytest.FixtureRequest,
             with contextlib.suppress(Exception):
                 opened.screenshot(path=str(shot), full_page=True)
                 print(f"screenshot of the failed page: {shot}")
-        context.close()
 
 
 def _viewport() -> dict[str, int]:

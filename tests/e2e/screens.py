@@ -5,12 +5,25 @@ for a person to look at."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 from playwright.sync_api import Locator, Page
 
 from .conftest import SCREENS, expect_accessible
 
 __all__ = ["SCREENS"]
+
+
+def shot(page: Page, tmp_path_factory: pytest.TempPathFactory, name: str, *,
+         full_page: bool = False) -> Path:
+    """A screenshot `name.png` in the run's artifacts folder, for a person to look at."""
+    shots = tmp_path_factory.getbasetemp() / "artifacts"
+    shots.mkdir(exist_ok=True)
+    path = shots / f"{name}.png"
+    page.screenshot(path=str(path), full_page=full_page)
+    print(f"screenshot: {path}")
+    return path
 
 
 def box(locator: Locator) -> dict[str, float]:
@@ -41,8 +54,6 @@ def tables_fit_each_screen(page: Page, tmp_path_factory: pytest.TempPathFactory,
     window's; then a screenshot `name-WxH.png` and axe-core on the page (or `include`). The
     window is left at the size it had."""
     before = page.viewport_size
-    shots = tmp_path_factory.getbasetemp() / "artifacts"
-    shots.mkdir(exist_ok=True)
     for width, height in SCREENS:
         page.set_viewport_size({"width": width, "height": height})
         for table, card in tables:
@@ -54,7 +65,7 @@ def tables_fit_each_screen(page: Page, tmp_path_factory: pytest.TempPathFactory,
                 where, table_box)
         no_page_scroll_sideways(page)
         tables[0][0].scroll_into_view_if_needed()
-        page.screenshot(path=str(shots / f"{name}-{width}x{height}.png"))
+        shot(page, tmp_path_factory, f"{name}-{width}x{height}")
         expect_accessible(page, f"{name} at {width}x{height}", include=include)
     if before is not None:
         page.set_viewport_size(before)

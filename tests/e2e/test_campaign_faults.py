@@ -11,7 +11,7 @@ import pytest
 from playwright.sync_api import Page, Route, expect
 
 from .conftest import Server, _api_import, expect_accessible
-from .screens import box, inside
+from .screens import box, inside, shot
 from .test_roles import sign_in
 from .test_vehicle_registry import client
 
@@ -46,12 +46,10 @@ def test_the_campaign_form_stays_put_while_the_submission_state_loads(
     expect(panel.get_by_role("button", name="Submit version 1")).to_be_disabled()
     size = page.viewport_size
     assert size is not None
-    shots = tmp_path_factory.getbasetemp() / "artifacts"
-    shots.mkdir(exist_ok=True)
     row = panel.locator(".actions")
     inside(box(row), box(panel), "the action row while loading")
     panel.scroll_into_view_if_needed()
-    page.screenshot(path=str(shots / f"submission-loading-{size['width']}x{size['height']}.png"))
+    shot(page, tmp_path_factory, f"submission-loading-{size['width']}x{size['height']}")
     expect_accessible(page, "the versions tab while the state loads")
     before = box(sweep)
     for route in held:
@@ -60,7 +58,7 @@ def test_the_campaign_form_stays_put_while_the_submission_state_loads(
     expect(panel.get_by_role("button", name="Submit version 1")).to_be_enabled()
     after = box(sweep)
     inside(box(row), box(panel), "the action row loaded")
-    page.screenshot(path=str(shots / f"submission-loaded-{size['width']}x{size['height']}.png"))
+    shot(page, tmp_path_factory, f"submission-loaded-{size['width']}x{size['height']}")
     assert abs(after["y"] - before["y"]) <= 2, (before, after)
 
 

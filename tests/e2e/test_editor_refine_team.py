@@ -17,18 +17,11 @@ from playwright.sync_api import Page, expect
 from countersign.orders.examples import example_bytes
 
 from .conftest import expect_accessible
+from .screens import shot
 from .test_editor import select_node
 from .test_editor_build_exemplar import saved
 from .test_editor_screen import GEOMETRY, SCREENS, _create, check_screen, open_editor
 from .test_roles import sign_in
-
-
-def _shot(page: Page, tmp_path_factory: pytest.TempPathFactory, name: str) -> None:
-    shots = tmp_path_factory.getbasetemp() / "artifacts"
-    shots.mkdir(exist_ok=True)
-    path = shots / f"{name}.png"
-    page.screenshot(path=str(path))
-    print(f"screenshot: {path}")
 
 
 def _shape(page: Page) -> dict[str, Any]:
@@ -77,7 +70,7 @@ def test_editor_opens_edits_and_adds_refinements(
     expect(page.get_by_test_id("refined-G1")).to_have_text("refined ▸")
     # The error inside the refinement marks the refined goal as an error.
     expect(page.get_by_test_id("markers-G1")).to_have_text("✖ REFINE")
-    _shot(page, tmp_path_factory, f"refine-mission-{width}x{height}")
+    shot(page, tmp_path_factory, f"refine-mission-{width}x{height}")
 
     # Open G1's refinement (double-click): its own canvas, breadcrumbs back to the mission.
     page.get_by_test_id("node-G1").locator(".node-title").dblclick()
@@ -93,7 +86,7 @@ def test_editor_opens_edits_and_adds_refinements(
     expect(findings).to_contain_text("REFINE")
     expect(page.get_by_test_id("markers-FOUND")).to_contain_text("REFINE")
     expect_accessible(page, f"G1's refinement at {width}x{height}")
-    _shot(page, tmp_path_factory, f"refine-open-{width}x{height}")
+    shot(page, tmp_path_factory, f"refine-open-{width}x{height}")
 
     # The terminal returns succeed again: saved inside `refines`, REFINE gone.
     select_node(page, "FOUND")
@@ -131,7 +124,7 @@ def test_editor_opens_edits_and_adds_refinements(
     assert shape["nodes"] == 4, shape["nodes"]
     check_screen(shape, f"G2's new refinement at {width}x{height}")
     expect_accessible(page, f"G2's new refinement at {width}x{height}")
-    _shot(page, tmp_path_factory, f"refine-added-{width}x{height}")
+    shot(page, tmp_path_factory, f"refine-added-{width}x{height}")
 
     # U goes back up from the keyboard; O opens the selected goal's refinement again.
     page.get_by_test_id("node-G2.1").click()
@@ -162,7 +155,7 @@ def test_editor_shows_each_team_member_and_the_meetings(
     expect(page.get_by_test_id(f"meet-{meeting['id']}")).to_have_text(f"meet {meeting['meet']}")
     expect(page.get_by_test_id("editor-findings-panel")).to_contain_text("TEAM")
     expect_accessible(page, f"team member 1 at {width}x{height}")
-    _shot(page, tmp_path_factory, f"team-member1-{width}x{height}")
+    shot(page, tmp_path_factory, f"team-member1-{width}x{height}")
 
     second.click()
     expect(second).to_have_attribute("aria-pressed", "true")
@@ -174,7 +167,7 @@ def test_editor_shows_each_team_member_and_the_meetings(
     expect(page.get_by_test_id(f"meet-{partner['id']}")).to_have_text(f"meet {partner['meet']}")
     expect(page.get_by_test_id("editor-findings-panel")).to_contain_text("TEAM")
     expect_accessible(page, f"team member 2 at {width}x{height}")
-    _shot(page, tmp_path_factory, f"team-member2-{width}x{height}")
+    shot(page, tmp_path_factory, f"team-member2-{width}x{height}")
 
     # An edit on member 2's canvas is saved in member 2's orders.
     select_node(page, partner["id"])

@@ -17,7 +17,7 @@ from playwright.sync_api import Page, expect
 from countersign.orders.examples import example_bytes
 
 from .conftest import Server, _api_import, expect_accessible
-from .screens import SCREENS, box, font_px, inside, no_page_scroll_sideways
+from .screens import SCREENS, box, font_px, inside, no_page_scroll_sideways, shot
 from .test_roles import sign_in
 from .test_vehicle_registry import client
 
@@ -36,13 +36,6 @@ def _version(server: Server, name: str, mission: str) -> str:
 def missions(server: Server) -> dict[str, str]:
     return {"refined": _version(server, "search-and-sample-refined", "review-refined"),
             "team": _version(server, "search-and-sample-team", "review-team")}
-
-
-def _shot(page: Page, tmp_path_factory: pytest.TempPathFactory, name: str) -> None:
-    shots = tmp_path_factory.getbasetemp() / "artifacts"
-    shots.mkdir(exist_ok=True)
-    page.screenshot(path=str(shots / f"{name}.png"))
-    print(f"screenshot: {shots / f'{name}.png'}")
 
 
 def _graph_fits(page: Page, section: Any, what: str) -> None:
@@ -67,7 +60,7 @@ def test_review_of_a_refined_mission_shows_nested_steps(
     expect(refinement.locator("text").filter(has_text="returns succeed")).to_have_count(1)
     refinement.scroll_into_view_if_needed()
     _graph_fits(page, refinement, f"refinement at {width}")
-    _shot(page, tmp_path_factory, f"review-refinement-{width}x{height}")
+    shot(page, tmp_path_factory, f"review-refinement-{width}x{height}")
 
     paths = page.get_by_test_id("review-paths")
     rows = paths.get_by_test_id("review-path-row")
@@ -100,7 +93,7 @@ def test_review_of_a_refined_mission_shows_nested_steps(
         assert "/" not in row.inner_text() or "unvisited cell" in sentence, sentence
     assert nested > 0, "no nested step among the first paths"
     no_page_scroll_sideways(page)
-    _shot(page, tmp_path_factory, f"review-refined-paths-{width}x{height}")
+    shot(page, tmp_path_factory, f"review-refined-paths-{width}x{height}")
     expect_accessible(page, f"the review of a refined mission at {width} px")
 
 
@@ -120,7 +113,7 @@ def test_review_of_a_team_shows_every_member_and_the_meetings(
     expect(page.get_by_test_id("review-team-findings")).to_contain_text("TEAM error")
     meetings.scroll_into_view_if_needed()
     inside(box(meetings), box(page.locator("main")), "meetings inside the card")
-    _shot(page, tmp_path_factory, f"review-team-{width}x{height}")
+    shot(page, tmp_path_factory, f"review-team-{width}x{height}")
     for member in orders["team"]:
         section = page.get_by_test_id(f"review-member-{member['vehicle']}")
         expect(section.get_by_role("heading").first).to_contain_text(f"Vehicle {member['vehicle']}")
@@ -131,6 +124,6 @@ def test_review_of_a_team_shows_every_member_and_the_meetings(
         expect(section.get_by_test_id(f"orders-meet-{goal['id']}")).to_have_text("meet R1")
         section.scroll_into_view_if_needed()
         _graph_fits(page, section, f"{member['vehicle']} at {width}")
-    _shot(page, tmp_path_factory, f"review-team-member-{width}x{height}")
+    shot(page, tmp_path_factory, f"review-team-member-{width}x{height}")
     no_page_scroll_sideways(page)
     expect_accessible(page, f"the review of a team at {width} px")

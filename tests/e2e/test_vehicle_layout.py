@@ -14,7 +14,7 @@ import pytest
 from playwright.sync_api import Locator, Page, Route, expect
 
 from .conftest import expect_accessible
-from .screens import box, inside, no_page_scroll_sideways
+from .screens import box, inside, no_page_scroll_sideways, shot
 from .test_roles import sign_in
 
 # Answered in place of the registry's list, so that the table is empty (or holds these) whatever
@@ -26,11 +26,8 @@ FORM_WIDTHS = (1280, 1024, 900, 800, 700)
 
 
 def _shot(page: Page, tmp_path_factory: pytest.TempPathFactory, name: str) -> None:
-    shots = tmp_path_factory.getbasetemp() / "artifacts"
-    shots.mkdir(exist_ok=True)
     size = page.viewport_size or {"width": 0, "height": 0}
-    page.screenshot(path=str(shots / f"{name}-{size['width']}x{size['height']}.png"),
-                    full_page=True)
+    shot(page, tmp_path_factory, f"{name}-{size['width']}x{size['height']}", full_page=True)
 
 
 def _registry(page: Page, vehicles: list[dict[str, Any]]) -> Locator:

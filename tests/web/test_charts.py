@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import asyncio
 import json
-from contextlib import AbstractContextManager
 from typing import Any
 
 import pytest
@@ -16,6 +15,7 @@ from countersign.web.routes import charts as chart_routes
 
 from .conftest import World
 from .described import assert_described
+from .write_lock import record_opens
 
 # A keep-out box across the exemplar's legs from G4 (and G2 on fail) to G5.
 KEEP_OUT = {"type": "FeatureCollection", "features": [{
@@ -165,13 +165,9 @@ def test_the_plan_view_reads_off_the_event_loop_and_takes_no_write_lock(
     """Reading up to 9 MiB of orders on the event loop stalled every request of the process,
     and the plan view's session took the write lock (on SQLite, waited for on the event loop
     itself) though it stores nothing."""
-    opened: list[bool] = []
+    opened = record_opens(world, monkeypatch)
     on_the_loop: list[bool] = []
-    real_open, real_registry = world.database.open, chart_routes.with_registry
-
-    def recording(write: bool = True) -> AbstractContextManager[Session]:
-        opened.append(write)
-        return real_open(write=write)
+    real_registry = chart_routes.with_registry
 
     def registry(db: Session, orders: Orders) -> Orders:
         try:
@@ -181,7 +177,6 @@ def test_the_plan_view_reads_off_the_event_loop_and_takes_no_write_lock(
             on_the_loop.append(False)
         return real_registry(db, orders)
 
-    monkeypatch.setattr(world.database, "open", recording)
     monkeypatch.setattr(chart_routes, "with_registry", registry)
     viewed = world.client("auditor").post("/api/plan-view",
                                           content=example_bytes("search-and-sample"))

@@ -3,35 +3,20 @@ its session opens without the write lock; other POSTs take it."""
 
 from __future__ import annotations
 
-from contextlib import AbstractContextManager
-
 import pytest
-from sqlalchemy.orm import Session
 
 from countersign.orders.canonical import orders_to_json
 from countersign.orders.examples import load_example
 
 from .approval_helpers import approve, new_version, prepare, register_key, submit
 from .conftest import World
-
-
-def _record_opens(world: World, monkeypatch: pytest.MonkeyPatch) -> list[bool]:
-    """Each request session's `write` flag, in the order the sessions open."""
-    opened: list[bool] = []
-    real = world.database.open
-
-    def recording(write: bool = True) -> AbstractContextManager[Session]:
-        opened.append(write)
-        return real(write=write)
-
-    monkeypatch.setattr(world.database, "open", recording)
-    return opened
+from .write_lock import record_opens
 
 
 def test_only_a_declared_post_opens_without_the_write_lock(
     world: World, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    opened = _record_opens(world, monkeypatch)
+    opened = record_opens(world, monkeypatch)
     client = world.client("operator")
     orders = orders_to_json(load_example("search-and-sample"))
     assert client.post("/api/validate", json=orders).status_code == 200
@@ -57,7 +42,7 @@ def test_preparing_a_statement_to_sign_takes_no_write_lock(
     signer = register_key(supervisor)
     approval = approve(world, supervisor, signer, submission)
     second = submit(world, new_version(world))
-    opened = _record_opens(world, monkeypatch)
+    opened = record_opens(world, monkeypatch)
     prepare(supervisor, second, signer)
     revocation = supervisor.post(f"/api/approvals/{approval['id']}/statement",
                                  json={"reason": "superseded", "key_id": signer.key_id})

@@ -1,4 +1,5 @@
-"""Whether a request holds SQLite's one write lock while it does some long piece of work.
+"""Whether a request holds SQLite's one write lock while it does some long piece of work, and
+which sessions a request opens for writing (record_opens).
 
 A route that validates, checks, hashes or builds a simulation inside its write transaction
 makes every other user's writes wait for it. The tests wrap that piece of work: each call first
@@ -7,9 +8,11 @@ tries to take the write lock from a connection of its own, and records whether i
 from __future__ import annotations
 
 import sqlite3
+from contextlib import AbstractContextManager
 from typing import Any
 
 import pytest
+from sqlalchemy.orm import Session
 
 from .conftest import World
 
@@ -44,3 +47,16 @@ def probe_write_lock(world: World, monkeypatch: pytest.MonkeyPatch, owner: objec
 
     monkeypatch.setattr(owner, name, probe)
     return free_at_calls
+
+
+def record_opens(world: World, monkeypatch: pytest.MonkeyPatch) -> list[bool]:
+    """Each request session's `write` flag, in the order the sessions open."""
+    opened: list[bool] = []
+    real = world.database.open
+
+    def recording(write: bool = True) -> AbstractContextManager[Session]:
+        opened.append(write)
+        return real(write=write)
+
+    monkeypatch.setattr(world.database, "open", recording)
+    return opened
