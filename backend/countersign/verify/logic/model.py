@@ -132,7 +132,6 @@ class LogicModel:
         self._residual: dict[tuple[str, str | None, str | None], bool] = {}
         self._scope_reads: dict[str, Reads] = {}
         self._norm_reads: dict[str, Reads] = {}
-        self._norm_pairs: dict[str, tuple[Item, Item]] = {}
         self._needs: dict[tuple[Reads, tuple[Reads, ...]], Reads] = {}
         # Built once per goal or set of quantities, then copied: every unit of a goal (its own
         # and one per state property) asks for the same lists. A goal's own part only: the
@@ -545,16 +544,15 @@ class LogicModel:
 
     def norm_items(self, n: ParsedNorm) -> tuple[Item, Item]:
         """(the norm as a rule: no breach, the breach itself) for one norm."""
-        found = self._norm_pairs.get(n.key)  # every goal the norm is relevant to asks
-        if found is None:
-            found = self._norm_pairs[n.key] = self._make_norm_items(n)
-        return found
+        breach_key = f"breach:{n.key}"
+        # Every goal the norm is relevant to asks: no closures for known items.
+        known, known_breach = self._items.get(n.key), self._items.get(breach_key)
+        if known is not None and known_breach is not None:
+            return known, known_breach
 
-    def _make_norm_items(self, n: ParsedNorm) -> tuple[Item, Item]:
         def build_rule() -> Item:
             permissions = self.permissions if n.modality == "forbidden" else []
-            quantities = tuple(sorted(_merge_reads(
-                [n.reads, *(p.reads for p in permissions)]).quantities))
+            quantities = tuple(sorted(self.norm_reads(n).quantities))
             exceptions = "".join(
                 f"|{p.norm.id}:{p.norm.context}:{p.norm.permitted}" for p in permissions
             )
@@ -573,7 +571,6 @@ class LogicModel:
                         meaning=("expr", ("norm", n.key, True), (self.breach_expr(n), True)))
 
         rule = self._memo(n.key, build_rule)
-        breach_key = f"breach:{n.key}"
         broken = self._memo(breach_key, lambda: Item(
             breach_key, "breach", n.norm.id, lambda: rule.phrase, "breach|" + rule.source,
             expr_formula(self.breach_expr(n)), quantities=rule.quantities,
