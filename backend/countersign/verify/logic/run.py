@@ -201,9 +201,12 @@ class LogicRun:
         """The statements that hold while a goal runs as ordered: its envelope, the facts that
         expressions read, the constraints in scope, the vehicle envelope and the domains."""
         found = self._goal_parts(goal, quarantined, extra)
-        live, block = self.model.live_block(quarantined)
-        return ([*found.head, *block, *found.own, *found.tail],
-                [*live, *found.own_constraints])
+        return self._all_items(found, quarantined), [*self.model.live_block(quarantined)[0],
+                                                     *found.own_constraints]
+
+    def _all_items(self, parts: GoalItems, quarantined: frozenset[str]) -> list[Item]:
+        """A goal's items with the mission-wide block, in the order a unit checks them."""
+        return [*parts.head, *self.model.live_block(quarantined)[1], *parts.own, *parts.tail]
 
     def _goal_parts(self, goal: Goal, quarantined: frozenset[str],
                     extra: Sequence[Reads]) -> GoalItems:
@@ -238,8 +241,8 @@ class LogicRun:
         own = [*parts.head, *parts.own, *parts.tail]
         base = self.block(quarantined)
         return self.keyed(  # the key reads `apart` (and the base) only: no list of them all
-            "goal", (), lambda: self._solve_goal(self.goal_items(goal, quarantined, extra)[0],
-                                                 own, norm_items, residual, base),
+            "goal", (), lambda: self._solve_goal(self._all_items(parts, quarantined), own,
+                                                 norm_items, residual, base),
             base, apart=own + added)
 
     def _goal_norms(self, goal: Goal) -> tuple[
