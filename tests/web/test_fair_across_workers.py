@@ -72,7 +72,7 @@ def _serve(tmp_path: Path, url: str, port: int, processes: str) -> subprocess.Po
             [sys.executable, "-m", "countersign.cli", "serve", "--port", str(port),
              "--data-dir", str(tmp_path / "data"), "--workers", "2",
              "--validation-processes", processes],
-            stdout=log, stderr=subprocess.STDOUT,
+            stdout=log, stderr=subprocess.STDOUT, start_new_session=True,
             env={**os.environ, "COUNTERSIGN_DATABASE_URL": url})
 
 
@@ -91,6 +91,16 @@ def _stop(server: subprocess.Popen[bytes]) -> None:
     except subprocess.TimeoutExpired:
         server.kill()
         server.wait()
+
+
+def _kill(server: subprocess.Popen[bytes]) -> None:
+    """Ends the server and every process it started at once (its own session): a graceful
+    stop would wait for the heavy validations still running, 30 s that test nothing."""
+    try:
+        os.killpg(server.pid, signal.SIGKILL)
+    except ProcessLookupError:
+        pass
+    server.wait()
 
 
 def _host_process(master: int) -> int:
@@ -145,7 +155,7 @@ def test_a_users_heavy_validations_on_both_workers_leave_a_turn_for_anothers_edi
         # host's process when the edit came in ended before it.
         assert order.count("heavy 200") <= 1 and len(order) <= 2, order
     finally:
-        _stop(server)
+        _kill(server)
 
 
 def test_validation_goes_on_when_the_host_process_is_killed(tmp_path: Path) -> None:
