@@ -4,7 +4,10 @@ form; the mission graph beside the scene lists the refined goal's steps inside i
 (G1 › G1.2), the s/f/c keys and the buttons decide the goals inside one by one, and the
 time-out that ends G1's loop after six goals is shown. The graph, its steps and the card inside
 the window and their column, apart and readable; axe-core clean; screenshots in the artifacts
-folder."""
+folder.
+
+One rehearsal: the window is resized to each screen (the layout is CSS only) while it waits at
+G1's first goal inside, and again at the time-out."""
 
 from __future__ import annotations
 
@@ -18,16 +21,15 @@ from countersign.orders.examples import example_bytes
 
 from .conftest import Server, _api_import, expect_accessible
 from .screens import SCREENS, box, font_px, inside
+from .test_rehearsal_screen import scene_fits_its_frame
 from .test_roles import sign_in
 
 
-@pytest.mark.parametrize(("width", "height"), SCREENS)
 def test_rehearsal_marks_the_step_inside_a_refined_goal(
-        page: Page, server: Server, width: int, height: int,
-        tmp_path_factory: pytest.TempPathFactory) -> None:
-    page.set_viewport_size({"width": width, "height": height})
+        page: Page, server: Server, tmp_path_factory: pytest.TempPathFactory) -> None:
+    page.set_viewport_size({"width": SCREENS[0][0], "height": SCREENS[0][1]})
     data = json.loads(example_bytes("search-and-sample-refined"))
-    data["id"] = f"rehearse-refined-{width}"
+    data["id"] = "rehearse-refined"
     mission = _api_import(server, json.dumps(data).encode(), "application/json")
     sign_in(page, "operator")
     page.goto(f"/missions/{mission}?tab=rehearse")
@@ -46,36 +48,42 @@ def test_rehearsal_marks_the_step_inside_a_refined_goal(
     expect(crumbs).to_have_text(["G1", "G1.1"])
     expect(page.get_by_test_id("refined-current")).to_contain_text(
         "G1/G1.1#1 Move to the next unvisited cell of Area A inside Search Area A")
-    card_geometry(page, "the goal inside G1")
 
     refinement = page.get_by_test_id("rehearsal-refinement-G1")
     steps = refinement.locator(":scope > li")
     expect(steps).to_have_count(len(data["goals"][0]["refines"]["goals"]))
     graph = page.get_by_test_id("rehearsal-graph")
-    card = box(page.locator("main"))
-    inside(box(graph), card, "mission graph inside the card")
-    size = page.viewport_size
-    assert size is not None
-    boxes = [box(steps.nth(i)) for i in range(steps.count())]
-    for i, b in enumerate(boxes):
-        inside(b, box(graph.get_by_test_id("graph-current")), f"step {i} inside G1's card")
-        assert b["x"] + b["width"] <= size["width"], ("step past the window", i)
-        assert font_px(steps.nth(i)) >= 12
-    for a, b in itertools.pairwise(boxes):
-        assert a["y"] + a["height"] <= b["y"] + 0.5, ("steps overlap", a, b)
-
     shots = tmp_path_factory.getbasetemp() / "artifacts"
     shots.mkdir(exist_ok=True)
-    page.get_by_test_id("refined-goal").scroll_into_view_if_needed()
-    page.screenshot(path=str(shots / f"rehearsal-refined-card-{width}x{height}.png"),
-                    timeout=120_000)
-    expect_accessible(page, f"the goal inside a refinement at {width} px",
-                      include="[data-testid='rehearsal']")
-    graph.scroll_into_view_if_needed()
-    page.screenshot(path=str(shots / f"rehearsal-refined-{width}x{height}.png"),
-                    timeout=120_000)
-    expect_accessible(page, f"the rehearsal of a refined mission at {width} px",
-                      include="[data-testid='rehearsal-graph']")
+    for width, height in SCREENS:
+        page.set_viewport_size({"width": width, "height": height})
+        # Framed as the page frames a rehearsal it starts (its block at the top of the window),
+        # as the screenshots were when the page was opened at each size.
+        page.get_by_test_id("rehearsal").evaluate("e => e.scrollIntoView({block: 'start'})")
+        scene_fits_its_frame(page)
+        at = f"at {width}x{height}"
+        card_geometry(page, "the goal inside G1")
+        card = box(page.locator("main"))
+        inside(box(graph), card, f"mission graph inside the card {at}")
+        boxes = [box(steps.nth(i)) for i in range(steps.count())]
+        for i, b in enumerate(boxes):
+            inside(b, box(graph.get_by_test_id("graph-current")),
+                   f"step {i} inside G1's card {at}")
+            assert b["x"] + b["width"] <= width, (f"step past the window {at}", i)
+            assert font_px(steps.nth(i)) >= 12, (at, i)
+        for a, b in itertools.pairwise(boxes):
+            assert a["y"] + a["height"] <= b["y"] + 0.5, (f"steps overlap {at}", a, b)
+
+        page.get_by_test_id("refined-goal").scroll_into_view_if_needed()
+        page.screenshot(path=str(shots / f"rehearsal-refined-card-{width}x{height}.png"),
+                        timeout=120_000)
+        expect_accessible(page, f"the goal inside a refinement {at}",
+                          include="[data-testid='rehearsal']")
+        graph.scroll_into_view_if_needed()
+        page.screenshot(path=str(shots / f"rehearsal-refined-{width}x{height}.png"),
+                        timeout=120_000)
+        expect_accessible(page, f"the rehearsal of a refined mission {at}",
+                          include="[data-testid='rehearsal-graph']")
 
     # Six goals inside G1, decided by key and by button in turn: succeed, fail, ... The
     # seventh may not commence (within: 6 steps), so G1 ends with its on_timeout (fail) -> G3.
@@ -96,21 +104,25 @@ def test_rehearsal_marks_the_step_inside_a_refined_goal(
     timeout = page.get_by_test_id("refined-timeout")
     expect(timeout).to_contain_text("Time-out: Search Area A (G1) ended its refinement with Fail")
     expect(page.get_by_test_id("refined-current")).to_contain_text("on the mission's level")
-    card_geometry(page, "the time-out of G1")
-    page.get_by_test_id("refined-goal").scroll_into_view_if_needed()
-    page.screenshot(path=str(shots / f"rehearsal-refined-timeout-{width}x{height}.png"),
-                    timeout=120_000)
-    expect_accessible(page, f"the time-out of a refinement at {width} px",
-                      include="[data-testid='rehearsal']")
+    for width, height in SCREENS:
+        page.set_viewport_size({"width": width, "height": height})
+        scene_fits_its_frame(page)
+        card_geometry(page, "the time-out of G1")
+        page.get_by_test_id("refined-goal").scroll_into_view_if_needed()
+        page.screenshot(path=str(shots / f"rehearsal-refined-timeout-{width}x{height}.png"),
+                        timeout=120_000)
+        expect_accessible(page, f"the time-out of a refinement at {width}x{height}",
+                          include="[data-testid='rehearsal']")
     page.get_by_test_id("stop-rehearsal").click()
     expect(page.get_by_test_id("viser-frame")).to_have_count(0)
 
 
 def card_geometry(page: Page, what: str) -> None:
     """The current-goal card inside the controls column and the window; its lines apart and
-    readable (>= 12 px)."""
+    readable (>= 12 px). Failures name the window's size."""
     size = page.viewport_size
     assert size is not None
+    what = f"{what} at {size['width']}x{size['height']}"
     card = page.get_by_test_id("refined-goal")
     card_box = box(card)
     inside(card_box, box(page.locator(".rehearsal-controls")), f"{what}: card in its column")

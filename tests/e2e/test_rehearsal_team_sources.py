@@ -3,7 +3,10 @@ of team orders lists every vehicle with "Simulate" or "Replay path" and, when re
 path number; the start sends them as `member_paths`. A path beyond the member's count is
 refused naming the member and the path; vehicle 2 replaying path 19 (it aborts before Area C)
 leaves vehicle 1 waiting at meeting R1. Boxes inside the window and the card, apart, readable
-(>= 12 px); axe-core clean; screenshots in the artifacts folder."""
+(>= 12 px); axe-core clean; screenshots in the artifacts folder.
+
+The form is filled in once and looked at on each screen by resizing the window; the refused and
+the accepted start run once."""
 
 from __future__ import annotations
 
@@ -20,15 +23,13 @@ from .screens import SCREENS, box, font_px, inside, no_page_scroll_sideways
 from .test_roles import sign_in
 
 
-@pytest.mark.parametrize(("width", "height"), SCREENS)
 def test_each_vehicle_simulates_or_replays_a_path(
-        page: Page, server: Server, width: int, height: int,
-        tmp_path_factory: pytest.TempPathFactory) -> None:
-    page.set_viewport_size({"width": width, "height": height})
+        page: Page, server: Server, tmp_path_factory: pytest.TempPathFactory) -> None:
+    page.set_viewport_size({"width": SCREENS[0][0], "height": SCREENS[0][1]})
     errors: list[str] = []
     page.on("pageerror", lambda e: errors.append(str(e)))
     data = json.loads(example_bytes("search-and-sample-team"))
-    data["id"] = f"team-sources-{width}"
+    data["id"] = "team-sources"
     mission = _api_import(server, json.dumps(data).encode(), "application/json")
     sign_in(page, "operator")
     page.goto(f"/missions/{mission}?tab=rehearse")
@@ -45,37 +46,40 @@ def test_each_vehicle_simulates_or_replays_a_path(
     expect(path).to_have_value("1")
     path.fill("99")
 
-    # Geometry: the fieldset inside the window and the card, its rows apart, each control
-    # inside its row, readable.
+    # Geometry, on each screen: the fieldset inside the window and the card, its rows apart,
+    # each control inside its row, readable.
     fieldset = page.get_by_test_id("team-sources")
-    fieldset.scroll_into_view_if_needed()
-    card = box(page.locator("main"))
-    window = {"x": 0.0, "y": -1e6, "width": float(width), "height": 2e6}
-    inside(box(fieldset), card, "the vehicles' sources inside the card")
-    inside(box(fieldset), window, "the vehicles' sources inside the window")
-    row_boxes = [box(rows.nth(i)) for i in range(rows.count())]
-    for i, row in enumerate(row_boxes):
-        inside(row, box(fieldset), "a vehicle's row inside the fieldset")
-        parts = [rows.nth(i).locator("label").first, kinds.nth(i)]
-        if i == 1:
-            parts.append(path)
-        part_boxes = [box(p) for p in parts]
-        for part in part_boxes:
-            inside(part, row, "a control inside its vehicle's row")
-        for a, b in itertools.pairwise(part_boxes):
-            assert a["x"] + a["width"] <= b["x"] + 0.5 or a["y"] + a["height"] <= b["y"] + 0.5, (
-                "controls overlap", a, b)
-        for p in parts:
-            assert font_px(p) >= 12
-    for a, b in itertools.pairwise(row_boxes):
-        assert a["y"] + a["height"] <= b["y"] + 0.5, ("vehicle rows overlap", a, b)
-    no_page_scroll_sideways(page)
     shots = tmp_path_factory.getbasetemp() / "artifacts"
     shots.mkdir(exist_ok=True)
-    page.screenshot(path=str(shots / f"rehearsal-team-sources-{width}x{height}.png"),
-                    timeout=120_000)
-    expect_accessible(page, f"the team's sources at {width} px",
-                      include="[data-testid='team-sources']")
+    for width, height in SCREENS:
+        page.set_viewport_size({"width": width, "height": height})
+        at = f"at {width}x{height}"
+        fieldset.scroll_into_view_if_needed()
+        card = box(page.locator("main"))
+        window = {"x": 0.0, "y": -1e6, "width": float(width), "height": 2e6}
+        inside(box(fieldset), card, f"the vehicles' sources inside the card {at}")
+        inside(box(fieldset), window, f"the vehicles' sources inside the window {at}")
+        row_boxes = [box(rows.nth(i)) for i in range(rows.count())]
+        for i, row in enumerate(row_boxes):
+            inside(row, box(fieldset), f"a vehicle's row inside the fieldset {at}")
+            parts = [rows.nth(i).locator("label").first, kinds.nth(i)]
+            if i == 1:
+                parts.append(path)
+            part_boxes = [box(p) for p in parts]
+            for part in part_boxes:
+                inside(part, row, f"a control inside its vehicle's row {at}")
+            for a, b in itertools.pairwise(part_boxes):
+                assert (a["x"] + a["width"] <= b["x"] + 0.5
+                        or a["y"] + a["height"] <= b["y"] + 0.5), (f"controls overlap {at}", a, b)
+            for p in parts:
+                assert font_px(p) >= 12, (at, p)
+        for a, b in itertools.pairwise(row_boxes):
+            assert a["y"] + a["height"] <= b["y"] + 0.5, (f"vehicle rows overlap {at}", a, b)
+        no_page_scroll_sideways(page)
+        page.screenshot(path=str(shots / f"rehearsal-team-sources-{width}x{height}.png"),
+                        timeout=120_000)
+        expect_accessible(page, f"the team's sources {at}",
+                          include="[data-testid='team-sources']")
 
     # Beyond vehicle 2's paths: refused, naming the member and the path.
     page.get_by_test_id("rehearsal-speed").fill("5000")
