@@ -1,11 +1,17 @@
 """A canvas operators can work in, at 1024 and 1280 px.
 
 Geometry is read from the page: node boxes, handle boxes, the canvas and the minimap, and the
-title's font size times the zoom React Flow applied (its viewport transform)."""
+title's font size times the zoom React Flow applied (its viewport transform). The operator
+signs in once for the module (each test's fresh context is given that session; the two-browser
+test signs its browsers in itself). Each test makes its missions once; then, at each width, the
+editor is opened in a window of that width and the graph laid out there (the layout wraps long
+chains to the canvas's aspect ratio, the view is fitted to the canvas), and what that shows is
+checked."""
 
 from __future__ import annotations
 
 import time
+from typing import Any
 
 import pytest
 from playwright.sync_api import Browser, Page, expect
@@ -51,9 +57,21 @@ _GEOMETRY = """() => {
 
 
 def _token(page: Page) -> str:
-    token: str = page.evaluate(
-        "() => fetch('/api/auth/me').then(r => r.json()).then(j => j.csrf_token)")
+    token: str = page.request.get("/api/auth/me").json()["csrf_token"]
     return token
+
+
+@pytest.fixture(scope="module")
+def operator_cookies(browser: Browser, server: Server) -> list[Any]:
+    """The operator's session, signed in once for the module: each test's fresh context is given
+    its cookie rather than checking the password again (signing in is test_roles.py's to test)."""
+    context = browser.new_context(base_url=server.url)
+    context.set_default_timeout(PATIENCE_MS)
+    try:
+        sign_in(context.new_page(), "operator")
+        return list(context.cookies())
+    finally:
+        context.close()
 
 
 def _create(page: Page, orders: dict[str, object]) -> str:
@@ -96,13 +114,17 @@ def _drop_on_body(page: Page, source: str, outcome: str, target: str) -> None:
     page.mouse.up()
 
 
-@pytest.mark.parametrize("width", WIDTHS)
-def test_ten_goals_added_connected_and_laid_out_stay_readable(page: Page, server: Server,
-                                                              width: int) -> None:
+def test_ten_goals_added_connected_and_laid_out_stay_readable(
+        page: Page, server: Server, operator_cookies: list[Any]) -> None:
+    """The goals are added and wired once, at 1024 px: a new goal is placed beside the selected
+    one in the graph's own coordinates, at the zoom the view has, so what is added does not
+    depend on the window's width, and 1024 is where the canvas is narrowest and a dragged wire's
+    target nearest the inspector. Then, at each width, the editor is opened afresh (its view
+    fitted to that canvas, its layout worker new) and the graph laid out and checked there."""
     del server
-    page.set_viewport_size({"width": width, "height": 800})
-    sign_in(page, "operator")
-    mission = _create(page, {"format": "countersign.orders/1", "id": f"canvas-ten-{width}",
+    page.set_viewport_size({"width": WIDTHS[0], "height": 800})
+    page.context.add_cookies(operator_cookies)
+    mission = _create(page, {"format": "countersign.orders/1", "id": "canvas-ten",
                              "title": "Ten", "goals": []})
     page.goto(f"/missions/{mission}?tab=editor")
     expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
@@ -111,7 +133,10 @@ def test_ten_goals_added_connected_and_laid_out_stay_readable(page: Page, server
     for n in range(1, 11):
         page.get_by_role("button", name="Add goal").click()
         expect(page.get_by_test_id(f"node-G{n}")).to_be_visible()
-    _check_no_overlap(page)
+    for width in WIDTHS:
+        page.set_viewport_size({"width": width, "height": 800})
+        _check_no_overlap(page, f"ten goals added, at {width}x800")
+    page.set_viewport_size({"width": WIDTHS[0], "height": 800})
     for n in range(1, 10):
         # The Go button, not Enter: with "G1" typed, Chromium's suggestion list offers G1 and
         # G10 and now and then takes the Enter to close itself instead of submitting.
@@ -122,18 +147,22 @@ def test_ten_goals_added_connected_and_laid_out_stay_readable(page: Page, server
     _drop_on_body(page, "G10", "succeed", "COMPLETE")
     expect(page.get_by_test_id("save-state")).to_have_text("Saved")
     edited = _revision(page, mission)
-    _auto_layout(page)
-    expect(page.get_by_test_id("save-state")).to_have_text("Saved")
-    _check_readable(page, f"ten goals at {width} px")
-    page.wait_for_timeout(500)
-    assert _revision(page, mission) == edited, "laying out created a revision"
+    for width in WIDTHS:
+        page.set_viewport_size({"width": width, "height": 800})
+        page.goto(f"/missions/{mission}?tab=editor")
+        expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
+        _auto_layout(page)
+        expect(page.get_by_test_id("save-state")).to_have_text("Saved")
+        _check_readable(page, f"ten goals at {width}x800")
+        page.wait_for_timeout(500)
+        assert _revision(page, mission) == edited, f"laying out at {width}x800 created a revision"
     detail = page.request.get(f"/api/missions/{mission}").json()
     assert set(detail["layout"]) >= {f"G{n}" for n in range(1, 11)}
 
 
-def _check_no_overlap(page: Page) -> None:
+def _check_no_overlap(page: Page, what: str) -> None:
     shape = page.evaluate(_GEOMETRY)
-    assert shape["overlaps"] == [], shape["overlaps"]
+    assert shape["overlaps"] == [], (what, shape["overlaps"])
 
 
 def _hundred(mission: str) -> dict[str, object]:
@@ -144,42 +173,45 @@ def _hundred(mission: str) -> dict[str, object]:
     return orders
 
 
-def _open_lay_out_and_check(page: Page, name: str, mission: str, width: int) -> None:
+def _open_lay_out_and_check(page: Page, name: str, mission: str) -> None:
+    """At each width: opens the editor (its view fitted to that canvas, its layout worker new),
+    lays the graph out (wrapped to that canvas's aspect ratio) and checks it; neither changes
+    the revision."""
     before = _revision(page, mission)
-    started = time.monotonic()
-    page.goto(f"/missions/{mission}?tab=editor")
-    expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
-    opened = (time.monotonic() - started) * 1000
-    print(f"{name} at {width} px: graph editor open {opened:.0f} ms")
-    layout_ms = _auto_layout(page)
-    print(f"{name} at {width} px: auto layout {layout_ms:.0f} ms")
-    _check_readable(page, f"{name} at {width} px")
-    expect(page.get_by_test_id("save-state")).to_have_text("Saved")
-    page.wait_for_timeout(300)
-    assert _revision(page, mission) == before, f"{name}: open and layout changed the revision"
+    for width in WIDTHS:
+        page.set_viewport_size({"width": width, "height": 800})
+        started = time.monotonic()
+        page.goto(f"/missions/{mission}?tab=editor")
+        expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
+        opened = (time.monotonic() - started) * 1000
+        print(f"{name} at {width} px: graph editor open {opened:.0f} ms")
+        layout_ms = _auto_layout(page)
+        print(f"{name} at {width} px: auto layout {layout_ms:.0f} ms")
+        _check_readable(page, f"{name} at {width}x800")
+        expect(page.get_by_test_id("save-state")).to_have_text("Saved")
+        page.wait_for_timeout(300)
+        assert _revision(page, mission) == before, (
+            f"{name}: open and layout at {width}x800 changed the revision")
 
 
-@pytest.mark.parametrize("width", WIDTHS)
 def test_real_missions_lay_out_readable(page: Page, server: Server, seeded_mission: str,
-                                        width: int) -> None:
+                                        operator_cookies: list[Any]) -> None:
     del server
-    page.set_viewport_size({"width": width, "height": 800})
-    sign_in(page, "operator")
-    hundred = f"canvas-hundred-{width}"
+    page.context.add_cookies(operator_cookies)
+    hundred = "canvas-hundred"
     _create(page, _hundred(hundred))
     for name, mission in (("exemplar", seeded_mission), ("100 goals", hundred)):
-        _open_lay_out_and_check(page, name, mission, width)
+        _open_lay_out_and_check(page, name, mission)
 
 
 @pytest.mark.skipif(not PIRATES.exists(), reason=f"{PIRATES} is not here")
-@pytest.mark.parametrize("width", WIDTHS)
-def test_pirates_lays_out_readable(page: Page, server: Server, width: int) -> None:
-    page.set_viewport_size({"width": width, "height": 800})
-    sign_in(page, "operator")
-    pirates = "piratesseizingmerchantdefense"  # imported once for both widths
+def test_pirates_lays_out_readable(page: Page, server: Server,
+                                   operator_cookies: list[Any]) -> None:
+    page.context.add_cookies(operator_cookies)
+    pirates = "piratesseizingmerchantdefense"  # imported by another test, or here
     if page.request.get(f"/api/missions/{pirates}").status != 200:
         pirates = _api_import(server, PIRATES.read_bytes(), "application/xml")
-    _open_lay_out_and_check(page, "Pirates", pirates, width)
+    _open_lay_out_and_check(page, "Pirates", pirates)
 
 
 _FRAMES = """() => new Promise(resolve => {
@@ -192,26 +224,29 @@ _FRAMES = """() => new Promise(resolve => {
 })"""
 
 
-@pytest.mark.parametrize("width", WIDTHS)
-def test_five_hundred_goals_open_and_lay_out_without_blocking(page: Page, server: Server,
-                                                              width: int) -> None:
+def test_five_hundred_goals_open_and_lay_out_without_blocking(
+        page: Page, server: Server, operator_cookies: list[Any]) -> None:
+    """Made once; opened (a large draft opens at its start goal, sized to the window) and laid
+    out afresh at each width, so that each width's page loads its own layout worker."""
     del server
-    page.set_viewport_size({"width": width, "height": 800})
-    sign_in(page, "operator")
-    mission = _create(page, _chain(f"canvas-500-{width}", 500))
-    started = time.monotonic()
-    page.goto(f"/missions/{mission}?tab=editor")
-    expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
-    opened = (time.monotonic() - started) * 1000
-    print(f"500 goals at {width} px: open and laid out {opened:.0f} ms")
-    page.evaluate("() => { window.__frames = (" + _FRAMES + ")(); }")
-    layout_ms = _auto_layout(page)
-    worst = page.evaluate("() => { window.__stopFrames(); return window.__frames; }")
-    print(f"500 goals at {width} px: auto layout {layout_ms:.0f} ms, "
-          f"longest frame during it {worst:.0f} ms")
-    # The layout was computed in the worker (its script was loaded), not on the page's thread.
-    assert page.evaluate("() => performance.getEntriesByType('resource')"
-                         ".some(e => /layout\\.worker/.test(e.name))"), "no layout worker"
+    page.context.add_cookies(operator_cookies)
+    mission = _create(page, _chain("canvas-500", 500))
+    for width in WIDTHS:
+        page.set_viewport_size({"width": width, "height": 800})
+        started = time.monotonic()
+        page.goto(f"/missions/{mission}?tab=editor")
+        expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
+        opened = (time.monotonic() - started) * 1000
+        print(f"500 goals at {width} px: open and laid out {opened:.0f} ms")
+        page.evaluate("() => { window.__frames = (" + _FRAMES + ")(); }")
+        layout_ms = _auto_layout(page)
+        worst = page.evaluate("() => { window.__stopFrames(); return window.__frames; }")
+        print(f"500 goals at {width} px: auto layout {layout_ms:.0f} ms, "
+              f"longest frame during it {worst:.0f} ms")
+        # The layout was computed in the worker (its script was loaded), not on the page's thread.
+        assert page.evaluate("() => performance.getEntriesByType('resource')"
+                             ".some(e => /layout\\.worker/.test(e.name))"), (
+            f"no layout worker at {width}x800")
 
 
 def _open(browser: Browser, server: Server, mission: str) -> Page:
