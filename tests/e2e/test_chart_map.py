@@ -5,7 +5,12 @@ rendered here) over Natural Earth land bundled with the app. What must hold, mea
 geometry rather than presence: the map inside the viewport and the page's card; a click at a
 pixel adds a vertex that is drawn back at that pixel; a typed vertex is drawn at once, inside
 the map; areas and legs labelled; legend, scale and graticule shown; axe-core finds no serious
-or critical violation. Screenshots go to the run's artefact folder (`artifacts/`)."""
+or critical violation. Screenshots go to the run's artefact folder (`artifacts/`).
+
+The operator signs in once for the module; each page is a fresh context carrying that session.
+The plan view is opened once per size (the map is fitted to its box as it opens) in one page.
+The areas chart test stays one run per size: its clicks and typed vertices go where the map,
+fitted to that window, puts them, so the whole edit depends on the size from the start."""
 
 from __future__ import annotations
 
@@ -16,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from playwright.sync_api import Browser, Locator, Page, expect
+from playwright.sync_api import Browser, Locator, Page, StorageState, expect
 
 from .conftest import PASSWORD, PATIENCE_MS, REPO, Server, _api_import, submit_sign_in
 
@@ -33,18 +38,32 @@ def _exemplar(server: Server) -> str:
     return _api_import(server, json.dumps(orders).encode(), "application/json")
 
 
-def _page(browser: Browser, server: Server, size: tuple[int, int]) -> tuple[Page, list[str]]:
-    """A fresh context of the given viewport, signed in as the operator, and the page errors it
+@pytest.fixture(scope="module")
+def operator_session(browser: Browser, server: Server) -> StorageState:
+    """The operator signed in once, in the browser: the session's cookies, for each test's own
+    context (one password check for the module rather than one per test and size)."""
+    context = browser.new_context(base_url=server.url)
+    context.set_default_timeout(PATIENCE_MS)
+    try:
+        page = context.new_page()
+        page.goto("/")
+        submit_sign_in(page, "operator", PASSWORD["operator"])
+        expect(page.get_by_test_id("current-role")).to_have_text("Operator")
+        return context.storage_state()
+    finally:
+        context.close()
+
+
+def _page(browser: Browser, server: Server, size: tuple[int, int],
+          session: StorageState) -> tuple[Page, list[str]]:
+    """A fresh context of the given viewport with the operator's session, and the page errors it
     will collect."""
-    context = browser.new_context(base_url=server.url,
+    context = browser.new_context(base_url=server.url, storage_state=session,
                                   viewport={"width": size[0], "height": size[1]})
     context.set_default_timeout(PATIENCE_MS)
     page = context.new_page()
     problems: list[str] = []
     page.on("pageerror", lambda error: problems.append(str(error)))
-    page.goto("/")
-    submit_sign_in(page, "operator", PASSWORD["operator"])
-    expect(page.get_by_test_id("current-role")).to_have_text("Operator")
     return page, problems
 
 
@@ -94,26 +113,27 @@ def _map_holds(page: Page, chart: Locator, size: tuple[int, int]) -> Box:
     """The map is drawn, inside the viewport (no horizontal scroll) and inside the page's card."""
     expect(chart).to_have_attribute("data-ready", "true")
     expect(chart).to_have_attribute("data-land", "natural-earth-50m")
+    where = f"at {size[0]}x{size[1]}"
     box = _box(chart.locator("canvas"))
-    assert box["width"] >= 300 and box["height"] >= 250, box
-    assert _inside(box, {"x": 0, "y": 0, "width": size[0], "height": 1e9}), (box, size)
-    assert _inside(box, _box(page.locator("main"))), (box, _box(page.locator("main")))
+    assert box["width"] >= 300 and box["height"] >= 250, (where, box)
+    assert _inside(box, {"x": 0, "y": 0, "width": size[0], "height": 1e9}), (where, box)
+    assert _inside(box, _box(page.locator("main"))), (where, box, _box(page.locator("main")))
     scroll = page.evaluate("document.documentElement.scrollWidth")
-    assert scroll <= size[0], f"the page scrolls sideways: {scroll} > {size[0]}"
+    assert scroll <= size[0], f"the page scrolls sideways {where}: {scroll} > {size[0]}"
     return box
 
 
-def _chrome_present(page: Page, wrap: Locator, chart: Locator) -> None:
+def _chrome_present(page: Page, wrap: Locator, chart: Locator, where: str) -> None:
     """Scale bar (metres), graticule labels inside the map, a legend."""
     scale = chart.locator(".maplibregl-ctrl-scale")
     expect(scale).to_have_text(re.compile(r"^\d+(\.\d+)?\s?k?m$"))
-    assert _inside(_box(scale), _box(chart))
+    assert _inside(_box(scale), _box(chart)), f"the scale bar is outside the map {where}"
     grid = chart.locator("[data-grid]:not(.map-label-hidden)")
-    assert grid.count() >= 2
+    assert grid.count() >= 2, f"{grid.count()} graticule labels shown {where}"
     expect(wrap.get_by_role("list", name="Legend")).to_be_visible()
 
 
-def _axe(page: Page, *selectors: str) -> None:
+def _axe(page: Page, where: str, *selectors: str) -> None:
     """axe-core in the page (its source evaluated through the DevTools protocol, which the page's
     CSP does not govern); serious and critical violations fail. Each part is scrolled into view
     first: axe can only judge the contrast of text it sees on the screen."""
@@ -126,7 +146,7 @@ def _axe(page: Page, *selectors: str) -> None:
             selector)
         bad = [(v["id"], v["impact"], [n["target"] for n in v["nodes"]][:5])
                for v in result["violations"] if v["impact"] in ("serious", "critical")]
-        assert not bad, (selector, bad)
+        assert not bad, (where, selector, bad)
 
 
 def _artefact(page: Page, base: Path, name: str) -> None:
@@ -138,10 +158,10 @@ def _artefact(page: Page, base: Path, name: str) -> None:
 
 @pytest.mark.parametrize("size", SIZES, ids=[f"{w}x{h}" for w, h in SIZES])
 def test_areas_chart_adds_vertices_where_clicked_and_draws_typed_ones_at_once(
-        browser: Browser, server: Server, size: tuple[int, int],
+        browser: Browser, server: Server, size: tuple[int, int], operator_session: StorageState,
         tmp_path_factory: pytest.TempPathFactory) -> None:
     mission = _exemplar(server)
-    page, problems = _page(browser, server, size)
+    page, problems = _page(browser, server, size, operator_session)
     try:
         page.goto(f"/missions/{mission}?tab=editor")
         tab = page.get_by_role("tab", name="Areas", exact=True)
@@ -160,7 +180,7 @@ def test_areas_chart_adds_vertices_where_clicked_and_draws_typed_ones_at_once(
         expect(chart.locator('[data-testid="plan-area-LANE"]')).to_have_attribute(
             "data-style", "lane")
         expect(chart.locator("[data-testid^='vertex-A-']")).to_have_count(4)
-        _chrome_present(page, panel, chart)
+        _chrome_present(page, panel, chart, f"at {size[0]}x{size[1]}")
 
         # A click at a pixel adds a vertex there: its handle is drawn back at that pixel.
         panel.get_by_role("button", name="Add vertices to A by clicking").click()
@@ -228,51 +248,56 @@ def test_areas_chart_adds_vertices_where_clicked_and_draws_typed_ones_at_once(
         assert page.evaluate("window.pwned === undefined")
 
         _artefact(page, tmp_path_factory.getbasetemp(), f"chart-areas-{size[0]}x{size[1]}.png")
-        _axe(page, ".areas-panel", ".areas-panel .chart-map", ".areas-panel .chart-legend")
+        _axe(page, f"at {size[0]}x{size[1]}", ".areas-panel", ".areas-panel .chart-map",
+             ".areas-panel .chart-legend")
         assert not problems, problems
     finally:
         page.context.close()
 
 
-@pytest.mark.parametrize("size", SIZES, ids=[f"{w}x{h}" for w, h in SIZES])
 def test_plan_view_is_the_same_map_with_labelled_legs_and_a_legend(
-        browser: Browser, server: Server, size: tuple[int, int],
+        browser: Browser, server: Server, operator_session: StorageState,
         tmp_path_factory: pytest.TempPathFactory) -> None:
     mission = _exemplar(server)
-    page, problems = _page(browser, server, size)
+    page, problems = _page(browser, server, SIZES[0], operator_session)
     try:
-        page.goto(f"/missions/{mission}?tab=plan")
-        view = page.locator(".chart-plan-view")
-        chart = page.get_by_test_id("plan-map")
-        _map_holds(page, chart, size)
-        chart.scroll_into_view_if_needed()
-        box = _box(chart.locator("canvas"))
-        _artefact(page, tmp_path_factory.getbasetemp(), f"chart-plan-{size[0]}x{size[1]}.png")
-        legs = chart.locator("[data-leg]")
-        expect(legs).to_have_count(12)
-        # Legs along one segment share a label; labels that would overlap an area's are hidden
-        # until the map is zoomed in (declutter), the others are drawn inside the map.
-        shown = chart.locator(".map-label-leg:not(.map-label-hidden) [data-leg]")
-        assert shown.count() >= 4, shown.count()
-        for i in range(shown.count()):
-            assert _point_in(*_centre(shown.nth(i)), box)
-        for area in ("A", "B", "C"):
-            assert _point_in(*_centre(chart.locator(f'[data-testid="plan-area-{area}"]')), box)
-        assert int(chart.get_attribute("data-coastline-segments") or "0") >= 0
-        _chrome_present(page, view, chart)
-        legend = view.get_by_role("list", name="Legend")
-        for words in ("leg on succeed", "leg on fail", "leg on constraint", "Shipping lane"):
-            expect(legend).to_contain_text(words)
+        for size in SIZES:
+            where = f"at {size[0]}x{size[1]}"
+            page.set_viewport_size({"width": size[0], "height": size[1]})
+            # Opened at this size: the map fits the mission to its box as the page opens.
+            page.goto(f"/missions/{mission}?tab=plan")
+            view = page.locator(".chart-plan-view")
+            chart = page.get_by_test_id("plan-map")
+            _map_holds(page, chart, size)
+            chart.scroll_into_view_if_needed()
+            box = _box(chart.locator("canvas"))
+            _artefact(page, tmp_path_factory.getbasetemp(), f"chart-plan-{size[0]}x{size[1]}.png")
+            legs = chart.locator("[data-leg]")
+            expect(legs).to_have_count(12)
+            # Legs along one segment share a label; labels that would overlap an area's are
+            # hidden until the map is zoomed in (declutter), the others are drawn inside the map.
+            shown = chart.locator(".map-label-leg:not(.map-label-hidden) [data-leg]")
+            assert shown.count() >= 4, (where, shown.count())
+            for i in range(shown.count()):
+                assert _point_in(*_centre(shown.nth(i)), box), (where, i, _centre(shown.nth(i)))
+            for area in ("A", "B", "C"):
+                label = chart.locator(f'[data-testid="plan-area-{area}"]')
+                assert _point_in(*_centre(label), box), (where, area, _centre(label), box)
+            assert int(chart.get_attribute("data-coastline-segments") or "0") >= 0
+            _chrome_present(page, view, chart, where)
+            legend = view.get_by_role("list", name="Legend")
+            for words in ("leg on succeed", "leg on fail", "leg on constraint", "Shipping lane"):
+                expect(legend).to_contain_text(words)
 
-        _axe(page, ".chart-plan-view", ".chart-plan-view .chart-map",
-             ".chart-plan-view .chart-legend")
+            _axe(page, where, ".chart-plan-view", ".chart-plan-view .chart-map",
+                 ".chart-plan-view .chart-legend")
 
-        # Search: an area by name moves the view onto it.
-        view.get_by_label("Find an area, chart or country").fill("Area B")
-        view.get_by_role("button", name="Find").click()
-        expect(view.locator("output")).to_have_text("Area B")
-        _artefact(page, tmp_path_factory.getbasetemp(),
-                  f"chart-plan-found-{size[0]}x{size[1]}.png")
+            # Search: an area by name moves the view onto it.
+            view.get_by_label("Find an area, chart or country").fill("Area B")
+            view.get_by_role("button", name="Find").click()
+            expect(view.locator("output")).to_have_text("Area B")
+            _artefact(page, tmp_path_factory.getbasetemp(),
+                      f"chart-plan-found-{size[0]}x{size[1]}.png")
         assert not problems, problems
     finally:
         page.context.close()
