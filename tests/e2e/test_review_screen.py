@@ -3,7 +3,10 @@ step of every path (goal id and outcome letter), the terminal and the probabilit
 view, costs with units, the cited rehearsal with its outcome, path and replay link, and the
 campaign the operator attached from the Versions tab; the record renders the rehearsal as a
 table inside the page's width and links the printable document. axe-core finds no serious or
-critical violation on these pages. Screenshots go to the artefact folder."""
+critical violation on these pages. Screenshots go to the artefact folder.
+
+Each page test signs in once and opens each page once per screen, in a window of that size (the
+pages lay out as they render), then checks it there."""
 
 from __future__ import annotations
 
@@ -18,10 +21,18 @@ import httpx
 import pytest
 from playwright.sync_api import Page, expect
 
-from .conftest import Server, _api_import, expect_accessible
+from .conftest import SCREENS, Server, _api_import, expect_accessible
 from .screens import box, font_px, inside, no_page_scroll_sideways
 from .test_roles import sign_in
 from .test_vehicle_registry import approve, client, exemplar
+
+
+def _no_sideways_scroll(page: Page, where: str) -> None:
+    """no_page_scroll_sideways, its failure naming the screen."""
+    try:
+        no_page_scroll_sideways(page)
+    except AssertionError as failed:
+        raise AssertionError(f"{failed} {where}") from None
 
 
 def wait_for(operator: httpx.Client, url: str, done: Any) -> dict[str, Any]:
@@ -96,98 +107,102 @@ def test_operator_attaches_the_campaign_from_the_versions_tab(page: Page,
 
 
 def test_review_shows_every_step_terminal_and_probability(
-        screen: Page, submitted: dict[str, Any], tmp_path_factory: pytest.TempPathFactory) -> None:
-    page = screen
+        page: Page, submitted: dict[str, Any], tmp_path_factory: pytest.TempPathFactory) -> None:
     sign_in(page, "supervisor")
-    page.goto(f"/missions/{submitted['mission']}/versions/1/review")
-    paths = page.get_by_test_id("review-paths")
-    rows = paths.get_by_test_id("review-path-row")
-    expect(rows.first).to_be_visible()
-    paths.scroll_into_view_if_needed()
-    card = box(page.locator("main"))
-    listing = box(paths)
-    inside(listing, card, "the path list inside the page's card")
-    # Every row in view: number, terminal and probability inside the visible list, each step
-    # an id and a letter, no two cells overlapping, text of a readable size.
-    shown = rows.count()
-    assert shown >= 5
-    for i in range(min(shown, 8)):
-        row = rows.nth(i)
-        if box(row)["y"] + box(row)["height"] > listing["y"] + listing["height"]:
-            break
-        terminal, chance = row.get_by_test_id("review-path-terminal"), row.get_by_test_id(
-            "review-path-chance")
-        expect(terminal).to_have_text(re.compile(r"^(COMPLETE|ABORT)$"))
-        expect(chance).to_have_text(re.compile(r"^0\.\d+$"))
-        inside(box(terminal), listing, "terminal cell in the visible list")
-        inside(box(chance), listing, "probability cell in the visible list")
-        steps = row.get_by_test_id("review-path-step")
-        assert steps.count() >= 2
-        cells = [box(terminal), box(chance)]
-        for k in range(steps.count()):
-            expect(steps.nth(k)).to_have_text(re.compile(r"^G\d[sfc]$"))
-            cells.append(box(steps.nth(k).locator(".outcome-letter")))
-        for a, b in itertools.pairwise(cells):
-            assert a["x"] + a["width"] <= b["x"] + 0.5, ("cells overlap", a, b)
-        assert font_px(steps.first) >= 12 and font_px(terminal) >= 12
-    # Rows differ where the paths differ (issue: rows #1-#6 looked identical).
-    texts = [rows.nth(i).inner_text() for i in range(5)]
-    assert len(set(texts)) == 5, texts
-
-    figures = page.get_by_test_id("review-probabilities")
-    expect(figures).to_contain_text("Wh")
-    assert not re.search(r"\d\.\d{4,}", figures.inner_text().replace(" to ", " ")
-                         .split("Any constraint")[1]), figures.inner_text()
-
-    rehearsal = page.get_by_test_id("review-rehearsal")
-    expect(rehearsal.get_by_test_id("rehearsal-outcome")).to_have_text(re.compile(r"Ended at"))
-    expect(rehearsal.get_by_test_id("rehearsal-steps")).to_contain_text("G1")
-    expect(rehearsal.get_by_test_id("rehearsal-replay")).to_have_attribute(
-        "href", re.compile(r"/replay\.html$"))
-    inside(box(rehearsal), card, "cited rehearsal inside the card")
-    no_page_scroll_sideways(page)
-
-    width = page.viewport_size["width"] if page.viewport_size else 0
     shots = tmp_path_factory.getbasetemp() / "artifacts"
     shots.mkdir(exist_ok=True)
-    paths.scroll_into_view_if_needed()
-    page.screenshot(path=str(shots / f"review-paths-{width}.png"))
-    rehearsal.scroll_into_view_if_needed()
-    page.screenshot(path=str(shots / f"review-rehearsal-{width}.png"))
-    expect_accessible(page, f"the review at {width} px")
-    page.goto("/reviews")
-    expect(page.get_by_role("heading", level=1)).to_be_visible()
-    expect_accessible(page, f"the list of reviews at {width} px")
+    for width, height in SCREENS:
+        where = f"at {width}x{height}"
+        page.set_viewport_size({"width": width, "height": height})
+        page.goto(f"/missions/{submitted['mission']}/versions/1/review")
+        paths = page.get_by_test_id("review-paths")
+        rows = paths.get_by_test_id("review-path-row")
+        expect(rows.first).to_be_visible()
+        paths.scroll_into_view_if_needed()
+        card = box(page.locator("main"))
+        listing = box(paths)
+        inside(listing, card, f"the path list inside the page's card {where}")
+        # Every row in view: number, terminal and probability inside the visible list, each step
+        # an id and a letter, no two cells overlapping, text of a readable size.
+        shown = rows.count()
+        assert shown >= 5, (where, shown)
+        for i in range(min(shown, 8)):
+            row = rows.nth(i)
+            if box(row)["y"] + box(row)["height"] > listing["y"] + listing["height"]:
+                break
+            terminal, chance = row.get_by_test_id("review-path-terminal"), row.get_by_test_id(
+                "review-path-chance")
+            expect(terminal).to_have_text(re.compile(r"^(COMPLETE|ABORT)$"))
+            expect(chance).to_have_text(re.compile(r"^0\.\d+$"))
+            inside(box(terminal), listing, f"terminal cell in the visible list {where}")
+            inside(box(chance), listing, f"probability cell in the visible list {where}")
+            steps = row.get_by_test_id("review-path-step")
+            assert steps.count() >= 2, (where, i, steps.count())
+            cells = [box(terminal), box(chance)]
+            for k in range(steps.count()):
+                expect(steps.nth(k)).to_have_text(re.compile(r"^G\d[sfc]$"))
+                cells.append(box(steps.nth(k).locator(".outcome-letter")))
+            for a, b in itertools.pairwise(cells):
+                assert a["x"] + a["width"] <= b["x"] + 0.5, ("cells overlap", where, a, b)
+            assert font_px(steps.first) >= 12 and font_px(terminal) >= 12, (
+                f"text under 12 px in row {i + 1} {where}")
+        # Rows differ where the paths differ (issue: rows #1-#6 looked identical).
+        texts = [rows.nth(i).inner_text() for i in range(5)]
+        assert len(set(texts)) == 5, (where, texts)
+
+        figures = page.get_by_test_id("review-probabilities")
+        expect(figures).to_contain_text("Wh")
+        assert not re.search(r"\d\.\d{4,}", figures.inner_text().replace(" to ", " ")
+                             .split("Any constraint")[1]), (where, figures.inner_text())
+
+        rehearsal = page.get_by_test_id("review-rehearsal")
+        expect(rehearsal.get_by_test_id("rehearsal-outcome")).to_have_text(
+            re.compile(r"Ended at"))
+        expect(rehearsal.get_by_test_id("rehearsal-steps")).to_contain_text("G1")
+        expect(rehearsal.get_by_test_id("rehearsal-replay")).to_have_attribute(
+            "href", re.compile(r"/replay\.html$"))
+        inside(box(rehearsal), card, f"cited rehearsal inside the card {where}")
+        _no_sideways_scroll(page, where)
+
+        paths.scroll_into_view_if_needed()
+        page.screenshot(path=str(shots / f"review-paths-{width}.png"))
+        rehearsal.scroll_into_view_if_needed()
+        page.screenshot(path=str(shots / f"review-rehearsal-{width}.png"))
+        expect_accessible(page, f"the review at {width} px")
+        page.goto("/reviews")
+        expect(page.get_by_role("heading", level=1)).to_be_visible()
+        expect_accessible(page, f"the list of reviews at {width} px")
 
 
 def test_record_shows_the_rehearsal_as_a_table_and_links_the_document(
-        screen: Page, server: Server, submitted: dict[str, Any],
+        page: Page, server: Server, submitted: dict[str, Any],
         tmp_path_factory: pytest.TempPathFactory) -> None:
-    page = screen
     if "approval" not in submitted:
         submitted["approval"] = approve(server, submitted["submission"])
     sign_in(page, "auditor")
-    page.goto(f"/audit/{submitted['approval']}")
-    section = page.get_by_test_id("rehearsal")
-    table = section.get_by_test_id("rehearsal-summary")
-    expect(table).to_be_visible()
-    expect(table.get_by_test_id("rehearsal-outcome")).to_have_text(re.compile(r"Ended at"))
-    expect(table.get_by_role("link", name="Replay in 3D")).to_be_visible()
-    assert "{" not in section.inner_text(), "the rehearsal is printed as JSON"
-    inside(box(table), box(page.locator("main")), "rehearsal table inside the card")
-    no_page_scroll_sideways(page)
-    document = page.get_by_role("link", name="Printable approval document")
-    expect(document).to_have_attribute("href", re.compile(r"/document$|/document\b"))
-    width = page.viewport_size["width"] if page.viewport_size else 0
     shots = tmp_path_factory.getbasetemp() / "artifacts"
     shots.mkdir(exist_ok=True)
-    table.scroll_into_view_if_needed()
-    page.screenshot(path=str(shots / f"record-rehearsal-{width}.png"))
-    expect_accessible(page, f"the record at {width} px")
-    document.click()
-    expect(page.get_by_role("heading", level=1)).to_be_visible()
-    no_page_scroll_sideways(page)
-    expect_accessible(page, f"the printable approval document at {width} px")
-    page.goto("/audit")
-    expect(page.get_by_role("heading", level=1)).to_be_visible()
-    expect_accessible(page, f"the audit history at {width} px")
+    for width, height in SCREENS:
+        where = f"at {width}x{height}"
+        page.set_viewport_size({"width": width, "height": height})
+        page.goto(f"/audit/{submitted['approval']}")
+        section = page.get_by_test_id("rehearsal")
+        table = section.get_by_test_id("rehearsal-summary")
+        expect(table).to_be_visible()
+        expect(table.get_by_test_id("rehearsal-outcome")).to_have_text(re.compile(r"Ended at"))
+        expect(table.get_by_role("link", name="Replay in 3D")).to_be_visible()
+        assert "{" not in section.inner_text(), f"the rehearsal is printed as JSON {where}"
+        inside(box(table), box(page.locator("main")), f"rehearsal table inside the card {where}")
+        _no_sideways_scroll(page, where)
+        document = page.get_by_role("link", name="Printable approval document")
+        expect(document).to_have_attribute("href", re.compile(r"/document$|/document\b"))
+        table.scroll_into_view_if_needed()
+        page.screenshot(path=str(shots / f"record-rehearsal-{width}.png"))
+        expect_accessible(page, f"the record at {width} px")
+        document.click()
+        expect(page.get_by_role("heading", level=1)).to_be_visible()
+        _no_sideways_scroll(page, f"on the printable approval document {where}")
+        expect_accessible(page, f"the printable approval document at {width} px")
+        page.goto("/audit")
+        expect(page.get_by_role("heading", level=1)).to_be_visible()
+        expect_accessible(page, f"the audit history at {width} px")
