@@ -8,25 +8,31 @@
   path under the pointer is highlighted on the graph.
 - The review lists all 75 paths of the exemplar by scrolling (pages fetched as it scrolls) and
   finds paths by a goal and by a terminal.
+
+The operator signs in once for the module; each test's fresh context is given that session.
+Each test works once, in a window 1024 px wide (the narrower screen: the least room for the
+canvas, the inspector and its drop-downs); what depends on the width (the path columns lining
+up, the review keeping only the rows in view in the page) is checked at 1024 and at 1280 px.
 """
 
 from __future__ import annotations
 
 import json
 import re
-from collections.abc import Iterator
+from typing import Any
 
 import pytest
-from playwright.sync_api import Page, expect
+from playwright.sync_api import Browser, Page, expect
 
 from countersign.orders.examples import example_bytes
 
-from .conftest import AVCL, Server, _api_import
+from .conftest import AVCL, PATIENCE_MS, Server, _api_import
 from .test_editor import pick, select_node
 from .test_editor_build_exemplar import panel, saved
 from .test_roles import sign_in
 
 WIDTHS = (1024, 1280)
+HEIGHT = 860
 PIRATES = AVCL / "PiratesSeizingMerchantDefense.xml"
 
 
@@ -41,14 +47,34 @@ def _titles() -> dict[str, str]:
     return {g["id"]: g["title"] for g in data["goals"]}
 
 
-@pytest.fixture(params=WIDTHS, ids=lambda w: f"{w}px")
-def wide(page: Page, request: pytest.FixtureRequest) -> Iterator[tuple[Page, int]]:
-    page.set_viewport_size({"width": request.param, "height": 860})
-    yield page, request.param
+@pytest.fixture(scope="module")
+def operator_cookies(browser: Browser, server: Server) -> list[Any]:
+    """The operator's session, signed in once for the module: each test's fresh context is given
+    its cookie rather than checking the password again (signing in is test_roles.py's to test)."""
+    context = browser.new_context(base_url=server.url)
+    context.set_default_timeout(PATIENCE_MS)
+    try:
+        sign_in(context.new_page(), "operator")
+        return list(context.cookies())
+    finally:
+        context.close()
+
+
+@pytest.fixture()
+def operator(page: Page, operator_cookies: list[Any]) -> Page:
+    """The page, signed in as the operator."""
+    page.context.add_cookies(operator_cookies)
+    return page
+
+
+@pytest.fixture()
+def narrow(operator: Page) -> Page:
+    """The operator's page, in a window of the narrower width."""
+    operator.set_viewport_size({"width": WIDTHS[0], "height": HEIGHT})
+    return operator
 
 
 def _open_editor(page: Page, mission: str) -> None:
-    sign_in(page, "operator")
     page.goto(f"/missions/{mission}?tab=editor")
     expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
     saved(page)
@@ -72,9 +98,9 @@ def _draft(page: Page, mission: str) -> dict:
     return answer.json()
 
 
-def test_goal_picker_finds_a_goal_by_its_title(wide: tuple[Page, int], server: Server) -> None:
-    page, width = wide
-    mission = _exemplar(server, f"picker-{width}")
+def test_goal_picker_finds_a_goal_by_its_title(narrow: Page, server: Server) -> None:
+    page = narrow
+    mission = _exemplar(server, "panels-picker")
     titles = _titles()
     _open_editor(page, mission)
     select_node(page, "G1")
@@ -94,10 +120,9 @@ def test_goal_picker_finds_a_goal_by_its_title(wide: tuple[Page, int], server: S
     expect(box).to_have_value(f"G3: {titles['G3']}")
 
 
-def test_arrow_keys_through_drop_downs_save_nothing(wide: tuple[Page, int],
-                                                   server: Server) -> None:
-    page, width = wide
-    mission = _exemplar(server, f"arrows-{width}")
+def test_arrow_keys_through_drop_downs_save_nothing(narrow: Page, server: Server) -> None:
+    page = narrow
+    mission = _exemplar(server, "panels-arrows")
     _open_editor(page, mission)
     before = _draft(page, mission)["revision"]
     puts = Puts(page)
@@ -140,9 +165,9 @@ def test_arrow_keys_through_drop_downs_save_nothing(wide: tuple[Page, int],
     assert _draft(page, mission)["revision"] == before + 3
 
 
-def test_scope_is_picked_by_clicking_goals(wide: tuple[Page, int], server: Server) -> None:
-    page, width = wide
-    mission = _exemplar(server, f"scope-{width}")
+def test_scope_is_picked_by_clicking_goals(narrow: Page, server: Server) -> None:
+    page = narrow
+    mission = _exemplar(server, "panels-scope")
     _open_editor(page, mission)
     panel(page, "Constraints")
     constraint = _draft(page, mission)["orders"]["constraints"][0]
@@ -172,10 +197,10 @@ def test_scope_is_picked_by_clicking_goals(wide: tuple[Page, int], server: Serve
     assert _draft(page, mission)["revision"] == revision
 
 
-def test_path_rows_align_ids_and_titles_and_hover_highlights(wide: tuple[Page, int],
+def test_path_rows_align_ids_and_titles_and_hover_highlights(narrow: Page,
                                                             server: Server) -> None:
-    page, width = wide
-    mission = _exemplar(server, f"rows-{width}")
+    page = narrow
+    mission = _exemplar(server, "panels-rows")
     titles = _titles()
     _open_editor(page, mission)
     panel(page, "Path explorer")
@@ -186,14 +211,19 @@ def test_path_rows_align_ids_and_titles_and_hover_highlights(wide: tuple[Page, i
     expect(rows.first.locator(".path-step").first).to_contain_text("G1")
     expect(rows.first.locator(".path-step").first).to_contain_text(titles["G1"])
     # Aligned: step k starts at the same x in every row shown, and so does the terminal.
-    shown = min(rows.count(), 6)
-    assert shown >= 4
-    for k in range(2):
-        lefts = {round(rows.nth(i).locator(".path-step").nth(k).bounding_box()["x"])
-                 for i in range(shown) if rows.nth(i).locator(".path-step").count() > k}
-        assert len(lefts) == 1, (k, lefts)
-    ends = {round(rows.nth(i).locator(".path-terminal").bounding_box()["x"]) for i in range(shown)}
-    assert len(ends) == 1, ends
+    for width in WIDTHS:
+        where = f"at {width}x{HEIGHT}"
+        page.set_viewport_size({"width": width, "height": HEIGHT})
+        shown = min(rows.count(), 6)
+        assert shown >= 4, (where, shown)
+        for k in range(2):
+            lefts = {round(rows.nth(i).locator(".path-step").nth(k).bounding_box()["x"])
+                     for i in range(shown) if rows.nth(i).locator(".path-step").count() > k}
+            assert len(lefts) == 1, (where, k, lefts)
+        ends = {round(rows.nth(i).locator(".path-terminal").bounding_box()["x"])
+                for i in range(shown)}
+        assert len(ends) == 1, (where, ends)
+    page.set_viewport_size({"width": WIDTHS[0], "height": HEIGHT})
     # Hover: that path's nodes are highlighted on the graph; leaving clears it.
     row = rows.nth(2)
     label = row.get_attribute("aria-label") or ""
@@ -241,17 +271,20 @@ def _scroll_all(page: Page) -> dict[int, str]:
 
 
 def test_review_lists_every_path_and_searches_by_goal_and_terminal(
-        wide: tuple[Page, int], server: Server) -> None:
-    page, width = wide
-    mission = _exemplar(server, f"review-{width}")
-    sign_in(page, "operator")
+        narrow: Page, server: Server) -> None:
+    page = narrow
+    mission = _exemplar(server, "panels-review")
     pages: list[str] = []
     page.on("request", lambda r: pages.append(r.url) if "/paths?" in r.url else None)
     _review(page, server, mission)
     expect(page.get_by_test_id("review-paths-status")).to_contain_text("All 75 paths")
     box = page.get_by_test_id("review-paths")
     # Only the rows in view are in the page, and not every page is fetched up front.
-    assert box.get_by_role("listitem").count() < 40
+    for width in WIDTHS:
+        page.set_viewport_size({"width": width, "height": HEIGHT})
+        in_page = box.get_by_role("listitem").count()
+        assert in_page < 40, f"{in_page} rows in the page at {width}x{HEIGHT}"
+    page.set_viewport_size({"width": WIDTHS[0], "height": HEIGHT})
     seen = _scroll_all(page)
     assert sorted(seen) == list(range(1, 76))
     assert len(pages) >= 1
@@ -283,10 +316,11 @@ def test_review_lists_every_path_and_searches_by_goal_and_terminal(
 
 @pytest.mark.skipif(not PIRATES.exists(),
                     reason=f"{PIRATES} is absent (../shared NPS reference missions)")
-def test_pirates_goals_are_found_by_title_and_its_loops_named(page: Page,
+def test_pirates_goals_are_found_by_title_and_its_loops_named(operator: Page,
                                                              server: Server) -> None:
     """Pirates loops (G7), so its paths cannot be counted or listed: the review says so rather
     than showing a partial list; its 49 goals are found in the pickers by title."""
+    page = operator
     mission = _api_import(server, PIRATES.read_bytes(), "application/xml")
     _open_editor(page, mission)
     draft = _draft(page, mission)
