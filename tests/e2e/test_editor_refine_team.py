@@ -4,7 +4,13 @@ findings of the refinement (REFINE); a refinement is added to a goal and edited,
 edit round-trips through the draft's save (`refines` in the orders). A team's orders show one
 canvas per vehicle (a member switcher), the meeting id on rendezvous goals and the TEAM
 findings. Each screen: parts inside the window and the card, nodes readable and apart,
-axe-core clean; screenshots in the artifacts folder."""
+axe-core clean; screenshots in the artifacts folder.
+
+Each test signs in once. A draft without positions is laid out for the window it first opens
+in (the positions are then saved) and a canvas is fitted to the window as it is shown, not again
+when the window changes: so a mission is made for each screen and first opened in a window of
+that size, as before; the edits are made once, on the 1024x768 one, and what they add is then
+opened afresh at each screen (the editor reloaded in a window of that size)."""
 
 from __future__ import annotations
 
@@ -16,11 +22,11 @@ from playwright.sync_api import Page, expect
 
 from countersign.orders.examples import example_bytes
 
-from .conftest import expect_accessible
+from .conftest import SCREENS, expect_accessible
 from .screens import shot
 from .test_editor import select_node
 from .test_editor_build_exemplar import saved
-from .test_editor_screen import GEOMETRY, SCREENS, _create, check_screen, open_editor
+from .test_editor_screen import GEOMETRY, _create, check_screen, open_editor
 from .test_roles import sign_in
 
 
@@ -54,39 +60,41 @@ def _goal(orders: dict[str, Any], goal: str) -> dict[str, Any]:
     return found
 
 
-@pytest.mark.parametrize(("width", "height"), SCREENS)
 def test_editor_opens_edits_and_adds_refinements(
-        page: Page, width: int, height: int, tmp_path_factory: pytest.TempPathFactory) -> None:
-    page.set_viewport_size({"width": width, "height": height})
+        page: Page, tmp_path_factory: pytest.TempPathFactory) -> None:
     sign_in(page, "operator")
-    orders = json.loads(example_bytes("search-and-sample-refined"))
-    orders["id"] = f"refined-editor-{width}"
-    # One terminal of G1's refinement returns nothing: REFINE, shown inside the refinement.
-    del _goal(orders, "G1")["refines"]["terminals"][0]["returns"]
-    mission = _create(page, orders)
+    # The mission, then G1's refinement, each first opened at each screen; 1024x768 last, the
+    # mission whose edits follow.
+    for width, height in reversed(SCREENS):
+        where = f"at {width}x{height}"
+        page.set_viewport_size({"width": width, "height": height})
+        orders = json.loads(example_bytes("search-and-sample-refined"))
+        orders["id"] = f"refined-editor-{width}"
+        # One terminal of G1's refinement returns nothing: REFINE, shown inside the refinement.
+        del _goal(orders, "G1")["refines"]["terminals"][0]["returns"]
+        mission = _create(page, orders)
+        shape = open_editor(page, mission)
+        check_screen(shape, f"refined mission {where}")
+        expect(page.get_by_test_id("refined-G1")).to_have_text("refined ▸")
+        # The error inside the refinement marks the refined goal as an error.
+        expect(page.get_by_test_id("markers-G1")).to_have_text("✖ REFINE")
+        shot(page, tmp_path_factory, f"refine-mission-{width}x{height}")
 
-    shape = open_editor(page, mission)
-    check_screen(shape, f"refined mission at {width}x{height}")
-    expect(page.get_by_test_id("refined-G1")).to_have_text("refined ▸")
-    # The error inside the refinement marks the refined goal as an error.
-    expect(page.get_by_test_id("markers-G1")).to_have_text("✖ REFINE")
-    shot(page, tmp_path_factory, f"refine-mission-{width}x{height}")
-
-    # Open G1's refinement (double-click): its own canvas, breadcrumbs back to the mission.
-    page.get_by_test_id("node-G1").locator(".node-title").dblclick()
-    expect(page.get_by_test_id("crumb-current")).to_have_text("G1 Search Area A")
-    expect(page.get_by_test_id("crumb-0")).to_have_text("Mission")
-    shape = _shape(page)
-    assert shape["nodes"] == 6, shape["nodes"]
-    check_screen(shape, f"G1's refinement at {width}x{height}")
-    _scope_bar_fits(page, "breadcrumbs")
-    expect(page.get_by_test_id("returns-HALT")).to_have_text("returns violate")
-    expect(page.get_by_test_id("returns-FOUND")).to_have_text("returns nothing")
-    findings = page.get_by_test_id("editor-findings-panel")
-    expect(findings).to_contain_text("REFINE")
-    expect(page.get_by_test_id("markers-FOUND")).to_contain_text("REFINE")
-    expect_accessible(page, f"G1's refinement at {width}x{height}")
-    shot(page, tmp_path_factory, f"refine-open-{width}x{height}")
+        # Open G1's refinement (double-click): its own canvas, breadcrumbs back to the mission.
+        page.get_by_test_id("node-G1").locator(".node-title").dblclick()
+        expect(page.get_by_test_id("crumb-current")).to_have_text("G1 Search Area A")
+        expect(page.get_by_test_id("crumb-0")).to_have_text("Mission")
+        shape = _shape(page)
+        assert shape["nodes"] == 6, (where, shape["nodes"])
+        check_screen(shape, f"G1's refinement {where}")
+        _scope_bar_fits(page, f"breadcrumbs {where}")
+        expect(page.get_by_test_id("returns-HALT")).to_have_text("returns violate")
+        expect(page.get_by_test_id("returns-FOUND")).to_have_text("returns nothing")
+        findings = page.get_by_test_id("editor-findings-panel")
+        expect(findings).to_contain_text("REFINE")
+        expect(page.get_by_test_id("markers-FOUND")).to_contain_text("REFINE")
+        expect_accessible(page, f"G1's refinement {where}")
+        shot(page, tmp_path_factory, f"refine-open-{width}x{height}")
 
     # The terminal returns succeed again: saved inside `refines`, REFINE gone.
     select_node(page, "FOUND")
@@ -118,13 +126,21 @@ def test_editor_opens_edits_and_adds_refinements(
     assert refines["start"] == "G2.1", refines
     assert [t["returns"] for t in refines["terminals"]] == ["succeed", "fail", "violate"], refines
     expect(page.get_by_test_id("refined-G2")).to_be_visible()
-    page.get_by_test_id("open-refinement").click()
-    expect(page.get_by_test_id("crumb-current")).to_contain_text("G2 ")
-    shape = _shape(page)
-    assert shape["nodes"] == 4, shape["nodes"]
-    check_screen(shape, f"G2's new refinement at {width}x{height}")
-    expect_accessible(page, f"G2's new refinement at {width}x{height}")
-    shot(page, tmp_path_factory, f"refine-added-{width}x{height}")
+    for n, (width, height) in enumerate(SCREENS):
+        where = f"at {width}x{height}"
+        if n > 0:
+            # Shown afresh at this size: the editor reloaded, G2's refinement opened again (its
+            # positions are not saved: they are laid out as it opens).
+            page.set_viewport_size({"width": width, "height": height})
+            open_editor(page, mission)
+            select_node(page, "G2")
+        page.get_by_test_id("open-refinement").click()
+        expect(page.get_by_test_id("crumb-current")).to_contain_text("G2 ")
+        shape = _shape(page)
+        assert shape["nodes"] == 4, (where, shape["nodes"])
+        check_screen(shape, f"G2's new refinement {where}")
+        expect_accessible(page, f"G2's new refinement {where}")
+        shot(page, tmp_path_factory, f"refine-added-{width}x{height}")
 
     # U goes back up from the keyboard; O opens the selected goal's refinement again.
     page.get_by_test_id("node-G2.1").click()
@@ -136,38 +152,43 @@ def test_editor_opens_edits_and_adds_refinements(
     expect(page.get_by_test_id("crumb-current")).to_have_text("G1 Search Area A")
 
 
-@pytest.mark.parametrize(("width", "height"), SCREENS)
 def test_editor_shows_each_team_member_and_the_meetings(
-        page: Page, width: int, height: int, tmp_path_factory: pytest.TempPathFactory) -> None:
-    page.set_viewport_size({"width": width, "height": height})
+        page: Page, tmp_path_factory: pytest.TempPathFactory) -> None:
     sign_in(page, "operator")
     orders = json.loads(example_bytes("search-and-sample-team"))
-    orders["id"] = f"team-editor-{width}"
     members = [m["vehicle"] for m in orders["team"]]
-    mission = _create(page, orders)
-
-    shape = open_editor(page, mission)
-    check_screen(shape, f"team member 1 at {width}x{height}")
-    _scope_bar_fits(page, "member switcher")
-    first, second = (page.get_by_test_id(f"member-{m}") for m in members)
-    expect(first).to_have_attribute("aria-pressed", "true")
     meeting = next(g for g in orders["team"][0]["orders"]["goals"] if g.get("meet"))
-    expect(page.get_by_test_id(f"meet-{meeting['id']}")).to_have_text(f"meet {meeting['meet']}")
-    expect(page.get_by_test_id("editor-findings-panel")).to_contain_text("TEAM")
-    expect_accessible(page, f"team member 1 at {width}x{height}")
-    shot(page, tmp_path_factory, f"team-member1-{width}x{height}")
-
-    second.click()
-    expect(second).to_have_attribute("aria-pressed", "true")
-    shape = _shape(page)
-    assert shape["nodes"] == len(orders["team"][1]["orders"]["goals"]) + len(
-        orders["team"][1]["orders"]["terminals"]), shape["nodes"]
-    check_screen(shape, f"team member 2 at {width}x{height}")
     partner = next(g for g in orders["team"][1]["orders"]["goals"] if g.get("meet"))
-    expect(page.get_by_test_id(f"meet-{partner['id']}")).to_have_text(f"meet {partner['meet']}")
-    expect(page.get_by_test_id("editor-findings-panel")).to_contain_text("TEAM")
-    expect_accessible(page, f"team member 2 at {width}x{height}")
-    shot(page, tmp_path_factory, f"team-member2-{width}x{height}")
+
+    # Member 1's canvas, then member 2's, each first opened at each screen; 1024x768 last, the
+    # mission whose edit follows.
+    for width, height in reversed(SCREENS):
+        where = f"at {width}x{height}"
+        page.set_viewport_size({"width": width, "height": height})
+        orders["id"] = f"team-editor-{width}"
+        mission = _create(page, orders)
+        shape = open_editor(page, mission)
+        check_screen(shape, f"team member 1 {where}")
+        _scope_bar_fits(page, f"member switcher {where}")
+        first, second = (page.get_by_test_id(f"member-{m}") for m in members)
+        expect(first).to_have_attribute("aria-pressed", "true")
+        expect(page.get_by_test_id(f"meet-{meeting['id']}")).to_have_text(
+            f"meet {meeting['meet']}")
+        expect(page.get_by_test_id("editor-findings-panel")).to_contain_text("TEAM")
+        expect_accessible(page, f"team member 1 {where}")
+        shot(page, tmp_path_factory, f"team-member1-{width}x{height}")
+
+        second.click()
+        expect(second).to_have_attribute("aria-pressed", "true")
+        shape = _shape(page)
+        assert shape["nodes"] == len(orders["team"][1]["orders"]["goals"]) + len(
+            orders["team"][1]["orders"]["terminals"]), (where, shape["nodes"])
+        check_screen(shape, f"team member 2 {where}")
+        expect(page.get_by_test_id(f"meet-{partner['id']}")).to_have_text(
+            f"meet {partner['meet']}")
+        expect(page.get_by_test_id("editor-findings-panel")).to_contain_text("TEAM")
+        expect_accessible(page, f"team member 2 {where}")
+        shot(page, tmp_path_factory, f"team-member2-{width}x{height}")
 
     # An edit on member 2's canvas is saved in member 2's orders.
     select_node(page, partner["id"])
