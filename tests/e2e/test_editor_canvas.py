@@ -224,6 +224,45 @@ _FRAMES = """() => new Promise(resolve => {
 })"""
 
 
+# Counts what the page asks of its layout worker, what the worker answers, and the workers the
+# page gave up on (terminated once its patience ran out, for the linear layout instead).
+_COUNT_LAYOUT_WORKER = """(() => {
+    const Real = window.Worker;
+    const seen = {posted: 0, answered: 0, terminated: 0};
+    window.__layoutWorker = seen;
+    window.Worker = class extends Real {
+        constructor(url, options) {
+            super(url, options);
+            this.addEventListener("message", () => { seen.answered += 1; });
+        }
+        postMessage(message, transfer) {
+            seen.posted += 1;
+            return super.postMessage(message, transfer);
+        }
+        terminate() { seen.terminated += 1; return super.terminate(); }
+    };
+})();"""
+
+
+def test_every_layout_in_a_page_is_answered_by_the_worker(
+        page: Page, server: Server, seeded_mission: str, operator_cookies: list[Any]) -> None:
+    """Auto layout three times in one page: each request is answered by the layout worker, none
+    waited out (elkjs once took the worker's message handler over after its first layout, and
+    every later layout waited the client's 10 s before falling back to the linear one)."""
+    del server
+    page.context.add_cookies(operator_cookies)
+    page.add_init_script(_COUNT_LAYOUT_WORKER)
+    page.goto(f"/missions/{seeded_mission}?tab=editor")
+    expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
+    for _ in range(3):
+        _auto_layout(page)
+    # Each request ends answered or waited out (the client's timer); only then is it counted.
+    page.wait_for_function("() => { const s = window.__layoutWorker; return s.posted >= 3 && "
+                           "s.answered + s.terminated >= s.posted; }")
+    seen = page.evaluate("() => window.__layoutWorker")
+    assert seen["terminated"] == 0 and seen["answered"] == seen["posted"], seen
+
+
 def test_five_hundred_goals_open_and_lay_out_without_blocking(
         page: Page, server: Server, operator_cookies: list[Any]) -> None:
     """Made once; opened (a large draft opens at its start goal, sized to the window) and laid
