@@ -4,6 +4,7 @@ validation pool of the host, web/host_pool.py). Ordering is asserted, never time
 
 from __future__ import annotations
 
+import contextlib
 import http.client
 import json
 import os
@@ -96,10 +97,8 @@ def _stop(server: subprocess.Popen[bytes]) -> None:
 def _kill(server: subprocess.Popen[bytes]) -> None:
     """Ends the server and every process it started at once (its own session): a graceful
     stop would wait for the heavy validations still running, 30 s that test nothing."""
-    try:
+    with contextlib.suppress(ProcessLookupError):
         os.killpg(server.pid, signal.SIGKILL)
-    except ProcessLookupError:
-        pass
     server.wait()
 
 
