@@ -29,7 +29,7 @@ from ..ports import free_port
 
 if TYPE_CHECKING:
     import httpx
-    from playwright.sync_api import Browser, Page, Playwright
+    from playwright.sync_api import Browser, Page, Playwright, StorageState
 
 REPO = Path(__file__).resolve().parents[2]
 DIST = REPO / "frontend" / "dist"
@@ -239,6 +239,25 @@ def screen(request: pytest.FixtureRequest, browser: Browser, server: Server) -> 
     width, height = request.param
     with _fresh_page(browser, server, {"width": width, "height": height}) as opened:
         yield opened
+
+
+@pytest.fixture(scope="module")
+def operator_session(browser: Browser, server: Server) -> StorageState:
+    """The operator signed in once for the module, in the browser: the session's storage state
+    (its cookie), for each test's fresh context; one password check for the module rather than
+    one per test and screen (signing in is test_roles.py's to test)."""
+    from playwright.sync_api import expect
+
+    context = browser.new_context(base_url=server.url)
+    context.set_default_timeout(PATIENCE_MS)
+    try:
+        page = context.new_page()
+        page.goto("/")
+        submit_sign_in(page, "operator", PASSWORD["operator"])
+        expect(page.get_by_test_id("current-role")).to_have_text("Operator")
+        return context.storage_state()
+    finally:
+        context.close()
 
 
 @pytest.fixture()

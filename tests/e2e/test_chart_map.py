@@ -23,7 +23,7 @@ from typing import Any
 import pytest
 from playwright.sync_api import Browser, Locator, Page, StorageState, expect
 
-from .conftest import PASSWORD, PATIENCE_MS, REPO, Server, _api_import, submit_sign_in
+from .conftest import PATIENCE_MS, REPO, Server, _api_import
 
 SIZES = [(1024, 768), (1280, 800)]
 AXE = REPO / "frontend" / "node_modules" / "axe-core" / "axe.min.js"
@@ -36,22 +36,6 @@ def _exemplar(server: Server) -> str:
     orders = json.loads(example_bytes("search-and-sample"))
     orders["id"] = f"chart-{secrets.token_hex(4)}"
     return _api_import(server, json.dumps(orders).encode(), "application/json")
-
-
-@pytest.fixture(scope="module")
-def operator_session(browser: Browser, server: Server) -> StorageState:
-    """The operator signed in once, in the browser: the session's cookies, for each test's own
-    context (one password check for the module rather than one per test and size)."""
-    context = browser.new_context(base_url=server.url)
-    context.set_default_timeout(PATIENCE_MS)
-    try:
-        page = context.new_page()
-        page.goto("/")
-        submit_sign_in(page, "operator", PASSWORD["operator"])
-        expect(page.get_by_test_id("current-role")).to_have_text("Operator")
-        return context.storage_state()
-    finally:
-        context.close()
 
 
 def _page(browser: Browser, server: Server, size: tuple[int, int],

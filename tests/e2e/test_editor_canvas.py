@@ -11,10 +11,9 @@ checked."""
 from __future__ import annotations
 
 import time
-from typing import Any
 
 import pytest
-from playwright.sync_api import Browser, Page, expect
+from playwright.sync_api import Browser, Page, StorageState, expect
 
 from .conftest import AVCL, PATIENCE_MS, Server, _api_import
 from .test_editor import _chain
@@ -61,19 +60,6 @@ def _token(page: Page) -> str:
     return token
 
 
-@pytest.fixture(scope="module")
-def operator_cookies(browser: Browser, server: Server) -> list[Any]:
-    """The operator's session, signed in once for the module: each test's fresh context is given
-    its cookie rather than checking the password again (signing in is test_roles.py's to test)."""
-    context = browser.new_context(base_url=server.url)
-    context.set_default_timeout(PATIENCE_MS)
-    try:
-        sign_in(context.new_page(), "operator")
-        return list(context.cookies())
-    finally:
-        context.close()
-
-
 def _create(page: Page, orders: dict[str, object]) -> str:
     answer = page.request.post("/api/missions", headers={"X-CSRF-Token": _token(page)},
                                data=orders)
@@ -115,7 +101,7 @@ def _drop_on_body(page: Page, source: str, outcome: str, target: str) -> None:
 
 
 def test_ten_goals_added_connected_and_laid_out_stay_readable(
-        page: Page, server: Server, operator_cookies: list[Any]) -> None:
+        page: Page, server: Server, operator_session: StorageState) -> None:
     """The goals are added and wired once, at 1024 px: a new goal is placed beside the selected
     one in the graph's own coordinates, at the zoom the view has, so what is added does not
     depend on the window's width, and 1024 is where the canvas is narrowest and a dragged wire's
@@ -123,7 +109,7 @@ def test_ten_goals_added_connected_and_laid_out_stay_readable(
     fitted to that canvas, its layout worker new) and the graph laid out and checked there."""
     del server
     page.set_viewport_size({"width": WIDTHS[0], "height": 800})
-    page.context.add_cookies(operator_cookies)
+    page.context.add_cookies(operator_session["cookies"])
     mission = _create(page, {"format": "countersign.orders/1", "id": "canvas-ten",
                              "title": "Ten", "goals": []})
     page.goto(f"/missions/{mission}?tab=editor")
@@ -195,9 +181,9 @@ def _open_lay_out_and_check(page: Page, name: str, mission: str) -> None:
 
 
 def test_real_missions_lay_out_readable(page: Page, server: Server, seeded_mission: str,
-                                        operator_cookies: list[Any]) -> None:
+                                        operator_session: StorageState) -> None:
     del server
-    page.context.add_cookies(operator_cookies)
+    page.context.add_cookies(operator_session["cookies"])
     hundred = "canvas-hundred"
     _create(page, _hundred(hundred))
     for name, mission in (("exemplar", seeded_mission), ("100 goals", hundred)):
@@ -206,8 +192,8 @@ def test_real_missions_lay_out_readable(page: Page, server: Server, seeded_missi
 
 @pytest.mark.skipif(not PIRATES.exists(), reason=f"{PIRATES} is not here")
 def test_pirates_lays_out_readable(page: Page, server: Server,
-                                   operator_cookies: list[Any]) -> None:
-    page.context.add_cookies(operator_cookies)
+                                   operator_session: StorageState) -> None:
+    page.context.add_cookies(operator_session["cookies"])
     pirates = "piratesseizingmerchantdefense"  # imported by another test, or here
     if page.request.get(f"/api/missions/{pirates}").status != 200:
         pirates = _api_import(server, PIRATES.read_bytes(), "application/xml")
@@ -245,12 +231,12 @@ _COUNT_LAYOUT_WORKER = """(() => {
 
 
 def test_every_layout_in_a_page_is_answered_by_the_worker(
-        page: Page, server: Server, seeded_mission: str, operator_cookies: list[Any]) -> None:
+        page: Page, server: Server, seeded_mission: str, operator_session: StorageState) -> None:
     """Auto layout three times in one page: each request is answered by the layout worker, none
     waited out (elkjs once took the worker's message handler over after its first layout, and
     every later layout waited the client's 10 s before falling back to the linear one)."""
     del server
-    page.context.add_cookies(operator_cookies)
+    page.context.add_cookies(operator_session["cookies"])
     page.add_init_script(_COUNT_LAYOUT_WORKER)
     page.goto(f"/missions/{seeded_mission}?tab=editor")
     expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
@@ -264,11 +250,11 @@ def test_every_layout_in_a_page_is_answered_by_the_worker(
 
 
 def test_five_hundred_goals_open_and_lay_out_without_blocking(
-        page: Page, server: Server, operator_cookies: list[Any]) -> None:
+        page: Page, server: Server, operator_session: StorageState) -> None:
     """Made once; opened (a large draft opens at its start goal, sized to the window) and laid
     out afresh at each width, so that each width's page loads its own layout worker."""
     del server
-    page.context.add_cookies(operator_cookies)
+    page.context.add_cookies(operator_session["cookies"])
     mission = _create(page, _chain("canvas-500", 500))
     for width in WIDTHS:
         page.set_viewport_size({"width": width, "height": 800})

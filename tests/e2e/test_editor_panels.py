@@ -19,17 +19,15 @@ from __future__ import annotations
 
 import json
 import re
-from typing import Any
 
 import pytest
-from playwright.sync_api import Browser, Page, expect
+from playwright.sync_api import Page, StorageState, expect
 
 from countersign.orders.examples import example_bytes
 
-from .conftest import AVCL, PATIENCE_MS, Server, _api_import
+from .conftest import AVCL, Server, _api_import
 from .test_editor import pick, select_node
 from .test_editor_build_exemplar import panel, saved
-from .test_roles import sign_in
 
 WIDTHS = (1024, 1280)
 HEIGHT = 860
@@ -47,23 +45,10 @@ def _titles() -> dict[str, str]:
     return {g["id"]: g["title"] for g in data["goals"]}
 
 
-@pytest.fixture(scope="module")
-def operator_cookies(browser: Browser, server: Server) -> list[Any]:
-    """The operator's session, signed in once for the module: each test's fresh context is given
-    its cookie rather than checking the password again (signing in is test_roles.py's to test)."""
-    context = browser.new_context(base_url=server.url)
-    context.set_default_timeout(PATIENCE_MS)
-    try:
-        sign_in(context.new_page(), "operator")
-        return list(context.cookies())
-    finally:
-        context.close()
-
-
 @pytest.fixture()
-def operator(page: Page, operator_cookies: list[Any]) -> Page:
+def operator(page: Page, operator_session: StorageState) -> Page:
     """The page, signed in as the operator."""
-    page.context.add_cookies(operator_cookies)
+    page.context.add_cookies(operator_session["cookies"])
     return page
 
 
