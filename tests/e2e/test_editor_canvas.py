@@ -134,9 +134,7 @@ def test_ten_goals_added_connected_and_laid_out_stay_readable(
     expect(page.get_by_test_id("save-state")).to_have_text("Saved")
     edited = _revision(page, mission)
     for width in WIDTHS:
-        page.set_viewport_size({"width": width, "height": 800})
-        page.goto(f"/missions/{mission}?tab=editor")
-        expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
+        _open_at(page, mission, width)
         _auto_layout(page)
         expect(page.get_by_test_id("save-state")).to_have_text("Saved")
         _check_readable(page, f"ten goals at {width}x800")
@@ -159,17 +157,22 @@ def _hundred(mission: str) -> dict[str, object]:
     return orders
 
 
+def _open_at(page: Page, mission: str, width: int) -> float:
+    """Opens the mission's editor in a window `width` px wide; the milliseconds it took."""
+    page.set_viewport_size({"width": width, "height": 800})
+    started = time.monotonic()
+    page.goto(f"/missions/{mission}?tab=editor")
+    expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
+    return (time.monotonic() - started) * 1000
+
+
 def _open_lay_out_and_check(page: Page, name: str, mission: str) -> None:
     """At each width: opens the editor (its view fitted to that canvas, its layout worker new),
     lays the graph out (wrapped to that canvas's aspect ratio) and checks it; neither changes
     the revision."""
     before = _revision(page, mission)
     for width in WIDTHS:
-        page.set_viewport_size({"width": width, "height": 800})
-        started = time.monotonic()
-        page.goto(f"/missions/{mission}?tab=editor")
-        expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
-        opened = (time.monotonic() - started) * 1000
+        opened = _open_at(page, mission, width)
         print(f"{name} at {width} px: graph editor open {opened:.0f} ms")
         layout_ms = _auto_layout(page)
         print(f"{name} at {width} px: auto layout {layout_ms:.0f} ms")
@@ -257,11 +260,7 @@ def test_five_hundred_goals_open_and_lay_out_without_blocking(
     page.context.add_cookies(operator_session["cookies"])
     mission = _create(page, _chain("canvas-500", 500))
     for width in WIDTHS:
-        page.set_viewport_size({"width": width, "height": 800})
-        started = time.monotonic()
-        page.goto(f"/missions/{mission}?tab=editor")
-        expect(page.get_by_test_id("editor-canvas")).to_have_attribute("data-ready", "true")
-        opened = (time.monotonic() - started) * 1000
+        opened = _open_at(page, mission, width)
         print(f"500 goals at {width} px: open and laid out {opened:.0f} ms")
         page.evaluate("() => { window.__frames = (" + _FRAMES + ")(); }")
         layout_ms = _auto_layout(page)

@@ -22,7 +22,7 @@ import pytest
 from playwright.sync_api import Page, expect
 
 from .conftest import SCREENS, Server, _api_import, expect_accessible
-from .screens import box, font_px, inside, no_page_scroll_sideways
+from .screens import box, font_px, inside, no_page_scroll_sideways, shot
 from .test_roles import sign_in
 from .test_vehicle_registry import approve, client, exemplar
 
@@ -109,8 +109,6 @@ def test_operator_attaches_the_campaign_from_the_versions_tab(page: Page,
 def test_review_shows_every_step_terminal_and_probability(
         page: Page, submitted: dict[str, Any], tmp_path_factory: pytest.TempPathFactory) -> None:
     sign_in(page, "supervisor")
-    shots = tmp_path_factory.getbasetemp() / "artifacts"
-    shots.mkdir(exist_ok=True)
     for width, height in SCREENS:
         where = f"at {width}x{height}"
         page.set_viewport_size({"width": width, "height": height})
@@ -165,9 +163,9 @@ def test_review_shows_every_step_terminal_and_probability(
         _no_sideways_scroll(page, where)
 
         paths.scroll_into_view_if_needed()
-        page.screenshot(path=str(shots / f"review-paths-{width}.png"))
+        shot(page, tmp_path_factory, f"review-paths-{width}")
         rehearsal.scroll_into_view_if_needed()
-        page.screenshot(path=str(shots / f"review-rehearsal-{width}.png"))
+        shot(page, tmp_path_factory, f"review-rehearsal-{width}")
         expect_accessible(page, f"the review at {width} px")
         page.goto("/reviews")
         expect(page.get_by_role("heading", level=1)).to_be_visible()
@@ -180,8 +178,6 @@ def test_record_shows_the_rehearsal_as_a_table_and_links_the_document(
     if "approval" not in submitted:
         submitted["approval"] = approve(server, submitted["submission"])
     sign_in(page, "auditor")
-    shots = tmp_path_factory.getbasetemp() / "artifacts"
-    shots.mkdir(exist_ok=True)
     for width, height in SCREENS:
         where = f"at {width}x{height}"
         page.set_viewport_size({"width": width, "height": height})
@@ -197,7 +193,7 @@ def test_record_shows_the_rehearsal_as_a_table_and_links_the_document(
         document = page.get_by_role("link", name="Printable approval document")
         expect(document).to_have_attribute("href", re.compile(r"/document$|/document\b"))
         table.scroll_into_view_if_needed()
-        page.screenshot(path=str(shots / f"record-rehearsal-{width}.png"))
+        shot(page, tmp_path_factory, f"record-rehearsal-{width}")
         expect_accessible(page, f"the record at {width} px")
         document.click()
         expect(page.get_by_role("heading", level=1)).to_be_visible()
