@@ -222,6 +222,16 @@ def _reads_the_caller(dependant: Dependant) -> bool:
                for d in dependant.dependencies)
 
 
+def test_every_operation_is_found_among_the_routes() -> None:
+    """READS_THE_CALLER walks the app's routes through FastAPI's included routers (their
+    `original_router`, not a documented attribute): an operation it missed would lose its
+    second role silently, so a change of FastAPI's structure fails here instead."""
+    found = {route.operation_id for route in _api_routes(APP.routes)}
+    documented = {operation["operationId"] for path in APP.openapi()["paths"].values()
+                  for operation in path.values() if "operationId" in operation}
+    assert documented <= found, sorted(documented - found)
+
+
 # Operations whose handler (its own parameters, not the route's role check and rate limit)
 # reads who is calling: only there may a second role that the operation serves get another
 # answer for the same case than the role test_api_has_no_server_errors sent it with.
