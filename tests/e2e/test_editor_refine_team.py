@@ -15,6 +15,7 @@ opened afresh at each screen (the editor reloaded in a window of that size)."""
 from __future__ import annotations
 
 import json
+import re
 from typing import Any
 
 import pytest
@@ -138,6 +139,10 @@ def test_editor_opens_edits_and_adds_refinements(
         expect(page.get_by_test_id("crumb-current")).to_contain_text("G2 ")
         shape = _shape(page)
         assert shape["nodes"] == 4, (where, shape["nodes"])
+        # The mission's error is in G1's refinement (the goal added there leads nowhere): the
+        # verdict says so rather than "Not valid: 0 errors".
+        expect(page.get_by_test_id("editor-verdict")).to_contain_text(
+            re.compile(r"^Not valid: 0 errors here \([1-9]\d* elsewhere in the mission\), "))
         check_screen(shape, f"G2's new refinement {where}")
         expect_accessible(page, f"G2's new refinement {where}")
         shot(page, tmp_path_factory, f"refine-added-{width}x{height}")
