@@ -218,10 +218,12 @@ SCREENS = [(1024, 768), (1280, 800)]
 
 
 @contextlib.contextmanager
-def _fresh_page(browser: Browser, server: Server, viewport: dict[str, int]) -> Iterator[Page]:
-    """A page in a fresh browser context (no cookies), patient by PATIENCE_MS; the test fails
-    when the app raised errors in the browser."""
-    context = browser.new_context(base_url=server.url, viewport=viewport)
+def _fresh_page(browser: Browser, server: Server, viewport: dict[str, int],
+                **options: Any) -> Iterator[Page]:
+    """A page in a fresh browser context (no cookies; `options` such as accept_downloads go to
+    the context), patient by PATIENCE_MS; the test fails when the app raised errors in the
+    browser."""
+    context = browser.new_context(base_url=server.url, viewport=viewport, **options)
     context.set_default_timeout(PATIENCE_MS)
     opened = context.new_page()
     problems: list[str] = []
@@ -267,13 +269,21 @@ def page(browser: Browser, server: Server, request: pytest.FixtureRequest,
     (pytest's temporary directory, `screenshots/`, printed with the failure)."""
     with _fresh_page(browser, server, _viewport()) as opened:
         yield opened
-        if _failed(request):
-            shot = tmp_path_factory.getbasetemp() / "screenshots" / f"{request.node.name}.png"
-            shot.parent.mkdir(exist_ok=True)
-            # A screenshot must never hide the real failure.
-            with contextlib.suppress(Exception):
-                opened.screenshot(path=str(shot), full_page=True)
-                print(f"screenshot of the failed page: {shot}")
+        keep_failure_shot(opened, request, tmp_path_factory)
+
+
+def keep_failure_shot(page: Page, request: pytest.FixtureRequest,
+                      tmp_path_factory: pytest.TempPathFactory) -> None:
+    """When the test failed, a full-page screenshot `screenshots/<test>.png` in pytest's
+    temporary directory, printed with the failure."""
+    if not _failed(request):
+        return
+    shot = tmp_path_factory.getbasetemp() / "screenshots" / f"{request.node.name}.png"
+    shot.parent.mkdir(exist_ok=True)
+    # A screenshot must never hide the real failure.
+    with contextlib.suppress(Exception):
+        page.screenshot(path=str(shot), full_page=True)
+        print(f"screenshot of the failed page: {shot}")
 
 
 def _viewport() -> dict[str, int]:

@@ -13,7 +13,6 @@ the built-in exemplar's. The mission is built on a server of its own, so that th
 
 from __future__ import annotations
 
-import contextlib
 import json
 import re
 import time
@@ -23,7 +22,7 @@ from pathlib import Path
 import pytest
 from playwright.sync_api import Browser, Locator, Page, expect
 
-from .conftest import PATIENCE_MS, Server, running_server
+from .conftest import Server, _fresh_page, keep_failure_shot, running_server
 from .test_editor import choose_next, drag_connect, edge, pick, select_node
 from .test_roles import sign_in
 
@@ -42,24 +41,10 @@ def own_server(server: Server, tmp_path_factory: pytest.TempPathFactory) -> Iter
 @pytest.fixture()
 def own_page(browser: Browser, own_server: Server, request: pytest.FixtureRequest,
              tmp_path_factory: pytest.TempPathFactory) -> Iterator[Page]:
-    context = browser.new_context(base_url=own_server.url, viewport={"width": 1280, "height": 900},
-                                  accept_downloads=True)
-    context.set_default_timeout(PATIENCE_MS)
-    opened = context.new_page()
-    problems: list[str] = []
-    opened.on("pageerror", lambda error: problems.append(f"page error: {error}"))
-    try:
+    with _fresh_page(browser, own_server, {"width": 1280, "height": 900},
+                     accept_downloads=True) as opened:
         yield opened
-        assert not problems, "the app raised errors in the browser:\n" + "\n".join(problems)
-    finally:
-        report = getattr(request.node, "rep_call", None)
-        if report is not None and report.failed:
-            shot = tmp_path_factory.getbasetemp() / "screenshots" / f"{request.node.name}.png"
-            shot.parent.mkdir(exist_ok=True)
-            with contextlib.suppress(Exception):
-                opened.screenshot(path=str(shot), full_page=True)
-                print(f"screenshot of the failed page: {shot}")
-        context.close()
+        keep_failure_shot(opened, request, tmp_path_factory)
 
 
 def exemplar() -> dict:
