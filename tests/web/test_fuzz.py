@@ -143,10 +143,15 @@ lazy_coverage.install()
 schema = schemathesis.openapi.from_asgi("/api/openapi.json", APP)
 
 
+def _operation_id(case: schemathesis.Case) -> str:
+    operation_id: str = case.operation.definition.raw.get("operationId", "")
+    return operation_id
+
+
 def _role(case: schemathesis.Case) -> str:
     """The first role allowed to call the operation ("" for anonymous ones); an operation
     missing from the table gets the operator's (test_roles.py names it)."""
-    operation_id = case.operation.definition.raw.get("operationId", "")
+    operation_id = _operation_id(case)
     if operation_id in ENDS_CREDENTIALS:
         return "operator" if operation_id != "updateUser" else "supervisor"
     return next((r for r in REVIEWED_ROLES.get(operation_id, ("operator",)) if r in ROLES), "")
@@ -171,7 +176,7 @@ def _seeded() -> Iterator[None]:
 
 def _with_seeded_ids(case: schemathesis.Case) -> None:
     """Two cases in three (by a stable hash of the generated ones) address seeded objects."""
-    operation_id = case.operation.definition.raw.get("operationId", "")
+    operation_id = _operation_id(case)
     parameters = case.path_parameters or {}
     known = [name for name in parameters if name in SEEDS]
     if not known or operation_id not in SEEDED_OPERATIONS:
@@ -198,12 +203,11 @@ def test_api_has_no_server_errors(case: schemathesis.Case) -> None:
 _SENT: set[str] = set()
 
 
-def _reaching_roles(case: schemathesis.Case) -> set[str]:
+def _reaching_roles(operation_id: str) -> set[str]:
     """The callers whose request reaches the operation's handler: its allowed roles, or every
     caller of an anonymous operation. Any other caller is refused by the route's role check,
     which FastAPI runs before it reads the path, query or body: a refusal is the same
     whatever the case holds."""
-    operation_id = case.operation.definition.raw.get("operationId", "")
     allowed = REVIEWED_ROLES.get(operation_id, ("operator",))
     return {*ROLES, "anonymous"} if "anonymous" in allowed else set(allowed)
 
@@ -245,10 +249,11 @@ def _refusal_roles(case: schemathesis.Case) -> list[str]:
     """The roles test_no_role_meets_a_server_error sends this case with: all but the one
     test_api_has_no_server_errors sends it with (the operation's first allowed role, or
     anonymous) for the operation's first case, so that every role, refused or not, meets every
-    operation; then one of those whose request reaches the handler (_reaching_roles), chosen by
-    a stable hash of the case, so that every case still meets a second role that the handler
-    serves, or none when only one role may call the operation (a refused role's answer does not
-    depend on the case)."""
+    operation; then, where the handler reads who is calling (READS_THE_CALLER), one of those
+    whose request reaches it (_reaching_roles), chosen by a stable hash of the case, so that
+    every such case meets a second role the handler serves. Elsewhere no later case is sent
+    again: a refused role's answer does not depend on the case, and a handler that does not
+    read the caller answers every role it serves as it answered the first."""
     already = _role(case) or "anonymous"
     others = [role for role in (*ROLES, "anonymous") if role != already]
     label = case.operation.label
@@ -256,9 +261,11 @@ def _refusal_roles(case: schemathesis.Case) -> list[str]:
     _SENT.add(label)
     if first or SCALE > 1:
         return others
-    operation_id = case.operation.definition.raw.get("operationId", "")
-    served = [role for role in others if role in _reaching_roles(case)]
-    if not served or operation_id not in READS_THE_CALLER:
+    operation_id = _operation_id(case)
+    if operation_id not in READS_THE_CALLER:
+        return []
+    served = [role for role in others if role in _reaching_roles(operation_id)]
+    if not served:
         return []
     key = repr((case.path_parameters, case.query, case.body))
     return [served[zlib.crc32(key.encode()) % len(served)]]
@@ -270,11 +277,12 @@ def _refusal_roles(case: schemathesis.Case) -> list[str]:
 def test_no_role_meets_a_server_error(case: schemathesis.Case) -> None:
     """Every operation with the other roles' tokens and with none, so that refusals too (403s,
     401s, the checks before a role check) are never a 5xx. An operation's first case goes to
-    every other role and to none; each later case to one other role the handler serves
-    (_refusal_roles), not to each: sent four times, the coverage phase's thousands of cases per
-    operation (3,700 for the draft's PUT) made this the suite's longest test, and sent to a
-    refused role they met the same role check again and again (two operator-only operations
-    spent 40 s so). COUNTERSIGN_FUZZ_SCALE above 1 sends every case with every role."""
+    every other role and to none; each later case, where the handler reads who is calling, to
+    one other role it serves (_refusal_roles), not to each: sent four times, the coverage
+    phase's thousands of cases per operation (3,700 for the draft's PUT) made this the suite's
+    longest test, and sent to a refused role they met the same role check again and again (two
+    operator-only operations spent 40 s so). COUNTERSIGN_FUZZ_SCALE above 1 sends every case
+    with every role."""
     _with_seeded_ids(case)
     plain = {k: v for k, v in (case.headers or {}).items() if k.lower() != "authorization"}
     for role in _refusal_roles(case):
