@@ -26,6 +26,7 @@ from countersign.approvals import dsse
 from countersign.cli import approvals as cli_approvals
 
 from ..ports import free_port
+from ..processes import children
 from .approval_helpers import MISSION, sign_prepared
 from .conftest import PASSWORD, World
 
@@ -85,13 +86,11 @@ def _app_processes(master: int) -> list[int]:
     """The server processes gunicorn forked from `master`: its children other than the
     validation host and its helpers (started by multiprocessing)."""
     found = []
-    for entry in Path("/proc").iterdir():
+    for pid in children(master):
         try:
-            if (entry.name.isdigit()
-                    and int((entry / "stat").read_text().rsplit(")", 1)[1].split()[1]) == master
-                    and b"multiprocessing" not in (entry / "cmdline").read_bytes()):
-                found.append(int(entry.name))
-        except (OSError, ValueError):
+            if b"multiprocessing" not in Path(f"/proc/{pid}/cmdline").read_bytes():
+                found.append(pid)
+        except OSError:
             continue
     return found
 

@@ -25,6 +25,7 @@ from countersign.web.gunicorn_server import reuse_port_available
 
 from ..heavy_orders import heavy_orders
 from ..ports import free_port
+from ..processes import children
 
 pytestmark = pytest.mark.skipif(not reuse_port_available(), reason="needs SO_REUSEPORT")
 
@@ -104,12 +105,10 @@ def _kill(server: subprocess.Popen[bytes]) -> None:
 
 def _host_process(master: int) -> int:
     """The validation host: the master's child started by multiprocessing's spawn."""
-    for entry in Path("/proc").iterdir():
+    for pid in children(master):
         try:
-            if not entry.name.isdigit() or b"spawn_main" not in (entry / "cmdline").read_bytes():
-                continue
-            if int((entry / "stat").read_text().rsplit(")", 1)[1].split()[1]) == master:
-                return int(entry.name)
+            if b"spawn_main" in Path(f"/proc/{pid}/cmdline").read_bytes():
+                return pid
         except OSError:
             continue
     raise AssertionError("no validation host process")

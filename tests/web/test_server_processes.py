@@ -22,6 +22,7 @@ import pytest
 from countersign.web.gunicorn_server import reuse_port_available
 
 from ..ports import free_port
+from ..processes import children
 
 pytestmark = pytest.mark.skipif(
     not (reuse_port_available() and Path("/proc/net/tcp").exists()),
@@ -54,23 +55,10 @@ def _owners(inodes: list[str]) -> Counter[int]:
     return owners
 
 
-def _children(pid: int) -> set[int]:
-    found = set()
-    for entry in Path("/proc").iterdir():
-        if entry.name.isdigit():
-            try:
-                parent = int((entry / "stat").read_text().rsplit(")", 1)[1].split()[1])
-            except OSError:
-                continue
-            if parent == pid:
-                found.add(int(entry.name))
-    return found
-
-
 def _descendants(pid: int) -> set[int]:
     found, todo = set(), [pid]
     while todo:
-        for child in _children(todo.pop()):
+        for child in children(todo.pop()):
             if child not in found:
                 found.add(child)
                 todo.append(child)
